@@ -1,0 +1,79 @@
+#version 460
+// The progressive path tracer: each dispatch (a frame) adds up to SAMPLE_COUNT samples per
+// pixel to the accumulation image, as the workshop's progressive ShaderToy does across
+// frames. Samples are added one at a time in sample order with Kahan summation, so that the
+// result is bit-identical however the samples are split into frames.
+
+#include "shared.h"
+
+layout(local_size_x = WORKGROUP_SIZE_X, local_size_y = WORKGROUP_SIZE_Y, local_size_z = 1) in;
+
+// Samples per pixel per frame (the workshop's SAMPLE_COUNT).
+layout(constant_id = SPEC_SAMPLE_COUNT) const int SAMPLE_COUNT = 1;
+// Maximum number of surface hits per path (the workshop's MAX_PATH_LENGTH).
+layout(constant_id = SPEC_MAX_PATH_LENGTH) const int MAX_PATH_LENGTH = 5;
+// PIXEL_FILTER_BOX or PIXEL_FILTER_CENTER.
+layout(constant_id = SPEC_PIXEL_FILTER) const int PIXEL_FILTER = PIXEL_FILTER_BOX;
+// INTEGRATOR_PATH_TRACING, INTEGRATOR_DIRECT_ILLUMINATION or INTEGRATOR_RAY_TRACING.
+layout(constant_id = SPEC_INTEGRATOR) const int INTEGRATOR = INTEGRATOR_PATH_TRACING;
+
+#include "integrator.glsl"
+#include "camera.glsl"
+
+layout(set = 0, binding = BINDING_ACCUMULATION, rgba32f) uniform image2DArray g_accumulation;
+
+// What changes per frame. Mirrors `vkpath::gpu_types::FramePushConstants`.
+layout(push_constant) uniform frame_push_constants {
+    // Index of the first sample this frame adds to each pixel.
+    uint g_first_sample_index;
+    // Samples with an index at or past this are not taken (the render's total spp).
+    uint g_sample_end;
+};
+
+// One sample of the radiance through a pixel with the chosen integrator.
+vec3 get_sample_radiance(vec3 ray_direction, inout uvec2 seed) {
+    vec3 camera_position = g_camera_position.xyz;
+    if (INTEGRATOR == INTEGRATOR_PATH_TRACING)
+        return get_ray_radiance(camera_position, ray_direction, seed);
+    float t;
+    triangle_t triangle;
+    if (!ray_mesh_intersection(t, triangle, camera_position, ray_direction))
+        return vec3(0.0);
+    if (INTEGRATOR == INTEGRATOR_RAY_TRACING)
+        return triangle.color;
+    orient_towards_ray(triangle, ray_direction, is_double_sided(g_hit_triangle_index));
+    return compute_direct_illumination(camera_position + t * ray_direction, triangle, seed);
+}
+
+void main() {
+    uvec2 resolution = g_resolution_triangle_count_seed.xy;
+    uvec2 texel = gl_GlobalInvocationID.xy;
+    if (texel.x >= resolution.x || texel.y >= resolution.y)
+        return;
+    // Image rows run top-down; ShaderToy counts pixels from the bottom-left.
+    uvec2 pixel = uvec2(texel.x, resolution.y - 1u - texel.y);
+
+    vec4 sum = imageLoad(g_accumulation, ivec3(texel, LAYER_SUM));
+    precise vec3 compensation = imageLoad(g_accumulation, ivec3(texel, LAYER_COMPENSATION)).rgb;
+    vec3 sum_of_squares = imageLoad(g_accumulation, ivec3(texel, LAYER_SUM_OF_SQUARES)).rgb;
+    for (int i = 0; i != SAMPLE_COUNT; ++i) {
+        uint sample_index = g_first_sample_index + uint(i);
+        if (sample_index >= g_sample_end)
+            break;
+        uvec2 seed = get_sample_seed(pixel, sample_index, g_resolution_triangle_count_seed.w);
+        vec2 tex_coord = get_sample_tex_coord(pixel, resolution, seed);
+        vec3 ray_direction = get_primary_ray_direction(tex_coord, g_camera_position.xyz, g_left_bottom.xyz, g_right.xyz, g_up.xyz);
+        vec3 radiance = get_sample_radiance(ray_direction, seed);
+        // Kahan summation: the sum stays within a few ulps however many samples it holds.
+        // `precise` forbids the compiler to reassociate or fuse these operations.
+        precise vec3 corrected = radiance - compensation;
+        precise vec3 new_sum = sum.rgb + corrected;
+        compensation = (new_sum - sum.rgb) - corrected;
+        sum.rgb = new_sum;
+        sum.a += 1.0;
+        sum_of_squares += radiance * radiance;
+    }
+    imageStore(g_accumulation, ivec3(texel, LAYER_SUM), sum);
+    imageStore(g_accumulation, ivec3(texel, LAYER_COMPENSATION), vec4(compensation, 0.0));
+    imageStore(g_accumulation, ivec3(texel, LAYER_SUM_OF_SQUARES), vec4(sum_of_squares, 0.0));
+}

@@ -1,0 +1,82 @@
+// The scene as the shaders see it: the triangle buffer, the render uniforms, and the
+// workshop's ray_mesh_intersection() over all triangles. The workshop keeps its 30 triangles
+// in a constant array; here they come from a storage buffer, and only that changed.
+#ifndef VKPATH_SCENE_GLSL
+#define VKPATH_SCENE_GLSL
+
+#include "shared.h"
+#include "workshop.glsl"
+
+// triangle_t as stored on the GPU: std430 with every member 16-byte aligned (no bare vec3).
+// Mirrors `vkpath::gpu_types::GpuTriangle`, whose layout test checks these offsets.
+struct packed_triangle_t {
+    vec4 positions[3]; // xyz: v_0, v_1, v_2 (world space), w: unused
+    vec4 normal;       // xyz: unit normal, w: unused
+    vec4 color;        // rgb: albedo, a: unused
+    vec4 emission;     // rgb: emitted radiance, a: flags (TRIANGLE_FLAG_*) as float bits
+};
+
+layout(std430, set = 0, binding = BINDING_TRIANGLES) readonly buffer triangle_buffer {
+    packed_triangle_t g_triangles[];
+};
+
+// What stays fixed during a render. Mirrors `vkpath::gpu_types::RenderUniforms`.
+layout(std140, set = 0, binding = BINDING_RENDER_UNIFORMS) uniform render_uniforms {
+    // The pinhole camera (see get_primary_ray_direction()), world space; w unused.
+    vec4 g_camera_position;
+    vec4 g_left_bottom;
+    vec4 g_right;
+    vec4 g_up;
+    // x: image width, y: image height (pixels), z: triangle count, w: user seed
+    uvec4 g_resolution_triangle_count_seed;
+};
+
+// Unpacks triangle i of the scene into the workshop's struct.
+triangle_t get_triangle(uint index) {
+    packed_triangle_t packed = g_triangles[index];
+    triangle_t triangle;
+    triangle.positions[0] = packed.positions[0].xyz;
+    triangle.positions[1] = packed.positions[1].xyz;
+    triangle.positions[2] = packed.positions[2].xyz;
+    triangle.normal = packed.normal.xyz;
+    triangle.color = packed.color.rgb;
+    triangle.emission = packed.emission.rgb;
+    return triangle;
+}
+
+// Whether triangle i emits from both sides (TRIANGLE_FLAG_DOUBLE_SIDED).
+bool is_double_sided(uint index) {
+    return (floatBitsToUint(g_triangles[index].emission.a) & TRIANGLE_FLAG_DOUBLE_SIDED) != 0u;
+}
+
+// Index in g_triangles of the triangle that the last successful ray_mesh_intersection() hit.
+// vkpath's addition: it carries per-triangle flags (is_double_sided()) without changing the
+// workshop's signature. Private to each invocation.
+uint g_hit_triangle_index = 0u;
+
+// Finds the closest triangle that a ray hits (Part 1), brute force over all triangles.
+// \param out_t Ray parameter of the closest hit
+// \param out_triangle The triangle that was hit
+// \param ray_origin, ray_direction The ray, world space
+// \return true iff any triangle was hit; then g_hit_triangle_index names the triangle
+bool ray_mesh_intersection(out float out_t, out triangle_t out_triangle, vec3 ray_origin, vec3 ray_direction) {
+    out_t = 1.0e38;
+    uint hit_index = 0u;
+    bool hit = false;
+    uint triangle_count = g_resolution_triangle_count_seed.z;
+    for (uint i = 0u; i != triangle_count; ++i) {
+        float t;
+        if (ray_triangle_intersection(t, ray_origin, ray_direction, get_triangle(i)) && t < out_t) {
+            out_t = t;
+            hit_index = i;
+            hit = true;
+        }
+    }
+    if (hit) {
+        out_triangle = get_triangle(hit_index);
+        g_hit_triangle_index = hit_index;
+    }
+    return hit;
+}
+
+#endif

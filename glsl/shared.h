@@ -1,0 +1,52 @@
+// The contract between the host (Rust) and the shaders: binding indices, workgroup size,
+// specialization-constant ids and enumerations. build.rs turns every `#define NAME <integer>`
+// line of this file into a `pub const NAME: u32` in `vkpath::contract`, so that no number is
+// written twice. Keep the values plain decimal integers.
+#ifndef VKPATH_SHARED_H
+#define VKPATH_SHARED_H
+
+// Workgroup size of the 2D kernels. lavapipe's subgroup size is 8 (AVX2), so 8x8 keeps each
+// subgroup full and gives many workgroups for its thread pool.
+#define WORKGROUP_SIZE_X 8
+#define WORKGROUP_SIZE_Y 8
+// Workgroup size of the 1D probe kernels that evaluate one function on a buffer of inputs.
+#define PROBE_WORKGROUP_SIZE 64
+
+// Descriptor set 0 of the path tracer.
+#define BINDING_TRIANGLES 0
+#define BINDING_RENDER_UNIFORMS 1
+#define BINDING_ACCUMULATION 2
+
+// Layers of the accumulation image (an rgba32f 2D array image).
+// Layer 0: running sum of the radiance samples (rgb), sample count (a).
+#define LAYER_SUM 0
+// Layer 1: Kahan compensation of the sum (rgb).
+#define LAYER_COMPENSATION 1
+// Layer 2: running sum of squared radiance samples (rgb), for variance estimates.
+#define LAYER_SUM_OF_SQUARES 2
+#define ACCUMULATION_LAYER_COUNT 3
+
+// Specialization-constant ids of the path tracer.
+#define SPEC_SAMPLE_COUNT 0
+#define SPEC_MAX_PATH_LENGTH 1
+#define SPEC_PIXEL_FILTER 2
+#define SPEC_INTEGRATOR 3
+
+// Values of SPEC_PIXEL_FILTER.
+// Uniform jitter inside the pixel: the box-filtered image.
+#define PIXEL_FILTER_BOX 0
+// The pixel centre, as the workshop's ShaderToy framework uses.
+#define PIXEL_FILTER_CENTER 1
+
+// Values of SPEC_INTEGRATOR.
+// Exercise 7: the path-tracing loop of get_ray_radiance().
+#define INTEGRATOR_PATH_TRACING 0
+// Exercise 6: emission plus one-bounce direct illumination, compute_direct_illumination().
+#define INTEGRATOR_DIRECT_ILLUMINATION 1
+// Part 1: unshaded ray tracing, the albedo of the first triangle hit.
+#define INTEGRATOR_RAY_TRACING 2
+
+// Bit set in triangle_t's packed emission.w when the triangle emits from both sides.
+#define TRIANGLE_FLAG_DOUBLE_SIDED 1
+
+#endif
