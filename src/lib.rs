@@ -16,3 +16,7 @@ pub mod shaders {
 }
 
 pub mod shader_compiler;
+
+pub mod camera;
+pub mod gpu_types;
+pub mod scene;

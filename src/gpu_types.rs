@@ -1,0 +1,126 @@
+//! Structs shared with the shaders, byte for byte: `#[repr(C)]` + `bytemuck::Pod`, with
+//! 16-byte members only, so that std430 and std140 lay them out exactly as Rust does. The
+//! tests below check sizes and offsets against the GLSL declarations.
+
+use bytemuck::{Pod, Zeroable};
+
+use crate::camera::ImagePlane;
+use crate::contract::TRIANGLE_FLAG_DOUBLE_SIDED;
+use crate::scene::Triangle;
+
+/// `packed_triangle_t` of `glsl/scene.glsl` (std430, 96 bytes).
+#[repr(C)]
+#[derive(Clone, Copy, Debug, PartialEq, Pod, Zeroable)]
+pub struct GpuTriangle {
+    /// xyz: vertices v_0, v_1, v_2 (world space); w: 0.
+    pub positions: [[f32; 4]; 3],
+    /// xyz: unit normal; w: 0.
+    pub normal: [f32; 4],
+    /// rgb: albedo; a: 0.
+    pub color: [f32; 4],
+    /// rgb: emitted radiance; a: `TRIANGLE_FLAG_*` bits stored as the float's bits.
+    pub emission: [f32; 4],
+}
+
+/// `render_uniforms` of `glsl/scene.glsl` (std140, 80 bytes): what stays fixed in a render.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, PartialEq, Pod, Zeroable)]
+pub struct RenderUniforms {
+    /// xyz: the pinhole, world space.
+    pub camera_position: [f32; 4],
+    /// xyz: the image plane's left-bottom corner, world space.
+    pub left_bottom: [f32; 4],
+    /// xyz: the image plane's full-width edge vector.
+    pub right: [f32; 4],
+    /// xyz: the image plane's full-height edge vector.
+    pub up: [f32; 4],
+    /// Image width and height in pixels, triangle count, user seed.
+    pub resolution_triangle_count_seed: [u32; 4],
+}
+
+/// `frame_push_constants` of `glsl/path_tracer.comp` (8 bytes): what changes per frame.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Pod, Zeroable)]
+pub struct FramePushConstants {
+    /// Index of the first sample this frame adds to each pixel.
+    pub first_sample_index: u32,
+    /// Samples at or past this index are not taken (the render's total spp).
+    pub sample_end: u32,
+}
+
+fn extend(v: glam::Vec3, w: f32) -> [f32; 4] {
+    [v.x, v.y, v.z, w]
+}
+
+impl GpuTriangle {
+    /// Packs a scene triangle.
+    pub fn new(triangle: &Triangle) -> GpuTriangle {
+        let flags = if triangle.double_sided { TRIANGLE_FLAG_DOUBLE_SIDED } else { 0 };
+        GpuTriangle {
+            positions: triangle.positions.map(|p| extend(p, 0.0)),
+            normal: extend(triangle.normal, 0.0),
+            color: extend(triangle.color, 0.0),
+            emission: extend(triangle.emission, f32::from_bits(flags)),
+        }
+    }
+}
+
+impl RenderUniforms {
+    /// The uniforms for one render.
+    pub fn new(plane: &ImagePlane, width: u32, height: u32, triangle_count: u32, seed: u32) -> Self {
+        RenderUniforms {
+            camera_position: extend(plane.camera_position, 0.0),
+            left_bottom: extend(plane.left_bottom, 0.0),
+            right: extend(plane.right, 0.0),
+            up: extend(plane.up, 0.0),
+            resolution_triangle_count_seed: [width, height, triangle_count, seed],
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use std::mem::{offset_of, size_of};
+
+    #[test]
+    fn triangle_matches_std430_packed_triangle_t() {
+        // struct packed_triangle_t { vec4 positions[3]; vec4 normal; vec4 color; vec4 emission; }
+        assert_eq!(size_of::<GpuTriangle>(), 96);
+        assert_eq!(offset_of!(GpuTriangle, positions), 0);
+        assert_eq!(offset_of!(GpuTriangle, normal), 48);
+        assert_eq!(offset_of!(GpuTriangle, color), 64);
+        assert_eq!(offset_of!(GpuTriangle, emission), 80);
+    }
+
+    #[test]
+    fn uniforms_match_std140_render_uniforms() {
+        assert_eq!(size_of::<RenderUniforms>(), 80);
+        assert_eq!(offset_of!(RenderUniforms, camera_position), 0);
+        assert_eq!(offset_of!(RenderUniforms, left_bottom), 16);
+        assert_eq!(offset_of!(RenderUniforms, right), 32);
+        assert_eq!(offset_of!(RenderUniforms, up), 48);
+        assert_eq!(offset_of!(RenderUniforms, resolution_triangle_count_seed), 64);
+    }
+
+    #[test]
+    fn push_constants_match_frame_push_constants() {
+        assert_eq!(size_of::<FramePushConstants>(), 8);
+        assert_eq!(offset_of!(FramePushConstants, first_sample_index), 0);
+        assert_eq!(offset_of!(FramePushConstants, sample_end), 4);
+    }
+
+    #[test]
+    fn double_sided_flag_survives_packing() {
+        let t = Triangle::new(
+            [glam::Vec3::ZERO, glam::Vec3::X, glam::Vec3::Y],
+            glam::Vec3::splat(0.5),
+            glam::Vec3::ONE,
+            true,
+        )
+        .unwrap();
+        let packed = t.to_gpu();
+        assert_eq!(packed.emission[3].to_bits(), TRIANGLE_FLAG_DOUBLE_SIDED);
+        assert_eq!(packed.normal, [0.0, 0.0, 1.0, 0.0]);
+    }
+}
