@@ -1,14 +1,19 @@
 //! Scenes: triangles with the workshop's diffuse material and an optional camera, loaded
 //! from the built-in Cornell box, glTF 2.0 or OBJ + MTL.
 
+use std::path::{Path, PathBuf};
+
 use glam::Vec3;
 
 use crate::camera::Camera;
 use crate::gpu_types::GpuTriangle;
 
 pub mod cornell;
+mod error;
 pub mod gltf_loader;
 pub mod obj_loader;
+
+pub use error::SceneError;
 
 /// A triangle with the workshop's shading parameters (`triangle_t`), world space.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -39,13 +44,24 @@ pub struct Scene {
 impl Triangle {
     /// A triangle whose normal is computed from its counter-clockwise vertices; `None` when
     /// the triangle has (numerically) zero area, since then it has no normal.
-    pub fn new(positions: [Vec3; 3], color: Vec3, emission: Vec3, double_sided: bool) -> Option<Triangle> {
+    pub fn new(
+        positions: [Vec3; 3],
+        color: Vec3,
+        emission: Vec3,
+        double_sided: bool,
+    ) -> Option<Triangle> {
         let normal = (positions[1] - positions[0]).cross(positions[2] - positions[0]);
         let length = normal.length();
         if !(length > 0.0) || !length.is_finite() {
             return None;
         }
-        Some(Triangle { positions, normal: normal / length, color, emission, double_sided })
+        Some(Triangle {
+            positions,
+            normal: normal / length,
+            color,
+            emission,
+            double_sided,
+        })
     }
 
     /// The triangle as the shaders store it (`packed_triangle_t`).
@@ -55,8 +71,208 @@ impl Triangle {
 }
 
 impl Scene {
+    /// Loads a scene file, choosing the loader by the extension (case-insensitive): `.gltf`
+    /// and `.glb` (glTF 2.0), `.obj` (Wavefront OBJ with its MTL libraries).
+    pub fn load(path: &Path) -> Result<Scene, SceneError> {
+        let extension = path.extension().map(|e| e.to_string_lossy().to_lowercase());
+        match extension.as_deref() {
+            Some("gltf") | Some("glb") => gltf_loader::load_gltf(path),
+            Some("obj") => obj_loader::load_obj(path),
+            _ => Err(SceneError::UnsupportedExtension {
+                path: path.to_owned(),
+                extension,
+            }),
+        }
+    }
+
+    /// The workshop's Cornell box with its camera (`scenes/workshop_cornell_box.json`,
+    /// embedded in the binary).
+    pub fn builtin_cornell_box() -> Result<Scene, SceneError> {
+        cornell::workshop_cornell_box()
+    }
+
     /// The triangles as the shaders store them.
     pub fn gpu_triangles(&self) -> Vec<GpuTriangle> {
         self.triangles.iter().map(Triangle::to_gpu).collect()
+    }
+}
+
+/// The workshop's material as a loader found it, before it is copied into each triangle.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(crate) struct Material {
+    /// Albedo, linear RGB in [0, 1].
+    pub color: Vec3,
+    /// Emitted radiance, linear RGB, non-negative.
+    pub emission: Vec3,
+    /// Whether the triangle emits from both sides.
+    pub double_sided: bool,
+}
+
+impl Material {
+    /// A material from file values, made safe for the shaders: the albedo is clamped to
+    /// [0, 1] (more would create energy) and the emission to [0, inf); NaN becomes 0.
+    pub fn sanitized(color: Vec3, emission: Vec3, double_sided: bool) -> Material {
+        // f32::max/min return the other operand for NaN, so NaN maps to 0.
+        let color = Vec3::from(color.to_array().map(|c| c.max(0.0).min(1.0)));
+        let emission = Vec3::from(emission.to_array().map(|e| e.max(0.0).min(f32::MAX)));
+        Material {
+            color,
+            emission,
+            double_sided,
+        }
+    }
+}
+
+/// Collects a loader's triangles: rejects non-finite positions, drops (and counts) degenerate
+/// triangles, and refuses an empty result, the same way for every file format.
+pub(crate) struct SceneBuilder {
+    path: PathBuf,
+    scene: Scene,
+    degenerate_count: usize,
+}
+
+impl SceneBuilder {
+    /// An empty scene loaded from `path` (named in errors).
+    pub fn new(path: &Path) -> SceneBuilder {
+        SceneBuilder {
+            path: path.to_owned(),
+            scene: Scene::default(),
+            degenerate_count: 0,
+        }
+    }
+
+    /// The scene file, for the loaders' own errors.
+    pub fn path(&self) -> &Path {
+        &self.path
+    }
+
+    /// Adds a triangle with world-space, counter-clockwise `positions`; `mesh` names its
+    /// mesh or object in the error for a non-finite position.
+    pub fn push(
+        &mut self,
+        mesh: &str,
+        positions: [Vec3; 3],
+        material: &Material,
+    ) -> Result<(), SceneError> {
+        if !positions.iter().all(|p| p.is_finite()) {
+            return Err(SceneError::NonFinitePosition {
+                path: self.path.clone(),
+                mesh: mesh.to_owned(),
+            });
+        }
+        match Triangle::new(
+            positions,
+            material.color,
+            material.emission,
+            material.double_sided,
+        ) {
+            Some(triangle) => self.scene.triangles.push(triangle),
+            None => self.degenerate_count += 1,
+        }
+        Ok(())
+    }
+
+    /// Records something the loader ignored (textures, a missing material library, ...).
+    pub fn warn(&mut self, warning: String) {
+        self.scene.warnings.push(warning);
+    }
+
+    /// Sets the scene's camera.
+    pub fn set_camera(&mut self, camera: Camera) {
+        self.scene.camera = Some(camera);
+    }
+
+    /// Whether a camera was set already (loaders take the first one they meet).
+    pub fn has_camera(&self) -> bool {
+        self.scene.camera.is_some()
+    }
+
+    /// The finished scene; an error when it has no triangles.
+    pub fn finish(mut self) -> Result<Scene, SceneError> {
+        if self.degenerate_count > 0 {
+            let warning = format!("dropped {} degenerate triangles", self.degenerate_count);
+            self.scene.warnings.push(warning);
+        }
+        if self.scene.triangles.is_empty() {
+            return Err(SceneError::NoTriangles { path: self.path });
+        }
+        Ok(self.scene)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn assert_send_sync<T: Send + Sync + 'static>() {}
+
+    #[test]
+    fn scene_error_can_travel_in_anyhow() {
+        assert_send_sync::<SceneError>();
+    }
+
+    #[test]
+    fn load_rejects_unknown_extension_before_reading() {
+        let error = Scene::load(Path::new("does/not/exist.ply")).unwrap_err();
+        assert!(
+            matches!(error, SceneError::UnsupportedExtension { .. }),
+            "{error}"
+        );
+        let error = Scene::load(Path::new("no_extension")).unwrap_err();
+        assert!(matches!(
+            error,
+            SceneError::UnsupportedExtension {
+                extension: None,
+                ..
+            }
+        ));
+    }
+
+    #[test]
+    fn load_reports_missing_file_by_name() {
+        for name in ["missing.gltf", "missing.GLB", "missing.obj"] {
+            let error = Scene::load(Path::new(name)).unwrap_err();
+            assert_eq!(
+                error.to_string(),
+                format!("cannot read scene '{name}': No such file or directory")
+            );
+        }
+    }
+
+    #[test]
+    fn material_is_sanitized() {
+        let material = Material::sanitized(
+            Vec3::new(1.5, -0.5, f32::NAN),
+            Vec3::new(-1.0, f32::NAN, 7.0),
+            true,
+        );
+        assert_eq!(material.color, Vec3::new(1.0, 0.0, 0.0));
+        assert_eq!(material.emission, Vec3::new(0.0, 0.0, 7.0));
+    }
+
+    #[test]
+    fn builder_drops_degenerate_triangles_and_rejects_empty_scenes() {
+        let material = Material::sanitized(Vec3::ONE, Vec3::ZERO, false);
+        let mut builder = SceneBuilder::new(Path::new("t.obj"));
+        builder
+            .push("m", [Vec3::ZERO, Vec3::X, Vec3::Y], &material)
+            .unwrap();
+        builder
+            .push("m", [Vec3::ZERO, Vec3::X, 2.0 * Vec3::X], &material)
+            .unwrap();
+        let error = builder.push("m", [Vec3::ZERO, Vec3::X, Vec3::INFINITY], &material);
+        assert!(matches!(error, Err(SceneError::NonFinitePosition { .. })));
+        let scene = builder.finish().unwrap();
+        assert_eq!(scene.triangles.len(), 1);
+        assert_eq!(scene.triangles[0].normal, Vec3::Z);
+        assert_eq!(
+            scene.warnings,
+            vec!["dropped 1 degenerate triangles".to_owned()]
+        );
+
+        let mut builder = SceneBuilder::new(Path::new("t.obj"));
+        builder.push("m", [Vec3::ZERO; 3], &material).unwrap();
+        let error = builder.finish().unwrap_err();
+        assert_eq!(error.to_string(), "scene 't.obj' contains no triangles");
     }
 }

@@ -1,0 +1,162 @@
+//! What can go wrong when loading a scene. Every message is one line that names the file, so
+//! that the CLI can print it as it is.
+
+use std::path::PathBuf;
+
+use thiserror::Error;
+
+/// An error while loading a scene file (or the built-in scene).
+///
+/// The `Display` text is the whole story, including the underlying crate's message; the
+/// variants do not chain a `source()` so that printing the chain does not repeat it.
+#[derive(Debug, Error)]
+pub enum SceneError {
+    /// The file could not be read (missing, no permission, a directory, ...).
+    #[error("cannot read scene '{}': {}", path.display(), io_message(error))]
+    Read {
+        /// The scene file as given.
+        path: PathBuf,
+        /// Why it could not be read.
+        error: std::io::Error,
+    },
+    /// The file's extension names no format we can load.
+    #[error(
+        "cannot load scene '{}': unsupported file extension{} (expected .gltf, .glb or .obj)",
+        path.display(),
+        extension.as_ref().map(|e| format!(" '.{e}'")).unwrap_or_default()
+    )]
+    UnsupportedExtension {
+        /// The scene file as given.
+        path: PathBuf,
+        /// The extension, without its dot; `None` when the file has none.
+        extension: Option<String>,
+    },
+    /// The `gltf` crate rejected the file (bad JSON, failed validation, missing buffer, ...).
+    #[error("malformed glTF '{}': {error}", path.display())]
+    Gltf {
+        /// The scene file as given.
+        path: PathBuf,
+        /// The `gltf` crate's error.
+        error: gltf::Error,
+    },
+    /// The glTF file passed the `gltf` crate's checks but breaks a rule of the format that
+    /// we check ourselves (accessor types and extents, index ranges, the node hierarchy).
+    #[error("malformed glTF '{}': {reason}", path.display())]
+    MalformedGltf {
+        /// The scene file as given.
+        path: PathBuf,
+        /// What is wrong, naming the object (mesh, node, accessor) where possible.
+        reason: String,
+    },
+    /// The `tobj` crate rejected the OBJ file or its material library.
+    #[error("malformed OBJ '{}': {error}", path.display())]
+    Obj {
+        /// The scene file as given.
+        path: PathBuf,
+        /// The `tobj` crate's error.
+        error: tobj::LoadError,
+    },
+    /// A glTF primitive draws points or lines, which have no area to render.
+    #[error(
+        "scene '{}': mesh '{mesh}' primitive {primitive} is {mode}; only triangles are supported",
+        path.display()
+    )]
+    UnsupportedPrimitive {
+        /// The scene file as given.
+        path: PathBuf,
+        /// The mesh's name, or `#index` when it has none.
+        mesh: String,
+        /// The primitive's index within the mesh.
+        primitive: usize,
+        /// The primitive's mode as glTF spells it in the `gltf` crate (`Lines`, `Points`, ...).
+        mode: String,
+    },
+    /// After loading (and dropping degenerate triangles) nothing is left to render.
+    #[error("scene '{}' contains no triangles", path.display())]
+    NoTriangles {
+        /// The scene file as given.
+        path: PathBuf,
+    },
+    /// The scene's camera is orthographic; the workshop's camera is a pinhole.
+    #[error(
+        "scene '{}': camera '{camera}' is orthographic; only perspective cameras are supported",
+        path.display()
+    )]
+    OrthographicCamera {
+        /// The scene file as given.
+        path: PathBuf,
+        /// The camera's name, or `#index` when it has none.
+        camera: String,
+    },
+    /// The scene's camera cannot be turned into a pinhole camera.
+    #[error("scene '{}': camera '{camera}' is unusable: {reason}", path.display())]
+    InvalidCamera {
+        /// The scene file as given.
+        path: PathBuf,
+        /// The camera's name, or `#index` when it has none.
+        camera: String,
+        /// Why, e.g. a field of view outside (0, pi) or a degenerate node transform.
+        reason: String,
+    },
+    /// A vertex position (after transformation to world space) is infinite or NaN.
+    #[error("scene '{}': mesh '{mesh}' has a non-finite vertex position", path.display())]
+    NonFinitePosition {
+        /// The scene file as given.
+        path: PathBuf,
+        /// The mesh (glTF) or object (OBJ) name, or `#index` when it has none.
+        mesh: String,
+    },
+    /// The embedded workshop scene could not be parsed (a bug in the build, not user input).
+    #[error("built-in Cornell box scene is broken: {reason}")]
+    Builtin {
+        /// What is wrong with it.
+        reason: String,
+    },
+}
+
+/// An I/O error's message without the "(os error N)" suffix that `std` appends, which means
+/// nothing to a user reading one line of output.
+fn io_message(error: &std::io::Error) -> String {
+    let message = error.to_string();
+    match message.rfind(" (os error ") {
+        Some(start) if message.ends_with(')') => message[..start].to_owned(),
+        _ => message,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn read_error_is_one_line_without_os_error_code() {
+        let error = SceneError::Read {
+            path: PathBuf::from("x.gltf"),
+            error: std::io::Error::from_raw_os_error(2),
+        };
+        assert_eq!(
+            error.to_string(),
+            "cannot read scene 'x.gltf': No such file or directory"
+        );
+    }
+
+    #[test]
+    fn unsupported_extension_names_it() {
+        let error = SceneError::UnsupportedExtension {
+            path: PathBuf::from("a/b.ply"),
+            extension: Some("ply".into()),
+        };
+        assert_eq!(
+            error.to_string(),
+            "cannot load scene 'a/b.ply': unsupported file extension '.ply' \
+             (expected .gltf, .glb or .obj)"
+        );
+        let error = SceneError::UnsupportedExtension {
+            path: PathBuf::from("b"),
+            extension: None,
+        };
+        assert!(error
+            .to_string()
+            .contains("unsupported file extension (expected"));
+    }
+}
