@@ -18,5 +18,21 @@ pub mod shaders {
 pub mod shader_compiler;
 
 pub mod camera;
+pub mod cli;
 pub mod gpu_types;
 pub mod scene;
+pub mod vk;
+pub mod error;
+pub mod image_data;
+pub mod output;
+pub mod renderer;
+pub mod settings;
+
+pub use camera::Camera;
+pub use error::{Error, Result};
+pub use image_data::RenderedImage;
+pub use renderer::Renderer;
+pub use scene::Scene;
+pub use settings::{Integrator, PixelFilter, RenderSettings};
+pub mod cpu;
+pub mod stats;

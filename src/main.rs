@@ -1,1 +1,15 @@
-fn main() {}
+//! The `vkpath` command line. Errors are printed as one line and exit with status 1; usage
+//! errors exit with status 2 (clap's convention).
+
+use clap::Parser;
+
+fn main() {
+    env_logger::Builder::from_env(env_logger::Env::default().default_filter_or("warn"))
+        .format_timestamp(None)
+        .init();
+    let cli = vkpath::cli::Cli::parse();
+    if let Err(error) = vkpath::cli::run(cli) {
+        eprintln!("vkpath: error: {error:#}");
+        std::process::exit(1);
+    }
+}

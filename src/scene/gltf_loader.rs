@@ -439,3 +439,11 @@ fn malformed(path: &Path, reason: String) -> SceneError {
         reason,
     }
 }
+
+#[cfg(test)]
+#[path = "gltf_test_support.rs"]
+mod test_support;
+
+#[cfg(test)]
+#[path = "gltf_loader_tests.rs"]
+mod tests;

@@ -1,0 +1,118 @@
+//! The `vkpath` command line: argument parsing and the subcommands. Errors reach `main` as
+//! `anyhow` chains and are printed as one line.
+
+
+use clap::{Parser, Subcommand, ValueEnum};
+use glam::Vec3;
+
+use crate::settings::PixelFilter;
+
+pub mod devices;
+pub mod render;
+pub mod summary;
+
+/// Headless progressive path tracer: the Path Tracing Workshop's GLSL on Vulkan.
+#[derive(Debug, Parser)]
+#[command(name = "vkpath", version, about)]
+pub struct Cli {
+    /// What to do.
+    #[command(subcommand)]
+    pub command: Command,
+}
+
+/// The subcommands.
+#[derive(Debug, Subcommand)]
+pub enum Command {
+    /// Render a scene (the workshop's Cornell box when none is given) to an EXR or PNG image.
+    Render(render::RenderArgs),
+    /// List the Vulkan devices.
+    Devices,
+}
+
+/// Options that choose and check the Vulkan device.
+#[derive(Debug, Clone, clap::Args)]
+pub struct DeviceArgs {
+    /// Device to use: an index or part of a name, as `vkpath devices` lists them.
+    #[arg(long)]
+    pub device: Option<String>,
+    /// Fail unless the device is a GPU (not a CPU implementation such as lavapipe).
+    #[arg(long)]
+    pub require_gpu: bool,
+    /// Enable the Vulkan validation layers (VK_LAYER_KHRONOS_validation).
+    #[arg(long)]
+    pub validate: bool,
+}
+
+impl DeviceArgs {
+    /// Creates the Vulkan context these options describe and prints which device it uses.
+    pub fn create_context(&self) -> crate::Result<std::sync::Arc<crate::vk::Context>> {
+        let context = crate::vk::Context::new(&crate::vk::ContextOptions {
+            validate: self.validate,
+            device: self.device.clone(),
+            require_gpu: self.require_gpu,
+        })?;
+        eprintln!("vkpath: device {}", context.info);
+        Ok(context)
+    }
+}
+
+/// `--pixel-filter` values.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
+pub enum PixelFilterArg {
+    /// Jitter uniformly inside the pixel (box filter).
+    Box,
+    /// The pixel centre, as the workshop does.
+    Center,
+}
+
+impl From<PixelFilterArg> for PixelFilter {
+    fn from(arg: PixelFilterArg) -> PixelFilter {
+        match arg {
+            PixelFilterArg::Box => PixelFilter::Box,
+            PixelFilterArg::Center => PixelFilter::Center,
+        }
+    }
+}
+
+/// Parses "x,y,z" into a vector.
+pub fn parse_vec3(text: &str) -> Result<Vec3, String> {
+    let parts: Vec<&str> = text.split(',').map(str::trim).collect();
+    if parts.len() != 3 {
+        return Err(format!("expected three comma-separated numbers x,y,z, got '{text}'"));
+    }
+    let mut values = [0.0f32; 3];
+    for (value, part) in values.iter_mut().zip(&parts) {
+        *value = part.parse::<f32>().map_err(|_| format!("'{part}' is not a number"))?;
+        if !value.is_finite() {
+            return Err(format!("'{part}' is not finite"));
+        }
+    }
+    Ok(Vec3::from_array(values))
+}
+
+/// Runs the command line; returns the process exit code.
+pub fn run(cli: Cli) -> anyhow::Result<()> {
+    match cli.command {
+        Command::Render(args) => render::run(&args),
+        Command::Devices => devices::run(),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn vec3_parsing_accepts_triples_and_rejects_the_rest() {
+        assert_eq!(parse_vec3("1, 2.5,-3").unwrap(), Vec3::new(1.0, 2.5, -3.0));
+        assert!(parse_vec3("1,2").is_err());
+        assert!(parse_vec3("1,2,x").is_err());
+        assert!(parse_vec3("1,2,inf").is_err());
+    }
+
+    #[test]
+    fn cli_definition_is_consistent() {
+        use clap::CommandFactory;
+        Cli::command().debug_assert();
+    }
+}

@@ -1,0 +1,192 @@
+//! `vkpath render`: loads a scene, renders it progressively and writes the image.
+
+use std::path::{Path, PathBuf};
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::Arc;
+use std::time::Instant;
+
+use anyhow::{bail, Context as _};
+use glam::Vec3;
+
+use super::summary::{summary_line, RenderProgress};
+use super::{parse_vec3, DeviceArgs, PixelFilterArg};
+use crate::camera::Camera;
+use crate::output::{check_writable, save_image, SaveOptions};
+use crate::renderer::Renderer;
+use crate::scene::Scene;
+use crate::settings::{Integrator, RenderSettings};
+
+/// Arguments of `vkpath render`.
+#[derive(Debug, Clone, clap::Args)]
+pub struct RenderArgs {
+    /// Scene file (.gltf, .glb or .obj); the workshop's Cornell box when omitted.
+    pub scene: Option<PathBuf>,
+    /// Output image: .exr (linear radiance, 32-bit float) or .png (sRGB).
+    #[arg(short, long)]
+    pub output: PathBuf,
+    /// Image width in pixels.
+    #[arg(long, default_value_t = 512)]
+    pub width: u32,
+    /// Image height in pixels.
+    #[arg(long, default_value_t = 512)]
+    pub height: u32,
+    /// Samples per pixel in total.
+    #[arg(long, default_value_t = 64)]
+    pub spp: u32,
+    /// Maximum number of surface hits per path (the workshop's MAX_PATH_LENGTH).
+    #[arg(long, default_value_t = 5)]
+    pub max_path_length: u32,
+    /// Samples per pixel per frame (the workshop's SAMPLE_COUNT); the image does not depend
+    /// on it.
+    #[arg(long, default_value_t = 1)]
+    pub samples_per_frame: u32,
+    /// Random seed; 0 seeds exactly as the workshop does.
+    #[arg(long, default_value_t = 0)]
+    pub seed: u32,
+    /// Where samples look inside a pixel.
+    #[arg(long, value_enum, default_value_t = PixelFilterArg::Box)]
+    pub pixel_filter: PixelFilterArg,
+    /// PNG only: multiply radiance by 2^EXPOSURE before clamping to [0, 1] and sRGB encoding.
+    #[arg(long, default_value_t = 0.0, allow_negative_numbers = true)]
+    pub exposure: f32,
+    /// EXR only: also store each pixel's second moment and sample count (for `vkpath compare`).
+    #[arg(long)]
+    pub moments: bool,
+    /// Camera position x,y,z (overrides the scene's camera; needed for OBJ).
+    #[arg(long, value_parser = parse_vec3, allow_hyphen_values = true)]
+    pub camera_position: Option<Vec3>,
+    /// Point the camera looks at, x,y,z.
+    #[arg(long, value_parser = parse_vec3, allow_hyphen_values = true)]
+    pub look_at: Option<Vec3>,
+    /// Camera up direction x,y,z.
+    #[arg(long, value_parser = parse_vec3, allow_hyphen_values = true, default_value = "0,1,0")]
+    pub up: Vec3,
+    /// Vertical field of view in degrees.
+    #[arg(long, default_value_t = 45.0)]
+    pub fov: f32,
+    /// Device selection and validation.
+    #[command(flatten)]
+    pub device: DeviceArgs,
+}
+
+impl RenderArgs {
+    /// The render settings these arguments describe.
+    pub fn settings(&self, integrator: Integrator) -> RenderSettings {
+        RenderSettings {
+            width: self.width,
+            height: self.height,
+            spp: self.spp,
+            max_path_length: self.max_path_length,
+            seed: self.seed,
+            pixel_filter: self.pixel_filter.into(),
+            integrator,
+            samples_per_frame: self.samples_per_frame,
+        }
+    }
+}
+
+/// Loads the scene the user named, or the built-in one.
+pub fn load_scene(path: Option<&Path>) -> anyhow::Result<Scene> {
+    let scene = match path {
+        Some(path) => Scene::load(path)?,
+        None => Scene::builtin_cornell_box()?,
+    };
+    for warning in &scene.warnings {
+        eprintln!("vkpath: warning: {warning}");
+    }
+    Ok(scene)
+}
+
+/// The camera from the command line, else the scene's.
+pub fn choose_camera(args: &RenderArgs, scene: &Scene) -> anyhow::Result<Camera> {
+    match (args.camera_position, args.look_at) {
+        (Some(position), Some(target)) => {
+            if !(args.fov > 0.0 && args.fov < 180.0) {
+                bail!("--fov {} is outside (0, 180) degrees", args.fov);
+            }
+            let forward = target - position;
+            if forward.length() == 0.0 || forward.cross(args.up).length() < 1e-6 * forward.length() * args.up.length() {
+                bail!("--camera-position, --look-at and --up do not define a view (the view direction is zero or parallel to --up)");
+            }
+            Ok(Camera::look_at(position, target, args.up, args.fov.to_radians()))
+        }
+        (Some(_), None) | (None, Some(_)) => {
+            bail!("--camera-position and --look-at must be given together")
+        }
+        (None, None) => scene.camera.ok_or_else(|| {
+            let name = args.scene.as_deref().map(|p| p.display().to_string()).unwrap_or_default();
+            anyhow::anyhow!("scene '{name}' has no camera: pass --camera-position X,Y,Z and --look-at X,Y,Z (and optionally --up, --fov)")
+        }),
+    }
+}
+
+/// Set by Ctrl-C: stop after the current batch and save what was rendered.
+static INTERRUPTED: AtomicBool = AtomicBool::new(false);
+
+/// Runs `vkpath render`.
+pub fn run(args: &RenderArgs) -> anyhow::Result<()> {
+    let settings = args.settings(Integrator::PathTracing);
+    settings.validate()?;
+    check_writable(&args.output)?;
+    let scene = load_scene(args.scene.as_deref())?;
+    let camera = choose_camera(args, &scene)?;
+    let context = args.device.create_context()?;
+    render_and_save(&context, &scene, &camera, settings, &args.output, &SaveOptions { exposure: args.exposure, moments: args.moments })
+}
+
+/// Renders with a progress bar, saves the image and prints the summary line. Ctrl-C stops
+/// early and saves the samples taken so far.
+pub fn render_and_save(
+    context: &Arc<crate::vk::Context>,
+    scene: &Scene,
+    camera: &Camera,
+    settings: RenderSettings,
+    output: &Path,
+    save: &SaveOptions,
+) -> anyhow::Result<()> {
+    // A second handler cannot be installed (e.g. in tests calling this twice); the render
+    // then simply is not interruptible, which is harmless.
+    let _ = ctrlc::set_handler(|| INTERRUPTED.store(true, Ordering::SeqCst));
+    let mut renderer = Renderer::new(context, scene, camera, settings.clone())?;
+    let mut progress = RenderProgress::new(settings.spp);
+    let started = Instant::now();
+    let mut failure = None;
+    while !renderer.is_complete() && !INTERRUPTED.load(Ordering::SeqCst) {
+        match renderer.render_batch() {
+            Ok(done) => progress.update(done),
+            Err(error) => {
+                failure = Some(error);
+                break;
+            }
+        }
+    }
+    progress.finish();
+    let seconds = started.elapsed().as_secs_f64();
+    let done = renderer.samples_done();
+    if let Some(error) = failure {
+        if done == 0 {
+            return Err(error.into());
+        }
+        eprintln!("vkpath: error after {done} spp: {error}; saving what was rendered");
+    }
+    let image = renderer.read_back().context("reading the image back")?;
+    if let Err(error) = save_image(output, &image, save) {
+        // Nothing already rendered is lost: keep it in the temp directory.
+        let rescue = std::env::temp_dir().join(format!("vkpath-rescue-{}.exr", std::process::id()));
+        let rescued = save_image(&rescue, &image, &SaveOptions { moments: true, ..*save });
+        match rescued {
+            Ok(()) => bail!("{error}; the render was saved to '{}' instead", rescue.display()),
+            Err(_) => bail!("{error}"),
+        }
+    }
+    eprintln!("{}", summary_line(&context.info, settings.width, settings.height, done, seconds));
+    if INTERRUPTED.load(Ordering::SeqCst) && done < settings.spp {
+        bail!("interrupted after {done} of {} spp; the partial render was saved to '{}'", settings.spp, output.display());
+    }
+    if let Some(messages) = context.validation_messages() {
+        if messages.total() > 0 {
+            bail!("the validation layer reported {} errors and {} warnings (see the log above)", messages.errors(), messages.warnings());
+        }
+    }
+    Ok(())
+}

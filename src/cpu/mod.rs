@@ -1,0 +1,15 @@
+//! The CPU reference: Rust twins of the workshop's GLSL (same names, parameters and maths,
+//! operation for operation) and a CPU renderer built from them, so that tests can check the
+//! GPU against the CPU sample by sample and the CPU against analytic answers.
+
+pub mod camera;
+pub mod image;
+pub mod integrator;
+pub mod renderer;
+pub mod workshop;
+
+#[cfg(test)]
+mod furnace_tests;
+
+pub use image::{CpuImage, PixelAccumulator};
+pub use renderer::{add_cpu_samples, render_cpu, CpuRenderSettings};

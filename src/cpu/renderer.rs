@@ -1,0 +1,76 @@
+//! The CPU reference renderer: `path_tracer.comp`'s `main()` on the CPU, with rayon over
+//! pixel rows. Every pixel takes its samples one at a time in sample order with the same
+//! seeds, integrator and Kahan update as the shader, so that its sums equal the GPU's
+//! wherever every sample does.
+
+use glam::UVec2;
+use rayon::prelude::*;
+
+use crate::camera::ImagePlane;
+use crate::cpu::camera::{get_sample_seed, get_sample_tex_coord};
+use crate::cpu::image::{CpuImage, PixelAccumulator};
+use crate::cpu::integrator::get_sample_radiance;
+use crate::cpu::workshop::get_primary_ray_direction;
+use crate::scene::Triangle;
+
+/// What a CPU render does: the shader's specialization constants and uniforms.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct CpuRenderSettings {
+    /// Image width in pixels.
+    pub width: u32,
+    /// Image height in pixels.
+    pub height: u32,
+    /// Samples per pixel.
+    pub spp: u32,
+    /// Maximal number of surface hits per path (`MAX_PATH_LENGTH`).
+    pub max_path_length: u32,
+    /// The user's seed (`get_sample_seed`).
+    pub seed: u32,
+    /// `PIXEL_FILTER_BOX` or `PIXEL_FILTER_CENTER` of `crate::contract`.
+    pub pixel_filter: u32,
+    /// `INTEGRATOR_*` of `crate::contract`.
+    pub integrator: u32,
+}
+
+/// Renders `settings.spp` samples per pixel into a new image.
+/// \param scene_triangles All triangles of the scene
+/// \param plane The camera for the image's aspect ratio
+/// \param settings Size, samples, path length, seed, pixel filter and integrator
+/// \return Sums, sums of squares and counts of every pixel, top-down rows
+pub fn render_cpu(scene_triangles: &[Triangle], plane: &ImagePlane, settings: &CpuRenderSettings) -> CpuImage {
+    let mut image = CpuImage::new(settings.width, settings.height);
+    add_cpu_samples(scene_triangles, plane, settings, 0, settings.spp, &mut image);
+    image
+}
+
+/// Adds the samples with index in `first_sample_index..sample_end` to every pixel, as one
+/// frame of the shader does with its push constants `g_first_sample_index` and
+/// `g_sample_end`; rendering in several such calls gives bit-identical results to one.
+/// `settings.spp` is not read. The image must have been made for `settings.width` x
+/// `settings.height`; pixels beyond its size are not touched.
+pub fn add_cpu_samples(scene_triangles: &[Triangle], plane: &ImagePlane, settings: &CpuRenderSettings, first_sample_index: u32, sample_end: u32, image: &mut CpuImage) {
+    let width = image.width;
+    let height = image.height;
+    if width == 0 {
+        return;
+    }
+    image.pixels.par_chunks_mut(width as usize).enumerate().for_each(|(row, pixels)| {
+        // Image rows run top-down; ShaderToy counts pixels from the bottom-left.
+        let pixel_y = height - 1 - row as u32;
+        for (x, accumulator) in pixels.iter_mut().enumerate() {
+            let pixel = UVec2::new(x as u32, pixel_y);
+            add_pixel_samples(scene_triangles, plane, settings, pixel, UVec2::new(width, height), first_sample_index..sample_end, accumulator);
+        }
+    });
+}
+
+/// The body of `main()` in `path_tracer.comp` for one pixel (counted from the bottom-left).
+fn add_pixel_samples(scene_triangles: &[Triangle], plane: &ImagePlane, settings: &CpuRenderSettings, pixel: UVec2, resolution: UVec2, samples: std::ops::Range<u32>, accumulator: &mut PixelAccumulator) {
+    for sample_index in samples {
+        let mut seed = get_sample_seed(pixel, sample_index, settings.seed);
+        let tex_coord = get_sample_tex_coord(pixel, resolution, settings.pixel_filter, &mut seed);
+        let ray_direction = get_primary_ray_direction(tex_coord, plane.camera_position, plane.left_bottom, plane.right, plane.up);
+        let radiance = get_sample_radiance(scene_triangles, plane.camera_position, ray_direction, &mut seed, settings.integrator, settings.max_path_length);
+        accumulator.add_sample(radiance);
+    }
+}

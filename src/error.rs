@@ -1,0 +1,30 @@
+//! The library's error type: what we were doing and what went wrong, in one line.
+
+use crate::scene::SceneError;
+use crate::vk::VkError;
+
+/// Anything that can go wrong in vkpath.
+#[derive(Debug, thiserror::Error)]
+pub enum Error {
+    /// Vulkan could not be set up or a Vulkan call failed.
+    #[error(transparent)]
+    Vulkan(#[from] VkError),
+    /// A scene could not be loaded.
+    #[error(transparent)]
+    Scene(#[from] SceneError),
+    /// Render settings out of range.
+    #[error("invalid settings: {0}")]
+    InvalidSettings(String),
+    /// The scene lacks something the render needs.
+    #[error("{0}")]
+    MissingInput(String),
+    /// An image could not be written or read.
+    #[error("{0}")]
+    Image(String),
+    /// A shader could not be compiled.
+    #[error("{0}")]
+    ShaderCompilation(String),
+}
+
+/// Result with vkpath's error.
+pub type Result<T, E = Error> = std::result::Result<T, E>;

@@ -1,0 +1,77 @@
+//! A rendered image in linear radiance, with what statistics need: per-pixel mean, second
+//! moment and sample count.
+
+/// The result of a render, rows top-down.
+#[derive(Clone, Debug, PartialEq)]
+pub struct RenderedImage {
+    /// Width in pixels.
+    pub width: u32,
+    /// Height in pixels.
+    pub height: u32,
+    /// Per pixel: mean radiance (linear RGB), alpha 1.
+    pub mean: Vec<[f32; 4]>,
+    /// Per pixel: mean of the squared radiance samples (RGB), E[L^2].
+    pub second_moment: Vec<[f32; 3]>,
+    /// Per pixel: number of samples.
+    pub sample_count: Vec<f32>,
+}
+
+impl RenderedImage {
+    /// Builds the image from the accumulation layers (sum + count, Kahan compensation, sum
+    /// of squares), each `width * height` texels in that order.
+    pub fn from_accumulation(width: u32, height: u32, texels: &[[f32; 4]]) -> RenderedImage {
+        let n = (width * height) as usize;
+        let (sums, rest) = texels.split_at(n);
+        let squares = &rest[n..2 * n];
+        let mut image = RenderedImage {
+            width,
+            height,
+            mean: Vec::with_capacity(n),
+            second_moment: Vec::with_capacity(n),
+            sample_count: Vec::with_capacity(n),
+        };
+        for (sum, square) in sums.iter().zip(squares) {
+            let count = sum[3];
+            let scale = if count > 0.0 { 1.0 / count } else { 0.0 };
+            image.mean.push([sum[0] * scale, sum[1] * scale, sum[2] * scale, 1.0]);
+            image
+                .second_moment
+                .push([square[0] * scale, square[1] * scale, square[2] * scale]);
+            image.sample_count.push(count);
+        }
+        image
+    }
+
+    /// The mean radiance of the pixel at column `x`, row `y` (from the top).
+    pub fn pixel(&self, x: u32, y: u32) -> [f32; 4] {
+        self.mean[(y * self.width + x) as usize]
+    }
+
+    /// Estimated variance of each pixel's mean (RGB): (E[L^2] - E[L]^2) / (n - 1), the
+    /// unbiased sample variance divided by n. Zero where fewer than two samples exist.
+    pub fn variance_of_mean(&self) -> Vec<[f32; 3]> {
+        self.mean
+            .iter()
+            .zip(&self.second_moment)
+            .zip(&self.sample_count)
+            .map(|((mean, square), &n)| {
+                if n < 2.0 {
+                    return [0.0; 3];
+                }
+                let variance = |c: usize| ((square[c] - mean[c] * mean[c]).max(0.0) / (n - 1.0)) as f32;
+                [variance(0), variance(1), variance(2)]
+            })
+            .collect()
+    }
+
+    /// Average of the mean over all pixels (RGB).
+    pub fn average(&self) -> [f64; 3] {
+        let mut total = [0.0f64; 3];
+        for pixel in &self.mean {
+            for c in 0..3 {
+                total[c] += f64::from(pixel[c]);
+            }
+        }
+        total.map(|t| t / self.mean.len().max(1) as f64)
+    }
+}

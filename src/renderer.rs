@@ -1,0 +1,348 @@
+//! The progressive GPU renderer: uploads a scene, runs frames of the path-tracing kernel that
+//! add samples to an accumulation image, and reads the image back.
+
+use std::sync::Arc;
+use std::time::{Duration, Instant};
+
+use ash::vk;
+use gpu_allocator::MemoryLocation;
+
+use crate::camera::Camera;
+use crate::contract;
+use crate::error::{Error, Result};
+use crate::gpu_types::{FramePushConstants, RenderUniforms};
+use crate::image_data::RenderedImage;
+use crate::scene::Scene;
+use crate::settings::RenderSettings;
+use crate::shaders;
+use crate::vk::{
+    full_compute_barrier, Buffer, CommandRunner, ComputePipeline, Context, DescriptorSet, StorageImage, VkError,
+};
+
+/// How long one submission of frames should take: long enough to hide submission overhead,
+/// short enough for a responsive progress bar. Each frame is its own dispatch, so a GPU
+/// watchdog sees short dispatches whatever this is.
+const TARGET_BATCH_DURATION: Duration = Duration::from_millis(250);
+/// Most frames recorded into one submission.
+const MAX_FRAMES_PER_BATCH: u32 = 256;
+
+/// Converts embedded SPIR-V bytes to words.
+pub(crate) fn spirv_words(bytes: &[u8]) -> Result<Vec<u32>> {
+    ash::util::read_spv(&mut std::io::Cursor::new(bytes))
+        .map_err(|e| Error::Vulkan(VkError::InvalidSpirv(e.to_string())))
+}
+
+/// A progressive render of one scene on one device.
+pub struct Renderer {
+    context: Arc<Context>,
+    settings: RenderSettings,
+    commands: CommandRunner,
+    pipeline: ComputePipeline,
+    descriptors: DescriptorSet,
+    accumulation: StorageImage,
+    readback: Buffer,
+    // Bound through the descriptor set; kept alive as long as it.
+    _triangles: Buffer,
+    _uniforms: Buffer,
+    samples_done: u32,
+    frames_per_batch: u32,
+}
+
+impl Renderer {
+    /// Prepares a render: validates the settings, uploads the scene's triangles and the
+    /// camera, creates the pipeline and clears the accumulation image.
+    pub fn new(
+        context: &Arc<Context>,
+        scene: &Scene,
+        camera: &Camera,
+        settings: RenderSettings,
+    ) -> Result<Renderer> {
+        settings.validate()?;
+        let device_limit = context.limits.max_image_dimension2_d;
+        if settings.width > device_limit || settings.height > device_limit {
+            return Err(Error::InvalidSettings(format!(
+                "image size {}x{} exceeds the device's limit of {device_limit} pixels per side",
+                settings.width, settings.height
+            )));
+        }
+        if scene.triangles.is_empty() {
+            return Err(Error::MissingInput("the scene has no triangles".into()));
+        }
+        let commands = CommandRunner::new(context)?;
+        let triangles = upload_device_local(
+            context,
+            &commands,
+            "triangles",
+            bytemuck::cast_slice(&scene.gpu_triangles()),
+            vk::BufferUsageFlags::STORAGE_BUFFER,
+        )?;
+        let uniforms = Buffer::with_data(
+            context,
+            "render uniforms",
+            &[RenderUniforms::new(
+                &camera.image_plane(settings.aspect()),
+                settings.width,
+                settings.height,
+                scene.triangles.len() as u32,
+                settings.seed,
+            )],
+            vk::BufferUsageFlags::UNIFORM_BUFFER,
+        )?;
+        let pipeline = ComputePipeline::new(
+            context,
+            &spirv_words(shaders::PATH_TRACER)?,
+            &[
+                (contract::BINDING_TRIANGLES, vk::DescriptorType::STORAGE_BUFFER),
+                (contract::BINDING_RENDER_UNIFORMS, vk::DescriptorType::UNIFORM_BUFFER),
+                (contract::BINDING_ACCUMULATION, vk::DescriptorType::STORAGE_IMAGE),
+            ],
+            std::mem::size_of::<FramePushConstants>() as u32,
+            &[
+                (contract::SPEC_SAMPLE_COUNT, settings.samples_per_frame),
+                (contract::SPEC_MAX_PATH_LENGTH, settings.max_path_length),
+                (contract::SPEC_PIXEL_FILTER, settings.pixel_filter.spec_constant()),
+                (contract::SPEC_INTEGRATOR, settings.integrator.spec_constant()),
+            ],
+        )?;
+        let accumulation = StorageImage::new(
+            context,
+            "accumulation",
+            settings.width,
+            settings.height,
+            contract::ACCUMULATION_LAYER_COUNT,
+        )?;
+        let readback = Buffer::new(
+            context,
+            "readback",
+            accumulation.byte_size(),
+            vk::BufferUsageFlags::TRANSFER_DST,
+            MemoryLocation::GpuToCpu,
+        )?;
+        let descriptors = pipeline.allocate_descriptor_set()?;
+        descriptors.write_buffer(contract::BINDING_TRIANGLES, vk::DescriptorType::STORAGE_BUFFER, &triangles);
+        descriptors.write_buffer(contract::BINDING_RENDER_UNIFORMS, vk::DescriptorType::UNIFORM_BUFFER, &uniforms);
+        descriptors.write_storage_image(contract::BINDING_ACCUMULATION, &accumulation);
+        commands.run(|device, command_buffer| clear_to_general(device, command_buffer, &accumulation))?;
+        Ok(Renderer {
+            context: context.clone(),
+            settings,
+            commands,
+            pipeline,
+            descriptors,
+            accumulation,
+            readback,
+            _triangles: triangles,
+            _uniforms: uniforms,
+            samples_done: 0,
+            frames_per_batch: 1,
+        })
+    }
+
+    /// The settings this render was made with.
+    pub fn settings(&self) -> &RenderSettings {
+        &self.settings
+    }
+
+    /// The device this render runs on.
+    pub fn context(&self) -> &Arc<Context> {
+        &self.context
+    }
+
+    /// Samples per pixel accumulated so far.
+    pub fn samples_done(&self) -> u32 {
+        self.samples_done
+    }
+
+    /// Whether all `spp` samples have been taken.
+    pub fn is_complete(&self) -> bool {
+        self.samples_done >= self.settings.spp
+    }
+
+    /// Runs one frame: adds up to `samples_per_frame` samples to every pixel. Returns the
+    /// samples per pixel accumulated so far.
+    pub fn render_frame(&mut self) -> Result<u32> {
+        self.render_frames(1)
+    }
+
+    /// Runs one submission of as many frames as keep it near 250 ms (measured on the
+    /// previous submission), and returns the samples per pixel accumulated so far. Call it
+    /// until `is_complete()`; report progress between calls.
+    pub fn render_batch(&mut self) -> Result<u32> {
+        let started = Instant::now();
+        let frames = self.frames_per_batch;
+        self.render_frames(frames)?;
+        let per_frame = started.elapsed().as_secs_f64() / f64::from(frames);
+        let wanted = (TARGET_BATCH_DURATION.as_secs_f64() / per_frame.max(1e-6)) as u32;
+        // Grow at most 4x at a time so one fast outlier cannot make a batch take seconds.
+        self.frames_per_batch = wanted.clamp(1, (frames * 4).min(MAX_FRAMES_PER_BATCH));
+        Ok(self.samples_done)
+    }
+
+    /// Records `frames` frames into one submission and waits for them.
+    fn render_frames(&mut self, frames: u32) -> Result<u32> {
+        let spf = self.settings.samples_per_frame;
+        let remaining_frames = (self.settings.spp - self.samples_done).div_ceil(spf);
+        let frames = frames.min(remaining_frames);
+        if frames == 0 {
+            return Ok(self.samples_done);
+        }
+        let first = self.samples_done;
+        let sample_end = self.settings.spp;
+        let groups_x = self.settings.width.div_ceil(contract::WORKGROUP_SIZE_X);
+        let groups_y = self.settings.height.div_ceil(contract::WORKGROUP_SIZE_Y);
+        let pipeline = &self.pipeline;
+        let set = self.descriptors.set;
+        self.commands.run(|device, command_buffer| unsafe {
+            // SAFETY: all bound resources live as long as self; the image is in GENERAL.
+            device.cmd_bind_pipeline(command_buffer, vk::PipelineBindPoint::COMPUTE, pipeline.pipeline);
+            device.cmd_bind_descriptor_sets(
+                command_buffer,
+                vk::PipelineBindPoint::COMPUTE,
+                pipeline.layout,
+                0,
+                &[set],
+                &[],
+            );
+            for frame in 0..frames {
+                let constants = FramePushConstants { first_sample_index: first + frame * spf, sample_end };
+                device.cmd_push_constants(
+                    command_buffer,
+                    pipeline.layout,
+                    vk::ShaderStageFlags::COMPUTE,
+                    0,
+                    bytemuck::bytes_of(&constants),
+                );
+                device.cmd_dispatch(command_buffer, groups_x, groups_y, 1);
+                // Each frame reads what the previous one wrote.
+                full_compute_barrier(device, command_buffer);
+            }
+        })?;
+        self.samples_done = (first + frames * spf).min(sample_end);
+        Ok(self.samples_done)
+    }
+
+    /// Copies the accumulation image back and returns the per-pixel mean, second moment and
+    /// sample count. Can be called at any time (e.g. to save a partial render).
+    pub fn read_back(&mut self) -> Result<RenderedImage> {
+        let image = &self.accumulation;
+        let readback = &self.readback;
+        self.commands.run(|device, command_buffer| unsafe {
+            // SAFETY: the image is in GENERAL; the buffer is large enough for all layers.
+            // The copy reads the image in TRANSFER_SRC_OPTIMAL, then it returns to GENERAL.
+            set_layout(
+                device,
+                command_buffer,
+                image,
+                (vk::ImageLayout::GENERAL, vk::AccessFlags::SHADER_WRITE, vk::PipelineStageFlags::COMPUTE_SHADER),
+                (vk::ImageLayout::TRANSFER_SRC_OPTIMAL, vk::AccessFlags::TRANSFER_READ, vk::PipelineStageFlags::TRANSFER),
+            );
+            let region = vk::BufferImageCopy::default()
+                .image_subresource(
+                    vk::ImageSubresourceLayers::default()
+                        .aspect_mask(vk::ImageAspectFlags::COLOR)
+                        .layer_count(image.layers),
+                )
+                .image_extent(vk::Extent3D { width: image.width, height: image.height, depth: 1 });
+            device.cmd_copy_image_to_buffer(
+                command_buffer,
+                image.handle,
+                vk::ImageLayout::TRANSFER_SRC_OPTIMAL,
+                readback.handle,
+                &[region],
+            );
+            set_layout(
+                device,
+                command_buffer,
+                image,
+                (vk::ImageLayout::TRANSFER_SRC_OPTIMAL, vk::AccessFlags::TRANSFER_READ, vk::PipelineStageFlags::TRANSFER),
+                (vk::ImageLayout::GENERAL, vk::AccessFlags::SHADER_READ | vk::AccessFlags::SHADER_WRITE, vk::PipelineStageFlags::COMPUTE_SHADER),
+            );
+            let to_host = vk::MemoryBarrier::default()
+                .src_access_mask(vk::AccessFlags::TRANSFER_WRITE)
+                .dst_access_mask(vk::AccessFlags::HOST_READ);
+            device.cmd_pipeline_barrier(
+                command_buffer,
+                vk::PipelineStageFlags::TRANSFER,
+                vk::PipelineStageFlags::HOST,
+                vk::DependencyFlags::empty(),
+                &[to_host],
+                &[],
+                &[],
+            );
+        })?;
+        let texels: Vec<[f32; 4]> = self.readback.read();
+        Ok(RenderedImage::from_accumulation(self.settings.width, self.settings.height, &texels))
+    }
+}
+
+/// A layout, the accesses to wait for or to make wait, and their pipeline stage.
+type LayoutUse = (vk::ImageLayout, vk::AccessFlags, vk::PipelineStageFlags);
+
+/// Records a barrier that moves all layers of `image` from one use to another.
+fn set_layout(device: &ash::Device, command_buffer: vk::CommandBuffer, image: &StorageImage, from: LayoutUse, to: LayoutUse) {
+    let barrier = vk::ImageMemoryBarrier::default()
+        .src_access_mask(from.1)
+        .dst_access_mask(to.1)
+        .old_layout(from.0)
+        .new_layout(to.0)
+        .src_queue_family_index(vk::QUEUE_FAMILY_IGNORED)
+        .dst_queue_family_index(vk::QUEUE_FAMILY_IGNORED)
+        .image(image.handle)
+        .subresource_range(StorageImage::all_layers(image.layers));
+    // SAFETY: recording into a command buffer in the recording state; the image is alive.
+    unsafe {
+        device.cmd_pipeline_barrier(command_buffer, from.2, to.2, vk::DependencyFlags::empty(), &[], &[], &[barrier]);
+    }
+}
+
+/// Moves the image from UNDEFINED to GENERAL and clears every layer to zero.
+fn clear_to_general(device: &ash::Device, command_buffer: vk::CommandBuffer, image: &StorageImage) {
+    let range = StorageImage::all_layers(image.layers);
+    set_layout(
+        device,
+        command_buffer,
+        image,
+        (vk::ImageLayout::UNDEFINED, vk::AccessFlags::empty(), vk::PipelineStageFlags::TOP_OF_PIPE),
+        (vk::ImageLayout::GENERAL, vk::AccessFlags::TRANSFER_WRITE, vk::PipelineStageFlags::TRANSFER),
+    );
+    // SAFETY: recording into a command buffer in the recording state; the image is alive.
+    unsafe {
+        device.cmd_clear_color_image(
+            command_buffer,
+            image.handle,
+            vk::ImageLayout::GENERAL,
+            &vk::ClearColorValue { float32: [0.0; 4] },
+            &[range],
+        );
+    }
+    full_compute_barrier(device, command_buffer);
+}
+
+/// A device-local buffer filled with `bytes` through a staging buffer.
+fn upload_device_local(
+    context: &Arc<Context>,
+    commands: &CommandRunner,
+    name: &str,
+    bytes: &[u8],
+    usage: vk::BufferUsageFlags,
+) -> Result<Buffer> {
+    let staging = Buffer::with_data(context, "staging", bytes, vk::BufferUsageFlags::TRANSFER_SRC)?;
+    let buffer = Buffer::new(
+        context,
+        name,
+        bytes.len() as u64,
+        usage | vk::BufferUsageFlags::TRANSFER_DST,
+        MemoryLocation::GpuOnly,
+    )?;
+    commands.run(|device, command_buffer| unsafe {
+        // SAFETY: both buffers are alive and large enough.
+        device.cmd_copy_buffer(
+            command_buffer,
+            staging.handle,
+            buffer.handle,
+            &[vk::BufferCopy { src_offset: 0, dst_offset: 0, size: bytes.len().max(1) as u64 }],
+        );
+        full_compute_barrier(device, command_buffer);
+    })?;
+    Ok(buffer)
+}

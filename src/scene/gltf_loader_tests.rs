@@ -1,0 +1,468 @@
+//! Tests of the glTF loader (a child module of `gltf_loader`, in its own file for size): glTF
+//! files are written by hand into a temporary directory, with the expected world-space values
+//! worked out in the comments rather than by the code under test.
+
+use std::path::PathBuf;
+
+use glam::Vec2;
+use serde_json::{json, Value};
+
+use super::test_support::{project, write, TestBuffer};
+use super::*;
+use crate::scene::Triangle;
+
+/// sin 45° = cos 45°: quaternions of quarter turns.
+const S: f32 = std::f32::consts::FRAC_1_SQRT_2;
+
+fn assert_close(actual: Vec3, expected: Vec3) {
+    assert!(actual.abs_diff_eq(expected, 1e-5), "{actual} != {expected}");
+}
+
+fn assert_positions(triangle: &Triangle, expected: [[f32; 3]; 3]) {
+    for (actual, expected) in triangle.positions.iter().zip(expected) {
+        assert_close(*actual, Vec3::from(expected));
+    }
+}
+
+/// A hierarchy with every feature the loader handles, and the buffer it needs:
+/// - "parent": T (1, 2, 3), R 90° about +Y ((x, y, z) -> (z, y, -x)), S 2; child "child":
+///   T (0.5, 0, 0), R 90° about +Z ((x, y, z) -> (-y, x, z)), S (3, 1, 1), with the indexed
+///   unit quad (u16 indices) in the z = 0 plane and material "glow";
+/// - "mirror": a matrix that mirrors x and moves by (0, 0, -5), with a non-indexed triangle
+///   and no material;
+/// - "rig": T (10, 0, 0), R 90° about +Y, S 2; child "eye": T (0, 1, 0) with the camera.
+fn hierarchy(buffer: &mut TestBuffer) -> Value {
+    let quad = buffer.positions(&[
+        [0.0, 0.0, 0.0],
+        [1.0, 0.0, 0.0],
+        [1.0, 1.0, 0.0],
+        [0.0, 1.0, 0.0],
+    ]);
+    let quad_indices = buffer.indices(&[0, 1, 2, 0, 2, 3]);
+    let triangle = buffer.positions(&[[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]]);
+    json!({
+        "extensionsUsed": ["KHR_materials_emissive_strength"],
+        "scene": 0,
+        "scenes": [{"nodes": [0, 2, 3]}],
+        "nodes": [
+            {"name": "parent", "translation": [1, 2, 3], "rotation": [0, S, 0, S],
+             "scale": [2, 2, 2], "children": [1]},
+            {"name": "child", "translation": [0.5, 0, 0], "rotation": [0, 0, S, S],
+             "scale": [3, 1, 1], "mesh": 0},
+            {"name": "mirror", "mesh": 1,
+             "matrix": [-1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, -5, 1]},
+            {"name": "rig", "translation": [10, 0, 0], "rotation": [0, S, 0, S],
+             "scale": [2, 2, 2], "children": [4]},
+            {"name": "eye", "translation": [0, 1, 0], "camera": 0},
+        ],
+        "meshes": [
+            {"name": "quad",
+             "primitives": [{"attributes": {"POSITION": quad}, "indices": quad_indices,
+                             "material": 0}]},
+            {"name": "triangle", "primitives": [{"attributes": {"POSITION": triangle}}]},
+        ],
+        "materials": [{
+            "name": "glow",
+            "pbrMetallicRoughness": {"baseColorFactor": [0.5, 0.25, 1.5, 0.5]},
+            "emissiveFactor": [1, 0.5, 0.25],
+            "extensions": {"KHR_materials_emissive_strength": {"emissiveStrength": 4}},
+            "doubleSided": true,
+        }],
+        "cameras": [{"type": "perspective", "perspective": {"yfov": 0.8, "znear": 0.01}}],
+    })
+}
+
+/// Checks the scene of [`hierarchy`].
+fn assert_hierarchy(scene: &Scene) {
+    assert!(scene.warnings.is_empty(), "{:?}", scene.warnings);
+    assert_eq!(scene.triangles.len(), 3);
+    // Quad corner (1, 1, 0): child S -> (3, 1, 0), R -> (-1, 3, 0), T -> (-0.5, 3, 0);
+    // parent R -> (0, 3, 0.5), S -> (0, 6, 1), T -> (1, 8, 4). Likewise for the others.
+    // Object +z maps to world +x (R_z keeps z, R_y turns z into x).
+    let quad = &scene.triangles[..2];
+    assert_positions(
+        &quad[0],
+        [[1.0, 2.0, 2.0], [1.0, 8.0, 2.0], [1.0, 8.0, 4.0]],
+    );
+    assert_positions(
+        &quad[1],
+        [[1.0, 2.0, 2.0], [1.0, 8.0, 4.0], [1.0, 2.0, 4.0]],
+    );
+    for triangle in quad {
+        assert_close(triangle.normal, Vec3::X);
+        // baseColorFactor's blue 1.5 is clamped to 1; alpha is ignored.
+        assert_eq!(triangle.color, Vec3::new(0.5, 0.25, 1.0));
+        // emissiveFactor (1, 0.5, 0.25) times emissiveStrength 4.
+        assert_eq!(triangle.emission, Vec3::new(4.0, 2.0, 1.0));
+        assert!(triangle.double_sided);
+    }
+    // The mirrored triangle: (0,0,0), (1,0,0), (0,1,0) -> (0,0,-5), (-1,0,-5), (0,1,-5),
+    // which is clockwise seen from +z; the loader swaps two vertices so that the normal stays
+    // +z (the mirror in x does not move the z axis).
+    let mirrored = &scene.triangles[2];
+    assert_positions(
+        mirrored,
+        [[0.0, 0.0, -5.0], [0.0, 1.0, -5.0], [-1.0, 0.0, -5.0]],
+    );
+    assert_close(mirrored.normal, Vec3::Z);
+    // No material: glTF's default, white and not emissive.
+    assert_eq!(mirrored.color, Vec3::ONE);
+    assert_eq!(mirrored.emission, Vec3::ZERO);
+    assert!(!mirrored.double_sided);
+
+    // The eye sits at rig T + S * R(0, 1, 0) = (10, 2, 0), looks along R(-z) = -x with +y up,
+    // so +y is up in the image and -z is to the right. yfov = 0.8.
+    let camera = scene.camera.expect("the scene has a camera");
+    assert_close(camera.position, Vec3::new(10.0, 2.0, 0.0));
+    let tan = 0.4f32.tan();
+    let pixel = |point: Vec3| project(&camera, 200.0, 100.0, point);
+    // Straight ahead: the image centre.
+    assert!(pixel(Vec3::new(5.0, 2.0, 0.0)).abs_diff_eq(Vec2::new(100.0, 50.0), 1e-3));
+    // yfov / 2 above the view axis: the top edge.
+    assert!(pixel(Vec3::new(5.0, 2.0 + 5.0 * tan, 0.0)).abs_diff_eq(Vec2::new(100.0, 0.0), 1e-3));
+    // At aspect 2 the right edge is 2 tan(yfov / 2) to the side per unit distance.
+    let right_edge = Vec3::new(5.0, 2.0, -10.0 * tan);
+    assert!(pixel(right_edge).abs_diff_eq(Vec2::new(200.0, 50.0), 1e-3));
+    // Half-way down and half-way to the left edge, 10 m away.
+    let point = Vec3::new(0.0, 2.0 - 5.0 * tan, 10.0 * tan);
+    assert!(
+        pixel(point).abs_diff_eq(Vec2::new(50.0, 75.0), 1e-3),
+        "{}",
+        pixel(point)
+    );
+}
+
+#[test]
+fn hierarchy_materials_and_camera_from_gltf_with_data_uri() {
+    let directory = tempfile::tempdir().unwrap();
+    let mut buffer = TestBuffer::default();
+    let rest = hierarchy(&mut buffer);
+    let path = write(&directory, "scene.gltf", buffer.embedded(rest));
+    assert_hierarchy(&load_gltf(&path).unwrap());
+}
+
+#[test]
+fn hierarchy_from_glb() {
+    let directory = tempfile::tempdir().unwrap();
+    let mut buffer = TestBuffer::default();
+    let rest = hierarchy(&mut buffer);
+    let path = write(&directory, "scene.glb", buffer.glb(rest));
+    assert_hierarchy(&Scene::load(&path).unwrap());
+}
+
+#[test]
+fn hierarchy_with_external_buffer() {
+    let directory = tempfile::tempdir().unwrap();
+    let mut buffer = TestBuffer::default();
+    let rest = hierarchy(&mut buffer);
+    write(&directory, "scene.bin", &buffer.bytes);
+    let document = buffer.document(Some("scene.bin".into()), rest);
+    let path = write(&directory, "scene.gltf", document.to_string());
+    assert_hierarchy(&load_gltf(&path).unwrap());
+}
+
+/// A `.gltf` whose one node holds mesh 'm' with the one `primitive`, reading `buffer`.
+fn single_primitive(buffer: &TestBuffer, primitive: Value) -> String {
+    buffer.embedded(json!({
+        "scenes": [{"nodes": [0]}],
+        "nodes": [{"mesh": 0}],
+        "meshes": [{"name": "m", "primitives": [primitive]}],
+    }))
+}
+
+#[test]
+fn strips_and_fans_become_counter_clockwise_triangles() {
+    let directory = tempfile::tempdir().unwrap();
+    // A unit square listed as a zig-zag (strip) and around its border (fan).
+    let strip = [
+        [0.0, 0.0, 0.0],
+        [1.0, 0.0, 0.0],
+        [0.0, 1.0, 0.0],
+        [1.0, 1.0, 0.0],
+    ];
+    let fan = [
+        [0.0, 0.0, 0.0],
+        [1.0, 0.0, 0.0],
+        [1.0, 1.0, 0.0],
+        [0.0, 1.0, 0.0],
+    ];
+    for (mode, points) in [(5, strip), (6, fan)] {
+        let mut buffer = TestBuffer::default();
+        let positions = buffer.positions(&points);
+        let text = single_primitive(
+            &buffer,
+            json!({"attributes": {"POSITION": positions}, "mode": mode}),
+        );
+        let scene = load_gltf(&write(&directory, "s.gltf", text)).unwrap();
+        assert_eq!(scene.triangles.len(), 2, "mode {mode}");
+        for triangle in &scene.triangles {
+            assert_eq!(triangle.normal, Vec3::Z, "mode {mode}");
+        }
+        let area: f32 = scene
+            .triangles
+            .iter()
+            .map(|t| {
+                0.5 * (t.positions[1] - t.positions[0])
+                    .cross(t.positions[2] - t.positions[0])
+                    .length()
+            })
+            .sum();
+        assert_eq!(area, 1.0, "mode {mode}");
+    }
+}
+
+#[test]
+fn degenerate_triangles_are_dropped_with_a_warning() {
+    let directory = tempfile::tempdir().unwrap();
+    let mut buffer = TestBuffer::default();
+    let positions = buffer.positions(&[
+        [0.0, 0.0, 0.0],
+        [1.0, 0.0, 0.0],
+        [0.0, 1.0, 0.0],
+        [2.0, 0.0, 0.0],
+    ]);
+    // The second triangle has three collinear corners.
+    let indices = buffer.indices(&[0, 1, 2, 0, 1, 3]);
+    let primitive = json!({"attributes": {"POSITION": positions}, "indices": indices});
+    let path = write(&directory, "s.gltf", single_primitive(&buffer, primitive));
+    let scene = load_gltf(&path).unwrap();
+    assert_eq!(scene.triangles.len(), 1);
+    assert_eq!(
+        scene.warnings,
+        vec!["dropped 1 degenerate triangles".to_owned()]
+    );
+    assert!(scene.camera.is_none());
+}
+
+#[test]
+fn textures_are_ignored_with_one_warning_per_material() {
+    let directory = tempfile::tempdir().unwrap();
+    let mut buffer = TestBuffer::default();
+    let positions = buffer.positions(&[[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]]);
+    let primitive = json!({"attributes": {"POSITION": positions}, "material": 0});
+    let text = buffer.embedded(json!({
+        "scenes": [{"nodes": [0, 1]}],
+        "nodes": [{"mesh": 0}, {"mesh": 0, "translation": [0, 0, 1]}],
+        "meshes": [{"primitives": [primitive.clone(), primitive]}],
+        "materials": [{"name": "brick",
+                       "pbrMetallicRoughness": {"baseColorTexture": {"index": 0}},
+                       "normalTexture": {"index": 0}}],
+        "textures": [{"source": 0}],
+        "images": [{"uri": "not_loaded.png"}],
+    }));
+    let scene = load_gltf(&write(&directory, "s.gltf", text)).unwrap();
+    assert_eq!(scene.triangles.len(), 4);
+    assert_eq!(
+        scene.warnings,
+        vec![
+            "material 'brick' has textures (baseColor, normal), which are ignored; using its \
+              constant factors"
+                .to_owned()
+        ]
+    );
+}
+
+/// Loads `text` as a .gltf and returns the error's message.
+fn error_of(text: &str) -> String {
+    let directory = tempfile::tempdir().unwrap();
+    let path = write(&directory, "bad.gltf", text);
+    let error = load_gltf(&path).expect_err("the file should be refused");
+    let message = error.to_string();
+    assert!(
+        message.contains("bad.gltf"),
+        "the message names the file: {message}"
+    );
+    message
+}
+
+#[test]
+fn missing_file_is_an_error() {
+    let error = load_gltf(Path::new("no/such/scene.gltf")).unwrap_err();
+    assert_eq!(
+        error.to_string(),
+        "cannot read scene 'no/such/scene.gltf': No such file or directory"
+    );
+}
+
+#[test]
+fn malformed_json_is_an_error() {
+    let message = error_of("{\"asset\": {\"version\": \"2.0\"}, \"nodes\": [");
+    assert!(message.starts_with("malformed glTF '"), "{message}");
+}
+
+#[test]
+fn lines_are_an_error_naming_the_mesh() {
+    let mut buffer = TestBuffer::default();
+    let positions = buffer.positions(&[[0.0, 0.0, 0.0], [1.0, 0.0, 0.0]]);
+    let text = single_primitive(
+        &buffer,
+        json!({"attributes": {"POSITION": positions}, "mode": 1}),
+    );
+    let message = error_of(&text);
+    assert!(
+        message.ends_with(": mesh 'm' primitive 0 is Lines; only triangles are supported"),
+        "{message}"
+    );
+}
+
+#[test]
+fn a_scene_without_triangles_is_an_error() {
+    let text = TestBuffer::default().embedded(json!({
+        "scenes": [{"nodes": [0]}],
+        "nodes": [{"camera": 0}],
+        "cameras": [{"type": "perspective", "perspective": {"yfov": 1.0, "znear": 0.1}}],
+    }));
+    assert!(error_of(&text).ends_with("' contains no triangles"));
+}
+
+#[test]
+fn an_orthographic_camera_is_an_error() {
+    let mut buffer = TestBuffer::default();
+    let positions = buffer.positions(&[[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]]);
+    let text = buffer.embedded(json!({
+        "scenes": [{"nodes": [0, 1]}],
+        "nodes": [{"mesh": 0}, {"camera": 0}],
+        "meshes": [{"primitives": [{"attributes": {"POSITION": positions}}]}],
+        "cameras": [{"name": "top", "type": "orthographic",
+                     "orthographic": {"xmag": 1, "ymag": 1, "znear": 0.1, "zfar": 10}}],
+    }));
+    assert!(error_of(&text)
+        .ends_with(": camera 'top' is orthographic; only perspective cameras are supported"));
+}
+
+/// Broken files that the `gltf` crate would panic on if we did not check them first.
+#[test]
+fn broken_files_are_errors_not_panics() {
+    let triangle = [[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]];
+    let mut buffer = TestBuffer::default();
+    let positions = buffer.positions(&triangle);
+
+    // An index past the last vertex.
+    let mut indexed = TestBuffer::default();
+    let (p, i) = (indexed.positions(&triangle), indexed.indices(&[0, 1, 7]));
+    let message = error_of(&single_primitive(
+        &indexed,
+        json!({"attributes": {"POSITION": p}, "indices": i}),
+    ));
+    assert!(
+        message.ends_with("mesh 'm' primitive 0: index 7 is out of range (3 vertices)"),
+        "{message}"
+    );
+
+    // A POSITION accessor that does not exist.
+    let message = error_of(&single_primitive(
+        &buffer,
+        json!({"attributes": {"POSITION": 9}}),
+    ));
+    assert!(
+        message.contains("accessor 9, which does not exist"),
+        "{message}"
+    );
+
+    // Accessors whose data is not what POSITION needs, or lies past the buffer's end.
+    for (field, value, expected) in [
+        ("type", json!("VEC2"), "holds Vec2 of F32"),
+        ("count", json!(0), "empty or impossible byte layout"),
+        ("count", json!(4), "data lies outside its buffer"),
+        (
+            "byteOffset",
+            json!(u64::MAX - 8),
+            "empty or impossible byte layout",
+        ),
+    ] {
+        let mut document: Value = serde_json::from_str(&single_primitive(
+            &buffer,
+            json!({"attributes": {"POSITION": positions}}),
+        ))
+        .unwrap();
+        document["accessors"][0][field] = value;
+        let message = error_of(&document.to_string());
+        assert!(message.contains(expected), "{field}: {message}");
+    }
+
+    // Float indices would reach an `unreachable!` in the crate's index reader.
+    let mut document: Value = serde_json::from_str(&single_primitive(
+        &indexed,
+        json!({"attributes": {"POSITION": 0}, "indices": 1}),
+    ))
+    .unwrap();
+    document["accessors"][1]["componentType"] = json!(5126);
+    assert!(error_of(&document.to_string()).contains("indices accessor '#1' holds Scalar of F32"));
+
+    // A camera whose type names parameters it does not have.
+    let text = buffer.embedded(json!({
+        "scenes": [{"nodes": [0, 1]}],
+        "nodes": [{"mesh": 0}, {"camera": 0}],
+        "meshes": [{"primitives": [{"attributes": {"POSITION": positions}}]}],
+        "cameras": [{"type": "perspective",
+                     "orthographic": {"xmag": 1, "ymag": 1, "znear": 0.1, "zfar": 10}}],
+    }));
+    assert!(error_of(&text).contains("camera '#0' is unusable"));
+
+    // A node that is its own child.
+    let text = buffer.embedded(json!({
+        "scenes": [{"nodes": [0]}],
+        "nodes": [{"mesh": 0, "children": [0]}],
+        "meshes": [{"primitives": [{"attributes": {"POSITION": positions}}]}],
+    }));
+    assert!(error_of(&text).contains("node '#0' is reached twice"));
+
+    // A GLB header whose length is shorter than the header.
+    let mut glb = buffer.glb(json!({}));
+    glb[8..12].copy_from_slice(&4u32.to_le_bytes());
+    let directory = tempfile::tempdir().unwrap();
+    let error = load_gltf(&write(&directory, "bad.glb", glb)).unwrap_err();
+    assert!(
+        error.to_string().contains("GLB header declares 4 bytes"),
+        "{error}"
+    );
+}
+
+fn fixture(name: &str) -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("tests/data")
+        .join(name)
+}
+
+#[test]
+fn emissive_quad_fixture_is_a_lit_box_with_a_camera() {
+    let scene = Scene::load(&fixture("emissive_quad.gltf")).unwrap();
+    assert!(scene.warnings.is_empty(), "{:?}", scene.warnings);
+    // Five walls and the light, two triangles each.
+    assert_eq!(scene.triangles.len(), 12);
+    let lights: Vec<_> = scene
+        .triangles
+        .iter()
+        .filter(|t| t.emission != Vec3::ZERO)
+        .collect();
+    assert_eq!(lights.len(), 2);
+    for light in lights {
+        assert_eq!(light.emission, Vec3::splat(8.0));
+        assert_eq!(light.normal, Vec3::NEG_Y);
+        assert!(light.positions.iter().all(|p| p.y == 0.99));
+    }
+    for wall in scene.triangles.iter().filter(|t| t.emission == Vec3::ZERO) {
+        let centre = (wall.positions[0] + wall.positions[1] + wall.positions[2]) / 3.0;
+        assert!(wall.normal.dot(-centre) > 0.0, "walls face into the box");
+    }
+    // The camera at (0, 0, 3.5) looks down -z into the box's open side.
+    let camera = scene.camera.unwrap();
+    assert_eq!(camera.position, Vec3::new(0.0, 0.0, 3.5));
+    let centre = project(&camera, 64.0, 64.0, Vec3::new(0.0, 0.0, -1.0));
+    assert!(centre.abs_diff_eq(Vec2::splat(32.0), 1e-3));
+}
+
+#[test]
+fn lines_fixture_is_refused() {
+    let error = Scene::load(&fixture("lines.gltf")).unwrap_err();
+    assert!(
+        matches!(error, SceneError::UnsupportedPrimitive { .. }),
+        "{error}"
+    );
+}
+
+#[test]
+fn malformed_fixture_is_refused() {
+    let error = Scene::load(&fixture("malformed.gltf")).unwrap_err();
+    assert!(matches!(error, SceneError::Gltf { .. }), "{error}");
+}

@@ -1,0 +1,142 @@
+//! Render settings: what the user chooses, validated before anything is rendered.
+
+use crate::contract;
+use crate::error::{Error, Result};
+
+/// Where in a pixel the samples look.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+pub enum PixelFilter {
+    /// Uniformly jittered inside the pixel: the box-filtered image.
+    #[default]
+    Box,
+    /// Always the pixel centre, as the workshop's ShaderToy does.
+    Center,
+}
+
+impl PixelFilter {
+    /// The `PIXEL_FILTER_*` value of `glsl/shared.h`.
+    pub fn spec_constant(self) -> u32 {
+        match self {
+            PixelFilter::Box => contract::PIXEL_FILTER_BOX,
+            PixelFilter::Center => contract::PIXEL_FILTER_CENTER,
+        }
+    }
+}
+
+/// What the kernel computes per sample.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+pub enum Integrator {
+    /// Exercise 7: the workshop's path tracer (uniform hemisphere sampling).
+    #[default]
+    PathTracing,
+    /// Exercise 6: emission plus one-sample direct illumination.
+    DirectIllumination,
+    /// Part 1: the albedo of the first hit, unshaded.
+    RayTracing,
+}
+
+impl Integrator {
+    /// The `INTEGRATOR_*` value of `glsl/shared.h`.
+    pub fn spec_constant(self) -> u32 {
+        match self {
+            Integrator::PathTracing => contract::INTEGRATOR_PATH_TRACING,
+            Integrator::DirectIllumination => contract::INTEGRATOR_DIRECT_ILLUMINATION,
+            Integrator::RayTracing => contract::INTEGRATOR_RAY_TRACING,
+        }
+    }
+}
+
+/// Largest image side we accept (also bounded by the device's limit).
+pub const MAX_IMAGE_SIDE: u32 = 16384;
+/// Largest sample count per pixel: counts are accumulated in f32, exact up to 2^24.
+pub const MAX_SPP: u32 = 1 << 24;
+/// Longest path we accept (surface hits); beyond this, contributions are negligible for any
+/// physically plausible albedo and the frames get needlessly long.
+pub const MAX_PATH_LENGTH_LIMIT: u32 = 1024;
+
+/// Everything a render needs besides the scene and camera.
+#[derive(Clone, Debug, PartialEq)]
+pub struct RenderSettings {
+    /// Image width in pixels.
+    pub width: u32,
+    /// Image height in pixels.
+    pub height: u32,
+    /// Samples per pixel in total.
+    pub spp: u32,
+    /// Maximum number of surface hits per path (the workshop's MAX_PATH_LENGTH).
+    pub max_path_length: u32,
+    /// Mixed into every pixel's random seed; 0 is exactly the workshop's seeding.
+    pub seed: u32,
+    /// Where samples look inside a pixel.
+    pub pixel_filter: PixelFilter,
+    /// What each sample computes.
+    pub integrator: Integrator,
+    /// Samples per pixel per frame (the workshop's SAMPLE_COUNT). Keep frames short: a GPU
+    /// watchdog may kill a long dispatch.
+    pub samples_per_frame: u32,
+}
+
+impl Default for RenderSettings {
+    fn default() -> Self {
+        RenderSettings {
+            width: 512,
+            height: 512,
+            spp: 64,
+            max_path_length: 5,
+            seed: 0,
+            pixel_filter: PixelFilter::Box,
+            integrator: Integrator::PathTracing,
+            samples_per_frame: 1,
+        }
+    }
+}
+
+impl RenderSettings {
+    /// Checks every value's range; the error names the offending option.
+    pub fn validate(&self) -> Result<()> {
+        let bad = |message: String| Err(Error::InvalidSettings(message));
+        if self.width == 0 || self.height == 0 {
+            return bad(format!("image size {}x{} is empty (--width/--height must be at least 1)", self.width, self.height));
+        }
+        if self.width > MAX_IMAGE_SIDE || self.height > MAX_IMAGE_SIDE {
+            return bad(format!("image size {}x{} exceeds {MAX_IMAGE_SIDE} pixels per side", self.width, self.height));
+        }
+        if self.spp == 0 || self.spp > MAX_SPP {
+            return bad(format!("--spp {} is outside 1..={MAX_SPP}", self.spp));
+        }
+        if self.max_path_length == 0 || self.max_path_length > MAX_PATH_LENGTH_LIMIT {
+            return bad(format!("--max-path-length {} is outside 1..={MAX_PATH_LENGTH_LIMIT}", self.max_path_length));
+        }
+        if self.samples_per_frame == 0 || self.samples_per_frame > 4096 {
+            return bad(format!("--samples-per-frame {} is outside 1..=4096", self.samples_per_frame));
+        }
+        Ok(())
+    }
+
+    /// Width / height.
+    pub fn aspect(&self) -> f32 {
+        self.width as f32 / self.height as f32
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn rejects_out_of_range_values() {
+        let ok = RenderSettings::default();
+        assert!(ok.validate().is_ok());
+        for bad in [
+            RenderSettings { width: 0, ..ok.clone() },
+            RenderSettings { height: MAX_IMAGE_SIDE + 1, ..ok.clone() },
+            RenderSettings { spp: 0, ..ok.clone() },
+            RenderSettings { spp: MAX_SPP + 1, ..ok.clone() },
+            RenderSettings { max_path_length: 0, ..ok.clone() },
+            RenderSettings { samples_per_frame: 0, ..ok.clone() },
+        ] {
+            let message = bad.validate().unwrap_err().to_string();
+            assert!(message.starts_with("invalid settings"), "{message}");
+        }
+    }
+}

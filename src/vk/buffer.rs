@@ -1,0 +1,112 @@
+//! A buffer with its memory, freed on drop.
+
+use std::sync::Arc;
+
+use ash::vk;
+use gpu_allocator::vulkan::{Allocation, AllocationCreateDesc, AllocationScheme};
+use gpu_allocator::MemoryLocation;
+
+use super::context::Context;
+use super::error::{CallContext, VkError, VkResult};
+
+/// A `VkBuffer` and its memory.
+pub struct Buffer {
+    context: Arc<Context>,
+    /// The buffer handle.
+    pub handle: vk::Buffer,
+    allocation: Option<Allocation>,
+    /// Size in bytes.
+    pub size: u64,
+}
+
+impl Buffer {
+    /// Creates a buffer of `size` bytes (at least 1) in memory at `location`.
+    pub fn new(
+        context: &Arc<Context>,
+        name: &str,
+        size: u64,
+        usage: vk::BufferUsageFlags,
+        location: MemoryLocation,
+    ) -> VkResult<Buffer> {
+        let size = size.max(1);
+        let info = vk::BufferCreateInfo::default()
+            .size(size)
+            .usage(usage)
+            .sharing_mode(vk::SharingMode::EXCLUSIVE);
+        let device = &context.device;
+        // SAFETY: a valid create info on a live device.
+        let handle = unsafe { device.create_buffer(&info, None) }.during("creating a buffer")?;
+        let requirements = unsafe { device.get_buffer_memory_requirements(handle) };
+        let allocation = context.allocator().allocate(&AllocationCreateDesc {
+            name,
+            requirements,
+            location,
+            linear: true,
+            allocation_scheme: AllocationScheme::GpuAllocatorManaged,
+        });
+        let allocation = match allocation {
+            Ok(allocation) => allocation,
+            Err(source) => {
+                unsafe { device.destroy_buffer(handle, None) };
+                return Err(VkError::Allocation { what: format!("buffer '{name}' ({size} bytes)"), source });
+            }
+        };
+        // SAFETY: the allocation satisfies the buffer's requirements and is not bound yet.
+        if let Err(result) =
+            unsafe { device.bind_buffer_memory(handle, allocation.memory(), allocation.offset()) }
+        {
+            let _ = context.allocator().free(allocation);
+            unsafe { device.destroy_buffer(handle, None) };
+            return Err(VkError::Call { what: "binding buffer memory", result });
+        }
+        Ok(Buffer { context: context.clone(), handle, allocation: Some(allocation), size })
+    }
+
+    /// A host-visible buffer holding `data`.
+    pub fn with_data<T: bytemuck::Pod>(
+        context: &Arc<Context>,
+        name: &str,
+        data: &[T],
+        usage: vk::BufferUsageFlags,
+    ) -> VkResult<Buffer> {
+        let bytes: &[u8] = bytemuck::cast_slice(data);
+        let mut buffer =
+            Buffer::new(context, name, bytes.len() as u64, usage, MemoryLocation::CpuToGpu)?;
+        buffer.write(bytes);
+        Ok(buffer)
+    }
+
+    /// The mapped bytes of a host-visible buffer.
+    fn mapped(&self) -> &[u8] {
+        self.allocation
+            .as_ref()
+            .and_then(|a| a.mapped_slice())
+            .expect("only host-visible buffers are mapped")
+    }
+
+    /// Copies `bytes` to the start of a host-visible buffer.
+    pub fn write(&mut self, bytes: &[u8]) {
+        let mapped = self
+            .allocation
+            .as_mut()
+            .and_then(|a| a.mapped_slice_mut())
+            .expect("only host-visible buffers are written");
+        mapped[..bytes.len()].copy_from_slice(bytes);
+    }
+
+    /// The contents of a host-visible buffer as `T`s (copied, so any alignment works).
+    pub fn read<T: bytemuck::Pod>(&self) -> Vec<T> {
+        let bytes = &self.mapped()[..self.size as usize];
+        bytemuck::pod_collect_to_vec(bytes)
+    }
+}
+
+impl Drop for Buffer {
+    fn drop(&mut self) {
+        if let Some(allocation) = self.allocation.take() {
+            let _ = self.context.allocator().free(allocation);
+        }
+        // SAFETY: users wait for the work that uses the buffer before dropping it.
+        unsafe { self.context.device.destroy_buffer(self.handle, None) };
+    }
+}

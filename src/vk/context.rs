@@ -1,0 +1,421 @@
+//! The Vulkan instance, the chosen device with one compute queue, and the memory allocator.
+//! Everything else in `vk` holds an `Arc<Context>`, so the context is destroyed last.
+
+use std::ffi::{c_char, CStr};
+use std::fmt;
+use std::mem::ManuallyDrop;
+use std::sync::{Arc, Mutex, MutexGuard};
+
+use ash::vk;
+use gpu_allocator::vulkan::{Allocator, AllocatorCreateDesc};
+
+use super::error::{CallContext, VkError, VkResult};
+use super::validation::{messenger_create_info, ValidationMessages};
+
+const VALIDATION_LAYER: &CStr = c"VK_LAYER_KHRONOS_validation";
+
+/// How to create a context.
+#[derive(Clone, Debug, Default)]
+pub struct ContextOptions {
+    /// Enable `VK_LAYER_KHRONOS_validation` and count its messages.
+    pub validate: bool,
+    /// Which device: an index of `vkpath devices`, or a case-insensitive part of its name.
+    /// `None` picks a discrete GPU, else an integrated or virtual one, else the CPU device.
+    pub device: Option<String>,
+    /// Fail unless the chosen device is a GPU (not a CPU implementation such as lavapipe).
+    pub require_gpu: bool,
+}
+
+/// The kind of a physical device, as Vulkan reports it.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum DeviceKind {
+    /// A discrete GPU.
+    DiscreteGpu,
+    /// A GPU integrated with the CPU.
+    IntegratedGpu,
+    /// A virtualized GPU.
+    VirtualGpu,
+    /// A CPU implementation (e.g. Mesa's lavapipe / llvmpipe).
+    Cpu,
+    /// Anything else.
+    Other,
+}
+
+impl DeviceKind {
+    fn from_vk(kind: vk::PhysicalDeviceType) -> DeviceKind {
+        match kind {
+            vk::PhysicalDeviceType::DISCRETE_GPU => DeviceKind::DiscreteGpu,
+            vk::PhysicalDeviceType::INTEGRATED_GPU => DeviceKind::IntegratedGpu,
+            vk::PhysicalDeviceType::VIRTUAL_GPU => DeviceKind::VirtualGpu,
+            vk::PhysicalDeviceType::CPU => DeviceKind::Cpu,
+            _ => DeviceKind::Other,
+        }
+    }
+
+    /// Whether this is a GPU of any kind.
+    pub fn is_gpu(self) -> bool {
+        matches!(
+            self,
+            DeviceKind::DiscreteGpu | DeviceKind::IntegratedGpu | DeviceKind::VirtualGpu
+        )
+    }
+
+    /// Preference when no device is named: lower is better.
+    fn rank(self) -> u32 {
+        match self {
+            DeviceKind::DiscreteGpu => 0,
+            DeviceKind::IntegratedGpu => 1,
+            DeviceKind::VirtualGpu => 2,
+            DeviceKind::Other => 3,
+            DeviceKind::Cpu => 4,
+        }
+    }
+}
+
+impl fmt::Display for DeviceKind {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(match self {
+            DeviceKind::DiscreteGpu => "discrete GPU",
+            DeviceKind::IntegratedGpu => "integrated GPU",
+            DeviceKind::VirtualGpu => "virtual GPU",
+            DeviceKind::Cpu => "CPU device (software rendering, not a GPU)",
+            DeviceKind::Other => "device of unknown type",
+        })
+    }
+}
+
+/// What `vkpath devices` shows of a physical device.
+#[derive(Clone, Debug)]
+pub struct DeviceInfo {
+    /// Index in Vulkan's enumeration order (what `--device N` takes).
+    pub index: usize,
+    /// The driver's name for the device.
+    pub name: String,
+    /// GPU or CPU.
+    pub kind: DeviceKind,
+    /// Supported Vulkan version, e.g. "1.3.230".
+    pub api_version: String,
+    /// Queue family index of a queue that supports compute, if any.
+    pub compute_queue_family: Option<u32>,
+}
+
+impl fmt::Display for DeviceInfo {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(f, "{}: {} [{}], Vulkan {}", self.index, self.name, self.kind, self.api_version)?;
+        if self.compute_queue_family.is_none() {
+            f.write_str(", no compute queue")?;
+        }
+        Ok(())
+    }
+}
+
+/// A Vulkan instance and logical device with one compute queue and an allocator.
+pub struct Context {
+    /// Keeps the loader loaded as long as the instance lives.
+    _entry: ash::Entry,
+    /// The instance.
+    pub instance: ash::Instance,
+    messenger: Option<(ash::ext::debug_utils::Instance, vk::DebugUtilsMessengerEXT)>,
+    /// Validation message counts (boxed: the messenger's callback points at it).
+    validation: Option<Box<ValidationMessages>>,
+    /// The chosen physical device.
+    pub physical_device: vk::PhysicalDevice,
+    /// What the chosen device is.
+    pub info: DeviceInfo,
+    /// Its limits (workgroup counts, push constant size, ...).
+    pub limits: vk::PhysicalDeviceLimits,
+    /// The logical device.
+    pub device: ash::Device,
+    /// The compute queue.
+    pub queue: vk::Queue,
+    /// Its family index.
+    pub queue_family_index: u32,
+    allocator: ManuallyDrop<Mutex<Allocator>>,
+}
+
+fn load_entry() -> VkResult<ash::Entry> {
+    // SAFETY: loading the system's Vulkan loader; nothing else runs its initialisation.
+    unsafe { ash::Entry::load() }.map_err(|e| VkError::LoaderMissing(e.to_string()))
+}
+
+fn has_validation_layer(entry: &ash::Entry) -> VkResult<bool> {
+    // SAFETY: a plain query with no pointers of ours.
+    let layers = unsafe { entry.enumerate_instance_layer_properties() }
+        .during("listing instance layers")?;
+    Ok(layers
+        .iter()
+        .any(|layer| layer.layer_name_as_c_str() == Ok(VALIDATION_LAYER)))
+}
+
+fn create_instance(
+    entry: &ash::Entry,
+    validation: Option<&ValidationMessages>,
+) -> VkResult<ash::Instance> {
+    let app_info = vk::ApplicationInfo::default()
+        .application_name(c"vkpath")
+        .engine_name(c"vkpath")
+        .api_version(vk::API_VERSION_1_2);
+    let mut layers: Vec<*const c_char> = Vec::new();
+    let mut extensions: Vec<*const c_char> = Vec::new();
+    if validation.is_some() {
+        layers.push(VALIDATION_LAYER.as_ptr());
+        extensions.push(ash::ext::debug_utils::NAME.as_ptr());
+    }
+    let mut create_info = vk::InstanceCreateInfo::default()
+        .application_info(&app_info)
+        .enabled_layer_names(&layers)
+        .enabled_extension_names(&extensions);
+    // Also report what happens during vkCreateInstance / vkDestroyInstance.
+    let mut messenger_info = validation.map(messenger_create_info);
+    if let Some(info) = messenger_info.as_mut() {
+        create_info = create_info.push_next(info);
+    }
+    // SAFETY: every pointer in create_info outlives the call.
+    match unsafe { entry.create_instance(&create_info, None) } {
+        Ok(instance) => Ok(instance),
+        Err(vk::Result::ERROR_INCOMPATIBLE_DRIVER) => Err(VkError::NoDriver(
+            "vkCreateInstance: no compatible driver (VK_ERROR_INCOMPATIBLE_DRIVER)".into(),
+        )),
+        Err(vk::Result::ERROR_LAYER_NOT_PRESENT) => Err(VkError::ValidationLayerMissing),
+        Err(result) => Err(VkError::Call { what: "creating the Vulkan instance", result }),
+    }
+}
+
+fn describe_devices(instance: &ash::Instance) -> VkResult<Vec<(vk::PhysicalDevice, DeviceInfo)>> {
+    // SAFETY: queries on a live instance.
+    let devices = match unsafe { instance.enumerate_physical_devices() } {
+        Ok(devices) => devices,
+        Err(vk::Result::ERROR_INITIALIZATION_FAILED) => Vec::new(),
+        Err(result) => return Err(VkError::Call { what: "listing Vulkan devices", result }),
+    };
+    Ok(devices
+        .into_iter()
+        .enumerate()
+        .map(|(index, physical_device)| {
+            // SAFETY: physical_device came from this instance.
+            let properties = unsafe { instance.get_physical_device_properties(physical_device) };
+            let families = unsafe {
+                instance.get_physical_device_queue_family_properties(physical_device)
+            };
+            let compute_queue_family = families
+                .iter()
+                .position(|f| f.queue_flags.contains(vk::QueueFlags::COMPUTE))
+                .map(|i| i as u32);
+            let v = properties.api_version;
+            let info = DeviceInfo {
+                index,
+                name: properties
+                    .device_name_as_c_str()
+                    .map(|n| n.to_string_lossy().into_owned())
+                    .unwrap_or_else(|_| "(unnamed)".into()),
+                kind: DeviceKind::from_vk(properties.device_type),
+                api_version: format!(
+                    "{}.{}.{}",
+                    vk::api_version_major(v),
+                    vk::api_version_minor(v),
+                    vk::api_version_patch(v)
+                ),
+                compute_queue_family,
+            };
+            (physical_device, info)
+        })
+        .collect())
+}
+
+/// Lists the Vulkan devices that the loader finds (for `vkpath devices`).
+pub fn list_devices() -> VkResult<Vec<DeviceInfo>> {
+    let entry = load_entry()?;
+    let instance = create_instance(&entry, None)?;
+    let devices = describe_devices(&instance);
+    // SAFETY: nothing was created from the instance.
+    unsafe { instance.destroy_instance(None) };
+    let devices = devices?;
+    if devices.is_empty() {
+        return Err(VkError::NoDriver("the loader found no device".into()));
+    }
+    Ok(devices.into_iter().map(|(_, info)| info).collect())
+}
+
+/// Picks a device as `ContextOptions::device` says.
+fn choose_device(
+    devices: &[(vk::PhysicalDevice, DeviceInfo)],
+    selector: Option<&str>,
+) -> VkResult<(vk::PhysicalDevice, DeviceInfo)> {
+    let list = || {
+        devices
+            .iter()
+            .map(|(_, info)| format!("{} {}", info.index, info.name))
+            .collect::<Vec<_>>()
+            .join(", ")
+    };
+    let chosen = match selector {
+        Some(selector) => {
+            let needle = selector.to_lowercase();
+            let by_index = selector.parse::<usize>().ok();
+            devices
+                .iter()
+                .find(|(_, info)| {
+                    Some(info.index) == by_index || info.name.to_lowercase().contains(&needle)
+                })
+                .ok_or_else(|| VkError::DeviceNotFound {
+                    selector: selector.to_string(),
+                    available: list(),
+                })?
+        }
+        None => devices
+            .iter()
+            .filter(|(_, info)| info.compute_queue_family.is_some())
+            .min_by_key(|(_, info)| (info.kind.rank(), info.index))
+            .ok_or_else(|| VkError::NoComputeDevice(list()))?,
+    };
+    if chosen.1.compute_queue_family.is_none() {
+        return Err(VkError::NoComputeDevice(list()));
+    }
+    Ok(chosen.clone())
+}
+
+impl Context {
+    /// Loads Vulkan, creates the instance (with validation if asked), picks a device and
+    /// creates a logical device with one compute queue.
+    pub fn new(options: &ContextOptions) -> VkResult<Arc<Context>> {
+        let entry = load_entry()?;
+        let validation = if options.validate {
+            if !has_validation_layer(&entry)? {
+                return Err(VkError::ValidationLayerMissing);
+            }
+            Some(Box::<ValidationMessages>::default())
+        } else {
+            None
+        };
+        let instance = create_instance(&entry, validation.as_deref())?;
+        // From here on, a failure must destroy what exists: build a partial context whose
+        // Drop does it.
+        let messenger = match validation.as_deref() {
+            Some(messages) => {
+                let debug_utils = ash::ext::debug_utils::Instance::new(&entry, &instance);
+                let info = messenger_create_info(messages);
+                // SAFETY: `messages` is boxed and owned by the context, which outlives it.
+                match unsafe { debug_utils.create_debug_utils_messenger(&info, None) } {
+                    Ok(messenger) => Some((debug_utils, messenger)),
+                    Err(result) => {
+                        unsafe { instance.destroy_instance(None) };
+                        return Err(VkError::Call { what: "creating the debug messenger", result });
+                    }
+                }
+            }
+            None => None,
+        };
+        let destroy_instance = |messenger: Option<(ash::ext::debug_utils::Instance, vk::DebugUtilsMessengerEXT)>| {
+            // SAFETY: no device was created from this instance.
+            unsafe {
+                if let Some((debug_utils, messenger)) = messenger {
+                    debug_utils.destroy_debug_utils_messenger(messenger, None);
+                }
+                instance.destroy_instance(None);
+            }
+        };
+        let chosen = describe_devices(&instance).and_then(|devices| {
+            if devices.is_empty() {
+                return Err(VkError::NoDriver("the loader found no device".into()));
+            }
+            choose_device(&devices, options.device.as_deref())
+        });
+        let (physical_device, info) = match chosen {
+            Ok(chosen) => chosen,
+            Err(error) => {
+                destroy_instance(messenger);
+                return Err(error);
+            }
+        };
+        if options.require_gpu && !info.kind.is_gpu() {
+            destroy_instance(messenger);
+            return Err(VkError::NotAGpu { name: info.name, kind: info.kind.to_string() });
+        }
+        let queue_family_index = info.compute_queue_family.expect("checked by choose_device");
+        let priorities = [1.0f32];
+        let queue_info = [vk::DeviceQueueCreateInfo::default()
+            .queue_family_index(queue_family_index)
+            .queue_priorities(&priorities)];
+        let device_info = vk::DeviceCreateInfo::default().queue_create_infos(&queue_info);
+        // SAFETY: physical_device belongs to instance; the create info outlives the call.
+        let device = match unsafe { instance.create_device(physical_device, &device_info, None) } {
+            Ok(device) => device,
+            Err(result) => {
+                destroy_instance(messenger);
+                return Err(VkError::Call { what: "creating the logical device", result });
+            }
+        };
+        // SAFETY: the queue family was requested with one queue.
+        let queue = unsafe { device.get_device_queue(queue_family_index, 0) };
+        let limits = unsafe { instance.get_physical_device_properties(physical_device) }.limits;
+        let allocator = Allocator::new(&AllocatorCreateDesc {
+            instance: instance.clone(),
+            device: device.clone(),
+            physical_device,
+            debug_settings: Default::default(),
+            buffer_device_address: false,
+            allocation_sizes: Default::default(),
+        });
+        let allocator = match allocator {
+            Ok(allocator) => allocator,
+            Err(source) => {
+                unsafe { device.destroy_device(None) };
+                destroy_instance(messenger);
+                return Err(VkError::Allocation { what: "the memory allocator".into(), source });
+            }
+        };
+        Ok(Arc::new(Context {
+            _entry: entry,
+            instance,
+            messenger,
+            validation,
+            physical_device,
+            info,
+            limits,
+            device,
+            queue,
+            queue_family_index,
+            allocator: ManuallyDrop::new(Mutex::new(allocator)),
+        }))
+    }
+
+    /// The validation layer's message counts, when validation is on.
+    pub fn validation_messages(&self) -> Option<&ValidationMessages> {
+        self.validation.as_deref()
+    }
+
+    /// Locks the memory allocator.
+    pub(crate) fn allocator(&self) -> MutexGuard<'_, Allocator> {
+        // A panic while holding the lock cannot leave the allocator half-updated in a way
+        // that matters more than the panic itself.
+        self.allocator.lock().unwrap_or_else(|poisoned| poisoned.into_inner())
+    }
+}
+
+impl Drop for Context {
+    fn drop(&mut self) {
+        // SAFETY: every resource holds an Arc<Context>, so all of them are gone; the
+        // allocator is dropped before the device, the device before the instance.
+        unsafe {
+            let _ = self.device.device_wait_idle();
+            ManuallyDrop::drop(&mut self.allocator);
+            self.device.destroy_device(None);
+            if let Some((debug_utils, messenger)) = self.messenger.take() {
+                debug_utils.destroy_debug_utils_messenger(messenger, None);
+            }
+            self.instance.destroy_instance(None);
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn cpu_devices_rank_after_gpus() {
+        assert!(DeviceKind::DiscreteGpu.rank() < DeviceKind::Cpu.rank());
+        assert!(DeviceKind::IntegratedGpu.rank() < DeviceKind::Cpu.rank());
+        assert!(!DeviceKind::Cpu.is_gpu());
+    }
+}

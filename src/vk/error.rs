@@ -1,0 +1,74 @@
+//! Errors of the Vulkan layer. Each says what we were doing and, where the user can act, how
+//! to fix it, so that the CLI can print it as one line.
+
+use ash::vk;
+
+/// Something went wrong talking to Vulkan.
+#[derive(Debug, thiserror::Error)]
+pub enum VkError {
+    /// `libvulkan.so.1` could not be loaded.
+    #[error("cannot load the Vulkan loader ({0}); install it with `apt-get install libvulkan1`")]
+    LoaderMissing(String),
+    /// The loader found no driver (ICD), or the driver found no device.
+    #[error("no Vulkan driver or device found ({0}); install a driver, e.g. `apt-get install mesa-vulkan-drivers` for the CPU device (lavapipe), and check VK_DRIVER_FILES / VK_ICD_FILENAMES")]
+    NoDriver(String),
+    /// Devices exist, but none has a queue that can run compute shaders.
+    #[error("no Vulkan device has a compute queue (devices: {0})")]
+    NoComputeDevice(String),
+    /// `--require-gpu` was given and the chosen device is not a GPU.
+    #[error("a GPU was required (--require-gpu), but the chosen device '{name}' is a {kind}")]
+    NotAGpu {
+        /// The device's name.
+        name: String,
+        /// Its type, in words.
+        kind: String,
+    },
+    /// `--device` named no device.
+    #[error("no Vulkan device matches '{selector}' (run `vkpath devices`; available: {available})")]
+    DeviceNotFound {
+        /// What the user asked for.
+        selector: String,
+        /// The devices that exist.
+        available: String,
+    },
+    /// Validation was asked for, but the layer is not installed.
+    #[error("the validation layer VK_LAYER_KHRONOS_validation is not installed; install it with `apt-get install vulkan-validationlayers`")]
+    ValidationLayerMissing,
+    /// A Vulkan call failed.
+    #[error("{what} failed: {result}")]
+    Call {
+        /// What we were doing.
+        what: &'static str,
+        /// The result code.
+        result: vk::Result,
+    },
+    /// A GPU memory allocation failed.
+    #[error("allocating {what} failed: {source}")]
+    Allocation {
+        /// What the memory was for.
+        what: String,
+        /// The allocator's error.
+        source: gpu_allocator::AllocationError,
+    },
+    /// A submitted frame did not finish in time.
+    #[error("the device did not finish a frame within {0} s")]
+    Timeout(u64),
+    /// SPIR-V that Vulkan cannot take.
+    #[error("invalid SPIR-V: {0}")]
+    InvalidSpirv(String),
+}
+
+/// Result of the Vulkan layer.
+pub type VkResult<T> = Result<T, VkError>;
+
+/// Adds context to a raw `vk::Result` error.
+pub(crate) trait CallContext<T> {
+    /// Names the call that failed.
+    fn during(self, what: &'static str) -> VkResult<T>;
+}
+
+impl<T> CallContext<T> for Result<T, vk::Result> {
+    fn during(self, what: &'static str) -> VkResult<T> {
+        self.map_err(|result| VkError::Call { what, result })
+    }
+}

@@ -1,0 +1,20 @@
+//! A thin Vulkan layer over `ash` that knows nothing of path tracing: context (instance,
+//! device, queue, allocator), buffers, storage images, compute pipelines, command
+//! submission, validation messages and errors. Each resource frees itself on drop and holds
+//! an `Arc<Context>`, so the device outlives it.
+
+pub mod buffer;
+pub mod commands;
+pub mod context;
+pub mod error;
+pub mod image;
+pub mod pipeline;
+pub mod validation;
+
+pub use buffer::Buffer;
+pub use commands::{full_compute_barrier, CommandRunner};
+pub use context::{list_devices, Context, ContextOptions, DeviceInfo, DeviceKind};
+pub use error::{VkError, VkResult};
+pub use image::StorageImage;
+pub use pipeline::{ComputePipeline, DescriptorSet};
+pub use validation::ValidationMessages;

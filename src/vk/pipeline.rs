@@ -1,0 +1,204 @@
+//! A compute pipeline with one descriptor set layout, push constants and specialization
+//! constants, and a descriptor set to bind its resources.
+
+use std::sync::Arc;
+
+use ash::vk;
+
+use super::buffer::Buffer;
+use super::context::Context;
+use super::error::{CallContext, VkError, VkResult};
+use super::image::StorageImage;
+
+/// A compute pipeline and its layouts.
+pub struct ComputePipeline {
+    context: Arc<Context>,
+    /// Layout of descriptor set 0.
+    pub descriptor_set_layout: vk::DescriptorSetLayout,
+    /// The pipeline layout (set 0 and the push-constant range).
+    pub layout: vk::PipelineLayout,
+    /// The pipeline.
+    pub pipeline: vk::Pipeline,
+    bindings: Vec<(u32, vk::DescriptorType)>,
+}
+
+impl ComputePipeline {
+    /// Creates a pipeline from SPIR-V (entry point `main`) whose set 0 has `bindings`, with
+    /// `push_constant_size` bytes of push constants (0 for none) and 32-bit specialization
+    /// constants given as (constant_id, value).
+    pub fn new(
+        context: &Arc<Context>,
+        spirv: &[u32],
+        bindings: &[(u32, vk::DescriptorType)],
+        push_constant_size: u32,
+        specialization: &[(u32, u32)],
+    ) -> VkResult<ComputePipeline> {
+        if spirv.first() != Some(&0x0723_0203) {
+            return Err(VkError::InvalidSpirv("missing the SPIR-V magic number".into()));
+        }
+        let device = &context.device;
+        let layout_bindings: Vec<_> = bindings
+            .iter()
+            .map(|&(binding, kind)| {
+                vk::DescriptorSetLayoutBinding::default()
+                    .binding(binding)
+                    .descriptor_type(kind)
+                    .descriptor_count(1)
+                    .stage_flags(vk::ShaderStageFlags::COMPUTE)
+            })
+            .collect();
+        let mut pipeline = ComputePipeline {
+            context: context.clone(),
+            descriptor_set_layout: vk::DescriptorSetLayout::null(),
+            layout: vk::PipelineLayout::null(),
+            pipeline: vk::Pipeline::null(),
+            bindings: bindings.to_vec(),
+        };
+        // SAFETY: valid create infos on a live device; on error, Drop destroys what exists.
+        unsafe {
+            pipeline.descriptor_set_layout = device
+                .create_descriptor_set_layout(
+                    &vk::DescriptorSetLayoutCreateInfo::default().bindings(&layout_bindings),
+                    None,
+                )
+                .during("creating a descriptor set layout")?;
+            let set_layouts = [pipeline.descriptor_set_layout];
+            let ranges = [vk::PushConstantRange::default()
+                .stage_flags(vk::ShaderStageFlags::COMPUTE)
+                .size(push_constant_size)];
+            let mut layout_info = vk::PipelineLayoutCreateInfo::default().set_layouts(&set_layouts);
+            if push_constant_size > 0 {
+                layout_info = layout_info.push_constant_ranges(&ranges);
+            }
+            pipeline.layout = device
+                .create_pipeline_layout(&layout_info, None)
+                .during("creating a pipeline layout")?;
+            let module = device
+                .create_shader_module(&vk::ShaderModuleCreateInfo::default().code(spirv), None)
+                .during("creating a shader module")?;
+            let entries: Vec<_> = specialization
+                .iter()
+                .enumerate()
+                .map(|(i, &(id, _))| vk::SpecializationMapEntry {
+                    constant_id: id,
+                    offset: 4 * i as u32,
+                    size: 4,
+                })
+                .collect();
+            let data: Vec<u8> = specialization.iter().flat_map(|&(_, v)| v.to_ne_bytes()).collect();
+            let specialization_info =
+                vk::SpecializationInfo::default().map_entries(&entries).data(&data);
+            let stage = vk::PipelineShaderStageCreateInfo::default()
+                .stage(vk::ShaderStageFlags::COMPUTE)
+                .module(module)
+                .name(c"main")
+                .specialization_info(&specialization_info);
+            let info = [vk::ComputePipelineCreateInfo::default().stage(stage).layout(pipeline.layout)];
+            let created =
+                device.create_compute_pipelines(vk::PipelineCache::null(), &info, None);
+            device.destroy_shader_module(module, None);
+            pipeline.pipeline = created
+                .map_err(|(_, result)| result)
+                .during("creating a compute pipeline")?[0];
+        }
+        Ok(pipeline)
+    }
+
+    /// Allocates a descriptor set for this pipeline's set 0 from a pool of its own.
+    pub fn allocate_descriptor_set(&self) -> VkResult<DescriptorSet> {
+        DescriptorSet::new(&self.context, self.descriptor_set_layout, &self.bindings)
+    }
+}
+
+impl Drop for ComputePipeline {
+    fn drop(&mut self) {
+        // SAFETY: users wait for work using the pipeline before dropping it; null handles
+        // are ignored by vkDestroy*.
+        unsafe {
+            let device = &self.context.device;
+            device.destroy_pipeline(self.pipeline, None);
+            device.destroy_pipeline_layout(self.layout, None);
+            device.destroy_descriptor_set_layout(self.descriptor_set_layout, None);
+        }
+    }
+}
+
+/// A descriptor set with the pool it came from.
+pub struct DescriptorSet {
+    context: Arc<Context>,
+    pool: vk::DescriptorPool,
+    /// The set.
+    pub set: vk::DescriptorSet,
+}
+
+impl DescriptorSet {
+    fn new(
+        context: &Arc<Context>,
+        layout: vk::DescriptorSetLayout,
+        bindings: &[(u32, vk::DescriptorType)],
+    ) -> VkResult<DescriptorSet> {
+        let sizes: Vec<_> = bindings
+            .iter()
+            .map(|&(_, kind)| vk::DescriptorPoolSize { ty: kind, descriptor_count: 1 })
+            .collect();
+        let device = &context.device;
+        // SAFETY: valid create infos on a live device.
+        let pool = unsafe {
+            device.create_descriptor_pool(
+                &vk::DescriptorPoolCreateInfo::default().max_sets(1).pool_sizes(&sizes),
+                None,
+            )
+        }
+        .during("creating a descriptor pool")?;
+        let layouts = [layout];
+        let set = unsafe {
+            device.allocate_descriptor_sets(
+                &vk::DescriptorSetAllocateInfo::default()
+                    .descriptor_pool(pool)
+                    .set_layouts(&layouts),
+            )
+        };
+        match set {
+            Ok(sets) => Ok(DescriptorSet { context: context.clone(), pool, set: sets[0] }),
+            Err(result) => {
+                unsafe { device.destroy_descriptor_pool(pool, None) };
+                Err(VkError::Call { what: "allocating a descriptor set", result })
+            }
+        }
+    }
+
+    /// Points `binding` at a whole buffer.
+    pub fn write_buffer(&self, binding: u32, kind: vk::DescriptorType, buffer: &Buffer) {
+        let info = [vk::DescriptorBufferInfo::default()
+            .buffer(buffer.handle)
+            .range(vk::WHOLE_SIZE)];
+        let write = vk::WriteDescriptorSet::default()
+            .dst_set(self.set)
+            .dst_binding(binding)
+            .descriptor_type(kind)
+            .buffer_info(&info);
+        // SAFETY: the buffer is alive; the set is not in use by pending work.
+        unsafe { self.context.device.update_descriptor_sets(&[write], &[]) };
+    }
+
+    /// Points `binding` at a storage image in GENERAL layout.
+    pub fn write_storage_image(&self, binding: u32, image: &StorageImage) {
+        let info = [vk::DescriptorImageInfo::default()
+            .image_view(image.view)
+            .image_layout(vk::ImageLayout::GENERAL)];
+        let write = vk::WriteDescriptorSet::default()
+            .dst_set(self.set)
+            .dst_binding(binding)
+            .descriptor_type(vk::DescriptorType::STORAGE_IMAGE)
+            .image_info(&info);
+        // SAFETY: the image is alive; the set is not in use by pending work.
+        unsafe { self.context.device.update_descriptor_sets(&[write], &[]) };
+    }
+}
+
+impl Drop for DescriptorSet {
+    fn drop(&mut self) {
+        // SAFETY: destroying the pool frees the set; users wait for pending work first.
+        unsafe { self.context.device.destroy_descriptor_pool(self.pool, None) };
+    }
+}
