@@ -30,8 +30,17 @@ pub fn get_sample_seed(pixel: UVec2, sample_index: u32, user_seed: u32) -> UVec2
 /// \param resolution Image size in pixels
 /// \param pixel_filter `PIXEL_FILTER_BOX` or `PIXEL_FILTER_CENTER` (`crate::contract`)
 /// \param seed The sample's random state
-pub fn get_sample_tex_coord(pixel: UVec2, resolution: UVec2, pixel_filter: u32, seed: &mut UVec2) -> Vec2 {
-    let offset = if pixel_filter == PIXEL_FILTER_CENTER { Vec2::splat(0.5) } else { get_random_numbers(seed) };
+pub fn get_sample_tex_coord(
+    pixel: UVec2,
+    resolution: UVec2,
+    pixel_filter: u32,
+    seed: &mut UVec2,
+) -> Vec2 {
+    let offset = if pixel_filter == PIXEL_FILTER_CENTER {
+        Vec2::splat(0.5)
+    } else {
+        get_random_numbers(seed)
+    };
     (pixel.as_vec2() + offset) / resolution.as_vec2()
 }
 
@@ -43,7 +52,10 @@ mod tests {
     #[test]
     fn seed_zero_is_the_workshop_formula() {
         let pixel = UVec2::new(17, 3);
-        assert_eq!(get_sample_seed(pixel, 5, 0), UVec2::new(17 ^ (5 << 16), 3 ^ (5 << 16)));
+        assert_eq!(
+            get_sample_seed(pixel, 5, 0),
+            UVec2::new(17 ^ (5 << 16), 3 ^ (5 << 16))
+        );
         // The user seed changes both words, with wrapping multiplication.
         let seeded = get_sample_seed(pixel, 5, 3);
         let expected_x = (17 ^ (5 << 16)) ^ 2654435769u32.wrapping_mul(3);
@@ -57,12 +69,20 @@ mod tests {
     fn tex_coord_centre_and_box() {
         let resolution = UVec2::new(4, 2);
         let mut seed = UVec2::new(1, 2);
-        let centre = get_sample_tex_coord(UVec2::new(1, 0), resolution, PIXEL_FILTER_CENTER, &mut seed);
+        let centre =
+            get_sample_tex_coord(UVec2::new(1, 0), resolution, PIXEL_FILTER_CENTER, &mut seed);
         assert_eq!(centre, Vec2::new(1.5 / 4.0, 0.5 / 2.0));
-        assert_eq!(seed, UVec2::new(1, 2), "the centre consumes no random numbers");
+        assert_eq!(
+            seed,
+            UVec2::new(1, 2),
+            "the centre consumes no random numbers"
+        );
         for _ in 0..1000 {
-            let jittered = get_sample_tex_coord(UVec2::new(3, 1), resolution, PIXEL_FILTER_BOX, &mut seed);
-            assert!(jittered.x >= 0.75 && jittered.x <= 1.0 && jittered.y >= 0.5 && jittered.y <= 1.0);
+            let jittered =
+                get_sample_tex_coord(UVec2::new(3, 1), resolution, PIXEL_FILTER_BOX, &mut seed);
+            assert!(
+                jittered.x >= 0.75 && jittered.x <= 1.0 && jittered.y >= 0.5 && jittered.y <= 1.0
+            );
         }
     }
 }

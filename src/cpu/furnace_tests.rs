@@ -9,7 +9,10 @@
 use glam::{Vec3, Vec4Swizzles};
 
 use crate::camera::Camera;
-use crate::contract::{INTEGRATOR_DIRECT_ILLUMINATION, INTEGRATOR_PATH_TRACING, INTEGRATOR_RAY_TRACING, PIXEL_FILTER_BOX, PIXEL_FILTER_CENTER};
+use crate::contract::{
+    INTEGRATOR_DIRECT_ILLUMINATION, INTEGRATOR_PATH_TRACING, INTEGRATOR_RAY_TRACING,
+    PIXEL_FILTER_BOX, PIXEL_FILTER_CENTER,
+};
 use crate::cpu::{add_cpu_samples, render_cpu, CpuImage, CpuRenderSettings};
 use crate::scene::Triangle;
 
@@ -26,14 +29,25 @@ fn furnace_box(albedo: Vec3, emission: Vec3) -> Vec<Triangle> {
                 p[(axis + 2) % 3] = v;
                 p
             };
-            let quad = [corner(-1.0, -1.0), corner(1.0, -1.0), corner(1.0, 1.0), corner(-1.0, 1.0)];
+            let quad = [
+                corner(-1.0, -1.0),
+                corner(1.0, -1.0),
+                corner(1.0, 1.0),
+                corner(-1.0, 1.0),
+            ];
             for mut positions in [[quad[0], quad[1], quad[2]], [quad[0], quad[2], quad[3]]] {
                 let centroid = (positions[0] + positions[1] + positions[2]) / 3.0;
-                let outward = (positions[1] - positions[0]).cross(positions[2] - positions[0]).dot(centroid) > 0.0;
+                let outward = (positions[1] - positions[0])
+                    .cross(positions[2] - positions[0])
+                    .dot(centroid)
+                    > 0.0;
                 if outward {
                     positions.swap(1, 2);
                 }
-                triangles.push(Triangle::new(positions, albedo, emission, false).expect("cube faces are not degenerate"));
+                triangles.push(
+                    Triangle::new(positions, albedo, emission, false)
+                        .expect("cube faces are not degenerate"),
+                );
             }
         }
     }
@@ -41,11 +55,25 @@ fn furnace_box(albedo: Vec3, emission: Vec3) -> Vec<Triangle> {
 }
 
 fn settings(integrator: u32, max_path_length: u32) -> CpuRenderSettings {
-    CpuRenderSettings { width: 16, height: 16, spp: 64, max_path_length, seed: 1, pixel_filter: PIXEL_FILTER_BOX, integrator }
+    CpuRenderSettings {
+        width: 16,
+        height: 16,
+        spp: 64,
+        max_path_length,
+        seed: 1,
+        pixel_filter: PIXEL_FILTER_BOX,
+        integrator,
+    }
 }
 
 fn camera_inside() -> crate::camera::ImagePlane {
-    Camera::look_at(Vec3::new(0.1, 0.2, -0.3), Vec3::new(1.0, 0.5, 0.0), Vec3::Y, 1.2).image_plane(1.0)
+    Camera::look_at(
+        Vec3::new(0.1, 0.2, -0.3),
+        Vec3::new(1.0, 0.5, 0.0),
+        Vec3::Y,
+        1.2,
+    )
+    .image_plane(1.0)
 }
 
 /// The mean over all samples of all pixels, and its standard error from the sample variance
@@ -62,15 +90,25 @@ fn pooled_mean_and_standard_error(image: &CpuImage) -> (Vec3, Vec3) {
         count += pixel.sample_count as f64;
     }
     let mean = sum.map(|s| s / count);
-    let standard_error = std::array::from_fn(|c| ((sum_of_squares[c] / count - mean[c] * mean[c]).max(0.0) * count / (count - 1.0) / count).sqrt());
-    (Vec3::from_array(mean.map(|m| m as f32)), Vec3::from_array(standard_error.map(|s: f64| s as f32)))
+    let standard_error = std::array::from_fn(|c| {
+        ((sum_of_squares[c] / count - mean[c] * mean[c]).max(0.0) * count / (count - 1.0) / count)
+            .sqrt()
+    });
+    (
+        Vec3::from_array(mean.map(|m| m as f32)),
+        Vec3::from_array(standard_error.map(|s: f64| s as f32)),
+    )
 }
 
 /// L_e (1 - a^n) / (1 - a) per channel, n L_e where a = 1.
 fn furnace_expectation(albedo: Vec3, emission: Vec3, path_length: u32) -> Vec3 {
     Vec3::from_array(std::array::from_fn(|c| {
         let a = albedo[c];
-        let geometric_sum = if a == 1.0 { path_length as f32 } else { (1.0 - a.powi(path_length as i32)) / (1.0 - a) };
+        let geometric_sum = if a == 1.0 {
+            path_length as f32
+        } else {
+            (1.0 - a.powi(path_length as i32)) / (1.0 - a)
+        };
         emission[c] * geometric_sum
     }))
 }
@@ -86,14 +124,18 @@ fn assert_within_five_standard_errors(label: &str, image: &CpuImage, expected: V
     println!("{label}: mean {mean}, expected {expected}, standard error {standard_error}");
     // 1e-5 relative covers the f32 rounding of the sums where the standard error is 0.
     let tolerance = 5.0 * standard_error + 1e-5 * expected;
-    assert!((mean - expected).abs().cmple(tolerance).all(), "{label}: mean {mean} vs expected {expected} (tolerance {tolerance})");
+    assert!(
+        (mean - expected).abs().cmple(tolerance).all(),
+        "{label}: mean {mean} vs expected {expected} (tolerance {tolerance})"
+    );
     assert!(image.pixels.iter().all(|pixel| pixel.sample_count == 64));
 }
 
 #[test]
 fn furnace_box_normals_point_inwards() {
     for triangle in furnace_box(Vec3::ONE, Vec3::ONE) {
-        let centroid = (triangle.positions[0] + triangle.positions[1] + triangle.positions[2]) / 3.0;
+        let centroid =
+            (triangle.positions[0] + triangle.positions[1] + triangle.positions[2]) / 3.0;
         assert!(triangle.normal.dot(centroid) < 0.0);
     }
 }
@@ -105,9 +147,17 @@ fn path_tracing_furnace() {
         // A third channel with albedo 1 checks the limit n L_e.
         let albedo = Vec3::new(a, 0.5 * a, 1.0);
         let triangles = furnace_box(albedo, emission);
-        let image = render_cpu(&triangles, &camera_inside(), &settings(INTEGRATOR_PATH_TRACING, path_length));
+        let image = render_cpu(
+            &triangles,
+            &camera_inside(),
+            &settings(INTEGRATOR_PATH_TRACING, path_length),
+        );
         let expected = furnace_expectation(albedo, emission, path_length);
-        assert_within_five_standard_errors(&format!("path tracing a = {albedo}, n = {path_length}"), &image, expected);
+        assert_within_five_standard_errors(
+            &format!("path tracing a = {albedo}, n = {path_length}"),
+            &image,
+            expected,
+        );
     }
 }
 
@@ -117,11 +167,26 @@ fn direct_illumination_and_ray_tracing_furnace() {
     let albedo = Vec3::new(0.5, 0.8, 1.0);
     let triangles = furnace_box(albedo, emission);
     // Exercise 6 is L_e + one bounce: the path-tracing expectation for n = 2.
-    let image = render_cpu(&triangles, &camera_inside(), &settings(INTEGRATOR_DIRECT_ILLUMINATION, 5));
-    assert_within_five_standard_errors("direct illumination", &image, furnace_expectation(albedo, emission, 2));
+    let image = render_cpu(
+        &triangles,
+        &camera_inside(),
+        &settings(INTEGRATOR_DIRECT_ILLUMINATION, 5),
+    );
+    assert_within_five_standard_errors(
+        "direct illumination",
+        &image,
+        furnace_expectation(albedo, emission, 2),
+    );
     // Ray tracing shows the albedo of the first hit, exactly.
-    let image = render_cpu(&triangles, &camera_inside(), &settings(INTEGRATOR_RAY_TRACING, 5));
-    assert!(image.mean().iter().all(|rgba| Vec3::from_slice(rgba) == albedo));
+    let image = render_cpu(
+        &triangles,
+        &camera_inside(),
+        &settings(INTEGRATOR_RAY_TRACING, 5),
+    );
+    assert!(image
+        .mean()
+        .iter()
+        .all(|rgba| Vec3::from_slice(rgba) == albedo));
 }
 
 #[test]
@@ -129,19 +194,41 @@ fn progressive_frames_are_bit_identical_to_one_render() {
     let triangles = furnace_box(Vec3::splat(0.7), Vec3::ONE);
     let plane = camera_inside();
     for pixel_filter in [PIXEL_FILTER_BOX, PIXEL_FILTER_CENTER] {
-        let settings = CpuRenderSettings { pixel_filter, spp: 10, ..settings(INTEGRATOR_PATH_TRACING, 4) };
+        let settings = CpuRenderSettings {
+            pixel_filter,
+            spp: 10,
+            ..settings(INTEGRATOR_PATH_TRACING, 4)
+        };
         let whole = render_cpu(&triangles, &plane, &settings);
         let mut frames = CpuImage::new(settings.width, settings.height);
         for first in (0..settings.spp).step_by(3) {
-            add_cpu_samples(&triangles, &plane, &settings, first, (first + 3).min(settings.spp), &mut frames);
+            add_cpu_samples(
+                &triangles,
+                &plane,
+                &settings,
+                first,
+                (first + 3).min(settings.spp),
+                &mut frames,
+            );
         }
         assert_eq!(whole, frames);
         // Another user seed gives other paths.
-        let reseeded = render_cpu(&triangles, &plane, &CpuRenderSettings { seed: 2, ..settings });
+        let reseeded = render_cpu(
+            &triangles,
+            &plane,
+            &CpuRenderSettings {
+                seed: 2,
+                ..settings
+            },
+        );
         assert_ne!(whole.mean(), reseeded.mean());
     }
     // A camera outside the box sees only back faces, whose emission is one-sided: black.
-    let outside = Camera::look_at(Vec3::new(0.0, 0.0, -5.0), Vec3::ZERO, Vec3::Y, 0.5).image_plane(1.0);
+    let outside =
+        Camera::look_at(Vec3::new(0.0, 0.0, -5.0), Vec3::ZERO, Vec3::Y, 0.5).image_plane(1.0);
     let image = render_cpu(&triangles, &outside, &settings(INTEGRATOR_PATH_TRACING, 3));
-    assert!(image.mean().iter().all(|rgba| glam::Vec4::from_array(*rgba).xyz() == Vec3::ZERO));
+    assert!(image
+        .mean()
+        .iter()
+        .all(|rgba| glam::Vec4::from_array(*rgba).xyz() == Vec3::ZERO));
 }

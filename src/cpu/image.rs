@@ -57,7 +57,8 @@ impl PixelAccumulator {
         let mean = self.mean();
         std::array::from_fn(|channel| {
             let mean = mean[channel] as f64;
-            let sample_variance = (self.sum_of_squares[channel] as f64 - n * mean * mean) / (n - 1.0);
+            let sample_variance =
+                (self.sum_of_squares[channel] as f64 - n * mean * mean) / (n - 1.0);
             sample_variance.max(0.0) / n
         })
     }
@@ -78,19 +79,29 @@ pub struct CpuImage {
 impl CpuImage {
     /// An image with no samples yet.
     pub fn new(width: u32, height: u32) -> CpuImage {
-        CpuImage { width, height, pixels: vec![PixelAccumulator::default(); width as usize * height as usize] }
+        CpuImage {
+            width,
+            height,
+            pixels: vec![PixelAccumulator::default(); width as usize * height as usize],
+        }
     }
 
     /// The mean of each pixel, RGBA with alpha 1, top-down rows (see
     /// `PixelAccumulator::mean`).
     pub fn mean(&self) -> Vec<[f32; 4]> {
-        self.pixels.iter().map(|pixel| pixel.mean().extend(1.0).to_array()).collect()
+        self.pixels
+            .iter()
+            .map(|pixel| pixel.mean().extend(1.0).to_array())
+            .collect()
     }
 
     /// The estimated variance of each pixel's mean, RGB, top-down rows (see
     /// `PixelAccumulator::variance_of_mean`).
     pub fn variance_of_mean(&self) -> Vec<[f64; 3]> {
-        self.pixels.iter().map(PixelAccumulator::variance_of_mean).collect()
+        self.pixels
+            .iter()
+            .map(PixelAccumulator::variance_of_mean)
+            .collect()
     }
 
     /// One layer of the image as the shader's `g_accumulation` stores it, for comparison with
@@ -137,8 +148,15 @@ mod tests {
         let variance = pixel.variance_of_mean();
         assert!((variance[0] - 5.0 / 12.0).abs() < 1e-12);
         assert_eq!(&variance[1..], &[0.0, 0.0]);
-        assert_eq!(PixelAccumulator::default().variance_of_mean(), [f64::INFINITY; 3]);
-        let image = CpuImage { width: 1, height: 1, pixels: vec![pixel] };
+        assert_eq!(
+            PixelAccumulator::default().variance_of_mean(),
+            [f64::INFINITY; 3]
+        );
+        let image = CpuImage {
+            width: 1,
+            height: 1,
+            pixels: vec![pixel],
+        };
         assert_eq!(image.mean(), vec![[2.5, 0.5, 0.0, 1.0]]);
         assert_eq!(image.layer(LAYER_SUM), Some(vec![[10.0, 2.0, 0.0, 4.0]]));
         assert_eq!(image.layer(7), None);

@@ -8,7 +8,9 @@
 use glam::{UVec2, Vec3};
 
 use crate::contract::{INTEGRATOR_PATH_TRACING, INTEGRATOR_RAY_TRACING};
-use crate::cpu::workshop::{get_random_numbers, ray_triangle_intersection, sample_hemisphere, M_PI};
+use crate::cpu::workshop::{
+    get_random_numbers, ray_triangle_intersection, sample_hemisphere, M_PI,
+};
 use crate::scene::Triangle;
 
 /// The closest hit of a ray with the scene.
@@ -30,14 +32,21 @@ const NO_HIT_T: f32 = 1.0e38;
 /// \param scene_triangles All triangles of the scene (the shader's `g_triangles`)
 /// \param ray_origin, ray_direction The ray, world space
 /// \return The closest hit, `None` iff no triangle was hit at t < 1e38
-pub fn ray_mesh_intersection(scene_triangles: &[Triangle], ray_origin: Vec3, ray_direction: Vec3) -> Option<MeshHit> {
+pub fn ray_mesh_intersection(
+    scene_triangles: &[Triangle],
+    ray_origin: Vec3,
+    ray_direction: Vec3,
+) -> Option<MeshHit> {
     let mut out_t = NO_HIT_T;
     let mut hit = None;
     for (index, triangle) in scene_triangles.iter().enumerate() {
         if let Some(t) = ray_triangle_intersection(ray_origin, ray_direction, triangle) {
             if t < out_t {
                 out_t = t;
-                hit = Some(MeshHit { t, triangle_index: index });
+                hit = Some(MeshHit {
+                    t,
+                    triangle_index: index,
+                });
             }
         }
     }
@@ -68,7 +77,10 @@ pub fn orient_towards_ray(triangle: &mut Triangle, ray_direction: Vec3, double_s
 /// Relative (and minimum absolute) offset of `offset_ray_origin`: 2^-17, about 64 float ulps
 /// of the largest coordinate, far above the rounding error of `ray_triangle_intersection`
 /// and far below any feature of a sensible scene.
-#[allow(clippy::excessive_precision, reason = "the shader's literal, digit for digit (exactly 2^-17)")]
+#[allow(
+    clippy::excessive_precision,
+    reason = "the shader's literal, digit for digit (exactly 2^-17)"
+)]
 const RAY_ORIGIN_OFFSET: f32 = 7.62939453125e-06;
 
 /// Moves the origin of a ray that leaves a surface slightly off it, against
@@ -90,17 +102,31 @@ pub fn offset_ray_origin(position: Vec3, normal: Vec3) -> Vec3 {
 /// \param shading_position The point x on the triangle, world space
 /// \param triangle The triangle at x, oriented by `orient_towards_ray`
 /// \param seed The sample's random state
-pub fn compute_direct_illumination(scene_triangles: &[Triangle], shading_position: Vec3, triangle: &Triangle, seed: &mut UVec2) -> Vec3 {
+pub fn compute_direct_illumination(
+    scene_triangles: &[Triangle],
+    shading_position: Vec3,
+    triangle: &Triangle,
+    seed: &mut UVec2,
+) -> Vec3 {
     let ray_direction = sample_hemisphere(get_random_numbers(seed), triangle.normal);
     let mut incoming_emission = Vec3::ZERO;
     let origin = offset_ray_origin(shading_position, triangle.normal);
     if let Some(hit) = ray_mesh_intersection(scene_triangles, origin, ray_direction) {
         let mut light_triangle = scene_triangles[hit.triangle_index];
-        orient_towards_ray(&mut light_triangle, ray_direction, is_double_sided(scene_triangles, hit.triangle_index));
+        orient_towards_ray(
+            &mut light_triangle,
+            ray_direction,
+            is_double_sided(scene_triangles, hit.triangle_index),
+        );
         incoming_emission = light_triangle.emission;
     }
     // Left to right as in GLSL: ((((a / pi) * 2) * pi) * L_e(y)) * n.omega
-    triangle.emission + triangle.color / M_PI * 2.0 * M_PI * incoming_emission * triangle.normal.dot(ray_direction)
+    triangle.emission
+        + triangle.color / M_PI
+            * 2.0
+            * M_PI
+            * incoming_emission
+            * triangle.normal.dot(ray_direction)
 }
 
 /// Exercise 7, twin of GLSL `get_ray_radiance`: a Monte Carlo estimate of the radiance
@@ -113,7 +139,13 @@ pub fn compute_direct_illumination(scene_triangles: &[Triangle], shading_positio
 /// \param ray_origin, ray_direction The camera ray, world space
 /// \param seed The sample's random state
 /// \param max_path_length The shader's `MAX_PATH_LENGTH` specialization constant
-pub fn get_ray_radiance(scene_triangles: &[Triangle], mut ray_origin: Vec3, mut ray_direction: Vec3, seed: &mut UVec2, max_path_length: u32) -> Vec3 {
+pub fn get_ray_radiance(
+    scene_triangles: &[Triangle],
+    mut ray_origin: Vec3,
+    mut ray_direction: Vec3,
+    seed: &mut UVec2,
+    max_path_length: u32,
+) -> Vec3 {
     let mut radiance = Vec3::ZERO;
     let mut throughput_weight = Vec3::ONE;
     for _ in 0..max_path_length {
@@ -122,7 +154,11 @@ pub fn get_ray_radiance(scene_triangles: &[Triangle], mut ray_origin: Vec3, mut 
             break;
         };
         let mut triangle = scene_triangles[hit.triangle_index];
-        orient_towards_ray(&mut triangle, ray_direction, is_double_sided(scene_triangles, hit.triangle_index));
+        orient_towards_ray(
+            &mut triangle,
+            ray_direction,
+            is_double_sided(scene_triangles, hit.triangle_index),
+        );
         // x_{j+1} = x_j + t_j omega_j
         ray_origin += hit.t * ray_direction;
         // Add T_j L_e(x_{j+1}) to the radiance
@@ -145,9 +181,22 @@ pub fn get_ray_radiance(scene_triangles: &[Triangle], mut ray_origin: Vec3, mut 
 /// \param seed The sample's random state
 /// \param integrator `INTEGRATOR_*` of `crate::contract`
 /// \param max_path_length Maximal number of surface hits for path tracing
-pub fn get_sample_radiance(scene_triangles: &[Triangle], camera_position: Vec3, ray_direction: Vec3, seed: &mut UVec2, integrator: u32, max_path_length: u32) -> Vec3 {
+pub fn get_sample_radiance(
+    scene_triangles: &[Triangle],
+    camera_position: Vec3,
+    ray_direction: Vec3,
+    seed: &mut UVec2,
+    integrator: u32,
+    max_path_length: u32,
+) -> Vec3 {
     if integrator == INTEGRATOR_PATH_TRACING {
-        return get_ray_radiance(scene_triangles, camera_position, ray_direction, seed, max_path_length);
+        return get_ray_radiance(
+            scene_triangles,
+            camera_position,
+            ray_direction,
+            seed,
+            max_path_length,
+        );
     }
     let Some(hit) = ray_mesh_intersection(scene_triangles, camera_position, ray_direction) else {
         return Vec3::ZERO;
@@ -156,8 +205,17 @@ pub fn get_sample_radiance(scene_triangles: &[Triangle], camera_position: Vec3, 
     if integrator == INTEGRATOR_RAY_TRACING {
         return triangle.color;
     }
-    orient_towards_ray(&mut triangle, ray_direction, is_double_sided(scene_triangles, hit.triangle_index));
-    compute_direct_illumination(scene_triangles, camera_position + hit.t * ray_direction, &triangle, seed)
+    orient_towards_ray(
+        &mut triangle,
+        ray_direction,
+        is_double_sided(scene_triangles, hit.triangle_index),
+    );
+    compute_direct_illumination(
+        scene_triangles,
+        camera_position + hit.t * ray_direction,
+        &triangle,
+        seed,
+    )
 }
 
 #[cfg(test)]
@@ -166,7 +224,9 @@ mod tests {
 
     fn square_at_z(z: f32, color: f32) -> [Triangle; 2] {
         let corner = |x: f32, y: f32| Vec3::new(x, y, z);
-        let make = |positions| Triangle::new(positions, Vec3::splat(color), Vec3::ZERO, false).expect("non-degenerate");
+        let make = |positions| {
+            Triangle::new(positions, Vec3::splat(color), Vec3::ZERO, false).expect("non-degenerate")
+        };
         [
             make([corner(-1.0, -1.0), corner(1.0, -1.0), corner(1.0, 1.0)]),
             make([corner(-1.0, -1.0), corner(1.0, 1.0), corner(-1.0, 1.0)]),
@@ -178,13 +238,18 @@ mod tests {
         let mut triangles: Vec<Triangle> = square_at_z(3.0, 0.1).into();
         triangles.extend(square_at_z(1.0, 0.2));
         triangles.extend(square_at_z(2.0, 0.3));
-        let hit = ray_mesh_intersection(&triangles, Vec3::new(0.2, 0.5, 0.0), Vec3::Z).expect("hits");
+        let hit =
+            ray_mesh_intersection(&triangles, Vec3::new(0.2, 0.5, 0.0), Vec3::Z).expect("hits");
         assert_eq!(hit.t, 1.0);
         assert_eq!(triangles[hit.triangle_index].color, Vec3::splat(0.2));
         // Starting between the planes, the ray behind does not count.
-        let hit = ray_mesh_intersection(&triangles, Vec3::new(0.2, 0.5, 1.5), Vec3::Z).expect("hits");
+        let hit =
+            ray_mesh_intersection(&triangles, Vec3::new(0.2, 0.5, 1.5), Vec3::Z).expect("hits");
         assert_eq!(hit.t, 0.5);
-        assert_eq!(ray_mesh_intersection(&triangles, Vec3::new(0.2, 0.5, 3.5), Vec3::Z), None);
+        assert_eq!(
+            ray_mesh_intersection(&triangles, Vec3::new(0.2, 0.5, 3.5), Vec3::Z),
+            None
+        );
         assert_eq!(ray_mesh_intersection(&[], Vec3::ZERO, Vec3::Z), None);
     }
 
@@ -206,7 +271,10 @@ mod tests {
 
     #[test]
     fn ray_origin_offset_scales_with_magnitude() {
-        assert_eq!(offset_ray_origin(Vec3::ZERO, Vec3::Z), Vec3::new(0.0, 0.0, RAY_ORIGIN_OFFSET));
+        assert_eq!(
+            offset_ray_origin(Vec3::ZERO, Vec3::Z),
+            Vec3::new(0.0, 0.0, RAY_ORIGIN_OFFSET)
+        );
         let far = offset_ray_origin(Vec3::new(0.0, -1024.0, 0.0), Vec3::X);
         assert_eq!(far, Vec3::new(1024.0 * RAY_ORIGIN_OFFSET, -1024.0, 0.0));
     }
@@ -220,11 +288,20 @@ mod tests {
         let start = UVec2::new(5, 6);
         let mut one_step = start;
         get_random_numbers(&mut one_step);
-        for (integrator, expected) in [(INTEGRATOR_PATH_TRACING, one_step), (crate::contract::INTEGRATOR_DIRECT_ILLUMINATION, one_step), (INTEGRATOR_RAY_TRACING, start)] {
+        for (integrator, expected) in [
+            (INTEGRATOR_PATH_TRACING, one_step),
+            (crate::contract::INTEGRATOR_DIRECT_ILLUMINATION, one_step),
+            (INTEGRATOR_RAY_TRACING, start),
+        ] {
             let mut seed = start;
-            let radiance = get_sample_radiance(&triangles, origin, -Vec3::Z, &mut seed, integrator, 5);
+            let radiance =
+                get_sample_radiance(&triangles, origin, -Vec3::Z, &mut seed, integrator, 5);
             assert_eq!(seed, expected, "integrator {integrator}");
-            let expected_radiance = if integrator == INTEGRATOR_RAY_TRACING { Vec3::splat(0.5) } else { Vec3::ZERO };
+            let expected_radiance = if integrator == INTEGRATOR_RAY_TRACING {
+                Vec3::splat(0.5)
+            } else {
+                Vec3::ZERO
+            };
             assert_eq!(radiance, expected_radiance);
         }
     }

@@ -37,9 +37,20 @@ pub struct CpuRenderSettings {
 /// \param plane The camera for the image's aspect ratio
 /// \param settings Size, samples, path length, seed, pixel filter and integrator
 /// \return Sums, sums of squares and counts of every pixel, top-down rows
-pub fn render_cpu(scene_triangles: &[Triangle], plane: &ImagePlane, settings: &CpuRenderSettings) -> CpuImage {
+pub fn render_cpu(
+    scene_triangles: &[Triangle],
+    plane: &ImagePlane,
+    settings: &CpuRenderSettings,
+) -> CpuImage {
     let mut image = CpuImage::new(settings.width, settings.height);
-    add_cpu_samples(scene_triangles, plane, settings, 0, settings.spp, &mut image);
+    add_cpu_samples(
+        scene_triangles,
+        plane,
+        settings,
+        0,
+        settings.spp,
+        &mut image,
+    );
     image
 }
 
@@ -48,29 +59,69 @@ pub fn render_cpu(scene_triangles: &[Triangle], plane: &ImagePlane, settings: &C
 /// `g_sample_end`; rendering in several such calls gives bit-identical results to one.
 /// `settings.spp` is not read. The image must have been made for `settings.width` x
 /// `settings.height`; pixels beyond its size are not touched.
-pub fn add_cpu_samples(scene_triangles: &[Triangle], plane: &ImagePlane, settings: &CpuRenderSettings, first_sample_index: u32, sample_end: u32, image: &mut CpuImage) {
+pub fn add_cpu_samples(
+    scene_triangles: &[Triangle],
+    plane: &ImagePlane,
+    settings: &CpuRenderSettings,
+    first_sample_index: u32,
+    sample_end: u32,
+    image: &mut CpuImage,
+) {
     let width = image.width;
     let height = image.height;
     if width == 0 {
         return;
     }
-    image.pixels.par_chunks_mut(width as usize).enumerate().for_each(|(row, pixels)| {
-        // Image rows run top-down; ShaderToy counts pixels from the bottom-left.
-        let pixel_y = height - 1 - row as u32;
-        for (x, accumulator) in pixels.iter_mut().enumerate() {
-            let pixel = UVec2::new(x as u32, pixel_y);
-            add_pixel_samples(scene_triangles, plane, settings, pixel, UVec2::new(width, height), first_sample_index..sample_end, accumulator);
-        }
-    });
+    image
+        .pixels
+        .par_chunks_mut(width as usize)
+        .enumerate()
+        .for_each(|(row, pixels)| {
+            // Image rows run top-down; ShaderToy counts pixels from the bottom-left.
+            let pixel_y = height - 1 - row as u32;
+            for (x, accumulator) in pixels.iter_mut().enumerate() {
+                let pixel = UVec2::new(x as u32, pixel_y);
+                add_pixel_samples(
+                    scene_triangles,
+                    plane,
+                    settings,
+                    pixel,
+                    UVec2::new(width, height),
+                    first_sample_index..sample_end,
+                    accumulator,
+                );
+            }
+        });
 }
 
 /// The body of `main()` in `path_tracer.comp` for one pixel (counted from the bottom-left).
-fn add_pixel_samples(scene_triangles: &[Triangle], plane: &ImagePlane, settings: &CpuRenderSettings, pixel: UVec2, resolution: UVec2, samples: std::ops::Range<u32>, accumulator: &mut PixelAccumulator) {
+fn add_pixel_samples(
+    scene_triangles: &[Triangle],
+    plane: &ImagePlane,
+    settings: &CpuRenderSettings,
+    pixel: UVec2,
+    resolution: UVec2,
+    samples: std::ops::Range<u32>,
+    accumulator: &mut PixelAccumulator,
+) {
     for sample_index in samples {
         let mut seed = get_sample_seed(pixel, sample_index, settings.seed);
         let tex_coord = get_sample_tex_coord(pixel, resolution, settings.pixel_filter, &mut seed);
-        let ray_direction = get_primary_ray_direction(tex_coord, plane.camera_position, plane.left_bottom, plane.right, plane.up);
-        let radiance = get_sample_radiance(scene_triangles, plane.camera_position, ray_direction, &mut seed, settings.integrator, settings.max_path_length);
+        let ray_direction = get_primary_ray_direction(
+            tex_coord,
+            plane.camera_position,
+            plane.left_bottom,
+            plane.right,
+            plane.up,
+        );
+        let radiance = get_sample_radiance(
+            scene_triangles,
+            plane.camera_position,
+            ray_direction,
+            &mut seed,
+            settings.integrator,
+            settings.max_path_length,
+        );
         accumulator.add_sample(radiance);
     }
 }

@@ -14,7 +14,10 @@ pub const M_PI: f32 = std::f32::consts::PI;
 
 /// 2^-32 as GLSL writes it (`2.32830643654e-10`); the literal rounds to exactly 2^-32 in
 /// f32 (it is within 1.3e-21 of 2^-32, far below half an ulp there, 1.4e-17).
-#[allow(clippy::excessive_precision, reason = "the shader's literal, digit for digit")]
+#[allow(
+    clippy::excessive_precision,
+    reason = "the shader's literal, digit for digit"
+)]
 const TWO_TO_MINUS_32: f32 = 2.32830643654e-10;
 
 /// The LCG multiplier of PCG2D (Numerical Recipes' 1664525).
@@ -92,7 +95,11 @@ pub fn sample_hemisphere(random_numbers: Vec2, normal: Vec3) -> Vec3 {
 pub fn sample_sphere_spherical_coordinates(random_numbers: Vec2) -> Vec3 {
     let phi = 2.0 * M_PI * random_numbers[0];
     let theta = M_PI * random_numbers[1];
-    Vec3::new(theta.sin() * phi.cos(), theta.sin() * phi.sin(), theta.cos())
+    Vec3::new(
+        theta.sin() * phi.cos(),
+        theta.sin() * phi.sin(),
+        theta.cos(),
+    )
 }
 
 /// Intersects a ray with a triangle (Part 1), twin of GLSL `ray_triangle_intersection`.
@@ -104,7 +111,11 @@ pub fn sample_sphere_spherical_coordinates(random_numbers: Vec2) -> Vec3 {
 /// \return The ray parameter t of the hit (distance in units of |ray_direction|) iff the ray
 ///         hits the triangle at t >= 0, edges and vertices included. The GLSL twin writes t
 ///         to `out_t` even on a miss; here a miss is `None`.
-pub fn ray_triangle_intersection(ray_origin: Vec3, ray_direction: Vec3, triangle: &Triangle) -> Option<f32> {
+pub fn ray_triangle_intersection(
+    ray_origin: Vec3,
+    ray_direction: Vec3,
+    triangle: &Triangle,
+) -> Option<f32> {
     let edge_1 = triangle.positions[1] - triangle.positions[0];
     let edge_2 = triangle.positions[2] - triangle.positions[0];
     let origin_offset = ray_origin - triangle.positions[0];
@@ -134,7 +145,13 @@ pub fn ray_triangle_intersection(ray_origin: Vec3, ray_direction: Vec3, triangle
 /// \param right, up The image plane's edge vectors (full width and height), world space
 /// \return The normalized ray direction, world space. glam normalizes as v * (1 / |v|); a
 ///         GPU may use inversesqrt, an ulp or two apart.
-pub fn get_primary_ray_direction(tex_coord: Vec2, camera_position: Vec3, left_bottom: Vec3, right: Vec3, up: Vec3) -> Vec3 {
+pub fn get_primary_ray_direction(
+    tex_coord: Vec2,
+    camera_position: Vec3,
+    left_bottom: Vec3,
+    right: Vec3,
+    up: Vec3,
+) -> Vec3 {
     let image_plane_point = left_bottom + tex_coord.x * right + tex_coord.y * up;
     (image_plane_point - camera_position).normalize()
 }
@@ -157,11 +174,20 @@ mod tests {
 
     #[test]
     fn pcg2d_matches_the_formula_and_known_values() {
-        for start in [[0u32, 0u32], [1, 2], [0xFFFF_FFFF, 0x8000_0000], [12345, 6789 << 16]] {
+        for start in [
+            [0u32, 0u32],
+            [1, 2],
+            [0xFFFF_FFFF, 0x8000_0000],
+            [12345, 6789 << 16],
+        ] {
             let mut seed = UVec2::from_array(start);
             let numbers = get_random_numbers(&mut seed);
             let expected = pcg2d_by_hand(start);
-            assert_eq!(seed.to_array(), expected, "state after one step from {start:?}");
+            assert_eq!(
+                seed.to_array(),
+                expected,
+                "state after one step from {start:?}"
+            );
             assert_eq!(numbers.x, expected[0] as f32 * 2.0f32.powi(-32));
             assert_eq!(numbers.y, expected[1] as f32 * 2.0f32.powi(-32));
         }
@@ -187,7 +213,10 @@ mod tests {
             mean += numbers / count as f32;
         }
         // The mean of 10^4 uniform numbers has standard deviation 0.0029; 0.015 is 5 of them.
-        assert!((mean - Vec2::splat(0.5)).abs().max_element() < 0.015, "{mean}");
+        assert!(
+            (mean - Vec2::splat(0.5)).abs().max_element() < 0.015,
+            "{mean}"
+        );
     }
 
     #[test]
@@ -217,7 +246,11 @@ mod tests {
 
     fn unit_triangle() -> Triangle {
         // In the plane z = 1, counter-clockwise seen from +z.
-        let positions = [Vec3::new(0.0, 0.0, 1.0), Vec3::new(1.0, 0.0, 1.0), Vec3::new(0.0, 1.0, 1.0)];
+        let positions = [
+            Vec3::new(0.0, 0.0, 1.0),
+            Vec3::new(1.0, 0.0, 1.0),
+            Vec3::new(0.0, 1.0, 1.0),
+        ];
         Triangle::new(positions, Vec3::ONE, Vec3::ZERO, false).expect("non-degenerate")
     }
 
@@ -225,20 +258,42 @@ mod tests {
     fn ray_triangle_hit_miss_and_t() {
         let triangle = unit_triangle();
         // A hit at t = 2 with a direction of length 1/2 (t is in units of |direction|).
-        let t = ray_triangle_intersection(Vec3::new(0.25, 0.25, 0.0), Vec3::new(0.0, 0.0, 0.5), &triangle);
+        let t = ray_triangle_intersection(
+            Vec3::new(0.25, 0.25, 0.0),
+            Vec3::new(0.0, 0.0, 0.5),
+            &triangle,
+        );
         assert_eq!(t, Some(2.0));
         // From the other side, towards -z: a hit at t = 3.
-        let t = ray_triangle_intersection(Vec3::new(0.25, 0.25, 4.0), Vec3::new(0.0, 0.0, -1.0), &triangle);
+        let t = ray_triangle_intersection(
+            Vec3::new(0.25, 0.25, 4.0),
+            Vec3::new(0.0, 0.0, -1.0),
+            &triangle,
+        );
         assert_eq!(t, Some(3.0));
         // Outside the triangle (u + v > 1).
-        assert_eq!(ray_triangle_intersection(Vec3::new(0.75, 0.75, 0.0), Vec3::Z, &triangle), None);
+        assert_eq!(
+            ray_triangle_intersection(Vec3::new(0.75, 0.75, 0.0), Vec3::Z, &triangle),
+            None
+        );
         // Behind the origin (t < 0).
-        assert_eq!(ray_triangle_intersection(Vec3::new(0.25, 0.25, 2.0), Vec3::Z, &triangle), None);
+        assert_eq!(
+            ray_triangle_intersection(Vec3::new(0.25, 0.25, 2.0), Vec3::Z, &triangle),
+            None
+        );
         // Parallel to the plane, in it and off it: the infinite or NaN inverse determinant
         // must not produce a hit.
-        for origin in [Vec3::new(-1.0, 0.25, 1.0), Vec3::new(-1.0, 0.25, 0.5), Vec3::new(0.1, 0.1, 1.0)] {
+        for origin in [
+            Vec3::new(-1.0, 0.25, 1.0),
+            Vec3::new(-1.0, 0.25, 0.5),
+            Vec3::new(0.1, 0.1, 1.0),
+        ] {
             for direction in [Vec3::X, Vec3::new(1.0, 1.0, 0.0), Vec3::Y] {
-                assert_eq!(ray_triangle_intersection(origin, direction, &triangle), None, "{origin} {direction}");
+                assert_eq!(
+                    ray_triangle_intersection(origin, direction, &triangle),
+                    None,
+                    "{origin} {direction}"
+                );
             }
         }
     }

@@ -28,10 +28,14 @@ pub enum StatsError {
 /// \param test_count Number of tests k >= 1
 pub fn sidak_alpha(alpha: f64, test_count: usize) -> Result<f64, StatsError> {
     if !(alpha > 0.0 && alpha < 1.0) {
-        return Err(StatsError::InvalidParameter(format!("significance level {alpha} is not in (0, 1)")));
+        return Err(StatsError::InvalidParameter(format!(
+            "significance level {alpha} is not in (0, 1)"
+        )));
     }
     if test_count == 0 {
-        return Err(StatsError::InvalidParameter("the Šidák correction needs at least one test".into()));
+        return Err(StatsError::InvalidParameter(
+            "the Šidák correction needs at least one test".into(),
+        ));
     }
     Ok(-((-alpha).ln_1p() / test_count as f64).exp_m1())
 }
@@ -47,6 +51,10 @@ mod tests {
         assert!((alpha_3 - (1.0 - 0.99f64.powf(1.0 / 3.0))).abs() < 1e-15);
         // (1 - alpha_1)^k = 1 - alpha
         assert!(((1.0 - alpha_3).powi(3) - 0.99).abs() < 1e-14);
-        assert!(sidak_alpha(0.0, 3).is_err() && sidak_alpha(1.0, 3).is_err() && sidak_alpha(0.5, 0).is_err());
+        assert!(
+            sidak_alpha(0.0, 3).is_err()
+                && sidak_alpha(1.0, 3).is_err()
+                && sidak_alpha(0.5, 0).is_err()
+        );
     }
 }

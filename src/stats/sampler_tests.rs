@@ -4,7 +4,9 @@
 use glam::{UVec2, Vec2, Vec3};
 
 use crate::cpu::camera::get_sample_seed;
-use crate::cpu::workshop::{get_random_numbers, sample_hemisphere, sample_sphere, sample_sphere_spherical_coordinates};
+use crate::cpu::workshop::{
+    get_random_numbers, sample_hemisphere, sample_sphere, sample_sphere_spherical_coordinates,
+};
 use crate::stats::chi2::{chi2_direction_test, Chi2Config, Chi2Result};
 use crate::stats::sphere_histogram::{SphereFrame, TargetDensity};
 
@@ -14,7 +16,11 @@ use crate::stats::sphere_histogram::{SphereFrame, TargetDensity};
 const SAMPLE_COUNT: usize = 1_000_000;
 
 /// `count` directions from `sampler` with a sequential PCG2D stream from `seed`.
-fn sample_stream(seed: UVec2, count: usize, sampler: impl Fn(Vec2) -> Vec3) -> impl Iterator<Item = Vec3> {
+fn sample_stream(
+    seed: UVec2,
+    count: usize,
+    sampler: impl Fn(Vec2) -> Vec3,
+) -> impl Iterator<Item = Vec3> {
     let mut state = seed;
     (0..count).map(move |_| sampler(get_random_numbers(&mut state)))
 }
@@ -36,8 +42,18 @@ fn report(label: &str, result: &Chi2Result) {
 #[test]
 fn sample_sphere_passes() {
     let config = Chi2Config::default();
-    let samples = sample_stream(UVec2::new(0x1234_5678, 0x9abc_def0), SAMPLE_COUNT, sample_sphere);
-    let result = chi2_direction_test(samples, TargetDensity::UniformSphere, &SphereFrame::WORLD, &config).unwrap();
+    let samples = sample_stream(
+        UVec2::new(0x1234_5678, 0x9abc_def0),
+        SAMPLE_COUNT,
+        sample_sphere,
+    );
+    let result = chi2_direction_test(
+        samples,
+        TargetDensity::UniformSphere,
+        &SphereFrame::WORLD,
+        &config,
+    )
+    .unwrap();
     report("sample_sphere, sequential PCG2D", &result);
     assert!(result.passed, "{result:?}");
 }
@@ -53,7 +69,13 @@ fn sample_sphere_passes_with_per_pixel_seeds() {
             sample_sphere(get_random_numbers(&mut seed))
         })
     });
-    let result = chi2_direction_test(samples, TargetDensity::UniformSphere, &SphereFrame::WORLD, &config).unwrap();
+    let result = chi2_direction_test(
+        samples,
+        TargetDensity::UniformSphere,
+        &SphereFrame::WORLD,
+        &config,
+    )
+    .unwrap();
     report("sample_sphere, per-pixel seeds", &result);
     assert!(result.passed, "{result:?}");
 }
@@ -67,11 +89,18 @@ fn test_normals() -> [Vec3; 3] {
 fn sample_hemisphere_passes_for_several_normals() {
     let normals = test_normals();
     // Šidák over the normals: 1% for the family of three tests.
-    let config = Chi2Config { test_count: normals.len(), ..Chi2Config::default() };
+    let config = Chi2Config {
+        test_count: normals.len(),
+        ..Chi2Config::default()
+    };
     for (index, normal) in normals.into_iter().enumerate() {
         let frame = SphereFrame::from_normal(normal).unwrap();
-        let samples = sample_stream(UVec2::new(42, index as u32), SAMPLE_COUNT, |random| sample_hemisphere(random, normal));
-        let result = chi2_direction_test(samples, TargetDensity::UniformHemisphere, &frame, &config).unwrap();
+        let samples = sample_stream(UVec2::new(42, index as u32), SAMPLE_COUNT, |random| {
+            sample_hemisphere(random, normal)
+        });
+        let result =
+            chi2_direction_test(samples, TargetDensity::UniformHemisphere, &frame, &config)
+                .unwrap();
         report(&format!("sample_hemisphere around {normal}"), &result);
         assert!(result.passed, "{normal}: {result:?}");
     }
@@ -81,8 +110,18 @@ fn sample_hemisphere_passes_for_several_normals() {
 fn naive_spherical_coordinates_fail() {
     // theta = pi u_1 crowds the poles: density 1 / (2 pi^2 sin theta) instead of 1 / (4 pi).
     let config = Chi2Config::default();
-    let samples = sample_stream(UVec2::new(7, 7), SAMPLE_COUNT, sample_sphere_spherical_coordinates);
-    let result = chi2_direction_test(samples, TargetDensity::UniformSphere, &SphereFrame::WORLD, &config).unwrap();
+    let samples = sample_stream(
+        UVec2::new(7, 7),
+        SAMPLE_COUNT,
+        sample_sphere_spherical_coordinates,
+    );
+    let result = chi2_direction_test(
+        samples,
+        TargetDensity::UniformSphere,
+        &SphereFrame::WORLD,
+        &config,
+    )
+    .unwrap();
     report("sample_sphere_spherical_coordinates (must fail)", &result);
     assert!(!result.passed);
     // Not a near miss: the p-value underflows to (almost) nothing.
@@ -95,7 +134,8 @@ fn hemisphere_without_mirroring_fails() {
     let config = Chi2Config::default();
     let frame = SphereFrame::from_normal(Vec3::Z).unwrap();
     let samples = sample_stream(UVec2::new(3, 4), SAMPLE_COUNT, sample_sphere);
-    let result = chi2_direction_test(samples, TargetDensity::UniformHemisphere, &frame, &config).unwrap();
+    let result =
+        chi2_direction_test(samples, TargetDensity::UniformHemisphere, &frame, &config).unwrap();
     report("sample_sphere judged as hemisphere (must fail)", &result);
     assert!(!result.passed && result.p_value == 0.0);
     // Bins below the equator bin expect nothing, so about half the samples are impossible.
@@ -118,12 +158,29 @@ fn generic_density_path_accepts_cosine_and_rejects_uniform() {
     let config = Chi2Config::default();
     let cosine_density = |direction: Vec3| (direction.z as f64).max(0.0) / std::f64::consts::PI;
     let samples = sample_stream(UVec2::new(11, 13), SAMPLE_COUNT, sample_cosine_hemisphere);
-    let result = chi2_direction_test(samples, TargetDensity::SolidAngle(&cosine_density), &SphereFrame::WORLD, &config).unwrap();
-    report("cosine-weighted sampler vs cos / pi (generic quadrature)", &result);
+    let result = chi2_direction_test(
+        samples,
+        TargetDensity::SolidAngle(&cosine_density),
+        &SphereFrame::WORLD,
+        &config,
+    )
+    .unwrap();
+    report(
+        "cosine-weighted sampler vs cos / pi (generic quadrature)",
+        &result,
+    );
     assert!(result.passed, "{result:?}");
     // The uniform hemisphere sampler is not cosine-weighted.
-    let samples = sample_stream(UVec2::new(11, 13), SAMPLE_COUNT, |random| sample_hemisphere(random, Vec3::Z));
-    let result = chi2_direction_test(samples, TargetDensity::SolidAngle(&cosine_density), &SphereFrame::WORLD, &config).unwrap();
+    let samples = sample_stream(UVec2::new(11, 13), SAMPLE_COUNT, |random| {
+        sample_hemisphere(random, Vec3::Z)
+    });
+    let result = chi2_direction_test(
+        samples,
+        TargetDensity::SolidAngle(&cosine_density),
+        &SphereFrame::WORLD,
+        &config,
+    )
+    .unwrap();
     report("uniform hemisphere vs cos / pi (must fail)", &result);
     assert!(!result.passed);
 }

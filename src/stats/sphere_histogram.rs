@@ -21,7 +21,10 @@ impl Default for SphereGrid {
     /// Mitsuba's resolution: 50 phi bins x 101 cos-theta bins. The odd count puts a bin
     /// astride the equator, so hemisphere samplers are also checked right at the horizon.
     fn default() -> SphereGrid {
-        SphereGrid { phi_bin_count: 50, cos_theta_bin_count: 101 }
+        SphereGrid {
+            phi_bin_count: 50,
+            cos_theta_bin_count: 101,
+        }
     }
 }
 
@@ -47,7 +50,9 @@ impl SphereGrid {
     /// An error unless both counts are positive.
     pub fn validate(&self) -> Result<(), StatsError> {
         if self.phi_bin_count == 0 || self.cos_theta_bin_count == 0 {
-            return Err(StatsError::InvalidParameter(format!("empty sphere grid {self:?}")));
+            return Err(StatsError::InvalidParameter(format!(
+                "empty sphere grid {self:?}"
+            )));
         }
         Ok(())
     }
@@ -60,8 +65,10 @@ impl SphereGrid {
             phi += std::f64::consts::TAU;
         }
         let cos_theta = local_direction.z.clamp(-1.0, 1.0);
-        let phi_bin = ((phi / std::f64::consts::TAU * self.phi_bin_count as f64) as usize).min(self.phi_bin_count - 1);
-        let cos_theta_bin = (((cos_theta + 1.0) * 0.5 * self.cos_theta_bin_count as f64) as usize).min(self.cos_theta_bin_count - 1);
+        let phi_bin = ((phi / std::f64::consts::TAU * self.phi_bin_count as f64) as usize)
+            .min(self.phi_bin_count - 1);
+        let cos_theta_bin = (((cos_theta + 1.0) * 0.5 * self.cos_theta_bin_count as f64) as usize)
+            .min(self.cos_theta_bin_count - 1);
         cos_theta_bin * self.phi_bin_count + phi_bin
     }
 
@@ -94,25 +101,41 @@ pub struct SphereFrame {
 
 impl SphereFrame {
     /// The world frame: theta from +z, phi from +x.
-    pub const WORLD: SphereFrame = SphereFrame { tangent: DVec3::X, bitangent: DVec3::Y, normal: DVec3::Z };
+    pub const WORLD: SphereFrame = SphereFrame {
+        tangent: DVec3::X,
+        bitangent: DVec3::Y,
+        normal: DVec3::Z,
+    };
 
     /// A frame around a normal, tangents from Duff et al., "Building an Orthonormal Basis,
     /// Revisited" (JCGT 2017). The normal is normalized in f64 first; an error if it has no
     /// direction (zero or non-finite).
     pub fn from_normal(normal: Vec3) -> Result<SphereFrame, StatsError> {
-        let normal = normal.as_dvec3().try_normalize().ok_or_else(|| StatsError::InvalidParameter(format!("normal {normal} has no direction")))?;
+        let normal = normal.as_dvec3().try_normalize().ok_or_else(|| {
+            StatsError::InvalidParameter(format!("normal {normal} has no direction"))
+        })?;
         let (tangent, bitangent) = normal.any_orthonormal_pair();
-        Ok(SphereFrame { tangent, bitangent, normal })
+        Ok(SphereFrame {
+            tangent,
+            bitangent,
+            normal,
+        })
     }
 
     /// World to frame coordinates.
     pub fn to_local(&self, world_direction: DVec3) -> DVec3 {
-        DVec3::new(world_direction.dot(self.tangent), world_direction.dot(self.bitangent), world_direction.dot(self.normal))
+        DVec3::new(
+            world_direction.dot(self.tangent),
+            world_direction.dot(self.bitangent),
+            world_direction.dot(self.normal),
+        )
     }
 
     /// Frame to world coordinates.
     pub fn to_world(&self, local_direction: DVec3) -> DVec3 {
-        local_direction.x * self.tangent + local_direction.y * self.bitangent + local_direction.z * self.normal
+        local_direction.x * self.tangent
+            + local_direction.y * self.bitangent
+            + local_direction.z * self.normal
     }
 }
 
@@ -133,9 +156,17 @@ pub struct DirectionHistogram {
 pub const UNIT_LENGTH_TOLERANCE: f64 = 1e-4;
 
 /// Bins directions (world space) in `grid` relative to `frame`.
-pub fn histogram_directions(samples: impl IntoIterator<Item = Vec3>, grid: &SphereGrid, frame: &SphereFrame) -> Result<DirectionHistogram, StatsError> {
+pub fn histogram_directions(
+    samples: impl IntoIterator<Item = Vec3>,
+    grid: &SphereGrid,
+    frame: &SphereFrame,
+) -> Result<DirectionHistogram, StatsError> {
     grid.validate()?;
-    let mut histogram = DirectionHistogram { counts: vec![0; grid.bin_count()], invalid_count: 0, sample_count: 0 };
+    let mut histogram = DirectionHistogram {
+        counts: vec![0; grid.bin_count()],
+        invalid_count: 0,
+        sample_count: 0,
+    };
     for sample in samples {
         histogram.sample_count += 1;
         let direction = sample.as_dvec3();
@@ -166,7 +197,13 @@ pub enum TargetDensity<'a> {
 /// target density.
 /// \param quadrature_resolution Simpson intervals per axis and bin for
 ///        `TargetDensity::SolidAngle` (rounded up to even, at least 2)
-pub fn expected_counts(target: TargetDensity, grid: &SphereGrid, frame: &SphereFrame, sample_count: u64, quadrature_resolution: usize) -> Result<Vec<f64>, StatsError> {
+pub fn expected_counts(
+    target: TargetDensity,
+    grid: &SphereGrid,
+    frame: &SphereFrame,
+    sample_count: u64,
+    quadrature_resolution: usize,
+) -> Result<Vec<f64>, StatsError> {
     grid.validate()?;
     let n = sample_count as f64;
     let probability = |index: usize| -> f64 {
@@ -179,21 +216,38 @@ pub fn expected_counts(target: TargetDensity, grid: &SphereGrid, frame: &SphereF
                 let covered = (bin.cos_theta_max.max(0.0) - bin.cos_theta_min.max(0.0)).max(0.0);
                 phi_extent * covered / std::f64::consts::TAU
             }
-            TargetDensity::SolidAngle(density) => integrate_over_bin(density, &bin, frame, quadrature_resolution),
+            TargetDensity::SolidAngle(density) => {
+                integrate_over_bin(density, &bin, frame, quadrature_resolution)
+            }
         }
     };
-    Ok((0..grid.bin_count()).map(|index| n * probability(index)).collect())
+    Ok((0..grid.bin_count())
+        .map(|index| n * probability(index))
+        .collect())
 }
 
 /// The integral of a density w.r.t. solid angle over a bin. In (phi, cos theta) the solid
 /// angle element is d phi d(cos theta), so this is a plain 2D integral over a rectangle,
 /// done with composite Simpson.
-fn integrate_over_bin(density: &dyn Fn(Vec3) -> f64, bin: &SphereBin, frame: &SphereFrame, resolution: usize) -> f64 {
+fn integrate_over_bin(
+    density: &dyn Fn(Vec3) -> f64,
+    bin: &SphereBin,
+    frame: &SphereFrame,
+    resolution: usize,
+) -> f64 {
     let intervals = resolution.max(2).next_multiple_of(2);
     let phi_step = (bin.phi_max - bin.phi_min) / intervals as f64;
     let cos_theta_step = (bin.cos_theta_max - bin.cos_theta_min) / intervals as f64;
     // Simpson weights 1, 4, 2, 4, ..., 4, 1 (times step / 3).
-    let weight = |k: usize| if k == 0 || k == intervals { 1.0 } else if k % 2 == 1 { 4.0 } else { 2.0 };
+    let weight = |k: usize| {
+        if k == 0 || k == intervals {
+            1.0
+        } else if k % 2 == 1 {
+            4.0
+        } else {
+            2.0
+        }
+    };
     let mut sum = 0.0;
     for i in 0..=intervals {
         let phi = bin.phi_min + i as f64 * phi_step;
@@ -214,11 +268,25 @@ mod tests {
     #[test]
     fn bins_have_equal_area_and_cover_the_sphere() {
         let grid = SphereGrid::default();
-        let expected = expected_counts(TargetDensity::UniformSphere, &grid, &SphereFrame::WORLD, 5050, 4).unwrap();
+        let expected = expected_counts(
+            TargetDensity::UniformSphere,
+            &grid,
+            &SphereFrame::WORLD,
+            5050,
+            4,
+        )
+        .unwrap();
         assert!(expected.iter().all(|&e| (e - 1.0).abs() < 1e-12));
         // The generic quadrature of the constant 1/(4 pi) agrees with the analytic path.
         let uniform = |_: Vec3| 1.0 / (4.0 * std::f64::consts::PI);
-        let numeric = expected_counts(TargetDensity::SolidAngle(&uniform), &grid, &SphereFrame::WORLD, 5050, 4).unwrap();
+        let numeric = expected_counts(
+            TargetDensity::SolidAngle(&uniform),
+            &grid,
+            &SphereFrame::WORLD,
+            5050,
+            4,
+        )
+        .unwrap();
         assert!(numeric.iter().all(|&e| (e - 1.0).abs() < 1e-9));
     }
 
@@ -226,14 +294,27 @@ mod tests {
     fn hemisphere_expectation_halves_the_sphere() {
         let grid = SphereGrid::default();
         let frame = SphereFrame::from_normal(Vec3::new(1.0, 2.0, -3.0)).unwrap();
-        let expected = expected_counts(TargetDensity::UniformHemisphere, &grid, &frame, 1_000_000, 4).unwrap();
+        let expected = expected_counts(
+            TargetDensity::UniformHemisphere,
+            &grid,
+            &frame,
+            1_000_000,
+            4,
+        )
+        .unwrap();
         assert!((expected.iter().sum::<f64>() - 1e6).abs() < 1e-6);
         // Bins below the equator bin (cos-theta bins 0..50) expect nothing; those above
         // (51..101) expect 2 n / bins; the equator bin half of that.
         let full = 2e6 / grid.bin_count() as f64;
         for (index, &e) in expected.iter().enumerate() {
             let row = index / grid.phi_bin_count;
-            let wanted = if row < 50 { 0.0 } else if row == 50 { 0.5 * full } else { full };
+            let wanted = if row < 50 {
+                0.0
+            } else if row == 50 {
+                0.5 * full
+            } else {
+                full
+            };
             assert!((e - wanted).abs() < 1e-6, "bin {index}: {e} vs {wanted}");
         }
     }
@@ -244,24 +325,52 @@ mod tests {
         for normal in [Vec3::Z, -Vec3::Z, -Vec3::X, Vec3::new(0.3, -0.5, 0.8)] {
             let frame = SphereFrame::from_normal(normal).unwrap();
             let n = normal.as_dvec3().normalize();
-            assert!((frame.tangent.dot(frame.bitangent)).abs() < 1e-12 && (frame.tangent.dot(n)).abs() < 1e-12);
-            assert!((frame.tangent.cross(frame.bitangent) - n).length() < 1e-12, "right-handed");
+            assert!(
+                (frame.tangent.dot(frame.bitangent)).abs() < 1e-12
+                    && (frame.tangent.dot(n)).abs() < 1e-12
+            );
+            assert!(
+                (frame.tangent.cross(frame.bitangent) - n).length() < 1e-12,
+                "right-handed"
+            );
             let index = grid.bin_index(frame.to_local(n));
             assert_eq!(index / grid.phi_bin_count, grid.cos_theta_bin_count - 1);
-            assert!((frame.to_world(frame.to_local(DVec3::new(0.1, 0.2, 0.3))) - DVec3::new(0.1, 0.2, 0.3)).length() < 1e-12);
+            assert!(
+                (frame.to_world(frame.to_local(DVec3::new(0.1, 0.2, 0.3)))
+                    - DVec3::new(0.1, 0.2, 0.3))
+                .length()
+                    < 1e-12
+            );
         }
         assert!(SphereFrame::from_normal(Vec3::ZERO).is_err());
     }
 
     #[test]
     fn histogram_rejects_non_directions() {
-        let grid = SphereGrid { phi_bin_count: 4, cos_theta_bin_count: 2 };
-        let samples = [Vec3::X, Vec3::Y, Vec3::new(0.6, 0.0, -0.8), Vec3::splat(f32::NAN), Vec3::new(2.0, 0.0, 0.0)];
+        let grid = SphereGrid {
+            phi_bin_count: 4,
+            cos_theta_bin_count: 2,
+        };
+        let samples = [
+            Vec3::X,
+            Vec3::Y,
+            Vec3::new(0.6, 0.0, -0.8),
+            Vec3::splat(f32::NAN),
+            Vec3::new(2.0, 0.0, 0.0),
+        ];
         let histogram = histogram_directions(samples, &grid, &SphereFrame::WORLD).unwrap();
         assert_eq!((histogram.invalid_count, histogram.sample_count), (2, 5));
         // +x: phi 0, cos theta 0 -> upper row (the equator is the rows' boundary); +y: phi
         // pi / 2 -> second phi bin; (0.6, 0, -0.8): phi 0, lower row.
         assert_eq!(histogram.counts, vec![1, 0, 0, 0, 1, 1, 0, 0]);
-        assert!(histogram_directions([], &SphereGrid { phi_bin_count: 0, cos_theta_bin_count: 3 }, &SphereFrame::WORLD).is_err());
+        assert!(histogram_directions(
+            [],
+            &SphereGrid {
+                phi_bin_count: 0,
+                cos_theta_bin_count: 3
+            },
+            &SphereFrame::WORLD
+        )
+        .is_err());
     }
 }

@@ -22,7 +22,11 @@ pub fn z_score(mean_a: f64, variance_of_mean_a: f64, mean_b: f64, variance_of_me
     let difference = mean_a - mean_b;
     let variance = variance_of_mean_a + variance_of_mean_b;
     if variance == 0.0 {
-        return if difference == 0.0 { 0.0 } else { difference * f64::INFINITY };
+        return if difference == 0.0 {
+            0.0
+        } else {
+            difference * f64::INFINITY
+        };
     }
     if variance.is_infinite() && difference.is_finite() {
         return 0.0;
@@ -58,9 +62,17 @@ pub struct MeanImage {
 
 /// The size a row-major image of `width * height` elements with `channel_count` channels
 /// must have, or an error naming `what`.
-fn check_size(what: &str, actual: usize, width: usize, height: usize, channel_count: usize) -> Result<(), StatsError> {
+fn check_size(
+    what: &str,
+    actual: usize,
+    width: usize,
+    height: usize,
+    channel_count: usize,
+) -> Result<(), StatsError> {
     if actual != width * height * channel_count {
-        return Err(StatsError::SizeMismatch(format!("{what} has {actual} values, not {width} x {height} x {channel_count}")));
+        return Err(StatsError::SizeMismatch(format!(
+            "{what} has {actual} values, not {width} x {height} x {channel_count}"
+        )));
     }
     Ok(())
 }
@@ -68,23 +80,54 @@ fn check_size(what: &str, actual: usize, width: usize, height: usize, channel_co
 impl MeanImage {
     /// The RGB channels of an RGBA mean image (alpha ignored) with their variances of the
     /// mean, as `CpuImage::mean` and `CpuImage::variance_of_mean` give them.
-    pub fn from_rgb(width: usize, height: usize, mean: &[[f32; 4]], variance_of_mean: &[[f64; 3]]) -> Result<MeanImage, StatsError> {
+    pub fn from_rgb(
+        width: usize,
+        height: usize,
+        mean: &[[f32; 4]],
+        variance_of_mean: &[[f64; 3]],
+    ) -> Result<MeanImage, StatsError> {
         check_size("the mean image", mean.len(), width, height, 1)?;
-        check_size("the variance image", variance_of_mean.len(), width, height, 1)?;
+        check_size(
+            "the variance image",
+            variance_of_mean.len(),
+            width,
+            height,
+            1,
+        )?;
         Ok(MeanImage {
             width,
             height,
             channel_count: 3,
-            means: mean.iter().flat_map(|rgba| rgba[..3].iter().map(|&v| v as f64)).collect(),
+            means: mean
+                .iter()
+                .flat_map(|rgba| rgba[..3].iter().map(|&v| v as f64))
+                .collect(),
             variances_of_mean: variance_of_mean.iter().flatten().copied().collect(),
         })
     }
 
     /// An image of exact values (variance 0), e.g. an analytic answer.
-    pub fn exact(width: usize, height: usize, channel_count: usize, values: Vec<f64>) -> Result<MeanImage, StatsError> {
-        check_size("the exact image", values.len(), width, height, channel_count)?;
+    pub fn exact(
+        width: usize,
+        height: usize,
+        channel_count: usize,
+        values: Vec<f64>,
+    ) -> Result<MeanImage, StatsError> {
+        check_size(
+            "the exact image",
+            values.len(),
+            width,
+            height,
+            channel_count,
+        )?;
         let variances_of_mean = vec![0.0; values.len()];
-        Ok(MeanImage { width, height, channel_count, means: values, variances_of_mean })
+        Ok(MeanImage {
+            width,
+            height,
+            channel_count,
+            means: values,
+            variances_of_mean,
+        })
     }
 
     /// Averages blocks of `block_size` x `block_size` elements (partial blocks at the right
@@ -111,12 +154,22 @@ impl MeanImage {
                 }
             }
         }
-        for (index, (mean, variance)) in means.iter_mut().zip(variances_of_mean.iter_mut()).enumerate() {
+        for (index, (mean, variance)) in means
+            .iter_mut()
+            .zip(variances_of_mean.iter_mut())
+            .enumerate()
+        {
             let m = element_counts[index / channels];
             *mean /= m;
             *variance /= m * m;
         }
-        Ok(MeanImage { width, height, channel_count: channels, means, variances_of_mean })
+        Ok(MeanImage {
+            width,
+            height,
+            channel_count: channels,
+            means,
+            variances_of_mean,
+        })
     }
 }
 
@@ -150,13 +203,38 @@ pub fn z_test_images(a: &MeanImage, b: &MeanImage, alpha: f64) -> Result<ZTestRe
     }
     check_size("image a", a.means.len(), a.width, a.height, a.channel_count)?;
     check_size("image b", b.means.len(), b.width, b.height, b.channel_count)?;
-    check_size("variances of a", a.variances_of_mean.len(), a.width, a.height, a.channel_count)?;
-    check_size("variances of b", b.variances_of_mean.len(), b.width, b.height, b.channel_count)?;
+    check_size(
+        "variances of a",
+        a.variances_of_mean.len(),
+        a.width,
+        a.height,
+        a.channel_count,
+    )?;
+    check_size(
+        "variances of b",
+        b.variances_of_mean.len(),
+        b.width,
+        b.height,
+        b.channel_count,
+    )?;
     let test_count = a.means.len();
     let significance = sidak_alpha(alpha, test_count.max(1))?;
-    let mut report = ZTestReport { test_count, significance, min_p_value: 1.0, worst_z: 0.0, worst_element: (0, 0, 0), rejected_count: 0, passed: true };
+    let mut report = ZTestReport {
+        test_count,
+        significance,
+        min_p_value: 1.0,
+        worst_z: 0.0,
+        worst_element: (0, 0, 0),
+        rejected_count: 0,
+        passed: true,
+    };
     for index in 0..test_count {
-        let z = z_score(a.means[index], a.variances_of_mean[index], b.means[index], b.variances_of_mean[index]);
+        let z = z_score(
+            a.means[index],
+            a.variances_of_mean[index],
+            b.means[index],
+            b.variances_of_mean[index],
+        );
         let p_value = two_sided_p_value(z);
         if p_value < significance {
             report.rejected_count += 1;
@@ -165,7 +243,11 @@ pub fn z_test_images(a: &MeanImage, b: &MeanImage, alpha: f64) -> Result<ZTestRe
             let element = index / a.channel_count;
             report.min_p_value = p_value;
             report.worst_z = z;
-            report.worst_element = (element % a.width, element / a.width, index % a.channel_count);
+            report.worst_element = (
+                element % a.width,
+                element / a.width,
+                index % a.channel_count,
+            );
         }
     }
     report.passed = report.rejected_count == 0;
@@ -202,7 +284,13 @@ mod tests {
     fn image_comparison_finds_the_shifted_pixel() {
         let (width, height) = (8, 4);
         let values: Vec<f64> = (0..width * height * 3).map(|i| i as f64 * 0.1).collect();
-        let noisy = MeanImage { width, height, channel_count: 3, means: values.clone(), variances_of_mean: vec![0.01; values.len()] };
+        let noisy = MeanImage {
+            width,
+            height,
+            channel_count: 3,
+            means: values.clone(),
+            variances_of_mean: vec![0.01; values.len()],
+        };
         let exact = MeanImage::exact(width, height, 3, values).unwrap();
         let report = z_test_images(&noisy, &exact, 0.01).unwrap();
         assert!(report.passed && report.test_count == 96 && report.min_p_value == 1.0);
@@ -211,14 +299,28 @@ mod tests {
         shifted.means[(2 * width + 5) * 3 + 1] += 1.0;
         let report = z_test_images(&shifted, &exact, 0.01).unwrap();
         assert!(!report.passed);
-        assert_eq!((report.rejected_count, report.worst_element), (1, (5, 2, 1)));
+        assert_eq!(
+            (report.rejected_count, report.worst_element),
+            (1, (5, 2, 1))
+        );
         assert!((report.worst_z - 10.0).abs() < 1e-9);
-        assert!(z_test_images(&noisy, &MeanImage::exact(1, 1, 3, vec![0.0; 3]).unwrap(), 0.01).is_err());
+        assert!(z_test_images(
+            &noisy,
+            &MeanImage::exact(1, 1, 3, vec![0.0; 3]).unwrap(),
+            0.01
+        )
+        .is_err());
     }
 
     #[test]
     fn block_average_divides_variance_by_element_count() {
-        let image = MeanImage { width: 3, height: 2, channel_count: 1, means: vec![1.0, 2.0, 3.0, 4.0, 5.0, 6.0], variances_of_mean: vec![1.0; 6] };
+        let image = MeanImage {
+            width: 3,
+            height: 2,
+            channel_count: 1,
+            means: vec![1.0, 2.0, 3.0, 4.0, 5.0, 6.0],
+            variances_of_mean: vec![1.0; 6],
+        };
         let blocks = image.block_average(2).unwrap();
         assert_eq!((blocks.width, blocks.height), (2, 1));
         // Block 0: 1, 2, 4, 5 -> mean 3, variance 4 / 16; block 1 (partial): 3, 6.
