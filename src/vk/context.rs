@@ -133,9 +133,17 @@ pub struct Context {
     allocator: ManuallyDrop<Mutex<Allocator>>,
 }
 
+/// Environment variable naming the Vulkan loader library to use instead of the system's
+/// `libvulkan.so.1` (e.g. a loader unpacked next to the binary).
+pub const LOADER_PATH_VARIABLE: &str = "VKPATH_VULKAN_LOADER";
+
 fn load_entry() -> VkResult<ash::Entry> {
-    // SAFETY: loading the system's Vulkan loader; nothing else runs its initialisation.
-    unsafe { ash::Entry::load() }.map_err(|e| VkError::LoaderMissing(e.to_string()))
+    // SAFETY: loading a Vulkan loader library; nothing else runs its initialisation.
+    let loaded = match std::env::var_os(LOADER_PATH_VARIABLE) {
+        Some(path) => unsafe { ash::Entry::load_from(&path) },
+        None => unsafe { ash::Entry::load() },
+    };
+    loaded.map_err(|e| VkError::LoaderMissing(e.to_string()))
 }
 
 fn has_validation_layer(entry: &ash::Entry) -> VkResult<bool> {

@@ -1,0 +1,51 @@
+//! Shared helpers of the integration tests: a validated Vulkan context that fails loudly
+//! (never skips) when Vulkan is missing, and running the `vkpath` binary.
+#![allow(dead_code)]
+
+use std::path::Path;
+use std::process::{Command, Output};
+use std::sync::Arc;
+
+use vkpath::vk::{Context, ContextOptions};
+
+/// What to install when Vulkan is missing.
+pub const VULKAN_PACKAGES: &str =
+    "apt-get install libvulkan1 mesa-vulkan-drivers vulkan-validationlayers";
+
+/// A context on the default device with the validation layer on. Panics with the packages
+/// to install when there is no Vulkan: a skipped test is a test that does not exist.
+pub fn validated_context() -> Arc<Context> {
+    Context::new(&ContextOptions { validate: true, ..Default::default() }).unwrap_or_else(|error| {
+        panic!("this test needs Vulkan with validation layers ({error}); install them: {VULKAN_PACKAGES}")
+    })
+}
+
+/// Fails if the validation layer reported any warning or error so far.
+pub fn assert_validation_silent(context: &Context) {
+    let messages = context.validation_messages().expect("validation is on");
+    assert_eq!(
+        (messages.errors(), messages.warnings()),
+        (0, 0),
+        "the validation layer reported errors/warnings (run with RUST_LOG=warn to see them)"
+    );
+}
+
+/// Runs the `vkpath` binary with `args` in `dir`.
+pub fn vkpath(dir: &Path, args: &[&str]) -> Output {
+    vkpath_with_env(dir, args, &[])
+}
+
+/// Runs the `vkpath` binary with `args` and extra environment variables.
+pub fn vkpath_with_env(dir: &Path, args: &[&str], env: &[(&str, &str)]) -> Output {
+    let mut command = Command::new(env!("CARGO_BIN_EXE_vkpath"));
+    command.args(args).current_dir(dir).env_remove("RUST_LOG");
+    for (key, value) in env {
+        command.env(key, value);
+    }
+    command.output().expect("the vkpath binary runs")
+}
+
+/// Path of a fixture in tests/data.
+pub fn fixture(name: &str) -> String {
+    format!("{}/tests/data/{name}", env!("CARGO_MANIFEST_DIR"))
+}

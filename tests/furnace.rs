@@ -1,0 +1,62 @@
+//! The furnace test on the GPU: a camera inside a closed box whose walls all have albedo a
+//! and emission Le sees Le (1 - a^n) / (1 - a) in every pixel for maximum path length n.
+
+mod common;
+
+use vkpath::procedural::{furnace, furnace_radiance};
+use vkpath::{RenderSettings, Renderer};
+
+fn check_furnace(albedo: f32, emission: f32, max_path_length: u32) {
+    let context = common::validated_context();
+    let scene = furnace(albedo, emission);
+    let settings = RenderSettings {
+        width: 32,
+        height: 32,
+        spp: 32,
+        max_path_length,
+        samples_per_frame: 8,
+        ..Default::default()
+    };
+    let mut renderer = Renderer::new(&context, &scene, &scene.camera.unwrap(), settings.clone()).unwrap();
+    while !renderer.is_complete() {
+        renderer.render_batch().unwrap();
+    }
+    let image = renderer.read_back().unwrap();
+    let expected = furnace_radiance(f64::from(albedo), f64::from(emission), max_path_length);
+    // Every sample is independent (distinct per-pixel, per-sample seeds), so the image mean
+    // is a mean of N = W*H*spp samples with standard error sqrt(var / N), where var is the
+    // per-sample variance pooled over pixels from the stored second moments.
+    let samples = f64::from(settings.width * settings.height * settings.spp);
+    for channel in 0..3 {
+        let mean = image.average()[channel];
+        let variance = image
+            .mean
+            .iter()
+            .zip(&image.second_moment)
+            .map(|(m, m2)| f64::from(m2[channel]) - f64::from(m[channel]).powi(2))
+            .sum::<f64>()
+            / image.mean.len() as f64;
+        let standard_error = (variance / samples).sqrt();
+        // 5 standard errors: a false failure has probability ~6e-7 for a normal mean, while
+        // a bias of a few percent (e.g. a lost or extra bounce) is many standard errors.
+        let tolerance = 5.0 * standard_error;
+        println!("a={albedo} n={max_path_length}: mean {mean:.5}, expected {expected:.5}, SE {standard_error:.2e}");
+        assert!(variance > 0.0, "the estimator should be noisy, got zero variance");
+        assert!(
+            (mean - expected).abs() <= tolerance,
+            "furnace a={albedo} n={max_path_length} channel {channel}: mean {mean} vs {expected} (tolerance {tolerance})"
+        );
+    }
+    drop(renderer);
+    common::assert_validation_silent(&context);
+}
+
+#[test]
+fn furnace_half_albedo_three_bounces() {
+    check_furnace(0.5, 1.0, 3);
+}
+
+#[test]
+fn furnace_high_albedo_six_bounces() {
+    check_furnace(0.8, 0.5, 6);
+}
