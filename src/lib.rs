@@ -25,6 +25,7 @@ pub mod vk;
 pub mod error;
 pub mod image_data;
 pub mod output;
+pub mod procedural;
 pub mod renderer;
 pub mod settings;
 
