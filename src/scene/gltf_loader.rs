@@ -189,6 +189,7 @@ impl Loader<'_> {
         Ok(())
     }
 
+    /// Adds every primitive of a mesh, transformed to world space.
     fn add_mesh(&mut self, mesh: &gltf::Mesh, local_to_world: Mat4) -> Result<(), SceneError> {
         let name = label(mesh.name(), mesh.index());
         // A mirroring transform turns counter-clockwise into clockwise; swapping two
@@ -351,7 +352,7 @@ impl Loader<'_> {
         let forward = local_to_world.transform_vector3(Vec3::NEG_Z);
         let up = local_to_world.transform_vector3(Vec3::Y);
         let right = forward.normalize_or_zero().cross(up.normalize_or_zero());
-        if !position.is_finite() || !forward.is_finite() || !(right.length() > 1e-6) {
+        if !position.is_finite() || !forward.is_finite() || right.length() <= 1e-6 {
             return Err(invalid("its node's transform is degenerate"));
         }
         let camera = Camera::look_at(position, position + forward, up, yfov);
@@ -433,6 +434,7 @@ fn label(name: Option<&str>, index: usize) -> String {
     name.map_or_else(|| format!("#{index}"), str::to_owned)
 }
 
+/// A [`SceneError::MalformedGltf`] for `path`.
 fn malformed(path: &Path, reason: String) -> SceneError {
     SceneError::MalformedGltf {
         path: path.to_owned(),

@@ -42,7 +42,7 @@ pub struct TestBuffer {
 impl TestBuffer {
     /// Appends a view and returns its index.
     pub fn view(&mut self, data: &[u8]) -> usize {
-        while self.bytes.len() % 4 != 0 {
+        while !self.bytes.len().is_multiple_of(4) {
             self.bytes.push(0);
         }
         let view = json!({"buffer": 0, "byteOffset": self.bytes.len(), "byteLength": data.len()});
@@ -105,11 +105,11 @@ impl TestBuffer {
     /// with an 8-byte header and padded to 4 bytes (glTF 2.0 spec, section 4.4).
     pub fn glb(&self, rest: Value) -> Vec<u8> {
         let mut json_chunk = self.document(None, rest).to_string().into_bytes();
-        while json_chunk.len() % 4 != 0 {
+        while !json_chunk.len().is_multiple_of(4) {
             json_chunk.push(b' ');
         }
         let mut bin_chunk = self.bytes.clone();
-        while bin_chunk.len() % 4 != 0 {
+        while !bin_chunk.len().is_multiple_of(4) {
             bin_chunk.push(0);
         }
         let total = 12 + 8 + json_chunk.len() + 8 + bin_chunk.len();
@@ -126,6 +126,7 @@ impl TestBuffer {
     }
 }
 
+/// Writes `bytes` to the file `name` in `directory`; its path.
 pub fn write(directory: &tempfile::TempDir, name: &str, bytes: impl AsRef<[u8]>) -> PathBuf {
     let path = directory.path().join(name);
     std::fs::write(&path, bytes).unwrap();

@@ -111,8 +111,10 @@ pub(crate) struct Material {
 impl Material {
     /// A material from file values, made safe for the shaders: the albedo is clamped to
     /// [0, 1] (more would create energy) and the emission to [0, inf); NaN becomes 0.
+    #[allow(clippy::manual_clamp)]
     pub fn sanitized(color: Vec3, emission: Vec3, double_sided: bool) -> Material {
-        // f32::max/min return the other operand for NaN, so NaN maps to 0.
+        // f32::max/min return the other operand for NaN, so NaN maps to 0 (f32::clamp would
+        // keep the NaN).
         let color = Vec3::from(color.to_array().map(|c| c.max(0.0).min(1.0)));
         let emission = Vec3::from(emission.to_array().map(|e| e.max(0.0).min(f32::MAX)));
         Material {

@@ -92,6 +92,8 @@ fn push_mesh(
     mesh: &tobj::Mesh,
     material: &Material,
 ) -> Result<(), SceneError> {
+    // `as f32` because tobj's float type is f64 under its `use_f64` feature.
+    #[allow(clippy::unnecessary_cast)]
     let position = |index: u32| -> Option<Vec3> {
         let start = 3 * usize::try_from(index).ok()?;
         let xyz = mesh.positions.get(start..start + 3)?;
