@@ -1,0 +1,160 @@
+//! Bad input through the binary: one clear line on stderr naming the problem, a non-zero
+//! exit, no panic, and no output file left behind.
+
+mod common;
+
+use std::path::Path;
+
+/// Runs vkpath, expects failure, and returns the one error line.
+fn expect_error(dir: &Path, args: &[&str], env: &[(&str, &str)], expected_exit: i32) -> String {
+    let output = common::vkpath_with_env(dir, args, env);
+    let stderr = String::from_utf8_lossy(&output.stderr).to_string();
+    assert_eq!(output.status.code(), Some(expected_exit), "args {args:?}: {stderr}");
+    assert!(!stderr.contains("panicked"), "args {args:?} panicked: {stderr}");
+    let errors: Vec<&str> = stderr.lines().filter(|l| l.contains("error")).collect();
+    assert_eq!(errors.len(), 1, "args {args:?}: expected one error line, got: {stderr}");
+    // Nothing was written: no image and no temporary file.
+    let leftovers: Vec<_> = std::fs::read_dir(dir).unwrap().map(|e| e.unwrap().file_name()).collect();
+    assert!(leftovers.is_empty(), "args {args:?} left files behind: {leftovers:?}");
+    errors[0].to_string()
+}
+
+fn render_error(args: &[&str], expected_text: &str) {
+    let dir = tempfile::tempdir().unwrap();
+    let mut full = vec!["render", "-o", "out.png"];
+    // Small defaults, unless the test sets the option itself.
+    for (option, value) in [("--width", "8"), ("--height", "8"), ("--spp", "1")] {
+        if !args.contains(&option) {
+            full.extend_from_slice(&[option, value]);
+        }
+    }
+    full.extend_from_slice(args);
+    let line = expect_error(dir.path(), &full, &[], 1);
+    assert!(line.contains(expected_text), "args {args:?}: '{line}' does not mention '{expected_text}'");
+}
+
+#[test]
+fn missing_scene_file() {
+    render_error(&["/nonexistent/scene.gltf"], "/nonexistent/scene.gltf");
+}
+
+#[test]
+fn unreadable_scene_file() {
+    // A directory cannot be read as a file (chmod would not stop root).
+    let dir = tempfile::tempdir().unwrap();
+    let scene = dir.path().join("dir.obj");
+    std::fs::create_dir(&scene).unwrap();
+    render_error(&[scene.to_str().unwrap()], "dir.obj");
+}
+
+#[test]
+fn malformed_gltf() {
+    render_error(&[&common::fixture("malformed.gltf")], "malformed.gltf");
+}
+
+#[test]
+fn non_triangle_primitive() {
+    render_error(&[&common::fixture("lines.gltf")], "triangles");
+}
+
+#[test]
+fn obj_without_camera() {
+    render_error(&[&common::fixture("cube.obj")], "--camera-position");
+}
+
+#[test]
+fn unsupported_scene_format() {
+    render_error(&["scene.stl"], "scene.stl");
+}
+
+#[test]
+fn zero_and_absurd_sizes_and_sample_counts() {
+    render_error(&["--width", "0"], "--width");
+    render_error(&["--height", "100000"], "100000");
+    render_error(&["--spp", "0"], "--spp");
+    render_error(&["--spp", "4000000000"], "--spp");
+    render_error(&["--max-path-length", "0"], "--max-path-length");
+}
+
+#[test]
+fn unwritable_output() {
+    let dir = tempfile::tempdir().unwrap();
+    let line = expect_error(dir.path(), &["render", "-o", "/nonexistent-dir/out.png"], &[], 1);
+    assert!(line.contains("/nonexistent-dir/out.png"), "{line}");
+    let line = expect_error(dir.path(), &["render", "-o", "out.jpg"], &[], 1);
+    assert!(line.contains(".exr or .png"), "{line}");
+}
+
+#[test]
+fn malformed_camera_arguments_are_usage_errors() {
+    let dir = tempfile::tempdir().unwrap();
+    let line = expect_error(dir.path(), &["render", "-o", "x.png", "--camera-position", "1,2"], &[], 2);
+    assert!(line.contains("x,y,z"), "{line}");
+}
+
+#[test]
+fn no_vulkan_loader() {
+    let dir = tempfile::tempdir().unwrap();
+    let line = expect_error(
+        dir.path(),
+        &["render", "-o", "out.png", "--width", "8", "--height", "8", "--spp", "1"],
+        &[("VKPATH_VULKAN_LOADER", "/nonexistent/libvulkan.so.1")],
+        1,
+    );
+    assert!(line.contains("libvulkan1"), "{line}");
+}
+
+#[test]
+fn no_vulkan_driver() {
+    let dir = tempfile::tempdir().unwrap();
+    let line = expect_error(
+        dir.path(),
+        &["render", "-o", "out.png", "--width", "8", "--height", "8", "--spp", "1"],
+        &[("VK_DRIVER_FILES", "/nonexistent.json"), ("VK_ICD_FILENAMES", "/nonexistent.json")],
+        1,
+    );
+    assert!(line.contains("no Vulkan driver"), "{line}");
+    assert!(line.contains("mesa-vulkan-drivers"), "{line}");
+}
+
+#[test]
+fn cpu_device_when_a_gpu_is_required() {
+    // On CI the only device is lavapipe; on a machine with a GPU, ask for the CPU device by
+    // name so that the check still has a CPU device to refuse.
+    let dir = tempfile::tempdir().unwrap();
+    let line = expect_error(
+        dir.path(),
+        &["render", "-o", "out.png", "--width", "8", "--height", "8", "--spp", "1", "--require-gpu", "--device", "llvmpipe"],
+        &[],
+        1,
+    );
+    assert!(line.contains("GPU was required"), "{line}");
+    assert!(line.contains("llvmpipe"), "{line}");
+}
+
+#[test]
+fn unknown_device() {
+    let dir = tempfile::tempdir().unwrap();
+    let line = expect_error(
+        dir.path(),
+        &["render", "-o", "out.png", "--width", "8", "--height", "8", "--spp", "1", "--device", "no-such-gpu"],
+        &[],
+        1,
+    );
+    assert!(line.contains("no-such-gpu"), "{line}");
+}
+
+#[test]
+fn a_good_render_prints_the_device_and_a_summary() {
+    let dir = tempfile::tempdir().unwrap();
+    let output = common::vkpath(dir.path(), &["render", "-o", "out.png", "--width", "8", "--height", "8", "--spp", "2"]);
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    assert!(output.status.success(), "{stderr}");
+    assert!(stderr.contains("vkpath: device"), "{stderr}");
+    let summary = stderr.lines().last().unwrap();
+    for part in ["8x8", "2 spp", "samples/s", "["] {
+        assert!(summary.contains(part), "summary '{summary}' lacks '{part}'");
+    }
+    let png = image::open(dir.path().join("out.png")).unwrap();
+    assert_eq!((png.width(), png.height()), (8, 8));
+}
