@@ -57,8 +57,8 @@ pub fn render_cpu(
 /// Adds the samples with index in `first_sample_index..sample_end` to every pixel, as one
 /// frame of the shader does with its push constants `g_first_sample_index` and
 /// `g_sample_end`; rendering in several such calls gives bit-identical results to one.
-/// `settings.spp` is not read. The image must have been made for `settings.width` x
-/// `settings.height`; pixels beyond its size are not touched.
+/// The image's own width and height are the resolution; `settings.width`,
+/// `settings.height` and `settings.spp` are not read.
 pub fn add_cpu_samples(
     scene_triangles: &[Triangle],
     plane: &ImagePlane,

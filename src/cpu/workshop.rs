@@ -2,7 +2,9 @@
 //! samplers, ray-triangle intersection and pinhole camera. Each function has the name,
 //! parameters and maths of its GLSL twin, operation for operation and in the same order, so
 //! that both give the same floats up to the few ulps by which a GPU's `cos`, `sin`, `sqrt`,
-//! `normalize` or a fused multiply-add may differ. Change both together.
+//! `normalize` or a fused multiply-add may differ. Change both together. GLSL's
+//! `triangle_t` is `crate::scene::Triangle` here (its `double_sided` flag is vkpath's
+//! addition, which the shader keeps in the packed emission's w).
 
 use glam::{UVec2, Vec2, Vec3};
 
