@@ -9,10 +9,19 @@ use shaderc_link as _;
 #[path = "src/shader_compiler.rs"]
 mod shader_compiler;
 
+/// Kernels compiled more than once with different macros: (source stem, variant stem, macros).
+const VARIANTS: &[(&str, &str, &[(&str, &str)])] = &[(
+    "path_tracer",
+    "path_tracer_uniform",
+    &[("TRIANGLES_IN_UNIFORM_BUFFER", "1")],
+)];
+
 fn main() {
     let glsl_dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("glsl");
     let out_dir = PathBuf::from(std::env::var("OUT_DIR").expect("cargo sets OUT_DIR"));
-    let optimize = std::env::var("PROFILE").map(|p| p == "release").unwrap_or(false);
+    let optimize = std::env::var("PROFILE")
+        .map(|p| p == "release")
+        .unwrap_or(false);
     println!("cargo:rerun-if-changed=glsl");
     println!("cargo:rerun-if-changed=src/shader_compiler.rs");
 
@@ -40,32 +49,45 @@ fn main() {
         .iter()
         .filter(|f| f.extension().is_some_and(|e| e == "comp"))
     {
-        let name = file.file_stem().unwrap().to_string_lossy().to_string();
+        let stem = file.file_stem().unwrap().to_string_lossy().to_string();
         let file_name = file.file_name().unwrap().to_string_lossy().to_string();
         let source = std::fs::read_to_string(file).expect("shader is readable");
-        match shader_compiler::compile_compute_shader(&source, &file_name, &resolve, &[], optimize)
-        {
-            Ok(compiled) => {
-                for line in compiled.warnings.lines() {
-                    println!("cargo:warning={line}");
-                }
-                let spv_path = out_dir.join(format!("{name}.spv"));
-                let bytes: Vec<u8> = compiled.spirv.iter().flat_map(|w| w.to_le_bytes()).collect();
-                std::fs::write(&spv_path, bytes).expect("OUT_DIR is writable");
-                writeln!(
+        let mut builds: Vec<(String, &[(&str, &str)])> = vec![(stem.clone(), &[])];
+        for (source_stem, variant, macros) in VARIANTS {
+            if *source_stem == stem {
+                builds.push((variant.to_string(), macros));
+            }
+        }
+        for (name, macros) in builds {
+            match shader_compiler::compile_compute_shader(
+                &source, &file_name, &resolve, macros, optimize,
+            ) {
+                Ok(compiled) => {
+                    for line in compiled.warnings.lines() {
+                        println!("cargo:warning={line}");
+                    }
+                    let spv_path = out_dir.join(format!("{name}.spv"));
+                    let bytes: Vec<u8> = compiled
+                        .spirv
+                        .iter()
+                        .flat_map(|w| w.to_le_bytes())
+                        .collect();
+                    std::fs::write(&spv_path, bytes).expect("OUT_DIR is writable");
+                    writeln!(
                     shaders_rs,
-                    "/// SPIR-V of `glsl/{file_name}`.\npub const {}: &[u8] = include_bytes!({:?});",
+                    "/// SPIR-V of `glsl/{file_name}` ({name}).\npub const {}: &[u8] = include_bytes!({:?});",
                     name.to_uppercase(),
                     spv_path.display().to_string()
                 )
                 .unwrap();
-            }
-            Err(message) => {
-                eprintln!("{message}");
-                for line in message.lines() {
-                    println!("cargo:warning={line}");
                 }
-                failed = true;
+                Err(message) => {
+                    eprintln!("{message}");
+                    for line in message.lines() {
+                        println!("cargo:warning={line}");
+                    }
+                    failed = true;
+                }
             }
         }
     }
@@ -81,13 +103,21 @@ fn main() {
     .unwrap();
     for file in &files {
         let file_name = file.file_name().unwrap().to_string_lossy();
-        writeln!(shaders_rs, "    ({file_name:?}, include_str!({:?})),", file.display().to_string()).unwrap();
+        writeln!(
+            shaders_rs,
+            "    ({file_name:?}, include_str!({:?})),",
+            file.display().to_string()
+        )
+        .unwrap();
     }
     shaders_rs.push_str("];\n");
     std::fs::write(out_dir.join("shaders.rs"), shaders_rs).expect("OUT_DIR is writable");
 
-    std::fs::write(out_dir.join("contract.rs"), contract_constants(&glsl_dir.join("shared.h")))
-        .expect("OUT_DIR is writable");
+    std::fs::write(
+        out_dir.join("contract.rs"),
+        contract_constants(&glsl_dir.join("shared.h")),
+    )
+    .expect("OUT_DIR is writable");
 }
 
 /// Rust constants for every `#define NAME <integer>` line of the shared header.

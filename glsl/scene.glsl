@@ -16,9 +16,17 @@ struct packed_triangle_t {
     vec4 emission;     // rgb: emitted radiance, a: flags (TRIANGLE_FLAG_*) as float bits
 };
 
+#ifdef TRIANGLES_IN_UNIFORM_BUFFER
+// Small scenes: a uniform buffer, as close as Vulkan gets to the workshop's constant array.
+// std140 lays out this array exactly as std430 would (all members are vec4).
+layout(std140, set = 0, binding = BINDING_TRIANGLES) uniform triangle_buffer {
+    packed_triangle_t g_triangles[UNIFORM_TRIANGLE_CAPACITY];
+};
+#else
 layout(std430, set = 0, binding = BINDING_TRIANGLES) readonly buffer triangle_buffer {
     packed_triangle_t g_triangles[];
 };
+#endif
 
 // What stays fixed during a render. Mirrors `vkpath::gpu_types::RenderUniforms`.
 layout(std140, set = 0, binding = BINDING_RENDER_UNIFORMS) uniform render_uniforms {

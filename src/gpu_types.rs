@@ -55,7 +55,11 @@ fn extend(v: glam::Vec3, w: f32) -> [f32; 4] {
 impl GpuTriangle {
     /// Packs a scene triangle.
     pub fn new(triangle: &Triangle) -> GpuTriangle {
-        let flags = if triangle.double_sided { TRIANGLE_FLAG_DOUBLE_SIDED } else { 0 };
+        let flags = if triangle.double_sided {
+            TRIANGLE_FLAG_DOUBLE_SIDED
+        } else {
+            0
+        };
         GpuTriangle {
             positions: triangle.positions.map(|p| extend(p, 0.0)),
             normal: extend(triangle.normal, 0.0),
@@ -67,7 +71,13 @@ impl GpuTriangle {
 
 impl RenderUniforms {
     /// The uniforms for one render.
-    pub fn new(plane: &ImagePlane, width: u32, height: u32, triangle_count: u32, seed: u32) -> Self {
+    pub fn new(
+        plane: &ImagePlane,
+        width: u32,
+        height: u32,
+        triangle_count: u32,
+        seed: u32,
+    ) -> Self {
         RenderUniforms {
             camera_position: extend(plane.camera_position, 0.0),
             left_bottom: extend(plane.left_bottom, 0.0),
@@ -100,7 +110,10 @@ mod tests {
         assert_eq!(offset_of!(RenderUniforms, left_bottom), 16);
         assert_eq!(offset_of!(RenderUniforms, right), 32);
         assert_eq!(offset_of!(RenderUniforms, up), 48);
-        assert_eq!(offset_of!(RenderUniforms, resolution_triangle_count_seed), 64);
+        assert_eq!(
+            offset_of!(RenderUniforms, resolution_triangle_count_seed),
+            64
+        );
     }
 
     #[test]

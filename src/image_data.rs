@@ -22,7 +22,8 @@ impl RenderedImage {
     pub fn from_accumulation(width: u32, height: u32, texels: &[[f32; 4]]) -> RenderedImage {
         let n = (width * height) as usize;
         let (sums, rest) = texels.split_at(n);
-        let squares = &rest[n..2 * n];
+        let (compensations, rest) = rest.split_at(n);
+        let squares = &rest[..n];
         let mut image = RenderedImage {
             width,
             height,
@@ -30,10 +31,12 @@ impl RenderedImage {
             second_moment: Vec::with_capacity(n),
             sample_count: Vec::with_capacity(n),
         };
-        for (sum, square) in sums.iter().zip(squares) {
+        for ((sum, compensation), square) in sums.iter().zip(compensations).zip(squares) {
             let count = sum[3];
             let scale = if count > 0.0 { 1.0 / count } else { 0.0 };
-            image.mean.push([sum[0] * scale, sum[1] * scale, sum[2] * scale, 1.0]);
+            // Kahan summation leaves sum - compensation as the better estimate of the sum.
+            let mean = |c: usize| (sum[c] - compensation[c]) / count.max(1.0);
+            image.mean.push([mean(0), mean(1), mean(2), 1.0]);
             image
                 .second_moment
                 .push([square[0] * scale, square[1] * scale, square[2] * scale]);
@@ -58,7 +61,8 @@ impl RenderedImage {
                 if n < 2.0 {
                     return [0.0; 3];
                 }
-                let variance = |c: usize| ((square[c] - mean[c] * mean[c]).max(0.0) / (n - 1.0)) as f32;
+                let variance =
+                    |c: usize| ((square[c] - mean[c] * mean[c]).max(0.0) / (n - 1.0)) as f32;
                 [variance(0), variance(1), variance(2)]
             })
             .collect()

@@ -19,15 +19,15 @@ pub mod shader_compiler;
 
 pub mod camera;
 pub mod cli;
-pub mod gpu_types;
-pub mod scene;
-pub mod vk;
 pub mod error;
+pub mod gpu_types;
 pub mod image_data;
 pub mod output;
 pub mod procedural;
 pub mod renderer;
+pub mod scene;
 pub mod settings;
+pub mod vk;
 
 pub use camera::Camera;
 pub use error::{Error, Result};

@@ -20,7 +20,8 @@ pub enum ImageFormat {
 }
 
 /// Names of the extra EXR channels written with `--moments`.
-pub const SECOND_MOMENT_CHANNELS: [&str; 3] = ["second_moment.R", "second_moment.G", "second_moment.B"];
+pub const SECOND_MOMENT_CHANNELS: [&str; 3] =
+    ["second_moment.R", "second_moment.G", "second_moment.B"];
 /// Name of the EXR channel holding each pixel's sample count (with `--moments`).
 pub const SAMPLE_COUNT_CHANNEL: &str = "sample_count.Y";
 
@@ -35,14 +36,22 @@ pub struct SaveOptions {
 
 impl Default for SaveOptions {
     fn default() -> Self {
-        SaveOptions { exposure: 0.0, moments: false }
+        SaveOptions {
+            exposure: 0.0,
+            moments: false,
+        }
     }
 }
 
 impl ImageFormat {
     /// The format for a path's extension (`.exr` or `.png`, any case).
     pub fn from_path(path: &Path) -> Result<ImageFormat> {
-        match path.extension().and_then(|e| e.to_str()).map(str::to_ascii_lowercase).as_deref() {
+        match path
+            .extension()
+            .and_then(|e| e.to_str())
+            .map(str::to_ascii_lowercase)
+            .as_deref()
+        {
             Some("exr") => Ok(ImageFormat::Exr),
             Some("png") => Ok(ImageFormat::Png),
             _ => Err(Error::Image(format!(
@@ -58,7 +67,10 @@ impl ImageFormat {
 pub fn check_writable(path: &Path) -> Result<ImageFormat> {
     let format = ImageFormat::from_path(path)?;
     if path.is_dir() {
-        return Err(Error::Image(format!("cannot write '{}': it is a directory", path.display())));
+        return Err(Error::Image(format!(
+            "cannot write '{}': it is a directory",
+            path.display()
+        )));
     }
     let probe = temporary_path(path);
     std::fs::write(&probe, b"")
@@ -69,7 +81,10 @@ pub fn check_writable(path: &Path) -> Result<ImageFormat> {
 
 /// A hidden sibling of `path` to write into before renaming.
 fn temporary_path(path: &Path) -> PathBuf {
-    let name = path.file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_default();
+    let name = path
+        .file_name()
+        .map(|n| n.to_string_lossy().into_owned())
+        .unwrap_or_default();
     path.with_file_name(format!(".{name}.vkpath-{}.tmp", std::process::id()))
 }
 
@@ -101,7 +116,10 @@ fn write_exr(path: &Path, image: &RenderedImage, moments: bool) -> std::result::
     ];
     if moments {
         for (c, name) in SECOND_MOMENT_CHANNELS.iter().enumerate() {
-            channels.push(channel(name, image.second_moment.iter().map(|p| p[c]).collect()));
+            channels.push(channel(
+                name,
+                image.second_moment.iter().map(|p| p[c]).collect(),
+            ));
         }
         channels.push(channel(SAMPLE_COUNT_CHANNEL, image.sample_count.clone()));
     }
@@ -125,7 +143,11 @@ pub fn linear_to_srgb(linear: f32) -> f32 {
 /// encoded, rounded.
 pub fn to_srgb8(radiance: f32, exposure: f32) -> u8 {
     let scaled = radiance * exposure.exp2();
-    let clamped = if scaled.is_nan() { 0.0 } else { scaled.clamp(0.0, 1.0) };
+    let clamped = if scaled.is_nan() {
+        0.0
+    } else {
+        scaled.clamp(0.0, 1.0)
+    };
     (linear_to_srgb(clamped) * 255.0).round() as u8
 }
 
@@ -133,7 +155,13 @@ fn write_png(path: &Path, image: &RenderedImage, exposure: f32) -> std::result::
     let bytes: Vec<u8> = image
         .mean
         .iter()
-        .flat_map(|p| [to_srgb8(p[0], exposure), to_srgb8(p[1], exposure), to_srgb8(p[2], exposure)])
+        .flat_map(|p| {
+            [
+                to_srgb8(p[0], exposure),
+                to_srgb8(p[1], exposure),
+                to_srgb8(p[2], exposure),
+            ]
+        })
         .collect();
     image::save_buffer_with_format(
         path,
@@ -164,7 +192,9 @@ mod tests {
     #[test]
     fn unsupported_extensions_and_missing_directories_are_rejected() {
         assert!(check_writable(Path::new("out.jpg")).is_err());
-        let message = check_writable(Path::new("/nonexistent-dir/out.exr")).unwrap_err().to_string();
+        let message = check_writable(Path::new("/nonexistent-dir/out.exr"))
+            .unwrap_err()
+            .to_string();
         assert!(message.contains("/nonexistent-dir/out.exr"), "{message}");
     }
 }

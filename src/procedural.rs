@@ -12,7 +12,8 @@ pub fn inward_cube(albedo: Vec3, emission: Vec3) -> Vec<Triangle> {
     // For each face: the inward normal axis and sign; the face lies at -sign on that axis.
     for axis in 0..3 {
         for sign in [-1.0f32, 1.0] {
-            let normal = Vec3::from_array(std::array::from_fn(|i| if i == axis { sign } else { 0.0 }));
+            let normal =
+                Vec3::from_array(std::array::from_fn(|i| if i == axis { sign } else { 0.0 }));
             let (u_axis, v_axis) = ((axis + 1) % 3, (axis + 2) % 3);
             let corner = |u: f32, v: f32| {
                 let mut p = [0.0f32; 3];
@@ -21,7 +22,12 @@ pub fn inward_cube(albedo: Vec3, emission: Vec3) -> Vec<Triangle> {
                 p[v_axis] = v;
                 Vec3::from_array(p)
             };
-            let quad = [corner(-1.0, -1.0), corner(1.0, -1.0), corner(1.0, 1.0), corner(-1.0, 1.0)];
+            let quad = [
+                corner(-1.0, -1.0),
+                corner(1.0, -1.0),
+                corner(1.0, 1.0),
+                corner(-1.0, 1.0),
+            ];
             for [a, b, c] in [[0, 1, 2], [0, 2, 3]] {
                 let mut positions = [quad[a], quad[b], quad[c]];
                 let winding = (positions[1] - positions[0]).cross(positions[2] - positions[0]);
@@ -29,7 +35,8 @@ pub fn inward_cube(albedo: Vec3, emission: Vec3) -> Vec<Triangle> {
                     positions.swap(1, 2);
                 }
                 triangles.push(
-                    Triangle::new(positions, albedo, emission, false).expect("cube faces are not degenerate"),
+                    Triangle::new(positions, albedo, emission, false)
+                        .expect("cube faces are not degenerate"),
                 );
             }
         }
@@ -44,7 +51,12 @@ pub fn inward_cube(albedo: Vec3, emission: Vec3) -> Vec<Triangle> {
 pub fn furnace(albedo: f32, emission: f32) -> Scene {
     Scene {
         triangles: inward_cube(Vec3::splat(albedo), Vec3::splat(emission)),
-        camera: Some(Camera::look_at(Vec3::new(0.1, -0.2, 0.05), Vec3::new(1.0, 0.3, 0.2), Vec3::Z, 1.2)),
+        camera: Some(Camera::look_at(
+            Vec3::new(0.1, -0.2, 0.05),
+            Vec3::new(1.0, 0.3, 0.2),
+            Vec3::Z,
+            1.2,
+        )),
         warnings: Vec::new(),
     }
 }
@@ -64,7 +76,8 @@ mod tests {
     #[test]
     fn cube_normals_point_inward() {
         for triangle in inward_cube(Vec3::ONE, Vec3::ZERO) {
-            let centroid = (triangle.positions[0] + triangle.positions[1] + triangle.positions[2]) / 3.0;
+            let centroid =
+                (triangle.positions[0] + triangle.positions[1] + triangle.positions[2]) / 3.0;
             assert!(triangle.normal.dot(-centroid) > 0.0, "{triangle:?}");
         }
     }

@@ -16,7 +16,8 @@ use crate::scene::Scene;
 use crate::settings::RenderSettings;
 use crate::shaders;
 use crate::vk::{
-    full_compute_barrier, Buffer, CommandRunner, ComputePipeline, Context, DescriptorSet, StorageImage, VkError,
+    full_compute_barrier, Buffer, CommandRunner, ComputePipeline, Context, DescriptorSet,
+    StorageImage, VkError,
 };
 
 /// How long one submission of frames should take: long enough to hide submission overhead,
@@ -30,6 +31,53 @@ const MAX_FRAMES_PER_BATCH: u32 = 256;
 pub(crate) fn spirv_words(bytes: &[u8]) -> Result<Vec<u32>> {
     ash::util::read_spv(&mut std::io::Cursor::new(bytes))
         .map_err(|e| Error::Vulkan(VkError::InvalidSpirv(e.to_string())))
+}
+
+/// Where the kernel reads the triangles from.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum TriangleLayout {
+    /// A uniform buffer of `UNIFORM_TRIANGLE_CAPACITY` triangles (small scenes): the fast
+    /// path on lavapipe, where uniform loads at a uniform index are scalar broadcasts.
+    Uniform,
+    /// A std430 storage buffer of any size.
+    Storage,
+}
+
+impl TriangleLayout {
+    /// Uniform when the scene fits the uniform block and the device allows a block that
+    /// large, else storage.
+    pub fn choose(context: &Context, triangle_count: usize) -> TriangleLayout {
+        let capacity = contract::UNIFORM_TRIANGLE_CAPACITY as usize;
+        let block_size = capacity * std::mem::size_of::<crate::gpu_types::GpuTriangle>();
+        if triangle_count <= capacity
+            && context.limits.max_uniform_buffer_range as usize >= block_size
+        {
+            TriangleLayout::Uniform
+        } else {
+            TriangleLayout::Storage
+        }
+    }
+
+    fn kernel(self) -> &'static [u8] {
+        match self {
+            TriangleLayout::Uniform => shaders::PATH_TRACER_UNIFORM,
+            TriangleLayout::Storage => shaders::PATH_TRACER,
+        }
+    }
+
+    fn descriptor_type(self) -> vk::DescriptorType {
+        match self {
+            TriangleLayout::Uniform => vk::DescriptorType::UNIFORM_BUFFER,
+            TriangleLayout::Storage => vk::DescriptorType::STORAGE_BUFFER,
+        }
+    }
+
+    fn usage(self) -> vk::BufferUsageFlags {
+        match self {
+            TriangleLayout::Uniform => vk::BufferUsageFlags::UNIFORM_BUFFER,
+            TriangleLayout::Storage => vk::BufferUsageFlags::STORAGE_BUFFER,
+        }
+    }
 }
 
 /// A progressive render of one scene on one device.
@@ -69,12 +117,21 @@ impl Renderer {
             return Err(Error::MissingInput("the scene has no triangles".into()));
         }
         let commands = CommandRunner::new(context)?;
+        let layout = TriangleLayout::choose(context, scene.triangles.len());
+        let mut gpu_triangles = scene.gpu_triangles();
+        if layout == TriangleLayout::Uniform {
+            // The uniform block declares the full capacity; its tail stays zero.
+            gpu_triangles.resize(
+                contract::UNIFORM_TRIANGLE_CAPACITY as usize,
+                bytemuck::Zeroable::zeroed(),
+            );
+        }
         let triangles = upload_device_local(
             context,
             &commands,
             "triangles",
-            bytemuck::cast_slice(&scene.gpu_triangles()),
-            vk::BufferUsageFlags::STORAGE_BUFFER,
+            bytemuck::cast_slice(&gpu_triangles),
+            layout.usage(),
         )?;
         let uniforms = Buffer::with_data(
             context,
@@ -90,18 +147,30 @@ impl Renderer {
         )?;
         let pipeline = ComputePipeline::new(
             context,
-            &spirv_words(shaders::PATH_TRACER)?,
+            &spirv_words(layout.kernel())?,
             &[
-                (contract::BINDING_TRIANGLES, vk::DescriptorType::STORAGE_BUFFER),
-                (contract::BINDING_RENDER_UNIFORMS, vk::DescriptorType::UNIFORM_BUFFER),
-                (contract::BINDING_ACCUMULATION, vk::DescriptorType::STORAGE_IMAGE),
+                (contract::BINDING_TRIANGLES, layout.descriptor_type()),
+                (
+                    contract::BINDING_RENDER_UNIFORMS,
+                    vk::DescriptorType::UNIFORM_BUFFER,
+                ),
+                (
+                    contract::BINDING_ACCUMULATION,
+                    vk::DescriptorType::STORAGE_IMAGE,
+                ),
             ],
             std::mem::size_of::<FramePushConstants>() as u32,
             &[
                 (contract::SPEC_SAMPLE_COUNT, settings.samples_per_frame),
                 (contract::SPEC_MAX_PATH_LENGTH, settings.max_path_length),
-                (contract::SPEC_PIXEL_FILTER, settings.pixel_filter.spec_constant()),
-                (contract::SPEC_INTEGRATOR, settings.integrator.spec_constant()),
+                (
+                    contract::SPEC_PIXEL_FILTER,
+                    settings.pixel_filter.spec_constant(),
+                ),
+                (
+                    contract::SPEC_INTEGRATOR,
+                    settings.integrator.spec_constant(),
+                ),
             ],
         )?;
         let accumulation = StorageImage::new(
@@ -119,10 +188,20 @@ impl Renderer {
             MemoryLocation::GpuToCpu,
         )?;
         let descriptors = pipeline.allocate_descriptor_set()?;
-        descriptors.write_buffer(contract::BINDING_TRIANGLES, vk::DescriptorType::STORAGE_BUFFER, &triangles);
-        descriptors.write_buffer(contract::BINDING_RENDER_UNIFORMS, vk::DescriptorType::UNIFORM_BUFFER, &uniforms);
+        descriptors.write_buffer(
+            contract::BINDING_TRIANGLES,
+            layout.descriptor_type(),
+            &triangles,
+        );
+        descriptors.write_buffer(
+            contract::BINDING_RENDER_UNIFORMS,
+            vk::DescriptorType::UNIFORM_BUFFER,
+            &uniforms,
+        );
         descriptors.write_storage_image(contract::BINDING_ACCUMULATION, &accumulation);
-        commands.run(|device, command_buffer| clear_to_general(device, command_buffer, &accumulation))?;
+        commands.run(|device, command_buffer| {
+            clear_to_general(device, command_buffer, &accumulation)
+        })?;
         Ok(Renderer {
             context: context.clone(),
             settings,
@@ -194,7 +273,11 @@ impl Renderer {
         let set = self.descriptors.set;
         self.commands.run(|device, command_buffer| unsafe {
             // SAFETY: all bound resources live as long as self; the image is in GENERAL.
-            device.cmd_bind_pipeline(command_buffer, vk::PipelineBindPoint::COMPUTE, pipeline.pipeline);
+            device.cmd_bind_pipeline(
+                command_buffer,
+                vk::PipelineBindPoint::COMPUTE,
+                pipeline.pipeline,
+            );
             device.cmd_bind_descriptor_sets(
                 command_buffer,
                 vk::PipelineBindPoint::COMPUTE,
@@ -204,7 +287,10 @@ impl Renderer {
                 &[],
             );
             for frame in 0..frames {
-                let constants = FramePushConstants { first_sample_index: first + frame * spf, sample_end };
+                let constants = FramePushConstants {
+                    first_sample_index: first + frame * spf,
+                    sample_end,
+                };
                 device.cmd_push_constants(
                     command_buffer,
                     pipeline.layout,
@@ -233,8 +319,16 @@ impl Renderer {
                 device,
                 command_buffer,
                 image,
-                (vk::ImageLayout::GENERAL, vk::AccessFlags::SHADER_WRITE, vk::PipelineStageFlags::COMPUTE_SHADER),
-                (vk::ImageLayout::TRANSFER_SRC_OPTIMAL, vk::AccessFlags::TRANSFER_READ, vk::PipelineStageFlags::TRANSFER),
+                (
+                    vk::ImageLayout::GENERAL,
+                    vk::AccessFlags::SHADER_WRITE,
+                    vk::PipelineStageFlags::COMPUTE_SHADER,
+                ),
+                (
+                    vk::ImageLayout::TRANSFER_SRC_OPTIMAL,
+                    vk::AccessFlags::TRANSFER_READ,
+                    vk::PipelineStageFlags::TRANSFER,
+                ),
             );
             let region = vk::BufferImageCopy::default()
                 .image_subresource(
@@ -242,7 +336,11 @@ impl Renderer {
                         .aspect_mask(vk::ImageAspectFlags::COLOR)
                         .layer_count(image.layers),
                 )
-                .image_extent(vk::Extent3D { width: image.width, height: image.height, depth: 1 });
+                .image_extent(vk::Extent3D {
+                    width: image.width,
+                    height: image.height,
+                    depth: 1,
+                });
             device.cmd_copy_image_to_buffer(
                 command_buffer,
                 image.handle,
@@ -254,8 +352,16 @@ impl Renderer {
                 device,
                 command_buffer,
                 image,
-                (vk::ImageLayout::TRANSFER_SRC_OPTIMAL, vk::AccessFlags::TRANSFER_READ, vk::PipelineStageFlags::TRANSFER),
-                (vk::ImageLayout::GENERAL, vk::AccessFlags::SHADER_READ | vk::AccessFlags::SHADER_WRITE, vk::PipelineStageFlags::COMPUTE_SHADER),
+                (
+                    vk::ImageLayout::TRANSFER_SRC_OPTIMAL,
+                    vk::AccessFlags::TRANSFER_READ,
+                    vk::PipelineStageFlags::TRANSFER,
+                ),
+                (
+                    vk::ImageLayout::GENERAL,
+                    vk::AccessFlags::SHADER_READ | vk::AccessFlags::SHADER_WRITE,
+                    vk::PipelineStageFlags::COMPUTE_SHADER,
+                ),
             );
             let to_host = vk::MemoryBarrier::default()
                 .src_access_mask(vk::AccessFlags::TRANSFER_WRITE)
@@ -271,7 +377,11 @@ impl Renderer {
             );
         })?;
         let texels: Vec<[f32; 4]> = self.readback.read();
-        Ok(RenderedImage::from_accumulation(self.settings.width, self.settings.height, &texels))
+        Ok(RenderedImage::from_accumulation(
+            self.settings.width,
+            self.settings.height,
+            &texels,
+        ))
     }
 }
 
@@ -279,7 +389,13 @@ impl Renderer {
 type LayoutUse = (vk::ImageLayout, vk::AccessFlags, vk::PipelineStageFlags);
 
 /// Records a barrier that moves all layers of `image` from one use to another.
-fn set_layout(device: &ash::Device, command_buffer: vk::CommandBuffer, image: &StorageImage, from: LayoutUse, to: LayoutUse) {
+fn set_layout(
+    device: &ash::Device,
+    command_buffer: vk::CommandBuffer,
+    image: &StorageImage,
+    from: LayoutUse,
+    to: LayoutUse,
+) {
     let barrier = vk::ImageMemoryBarrier::default()
         .src_access_mask(from.1)
         .dst_access_mask(to.1)
@@ -291,7 +407,15 @@ fn set_layout(device: &ash::Device, command_buffer: vk::CommandBuffer, image: &S
         .subresource_range(StorageImage::all_layers(image.layers));
     // SAFETY: recording into a command buffer in the recording state; the image is alive.
     unsafe {
-        device.cmd_pipeline_barrier(command_buffer, from.2, to.2, vk::DependencyFlags::empty(), &[], &[], &[barrier]);
+        device.cmd_pipeline_barrier(
+            command_buffer,
+            from.2,
+            to.2,
+            vk::DependencyFlags::empty(),
+            &[],
+            &[],
+            &[barrier],
+        );
     }
 }
 
@@ -302,8 +426,16 @@ fn clear_to_general(device: &ash::Device, command_buffer: vk::CommandBuffer, ima
         device,
         command_buffer,
         image,
-        (vk::ImageLayout::UNDEFINED, vk::AccessFlags::empty(), vk::PipelineStageFlags::TOP_OF_PIPE),
-        (vk::ImageLayout::GENERAL, vk::AccessFlags::TRANSFER_WRITE, vk::PipelineStageFlags::TRANSFER),
+        (
+            vk::ImageLayout::UNDEFINED,
+            vk::AccessFlags::empty(),
+            vk::PipelineStageFlags::TOP_OF_PIPE,
+        ),
+        (
+            vk::ImageLayout::GENERAL,
+            vk::AccessFlags::TRANSFER_WRITE,
+            vk::PipelineStageFlags::TRANSFER,
+        ),
     );
     // SAFETY: recording into a command buffer in the recording state; the image is alive.
     unsafe {
@@ -326,7 +458,12 @@ fn upload_device_local(
     bytes: &[u8],
     usage: vk::BufferUsageFlags,
 ) -> Result<Buffer> {
-    let staging = Buffer::with_data(context, "staging", bytes, vk::BufferUsageFlags::TRANSFER_SRC)?;
+    let staging = Buffer::with_data(
+        context,
+        "staging",
+        bytes,
+        vk::BufferUsageFlags::TRANSFER_SRC,
+    )?;
     let buffer = Buffer::new(
         context,
         name,
@@ -340,7 +477,11 @@ fn upload_device_local(
             command_buffer,
             staging.handle,
             buffer.handle,
-            &[vk::BufferCopy { src_offset: 0, dst_offset: 0, size: bytes.len().max(1) as u64 }],
+            &[vk::BufferCopy {
+                src_offset: 0,
+                dst_offset: 0,
+                size: bytes.len().max(1) as u64,
+            }],
         );
         full_compute_barrier(device, command_buffer);
     })?;

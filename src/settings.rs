@@ -96,19 +96,31 @@ impl RenderSettings {
     pub fn validate(&self) -> Result<()> {
         let bad = |message: String| Err(Error::InvalidSettings(message));
         if self.width == 0 || self.height == 0 {
-            return bad(format!("image size {}x{} is empty (--width/--height must be at least 1)", self.width, self.height));
+            return bad(format!(
+                "image size {}x{} is empty (--width/--height must be at least 1)",
+                self.width, self.height
+            ));
         }
         if self.width > MAX_IMAGE_SIDE || self.height > MAX_IMAGE_SIDE {
-            return bad(format!("image size {}x{} exceeds {MAX_IMAGE_SIDE} pixels per side", self.width, self.height));
+            return bad(format!(
+                "image size {}x{} exceeds {MAX_IMAGE_SIDE} pixels per side",
+                self.width, self.height
+            ));
         }
         if self.spp == 0 || self.spp > MAX_SPP {
             return bad(format!("--spp {} is outside 1..={MAX_SPP}", self.spp));
         }
         if self.max_path_length == 0 || self.max_path_length > MAX_PATH_LENGTH_LIMIT {
-            return bad(format!("--max-path-length {} is outside 1..={MAX_PATH_LENGTH_LIMIT}", self.max_path_length));
+            return bad(format!(
+                "--max-path-length {} is outside 1..={MAX_PATH_LENGTH_LIMIT}",
+                self.max_path_length
+            ));
         }
         if self.samples_per_frame == 0 || self.samples_per_frame > 4096 {
-            return bad(format!("--samples-per-frame {} is outside 1..=4096", self.samples_per_frame));
+            return bad(format!(
+                "--samples-per-frame {} is outside 1..=4096",
+                self.samples_per_frame
+            ));
         }
         Ok(())
     }
@@ -128,12 +140,30 @@ mod tests {
         let ok = RenderSettings::default();
         assert!(ok.validate().is_ok());
         for bad in [
-            RenderSettings { width: 0, ..ok.clone() },
-            RenderSettings { height: MAX_IMAGE_SIDE + 1, ..ok.clone() },
-            RenderSettings { spp: 0, ..ok.clone() },
-            RenderSettings { spp: MAX_SPP + 1, ..ok.clone() },
-            RenderSettings { max_path_length: 0, ..ok.clone() },
-            RenderSettings { samples_per_frame: 0, ..ok.clone() },
+            RenderSettings {
+                width: 0,
+                ..ok.clone()
+            },
+            RenderSettings {
+                height: MAX_IMAGE_SIDE + 1,
+                ..ok.clone()
+            },
+            RenderSettings {
+                spp: 0,
+                ..ok.clone()
+            },
+            RenderSettings {
+                spp: MAX_SPP + 1,
+                ..ok.clone()
+            },
+            RenderSettings {
+                max_path_length: 0,
+                ..ok.clone()
+            },
+            RenderSettings {
+                samples_per_frame: 0,
+                ..ok.clone()
+            },
         ] {
             let message = bad.validate().unwrap_err().to_string();
             assert!(message.starts_with("invalid settings"), "{message}");

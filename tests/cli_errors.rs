@@ -9,13 +9,30 @@ use std::path::Path;
 fn expect_error(dir: &Path, args: &[&str], env: &[(&str, &str)], expected_exit: i32) -> String {
     let output = common::vkpath_with_env(dir, args, env);
     let stderr = String::from_utf8_lossy(&output.stderr).to_string();
-    assert_eq!(output.status.code(), Some(expected_exit), "args {args:?}: {stderr}");
-    assert!(!stderr.contains("panicked"), "args {args:?} panicked: {stderr}");
+    assert_eq!(
+        output.status.code(),
+        Some(expected_exit),
+        "args {args:?}: {stderr}"
+    );
+    assert!(
+        !stderr.contains("panicked"),
+        "args {args:?} panicked: {stderr}"
+    );
     let errors: Vec<&str> = stderr.lines().filter(|l| l.contains("error")).collect();
-    assert_eq!(errors.len(), 1, "args {args:?}: expected one error line, got: {stderr}");
+    assert_eq!(
+        errors.len(),
+        1,
+        "args {args:?}: expected one error line, got: {stderr}"
+    );
     // Nothing was written: no image and no temporary file.
-    let leftovers: Vec<_> = std::fs::read_dir(dir).unwrap().map(|e| e.unwrap().file_name()).collect();
-    assert!(leftovers.is_empty(), "args {args:?} left files behind: {leftovers:?}");
+    let leftovers: Vec<_> = std::fs::read_dir(dir)
+        .unwrap()
+        .map(|e| e.unwrap().file_name())
+        .collect();
+    assert!(
+        leftovers.is_empty(),
+        "args {args:?} left files behind: {leftovers:?}"
+    );
     errors[0].to_string()
 }
 
@@ -30,7 +47,10 @@ fn render_error(args: &[&str], expected_text: &str) {
     }
     full.extend_from_slice(args);
     let line = expect_error(dir.path(), &full, &[], 1);
-    assert!(line.contains(expected_text), "args {args:?}: '{line}' does not mention '{expected_text}'");
+    assert!(
+        line.contains(expected_text),
+        "args {args:?}: '{line}' does not mention '{expected_text}'"
+    );
 }
 
 #[test]
@@ -79,7 +99,12 @@ fn zero_and_absurd_sizes_and_sample_counts() {
 #[test]
 fn unwritable_output() {
     let dir = tempfile::tempdir().unwrap();
-    let line = expect_error(dir.path(), &["render", "-o", "/nonexistent-dir/out.png"], &[], 1);
+    let line = expect_error(
+        dir.path(),
+        &["render", "-o", "/nonexistent-dir/out.png"],
+        &[],
+        1,
+    );
     assert!(line.contains("/nonexistent-dir/out.png"), "{line}");
     let line = expect_error(dir.path(), &["render", "-o", "out.jpg"], &[], 1);
     assert!(line.contains(".exr or .png"), "{line}");
@@ -88,7 +113,12 @@ fn unwritable_output() {
 #[test]
 fn malformed_camera_arguments_are_usage_errors() {
     let dir = tempfile::tempdir().unwrap();
-    let line = expect_error(dir.path(), &["render", "-o", "x.png", "--camera-position", "1,2"], &[], 2);
+    let line = expect_error(
+        dir.path(),
+        &["render", "-o", "x.png", "--camera-position", "1,2"],
+        &[],
+        2,
+    );
     assert!(line.contains("x,y,z"), "{line}");
 }
 
@@ -97,7 +127,9 @@ fn no_vulkan_loader() {
     let dir = tempfile::tempdir().unwrap();
     let line = expect_error(
         dir.path(),
-        &["render", "-o", "out.png", "--width", "8", "--height", "8", "--spp", "1"],
+        &[
+            "render", "-o", "out.png", "--width", "8", "--height", "8", "--spp", "1",
+        ],
         &[("VKPATH_VULKAN_LOADER", "/nonexistent/libvulkan.so.1")],
         1,
     );
@@ -109,8 +141,13 @@ fn no_vulkan_driver() {
     let dir = tempfile::tempdir().unwrap();
     let line = expect_error(
         dir.path(),
-        &["render", "-o", "out.png", "--width", "8", "--height", "8", "--spp", "1"],
-        &[("VK_DRIVER_FILES", "/nonexistent.json"), ("VK_ICD_FILENAMES", "/nonexistent.json")],
+        &[
+            "render", "-o", "out.png", "--width", "8", "--height", "8", "--spp", "1",
+        ],
+        &[
+            ("VK_DRIVER_FILES", "/nonexistent.json"),
+            ("VK_ICD_FILENAMES", "/nonexistent.json"),
+        ],
         1,
     );
     assert!(line.contains("no Vulkan driver"), "{line}");
@@ -124,7 +161,20 @@ fn cpu_device_when_a_gpu_is_required() {
     let dir = tempfile::tempdir().unwrap();
     let line = expect_error(
         dir.path(),
-        &["render", "-o", "out.png", "--width", "8", "--height", "8", "--spp", "1", "--require-gpu", "--device", "llvmpipe"],
+        &[
+            "render",
+            "-o",
+            "out.png",
+            "--width",
+            "8",
+            "--height",
+            "8",
+            "--spp",
+            "1",
+            "--require-gpu",
+            "--device",
+            "llvmpipe",
+        ],
         &[],
         1,
     );
@@ -137,7 +187,19 @@ fn unknown_device() {
     let dir = tempfile::tempdir().unwrap();
     let line = expect_error(
         dir.path(),
-        &["render", "-o", "out.png", "--width", "8", "--height", "8", "--spp", "1", "--device", "no-such-gpu"],
+        &[
+            "render",
+            "-o",
+            "out.png",
+            "--width",
+            "8",
+            "--height",
+            "8",
+            "--spp",
+            "1",
+            "--device",
+            "no-such-gpu",
+        ],
         &[],
         1,
     );
@@ -147,7 +209,12 @@ fn unknown_device() {
 #[test]
 fn a_good_render_prints_the_device_and_a_summary() {
     let dir = tempfile::tempdir().unwrap();
-    let output = common::vkpath(dir.path(), &["render", "-o", "out.png", "--width", "8", "--height", "8", "--spp", "2"]);
+    let output = common::vkpath(
+        dir.path(),
+        &[
+            "render", "-o", "out.png", "--width", "8", "--height", "8", "--spp", "2",
+        ],
+    );
     let stderr = String::from_utf8_lossy(&output.stderr);
     assert!(output.status.success(), "{stderr}");
     assert!(stderr.contains("vkpath: device"), "{stderr}");

@@ -12,14 +12,33 @@ fn exr_is_bit_identical_whatever_the_samples_per_frame() {
         let output = common::vkpath(
             dir.path(),
             &[
-                "render", "-o", &name, "--width", "20", "--height", "12", "--spp", "7", "--seed", "42",
-                "--samples-per-frame", samples_per_frame, "--moments",
+                "render",
+                "-o",
+                &name,
+                "--width",
+                "20",
+                "--height",
+                "12",
+                "--spp",
+                "7",
+                "--seed",
+                "42",
+                "--samples-per-frame",
+                samples_per_frame,
+                "--moments",
             ],
         );
-        assert!(output.status.success(), "{}", String::from_utf8_lossy(&output.stderr));
+        assert!(
+            output.status.success(),
+            "{}",
+            String::from_utf8_lossy(&output.stderr)
+        );
         files.push(std::fs::read(dir.path().join(&name)).unwrap());
     }
-    assert!(files[0] == files[1] && files[1] == files[2], "EXR files differ between frame splits");
+    assert!(
+        files[0] == files[1] && files[1] == files[2],
+        "EXR files differ between frame splits"
+    );
 }
 
 #[test]
@@ -28,9 +47,25 @@ fn different_seeds_give_different_images() {
     for seed in ["1", "2"] {
         let output = common::vkpath(
             dir.path(),
-            &["render", "-o", &format!("seed{seed}.exr"), "--width", "16", "--height", "16", "--spp", "2", "--seed", seed],
+            &[
+                "render",
+                "-o",
+                &format!("seed{seed}.exr"),
+                "--width",
+                "16",
+                "--height",
+                "16",
+                "--spp",
+                "2",
+                "--seed",
+                seed,
+            ],
         );
-        assert!(output.status.success(), "{}", String::from_utf8_lossy(&output.stderr));
+        assert!(
+            output.status.success(),
+            "{}",
+            String::from_utf8_lossy(&output.stderr)
+        );
     }
     let a = std::fs::read(dir.path().join("seed1.exr")).unwrap();
     let b = std::fs::read(dir.path().join("seed2.exr")).unwrap();

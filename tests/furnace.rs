@@ -17,7 +17,8 @@ fn check_furnace(albedo: f32, emission: f32, max_path_length: u32) {
         samples_per_frame: 8,
         ..Default::default()
     };
-    let mut renderer = Renderer::new(&context, &scene, &scene.camera.unwrap(), settings.clone()).unwrap();
+    let mut renderer =
+        Renderer::new(&context, &scene, &scene.camera.unwrap(), settings.clone()).unwrap();
     while !renderer.is_complete() {
         renderer.render_batch().unwrap();
     }
@@ -41,7 +42,10 @@ fn check_furnace(albedo: f32, emission: f32, max_path_length: u32) {
         // a bias of a few percent (e.g. a lost or extra bounce) is many standard errors.
         let tolerance = 5.0 * standard_error;
         println!("a={albedo} n={max_path_length}: mean {mean:.5}, expected {expected:.5}, SE {standard_error:.2e}");
-        assert!(variance > 0.0, "the estimator should be noisy, got zero variance");
+        assert!(
+            variance > 0.0,
+            "the estimator should be noisy, got zero variance"
+        );
         assert!(
             (mean - expected).abs() <= tolerance,
             "furnace a={albedo} n={max_path_length} channel {channel}: mean {mean} vs {expected} (tolerance {tolerance})"

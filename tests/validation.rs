@@ -10,13 +10,22 @@ fn a_render_produces_no_validation_messages() {
     // Creating a validated context asserts that the layer is present: it fails otherwise.
     let context = common::validated_context();
     let scene = Scene::builtin_cornell_box().unwrap();
-    let settings = RenderSettings { width: 24, height: 16, spp: 3, samples_per_frame: 2, ..Default::default() };
+    let settings = RenderSettings {
+        width: 24,
+        height: 16,
+        spp: 3,
+        samples_per_frame: 2,
+        ..Default::default()
+    };
     let mut renderer = Renderer::new(&context, &scene, &scene.camera.unwrap(), settings).unwrap();
     while !renderer.is_complete() {
         renderer.render_batch().unwrap();
     }
     let image = renderer.read_back().unwrap();
-    assert!(image.average()[0] > 0.0, "the Cornell box should not render black");
+    assert!(
+        image.average()[0] > 0.0,
+        "the Cornell box should not render black"
+    );
     drop(renderer);
     common::assert_validation_silent(&context);
 }
@@ -38,5 +47,8 @@ fn the_message_counter_sees_a_deliberate_misuse() {
         }
     }
     let after = context.validation_messages().unwrap().errors();
-    assert!(after > before, "the deliberate misuse was not counted ({before} -> {after})");
+    assert!(
+        after > before,
+        "the deliberate misuse was not counted ({before} -> {after})"
+    );
 }

@@ -1,7 +1,6 @@
 //! The `vkpath` command line: argument parsing and the subcommands. Errors reach `main` as
 //! `anyhow` chains and are printed as one line.
 
-
 use clap::{Parser, Subcommand, ValueEnum};
 use glam::Vec3;
 
@@ -78,11 +77,15 @@ impl From<PixelFilterArg> for PixelFilter {
 pub fn parse_vec3(text: &str) -> Result<Vec3, String> {
     let parts: Vec<&str> = text.split(',').map(str::trim).collect();
     if parts.len() != 3 {
-        return Err(format!("expected three comma-separated numbers x,y,z, got '{text}'"));
+        return Err(format!(
+            "expected three comma-separated numbers x,y,z, got '{text}'"
+        ));
     }
     let mut values = [0.0f32; 3];
     for (value, part) in values.iter_mut().zip(&parts) {
-        *value = part.parse::<f32>().map_err(|_| format!("'{part}' is not a number"))?;
+        *value = part
+            .parse::<f32>()
+            .map_err(|_| format!("'{part}' is not a number"))?;
         if !value.is_finite() {
             return Err(format!("'{part}' is not finite"));
         }

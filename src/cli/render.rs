@@ -131,7 +131,17 @@ pub fn run(args: &RenderArgs) -> anyhow::Result<()> {
     let scene = load_scene(args.scene.as_deref())?;
     let camera = choose_camera(args, &scene)?;
     let context = args.device.create_context()?;
-    render_and_save(&context, &scene, &camera, settings, &args.output, &SaveOptions { exposure: args.exposure, moments: args.moments })
+    render_and_save(
+        &context,
+        &scene,
+        &camera,
+        settings,
+        &args.output,
+        &SaveOptions {
+            exposure: args.exposure,
+            moments: args.moments,
+        },
+    )
 }
 
 /// Renders with a progress bar, saves the image and prints the summary line. Ctrl-C stops
@@ -173,19 +183,46 @@ pub fn render_and_save(
     if let Err(error) = save_image(output, &image, save) {
         // Nothing already rendered is lost: keep it in the temp directory.
         let rescue = std::env::temp_dir().join(format!("vkpath-rescue-{}.exr", std::process::id()));
-        let rescued = save_image(&rescue, &image, &SaveOptions { moments: true, ..*save });
+        let rescued = save_image(
+            &rescue,
+            &image,
+            &SaveOptions {
+                moments: true,
+                ..*save
+            },
+        );
         match rescued {
-            Ok(()) => bail!("{error}; the render was saved to '{}' instead", rescue.display()),
+            Ok(()) => bail!(
+                "{error}; the render was saved to '{}' instead",
+                rescue.display()
+            ),
             Err(_) => bail!("{error}"),
         }
     }
-    eprintln!("{}", summary_line(&context.info, settings.width, settings.height, done, seconds));
+    eprintln!(
+        "{}",
+        summary_line(
+            &context.info,
+            settings.width,
+            settings.height,
+            done,
+            seconds
+        )
+    );
     if INTERRUPTED.load(Ordering::SeqCst) && done < settings.spp {
-        bail!("interrupted after {done} of {} spp; the partial render was saved to '{}'", settings.spp, output.display());
+        bail!(
+            "interrupted after {done} of {} spp; the partial render was saved to '{}'",
+            settings.spp,
+            output.display()
+        );
     }
     if let Some(messages) = context.validation_messages() {
         if messages.total() > 0 {
-            bail!("the validation layer reported {} errors and {} warnings (see the log above)", messages.errors(), messages.warnings());
+            bail!(
+                "the validation layer reported {} errors and {} warnings (see the log above)",
+                messages.errors(),
+                messages.warnings()
+            );
         }
     }
     Ok(())

@@ -14,13 +14,18 @@ pub struct RenderProgress {
 impl RenderProgress {
     /// A hidden bar counting samples per pixel up to `total`.
     pub fn new(total: u32) -> RenderProgress {
-        let bar = ProgressBar::with_draw_target(Some(u64::from(total)), ProgressDrawTarget::hidden());
+        let bar =
+            ProgressBar::with_draw_target(Some(u64::from(total)), ProgressDrawTarget::hidden());
         if let Ok(style) =
             ProgressStyle::with_template("{elapsed_precise} [{bar:40}] {pos}/{len} spp, eta {eta}")
         {
             bar.set_style(style.progress_chars("=> "));
         }
-        RenderProgress { bar, started: Instant::now(), visible: false }
+        RenderProgress {
+            bar,
+            started: Instant::now(),
+            visible: false,
+        }
     }
 
     /// Reports the samples per pixel done so far.
@@ -39,7 +44,13 @@ impl RenderProgress {
 }
 
 /// "device NAME [KIND], WxH, N spp, S s, M M samples/s".
-pub fn summary_line(device: &crate::vk::DeviceInfo, width: u32, height: u32, spp: u32, seconds: f64) -> String {
+pub fn summary_line(
+    device: &crate::vk::DeviceInfo,
+    width: u32,
+    height: u32,
+    spp: u32,
+    seconds: f64,
+) -> String {
     let samples = f64::from(width) * f64::from(height) * f64::from(spp);
     format!(
         "device {} [{}], {width}x{height}, {spp} spp, {seconds:.2} s, {:.3} M samples/s",

@@ -48,7 +48,10 @@ impl Buffer {
             Ok(allocation) => allocation,
             Err(source) => {
                 unsafe { device.destroy_buffer(handle, None) };
-                return Err(VkError::Allocation { what: format!("buffer '{name}' ({size} bytes)"), source });
+                return Err(VkError::Allocation {
+                    what: format!("buffer '{name}' ({size} bytes)"),
+                    source,
+                });
             }
         };
         // SAFETY: the allocation satisfies the buffer's requirements and is not bound yet.
@@ -57,9 +60,17 @@ impl Buffer {
         {
             let _ = context.allocator().free(allocation);
             unsafe { device.destroy_buffer(handle, None) };
-            return Err(VkError::Call { what: "binding buffer memory", result });
+            return Err(VkError::Call {
+                what: "binding buffer memory",
+                result,
+            });
         }
-        Ok(Buffer { context: context.clone(), handle, allocation: Some(allocation), size })
+        Ok(Buffer {
+            context: context.clone(),
+            handle,
+            allocation: Some(allocation),
+            size,
+        })
     }
 
     /// A host-visible buffer holding `data`.
@@ -70,8 +81,13 @@ impl Buffer {
         usage: vk::BufferUsageFlags,
     ) -> VkResult<Buffer> {
         let bytes: &[u8] = bytemuck::cast_slice(data);
-        let mut buffer =
-            Buffer::new(context, name, bytes.len() as u64, usage, MemoryLocation::CpuToGpu)?;
+        let mut buffer = Buffer::new(
+            context,
+            name,
+            bytes.len() as u64,
+            usage,
+            MemoryLocation::CpuToGpu,
+        )?;
         buffer.write(bytes);
         Ok(buffer)
     }

@@ -72,17 +72,28 @@ impl CommandRunner {
                 )
                 .during("beginning a command buffer")?;
             record(device, command_buffer);
-            device.end_command_buffer(command_buffer).during("recording commands")?;
+            device
+                .end_command_buffer(command_buffer)
+                .during("recording commands")?;
             let command_buffers = [command_buffer];
             let submit = [vk::SubmitInfo::default().command_buffers(&command_buffers)];
-            device.reset_fences(&[self.fence]).during("resetting a fence")?;
+            device
+                .reset_fences(&[self.fence])
+                .during("resetting a fence")?;
             device
                 .queue_submit(self.context.queue, &submit, self.fence)
                 .during("submitting commands")?;
-            match device.wait_for_fences(&[self.fence], true, SUBMIT_TIMEOUT_SECONDS * 1_000_000_000) {
+            match device.wait_for_fences(
+                &[self.fence],
+                true,
+                SUBMIT_TIMEOUT_SECONDS * 1_000_000_000,
+            ) {
                 Ok(()) => Ok(()),
                 Err(vk::Result::TIMEOUT) => Err(VkError::Timeout(SUBMIT_TIMEOUT_SECONDS)),
-                Err(result) => Err(VkError::Call { what: "waiting for the device", result }),
+                Err(result) => Err(VkError::Call {
+                    what: "waiting for the device",
+                    result,
+                }),
             }
         }
     }

@@ -101,7 +101,11 @@ pub struct DeviceInfo {
 
 impl fmt::Display for DeviceInfo {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        write!(f, "{}: {} [{}], Vulkan {}", self.index, self.name, self.kind, self.api_version)?;
+        write!(
+            f,
+            "{}: {} [{}], Vulkan {}",
+            self.index, self.name, self.kind, self.api_version
+        )?;
         if self.compute_queue_family.is_none() {
             f.write_str(", no compute queue")?;
         }
@@ -148,8 +152,8 @@ fn load_entry() -> VkResult<ash::Entry> {
 
 fn has_validation_layer(entry: &ash::Entry) -> VkResult<bool> {
     // SAFETY: a plain query with no pointers of ours.
-    let layers = unsafe { entry.enumerate_instance_layer_properties() }
-        .during("listing instance layers")?;
+    let layers =
+        unsafe { entry.enumerate_instance_layer_properties() }.during("listing instance layers")?;
     Ok(layers
         .iter()
         .any(|layer| layer.layer_name_as_c_str() == Ok(VALIDATION_LAYER)))
@@ -185,7 +189,10 @@ fn create_instance(
             "vkCreateInstance: no compatible driver (VK_ERROR_INCOMPATIBLE_DRIVER)".into(),
         )),
         Err(vk::Result::ERROR_LAYER_NOT_PRESENT) => Err(VkError::ValidationLayerMissing),
-        Err(result) => Err(VkError::Call { what: "creating the Vulkan instance", result }),
+        Err(result) => Err(VkError::Call {
+            what: "creating the Vulkan instance",
+            result,
+        }),
     }
 }
 
@@ -194,7 +201,12 @@ fn describe_devices(instance: &ash::Instance) -> VkResult<Vec<(vk::PhysicalDevic
     let devices = match unsafe { instance.enumerate_physical_devices() } {
         Ok(devices) => devices,
         Err(vk::Result::ERROR_INITIALIZATION_FAILED) => Vec::new(),
-        Err(result) => return Err(VkError::Call { what: "listing Vulkan devices", result }),
+        Err(result) => {
+            return Err(VkError::Call {
+                what: "listing Vulkan devices",
+                result,
+            })
+        }
     };
     Ok(devices
         .into_iter()
@@ -202,9 +214,8 @@ fn describe_devices(instance: &ash::Instance) -> VkResult<Vec<(vk::PhysicalDevic
         .map(|(index, physical_device)| {
             // SAFETY: physical_device came from this instance.
             let properties = unsafe { instance.get_physical_device_properties(physical_device) };
-            let families = unsafe {
-                instance.get_physical_device_queue_family_properties(physical_device)
-            };
+            let families =
+                unsafe { instance.get_physical_device_queue_family_properties(physical_device) };
             let compute_queue_family = families
                 .iter()
                 .position(|f| f.queue_flags.contains(vk::QueueFlags::COMPUTE))
@@ -307,21 +318,25 @@ impl Context {
                     Ok(messenger) => Some((debug_utils, messenger)),
                     Err(result) => {
                         unsafe { instance.destroy_instance(None) };
-                        return Err(VkError::Call { what: "creating the debug messenger", result });
+                        return Err(VkError::Call {
+                            what: "creating the debug messenger",
+                            result,
+                        });
                     }
                 }
             }
             None => None,
         };
-        let destroy_instance = |messenger: Option<(ash::ext::debug_utils::Instance, vk::DebugUtilsMessengerEXT)>| {
-            // SAFETY: no device was created from this instance.
-            unsafe {
-                if let Some((debug_utils, messenger)) = messenger {
-                    debug_utils.destroy_debug_utils_messenger(messenger, None);
+        let destroy_instance =
+            |messenger: Option<(ash::ext::debug_utils::Instance, vk::DebugUtilsMessengerEXT)>| {
+                // SAFETY: no device was created from this instance.
+                unsafe {
+                    if let Some((debug_utils, messenger)) = messenger {
+                        debug_utils.destroy_debug_utils_messenger(messenger, None);
+                    }
+                    instance.destroy_instance(None);
                 }
-                instance.destroy_instance(None);
-            }
-        };
+            };
         let chosen = describe_devices(&instance).and_then(|devices| {
             if devices.is_empty() {
                 return Err(VkError::NoDriver("the loader found no device".into()));
@@ -337,7 +352,10 @@ impl Context {
         };
         if options.require_gpu && !info.kind.is_gpu() {
             destroy_instance(messenger);
-            return Err(VkError::NotAGpu { name: info.name, kind: info.kind.to_string() });
+            return Err(VkError::NotAGpu {
+                name: info.name,
+                kind: info.kind.to_string(),
+            });
         }
         let queue_family_index = info.compute_queue_family.expect("checked by choose_device");
         let priorities = [1.0f32];
@@ -350,7 +368,10 @@ impl Context {
             Ok(device) => device,
             Err(result) => {
                 destroy_instance(messenger);
-                return Err(VkError::Call { what: "creating the logical device", result });
+                return Err(VkError::Call {
+                    what: "creating the logical device",
+                    result,
+                });
             }
         };
         // SAFETY: the queue family was requested with one queue.
@@ -369,7 +390,10 @@ impl Context {
             Err(source) => {
                 unsafe { device.destroy_device(None) };
                 destroy_instance(messenger);
-                return Err(VkError::Allocation { what: "the memory allocator".into(), source });
+                return Err(VkError::Allocation {
+                    what: "the memory allocator".into(),
+                    source,
+                });
             }
         };
         Ok(Arc::new(Context {
@@ -396,7 +420,9 @@ impl Context {
     pub(crate) fn allocator(&self) -> MutexGuard<'_, Allocator> {
         // A panic while holding the lock cannot leave the allocator half-updated in a way
         // that matters more than the panic itself.
-        self.allocator.lock().unwrap_or_else(|poisoned| poisoned.into_inner())
+        self.allocator
+            .lock()
+            .unwrap_or_else(|poisoned| poisoned.into_inner())
     }
 }
 

@@ -24,7 +24,9 @@ pub enum VkError {
         kind: String,
     },
     /// `--device` named no device.
-    #[error("no Vulkan device matches '{selector}' (run `vkpath devices`; available: {available})")]
+    #[error(
+        "no Vulkan device matches '{selector}' (run `vkpath devices`; available: {available})"
+    )]
     DeviceNotFound {
         /// What the user asked for.
         selector: String,

@@ -30,12 +30,22 @@ pub struct StorageImage {
 
 impl StorageImage {
     /// Creates the image in device memory, in layout UNDEFINED (transition it before use).
-    pub fn new(context: &Arc<Context>, name: &str, width: u32, height: u32, layers: u32) -> VkResult<StorageImage> {
+    pub fn new(
+        context: &Arc<Context>,
+        name: &str,
+        width: u32,
+        height: u32,
+        layers: u32,
+    ) -> VkResult<StorageImage> {
         let device = &context.device;
         let info = vk::ImageCreateInfo::default()
             .image_type(vk::ImageType::TYPE_2D)
             .format(STORAGE_IMAGE_FORMAT)
-            .extent(vk::Extent3D { width, height, depth: 1 })
+            .extent(vk::Extent3D {
+                width,
+                height,
+                depth: 1,
+            })
             .mip_levels(1)
             .array_layers(layers)
             .samples(vk::SampleCountFlags::TYPE_1)
@@ -61,7 +71,10 @@ impl StorageImage {
             Ok(allocation) => allocation,
             Err(source) => {
                 unsafe { device.destroy_image(handle, None) };
-                return Err(VkError::Allocation { what: format!("image '{name}' ({width}x{height}x{layers})"), source });
+                return Err(VkError::Allocation {
+                    what: format!("image '{name}' ({width}x{height}x{layers})"),
+                    source,
+                });
             }
         };
         let view = unsafe {
@@ -91,7 +104,10 @@ impl StorageImage {
             Err(result) => {
                 let _ = context.allocator().free(allocation);
                 unsafe { device.destroy_image(handle, None) };
-                Err(VkError::Call { what: "binding image memory / creating its view", result })
+                Err(VkError::Call {
+                    what: "binding image memory / creating its view",
+                    result,
+                })
             }
         }
     }

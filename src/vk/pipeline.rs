@@ -34,7 +34,9 @@ impl ComputePipeline {
         specialization: &[(u32, u32)],
     ) -> VkResult<ComputePipeline> {
         if spirv.first() != Some(&0x0723_0203) {
-            return Err(VkError::InvalidSpirv("missing the SPIR-V magic number".into()));
+            return Err(VkError::InvalidSpirv(
+                "missing the SPIR-V magic number".into(),
+            ));
         }
         let device = &context.device;
         let layout_bindings: Vec<_> = bindings
@@ -85,17 +87,22 @@ impl ComputePipeline {
                     size: 4,
                 })
                 .collect();
-            let data: Vec<u8> = specialization.iter().flat_map(|&(_, v)| v.to_ne_bytes()).collect();
-            let specialization_info =
-                vk::SpecializationInfo::default().map_entries(&entries).data(&data);
+            let data: Vec<u8> = specialization
+                .iter()
+                .flat_map(|&(_, v)| v.to_ne_bytes())
+                .collect();
+            let specialization_info = vk::SpecializationInfo::default()
+                .map_entries(&entries)
+                .data(&data);
             let stage = vk::PipelineShaderStageCreateInfo::default()
                 .stage(vk::ShaderStageFlags::COMPUTE)
                 .module(module)
                 .name(c"main")
                 .specialization_info(&specialization_info);
-            let info = [vk::ComputePipelineCreateInfo::default().stage(stage).layout(pipeline.layout)];
-            let created =
-                device.create_compute_pipelines(vk::PipelineCache::null(), &info, None);
+            let info = [vk::ComputePipelineCreateInfo::default()
+                .stage(stage)
+                .layout(pipeline.layout)];
+            let created = device.create_compute_pipelines(vk::PipelineCache::null(), &info, None);
             device.destroy_shader_module(module, None);
             pipeline.pipeline = created
                 .map_err(|(_, result)| result)
@@ -139,13 +146,18 @@ impl DescriptorSet {
     ) -> VkResult<DescriptorSet> {
         let sizes: Vec<_> = bindings
             .iter()
-            .map(|&(_, kind)| vk::DescriptorPoolSize { ty: kind, descriptor_count: 1 })
+            .map(|&(_, kind)| vk::DescriptorPoolSize {
+                ty: kind,
+                descriptor_count: 1,
+            })
             .collect();
         let device = &context.device;
         // SAFETY: valid create infos on a live device.
         let pool = unsafe {
             device.create_descriptor_pool(
-                &vk::DescriptorPoolCreateInfo::default().max_sets(1).pool_sizes(&sizes),
+                &vk::DescriptorPoolCreateInfo::default()
+                    .max_sets(1)
+                    .pool_sizes(&sizes),
                 None,
             )
         }
@@ -159,10 +171,17 @@ impl DescriptorSet {
             )
         };
         match set {
-            Ok(sets) => Ok(DescriptorSet { context: context.clone(), pool, set: sets[0] }),
+            Ok(sets) => Ok(DescriptorSet {
+                context: context.clone(),
+                pool,
+                set: sets[0],
+            }),
             Err(result) => {
                 unsafe { device.destroy_descriptor_pool(pool, None) };
-                Err(VkError::Call { what: "allocating a descriptor set", result })
+                Err(VkError::Call {
+                    what: "allocating a descriptor set",
+                    result,
+                })
             }
         }
     }
