@@ -37,6 +37,7 @@ vec3 offset_ray_origin(vec3 position, vec3 normal) {
     return position + (scale * 7.62939453125e-06) * normal;
 }
 
+#ifndef USER_DEFINES_COMPUTE_DIRECT_ILLUMINATION
 // Exercise 6: radiance leaving a point of a triangle towards the camera, estimated with one
 // uniform hemisphere sample for direct illumination:
 // L_e(x) + a(x)/pi * 2 pi * L_e(y) * n(x).omega   (density 1/(2 pi) w.r.t. solid angle)
@@ -54,7 +55,9 @@ vec3 compute_direct_illumination(vec3 shading_position, triangle_t triangle, ino
     }
     return triangle.emission + triangle.color / M_PI * 2.0 * M_PI * incoming_emission * dot(triangle.normal, ray_direction);
 }
+#endif
 
+#ifndef USER_DEFINES_GET_RAY_RADIANCE
 // Exercise 7: a Monte Carlo estimate of the radiance L(x_0, omega_0) arriving along a ray,
 // with paths of up to MAX_PATH_LENGTH surface hits and uniform hemisphere sampling:
 // L_{j+1} = L_j + T_j L_e(x_{j+1}),            L_0 = 0
@@ -83,5 +86,6 @@ vec3 get_ray_radiance(vec3 ray_origin, vec3 ray_direction, inout uvec2 seed) {
     }
     return radiance;
 }
+#endif
 
 #endif

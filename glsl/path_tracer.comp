@@ -19,6 +19,9 @@ layout(constant_id = SPEC_INTEGRATOR) const int INTEGRATOR = INTEGRATOR_PATH_TRA
 
 #include "integrator.glsl"
 #include "camera.glsl"
+#ifdef USER_FUNCTIONS
+#include "user_functions.glsl"
+#endif
 
 layout(set = 0, binding = BINDING_ACCUMULATION, rgba32f) uniform image2DArray g_accumulation;
 

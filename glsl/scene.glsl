@@ -62,6 +62,7 @@ bool is_double_sided(uint index) {
 // workshop's signature. Private to each invocation.
 uint g_hit_triangle_index = 0u;
 
+#ifndef USER_DEFINES_RAY_MESH_INTERSECTION
 // Finds the closest triangle that a ray hits (Part 1), brute force over all triangles.
 // \param out_t Ray parameter of the closest hit
 // \param out_triangle The triangle that was hit
@@ -86,5 +87,6 @@ bool ray_mesh_intersection(out float out_t, out triangle_t out_triangle, vec3 ra
     }
     return hit;
 }
+#endif
 
 #endif

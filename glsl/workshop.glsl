@@ -20,6 +20,20 @@ struct triangle_t {
     vec3 emission;
 };
 
+// Prototypes of every workshop function, so that definitions may come in any order: a
+// user's file (see user_functions.glsl) can replace any of them, and the reference versions
+// of the others still call the user's. Each reference definition is skipped when the macro
+// USER_DEFINES_<NAME> is defined.
+vec2 get_random_numbers(inout uvec2 seed);
+vec3 sample_sphere(vec2 random_numbers);
+vec3 sample_hemisphere(vec2 random_numbers, vec3 normal);
+bool ray_triangle_intersection(out float out_t, vec3 ray_origin, vec3 ray_direction, triangle_t triangle);
+bool ray_mesh_intersection(out float out_t, out triangle_t out_triangle, vec3 ray_origin, vec3 ray_direction);
+vec3 get_primary_ray_direction(vec2 tex_coord, vec3 camera_position, vec3 left_bottom, vec3 right, vec3 up);
+vec3 compute_direct_illumination(vec3 shading_position, triangle_t triangle, inout uvec2 seed);
+vec3 get_ray_radiance(vec3 ray_origin, vec3 ray_direction, inout uvec2 seed);
+
+#ifndef USER_DEFINES_GET_RANDOM_NUMBERS
 // A pseudo-random number generator
 // \param seed Numbers that are different for each invocation. Gets updated so
 //           that it can be reused.
@@ -36,7 +50,9 @@ vec2 get_random_numbers(inout uvec2 seed) {
     // Convert to float. The constant here is 2^-32.
     return vec2(seed) * 2.32830643654e-10;
 }
+#endif
 
+#ifndef USER_DEFINES_SAMPLE_SPHERE
 // Maps two uniform random numbers to a uniformly distributed direction on the unit sphere
 // (slide "Uniform sphere sampling", derivation in pbr-book.org 13.6.1).
 // \param random_numbers Uniform (u_0, u_1) in [0,1)^2
@@ -51,7 +67,9 @@ vec3 sample_sphere(vec2 random_numbers) {
     float y = sin(phi) * sqrt(1.0 - z * z);
     return vec3(x, y, z);
 }
+#endif
 
+#ifndef USER_DEFINES_SAMPLE_HEMISPHERE
 // Maps two uniform random numbers to a uniformly distributed direction on the hemisphere
 // around the given normal (slide "Uniform hemisphere sampling").
 // \param random_numbers Uniform (u_0, u_1) in [0,1)^2
@@ -64,7 +82,9 @@ vec3 sample_hemisphere(vec2 random_numbers, vec3 normal) {
         direction -= 2.0 * dot(normal, direction) * normal;
     return direction;
 }
+#endif
 
+#ifndef USER_DEFINES_RAY_TRIANGLE_INTERSECTION
 // Intersects a ray with a triangle (Part 1). Solves
 // ray_origin + t * ray_direction = v_0 + u (v_1 - v_0) + v (v_2 - v_0)
 // for (t, u, v) with Cramer's rule: the workshop's 3x3 linear system, spelled out so that the
@@ -91,7 +111,9 @@ bool ray_triangle_intersection(out float out_t, vec3 ray_origin, vec3 ray_direct
     // these comparisons.
     return t >= 0.0 && u >= 0.0 && v >= 0.0 && u + v <= 1.0;
 }
+#endif
 
+#ifndef USER_DEFINES_GET_PRIMARY_RAY_DIRECTION
 // The pinhole camera of Part 1: the direction of the primary ray through a point of the
 // image plane.
 // \param tex_coord Point of the image in [0,1]^2, (0,0) at the left bottom, y up (ShaderToy's
@@ -104,5 +126,6 @@ vec3 get_primary_ray_direction(vec2 tex_coord, vec3 camera_position, vec3 left_b
     vec3 image_plane_point = left_bottom + tex_coord.x * right + tex_coord.y * up;
     return normalize(image_plane_point - camera_position);
 }
+#endif
 
 #endif
