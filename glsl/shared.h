@@ -56,4 +56,18 @@
 // Bit set in triangle_t's packed emission.w when the triangle emits from both sides.
 #define TRIANGLE_FLAG_DOUBLE_SIDED 1
 
+// Descriptor set 0 of the sample display of `vkpath exercise` (glsl/exercise_samples.comp,
+// host side src/exercise/): a storage buffer of one vec4 colour per pixel. Numbered apart from
+// the path tracer's bindings, which the included scene files declare too.
+#define BINDING_EXERCISE_PIXELS 10
+// Values of the sample display's sampler (its push constant).
+// Exercise 4: sample_sphere().
+#define EXERCISE_SAMPLER_SPHERE 0
+// Exercise 5: sample_hemisphere() around +z.
+#define EXERCISE_SAMPLER_HEMISPHERE 1
+// The slides' naive sample_sphere_spherical_coordinates() ("too many samples at the top").
+#define EXERCISE_SAMPLER_SPHERICAL_COORDINATES 2
+// Number of sample directions the workshop's framework displays (Exercises 4 and 5).
+#define EXERCISE_SAMPLE_COUNT 512
+
 #endif

@@ -19,7 +19,10 @@ pub mod shader_compiler;
 
 pub mod camera;
 pub mod cli;
+pub mod compare;
 pub mod error;
+pub mod exercise;
+pub mod exr_input;
 pub mod gpu_types;
 pub mod image_data;
 pub mod output;

@@ -6,7 +6,9 @@ use glam::Vec3;
 
 use crate::settings::PixelFilter;
 
+pub mod compare;
 pub mod devices;
+pub mod exercise;
 pub mod render;
 pub mod summary;
 
@@ -26,6 +28,10 @@ pub enum Command {
     Render(render::RenderArgs),
     /// List the Vulkan devices.
     Devices,
+    /// Render one of the workshop's exercises as its ShaderToy framework shows it.
+    Exercise(exercise::ExerciseArgs),
+    /// Test whether image A is an unbiased estimate of image B (exit 0: consistent, 1: not, 2: unusable input).
+    Compare(compare::CompareArgs),
 }
 
 /// Options that choose and check the Vulkan device.
@@ -98,6 +104,8 @@ pub fn run(cli: Cli) -> anyhow::Result<()> {
     match cli.command {
         Command::Render(args) => render::run(&args),
         Command::Devices => devices::run(),
+        Command::Exercise(args) => exercise::run(&args),
+        Command::Compare(args) => compare::run(&args),
     }
 }
 

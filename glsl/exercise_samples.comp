@@ -1,0 +1,131 @@
+#version 460
+// The sample display of the workshop's ShaderToy framework for Exercises 4 and 5 ("The
+// framework displays 512 samples"), for `vkpath exercise sample-sphere|sample-hemisphere|
+// spherical-coords`: a dimly shaded unit sphere, seen from a fixed orthographic camera, with a
+// dot wherever one of EXERCISE_SAMPLE_COUNT sample directions lands. Dots on the visible
+// hemisphere are bright; those on the far side show through the sphere, fainter. Every pixel
+// draws the same sample directions from the same seed, so the dots are the samples, not
+// noise. Rust twins of the view and the samples: src/exercise/view.rs.
+
+#include "shared.h"
+
+layout(local_size_x = WORKGROUP_SIZE_X, local_size_y = WORKGROUP_SIZE_Y, local_size_z = 1) in;
+
+// Unused here; declared so that the included scene files (and a user's functions that call
+// them) compile exactly as in path_tracer.comp.
+layout(constant_id = SPEC_MAX_PATH_LENGTH) const int MAX_PATH_LENGTH = 5;
+
+#include "integrator.glsl"
+#include "exercise_samplers.glsl"
+#ifdef USER_FUNCTIONS
+#include "user_functions.glsl"
+#endif
+
+// One linear RGB colour per pixel (alpha 1), rows top-down.
+layout(std430, set = 0, binding = BINDING_EXERCISE_PIXELS) writeonly buffer exercise_pixels {
+    vec4 g_pixels[];
+};
+
+// What the display shows. Mirrors `vkpath::exercise::view::SampleDisplayPushConstants`.
+layout(push_constant) uniform exercise_push_constants {
+    // x, y: image size in pixels; z: EXERCISE_SAMPLER_*; w: seed of the sample sequence
+    uvec4 g_resolution_sampler_seed;
+};
+
+// The camera looks at the sphere from 30 degrees above its equator with +z up in the image,
+// so that the pole where spherical coordinates crowd their samples faces the viewer. The
+// image plane is spanned by SAMPLE_VIEW_RIGHT and SAMPLE_VIEW_UP (orthonormal); the viewer
+// is in direction SAMPLE_VIEW_TOWARD_VIEWER = cross(right, up). Rust twins: SAMPLE_VIEW_*.
+const vec3 SAMPLE_VIEW_RIGHT = vec3(1.0, 0.0, 0.0);
+// (0, sin 30deg, cos 30deg)
+const vec3 SAMPLE_VIEW_UP = vec3(0.0, 0.5, 0.8660254037844386);
+// (0, -cos 30deg, sin 30deg)
+const vec3 SAMPLE_VIEW_TOWARD_VIEWER = vec3(0.0, -0.8660254037844386, 0.5);
+// Half the image height in sphere radii: a margin of 15% around the sphere.
+const float SAMPLE_VIEW_HALF_HEIGHT = 1.15;
+// Unit direction to the light that shades the sphere dimly (from the upper left front).
+const vec3 SAMPLE_VIEW_LIGHT = vec3(-0.48507125007266594, -0.48507125007266594, 0.7276068751089989);
+// Colour of a dot on the visible hemisphere, linear RGB; dots behind the sphere blend
+// BACK_DOT_OPACITY of it over the sphere. The dots are orange and the sphere grey, so a
+// reader (or a test) tells them apart by hue.
+const vec3 DOT_COLOR = vec3(1.0, 0.45, 0.05);
+const float BACK_DOT_OPACITY = 0.35;
+
+// The point of the view's image plane that a pixel centre shows, in sphere radii: x to the
+// right, y up, (0, 0) at the sphere's centre.
+// \param pixel Pixel index, counted from the bottom-left as ShaderToy does
+// \param resolution Image size in pixels
+vec2 get_sample_view_point(uvec2 pixel, uvec2 resolution) {
+    vec2 centered = (vec2(pixel) + 0.5) - 0.5 * vec2(resolution);
+    return centered * (2.0 * SAMPLE_VIEW_HALF_HEIGHT / float(resolution.y));
+}
+
+// Where a direction (a point on the unit sphere) appears in the view: its coordinates in the
+// image plane (orthographic projection), in sphere radii.
+vec2 project_to_sample_view(vec3 direction) {
+    return vec2(dot(direction, SAMPLE_VIEW_RIGHT), dot(direction, SAMPLE_VIEW_UP));
+}
+
+// Sample i of the displayed sequence uses the random numbers of the i-th call of
+// get_random_numbers() from this state. Seed 0 starts PCG2D at (0, 0); other seeds are
+// spread over both words by the odd multipliers of get_sample_seed().
+uvec2 get_sample_display_seed(uint user_seed) {
+    return uvec2(2654435769u, 2246822507u) * user_seed;
+}
+
+// The sampler the display shows, by EXERCISE_SAMPLER_* value.
+// \param sampler_id EXERCISE_SAMPLER_SPHERE, _HEMISPHERE (normal +z) or _SPHERICAL_COORDINATES
+// \param random_numbers Uniform (u_0, u_1) in [0,1)^2
+// \return A unit vector
+vec3 get_exercise_sample_direction(uint sampler_id, vec2 random_numbers) {
+    if (sampler_id == EXERCISE_SAMPLER_HEMISPHERE)
+        return sample_hemisphere(random_numbers, vec3(0.0, 0.0, 1.0));
+    if (sampler_id == EXERCISE_SAMPLER_SPHERICAL_COORDINATES)
+        return sample_sphere_spherical_coordinates(random_numbers);
+    return sample_sphere(random_numbers);
+}
+
+void main() {
+    uvec2 resolution = g_resolution_sampler_seed.xy;
+    uvec2 texel = gl_GlobalInvocationID.xy;
+    if (texel.x >= resolution.x || texel.y >= resolution.y)
+        return;
+    // Image rows run top-down; ShaderToy counts pixels from the bottom-left.
+    uvec2 pixel = uvec2(texel.x, resolution.y - 1u - texel.y);
+    vec2 view_point = get_sample_view_point(pixel, resolution);
+
+    // Ray-cast the unit sphere with the view's parallel ray through this pixel: the ray
+    // o + t d with d = -toward_viewer hits |x| = 1 where t^2 + 2 t (o.d) + o.o - 1 = 0.
+    vec3 origin = view_point.x * SAMPLE_VIEW_RIGHT + view_point.y * SAMPLE_VIEW_UP + 3.0 * SAMPLE_VIEW_TOWARD_VIEWER;
+    vec3 direction = -SAMPLE_VIEW_TOWARD_VIEWER;
+    float half_b = dot(origin, direction);
+    float discriminant = half_b * half_b - (dot(origin, origin) - 1.0);
+    vec3 color = vec3(0.0);
+    if (discriminant >= 0.0) {
+        vec3 normal = normalize(origin + (-half_b - sqrt(discriminant)) * direction);
+        // Dim Lambertian shading plus ambient, so that the dots stand out.
+        color = vec3(0.03 + 0.12 * max(0.0, dot(normal, SAMPLE_VIEW_LIGHT)));
+    }
+
+    // A dot is a disk of radius max(1.5, height / 128) pixels around a sample's projection.
+    float dot_radius = max(1.5, float(resolution.y) / 128.0) * (2.0 * SAMPLE_VIEW_HALF_HEIGHT / float(resolution.y));
+    bool front_dot = false;
+    bool back_dot = false;
+    uint sampler_id = g_resolution_sampler_seed.z;
+    uvec2 seed = get_sample_display_seed(g_resolution_sampler_seed.w);
+    for (int i = 0; i != EXERCISE_SAMPLE_COUNT; ++i) {
+        vec3 sample_direction = get_exercise_sample_direction(sampler_id, get_random_numbers(seed));
+        vec2 offset = project_to_sample_view(sample_direction) - view_point;
+        if (dot(offset, offset) <= dot_radius * dot_radius) {
+            if (dot(sample_direction, SAMPLE_VIEW_TOWARD_VIEWER) >= 0.0)
+                front_dot = true;
+            else
+                back_dot = true;
+        }
+    }
+    if (front_dot)
+        color = DOT_COLOR;
+    else if (back_dot)
+        color = mix(color, DOT_COLOR, BACK_DOT_OPACITY);
+    g_pixels[texel.y * resolution.x + texel.x] = vec4(color, 1.0);
+}

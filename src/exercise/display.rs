@@ -1,0 +1,121 @@
+//! Runs the sample display (`glsl/exercise_samples.comp`) once and reads its colours back.
+
+use std::sync::Arc;
+
+use ash::vk;
+use gpu_allocator::MemoryLocation;
+
+use super::view::{ExerciseSampler, SampleDisplayPushConstants};
+use crate::contract;
+use crate::error::{Error, Result};
+use crate::image_data::RenderedImage;
+use crate::renderer::spirv_words;
+use crate::settings::MAX_IMAGE_SIDE;
+use crate::shaders;
+use crate::vk::{Buffer, CommandRunner, ComputePipeline, Context};
+
+/// Bytes per pixel of the output buffer (one `vec4`).
+const BYTES_PER_PIXEL: u64 = 16;
+
+/// Draws the `EXERCISE_SAMPLE_COUNT` samples of `sampler` (drawn from `seed`) on the unit
+/// sphere, as the workshop's framework displays them for Exercises 4 and 5.
+/// \return Display colours (linear RGB, alpha 1) as an image of one sample per pixel
+pub fn render_sample_display(
+    context: &Arc<Context>,
+    sampler: ExerciseSampler,
+    width: u32,
+    height: u32,
+    seed: u32,
+) -> Result<RenderedImage> {
+    if width == 0 || height == 0 || width > MAX_IMAGE_SIDE || height > MAX_IMAGE_SIDE {
+        return Err(Error::InvalidSettings(format!(
+            "image size {width}x{height} is outside 1..={MAX_IMAGE_SIDE} pixels per side"
+        )));
+    }
+    let byte_size = u64::from(width) * u64::from(height) * BYTES_PER_PIXEL;
+    let device_limit = u64::from(context.limits.max_storage_buffer_range);
+    if byte_size > device_limit {
+        return Err(Error::InvalidSettings(format!(
+            "image size {width}x{height} needs {byte_size} bytes, more than the device's storage buffer limit of {device_limit}"
+        )));
+    }
+    let pixels = Buffer::new(
+        context,
+        "sample display",
+        byte_size,
+        vk::BufferUsageFlags::STORAGE_BUFFER,
+        MemoryLocation::GpuToCpu,
+    )?;
+    let pipeline = ComputePipeline::new(
+        context,
+        &spirv_words(shaders::EXERCISE_SAMPLES)?,
+        &[(
+            contract::BINDING_EXERCISE_PIXELS,
+            vk::DescriptorType::STORAGE_BUFFER,
+        )],
+        std::mem::size_of::<SampleDisplayPushConstants>() as u32,
+        &[],
+    )?;
+    let descriptors = pipeline.allocate_descriptor_set()?;
+    descriptors.write_buffer(
+        contract::BINDING_EXERCISE_PIXELS,
+        vk::DescriptorType::STORAGE_BUFFER,
+        &pixels,
+    );
+    let constants = SampleDisplayPushConstants {
+        resolution_sampler_seed: [width, height, sampler.contract_value(), seed],
+    };
+    let commands = CommandRunner::new(context)?;
+    commands.run(|device, command_buffer| unsafe {
+        // SAFETY: the pipeline, set and buffer live until run() has waited for the work.
+        device.cmd_bind_pipeline(
+            command_buffer,
+            vk::PipelineBindPoint::COMPUTE,
+            pipeline.pipeline,
+        );
+        device.cmd_bind_descriptor_sets(
+            command_buffer,
+            vk::PipelineBindPoint::COMPUTE,
+            pipeline.layout,
+            0,
+            &[descriptors.set],
+            &[],
+        );
+        device.cmd_push_constants(
+            command_buffer,
+            pipeline.layout,
+            vk::ShaderStageFlags::COMPUTE,
+            0,
+            bytemuck::bytes_of(&constants),
+        );
+        device.cmd_dispatch(
+            command_buffer,
+            width.div_ceil(contract::WORKGROUP_SIZE_X),
+            height.div_ceil(contract::WORKGROUP_SIZE_Y),
+            1,
+        );
+        let to_host = vk::MemoryBarrier::default()
+            .src_access_mask(vk::AccessFlags::SHADER_WRITE)
+            .dst_access_mask(vk::AccessFlags::HOST_READ);
+        device.cmd_pipeline_barrier(
+            command_buffer,
+            vk::PipelineStageFlags::COMPUTE_SHADER,
+            vk::PipelineStageFlags::HOST,
+            vk::DependencyFlags::empty(),
+            &[to_host],
+            &[],
+            &[],
+        );
+    })?;
+    let colors: Vec<[f32; 4]> = pixels.read();
+    Ok(RenderedImage {
+        width,
+        height,
+        second_moment: colors
+            .iter()
+            .map(|c| [c[0] * c[0], c[1] * c[1], c[2] * c[2]])
+            .collect(),
+        sample_count: vec![1.0; colors.len()],
+        mean: colors,
+    })
+}

@@ -1,0 +1,89 @@
+//! The workshop's exercises as its ShaderToy framework shows them (`vkpath exercise`): the
+//! unshaded ray tracer of Part 1, the 512-sample displays of Exercises 4 and 5 (and the
+//! slides' "too many samples at the top" counter-example), direct illumination (Exercise 6)
+//! and path tracing (Exercise 7) in the workshop's Cornell box.
+
+pub mod display;
+pub mod view;
+
+pub use display::render_sample_display;
+pub use view::ExerciseSampler;
+
+use crate::settings::Integrator;
+
+/// One of the workshop's pictures.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Exercise {
+    /// Part 1: ray tracing, the albedo of the first hit, unshaded.
+    RayTracing,
+    /// Exercise 4: 512 samples of `sample_sphere` on the sphere.
+    SampleSphere,
+    /// Exercise 5: 512 samples of `sample_hemisphere` (normal +z) on the sphere.
+    SampleHemisphere,
+    /// The slide "Non-uniform sphere sampling": 512 samples of the naive spherical-
+    /// coordinates mapping phi = 2 pi u_0, theta = pi u_1, crowded at the top.
+    SphericalCoords,
+    /// Exercise 6: emission plus one-sample direct illumination.
+    DirectIllumination,
+    /// Exercise 7: path tracing with uniform hemisphere sampling.
+    PathTracing,
+}
+
+/// What an exercise draws.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum ExerciseKind {
+    /// A render of the Cornell box with this integrator.
+    Render(Integrator),
+    /// The sample display of this sampler.
+    Samples(ExerciseSampler),
+}
+
+impl Exercise {
+    /// Every exercise, in the workshop's order.
+    pub const ALL: [Exercise; 6] = [
+        Exercise::RayTracing,
+        Exercise::SampleSphere,
+        Exercise::SampleHemisphere,
+        Exercise::SphericalCoords,
+        Exercise::DirectIllumination,
+        Exercise::PathTracing,
+    ];
+
+    /// Whether the exercise renders the Cornell box or displays samples, and which.
+    pub fn kind(self) -> ExerciseKind {
+        match self {
+            Exercise::RayTracing => ExerciseKind::Render(Integrator::RayTracing),
+            Exercise::SampleSphere => ExerciseKind::Samples(ExerciseSampler::Sphere),
+            Exercise::SampleHemisphere => ExerciseKind::Samples(ExerciseSampler::Hemisphere),
+            Exercise::SphericalCoords => {
+                ExerciseKind::Samples(ExerciseSampler::SphericalCoordinates)
+            }
+            Exercise::DirectIllumination => ExerciseKind::Render(Integrator::DirectIllumination),
+            Exercise::PathTracing => ExerciseKind::Render(Integrator::PathTracing),
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn every_integrator_and_sampler_of_the_workshop_has_an_exercise() {
+        let kinds: Vec<ExerciseKind> = Exercise::ALL.iter().map(|e| e.kind()).collect();
+        for integrator in [
+            Integrator::RayTracing,
+            Integrator::DirectIllumination,
+            Integrator::PathTracing,
+        ] {
+            assert!(kinds.contains(&ExerciseKind::Render(integrator)));
+        }
+        for sampler in [
+            ExerciseSampler::Sphere,
+            ExerciseSampler::Hemisphere,
+            ExerciseSampler::SphericalCoordinates,
+        ] {
+            assert!(kinds.contains(&ExerciseKind::Samples(sampler)));
+        }
+    }
+}

@@ -1,0 +1,157 @@
+//! Reading OpenEXR images back (for `vkpath compare`): the R, G, B channels of the first
+//! layer as mean radiance, and, when the file has them (`vkpath render --moments`), each
+//! pixel's second moment and sample count.
+
+use std::path::Path;
+
+use exr::prelude::{read_first_flat_layer_from_file, AnyChannel, FlatSamples};
+
+use crate::error::{Error, Result};
+use crate::image_data::RenderedImage;
+use crate::output::{SAMPLE_COUNT_CHANNEL, SECOND_MOMENT_CHANNELS};
+
+/// An EXR image as read back.
+#[derive(Clone, Debug, PartialEq)]
+pub struct ExrImage {
+    /// The pixels, rows top-down. Without moments, `second_moment` holds the squared mean
+    /// and `sample_count` is 1 everywhere: the file says nothing about the noise.
+    pub image: RenderedImage,
+    /// Whether the file had the second-moment and sample-count channels.
+    pub has_moments: bool,
+}
+
+/// Reads an OpenEXR file written by `vkpath render` (or any EXR with R, G and B channels in
+/// its first layer, of any sample type). Alpha is set to 1. The moment channels are used
+/// only when all four (`SECOND_MOMENT_CHANNELS` and `SAMPLE_COUNT_CHANNEL`) are present; a
+/// file with only some of them is an error, since it cannot have come from vkpath intact.
+pub fn read_exr(path: &Path) -> Result<ExrImage> {
+    let fail =
+        |message: String| Error::Image(format!("cannot read '{}': {message}", path.display()));
+    if !path.is_file() {
+        return Err(fail("no such file".into()));
+    }
+    let file = read_first_flat_layer_from_file(path).map_err(|e| fail(e.to_string()))?;
+    let layer = &file.layer_data;
+    let (width, height) = (layer.size.width(), layer.size.height());
+    let pixel_count = width * height;
+    let find = |name: &str| -> Option<&AnyChannel<FlatSamples>> {
+        layer
+            .channel_data
+            .list
+            .iter()
+            .find(|channel| channel.name.eq(name))
+    };
+    let values = |name: &str| -> Option<Vec<f32>> {
+        find(name).map(|channel| channel.sample_data.values_as_f32().collect())
+    };
+    let (Some(red), Some(green), Some(blue)) = (values("R"), values("G"), values("B")) else {
+        return Err(fail("it has no R, G and B channels".into()));
+    };
+    let moment_names = [
+        SECOND_MOMENT_CHANNELS[0],
+        SECOND_MOMENT_CHANNELS[1],
+        SECOND_MOMENT_CHANNELS[2],
+        SAMPLE_COUNT_CHANNEL,
+    ];
+    let moments: Vec<Option<Vec<f32>>> = moment_names.iter().map(|name| values(name)).collect();
+    let present = moments.iter().filter(|m| m.is_some()).count();
+    if present != 0 && present != moments.len() {
+        return Err(fail(format!(
+            "it has only some of the moment channels {moment_names:?}"
+        )));
+    }
+    let channels = [&red, &green, &blue];
+    if channels.iter().any(|c| c.len() != pixel_count)
+        || moments.iter().flatten().any(|m| m.len() != pixel_count)
+    {
+        return Err(fail(
+            "a channel does not cover the whole image (subsampled channels are not supported)"
+                .into(),
+        ));
+    }
+    let mean: Vec<[f32; 4]> = (0..pixel_count)
+        .map(|i| [red[i], green[i], blue[i], 1.0])
+        .collect();
+    let has_moments = present == moments.len();
+    let (second_moment, sample_count) = match moments.as_slice() {
+        [Some(r), Some(g), Some(b), Some(n)] => (
+            (0..pixel_count).map(|i| [r[i], g[i], b[i]]).collect(),
+            n.clone(),
+        ),
+        _ => (
+            mean.iter()
+                .map(|m| [m[0] * m[0], m[1] * m[1], m[2] * m[2]])
+                .collect(),
+            vec![1.0; pixel_count],
+        ),
+    };
+    Ok(ExrImage {
+        image: RenderedImage {
+            width: width as u32,
+            height: height as u32,
+            mean,
+            second_moment,
+            sample_count,
+        },
+        has_moments,
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::output::{save_image, SaveOptions};
+
+    fn test_image() -> RenderedImage {
+        RenderedImage {
+            width: 3,
+            height: 2,
+            mean: (0..6)
+                .map(|i| [i as f32, 0.5, 2.0 * i as f32, 1.0])
+                .collect(),
+            second_moment: (0..6).map(|i| [i as f32 * 1.5, 0.3, 7.0]).collect(),
+            sample_count: vec![16.0; 6],
+        }
+    }
+
+    #[test]
+    fn round_trip_with_and_without_moments() {
+        let dir = tempfile::tempdir().unwrap();
+        let image = test_image();
+        let with = dir.path().join("with.exr");
+        save_image(
+            &with,
+            &image,
+            &SaveOptions {
+                moments: true,
+                ..Default::default()
+            },
+        )
+        .unwrap();
+        let read = read_exr(&with).unwrap();
+        assert!(read.has_moments);
+        assert_eq!(read.image, image);
+
+        let without = dir.path().join("without.exr");
+        save_image(&without, &image, &SaveOptions::default()).unwrap();
+        let read = read_exr(&without).unwrap();
+        assert!(!read.has_moments);
+        assert_eq!(read.image.mean, image.mean);
+        assert_eq!(read.image.sample_count, vec![1.0; 6]);
+    }
+
+    #[test]
+    fn missing_and_malformed_files_name_the_path() {
+        let dir = tempfile::tempdir().unwrap();
+        let missing = dir.path().join("missing.exr");
+        let message = read_exr(&missing).unwrap_err().to_string();
+        assert!(
+            message.contains("missing.exr") && message.contains("no such file"),
+            "{message}"
+        );
+        let garbage = dir.path().join("garbage.exr");
+        std::fs::write(&garbage, b"not an exr").unwrap();
+        let message = read_exr(&garbage).unwrap_err().to_string();
+        assert!(message.contains("garbage.exr"), "{message}");
+    }
+}
