@@ -17,6 +17,13 @@
 #define BINDING_RENDER_UNIFORMS 1
 #define BINDING_ACCUMULATION 2
 
+// Descriptor set 0 of the probe kernels (glsl/probe_*.comp, host side src/probe/): the scene's
+// BINDING_TRIANGLES (storage buffer) and BINDING_RENDER_UNIFORMS above, for the functions that
+// trace rays, then a storage buffer of inputs and one of outputs. Numbered apart from the path
+// tracer's bindings, which the included GLSL may declare too.
+#define PROBE_BINDING_INPUTS 8
+#define PROBE_BINDING_OUTPUTS 9
+
 // Layers of the accumulation image (an rgba32f 2D array image).
 // Layer 0: running sum of the radiance samples (rgb), sample count (a).
 #define LAYER_SUM 0

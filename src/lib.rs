@@ -40,3 +40,4 @@ pub use scene::Scene;
 pub use settings::{Integrator, PixelFilter, RenderSettings};
 pub mod cpu;
 pub mod stats;
+pub mod probe;

@@ -1,0 +1,21 @@
+//! GPU probe kernels: each `glsl/probe_<function>.comp` includes the same GLSL files as the
+//! path tracer and evaluates one workshop function on a storage buffer of inputs, so that
+//! tests can compare the GPU with the CPU twins (`crate::cpu`) input by input, and
+//! `vkpath check` can compare a user's version of a function with the reference.
+//!
+//! - `kernel`: which kernels exist (`ProbeKind`) and their pipelines (`ProbePipeline`);
+//! - `layout`: the input and output structs, byte for byte as the kernels declare them;
+//! - `runner`: `ProbeRunner`, which runs a kernel on a `Vec` of inputs;
+//! - `inputs`: deterministic random inputs shared by the tests and `vkpath check`;
+//! - `compare`: error measures (ulps, relative errors) and the near-degenerate
+//!   ray-triangle configurations where two correct algorithms may disagree.
+
+pub mod compare;
+pub mod inputs;
+pub mod kernel;
+pub mod layout;
+pub mod runner;
+
+pub use kernel::{ProbeKind, ProbePipeline};
+pub use layout::*;
+pub use runner::ProbeRunner;

@@ -1,0 +1,181 @@
+//! Runs probe kernels: uploads a buffer of inputs, dispatches one invocation per input
+//! (`PROBE_WORKGROUP_SIZE` per workgroup, in several dispatches and chunks when the inputs
+//! exceed the device's limits) and reads the outputs back.
+
+use std::sync::Arc;
+
+use ash::vk;
+use gpu_allocator::MemoryLocation;
+
+use crate::contract;
+use crate::error::{Error, Result};
+use crate::gpu_types::{GpuTriangle, RenderUniforms};
+use crate::probe::kernel::ProbePipeline;
+use crate::probe::layout::ProbePushConstants;
+use crate::scene::Triangle;
+use crate::vk::{full_compute_barrier, Buffer, CommandRunner, Context};
+
+/// Most inputs uploaded at once: bounds the size of the input and output buffers (128 MiB
+/// for the largest structs, 128 bytes) well below every device's `maxStorageBufferRange`
+/// of at least 2^27 bytes, while 10^6 inputs still go in one chunk.
+const MAX_INPUTS_PER_CHUNK: usize = 1 << 20;
+
+/// Runs probe kernels against one scene (the triangles that `ray_mesh_intersection`,
+/// `compute_direct_illumination` and `get_ray_radiance` see).
+pub struct ProbeRunner {
+    context: Arc<Context>,
+    commands: CommandRunner,
+    triangles: Buffer,
+    uniforms: Buffer,
+}
+
+impl ProbeRunner {
+    /// Uploads `scene_triangles` (a storage buffer, as the probe kernels declare it) and the
+    /// render uniforms whose `.z` is their count. An empty scene is allowed: the kernels that
+    /// do not trace rays need none.
+    pub fn new(context: &Arc<Context>, scene_triangles: &[Triangle]) -> Result<ProbeRunner> {
+        let mut packed: Vec<GpuTriangle> = scene_triangles.iter().map(Triangle::to_gpu).collect();
+        let count = packed.len() as u32;
+        if packed.is_empty() {
+            // A buffer cannot be empty; the count of 0 keeps the shader from reading this.
+            packed.push(bytemuck::Zeroable::zeroed());
+        }
+        let triangles = Buffer::with_data(
+            context,
+            "probe triangles",
+            &packed,
+            vk::BufferUsageFlags::STORAGE_BUFFER,
+        )?;
+        let mut uniforms: RenderUniforms = bytemuck::Zeroable::zeroed();
+        uniforms.resolution_triangle_count_seed = [1, 1, count, 0];
+        let uniforms = Buffer::with_data(
+            context,
+            "probe uniforms",
+            &[uniforms],
+            vk::BufferUsageFlags::UNIFORM_BUFFER,
+        )?;
+        Ok(ProbeRunner {
+            context: context.clone(),
+            commands: CommandRunner::new(context)?,
+            triangles,
+            uniforms,
+        })
+    }
+
+    /// The device the probes run on.
+    pub fn context(&self) -> &Arc<Context> {
+        &self.context
+    }
+
+    /// Evaluates the probe's function on every input and returns the outputs in order.
+    /// `I` and `O` must be the kernel's `probe_input_t` and `probe_output_t` (see
+    /// `ProbeKind`); their sizes are checked.
+    pub fn run<I: bytemuck::Pod, O: bytemuck::Pod>(
+        &self,
+        pipeline: &ProbePipeline,
+        inputs: &[I],
+    ) -> Result<Vec<O>> {
+        let kind = pipeline.kind();
+        let (input_size, output_size) = (std::mem::size_of::<I>(), std::mem::size_of::<O>());
+        if (input_size, output_size) != (kind.input_size(), kind.output_size()) {
+            return Err(Error::InvalidSettings(format!(
+                "probe {kind:?} takes {} and gives {} bytes per element, not {input_size} and {output_size}",
+                kind.input_size(),
+                kind.output_size()
+            )));
+        }
+        let mut outputs = Vec::with_capacity(inputs.len());
+        for chunk in inputs.chunks(MAX_INPUTS_PER_CHUNK) {
+            outputs.extend(self.run_chunk::<I, O>(pipeline, chunk)?);
+        }
+        Ok(outputs)
+    }
+
+    /// One upload, as many dispatches as the workgroup-count limit needs, one read-back.
+    fn run_chunk<I: bytemuck::Pod, O: bytemuck::Pod>(
+        &self,
+        pipeline: &ProbePipeline,
+        inputs: &[I],
+    ) -> Result<Vec<O>> {
+        let count = inputs.len();
+        let input_buffer = Buffer::with_data(
+            &self.context,
+            "probe inputs",
+            inputs,
+            vk::BufferUsageFlags::STORAGE_BUFFER,
+        )?;
+        let output_buffer = Buffer::new(
+            &self.context,
+            "probe outputs",
+            (count * std::mem::size_of::<O>()) as u64,
+            vk::BufferUsageFlags::STORAGE_BUFFER,
+            MemoryLocation::GpuToCpu,
+        )?;
+        let descriptors = pipeline.pipeline.allocate_descriptor_set()?;
+        let storage = vk::DescriptorType::STORAGE_BUFFER;
+        descriptors.write_buffer(contract::BINDING_TRIANGLES, storage, &self.triangles);
+        descriptors.write_buffer(
+            contract::BINDING_RENDER_UNIFORMS,
+            vk::DescriptorType::UNIFORM_BUFFER,
+            &self.uniforms,
+        );
+        descriptors.write_buffer(contract::PROBE_BINDING_INPUTS, storage, &input_buffer);
+        descriptors.write_buffer(contract::PROBE_BINDING_OUTPUTS, storage, &output_buffer);
+
+        let group_size = contract::PROBE_WORKGROUP_SIZE as usize;
+        let max_groups = self.context.limits.max_compute_work_group_count[0].max(1) as usize;
+        let total_groups = count.div_ceil(group_size);
+        let compute = &pipeline.pipeline;
+        let set = descriptors.set;
+        self.commands.run(|device, command_buffer| unsafe {
+            // SAFETY: the pipeline, set and buffers outlive the submission, which run()
+            // waits for.
+            device.cmd_bind_pipeline(
+                command_buffer,
+                vk::PipelineBindPoint::COMPUTE,
+                compute.pipeline,
+            );
+            device.cmd_bind_descriptor_sets(
+                command_buffer,
+                vk::PipelineBindPoint::COMPUTE,
+                compute.layout,
+                0,
+                &[set],
+                &[],
+            );
+            let mut first_group = 0;
+            while first_group < total_groups {
+                let groups = (total_groups - first_group).min(max_groups);
+                let constants = ProbePushConstants {
+                    first: (first_group * group_size) as u32,
+                    count: count as u32,
+                };
+                device.cmd_push_constants(
+                    command_buffer,
+                    compute.layout,
+                    vk::ShaderStageFlags::COMPUTE,
+                    0,
+                    bytemuck::bytes_of(&constants),
+                );
+                device.cmd_dispatch(command_buffer, groups as u32, 1, 1);
+                first_group += groups;
+            }
+            full_compute_barrier(device, command_buffer);
+            let to_host = vk::MemoryBarrier::default()
+                .src_access_mask(vk::AccessFlags::SHADER_WRITE)
+                .dst_access_mask(vk::AccessFlags::HOST_READ);
+            device.cmd_pipeline_barrier(
+                command_buffer,
+                vk::PipelineStageFlags::COMPUTE_SHADER,
+                vk::PipelineStageFlags::HOST,
+                vk::DependencyFlags::empty(),
+                &[to_host],
+                &[],
+                &[],
+            );
+        })?;
+        let mut outputs: Vec<O> = output_buffer.read();
+        outputs.truncate(count);
+        Ok(outputs)
+    }
+}
