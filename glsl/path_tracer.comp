@@ -16,8 +16,12 @@ layout(constant_id = SPEC_MAX_PATH_LENGTH) const int MAX_PATH_LENGTH = 5;
 layout(constant_id = SPEC_PIXEL_FILTER) const int PIXEL_FILTER = PIXEL_FILTER_BOX;
 // INTEGRATOR_PATH_TRACING, INTEGRATOR_DIRECT_ILLUMINATION or INTEGRATOR_RAY_TRACING.
 layout(constant_id = SPEC_INTEGRATOR) const int INTEGRATOR = INTEGRATOR_PATH_TRACING;
+// Path vertex after which Russian roulette may end a path (importance-sampled integrators
+// only); 0 turns it off.
+layout(constant_id = SPEC_RUSSIAN_ROULETTE_START) const int RUSSIAN_ROULETTE_START = 0;
 
 #include "integrator.glsl"
+#include "importance_sampling.glsl"
 #include "camera.glsl"
 #ifdef USER_FUNCTIONS
 #include "user_functions.glsl"
@@ -38,6 +42,8 @@ vec3 get_sample_radiance(vec3 ray_direction, inout uvec2 seed) {
     vec3 camera_position = g_camera_position.xyz;
     if (INTEGRATOR == INTEGRATOR_PATH_TRACING)
         return get_ray_radiance(camera_position, ray_direction, seed);
+    if (INTEGRATOR == INTEGRATOR_COSINE || INTEGRATOR == INTEGRATOR_NEE || INTEGRATOR == INTEGRATOR_MIS)
+        return get_ray_radiance_importance_sampled(camera_position, ray_direction, seed);
     float t;
     triangle_t triangle;
     if (!ray_mesh_intersection(t, triangle, camera_position, ray_direction))
@@ -57,7 +63,8 @@ void main() {
     uvec2 pixel = uvec2(texel.x, resolution.y - 1u - texel.y);
 
     vec4 sum = imageLoad(g_accumulation, ivec3(texel, LAYER_SUM));
-    precise vec3 compensation = imageLoad(g_accumulation, ivec3(texel, LAYER_COMPENSATION)).rgb;
+    vec4 compensation_and_rays = imageLoad(g_accumulation, ivec3(texel, LAYER_COMPENSATION));
+    precise vec3 compensation = compensation_and_rays.rgb;
     vec3 sum_of_squares = imageLoad(g_accumulation, ivec3(texel, LAYER_SUM_OF_SQUARES)).rgb;
     for (int i = 0; i != SAMPLE_COUNT; ++i) {
         uint sample_index = g_first_sample_index + uint(i);
@@ -77,6 +84,7 @@ void main() {
         sum_of_squares += radiance * radiance;
     }
     imageStore(g_accumulation, ivec3(texel, LAYER_SUM), sum);
-    imageStore(g_accumulation, ivec3(texel, LAYER_COMPENSATION), vec4(compensation, 0.0));
+    // Ray counts are exact in a float up to 2^24 per pixel, far beyond what a benchmark takes.
+    imageStore(g_accumulation, ivec3(texel, LAYER_COMPENSATION), vec4(compensation, compensation_and_rays.a + float(g_ray_count)));
     imageStore(g_accumulation, ivec3(texel, LAYER_SUM_OF_SQUARES), vec4(sum_of_squares, 0.0));
 }

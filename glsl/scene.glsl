@@ -62,6 +62,9 @@ bool is_double_sided(uint index) {
 // workshop's signature. Private to each invocation.
 uint g_hit_triangle_index = 0u;
 
+// Number of rays this invocation traced (vkpath's addition, for `vkpath bench`'s rays/s).
+uint g_ray_count = 0u;
+
 #ifndef USER_DEFINES_RAY_MESH_INTERSECTION
 // Finds the closest triangle that a ray hits (Part 1), brute force over all triangles.
 // \param out_t Ray parameter of the closest hit
@@ -69,6 +72,7 @@ uint g_hit_triangle_index = 0u;
 // \param ray_origin, ray_direction The ray, world space
 // \return true iff any triangle was hit; then g_hit_triangle_index names the triangle
 bool ray_mesh_intersection(out float out_t, out triangle_t out_triangle, vec3 ray_origin, vec3 ray_direction) {
+    ++g_ray_count;
     out_t = 1.0e38;
     uint hit_index = 0u;
     bool hit = false;

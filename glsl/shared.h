@@ -23,11 +23,13 @@
 // tracer's bindings, which the included GLSL may declare too.
 #define PROBE_BINDING_INPUTS 8
 #define PROBE_BINDING_OUTPUTS 9
+// Emissive triangles and their power CDF, for light sampling (nee, mis).
+#define BINDING_LIGHTS 4
 
 // Layers of the accumulation image (an rgba32f 2D array image).
 // Layer 0: running sum of the radiance samples (rgb), sample count (a).
 #define LAYER_SUM 0
-// Layer 1: Kahan compensation of the sum (rgb).
+// Layer 1: Kahan compensation of the sum (rgb), number of rays traced (a).
 #define LAYER_COMPENSATION 1
 // Layer 2: running sum of squared radiance samples (rgb), for variance estimates.
 #define LAYER_SUM_OF_SQUARES 2
@@ -38,6 +40,8 @@
 #define SPEC_MAX_PATH_LENGTH 1
 #define SPEC_PIXEL_FILTER 2
 #define SPEC_INTEGRATOR 3
+// Path vertex (surface hit, from 1) after which Russian roulette may end a path; 0: never.
+#define SPEC_RUSSIAN_ROULETTE_START 4
 
 // Values of SPEC_PIXEL_FILTER.
 // Uniform jitter inside the pixel: the box-filtered image.
@@ -52,6 +56,13 @@
 #define INTEGRATOR_DIRECT_ILLUMINATION 1
 // Part 1: unshaded ray tracing, the albedo of the first triangle hit.
 #define INTEGRATOR_RAY_TRACING 2
+// Path tracing with cosine-weighted hemisphere sampling (BRDF importance sampling).
+#define INTEGRATOR_COSINE 3
+// Next event estimation: a light sample (power-proportional triangle, uniform point, shadow
+// ray) at every vertex, cosine sampling to continue; emission found by BRDF rays is ignored.
+#define INTEGRATOR_NEE 4
+// Multiple importance sampling of light and cosine samples with the power heuristic.
+#define INTEGRATOR_MIS 5
 
 // Scenes with at most this many triangles are read from a uniform buffer instead of a storage
 // buffer (the path_tracer_uniform kernel): 682 * 96 bytes fits the 64 KiB that every Vulkan
@@ -76,5 +87,18 @@
 #define EXERCISE_SAMPLER_SPHERICAL_COORDINATES 2
 // Number of sample directions the workshop's framework displays (Exercises 4 and 5).
 #define EXERCISE_SAMPLE_COUNT 512
+
+// The bounding volume hierarchy (glsl/bvh.glsl, host side src/bvh/): a storage buffer of
+// bvh_node_t, 32 bytes each, in descriptor set 0 beside the triangles it indexes.
+#define BINDING_BVH_NODES 3
+// Entries of the traversal stack of bvh_closest_hit() and bvh_any_hit(). The builder makes no
+// leaf deeper than this (root: depth 0), which is what the stack needs: at most one entry is
+// pushed per interior node on the path from the root.
+#define BVH_STACK_SIZE 32
+// Descriptor set 0 of glsl/probe_bvh.comp (tests/bvh_gpu.rs): the scene's BINDING_TRIANGLES
+// (storage buffer), BINDING_RENDER_UNIFORMS and BINDING_BVH_NODES, then a storage buffer of
+// rays and one of results.
+#define BVH_PROBE_BINDING_RAYS 11
+#define BVH_PROBE_BINDING_RESULTS 12
 
 #endif

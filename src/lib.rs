@@ -25,6 +25,8 @@ pub mod exercise;
 pub mod exr_input;
 pub mod gpu_types;
 pub mod image_data;
+pub mod lights;
+pub mod bench;
 pub mod output;
 pub mod procedural;
 pub mod renderer;

@@ -12,6 +12,7 @@ use crate::contract;
 use crate::error::{Error, Result};
 use crate::gpu_types::{FramePushConstants, RenderUniforms};
 use crate::image_data::RenderedImage;
+use crate::lights::LightTable;
 use crate::scene::Scene;
 use crate::settings::RenderSettings;
 use crate::shaders;
@@ -92,8 +93,10 @@ pub struct Renderer {
     // Bound through the descriptor set; kept alive as long as it.
     _triangles: Buffer,
     _uniforms: Buffer,
+    _lights: Buffer,
     samples_done: u32,
     frames_per_batch: u32,
+    rays_traced: f64,
 }
 
 impl Renderer {
@@ -104,6 +107,42 @@ impl Renderer {
         scene: &Scene,
         camera: &Camera,
         settings: RenderSettings,
+    ) -> Result<Renderer> {
+        Renderer::create(context, scene, camera, settings, None)
+    }
+
+    /// Prepares a render like `new`, with the kernel's SPIR-V given instead of the embedded
+    /// one: `glsl/path_tracer.comp` compiled at run time, e.g. with a user's functions by
+    /// `vkpath check`. `layout` says how it was compiled: `Uniform` with
+    /// `TRIANGLES_IN_UNIFORM_BUFFER` defined (the scene must fit `UNIFORM_TRIANGLE_CAPACITY`),
+    /// `Storage` without.
+    pub fn with_kernel(
+        context: &Arc<Context>,
+        scene: &Scene,
+        camera: &Camera,
+        settings: RenderSettings,
+        spirv: &[u32],
+        layout: TriangleLayout,
+    ) -> Result<Renderer> {
+        let capacity = contract::UNIFORM_TRIANGLE_CAPACITY as usize;
+        if layout == TriangleLayout::Uniform && scene.triangles.len() > capacity {
+            return Err(Error::InvalidSettings(format!(
+                "a kernel with triangles in a uniform buffer holds at most {capacity} triangles, \
+                 the scene has {}",
+                scene.triangles.len()
+            )));
+        }
+        Renderer::create(context, scene, camera, settings, Some((spirv, layout)))
+    }
+
+    /// `new` (`kernel` = `None`: the embedded kernel for the layout that suits the scene) and
+    /// `with_kernel`.
+    fn create(
+        context: &Arc<Context>,
+        scene: &Scene,
+        camera: &Camera,
+        settings: RenderSettings,
+        kernel: Option<(&[u32], TriangleLayout)>,
     ) -> Result<Renderer> {
         settings.validate()?;
         let device_limit = context.limits.max_image_dimension2_d;
@@ -117,8 +156,13 @@ impl Renderer {
             return Err(Error::MissingInput("the scene has no triangles".into()));
         }
         let commands = CommandRunner::new(context)?;
-        let layout = TriangleLayout::choose(context, scene.triangles.len());
+        let layout = match kernel {
+            Some((_, layout)) => layout,
+            None => TriangleLayout::choose(context, scene.triangles.len()),
+        };
         let mut gpu_triangles = scene.gpu_triangles();
+        let lights = LightTable::new(&scene.triangles);
+        lights.annotate(&mut gpu_triangles);
         if layout == TriangleLayout::Uniform {
             // The uniform block declares the full capacity; its tail stays zero.
             gpu_triangles.resize(
@@ -145,9 +189,19 @@ impl Renderer {
             )],
             vk::BufferUsageFlags::UNIFORM_BUFFER,
         )?;
+        let light_buffer = upload_device_local(
+            context,
+            &commands,
+            "lights",
+            &lights.gpu_bytes(),
+            vk::BufferUsageFlags::STORAGE_BUFFER,
+        )?;
         let pipeline = ComputePipeline::new(
             context,
-            &spirv_words(layout.kernel())?,
+            &match kernel {
+                Some((spirv, _)) => spirv.to_vec(),
+                None => spirv_words(layout.kernel())?,
+            },
             &[
                 (contract::BINDING_TRIANGLES, layout.descriptor_type()),
                 (
@@ -158,6 +212,7 @@ impl Renderer {
                     contract::BINDING_ACCUMULATION,
                     vk::DescriptorType::STORAGE_IMAGE,
                 ),
+                (contract::BINDING_LIGHTS, vk::DescriptorType::STORAGE_BUFFER),
             ],
             std::mem::size_of::<FramePushConstants>() as u32,
             &[
@@ -170,6 +225,10 @@ impl Renderer {
                 (
                     contract::SPEC_INTEGRATOR,
                     settings.integrator.spec_constant(),
+                ),
+                (
+                    contract::SPEC_RUSSIAN_ROULETTE_START,
+                    settings.russian_roulette_start,
                 ),
             ],
         )?;
@@ -199,6 +258,7 @@ impl Renderer {
             &uniforms,
         );
         descriptors.write_storage_image(contract::BINDING_ACCUMULATION, &accumulation);
+        descriptors.write_buffer(contract::BINDING_LIGHTS, vk::DescriptorType::STORAGE_BUFFER, &light_buffer);
         commands.run(|device, command_buffer| {
             clear_to_general(device, command_buffer, &accumulation)
         })?;
@@ -212,8 +272,10 @@ impl Renderer {
             readback,
             _triangles: triangles,
             _uniforms: uniforms,
+            _lights: light_buffer,
             samples_done: 0,
             frames_per_batch: 1,
+            rays_traced: 0.0,
         })
     }
 
@@ -230,6 +292,11 @@ impl Renderer {
     /// Samples per pixel accumulated so far.
     pub fn samples_done(&self) -> u32 {
         self.samples_done
+    }
+
+    /// Rays traced so far (camera, path and shadow rays), as of the last `read_back()`.
+    pub fn rays_traced(&self) -> f64 {
+        self.rays_traced
     }
 
     /// Whether all `spp` samples have been taken.
@@ -377,6 +444,12 @@ impl Renderer {
             );
         })?;
         let texels: Vec<[f32; 4]> = self.readback.read();
+        let pixels = (self.settings.width * self.settings.height) as usize;
+        let compensation_layer = contract::LAYER_COMPENSATION as usize * pixels;
+        self.rays_traced = texels[compensation_layer..compensation_layer + pixels]
+            .iter()
+            .map(|texel| f64::from(texel[3]))
+            .sum();
         Ok(RenderedImage::from_accumulation(
             self.settings.width,
             self.settings.height,

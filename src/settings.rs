@@ -33,6 +33,12 @@ pub enum Integrator {
     DirectIllumination,
     /// Part 1: the albedo of the first hit, unshaded.
     RayTracing,
+    /// Path tracing with cosine-weighted hemisphere sampling.
+    Cosine,
+    /// Next event estimation: a light sample at every vertex, cosine sampling to continue.
+    Nee,
+    /// Light and cosine samples combined with the power heuristic.
+    Mis,
 }
 
 impl Integrator {
@@ -42,7 +48,15 @@ impl Integrator {
             Integrator::PathTracing => contract::INTEGRATOR_PATH_TRACING,
             Integrator::DirectIllumination => contract::INTEGRATOR_DIRECT_ILLUMINATION,
             Integrator::RayTracing => contract::INTEGRATOR_RAY_TRACING,
+            Integrator::Cosine => contract::INTEGRATOR_COSINE,
+            Integrator::Nee => contract::INTEGRATOR_NEE,
+            Integrator::Mis => contract::INTEGRATOR_MIS,
         }
+    }
+
+    /// Whether this is a path tracer with importance sampling (and Russian roulette).
+    pub fn is_importance_sampled(self) -> bool {
+        matches!(self, Integrator::Cosine | Integrator::Nee | Integrator::Mis)
     }
 }
 
@@ -74,6 +88,9 @@ pub struct RenderSettings {
     /// Samples per pixel per frame (the workshop's SAMPLE_COUNT). Keep frames short: a GPU
     /// watchdog may kill a long dispatch.
     pub samples_per_frame: u32,
+    /// Path vertex after which Russian roulette may end a path (importance-sampled
+    /// integrators only); 0 turns it off. `max_path_length` stays a hard limit.
+    pub russian_roulette_start: u32,
 }
 
 impl Default for RenderSettings {
@@ -87,6 +104,7 @@ impl Default for RenderSettings {
             pixel_filter: PixelFilter::Box,
             integrator: Integrator::PathTracing,
             samples_per_frame: 1,
+            russian_roulette_start: 3,
         }
     }
 }

@@ -43,6 +43,14 @@ pub struct RenderArgs {
     /// Random seed; 0 seeds exactly as the workshop does.
     #[arg(long, default_value_t = 0)]
     pub seed: u32,
+    /// Sampling strategy: the workshop's uniform hemisphere sampling, cosine-weighted
+    /// sampling, next event estimation, or multiple importance sampling.
+    #[arg(long, value_enum, default_value_t = IntegratorArg::Workshop)]
+    pub integrator: IntegratorArg,
+    /// Path vertex after which Russian roulette may end a path (cosine, nee, mis); 0 turns
+    /// it off. --max-path-length stays a hard limit.
+    #[arg(long, default_value_t = 3)]
+    pub russian_roulette_start: u32,
     /// Where samples look inside a pixel.
     #[arg(long, value_enum, default_value_t = PixelFilterArg::Box)]
     pub pixel_filter: PixelFilterArg,
@@ -71,7 +79,13 @@ pub struct RenderArgs {
 
 impl RenderArgs {
     /// The render settings these arguments describe.
-    pub fn settings(&self, integrator: Integrator) -> RenderSettings {
+    pub fn settings(&self) -> RenderSettings {
+        let integrator = match self.integrator {
+            IntegratorArg::Workshop => Integrator::PathTracing,
+            IntegratorArg::Cosine => Integrator::Cosine,
+            IntegratorArg::Nee => Integrator::Nee,
+            IntegratorArg::Mis => Integrator::Mis,
+        };
         RenderSettings {
             width: self.width,
             height: self.height,
@@ -81,8 +95,22 @@ impl RenderArgs {
             pixel_filter: self.pixel_filter.into(),
             integrator,
             samples_per_frame: self.samples_per_frame,
+            russian_roulette_start: self.russian_roulette_start,
         }
     }
+}
+
+/// `--integrator` values.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+pub enum IntegratorArg {
+    /// Uniform hemisphere sampling, exactly as the workshop's slides.
+    Workshop,
+    /// Cosine-weighted hemisphere sampling.
+    Cosine,
+    /// Next event estimation (light sampling).
+    Nee,
+    /// Light and cosine sampling combined with the power heuristic.
+    Mis,
 }
 
 /// Loads the scene the user named, or the built-in one.
@@ -125,7 +153,7 @@ static INTERRUPTED: AtomicBool = AtomicBool::new(false);
 
 /// Runs `vkpath render`.
 pub fn run(args: &RenderArgs) -> anyhow::Result<()> {
-    let settings = args.settings(Integrator::PathTracing);
+    let settings = args.settings();
     settings.validate()?;
     check_writable(&args.output)?;
     let scene = load_scene(args.scene.as_deref())?;

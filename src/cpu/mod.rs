@@ -4,6 +4,7 @@
 
 pub mod camera;
 pub mod image;
+pub mod importance_sampling;
 pub mod integrator;
 pub mod renderer;
 pub mod workshop;

@@ -1,0 +1,189 @@
+// What the workshop's closing slide names next: BRDF importance sampling (cosine-weighted
+// directions), light sampling (next event estimation), multiple importance sampling and
+// Russian roulette. Samplers come in pairs sample_x / get_x_density, as in Peters' renderers.
+// Rust twins: src/cpu/importance_sampling.rs. Needs MAX_PATH_LENGTH, INTEGRATOR and
+// RUSSIAN_ROULETTE_START defined by the includer.
+#ifndef VKPATH_IMPORTANCE_SAMPLING_GLSL
+#define VKPATH_IMPORTANCE_SAMPLING_GLSL
+
+#include "integrator.glsl"
+
+// Emissive triangles: x = triangle index (uint bits), y = cumulative probability of choosing
+// this light or an earlier one (power-proportional; the last is 1). Mirrors
+// `vkpath::gpu_types::GpuLight`. The selection probability of each triangle (0 for
+// non-emitters) is stored in its packed normal.w, for MIS.
+struct light_t {
+    vec4 data;
+};
+layout(std430, set = 0, binding = BINDING_LIGHTS) readonly buffer light_buffer {
+    uint g_light_count;
+    uint g_light_padding[3];
+    light_t g_lights[];
+};
+
+// Maps two uniform random numbers to a cosine-distributed direction around a normal
+// (Malley's method: a uniform point on the unit disk, projected up to the hemisphere).
+// \param random_numbers Uniform (u_0, u_1) in [0,1)^2
+// \param normal Unit normal n, world space
+// \return A unit vector omega with density get_hemisphere_cosine_density()
+vec3 sample_hemisphere_cosine(vec2 random_numbers, vec3 normal) {
+    // An orthonormal basis around n (Duff et al. 2017, "Building an Orthonormal Basis,
+    // Revisited", JCGT 6(1)).
+    float sign_z = (normal.z >= 0.0) ? 1.0 : -1.0;
+    float a = -1.0 / (sign_z + normal.z);
+    float b = normal.x * normal.y * a;
+    vec3 tangent = vec3(1.0 + sign_z * normal.x * normal.x * a, sign_z * b, -sign_z * normal.x);
+    vec3 bitangent = vec3(b, sign_z + normal.y * normal.y * a, -normal.y);
+    float radius = sqrt(random_numbers[0]);
+    float phi = 2.0 * M_PI * random_numbers[1];
+    float x = radius * cos(phi);
+    float y = radius * sin(phi);
+    float z = sqrt(max(0.0, 1.0 - random_numbers[0]));
+    return x * tangent + y * bitangent + z * normal;
+}
+
+// Density of sample_hemisphere_cosine() w.r.t. solid angle: max(0, n.omega) / pi.
+float get_hemisphere_cosine_density(vec3 normal, vec3 direction) {
+    return max(0.0, dot(normal, direction)) / M_PI;
+}
+
+// Area of a triangle (world space, square metres).
+float get_triangle_area(triangle_t triangle) {
+    return 0.5 * length(cross(triangle.positions[1] - triangle.positions[0], triangle.positions[2] - triangle.positions[0]));
+}
+
+// A uniformly distributed point on a triangle (pbrt-v3 13.6.5: b_0 = 1 - sqrt(u_0),
+// b_1 = u_1 sqrt(u_0)); density 1 / area w.r.t. area.
+vec3 sample_triangle_point(vec2 random_numbers, triangle_t triangle) {
+    float root = sqrt(random_numbers[0]);
+    float b_0 = 1.0 - root;
+    float b_1 = random_numbers[1] * root;
+    return b_0 * triangle.positions[0] + b_1 * triangle.positions[1] + (1.0 - b_0 - b_1) * triangle.positions[2];
+}
+
+// Chooses an emissive triangle in proportion to its power by binary search in the CDF.
+// \param random_number Uniform in [0,1)
+// \return Index into g_lights; only valid when g_light_count > 0
+uint sample_light_index(float random_number) {
+    uint low = 0u;
+    uint high = g_light_count - 1u;
+    // At most 32 halvings for any uint count.
+    for (int i = 0; i != 32 && low < high; ++i) {
+        uint middle = (low + high) / 2u;
+        if (random_number < g_lights[middle].data.y)
+            high = middle;
+        else
+            low = middle + 1u;
+    }
+    return low;
+}
+
+// Probability that sample_light_index() picks the given scene triangle (0 for non-emitters).
+float get_light_selection_probability(uint triangle_index) {
+    return g_triangles[triangle_index].normal.w;
+}
+
+// Density w.r.t. solid angle at the shading point of a light sample that lands on an
+// emitter at `distance` along `direction`: p_select / area * distance^2 / |n_light.omega|.
+float get_light_density(float selection_probability, triangle_t light, vec3 direction, float distance) {
+    float cosine = abs(dot(light.normal, direction));
+    return selection_probability * distance * distance / (get_triangle_area(light) * max(cosine, 1.0e-20));
+}
+
+// Whether anything blocks the segment from `origin` to distance `distance` along `direction`
+// (the emitter at its end excluded by a relative margin of 2^-14).
+bool is_occluded(vec3 origin, vec3 direction, float distance) {
+    float t;
+    triangle_t blocker;
+    return ray_mesh_intersection(t, blocker, origin, direction) && t < distance * (1.0 - 6.103515625e-05);
+}
+
+// The power heuristic with exponent 2 (Veach 1997): weight of a sample from the strategy
+// with density `density` against one other strategy with density `other_density`.
+float get_power_heuristic_weight(float density, float other_density) {
+    float squared = density * density;
+    float other_squared = other_density * other_density;
+    return (squared + other_squared > 0.0) ? squared / (squared + other_squared) : 0.0;
+}
+
+// One light sample at a diffuse surface point (next event estimation), MIS-weighted
+// against cosine sampling when INTEGRATOR == INTEGRATOR_MIS:
+// a(x)/pi * L_e(y) * (n.omega) / p_light(omega) * w_light
+// \param shading_position Point x, world space
+// \param triangle The triangle at x, oriented towards the incoming ray
+// \param seed The pixel's random state
+vec3 sample_direct_light(vec3 shading_position, triangle_t triangle, inout uvec2 seed) {
+    vec2 selection = get_random_numbers(seed);
+    vec2 point_randoms = get_random_numbers(seed);
+    if (g_light_count == 0u)
+        return vec3(0.0);
+    uint light_triangle_index = floatBitsToUint(g_lights[sample_light_index(selection[0])].data.x);
+    triangle_t light = get_triangle(light_triangle_index);
+    vec3 origin = offset_ray_origin(shading_position, triangle.normal);
+    vec3 to_light = sample_triangle_point(point_randoms, light) - origin;
+    float distance = length(to_light);
+    vec3 direction = to_light / distance;
+    float cosine = dot(triangle.normal, direction);
+    // One-sided emitters shine only towards their normal.
+    bool front = dot(light.normal, direction) < 0.0;
+    if (cosine <= 0.0 || !(distance > 0.0) || (!front && !is_double_sided(light_triangle_index)))
+        return vec3(0.0);
+    if (is_occluded(origin, direction, distance))
+        return vec3(0.0);
+    float light_density = get_light_density(get_light_selection_probability(light_triangle_index), light, direction, distance);
+    float weight = (INTEGRATOR == INTEGRATOR_MIS) ? get_power_heuristic_weight(light_density, get_hemisphere_cosine_density(triangle.normal, direction)) : 1.0;
+    return triangle.color / M_PI * light.emission * cosine / light_density * weight;
+}
+
+// Path tracing with importance sampling (INTEGRATOR_COSINE, _NEE or _MIS): the workshop's
+// loop of get_ray_radiance() with cosine-weighted directions, so the throughput update
+// a 2 (n.omega) becomes a (n.omega) / pi / p(omega) = a; light samples at each vertex for NEE
+// and MIS; and Russian roulette after RUSSIAN_ROULETTE_START vertices. MAX_PATH_LENGTH
+// bounds the number of surface hits as in the workshop: a light sample at vertex j stands
+// for a hit j + 1, so it is taken only while j < MAX_PATH_LENGTH.
+vec3 get_ray_radiance_importance_sampled(vec3 ray_origin, vec3 ray_direction, inout uvec2 seed) {
+    vec3 radiance = vec3(0.0);
+    vec3 throughput_weight = vec3(1.0);
+    // Density of the cosine sample that produced ray_direction (0: the camera ray).
+    float direction_density = 0.0;
+    vec3 previous_position = ray_origin;
+    for (int i = 0; i != MAX_PATH_LENGTH; ++i) {
+        float t;
+        triangle_t triangle;
+        if (!ray_mesh_intersection(t, triangle, ray_origin, ray_direction))
+            break;
+        uint triangle_index = g_hit_triangle_index;
+        orient_towards_ray(triangle, ray_direction, is_double_sided(triangle_index));
+        ray_origin += t * ray_direction;
+        // Emission found by following the path: all of it for cosine sampling and for the
+        // camera ray; none for NEE (light samples account for it); MIS-weighted for MIS.
+        if (i == 0 || INTEGRATOR == INTEGRATOR_COSINE) {
+            radiance += throughput_weight * triangle.emission;
+        } else if (INTEGRATOR == INTEGRATOR_MIS && triangle.emission != vec3(0.0)) {
+            float light_density = get_light_density(get_light_selection_probability(triangle_index), triangle, ray_direction, t);
+            radiance += throughput_weight * triangle.emission * get_power_heuristic_weight(direction_density, light_density);
+        }
+        if (i + 1 == MAX_PATH_LENGTH)
+            break;
+        if (INTEGRATOR != INTEGRATOR_COSINE)
+            radiance += throughput_weight * sample_direct_light(ray_origin, triangle, seed);
+        // Continue with a cosine sample: weight a(x) (n.omega) / pi / p(omega) = a(x).
+        ray_direction = sample_hemisphere_cosine(get_random_numbers(seed), triangle.normal);
+        direction_density = get_hemisphere_cosine_density(triangle.normal, ray_direction);
+        if (direction_density <= 0.0)
+            break;
+        throughput_weight *= triangle.color;
+        ray_origin = offset_ray_origin(ray_origin, triangle.normal);
+        // Russian roulette: continue with probability q = min(1, max throughput component)
+        // and divide by q, which keeps the estimate unbiased.
+        if (RUSSIAN_ROULETTE_START > 0 && i + 1 >= RUSSIAN_ROULETTE_START) {
+            float survival = min(1.0, max(throughput_weight.r, max(throughput_weight.g, throughput_weight.b)));
+            if (get_random_numbers(seed)[0] >= survival)
+                break;
+            throughput_weight /= survival;
+        }
+    }
+    return radiance;
+}
+
+#endif

@@ -1,0 +1,231 @@
+//! `vkpath bench`: renders a fixed scene with each integrator at a fixed spp and compares
+//! them fairly: samples/s and rays/s for speed, relative MSE against a high-spp reference for
+//! quality, and efficiency 1 / (relMSE * seconds), with the time each needs to reach a relMSE
+//! of 0.005. Pipeline creation (cold start) is timed apart from the steady-state frames.
+
+use std::sync::Arc;
+use std::time::Instant;
+
+use serde::Serialize;
+
+use crate::camera::Camera;
+use crate::error::Result;
+use crate::image_data::RenderedImage;
+use crate::renderer::Renderer;
+use crate::scene::Scene;
+use crate::settings::{Integrator, RenderSettings};
+use crate::vk::Context;
+
+/// The relMSE at which `seconds_to_target` is reported.
+pub const TARGET_RELATIVE_MSE: f64 = 0.005;
+
+/// One integrator's measurements.
+#[derive(Clone, Debug, Serialize)]
+pub struct BenchResult {
+    /// Integrator name as `--integrator` spells it.
+    pub integrator: String,
+    /// Seconds to create the renderer (pipeline compilation, uploads).
+    pub cold_start_seconds: f64,
+    /// Seconds of rendering (all frames, read-back excluded).
+    pub render_seconds: f64,
+    /// Samples (paths) per second.
+    pub samples_per_second: f64,
+    /// Rays per second (camera, path and shadow rays).
+    pub rays_per_second: f64,
+    /// Mean over pixels and channels of (x - r)^2 / (r^2 + 0.01).
+    pub relative_mse: f64,
+    /// 1 / (relMSE * seconds): higher is better.
+    pub efficiency: f64,
+    /// Seconds to reach relMSE 0.005, assuming relMSE falls as 1 / time (unbiased MC).
+    pub seconds_to_target: f64,
+}
+
+/// The benchmark's setup and results.
+#[derive(Clone, Debug, Serialize)]
+pub struct BenchReport {
+    /// Device name and kind.
+    pub device: String,
+    /// Scene description.
+    pub scene: String,
+    /// Number of triangles.
+    pub triangle_count: usize,
+    /// Image size.
+    pub width: u32,
+    /// Image size.
+    pub height: u32,
+    /// Samples per pixel of each measured render.
+    pub spp: u32,
+    /// Samples per pixel of the reference (rendered with MIS).
+    pub reference_spp: u32,
+    /// Maximum path length of every render.
+    pub max_path_length: u32,
+    /// Per integrator.
+    pub results: Vec<BenchResult>,
+}
+
+/// Relative MSE of `image` against `reference`: mean of (x - r)^2 / (r^2 + 0.01) over all
+/// pixels and colour channels (the 0.01 keeps dark pixels from dominating).
+pub fn relative_mse(image: &RenderedImage, reference: &RenderedImage) -> f64 {
+    let mut total = 0.0f64;
+    for (x, r) in image.mean.iter().zip(&reference.mean) {
+        for c in 0..3 {
+            let (x, r) = (f64::from(x[c]), f64::from(r[c]));
+            total += (x - r) * (x - r) / (r * r + 0.01);
+        }
+    }
+    total / (3 * image.mean.len().max(1)) as f64
+}
+
+/// The `--integrator` spelling of an integrator.
+pub fn integrator_name(integrator: Integrator) -> &'static str {
+    match integrator {
+        Integrator::PathTracing => "workshop",
+        Integrator::Cosine => "cosine",
+        Integrator::Nee => "nee",
+        Integrator::Mis => "mis",
+        Integrator::DirectIllumination => "direct-illumination",
+        Integrator::RayTracing => "ray-tracing",
+    }
+}
+
+/// A render with timings: (image, cold-start seconds, render seconds, rays traced).
+fn timed_render(
+    context: &Arc<Context>,
+    scene: &Scene,
+    camera: &Camera,
+    settings: RenderSettings,
+) -> Result<(RenderedImage, f64, f64, f64)> {
+    let started = Instant::now();
+    let mut renderer = Renderer::new(context, scene, camera, settings)?;
+    let cold_start = started.elapsed().as_secs_f64();
+    let started = Instant::now();
+    while !renderer.is_complete() {
+        renderer.render_batch()?;
+    }
+    let seconds = started.elapsed().as_secs_f64();
+    let image = renderer.read_back()?;
+    Ok((image, cold_start, seconds, renderer.rays_traced()))
+}
+
+/// What to benchmark.
+#[derive(Clone, Debug)]
+pub struct BenchSetup {
+    /// Settings of the measured renders (integrator and seed are set per render).
+    pub settings: RenderSettings,
+    /// Samples per pixel of the MIS reference.
+    pub reference_spp: u32,
+    /// Integrators to measure.
+    pub integrators: Vec<Integrator>,
+    /// Scene description for the report.
+    pub scene_name: String,
+}
+
+/// Renders the reference, then each integrator, and reports. `progress` is told what runs.
+pub fn run_bench(
+    context: &Arc<Context>,
+    scene: &Scene,
+    camera: &Camera,
+    setup: &BenchSetup,
+    mut progress: impl FnMut(&str),
+) -> Result<BenchReport> {
+    progress(&format!("reference: mis, {} spp", setup.reference_spp));
+    let reference_settings = RenderSettings {
+        spp: setup.reference_spp,
+        integrator: Integrator::Mis,
+        // A seed no measured render uses, so the reference's noise is independent.
+        seed: 0x5eed,
+        ..setup.settings.clone()
+    };
+    let (reference, _, _, _) = timed_render(context, scene, camera, reference_settings)?;
+    let mut results = Vec::new();
+    for &integrator in &setup.integrators {
+        let name = integrator_name(integrator);
+        progress(name);
+        let settings = RenderSettings { integrator, seed: 1, ..setup.settings.clone() };
+        let samples = f64::from(settings.width) * f64::from(settings.height) * f64::from(settings.spp);
+        let (image, cold_start_seconds, render_seconds, rays) = timed_render(context, scene, camera, settings)?;
+        let relative_mse = relative_mse(&image, &reference);
+        let seconds = render_seconds.max(1e-9);
+        results.push(BenchResult {
+            integrator: name.to_string(),
+            cold_start_seconds,
+            render_seconds,
+            samples_per_second: samples / seconds,
+            rays_per_second: rays / seconds,
+            relative_mse,
+            efficiency: 1.0 / (relative_mse * seconds),
+            seconds_to_target: seconds * relative_mse / TARGET_RELATIVE_MSE,
+        });
+    }
+    Ok(BenchReport {
+        device: format!("{} [{}]", context.info.name, context.info.kind),
+        scene: setup.scene_name.clone(),
+        triangle_count: scene.triangles.len(),
+        width: setup.settings.width,
+        height: setup.settings.height,
+        spp: setup.settings.spp,
+        reference_spp: setup.reference_spp,
+        max_path_length: setup.settings.max_path_length,
+        results,
+    })
+}
+
+/// The report as a table for people, efficiencies also as ratios to the first integrator.
+pub fn format_table(report: &BenchReport) -> String {
+    let mut text = format!(
+        "{} | {} ({} triangles) | {}x{} | {} spp | reference {} spp (mis) | max path length {}\n",
+        report.device,
+        report.scene,
+        report.triangle_count,
+        report.width,
+        report.height,
+        report.spp,
+        report.reference_spp,
+        report.max_path_length
+    );
+    text += &format!(
+        "{:<10} {:>9} {:>9} {:>11} {:>11} {:>10} {:>11} {:>9} {:>12}\n",
+        "integrator", "cold s", "render s", "Msamples/s", "Mrays/s", "relMSE", "efficiency", "vs first", "s to 0.005"
+    );
+    let baseline = report.results.first().map(|r| r.efficiency).unwrap_or(1.0);
+    for r in &report.results {
+        text += &format!(
+            "{:<10} {:>9.3} {:>9.3} {:>11.3} {:>11.3} {:>10.5} {:>11.2} {:>8.2}x {:>12.2}\n",
+            r.integrator,
+            r.cold_start_seconds,
+            r.render_seconds,
+            r.samples_per_second / 1e6,
+            r.rays_per_second / 1e6,
+            r.relative_mse,
+            r.efficiency,
+            r.efficiency / baseline,
+            r.seconds_to_target
+        );
+    }
+    text
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn image(values: &[f32]) -> RenderedImage {
+        RenderedImage {
+            width: values.len() as u32,
+            height: 1,
+            mean: values.iter().map(|&v| [v, v, v, 1.0]).collect(),
+            second_moment: vec![[0.0; 3]; values.len()],
+            sample_count: vec![1.0; values.len()],
+        }
+    }
+
+    #[test]
+    fn relative_mse_follows_its_definition() {
+        let reference = image(&[1.0, 0.0]);
+        let test = image(&[1.1, 0.1]);
+        // ((0.1^2 / 1.01) + (0.1^2 / 0.01)) / 2
+        let expected = (0.01 / 1.01 + 1.0) / 2.0;
+        assert!((relative_mse(&test, &reference) - expected).abs() < 1e-6);
+        assert_eq!(relative_mse(&reference, &reference), 0.0);
+    }
+}

@@ -1,0 +1,116 @@
+//! The emissive triangles of a scene as light sampling needs them: a power-proportional CDF
+//! (`light_buffer` of `glsl/importance_sampling.glsl`) and each triangle's selection
+//! probability (stored in its packed normal.w, for multiple importance sampling).
+
+use glam::Vec3;
+
+use crate::gpu_types::GpuTriangle;
+use crate::scene::Triangle;
+
+/// Luminance of linear Rec. 709 RGB: the weight that makes light selection proportional to
+/// perceived power.
+pub fn luminance(color: Vec3) -> f32 {
+    color.dot(Vec3::new(0.2126, 0.7152, 0.0722))
+}
+
+/// Emitted power of a triangle up to a constant factor: area * pi * luminance of L_e, twice
+/// that when it emits from both sides.
+pub fn triangle_power(triangle: &Triangle) -> f32 {
+    let area = 0.5 * (triangle.positions[1] - triangle.positions[0])
+        .cross(triangle.positions[2] - triangle.positions[0])
+        .length();
+    let sides = if triangle.double_sided { 2.0 } else { 1.0 };
+    area * std::f32::consts::PI * sides * luminance(triangle.emission).max(0.0)
+}
+
+/// The light table of a scene.
+#[derive(Clone, Debug, PartialEq)]
+pub struct LightTable {
+    /// Indices of the emissive triangles.
+    pub triangle_indices: Vec<u32>,
+    /// Cumulative selection probability of each light (the last is exactly 1).
+    pub cdf: Vec<f32>,
+    /// For every triangle of the scene, its selection probability (0 for non-emitters).
+    pub selection_probability: Vec<f32>,
+}
+
+impl LightTable {
+    /// Builds the table; triangles with zero power are not lights.
+    pub fn new(triangles: &[Triangle]) -> LightTable {
+        let powers: Vec<f64> = triangles.iter().map(|t| f64::from(triangle_power(t))).collect();
+        let total: f64 = powers.iter().sum();
+        let mut table = LightTable {
+            triangle_indices: Vec::new(),
+            cdf: Vec::new(),
+            selection_probability: vec![0.0; triangles.len()],
+        };
+        if !(total > 0.0) {
+            return table;
+        }
+        let mut running = 0.0f64;
+        for (index, &power) in powers.iter().enumerate() {
+            if power > 0.0 {
+                running += power;
+                table.triangle_indices.push(index as u32);
+                table.cdf.push((running / total) as f32);
+                table.selection_probability[index] = (power / total) as f32;
+            }
+        }
+        // Rounding must not leave a gap above the last light.
+        if let Some(last) = table.cdf.last_mut() {
+            *last = 1.0;
+        }
+        table
+    }
+
+    /// The bytes of `light_buffer`: a uvec4 header (count) then one vec4 per light
+    /// (x: triangle index as float bits, y: cdf).
+    pub fn gpu_bytes(&self) -> Vec<u8> {
+        let mut words: Vec<u32> = vec![self.triangle_indices.len() as u32, 0, 0, 0];
+        for (&index, &cdf) in self.triangle_indices.iter().zip(&self.cdf) {
+            words.extend_from_slice(&[index, cdf.to_bits(), 0, 0]);
+        }
+        bytemuck::cast_slice(&words).to_vec()
+    }
+
+    /// Writes each triangle's selection probability into its packed normal.w.
+    pub fn annotate(&self, triangles: &mut [GpuTriangle]) {
+        for (triangle, &probability) in triangles.iter_mut().zip(&self.selection_probability) {
+            triangle.normal[3] = probability;
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn selection_is_proportional_to_power() {
+        let quad = |emission: f32, scale: f32| {
+            Triangle::new(
+                [Vec3::ZERO, Vec3::X * scale, Vec3::Y * scale],
+                Vec3::ONE,
+                Vec3::splat(emission),
+                false,
+            )
+            .unwrap()
+        };
+        // Powers 1 : 0 : 4 (same emission, twice the side length) : 2 (twice the emission).
+        let table = LightTable::new(&[quad(1.0, 1.0), quad(0.0, 1.0), quad(1.0, 2.0), quad(2.0, 1.0)]);
+        assert_eq!(table.triangle_indices, vec![0, 2, 3]);
+        let p = &table.selection_probability;
+        assert!((p[0] - 1.0 / 7.0).abs() < 1e-6 && p[1] == 0.0);
+        assert!((p[2] - 4.0 / 7.0).abs() < 1e-6 && (p[3] - 2.0 / 7.0).abs() < 1e-6);
+        assert_eq!(*table.cdf.last().unwrap(), 1.0);
+        assert_eq!(table.gpu_bytes().len(), 16 + 3 * 16);
+    }
+
+    #[test]
+    fn a_scene_without_emitters_has_no_lights() {
+        let t = Triangle::new([Vec3::ZERO, Vec3::X, Vec3::Y], Vec3::ONE, Vec3::ZERO, false).unwrap();
+        let table = LightTable::new(&[t]);
+        assert!(table.triangle_indices.is_empty());
+        assert_eq!(table.gpu_bytes().len(), 16);
+    }
+}
