@@ -100,5 +100,8 @@
 // rays and one of results.
 #define BVH_PROBE_BINDING_RAYS 11
 #define BVH_PROBE_BINDING_RESULTS 12
+// Specialization-constant id of glsl/probe_bvh.comp: 1 to run the brute-force
+// ray_mesh_intersection() beside the BVH, 0 not to.
+#define BVH_PROBE_SPEC_BRUTE_FORCE 0
 
 #endif

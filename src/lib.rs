@@ -17,6 +17,7 @@ pub mod shaders {
 
 pub mod shader_compiler;
 
+pub mod bvh;
 pub mod camera;
 pub mod cli;
 pub mod compare;
@@ -25,6 +26,7 @@ pub mod exercise;
 pub mod exr_input;
 pub mod gpu_types;
 pub mod image_data;
+pub mod meshes;
 pub mod lights;
 pub mod bench;
 pub mod output;

@@ -1,0 +1,190 @@
+// Ray traversal of a bounding volume hierarchy over g_triangles (scene.glsl): the closest hit
+// and the any-hit query of shadow rays, testing O(log n) triangles instead of all of them.
+// The triangle tests are the workshop's ray_triangle_intersection(), so the hits are those of
+// the brute-force ray_mesh_intersection() (up to ties at equal t). The nodes are built on the
+// CPU (src/bvh/), which also reorders g_triangles so that each leaf holds a contiguous range.
+// Rust twins: src/bvh/traversal.rs, same names and maths; change both together.
+#ifndef VKPATH_BVH_GLSL
+#define VKPATH_BVH_GLSL
+
+#include "shared.h"
+#include "scene.glsl"
+
+// One node of the BVH, 32 bytes. Mirrors `vkpath::bvh::GpuBvhNode`, whose layout test checks
+// these offsets. The root is node 0. An interior node's children are nodes first_index and
+// first_index + 1; a leaf holds triangles first_index .. first_index + triangle_count - 1 of
+// g_triangles. The integers are stored as float bits (no arithmetic ever touches them).
+struct bvh_node_t {
+    vec4 lower; // xyz: lower corner of the box (world space), w: first_index as uint bits
+    vec4 upper; // xyz: upper corner of the box (world space), w: triangle_count as uint bits, 0 for interior nodes
+};
+
+layout(std430, set = 0, binding = BINDING_BVH_NODES) readonly buffer bvh_node_buffer {
+    bvh_node_t g_bvh_nodes[];
+};
+
+// Slab exits are scaled by this before the comparison, so that rounding errors never cull a
+// box that the ray touches: pbrt-v4 (6.8.2) shows that 1 + 2 gamma_3 (3.6e-7) suffices for
+// exact division; 1e-6 (8 ulps) leaves room for a GPU's approximate reciprocal (NVIDIA: 2 ulps).
+#define BVH_SLAB_PADDING 1.000001
+// Direction components below this magnitude are replaced by it (keeping the sign), so that
+// the inverse direction is finite (at most 1e30) and slab products are never 0 * inf = NaN.
+#define BVH_MIN_DIRECTION 1.0e-30
+// Initial out_t of bvh_closest_hit(), as in ray_mesh_intersection(): hits at or beyond it are ignored.
+#define BVH_NO_HIT_T 1.0e38
+
+// The per-component inverse of a ray direction for slab tests.
+// \param ray_direction The ray direction, world space (need not be normalized)
+// \return sign(d_i) / max(|d_i|, BVH_MIN_DIRECTION) per component, +0 counting as positive
+vec3 bvh_inverse_direction(vec3 ray_direction) {
+    vec3 magnitude = max(abs(ray_direction), vec3(BVH_MIN_DIRECTION));
+    vec3 direction_sign = mix(vec3(-1.0), vec3(1.0), greaterThanEqual(ray_direction, vec3(0.0)));
+    return direction_sign / magnitude;
+}
+
+// The slab test (Kay and Kajiya 1986): whether a ray enters an axis-aligned box before t_max.
+// \param out_t_entry Where the ray enters the box (0 if the origin is inside), in units of |ray_direction|
+// \param ray_origin The ray origin, world space
+// \param inverse_direction bvh_inverse_direction(ray_direction)
+// \param box_lower, box_upper The box's corners, world space
+// \param t_max Entries past this do not count
+// \return true iff the ray's segment [0, t_max] meets the (slightly padded) box
+bool bvh_ray_box_intersection(out float out_t_entry, vec3 ray_origin, vec3 inverse_direction, vec3 box_lower, vec3 box_upper, float t_max) {
+    vec3 t_lower = (box_lower - ray_origin) * inverse_direction;
+    vec3 t_upper = (box_upper - ray_origin) * inverse_direction;
+    vec3 t_near = min(t_lower, t_upper);
+    vec3 t_far = max(t_lower, t_upper);
+    float t_entry = max(max(t_near.x, t_near.y), max(t_near.z, 0.0));
+    float t_exit = min(min(t_far.x, t_far.y), t_far.z) * BVH_SLAB_PADDING;
+    out_t_entry = t_entry;
+    return t_entry <= min(t_exit, t_max);
+}
+
+// Finds the closest triangle that a ray hits, traversing the BVH: the brute-force
+// ray_mesh_intersection() with the same triangle tests, nearer child first, and subtrees
+// skipped once they start beyond the closest hit so far.
+// \param out_t Ray parameter of the closest hit (BVH_NO_HIT_T if none)
+// \param out_triangle_index Index of the hit triangle in g_triangles (0 if none)
+// \param ray_origin, ray_direction The ray, world space (the direction need not be normalized)
+// \return true iff a triangle was hit at 0 <= t < BVH_NO_HIT_T
+bool bvh_closest_hit(out float out_t, out uint out_triangle_index, vec3 ray_origin, vec3 ray_direction) {
+    out_t = BVH_NO_HIT_T;
+    out_triangle_index = 0u;
+    bool hit = false;
+    uint node_count = uint(g_bvh_nodes.length());
+    vec3 inverse_direction = bvh_inverse_direction(ray_direction);
+    float t_entry;
+    if (node_count == 0u || !bvh_ray_box_intersection(t_entry, ray_origin, inverse_direction, g_bvh_nodes[0].lower.xyz, g_bvh_nodes[0].upper.xyz, out_t))
+        return false;
+    // Nodes still to visit, with the parameter where the ray enters them
+    uint stack_nodes[BVH_STACK_SIZE];
+    float stack_entries[BVH_STACK_SIZE];
+    uint stack_size = 0u;
+    uint node_index = 0u;
+    // Each iteration visits one node and no node is visited twice, so node_count bounds it.
+    for (uint iteration = 0u; iteration != node_count; ++iteration) {
+        bvh_node_t node = g_bvh_nodes[node_index];
+        uint first_index = floatBitsToUint(node.lower.w);
+        uint triangle_count = floatBitsToUint(node.upper.w);
+        bool descend = false;
+        if (triangle_count != 0u) {
+            // A leaf: the brute-force loop over its triangles
+            uint end = first_index + triangle_count;
+            for (uint i = first_index; i < end; ++i) {
+                float t;
+                if (ray_triangle_intersection(t, ray_origin, ray_direction, get_triangle(i)) && t < out_t) {
+                    out_t = t;
+                    out_triangle_index = i;
+                    hit = true;
+                }
+            }
+        } else {
+            // An interior node: test both children, go to the nearer, push the farther
+            float t_left, t_right;
+            bool hit_left = bvh_ray_box_intersection(t_left, ray_origin, inverse_direction, g_bvh_nodes[first_index].lower.xyz, g_bvh_nodes[first_index].upper.xyz, out_t);
+            bool hit_right = bvh_ray_box_intersection(t_right, ray_origin, inverse_direction, g_bvh_nodes[first_index + 1u].lower.xyz, g_bvh_nodes[first_index + 1u].upper.xyz, out_t);
+            if (hit_left && hit_right) {
+                bool left_first = t_left <= t_right;
+                node_index = left_first ? first_index : first_index + 1u;
+                // The builder keeps leaves at depth <= BVH_STACK_SIZE, so the stack never
+                // overflows; the test only keeps a malformed tree from writing out of bounds.
+                if (stack_size < BVH_STACK_SIZE) {
+                    stack_nodes[stack_size] = left_first ? first_index + 1u : first_index;
+                    stack_entries[stack_size] = left_first ? t_right : t_left;
+                    ++stack_size;
+                }
+                descend = true;
+            } else if (hit_left || hit_right) {
+                node_index = hit_left ? first_index : first_index + 1u;
+                descend = true;
+            }
+        }
+        // Pop the next node that the ray enters before the closest hit so far (the stack
+        // shrinks in every iteration, so this loop is bounded by BVH_STACK_SIZE)
+        while (!descend && stack_size != 0u) {
+            --stack_size;
+            if (stack_entries[stack_size] <= out_t) {
+                node_index = stack_nodes[stack_size];
+                descend = true;
+            }
+        }
+        if (!descend)
+            break;
+    }
+    return hit;
+}
+
+// Whether a ray hits any triangle at t < t_max (shadow rays): the traversal of
+// bvh_closest_hit() with a fixed t_max, ending at the first hit found.
+// \param ray_origin, ray_direction The ray, world space (the direction need not be normalized)
+// \param t_max Hits at or beyond this ray parameter do not count
+// \return true iff some triangle is hit at 0 <= t < t_max
+bool bvh_any_hit(vec3 ray_origin, vec3 ray_direction, float t_max) {
+    uint node_count = uint(g_bvh_nodes.length());
+    vec3 inverse_direction = bvh_inverse_direction(ray_direction);
+    float t_entry;
+    if (node_count == 0u || !bvh_ray_box_intersection(t_entry, ray_origin, inverse_direction, g_bvh_nodes[0].lower.xyz, g_bvh_nodes[0].upper.xyz, t_max))
+        return false;
+    // Entry parameters need no stack here: t_max never shrinks, so popped nodes need no test.
+    uint stack_nodes[BVH_STACK_SIZE];
+    uint stack_size = 0u;
+    uint node_index = 0u;
+    // Each iteration visits one node and no node is visited twice, so node_count bounds it.
+    for (uint iteration = 0u; iteration != node_count; ++iteration) {
+        bvh_node_t node = g_bvh_nodes[node_index];
+        uint first_index = floatBitsToUint(node.lower.w);
+        uint triangle_count = floatBitsToUint(node.upper.w);
+        if (triangle_count != 0u) {
+            uint end = first_index + triangle_count;
+            for (uint i = first_index; i < end; ++i) {
+                float t;
+                if (ray_triangle_intersection(t, ray_origin, ray_direction, get_triangle(i)) && t < t_max)
+                    return true;
+            }
+        } else {
+            float t_left, t_right;
+            bool hit_left = bvh_ray_box_intersection(t_left, ray_origin, inverse_direction, g_bvh_nodes[first_index].lower.xyz, g_bvh_nodes[first_index].upper.xyz, t_max);
+            bool hit_right = bvh_ray_box_intersection(t_right, ray_origin, inverse_direction, g_bvh_nodes[first_index + 1u].lower.xyz, g_bvh_nodes[first_index + 1u].upper.xyz, t_max);
+            if (hit_left && hit_right) {
+                // Nearer first: an occluder near the origin ends the search sooner
+                bool left_first = t_left <= t_right;
+                node_index = left_first ? first_index : first_index + 1u;
+                if (stack_size < BVH_STACK_SIZE) {
+                    stack_nodes[stack_size] = left_first ? first_index + 1u : first_index;
+                    ++stack_size;
+                }
+                continue;
+            } else if (hit_left || hit_right) {
+                node_index = hit_left ? first_index : first_index + 1u;
+                continue;
+            }
+        }
+        if (stack_size == 0u)
+            break;
+        --stack_size;
+        node_index = stack_nodes[stack_size];
+    }
+    return false;
+}
+
+#endif

@@ -1,0 +1,273 @@
+//! The GPU's BVH traversal (`glsl/bvh.glsl`, run by `glsl/probe_bvh.comp`) against its Rust
+//! twins `bvh_closest_hit` / `bvh_any_hit`, and against the GPU's own brute-force
+//! `ray_mesh_intersection`, with the validation layer on and silent.
+
+mod common;
+
+use std::sync::Arc;
+use std::time::Instant;
+
+use ash::vk;
+use bytemuck::Zeroable;
+use glam::{UVec2, Vec3};
+use vkpath::bvh::{bvh_any_hit, bvh_closest_hit, Bvh};
+use vkpath::contract;
+use vkpath::cpu::workshop::{get_random_numbers, sample_sphere};
+use vkpath::gpu_types::{GpuTriangle, RenderUniforms};
+use vkpath::meshes::scale_test_scene;
+use vkpath::scene::Triangle;
+use vkpath::vk::{Buffer, CommandRunner, ComputePipeline, Context};
+
+/// `bvh_probe_ray_t`: xyz origin, w t_max of the any-hit query; xyz direction.
+type ProbeRay = [[f32; 4]; 2];
+/// `bvh_probe_result_t`: the BVH's (t bits, index, hit, any hit), brute force's (t bits,
+/// index, hit, 0).
+type ProbeResult = [[u32; 4]; 2];
+
+/// Runs the probe kernel over `rays` with the reordered triangles and the BVH's nodes.
+/// Returns the results and the seconds the submission took.
+fn run_probe(
+    context: &Arc<Context>,
+    triangles: &[Triangle],
+    bvh: &Bvh,
+    rays: &[ProbeRay],
+    brute_force: bool,
+) -> (Vec<ProbeResult>, f64) {
+    let storage = vk::DescriptorType::STORAGE_BUFFER;
+    let gpu_triangles: Vec<GpuTriangle> = triangles.iter().map(Triangle::to_gpu).collect();
+    let mut uniforms = RenderUniforms::zeroed();
+    uniforms.resolution_triangle_count_seed[2] = triangles.len() as u32;
+    let usage = vk::BufferUsageFlags::STORAGE_BUFFER;
+    let buffer =
+        |name, bytes: &[u8], usage| Buffer::with_data(context, name, bytes, usage).unwrap();
+    let triangle_buffer = buffer("triangles", bytemuck::cast_slice(&gpu_triangles), usage);
+    let uniform_buffer = buffer(
+        "uniforms",
+        bytemuck::bytes_of(&uniforms),
+        vk::BufferUsageFlags::UNIFORM_BUFFER,
+    );
+    let node_buffer = buffer("bvh nodes", bytemuck::cast_slice(&bvh.nodes), usage);
+    let ray_buffer = buffer("rays", bytemuck::cast_slice(rays), usage);
+    let zeros = vec![ProbeResult::zeroed(); rays.len()];
+    let result_buffer = buffer("results", bytemuck::cast_slice(&zeros), usage);
+
+    let spirv = ash::util::read_spv(&mut std::io::Cursor::new(vkpath::shaders::PROBE_BVH)).unwrap();
+    let bindings = [
+        (contract::BINDING_TRIANGLES, storage),
+        (
+            contract::BINDING_RENDER_UNIFORMS,
+            vk::DescriptorType::UNIFORM_BUFFER,
+        ),
+        (contract::BINDING_BVH_NODES, storage),
+        (contract::BVH_PROBE_BINDING_RAYS, storage),
+        (contract::BVH_PROBE_BINDING_RESULTS, storage),
+    ];
+    let specialization = [(contract::BVH_PROBE_SPEC_BRUTE_FORCE, u32::from(brute_force))];
+    let pipeline = ComputePipeline::new(context, &spirv, &bindings, 0, &specialization).unwrap();
+    let set = pipeline.allocate_descriptor_set().unwrap();
+    set.write_buffer(contract::BINDING_TRIANGLES, storage, &triangle_buffer);
+    set.write_buffer(
+        contract::BINDING_RENDER_UNIFORMS,
+        vk::DescriptorType::UNIFORM_BUFFER,
+        &uniform_buffer,
+    );
+    set.write_buffer(contract::BINDING_BVH_NODES, storage, &node_buffer);
+    set.write_buffer(contract::BVH_PROBE_BINDING_RAYS, storage, &ray_buffer);
+    set.write_buffer(contract::BVH_PROBE_BINDING_RESULTS, storage, &result_buffer);
+
+    let runner = CommandRunner::new(context).unwrap();
+    let groups = (rays.len() as u32).div_ceil(contract::PROBE_WORKGROUP_SIZE);
+    let start = Instant::now();
+    runner
+        .run(|device, command_buffer| unsafe {
+            device.cmd_bind_pipeline(
+                command_buffer,
+                vk::PipelineBindPoint::COMPUTE,
+                pipeline.pipeline,
+            );
+            device.cmd_bind_descriptor_sets(
+                command_buffer,
+                vk::PipelineBindPoint::COMPUTE,
+                pipeline.layout,
+                0,
+                &[set.set],
+                &[],
+            );
+            device.cmd_dispatch(command_buffer, groups, 1, 1);
+            let barrier = vk::MemoryBarrier::default()
+                .src_access_mask(vk::AccessFlags::SHADER_WRITE)
+                .dst_access_mask(vk::AccessFlags::HOST_READ);
+            device.cmd_pipeline_barrier(
+                command_buffer,
+                vk::PipelineStageFlags::COMPUTE_SHADER,
+                vk::PipelineStageFlags::HOST,
+                vk::DependencyFlags::empty(),
+                &[barrier],
+                &[],
+                &[],
+            );
+        })
+        .unwrap();
+    let seconds = start.elapsed().as_secs_f64();
+    (result_buffer.read(), seconds)
+}
+
+/// Rays of a path tracer in the Cornell box: half from the workshop camera's pinhole towards
+/// the box, half from random points inside the room in uniform directions. `t_max` of the
+/// any-hit query is the closest hit's t (Rust twin) times a factor in [0.5, 1.5), or 1e30.
+fn test_rays(count: usize, triangles: &[Triangle], bvh: &Bvh) -> Vec<ProbeRay> {
+    let mut seed = UVec2::new(2024, 7);
+    let camera = Vec3::new(0.278, 0.8, 0.2744);
+    (0..count)
+        .map(|i| {
+            let a = get_random_numbers(&mut seed);
+            let b = get_random_numbers(&mut seed);
+            let (origin, direction) = if i % 2 == 0 {
+                let target = Vec3::new(0.556 * a.x, -0.56, 0.549 * a.y);
+                (camera, (target - camera).normalize())
+            } else {
+                let origin = Vec3::new(0.556 * a.x, -0.56 * a.y, 0.549 * b.x);
+                (origin, sample_sphere(get_random_numbers(&mut seed)))
+            };
+            let hit = bvh_closest_hit(&bvh.nodes, triangles, origin, direction);
+            let t_max = hit.map_or(1e30, |h| h.t * (0.5 + b.y));
+            [
+                origin.extend(t_max).to_array(),
+                direction.extend(0.0).to_array(),
+            ]
+        })
+        .collect()
+}
+
+/// How the GPU's answers compared.
+#[derive(Debug, Default)]
+struct Tally {
+    hits: usize,
+    /// Same triangle, t within 1e-6 relative (8 ulps: lavapipe may fuse multiply-adds).
+    same: usize,
+    /// A different triangle or hit/miss answer at a near-degenerate configuration: t within
+    /// 1e-5 relative (a tie between triangles sharing an edge, a grazing ray).
+    near_degenerate: usize,
+    /// Anything else.
+    different: usize,
+}
+
+impl Tally {
+    fn add(&mut self, expected: Option<(u32, f32)>, actual: Option<(u32, f32)>) {
+        let close = |a: f32, b: f32, tolerance: f32| (a - b).abs() <= tolerance * a.abs().max(1e-3);
+        match (expected, actual) {
+            (None, None) => self.same += 1,
+            (Some((ei, et)), Some((ai, at))) => {
+                self.hits += 1;
+                if ei == ai && close(et, at, 1e-6) {
+                    self.same += 1;
+                } else if close(et, at, 1e-5) {
+                    self.near_degenerate += 1;
+                } else {
+                    self.different += 1;
+                }
+            }
+            _ => self.different += 1,
+        }
+    }
+
+    /// No gross difference, and near-degenerate ones below 0.5% of the rays: random rays
+    /// meet an edge within 1e-5 relative with a probability of order 1e-4 each.
+    fn assert_agrees(&self, what: &str, rays: usize) {
+        println!("{what}: {self:?}");
+        assert_eq!(self.different, 0, "{what}: {self:?}");
+        assert!(self.near_degenerate * 200 <= rays, "{what}: {self:?}");
+    }
+}
+
+fn hit(result: [u32; 4]) -> Option<(u32, f32)> {
+    (result[2] != 0).then(|| (result[1], f32::from_bits(result[0])))
+}
+
+/// Compares the probe's results with the Rust twins (and brute force on the GPU, if run).
+fn check(
+    name: &str,
+    triangles: &[Triangle],
+    bvh: &Bvh,
+    rays: &[ProbeRay],
+    results: &[ProbeResult],
+    brute_force: bool,
+) {
+    let mut twin = Tally::default();
+    let mut gpu_brute_force = Tally::default();
+    let mut any_hit_disagreements = 0;
+    for (ray, result) in rays.iter().zip(results) {
+        let origin = Vec3::from_slice(&ray[0][..3]);
+        let direction = Vec3::from_slice(&ray[1][..3]);
+        let expected = bvh_closest_hit(&bvh.nodes, triangles, origin, direction)
+            .map(|h| (h.triangle_index as u32, h.t));
+        twin.add(expected, hit(result[0]));
+        if brute_force {
+            gpu_brute_force.add(hit(result[1]), hit(result[0]));
+        }
+        let expected_any = bvh_any_hit(&bvh.nodes, triangles, origin, direction, ray[0][3]);
+        any_hit_disagreements += usize::from(expected_any != (result[0][3] != 0));
+    }
+    twin.assert_agrees(
+        &format!("{name}: GPU bvh_closest_hit vs Rust twin"),
+        rays.len(),
+    );
+    assert!(twin.hits * 2 >= rays.len(), "most rays hit: {twin:?}");
+    if brute_force {
+        gpu_brute_force.assert_agrees(
+            &format!("{name}: GPU bvh_closest_hit vs GPU brute force"),
+            rays.len(),
+        );
+    }
+    // t_max lies at least 0.5x away from the closest hit, so any-hit has no ties.
+    assert_eq!(any_hit_disagreements, 0, "{name}: bvh_any_hit");
+}
+
+#[test]
+fn gpu_traversal_matches_the_rust_twins_and_gpu_brute_force() {
+    let context = common::validated_context();
+    let scene = scale_test_scene(10_000).unwrap();
+    let bvh = Bvh::build(&scene.triangles);
+    let triangles = bvh.reorder(&scene.triangles);
+    let rays = test_rays(2048, &triangles, &bvh);
+    let (results, bvh_seconds) = run_probe(&context, &triangles, &bvh, &rays, false);
+    check("10^4 triangles", &triangles, &bvh, &rays, &results, false);
+    // Brute force tests every triangle per ray (lavapipe: ~7.5 M tests/s on 2 cores), so it
+    // gets a quarter of the rays: 512 x 10^4 tests, under a second.
+    let rays = &rays[..512];
+    let (results, brute_force_seconds) = run_probe(&context, &triangles, &bvh, rays, true);
+    check(
+        "10^4 triangles with brute force",
+        &triangles,
+        &bvh,
+        rays,
+        &results,
+        true,
+    );
+    println!(
+        "{} triangles: 2048 rays, BVH closest + any hit: {:.1} ms; 512 rays, BVH and brute force: {:.1} ms",
+        triangles.len(),
+        bvh_seconds * 1e3,
+        brute_force_seconds * 1e3
+    );
+    common::assert_validation_silent(&context);
+}
+
+#[test]
+fn gpu_traversal_of_a_large_scene_matches_the_rust_twins() {
+    let context = common::validated_context();
+    let scene = scale_test_scene(200_000).unwrap();
+    let bvh = Bvh::build(&scene.triangles);
+    let triangles = bvh.reorder(&scene.triangles);
+    let rays = test_rays(4096, &triangles, &bvh);
+    let (results, seconds) = run_probe(&context, &triangles, &bvh, &rays, false);
+    check("2 10^5 triangles", &triangles, &bvh, &rays, &results, false);
+    println!(
+        "{} rays, {} triangles: BVH closest + any hit {:.1} ms ({})",
+        rays.len(),
+        triangles.len(),
+        seconds * 1e3,
+        bvh.stats()
+    );
+    common::assert_validation_silent(&context);
+}
