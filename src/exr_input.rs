@@ -141,6 +141,33 @@ mod tests {
     }
 
     #[test]
+    fn partial_moments_and_missing_colours_are_errors() {
+        use exr::prelude::{AnyChannels, Image, WritableImage};
+        let dir = tempfile::tempdir().unwrap();
+        let write = |name: &str, channels: &[&str]| {
+            let list: Vec<AnyChannel<FlatSamples>> = channels
+                .iter()
+                .map(|c| AnyChannel::new(*c, FlatSamples::F32(vec![1.0; 4])))
+                .collect();
+            let path = dir.path().join(name);
+            Image::from_channels((2, 2), AnyChannels::sort(list.into()))
+                .write()
+                .to_file(&path)
+                .unwrap();
+            read_exr(&path).map_err(|e| e.to_string())
+        };
+        let partial = write("partial.exr", &["R", "G", "B", SAMPLE_COUNT_CHANNEL]).unwrap_err();
+        assert!(
+            partial.contains("only some of the moment channels"),
+            "{partial}"
+        );
+        let grey = write("grey.exr", &["Y"]).unwrap_err();
+        assert!(grey.contains("no R, G and B"), "{grey}");
+        let plain = write("plain.exr", &["B", "G", "R"]).unwrap();
+        assert!(!plain.has_moments && plain.image.mean == vec![[1.0; 4]; 4]);
+    }
+
+    #[test]
     fn missing_and_malformed_files_name_the_path() {
         let dir = tempfile::tempdir().unwrap();
         let missing = dir.path().join("missing.exr");

@@ -44,7 +44,7 @@ pub enum VarianceSource {
 /// the image has no usable moments (no moment channels, or a pixel with fewer than two
 /// samples, whose variance is unknown).
 pub fn pixel_variances(image: &RenderedImage, has_moments: bool) -> Option<Vec<[f64; 3]>> {
-    if !has_moments || image.sample_count.iter().any(|&n| !(n >= 2.0)) {
+    if !has_moments || image.sample_count.iter().any(|&n| n.is_nan() || n < 2.0) {
         return None;
     }
     Some(

@@ -1,0 +1,288 @@
+//! `vkpath exercise` through the binary: every exercise renders; the sample displays put
+//! their dots where the Rust twins of the samplers say, spread over the sphere for
+//! `sample_sphere` and crowded at the top for spherical coordinates; the ray tracer shows the
+//! Cornell box's red wall on the left and green wall on the right.
+
+mod common;
+
+use std::path::Path;
+
+use glam::{UVec2, Vec2, Vec3};
+use vkpath::cpu::workshop::{get_random_numbers, sample_sphere};
+use vkpath::exercise::view::{
+    get_sample_view_point, project_to_sample_view, sample_display_directions,
+    sample_view_point_to_texel, SAMPLE_VIEW_TOWARD_VIEWER,
+};
+use vkpath::exercise::ExerciseSampler;
+
+/// Runs `vkpath exercise ARGS` in `dir` with validation on and expects success.
+fn exercise(dir: &Path, args: &[&str]) {
+    let mut full = vec!["exercise"];
+    full.extend_from_slice(args);
+    full.push("--validate");
+    let output = common::vkpath(dir, &full);
+    assert!(
+        output.status.success(),
+        "vkpath {full:?} failed: {}",
+        String::from_utf8_lossy(&output.stderr)
+    );
+}
+
+/// What a pixel of a sample display shows, from its sRGB colour: the sphere and background
+/// are grey (r = g = b), front dots the full dot colour (linear (1, 0.45, 0.05): sRGB 255,
+/// 178, 63), back dots 35% of it over the sphere (red well above green, but below 230).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Shown {
+    Grey,
+    FrontDot,
+    BackDot,
+}
+
+fn classify(pixel: &image::Rgb<u8>) -> Shown {
+    let [r, g, _] = pixel.0.map(i32::from);
+    if r >= 230 && r - g > 40 {
+        Shown::FrontDot
+    } else if r - g > 20 {
+        Shown::BackDot
+    } else {
+        Shown::Grey
+    }
+}
+
+/// Renders a sample display at 256x256 and returns its pixels.
+fn sample_display(dir: &Path, name: &str) -> image::RgbImage {
+    let file = format!("{name}.png");
+    exercise(dir, &[name, "-o", &file]);
+    let image = image::open(dir.join(&file)).unwrap().to_rgb8();
+    assert_eq!(image.dimensions(), (256, 256));
+    image
+}
+
+/// Every dot the Rust twins predict is in the GPU's image: the pixel under each sample's
+/// projection shows a dot (front dots also hide back dots, so a back sample may show either).
+fn assert_dots_where_the_twins_say(image: &image::RgbImage, sampler: ExerciseSampler) {
+    let resolution = UVec2::new(image.width(), image.height());
+    for (index, direction) in sample_display_directions(sampler, 0).iter().enumerate() {
+        let texel = sample_view_point_to_texel(project_to_sample_view(*direction), resolution);
+        let shown = classify(image.get_pixel(texel.x as u32, texel.y as u32));
+        let front = direction.dot(SAMPLE_VIEW_TOWARD_VIEWER) >= 0.0;
+        assert!(
+            shown == Shown::FrontDot || (!front && shown == Shown::BackDot),
+            "{sampler:?} sample {index} ({direction}, front {front}) lands on texel {texel} which shows {shown:?}"
+        );
+    }
+}
+
+/// The view point (sphere radii) of every pixel, with what it shows.
+fn shown_points(image: &image::RgbImage) -> Vec<(Vec2, Shown)> {
+    let resolution = UVec2::new(image.width(), image.height());
+    image
+        .enumerate_pixels()
+        .map(|(x, y, pixel)| {
+            let from_bottom = UVec2::new(x, resolution.y - 1 - y);
+            (
+                get_sample_view_point(from_bottom, resolution),
+                classify(pixel),
+            )
+        })
+        .collect()
+}
+
+/// The image of the sphere's top (the pole z = +1) and the radius around it that counts as
+/// "the top", in sphere radii.
+const POLE_RADIUS: f32 = 0.25;
+
+/// Of all dot pixels, the fraction that shows the front within `POLE_RADIUS` of the pole.
+fn pole_fraction(image: &image::RgbImage) -> f64 {
+    let pole = project_to_sample_view(Vec3::Z);
+    let points = shown_points(image);
+    let dots = points.iter().filter(|(_, s)| *s != Shown::Grey).count();
+    let at_pole = points
+        .iter()
+        .filter(|(p, s)| *s == Shown::FrontDot && p.distance(pole) <= POLE_RADIUS)
+        .count();
+    at_pole as f64 / dots as f64
+}
+
+/// The same fraction for uniformly distributed directions: the probability that a uniform
+/// direction faces the viewer and projects within `POLE_RADIUS` of the pole, by Monte Carlo
+/// with 2^18 samples (standard error 3.4e-4 at the ~3% it comes to).
+fn uniform_pole_probability() -> f64 {
+    let pole = project_to_sample_view(Vec3::Z);
+    let mut seed = UVec2::new(12345, 678);
+    let count = 1 << 18;
+    let hits = (0..count)
+        .filter(|_| {
+            let direction = sample_sphere(get_random_numbers(&mut seed));
+            direction.dot(SAMPLE_VIEW_TOWARD_VIEWER) >= 0.0
+                && project_to_sample_view(direction).distance(pole) <= POLE_RADIUS
+        })
+        .count();
+    hits as f64 / count as f64
+}
+
+#[test]
+fn spherical_coordinates_crowd_the_top_and_sample_sphere_does_not() {
+    let dir = tempfile::tempdir().unwrap();
+    let uniform = sample_display(dir.path(), "sample-sphere");
+    let naive = sample_display(dir.path(), "spherical-coords");
+    assert_dots_where_the_twins_say(&uniform, ExerciseSampler::Sphere);
+    assert_dots_where_the_twins_say(&naive, ExerciseSampler::SphericalCoordinates);
+    let expected = uniform_pole_probability();
+    let (uniform_fraction, naive_fraction) = (pole_fraction(&uniform), pole_fraction(&naive));
+    let pole = project_to_sample_view(Vec3::Z);
+    let samples_at_top = |sampler| {
+        sample_display_directions(sampler, 0)
+            .iter()
+            .filter(|d| {
+                d.dot(SAMPLE_VIEW_TOWARD_VIEWER) >= 0.0
+                    && project_to_sample_view(**d).distance(pole) <= POLE_RADIUS
+            })
+            .count()
+    };
+    println!(
+        "dot pixels at the top: sample-sphere {uniform_fraction:.4}, spherical-coords \
+         {naive_fraction:.4}; uniform expectation {expected:.4}; samples at the top: {} and {} \
+         of 512",
+        samples_at_top(ExerciseSampler::Sphere),
+        samples_at_top(ExerciseSampler::SphericalCoordinates)
+    );
+    // 512 uniform samples put 512 * 3.2% = 16 +- 4 (binomial SD) dots at the top; twice the
+    // expectation is 4 SD away, and the dot pixels track the dots. Spherical coordinates put
+    // about 11% there (density 1 / sin(theta) near the pole), 3.5x the expectation.
+    assert!(
+        uniform_fraction < 2.0 * expected,
+        "sample-sphere crowds the top: {uniform_fraction} vs {expected}"
+    );
+    assert!(
+        naive_fraction > 2.0 * expected,
+        "spherical-coords does not crowd the top: {naive_fraction} vs {expected}"
+    );
+}
+
+#[test]
+fn sample_hemisphere_stays_above_the_equator() {
+    let dir = tempfile::tempdir().unwrap();
+    let hemisphere = sample_display(dir.path(), "sample-hemisphere");
+    assert_dots_where_the_twins_say(&hemisphere, ExerciseSampler::Hemisphere);
+    // Directions with z >= 0 project to y = 0.5 d_y + 0.866 d_z >= -0.5; dots reach 2 pixels
+    // (0.018 radii) beyond their centres. The lowest half of the sphere's image stays bare.
+    let low_dots = shown_points(&hemisphere)
+        .iter()
+        .filter(|(p, s)| *s != Shown::Grey && p.y < -0.55)
+        .count();
+    assert_eq!(low_dots, 0, "hemisphere samples below the equator");
+}
+
+#[test]
+fn ray_tracing_shows_red_left_and_green_right() {
+    let dir = tempfile::tempdir().unwrap();
+    exercise(
+        dir.path(),
+        &[
+            "ray-tracing",
+            "-o",
+            "rt.png",
+            "--width",
+            "64",
+            "--height",
+            "64",
+        ],
+    );
+    let image = image::open(dir.path().join("rt.png")).unwrap().to_rgb8();
+    // At mid-height, the outer tenth of the image is the side walls (workshop camera).
+    let wall = |x: u32| image.get_pixel(x, 32).0.map(i32::from);
+    for x in 1..6 {
+        let [r, g, b] = wall(x);
+        assert!(
+            r > g + 40 && r > b + 40,
+            "left wall at x={x} is not red: {r} {g} {b}"
+        );
+        let [r, g, b] = wall(63 - x);
+        assert!(
+            g > r + 40 && g > b + 40,
+            "right wall at x={} is not green: {r} {g} {b}",
+            63 - x
+        );
+    }
+    let [r, g, b] = wall(32);
+    assert!(
+        r > 180 && (r - g).abs() < 10 && (r - b).abs() < 10,
+        "the back wall is not white: {r} {g} {b}"
+    );
+}
+
+#[test]
+fn every_exercise_renders_and_sample_count_sets_the_frame() {
+    let dir = tempfile::tempdir().unwrap();
+    for name in [
+        "ray-tracing",
+        "sample-sphere",
+        "sample-hemisphere",
+        "spherical-coords",
+        "direct-illumination",
+        "path-tracing",
+    ] {
+        let file = format!("{name}.png");
+        exercise(
+            dir.path(),
+            &[name, "-o", &file, "--width", "40", "--height", "24"],
+        );
+        let image = image::open(dir.path().join(&file)).unwrap();
+        assert_eq!((image.width(), image.height()), (40, 24), "{name}");
+    }
+    // One frame of SAMPLE_COUNT samples, as the slides' pictures; or progressive --spp.
+    for (extra, expected_count) in [
+        (&["--sample-count", "8"][..], 8.0),
+        (&["--sample-count", "8", "--spp", "24"][..], 24.0),
+    ] {
+        let mut args = vec![
+            "direct-illumination",
+            "-o",
+            "di.exr",
+            "--width",
+            "16",
+            "--height",
+            "16",
+            "--moments",
+        ];
+        args.extend_from_slice(extra);
+        exercise(dir.path(), &args);
+        let image = vkpath::exr_input::read_exr(&dir.path().join("di.exr")).unwrap();
+        assert!(image.has_moments);
+        assert!(
+            image
+                .image
+                .sample_count
+                .iter()
+                .all(|&n| n == expected_count),
+            "{extra:?}"
+        );
+    }
+}
+
+#[test]
+fn bad_exercise_arguments_fail_with_one_line() {
+    let dir = tempfile::tempdir().unwrap();
+    let unknown = common::vkpath(dir.path(), &["exercise", "sample-cube", "-o", "x.png"]);
+    assert_eq!(unknown.status.code(), Some(2), "clap's usage error");
+    let bad_format = common::vkpath(dir.path(), &["exercise", "sample-sphere", "-o", "x.jpg"]);
+    let stderr = String::from_utf8_lossy(&bad_format.stderr);
+    assert_eq!(bad_format.status.code(), Some(1), "{stderr}");
+    assert!(
+        stderr.contains("x.jpg") && !stderr.contains("panicked"),
+        "{stderr}"
+    );
+    let zero = common::vkpath(
+        dir.path(),
+        &["exercise", "sample-sphere", "-o", "x.png", "--width", "0"],
+    );
+    let stderr = String::from_utf8_lossy(&zero.stderr);
+    assert_eq!(zero.status.code(), Some(1), "{stderr}");
+    assert!(stderr.contains("0x256"), "{stderr}");
+    assert_eq!(
+        std::fs::read_dir(dir.path()).unwrap().count(),
+        0,
+        "files left behind"
+    );
+}
