@@ -45,3 +45,4 @@ pub use settings::{Integrator, PixelFilter, RenderSettings};
 pub mod cpu;
 pub mod stats;
 pub mod probe;
+pub mod check;

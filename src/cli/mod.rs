@@ -6,6 +6,7 @@ use glam::Vec3;
 
 use crate::settings::PixelFilter;
 
+pub mod check;
 pub mod compare;
 pub mod devices;
 pub mod exercise;
@@ -32,6 +33,8 @@ pub enum Command {
     Exercise(exercise::ExerciseArgs),
     /// Test whether image A is an unbiased estimate of image B (exit 0: consistent, 1: not, 2: unusable input).
     Compare(compare::CompareArgs),
+    /// Judge your own versions of workshop functions in a GLSL file (exit 0: all pass, 1: a check fails, 2: unusable file).
+    Check(check::CheckArgs),
 }
 
 /// Options that choose and check the Vulkan device.
@@ -106,6 +109,7 @@ pub fn run(cli: Cli) -> anyhow::Result<()> {
         Command::Devices => devices::run(),
         Command::Exercise(args) => exercise::run(&args),
         Command::Compare(args) => compare::run(&args),
+        Command::Check(args) => check::run(&args),
     }
 }
 

@@ -79,7 +79,10 @@ pub fn random_seeds(rng: &mut InputRng, count: usize) -> Vec<UVec2> {
                 if seeds.len() >= count / 2 {
                     break 'pixels;
                 }
-                seeds.push(get_sample_seed(UVec2::new(x, y), sample, 0));
+                let seed = get_sample_seed(UVec2::new(x, y), sample, 0);
+                if seed != UVec2::ZERO {
+                    seeds.push(seed);
+                }
             }
         }
     }

@@ -1,0 +1,193 @@
+//! What `vkpath check` found: a verdict per function with how it was judged, the tolerance,
+//! the measured errors or statistics, and the first few mismatching inputs; as text for
+//! people and as JSON for scripts.
+
+use std::collections::BTreeMap;
+use std::fmt::Write as _;
+
+use serde::Serialize;
+
+/// How many mismatching inputs a report shows (the count covers all of them).
+pub const SHOWN_MISMATCHES: usize = 5;
+
+/// One input on which the user's function and the reference disagree.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct Mismatch {
+    /// The input, as GLSL-like text.
+    pub input: String,
+    /// What the reference returned.
+    pub expected: String,
+    /// What the user's function returned.
+    pub actual: String,
+}
+
+/// The verdict on one function of the user's file.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct FunctionReport {
+    /// The GLSL name.
+    pub function: String,
+    /// Line of the user's file where it is defined.
+    pub line: usize,
+    /// How it was judged: "bit-exact", "tolerance", "chi-square" or "render".
+    pub method: String,
+    /// Whether it passed.
+    pub passed: bool,
+    /// One line saying what was found.
+    pub summary: String,
+    /// The tolerance or significance it was judged by, in words.
+    pub tolerance: String,
+    /// Inputs (or statistical tests) judged.
+    pub cases: usize,
+    /// Inputs (or tests) that failed.
+    pub failures: usize,
+    /// Near-degenerate inputs that were not judged (see `crate::probe::compare`).
+    pub skipped: usize,
+    /// Measured errors and statistics by name (e.g. "max_t_error_units", "p_value").
+    pub measurements: BTreeMap<String, f64>,
+    /// The first `SHOWN_MISMATCHES` failing inputs.
+    pub mismatches: Vec<Mismatch>,
+    /// Images written for this function (render comparisons).
+    pub images: Vec<String>,
+}
+
+impl FunctionReport {
+    /// A report with the given identity and nothing measured yet.
+    pub fn new(function: &str, line: usize, method: &str, tolerance: String) -> FunctionReport {
+        FunctionReport {
+            function: function.to_string(),
+            line,
+            method: method.to_string(),
+            passed: false,
+            summary: String::new(),
+            tolerance,
+            cases: 0,
+            failures: 0,
+            skipped: 0,
+            measurements: BTreeMap::new(),
+            mismatches: Vec::new(),
+            images: Vec::new(),
+        }
+    }
+
+    /// Records a failing input (kept if fewer than `SHOWN_MISMATCHES` are kept).
+    pub fn add_mismatch(&mut self, input: String, expected: String, actual: String) {
+        self.failures += 1;
+        if self.mismatches.len() < SHOWN_MISMATCHES {
+            self.mismatches.push(Mismatch {
+                input,
+                expected,
+                actual,
+            });
+        }
+    }
+
+    /// Records a measurement.
+    pub fn measure(&mut self, name: &str, value: f64) {
+        self.measurements.insert(name.to_string(), value);
+    }
+}
+
+/// Everything `vkpath check` found about one file.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct CheckReport {
+    /// The user's file.
+    pub file: String,
+    /// The Vulkan device that ran the checks.
+    pub device: String,
+    /// The workshop functions the file defines.
+    pub defined_functions: Vec<String>,
+    /// Whether every check passed.
+    pub passed: bool,
+    /// Definitions whose signature differs from the workshop's (nothing else is checked
+    /// then).
+    pub signature_errors: Vec<String>,
+    /// The compiler's messages when the file does not compile (naming the user's file and
+    /// lines); nothing else is checked then.
+    pub compile_errors: Option<String>,
+    /// The compiler's warnings about the file.
+    pub compile_warnings: String,
+    /// One verdict per defined function.
+    pub functions: Vec<FunctionReport>,
+}
+
+/// A measurement as text: whole numbers as such, others with 4 significant digits.
+fn number_text(value: f64) -> String {
+    if value.fract() == 0.0 && value.abs() < 1e9 {
+        format!("{value}")
+    } else if value != 0.0 && (value.abs() < 1e-3 || value.abs() >= 1e5) {
+        format!("{value:.3e}")
+    } else {
+        format!("{value:.4}")
+    }
+}
+
+/// The report as text: a line per function with its verdict and summary, its tolerance, its
+/// measurements, the first mismatches and the images written.
+pub fn describe(report: &CheckReport) -> String {
+    let mut text = String::new();
+    let _ = writeln!(
+        text,
+        "vkpath check {}: {} ({})",
+        report.file,
+        report.defined_functions.join(", "),
+        report.device
+    );
+    for error in &report.signature_errors {
+        let _ = writeln!(text, "{error}");
+    }
+    if let Some(errors) = &report.compile_errors {
+        let _ = writeln!(
+            text,
+            "{} does not compile:\n{}",
+            report.file,
+            errors.trim_end()
+        );
+    }
+    if !report.compile_warnings.trim().is_empty() {
+        let _ = writeln!(text, "{}", report.compile_warnings.trim_end());
+    }
+    for function in &report.functions {
+        let verdict = if function.passed { "PASS" } else { "FAIL" };
+        let _ = writeln!(
+            text,
+            "{verdict} {} (line {}, {}): {}",
+            function.function, function.line, function.method, function.summary
+        );
+        let _ = writeln!(text, "    judged by: {}", function.tolerance);
+        if !function.measurements.is_empty() {
+            let measured: Vec<String> = function
+                .measurements
+                .iter()
+                .map(|(name, value)| format!("{name} = {}", number_text(*value)))
+                .collect();
+            let _ = writeln!(text, "    measured: {}", measured.join(", "));
+        }
+        for mismatch in &function.mismatches {
+            let _ = writeln!(
+                text,
+                "    input {}\n      expected {}\n      actual   {}",
+                mismatch.input, mismatch.expected, mismatch.actual
+            );
+        }
+        if function.failures > function.mismatches.len() && !function.mismatches.is_empty() {
+            let _ = writeln!(
+                text,
+                "    ... and {} more",
+                function.failures - function.mismatches.len()
+            );
+        }
+        for image in &function.images {
+            let _ = writeln!(text, "    wrote {image}");
+        }
+    }
+    let _ = writeln!(
+        text,
+        "{}",
+        if report.passed {
+            "all checks passed"
+        } else {
+            "some checks FAILED"
+        }
+    );
+    text
+}
