@@ -10,14 +10,19 @@ use shaderc_link as _;
 mod shader_compiler;
 
 /// Kernels compiled more than once with different macros: (source stem, variant stem, macros).
-const VARIANTS: &[(&str, &str, &[(&str, &str)])] = &[(
-    "path_tracer",
-    "path_tracer_uniform",
-    &[("TRIANGLES_IN_UNIFORM_BUFFER", "1")],
-)];
+const VARIANTS: &[(&str, &str, &[(&str, &str)])] = &[
+    (
+        "path_tracer",
+        "path_tracer_uniform",
+        &[("TRIANGLES_IN_UNIFORM_BUFFER", "1")],
+    ),
+    ("path_tracer", "path_tracer_bvh", &[("USE_BVH", "1")]),
+];
 
 fn main() {
-    let glsl_dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("glsl");
+    // Read at run time: a build script compiled for one checkout may run for another.
+    let manifest_dir = std::env::var("CARGO_MANIFEST_DIR").expect("cargo sets CARGO_MANIFEST_DIR");
+    let glsl_dir = Path::new(&manifest_dir).join("glsl");
     let out_dir = PathBuf::from(std::env::var("OUT_DIR").expect("cargo sets OUT_DIR"));
     let optimize = std::env::var("PROFILE")
         .map(|p| p == "release")

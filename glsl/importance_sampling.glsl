@@ -93,9 +93,7 @@ float get_light_density(float selection_probability, triangle_t light, vec3 dire
 // Whether anything blocks the segment from `origin` to distance `distance` along `direction`
 // (the emitter at its end excluded by a relative margin of 2^-14).
 bool is_occluded(vec3 origin, vec3 direction, float distance) {
-    float t;
-    triangle_t blocker;
-    return ray_mesh_intersection(t, blocker, origin, direction) && t < distance * (1.0 - 6.103515625e-05);
+    return ray_mesh_any_hit(origin, direction, distance * (1.0 - 6.103515625e-05));
 }
 
 // The power heuristic with exponent 2 (Veach 1997): weight of a sample from the strategy

@@ -22,6 +22,9 @@ layout(constant_id = SPEC_RUSSIAN_ROULETTE_START) const int RUSSIAN_ROULETTE_STA
 
 #include "integrator.glsl"
 #include "importance_sampling.glsl"
+#ifdef USE_BVH
+#include "bvh.glsl"
+#endif
 #include "camera.glsl"
 #ifdef USER_FUNCTIONS
 #include "user_functions.glsl"

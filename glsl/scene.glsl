@@ -65,14 +65,25 @@ uint g_hit_triangle_index = 0u;
 // Number of rays this invocation traced (vkpath's addition, for `vkpath bench`'s rays/s).
 uint g_ray_count = 0u;
 
+#ifdef USE_BVH
+// Defined in bvh.glsl, which kernels built with USE_BVH include.
+bool bvh_closest_hit(out float out_t, out uint out_triangle_index, vec3 ray_origin, vec3 ray_direction);
+bool bvh_any_hit(vec3 ray_origin, vec3 ray_direction, float t_max);
+#endif
+
 #ifndef USER_DEFINES_RAY_MESH_INTERSECTION
-// Finds the closest triangle that a ray hits (Part 1), brute force over all triangles.
+// Finds the closest triangle that a ray hits (Part 1): brute force over all triangles, or,
+// in kernels built with USE_BVH, by traversing the BVH with the same triangle tests.
 // \param out_t Ray parameter of the closest hit
 // \param out_triangle The triangle that was hit
 // \param ray_origin, ray_direction The ray, world space
 // \return true iff any triangle was hit; then g_hit_triangle_index names the triangle
 bool ray_mesh_intersection(out float out_t, out triangle_t out_triangle, vec3 ray_origin, vec3 ray_direction) {
     ++g_ray_count;
+#ifdef USE_BVH
+    uint hit_index;
+    bool hit = bvh_closest_hit(out_t, hit_index, ray_origin, ray_direction);
+#else
     out_t = 1.0e38;
     uint hit_index = 0u;
     bool hit = false;
@@ -85,6 +96,7 @@ bool ray_mesh_intersection(out float out_t, out triangle_t out_triangle, vec3 ra
             hit = true;
         }
     }
+#endif
     if (hit) {
         out_triangle = get_triangle(hit_index);
         g_hit_triangle_index = hit_index;
@@ -92,5 +104,22 @@ bool ray_mesh_intersection(out float out_t, out triangle_t out_triangle, vec3 ra
     return hit;
 }
 #endif
+
+// Whether a ray hits any triangle at a ray parameter t < t_max (vkpath's addition, for
+// shadow rays): it may stop at the first such hit instead of finding the closest.
+bool ray_mesh_any_hit(vec3 ray_origin, vec3 ray_direction, float t_max) {
+    ++g_ray_count;
+#ifdef USE_BVH
+    return bvh_any_hit(ray_origin, ray_direction, t_max);
+#else
+    uint triangle_count = g_resolution_triangle_count_seed.z;
+    for (uint i = 0u; i != triangle_count; ++i) {
+        float t;
+        if (ray_triangle_intersection(t, ray_origin, ray_direction, get_triangle(i)) && t < t_max)
+            return true;
+    }
+    return false;
+#endif
+}
 
 #endif

@@ -12,9 +12,10 @@ use crate::contract;
 use crate::error::{Error, Result};
 use crate::gpu_types::{FramePushConstants, RenderUniforms};
 use crate::image_data::RenderedImage;
+use crate::bvh::Bvh;
 use crate::lights::LightTable;
 use crate::scene::Scene;
-use crate::settings::RenderSettings;
+use crate::settings::{Accel, RenderSettings};
 use crate::shaders;
 use crate::vk::{
     full_compute_barrier, Buffer, CommandRunner, ComputePipeline, Context, DescriptorSet,
@@ -42,12 +43,17 @@ pub enum TriangleLayout {
     Uniform,
     /// A std430 storage buffer of any size.
     Storage,
+    /// A storage buffer in BVH leaf order, and the BVH's nodes.
+    StorageBvh,
 }
 
 impl TriangleLayout {
-    /// Uniform when the scene fits the uniform block and the device allows a block that
-    /// large, else storage.
-    pub fn choose(context: &Context, triangle_count: usize) -> TriangleLayout {
+    /// A BVH when `accel` asks for one; else uniform when the scene fits the uniform block
+    /// and the device allows a block that large; else storage.
+    pub fn choose(context: &Context, triangle_count: usize, accel: Accel) -> TriangleLayout {
+        if accel.uses_bvh(triangle_count) {
+            return TriangleLayout::StorageBvh;
+        }
         let capacity = contract::UNIFORM_TRIANGLE_CAPACITY as usize;
         let block_size = capacity * std::mem::size_of::<crate::gpu_types::GpuTriangle>();
         if triangle_count <= capacity
@@ -63,20 +69,21 @@ impl TriangleLayout {
         match self {
             TriangleLayout::Uniform => shaders::PATH_TRACER_UNIFORM,
             TriangleLayout::Storage => shaders::PATH_TRACER,
+            TriangleLayout::StorageBvh => shaders::PATH_TRACER_BVH,
         }
     }
 
     fn descriptor_type(self) -> vk::DescriptorType {
         match self {
             TriangleLayout::Uniform => vk::DescriptorType::UNIFORM_BUFFER,
-            TriangleLayout::Storage => vk::DescriptorType::STORAGE_BUFFER,
+            TriangleLayout::Storage | TriangleLayout::StorageBvh => vk::DescriptorType::STORAGE_BUFFER,
         }
     }
 
     fn usage(self) -> vk::BufferUsageFlags {
         match self {
             TriangleLayout::Uniform => vk::BufferUsageFlags::UNIFORM_BUFFER,
-            TriangleLayout::Storage => vk::BufferUsageFlags::STORAGE_BUFFER,
+            TriangleLayout::Storage | TriangleLayout::StorageBvh => vk::BufferUsageFlags::STORAGE_BUFFER,
         }
     }
 }
@@ -94,6 +101,7 @@ pub struct Renderer {
     _triangles: Buffer,
     _uniforms: Buffer,
     _lights: Buffer,
+    _bvh_nodes: Option<Buffer>,
     samples_done: u32,
     frames_per_batch: u32,
     rays_traced: f64,
@@ -158,10 +166,17 @@ impl Renderer {
         let commands = CommandRunner::new(context)?;
         let layout = match kernel {
             Some((_, layout)) => layout,
-            None => TriangleLayout::choose(context, scene.triangles.len()),
+            None => TriangleLayout::choose(context, scene.triangles.len(), settings.accel),
         };
-        let mut gpu_triangles = scene.gpu_triangles();
-        let lights = LightTable::new(&scene.triangles);
+        // With a BVH, triangles are stored in the order its leaves reference them; light
+        // indices then refer to that order too.
+        let bvh = (layout == TriangleLayout::StorageBvh).then(|| Bvh::build(&scene.triangles));
+        let ordered_triangles = match &bvh {
+            Some(bvh) => bvh.reorder(&scene.triangles),
+            None => scene.triangles.clone(),
+        };
+        let mut gpu_triangles: Vec<_> = ordered_triangles.iter().map(|t| t.to_gpu()).collect();
+        let lights = LightTable::new(&ordered_triangles);
         lights.annotate(&mut gpu_triangles);
         if layout == TriangleLayout::Uniform {
             // The uniform block declares the full capacity; its tail stays zero.
@@ -189,6 +204,16 @@ impl Renderer {
             )],
             vk::BufferUsageFlags::UNIFORM_BUFFER,
         )?;
+        let bvh_nodes = match &bvh {
+            Some(bvh) => Some(upload_device_local(
+                context,
+                &commands,
+                "bvh nodes",
+                bytemuck::cast_slice(&bvh.nodes),
+                vk::BufferUsageFlags::STORAGE_BUFFER,
+            )?),
+            None => None,
+        };
         let light_buffer = upload_device_local(
             context,
             &commands,
@@ -196,24 +221,22 @@ impl Renderer {
             &lights.gpu_bytes(),
             vk::BufferUsageFlags::STORAGE_BUFFER,
         )?;
+        let mut bindings = vec![
+            (contract::BINDING_TRIANGLES, layout.descriptor_type()),
+            (contract::BINDING_RENDER_UNIFORMS, vk::DescriptorType::UNIFORM_BUFFER),
+            (contract::BINDING_ACCUMULATION, vk::DescriptorType::STORAGE_IMAGE),
+            (contract::BINDING_LIGHTS, vk::DescriptorType::STORAGE_BUFFER),
+        ];
+        if bvh_nodes.is_some() {
+            bindings.push((contract::BINDING_BVH_NODES, vk::DescriptorType::STORAGE_BUFFER));
+        }
         let pipeline = ComputePipeline::new(
             context,
             &match kernel {
                 Some((spirv, _)) => spirv.to_vec(),
                 None => spirv_words(layout.kernel())?,
             },
-            &[
-                (contract::BINDING_TRIANGLES, layout.descriptor_type()),
-                (
-                    contract::BINDING_RENDER_UNIFORMS,
-                    vk::DescriptorType::UNIFORM_BUFFER,
-                ),
-                (
-                    contract::BINDING_ACCUMULATION,
-                    vk::DescriptorType::STORAGE_IMAGE,
-                ),
-                (contract::BINDING_LIGHTS, vk::DescriptorType::STORAGE_BUFFER),
-            ],
+            &bindings,
             std::mem::size_of::<FramePushConstants>() as u32,
             &[
                 (contract::SPEC_SAMPLE_COUNT, settings.samples_per_frame),
@@ -258,6 +281,9 @@ impl Renderer {
             &uniforms,
         );
         descriptors.write_storage_image(contract::BINDING_ACCUMULATION, &accumulation);
+        if let Some(nodes) = &bvh_nodes {
+            descriptors.write_buffer(contract::BINDING_BVH_NODES, vk::DescriptorType::STORAGE_BUFFER, nodes);
+        }
         descriptors.write_buffer(contract::BINDING_LIGHTS, vk::DescriptorType::STORAGE_BUFFER, &light_buffer);
         commands.run(|device, command_buffer| {
             clear_to_general(device, command_buffer, &accumulation)
@@ -273,6 +299,7 @@ impl Renderer {
             _triangles: triangles,
             _uniforms: uniforms,
             _lights: light_buffer,
+            _bvh_nodes: bvh_nodes,
             samples_done: 0,
             frames_per_batch: 1,
             rays_traced: 0.0,

@@ -4,15 +4,17 @@
 mod common;
 
 use vkpath::procedural::{furnace, furnace_radiance};
-use vkpath::{Integrator, RenderSettings, Renderer};
+use vkpath::{Accel, Integrator, RenderSettings, Renderer};
 
 fn check_furnace(albedo: f32, emission: f32, max_path_length: u32) {
-    for integrator in [Integrator::PathTracing, Integrator::Cosine, Integrator::Nee, Integrator::Mis] {
-        check_furnace_with(integrator, albedo, emission, max_path_length);
+    for accel in [Accel::None, Accel::Bvh] {
+        for integrator in [Integrator::PathTracing, Integrator::Cosine, Integrator::Nee, Integrator::Mis] {
+            check_furnace_with(integrator, accel, albedo, emission, max_path_length);
+        }
     }
 }
 
-fn check_furnace_with(integrator: Integrator, albedo: f32, emission: f32, max_path_length: u32) {
+fn check_furnace_with(integrator: Integrator, accel: Accel, albedo: f32, emission: f32, max_path_length: u32) {
     let context = common::validated_context();
     let scene = furnace(albedo, emission);
     let settings = RenderSettings {
@@ -22,6 +24,7 @@ fn check_furnace_with(integrator: Integrator, albedo: f32, emission: f32, max_pa
         max_path_length,
         samples_per_frame: 8,
         integrator,
+        accel,
         // Russian roulette on from the second vertex, so the tests see it at work.
         russian_roulette_start: 2,
         ..Default::default()
@@ -50,14 +53,14 @@ fn check_furnace_with(integrator: Integrator, albedo: f32, emission: f32, max_pa
         // 5 standard errors: a false failure has probability ~6e-7 for a normal mean, while
         // a bias of a few percent (e.g. a lost or extra bounce) is many standard errors.
         let tolerance = 5.0 * standard_error;
-        println!("{integrator:?} a={albedo} n={max_path_length}: mean {mean:.5}, expected {expected:.5}, SE {standard_error:.2e}");
+        println!("{integrator:?} {accel:?} a={albedo} n={max_path_length}: mean {mean:.5}, expected {expected:.5}, SE {standard_error:.2e}");
         assert!(
             variance > 0.0,
             "the estimator should be noisy, got zero variance"
         );
         assert!(
             (mean - expected).abs() <= tolerance,
-            "furnace {integrator:?} a={albedo} n={max_path_length} channel {channel}: mean {mean} vs {expected} (tolerance {tolerance})"
+            "furnace {integrator:?} {accel:?} a={albedo} n={max_path_length} channel {channel}: mean {mean} vs {expected} (tolerance {tolerance})"
         );
     }
     drop(renderer);

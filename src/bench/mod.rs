@@ -26,7 +26,7 @@ pub struct BenchResult {
     pub integrator: String,
     /// Seconds to create the renderer (pipeline compilation, uploads).
     pub cold_start_seconds: f64,
-    /// Seconds of rendering (all frames, read-back excluded).
+    /// Steady-state seconds for all samples (measured after the first frame, scaled).
     pub render_seconds: f64,
     /// Samples (paths) per second.
     pub samples_per_second: f64,
@@ -88,22 +88,33 @@ pub fn integrator_name(integrator: Integrator) -> &'static str {
     }
 }
 
-/// A render with timings: (image, cold-start seconds, render seconds, rays traced).
+/// A render with timings: (image, cold-start seconds, steady-state seconds for all `spp`
+/// samples, rays traced). The cold start is creating the renderer plus its first frame
+/// (drivers may compile the pipeline lazily, at the first dispatch); the steady-state time is
+/// measured over the remaining frames and scaled to the whole sample count.
 fn timed_render(
     context: &Arc<Context>,
     scene: &Scene,
     camera: &Camera,
     settings: RenderSettings,
 ) -> Result<(RenderedImage, f64, f64, f64)> {
+    let spp = settings.spp;
     let started = Instant::now();
     let mut renderer = Renderer::new(context, scene, camera, settings)?;
+    let first_frame_samples = renderer.render_frame()?;
     let cold_start = started.elapsed().as_secs_f64();
     let started = Instant::now();
     while !renderer.is_complete() {
         renderer.render_batch()?;
     }
-    let seconds = started.elapsed().as_secs_f64();
+    let steady = started.elapsed().as_secs_f64();
     let image = renderer.read_back()?;
+    let steady_samples = spp - first_frame_samples;
+    let seconds = if steady_samples > 0 {
+        steady * f64::from(spp) / f64::from(steady_samples)
+    } else {
+        cold_start
+    };
     Ok((image, cold_start, seconds, renderer.rays_traced()))
 }
 

@@ -7,6 +7,7 @@ use glam::Vec3;
 use crate::settings::PixelFilter;
 
 pub mod check;
+pub mod bench;
 pub mod compare;
 pub mod devices;
 pub mod exercise;
@@ -109,6 +110,7 @@ pub fn run(cli: Cli) -> anyhow::Result<()> {
         Command::Devices => devices::run(),
         Command::Exercise(args) => exercise::run(&args),
         Command::Compare(args) => compare::run(&args),
+        Command::Bench(args) => bench::run(&args),
         Command::Check(args) => check::run(&args),
     }
 }

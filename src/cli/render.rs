@@ -14,7 +14,7 @@ use crate::camera::Camera;
 use crate::output::{check_writable, save_image, SaveOptions};
 use crate::renderer::Renderer;
 use crate::scene::Scene;
-use crate::settings::{Integrator, RenderSettings};
+use crate::settings::{Accel, Integrator, RenderSettings};
 
 /// Arguments of `vkpath render`.
 #[derive(Debug, Clone, clap::Args)]
@@ -51,6 +51,10 @@ pub struct RenderArgs {
     /// it off. --max-path-length stays a hard limit.
     #[arg(long, default_value_t = 3)]
     pub russian_roulette_start: u32,
+    /// Ray traversal: a BVH for scenes above 64 triangles (auto), the workshop's loop over
+    /// all triangles (none), or always a BVH (bvh).
+    #[arg(long, value_enum, default_value_t = AccelArg::Auto)]
+    pub accel: AccelArg,
     /// Where samples look inside a pixel.
     #[arg(long, value_enum, default_value_t = PixelFilterArg::Box)]
     pub pixel_filter: PixelFilterArg,
@@ -96,8 +100,24 @@ impl RenderArgs {
             integrator,
             samples_per_frame: self.samples_per_frame,
             russian_roulette_start: self.russian_roulette_start,
+            accel: match self.accel {
+                AccelArg::Auto => Accel::Auto,
+                AccelArg::None => Accel::None,
+                AccelArg::Bvh => Accel::Bvh,
+            },
         }
     }
+}
+
+/// `--accel` values.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+pub enum AccelArg {
+    /// A BVH above 64 triangles, else the linear loop.
+    Auto,
+    /// The workshop's linear loop over all triangles.
+    None,
+    /// Always a BVH.
+    Bvh,
 }
 
 /// `--integrator` values.
