@@ -36,6 +36,8 @@ pub enum Command {
     Compare(compare::CompareArgs),
     /// Judge your own versions of workshop functions in a GLSL file (exit 0: all pass, 1: a check fails, 2: unusable file).
     Check(check::CheckArgs),
+    /// Compare the integrators' speed and efficiency on a fixed scene.
+    Bench(bench::BenchArgs),
 }
 
 /// Options that choose and check the Vulkan device.
