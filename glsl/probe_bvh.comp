@@ -1,7 +1,7 @@
 #version 460
-// Probe of the BVH traversal (glsl/bvh.glsl): for each ray, bvh_closest_hit(), bvh_any_hit()
-// and, for comparison on the GPU itself, the brute-force ray_mesh_intersection() of
-// scene.glsl. Host side: tests/bvh_gpu.rs, which compares with the Rust twins.
+// Probe of the BVH traversal (glsl/bvh.glsl): for each ray, bvh_closest_hit(), bvh_any_hit(),
+// bvh_inverse_direction() and bvh_ray_box_intersection() with the root's box, and, for
+// comparison on the GPU itself, the brute-force ray_mesh_intersection() of scene.glsl. Host side: tests/bvh_gpu.rs, which compares with the Rust twins.
 //
 // Descriptor set 0: BINDING_TRIANGLES (storage buffer, reordered by the BVH builder),
 // BINDING_RENDER_UNIFORMS (.z: triangle count, for the brute force), BINDING_BVH_NODES,
@@ -30,6 +30,11 @@ struct bvh_probe_result_t {
     // ray_mesh_intersection(): x: out_t as float bits, y: g_hit_triangle_index, z: 1 iff hit,
     // w: 0 (all 0 when BVH_PROBE_BRUTE_FORCE is 0)
     uvec4 brute_force;
+    // xyz: bvh_inverse_direction(), w: out_t_entry of bvh_ray_box_intersection() with the
+    // root's box and t_max (0 when there are no nodes)
+    vec4 inverse_direction_root_entry;
+    // x: 1 iff that box test hit; yzw: 0
+    uvec4 root_hit;
 };
 
 layout(std430, set = 0, binding = BVH_PROBE_BINDING_RAYS) readonly buffer bvh_probe_rays {
@@ -46,6 +51,14 @@ void main() {
     vec3 origin = g_probe_rays[index].origin_t_max.xyz;
     float t_max = g_probe_rays[index].origin_t_max.w;
     vec3 direction = g_probe_rays[index].direction.xyz;
+
+    vec3 inverse_direction = bvh_inverse_direction(direction);
+    float root_entry = 0.0;
+    bool root_hit = false;
+    if (g_bvh_nodes.length() > 0)
+        root_hit = bvh_ray_box_intersection(root_entry, origin, inverse_direction, g_bvh_nodes[0].lower.xyz, g_bvh_nodes[0].upper.xyz, t_max);
+    g_probe_results[index].inverse_direction_root_entry = vec4(inverse_direction, root_entry);
+    g_probe_results[index].root_hit = uvec4(root_hit ? 1u : 0u, 0u, 0u, 0u);
 
     float t;
     uint triangle_index;

@@ -10,7 +10,9 @@ use std::time::Instant;
 use ash::vk;
 use bytemuck::Zeroable;
 use glam::{UVec2, Vec3};
-use vkpath::bvh::{bvh_any_hit, bvh_closest_hit, Bvh};
+use vkpath::bvh::{
+    bvh_any_hit, bvh_closest_hit, bvh_inverse_direction, bvh_ray_box_intersection, Bvh,
+};
 use vkpath::contract;
 use vkpath::cpu::workshop::{get_random_numbers, sample_sphere};
 use vkpath::gpu_types::{GpuTriangle, RenderUniforms};
@@ -21,8 +23,8 @@ use vkpath::vk::{Buffer, CommandRunner, ComputePipeline, Context};
 /// `bvh_probe_ray_t`: xyz origin, w t_max of the any-hit query; xyz direction.
 type ProbeRay = [[f32; 4]; 2];
 /// `bvh_probe_result_t`: the BVH's (t bits, index, hit, any hit), brute force's (t bits,
-/// index, hit, 0).
-type ProbeResult = [[u32; 4]; 2];
+/// index, hit, 0), the inverse direction and root entry t (float bits), the root box hit.
+type ProbeResult = [[u32; 4]; 4];
 
 /// Runs the probe kernel over `rays` with the reordered triangles and the BVH's nodes.
 /// Returns the results and the seconds the submission took.
@@ -113,8 +115,10 @@ fn run_probe(
 }
 
 /// Rays of a path tracer in the Cornell box: half from the workshop camera's pinhole towards
-/// the box, half from random points inside the room in uniform directions. `t_max` of the
-/// any-hit query is the closest hit's t (Rust twin) times a factor in [0.5, 1.5), or 1e30.
+/// the box, a quarter from random points inside the room in uniform directions, a quarter
+/// from such points along the axes (zero direction components: the slab test's
+/// `BVH_MIN_DIRECTION` path). `t_max` of the any-hit query is the closest hit's t (Rust twin)
+/// times a factor in [0.5, 1.5), or 1e30.
 fn test_rays(count: usize, triangles: &[Triangle], bvh: &Bvh) -> Vec<ProbeRay> {
     let mut seed = UVec2::new(2024, 7);
     let camera = Vec3::new(0.278, 0.8, 0.2744);
@@ -127,7 +131,13 @@ fn test_rays(count: usize, triangles: &[Triangle], bvh: &Bvh) -> Vec<ProbeRay> {
                 (camera, (target - camera).normalize())
             } else {
                 let origin = Vec3::new(0.556 * a.x, -0.56 * a.y, 0.549 * b.x);
-                (origin, sample_sphere(get_random_numbers(&mut seed)))
+                let random = get_random_numbers(&mut seed);
+                let axes = [Vec3::X, Vec3::Y, Vec3::Z, -Vec3::X, -Vec3::Y, -Vec3::Z];
+                if i % 4 == 1 {
+                    (origin, axes[(random.x * 6.0) as usize % 6])
+                } else {
+                    (origin, sample_sphere(random))
+                }
             };
             let hit = bvh_closest_hit(&bvh.nodes, triangles, origin, direction);
             let t_max = hit.map_or(1e30, |h| h.t * (0.5 + b.y));
@@ -196,9 +206,27 @@ fn check(
     let mut twin = Tally::default();
     let mut gpu_brute_force = Tally::default();
     let mut any_hit_disagreements = 0;
+    let mut box_test_disagreements = 0;
+    let root = bvh.nodes[0].bounds();
     for (ray, result) in rays.iter().zip(results) {
         let origin = Vec3::from_slice(&ray[0][..3]);
         let direction = Vec3::from_slice(&ray[1][..3]);
+        // bvh_inverse_direction and bvh_ray_box_intersection with the root's box: within
+        // 1e-6 relative (8 ulps; lavapipe divides exactly, other GPUs to 2.5 ulps).
+        let inverse = bvh_inverse_direction(direction);
+        let gpu = result[2].map(f32::from_bits);
+        let close = |a: f32, b: f32| (a - b).abs() <= 1e-6 * a.abs();
+        assert!(
+            (0..3).all(|i| close(inverse[i], gpu[i])),
+            "{inverse} vs {gpu:?}"
+        );
+        let entry = bvh_ray_box_intersection(origin, inverse, root.lower, root.upper, ray[0][3]);
+        let gpu_entry = (result[3][0] != 0).then_some(gpu[3]);
+        let agrees = match (entry, gpu_entry) {
+            (Some(e), Some(g)) => (e - g).abs() <= 1e-6 * e.max(1e-3),
+            (e, g) => e == g,
+        };
+        box_test_disagreements += usize::from(!agrees);
         let expected = bvh_closest_hit(&bvh.nodes, triangles, origin, direction)
             .map(|h| (h.triangle_index as u32, h.t));
         twin.add(expected, hit(result[0]));
@@ -221,6 +249,10 @@ fn check(
     }
     // t_max lies at least 0.5x away from the closest hit, so any-hit has no ties.
     assert_eq!(any_hit_disagreements, 0, "{name}: bvh_any_hit");
+    assert_eq!(
+        box_test_disagreements, 0,
+        "{name}: bvh_ray_box_intersection"
+    );
 }
 
 #[test]
@@ -249,6 +281,33 @@ fn gpu_traversal_matches_the_rust_twins_and_gpu_brute_force() {
         triangles.len(),
         bvh_seconds * 1e3,
         brute_force_seconds * 1e3
+    );
+    common::assert_validation_silent(&context);
+}
+
+#[test]
+fn gpu_traversal_in_the_cornell_box_matches_gpu_brute_force() {
+    // Axis-aligned walls make flat boxes; rays along the axes meet them head-on.
+    let context = common::validated_context();
+    let scene = vkpath::Scene::builtin_cornell_box().unwrap();
+    let bvh = Bvh::build(&scene.triangles);
+    let triangles = bvh.reorder(&scene.triangles);
+    let rays = test_rays(4096, &triangles, &bvh);
+    let (results, bvh_seconds) = run_probe(&context, &triangles, &bvh, &rays, false);
+    check("Cornell box", &triangles, &bvh, &rays, &results, false);
+    let (results, both_seconds) = run_probe(&context, &triangles, &bvh, &rays, true);
+    check(
+        "Cornell box with brute force",
+        &triangles,
+        &bvh,
+        &rays,
+        &results,
+        true,
+    );
+    println!(
+        "Cornell box, 4096 rays: BVH closest + any hit {:.1} ms; with brute force too {:.1} ms",
+        bvh_seconds * 1e3,
+        both_seconds * 1e3
     );
     common::assert_validation_silent(&context);
 }
