@@ -222,6 +222,12 @@ fn build_node(
         }
         _ => return leaf,
     };
+    // The partition uses the binning's own bin_index, so both sides hold what the bins
+    // counted, never nothing; this guard keeps an empty leaf (which the GPU layout would read
+    // as an interior node, count 0) impossible even so.
+    if middle == 0 || middle == count {
+        return leaf;
+    }
     let (left_indices, right_indices) = indices.split_at_mut(middle);
     let (left_node, right_node) = if count > PARALLEL_RECURSION_THRESHOLD {
         rayon::join(
