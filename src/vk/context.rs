@@ -446,6 +446,38 @@ impl Drop for Context {
 mod tests {
     use super::*;
 
+    fn device(index: usize, name: &str, kind: DeviceKind, compute: bool) -> (vk::PhysicalDevice, DeviceInfo) {
+        let info = DeviceInfo {
+            index,
+            name: name.into(),
+            kind,
+            api_version: "1.3.0".into(),
+            compute_queue_family: compute.then_some(0),
+        };
+        (vk::PhysicalDevice::null(), info)
+    }
+
+    #[test]
+    fn devices_without_a_compute_queue_are_refused() {
+        let devices = [device(0, "graphics only", DeviceKind::DiscreteGpu, false)];
+        assert!(matches!(choose_device(&devices, None), Err(VkError::NoComputeDevice(_))));
+        assert!(matches!(choose_device(&devices, Some("0")), Err(VkError::NoComputeDevice(_))));
+        let message = choose_device(&devices, None).unwrap_err().to_string();
+        assert!(message.contains("compute queue"), "{message}");
+    }
+
+    #[test]
+    fn default_choice_prefers_a_gpu_and_selectors_match_index_or_name() {
+        let devices = [
+            device(0, "llvmpipe (LLVM 15)", DeviceKind::Cpu, true),
+            device(1, "NVIDIA H100", DeviceKind::DiscreteGpu, true),
+        ];
+        assert_eq!(choose_device(&devices, None).unwrap().1.index, 1);
+        assert_eq!(choose_device(&devices, Some("0")).unwrap().1.index, 0);
+        assert_eq!(choose_device(&devices, Some("h100")).unwrap().1.index, 1);
+        assert!(matches!(choose_device(&devices, Some("amd")), Err(VkError::DeviceNotFound { .. })));
+    }
+
     #[test]
     fn cpu_devices_rank_after_gpus() {
         assert!(DeviceKind::DiscreteGpu.rank() < DeviceKind::Cpu.rank());
