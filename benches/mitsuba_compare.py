@@ -1,0 +1,436 @@
+#!/usr/bin/env python3
+"""Render the workshop's Cornell box with Mitsuba 3 and with vkpath; compare their efficiency.
+
+Both renderers get the same scene (scenes/workshop_cornell_box.json: 30 triangles, z up), the
+same pinhole camera, resolution, box pixel filter, maximum path length and no Russian
+roulette. Each image at a fixed spp is scored against a high-spp vkpath reference:
+
+    relMSE      = mean over pixels and RGB of (x - r)^2 / (r^2 + 0.01)
+    efficiency  = 1 / (relMSE * seconds)               (higher is better)
+    s to 0.005  = seconds * relMSE / 0.005             (time to reach relMSE 0.005)
+
+Mitsuba's speed figures count only if `vkpath compare mitsuba.exr <reference>` says the two
+renderers agree (the correctness gate); the script prints the verdict either way.
+
+Setup (done by the script itself when missing; needs root for apt, skip it with --no-setup):
+    apt-get install -y libllvm19          # Debian 12 bookworm: 1:19.1.7-3~deb12u1
+    pip install mitsuba==3.9.1            # pulls drjit (1.5.0)
+    DRJIT_LIBLLVM_PATH=/usr/lib/x86_64-linux-gnu/libLLVM-19.so   (set before importing drjit)
+    cargo build --release                 # when target/release/vkpath is missing (or --build)
+Mitsuba runs the `llvm_ad_rgb` variant on --threads CPU threads (default 2, dr.set_thread_count);
+vkpath runs on whatever Vulkan device it picks (lavapipe on a machine without a GPU).
+
+Timing:
+  * Mitsuba: one warm-up mi.render first (JIT tracing and LLVM compilation; reported as
+    "cold"), then the timed mi.render at --spp with another seed, timed around mi.render and
+    the evaluation of its result only. Drjit caches compiled kernels on disk (~/.drjit), so
+    the cold time of a second run of this script is smaller.
+  * vkpath: the seconds of its stderr summary line ('..., S s, M M samples/s'), which cover
+    the frames only (not device start-up or pipeline creation).
+
+Moments for the gate: `vkpath compare` needs each image's per-pixel variance. vkpath stores
+it with --moments; for Mitsuba the script renders --batches more independent images at
+spp/batches each, estimates the variance of the timed image's pixel means from their spread,
+and stores it in mitsuba.exr as vkpath's `second_moment.{R,G,B}` / `sample_count.Y` channels
+(sample count = number of batches; the mean channels are the timed image's).
+
+Usage (from the repository root):
+    python3 benches/mitsuba_compare.py                       # 256x256, path length 5, 64 spp
+    python3 benches/mitsuba_compare.py --width 128 --height 128 --max-path-length 3 --spp 16
+Outputs go to --workdir (default target/mitsuba_compare): the reference (cached by its
+parameters; --force-reference renders it again), mitsuba.exr, vkpath_mis.exr,
+vkpath_workshop.exr, and results.json.
+"""
+
+import argparse
+import glob
+import json
+import math
+import os
+import re
+import shutil
+import subprocess
+import sys
+import time
+
+REPO = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+SCENE_JSON = os.path.join(REPO, "scenes", "workshop_cornell_box.json")
+MITSUBA_VERSION = "3.9.1"
+TARGET_RELMSE = 0.005
+SUMMARY_RE = re.compile(
+    r"device (?P<device>.*?), (?P<w>\d+)x(?P<h>\d+), (?P<spp>\d+) spp, "
+    r"(?P<seconds>[0-9.eE+-]+) s, (?P<msps>[0-9.eE+-]+) M samples/s"
+)
+
+
+# --------------------------------------------------------------------------------------------
+# Setup
+# --------------------------------------------------------------------------------------------
+
+def find_libllvm():
+    """The newest libLLVM >= 19 shared object, or None."""
+    candidates = []
+    for path in glob.glob("/usr/lib/*/libLLVM*.so*") + glob.glob("/usr/lib/llvm-*/lib/libLLVM*.so*"):
+        match = re.search(r"libLLVM[-.](?:so\.)?(\d+)", os.path.basename(path))
+        if match and int(match.group(1)) >= 19:
+            candidates.append((int(match.group(1)), len(path), path))
+    return sorted(candidates, key=lambda c: (-c[0], c[1]))[0][2] if candidates else None
+
+
+def ensure_setup(allow_install):
+    """Installs libllvm19 and mitsuba when missing, sets DRJIT_LIBLLVM_PATH."""
+    if not os.environ.get("DRJIT_LIBLLVM_PATH"):
+        lib = find_libllvm()
+        if lib is None:
+            if not allow_install:
+                sys.exit("libLLVM >= 19 not found; run: apt-get install -y libllvm19 (or drop --no-setup)")
+            print("setup: apt-get install -y libllvm19", flush=True)
+            apt = ["apt-get", "install", "-y", "libllvm19"]
+            if os.geteuid() != 0 and shutil.which("sudo"):
+                apt = ["sudo"] + apt
+            if subprocess.call(apt) != 0:
+                subprocess.call((["sudo"] if apt[0] == "sudo" else []) + ["apt-get", "update"])
+                subprocess.check_call(apt)
+            lib = find_libllvm()
+            if lib is None:
+                sys.exit("libllvm19 installed but no libLLVM-19 .so found under /usr/lib")
+        os.environ["DRJIT_LIBLLVM_PATH"] = lib
+    try:
+        import mitsuba  # noqa: F401
+        installed = mitsuba.__version__
+    except ImportError:
+        installed = None
+    if installed != MITSUBA_VERSION:
+        if not allow_install:
+            sys.exit(f"mitsuba {MITSUBA_VERSION} needed (found {installed}); run: pip install mitsuba=={MITSUBA_VERSION}")
+        if installed is not None:
+            sys.exit(f"mitsuba {installed} is already imported; install {MITSUBA_VERSION} and run again")
+        print(f"setup: pip install mitsuba=={MITSUBA_VERSION}", flush=True)
+        subprocess.check_call([sys.executable, "-m", "pip", "install", f"mitsuba=={MITSUBA_VERSION}"])
+
+
+def ensure_vkpath(path, build):
+    if build or not os.path.exists(path):
+        print("setup: cargo build --release", flush=True)
+        subprocess.check_call(["cargo", "build", "--release"], cwd=REPO)
+    if not os.path.exists(path):
+        sys.exit(f"{path} not found after cargo build --release")
+
+
+# --------------------------------------------------------------------------------------------
+# vkpath
+# --------------------------------------------------------------------------------------------
+
+def run_vkpath(vkpath, output, args, spp, integrator, moments=True, seed=None):
+    cmd = [vkpath, "render", "-o", output, "--width", str(args.width), "--height", str(args.height),
+           "--spp", str(spp), "--integrator", integrator, "--russian-roulette-start", "0",
+           "--max-path-length", str(args.max_path_length), "--pixel-filter", "box"]
+    if moments:
+        cmd.append("--moments")
+    if seed is not None:
+        cmd += ["--seed", str(seed)]
+    print("  $ " + " ".join(cmd), flush=True)
+    result = subprocess.run(cmd, capture_output=True, text=True)
+    if result.returncode != 0:
+        sys.exit(f"vkpath failed ({result.returncode}):\n{result.stderr}")
+    match = None
+    for line in result.stderr.splitlines():
+        match = SUMMARY_RE.search(line) or match
+    if match is None:
+        sys.exit(f"no summary line in vkpath's stderr:\n{result.stderr}")
+    return {"seconds": float(match.group("seconds")), "device": match.group("device"),
+            "msamples_per_s": float(match.group("msps"))}
+
+
+def run_compare(vkpath, a, b):
+    cmd = [vkpath, "compare", a, b]
+    print("  $ " + " ".join(cmd), flush=True)
+    result = subprocess.run(cmd, capture_output=True, text=True)
+    text = (result.stdout + result.stderr).strip()
+    verdict = {0: "consistent", 1: "NOT consistent"}.get(result.returncode, f"unusable input (exit {result.returncode})")
+    return result.returncode, verdict, text
+
+
+# --------------------------------------------------------------------------------------------
+# Mitsuba
+# --------------------------------------------------------------------------------------------
+
+def build_mitsuba_scene(mi, args, spp):
+    """The Cornell box as a Mitsuba scene dict: one mesh per triangle."""
+    with open(SCENE_JSON) as f:
+        data = json.load(f)
+    scene = {"type": "scene"}
+    flipped = 0
+    for i, tri in enumerate(data["triangles"]):
+        p = [list(map(float, v)) for v in tri["positions"]]
+        e1 = [p[1][k] - p[0][k] for k in range(3)]
+        e2 = [p[2][k] - p[0][k] for k in range(3)]
+        n = [e1[1] * e2[2] - e1[2] * e2[1], e1[2] * e2[0] - e1[0] * e2[2], e1[0] * e2[1] - e1[1] * e2[0]]
+        faces = [0, 1, 2]
+        # Mitsuba's area emitters emit towards the CCW face normal, and vkpath's emission
+        # is one-sided towards the stored normal: make the winding agree with it.
+        if sum(a * b for a, b in zip(n, tri["normal"])) < 0:
+            faces = [0, 2, 1]
+            flipped += 1
+        props = mi.Properties()
+        # vkpath flips normals towards the ray: surfaces reflect on both sides.
+        props["bsdf"] = mi.load_dict({"type": "twosided", "material": {
+            "type": "diffuse", "reflectance": {"type": "rgb", "value": [float(c) for c in tri["color"]]}}})
+        if max(tri["emission"]) > 0:
+            props["emitter"] = mi.load_dict({"type": "area", "radiance": {
+                "type": "rgb", "value": [float(c) for c in tri["emission"]]}})
+        mesh = mi.Mesh(f"triangle_{i}", 3, 1, has_vertex_normals=False, has_vertex_texcoords=False, props=props)
+        params = mi.traverse(mesh)
+        params["vertex_positions"] = mi.Float([c for v in p for c in v])
+        params["faces"] = mi.UInt32(faces)
+        params.update()
+        scene[f"triangle_{i}"] = mesh
+    cam = data["camera"]
+    half_height = 0.5 * math.sqrt(sum(c * c for c in cam["up"]))
+    distance = math.dist(cam["position"], cam["middle"])
+    fov_y = math.degrees(2.0 * math.atan(half_height / distance))
+    scene["sensor"] = {
+        "type": "perspective",
+        "fov_axis": "y",
+        "fov": fov_y,
+        "to_world": mi.ScalarTransform4f().look_at(origin=cam["position"], target=cam["middle"], up=[0, 0, 1]),
+        "film": {"type": "hdrfilm", "width": args.width, "height": args.height,
+                 "rfilter": {"type": "box"}, "pixel_format": "rgb"},
+        "sampler": {"type": "independent", "sample_count": spp},
+    }
+    max_depth = args.mitsuba_max_depth if args.mitsuba_max_depth is not None else args.max_path_length
+    scene["integrator"] = {"type": "path", "max_depth": max_depth,
+                           "rr_depth": max_depth + 1000, "hide_emitters": False}
+    return mi.load_dict(scene), flipped, fov_y
+
+
+def mitsuba_render(mi, dr, scene, spp, seed):
+    start = time.perf_counter()
+    image = mi.render(scene, spp=spp, seed=seed)
+    dr.eval(image)
+    dr.sync_thread()
+    return image, time.perf_counter() - start
+
+
+def channel(mi, dr, tensor, c):
+    """Channel c of an (H, W, C) tensor as a flat Float."""
+    h, w, channels = tensor.shape
+    return dr.gather(mi.Float, tensor.array, dr.arange(mi.UInt32, h * w) * channels + c)
+
+
+def read_rgb(mi, dr, path):
+    """R, G, B (and the vkpath moments when present) of an EXR as flat Floats."""
+    bitmap = mi.Bitmap(path)
+    parts = dict(bitmap.split()) if bitmap.pixel_format() == mi.Bitmap.PixelFormat.MultiChannel else {"<root>": bitmap}
+    root = mi.TensorXf(parts["<root>"])
+    rgb = [channel(mi, dr, root, c) for c in range(3)]
+    moments = None
+    if "second_moment" in parts and "sample_count" in parts:
+        m2 = mi.TensorXf(parts["second_moment"])
+        n = mi.TensorXf(parts["sample_count"])
+        moments = ([channel(mi, dr, m2, c) for c in range(3)], channel(mi, dr, n, 0))
+    return rgb, moments, tuple(bitmap.size())
+
+
+def scalar(x):
+    return float(x[0]) if hasattr(x, "__len__") else float(x)
+
+
+def relative_mse(mi, dr, x, r):
+    total = 0.0
+    for c in range(3):
+        total += scalar(dr.mean((x[c] - r[c]) ** 2 / (r[c] * r[c] + 0.01)))
+    return total / 3.0
+
+
+def reference_noise(mi, dr, r, moments):
+    """Expected relMSE contribution of the reference's own noise: mean var(r)/(r^2+0.01)."""
+    if moments is None:
+        return None
+    m2, n = moments
+    total = 0.0
+    for c in range(3):
+        var = dr.maximum(m2[c] - r[c] * r[c], 0.0) / dr.maximum(n - 1.0, 1.0)
+        total += scalar(dr.mean(var / (r[c] * r[c] + 0.01)))
+    return total / 3.0
+
+
+def orientation(mi, dr, rgb, width, height):
+    """Mean R-G on the left and right fifths, mean luminance of top and bottom rows."""
+    idx = dr.arange(mi.UInt32, width * height)
+    x = mi.Float(idx % width) / width
+    y = mi.Float(idx // width) / height
+    red_minus_green = rgb[0] - rgb[1]
+    lum = (rgb[0] + rgb[1] + rgb[2]) / 3.0
+
+    def masked_mean(value, mask):
+        return scalar(dr.sum(dr.select(mask, value, 0.0))) / max(scalar(dr.sum(dr.select(mask, 1.0, 0.0))), 1.0)
+
+    return {"left_r_minus_g": masked_mean(red_minus_green, x < 0.2),
+            "right_r_minus_g": masked_mean(red_minus_green, x > 0.8),
+            "top_luminance": masked_mean(lum, y < 0.05),
+            "bottom_luminance": masked_mean(lum, y > 0.95)}
+
+
+def write_with_moments(mi, dr, path, image, batches, spp, batch_spp):
+    """Writes the timed image with vkpath's moment channels estimated from the batches."""
+    h, w, _ = image.shape
+    k = len(batches)
+    columns = [channel(mi, dr, image, c) for c in range(3)]
+    second = []
+    for c in range(3):
+        b = [channel(mi, dr, batch, c) for batch in batches]
+        mean_b = sum(b) / k
+        s2 = sum((bi - mean_b) ** 2 for bi in b) / (k - 1)      # variance of a batch's mean
+        var_mean = s2 * (batch_spp / spp)                        # ... of the timed image's mean
+        # vkpath reads var = (second - mean^2) / (n - 1) with n = sample count = k.
+        second.append(columns[c] * columns[c] + var_mean * (k - 1))
+    count = dr.full(mi.Float, float(k), h * w)
+    data = columns + second + [count]
+    flat = dr.zeros(mi.Float, h * w * 7)
+    idx = dr.arange(mi.UInt32, h * w)
+    for c, col in enumerate(data):
+        dr.scatter(flat, col, idx * 7 + c)
+    tensor = mi.TensorXf(flat, shape=(h, w, 7))
+    names = ["R", "G", "B", "second_moment.R", "second_moment.G", "second_moment.B", "sample_count.Y"]
+    mi.Bitmap(tensor, pixel_format=mi.Bitmap.PixelFormat.MultiChannel, channel_names=names).write(path)
+
+
+# --------------------------------------------------------------------------------------------
+
+def main():
+    parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    parser.add_argument("--width", type=int, default=256)
+    parser.add_argument("--height", type=int, default=256)
+    parser.add_argument("--max-path-length", type=int, default=5,
+                        help="vkpath --max-path-length n (surface hits) = Mitsuba max_depth n")
+    parser.add_argument("--spp", type=int, default=64, help="spp of each timed render")
+    parser.add_argument("--reference-spp", type=int, default=2048,
+                        help="spp of the vkpath MIS reference (4096 is better where time allows)")
+    parser.add_argument("--batches", type=int, default=16,
+                        help="independent Mitsuba renders at spp/batches for mitsuba.exr's variance")
+    parser.add_argument("--mitsuba-max-depth", type=int, default=None,
+                        help="override Mitsuba's max_depth (default: --max-path-length); e.g. one less, "
+                             "to see the gate fail on a convention mismatch")
+    parser.add_argument("--threads", type=int, default=2, help="Mitsuba (drjit) CPU threads")
+    parser.add_argument("--workdir", default=os.path.join(REPO, "target", "mitsuba_compare"))
+    parser.add_argument("--vkpath", default=os.path.join(REPO, "target", "release", "vkpath"))
+    parser.add_argument("--build", action="store_true", help="run cargo build --release first")
+    parser.add_argument("--force-reference", action="store_true", help="render the reference even if cached")
+    parser.add_argument("--no-setup", action="store_true", help="never apt-get/pip install")
+    args = parser.parse_args()
+    if args.batches < 2 or args.spp < args.batches or args.spp % args.batches:
+        sys.exit("--spp must be a multiple of --batches, and --batches at least 2")
+
+    ensure_setup(not args.no_setup)
+    ensure_vkpath(args.vkpath, args.build)
+    os.makedirs(args.workdir, exist_ok=True)
+    import drjit as dr
+    import mitsuba as mi
+    mi.set_variant("llvm_ad_rgb")
+    dr.set_thread_count(args.threads)
+    print(f"mitsuba {mi.__version__}, drjit {dr.__version__}, variant llvm_ad_rgb, "
+          f"{dr.thread_count()} threads, DRJIT_LIBLLVM_PATH={os.environ['DRJIT_LIBLLVM_PATH']}")
+    w, h, n, spp = args.width, args.height, args.max_path_length, args.spp
+    print(f"scene {os.path.relpath(SCENE_JSON, REPO)}, {w}x{h}, max path length {n}, {spp} spp, "
+          f"no Russian roulette, box pixel filter")
+
+    # (1) Reference.
+    ref = os.path.join(args.workdir, f"ref_{w}x{h}_L{n}_spp{args.reference_spp}.exr")
+    if args.force_reference or not os.path.exists(ref):
+        print(f"[1] vkpath reference, MIS, {args.reference_spp} spp (slow on lavapipe)", flush=True)
+        info = run_vkpath(args.vkpath, ref + ".tmp.exr", args, args.reference_spp, "mis", seed=7919)
+        os.replace(ref + ".tmp.exr", ref)
+        print(f"    {info['seconds']:.1f} s")
+    else:
+        print(f"[1] reusing reference {os.path.relpath(ref, REPO)}")
+    r, r_moments, ref_size = read_rgb(mi, dr, ref)
+    if ref_size != (w, h):
+        sys.exit(f"reference is {ref_size}, expected {(w, h)}")
+    ref_noise = reference_noise(mi, dr, r, r_moments)
+
+    # (2) Mitsuba.
+    print("[2] Mitsuba", flush=True)
+    t0 = time.perf_counter()
+    scene, flipped, fov_y = build_mitsuba_scene(mi, args, spp)
+    load_s = time.perf_counter() - t0
+    print(f"    scene built in {load_s:.2f} s ({flipped} triangles re-wound to their normals), "
+          f"fov_y {fov_y:.4f} deg")
+    _, cold_s = mitsuba_render(mi, dr, scene, spp, seed=1000)
+    image, mitsuba_s = mitsuba_render(mi, dr, scene, spp, seed=0)
+    print(f"    cold (warm-up) render {cold_s:.2f} s, timed render {mitsuba_s:.2f} s", flush=True)
+    batch_spp = spp // args.batches
+    batches = []
+    for b in range(args.batches):
+        batch, _ = mitsuba_render(mi, dr, scene, batch_spp, seed=2000 + b)
+        batches.append(batch)
+    mitsuba_exr = os.path.join(args.workdir, "mitsuba.exr")
+    write_with_moments(mi, dr, mitsuba_exr, image, batches, spp, batch_spp)
+    x, _, _ = read_rgb(mi, dr, mitsuba_exr)
+    rows = [{"name": "Mitsuba path", "seconds": mitsuba_s, "cold": cold_s,
+             "paths_per_s": w * h * spp / mitsuba_s, "relmse": relative_mse(mi, dr, x, r)}]
+    orient_m = orientation(mi, dr, x, w, h)
+    orient_r = orientation(mi, dr, r, w, h)
+
+    # (3) vkpath.
+    print("[3] vkpath", flush=True)
+    for integrator in ("mis", "workshop"):
+        out = os.path.join(args.workdir, f"vkpath_{integrator}.exr")
+        info = run_vkpath(args.vkpath, out, args, spp, integrator)
+        xi, _, _ = read_rgb(mi, dr, out)
+        rows.append({"name": f"vkpath {integrator}", "seconds": info["seconds"], "cold": None,
+                     "paths_per_s": info["msamples_per_s"] * 1e6, "relmse": relative_mse(mi, dr, xi, r),
+                     "device": info["device"]})
+
+    # (5) Gate.
+    print("[5] correctness gate", flush=True)
+    code, verdict, text = run_compare(args.vkpath, mitsuba_exr, ref)
+    code_v, verdict_v, _ = run_compare(args.vkpath, os.path.join(args.workdir, "vkpath_mis.exr"), ref)
+
+    # (4) Report.
+    for row in rows:
+        row["efficiency"] = 1.0 / (row["relmse"] * row["seconds"])
+        row["s_to_target"] = row["seconds"] * row["relmse"] / TARGET_RELMSE
+    print()
+    print(f"Cornell box {w}x{h}, max path length {n}, {spp} spp, reference vkpath MIS {args.reference_spp} spp")
+    print(f"vkpath device: {rows[1].get('device')}; Mitsuba: llvm_ad_rgb, {dr.thread_count()} threads")
+    header = f"{'renderer':<16}{'seconds':>9}{'cold s':>9}{'Mpaths/s':>10}{'relMSE':>11}{'efficiency':>12}{'s to 0.005':>12}"
+    print(header)
+    print("-" * len(header))
+    for row in rows:
+        cold = f"{row['cold']:.2f}" if row["cold"] is not None else "-"
+        print(f"{row['name']:<16}{row['seconds']:>9.2f}{cold:>9}{row['paths_per_s'] / 1e6:>10.3f}"
+              f"{row['relmse']:>11.5f}{row['efficiency']:>12.3f}{row['s_to_target']:>12.1f}")
+    m = rows[0]["efficiency"]
+    print()
+    print(f"efficiency ratio vkpath-mis / Mitsuba      = {rows[1]['efficiency'] / m:.3f}")
+    print(f"efficiency ratio vkpath-workshop / Mitsuba = {rows[2]['efficiency'] / m:.3f}")
+    print(f"Mitsuba paths/s (W*H*spp/seconds)          = {rows[0]['paths_per_s']:.4g}")
+    if ref_noise is not None:
+        print(f"reference's own noise adds ~{ref_noise:.5f} to every relMSE "
+              f"({100 * ref_noise / rows[0]['relmse']:.1f}% of Mitsuba's)")
+    print(f"orientation (R-G left/right, luminance top/bottom): Mitsuba "
+          f"{orient_m['left_r_minus_g']:+.3f}/{orient_m['right_r_minus_g']:+.3f}, "
+          f"{orient_m['top_luminance']:.3f}/{orient_m['bottom_luminance']:.3f}; reference "
+          f"{orient_r['left_r_minus_g']:+.3f}/{orient_r['right_r_minus_g']:+.3f}, "
+          f"{orient_r['top_luminance']:.3f}/{orient_r['bottom_luminance']:.3f}")
+    print()
+    print("vkpath compare mitsuba.exr ref:")
+    print("  " + text.replace("\n", "\n  "))
+    print(f"vkpath compare vkpath_mis.exr ref: {verdict_v}")
+    if code == 0:
+        print("GATE: Mitsuba's image is CONSISTENT with vkpath's reference: the speed figures count.")
+    else:
+        print(f"GATE: Mitsuba's image is {verdict.upper()} with vkpath's reference: "
+              "the speed figures DO NOT COUNT (the renderers compute different images).")
+    with open(os.path.join(args.workdir, "results.json"), "w") as f:
+        json.dump({"width": w, "height": h, "max_path_length": n, "spp": spp,
+                   "reference_spp": args.reference_spp, "reference_noise_relmse": ref_noise,
+                   "rows": rows, "gate": {"exit": code, "verdict": verdict, "report": text},
+                   "vkpath_mis_gate": verdict_v, "orientation": {"mitsuba": orient_m, "reference": orient_r}},
+                  f, indent=1)
+    return 0 if code == 0 else 1
+
+
+if __name__ == "__main__":
+    sys.exit(main())
