@@ -1,12 +1,14 @@
 // What the workshop's closing slide names next: BRDF importance sampling (cosine-weighted
 // directions), light sampling (next event estimation), multiple importance sampling and
 // Russian roulette. Samplers come in pairs sample_x / get_x_density, as in Peters' renderers.
-// Rust twins: src/cpu/importance_sampling.rs. Needs MAX_PATH_LENGTH, INTEGRATOR and
-// RUSSIAN_ROULETTE_START defined by the includer.
+// Rust twins: src/cpu/importance_sampling.rs. Needs MAX_PATH_LENGTH, INTEGRATOR,
+// RUSSIAN_ROULETTE_START and SAMPLER defined by the includer. Random numbers come from
+// get_path_random_numbers() (glsl/sobol.glsl): PCG2D or scrambled Sobol.
 #ifndef VKPATH_IMPORTANCE_SAMPLING_GLSL
 #define VKPATH_IMPORTANCE_SAMPLING_GLSL
 
 #include "integrator.glsl"
+#include "sobol.glsl"
 
 // Emissive triangles: x = triangle index (uint bits), y = cumulative probability of choosing
 // this light or an earlier one (power-proportional; the last is 1). Mirrors
@@ -109,10 +111,10 @@ float get_power_heuristic_weight(float density, float other_density) {
 // a(x)/pi * L_e(y) * (n.omega) / p_light(omega) * w_light
 // \param shading_position Point x, world space
 // \param triangle The triangle at x, oriented towards the incoming ray
-// \param seed The pixel's random state
+// \param seed The pixel's PCG2D random state (see get_path_random_numbers())
 vec3 sample_direct_light(vec3 shading_position, triangle_t triangle, inout uvec2 seed) {
-    vec2 selection = get_random_numbers(seed);
-    vec2 point_randoms = get_random_numbers(seed);
+    vec2 selection = get_path_random_numbers(seed);
+    vec2 point_randoms = get_path_random_numbers(seed);
     if (g_light_count == 0u)
         return vec3(0.0);
     uint light_triangle_index = floatBitsToUint(g_lights[sample_light_index(selection[0])].data.x);
@@ -166,7 +168,7 @@ vec3 get_ray_radiance_importance_sampled(vec3 ray_origin, vec3 ray_direction, in
         if (INTEGRATOR != INTEGRATOR_COSINE)
             radiance += throughput_weight * sample_direct_light(ray_origin, triangle, seed);
         // Continue with a cosine sample: weight a(x) (n.omega) / pi / p(omega) = a(x).
-        ray_direction = sample_hemisphere_cosine(get_random_numbers(seed), triangle.normal);
+        ray_direction = sample_hemisphere_cosine(get_path_random_numbers(seed), triangle.normal);
         direction_density = get_hemisphere_cosine_density(triangle.normal, ray_direction);
         if (direction_density <= 0.0)
             break;
@@ -176,7 +178,7 @@ vec3 get_ray_radiance_importance_sampled(vec3 ray_origin, vec3 ray_direction, in
         // and divide by q, which keeps the estimate unbiased.
         if (RUSSIAN_ROULETTE_START > 0 && i + 1 >= RUSSIAN_ROULETTE_START) {
             float survival = min(1.0, max(throughput_weight.r, max(throughput_weight.g, throughput_weight.b)));
-            if (get_random_numbers(seed)[0] >= survival)
+            if (get_path_random_numbers(seed)[0] >= survival)
                 break;
             throughput_weight /= survival;
         }

@@ -19,6 +19,9 @@ layout(constant_id = SPEC_INTEGRATOR) const int INTEGRATOR = INTEGRATOR_PATH_TRA
 // Path vertex after which Russian roulette may end a path (importance-sampled integrators
 // only); 0 turns it off.
 layout(constant_id = SPEC_RUSSIAN_ROULETTE_START) const int RUSSIAN_ROULETTE_START = 0;
+// SAMPLER_PCG or SAMPLER_SOBOL: the random numbers of the importance-sampled integrators
+// (and of their pixel jitter); the workshop integrators always use PCG2D.
+layout(constant_id = SPEC_SAMPLER) const int SAMPLER = SAMPLER_PCG;
 
 #include "integrator.glsl"
 #include "importance_sampling.glsl"
@@ -74,7 +77,16 @@ void main() {
         if (sample_index >= g_sample_end)
             break;
         uvec2 seed = get_sample_seed(pixel, sample_index, g_resolution_triangle_count_seed.w);
-        vec2 tex_coord = get_sample_tex_coord(pixel, resolution, seed);
+        // The Sobol state of this sample (glsl/sobol.glsl); unused with SAMPLER_PCG.
+        g_sample_index = sample_index;
+        g_pixel_seed = get_sobol_pixel_seed(pixel, g_resolution_triangle_count_seed.w);
+        g_dimension_pair = 0u;
+        // The importance-sampled integrators draw their jitter through get_path_random_numbers()
+        // (the first dimension pair with SAMPLER_SOBOL); the workshop's stay on PCG2D, exactly.
+        bool importance_sampled = INTEGRATOR == INTEGRATOR_COSINE || INTEGRATOR == INTEGRATOR_NEE || INTEGRATOR == INTEGRATOR_MIS;
+        vec2 tex_coord = (importance_sampled && PIXEL_FILTER == PIXEL_FILTER_BOX)
+            ? (vec2(pixel) + get_path_random_numbers(seed)) / vec2(resolution)
+            : get_sample_tex_coord(pixel, resolution, seed);
         vec3 ray_direction = get_primary_ray_direction(tex_coord, g_camera_position.xyz, g_left_bottom.xyz, g_right.xyz, g_up.xyz);
         vec3 radiance = get_sample_radiance(ray_direction, seed);
         // Kahan summation: the sum stays within a few ulps however many samples it holds.

@@ -42,12 +42,20 @@
 #define SPEC_INTEGRATOR 3
 // Path vertex (surface hit, from 1) after which Russian roulette may end a path; 0: never.
 #define SPEC_RUSSIAN_ROULETTE_START 4
+// Random numbers of the importance-sampled integrators: SAMPLER_PCG or SAMPLER_SOBOL.
+#define SPEC_SAMPLER 5
 
 // Values of SPEC_PIXEL_FILTER.
 // Uniform jitter inside the pixel: the box-filtered image.
 #define PIXEL_FILTER_BOX 0
 // The pixel centre, as the workshop's ShaderToy framework uses.
 #define PIXEL_FILTER_CENTER 1
+
+// Values of SPEC_SAMPLER (glsl/sobol.glsl). The workshop integrators always use PCG2D.
+// The workshop's PCG2D, get_random_numbers().
+#define SAMPLER_PCG 0
+// Owen-scrambled, shuffled 2D Sobol points per dimension pair (Burley 2020).
+#define SAMPLER_SOBOL 1
 
 // Values of SPEC_INTEGRATOR.
 // Exercise 7: the path-tracing loop of get_ray_radiance().

@@ -41,7 +41,7 @@ pub use error::{Error, Result};
 pub use image_data::RenderedImage;
 pub use renderer::Renderer;
 pub use scene::Scene;
-pub use settings::{Accel, Integrator, PixelFilter, RenderSettings};
+pub use settings::{Accel, Integrator, PixelFilter, RenderSettings, SamplerKind};
 pub mod cpu;
 pub mod stats;
 pub mod probe;

@@ -253,6 +253,7 @@ impl Renderer {
                     contract::SPEC_RUSSIAN_ROULETTE_START,
                     settings.russian_roulette_start,
                 ),
+                (contract::SPEC_SAMPLER, settings.sampler.spec_constant()),
             ],
         )?;
         let accumulation = StorageImage::new(

@@ -60,6 +60,28 @@ impl Integrator {
     }
 }
 
+/// Where the importance-sampled integrators (cosine, nee, mis) get their random numbers; the
+/// workshop integrators always use the workshop's PCG2D.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+pub enum SamplerKind {
+    /// The workshop's PCG2D hash, `get_random_numbers()`: independent random numbers.
+    #[default]
+    Pcg,
+    /// Owen-scrambled, shuffled 2D Sobol points per dimension pair (Burley 2020,
+    /// `glsl/sobol.glsl`): low-discrepancy, still unbiased.
+    Sobol,
+}
+
+impl SamplerKind {
+    /// The `SAMPLER_*` value of `glsl/shared.h`.
+    pub fn spec_constant(self) -> u32 {
+        match self {
+            SamplerKind::Pcg => contract::SAMPLER_PCG,
+            SamplerKind::Sobol => contract::SAMPLER_SOBOL,
+        }
+    }
+}
+
 /// How rays find the closest triangle.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
 pub enum Accel {
@@ -121,6 +143,8 @@ pub struct RenderSettings {
     pub russian_roulette_start: u32,
     /// How rays find triangles.
     pub accel: Accel,
+    /// Random numbers of the importance-sampled integrators.
+    pub sampler: SamplerKind,
 }
 
 impl Default for RenderSettings {
@@ -136,6 +160,7 @@ impl Default for RenderSettings {
             samples_per_frame: 1,
             russian_roulette_start: 3,
             accel: Accel::Auto,
+            sampler: SamplerKind::Pcg,
         }
     }
 }

@@ -4,7 +4,7 @@ use std::path::PathBuf;
 
 use anyhow::bail;
 
-use super::render::{load_scene, AccelArg, IntegratorArg};
+use super::render::{load_scene, AccelArg, IntegratorArg, SamplerArg};
 use super::DeviceArgs;
 use crate::bench::{format_table, run_bench, BenchSetup};
 use crate::settings::{Accel, Integrator, RenderSettings};
@@ -21,6 +21,10 @@ pub struct BenchArgs {
     /// Ray traversal: auto (BVH above 64 triangles), none (linear loop) or bvh.
     #[arg(long, value_enum, default_value_t = AccelArg::Auto)]
     pub accel: AccelArg,
+    /// Random numbers of cosine, nee and mis: pcg (the workshop's PCG2D) or sobol
+    /// (Owen-scrambled Sobol points); the workshop integrator always uses PCG2D.
+    #[arg(long, value_enum, default_value_t = SamplerArg::Pcg)]
+    pub sampler: SamplerArg,
     /// Image width in pixels.
     #[arg(long, default_value_t = 64)]
     pub width: u32,
@@ -71,6 +75,7 @@ pub fn run(args: &BenchArgs) -> anyhow::Result<()> {
             AccelArg::None => Accel::None,
             AccelArg::Bvh => Accel::Bvh,
         },
+        sampler: args.sampler.into(),
         ..Default::default()
     };
     settings.validate()?;

@@ -14,7 +14,7 @@ use crate::camera::Camera;
 use crate::output::{check_writable, save_image, SaveOptions};
 use crate::renderer::Renderer;
 use crate::scene::Scene;
-use crate::settings::{Accel, Integrator, RenderSettings};
+use crate::settings::{Accel, Integrator, RenderSettings, SamplerKind};
 
 /// Arguments of `vkpath render`.
 #[derive(Debug, Clone, clap::Args)]
@@ -55,6 +55,10 @@ pub struct RenderArgs {
     /// all triangles (none), or always a BVH (bvh).
     #[arg(long, value_enum, default_value_t = AccelArg::Auto)]
     pub accel: AccelArg,
+    /// Random numbers of cosine, nee and mis: the workshop's PCG2D (pcg) or Owen-scrambled
+    /// Sobol points (sobol). The workshop integrator always uses PCG2D.
+    #[arg(long, value_enum, default_value_t = SamplerArg::Pcg)]
+    pub sampler: SamplerArg,
     /// Where samples look inside a pixel.
     #[arg(long, value_enum, default_value_t = PixelFilterArg::Box)]
     pub pixel_filter: PixelFilterArg,
@@ -105,6 +109,25 @@ impl RenderArgs {
                 AccelArg::None => Accel::None,
                 AccelArg::Bvh => Accel::Bvh,
             },
+            sampler: self.sampler.into(),
+        }
+    }
+}
+
+/// `--sampler` values.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+pub enum SamplerArg {
+    /// The workshop's PCG2D: independent random numbers.
+    Pcg,
+    /// Owen-scrambled Sobol points (Burley 2020): lower error at the same spp.
+    Sobol,
+}
+
+impl From<SamplerArg> for SamplerKind {
+    fn from(sampler: SamplerArg) -> Self {
+        match sampler {
+            SamplerArg::Pcg => SamplerKind::Pcg,
+            SamplerArg::Sobol => SamplerKind::Sobol,
         }
     }
 }

@@ -7,6 +7,7 @@ pub mod image;
 pub mod importance_sampling;
 pub mod integrator;
 pub mod renderer;
+pub mod sobol;
 pub mod workshop;
 
 #[cfg(test)]
