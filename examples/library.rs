@@ -9,7 +9,12 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     println!("device: {}", context.info);
     let scene = Scene::builtin_cornell_box()?; // or Scene::load(Path::new("scene.gltf"))?
     let camera = scene.camera.expect("the built-in scene has a camera");
-    let settings = RenderSettings { width: 128, height: 128, spp: 16, ..Default::default() };
+    let settings = RenderSettings {
+        width: 128,
+        height: 128,
+        spp: 16,
+        ..Default::default()
+    };
     let mut renderer = Renderer::new(&context, &scene, &camera, settings)?;
     while !renderer.is_complete() {
         let done = renderer.render_batch()?; // a batch of short frames

@@ -17,6 +17,7 @@ pub mod shaders {
 
 pub mod shader_compiler;
 
+pub mod bench;
 pub mod bvh;
 pub mod camera;
 pub mod cli;
@@ -26,9 +27,8 @@ pub mod exercise;
 pub mod exr_input;
 pub mod gpu_types;
 pub mod image_data;
-pub mod meshes;
 pub mod lights;
-pub mod bench;
+pub mod meshes;
 pub mod output;
 pub mod procedural;
 pub mod renderer;
@@ -42,7 +42,7 @@ pub use image_data::RenderedImage;
 pub use renderer::Renderer;
 pub use scene::Scene;
 pub use settings::{Accel, Integrator, PixelFilter, RenderSettings, SamplerKind};
-pub mod cpu;
-pub mod stats;
-pub mod probe;
 pub mod check;
+pub mod cpu;
+pub mod probe;
+pub mod stats;

@@ -16,9 +16,10 @@ pub fn luminance(color: Vec3) -> f32 {
 /// Emitted power of a triangle up to a constant factor: area * pi * luminance of L_e, twice
 /// that when it emits from both sides.
 pub fn triangle_power(triangle: &Triangle) -> f32 {
-    let area = 0.5 * (triangle.positions[1] - triangle.positions[0])
-        .cross(triangle.positions[2] - triangle.positions[0])
-        .length();
+    let area = 0.5
+        * (triangle.positions[1] - triangle.positions[0])
+            .cross(triangle.positions[2] - triangle.positions[0])
+            .length();
     let sides = if triangle.double_sided { 2.0 } else { 1.0 };
     area * std::f32::consts::PI * sides * luminance(triangle.emission).max(0.0)
 }
@@ -37,7 +38,10 @@ pub struct LightTable {
 impl LightTable {
     /// Builds the table; triangles with zero power are not lights.
     pub fn new(triangles: &[Triangle]) -> LightTable {
-        let powers: Vec<f64> = triangles.iter().map(|t| f64::from(triangle_power(t))).collect();
+        let powers: Vec<f64> = triangles
+            .iter()
+            .map(|t| f64::from(triangle_power(t)))
+            .collect();
         let total: f64 = powers.iter().sum();
         let mut table = LightTable {
             triangle_indices: Vec::new(),
@@ -97,7 +101,12 @@ mod tests {
             .unwrap()
         };
         // Powers 1 : 0 : 4 (same emission, twice the side length) : 2 (twice the emission).
-        let table = LightTable::new(&[quad(1.0, 1.0), quad(0.0, 1.0), quad(1.0, 2.0), quad(2.0, 1.0)]);
+        let table = LightTable::new(&[
+            quad(1.0, 1.0),
+            quad(0.0, 1.0),
+            quad(1.0, 2.0),
+            quad(2.0, 1.0),
+        ]);
         assert_eq!(table.triangle_indices, vec![0, 2, 3]);
         let p = &table.selection_probability;
         assert!((p[0] - 1.0 / 7.0).abs() < 1e-6 && p[1] == 0.0);
@@ -108,7 +117,8 @@ mod tests {
 
     #[test]
     fn a_scene_without_emitters_has_no_lights() {
-        let t = Triangle::new([Vec3::ZERO, Vec3::X, Vec3::Y], Vec3::ONE, Vec3::ZERO, false).unwrap();
+        let t =
+            Triangle::new([Vec3::ZERO, Vec3::X, Vec3::Y], Vec3::ONE, Vec3::ZERO, false).unwrap();
         let table = LightTable::new(&[t]);
         assert!(table.triangle_indices.is_empty());
         assert_eq!(table.gpu_bytes().len(), 16);

@@ -7,12 +7,12 @@ use std::time::{Duration, Instant};
 use ash::vk;
 use gpu_allocator::MemoryLocation;
 
+use crate::bvh::Bvh;
 use crate::camera::Camera;
 use crate::contract;
 use crate::error::{Error, Result};
 use crate::gpu_types::{FramePushConstants, RenderUniforms};
 use crate::image_data::RenderedImage;
-use crate::bvh::Bvh;
 use crate::lights::LightTable;
 use crate::scene::Scene;
 use crate::settings::{Accel, RenderSettings};
@@ -76,14 +76,18 @@ impl TriangleLayout {
     fn descriptor_type(self) -> vk::DescriptorType {
         match self {
             TriangleLayout::Uniform => vk::DescriptorType::UNIFORM_BUFFER,
-            TriangleLayout::Storage | TriangleLayout::StorageBvh => vk::DescriptorType::STORAGE_BUFFER,
+            TriangleLayout::Storage | TriangleLayout::StorageBvh => {
+                vk::DescriptorType::STORAGE_BUFFER
+            }
         }
     }
 
     fn usage(self) -> vk::BufferUsageFlags {
         match self {
             TriangleLayout::Uniform => vk::BufferUsageFlags::UNIFORM_BUFFER,
-            TriangleLayout::Storage | TriangleLayout::StorageBvh => vk::BufferUsageFlags::STORAGE_BUFFER,
+            TriangleLayout::Storage | TriangleLayout::StorageBvh => {
+                vk::BufferUsageFlags::STORAGE_BUFFER
+            }
         }
     }
 }
@@ -223,12 +227,21 @@ impl Renderer {
         )?;
         let mut bindings = vec![
             (contract::BINDING_TRIANGLES, layout.descriptor_type()),
-            (contract::BINDING_RENDER_UNIFORMS, vk::DescriptorType::UNIFORM_BUFFER),
-            (contract::BINDING_ACCUMULATION, vk::DescriptorType::STORAGE_IMAGE),
+            (
+                contract::BINDING_RENDER_UNIFORMS,
+                vk::DescriptorType::UNIFORM_BUFFER,
+            ),
+            (
+                contract::BINDING_ACCUMULATION,
+                vk::DescriptorType::STORAGE_IMAGE,
+            ),
             (contract::BINDING_LIGHTS, vk::DescriptorType::STORAGE_BUFFER),
         ];
         if bvh_nodes.is_some() {
-            bindings.push((contract::BINDING_BVH_NODES, vk::DescriptorType::STORAGE_BUFFER));
+            bindings.push((
+                contract::BINDING_BVH_NODES,
+                vk::DescriptorType::STORAGE_BUFFER,
+            ));
         }
         let pipeline = ComputePipeline::new(
             context,
@@ -283,9 +296,17 @@ impl Renderer {
         );
         descriptors.write_storage_image(contract::BINDING_ACCUMULATION, &accumulation);
         if let Some(nodes) = &bvh_nodes {
-            descriptors.write_buffer(contract::BINDING_BVH_NODES, vk::DescriptorType::STORAGE_BUFFER, nodes);
+            descriptors.write_buffer(
+                contract::BINDING_BVH_NODES,
+                vk::DescriptorType::STORAGE_BUFFER,
+                nodes,
+            );
         }
-        descriptors.write_buffer(contract::BINDING_LIGHTS, vk::DescriptorType::STORAGE_BUFFER, &light_buffer);
+        descriptors.write_buffer(
+            contract::BINDING_LIGHTS,
+            vk::DescriptorType::STORAGE_BUFFER,
+            &light_buffer,
+        );
         commands.run(|device, command_buffer| {
             clear_to_general(device, command_buffer, &accumulation)
         })?;

@@ -8,13 +8,32 @@ use vkpath::{Accel, Integrator, RenderSettings, Renderer, SamplerKind};
 
 fn check_furnace(albedo: f32, emission: f32, max_path_length: u32) {
     for accel in [Accel::None, Accel::Bvh] {
-        for integrator in [Integrator::PathTracing, Integrator::Cosine, Integrator::Nee, Integrator::Mis] {
-            check_furnace_with(integrator, accel, SamplerKind::Pcg, albedo, emission, max_path_length);
+        for integrator in [
+            Integrator::PathTracing,
+            Integrator::Cosine,
+            Integrator::Nee,
+            Integrator::Mis,
+        ] {
+            check_furnace_with(
+                integrator,
+                accel,
+                SamplerKind::Pcg,
+                albedo,
+                emission,
+                max_path_length,
+            );
         }
     }
     // Scrambled Sobol samples must stay unbiased too; one integrator that draws every kind of
     // random number (jitter, light samples, directions, roulette) keeps the runtime small.
-    check_furnace_with(Integrator::Mis, Accel::None, SamplerKind::Sobol, albedo, emission, max_path_length);
+    check_furnace_with(
+        Integrator::Mis,
+        Accel::None,
+        SamplerKind::Sobol,
+        albedo,
+        emission,
+        max_path_length,
+    );
 }
 
 fn check_furnace_with(

@@ -34,9 +34,18 @@ fn render(integrator: Integrator, seed: u32) -> RenderedImage {
 }
 
 fn block_means(image: &RenderedImage) -> MeanImage {
-    let variance: Vec<[f64; 3]> =
-        image.variance_of_mean().iter().map(|v| v.map(f64::from)).collect();
-    let pixels = MeanImage::from_rgb(image.width as usize, image.height as usize, &image.mean, &variance).unwrap();
+    let variance: Vec<[f64; 3]> = image
+        .variance_of_mean()
+        .iter()
+        .map(|v| v.map(f64::from))
+        .collect();
+    let pixels = MeanImage::from_rgb(
+        image.width as usize,
+        image.height as usize,
+        &image.mean,
+        &variance,
+    )
+    .unwrap();
     // 8x8 blocks: per-pixel variances from 256 samples of a heavy-tailed estimator are
     // themselves noisy; a block mean of 64 pixels is close to normal with a reliable variance.
     pixels.block_average(8).unwrap()
@@ -50,7 +59,10 @@ fn importance_sampled_integrators_match_the_workshop_render() {
         // 1% significance, Šidák-corrected over all blocks and channels inside z_test_images.
         let report = z_test_images(&other, &workshop, 0.01).unwrap();
         println!("{integrator:?} vs workshop: {report:?}");
-        assert!(report.passed, "{integrator:?} disagrees with the workshop render: {report:?}");
+        assert!(
+            report.passed,
+            "{integrator:?} disagrees with the workshop render: {report:?}"
+        );
     }
 }
 
@@ -78,5 +90,8 @@ fn a_biased_render_is_detected() {
     let biased = block_means(&renderer.read_back().unwrap());
     let report = z_test_images(&biased, &workshop, 0.01).unwrap();
     println!("path length 3 vs 5: {report:?}");
-    assert!(!report.passed, "a path-length-3 render passed as unbiased: {report:?}");
+    assert!(
+        !report.passed,
+        "a path-length-3 render passed as unbiased: {report:?}"
+    );
 }

@@ -152,9 +152,15 @@ pub fn run_bench(
     for &integrator in &setup.integrators {
         let name = integrator_name(integrator);
         progress(name);
-        let settings = RenderSettings { integrator, seed: 1, ..setup.settings.clone() };
-        let samples = f64::from(settings.width) * f64::from(settings.height) * f64::from(settings.spp);
-        let (image, cold_start_seconds, render_seconds, rays) = timed_render(context, scene, camera, settings)?;
+        let settings = RenderSettings {
+            integrator,
+            seed: 1,
+            ..setup.settings.clone()
+        };
+        let samples =
+            f64::from(settings.width) * f64::from(settings.height) * f64::from(settings.spp);
+        let (image, cold_start_seconds, render_seconds, rays) =
+            timed_render(context, scene, camera, settings)?;
         let relative_mse = relative_mse(&image, &reference);
         let seconds = render_seconds.max(1e-9);
         results.push(BenchResult {
@@ -196,7 +202,15 @@ pub fn format_table(report: &BenchReport) -> String {
     );
     text += &format!(
         "{:<10} {:>9} {:>9} {:>11} {:>11} {:>10} {:>11} {:>9} {:>12}\n",
-        "integrator", "cold s", "render s", "Msamples/s", "Mrays/s", "relMSE", "efficiency", "vs first", "s to 0.005"
+        "integrator",
+        "cold s",
+        "render s",
+        "Msamples/s",
+        "Mrays/s",
+        "relMSE",
+        "efficiency",
+        "vs first",
+        "s to 0.005"
     );
     let baseline = report.results.first().map(|r| r.efficiency).unwrap_or(1.0);
     for r in &report.results {

@@ -48,7 +48,12 @@ pub struct BenchArgs {
     #[arg(long, default_value_t = 4)]
     pub samples_per_frame: u32,
     /// Integrators to measure, in order; efficiency ratios are relative to the first.
-    #[arg(long, value_enum, value_delimiter = ',', default_value = "workshop,cosine,nee,mis")]
+    #[arg(
+        long,
+        value_enum,
+        value_delimiter = ',',
+        default_value = "workshop,cosine,nee,mis"
+    )]
     pub integrators: Vec<IntegratorArg>,
     /// Print JSON instead of a table.
     #[arg(long)]
@@ -79,7 +84,11 @@ pub fn run(args: &BenchArgs) -> anyhow::Result<()> {
         ..Default::default()
     };
     settings.validate()?;
-    RenderSettings { spp: args.reference_spp, ..settings.clone() }.validate()?;
+    RenderSettings {
+        spp: args.reference_spp,
+        ..settings.clone()
+    }
+    .validate()?;
     let scene = match args.generated {
         Some(triangles) => {
             let started = std::time::Instant::now();
@@ -116,7 +125,9 @@ pub fn run(args: &BenchArgs) -> anyhow::Result<()> {
             (None, None) => "workshop Cornell box".into(),
         },
     };
-    let report = run_bench(&context, &scene, &camera, &setup, |what| eprintln!("vkpath bench: {what}"))?;
+    let report = run_bench(&context, &scene, &camera, &setup, |what| {
+        eprintln!("vkpath bench: {what}")
+    })?;
     if args.json {
         println!("{}", serde_json::to_string_pretty(&report)?);
     } else {

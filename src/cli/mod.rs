@@ -6,8 +6,8 @@ use glam::Vec3;
 
 use crate::settings::PixelFilter;
 
-pub mod check;
 pub mod bench;
+pub mod check;
 pub mod compare;
 pub mod devices;
 pub mod exercise;

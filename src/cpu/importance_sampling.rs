@@ -5,7 +5,9 @@
 use glam::{UVec2, Vec2, Vec3};
 
 use crate::contract::{INTEGRATOR_COSINE, INTEGRATOR_MIS};
-use crate::cpu::integrator::{is_double_sided, offset_ray_origin, orient_towards_ray, ray_mesh_intersection};
+use crate::cpu::integrator::{
+    is_double_sided, offset_ray_origin, orient_towards_ray, ray_mesh_intersection,
+};
 use crate::cpu::workshop::{get_random_numbers, M_PI};
 use crate::lights::LightTable;
 use crate::scene::Triangle;
@@ -15,7 +17,11 @@ pub fn sample_hemisphere_cosine(random_numbers: Vec2, normal: Vec3) -> Vec3 {
     let sign_z = if normal.z >= 0.0 { 1.0 } else { -1.0 };
     let a = -1.0 / (sign_z + normal.z);
     let b = normal.x * normal.y * a;
-    let tangent = Vec3::new(1.0 + sign_z * normal.x * normal.x * a, sign_z * b, -sign_z * normal.x);
+    let tangent = Vec3::new(
+        1.0 + sign_z * normal.x * normal.x * a,
+        sign_z * b,
+        -sign_z * normal.x,
+    );
     let bitangent = Vec3::new(b, sign_z + normal.y * normal.y * a, -normal.y);
     let radius = random_numbers[0].sqrt();
     let phi = 2.0 * M_PI * random_numbers[1];
@@ -42,7 +48,9 @@ pub fn sample_triangle_point(random_numbers: Vec2, triangle: &Triangle) -> Vec3 
     let root = random_numbers[0].sqrt();
     let b_0 = 1.0 - root;
     let b_1 = random_numbers[1] * root;
-    b_0 * triangle.positions[0] + b_1 * triangle.positions[1] + (1.0 - b_0 - b_1) * triangle.positions[2]
+    b_0 * triangle.positions[0]
+        + b_1 * triangle.positions[1]
+        + (1.0 - b_0 - b_1) * triangle.positions[2]
 }
 
 /// Twin of `sample_light_index`: binary search for the first CDF entry above the number.
@@ -63,13 +71,23 @@ pub fn sample_light_index(lights: &LightTable, random_number: f32) -> usize {
 }
 
 /// Twin of `get_light_density`: p_select / area * distance^2 / |n_light.omega|.
-pub fn get_light_density(selection_probability: f32, light: &Triangle, direction: Vec3, distance: f32) -> f32 {
+pub fn get_light_density(
+    selection_probability: f32,
+    light: &Triangle,
+    direction: Vec3,
+    distance: f32,
+) -> f32 {
     let cosine = light.normal.dot(direction).abs();
     selection_probability * distance * distance / (get_triangle_area(light) * cosine.max(1.0e-20))
 }
 
 /// Twin of `is_occluded`.
-pub fn is_occluded(scene_triangles: &[Triangle], origin: Vec3, direction: Vec3, distance: f32) -> bool {
+pub fn is_occluded(
+    scene_triangles: &[Triangle],
+    origin: Vec3,
+    direction: Vec3,
+    distance: f32,
+) -> bool {
     ray_mesh_intersection(scene_triangles, origin, direction)
         .is_some_and(|hit| hit.t < distance * (1.0 - 6.103_515_6e-5))
 }
@@ -107,16 +125,26 @@ pub fn sample_direct_light(
     let direction = to_light / distance;
     let cosine = triangle.normal.dot(direction);
     let front = light.normal.dot(direction) < 0.0;
-    if cosine <= 0.0 || !(distance > 0.0) || (!front && !is_double_sided(scene_triangles, light_index)) {
+    if cosine <= 0.0
+        || !(distance > 0.0)
+        || (!front && !is_double_sided(scene_triangles, light_index))
+    {
         return Vec3::ZERO;
     }
     if is_occluded(scene_triangles, origin, direction, distance) {
         return Vec3::ZERO;
     }
-    let light_density =
-        get_light_density(lights.selection_probability[light_index], light, direction, distance);
+    let light_density = get_light_density(
+        lights.selection_probability[light_index],
+        light,
+        direction,
+        distance,
+    );
     let weight = if integrator == INTEGRATOR_MIS {
-        get_power_heuristic_weight(light_density, get_hemisphere_cosine_density(triangle.normal, direction))
+        get_power_heuristic_weight(
+            light_density,
+            get_hemisphere_cosine_density(triangle.normal, direction),
+        )
     } else {
         1.0
     };
@@ -143,7 +171,11 @@ pub fn get_ray_radiance_importance_sampled(
             break;
         };
         let mut triangle = scene_triangles[hit.triangle_index];
-        orient_towards_ray(&mut triangle, ray_direction, is_double_sided(scene_triangles, hit.triangle_index));
+        orient_towards_ray(
+            &mut triangle,
+            ray_direction,
+            is_double_sided(scene_triangles, hit.triangle_index),
+        );
         ray_origin += hit.t * ray_direction;
         if i == 0 || integrator == INTEGRATOR_COSINE {
             radiance += throughput_weight * triangle.emission;
@@ -163,7 +195,14 @@ pub fn get_ray_radiance_importance_sampled(
         }
         if integrator != INTEGRATOR_COSINE {
             radiance += throughput_weight
-                * sample_direct_light(scene_triangles, lights, integrator, ray_origin, &triangle, seed);
+                * sample_direct_light(
+                    scene_triangles,
+                    lights,
+                    integrator,
+                    ray_origin,
+                    &triangle,
+                    seed,
+                );
         }
         ray_direction = sample_hemisphere_cosine(get_random_numbers(seed), triangle.normal);
         direction_density = get_hemisphere_cosine_density(triangle.normal, ray_direction);
@@ -193,19 +232,31 @@ mod tests {
     fn cosine_sampler_passes_chi2_against_its_density() {
         let normal = Vec3::new(0.3, -0.5, 0.81).normalize();
         let mut seed = UVec2::new(7, 11);
-        let samples: Vec<Vec3> =
-            (0..1_000_000).map(|_| sample_hemisphere_cosine(get_random_numbers(&mut seed), normal)).collect();
+        let samples: Vec<Vec3> = (0..1_000_000)
+            .map(|_| sample_hemisphere_cosine(get_random_numbers(&mut seed), normal))
+            .collect();
         let density = |direction: Vec3| f64::from(get_hemisphere_cosine_density(normal, direction));
         let frame = SphereFrame::from_normal(normal).unwrap();
-        let result = chi2_direction_test(samples, TargetDensity::SolidAngle(&density), &frame, &Chi2Config::default())
-            .unwrap();
+        let result = chi2_direction_test(
+            samples,
+            TargetDensity::SolidAngle(&density),
+            &frame,
+            &Chi2Config::default(),
+        )
+        .unwrap();
         println!("cosine sampler: {result:?}");
         assert!(result.passed, "{result:?}");
     }
 
     #[test]
     fn triangle_points_are_uniform_and_inside() {
-        let triangle = Triangle::new([Vec3::ZERO, Vec3::X * 2.0, Vec3::Y], Vec3::ONE, Vec3::ZERO, false).unwrap();
+        let triangle = Triangle::new(
+            [Vec3::ZERO, Vec3::X * 2.0, Vec3::Y],
+            Vec3::ONE,
+            Vec3::ZERO,
+            false,
+        )
+        .unwrap();
         let mut seed = UVec2::new(1, 2);
         // Split the triangle by x < 1: the left part holds 3/4 of the area.
         let n = 200_000;

@@ -446,7 +446,12 @@ impl Drop for Context {
 mod tests {
     use super::*;
 
-    fn device(index: usize, name: &str, kind: DeviceKind, compute: bool) -> (vk::PhysicalDevice, DeviceInfo) {
+    fn device(
+        index: usize,
+        name: &str,
+        kind: DeviceKind,
+        compute: bool,
+    ) -> (vk::PhysicalDevice, DeviceInfo) {
         let info = DeviceInfo {
             index,
             name: name.into(),
@@ -460,8 +465,14 @@ mod tests {
     #[test]
     fn devices_without_a_compute_queue_are_refused() {
         let devices = [device(0, "graphics only", DeviceKind::DiscreteGpu, false)];
-        assert!(matches!(choose_device(&devices, None), Err(VkError::NoComputeDevice(_))));
-        assert!(matches!(choose_device(&devices, Some("0")), Err(VkError::NoComputeDevice(_))));
+        assert!(matches!(
+            choose_device(&devices, None),
+            Err(VkError::NoComputeDevice(_))
+        ));
+        assert!(matches!(
+            choose_device(&devices, Some("0")),
+            Err(VkError::NoComputeDevice(_))
+        ));
         let message = choose_device(&devices, None).unwrap_err().to_string();
         assert!(message.contains("compute queue"), "{message}");
     }
@@ -475,7 +486,10 @@ mod tests {
         assert_eq!(choose_device(&devices, None).unwrap().1.index, 1);
         assert_eq!(choose_device(&devices, Some("0")).unwrap().1.index, 0);
         assert_eq!(choose_device(&devices, Some("h100")).unwrap().1.index, 1);
-        assert!(matches!(choose_device(&devices, Some("amd")), Err(VkError::DeviceNotFound { .. })));
+        assert!(matches!(
+            choose_device(&devices, Some("amd")),
+            Err(VkError::DeviceNotFound { .. })
+        ));
     }
 
     #[test]
