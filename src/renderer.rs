@@ -479,17 +479,11 @@ impl Renderer {
                     vk::PipelineStageFlags::COMPUTE_SHADER,
                 ),
             );
-            let to_host = vk::MemoryBarrier::default()
-                .src_access_mask(vk::AccessFlags::TRANSFER_WRITE)
-                .dst_access_mask(vk::AccessFlags::HOST_READ);
-            device.cmd_pipeline_barrier(
+            crate::vk::host_read_barrier(
+                device,
                 command_buffer,
                 vk::PipelineStageFlags::TRANSFER,
-                vk::PipelineStageFlags::HOST,
-                vk::DependencyFlags::empty(),
-                &[to_host],
-                &[],
-                &[],
+                vk::AccessFlags::TRANSFER_WRITE,
             );
         })?;
         let texels: Vec<[f32; 4]> = self.readback.read();

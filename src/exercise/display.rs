@@ -94,17 +94,11 @@ pub fn render_sample_display(
             height.div_ceil(contract::WORKGROUP_SIZE_Y),
             1,
         );
-        let to_host = vk::MemoryBarrier::default()
-            .src_access_mask(vk::AccessFlags::SHADER_WRITE)
-            .dst_access_mask(vk::AccessFlags::HOST_READ);
-        device.cmd_pipeline_barrier(
+        crate::vk::host_read_barrier(
+            device,
             command_buffer,
             vk::PipelineStageFlags::COMPUTE_SHADER,
-            vk::PipelineStageFlags::HOST,
-            vk::DependencyFlags::empty(),
-            &[to_host],
-            &[],
-            &[],
+            vk::AccessFlags::SHADER_WRITE,
         );
     })?;
     let colors: Vec<[f32; 4]> = pixels.read();

@@ -161,17 +161,11 @@ impl ProbeRunner {
                 first_group += groups;
             }
             full_compute_barrier(device, command_buffer);
-            let to_host = vk::MemoryBarrier::default()
-                .src_access_mask(vk::AccessFlags::SHADER_WRITE)
-                .dst_access_mask(vk::AccessFlags::HOST_READ);
-            device.cmd_pipeline_barrier(
+            crate::vk::host_read_barrier(
+                device,
                 command_buffer,
                 vk::PipelineStageFlags::COMPUTE_SHADER,
-                vk::PipelineStageFlags::HOST,
-                vk::DependencyFlags::empty(),
-                &[to_host],
-                &[],
-                &[],
+                vk::AccessFlags::SHADER_WRITE,
             );
         })?;
         let mut outputs: Vec<O> = output_buffer.read();

@@ -136,3 +136,28 @@ pub fn full_compute_barrier(device: &ash::Device, command_buffer: vk::CommandBuf
         );
     }
 }
+
+/// A barrier that makes writes of `stage` (with `access`) visible to the host, before it
+/// reads a buffer back after the submission's fence.
+pub fn host_read_barrier(
+    device: &ash::Device,
+    command_buffer: vk::CommandBuffer,
+    stage: vk::PipelineStageFlags,
+    access: vk::AccessFlags,
+) {
+    let barrier = vk::MemoryBarrier::default()
+        .src_access_mask(access)
+        .dst_access_mask(vk::AccessFlags::HOST_READ);
+    // SAFETY: recording into a command buffer in the recording state.
+    unsafe {
+        device.cmd_pipeline_barrier(
+            command_buffer,
+            stage,
+            vk::PipelineStageFlags::HOST,
+            vk::DependencyFlags::empty(),
+            &[barrier],
+            &[],
+            &[],
+        );
+    }
+}

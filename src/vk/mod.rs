@@ -12,7 +12,7 @@ pub mod pipeline;
 pub mod validation;
 
 pub use buffer::Buffer;
-pub use commands::{full_compute_barrier, CommandRunner};
+pub use commands::{full_compute_barrier, host_read_barrier, CommandRunner};
 pub use context::{list_devices, Context, ContextOptions, DeviceInfo, DeviceKind};
 pub use error::{VkError, VkResult};
 pub use image::StorageImage;
