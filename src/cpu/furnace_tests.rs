@@ -63,6 +63,7 @@ fn settings(integrator: u32, max_path_length: u32) -> CpuRenderSettings {
         seed: 1,
         pixel_filter: PIXEL_FILTER_BOX,
         integrator,
+        russian_roulette_start: 0,
     }
 }
 

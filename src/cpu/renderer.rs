@@ -7,10 +7,13 @@ use glam::UVec2;
 use rayon::prelude::*;
 
 use crate::camera::ImagePlane;
+use crate::contract::{INTEGRATOR_COSINE, INTEGRATOR_MIS, INTEGRATOR_NEE};
 use crate::cpu::camera::{get_sample_seed, get_sample_tex_coord};
 use crate::cpu::image::{CpuImage, PixelAccumulator};
+use crate::cpu::importance_sampling::get_ray_radiance_importance_sampled;
 use crate::cpu::integrator::get_sample_radiance;
 use crate::cpu::workshop::get_primary_ray_direction;
+use crate::lights::LightTable;
 use crate::scene::Triangle;
 
 /// What a CPU render does: the shader's specialization constants and uniforms.
@@ -30,6 +33,8 @@ pub struct CpuRenderSettings {
     pub pixel_filter: u32,
     /// `INTEGRATOR_*` of `crate::contract`.
     pub integrator: u32,
+    /// `RUSSIAN_ROULETTE_START` (importance-sampled integrators only; 0: off).
+    pub russian_roulette_start: u32,
 }
 
 /// Renders `settings.spp` samples per pixel into a new image.
@@ -72,6 +77,8 @@ pub fn add_cpu_samples(
     if width == 0 {
         return;
     }
+    // The light table of the renderer's light_buffer, for the importance-sampled integrators.
+    let lights = LightTable::new(scene_triangles);
     image
         .pixels
         .par_chunks_mut(width as usize)
@@ -83,6 +90,7 @@ pub fn add_cpu_samples(
                 let pixel = UVec2::new(x as u32, pixel_y);
                 add_pixel_samples(
                     scene_triangles,
+                    &lights,
                     plane,
                     settings,
                     pixel,
@@ -95,8 +103,10 @@ pub fn add_cpu_samples(
 }
 
 /// The body of `main()` in `path_tracer.comp` for one pixel (counted from the bottom-left).
+#[allow(clippy::too_many_arguments)]
 fn add_pixel_samples(
     scene_triangles: &[Triangle],
+    lights: &LightTable,
     plane: &ImagePlane,
     settings: &CpuRenderSettings,
     pixel: UVec2,
@@ -114,14 +124,36 @@ fn add_pixel_samples(
             plane.right,
             plane.up,
         );
-        let radiance = get_sample_radiance(
-            scene_triangles,
-            plane.camera_position,
-            ray_direction,
-            &mut seed,
-            settings.integrator,
-            settings.max_path_length,
-        );
+        let radiance = if is_importance_sampled(settings.integrator) {
+            get_ray_radiance_importance_sampled(
+                scene_triangles,
+                lights,
+                settings.integrator,
+                plane.camera_position,
+                ray_direction,
+                &mut seed,
+                settings.max_path_length,
+                settings.russian_roulette_start,
+            )
+        } else {
+            get_sample_radiance(
+                scene_triangles,
+                plane.camera_position,
+                ray_direction,
+                &mut seed,
+                settings.integrator,
+                settings.max_path_length,
+            )
+        };
         accumulator.add_sample(radiance);
     }
+}
+
+/// Whether `integrator` is one of the importance-sampled path tracers (cosine, NEE, MIS),
+/// which `path_tracer.comp` runs through `get_ray_radiance_importance_sampled`.
+fn is_importance_sampled(integrator: u32) -> bool {
+    matches!(
+        integrator,
+        INTEGRATOR_COSINE | INTEGRATOR_NEE | INTEGRATOR_MIS
+    )
 }
