@@ -129,6 +129,9 @@ pub struct BenchSetup {
     pub integrators: Vec<Integrator>,
     /// Scene description for the report.
     pub scene_name: String,
+    /// Timed renders per integrator; the fastest counts (the image is the same each time,
+    /// so only the timing varies, and the minimum is the least disturbed by other load).
+    pub repeats: u32,
 }
 
 /// Renders the reference, then each integrator, and reports. `progress` is told what runs.

@@ -55,6 +55,9 @@ pub struct BenchArgs {
         default_value = "workshop,cosine,nee,mis"
     )]
     pub integrators: Vec<IntegratorArg>,
+    /// Timed renders per integrator; the fastest counts.
+    #[arg(long, default_value_t = 3)]
+    pub repeats: u32,
     /// Print JSON instead of a table.
     #[arg(long)]
     pub json: bool,
@@ -107,6 +110,7 @@ pub fn run(args: &BenchArgs) -> anyhow::Result<()> {
     };
     let context = args.device.create_context()?;
     let setup = BenchSetup {
+        repeats: args.repeats,
         settings,
         reference_spp: args.reference_spp,
         integrators: args
