@@ -53,6 +53,16 @@ fn render_error(args: &[&str], expected_text: &str) {
     );
 }
 
+/// A tiny render of the built-in scene with `args` appended and `env` set; its error line.
+fn vulkan_error(args: &[&str], env: &[(&str, &str)]) -> String {
+    let dir = tempfile::tempdir().unwrap();
+    let mut full = vec![
+        "render", "-o", "out.png", "--width", "8", "--height", "8", "--spp", "1",
+    ];
+    full.extend_from_slice(args);
+    expect_error(dir.path(), &full, env, 1)
+}
+
 #[test]
 fn missing_scene_file() {
     render_error(&["/nonexistent/scene.gltf"], "/nonexistent/scene.gltf");
@@ -124,31 +134,21 @@ fn malformed_camera_arguments_are_usage_errors() {
 
 #[test]
 fn no_vulkan_loader() {
-    let dir = tempfile::tempdir().unwrap();
-    let line = expect_error(
-        dir.path(),
-        &[
-            "render", "-o", "out.png", "--width", "8", "--height", "8", "--spp", "1",
-        ],
+    let line = vulkan_error(
+        &[],
         &[("VKPATH_VULKAN_LOADER", "/nonexistent/libvulkan.so.1")],
-        1,
     );
     assert!(line.contains("libvulkan1"), "{line}");
 }
 
 #[test]
 fn no_vulkan_driver() {
-    let dir = tempfile::tempdir().unwrap();
-    let line = expect_error(
-        dir.path(),
-        &[
-            "render", "-o", "out.png", "--width", "8", "--height", "8", "--spp", "1",
-        ],
+    let line = vulkan_error(
+        &[],
         &[
             ("VK_DRIVER_FILES", "/nonexistent.json"),
             ("VK_ICD_FILENAMES", "/nonexistent.json"),
         ],
-        1,
     );
     assert!(line.contains("no Vulkan driver"), "{line}");
     assert!(line.contains("mesa-vulkan-drivers"), "{line}");
@@ -158,51 +158,14 @@ fn no_vulkan_driver() {
 fn cpu_device_when_a_gpu_is_required() {
     // On CI the only device is lavapipe; on a machine with a GPU, ask for the CPU device by
     // name so that the check still has a CPU device to refuse.
-    let dir = tempfile::tempdir().unwrap();
-    let line = expect_error(
-        dir.path(),
-        &[
-            "render",
-            "-o",
-            "out.png",
-            "--width",
-            "8",
-            "--height",
-            "8",
-            "--spp",
-            "1",
-            "--require-gpu",
-            "--device",
-            "llvmpipe",
-        ],
-        &[],
-        1,
-    );
+    let line = vulkan_error(&["--require-gpu", "--device", "llvmpipe"], &[]);
     assert!(line.contains("GPU was required"), "{line}");
     assert!(line.contains("llvmpipe"), "{line}");
 }
 
 #[test]
 fn unknown_device() {
-    let dir = tempfile::tempdir().unwrap();
-    let line = expect_error(
-        dir.path(),
-        &[
-            "render",
-            "-o",
-            "out.png",
-            "--width",
-            "8",
-            "--height",
-            "8",
-            "--spp",
-            "1",
-            "--device",
-            "no-such-gpu",
-        ],
-        &[],
-        1,
-    );
+    let line = vulkan_error(&["--device", "no-such-gpu"], &[]);
     assert!(line.contains("no-such-gpu"), "{line}");
 }
 

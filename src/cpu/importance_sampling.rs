@@ -8,7 +8,7 @@ use crate::contract::{INTEGRATOR_COSINE, INTEGRATOR_MIS};
 use crate::cpu::integrator::{
     is_double_sided, offset_ray_origin, orient_towards_ray, ray_mesh_intersection,
 };
-use crate::cpu::workshop::{get_random_numbers, M_PI};
+use crate::cpu::workshop::{get_random_numbers, ray_triangle_intersection, M_PI};
 use crate::lights::LightTable;
 use crate::scene::Triangle;
 
@@ -81,6 +81,19 @@ pub fn get_light_density(
     selection_probability * distance * distance / (get_triangle_area(light) * cosine.max(1.0e-20))
 }
 
+/// Twin of `ray_mesh_any_hit` (brute force, the kernels without USE_BVH): whether any
+/// triangle is hit at a ray parameter t < t_max.
+pub fn ray_mesh_any_hit(
+    scene_triangles: &[Triangle],
+    ray_origin: Vec3,
+    ray_direction: Vec3,
+    t_max: f32,
+) -> bool {
+    scene_triangles.iter().any(|triangle| {
+        ray_triangle_intersection(ray_origin, ray_direction, triangle).is_some_and(|t| t < t_max)
+    })
+}
+
 /// Twin of `is_occluded`.
 pub fn is_occluded(
     scene_triangles: &[Triangle],
@@ -88,8 +101,12 @@ pub fn is_occluded(
     direction: Vec3,
     distance: f32,
 ) -> bool {
-    ray_mesh_intersection(scene_triangles, origin, direction)
-        .is_some_and(|hit| hit.t < distance * (1.0 - 6.103_515_6e-5))
+    ray_mesh_any_hit(
+        scene_triangles,
+        origin,
+        direction,
+        distance * (1.0 - 6.103_515_6e-5),
+    )
 }
 
 /// Twin of `get_power_heuristic_weight`.
