@@ -90,8 +90,8 @@ pub fn sample_hemisphere(random_numbers: Vec2, normal: Vec3) -> Vec3 {
 
 /// The naive sampler of the slides' cautionary example, which is *not* uniform: spherical
 /// coordinates phi = 2 pi u_0, theta = pi u_1, giving density 1 / (2 pi^2 sin(theta)) w.r.t.
-/// solid angle, crowded at the poles. No GLSL twin; the χ² test uses it as the sampler that
-/// must fail.
+/// solid angle, crowded at the poles. Twin of `sample_sphere_spherical_coordinates` in
+/// `glsl/exercise_samplers.glsl`; the χ² tests use it as the sampler that must fail.
 /// \param random_numbers Uniform (u_0, u_1) in [0, 1)^2
 /// \return A unit vector
 pub fn sample_sphere_spherical_coordinates(random_numbers: Vec2) -> Vec3 {
