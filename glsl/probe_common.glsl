@@ -33,19 +33,6 @@ bool get_probe_index(out uint index) {
     return index < g_probe_count;
 }
 
-// Unpacks a triangle stored as in the scene buffer into the workshop's struct (as
-// get_triangle() does for g_triangles).
-triangle_t unpack_triangle(packed_triangle_t packed) {
-    triangle_t triangle;
-    triangle.positions[0] = packed.positions[0].xyz;
-    triangle.positions[1] = packed.positions[1].xyz;
-    triangle.positions[2] = packed.positions[2].xyz;
-    triangle.normal = packed.normal.xyz;
-    triangle.color = packed.color.rgb;
-    triangle.emission = packed.emission.rgb;
-    return triangle;
-}
-
 // Packs a triangle for output (flags 0: the workshop's struct has none).
 packed_triangle_t pack_triangle(triangle_t triangle) {
     packed_triangle_t packed;

@@ -39,9 +39,8 @@ layout(std140, set = 0, binding = BINDING_RENDER_UNIFORMS) uniform render_unifor
     uvec4 g_resolution_triangle_count_seed;
 };
 
-// Unpacks triangle i of the scene into the workshop's struct.
-triangle_t get_triangle(uint index) {
-    packed_triangle_t packed = g_triangles[index];
+// Unpacks a triangle as stored on the GPU into the workshop's struct.
+triangle_t unpack_triangle(packed_triangle_t packed) {
     triangle_t triangle;
     triangle.positions[0] = packed.positions[0].xyz;
     triangle.positions[1] = packed.positions[1].xyz;
@@ -50,6 +49,11 @@ triangle_t get_triangle(uint index) {
     triangle.color = packed.color.rgb;
     triangle.emission = packed.emission.rgb;
     return triangle;
+}
+
+// Unpacks triangle i of the scene into the workshop's struct.
+triangle_t get_triangle(uint index) {
+    return unpack_triangle(g_triangles[index]);
 }
 
 // Whether triangle i emits from both sides (TRIANGLE_FLAG_DOUBLE_SIDED).

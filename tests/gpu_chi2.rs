@@ -51,21 +51,7 @@ fn report(label: &str, result: &Chi2Result) {
 fn gpu_sample_sphere_is_uniform() {
     let context = common::validated_context();
     let numbers = inputs::pcg_random_numbers(UVec2::new(0x1234_5678, 0x9abc_def0), SAMPLE_COUNT);
-    let directions = gpu_directions(
-        &context,
-        ProbeKind::SampleSphere,
-        &inputs::sampler_inputs(&numbers, Vec3::ZERO),
-    );
-    let result = chi2_direction_test(
-        directions,
-        TargetDensity::UniformSphere,
-        &SphereFrame::WORLD,
-        &Chi2Config::default(),
-    )
-    .expect("χ² test");
-    report("GPU sample_sphere, sequential PCG2D", &result);
-    assert!(result.passed, "{result:?}");
-    common::assert_validation_silent(&context);
+    assert_gpu_sample_sphere_is_uniform(&context, &numbers, "GPU sample_sphere, sequential PCG2D");
 }
 
 #[test]
@@ -81,10 +67,24 @@ fn gpu_sample_sphere_is_uniform_with_gpu_per_pixel_random_numbers() {
     let pcg = ProbePipeline::reference(&context, ProbeKind::GetRandomNumbers, 1).expect("pipeline");
     let numbers: Vec<RandomNumbersOutput> = runner.run(&pcg, &seeds).expect("probe run");
     let numbers: Vec<Vec2> = numbers.iter().map(RandomNumbersOutput::numbers).collect();
-    let directions = gpu_directions(
+    assert_gpu_sample_sphere_is_uniform(
         &context,
+        &numbers,
+        "GPU sample_sphere, GPU per-pixel PCG2D",
+    );
+}
+
+/// Maps `numbers` through the GPU's sample_sphere and asserts the χ² test of uniformity on
+/// the sphere passes, with the validation layer silent.
+fn assert_gpu_sample_sphere_is_uniform(
+    context: &std::sync::Arc<vkpath::vk::Context>,
+    numbers: &[Vec2],
+    label: &str,
+) {
+    let directions = gpu_directions(
+        context,
         ProbeKind::SampleSphere,
-        &inputs::sampler_inputs(&numbers, Vec3::ZERO),
+        &inputs::sampler_inputs(numbers, Vec3::ZERO),
     );
     let result = chi2_direction_test(
         directions,
@@ -93,9 +93,9 @@ fn gpu_sample_sphere_is_uniform_with_gpu_per_pixel_random_numbers() {
         &Chi2Config::default(),
     )
     .expect("χ² test");
-    report("GPU sample_sphere, GPU per-pixel PCG2D", &result);
+    report(label, &result);
     assert!(result.passed, "{result:?}");
-    common::assert_validation_silent(&context);
+    common::assert_validation_silent(context);
 }
 
 #[test]
