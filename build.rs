@@ -16,7 +16,16 @@ const VARIANTS: &[(&str, &str, &[(&str, &str)])] = &[
         "path_tracer_uniform",
         &[("TRIANGLES_IN_UNIFORM_BUFFER", "1")],
     ),
-    ("path_tracer", "path_tracer_bvh", &[("USE_BVH", "1")]),
+    (
+        "path_tracer",
+        "path_tracer_texel",
+        &[("TRIANGLES_IN_TEXEL_BUFFER", "1")],
+    ),
+    (
+        "path_tracer",
+        "path_tracer_bvh",
+        &[("TRIANGLES_IN_TEXEL_BUFFER", "1"), ("USE_BVH", "1")],
+    ),
 ];
 
 fn main() {

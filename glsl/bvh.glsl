@@ -19,9 +19,22 @@ struct bvh_node_t {
     vec4 upper; // xyz: upper corner of the box (world space), w: triangle_count as uint bits, 0 for interior nodes
 };
 
-layout(std430, set = 0, binding = BINDING_BVH_NODES) readonly buffer bvh_node_buffer {
-    bvh_node_t g_bvh_nodes[];
-};
+// The nodes as a texel buffer of RGBA32_UINT, two texels per node: on lavapipe a texel fetch
+// is a vector gather, where a storage-buffer load is a per-lane loop.
+layout(set = 0, binding = BINDING_BVH_NODES) uniform usamplerBuffer g_bvh_node_texels;
+
+// Node i of the BVH.
+bvh_node_t get_bvh_node(uint index) {
+    bvh_node_t node;
+    node.lower = uintBitsToFloat(texelFetch(g_bvh_node_texels, int(2u * index)));
+    node.upper = uintBitsToFloat(texelFetch(g_bvh_node_texels, int(2u * index + 1u)));
+    return node;
+}
+
+// Number of nodes in the BVH.
+uint get_bvh_node_count() {
+    return uint(textureSize(g_bvh_node_texels)) / 2u;
+}
 
 // Slab exits are scaled by this before the comparison, so that rounding errors never cull a
 // box that the ray touches: pbrt-v4 (6.8.2) shows that 1 + 2 gamma_3 (3.6e-7) suffices for
@@ -71,10 +84,10 @@ bool bvh_closest_hit(out float out_t, out uint out_triangle_index, vec3 ray_orig
     out_t = BVH_NO_HIT_T;
     out_triangle_index = 0u;
     bool hit = false;
-    uint node_count = uint(g_bvh_nodes.length());
+    uint node_count = get_bvh_node_count();
     vec3 inverse_direction = bvh_inverse_direction(ray_direction);
     float t_entry;
-    if (node_count == 0u || !bvh_ray_box_intersection(t_entry, ray_origin, inverse_direction, g_bvh_nodes[0].lower.xyz, g_bvh_nodes[0].upper.xyz, out_t))
+    if (node_count == 0u || !bvh_ray_box_intersection(t_entry, ray_origin, inverse_direction, get_bvh_node(0).lower.xyz, get_bvh_node(0).upper.xyz, out_t))
         return false;
     // Nodes still to visit, with the parameter where the ray enters them
     uint stack_nodes[BVH_STACK_SIZE];
@@ -83,7 +96,7 @@ bool bvh_closest_hit(out float out_t, out uint out_triangle_index, vec3 ray_orig
     uint node_index = 0u;
     // Each iteration visits one node and no node is visited twice, so node_count bounds it.
     for (uint iteration = 0u; iteration != node_count; ++iteration) {
-        bvh_node_t node = g_bvh_nodes[node_index];
+        bvh_node_t node = get_bvh_node(node_index);
         uint first_index = floatBitsToUint(node.lower.w);
         uint triangle_count = floatBitsToUint(node.upper.w);
         bool descend = false;
@@ -101,8 +114,8 @@ bool bvh_closest_hit(out float out_t, out uint out_triangle_index, vec3 ray_orig
         } else {
             // An interior node: test both children, go to the nearer, push the farther
             float t_left, t_right;
-            bool hit_left = bvh_ray_box_intersection(t_left, ray_origin, inverse_direction, g_bvh_nodes[first_index].lower.xyz, g_bvh_nodes[first_index].upper.xyz, out_t);
-            bool hit_right = bvh_ray_box_intersection(t_right, ray_origin, inverse_direction, g_bvh_nodes[first_index + 1u].lower.xyz, g_bvh_nodes[first_index + 1u].upper.xyz, out_t);
+            bool hit_left = bvh_ray_box_intersection(t_left, ray_origin, inverse_direction, get_bvh_node(first_index).lower.xyz, get_bvh_node(first_index).upper.xyz, out_t);
+            bool hit_right = bvh_ray_box_intersection(t_right, ray_origin, inverse_direction, get_bvh_node(first_index + 1u).lower.xyz, get_bvh_node(first_index + 1u).upper.xyz, out_t);
             if (hit_left && hit_right) {
                 bool left_first = t_left <= t_right;
                 node_index = left_first ? first_index : first_index + 1u;
@@ -140,10 +153,10 @@ bool bvh_closest_hit(out float out_t, out uint out_triangle_index, vec3 ray_orig
 // \param t_max Hits at or beyond this ray parameter do not count
 // \return true iff some triangle is hit at 0 <= t < t_max
 bool bvh_any_hit(vec3 ray_origin, vec3 ray_direction, float t_max) {
-    uint node_count = uint(g_bvh_nodes.length());
+    uint node_count = get_bvh_node_count();
     vec3 inverse_direction = bvh_inverse_direction(ray_direction);
     float t_entry;
-    if (node_count == 0u || !bvh_ray_box_intersection(t_entry, ray_origin, inverse_direction, g_bvh_nodes[0].lower.xyz, g_bvh_nodes[0].upper.xyz, t_max))
+    if (node_count == 0u || !bvh_ray_box_intersection(t_entry, ray_origin, inverse_direction, get_bvh_node(0).lower.xyz, get_bvh_node(0).upper.xyz, t_max))
         return false;
     // Entry parameters need no stack here: t_max never shrinks, so popped nodes need no test.
     uint stack_nodes[BVH_STACK_SIZE];
@@ -151,7 +164,7 @@ bool bvh_any_hit(vec3 ray_origin, vec3 ray_direction, float t_max) {
     uint node_index = 0u;
     // Each iteration visits one node and no node is visited twice, so node_count bounds it.
     for (uint iteration = 0u; iteration != node_count; ++iteration) {
-        bvh_node_t node = g_bvh_nodes[node_index];
+        bvh_node_t node = get_bvh_node(node_index);
         uint first_index = floatBitsToUint(node.lower.w);
         uint triangle_count = floatBitsToUint(node.upper.w);
         if (triangle_count != 0u) {
@@ -163,8 +176,8 @@ bool bvh_any_hit(vec3 ray_origin, vec3 ray_direction, float t_max) {
             }
         } else {
             float t_left, t_right;
-            bool hit_left = bvh_ray_box_intersection(t_left, ray_origin, inverse_direction, g_bvh_nodes[first_index].lower.xyz, g_bvh_nodes[first_index].upper.xyz, t_max);
-            bool hit_right = bvh_ray_box_intersection(t_right, ray_origin, inverse_direction, g_bvh_nodes[first_index + 1u].lower.xyz, g_bvh_nodes[first_index + 1u].upper.xyz, t_max);
+            bool hit_left = bvh_ray_box_intersection(t_left, ray_origin, inverse_direction, get_bvh_node(first_index).lower.xyz, get_bvh_node(first_index).upper.xyz, t_max);
+            bool hit_right = bvh_ray_box_intersection(t_right, ray_origin, inverse_direction, get_bvh_node(first_index + 1u).lower.xyz, get_bvh_node(first_index + 1u).upper.xyz, t_max);
             if (hit_left && hit_right) {
                 // Nearer first: an occluder near the origin ends the search sooner
                 bool left_first = t_left <= t_right;

@@ -82,7 +82,7 @@ uint sample_light_index(float random_number) {
 
 // Probability that sample_light_index() picks the given scene triangle (0 for non-emitters).
 float get_light_selection_probability(uint triangle_index) {
-    return g_triangles[triangle_index].normal.w;
+    return get_packed_triangle(triangle_index).normal.w;
 }
 
 // Density w.r.t. solid angle at the shading point of a light sample that lands on an

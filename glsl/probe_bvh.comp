@@ -55,8 +55,8 @@ void main() {
     vec3 inverse_direction = bvh_inverse_direction(direction);
     float root_entry = 0.0;
     bool root_hit = false;
-    if (g_bvh_nodes.length() > 0)
-        root_hit = bvh_ray_box_intersection(root_entry, origin, inverse_direction, g_bvh_nodes[0].lower.xyz, g_bvh_nodes[0].upper.xyz, t_max);
+    if (get_bvh_node_count() > 0u)
+        root_hit = bvh_ray_box_intersection(root_entry, origin, inverse_direction, get_bvh_node(0u).lower.xyz, get_bvh_node(0u).upper.xyz, t_max);
     g_probe_results[index].inverse_direction_root_entry = vec4(inverse_direction, root_entry);
     g_probe_results[index].root_hit = uvec4(root_hit ? 1u : 0u, 0u, 0u, 0u);
 

@@ -81,6 +81,8 @@
 
 // Bit set in triangle_t's packed emission.w when the triangle emits from both sides.
 #define TRIANGLE_FLAG_DOUBLE_SIDED 1
+// Texels (RGBA32_UINT) per triangle in the texel-buffer layout: the vec4s of packed_triangle_t.
+#define TRIANGLE_TEXEL_COUNT 6
 
 // Descriptor set 0 of the sample display of `vkpath exercise` (glsl/exercise_samples.comp,
 // host side src/exercise/): a storage buffer of one vec4 colour per pixel. Numbered apart from

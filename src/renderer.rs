@@ -18,7 +18,7 @@ use crate::scene::Scene;
 use crate::settings::{Accel, RenderSettings};
 use crate::shaders;
 use crate::vk::{
-    full_compute_barrier, Buffer, CommandRunner, ComputePipeline, Context, DescriptorSet,
+    full_compute_barrier, Buffer, TexelBufferView, CommandRunner, ComputePipeline, Context, DescriptorSet,
     StorageImage, VkError,
 };
 
@@ -41,18 +41,20 @@ pub enum TriangleLayout {
     /// A uniform buffer of `UNIFORM_TRIANGLE_CAPACITY` triangles (small scenes): the fast
     /// path on lavapipe, where uniform loads at a uniform index are scalar broadcasts.
     Uniform,
-    /// A std430 storage buffer of any size.
-    Storage,
-    /// A storage buffer in BVH leaf order, and the BVH's nodes.
-    StorageBvh,
+    /// A texel buffer (RGBA32_UINT, `TRIANGLE_TEXEL_COUNT` texels per triangle) of any size
+    /// up to the device's texel limit: on lavapipe a texel fetch at a per-lane index is a
+    /// vector gather, where a storage-buffer load is a loop over the lanes.
+    TexelBuffer,
+    /// A texel buffer in BVH leaf order, and the BVH's nodes (also a texel buffer).
+    TexelBufferBvh,
 }
 
 impl TriangleLayout {
     /// A BVH when `accel` asks for one; else uniform when the scene fits the uniform block
-    /// and the device allows a block that large; else storage.
+    /// and the device allows a block that large; else a texel buffer.
     pub fn choose(context: &Context, triangle_count: usize, accel: Accel) -> TriangleLayout {
         if accel.uses_bvh(triangle_count) {
-            return TriangleLayout::StorageBvh;
+            return TriangleLayout::TexelBufferBvh;
         }
         let capacity = contract::UNIFORM_TRIANGLE_CAPACITY as usize;
         let block_size = capacity * std::mem::size_of::<crate::gpu_types::GpuTriangle>();
@@ -61,23 +63,23 @@ impl TriangleLayout {
         {
             TriangleLayout::Uniform
         } else {
-            TriangleLayout::Storage
+            TriangleLayout::TexelBuffer
         }
     }
 
     fn kernel(self) -> &'static [u8] {
         match self {
             TriangleLayout::Uniform => shaders::PATH_TRACER_UNIFORM,
-            TriangleLayout::Storage => shaders::PATH_TRACER,
-            TriangleLayout::StorageBvh => shaders::PATH_TRACER_BVH,
+            TriangleLayout::TexelBuffer => shaders::PATH_TRACER_TEXEL,
+            TriangleLayout::TexelBufferBvh => shaders::PATH_TRACER_BVH,
         }
     }
 
     fn descriptor_type(self) -> vk::DescriptorType {
         match self {
             TriangleLayout::Uniform => vk::DescriptorType::UNIFORM_BUFFER,
-            TriangleLayout::Storage | TriangleLayout::StorageBvh => {
-                vk::DescriptorType::STORAGE_BUFFER
+            TriangleLayout::TexelBuffer | TriangleLayout::TexelBufferBvh => {
+                vk::DescriptorType::UNIFORM_TEXEL_BUFFER
             }
         }
     }
@@ -85,11 +87,33 @@ impl TriangleLayout {
     fn usage(self) -> vk::BufferUsageFlags {
         match self {
             TriangleLayout::Uniform => vk::BufferUsageFlags::UNIFORM_BUFFER,
-            TriangleLayout::Storage | TriangleLayout::StorageBvh => {
-                vk::BufferUsageFlags::STORAGE_BUFFER
+            TriangleLayout::TexelBuffer | TriangleLayout::TexelBufferBvh => {
+                vk::BufferUsageFlags::UNIFORM_TEXEL_BUFFER
             }
         }
     }
+}
+
+/// A buffer the kernel reads: bound directly, or through a texel view.
+enum BoundBuffer {
+    Plain(Buffer),
+    Texels(TexelBufferView),
+}
+
+/// Views `buffer` as RGBA32_UINT texels, after checking that the device allows that many.
+fn texel_view(context: &Arc<Context>, buffer: Buffer, what: &str) -> Result<TexelBufferView> {
+    let texels = buffer.size / 16;
+    let limit = u64::from(context.limits.max_texel_buffer_elements);
+    if texels > limit {
+        return Err(Error::InvalidSettings(format!(
+            "the scene's {what} need {texels} texels, more than this device's texel-buffer limit of {limit}"
+        )));
+    }
+    Ok(TexelBufferView::new(
+        context,
+        buffer,
+        vk::Format::R32G32B32A32_UINT,
+    )?)
 }
 
 /// A progressive render of one scene on one device.
@@ -102,10 +126,10 @@ pub struct Renderer {
     accumulation: StorageImage,
     readback: Buffer,
     // Bound through the descriptor set; kept alive as long as it.
-    _triangles: Buffer,
+    _triangles: BoundBuffer,
     _uniforms: Buffer,
     _lights: Buffer,
-    _bvh_nodes: Option<Buffer>,
+    _bvh_nodes: Option<TexelBufferView>,
     samples_done: u32,
     frames_per_batch: u32,
     rays_traced: f64,
@@ -174,7 +198,7 @@ impl Renderer {
         };
         // With a BVH, triangles are stored in the order its leaves reference them; light
         // indices then refer to that order too.
-        let bvh = (layout == TriangleLayout::StorageBvh).then(|| Bvh::build(&scene.triangles));
+        let bvh = (layout == TriangleLayout::TexelBufferBvh).then(|| Bvh::build(&scene.triangles));
         let ordered_triangles = match &bvh {
             Some(bvh) => bvh.reorder(&scene.triangles),
             None => scene.triangles.clone(),
@@ -189,13 +213,19 @@ impl Renderer {
                 bytemuck::Zeroable::zeroed(),
             );
         }
-        let triangles = upload_device_local(
+        let triangle_bytes = upload_device_local(
             context,
             &commands,
             "triangles",
             bytemuck::cast_slice(&gpu_triangles),
             layout.usage(),
         )?;
+        let triangles = match layout {
+            TriangleLayout::Uniform => BoundBuffer::Plain(triangle_bytes),
+            TriangleLayout::TexelBuffer | TriangleLayout::TexelBufferBvh => {
+                BoundBuffer::Texels(texel_view(context, triangle_bytes, "triangles")?)
+            }
+        };
         let uniforms = Buffer::with_data(
             context,
             "render uniforms",
@@ -209,13 +239,16 @@ impl Renderer {
             vk::BufferUsageFlags::UNIFORM_BUFFER,
         )?;
         let bvh_nodes = match &bvh {
-            Some(bvh) => Some(upload_device_local(
-                context,
-                &commands,
-                "bvh nodes",
-                bytemuck::cast_slice(&bvh.nodes),
-                vk::BufferUsageFlags::STORAGE_BUFFER,
-            )?),
+            Some(bvh) => {
+                let bytes = upload_device_local(
+                    context,
+                    &commands,
+                    "bvh nodes",
+                    bytemuck::cast_slice(&bvh.nodes),
+                    vk::BufferUsageFlags::UNIFORM_TEXEL_BUFFER,
+                )?;
+                Some(texel_view(context, bytes, "BVH nodes")?)
+            }
             None => None,
         };
         let light_buffer = upload_device_local(
@@ -240,7 +273,7 @@ impl Renderer {
         if bvh_nodes.is_some() {
             bindings.push((
                 contract::BINDING_BVH_NODES,
-                vk::DescriptorType::STORAGE_BUFFER,
+                vk::DescriptorType::UNIFORM_TEXEL_BUFFER,
             ));
         }
         let pipeline = ComputePipeline::new(
@@ -284,11 +317,14 @@ impl Renderer {
             MemoryLocation::GpuToCpu,
         )?;
         let descriptors = pipeline.allocate_descriptor_set()?;
-        descriptors.write_buffer(
-            contract::BINDING_TRIANGLES,
-            layout.descriptor_type(),
-            &triangles,
-        );
+        match &triangles {
+            BoundBuffer::Plain(buffer) => {
+                descriptors.write_buffer(contract::BINDING_TRIANGLES, layout.descriptor_type(), buffer)
+            }
+            BoundBuffer::Texels(view) => {
+                descriptors.write_texel_buffer(contract::BINDING_TRIANGLES, view)
+            }
+        }
         descriptors.write_buffer(
             contract::BINDING_RENDER_UNIFORMS,
             vk::DescriptorType::UNIFORM_BUFFER,
@@ -296,11 +332,7 @@ impl Renderer {
         );
         descriptors.write_storage_image(contract::BINDING_ACCUMULATION, &accumulation);
         if let Some(nodes) = &bvh_nodes {
-            descriptors.write_buffer(
-                contract::BINDING_BVH_NODES,
-                vk::DescriptorType::STORAGE_BUFFER,
-                nodes,
-            );
+            descriptors.write_texel_buffer(contract::BINDING_BVH_NODES, nodes);
         }
         descriptors.write_buffer(
             contract::BINDING_LIGHTS,

@@ -135,7 +135,7 @@ fn render(session: &Session, integrator: Integrator, with_user: bool) -> Result<
     let macros: &[(&str, &str)] = if layout == TriangleLayout::Uniform {
         &[("TRIANGLES_IN_UNIFORM_BUFFER", "1")]
     } else {
-        &[]
+        &[("TRIANGLES_IN_TEXEL_BUFFER", "1")]
     };
     let user = with_user.then_some(session.user);
     let compiled =
@@ -173,7 +173,7 @@ fn render(session: &Session, integrator: Integrator, with_user: bool) -> Result<
 
 /// Where the renders read the triangles: the uniform buffer when the scene fits it and the
 /// device allows a block that large (the renderer's fast path for small scenes such as the
-/// Cornell box), else the storage buffer. Decided here rather than with
+/// Cornell box), else the texel buffer. Decided here rather than with
 /// `TriangleLayout::choose` because the kernel is compiled here, for one of these two.
 fn triangle_layout(context: &Context, triangle_count: usize) -> TriangleLayout {
     let capacity = contract::UNIFORM_TRIANGLE_CAPACITY as usize;
@@ -182,7 +182,7 @@ fn triangle_layout(context: &Context, triangle_count: usize) -> TriangleLayout {
     {
         TriangleLayout::Uniform
     } else {
-        TriangleLayout::Storage
+        TriangleLayout::TexelBuffer
     }
 }
 

@@ -126,3 +126,43 @@ impl Drop for Buffer {
         unsafe { self.context.device.destroy_buffer(self.handle, None) };
     }
 }
+
+/// A view of a buffer as an array of texels (a uniform texel buffer), destroyed on drop.
+/// Shaders read it with `texelFetch` on a `samplerBuffer`/`usamplerBuffer`.
+pub struct TexelBufferView {
+    context: Arc<Context>,
+    /// The view handle.
+    pub handle: vk::BufferView,
+    /// The viewed buffer, kept alive as long as the view.
+    _buffer: Buffer,
+}
+
+impl TexelBufferView {
+    /// Views all of `buffer` (created with `UNIFORM_TEXEL_BUFFER` usage) as texels of `format`.
+    pub fn new(
+        context: &Arc<Context>,
+        buffer: Buffer,
+        format: vk::Format,
+    ) -> VkResult<TexelBufferView> {
+        let info = vk::BufferViewCreateInfo::default()
+            .buffer(buffer.handle)
+            .format(format)
+            .offset(0)
+            .range(vk::WHOLE_SIZE);
+        // SAFETY: a live buffer with texel-buffer usage on a live device.
+        let handle = unsafe { context.device.create_buffer_view(&info, None) }
+            .during("creating a texel buffer view")?;
+        Ok(TexelBufferView {
+            context: context.clone(),
+            handle,
+            _buffer: buffer,
+        })
+    }
+}
+
+impl Drop for TexelBufferView {
+    fn drop(&mut self) {
+        // SAFETY: users wait for the work that uses the view before dropping it.
+        unsafe { self.context.device.destroy_buffer_view(self.handle, None) };
+    }
+}

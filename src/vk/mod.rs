@@ -11,7 +11,7 @@ pub mod image;
 pub mod pipeline;
 pub mod validation;
 
-pub use buffer::Buffer;
+pub use buffer::{Buffer, TexelBufferView};
 pub use commands::{full_compute_barrier, host_read_barrier, CommandRunner};
 pub use context::{list_devices, Context, ContextOptions, DeviceInfo, DeviceKind};
 pub use error::{VkError, VkResult};

@@ -5,7 +5,7 @@ use std::sync::Arc;
 
 use ash::vk;
 
-use super::buffer::Buffer;
+use super::buffer::{Buffer, TexelBufferView};
 use super::context::Context;
 use super::error::{CallContext, VkError, VkResult};
 use super::image::StorageImage;
@@ -197,6 +197,18 @@ impl DescriptorSet {
             .descriptor_type(kind)
             .buffer_info(&info);
         // SAFETY: the buffer is alive; the set is not in use by pending work.
+        unsafe { self.context.device.update_descriptor_sets(&[write], &[]) };
+    }
+
+    /// Points `binding` at a uniform texel buffer.
+    pub fn write_texel_buffer(&self, binding: u32, view: &TexelBufferView) {
+        let views = [view.handle];
+        let write = vk::WriteDescriptorSet::default()
+            .dst_set(self.set)
+            .dst_binding(binding)
+            .descriptor_type(vk::DescriptorType::UNIFORM_TEXEL_BUFFER)
+            .texel_buffer_view(&views);
+        // SAFETY: the view is alive; the set is not in use by pending work.
         unsafe { self.context.device.update_descriptor_sets(&[write], &[]) };
     }
 
