@@ -10,23 +10,8 @@ use shaderc_link as _;
 mod shader_compiler;
 
 /// Kernels compiled more than once with different macros: (source stem, variant stem, macros).
-const VARIANTS: &[(&str, &str, &[(&str, &str)])] = &[
-    (
-        "path_tracer",
-        "path_tracer_uniform",
-        &[("TRIANGLES_IN_UNIFORM_BUFFER", "1")],
-    ),
-    (
-        "path_tracer",
-        "path_tracer_texel",
-        &[("TRIANGLES_IN_TEXEL_BUFFER", "1")],
-    ),
-    (
-        "path_tracer",
-        "path_tracer_bvh",
-        &[("TRIANGLES_IN_TEXEL_BUFFER", "1"), ("USE_BVH", "1")],
-    ),
-];
+const VARIANTS: &[(&str, &str, &[(&str, &str)])] =
+    &[("path_tracer", "path_tracer_bvh", &[("USE_BVH", "1")])];
 
 fn main() {
     // Read at run time: a build script compiled for one checkout may run for another.

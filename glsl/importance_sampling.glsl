@@ -10,18 +10,27 @@
 #include "integrator.glsl"
 #include "sobol.glsl"
 
-// Emissive triangles: x = triangle index (uint bits), y = cumulative probability of choosing
-// this light or an earlier one (power-proportional; the last is 1). Mirrors
-// `vkpath::gpu_types::GpuLight`. The selection probability of each triangle (0 for
+// Emissive triangles, a texel buffer of RGBA32_UINT: texel 0 holds the count (x), texel
+// 1 + i light i: x = triangle index, y = cumulative probability (float bits) of choosing this
+// light or an earlier one (power-proportional; the last is 1). Mirrors
+// `vkpath::lights::LightTable::gpu_bytes`. The selection probability of each triangle (0 for
 // non-emitters) is stored in its packed normal.w, for MIS.
-struct light_t {
-    vec4 data;
-};
-layout(std430, set = 0, binding = BINDING_LIGHTS) readonly buffer light_buffer {
-    uint g_light_count;
-    uint g_light_padding[3];
-    light_t g_lights[];
-};
+layout(set = 0, binding = BINDING_LIGHTS) uniform usamplerBuffer g_light_texels;
+
+// Number of emissive triangles.
+uint get_light_count() {
+    return texelFetch(g_light_texels, 0).x;
+}
+
+// Scene triangle index of light i.
+uint get_light_triangle_index(uint light_index) {
+    return texelFetch(g_light_texels, int(light_index) + 1).x;
+}
+
+// Probability of choosing light i or an earlier one.
+float get_light_cumulative_probability(uint light_index) {
+    return uintBitsToFloat(texelFetch(g_light_texels, int(light_index) + 1).y);
+}
 
 // Maps two uniform random numbers to a cosine-distributed direction around a normal
 // (Malley's method: a uniform point on the unit disk, projected up to the hemisphere).
@@ -65,14 +74,14 @@ vec3 sample_triangle_point(vec2 random_numbers, triangle_t triangle) {
 
 // Chooses an emissive triangle in proportion to its power by binary search in the CDF.
 // \param random_number Uniform in [0,1)
-// \return Index into g_lights; only valid when g_light_count > 0
+// \return Index of a light; only valid when get_light_count() > 0
 uint sample_light_index(float random_number) {
     uint low = 0u;
-    uint high = g_light_count - 1u;
+    uint high = get_light_count() - 1u;
     // At most 32 halvings for any uint count.
     for (int i = 0; i != 32 && low < high; ++i) {
         uint middle = (low + high) / 2u;
-        if (random_number < g_lights[middle].data.y)
+        if (random_number < get_light_cumulative_probability(middle))
             high = middle;
         else
             low = middle + 1u;
@@ -115,9 +124,9 @@ float get_power_heuristic_weight(float density, float other_density) {
 vec3 sample_direct_light(vec3 shading_position, triangle_t triangle, inout uvec2 seed) {
     vec2 selection = get_path_random_numbers(seed);
     vec2 point_randoms = get_path_random_numbers(seed);
-    if (g_light_count == 0u)
+    if (get_light_count() == 0u)
         return vec3(0.0);
-    uint light_triangle_index = floatBitsToUint(g_lights[sample_light_index(selection[0])].data.x);
+    uint light_triangle_index = get_light_triangle_index(sample_light_index(selection[0]));
     triangle_t light = get_triangle(light_triangle_index);
     vec3 origin = offset_ray_origin(shading_position, triangle.normal);
     vec3 to_light = sample_triangle_point(point_randoms, light) - origin;

@@ -1,11 +1,13 @@
 #version 460
 // Probe of the BVH traversal (glsl/bvh.glsl): for each ray, bvh_closest_hit(), bvh_any_hit(),
 // bvh_inverse_direction() and bvh_ray_box_intersection() with the root's box, and, for
-// comparison on the GPU itself, the brute-force ray_mesh_intersection() of scene.glsl. Host side: tests/bvh_gpu.rs, which compares with the Rust twins.
+// comparison on the GPU itself, the brute-force ray_mesh_intersection() of scene.glsl. Host
+// side: tests/bvh_gpu.rs, which compares with the Rust twins.
 //
-// Descriptor set 0: BINDING_TRIANGLES (storage buffer, reordered by the BVH builder),
-// BINDING_RENDER_UNIFORMS (.z: triangle count, for the brute force), BINDING_BVH_NODES,
-// BVH_PROBE_BINDING_RAYS and BVH_PROBE_BINDING_RESULTS.
+// Descriptor set 0, as the BVH path tracer binds it: BINDING_TRIANGLES (texel buffer,
+// reordered by the BVH builder), BINDING_RENDER_UNIFORMS (.z: triangle count, for the brute
+// force), BINDING_BVH_NODES (texel buffer), then BVH_PROBE_BINDING_RAYS and
+// BVH_PROBE_BINDING_RESULTS (storage buffers).
 
 #include "shared.h"
 

@@ -4,7 +4,7 @@
 // with a user's version of the function. Host side: src/probe/. All input and output structs
 // have vec4 / uvec4 members only (std430 lays them out as Rust's #[repr(C)] does).
 //
-// Descriptor set 0: the scene as the path tracer sees it (BINDING_TRIANGLES as a storage
+// Descriptor set 0: the scene as the path tracer sees it (BINDING_TRIANGLES as a texel
 // buffer, BINDING_RENDER_UNIFORMS whose .z is the triangle count), then PROBE_BINDING_INPUTS
 // and PROBE_BINDING_OUTPUTS, declared by each kernel with its own structs.
 #ifndef VKPATH_PROBE_COMMON_GLSL

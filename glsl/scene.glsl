@@ -16,29 +16,16 @@ struct packed_triangle_t {
     vec4 emission;     // rgb: emitted radiance, a: flags (TRIANGLE_FLAG_*) as float bits
 };
 
-#ifdef TRIANGLES_IN_UNIFORM_BUFFER
-// Small scenes: a uniform buffer, as close as Vulkan gets to the workshop's constant array.
-// std140 lays out this array exactly as std430 would (all members are vec4).
-layout(std140, set = 0, binding = BINDING_TRIANGLES) uniform triangle_buffer {
-    packed_triangle_t g_triangles[UNIFORM_TRIANGLE_CAPACITY];
-};
-#elif defined(TRIANGLES_IN_TEXEL_BUFFER)
-// Large scenes: a texel buffer of RGBA32_UINT, TRIANGLE_TEXEL_COUNT texels per triangle in the
-// member order of packed_triangle_t. On lavapipe a texel fetch is a vector gather, where a
-// storage-buffer load at a per-lane index is a loop over lanes with a bounds check per
-// component (2.2x the samples/s on a 10^6-triangle scene).
+// The triangles: a texel buffer of RGBA32_UINT, TRIANGLE_TEXEL_COUNT texels per triangle in
+// the member order of packed_triangle_t. On lavapipe a texel fetch is a vector gather, faster
+// than both alternatives measured: a storage-buffer load at a per-lane index is a loop over
+// lanes with a bounds check per component, and a uniform-buffer load an 8-lane gather of
+// scalar loads (docs/performance.md).
 layout(set = 0, binding = BINDING_TRIANGLES) uniform usamplerBuffer g_triangle_texels;
-#else
-// The probes (glsl/probe_common.glsl): a storage buffer.
-layout(std430, set = 0, binding = BINDING_TRIANGLES) readonly buffer triangle_buffer {
-    packed_triangle_t g_triangles[];
-};
-#endif
 
 // Triangle i of the scene as stored on the GPU. Members that the caller does not use are
 // never read (the compiler drops their loads).
 packed_triangle_t get_packed_triangle(uint index) {
-#ifdef TRIANGLES_IN_TEXEL_BUFFER
     int first = int(uint(TRIANGLE_TEXEL_COUNT) * index);
     packed_triangle_t packed;
     packed.positions[0] = uintBitsToFloat(texelFetch(g_triangle_texels, first));
@@ -48,9 +35,6 @@ packed_triangle_t get_packed_triangle(uint index) {
     packed.color = uintBitsToFloat(texelFetch(g_triangle_texels, first + 4));
     packed.emission = uintBitsToFloat(texelFetch(g_triangle_texels, first + 5));
     return packed;
-#else
-    return g_triangles[index];
-#endif
 }
 
 // What stays fixed during a render. Mirrors `vkpath::gpu_types::RenderUniforms`.

@@ -72,13 +72,6 @@
 // Multiple importance sampling of light and cosine samples with the power heuristic.
 #define INTEGRATOR_MIS 5
 
-// Scenes with at most this many triangles are read from a uniform buffer instead of a storage
-// buffer (the path_tracer_uniform kernel): 682 * 96 bytes fits the 64 KiB that every Vulkan
-// device allows for a uniform buffer. On lavapipe, loads from a uniform buffer at a
-// dynamically uniform index become scalar broadcasts while storage-buffer loads are per-lane
-// gathers (shared/PLATFORM.md measured 6-8x).
-#define UNIFORM_TRIANGLE_CAPACITY 682
-
 // Bit set in triangle_t's packed emission.w when the triangle emits from both sides.
 #define TRIANGLE_FLAG_DOUBLE_SIDED 1
 // Texels (RGBA32_UINT) per triangle in the texel-buffer layout: the vec4s of packed_triangle_t.

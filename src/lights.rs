@@ -67,8 +67,8 @@ impl LightTable {
         table
     }
 
-    /// The bytes of `light_buffer`: a uvec4 header (count) then one vec4 per light
-    /// (x: triangle index as float bits, y: cdf).
+    /// The bytes of the lights' texel buffer (`g_light_texels`, RGBA32_UINT): a header texel
+    /// (x: count) then one texel per light (x: triangle index, y: cdf as float bits).
     pub fn gpu_bytes(&self) -> Vec<u8> {
         let mut words: Vec<u32> = vec![self.triangle_indices.len() as u32, 0, 0, 0];
         for (&index, &cdf) in self.triangle_indices.iter().zip(&self.cdf) {

@@ -18,8 +18,8 @@ use crate::scene::Scene;
 use crate::settings::{Accel, RenderSettings};
 use crate::shaders;
 use crate::vk::{
-    full_compute_barrier, Buffer, TexelBufferView, CommandRunner, ComputePipeline, Context, DescriptorSet,
-    StorageImage, VkError,
+    full_compute_barrier, Buffer, CommandRunner, ComputePipeline, Context, DescriptorSet,
+    StorageImage, TexelBufferView, VkError,
 };
 
 /// How long one submission of frames should take: long enough to hide submission overhead,
@@ -35,69 +35,34 @@ pub(crate) fn spirv_words(bytes: &[u8]) -> Result<Vec<u32>> {
         .map_err(|e| Error::Vulkan(VkError::InvalidSpirv(e.to_string())))
 }
 
-/// Where the kernel reads the triangles from.
+/// How the kernel finds the triangle a ray hits. Either way the triangles are read from a
+/// texel buffer (RGBA32_UINT, `TRIANGLE_TEXEL_COUNT` texels per triangle): on lavapipe a texel
+/// fetch at a per-lane index is a vector gather, faster than uniform- or storage-buffer loads
+/// (docs/performance.md).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum TriangleLayout {
-    /// A uniform buffer of `UNIFORM_TRIANGLE_CAPACITY` triangles (small scenes): the fast
-    /// path on lavapipe, where uniform loads at a uniform index are scalar broadcasts.
-    Uniform,
-    /// A texel buffer (RGBA32_UINT, `TRIANGLE_TEXEL_COUNT` texels per triangle) of any size
-    /// up to the device's texel limit: on lavapipe a texel fetch at a per-lane index is a
-    /// vector gather, where a storage-buffer load is a loop over the lanes.
-    TexelBuffer,
-    /// A texel buffer in BVH leaf order, and the BVH's nodes (also a texel buffer).
-    TexelBufferBvh,
+pub enum Traversal {
+    /// The workshop's loop over all triangles (`glsl/path_tracer.comp`).
+    Linear,
+    /// A BVH, with the triangles in its leaf order (`path_tracer.comp` with `USE_BVH`).
+    Bvh,
 }
 
-impl TriangleLayout {
-    /// A BVH when `accel` asks for one; else uniform when the scene fits the uniform block
-    /// and the device allows a block that large; else a texel buffer.
-    pub fn choose(context: &Context, triangle_count: usize, accel: Accel) -> TriangleLayout {
+impl Traversal {
+    /// What `accel` asks for, for a scene of `triangle_count` triangles.
+    pub fn choose(triangle_count: usize, accel: Accel) -> Traversal {
         if accel.uses_bvh(triangle_count) {
-            return TriangleLayout::TexelBufferBvh;
-        }
-        let capacity = contract::UNIFORM_TRIANGLE_CAPACITY as usize;
-        let block_size = capacity * std::mem::size_of::<crate::gpu_types::GpuTriangle>();
-        if triangle_count <= capacity
-            && context.limits.max_uniform_buffer_range as usize >= block_size
-        {
-            TriangleLayout::Uniform
+            Traversal::Bvh
         } else {
-            TriangleLayout::TexelBuffer
+            Traversal::Linear
         }
     }
 
     fn kernel(self) -> &'static [u8] {
         match self {
-            TriangleLayout::Uniform => shaders::PATH_TRACER_UNIFORM,
-            TriangleLayout::TexelBuffer => shaders::PATH_TRACER_TEXEL,
-            TriangleLayout::TexelBufferBvh => shaders::PATH_TRACER_BVH,
+            Traversal::Linear => shaders::PATH_TRACER,
+            Traversal::Bvh => shaders::PATH_TRACER_BVH,
         }
     }
-
-    fn descriptor_type(self) -> vk::DescriptorType {
-        match self {
-            TriangleLayout::Uniform => vk::DescriptorType::UNIFORM_BUFFER,
-            TriangleLayout::TexelBuffer | TriangleLayout::TexelBufferBvh => {
-                vk::DescriptorType::UNIFORM_TEXEL_BUFFER
-            }
-        }
-    }
-
-    fn usage(self) -> vk::BufferUsageFlags {
-        match self {
-            TriangleLayout::Uniform => vk::BufferUsageFlags::UNIFORM_BUFFER,
-            TriangleLayout::TexelBuffer | TriangleLayout::TexelBufferBvh => {
-                vk::BufferUsageFlags::UNIFORM_TEXEL_BUFFER
-            }
-        }
-    }
-}
-
-/// A buffer the kernel reads: bound directly, or through a texel view.
-enum BoundBuffer {
-    Plain(Buffer),
-    Texels(TexelBufferView),
 }
 
 /// Views `buffer` as RGBA32_UINT texels, after checking that the device allows that many.
@@ -126,9 +91,9 @@ pub struct Renderer {
     accumulation: StorageImage,
     readback: Buffer,
     // Bound through the descriptor set; kept alive as long as it.
-    _triangles: BoundBuffer,
+    _triangles: TexelBufferView,
     _uniforms: Buffer,
-    _lights: Buffer,
+    _lights: TexelBufferView,
     _bvh_nodes: Option<TexelBufferView>,
     samples_done: u32,
     frames_per_batch: u32,
@@ -149,36 +114,28 @@ impl Renderer {
 
     /// Prepares a render like `new`, with the kernel's SPIR-V given instead of the embedded
     /// one: `glsl/path_tracer.comp` compiled at run time, e.g. with a user's functions by
-    /// `vkpath check`. `layout` says how it was compiled: `Uniform` with
-    /// `TRIANGLES_IN_UNIFORM_BUFFER` defined (the scene must fit `UNIFORM_TRIANGLE_CAPACITY`),
-    /// `Storage` without.
+    /// `vkpath check`. `traversal` says how it was compiled: `Bvh` with `USE_BVH` defined,
+    /// `Linear` without.
     pub fn with_kernel(
         context: &Arc<Context>,
         scene: &Scene,
         camera: &Camera,
         settings: RenderSettings,
         spirv: &[u32],
-        layout: TriangleLayout,
+        traversal: Traversal,
     ) -> Result<Renderer> {
-        let capacity = contract::UNIFORM_TRIANGLE_CAPACITY as usize;
-        if layout == TriangleLayout::Uniform && scene.triangles.len() > capacity {
-            return Err(Error::InvalidSettings(format!(
-                "a kernel with triangles in a uniform buffer holds at most {capacity} triangles, \
-                 the scene has {}",
-                scene.triangles.len()
-            )));
-        }
-        Renderer::create(context, scene, camera, settings, Some((spirv, layout)))
+        Renderer::create(context, scene, camera, settings, Some((spirv, traversal)))
     }
 
-    /// `new` (`kernel` = `None`: the embedded kernel for the layout that suits the scene) and
+    /// `new` (`kernel` = `None`: the embedded kernel for the traversal that `settings.accel`
+    /// chooses) and
     /// `with_kernel`.
     fn create(
         context: &Arc<Context>,
         scene: &Scene,
         camera: &Camera,
         settings: RenderSettings,
-        kernel: Option<(&[u32], TriangleLayout)>,
+        kernel: Option<(&[u32], Traversal)>,
     ) -> Result<Renderer> {
         settings.validate()?;
         let device_limit = context.limits.max_image_dimension2_d;
@@ -192,13 +149,13 @@ impl Renderer {
             return Err(Error::MissingInput("the scene has no triangles".into()));
         }
         let commands = CommandRunner::new(context)?;
-        let layout = match kernel {
-            Some((_, layout)) => layout,
-            None => TriangleLayout::choose(context, scene.triangles.len(), settings.accel),
+        let traversal = match kernel {
+            Some((_, traversal)) => traversal,
+            None => Traversal::choose(scene.triangles.len(), settings.accel),
         };
         // With a BVH, triangles are stored in the order its leaves reference them; light
         // indices then refer to that order too.
-        let bvh = (layout == TriangleLayout::TexelBufferBvh).then(|| Bvh::build(&scene.triangles));
+        let bvh = (traversal == Traversal::Bvh).then(|| Bvh::build(&scene.triangles));
         let ordered_triangles = match &bvh {
             Some(bvh) => bvh.reorder(&scene.triangles),
             None => scene.triangles.clone(),
@@ -206,26 +163,14 @@ impl Renderer {
         let mut gpu_triangles: Vec<_> = ordered_triangles.iter().map(|t| t.to_gpu()).collect();
         let lights = LightTable::new(&ordered_triangles);
         lights.annotate(&mut gpu_triangles);
-        if layout == TriangleLayout::Uniform {
-            // The uniform block declares the full capacity; its tail stays zero.
-            gpu_triangles.resize(
-                contract::UNIFORM_TRIANGLE_CAPACITY as usize,
-                bytemuck::Zeroable::zeroed(),
-            );
-        }
         let triangle_bytes = upload_device_local(
             context,
             &commands,
             "triangles",
             bytemuck::cast_slice(&gpu_triangles),
-            layout.usage(),
+            vk::BufferUsageFlags::UNIFORM_TEXEL_BUFFER,
         )?;
-        let triangles = match layout {
-            TriangleLayout::Uniform => BoundBuffer::Plain(triangle_bytes),
-            TriangleLayout::TexelBuffer | TriangleLayout::TexelBufferBvh => {
-                BoundBuffer::Texels(texel_view(context, triangle_bytes, "triangles")?)
-            }
-        };
+        let triangles = texel_view(context, triangle_bytes, "triangles")?;
         let uniforms = Buffer::with_data(
             context,
             "render uniforms",
@@ -251,15 +196,19 @@ impl Renderer {
             }
             None => None,
         };
-        let light_buffer = upload_device_local(
+        let light_bytes = upload_device_local(
             context,
             &commands,
             "lights",
             &lights.gpu_bytes(),
-            vk::BufferUsageFlags::STORAGE_BUFFER,
+            vk::BufferUsageFlags::UNIFORM_TEXEL_BUFFER,
         )?;
+        let light_buffer = texel_view(context, light_bytes, "lights")?;
         let mut bindings = vec![
-            (contract::BINDING_TRIANGLES, layout.descriptor_type()),
+            (
+                contract::BINDING_TRIANGLES,
+                vk::DescriptorType::UNIFORM_TEXEL_BUFFER,
+            ),
             (
                 contract::BINDING_RENDER_UNIFORMS,
                 vk::DescriptorType::UNIFORM_BUFFER,
@@ -268,7 +217,10 @@ impl Renderer {
                 contract::BINDING_ACCUMULATION,
                 vk::DescriptorType::STORAGE_IMAGE,
             ),
-            (contract::BINDING_LIGHTS, vk::DescriptorType::STORAGE_BUFFER),
+            (
+                contract::BINDING_LIGHTS,
+                vk::DescriptorType::UNIFORM_TEXEL_BUFFER,
+            ),
         ];
         if bvh_nodes.is_some() {
             bindings.push((
@@ -280,7 +232,7 @@ impl Renderer {
             context,
             &match kernel {
                 Some((spirv, _)) => spirv.to_vec(),
-                None => spirv_words(layout.kernel())?,
+                None => spirv_words(traversal.kernel())?,
             },
             &bindings,
             std::mem::size_of::<FramePushConstants>() as u32,
@@ -317,14 +269,7 @@ impl Renderer {
             MemoryLocation::GpuToCpu,
         )?;
         let descriptors = pipeline.allocate_descriptor_set()?;
-        match &triangles {
-            BoundBuffer::Plain(buffer) => {
-                descriptors.write_buffer(contract::BINDING_TRIANGLES, layout.descriptor_type(), buffer)
-            }
-            BoundBuffer::Texels(view) => {
-                descriptors.write_texel_buffer(contract::BINDING_TRIANGLES, view)
-            }
-        }
+        descriptors.write_texel_buffer(contract::BINDING_TRIANGLES, &triangles);
         descriptors.write_buffer(
             contract::BINDING_RENDER_UNIFORMS,
             vk::DescriptorType::UNIFORM_BUFFER,
@@ -334,11 +279,7 @@ impl Renderer {
         if let Some(nodes) = &bvh_nodes {
             descriptors.write_texel_buffer(contract::BINDING_BVH_NODES, nodes);
         }
-        descriptors.write_buffer(
-            contract::BINDING_LIGHTS,
-            vk::DescriptorType::STORAGE_BUFFER,
-            &light_buffer,
-        );
+        descriptors.write_texel_buffer(contract::BINDING_LIGHTS, &light_buffer);
         commands.run(|device, command_buffer| {
             clear_to_general(device, command_buffer, &accumulation)
         })?;

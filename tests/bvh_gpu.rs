@@ -18,7 +18,7 @@ use vkpath::cpu::workshop::{get_random_numbers, sample_sphere};
 use vkpath::gpu_types::{GpuTriangle, RenderUniforms};
 use vkpath::meshes::scale_test_scene;
 use vkpath::scene::Triangle;
-use vkpath::vk::{Buffer, CommandRunner, ComputePipeline, Context};
+use vkpath::vk::{Buffer, CommandRunner, ComputePipeline, Context, TexelBufferView};
 
 /// `bvh_probe_ray_t`: xyz origin, w t_max of the any-hit query; xyz direction.
 type ProbeRay = [[f32; 4]; 2];
@@ -36,44 +36,49 @@ fn run_probe(
     brute_force: bool,
 ) -> (Vec<ProbeResult>, f64) {
     let storage = vk::DescriptorType::STORAGE_BUFFER;
+    let texel = vk::DescriptorType::UNIFORM_TEXEL_BUFFER;
     let gpu_triangles: Vec<GpuTriangle> = triangles.iter().map(Triangle::to_gpu).collect();
     let mut uniforms = RenderUniforms::zeroed();
     uniforms.resolution_triangle_count_seed[2] = triangles.len() as u32;
     let usage = vk::BufferUsageFlags::STORAGE_BUFFER;
     let buffer =
         |name, bytes: &[u8], usage| Buffer::with_data(context, name, bytes, usage).unwrap();
-    let triangle_buffer = buffer("triangles", bytemuck::cast_slice(&gpu_triangles), usage);
+    let texels = |name, bytes: &[u8]| {
+        let buffer = buffer(name, bytes, vk::BufferUsageFlags::UNIFORM_TEXEL_BUFFER);
+        TexelBufferView::new(context, buffer, vk::Format::R32G32B32A32_UINT).unwrap()
+    };
+    let triangle_texels = texels("triangles", bytemuck::cast_slice(&gpu_triangles));
     let uniform_buffer = buffer(
         "uniforms",
         bytemuck::bytes_of(&uniforms),
         vk::BufferUsageFlags::UNIFORM_BUFFER,
     );
-    let node_buffer = buffer("bvh nodes", bytemuck::cast_slice(&bvh.nodes), usage);
+    let node_texels = texels("bvh nodes", bytemuck::cast_slice(&bvh.nodes));
     let ray_buffer = buffer("rays", bytemuck::cast_slice(rays), usage);
     let zeros = vec![ProbeResult::zeroed(); rays.len()];
     let result_buffer = buffer("results", bytemuck::cast_slice(&zeros), usage);
 
     let spirv = ash::util::read_spv(&mut std::io::Cursor::new(vkpath::shaders::PROBE_BVH)).unwrap();
     let bindings = [
-        (contract::BINDING_TRIANGLES, storage),
+        (contract::BINDING_TRIANGLES, texel),
         (
             contract::BINDING_RENDER_UNIFORMS,
             vk::DescriptorType::UNIFORM_BUFFER,
         ),
-        (contract::BINDING_BVH_NODES, storage),
+        (contract::BINDING_BVH_NODES, texel),
         (contract::BVH_PROBE_BINDING_RAYS, storage),
         (contract::BVH_PROBE_BINDING_RESULTS, storage),
     ];
     let specialization = [(contract::BVH_PROBE_SPEC_BRUTE_FORCE, u32::from(brute_force))];
     let pipeline = ComputePipeline::new(context, &spirv, &bindings, 0, &specialization).unwrap();
     let set = pipeline.allocate_descriptor_set().unwrap();
-    set.write_buffer(contract::BINDING_TRIANGLES, storage, &triangle_buffer);
+    set.write_texel_buffer(contract::BINDING_TRIANGLES, &triangle_texels);
     set.write_buffer(
         contract::BINDING_RENDER_UNIFORMS,
         vk::DescriptorType::UNIFORM_BUFFER,
         &uniform_buffer,
     );
-    set.write_buffer(contract::BINDING_BVH_NODES, storage, &node_buffer);
+    set.write_texel_buffer(contract::BINDING_BVH_NODES, &node_texels);
     set.write_buffer(contract::BVH_PROBE_BINDING_RAYS, storage, &ray_buffer);
     set.write_buffer(contract::BVH_PROBE_BINDING_RESULTS, storage, &result_buffer);
 

@@ -78,7 +78,7 @@ impl UserFunctions {
 }
 
 /// Compiles `glsl/<kernel_file>` from the embedded sources, with the user's functions when
-/// `user` is given, and `extra_macros` (e.g. `TRIANGLES_IN_UNIFORM_BUFFER`). The SPIR-V is
+/// `user` is given, and `extra_macros` (e.g. `USE_BVH`). The SPIR-V is
 /// not optimized: the kernels are small, and the driver optimizes anyway. On failure the
 /// error is the compiler's messages, rewritten to name the user's file.
 pub fn compile_kernel(

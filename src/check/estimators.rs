@@ -14,15 +14,12 @@ use crate::check::compile::compile_kernel;
 use crate::check::detect::WorkshopFunction;
 use crate::check::report::FunctionReport;
 use crate::check::Session;
-use crate::contract;
 use crate::error::{Error, Result};
-use crate::gpu_types::GpuTriangle;
 use crate::image_data::RenderedImage;
 use crate::output::{save_image, SaveOptions};
-use crate::renderer::{spirv_words, Renderer, TriangleLayout};
+use crate::renderer::{spirv_words, Renderer, Traversal};
 use crate::settings::{Integrator, PixelFilter, RenderSettings};
 use crate::stats::ztest::{two_sided_p_value, z_score, z_test_images, MeanImage};
-use crate::vk::Context;
 
 /// Side of the blocks whose means are compared: 8 x 8 pixels pool 64 x spp samples, so that
 /// the block means are close to normal even though path-tracing samples are heavy-tailed
@@ -125,21 +122,15 @@ pub fn check_estimator(session: &Session, function: WorkshopFunction) -> Result<
 }
 
 /// Renders the Cornell box with `path_tracer.comp` compiled at run time, with the user's
-/// functions or without, for the triangle layout the renderer would choose.
+/// functions or without, and the workshop's loop over all triangles.
 fn render(session: &Session, integrator: Integrator, with_user: bool) -> Result<RenderedImage> {
     let scene = &session.scene;
     let camera = scene
         .camera
         .ok_or_else(|| Error::MissingInput("the Cornell box has no camera".into()))?;
-    let layout = triangle_layout(&session.context, scene.triangles.len());
-    let macros: &[(&str, &str)] = if layout == TriangleLayout::Uniform {
-        &[("TRIANGLES_IN_UNIFORM_BUFFER", "1")]
-    } else {
-        &[("TRIANGLES_IN_TEXEL_BUFFER", "1")]
-    };
     let user = with_user.then_some(session.user);
     let compiled =
-        compile_kernel("path_tracer.comp", user, macros).map_err(Error::ShaderCompilation)?;
+        compile_kernel("path_tracer.comp", user, &[]).map_err(Error::ShaderCompilation)?;
     let bytes: Vec<u8> = compiled
         .spirv
         .iter()
@@ -163,27 +154,12 @@ fn render(session: &Session, integrator: Integrator, with_user: bool) -> Result<
         &camera,
         settings,
         &spirv_words(&bytes)?,
-        layout,
+        Traversal::Linear,
     )?;
     while !renderer.is_complete() {
         renderer.render_batch()?;
     }
     renderer.read_back()
-}
-
-/// Where the renders read the triangles: the uniform buffer when the scene fits it and the
-/// device allows a block that large (the renderer's fast path for small scenes such as the
-/// Cornell box), else the texel buffer. Decided here rather than with
-/// `TriangleLayout::choose` because the kernel is compiled here, for one of these two.
-fn triangle_layout(context: &Context, triangle_count: usize) -> TriangleLayout {
-    let capacity = contract::UNIFORM_TRIANGLE_CAPACITY as usize;
-    let block_size = capacity * std::mem::size_of::<GpuTriangle>();
-    if triangle_count <= capacity && context.limits.max_uniform_buffer_range as usize >= block_size
-    {
-        TriangleLayout::Uniform
-    } else {
-        TriangleLayout::TexelBuffer
-    }
 }
 
 /// The average radiance over all pixels and channels.

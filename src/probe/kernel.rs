@@ -141,7 +141,7 @@ pub(crate) fn probe_bindings() -> [(u32, vk::DescriptorType); 4] {
     [
         (
             contract::BINDING_TRIANGLES,
-            vk::DescriptorType::STORAGE_BUFFER,
+            vk::DescriptorType::UNIFORM_TEXEL_BUFFER,
         ),
         (
             contract::BINDING_RENDER_UNIFORMS,

@@ -13,7 +13,7 @@ use crate::gpu_types::{GpuTriangle, RenderUniforms};
 use crate::probe::kernel::ProbePipeline;
 use crate::probe::layout::ProbePushConstants;
 use crate::scene::Triangle;
-use crate::vk::{full_compute_barrier, Buffer, CommandRunner, Context};
+use crate::vk::{full_compute_barrier, Buffer, CommandRunner, Context, TexelBufferView};
 
 /// Most inputs uploaded at once: bounds the size of the input and output buffers (128 MiB
 /// for the largest structs, 128 bytes) well below every device's `maxStorageBufferRange`
@@ -25,12 +25,12 @@ const MAX_INPUTS_PER_CHUNK: usize = 1 << 20;
 pub struct ProbeRunner {
     context: Arc<Context>,
     commands: CommandRunner,
-    triangles: Buffer,
+    triangles: TexelBufferView,
     uniforms: Buffer,
 }
 
 impl ProbeRunner {
-    /// Uploads `scene_triangles` (a storage buffer, as the probe kernels declare it) and the
+    /// Uploads `scene_triangles` (a texel buffer, as the path tracer reads them) and the
     /// render uniforms whose `.z` is their count. An empty scene is allowed: the kernels that
     /// do not trace rays need none.
     pub fn new(context: &Arc<Context>, scene_triangles: &[Triangle]) -> Result<ProbeRunner> {
@@ -40,11 +40,15 @@ impl ProbeRunner {
             // A buffer cannot be empty; the count of 0 keeps the shader from reading this.
             packed.push(bytemuck::Zeroable::zeroed());
         }
-        let triangles = Buffer::with_data(
+        let triangles = TexelBufferView::new(
             context,
-            "probe triangles",
-            &packed,
-            vk::BufferUsageFlags::STORAGE_BUFFER,
+            Buffer::with_data(
+                context,
+                "probe triangles",
+                &packed,
+                vk::BufferUsageFlags::UNIFORM_TEXEL_BUFFER,
+            )?,
+            vk::Format::R32G32B32A32_UINT,
         )?;
         let mut uniforms: RenderUniforms = bytemuck::Zeroable::zeroed();
         uniforms.resolution_triangle_count_seed = [1, 1, count, 0];
@@ -113,7 +117,7 @@ impl ProbeRunner {
         )?;
         let descriptors = pipeline.pipeline.allocate_descriptor_set()?;
         let storage = vk::DescriptorType::STORAGE_BUFFER;
-        descriptors.write_buffer(contract::BINDING_TRIANGLES, storage, &self.triangles);
+        descriptors.write_texel_buffer(contract::BINDING_TRIANGLES, &self.triangles);
         descriptors.write_buffer(
             contract::BINDING_RENDER_UNIFORMS,
             vk::DescriptorType::UNIFORM_BUFFER,
