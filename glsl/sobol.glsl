@@ -50,16 +50,19 @@ uint sobol_dimension_0(uint index) {
 // Dimension 1 of the Sobol sequence, 32-bit fixed point: the XOR of the direction numbers
 // v_j of the index's set bits j, with v_0 = 2^-1 and v_j = v_{j-1} ^ (v_{j-1} >> 1) (the
 // primitive polynomial x + 1), i.e. 0x80000000, 0xc0000000, 0xa0000000, 0xf0000000, ...
+// In closed form: v_j has bit 31 - k set iff C(j, k) is odd, i.e. iff the bits of k are a
+// subset of those of j (Lucas), so bit 31 - k of the result is the XOR of the index bits j
+// over all supersets j of k: five shift-XOR steps (one per bit of k), then a bit reversal.
+// A loop over the index's bits would run 32 times for the shuffled indices of
+// get_sobol_sample_2d(), which made Sobol samples 1.45x as slow as PCG2D on lavapipe.
 uint sobol_dimension_1(uint index) {
-    uint result = 0u;
-    uint direction = 0x80000000u;
-    // At most 32 iterations: one per bit of the index.
-    for (; index != 0u; index >>= 1u) {
-        if ((index & 1u) != 0u)
-            result ^= direction;
-        direction ^= direction >> 1u;
-    }
-    return result;
+    uint superset_xor = index;
+    superset_xor ^= (superset_xor >> 1u) & 0x55555555u;
+    superset_xor ^= (superset_xor >> 2u) & 0x33333333u;
+    superset_xor ^= (superset_xor >> 4u) & 0x0f0f0f0fu;
+    superset_xor ^= (superset_xor >> 8u) & 0x00ff00ffu;
+    superset_xor ^= (superset_xor >> 16u) & 0x0000ffffu;
+    return sobol_reverse_bits(superset_xor);
 }
 
 // A well-mixed 32-bit hash (the PCG hash of Jarzynski and Olano 2020, "Hash Functions for GPU

@@ -38,18 +38,16 @@ pub fn sobol_dimension_0(index: u32) -> u32 {
 }
 
 /// Twin of GLSL `sobol_dimension_1`: the second Sobol dimension, 32-bit fixed point, with
-/// direction numbers v_0 = 2^-1, v_j = v_{j-1} ^ (v_{j-1} >> 1).
-pub fn sobol_dimension_1(mut index: u32) -> u32 {
-    let mut result = 0u32;
-    let mut direction = 0x8000_0000u32;
-    while index != 0 {
-        if index & 1 != 0 {
-            result ^= direction;
-        }
-        direction ^= direction >> 1;
-        index >>= 1;
-    }
-    result
+/// direction numbers v_0 = 2^-1, v_j = v_{j-1} ^ (v_{j-1} >> 1), in closed form: bit 31 - k
+/// of the result is the XOR of the index bits j over all bit-supersets j of k.
+pub fn sobol_dimension_1(index: u32) -> u32 {
+    let mut superset_xor = index;
+    superset_xor ^= (superset_xor >> 1) & 0x5555_5555;
+    superset_xor ^= (superset_xor >> 2) & 0x3333_3333;
+    superset_xor ^= (superset_xor >> 4) & 0x0f0f_0f0f;
+    superset_xor ^= (superset_xor >> 8) & 0x00ff_00ff;
+    superset_xor ^= (superset_xor >> 16) & 0x0000_ffff;
+    sobol_reverse_bits(superset_xor)
 }
 
 /// Twin of GLSL `sobol_hash`: the PCG hash (Jarzynski and Olano 2020, JCGT 9(3)).
@@ -141,6 +139,35 @@ mod tests {
             .map(|i| f64::from(sobol_dimension_1(i)) / 2f64.powi(32))
             .collect();
         assert_eq!(start, [0.0, 0.5, 0.75, 0.25, 0.625, 0.125, 0.375, 0.875]);
+    }
+
+    /// The definition: the XOR of the direction numbers of the index's set bits.
+    fn sobol_dimension_1_by_definition(mut index: u32) -> u32 {
+        let mut result = 0u32;
+        let mut direction = 0x8000_0000u32;
+        while index != 0 {
+            if index & 1 != 0 {
+                result ^= direction;
+            }
+            direction ^= direction >> 1;
+            index >>= 1;
+        }
+        result
+    }
+
+    #[test]
+    fn dimension_1_closed_form_matches_its_definition() {
+        // All 2^16 small indices, and 2^16 scattered ones (a multiplicative walk over all
+        // 32 bits, as the shuffled indices of get_sobol_sample_2d are).
+        let small = 0..1u32 << 16;
+        let scattered = (0..1u32 << 16).map(|i| i.wrapping_mul(0x9e37_79b9) ^ (i << 16));
+        for index in small.chain(scattered).chain([u32::MAX]) {
+            assert_eq!(
+                sobol_dimension_1(index),
+                sobol_dimension_1_by_definition(index),
+                "index {index:#x}"
+            );
+        }
     }
 
     #[test]
