@@ -1,9 +1,10 @@
 #!/usr/bin/env python3
 """Render the workshop's Cornell box with Mitsuba 3 and with vkpath; compare their efficiency.
 
-Both renderers get the same scene (scenes/workshop_cornell_box.json: 30 triangles, z up), the
-same pinhole camera, resolution, box pixel filter, maximum path length and no Russian
-roulette. Each image at a fixed spp is scored against a high-spp vkpath reference:
+Both renderers get the same scene (the built-in Cornell box, or with --generated N vkpath's
+generated scale-test scene of about N triangles), the same pinhole camera, resolution, box
+pixel filter, maximum path length and no Russian roulette. Mitsuba reads the triangles that
+`vkpath export` writes (one PLY mesh per material and a JSON manifest). Each image at a fixed spp is scored against a high-spp vkpath reference:
 
     relMSE      = mean over pixels and RGB of (x - r)^2 / (r^2 + 0.01)
     efficiency  = 1 / (relMSE * seconds)               (higher is better)
@@ -37,15 +38,15 @@ and stores it in mitsuba.exr as vkpath's `second_moment.{R,G,B}` / `sample_count
 Usage (from the repository root):
     python3 benches/mitsuba_compare.py                       # 256x256, path length 5, 64 spp
     python3 benches/mitsuba_compare.py --width 128 --height 128 --max-path-length 3 --spp 16
-Outputs go to --workdir (default target/mitsuba_compare): the reference (cached by its
-parameters; --force-reference renders it again), mitsuba.exr, vkpath_mis.exr,
-vkpath_workshop.exr, and results.json.
+    python3 benches/mitsuba_compare.py --generated 1000000 --width 128 --height 128
+Outputs go to --workdir (default target/mitsuba_compare): the exported scene (scene_<name>/),
+the reference (cached by scene and parameters; --force-reference renders it again),
+mitsuba.exr, vkpath_mis.exr, vkpath_workshop.exr, and results_<name>.json.
 """
 
 import argparse
 import glob
 import json
-import math
 import os
 import re
 import shutil
@@ -54,7 +55,6 @@ import sys
 import time
 
 REPO = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
-SCENE_JSON = os.path.join(REPO, "scenes", "workshop_cornell_box.json")
 MITSUBA_VERSION = "3.9.1"
 TARGET_RELMSE = 0.005
 SUMMARY_RE = re.compile(
@@ -125,6 +125,8 @@ def run_vkpath(vkpath, output, args, spp, integrator, moments=True, seed=None):
     cmd = [vkpath, "render", "-o", output, "--width", str(args.width), "--height", str(args.height),
            "--spp", str(spp), "--integrator", integrator, "--russian-roulette-start", "0",
            "--max-path-length", str(args.max_path_length), "--pixel-filter", "box"]
+    if args.generated is not None:
+        cmd += ["--generated", str(args.generated)]
     if moments:
         cmd.append("--moments")
     if seed is not None:
@@ -155,45 +157,48 @@ def run_compare(vkpath, a, b):
 # Mitsuba
 # --------------------------------------------------------------------------------------------
 
-def build_mitsuba_scene(mi, args, spp):
-    """The Cornell box as a Mitsuba scene dict: one mesh per triangle."""
-    with open(SCENE_JSON) as f:
-        data = json.load(f)
+def export_scene(args, directory):
+    """`vkpath export` of the scene into `directory`; returns its manifest."""
+    cmd = [args.vkpath, "export", "--output-dir", directory]
+    if args.generated is not None:
+        cmd += ["--generated", str(args.generated)]
+    print("  $ " + " ".join(cmd), flush=True)
+    result = subprocess.run(cmd, capture_output=True, text=True)
+    if result.returncode != 0:
+        sys.exit(f"vkpath export failed ({result.returncode}):\n{result.stderr}")
+    with open(os.path.join(directory, "scene.json")) as f:
+        return json.load(f)
+
+
+def build_mitsuba_scene(mi, args, spp, directory, manifest):
+    """The exported scene as a Mitsuba scene dict: one PLY mesh per material."""
     scene = {"type": "scene"}
-    flipped = 0
-    for i, tri in enumerate(data["triangles"]):
-        p = [list(map(float, v)) for v in tri["positions"]]
-        e1 = [p[1][k] - p[0][k] for k in range(3)]
-        e2 = [p[2][k] - p[0][k] for k in range(3)]
-        n = [e1[1] * e2[2] - e1[2] * e2[1], e1[2] * e2[0] - e1[0] * e2[2], e1[0] * e2[1] - e1[1] * e2[0]]
-        faces = [0, 1, 2]
-        # Mitsuba's area emitters emit towards the CCW face normal, and vkpath's emission
-        # is one-sided towards the stored normal: make the winding agree with it.
-        if sum(a * b for a, b in zip(n, tri["normal"])) < 0:
-            faces = [0, 2, 1]
-            flipped += 1
-        props = mi.Properties()
-        # vkpath flips normals towards the ray: surfaces reflect on both sides.
-        props["bsdf"] = mi.load_dict({"type": "twosided", "material": {
-            "type": "diffuse", "reflectance": {"type": "rgb", "value": [float(c) for c in tri["color"]]}}})
-        if max(tri["emission"]) > 0:
-            props["emitter"] = mi.load_dict({"type": "area", "radiance": {
-                "type": "rgb", "value": [float(c) for c in tri["emission"]]}})
-        mesh = mi.Mesh(f"triangle_{i}", 3, 1, has_vertex_normals=False, has_vertex_texcoords=False, props=props)
-        params = mi.traverse(mesh)
-        params["vertex_positions"] = mi.Float([c for v in p for c in v])
-        params["faces"] = mi.UInt32(faces)
-        params.update()
-        scene[f"triangle_{i}"] = mesh
-    cam = data["camera"]
-    half_height = 0.5 * math.sqrt(sum(c * c for c in cam["up"]))
-    distance = math.dist(cam["position"], cam["middle"])
-    fov_y = math.degrees(2.0 * math.atan(half_height / distance))
+    for i, mesh in enumerate(manifest["meshes"]):
+        entry = {
+            "type": "ply",
+            "filename": os.path.join(directory, mesh["file"]),
+            # A triangle soup: each triangle keeps its own (face) normal.
+            "face_normals": True,
+            # vkpath flips normals towards the ray: surfaces reflect on both sides.
+            "bsdf": {"type": "twosided", "material": {
+                "type": "diffuse", "reflectance": {"type": "rgb", "value": mesh["color"]}}},
+        }
+        if max(mesh["emission"]) > 0:
+            # Mitsuba's area emitters shine towards the counter-clockwise side, where the
+            # export puts the normal that vkpath's one-sided emission follows.
+            if mesh["double_sided"]:
+                sys.exit(f"{mesh['file']}: double-sided emitters have no Mitsuba counterpart here")
+            entry["emitter"] = {"type": "area", "radiance": {"type": "rgb", "value": mesh["emission"]}}
+        scene[f"mesh_{i}"] = entry
+    cam = manifest["camera"]
+    if cam is None:
+        sys.exit("the exported scene has no camera")
+    fov_y = cam["fov_y_degrees"]
     scene["sensor"] = {
         "type": "perspective",
         "fov_axis": "y",
         "fov": fov_y,
-        "to_world": mi.ScalarTransform4f().look_at(origin=cam["position"], target=cam["middle"], up=[0, 0, 1]),
+        "to_world": mi.ScalarTransform4f().look_at(origin=cam["position"], target=cam["target"], up=cam["up"]),
         "film": {"type": "hdrfilm", "width": args.width, "height": args.height,
                  "rfilter": {"type": "box"}, "pixel_format": "rgb"},
         "sampler": {"type": "independent", "sample_count": spp},
@@ -201,7 +206,7 @@ def build_mitsuba_scene(mi, args, spp):
     max_depth = args.mitsuba_max_depth if args.mitsuba_max_depth is not None else args.max_path_length
     scene["integrator"] = {"type": "path", "max_depth": max_depth,
                            "rr_depth": max_depth + 1000, "hide_emitters": False}
-    return mi.load_dict(scene), flipped, fov_y
+    return mi.load_dict(scene), fov_y
 
 
 def mitsuba_render(mi, dr, scene, spp, seed):
@@ -302,6 +307,9 @@ def main():
     parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     parser.add_argument("--width", type=int, default=256)
     parser.add_argument("--height", type=int, default=256)
+    parser.add_argument("--generated", type=int, default=None,
+                        help="vkpath's generated scale-test scene of about this many triangles "
+                             "instead of the Cornell box")
     parser.add_argument("--max-path-length", type=int, default=5,
                         help="vkpath --max-path-length n (surface hits) = Mitsuba max_depth n")
     parser.add_argument("--spp", type=int, default=64, help="spp of each timed render")
@@ -332,11 +340,15 @@ def main():
     print(f"mitsuba {mi.__version__}, drjit {dr.__version__}, variant llvm_ad_rgb, "
           f"{dr.thread_count()} threads, DRJIT_LIBLLVM_PATH={os.environ['DRJIT_LIBLLVM_PATH']}")
     w, h, n, spp = args.width, args.height, args.max_path_length, args.spp
-    print(f"scene {os.path.relpath(SCENE_JSON, REPO)}, {w}x{h}, max path length {n}, {spp} spp, "
-          f"no Russian roulette, box pixel filter")
+    name = "cornell" if args.generated is None else f"generated{args.generated}"
+    scene_dir = os.path.join(args.workdir, f"scene_{name}")
+    manifest = export_scene(args, scene_dir)
+    triangles = sum(mesh["triangles"] for mesh in manifest["meshes"])
+    print(f"scene {name} ({triangles} triangles, {len(manifest['meshes'])} materials), {w}x{h}, "
+          f"max path length {n}, {spp} spp, no Russian roulette, box pixel filter")
 
     # (1) Reference.
-    ref = os.path.join(args.workdir, f"ref_{w}x{h}_L{n}_spp{args.reference_spp}.exr")
+    ref = os.path.join(args.workdir, f"ref_{name}_{w}x{h}_L{n}_spp{args.reference_spp}.exr")
     if args.force_reference or not os.path.exists(ref):
         print(f"[1] vkpath reference, MIS, {args.reference_spp} spp (slow on lavapipe)", flush=True)
         info = run_vkpath(args.vkpath, ref + ".tmp.exr", args, args.reference_spp, "mis", seed=7919)
@@ -352,10 +364,9 @@ def main():
     # (2) Mitsuba.
     print("[2] Mitsuba", flush=True)
     t0 = time.perf_counter()
-    scene, flipped, fov_y = build_mitsuba_scene(mi, args, spp)
+    scene, fov_y = build_mitsuba_scene(mi, args, spp, scene_dir, manifest)
     load_s = time.perf_counter() - t0
-    print(f"    scene built in {load_s:.2f} s ({flipped} triangles re-wound to their normals), "
-          f"fov_y {fov_y:.4f} deg")
+    print(f"    scene loaded in {load_s:.2f} s, fov_y {fov_y:.4f} deg")
     _, cold_s = mitsuba_render(mi, dr, scene, spp, seed=1000)
     image, mitsuba_s = mitsuba_render(mi, dr, scene, spp, seed=0)
     print(f"    cold (warm-up) render {cold_s:.2f} s, timed render {mitsuba_s:.2f} s", flush=True)
@@ -392,7 +403,8 @@ def main():
         row["efficiency"] = 1.0 / (row["relmse"] * row["seconds"])
         row["s_to_target"] = row["seconds"] * row["relmse"] / TARGET_RELMSE
     print()
-    print(f"Cornell box {w}x{h}, max path length {n}, {spp} spp, reference vkpath MIS {args.reference_spp} spp")
+    print(f"scene {name} ({triangles} triangles) {w}x{h}, max path length {n}, {spp} spp, "
+          f"reference vkpath MIS {args.reference_spp} spp")
     print(f"vkpath device: {rows[1].get('device')}; Mitsuba: llvm_ad_rgb, {dr.thread_count()} threads")
     header = f"{'renderer':<16}{'seconds':>9}{'cold s':>9}{'Mpaths/s':>10}{'relMSE':>11}{'efficiency':>12}{'s to 0.005':>12}"
     print(header)
@@ -423,8 +435,8 @@ def main():
     else:
         print(f"GATE: Mitsuba's image is {verdict.upper()} with vkpath's reference: "
               "the speed figures DO NOT COUNT (the renderers compute different images).")
-    with open(os.path.join(args.workdir, "results.json"), "w") as f:
-        json.dump({"width": w, "height": h, "max_path_length": n, "spp": spp,
+    with open(os.path.join(args.workdir, f"results_{name}.json"), "w") as f:
+        json.dump({"scene": name, "triangles": triangles, "width": w, "height": h, "max_path_length": n, "spp": spp,
                    "reference_spp": args.reference_spp, "reference_noise_relmse": ref_noise,
                    "rows": rows, "gate": {"exit": code, "verdict": verdict, "report": text},
                    "vkpath_mis_gate": verdict_v, "orientation": {"mitsuba": orient_m, "reference": orient_r}},

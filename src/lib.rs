@@ -24,6 +24,7 @@ pub mod cli;
 pub mod compare;
 pub mod error;
 pub mod exercise;
+pub mod export;
 pub mod exr_input;
 pub mod gpu_types;
 pub mod image_data;

@@ -4,7 +4,7 @@ use std::path::PathBuf;
 
 use anyhow::bail;
 
-use super::render::{load_scene, AccelArg, IntegratorArg, SamplerArg};
+use super::render::{load_scene_source, AccelArg, IntegratorArg, SamplerArg};
 use super::DeviceArgs;
 use crate::bench::{format_table, run_bench, BenchSetup};
 use crate::settings::{Accel, Integrator, RenderSettings};
@@ -92,19 +92,7 @@ pub fn run(args: &BenchArgs) -> anyhow::Result<()> {
         ..settings.clone()
     }
     .validate()?;
-    let scene = match args.generated {
-        Some(triangles) => {
-            let started = std::time::Instant::now();
-            let scene = crate::meshes::scale_test_scene(triangles)?;
-            eprintln!(
-                "vkpath bench: generated {} triangles in {:.2} s",
-                scene.triangles.len(),
-                started.elapsed().as_secs_f64()
-            );
-            scene
-        }
-        None => load_scene(args.scene.as_deref())?,
-    };
+    let scene = load_scene_source(args.scene.as_deref(), args.generated, "vkpath bench")?;
     let Some(camera) = scene.camera else {
         bail!("the scene has no camera; bench needs a scene with its own camera (glTF or the built-in one)");
     };

@@ -11,6 +11,7 @@ pub mod check;
 pub mod compare;
 pub mod devices;
 pub mod exercise;
+pub mod export;
 pub mod render;
 pub mod summary;
 
@@ -38,6 +39,8 @@ pub enum Command {
     Check(check::CheckArgs),
     /// Compare the integrators' speed and efficiency on a fixed scene.
     Bench(bench::BenchArgs),
+    /// Write a scene as PLY meshes (one per material) and a JSON manifest, for other renderers.
+    Export(export::ExportArgs),
 }
 
 /// Options that choose and check the Vulkan device.
@@ -114,6 +117,7 @@ pub fn run(cli: Cli) -> anyhow::Result<()> {
         Command::Compare(args) => compare::run(&args),
         Command::Bench(args) => bench::run(&args),
         Command::Check(args) => check::run(&args),
+        Command::Export(args) => export::run(&args),
     }
 }
 

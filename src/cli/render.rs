@@ -21,6 +21,10 @@ use crate::settings::{Accel, Integrator, RenderSettings, SamplerKind};
 pub struct RenderArgs {
     /// Scene file (.gltf, .glb or .obj); the workshop's Cornell box when omitted.
     pub scene: Option<PathBuf>,
+    /// Instead of a scene file: the generated scale-test scene (the Cornell box with an
+    /// icosphere and a displaced grid) of about this many triangles, e.g. 1000000.
+    #[arg(long, conflicts_with = "scene")]
+    pub generated: Option<usize>,
     /// Output image: .exr (linear radiance, 32-bit float) or .png (sRGB).
     #[arg(short, long)]
     pub output: PathBuf,
@@ -157,6 +161,33 @@ pub enum IntegratorArg {
 }
 
 /// Loads the scene the user named, or the built-in one.
+/// Most triangles `--generated` accepts (about 2 GB of scene data on the host).
+pub const MAX_GENERATED_TRIANGLES: usize = 20_000_000;
+
+/// The scene a command names: the generated scale-test scene of about `generated`
+/// triangles, else `load_scene(path)`. `command` prefixes the progress line.
+pub fn load_scene_source(
+    path: Option<&Path>,
+    generated: Option<usize>,
+    command: &str,
+) -> anyhow::Result<Scene> {
+    let Some(triangles) = generated else {
+        return load_scene(path);
+    };
+    if triangles > MAX_GENERATED_TRIANGLES {
+        bail!("--generated {triangles}: at most {MAX_GENERATED_TRIANGLES} triangles");
+    }
+    let started = Instant::now();
+    let scene = crate::meshes::scale_test_scene(triangles)?;
+    eprintln!(
+        "{command}: generated {} triangles in {:.2} s",
+        scene.triangles.len(),
+        started.elapsed().as_secs_f64()
+    );
+    Ok(scene)
+}
+
+/// A scene file, or the built-in Cornell box; prints the loader's warnings.
 pub fn load_scene(path: Option<&Path>) -> anyhow::Result<Scene> {
     let scene = match path {
         Some(path) => Scene::load(path)?,
@@ -199,7 +230,7 @@ pub fn run(args: &RenderArgs) -> anyhow::Result<()> {
     let settings = args.settings();
     settings.validate()?;
     check_writable(&args.output)?;
-    let scene = load_scene(args.scene.as_deref())?;
+    let scene = load_scene_source(args.scene.as_deref(), args.generated, "vkpath render")?;
     let camera = choose_camera(args, &scene)?;
     let context = args.device.create_context()?;
     render_and_save(

@@ -1,0 +1,243 @@
+//! Writes a scene for another renderer: one binary PLY mesh per material (albedo, emission,
+//! double-sidedness) and a JSON manifest with the materials and the camera. Used by
+//! `benches/mitsuba_compare.py --generated N` to give Mitsuba 3 exactly the triangles vkpath
+//! renders; `vkpath export` is the command line.
+//!
+//! The manifest, `scene.json`:
+//!
+//! ```json
+//! { "camera": { "position": [x, y, z], "target": [x, y, z], "up": [x, y, z],
+//!               "fov_y_degrees": 38.6 },
+//!   "meshes": [ { "file": "mesh_0.ply", "triangles": 10, "color": [r, g, b],
+//!                 "emission": [r, g, b], "double_sided": false } ] }
+//! ```
+//!
+//! `camera` is `null` when the scene has none; `target` is the centre of the image plane and
+//! `fov_y_degrees` the full vertical field of view. Each PLY holds its triangles as a soup (3
+//! vertices each, `float x, y, z`), counter-clockwise seen from the side their normal points
+//! to: the side one-sided emitters shine towards.
+
+use std::collections::BTreeMap;
+use std::fs;
+use std::io::{BufWriter, Write};
+use std::path::{Path, PathBuf};
+
+use glam::Vec3;
+use serde::Serialize;
+
+use crate::camera::Camera;
+use crate::scene::{Scene, Triangle};
+
+/// What went wrong while exporting.
+#[derive(Debug, thiserror::Error)]
+pub enum ExportError {
+    /// A file could not be written.
+    #[error("cannot write {path}: {source}")]
+    Write {
+        /// The file.
+        path: PathBuf,
+        /// Why.
+        source: std::io::Error,
+    },
+}
+
+/// The camera as the manifest stores it.
+#[derive(Debug, Serialize)]
+struct ManifestCamera {
+    position: [f32; 3],
+    target: [f32; 3],
+    up: [f32; 3],
+    fov_y_degrees: f64,
+}
+
+/// One mesh of the manifest: all triangles of one material.
+#[derive(Debug, Serialize)]
+struct ManifestMesh {
+    file: String,
+    triangles: usize,
+    color: [f32; 3],
+    emission: [f32; 3],
+    double_sided: bool,
+}
+
+/// `scene.json`.
+#[derive(Debug, Serialize)]
+struct Manifest {
+    camera: Option<ManifestCamera>,
+    meshes: Vec<ManifestMesh>,
+}
+
+/// A material, bit-exact, as the key that groups triangles into meshes.
+type MaterialKey = ([u32; 3], [u32; 3], bool);
+
+fn material_key(triangle: &Triangle) -> MaterialKey {
+    let bits = |v: Vec3| v.to_array().map(f32::to_bits);
+    (
+        bits(triangle.color),
+        bits(triangle.emission),
+        triangle.double_sided,
+    )
+}
+
+/// Writes `scene` into `directory` (created if missing) as `scene.json` and `mesh_<k>.ply`,
+/// with `camera` (the scene's own, or the one the user chose). Returns the manifest's path.
+pub fn export_scene(
+    scene: &Scene,
+    camera: Option<&Camera>,
+    directory: &Path,
+) -> Result<PathBuf, ExportError> {
+    let write_error = |path: &Path| {
+        let path = path.to_path_buf();
+        move |source| ExportError::Write { path, source }
+    };
+    fs::create_dir_all(directory).map_err(write_error(directory))?;
+    // Group in first-appearance order, so that mesh numbers are stable for a given scene.
+    let mut groups: Vec<Vec<&Triangle>> = Vec::new();
+    let mut group_of: BTreeMap<MaterialKey, usize> = BTreeMap::new();
+    for triangle in &scene.triangles {
+        let next = groups.len();
+        let group = *group_of.entry(material_key(triangle)).or_insert(next);
+        if group == next {
+            groups.push(Vec::new());
+        }
+        groups[group].push(triangle);
+    }
+    let mut meshes = Vec::with_capacity(groups.len());
+    for (index, triangles) in groups.iter().enumerate() {
+        let file = format!("mesh_{index}.ply");
+        let path = directory.join(&file);
+        write_ply(&path, triangles).map_err(write_error(&path))?;
+        let first = triangles[0];
+        meshes.push(ManifestMesh {
+            file,
+            triangles: triangles.len(),
+            color: first.color.to_array(),
+            emission: first.emission.to_array(),
+            double_sided: first.double_sided,
+        });
+    }
+    let manifest = Manifest {
+        camera: camera.map(|camera| ManifestCamera {
+            position: camera.position.to_array(),
+            target: camera.image_plane_middle.to_array(),
+            up: camera.up.normalize().to_array(),
+            fov_y_degrees: (2.0
+                * (0.5 * f64::from(camera.up.length())).atan2(f64::from(
+                    (camera.image_plane_middle - camera.position).length(),
+                )))
+            .to_degrees(),
+        }),
+        meshes,
+    };
+    let path = directory.join("scene.json");
+    let json = serde_json::to_string_pretty(&manifest).expect("the manifest serializes");
+    fs::write(&path, json).map_err(write_error(&path))?;
+    Ok(path)
+}
+
+/// Writes `triangles` as a binary little-endian PLY triangle soup.
+fn write_ply(path: &Path, triangles: &[&Triangle]) -> std::io::Result<()> {
+    let mut out = BufWriter::new(fs::File::create(path)?);
+    write!(
+        out,
+        "ply\nformat binary_little_endian 1.0\ncomment written by vkpath\n\
+         element vertex {}\nproperty float x\nproperty float y\nproperty float z\n\
+         element face {}\nproperty list uchar int vertex_indices\nend_header\n",
+        3 * triangles.len(),
+        triangles.len()
+    )?;
+    for triangle in triangles {
+        for position in triangle.positions {
+            for coordinate in position.to_array() {
+                out.write_all(&coordinate.to_le_bytes())?;
+            }
+        }
+    }
+    for index in 0..triangles.len() as u32 {
+        out.write_all(&[3u8])?;
+        for corner in 0..3 {
+            out.write_all(&(3 * index + corner).to_le_bytes())?;
+        }
+    }
+    out.flush()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Reads back a PLY written by `write_ply`: its vertex positions, in order.
+    fn read_ply_positions(path: &Path) -> Vec<[f32; 3]> {
+        let bytes = fs::read(path).unwrap();
+        let header_end = bytes
+            .windows(11)
+            .position(|w| w == b"end_header\n")
+            .unwrap()
+            + 11;
+        let header = std::str::from_utf8(&bytes[..header_end]).unwrap();
+        let vertices: usize = header
+            .lines()
+            .find_map(|line| line.strip_prefix("element vertex "))
+            .unwrap()
+            .parse()
+            .unwrap();
+        let body = &bytes[header_end..];
+        let floats: Vec<f32> = body[..12 * vertices]
+            .chunks(4)
+            .map(|b| f32::from_le_bytes(b.try_into().unwrap()))
+            .collect();
+        // The faces follow: one (3, i, i + 1, i + 2) record of 13 bytes per triangle.
+        let faces = &body[12 * vertices..];
+        assert_eq!(faces.len(), 13 * vertices / 3);
+        for (t, face) in faces.chunks(13).enumerate() {
+            assert_eq!(face[0], 3);
+            let index =
+                |k: usize| u32::from_le_bytes(face[1 + 4 * k..5 + 4 * k].try_into().unwrap());
+            assert_eq!(
+                [index(0), index(1), index(2)],
+                [3 * t as u32, 3 * t as u32 + 1, 3 * t as u32 + 2]
+            );
+        }
+        floats.chunks(3).map(|c| [c[0], c[1], c[2]]).collect()
+    }
+
+    #[test]
+    fn cornell_box_exports_by_material_with_its_camera() {
+        let scene = Scene::builtin_cornell_box().unwrap();
+        let directory = std::env::temp_dir().join(format!("vkpath-export-{}", std::process::id()));
+        let manifest_path = export_scene(&scene, scene.camera.as_ref(), &directory).unwrap();
+        let manifest: serde_json::Value =
+            serde_json::from_str(&fs::read_to_string(&manifest_path).unwrap()).unwrap();
+        let meshes = manifest["meshes"].as_array().unwrap();
+        // Every triangle lands in exactly one mesh, and each mesh's file holds its triangles
+        // in scene order with their vertices bit-exact.
+        let total: u64 = meshes
+            .iter()
+            .map(|m| m["triangles"].as_u64().unwrap())
+            .sum();
+        assert_eq!(total as usize, scene.triangles.len());
+        for mesh in meshes {
+            let color: Vec<f32> = serde_json::from_value(mesh["color"].clone()).unwrap();
+            let emission: Vec<f32> = serde_json::from_value(mesh["emission"].clone()).unwrap();
+            let expected: Vec<[f32; 3]> = scene
+                .triangles
+                .iter()
+                .filter(|t| {
+                    t.color.to_array() == color[..] && t.emission.to_array() == emission[..]
+                })
+                .flat_map(|t| t.positions.map(|p| p.to_array()))
+                .collect();
+            let file = directory.join(mesh["file"].as_str().unwrap());
+            assert_eq!(read_ply_positions(&file), expected);
+        }
+        let emitters = meshes
+            .iter()
+            .filter(|m| m["emission"][0].as_f64().unwrap() > 0.0)
+            .count();
+        assert_eq!(emitters, 1, "the ceiling light is one material");
+        // The workshop's camera: fov_y = 2 atan(0.28 / 0.8) = 38.58 degrees.
+        let fov = manifest["camera"]["fov_y_degrees"].as_f64().unwrap();
+        assert!((fov - 38.58).abs() < 0.01, "fov {fov}");
+        fs::remove_dir_all(&directory).unwrap();
+    }
+}
