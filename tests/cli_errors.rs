@@ -104,6 +104,29 @@ fn zero_and_absurd_sizes_and_sample_counts() {
     render_error(&["--spp", "0"], "--spp");
     render_error(&["--spp", "4000000000"], "--spp");
     render_error(&["--max-path-length", "0"], "--max-path-length");
+    render_error(&["--generated", "100000000000"], "--generated");
+}
+
+#[test]
+fn export_errors() {
+    // A file where the output directory should be.
+    let dir = tempfile::tempdir().unwrap();
+    let blocker = tempfile::NamedTempFile::new().unwrap();
+    let target = blocker.path().join("scene");
+    let line = expect_error(
+        dir.path(),
+        &["export", "--output-dir", target.to_str().unwrap()],
+        &[],
+        1,
+    );
+    assert!(line.contains("cannot write"), "{line}");
+    let line = expect_error(
+        dir.path(),
+        &["export", "/nonexistent/scene.gltf", "--output-dir", "out"],
+        &[],
+        1,
+    );
+    assert!(line.contains("/nonexistent/scene.gltf"), "{line}");
 }
 
 #[test]
