@@ -78,6 +78,8 @@ uint g_hit_triangle_index = 0u;
 // Number of rays this invocation traced (vkpath's addition, for `vkpath bench`'s rays/s).
 uint g_ray_count = 0u;
 
+#include "constant_triangles.glsl"
+
 #ifdef USE_BVH
 // Defined in bvh.glsl, which kernels built with USE_BVH include.
 bool bvh_closest_hit(out float out_t, out uint out_triangle_index, vec3 ray_origin, vec3 ray_direction);
@@ -100,13 +102,28 @@ bool ray_mesh_intersection(out float out_t, out triangle_t out_triangle, vec3 ra
     out_t = 1.0e38;
     uint hit_index = 0u;
     bool hit = false;
-    uint triangle_count = g_resolution_triangle_count_seed.z;
-    for (uint i = 0u; i != triangle_count; ++i) {
-        float t;
-        if (ray_triangle_intersection(t, ray_origin, ray_direction, get_triangle(i)) && t < out_t) {
-            out_t = t;
-            hit_index = i;
-            hit = true;
+    if (CONSTANT_TRIANGLE_COUNT != 0u) {
+        // The same loop, unrolled over the constant triangles
+#define TEST_CONSTANT_TRIANGLE(i) \
+        if (i < CONSTANT_TRIANGLE_COUNT) { \
+            float t; \
+            if (ray_triangle_intersection(t, ray_origin, ray_direction, GET_CONSTANT_TRIANGLE(i)) && t < out_t) { \
+                out_t = t; \
+                hit_index = i; \
+                hit = true; \
+            } \
+        }
+        FOR_EACH_CONSTANT_TRIANGLE(TEST_CONSTANT_TRIANGLE)
+#undef TEST_CONSTANT_TRIANGLE
+    } else {
+        uint triangle_count = g_resolution_triangle_count_seed.z;
+        for (uint i = 0u; i != triangle_count; ++i) {
+            float t;
+            if (ray_triangle_intersection(t, ray_origin, ray_direction, get_triangle(i)) && t < out_t) {
+                out_t = t;
+                hit_index = i;
+                hit = true;
+            }
         }
     }
 #endif
@@ -125,6 +142,17 @@ bool ray_mesh_any_hit(vec3 ray_origin, vec3 ray_direction, float t_max) {
 #ifdef USE_BVH
     return bvh_any_hit(ray_origin, ray_direction, t_max);
 #else
+    if (CONSTANT_TRIANGLE_COUNT != 0u) {
+#define TEST_CONSTANT_TRIANGLE(i) \
+        if (i < CONSTANT_TRIANGLE_COUNT) { \
+            float t; \
+            if (ray_triangle_intersection(t, ray_origin, ray_direction, GET_CONSTANT_TRIANGLE(i)) && t < t_max) \
+                return true; \
+        }
+        FOR_EACH_CONSTANT_TRIANGLE(TEST_CONSTANT_TRIANGLE)
+#undef TEST_CONSTANT_TRIANGLE
+        return false;
+    }
     uint triangle_count = g_resolution_triangle_count_seed.z;
     for (uint i = 0u; i != triangle_count; ++i) {
         float t;

@@ -44,6 +44,14 @@
 #define SPEC_RUSSIAN_ROULETTE_START 4
 // Random numbers of the importance-sampled integrators: SAMPLER_PCG or SAMPLER_SOBOL.
 #define SPEC_SAMPLER 5
+// Number of triangles passed as specialization constants (0: read them from the texel buffer).
+#define SPEC_CONSTANT_TRIANGLE_COUNT 6
+// The first of the 9 * CONSTANT_TRIANGLE_CAPACITY specialization constants holding the
+// vertex positions of those triangles: constant SPEC_CONSTANT_TRIANGLES + 9 i + 3 j + k is
+// coordinate k of vertex j of triangle i.
+#define SPEC_CONSTANT_TRIANGLES 16
+// Most triangles that can be passed as specialization constants.
+#define CONSTANT_TRIANGLE_CAPACITY 64
 
 // Values of SPEC_PIXEL_FILTER.
 // Uniform jitter inside the pixel: the box-filtered image.

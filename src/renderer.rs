@@ -14,7 +14,7 @@ use crate::error::{Error, Result};
 use crate::gpu_types::{FramePushConstants, RenderUniforms};
 use crate::image_data::RenderedImage;
 use crate::lights::LightTable;
-use crate::scene::Scene;
+use crate::scene::{Scene, Triangle};
 use crate::settings::{Accel, RenderSettings};
 use crate::shaders;
 use crate::vk::{
@@ -35,23 +35,31 @@ pub(crate) fn spirv_words(bytes: &[u8]) -> Result<Vec<u32>> {
         .map_err(|e| Error::Vulkan(VkError::InvalidSpirv(e.to_string())))
 }
 
-/// How the kernel finds the triangle a ray hits. Either way the triangles are read from a
-/// texel buffer (RGBA32_UINT, `TRIANGLE_TEXEL_COUNT` texels per triangle): on lavapipe a texel
-/// fetch at a per-lane index is a vector gather, faster than uniform- or storage-buffer loads
+/// How the kernel finds the triangle a ray hits. The triangles' data are read from a texel
+/// buffer (RGBA32_UINT, `TRIANGLE_TEXEL_COUNT` texels per triangle): on lavapipe a texel fetch
+/// at a per-lane index is a vector gather, faster than uniform- or storage-buffer loads
 /// (docs/performance.md).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Traversal {
-    /// The workshop's loop over all triangles (`glsl/path_tracer.comp`).
+    /// The workshop's loop over all triangles, compiled into the kernel: their positions are
+    /// specialization constants (`glsl/constant_triangles.glsl`), so a ray reads no memory
+    /// per triangle. For scenes of at most `CONSTANT_TRIANGLE_CAPACITY` triangles.
+    ConstantTriangles,
+    /// The workshop's loop over all triangles, read from the texel buffer
+    /// (`glsl/path_tracer.comp`).
     Linear,
     /// A BVH, with the triangles in its leaf order (`path_tracer.comp` with `USE_BVH`).
     Bvh,
 }
 
 impl Traversal {
-    /// What `accel` asks for, for a scene of `triangle_count` triangles.
+    /// What `accel` asks for, for a scene of `triangle_count` triangles: the loop over all
+    /// triangles is compiled into the kernel whenever they fit.
     pub fn choose(triangle_count: usize, accel: Accel) -> Traversal {
         if accel.uses_bvh(triangle_count) {
             Traversal::Bvh
+        } else if triangle_count <= contract::CONSTANT_TRIANGLE_CAPACITY as usize {
+            Traversal::ConstantTriangles
         } else {
             Traversal::Linear
         }
@@ -59,7 +67,7 @@ impl Traversal {
 
     fn kernel(self) -> &'static [u8] {
         match self {
-            Traversal::Linear => shaders::PATH_TRACER,
+            Traversal::ConstantTriangles | Traversal::Linear => shaders::PATH_TRACER,
             Traversal::Bvh => shaders::PATH_TRACER_BVH,
         }
     }
@@ -79,6 +87,32 @@ fn texel_view(context: &Arc<Context>, buffer: Buffer, what: &str) -> Result<Texe
         buffer,
         vk::Format::R32G32B32A32_UINT,
     )?)
+}
+
+/// The specialization constants that pass the triangles' positions into the kernel for
+/// `Traversal::ConstantTriangles` (`glsl/constant_triangles.glsl`); none for the others.
+fn constant_triangle_specialization(
+    traversal: Traversal,
+    triangles: &[Triangle],
+) -> Vec<(u32, u32)> {
+    if traversal != Traversal::ConstantTriangles {
+        return Vec::new();
+    }
+    let mut constants = vec![(
+        contract::SPEC_CONSTANT_TRIANGLE_COUNT,
+        triangles.len() as u32,
+    )];
+    let coordinates = triangles
+        .iter()
+        .flat_map(|triangle| triangle.positions)
+        .flat_map(|position| position.to_array());
+    for (k, coordinate) in coordinates.enumerate() {
+        constants.push((
+            contract::SPEC_CONSTANT_TRIANGLES + k as u32,
+            coordinate.to_bits(),
+        ));
+    }
+    constants
 }
 
 /// A progressive render of one scene on one device.
@@ -114,8 +148,9 @@ impl Renderer {
 
     /// Prepares a render like `new`, with the kernel's SPIR-V given instead of the embedded
     /// one: `glsl/path_tracer.comp` compiled at run time, e.g. with a user's functions by
-    /// `vkpath check`. `traversal` says how it was compiled: `Bvh` with `USE_BVH` defined,
-    /// `Linear` without.
+    /// `vkpath check`. `traversal` says how it was compiled (`Bvh` with `USE_BVH` defined,
+    /// the others without) and, for `ConstantTriangles`, that the scene must fit
+    /// `CONSTANT_TRIANGLE_CAPACITY`.
     pub fn with_kernel(
         context: &Arc<Context>,
         scene: &Scene,
@@ -124,6 +159,13 @@ impl Renderer {
         spirv: &[u32],
         traversal: Traversal,
     ) -> Result<Renderer> {
+        let capacity = contract::CONSTANT_TRIANGLE_CAPACITY as usize;
+        if traversal == Traversal::ConstantTriangles && scene.triangles.len() > capacity {
+            return Err(Error::InvalidSettings(format!(
+                "a kernel with constant triangles holds at most {capacity} triangles, the scene has {}",
+                scene.triangles.len()
+            )));
+        }
         Renderer::create(context, scene, camera, settings, Some((spirv, traversal)))
     }
 
@@ -228,6 +270,27 @@ impl Renderer {
                 vk::DescriptorType::UNIFORM_TEXEL_BUFFER,
             ));
         }
+        let mut specialization = vec![
+            (contract::SPEC_SAMPLE_COUNT, settings.samples_per_frame),
+            (contract::SPEC_MAX_PATH_LENGTH, settings.max_path_length),
+            (
+                contract::SPEC_PIXEL_FILTER,
+                settings.pixel_filter.spec_constant(),
+            ),
+            (
+                contract::SPEC_INTEGRATOR,
+                settings.integrator.spec_constant(),
+            ),
+            (
+                contract::SPEC_RUSSIAN_ROULETTE_START,
+                settings.russian_roulette_start,
+            ),
+            (contract::SPEC_SAMPLER, settings.sampler.spec_constant()),
+        ];
+        specialization.extend(constant_triangle_specialization(
+            traversal,
+            &ordered_triangles,
+        ));
         let pipeline = ComputePipeline::new(
             context,
             &match kernel {
@@ -236,23 +299,7 @@ impl Renderer {
             },
             &bindings,
             std::mem::size_of::<FramePushConstants>() as u32,
-            &[
-                (contract::SPEC_SAMPLE_COUNT, settings.samples_per_frame),
-                (contract::SPEC_MAX_PATH_LENGTH, settings.max_path_length),
-                (
-                    contract::SPEC_PIXEL_FILTER,
-                    settings.pixel_filter.spec_constant(),
-                ),
-                (
-                    contract::SPEC_INTEGRATOR,
-                    settings.integrator.spec_constant(),
-                ),
-                (
-                    contract::SPEC_RUSSIAN_ROULETTE_START,
-                    settings.russian_roulette_start,
-                ),
-                (contract::SPEC_SAMPLER, settings.sampler.spec_constant()),
-            ],
+            &specialization,
         )?;
         let accumulation = StorageImage::new(
             context,

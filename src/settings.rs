@@ -95,9 +95,10 @@ pub enum Accel {
 }
 
 /// Scenes with more triangles than this get a BVH under `Accel::Auto`. Measured on lavapipe
-/// (`vkpath bench`-style runs): the workshop's 30-triangle box is faster with the linear
-/// loop (2.27 against 1.29 M samples/s with `workshop`, 1.15 against 0.99 with `mis`); a few
-/// dozen triangles is where the BVH starts to pay.
+/// (`vkpath bench`-style runs): the workshop's 30-triangle box is several times faster with
+/// the loop over all triangles compiled into the kernel (`Traversal::ConstantTriangles`), and
+/// even the loop over the texel buffer beats the BVH there (2.27 against 1.29 M samples/s
+/// with `workshop`); at about 130 triangles the BVH is 1.3x faster than that loop.
 pub const BVH_THRESHOLD: usize = 64;
 
 impl Accel {
