@@ -41,8 +41,8 @@ pub struct RenderArgs {
     #[arg(long, default_value_t = 5)]
     pub max_path_length: u32,
     /// Samples per pixel per frame (the workshop's SAMPLE_COUNT); the image does not depend
-    /// on it.
-    #[arg(long, default_value_t = 1)]
+    /// on it. Fewer keep each dispatch short on a GPU; more amortise the per-frame cost.
+    #[arg(long, default_value_t = 4)]
     pub samples_per_frame: u32,
     /// Random seed; 0 seeds exactly as the workshop does.
     #[arg(long, default_value_t = 0)]
