@@ -1,6 +1,7 @@
 // The scene as the shaders see it: the triangle buffer, the render uniforms, and the
 // workshop's ray_mesh_intersection() over all triangles. The workshop keeps its 30 triangles
-// in a constant array; here they come from a buffer, and only that changed.
+// in a constant array; here they come from a texel buffer, and for scenes of up to 64
+// triangles their positions are also compiled in (constant_triangles.glsl), as constants.
 #ifndef VKPATH_SCENE_GLSL
 #define VKPATH_SCENE_GLSL
 
