@@ -65,6 +65,15 @@ impl Traversal {
         }
     }
 
+    /// A short name for reports: "constant triangles", "linear" or "BVH".
+    pub fn name(self) -> &'static str {
+        match self {
+            Traversal::ConstantTriangles => "constant triangles",
+            Traversal::Linear => "linear",
+            Traversal::Bvh => "BVH",
+        }
+    }
+
     fn kernel(self) -> &'static [u8] {
         match self {
             Traversal::ConstantTriangles | Traversal::Linear => shaders::PATH_TRACER,

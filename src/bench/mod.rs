@@ -11,9 +11,9 @@ use serde::Serialize;
 use crate::camera::Camera;
 use crate::error::Result;
 use crate::image_data::RenderedImage;
-use crate::renderer::Renderer;
+use crate::renderer::{Renderer, Traversal};
 use crate::scene::Scene;
-use crate::settings::{Integrator, RenderSettings};
+use crate::settings::{Integrator, RenderSettings, SamplerKind};
 use crate::vk::Context;
 
 /// The relMSE at which `seconds_to_target` is reported.
@@ -49,6 +49,10 @@ pub struct BenchReport {
     pub scene: String,
     /// Number of triangles.
     pub triangle_count: usize,
+    /// How rays found their hits (`Traversal::name`).
+    pub traversal: String,
+    /// Random numbers of cosine, nee and mis: "pcg" or "sobol".
+    pub sampler: String,
     /// Image size.
     pub width: u32,
     /// Image size.
@@ -181,6 +185,14 @@ pub fn run_bench(
         device: format!("{} [{}]", context.info.name, context.info.kind),
         scene: setup.scene_name.clone(),
         triangle_count: scene.triangles.len(),
+        traversal: Traversal::choose(scene.triangles.len(), setup.settings.accel)
+            .name()
+            .to_string(),
+        sampler: match setup.settings.sampler {
+            SamplerKind::Pcg => "pcg",
+            SamplerKind::Sobol => "sobol",
+        }
+        .to_string(),
         width: setup.settings.width,
         height: setup.settings.height,
         spp: setup.settings.spp,
@@ -193,10 +205,12 @@ pub fn run_bench(
 /// The report as a table for people, efficiencies also as ratios to the first integrator.
 pub fn format_table(report: &BenchReport) -> String {
     let mut text = format!(
-        "{} | {} ({} triangles) | {}x{} | {} spp | reference {} spp (mis) | max path length {}\n",
+        "{} | {} ({} triangles, {}) | sampler {} | {}x{} | {} spp | reference {} spp (mis) | max path length {}\n",
         report.device,
         report.scene,
         report.triangle_count,
+        report.traversal,
+        report.sampler,
         report.width,
         report.height,
         report.spp,

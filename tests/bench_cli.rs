@@ -1,0 +1,72 @@
+//! `vkpath bench` end to end: its JSON names the scene, traversal and sampler, and reports
+//! finite, positive figures for every integrator asked for, against the reference.
+
+mod common;
+
+use serde_json::Value;
+
+fn bench(args: &[&str]) -> Value {
+    let dir = tempfile::tempdir().unwrap();
+    let mut full = vec![
+        "bench",
+        "--width",
+        "16",
+        "--height",
+        "16",
+        "--spp",
+        "4",
+        "--reference-spp",
+        "16",
+        "--repeats",
+        "1",
+        "--json",
+    ];
+    full.extend_from_slice(args);
+    let output = common::vkpath(dir.path(), &full);
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    assert!(output.status.success(), "{args:?}: {stderr}");
+    serde_json::from_slice(&output.stdout).unwrap_or_else(|e| panic!("{args:?}: {e}"))
+}
+
+fn check_results(report: &Value, integrators: &[&str]) {
+    let results = report["results"].as_array().unwrap();
+    let names: Vec<&str> = results
+        .iter()
+        .map(|r| r["integrator"].as_str().unwrap())
+        .collect();
+    assert_eq!(names, integrators);
+    for result in results {
+        for key in [
+            "samples_per_second",
+            "rays_per_second",
+            "relative_mse",
+            "efficiency",
+        ] {
+            let value = result[key].as_f64().unwrap();
+            assert!(
+                value.is_finite() && value > 0.0,
+                "{key} = {value} in {result}"
+            );
+        }
+        // A path traces at least its camera ray.
+        assert!(result["rays_per_second"].as_f64() >= result["samples_per_second"].as_f64());
+    }
+}
+
+#[test]
+fn cornell_box_bench_uses_constant_triangles() {
+    let report = bench(&["--integrators", "workshop,mis", "--sampler", "sobol"]);
+    assert_eq!(report["triangle_count"], 30);
+    assert_eq!(report["traversal"], "constant triangles");
+    assert_eq!(report["sampler"], "sobol");
+    check_results(&report, &["workshop", "mis"]);
+}
+
+#[test]
+fn generated_scene_bench_uses_the_bvh() {
+    let report = bench(&["--generated", "2000", "--integrators", "cosine"]);
+    let triangles = report["triangle_count"].as_u64().unwrap();
+    assert!((1900..=2100).contains(&triangles), "{triangles} triangles");
+    assert_eq!(report["traversal"], "BVH");
+    check_results(&report, &["cosine"]);
+}
