@@ -3,7 +3,7 @@
 // specialization constants, and ray_mesh_intersection() and ray_mesh_any_hit() test them in a
 // loop that the preprocessor unrolls. Every position is then a constant of the compiled code,
 // so the driver reads nothing per triangle; on lavapipe, where each texel fetch is a per-lane
-// gather, this makes rays 2x as fast (docs/performance.md). The other members of the hit
+// gather, this makes rays 2-4x as fast (docs/performance.md). The other members of the hit
 // triangle still come from the texel buffer (get_triangle()).
 #ifndef VKPATH_CONSTANT_TRIANGLES_GLSL
 #define VKPATH_CONSTANT_TRIANGLES_GLSL
@@ -13,6 +13,9 @@
 // How many of the constant triangles are in use (0: none; the kernel reads the texel buffer).
 layout(constant_id = SPEC_CONSTANT_TRIANGLE_COUNT) const uint CONSTANT_TRIANGLE_COUNT = 0u;
 
+#if CONSTANT_TRIANGLE_CAPACITY != 64
+#error FOR_EACH_CONSTANT_TRIANGLE lists 64 triangles: change it with CONSTANT_TRIANGLE_CAPACITY
+#endif
 // Calls M(i) for every i < CONSTANT_TRIANGLE_CAPACITY (64), with literal indices.
 #define FOR_EACH_CONSTANT_TRIANGLE(M) \
     M(0) M(1) M(2) M(3) M(4) M(5) M(6) M(7) \
