@@ -418,19 +418,7 @@ impl Renderer {
         let set = self.descriptors.set;
         self.commands.run(|device, command_buffer| unsafe {
             // SAFETY: all bound resources live as long as self; the image is in GENERAL.
-            device.cmd_bind_pipeline(
-                command_buffer,
-                vk::PipelineBindPoint::COMPUTE,
-                pipeline.pipeline,
-            );
-            device.cmd_bind_descriptor_sets(
-                command_buffer,
-                vk::PipelineBindPoint::COMPUTE,
-                pipeline.layout,
-                0,
-                &[set],
-                &[],
-            );
+            pipeline.record_bind(device, command_buffer, set);
             for frame in 0..frames {
                 let constants = FramePushConstants {
                     first_sample_index: first + frame * spf,

@@ -87,19 +87,7 @@ fn run_probe(
     let start = Instant::now();
     runner
         .run(|device, command_buffer| unsafe {
-            device.cmd_bind_pipeline(
-                command_buffer,
-                vk::PipelineBindPoint::COMPUTE,
-                pipeline.pipeline,
-            );
-            device.cmd_bind_descriptor_sets(
-                command_buffer,
-                vk::PipelineBindPoint::COMPUTE,
-                pipeline.layout,
-                0,
-                &[set.set],
-                &[],
-            );
+            pipeline.record_bind(device, command_buffer, set.set);
             device.cmd_dispatch(command_buffer, groups, 1, 1);
             let barrier = vk::MemoryBarrier::default()
                 .src_access_mask(vk::AccessFlags::SHADER_WRITE)

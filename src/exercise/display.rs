@@ -68,19 +68,7 @@ pub fn render_sample_display(
     let commands = CommandRunner::new(context)?;
     commands.run(|device, command_buffer| unsafe {
         // SAFETY: the pipeline, set and buffer live until run() has waited for the work.
-        device.cmd_bind_pipeline(
-            command_buffer,
-            vk::PipelineBindPoint::COMPUTE,
-            pipeline.pipeline,
-        );
-        device.cmd_bind_descriptor_sets(
-            command_buffer,
-            vk::PipelineBindPoint::COMPUTE,
-            pipeline.layout,
-            0,
-            &[descriptors.set],
-            &[],
-        );
+        pipeline.record_bind(device, command_buffer, descriptors.set);
         device.cmd_push_constants(
             command_buffer,
             pipeline.layout,

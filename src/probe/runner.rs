@@ -134,19 +134,7 @@ impl ProbeRunner {
         self.commands.run(|device, command_buffer| unsafe {
             // SAFETY: the pipeline, set and buffers outlive the submission, which run()
             // waits for.
-            device.cmd_bind_pipeline(
-                command_buffer,
-                vk::PipelineBindPoint::COMPUTE,
-                compute.pipeline,
-            );
-            device.cmd_bind_descriptor_sets(
-                command_buffer,
-                vk::PipelineBindPoint::COMPUTE,
-                compute.layout,
-                0,
-                &[set],
-                &[],
-            );
+            compute.record_bind(device, command_buffer, set);
             let mut first_group = 0;
             while first_group < total_groups {
                 let groups = (total_groups - first_group).min(max_groups);

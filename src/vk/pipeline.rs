@@ -111,6 +111,32 @@ impl ComputePipeline {
         Ok(pipeline)
     }
 
+    /// Records binding this pipeline and `set` as its set 0 for compute dispatches.
+    ///
+    /// # Safety
+    /// `command_buffer` is recording on this pipeline's device, and the pipeline and `set`
+    /// outlive the work it submits.
+    pub unsafe fn record_bind(
+        &self,
+        device: &ash::Device,
+        command_buffer: vk::CommandBuffer,
+        set: vk::DescriptorSet,
+    ) {
+        device.cmd_bind_pipeline(
+            command_buffer,
+            vk::PipelineBindPoint::COMPUTE,
+            self.pipeline,
+        );
+        device.cmd_bind_descriptor_sets(
+            command_buffer,
+            vk::PipelineBindPoint::COMPUTE,
+            self.layout,
+            0,
+            &[set],
+            &[],
+        );
+    }
+
     /// Allocates a descriptor set for this pipeline's set 0 from a pool of its own.
     pub fn allocate_descriptor_set(&self) -> VkResult<DescriptorSet> {
         DescriptorSet::new(&self.context, self.descriptor_set_layout, &self.bindings)
