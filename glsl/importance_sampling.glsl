@@ -2,7 +2,7 @@
 // directions), light sampling (next event estimation), multiple importance sampling and
 // Russian roulette. Samplers come in pairs sample_x / get_x_density, as in Peters' renderers.
 // Rust twins: src/cpu/importance_sampling.rs. Needs MAX_PATH_LENGTH, INTEGRATOR,
-// RUSSIAN_ROULETTE_START and SAMPLER defined by the includer. Random numbers come from
+// RUSSIAN_ROULETTE_START, SAMPLER and LIGHT_SAMPLING defined by the includer. Random numbers come from
 // get_path_random_numbers() (glsl/sobol.glsl): PCG2D or scrambled Sobol.
 #ifndef VKPATH_IMPORTANCE_SAMPLING_GLSL
 #define VKPATH_IMPORTANCE_SAMPLING_GLSL
@@ -72,6 +72,92 @@ vec3 sample_triangle_point(vec2 random_numbers, triangle_t triangle) {
     return b_0 * triangle.positions[0] + b_1 * triangle.positions[1] + (1.0 - b_0 - b_1) * triangle.positions[2];
 }
 
+// A triangle seen from a point: its vertices projected onto the unit sphere around the point
+// (a spherical triangle), and the solid angle it covers there.
+struct spherical_triangle_t {
+    // Unit vectors from the point to the triangle's vertices A, B, C.
+    vec3 vertices[3];
+    // The area of the spherical triangle, which is the solid angle the triangle subtends
+    // (get_solid_angle()).
+    float solid_angle;
+};
+
+// Solid angle of the spherical triangle with unit vertex vectors a, b, c (Van Oosterom and
+// Strackee 1983): tan(omega / 2) = |a.(b x c)| / (1 + a.b + b.c + c.a). Unlike Girard's sum of
+// interior angles minus pi, this keeps its digits for small triangles. 0 for a point in the
+// triangle's plane outside it.
+float get_solid_angle(vec3 a, vec3 b, vec3 c) {
+    float numerator = abs(dot(a, cross(b, c)));
+    float denominator = 1.0 + dot(a, b) + dot(b, c) + dot(c, a);
+    return 2.0 * atan(numerator, denominator);
+}
+
+// Projects a triangle onto the unit sphere around `origin`.
+spherical_triangle_t get_spherical_triangle(vec3 origin, triangle_t triangle) {
+    spherical_triangle_t spherical;
+    spherical.vertices[0] = normalize(triangle.positions[0] - origin);
+    spherical.vertices[1] = normalize(triangle.positions[1] - origin);
+    spherical.vertices[2] = normalize(triangle.positions[2] - origin);
+    spherical.solid_angle = get_solid_angle(spherical.vertices[0], spherical.vertices[1], spherical.vertices[2]);
+    return spherical;
+}
+
+// Lights that subtend less than this solid angle (steradians) are sampled by area: over so
+// small a triangle the area density's distance^2 barely varies, so it is as good, while
+// Arvo's sampler works with arcs below ~0.03 rad whose sines and cosines carry few digits.
+const float MIN_SPHERICAL_SAMPLING_SOLID_ANGLE = 1.0e-3;
+// Lights that subtend more than this are sampled by area too: the point is then within a
+// hair of the triangle's plane (2 pi is the whole half-space), where the spherical triangle's
+// arcs approach great semicircles and their cross products vanish.
+const float MAX_SPHERICAL_SAMPLING_SOLID_ANGLE = 6.0;
+
+// Whether sample_direct_light() samples a light by solid angle (sample_spherical_triangle())
+// rather than by area (sample_triangle_point()). Both the sampler and get_light_density() ask,
+// so that they agree on the density.
+bool use_spherical_sampling(spherical_triangle_t spherical) {
+    return LIGHT_SAMPLING == LIGHT_SAMPLING_SOLID_ANGLE && spherical.solid_angle >= MIN_SPHERICAL_SAMPLING_SOLID_ANGLE && spherical.solid_angle <= MAX_SPHERICAL_SAMPLING_SOLID_ANGLE;
+}
+
+// A direction uniformly distributed in the solid angle of a spherical triangle (Arvo 1995,
+// "Stratified sampling of spherical triangles"): u_0 chooses the area of a sub-triangle
+// A B C', which fixes C' on arc AC; u_1 a point on arc B C', with the cosine of its arc from B
+// uniform (the sub-triangle's area grows linearly in it).
+// \param random_numbers Uniform (u_0, u_1) in [0,1)^2
+// \param spherical The spherical triangle, with a solid angle that use_spherical_sampling()
+//        accepts
+// \return A unit vector with density 1 / spherical.solid_angle w.r.t. solid angle
+vec3 sample_spherical_triangle(vec2 random_numbers, spherical_triangle_t spherical) {
+    vec3 a = spherical.vertices[0];
+    vec3 b = spherical.vertices[1];
+    vec3 c = spherical.vertices[2];
+    // The interior angle alpha at A, between the great circles AB and AC.
+    vec3 normal_ab = normalize(cross(a, b));
+    vec3 normal_ac = normalize(cross(a, c));
+    float cos_alpha = dot(normal_ab, normal_ac);
+    float sin_alpha = length(cross(normal_ab, normal_ac));
+    // phi = sub-triangle area - alpha, by the angle-difference identities.
+    float sub_area = random_numbers[0] * spherical.solid_angle;
+    float sin_sub_area = sin(sub_area);
+    float cos_sub_area = cos(sub_area);
+    float sin_phi = sin_sub_area * cos_alpha - cos_sub_area * sin_alpha;
+    float cos_phi = cos_sub_area * cos_alpha + sin_sub_area * sin_alpha;
+    float u = cos_phi - cos_alpha;
+    float v = sin_phi + sin_alpha * dot(a, b);
+    // Arvo's q = cos(arc A C') = ((v cos_phi - u sin_phi) cos_alpha - v) / denominator, as
+    // 1 - q without cancellation: 2 sin(s/2) (v sin(s/2) - sin(s/2 - alpha) sin s) / denominator
+    // for the sub-triangle area s (angle-sum identities). Recovering sin(arc) from q itself
+    // would lose half the digits where C' nears A.
+    float sin_half_area = sin(0.5 * sub_area);
+    float sin_half_area_minus_alpha = sin_half_area * cos_alpha - cos(0.5 * sub_area) * sin_alpha;
+    float denominator = (v * sin_phi + u * cos_phi) * sin_alpha;
+    float one_minus_q = clamp(2.0 * sin_half_area * (v * sin_half_area - sin_half_area_minus_alpha * sin_sub_area) / denominator, 0.0, 2.0);
+    vec3 c_sub = (1.0 - one_minus_q) * a + sqrt(one_minus_q * (2.0 - one_minus_q)) * normalize(c - dot(c, a) * a);
+    // z = cos(arc from B to the sample), uniform in [B.C', 1]; 1 - z from the chord, again
+    // without cancellation: 1 - B.C' = |C' - B|^2 / 2.
+    float one_minus_z = random_numbers[1] * 0.5 * dot(c_sub - b, c_sub - b);
+    return (1.0 - one_minus_z) * b + sqrt(one_minus_z * (2.0 - one_minus_z)) * normalize(c_sub - dot(c_sub, b) * b);
+}
+
 // Chooses an emissive triangle in proportion to its power by binary search in the CDF.
 // \param random_number Uniform in [0,1)
 // \return Index of a light; only valid when get_light_count() > 0
@@ -94,9 +180,13 @@ float get_light_selection_probability(uint triangle_index) {
     return get_packed_triangle(triangle_index).normal.w;
 }
 
-// Density w.r.t. solid angle at the shading point of a light sample that lands on an
-// emitter at `distance` along `direction`: p_select / area * distance^2 / |n_light.omega|.
-float get_light_density(float selection_probability, triangle_t light, vec3 direction, float distance) {
+// Density w.r.t. solid angle at `origin` of a light sample that lands on an emitter at
+// `distance` along `direction`: p_select / solid angle for lights sampled by solid angle,
+// else p_select / area * distance^2 / |n_light.omega|.
+float get_light_density(float selection_probability, triangle_t light, vec3 origin, vec3 direction, float distance) {
+    spherical_triangle_t spherical = get_spherical_triangle(origin, light);
+    if (use_spherical_sampling(spherical))
+        return selection_probability / spherical.solid_angle;
     float cosine = abs(dot(light.normal, direction));
     return selection_probability * distance * distance / (get_triangle_area(light) * max(cosine, 1.0e-20));
 }
@@ -129,9 +219,21 @@ vec3 sample_direct_light(vec3 shading_position, triangle_t triangle, inout uvec2
     uint light_triangle_index = get_light_triangle_index(sample_light_index(selection[0]));
     triangle_t light = get_triangle(light_triangle_index);
     vec3 origin = offset_ray_origin(shading_position, triangle.normal);
-    vec3 to_light = sample_triangle_point(point_randoms, light) - origin;
-    float distance = length(to_light);
-    vec3 direction = to_light / distance;
+    vec3 direction;
+    float distance;
+    spherical_triangle_t spherical = get_spherical_triangle(origin, light);
+    if (use_spherical_sampling(spherical)) {
+        direction = sample_spherical_triangle(point_randoms, spherical);
+        // The distance from the triangle test that shadow rays run, so that is_occluded()'s
+        // margin excludes exactly this triangle; where rounding put the direction just
+        // outside the triangle, the distance to its plane.
+        if (!ray_triangle_intersection(distance, origin, direction, light))
+            distance = dot(light.normal, light.positions[0] - origin) / dot(light.normal, direction);
+    } else {
+        vec3 to_light = sample_triangle_point(point_randoms, light) - origin;
+        distance = length(to_light);
+        direction = to_light / distance;
+    }
     float cosine = dot(triangle.normal, direction);
     // One-sided emitters shine only towards their normal.
     bool front = dot(light.normal, direction) < 0.0;
@@ -139,7 +241,7 @@ vec3 sample_direct_light(vec3 shading_position, triangle_t triangle, inout uvec2
         return vec3(0.0);
     if (is_occluded(origin, direction, distance))
         return vec3(0.0);
-    float light_density = get_light_density(get_light_selection_probability(light_triangle_index), light, direction, distance);
+    float light_density = get_light_density(get_light_selection_probability(light_triangle_index), light, origin, direction, distance);
     float weight = (INTEGRATOR == INTEGRATOR_MIS) ? get_power_heuristic_weight(light_density, get_hemisphere_cosine_density(triangle.normal, direction)) : 1.0;
     return triangle.color / M_PI * light.emission * cosine / light_density * weight;
 }
@@ -155,6 +257,7 @@ vec3 get_ray_radiance_importance_sampled(vec3 ray_origin, vec3 ray_direction, in
     vec3 throughput_weight = vec3(1.0);
     // Density of the cosine sample that produced ray_direction (0: the camera ray).
     float direction_density = 0.0;
+    // Origin of the current ray: where get_light_density() evaluates the light's solid angle.
     vec3 previous_position = ray_origin;
     for (int i = 0; i != MAX_PATH_LENGTH; ++i) {
         float t;
@@ -169,7 +272,7 @@ vec3 get_ray_radiance_importance_sampled(vec3 ray_origin, vec3 ray_direction, in
         if (i == 0 || INTEGRATOR == INTEGRATOR_COSINE) {
             radiance += throughput_weight * triangle.emission;
         } else if (INTEGRATOR == INTEGRATOR_MIS && triangle.emission != vec3(0.0)) {
-            float light_density = get_light_density(get_light_selection_probability(triangle_index), triangle, ray_direction, t);
+            float light_density = get_light_density(get_light_selection_probability(triangle_index), triangle, previous_position, ray_direction, t);
             radiance += throughput_weight * triangle.emission * get_power_heuristic_weight(direction_density, light_density);
         }
         if (i + 1 == MAX_PATH_LENGTH)
@@ -183,6 +286,7 @@ vec3 get_ray_radiance_importance_sampled(vec3 ray_origin, vec3 ray_direction, in
             break;
         throughput_weight *= triangle.color;
         ray_origin = offset_ray_origin(ray_origin, triangle.normal);
+        previous_position = ray_origin;
         // Russian roulette: continue with probability q = min(1, max throughput component)
         // and divide by q, which keeps the estimate unbiased.
         if (RUSSIAN_ROULETTE_START > 0 && i + 1 >= RUSSIAN_ROULETTE_START) {

@@ -23,6 +23,8 @@ layout(constant_id = SPEC_RUSSIAN_ROULETTE_START) const int RUSSIAN_ROULETTE_STA
 // SAMPLER_PCG or SAMPLER_SOBOL: the random numbers of the importance-sampled integrators
 // (and of their pixel jitter); the workshop integrators always use PCG2D.
 layout(constant_id = SPEC_SAMPLER) const int SAMPLER = SAMPLER_PCG;
+// LIGHT_SAMPLING_AREA or LIGHT_SAMPLING_SOLID_ANGLE: how nee and mis sample their lights.
+layout(constant_id = SPEC_LIGHT_SAMPLING) const int LIGHT_SAMPLING = LIGHT_SAMPLING_SOLID_ANGLE;
 
 #include "integrator.glsl"
 #include "importance_sampling.glsl"

@@ -44,6 +44,8 @@
 #define SPEC_RUSSIAN_ROULETTE_START 4
 // Random numbers of the importance-sampled integrators: SAMPLER_PCG or SAMPLER_SOBOL.
 #define SPEC_SAMPLER 5
+// How nee and mis sample a point on the chosen light: LIGHT_SAMPLING_*.
+#define SPEC_LIGHT_SAMPLING 7
 // Number of triangles passed as specialization constants (0: read them from the texel buffer).
 #define SPEC_CONSTANT_TRIANGLE_COUNT 6
 // The first of the 9 * CONSTANT_TRIANGLE_CAPACITY specialization constants holding the
@@ -64,6 +66,13 @@
 #define SAMPLER_PCG 0
 // Owen-scrambled, shuffled 2D Sobol points per dimension pair (Burley 2020).
 #define SAMPLER_SOBOL 1
+
+// Values of SPEC_LIGHT_SAMPLING (glsl/importance_sampling.glsl).
+// A point uniformly distributed on the triangle's area (density 1 / area).
+#define LIGHT_SAMPLING_AREA 0
+// A direction uniformly distributed in the solid angle the triangle subtends (Arvo 1995);
+// by area where that solid angle is tiny or nearly 2 pi (use_spherical_sampling()).
+#define LIGHT_SAMPLING_SOLID_ANGLE 1
 
 // Values of SPEC_INTEGRATOR.
 // Exercise 7: the path-tracing loop of get_ray_radiance().

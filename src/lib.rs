@@ -42,7 +42,7 @@ pub use error::{Error, Result};
 pub use image_data::RenderedImage;
 pub use renderer::Renderer;
 pub use scene::Scene;
-pub use settings::{Accel, Integrator, PixelFilter, RenderSettings, SamplerKind};
+pub use settings::{Accel, Integrator, LightSampling, PixelFilter, RenderSettings, SamplerKind};
 pub mod check;
 pub mod cpu;
 pub mod probe;

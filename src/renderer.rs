@@ -295,6 +295,10 @@ impl Renderer {
                 settings.russian_roulette_start,
             ),
             (contract::SPEC_SAMPLER, settings.sampler.spec_constant()),
+            (
+                contract::SPEC_LIGHT_SAMPLING,
+                settings.light_sampling.spec_constant(),
+            ),
         ];
         specialization.extend(constant_triangle_specialization(
             traversal,

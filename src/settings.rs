@@ -82,6 +82,36 @@ impl SamplerKind {
     }
 }
 
+/// How nee and mis sample a point on the light they chose.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+pub enum LightSampling {
+    /// A point uniformly distributed on the triangle's area, as the nee describes:
+    /// its density in solid angle grows as distance^2, so points near a light are noisy.
+    Area,
+    /// A direction uniformly distributed in the solid angle the triangle subtends (Arvo
+    /// 1995); by area where that is below 10^-3 sr or above 6 sr.
+    #[default]
+    SolidAngle,
+}
+
+impl LightSampling {
+    /// The `LIGHT_SAMPLING_*` value of `glsl/shared.h`.
+    pub fn spec_constant(self) -> u32 {
+        match self {
+            LightSampling::Area => contract::LIGHT_SAMPLING_AREA,
+            LightSampling::SolidAngle => contract::LIGHT_SAMPLING_SOLID_ANGLE,
+        }
+    }
+
+    /// The name the CLI and `vkpath bench` use: "area" or "solid-angle".
+    pub fn name(self) -> &'static str {
+        match self {
+            LightSampling::Area => "area",
+            LightSampling::SolidAngle => "solid-angle",
+        }
+    }
+}
+
 /// How rays find the closest triangle.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
 pub enum Accel {
@@ -148,6 +178,8 @@ pub struct RenderSettings {
     pub accel: Accel,
     /// Random numbers of the importance-sampled integrators.
     pub sampler: SamplerKind,
+    /// How nee and mis sample their lights.
+    pub light_sampling: LightSampling,
 }
 
 impl Default for RenderSettings {
@@ -164,6 +196,7 @@ impl Default for RenderSettings {
             russian_roulette_start: 3,
             accel: Accel::Auto,
             sampler: SamplerKind::Pcg,
+            light_sampling: LightSampling::SolidAngle,
         }
     }
 }

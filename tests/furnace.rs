@@ -4,7 +4,7 @@
 mod common;
 
 use vkpath::procedural::{furnace, furnace_radiance};
-use vkpath::{Accel, Integrator, RenderSettings, Renderer, SamplerKind};
+use vkpath::{Accel, Integrator, LightSampling, RenderSettings, Renderer, SamplerKind};
 
 fn check_furnace(albedo: f32, emission: f32, max_path_length: u32) {
     for accel in [Accel::None, Accel::Bvh] {
@@ -18,6 +18,7 @@ fn check_furnace(albedo: f32, emission: f32, max_path_length: u32) {
                 integrator,
                 accel,
                 SamplerKind::Pcg,
+                LightSampling::SolidAngle,
                 albedo,
                 emission,
                 max_path_length,
@@ -30,16 +31,31 @@ fn check_furnace(albedo: f32, emission: f32, max_path_length: u32) {
         Integrator::Mis,
         Accel::None,
         SamplerKind::Sobol,
+        LightSampling::SolidAngle,
         albedo,
         emission,
         max_path_length,
     );
+    // The light sampling, uniform on the light's area, for both light-sampling
+    // integrators.
+    for integrator in [Integrator::Nee, Integrator::Mis] {
+        check_furnace_with(
+            integrator,
+            Accel::None,
+            SamplerKind::Pcg,
+            LightSampling::Area,
+            albedo,
+            emission,
+            max_path_length,
+        );
+    }
 }
 
 fn check_furnace_with(
     integrator: Integrator,
     accel: Accel,
     sampler: SamplerKind,
+    light_sampling: LightSampling,
     albedo: f32,
     emission: f32,
     max_path_length: u32,
@@ -55,6 +71,7 @@ fn check_furnace_with(
         integrator,
         accel,
         sampler,
+        light_sampling,
         // Russian roulette on from the second vertex, so the tests see it at work.
         russian_roulette_start: 2,
         ..Default::default()
@@ -85,14 +102,14 @@ fn check_furnace_with(
         // 5 standard errors: a false failure has probability ~6e-7 for a normal mean, while
         // a bias of a few percent (e.g. a lost or extra bounce) is many standard errors.
         let tolerance = 5.0 * standard_error;
-        println!("{integrator:?} {accel:?} {sampler:?} a={albedo} n={max_path_length}: mean {mean:.5}, expected {expected:.5}, SE {standard_error:.2e}");
+        println!("{integrator:?} {accel:?} {sampler:?} {light_sampling:?} a={albedo} n={max_path_length}: mean {mean:.5}, expected {expected:.5}, SE {standard_error:.2e}");
         assert!(
             variance > 0.0,
             "the estimator should be noisy, got zero variance"
         );
         assert!(
             (mean - expected).abs() <= tolerance,
-            "furnace {integrator:?} {accel:?} {sampler:?} a={albedo} n={max_path_length} channel {channel}: mean {mean} vs {expected} (tolerance {tolerance})"
+            "furnace {integrator:?} {accel:?} {sampler:?} {light_sampling:?} a={albedo} n={max_path_length} channel {channel}: mean {mean} vs {expected} (tolerance {tolerance})"
         );
     }
     drop(renderer);

@@ -53,6 +53,8 @@ pub struct BenchReport {
     pub traversal: String,
     /// Random numbers of cosine, nee and mis: "pcg" or "sobol".
     pub sampler: String,
+    /// How nee and mis sampled their lights: "area" or "solid-angle".
+    pub light_sampling: String,
     /// Image size.
     pub width: u32,
     /// Image size.
@@ -193,6 +195,7 @@ pub fn run_bench(
             SamplerKind::Sobol => "sobol",
         }
         .to_string(),
+        light_sampling: setup.settings.light_sampling.name().to_string(),
         width: setup.settings.width,
         height: setup.settings.height,
         spp: setup.settings.spp,
@@ -205,12 +208,13 @@ pub fn run_bench(
 /// The report as a table for people, efficiencies also as ratios to the first integrator.
 pub fn format_table(report: &BenchReport) -> String {
     let mut text = format!(
-        "{} | {} ({} triangles, {}) | sampler {} | {}x{} | {} spp | reference {} spp (mis) | max path length {}\n",
+        "{} | {} ({} triangles, {}) | sampler {} | light sampling {} | {}x{} | {} spp | reference {} spp (mis) | max path length {}\n",
         report.device,
         report.scene,
         report.triangle_count,
         report.traversal,
         report.sampler,
+        report.light_sampling,
         report.width,
         report.height,
         report.spp,

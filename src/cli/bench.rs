@@ -4,7 +4,7 @@ use std::path::PathBuf;
 
 use anyhow::bail;
 
-use super::render::{load_scene_source, AccelArg, IntegratorArg, SamplerArg};
+use super::render::{load_scene_source, AccelArg, IntegratorArg, LightSamplingArg, SamplerArg};
 use super::DeviceArgs;
 use crate::bench::{format_table, run_bench, BenchSetup};
 use crate::settings::{Accel, Integrator, RenderSettings};
@@ -25,6 +25,9 @@ pub struct BenchArgs {
     /// (Owen-scrambled Sobol points); the workshop integrator always uses PCG2D.
     #[arg(long, value_enum, default_value_t = SamplerArg::Pcg)]
     pub sampler: SamplerArg,
+    /// How nee and mis sample a point on the chosen light: solid-angle or area.
+    #[arg(long, value_enum, default_value_t = LightSamplingArg::SolidAngle)]
+    pub light_sampling: LightSamplingArg,
     /// Image width in pixels.
     #[arg(long, default_value_t = 64)]
     pub width: u32,
@@ -84,6 +87,7 @@ pub fn run(args: &BenchArgs) -> anyhow::Result<()> {
             AccelArg::Bvh => Accel::Bvh,
         },
         sampler: args.sampler.into(),
+        light_sampling: args.light_sampling.into(),
         ..Default::default()
     };
     settings.validate()?;

@@ -14,7 +14,7 @@ use crate::camera::Camera;
 use crate::output::{check_writable, save_image, SaveOptions};
 use crate::renderer::Renderer;
 use crate::scene::Scene;
-use crate::settings::{Accel, Integrator, RenderSettings, SamplerKind};
+use crate::settings::{Accel, Integrator, LightSampling, RenderSettings, SamplerKind};
 
 /// Arguments of `vkpath render`.
 #[derive(Debug, Clone, clap::Args)]
@@ -63,6 +63,10 @@ pub struct RenderArgs {
     /// Sobol points (sobol). The workshop integrator always uses PCG2D.
     #[arg(long, value_enum, default_value_t = SamplerArg::Pcg)]
     pub sampler: SamplerArg,
+    /// How nee and mis sample a point on the chosen light: uniformly in the solid angle it
+    /// subtends (solid-angle) or uniformly on its area (area).
+    #[arg(long, value_enum, default_value_t = LightSamplingArg::SolidAngle)]
+    pub light_sampling: LightSamplingArg,
     /// Where samples look inside a pixel.
     #[arg(long, value_enum, default_value_t = PixelFilterArg::Box)]
     pub pixel_filter: PixelFilterArg,
@@ -114,6 +118,7 @@ impl RenderArgs {
                 AccelArg::Bvh => Accel::Bvh,
             },
             sampler: self.sampler.into(),
+            light_sampling: self.light_sampling.into(),
         }
     }
 }
@@ -132,6 +137,24 @@ impl From<SamplerArg> for SamplerKind {
         match sampler {
             SamplerArg::Pcg => SamplerKind::Pcg,
             SamplerArg::Sobol => SamplerKind::Sobol,
+        }
+    }
+}
+
+/// `--light-sampling` values.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+pub enum LightSamplingArg {
+    /// A direction uniform in the light's solid angle (Arvo 1995): less noise near lights.
+    SolidAngle,
+    /// A point uniform on the light's area.
+    Area,
+}
+
+impl From<LightSamplingArg> for LightSampling {
+    fn from(light_sampling: LightSamplingArg) -> Self {
+        match light_sampling {
+            LightSamplingArg::SolidAngle => LightSampling::SolidAngle,
+            LightSamplingArg::Area => LightSampling::Area,
         }
     }
 }

@@ -10,8 +10,9 @@ use glam::{Vec3, Vec4Swizzles};
 
 use crate::camera::Camera;
 use crate::contract::{
-    INTEGRATOR_DIRECT_ILLUMINATION, INTEGRATOR_PATH_TRACING, INTEGRATOR_RAY_TRACING,
-    PIXEL_FILTER_BOX, PIXEL_FILTER_CENTER,
+    INTEGRATOR_COSINE, INTEGRATOR_DIRECT_ILLUMINATION, INTEGRATOR_MIS, INTEGRATOR_NEE,
+    INTEGRATOR_PATH_TRACING, INTEGRATOR_RAY_TRACING, LIGHT_SAMPLING_AREA,
+    LIGHT_SAMPLING_SOLID_ANGLE, PIXEL_FILTER_BOX, PIXEL_FILTER_CENTER,
 };
 use crate::cpu::{add_cpu_samples, render_cpu, CpuImage, CpuRenderSettings};
 use crate::scene::Triangle;
@@ -64,6 +65,7 @@ fn settings(integrator: u32, max_path_length: u32) -> CpuRenderSettings {
         pixel_filter: PIXEL_FILTER_BOX,
         integrator,
         russian_roulette_start: 0,
+        light_sampling: LIGHT_SAMPLING_SOLID_ANGLE,
     }
 }
 
@@ -160,6 +162,34 @@ fn path_tracing_furnace() {
             &image,
             expected,
         );
+    }
+}
+
+#[test]
+fn importance_sampled_furnace_with_both_light_samplings() {
+    // The box's 12 emitters seen from points on its walls: solid angles from 0 (the point's
+    // own face) to nearly 2 pi, so both sides of use_spherical_sampling()'s thresholds.
+    let emission = Vec3::new(1.0, 2.0, 0.5);
+    let albedo = Vec3::new(0.5, 0.25, 1.0);
+    let path_length = 3;
+    let triangles = furnace_box(albedo, emission);
+    let expected = furnace_expectation(albedo, emission, path_length);
+    for integrator in [INTEGRATOR_COSINE, INTEGRATOR_NEE, INTEGRATOR_MIS] {
+        for light_sampling in [LIGHT_SAMPLING_AREA, LIGHT_SAMPLING_SOLID_ANGLE] {
+            let image = render_cpu(
+                &triangles,
+                &camera_inside(),
+                &CpuRenderSettings {
+                    light_sampling,
+                    ..settings(integrator, path_length)
+                },
+            );
+            assert_within_five_standard_errors(
+                &format!("integrator {integrator}, light sampling {light_sampling}"),
+                &image,
+                expected,
+            );
+        }
     }
 }
 

@@ -35,6 +35,8 @@ pub struct CpuRenderSettings {
     pub integrator: u32,
     /// `RUSSIAN_ROULETTE_START` (importance-sampled integrators only; 0: off).
     pub russian_roulette_start: u32,
+    /// `LIGHT_SAMPLING_*` of `crate::contract` (nee and mis only).
+    pub light_sampling: u32,
 }
 
 /// Renders `settings.spp` samples per pixel into a new image.
@@ -129,6 +131,7 @@ fn add_pixel_samples(
                 scene_triangles,
                 lights,
                 settings.integrator,
+                settings.light_sampling,
                 plane.camera_position,
                 ray_direction,
                 &mut seed,
