@@ -1,5 +1,6 @@
-//! `vkpath bench` end to end: its JSON names the scene, traversal and sampler, and reports
-//! finite, positive figures for every integrator asked for, against the reference.
+//! `vkpath bench` end to end: its JSON names the scene, traversal, sampler and light
+//! sampling, and reports finite, positive figures for every integrator asked for, against
+//! the reference.
 
 mod common;
 
@@ -59,7 +60,15 @@ fn cornell_box_bench_uses_constant_triangles() {
     assert_eq!(report["triangle_count"], 30);
     assert_eq!(report["traversal"], "constant triangles");
     assert_eq!(report["sampler"], "sobol");
+    assert_eq!(report["light_sampling"], "solid-angle");
     check_results(&report, &["workshop", "mis"]);
+}
+
+#[test]
+fn bench_reports_area_light_sampling() {
+    let report = bench(&["--integrators", "nee", "--light-sampling", "area"]);
+    assert_eq!(report["light_sampling"], "area");
+    check_results(&report, &["nee"]);
 }
 
 #[test]
