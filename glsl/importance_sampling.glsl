@@ -180,11 +180,10 @@ float get_light_selection_probability(uint triangle_index) {
     return get_packed_triangle(triangle_index).normal.w;
 }
 
-// Density w.r.t. solid angle at `origin` of a light sample that lands on an emitter at
-// `distance` along `direction`: p_select / solid angle for lights sampled by solid angle,
-// else p_select / area * distance^2 / |n_light.omega|.
-float get_light_density(float selection_probability, triangle_t light, vec3 origin, vec3 direction, float distance) {
-    spherical_triangle_t spherical = get_spherical_triangle(origin, light);
+// Density w.r.t. solid angle, at the origin of `spherical` (the light as seen from there), of
+// a light sample that lands on the emitter at `distance` along `direction`: p_select / solid
+// angle for lights sampled by solid angle, else p_select / area * distance^2 / |n_light.omega|.
+float get_light_density(float selection_probability, triangle_t light, spherical_triangle_t spherical, vec3 direction, float distance) {
     if (use_spherical_sampling(spherical))
         return selection_probability / spherical.solid_angle;
     float cosine = abs(dot(light.normal, direction));
@@ -241,7 +240,7 @@ vec3 sample_direct_light(vec3 shading_position, triangle_t triangle, inout uvec2
         return vec3(0.0);
     if (is_occluded(origin, direction, distance))
         return vec3(0.0);
-    float light_density = get_light_density(get_light_selection_probability(light_triangle_index), light, origin, direction, distance);
+    float light_density = get_light_density(get_light_selection_probability(light_triangle_index), light, spherical, direction, distance);
     float weight = (INTEGRATOR == INTEGRATOR_MIS) ? get_power_heuristic_weight(light_density, get_hemisphere_cosine_density(triangle.normal, direction)) : 1.0;
     return triangle.color / M_PI * light.emission * cosine / light_density * weight;
 }
@@ -257,7 +256,7 @@ vec3 get_ray_radiance_importance_sampled(vec3 ray_origin, vec3 ray_direction, in
     vec3 throughput_weight = vec3(1.0);
     // Density of the cosine sample that produced ray_direction (0: the camera ray).
     float direction_density = 0.0;
-    // Origin of the current ray: where get_light_density() evaluates the light's solid angle.
+    // Origin of the current ray: where MIS weights see a light found by it (get_light_density()).
     vec3 previous_position = ray_origin;
     for (int i = 0; i != MAX_PATH_LENGTH; ++i) {
         float t;
@@ -272,7 +271,7 @@ vec3 get_ray_radiance_importance_sampled(vec3 ray_origin, vec3 ray_direction, in
         if (i == 0 || INTEGRATOR == INTEGRATOR_COSINE) {
             radiance += throughput_weight * triangle.emission;
         } else if (INTEGRATOR == INTEGRATOR_MIS && triangle.emission != vec3(0.0)) {
-            float light_density = get_light_density(get_light_selection_probability(triangle_index), triangle, previous_position, ray_direction, t);
+            float light_density = get_light_density(get_light_selection_probability(triangle_index), triangle, get_spherical_triangle(previous_position, triangle), ray_direction, t);
             radiance += throughput_weight * triangle.emission * get_power_heuristic_weight(direction_density, light_density);
         }
         if (i + 1 == MAX_PATH_LENGTH)

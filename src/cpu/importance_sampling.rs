@@ -140,18 +140,18 @@ pub fn sample_light_index(lights: &LightTable, random_number: f32) -> usize {
     low
 }
 
-/// Twin of `get_light_density`: p_select / solid angle for lights sampled by solid angle,
-/// else p_select / area * distance^2 / |n_light.omega|.
+/// Twin of `get_light_density`: at the origin of `spherical` (the light as seen from there),
+/// p_select / solid angle for lights sampled by solid angle, else
+/// p_select / area * distance^2 / |n_light.omega|.
 pub fn get_light_density(
     light_sampling: u32,
     selection_probability: f32,
     light: &Triangle,
-    origin: Vec3,
+    spherical: &SphericalTriangle,
     direction: Vec3,
     distance: f32,
 ) -> f32 {
-    let spherical = get_spherical_triangle(origin, light);
-    if use_spherical_sampling(light_sampling, &spherical) {
+    if use_spherical_sampling(light_sampling, spherical) {
         return selection_probability / spherical.solid_angle;
     }
     let cosine = light.normal.dot(direction).abs();
@@ -243,7 +243,7 @@ pub fn sample_direct_light(
         light_sampling,
         lights.selection_probability[light_index],
         light,
-        origin,
+        &spherical,
         direction,
         distance,
     );
@@ -275,7 +275,7 @@ pub fn get_ray_radiance_importance_sampled(
     let mut radiance = Vec3::ZERO;
     let mut throughput_weight = Vec3::ONE;
     let mut direction_density = 0.0f32;
-    // Origin of the current ray: where `get_light_density` evaluates the solid angle.
+    // Origin of the current ray: where MIS weights see a light found by it.
     let mut previous_position = ray_origin;
     for i in 0..max_path_length {
         let Some(hit) = ray_mesh_intersection(scene_triangles, ray_origin, ray_direction) else {
@@ -295,7 +295,7 @@ pub fn get_ray_radiance_importance_sampled(
                 light_sampling,
                 lights.selection_probability[hit.triangle_index],
                 &triangle,
-                previous_position,
+                &get_spherical_triangle(previous_position, &triangle),
                 ray_direction,
                 hit.t,
             );
@@ -573,7 +573,7 @@ mod tests {
             LIGHT_SAMPLING_AREA,
             0.5,
             &light,
-            Vec3::ZERO,
+            &get_spherical_triangle(Vec3::ZERO, &light),
             direction,
             distance,
         );
@@ -581,22 +581,21 @@ mod tests {
             LIGHT_SAMPLING_SOLID_ANGLE,
             0.5,
             &light,
-            Vec3::ZERO,
+            &get_spherical_triangle(Vec3::ZERO, &light),
             direction,
             distance,
         );
         assert_eq!(area, solid_angle);
         // From closer, 1/solid angle: it differs from the area density, whose 1/r^2 varies.
-        let origin = Vec3::new(0.0, 0.0, 0.99);
+        let spherical = get_spherical_triangle(Vec3::new(0.0, 0.0, 0.99), &light);
         let near = get_light_density(
             LIGHT_SAMPLING_SOLID_ANGLE,
             0.5,
             &light,
-            origin,
+            &spherical,
             direction,
             0.01 / direction.z,
         );
-        let spherical = get_spherical_triangle(origin, &light);
         assert_eq!(near, 0.5 / spherical.solid_angle);
     }
 
