@@ -91,7 +91,7 @@ void main() {
         vec2 tex_coord = (importance_sampled && PIXEL_FILTER == PIXEL_FILTER_BOX)
             ? (vec2(pixel) + get_path_random_numbers(seed)) / vec2(resolution)
             : get_sample_tex_coord(pixel, resolution, seed);
-        vec3 ray_direction = get_primary_ray_direction(tex_coord, g_camera_position.xyz, g_left_bottom.xyz, g_right.xyz, g_up.xyz);
+        vec3 ray_direction = get_primary_ray_direction(tex_coord.x, tex_coord.y, g_camera_position.xyz, g_left_bottom.xyz, g_right.xyz, g_up.xyz);
         vec3 radiance = get_sample_radiance(ray_direction, seed);
         // Kahan summation: the sum stays within a few ulps however many samples it holds.
         // `precise` forbids the compiler to reassociate or fuse these operations.

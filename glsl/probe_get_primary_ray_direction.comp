@@ -8,7 +8,7 @@
 #endif
 
 struct probe_input_t {
-    vec4 tex_coord;       // xy: point of the image in [0,1]^2, zw: unused
+    vec4 tex_coord;       // xy: point of the image in [0,1]^2 (the function's x, y), zw: unused
     vec4 camera_position; // xyz: the pinhole, world space, w: unused
     vec4 left_bottom;     // xyz: the image plane's left-bottom corner, w: unused
     vec4 right;           // xyz: the image plane's full-width edge vector, w: unused
@@ -31,7 +31,7 @@ void main() {
     if (!get_probe_index(index))
         return;
     probe_input_t probe_input = g_inputs[index];
-    vec3 direction = get_primary_ray_direction(probe_input.tex_coord.xy, probe_input.camera_position.xyz,
+    vec3 direction = get_primary_ray_direction(probe_input.tex_coord.x, probe_input.tex_coord.y, probe_input.camera_position.xyz,
                                                probe_input.left_bottom.xyz, probe_input.right.xyz,
                                                probe_input.up.xyz);
     g_outputs[index].direction = vec4(direction, 0.0);

@@ -81,6 +81,32 @@ uint g_ray_count = 0u;
 
 #include "constant_triangles.glsl"
 
+#ifdef IGNORE_START_SURFACE
+// Whether a ray starts on the plane of a triangle (`vkpath check` only, in kernels built with
+// IGNORE_START_SURFACE). The workshop's path loop moves the origin to the hit point,
+// x_{j+1} = x_j + t_j omega_j, without an offset, so with intersections that accept t >= 0
+// the next ray may hit the surface it starts on again through rounding. check judges the
+// user's estimator with intersections that ignore that surface: a ray leaving a plane
+// cannot hit it again, so skipping it changes no correct estimate (only rays starting
+// within 1e-5 relative of a triangle's plane, i.e. on it, skip that triangle).
+// \param ray_origin The ray's origin, world space
+// \param triangle The triangle, world space
+bool starts_on_triangle_plane(vec3 ray_origin, triangle_t triangle) {
+    vec3 normal = cross(triangle.positions[1] - triangle.positions[0], triangle.positions[2] - triangle.positions[0]);
+    vec3 magnitude = abs(ray_origin);
+    float scale = max(1.0, max(magnitude.x, max(magnitude.y, magnitude.z)));
+    return abs(dot(ray_origin - triangle.positions[0], normal)) <= 1.0e-5 * scale * length(normal);
+}
+// ray_triangle_intersection(), skipping the triangle the ray starts on.
+#define RAY_HITS_TRIANGLE(out_t, ray_origin, ray_direction, triangle) \
+    (!starts_on_triangle_plane(ray_origin, triangle) && ray_triangle_intersection(out_t, ray_origin, ray_direction, triangle))
+#else
+// ray_triangle_intersection() (the loops below call it through this macro, which kernels
+// built for `vkpath check` with IGNORE_START_SURFACE replace).
+#define RAY_HITS_TRIANGLE(out_t, ray_origin, ray_direction, triangle) \
+    ray_triangle_intersection(out_t, ray_origin, ray_direction, triangle)
+#endif
+
 #ifdef USE_BVH
 // Defined in bvh.glsl, which kernels built with USE_BVH include.
 bool bvh_closest_hit(out float out_t, out uint out_triangle_index, vec3 ray_origin, vec3 ray_direction);
@@ -108,7 +134,7 @@ bool ray_mesh_intersection(out float out_t, out triangle_t out_triangle, vec3 ra
 #define TEST_CONSTANT_TRIANGLE(i) \
         if (i < CONSTANT_TRIANGLE_COUNT) { \
             float t; \
-            if (ray_triangle_intersection(t, ray_origin, ray_direction, GET_CONSTANT_TRIANGLE(i)) && t < out_t) { \
+            if (RAY_HITS_TRIANGLE(t, ray_origin, ray_direction, GET_CONSTANT_TRIANGLE(i)) && t < out_t) { \
                 out_t = t; \
                 hit_index = i; \
                 hit = true; \
@@ -120,7 +146,7 @@ bool ray_mesh_intersection(out float out_t, out triangle_t out_triangle, vec3 ra
         uint triangle_count = g_resolution_triangle_count_seed.z;
         for (uint i = 0u; i != triangle_count; ++i) {
             float t;
-            if (ray_triangle_intersection(t, ray_origin, ray_direction, get_triangle(i)) && t < out_t) {
+            if (RAY_HITS_TRIANGLE(t, ray_origin, ray_direction, get_triangle(i)) && t < out_t) {
                 out_t = t;
                 hit_index = i;
                 hit = true;

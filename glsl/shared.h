@@ -124,4 +124,10 @@
 // ray_mesh_intersection() beside the BVH, 0 not to.
 #define BVH_PROBE_SPEC_BRUTE_FORCE 0
 
+// `vkpath check` (src/check/source.rs): ShaderToy's iChannel0..3 that a user's file reads get
+// bindings USER_OPAQUE_BINDING_FIRST + 0..3, the file's own sampler uniforms the bindings from
+// USER_OPAQUE_BINDING_FIRST + 4 on. No kernel's layout has them: a function that reads them
+// cannot be judged.
+#define USER_OPAQUE_BINDING_FIRST 20
+
 #endif

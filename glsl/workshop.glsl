@@ -29,7 +29,7 @@ vec3 sample_sphere(vec2 random_numbers);
 vec3 sample_hemisphere(vec2 random_numbers, vec3 normal);
 bool ray_triangle_intersection(out float out_t, vec3 ray_origin, vec3 ray_direction, triangle_t triangle);
 bool ray_mesh_intersection(out float out_t, out triangle_t out_triangle, vec3 ray_origin, vec3 ray_direction);
-vec3 get_primary_ray_direction(vec2 tex_coord, vec3 camera_position, vec3 left_bottom, vec3 right, vec3 up);
+vec3 get_primary_ray_direction(float x, float y, vec3 camera_position, vec3 left_bottom, vec3 right, vec3 up);
 vec3 compute_direct_illumination(vec3 shading_position, triangle_t triangle, inout uvec2 seed);
 vec3 get_ray_radiance(vec3 ray_origin, vec3 ray_direction, inout uvec2 seed);
 
@@ -116,14 +116,14 @@ bool ray_triangle_intersection(out float out_t, vec3 ray_origin, vec3 ray_direct
 #ifndef USER_DEFINES_GET_PRIMARY_RAY_DIRECTION
 // The pinhole camera of Part 1: the direction of the primary ray through a point of the
 // image plane.
-// \param tex_coord Point of the image in [0,1]^2, (0,0) at the left bottom, y up (ShaderToy's
+// \param x, y Point of the image in [0,1]^2, (0,0) at the left bottom, y up (ShaderToy's
 //        pixel_coord / iResolution)
 // \param camera_position The pinhole, world space
 // \param left_bottom The image plane's left-bottom corner, world space
 // \param right, up The image plane's edge vectors (full width and height), world space
 // \return The normalized ray direction, world space
-vec3 get_primary_ray_direction(vec2 tex_coord, vec3 camera_position, vec3 left_bottom, vec3 right, vec3 up) {
-    vec3 image_plane_point = left_bottom + tex_coord.x * right + tex_coord.y * up;
+vec3 get_primary_ray_direction(float x, float y, vec3 camera_position, vec3 left_bottom, vec3 right, vec3 up) {
+    vec3 image_plane_point = left_bottom + x * right + y * up;
     return normalize(image_plane_point - camera_position);
 }
 #endif

@@ -150,6 +150,9 @@ pub const MAX_SPP: u32 = 1 << 24;
 /// physically plausible albedo and the frames get needlessly long.
 pub const MAX_PATH_LENGTH_LIMIT: u32 = 1024;
 
+/// The workshop's MAX_PATH_LENGTH, the default path length.
+pub const DEFAULT_MAX_PATH_LENGTH: u32 = 5;
+
 /// Everything a render needs besides the scene and camera.
 #[derive(Clone, Debug, PartialEq)]
 pub struct RenderSettings {
@@ -188,7 +191,7 @@ impl Default for RenderSettings {
             width: 512,
             height: 512,
             spp: 64,
-            max_path_length: 5,
+            max_path_length: DEFAULT_MAX_PATH_LENGTH,
             seed: 0,
             pixel_filter: PixelFilter::Box,
             integrator: Integrator::PathTracing,

@@ -119,6 +119,10 @@ fn intersection_without_t_check_fails_with_examples() {
         &[("ray_triangle_intersection", false)],
     );
     let mismatch = &report["functions"][0]["mismatches"][0];
+    let hint = report["functions"][0]["hint"]
+        .as_str()
+        .expect("a named mistake");
+    assert!(hint.contains("t < 0"), "{hint}");
     assert_eq!(mismatch["expected"], "false");
     assert!(mismatch["actual"]
         .as_str()
@@ -191,6 +195,10 @@ fn hemisphere_without_mirror_fails_with_directions_below() {
         .as_str()
         .expect("text")
         .contains("dot(normal, direction) = -")));
+    let hint = report["functions"][0]["hint"]
+        .as_str()
+        .expect("a named mistake");
+    assert!(hint.contains("mirror"), "{hint}");
 }
 
 #[test]
@@ -262,35 +270,175 @@ fn compile_errors_name_the_users_file_and_line() {
     let expected = format!("{}:7: error:", solution("compile_error.glsl"));
     assert!(outcome.stdout.contains(&expected), "{}", outcome.stdout);
     assert!(
+        outcome.stdout.contains("FAIL sample_sphere"),
+        "{}",
+        outcome.stdout
+    );
+    assert!(
         !outcome.stdout.contains("user_functions.glsl"),
         "{}",
         outcome.stdout
     );
     let json = check(dir.path(), "compile_error.glsl", &["--json"]).json();
-    assert!(json["compile_errors"]
-        .as_str()
-        .expect("text")
-        .contains(&expected));
+    let function = &json["functions"][0];
+    assert_eq!(function["method"], "compile");
+    assert!(function["hint"].as_str().expect("text").contains(&expected));
     assert_eq!(json["passed"], false);
 }
 
 #[test]
-fn wrong_signature_is_reported() {
+fn a_workshop_name_with_other_parameters_alone_is_nothing_to_judge() {
     let dir = tempfile::tempdir().expect("temporary directory");
     let outcome = check(dir.path(), "wrong_signature.glsl", &[]);
     assert_eq!(
         outcome.code,
-        Some(1),
+        Some(2),
         "{}\n{}",
         outcome.stdout,
         outcome.stderr
     );
     assert!(
-        outcome
-            .stdout
-            .contains("wrong_signature.glsl:3: error: sample_sphere is defined as vec3 (vec3)"),
+        outcome.stderr.contains("nothing check can judge")
+            && outcome
+                .stderr
+                .contains("sample_sphere (line 3): its parameters are vec3 (vec3)"),
         "{}",
-        outcome.stdout
+        outcome.stderr
+    );
+}
+
+/// The report's warnings of one function, as text.
+fn warnings(report: &Value, function: &str) -> String {
+    report["functions"]
+        .as_array()
+        .expect("functions")
+        .iter()
+        .find(|f| f["function"] == function)
+        .map(|f| f["warnings"].to_string())
+        .unwrap_or_default()
+}
+
+const ALL_FUNCTIONS: [&str; 8] = [
+    "get_random_numbers",
+    "sample_sphere",
+    "sample_hemisphere",
+    "ray_triangle_intersection",
+    "ray_mesh_intersection",
+    "get_primary_ray_direction",
+    "compute_direct_illumination",
+    "get_ray_radiance",
+];
+
+#[test]
+fn a_whole_shadertoy_tab_is_judged_function_by_function() {
+    let verdicts: Vec<(&str, bool)> = ALL_FUNCTIONS.iter().map(|&f| (f, true)).collect();
+    let report = expect_verdicts("shadertoy_tab_all_solved.glsl", 0, &verdicts);
+    let notes = report["notes"].to_string();
+    assert!(notes.contains("dropped mainImage()"), "{notes}");
+    assert!(notes.contains("triangle_t is the workshop's"), "{notes}");
+    // The slides' estimators pass; with the tab's own t >= 0 intersections they
+    // self-intersect, which is a warning, not a failure.
+    for estimator in ["compute_direct_illumination", "get_ray_radiance"] {
+        let text = warnings(&report, estimator);
+        assert!(
+            text.contains("darker") && text.contains("self-intersection"),
+            "{estimator}: {text}"
+        );
+    }
+}
+
+#[test]
+fn one_mistake_in_a_tab_fails_only_that_function() {
+    let verdicts: Vec<(&str, bool)> = ALL_FUNCTIONS
+        .iter()
+        .map(|&f| (f, f != "sample_sphere"))
+        .collect();
+    let report = expect_verdicts("shadertoy_tab_theta_pi_u.glsl", 1, &verdicts);
+    let sphere = &report["functions"][1];
+    assert!(
+        sphere["hint"]
+            .as_str()
+            .expect("a named mistake")
+            .contains("θ = π u"),
+        "{sphere}"
+    );
+    let images = sphere["images"].to_string();
+    assert!(images.contains("sample_sphere-samples.png"), "{images}");
+}
+
+#[test]
+fn a_webgl_page_shader_with_part_one() {
+    let report = expect_verdicts(
+        "webgl_page_part1.glsl",
+        0,
+        &[
+            ("ray_triangle_intersection", true),
+            ("ray_mesh_intersection", true),
+            ("get_primary_ray_direction", true),
+        ],
+    );
+    let notes = report["notes"].to_string();
+    for dropped in ["dropped #version", "dropped main()", "u_resolution"] {
+        assert!(notes.contains(dropped), "{dropped}: {notes}");
+    }
+}
+
+#[test]
+fn the_slides_path_loop_alone_passes_with_a_warning() {
+    let report = expect_verdicts("slides_path_loop.glsl", 0, &[("get_ray_radiance", true)]);
+    let text = warnings(&report, "get_ray_radiance");
+    assert!(text.contains("accept hits at t >= 0"), "{text}");
+}
+
+#[test]
+fn the_slides_direct_illumination_alone_passes() {
+    expect_verdicts(
+        "slides_direct_illumination.glsl",
+        0,
+        &[("compute_direct_illumination", true)],
+    );
+}
+
+#[test]
+fn another_courses_functions_are_listed_and_not_judged() {
+    let report = expect_verdicts(
+        "samplers_with_other_course.glsl",
+        0,
+        &[("sample_sphere", true), ("sample_hemisphere", true)],
+    );
+    let not_judged = report["not_judged"].as_array().expect("list");
+    let names: Vec<&str> = not_judged
+        .iter()
+        .map(|n| n["function"].as_str().expect("name"))
+        .collect();
+    assert_eq!(names, ["ray_triangle_intersection", "get_ray_radiance"]);
+    assert!(not_judged[0]["reason"]
+        .as_str()
+        .expect("text")
+        .contains("bool (Ray, Triangle, out float)"));
+}
+
+#[test]
+fn a_cosine_weighted_hemisphere_is_named() {
+    let report = expect_verdicts(
+        "sample_hemisphere_cosine.glsl",
+        1,
+        &[("sample_hemisphere", false)],
+    );
+    let hint = report["functions"][0]["hint"]
+        .as_str()
+        .expect("a named mistake");
+    assert!(hint.contains("cosine-weighted"), "{hint}");
+}
+
+#[test]
+fn a_shadertoy_image_tab_gets_its_inputs() {
+    let verdicts: Vec<(&str, bool)> = ALL_FUNCTIONS[..7].iter().map(|&f| (f, true)).collect();
+    let report = expect_verdicts("shadertoy_image_tab_exercise6.glsl", 0, &verdicts);
+    let notes = report["notes"].to_string();
+    assert!(
+        notes.contains("supplied for your code: iResolution, iTime"),
+        "{notes}"
     );
 }
 

@@ -287,7 +287,8 @@ fn primary_ray_direction_matches_its_twin() {
     let mut worst: f64 = 0.0;
     for (case, output) in cases.iter().zip(&outputs) {
         let [position, left_bottom, right, up] = case.camera();
-        let cpu = get_primary_ray_direction(case.tex_coord(), position, left_bottom, right, up);
+        let point = case.tex_coord();
+        let cpu = get_primary_ray_direction(point.x, point.y, position, left_bottom, right, up);
         worst = worst.max(max_ulps_of_one(cpu, output.direction()));
     }
     println!(

@@ -141,8 +141,14 @@ fn pixel_has_near_tie(
         let mut seed = get_sample_seed(pixel, sample, settings.seed);
         let tex_coord = get_sample_tex_coord(pixel, resolution, settings.pixel_filter, &mut seed);
         let mut origin = plane.camera_position;
-        let mut direction =
-            get_primary_ray_direction(tex_coord, origin, plane.left_bottom, plane.right, plane.up);
+        let mut direction = get_primary_ray_direction(
+            tex_coord.x,
+            tex_coord.y,
+            origin,
+            plane.left_bottom,
+            plane.right,
+            plane.up,
+        );
         for bounce in 1..=bounces {
             if ray_nearly_ties(triangles, origin, direction) {
                 return true;

@@ -3,6 +3,9 @@
 //! parameter list and `{`; the workshop's prototypes (`glsl/workshop.glsl`) give the
 //! expected return and parameter types, so that nothing is written twice.
 
+use crate::check::glsl_syntax::{
+    matching, structural_tokens, tokenize, top_level_items, ItemKind, Token,
+};
 use crate::shaders::GLSL_SOURCES;
 
 /// The workshop functions that a user may replace (each has a prototype in
@@ -21,7 +24,7 @@ pub enum WorkshopFunction {
     /// `bool ray_mesh_intersection(out float out_t, out triangle_t out_triangle,
     /// vec3 ray_origin, vec3 ray_direction)`
     RayMeshIntersection,
-    /// `vec3 get_primary_ray_direction(vec2 tex_coord, vec3 camera_position,
+    /// `vec3 get_primary_ray_direction(float x, float y, vec3 camera_position,
     /// vec3 left_bottom, vec3 right, vec3 up)`
     GetPrimaryRayDirection,
     /// `vec3 compute_direct_illumination(vec3 shading_position, triangle_t triangle,
@@ -74,9 +77,9 @@ impl WorkshopFunction {
             .iter()
             .find(|(name, _)| *name == "workshop.glsl")
             .map(|(_, text)| *text)?;
-        find_functions(workshop, FunctionEnd::Prototype)
+        find_functions(workshop)
             .into_iter()
-            .find(|found| found.name == self.name())
+            .find(|found| found.name == self.name() && !found.has_body)
             .map(|found| found.signature)
     }
 }
@@ -120,8 +123,9 @@ impl Definition {
 /// The workshop functions defined in `source`, in the order they appear. A function
 /// defined twice appears twice (the compiler then reports the redefinition).
 pub fn find_definitions(source: &str) -> Vec<Definition> {
-    find_functions(source, FunctionEnd::Body)
+    find_functions(source)
         .into_iter()
+        .filter(|found| found.has_body)
         .filter_map(|found| {
             Some(Definition {
                 function: WorkshopFunction::from_name(&found.name)?,
@@ -132,85 +136,44 @@ pub fn find_definitions(source: &str) -> Vec<Definition> {
         .collect()
 }
 
-/// What follows a function's parameter list.
-#[derive(Clone, Copy, PartialEq, Eq)]
-enum FunctionEnd {
-    /// `{`: a definition.
-    Body,
-    /// `;`: a prototype.
-    Prototype,
-}
-
-/// A function found at global scope.
-struct FoundFunction {
-    name: String,
-    line: usize,
-    signature: Signature,
-}
-
-/// A token of GLSL: an identifier or number, or one punctuation character.
+/// A function defined or declared at global scope.
 #[derive(Clone, Debug, PartialEq)]
-struct Token {
-    text: String,
-    line: usize,
+pub struct FoundFunction {
+    /// Its name.
+    pub name: String,
+    /// The line of its name (from 1).
+    pub line: usize,
+    /// The line of its last token (the body's `}` or the prototype's `;`).
+    pub last_line: usize,
+    /// Its signature.
+    pub signature: Signature,
+    /// Whether it is a definition (with a body) rather than a prototype.
+    pub has_body: bool,
+    /// Byte range of the whole function (from its return type to its `}` or `;`).
+    pub span: std::ops::Range<usize>,
 }
 
-/// Removes comments and preprocessor lines (keeping every newline, so that line numbers
-/// stay), then splits into tokens.
-fn tokenize(source: &str) -> Vec<Token> {
-    let mut tokens = Vec::new();
-    let chars: Vec<char> = source.chars().collect();
-    let (mut i, mut line) = (0, 1);
-    let mut at_line_start = true;
-    while i < chars.len() {
-        let c = chars[i];
-        let next = chars.get(i + 1).copied();
-        if c == '\n' {
-            line += 1;
-            at_line_start = true;
-            i += 1;
-        } else if c.is_whitespace() {
-            i += 1;
-        } else if c == '/' && next == Some('/') {
-            while i < chars.len() && chars[i] != '\n' {
-                i += 1;
-            }
-        } else if c == '/' && next == Some('*') {
-            i += 2;
-            while i < chars.len() && !(chars[i] == '*' && chars.get(i + 1) == Some(&'/')) {
-                line += usize::from(chars[i] == '\n');
-                i += 1;
-            }
-            i += 2;
-        } else if c == '#' && at_line_start {
-            // A preprocessor line, with its backslash continuations.
-            while i < chars.len() && chars[i] != '\n' {
-                if chars[i] == '\\' && chars.get(i + 1) == Some(&'\n') {
-                    line += 1;
-                    i += 1;
-                }
-                i += 1;
-            }
-        } else if c.is_alphanumeric() || c == '_' {
-            let start = i;
-            while i < chars.len() && (chars[i].is_alphanumeric() || chars[i] == '_') {
-                i += 1;
-            }
-            tokens.push(Token {
-                text: chars[start..i].iter().collect(),
-                line,
-            });
-            at_line_start = false;
-        } else {
-            tokens.push(Token {
-                text: c.to_string(),
-                line,
-            });
-            at_line_start = false;
-            i += 1;
-        }
-    }
-    tokens
+/// Every function defined or declared at global scope of `source`.
+pub fn find_functions(source: &str) -> Vec<FoundFunction> {
+    let tokens = structural_tokens(&tokenize(source));
+    top_level_items(&tokens)
+        .into_iter()
+        .filter_map(|item| {
+            let name = item.name?;
+            let close = matching(&tokens, name + 1, "(", ")")?;
+            Some(FoundFunction {
+                name: tokens[name].text.clone(),
+                line: tokens[name].line,
+                last_line: tokens[item.last].line,
+                signature: Signature {
+                    return_type: tokens[name - 1].text.clone(),
+                    parameters: parameters(&tokens[name + 2..close]),
+                },
+                has_body: item.kind == ItemKind::FunctionDefinition,
+                span: tokens[item.first].start..tokens[item.last].end,
+            })
+        })
+        .collect()
 }
 
 /// Qualifiers that do not change a function's signature.
@@ -234,79 +197,30 @@ fn normalize_parameter(tokens: &[Token]) -> String {
     words.join(" ")
 }
 
-/// Functions at global scope (brace depth 0) that end as `end` says.
-fn find_functions(source: &str, end: FunctionEnd) -> Vec<FoundFunction> {
-    let tokens = tokenize(source);
-    let mut found = Vec::new();
-    let mut depth = 0usize;
-    let mut i = 0;
-    while i < tokens.len() {
-        match tokens[i].text.as_str() {
-            "{" => depth += 1,
-            "}" => depth = depth.saturating_sub(1),
-            _ => {}
-        }
-        let is_name = tokens[i]
-            .text
-            .starts_with(|c: char| c.is_alphabetic() || c == '_');
-        let opens = tokens.get(i + 1).is_some_and(|t| t.text == "(");
-        let has_type = i > 0
-            && tokens[i - 1]
-                .text
-                .starts_with(|c: char| c.is_alphabetic() || c == '_');
-        if depth == 0 && is_name && opens && has_type {
-            if let Some((close, parameters)) = parameter_list(&tokens, i + 1) {
-                let expected = match end {
-                    FunctionEnd::Body => "{",
-                    FunctionEnd::Prototype => ";",
-                };
-                if tokens.get(close + 1).is_some_and(|t| t.text == expected) {
-                    found.push(FoundFunction {
-                        name: tokens[i].text.clone(),
-                        line: tokens[i].line,
-                        signature: Signature {
-                            return_type: tokens[i - 1].text.clone(),
-                            parameters,
-                        },
-                    });
-                }
-                i = close;
-            }
-        }
-        i += 1;
-    }
-    found
-}
-
-/// The index of the `)` closing the `(` at `open`, and the normalized parameters between.
-fn parameter_list(tokens: &[Token], open: usize) -> Option<(usize, Vec<String>)> {
-    let mut depth = 0usize;
+/// The normalized parameters of a parameter list (the tokens between its parentheses).
+fn parameters(tokens: &[Token]) -> Vec<String> {
     let mut parameters = Vec::new();
-    let mut start = open + 1;
-    for (index, token) in tokens.iter().enumerate().skip(open) {
+    let mut depth = 0usize;
+    let mut start = 0;
+    for (index, token) in tokens.iter().enumerate() {
         match token.text.as_str() {
             "(" | "[" => depth += 1,
-            ")" | "]" => {
-                depth -= 1;
-                if depth == 0 {
-                    if index > start {
-                        parameters.push(normalize_parameter(&tokens[start..index]));
-                    }
-                    // `(void)` declares no parameters.
-                    if parameters == ["void"] {
-                        parameters.clear();
-                    }
-                    return Some((index, parameters));
-                }
-            }
-            "," if depth == 1 => {
+            ")" | "]" => depth = depth.saturating_sub(1),
+            "," if depth == 0 => {
                 parameters.push(normalize_parameter(&tokens[start..index]));
                 start = index + 1;
             }
             _ => {}
         }
     }
-    None
+    if start < tokens.len() {
+        parameters.push(normalize_parameter(&tokens[start..]));
+    }
+    // `(void)` declares no parameters.
+    if parameters == ["void"] {
+        parameters.clear();
+    }
+    parameters
 }
 
 #[cfg(test)]

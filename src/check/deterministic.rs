@@ -82,6 +82,14 @@ pub fn check_random_numbers(session: &Session) -> Result<FunctionReport> {
     }
     report.cases = seeds.len();
     report.passed = report.failures == 0;
+    if !report.passed {
+        report.hint = Some(
+            "this is not PCG2D as on the slides: compare the constants (1664525u, \
+             1013904223u), the order of the updates of seed.x and seed.y, the two shifts by 16 \
+             and the final scale 2^-32 (2.32830643654e-10)"
+                .into(),
+        );
+    }
     report.summary = format!(
         "{} of {} seeds give different bits",
         report.failures, report.cases
@@ -109,6 +117,7 @@ pub fn check_ray_triangle(session: &Session) -> Result<FunctionReport> {
     let (expected, actual): (Vec<IntersectionOutput>, Vec<IntersectionOutput>) =
         session.run_both(ProbeKind::RayTriangleIntersection, &cases)?;
     let (mut max_units, mut max_relative) = (0.0f64, 0.0f64);
+    let (mut behind, mut missed, mut wrong_t) = (0usize, 0usize, 0usize);
     let outcome = |t: Option<f32>| match t {
         Some(t) => format!("true, out_t = {t}"),
         None => "false".to_string(),
@@ -126,10 +135,19 @@ pub fn check_ray_triangle(session: &Session) -> Result<FunctionReport> {
                 let units = geometry.t_error_units(e, a);
                 max_units = max_units.max(units);
                 max_relative = max_relative.max(relative_error(e, a));
-                units.is_nan() || units > T_TOLERANCE_UNITS
+                let failed = units.is_nan() || units > T_TOLERANCE_UNITS;
+                wrong_t += usize::from(failed);
+                failed
             }
             (None, None) => false,
-            _ => true,
+            (None, Some(a)) => {
+                behind += usize::from(a < 0.0);
+                true
+            }
+            (Some(_), None) => {
+                missed += 1;
+                true
+            }
         };
         if failed {
             let [v0, v1, v2] = case.positions();
@@ -157,7 +175,30 @@ pub fn check_ray_triangle(session: &Session) -> Result<FunctionReport> {
         "{} of {} rays disagree ({} near-degenerate rays not judged)",
         report.failures, report.cases, report.skipped
     );
+    report.hint = ray_triangle_mistake(behind, missed, wrong_t);
     Ok(report)
+}
+
+/// The typical mistake that the kinds of disagreement point to, if any.
+fn ray_triangle_mistake(behind: usize, missed: usize, wrong_t: usize) -> Option<String> {
+    let largest = behind.max(missed).max(wrong_t);
+    if largest == 0 {
+        None
+    } else if behind == largest {
+        Some(format!(
+            "{behind} hits behind the ray's origin (t < 0) are accepted: a hit needs t >= 0"
+        ))
+    } else if missed == largest {
+        Some(format!(
+            "{missed} hits are missed: check the barycentric bounds (b1 >= 0, b2 >= 0, \
+             b1 + b2 <= 1) and which edges the system's columns use (v1 - v0, v2 - v0)"
+        ))
+    } else {
+        Some(format!(
+            "{wrong_t} hits have the wrong t: t is the first component of the solution of \
+             mat3(-direction, v1 - v0, v2 - v0) * (t, b1, b2) = origin - v0"
+        ))
+    }
 }
 
 /// Closest hit in the Cornell box: the same triangle (or none) and t within the tolerance,
@@ -257,8 +298,9 @@ pub fn check_primary_ray(session: &Session) -> Result<FunctionReport> {
             let [position, left_bottom, right, up] = case.camera();
             report.add_mismatch(
                 format!(
-                    "tex_coord = {}, camera_position = {}, left_bottom = {}, right = {}, up = {}",
-                    vec2_text(case.tex_coord()),
+                    "x = {}, y = {}, camera_position = {}, left_bottom = {}, right = {}, up = {}",
+                    case.tex_coord().x,
+                    case.tex_coord().y,
                     vec3_text(position),
                     vec3_text(left_bottom),
                     vec3_text(right),
@@ -272,6 +314,24 @@ pub fn check_primary_ray(session: &Session) -> Result<FunctionReport> {
     report.cases = cases.len();
     report.measure("max_error_ulps_of_one", max_ulps);
     report.passed = report.failures == 0;
+    if !report.passed {
+        let unnormalized = cases.iter().zip(&expected).zip(&actual).all(|((_, e), a)| {
+            let length = a.direction().length();
+            length.is_finite()
+                && length > 0.0
+                && max_ulps_of_one(e.direction(), a.direction() / length)
+                    <= PRIMARY_RAY_TOLERANCE_ULPS
+        });
+        report.hint = Some(if unnormalized {
+            "the directions point the right way but are not normalized: return \
+             normalize(left_bottom + x * right + y * up - camera_position)"
+                .into()
+        } else {
+            "the image-plane point is left_bottom + x * right + y * up, with x and y in [0, 1] \
+             (pixel_coord / iResolution), and the direction points from camera_position to it"
+                .into()
+        });
+    }
     report.summary = format!(
         "{} of {} directions differ beyond the tolerance",
         report.failures, report.cases

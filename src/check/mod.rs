@@ -1,10 +1,13 @@
 //! `vkpath check FILE.glsl`: judges a workshop attendee's versions of workshop functions.
 //!
-//! The file holds one or more functions with the workshop's signatures (the prototypes of
-//! `glsl/workshop.glsl`). vkpath finds which it defines (`detect`), compiles the probe
-//! kernels and the path tracer at run time with them in place of the reference versions
-//! (`compile`; the reference versions of the other functions stay and call the user's), and
-//! judges each function the way its contract allows:
+//! The file may be anything an attendee has: a whole ShaderToy tab, a WebGL page shader, or
+//! just the functions. `source` prepares it (drops entry points, `#version`, uniforms …,
+//! supplies ShaderToy's inputs, renames what clashes with vkpath's own names), `detect`
+//! finds the workshop functions it defines with the workshop's signatures (the prototypes of
+//! `glsl/workshop.glsl`; other uses of those names are listed as not judged), and `compile`
+//! builds the probe kernels and the path tracer at run time with one user function at a
+//! time in place of the reference version, so that a mistake in one function never fails
+//! another. Each function is judged the way its contract allows:
 //! - `get_random_numbers`: bit for bit against the reference PCG2D (`deterministic`);
 //! - `ray_triangle_intersection`, `ray_mesh_intersection`, `get_primary_ray_direction`:
 //!   against the reference on many inputs, within tolerances that other correct algorithms
@@ -20,13 +23,17 @@ pub mod compile;
 pub mod detect;
 pub mod deterministic;
 pub mod estimators;
+pub mod glsl_syntax;
 pub mod report;
 pub mod samplers;
+pub mod source;
 
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
 use crate::error::{Error, Result};
+use crate::image_data::RenderedImage;
+use crate::output::{save_image, SaveOptions};
 use crate::probe::{ProbeKind, ProbePipeline, ProbeRunner};
 use crate::scene::Scene;
 use crate::stats::sidak_alpha;
@@ -53,15 +60,15 @@ pub struct CheckOptions {
 }
 
 impl Default for CheckOptions {
-    /// `vkpath-check/`, 1% family-wise, 64 x 64 pixels at 256 spp: a million samples per
-    /// render (about a second on lavapipe), 64 blocks of 16384 samples each, which resolves
-    /// a bias of a few percent of a block's radiance.
+    /// `vkpath-check/`, 1% family-wise, 128 x 128 pixels at 64 spp: a million samples per
+    /// render (about a second on lavapipe), 64 blocks of 16 x 16 pixels and 16384 samples
+    /// each, which resolves a bias of a few percent of a block's radiance.
     fn default() -> CheckOptions {
         CheckOptions {
             output_dir: PathBuf::from("vkpath-check"),
             alpha: 0.01,
-            image_size: 64,
-            spp: 256,
+            image_size: 128,
+            spp: 64,
         }
     }
 }
@@ -87,19 +94,47 @@ pub enum LoadError {
         /// The file.
         path: PathBuf,
     },
+    /// The file uses workshop names, but none with the workshop's parameters.
+    #[error("'{path}' has nothing check can judge: {reasons}")]
+    NothingToJudge {
+        /// The file.
+        path: PathBuf,
+        /// Each function with why it is not judged.
+        reasons: String,
+    },
 }
 
-/// Reads a user's file and finds the workshop functions it defines.
+/// Reads a user's file, finds the workshop functions it defines and compiles it once (the
+/// functions that do not compile are set aside, see `UserFunctions::find_broken_functions`).
 pub fn load_user_functions(path: &Path) -> std::result::Result<UserFunctions, LoadError> {
-    let text = std::fs::read_to_string(path).map_err(|source| LoadError::Unreadable {
+    let bytes = std::fs::read(path).map_err(|source| LoadError::Unreadable {
         path: path.to_owned(),
         source,
     })?;
-    let user = UserFunctions::new(&path.display().to_string(), text);
+    // Published files come with a byte-order mark or Windows line ends now and then.
+    let text = String::from_utf8_lossy(&bytes)
+        .trim_start_matches('\u{feff}')
+        .replace("\r\n", "\n");
+    let mut user = UserFunctions::new(&path.display().to_string(), text);
     if user.definitions.is_empty() {
-        return Err(LoadError::NoWorkshopFunction {
+        if user.not_judged.is_empty() {
+            return Err(LoadError::NoWorkshopFunction {
+                path: path.to_owned(),
+            });
+        }
+        return Err(LoadError::NothingToJudge {
             path: path.to_owned(),
+            reasons: user
+                .not_judged
+                .iter()
+                .map(|n| format!("{} (line {}): {}", n.function, n.line, n.reason))
+                .collect::<Vec<_>>()
+                .join("; "),
         });
+    }
+    match user.find_broken_functions() {
+        Ok(warnings) => user.compile_warnings = warnings,
+        Err(messages) => user.compile_errors = Some(messages),
     }
     Ok(user)
 }
@@ -123,11 +158,37 @@ pub struct Session<'a> {
 }
 
 impl Session<'_> {
-    /// The probe kernel `kind` compiled with the user's functions.
+    /// The probe kernel `kind` compiled with the user's version of the function it
+    /// evaluates (and the reference versions of all others).
     pub fn user_probe(&self, kind: ProbeKind) -> Result<ProbePipeline> {
-        let compiled = compile::compile_kernel(&kind.source_file(), Some(self.user), &[])
+        let function = WorkshopFunction::from_name(kind.function_name()).ok_or_else(|| {
+            Error::InvalidSettings(format!(
+                "{} is not a workshop function",
+                kind.function_name()
+            ))
+        })?;
+        let code = self.user.code(&[function]);
+        let compiled = compile::compile_kernel(&kind.source_file(), Some(&code), &[])
             .map_err(Error::ShaderCompilation)?;
         ProbePipeline::from_spirv(&self.context, kind, &compiled.spirv, PROBE_MAX_PATH_LENGTH)
+    }
+
+    /// Writes each (name, image) as `<output_dir>/<name>.png` and returns the paths.
+    pub fn save_pngs(&self, images: &[(String, RenderedImage)]) -> Result<Vec<String>> {
+        let directory = &self.options.output_dir;
+        std::fs::create_dir_all(directory).map_err(|e| {
+            Error::Image(format!(
+                "cannot create the output directory '{}': {e}",
+                directory.display()
+            ))
+        })?;
+        let mut written = Vec::new();
+        for (name, image) in images {
+            let path = directory.join(format!("{name}.png"));
+            save_image(&path, image, &SaveOptions::default())?;
+            written.push(path.display().to_string());
+        }
+        Ok(written)
     }
 
     /// Runs the reference probe and the user's on the same inputs: (expected, actual).
@@ -143,50 +204,43 @@ impl Session<'_> {
     }
 }
 
-/// Checks every workshop function that `user` defines and returns the verdicts. A signature
-/// that differs from the workshop's, or a file that does not compile, is reported (the
-/// compiler's messages name the user's file and lines) and nothing else is checked.
+/// Checks every workshop function that `user` defines with the workshop's signature and
+/// returns the verdicts: one per function, those that do not compile failed with the
+/// compiler's messages. Other uses of workshop names are listed as not judged. A file that
+/// does not compile outside its functions is reported (the compiler's messages name the
+/// user's file and lines) and nothing is judged.
 pub fn check(
     context: &Arc<Context>,
     user: &UserFunctions,
     options: &CheckOptions,
 ) -> Result<CheckReport> {
-    let functions = user.functions();
+    let functions = user.judged_functions();
     let mut report = CheckReport {
         file: user.display_name.clone(),
         device: context.info.name.clone(),
-        defined_functions: functions.iter().map(|f| f.name().to_string()).collect(),
+        defined_functions: user
+            .functions()
+            .iter()
+            .map(|f| f.name().to_string())
+            .collect(),
         passed: false,
-        signature_errors: Vec::new(),
-        compile_errors: None,
-        compile_warnings: String::new(),
+        not_judged: user.not_judged.clone(),
+        notes: user.prepared.notes.clone(),
+        compile_errors: user.compile_errors.clone(),
+        compile_warnings: user.compile_warnings.clone(),
         functions: Vec::new(),
     };
-    for definition in &user.definitions {
-        if !definition.has_workshop_signature() {
-            let expected = definition
-                .function
-                .signature()
-                .map_or_else(|| "unknown".to_string(), |s| s.to_string());
-            report.signature_errors.push(format!(
-                "{}:{}: error: {} is defined as {} but the workshop declares {}",
-                user.display_name,
-                definition.line,
-                definition.function.name(),
-                definition.signature,
-                expected
-            ));
-        }
-    }
-    if !report.signature_errors.is_empty() {
+    if report.compile_errors.is_some() {
         return Ok(report);
     }
-    // Every probe kernel includes the whole file, so one compilation finds its errors.
-    match compile::compile_kernel("probe_get_random_numbers.comp", Some(user), &[]) {
-        Ok(compiled) => report.compile_warnings = compiled.warnings,
-        Err(messages) => {
-            report.compile_errors = Some(messages);
-            return Ok(report);
+    for broken in &user.broken {
+        if WorkshopFunction::from_name(&broken.name).is_none() {
+            report.notes.push(format!(
+                "line {}: your {} does not compile and is left out: {}",
+                broken.line,
+                broken.name,
+                broken.messages.lines().next().unwrap_or_default()
+            ));
         }
     }
     let statistical_tests: usize = functions
@@ -208,23 +262,45 @@ pub fn check(
         scene,
         test_alpha,
     };
-    for function in functions {
-        let verdict = match function {
-            WorkshopFunction::GetRandomNumbers => deterministic::check_random_numbers(&session),
-            WorkshopFunction::SampleSphere | WorkshopFunction::SampleHemisphere => {
-                samplers::check_sampler(&session, function)
-            }
-            WorkshopFunction::RayTriangleIntersection => {
-                deterministic::check_ray_triangle(&session)
-            }
-            WorkshopFunction::RayMeshIntersection => deterministic::check_ray_mesh(&session),
-            WorkshopFunction::GetPrimaryRayDirection => deterministic::check_primary_ray(&session),
-            WorkshopFunction::ComputeDirectIllumination | WorkshopFunction::GetRayRadiance => {
-                estimators::check_estimator(&session, function)
-            }
-        }?;
+    for function in user.functions() {
+        let verdict = match user.broken.iter().find(|b| b.name == function.name()) {
+            Some(broken) => does_not_compile(function, broken),
+            None => judge(&session, function)?,
+        };
         report.functions.push(verdict);
     }
     report.passed = report.functions.iter().all(|f| f.passed);
     Ok(report)
+}
+
+/// The verdict on one function that compiles.
+fn judge(session: &Session, function: WorkshopFunction) -> Result<FunctionReport> {
+    match function {
+        WorkshopFunction::GetRandomNumbers => deterministic::check_random_numbers(session),
+        WorkshopFunction::SampleSphere | WorkshopFunction::SampleHemisphere => {
+            samplers::check_sampler(session, function)
+        }
+        WorkshopFunction::RayTriangleIntersection => deterministic::check_ray_triangle(session),
+        WorkshopFunction::RayMeshIntersection => deterministic::check_ray_mesh(session),
+        WorkshopFunction::GetPrimaryRayDirection => deterministic::check_primary_ray(session),
+        WorkshopFunction::ComputeDirectIllumination | WorkshopFunction::GetRayRadiance => {
+            estimators::check_estimator(session, function)
+        }
+    }
+}
+
+/// The verdict on a function that does not compile: failed, with the compiler's messages.
+fn does_not_compile(
+    function: WorkshopFunction,
+    broken: &compile::BrokenFunction,
+) -> FunctionReport {
+    let mut report = FunctionReport::new(
+        function.name(),
+        broken.line,
+        "compile",
+        "the function must compile as GLSL 4.60 for Vulkan".into(),
+    );
+    report.summary = "does not compile (the rest of the file is judged without it)".into();
+    report.hint = Some(broken.messages.trim_end().to_string());
+    report
 }

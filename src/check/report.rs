@@ -7,6 +7,8 @@ use std::fmt::Write as _;
 
 use serde::Serialize;
 
+pub use crate::check::compile::NotJudged;
+
 /// How many mismatching inputs a report shows (the count covers all of them).
 pub const SHOWN_MISMATCHES: usize = 5;
 
@@ -46,8 +48,14 @@ pub struct FunctionReport {
     pub measurements: BTreeMap<String, f64>,
     /// The first `SHOWN_MISMATCHES` failing inputs.
     pub mismatches: Vec<Mismatch>,
-    /// Images written for this function (render comparisons).
+    /// Images written for this function (render comparisons, sample pictures).
     pub images: Vec<String>,
+    /// The likely cause of a failure, in words, when the measurements point to a typical
+    /// mistake (a heuristic: the verdict does not depend on it).
+    pub hint: Option<String>,
+    /// Findings that do not change the verdict (e.g. self-intersection together with the
+    /// file's own intersection functions).
+    pub warnings: Vec<String>,
 }
 
 impl FunctionReport {
@@ -66,6 +74,8 @@ impl FunctionReport {
             measurements: BTreeMap::new(),
             mismatches: Vec::new(),
             images: Vec::new(),
+            hint: None,
+            warnings: Vec::new(),
         }
     }
 
@@ -98,11 +108,14 @@ pub struct CheckReport {
     pub defined_functions: Vec<String>,
     /// Whether every check passed.
     pub passed: bool,
-    /// Definitions whose signature differs from the workshop's (nothing else is checked
-    /// then).
-    pub signature_errors: Vec<String>,
-    /// The compiler's messages when the file does not compile (naming the user's file and
-    /// lines); nothing else is checked then.
+    /// Workshop names that the file uses for something else (other parameters, another
+    /// struct): listed with the reason, not judged.
+    pub not_judged: Vec<NotJudged>,
+    /// What check dropped, renamed or supplied to make the file compile as a kernel.
+    pub notes: Vec<String>,
+    /// The compiler's messages when the file does not compile outside any function (naming
+    /// the user's file and lines); nothing is judged then. Functions that do not compile are
+    /// reported one by one instead.
     pub compile_errors: Option<String>,
     /// The compiler's warnings about the file.
     pub compile_warnings: String,
@@ -132,8 +145,15 @@ pub fn describe(report: &CheckReport) -> String {
         report.defined_functions.join(", "),
         report.device
     );
-    for error in &report.signature_errors {
-        let _ = writeln!(text, "{error}");
+    for note in &report.notes {
+        let _ = writeln!(text, "note: {note}");
+    }
+    for skipped in &report.not_judged {
+        let _ = writeln!(
+            text,
+            "NOT JUDGED {} (line {}): {}",
+            skipped.function, skipped.line, skipped.reason
+        );
     }
     if let Some(errors) = &report.compile_errors {
         let _ = writeln!(
@@ -176,17 +196,46 @@ pub fn describe(report: &CheckReport) -> String {
                 function.failures - function.mismatches.len()
             );
         }
+        if let Some(hint) = &function.hint {
+            let _ = writeln!(text, "    likely cause: {hint}");
+        }
+        for warning in &function.warnings {
+            let _ = writeln!(text, "    warning: {warning}");
+        }
         for image in &function.images {
             let _ = writeln!(text, "    wrote {image}");
+            if image.ends_with("-samples.png") {
+                let _ = writeln!(
+                    text,
+                    "      (left: the reference's 512 samples, right: yours, drawn as `vkpath exercise` draws them)"
+                );
+            }
+            if image.ends_with("-difference.png") {
+                let _ = writeln!(
+                    text,
+                    "      ({})",
+                    crate::check::estimators::DIFFERENCE_LEGEND
+                );
+            }
         }
     }
+    let judged = report.functions.len();
+    let failed = report.functions.iter().filter(|f| !f.passed).count();
     let _ = writeln!(
         text,
         "{}",
-        if report.passed {
-            "all checks passed"
+        if report.compile_errors.is_some() {
+            "nothing judged: the file does not compile".to_string()
+        } else if report.passed {
+            format!(
+                "all {judged} judged functions passed ({} not judged)",
+                report.not_judged.len()
+            )
         } else {
-            "some checks FAILED"
+            format!(
+                "{failed} of {judged} judged functions FAILED ({} not judged)",
+                report.not_judged.len()
+            )
         }
     );
     text

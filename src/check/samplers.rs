@@ -3,16 +3,23 @@
 //! tested against the uniform density with Pearson's χ² (`crate::stats::chi2`). A correct
 //! sampler written differently (z = 1 - 2 u, another phi mapping, flipping instead of
 //! mirroring) passes; a wrong density, directions that are not unit vectors, or directions
-//! below the hemisphere fail.
+//! below the hemisphere fail. A failing sampler's directions are also tested against the
+//! densities of the typical mistakes (cosine-weighted, no mirror, θ = π u, the upper half
+//! only), to name the mistake, and its 512 samples are drawn next to the reference's the
+//! way `vkpath exercise sample-sphere` draws them.
 
 use glam::{UVec2, Vec2, Vec3};
 
+use crate::check::compile::compile_kernel;
 use crate::check::detect::WorkshopFunction;
 use crate::check::report::FunctionReport;
 use crate::check::Session;
 use crate::error::{Error, Result};
+use crate::exercise::{render_sample_display, render_sample_display_with, ExerciseSampler};
+use crate::image_data::RenderedImage;
 use crate::probe::inputs;
 use crate::probe::{DirectionOutput, ProbeKind};
+use crate::renderer::spirv_words;
 use crate::stats::chi2::{chi2_direction_test, Chi2Config, Chi2Result};
 use crate::stats::sphere_histogram::{SphereFrame, TargetDensity, UNIT_LENGTH_TOLERANCE};
 
@@ -111,9 +118,15 @@ pub fn check_sampler(session: &Session, function: WorkshopFunction) -> Result<Fu
         report.cases += 1;
         if !result.passed {
             report_failure(&mut report, &result, &numbers, &directions, kind, normal);
+            if report.hint.is_none() {
+                report.hint = typical_mistake(function, &directions, normal, &config);
+            }
         }
     }
     report.passed = report.failures == 0;
+    if !report.passed {
+        report.images = draw_samples(session, function)?;
+    }
     report.summary = if report.passed {
         format!(
             "uniform: {} χ² test(s) passed (smallest p = {min_p:.3})",
@@ -190,5 +203,130 @@ fn report_failure(
             });
             examples += 1;
         }
+    }
+}
+
+/// A typical mistake whose density the directions follow: each candidate density is tested
+/// with the same χ² statistic, and the first whose statistic per degree of freedom is below
+/// 2 is named (a correct match gives about 1 with 10^6 samples, the uniform density that
+/// failed gives tens or hundreds).
+fn typical_mistake(
+    function: WorkshopFunction,
+    directions: &[Vec3],
+    normal: Vec3,
+    config: &Chi2Config,
+) -> Option<String> {
+    use std::f64::consts::PI;
+    let n = normal.as_dvec3();
+    let cosine = move |d: Vec3| (d.as_dvec3().dot(n)).max(0.0) / PI;
+    let upper_half = |d: Vec3| if d.z >= 0.0 { 1.0 / (2.0 * PI) } else { 0.0 };
+    type Candidate<'a> = (TargetDensity<'a>, SphereFrame, &'static str);
+    let frame = SphereFrame::from_normal(normal).ok()?;
+    let candidates: Vec<Candidate> =
+        match function {
+            WorkshopFunction::SampleHemisphere => vec![
+            (
+                TargetDensity::SolidAngle(&cosine),
+                frame,
+                "your directions are cosine-weighted (density cos θ / π): a valid sampler, but \
+                 not the exercise's uniform one; the workshop's weight a · 2 · dot(n, ω) assumes \
+                 the uniform density 1 / (2π)",
+            ),
+            (
+                TargetDensity::UniformSphere,
+                frame,
+                "your directions are uniform on the whole sphere: half of them point below the \
+                 surface; mirror those into the hemisphere, ω' = ω - 2 dot(n, ω) n when \
+                 dot(n, ω) < 0",
+            ),
+            (
+                TargetDensity::UniformTheta { theta_max: PI / 2.0 },
+                frame,
+                "your directions crowd around the normal like spherical coordinates with \
+                 θ = (π/2) u: cos θ must be uniform instead (z = u, or a mirrored uniform \
+                 sphere sample)",
+            ),
+        ],
+            WorkshopFunction::SampleSphere => vec![
+                (
+                    TargetDensity::UniformTheta { theta_max: PI },
+                    SphereFrame::WORLD,
+                    "your directions crowd at the poles like spherical coordinates with θ = π u \
+                 (the slides' \"too many samples at the top\"): z = cos θ must be uniform, \
+                 z = 2 u - 1",
+                ),
+                (
+                    TargetDensity::SolidAngle(&upper_half),
+                    SphereFrame::WORLD,
+                    "your directions cover only the upper half of the sphere (z >= 0): z must run \
+                 over [-1, 1], z = 2 u - 1",
+                ),
+            ],
+            _ => Vec::new(),
+        };
+    candidates.into_iter().find_map(|(target, frame, words)| {
+        let result =
+            chi2_direction_test(directions.iter().copied(), target, &frame, config).ok()?;
+        let per_degree = result.statistic / result.degrees_of_freedom.max(1) as f64;
+        (result.invalid_sample_count == 0
+            && result.impossible_sample_count == 0
+            && per_degree < 2.0)
+            .then(|| words.to_string())
+    })
+}
+
+/// Side of each half of the sample picture, in pixels.
+const SAMPLE_PICTURE_SIZE: u32 = 256;
+
+/// Draws the reference's 512 samples (left) and the user's (right) as `vkpath exercise`
+/// does, into `<function>-samples.png`.
+fn draw_samples(session: &Session, function: WorkshopFunction) -> Result<Vec<String>> {
+    let sampler = match function {
+        WorkshopFunction::SampleSphere => ExerciseSampler::Sphere,
+        _ => ExerciseSampler::Hemisphere,
+    };
+    let size = SAMPLE_PICTURE_SIZE;
+    let reference = render_sample_display(&session.context, sampler, size, size, 0)?;
+    let compiled = compile_kernel(
+        "exercise_samples.comp",
+        Some(&session.user.code(&[function])),
+        &[],
+    )
+    .map_err(Error::ShaderCompilation)?;
+    let bytes: Vec<u8> = compiled
+        .spirv
+        .iter()
+        .flat_map(|w| w.to_le_bytes())
+        .collect();
+    let yours = render_sample_display_with(
+        &session.context,
+        &spirv_words(&bytes)?,
+        sampler,
+        size,
+        size,
+        0,
+    )?;
+    session.save_pngs(&[(
+        format!("{}-samples", function.name()),
+        side_by_side(&reference, &yours),
+    )])
+}
+
+/// Two images of the same height next to each other, with a grey column between them.
+fn side_by_side(left: &RenderedImage, right: &RenderedImage) -> RenderedImage {
+    let width = left.width + 1 + right.width;
+    let mut mean = Vec::with_capacity((width * left.height) as usize);
+    for y in 0..left.height {
+        mean.extend((0..left.width).map(|x| left.pixel(x, y)));
+        mean.push([0.5, 0.5, 0.5, 1.0]);
+        mean.extend((0..right.width).map(|x| right.pixel(x, y)));
+    }
+    let count = mean.len();
+    RenderedImage {
+        width,
+        height: left.height,
+        mean,
+        second_moment: vec![[0.0; 3]; count],
+        sample_count: vec![1.0; count],
     }
 }

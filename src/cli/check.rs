@@ -27,10 +27,10 @@ pub struct CheckArgs {
     #[arg(long)]
     pub json: bool,
     /// Samples per pixel of each render (compute_direct_illumination, get_ray_radiance).
-    #[arg(long, default_value_t = 256, value_parser = clap::value_parser!(u32).range(4..=65536))]
+    #[arg(long, default_value_t = CheckOptions::default().spp, value_parser = clap::value_parser!(u32).range(4..=65536))]
     pub spp: u32,
     /// Side of the square renders in pixels, a multiple of 8.
-    #[arg(long, default_value_t = 64, value_parser = parse_image_size)]
+    #[arg(long, default_value_t = CheckOptions::default().image_size, value_parser = parse_image_size)]
     pub size: u32,
     /// Device selection and validation.
     #[command(flatten)]

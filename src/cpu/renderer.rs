@@ -120,7 +120,8 @@ fn add_pixel_samples(
         let mut seed = get_sample_seed(pixel, sample_index, settings.seed);
         let tex_coord = get_sample_tex_coord(pixel, resolution, settings.pixel_filter, &mut seed);
         let ray_direction = get_primary_ray_direction(
-            tex_coord,
+            tex_coord.x,
+            tex_coord.y,
             plane.camera_position,
             plane.left_bottom,
             plane.right,

@@ -141,20 +141,22 @@ pub fn ray_triangle_intersection(
 
 /// The pinhole camera of Part 1, twin of GLSL `get_primary_ray_direction`: the direction
 /// of the primary ray through a point of the image plane.
-/// \param tex_coord Point of the image in [0, 1]^2, (0, 0) at the left bottom, y up
+/// \param x, y Point of the image in [0, 1]^2, (0, 0) at the left bottom, y up
+///        (ShaderToy's `pixel_coord / iResolution`)
 /// \param camera_position The pinhole, world space
 /// \param left_bottom The image plane's left-bottom corner, world space
 /// \param right, up The image plane's edge vectors (full width and height), world space
 /// \return The normalized ray direction, world space. glam normalizes as v * (1 / |v|); a
 ///         GPU may use inversesqrt, an ulp or two apart.
 pub fn get_primary_ray_direction(
-    tex_coord: Vec2,
+    x: f32,
+    y: f32,
     camera_position: Vec3,
     left_bottom: Vec3,
     right: Vec3,
     up: Vec3,
 ) -> Vec3 {
-    let image_plane_point = left_bottom + tex_coord.x * right + tex_coord.y * up;
+    let image_plane_point = left_bottom + x * right + y * up;
     (image_plane_point - camera_position).normalize()
 }
 
@@ -303,7 +305,8 @@ mod tests {
     #[test]
     fn primary_ray_through_the_image_centre() {
         let direction = get_primary_ray_direction(
-            Vec2::splat(0.5),
+            0.5,
+            0.5,
             Vec3::ZERO,
             Vec3::new(-1.0, -1.0, -1.0),
             Vec3::new(2.0, 0.0, 0.0),

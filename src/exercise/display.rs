@@ -27,6 +27,20 @@ pub fn render_sample_display(
     height: u32,
     seed: u32,
 ) -> Result<RenderedImage> {
+    let spirv = spirv_words(shaders::EXERCISE_SAMPLES)?;
+    render_sample_display_with(context, &spirv, sampler, width, height, seed)
+}
+
+/// `render_sample_display` with `glsl/exercise_samples.comp` compiled elsewhere (e.g. with
+/// a user's sampler, for `vkpath check`).
+pub fn render_sample_display_with(
+    context: &Arc<Context>,
+    spirv: &[u32],
+    sampler: ExerciseSampler,
+    width: u32,
+    height: u32,
+    seed: u32,
+) -> Result<RenderedImage> {
     if width == 0 || height == 0 || width > MAX_IMAGE_SIDE || height > MAX_IMAGE_SIDE {
         return Err(Error::InvalidSettings(format!(
             "image size {width}x{height} is outside 1..={MAX_IMAGE_SIDE} pixels per side"
@@ -48,7 +62,7 @@ pub fn render_sample_display(
     )?;
     let pipeline = ComputePipeline::new(
         context,
-        &spirv_words(shaders::EXERCISE_SAMPLES)?,
+        spirv,
         &[(
             contract::BINDING_EXERCISE_PIXELS,
             vk::DescriptorType::STORAGE_BUFFER,

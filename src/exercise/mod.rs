@@ -6,7 +6,7 @@
 pub mod display;
 pub mod view;
 
-pub use display::render_sample_display;
+pub use display::{render_sample_display, render_sample_display_with};
 pub use view::ExerciseSampler;
 
 use crate::settings::Integrator;

@@ -126,6 +126,27 @@ fn naive_spherical_coordinates_fail() {
     assert!(!result.passed);
     // Not a near miss: the p-value underflows to (almost) nothing.
     assert!(result.p_value < 1e-100, "{result:?}");
+    // It does follow its own density, theta uniform in [0, pi] (how `vkpath check` names
+    // the mistake).
+    let samples = sample_stream(
+        UVec2::new(7, 7),
+        SAMPLE_COUNT,
+        sample_sphere_spherical_coordinates,
+    );
+    let result = chi2_direction_test(
+        samples,
+        TargetDensity::UniformTheta {
+            theta_max: std::f64::consts::PI,
+        },
+        &SphereFrame::WORLD,
+        &config,
+    )
+    .unwrap();
+    report(
+        "sample_sphere_spherical_coordinates against its own density",
+        &result,
+    );
+    assert!(result.passed, "{result:?}");
 }
 
 #[test]

@@ -187,6 +187,14 @@ pub enum TargetDensity<'a> {
     /// Uniform on the hemisphere around the frame's normal, 1 / (2 pi) w.r.t. solid angle,
     /// 0 below. Expected counts are exact.
     UniformHemisphere,
+    /// Spherical coordinates around the frame's normal with theta uniform in
+    /// [0, `theta_max`] and phi uniform: the naive samplers (theta = pi u on the sphere,
+    /// theta = pi/2 u on the hemisphere), crowded at the pole. Expected counts are exact:
+    /// a bin's probability is its share of theta times its share of phi.
+    UniformTheta {
+        /// The largest polar angle, in (0, pi].
+        theta_max: f64,
+    },
     /// Any density w.r.t. solid angle of a world-space unit direction; each bin's
     /// probability is integrated numerically (composite Simpson), which is accurate for
     /// smooth densities and approximate in the bins that a discontinuity crosses.
@@ -215,6 +223,11 @@ pub fn expected_counts(
                 // Solid angle of the bin above the horizon (cos theta >= 0), times 1 / (2 pi).
                 let covered = (bin.cos_theta_max.max(0.0) - bin.cos_theta_min.max(0.0)).max(0.0);
                 phi_extent * covered / std::f64::consts::TAU
+            }
+            TargetDensity::UniformTheta { theta_max } => {
+                let theta = |cos_theta: f64| cos_theta.clamp(-1.0, 1.0).acos().min(theta_max);
+                let theta_share = (theta(bin.cos_theta_min) - theta(bin.cos_theta_max)) / theta_max;
+                theta_share * phi_extent / std::f64::consts::TAU
             }
             TargetDensity::SolidAngle(density) => {
                 integrate_over_bin(density, &bin, frame, quadrature_resolution)
@@ -288,6 +301,45 @@ mod tests {
         )
         .unwrap();
         assert!(numeric.iter().all(|&e| (e - 1.0).abs() < 1e-9));
+    }
+
+    #[test]
+    fn uniform_theta_matches_its_density() {
+        // theta = pi u has density 1 / (2 pi^2 sin theta); away from the poles, where
+        // Simpson's rule is accurate, the exact bins agree with the quadrature.
+        let grid = SphereGrid::default();
+        let exact = expected_counts(
+            TargetDensity::UniformTheta {
+                theta_max: std::f64::consts::PI,
+            },
+            &grid,
+            &SphereFrame::WORLD,
+            1_000_000,
+            4,
+        )
+        .unwrap();
+        assert!((exact.iter().sum::<f64>() - 1e6).abs() < 1e-6);
+        let density = |d: Vec3| {
+            let sin_theta = (1.0 - f64::from(d.z).powi(2)).sqrt();
+            1.0 / (2.0 * std::f64::consts::PI.powi(2) * sin_theta)
+        };
+        let numeric = expected_counts(
+            TargetDensity::SolidAngle(&density),
+            &grid,
+            &SphereFrame::WORLD,
+            1_000_000,
+            8,
+        )
+        .unwrap();
+        for index in 0..grid.bin_count() {
+            let bin = grid.bin(index);
+            if bin.cos_theta_max.abs() < 0.9 && bin.cos_theta_min.abs() < 0.9 {
+                assert!(
+                    (exact[index] / numeric[index] - 1.0).abs() < 1e-4,
+                    "bin {index}"
+                );
+            }
+        }
     }
 
     #[test]

@@ -1,8 +1,8 @@
 // Correct get_primary_ray_direction and ray_mesh_intersection written differently from the
 // workshop's: the image-plane point summed in another order and normalized with
 // inversesqrt; the triangles visited backwards with the closest hit kept.
-vec3 get_primary_ray_direction(vec2 tex_coord, vec3 camera_position, vec3 left_bottom, vec3 right, vec3 up) {
-    vec3 direction = (left_bottom - camera_position) + right * tex_coord.x + up * tex_coord.y;
+vec3 get_primary_ray_direction(float x, float y, vec3 camera_position, vec3 left_bottom, vec3 right, vec3 up) {
+    vec3 direction = (left_bottom - camera_position) + right * x + up * y;
     return direction * inversesqrt(dot(direction, direction));
 }
 

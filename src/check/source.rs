@@ -1,0 +1,711 @@
+//! "Paste anything": turns a file as people publish it (a whole ShaderToy tab, a WebGL page
+//! shader, notes with just the functions) into GLSL that vkpath's kernels can include.
+//!
+//! What cannot take part is dropped, each with a note: `#version`, `#extension`, `#include`
+//! and `#line` directives, `precision` statements, the entry points (`mainImage`, `main`, …),
+//! uniform blocks. Global `uniform`/`in`/`out` variables become plain globals (samplers get
+//! bindings that the kernels never use). A `struct triangle_t` identical to the workshop's
+//! is dropped in favour of vkpath's; any other global name that vkpath's kernels declare
+//! too is renamed `user_<name>` throughout the file, so that the user's code keeps calling
+//! its own. ShaderToy's inputs (`iResolution`, `iFrame`, `iChannel0`, …) and
+//! `gl_FragCoord`/`gl_FragColor` are supplied when the kept code reads them. The user's
+//! macros are `#undef`ined before and after the file, so that they neither clash with
+//! vkpath's nor leak into the kernel code that follows.
+//!
+//! The prepared text keeps every line where it was, so the compiler's line numbers are the
+//! user's.
+
+use std::collections::{BTreeMap, BTreeSet};
+use std::fmt::Write as _;
+use std::sync::OnceLock;
+
+use crate::check::detect::{find_functions, WorkshopFunction};
+use crate::check::glsl_syntax::{
+    matching, structural_tokens, tokenize, top_level_items, ItemKind, Token,
+};
+use crate::contract::USER_OPAQUE_BINDING_FIRST;
+use crate::shaders::GLSL_SOURCES;
+
+/// Entry points of ShaderToy and page shaders: never judged, dropped.
+const ENTRY_POINTS: [&str; 5] = ["mainImage", "main", "mainSound", "mainVR", "mainCubemap"];
+
+/// Storage qualifiers of global variables that a compute kernel cannot take as they are.
+const INTERFACE_QUALIFIERS: [&str; 6] = ["uniform", "in", "out", "varying", "attribute", "buffer"];
+
+/// Qualifiers that may stand before an interface declaration's type.
+const OTHER_QUALIFIERS: [&str; 9] = [
+    "flat",
+    "smooth",
+    "noperspective",
+    "centroid",
+    "invariant",
+    "highp",
+    "mediump",
+    "lowp",
+    "precise",
+];
+
+/// ShaderToy's inputs with the declarations that supply them: a 512 x 512 image at frame 0
+/// (the judged functions should not depend on them). `iChannel0`–`3` are declared
+/// separately (they need bindings).
+const SHADERTOY_INPUTS: [(&str, &str); 10] = [
+    ("iResolution", "vec3 iResolution = vec3(512.0, 512.0, 1.0);"),
+    ("iTime", "float iTime = 0.0;"),
+    ("iTimeDelta", "float iTimeDelta = 1.0 / 60.0;"),
+    ("iFrameRate", "float iFrameRate = 60.0;"),
+    ("iFrame", "int iFrame = 0;"),
+    ("iMouse", "vec4 iMouse = vec4(0.0);"),
+    ("iDate", "vec4 iDate = vec4(2024.0, 0.0, 1.0, 0.0);"),
+    ("iSampleRate", "float iSampleRate = 44100.0;"),
+    (
+        "iChannelResolution",
+        "vec3 iChannelResolution[4] = vec3[4](vec3(1.0), vec3(1.0), vec3(1.0), vec3(1.0));",
+    ),
+    (
+        "iChannelTime",
+        "float iChannelTime[4] = float[4](0.0, 0.0, 0.0, 0.0);",
+    ),
+];
+
+/// Fragment-shader built-ins that a compute kernel lacks, renamed to plain globals.
+const FRAGMENT_BUILTINS: [(&str, &str, &str); 2] = [
+    (
+        "gl_FragCoord",
+        "vkpath_FragCoord",
+        "vec4 vkpath_FragCoord = vec4(0.5, 0.5, 0.5, 1.0);",
+    ),
+    (
+        "gl_FragColor",
+        "vkpath_FragColor",
+        "vec4 vkpath_FragColor = vec4(0.0);",
+    ),
+];
+
+/// The user's file made ready to be included by vkpath's kernels.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct PreparedSource {
+    /// The file with what cannot take part blanked and clashing names renamed; every line
+    /// where it was in the user's file.
+    pub text: String,
+    /// What was dropped, renamed or supplied, one line each ("line 3: ...").
+    pub notes: Vec<String>,
+    /// What goes before the text: `#undef`s of the user's macros and the supplied inputs.
+    pub prelude: String,
+    /// What goes after it: the user's macros undone, vkpath's redefined.
+    pub epilogue: String,
+    /// The user's `MAX_PATH_LENGTH` (a `#define` or an integer constant), if any.
+    pub max_path_length: Option<u32>,
+    /// Workshop functions that the file defines with other parameters, renamed
+    /// `user_<name>`: (function, line, the signature as written).
+    pub renamed_workshop_functions: Vec<(WorkshopFunction, usize, String)>,
+    /// Whether the file's `triangle_t` differs from the workshop's (it is renamed
+    /// `user_triangle_t`; functions taking it cannot be judged).
+    pub other_triangle_struct: Option<usize>,
+}
+
+/// The global names that vkpath's own GLSL declares (functions, variables, constants,
+/// structs) and its object-like macros with their values.
+struct KernelNames {
+    identifiers: BTreeSet<String>,
+    macros: BTreeMap<String, String>,
+    triangle_members: Vec<String>,
+}
+
+fn kernel_names() -> &'static KernelNames {
+    static NAMES: OnceLock<KernelNames> = OnceLock::new();
+    NAMES.get_or_init(|| {
+        let mut identifiers = BTreeSet::new();
+        let mut macros = BTreeMap::new();
+        let mut triangle_members = Vec::new();
+        for (file, text) in GLSL_SOURCES {
+            if *file == crate::check::compile::USER_FUNCTIONS_FILE {
+                continue;
+            }
+            let tokens = tokenize(text);
+            for (name, value) in object_macros(&tokens) {
+                macros.insert(name, value);
+            }
+            let structure = structural_tokens(&tokens);
+            for item in top_level_items(&structure) {
+                identifiers.extend(declared_names(&structure, &item));
+                if let Some(members) = struct_members(&structure, &item, "triangle_t") {
+                    triangle_members = members;
+                }
+            }
+        }
+        KernelNames {
+            identifiers,
+            macros,
+            triangle_members,
+        }
+    })
+}
+
+/// `#define NAME value` directives without parameters: (name, value as written).
+fn object_macros(tokens: &[Token]) -> Vec<(String, String)> {
+    directives(tokens)
+        .into_iter()
+        .filter(|d| d.len() >= 3 && d[1].text == "define")
+        .filter(|d| {
+            d.get(3)
+                .is_none_or(|t| t.text != "(" || t.start != d[2].end)
+        })
+        .map(|d| {
+            let value: Vec<&str> = d[3..].iter().map(|t| t.text.as_str()).collect();
+            (d[2].text.clone(), value.join(" "))
+        })
+        .collect()
+}
+
+/// The preprocessor directives of a token list, each as its tokens (`#` first).
+fn directives(tokens: &[Token]) -> Vec<Vec<Token>> {
+    let mut result: Vec<Vec<Token>> = Vec::new();
+    for (index, token) in tokens.iter().enumerate() {
+        if !token.in_directive {
+            continue;
+        }
+        let starts = token.text == "#"
+            && (index == 0
+                || !tokens[index - 1].in_directive
+                || tokens[index - 1].line < token.line && !continues(tokens, index));
+        if starts || result.is_empty() {
+            result.push(vec![token.clone()]);
+        } else {
+            result.last_mut().expect("not empty").push(token.clone());
+        }
+    }
+    result
+}
+
+/// Whether the directive token at `index` continues the previous directive (a `#` inside a
+/// directive is the stringizing or pasting operator, on the same logical line).
+fn continues(tokens: &[Token], index: usize) -> bool {
+    // Tokens on a later physical line belong to the previous directive only through a
+    // backslash continuation, which the tokenizer hides; a new directive's `#` is the first
+    // token of its line, so it starts a directive unless it follows `#` or `##` use on the
+    // same line.
+    tokens[index - 1].line == tokens[index].line
+}
+
+/// The names that a top-level item declares: a function's name, a struct's name, the
+/// declarators of a variable declaration.
+fn declared_names(tokens: &[Token], item: &crate::check::glsl_syntax::Item) -> Vec<String> {
+    if let Some(name) = item.name {
+        return vec![tokens[name].text.clone()];
+    }
+    let items = &tokens[item.first..=item.last];
+    let mut names = Vec::new();
+    if items.first().is_some_and(|t| t.text == "precision") {
+        return names;
+    }
+    if let Some(position) = items.iter().position(|t| t.text == "struct") {
+        if let Some(name) = items.get(position + 1).filter(|t| t.is_identifier()) {
+            names.push(name.text.clone());
+        }
+    }
+    // Declarators: identifiers directly before `;`, `=`, `[` or `,` at bracket depth 0
+    // (after the closing brace of a struct or block, if any).
+    let body_end = items
+        .iter()
+        .rposition(|t| t.text == "}")
+        .map_or(0, |i| i + 1);
+    let mut depth = 0i32;
+    for index in body_end..items.len() {
+        match items[index].text.as_str() {
+            "(" | "[" => depth += 1,
+            ")" | "]" => depth -= 1,
+            _ => {}
+        }
+        let ends = matches!(items[index].text.as_str(), ";" | "=" | "[" | ",");
+        if ends && (depth == 0 || depth == 1 && items[index].text == "[") && index > body_end {
+            let candidate = &items[index - 1];
+            if candidate.is_identifier() && !is_type_keyword(&candidate.text) {
+                names.push(candidate.text.clone());
+            }
+        }
+    }
+    names.dedup();
+    names
+}
+
+/// Whether a word is a GLSL type or qualifier rather than a declared name.
+fn is_type_keyword(word: &str) -> bool {
+    INTERFACE_QUALIFIERS.contains(&word)
+        || OTHER_QUALIFIERS.contains(&word)
+        || matches!(word, "const" | "float" | "int" | "uint" | "bool" | "void")
+}
+
+/// The members of `struct <name> { ... };` as normalized lines ("vec3 positions [ 3 ]"), if
+/// the item is that struct.
+fn struct_members(
+    tokens: &[Token],
+    item: &crate::check::glsl_syntax::Item,
+    name: &str,
+) -> Option<Vec<String>> {
+    let items = &tokens[item.first..=item.last];
+    let position = items.iter().position(|t| t.text == "struct")?;
+    if items.get(position + 1)?.text != name || items.get(position + 2)?.text != "{" {
+        return None;
+    }
+    let open = item.first + position + 2;
+    let close = matching(tokens, open, "{", "}")?;
+    let members = tokens[open + 1..close]
+        .split(|t| t.text == ";")
+        .filter(|member| !member.is_empty())
+        .map(|member| {
+            member
+                .iter()
+                .map(|t| t.text.as_str())
+                .filter(|t| !matches!(*t, "highp" | "mediump" | "lowp"))
+                .collect::<Vec<_>>()
+                .join(" ")
+        })
+        .collect();
+    Some(members)
+}
+
+/// An edit of the user's text: the byte range and what replaces it.
+struct Edit {
+    range: std::ops::Range<usize>,
+    replacement: String,
+}
+
+/// Replaces a range by spaces, keeping its line breaks (so that lines stay where they are).
+fn blank(text: &str, range: std::ops::Range<usize>) -> Edit {
+    let replacement = text[range.clone()]
+        .chars()
+        .map(|c| if c == '\n' { '\n' } else { ' ' })
+        .collect();
+    Edit { range, replacement }
+}
+
+/// Applies non-overlapping edits (overlapping ones after the first are skipped).
+fn apply(text: &str, mut edits: Vec<Edit>) -> String {
+    edits.sort_by_key(|e| (e.range.start, e.range.end));
+    let mut result = String::with_capacity(text.len());
+    let mut position = 0;
+    for edit in edits {
+        if edit.range.start < position {
+            continue;
+        }
+        result.push_str(&text[position..edit.range.start]);
+        result.push_str(&edit.replacement);
+        position = edit.range.end;
+    }
+    result.push_str(&text[position..]);
+    result
+}
+
+/// Prepares a user's file (see the module documentation).
+pub fn prepare(source: &str) -> PreparedSource {
+    let ours = kernel_names();
+    let tokens = tokenize(source);
+    let mut prepared = PreparedSource::default();
+    let mut edits = Vec::new();
+    let mut blanked: Vec<std::ops::Range<usize>> = Vec::new();
+
+    // Directives: keep #define (and its kin), drop what a kernel cannot take.
+    let mut user_macros: Vec<String> = Vec::new();
+    for directive in directives(&tokens) {
+        let Some(word) = directive.get(1) else {
+            continue;
+        };
+        let range = directive[0].start..directive.last().expect("not empty").end;
+        match word.text.as_str() {
+            "version" | "extension" | "include" | "line" => {
+                prepared.notes.push(format!(
+                    "line {}: dropped #{} ({})",
+                    word.line,
+                    word.text,
+                    match word.text.as_str() {
+                        "version" => "vkpath compiles GLSL 4.60 for Vulkan",
+                        "extension" => "vkpath enables what its kernels need",
+                        "include" => "check reads one self-contained file",
+                        _ => "line numbers stay your file's",
+                    }
+                ));
+                blanked.push(range.clone());
+                edits.push(blank(source, range));
+            }
+            "define" => {
+                if let Some(name) = directive.get(2) {
+                    user_macros.push(name.text.clone());
+                    let value: Vec<&str> = directive[3..].iter().map(|t| t.text.as_str()).collect();
+                    if name.text == "MAX_PATH_LENGTH" {
+                        prepared.max_path_length =
+                            value.join("").trim_end_matches('u').parse().ok();
+                    }
+                }
+            }
+            _ => {}
+        }
+    }
+
+    // Top-level items: entry points, precision statements, interface variables, the
+    // triangle struct; collect what the file declares.
+    let structure = structural_tokens(&tokens);
+    let items = top_level_items(&structure);
+    let mut declared: BTreeMap<String, usize> = BTreeMap::new();
+    let mut opaque_bindings = 0u32;
+    let found = find_functions(source);
+    for item in &items {
+        let first = &structure[item.first];
+        let range = first.start..structure[item.last].end;
+        if let Some(name) = item.name {
+            let name_text = &structure[name].text;
+            if ENTRY_POINTS.contains(&name_text.as_str()) {
+                if item.kind == ItemKind::FunctionDefinition {
+                    prepared.notes.push(format!(
+                        "line {}: dropped {name_text}() (the entry point; vkpath's kernels call your functions)",
+                        structure[name].line
+                    ));
+                }
+                blanked.push(range.clone());
+                edits.push(blank(source, range));
+                continue;
+            }
+            declared
+                .entry(name_text.clone())
+                .or_insert(structure[name].line);
+            continue;
+        }
+        if first.text == "precision" {
+            blanked.push(range.clone());
+            edits.push(blank(source, range));
+            continue;
+        }
+        if let Some(members) = struct_members(&structure, item, "triangle_t") {
+            if members == ours.triangle_members {
+                prepared.notes.push(format!(
+                    "line {}: your struct triangle_t is the workshop's; vkpath's declaration is used",
+                    first.line
+                ));
+                blanked.push(range.clone());
+                edits.push(blank(source, range));
+                continue;
+            }
+            prepared.other_triangle_struct = Some(first.line);
+        }
+        let tokens_of_item = &structure[item.first..=item.last];
+        let mut position = 0;
+        let mut interface = None;
+        while position < tokens_of_item.len() {
+            let text = tokens_of_item[position].text.as_str();
+            if text == "layout" {
+                match matching(tokens_of_item, position + 1, "(", ")") {
+                    Some(close) => position = close + 1,
+                    None => break,
+                }
+            } else if INTERFACE_QUALIFIERS.contains(&text) {
+                interface = Some(text.to_string());
+                position += 1;
+            } else if OTHER_QUALIFIERS.contains(&text) || text == "const" {
+                position += 1;
+            } else {
+                break;
+            }
+        }
+        if let Some(qualifier) = interface {
+            let type_token = tokens_of_item.get(position);
+            let is_block = tokens_of_item.iter().any(|t| t.text == "{");
+            let is_opaque = type_token.is_some_and(|t| is_opaque_type(&t.text));
+            if is_block || position >= tokens_of_item.len() || is_opaque && qualifier != "uniform" {
+                prepared.notes.push(format!(
+                    "line {}: dropped the {qualifier} declaration{}",
+                    first.line,
+                    if is_block { " block" } else { "" }
+                ));
+                blanked.push(range.clone());
+                edits.push(blank(source, range));
+                continue;
+            }
+            let qualifiers = first.start..tokens_of_item[position].start;
+            if is_opaque {
+                let binding = USER_OPAQUE_BINDING_FIRST + 4 + opaque_bindings;
+                opaque_bindings += 1;
+                edits.push(Edit {
+                    range: qualifiers,
+                    replacement: format!("layout(set = 0, binding = {binding}) uniform "),
+                });
+            } else {
+                prepared.notes.push(format!(
+                    "line {}: '{}' is a plain global here (no {qualifier} in a compute kernel)",
+                    first.line,
+                    tokens_of_item[position..]
+                        .iter()
+                        .take_while(|t| t.text != ";" && t.text != "=")
+                        .map(|t| t.text.as_str())
+                        .collect::<Vec<_>>()
+                        .join(" ")
+                ));
+                edits.push(blank(source, qualifiers));
+            }
+        }
+        for name in declared_names(&structure, item) {
+            declared.entry(name).or_insert(first.line);
+        }
+        if prepared.max_path_length.is_none() {
+            // const int MAX_PATH_LENGTH = 5;
+            let texts: Vec<&str> = tokens_of_item.iter().map(|t| t.text.as_str()).collect();
+            if let Some(at) = texts.iter().position(|t| *t == "MAX_PATH_LENGTH") {
+                if texts.get(at + 1) == Some(&"=") {
+                    prepared.max_path_length = texts
+                        .get(at + 2)
+                        .and_then(|v| v.trim_end_matches('u').parse().ok());
+                }
+            }
+        }
+    }
+
+    // Names that clash with vkpath's: workshop functions with other parameters, a
+    // different triangle_t, and any other global name the kernels declare too.
+    let mut renames: BTreeMap<String, String> = BTreeMap::new();
+    for function in WorkshopFunction::ALL {
+        let definitions: Vec<_> = found
+            .iter()
+            .filter(|f| f.has_body && f.name == function.name())
+            .collect();
+        let any_workshop = definitions
+            .iter()
+            .any(|f| function.signature().as_ref() == Some(&f.signature));
+        if !definitions.is_empty() && !any_workshop {
+            for definition in &definitions {
+                prepared.renamed_workshop_functions.push((
+                    function,
+                    definition.line,
+                    definition.signature.to_string(),
+                ));
+            }
+            renames.insert(
+                function.name().to_string(),
+                format!("user_{}", function.name()),
+            );
+        }
+    }
+    if let Some(line) = prepared.other_triangle_struct {
+        prepared.notes.push(format!(
+            "line {line}: your struct triangle_t differs from the workshop's; it is renamed user_triangle_t, and functions that take it cannot be judged"
+        ));
+        renames.insert("triangle_t".into(), "user_triangle_t".into());
+    }
+    for (name, line) in &declared {
+        let is_workshop = WorkshopFunction::from_name(name).is_some();
+        if !is_workshop
+            && name != "triangle_t"
+            && ours.identifiers.contains(name)
+            && !user_macros.contains(name)
+        {
+            prepared.notes.push(format!(
+                "line {line}: your {name} is renamed user_{name} (vkpath's kernels declare a {name} of their own)"
+            ));
+            renames.insert(name.clone(), format!("user_{name}"));
+        }
+    }
+
+    // Renames and fragment built-ins, everywhere except in blanked text.
+    let is_blanked = |token: &Token| blanked.iter().any(|r| r.contains(&token.start));
+    let mut referenced: BTreeSet<String> = BTreeSet::new();
+    for token in tokens
+        .iter()
+        .filter(|t| t.is_identifier() && !is_blanked(t))
+    {
+        if let Some(new_name) = renames.get(&token.text) {
+            edits.push(Edit {
+                range: token.start..token.end,
+                replacement: new_name.clone(),
+            });
+        } else if let Some((_, replacement, _)) = FRAGMENT_BUILTINS
+            .iter()
+            .find(|(name, _, _)| *name == token.text)
+        {
+            edits.push(Edit {
+                range: token.start..token.end,
+                replacement: replacement.to_string(),
+            });
+        }
+        referenced.insert(token.text.clone());
+    }
+    prepared.text = apply(source, edits);
+
+    // The prelude: undefine the user's macros, supply what the kept code reads.
+    let mut prelude = String::new();
+    let unique_macros: BTreeSet<&String> = user_macros.iter().collect();
+    for name in &unique_macros {
+        let _ = writeln!(prelude, "#undef {name}");
+    }
+    let mut supplied = Vec::new();
+    for (name, declaration) in SHADERTOY_INPUTS {
+        if referenced.contains(name)
+            && !declared.contains_key(name)
+            && !unique_macros.contains(&name.to_string())
+        {
+            let _ = writeln!(prelude, "{declaration}");
+            supplied.push(name);
+        }
+    }
+    for channel in 0..4u32 {
+        let name = format!("iChannel{channel}");
+        if referenced.contains(&name) && !declared.contains_key(&name) {
+            let _ = writeln!(
+                prelude,
+                "layout(set = 0, binding = {}) uniform sampler2D {name};",
+                USER_OPAQUE_BINDING_FIRST + channel
+            );
+            supplied.push(match channel {
+                0 => "iChannel0",
+                1 => "iChannel1",
+                2 => "iChannel2",
+                _ => "iChannel3",
+            });
+        }
+    }
+    for (name, _, declaration) in FRAGMENT_BUILTINS {
+        if referenced.contains(name) {
+            let _ = writeln!(prelude, "{declaration}");
+            supplied.push(name);
+        }
+    }
+    if referenced.contains("texture2D") && !unique_macros.contains(&"texture2D".to_string()) {
+        prelude.push_str("#define texture2D texture\n");
+        user_macros.push("texture2D".into());
+    }
+    if !supplied.is_empty() {
+        prepared.notes.push(format!(
+            "supplied for your code: {} (ShaderToy's inputs at frame 0 of a 512 x 512 image)",
+            supplied.join(", ")
+        ));
+    }
+    prepared.prelude = prelude;
+
+    // The epilogue: the user's macros end with the file; vkpath's come back.
+    let mut epilogue = String::from("\n");
+    let unique_macros: BTreeSet<&String> = user_macros.iter().collect();
+    for name in unique_macros {
+        let _ = writeln!(epilogue, "#undef {name}");
+        if let Some(value) = ours.macros.get(name.as_str()) {
+            let _ = writeln!(epilogue, "#define {name} {value}");
+        }
+    }
+    prepared.epilogue = epilogue;
+    prepared
+}
+
+/// Whether a GLSL type is opaque (a sampler, image or the like), which only a uniform with
+/// a binding can hold.
+fn is_opaque_type(word: &str) -> bool {
+    [
+        "sampler",
+        "isampler",
+        "usampler",
+        "image",
+        "iimage",
+        "uimage",
+        "texture",
+        "itexture",
+        "utexture",
+        "subpassInput",
+        "atomic_uint",
+    ]
+    .iter()
+    .any(|prefix| word.starts_with(prefix))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    const TAB: &str = "#version 300 es\nprecision highp float;\n#define M_PI 3.141592653589793238462643\n\
+        #define MAX_PATH_LENGTH 4\nuniform vec2 u_resolution;\nuniform sampler2D u_texture;\nout vec4 fragColor;\n\
+        struct triangle_t {\n    vec3 positions[3];\n    vec3 normal;\n    highp vec3 color;\n    vec3 emission;\n};\n\
+        float get_triangle(float x) { return x; }\n\
+        vec3 sample_sphere(vec2 random_numbers) { return vec3(get_triangle(random_numbers.x)); }\n\
+        vec3 get_ray_radiance(vec3 origin, int depth) { return vec3(M_PI * u_resolution.x); }\n\
+        void mainImage(out vec4 out_color, in vec2 pixel_coord) {\n    out_color = texture(iChannel0, pixel_coord / iResolution.xy) + gl_FragCoord;\n}\n";
+
+    #[test]
+    fn a_shadertoy_tab_keeps_its_lines_and_drops_what_cannot_take_part() {
+        let prepared = prepare(TAB);
+        assert_eq!(prepared.text.lines().count(), TAB.lines().count());
+        let lines: Vec<&str> = prepared.text.lines().collect();
+        assert!(lines[0].trim().is_empty(), "#version dropped");
+        assert!(lines[1].trim().is_empty(), "precision dropped");
+        assert_eq!(
+            lines[2], "#define M_PI 3.141592653589793238462643",
+            "macros stay"
+        );
+        assert_eq!(lines[4].trim(), "vec2 u_resolution;");
+        assert!(lines[5].contains("uniform sampler2D u_texture;") && lines[5].contains("binding"));
+        assert_eq!(lines[6].trim(), "vec4 fragColor;");
+        assert!(
+            lines[7..13].iter().all(|l| l.trim().is_empty()),
+            "the workshop's struct is dropped"
+        );
+        assert!(
+            lines[13].contains("float user_get_triangle(float x)"),
+            "{}",
+            lines[13]
+        );
+        assert!(lines[14].contains("vec3(user_get_triangle(random_numbers.x))"));
+        assert!(lines[15].contains("vec3 user_get_ray_radiance(vec3 origin, int depth)"));
+        assert!(
+            lines[16..].iter().all(|l| l.trim().is_empty()),
+            "mainImage dropped"
+        );
+        assert_eq!(prepared.max_path_length, Some(4));
+        assert_eq!(prepared.renamed_workshop_functions.len(), 1);
+        assert!(prepared.prelude.contains("#undef M_PI"));
+        assert!(
+            !prepared.prelude.contains("iChannel0"),
+            "only mainImage read it"
+        );
+        assert!(prepared
+            .epilogue
+            .contains("#undef M_PI\n#define M_PI 3.141592653589793"));
+        assert!(prepared.epilogue.contains("#undef MAX_PATH_LENGTH\n"));
+    }
+
+    #[test]
+    fn inputs_are_supplied_when_kept_code_reads_them() {
+        let prepared = prepare(
+            "float vignette(vec2 uv) { return texture(iChannel1, uv).r * iResolution.x + gl_FragCoord.x + float(iFrame); }\n",
+        );
+        for expected in ["iResolution", "iFrame", "iChannel1", "vkpath_FragCoord"] {
+            assert!(
+                prepared.prelude.contains(expected),
+                "{expected}: {}",
+                prepared.prelude
+            );
+        }
+        assert!(prepared.text.contains("vkpath_FragCoord.x"));
+        assert!(!prepared.prelude.contains("iChannel0"));
+    }
+
+    #[test]
+    fn a_different_triangle_struct_is_renamed() {
+        let prepared = prepare(
+            "struct triangle_t { vec3 a, b, c; };\nbool ray_triangle_intersection(out float out_t, vec3 o, vec3 d, triangle_t t) { return false; }\n",
+        );
+        assert_eq!(prepared.other_triangle_struct, Some(1));
+        assert!(prepared.text.contains("struct user_triangle_t"));
+        assert!(prepared.text.contains("vec3 d, user_triangle_t t"));
+    }
+
+    #[test]
+    fn kernel_names_come_from_the_embedded_glsl() {
+        let names = kernel_names();
+        for name in [
+            "get_triangle",
+            "offset_ray_origin",
+            "MAX_PATH_LENGTH",
+            "g_hit_triangle_index",
+            "packed_triangle_t",
+        ] {
+            assert!(names.identifiers.contains(name), "{name}");
+        }
+        assert_eq!(
+            names.macros.get("M_PI").map(String::as_str),
+            Some("3.141592653589793")
+        );
+        assert_eq!(names.triangle_members.len(), 4);
+    }
+}
