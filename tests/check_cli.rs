@@ -443,6 +443,35 @@ fn a_shadertoy_image_tab_gets_its_inputs() {
 }
 
 #[test]
+fn a_file_that_includes_itself_is_read_once() {
+    let dir = tempfile::tempdir().expect("temporary directory");
+    let file = dir.path().join("self.glsl");
+    std::fs::write(
+        &file,
+        "#include \"self.glsl\"\n#include \"user_functions.glsl\"\n\
+         vec3 sample_sphere(vec2 u) {\n    float z = 2.0 * u.y - 1.0;\n    float r = sqrt(1.0 - z * z);\n\
+             return vec3(r * cos(2.0 * M_PI * u.x), r * sin(2.0 * M_PI * u.x), z);\n}\n",
+    )
+    .expect("writable");
+    let output = common::vkpath(
+        dir.path(),
+        &[
+            "check",
+            file.to_str().expect("utf-8"),
+            "--validate",
+            "--json",
+        ],
+    );
+    let stdout = String::from_utf8_lossy(&output.stdout);
+    assert_eq!(output.status.code(), Some(0), "{stdout}");
+    let report: Value = serde_json::from_str(&stdout).expect("JSON");
+    assert!(
+        report["notes"].to_string().contains("dropped #include"),
+        "{stdout}"
+    );
+}
+
+#[test]
 fn unusable_files_are_usage_errors() {
     let dir = tempfile::tempdir().expect("temporary directory");
     for (name, expected) in [

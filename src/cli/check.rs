@@ -1,7 +1,8 @@
 //! `vkpath check FILE.glsl`: judges a user's versions of workshop functions (see
-//! `crate::check`). Exit status 0 when every check passes, 1 when one fails (including a
-//! file that does not compile: the compiler's messages name the file's lines), 2 when the
-//! file cannot be checked at all (it cannot be read, or defines no workshop function).
+//! `crate::check`). Exit status 0 when every judged function passes, 1 when one fails
+//! (including a function or file that does not compile: the compiler's messages name the
+//! file's lines), 2 when the file cannot be checked at all (it cannot be read, or nothing in
+//! it can be judged).
 
 use std::io::Write as _;
 use std::path::PathBuf;
@@ -17,8 +18,8 @@ pub const EXIT_USAGE: i32 = 2;
 /// Arguments of `vkpath check`.
 #[derive(Debug, Clone, clap::Args)]
 pub struct CheckArgs {
-    /// A GLSL file with your versions of one or more workshop functions (with the
-    /// workshop's signatures), e.g. sample_sphere or get_ray_radiance.
+    /// A GLSL file with your versions of workshop functions (with the workshop's
+    /// signatures): a whole ShaderToy tab, a WebGL page shader, or just the functions.
     pub file: PathBuf,
     /// Where to write the images of the render comparisons (created if needed).
     #[arg(long, default_value = "vkpath-check")]
