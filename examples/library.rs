@@ -16,13 +16,11 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         ..Default::default()
     };
     let mut renderer = Renderer::new(&context, &scene, &camera, settings)?;
-    while !renderer.is_complete() {
-        let done = renderer.render_batch()?; // a batch of short frames
-        println!("{done} spp");
-    }
-    let image = renderer.read_back()?; // linear RGBA f32, rows top-down
+    // Batches of short frames until every sample is taken; the callback reports progress.
+    let outcome = renderer.render_to_end(|done| println!("{done} spp"), None)?;
+    let image = outcome.image; // linear RGBA f32, rows top-down
     println!("centre pixel: {:?}", image.pixel(64, 64));
-    vkpath::output::save_image(
+    vkpath::image_io::output::save_image(
         std::path::Path::new("library.exr"),
         &image,
         &Default::default(),

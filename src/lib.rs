@@ -24,25 +24,19 @@ pub mod cli;
 pub mod compare;
 pub mod error;
 pub mod exercise;
-pub mod export;
-pub mod exr_input;
-pub mod gpu_types;
-pub mod image_data;
-pub mod lights;
-pub mod meshes;
-pub mod output;
-pub mod procedural;
-pub mod renderer;
+pub mod image_io;
+pub mod render;
 pub mod scene;
-pub mod settings;
 pub mod vk;
 
 pub use camera::Camera;
 pub use error::{Error, Result};
-pub use image_data::RenderedImage;
-pub use renderer::Renderer;
+pub use image_io::data::RenderedImage;
+pub use render::settings::{
+    Accel, Integrator, LightSampling, PixelFilter, RenderSettings, SamplerKind,
+};
+pub use render::Renderer;
 pub use scene::Scene;
-pub use settings::{Accel, Integrator, LightSampling, PixelFilter, RenderSettings, SamplerKind};
 pub mod check;
 pub mod cpu;
 pub mod probe;

@@ -15,8 +15,8 @@ use vkpath::bvh::{
 };
 use vkpath::contract;
 use vkpath::cpu::workshop::{get_random_numbers, sample_sphere};
-use vkpath::gpu_types::{GpuTriangle, RenderUniforms};
-use vkpath::meshes::scale_test_scene;
+use vkpath::render::gpu_types::{GpuTriangle, RenderUniforms};
+use vkpath::scene::meshes::scale_test_scene;
 use vkpath::scene::Triangle;
 use vkpath::vk::{Buffer, CommandRunner, ComputePipeline, Context, TexelBufferView};
 
@@ -58,7 +58,7 @@ fn run_probe(
     let zeros = vec![ProbeResult::zeroed(); rays.len()];
     let result_buffer = buffer("results", bytemuck::cast_slice(&zeros), usage);
 
-    let spirv = ash::util::read_spv(&mut std::io::Cursor::new(vkpath::shaders::PROBE_BVH)).unwrap();
+    let spirv = vkpath::vk::spirv_words(vkpath::shaders::PROBE_BVH).unwrap();
     let bindings = [
         (contract::BINDING_TRIANGLES, texel),
         (
@@ -83,24 +83,12 @@ fn run_probe(
     set.write_buffer(contract::BVH_PROBE_BINDING_RESULTS, storage, &result_buffer);
 
     let runner = CommandRunner::new(context).unwrap();
-    let groups = (rays.len() as u32).div_ceil(contract::PROBE_WORKGROUP_SIZE);
     let start = Instant::now();
     runner
-        .run(|device, command_buffer| unsafe {
-            pipeline.record_bind(device, command_buffer, set.set);
-            device.cmd_dispatch(command_buffer, groups, 1, 1);
-            let barrier = vk::MemoryBarrier::default()
-                .src_access_mask(vk::AccessFlags::SHADER_WRITE)
-                .dst_access_mask(vk::AccessFlags::HOST_READ);
-            device.cmd_pipeline_barrier(
-                command_buffer,
-                vk::PipelineStageFlags::COMPUTE_SHADER,
-                vk::PipelineStageFlags::HOST,
-                vk::DependencyFlags::empty(),
-                &[barrier],
-                &[],
-                &[],
-            );
+        .run(|recorder| {
+            recorder.bind(&pipeline, &set);
+            recorder.dispatch(&pipeline, [rays.len() as u32, 1, 1]);
+            recorder.host_read_barrier();
         })
         .unwrap();
     let seconds = start.elapsed().as_secs_f64();

@@ -8,8 +8,8 @@ mod common;
 use std::path::Path;
 use std::process::Output;
 
-use vkpath::exr_input::read_exr;
-use vkpath::output::{save_image, SaveOptions};
+use vkpath::image_io::exr_input::read_exr;
+use vkpath::image_io::output::{save_image, SaveOptions};
 
 /// 64x64 pixels: 8x8 blocks of 8x8, 192 tests.
 const SIZE: &str = "64";

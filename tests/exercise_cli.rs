@@ -248,7 +248,7 @@ fn every_exercise_renders_and_sample_count_sets_the_frame() {
         ];
         args.extend_from_slice(extra);
         exercise(dir.path(), &args);
-        let image = vkpath::exr_input::read_exr(&dir.path().join("di.exr")).unwrap();
+        let image = vkpath::image_io::exr_input::read_exr(&dir.path().join("di.exr")).unwrap();
         assert!(image.has_moments);
         assert!(
             image

@@ -3,7 +3,7 @@
 
 mod common;
 
-use vkpath::procedural::{furnace, furnace_radiance};
+use vkpath::scene::procedural::{furnace, furnace_radiance};
 use vkpath::{Accel, Integrator, LightSampling, RenderSettings, Renderer, SamplerKind};
 
 fn check_furnace(albedo: f32, emission: f32, max_path_length: u32) {
@@ -78,10 +78,7 @@ fn check_furnace_with(
     };
     let mut renderer =
         Renderer::new(&context, &scene, &scene.camera.unwrap(), settings.clone()).unwrap();
-    while !renderer.is_complete() {
-        renderer.render_batch().unwrap();
-    }
-    let image = renderer.read_back().unwrap();
+    let image = renderer.render_all().unwrap();
     let expected = furnace_radiance(f64::from(albedo), f64::from(emission), max_path_length);
     // Every sample is independent (distinct per-pixel, per-sample seeds), so the image mean
     // is a mean of N = W*H*spp samples with standard error sqrt(var / N), where var is the

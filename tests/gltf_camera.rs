@@ -68,10 +68,7 @@ fn a_world_point_lands_on_the_expected_pixel() {
         ..Default::default()
     };
     let mut renderer = Renderer::new(&context, &scene, &camera, settings).unwrap();
-    while !renderer.is_complete() {
-        renderer.render_batch().unwrap();
-    }
-    let image = renderer.read_back().unwrap();
+    let image = renderer.render_all().unwrap();
     drop(renderer);
     common::assert_validation_silent(&context);
 

@@ -18,7 +18,7 @@ use vkpath::cpu::camera::{get_sample_seed, get_sample_tex_coord};
 use vkpath::cpu::integrator::{offset_ray_origin, orient_towards_ray, ray_mesh_intersection};
 use vkpath::cpu::workshop::{get_primary_ray_direction, get_random_numbers, sample_sphere};
 use vkpath::cpu::{render_cpu, CpuImage, CpuRenderSettings};
-use vkpath::output::{save_image, SaveOptions};
+use vkpath::image_io::output::{save_image, SaveOptions};
 use vkpath::scene::Triangle;
 use vkpath::stats::ztest::{z_test_images, MeanImage};
 use vkpath::{Integrator, PixelFilter, RenderSettings, RenderedImage, Renderer, Scene};
@@ -60,10 +60,7 @@ fn gpu_render(scene: &Scene, settings: &RenderSettings) -> RenderedImage {
     let context = common::validated_context();
     let camera = scene.camera.expect("the Cornell box has a camera");
     let mut renderer = Renderer::new(&context, scene, &camera, settings.clone()).unwrap();
-    while !renderer.is_complete() {
-        renderer.render_batch().unwrap();
-    }
-    let image = renderer.read_back().unwrap();
+    let image = renderer.render_all().unwrap();
     drop(renderer);
     common::assert_validation_silent(&context);
     image

@@ -25,10 +25,7 @@ fn render(integrator: Integrator, seed: u32) -> RenderedImage {
         ..Default::default()
     };
     let mut renderer = Renderer::new(&context, &scene, &scene.camera.unwrap(), settings).unwrap();
-    while !renderer.is_complete() {
-        renderer.render_batch().unwrap();
-    }
-    let image = renderer.read_back().unwrap();
+    let image = renderer.render_all().unwrap();
     drop(renderer);
     common::assert_validation_silent(&context);
     image
@@ -85,10 +82,7 @@ fn a_biased_render_is_detected() {
         ..Default::default()
     };
     let mut renderer = Renderer::new(&context, &scene, &scene.camera.unwrap(), settings).unwrap();
-    while !renderer.is_complete() {
-        renderer.render_batch().unwrap();
-    }
-    let biased = block_means(&renderer.read_back().unwrap());
+    let biased = block_means(&renderer.render_all().unwrap());
     let report = z_test_images(&biased, &workshop, 0.01).unwrap();
     println!("path length 3 vs 5: {report:?}");
     assert!(

@@ -4,7 +4,7 @@
 
 mod common;
 
-use vkpath::renderer::Traversal;
+use vkpath::render::Traversal;
 use vkpath::{Integrator, RenderSettings, Renderer, Scene};
 
 /// The embedded linear kernel's SPIR-V words.
@@ -27,10 +27,7 @@ fn render(integrator: Integrator, traversal: Traversal) -> Vec<f32> {
     let camera = scene.camera.unwrap();
     let mut renderer =
         Renderer::with_kernel(&context, &scene, &camera, settings, &spirv, traversal).unwrap();
-    while !renderer.is_complete() {
-        renderer.render_batch().unwrap();
-    }
-    renderer.read_back().unwrap().mean.concat()
+    renderer.render_all().unwrap().mean.concat()
 }
 
 #[test]
@@ -59,7 +56,7 @@ fn constant_triangles_render_exactly_as_the_texel_loop() {
 #[test]
 fn constant_triangles_refuse_a_scene_that_does_not_fit() {
     let context = common::validated_context();
-    let scene = vkpath::meshes::scale_test_scene(200).unwrap();
+    let scene = vkpath::scene::meshes::scale_test_scene(200).unwrap();
     let spirv = path_tracer_spirv();
     let result = Renderer::with_kernel(
         &context,

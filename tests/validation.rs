@@ -18,10 +18,7 @@ fn a_render_produces_no_validation_messages() {
         ..Default::default()
     };
     let mut renderer = Renderer::new(&context, &scene, &scene.camera.unwrap(), settings).unwrap();
-    while !renderer.is_complete() {
-        renderer.render_batch().unwrap();
-    }
-    let image = renderer.read_back().unwrap();
+    let image = renderer.render_all().unwrap();
     assert!(
         image.average()[0] > 0.0,
         "the Cornell box should not render black"

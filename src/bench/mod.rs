@@ -10,10 +10,10 @@ use serde::Serialize;
 
 use crate::camera::Camera;
 use crate::error::Result;
-use crate::image_data::RenderedImage;
-use crate::renderer::{Renderer, Traversal};
+use crate::image_io::data::RenderedImage;
+use crate::render::settings::{Integrator, RenderSettings, SamplerKind};
+use crate::render::{Renderer, Traversal};
 use crate::scene::Scene;
-use crate::settings::{Integrator, RenderSettings, SamplerKind};
 use crate::vk::Context;
 
 /// The relMSE at which `seconds_to_target` is reported.
@@ -109,12 +109,8 @@ fn timed_render(
     let mut renderer = Renderer::new(context, scene, camera, settings)?;
     let first_frame_samples = renderer.render_frame()?;
     let cold_start = started.elapsed().as_secs_f64();
-    let started = Instant::now();
-    while !renderer.is_complete() {
-        renderer.render_batch()?;
-    }
-    let steady = started.elapsed().as_secs_f64();
-    let image = renderer.read_back()?;
+    let outcome = renderer.render_to_end(|_| {}, None)?.finished()?;
+    let (image, steady) = (outcome.image, outcome.seconds);
     let steady_samples = spp - first_frame_samples;
     let seconds = if steady_samples > 0 {
         steady * f64::from(spp) / f64::from(steady_samples)

@@ -8,7 +8,7 @@ use glam::{UVec2, Vec3};
 use super::*;
 use crate::cpu::integrator::ray_mesh_intersection;
 use crate::cpu::workshop::{get_random_numbers, sample_sphere};
-use crate::meshes::{displaced_grid, scale_test_scene, subdivided_sphere};
+use crate::scene::meshes::{displaced_grid, scale_test_scene, subdivided_sphere};
 use crate::scene::Scene;
 
 #[test]

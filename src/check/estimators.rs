@@ -21,10 +21,11 @@ use crate::check::detect::WorkshopFunction;
 use crate::check::report::FunctionReport;
 use crate::check::Session;
 use crate::error::{Error, Result};
-use crate::image_data::RenderedImage;
-use crate::renderer::{spirv_words, Renderer, Traversal};
-use crate::settings::{Integrator, PixelFilter, RenderSettings};
+use crate::image_io::data::RenderedImage;
+use crate::render::settings::{Integrator, PixelFilter, RenderSettings};
+use crate::render::{Renderer, Traversal};
 use crate::stats::ztest::{two_sided_p_value, z_score, z_test_images, MeanImage};
+use crate::vk::spirv_words;
 
 /// The renders are compared in blocks of `block_size` pixels a side: at least 8 x 8
 /// pixels, so that a block pools at least 64 x spp samples and its mean is close to normal
@@ -42,7 +43,7 @@ const USER_SEED: u32 = 2;
 /// Seed of the render with the user's own intersection functions (independent of both).
 const COMBINED_SEED: u32 = 3;
 /// The render's path length when the file does not define MAX_PATH_LENGTH (the workshop's).
-const MAX_PATH_LENGTH: u32 = crate::settings::DEFAULT_MAX_PATH_LENGTH;
+const MAX_PATH_LENGTH: u32 = crate::render::settings::DEFAULT_MAX_PATH_LENGTH;
 
 /// Which kernel a render runs.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -369,10 +370,7 @@ fn render(
         &spirv_words(&bytes)?,
         traversal,
     )?;
-    while !renderer.is_complete() {
-        renderer.render_batch()?;
-    }
-    renderer.read_back()
+    renderer.render_all()
 }
 
 /// The average radiance over all pixels and channels.

@@ -32,8 +32,8 @@ use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
 use crate::error::{Error, Result};
-use crate::image_data::RenderedImage;
-use crate::output::{save_image, SaveOptions};
+use crate::image_io::data::RenderedImage;
+use crate::image_io::output::{save_image, SaveOptions};
 use crate::probe::{ProbeKind, ProbePipeline, ProbeRunner};
 use crate::scene::Scene;
 use crate::stats::sidak_alpha;

@@ -16,12 +16,12 @@ use crate::check::report::FunctionReport;
 use crate::check::Session;
 use crate::error::{Error, Result};
 use crate::exercise::{render_sample_display, render_sample_display_with, ExerciseSampler};
-use crate::image_data::RenderedImage;
+use crate::image_io::data::RenderedImage;
 use crate::probe::inputs;
 use crate::probe::{DirectionOutput, ProbeKind};
-use crate::renderer::spirv_words;
 use crate::stats::chi2::{chi2_direction_test, Chi2Config, Chi2Result};
 use crate::stats::sphere_histogram::{SphereFrame, TargetDensity, UNIT_LENGTH_TOLERANCE};
+use crate::vk::spirv_words;
 
 /// 10^6 samples put about 200 into each of Mitsuba's 5050 bins (400 on a hemisphere): the
 /// χ² approximation is excellent, and a density error of a few percent over some bins is far

@@ -7,7 +7,7 @@ use anyhow::bail;
 use super::render::{load_scene_source, AccelArg, IntegratorArg, LightSamplingArg, SamplerArg};
 use super::DeviceArgs;
 use crate::bench::{format_table, run_bench, BenchSetup};
-use crate::settings::{Accel, Integrator, RenderSettings};
+use crate::render::settings::{Accel, Integrator, RenderSettings};
 
 /// Arguments of `vkpath bench`.
 #[derive(Debug, Clone, clap::Args)]

@@ -10,8 +10,8 @@ use crate::compare::{
     compare_images, CompareOptions, CompareReport, VarianceSource, DEFAULT_ALPHA,
     DEFAULT_BLOCK_SIZE,
 };
-use crate::exr_input::read_exr;
-use crate::output::{check_writable, save_image, SaveOptions};
+use crate::image_io::exr_input::read_exr;
+use crate::image_io::output::{check_writable, save_image, SaveOptions};
 
 /// Exit status when the images are not consistent.
 pub const EXIT_INCONSISTENT: i32 = 1;

@@ -7,9 +7,9 @@ use anyhow::bail;
 use super::render::render_and_save;
 use super::{DeviceArgs, PixelFilterArg};
 use crate::exercise::{render_sample_display, Exercise, ExerciseKind};
-use crate::output::{check_writable, save_image, SaveOptions};
+use crate::image_io::output::{check_writable, save_image, SaveOptions};
+use crate::render::settings::RenderSettings;
 use crate::scene::Scene;
-use crate::settings::RenderSettings;
 
 /// `vkpath exercise` names.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]

@@ -1,9 +1,9 @@
-//! `vkpath export`: writes a scene as PLY meshes and a JSON manifest (see `crate::export`).
+//! `vkpath export`: writes a scene as PLY meshes and a JSON manifest (see `crate::scene::export`).
 
 use std::path::PathBuf;
 
 use super::render::load_scene_source;
-use crate::export::export_scene;
+use crate::scene::export::export_scene;
 
 /// Arguments of `vkpath export`.
 #[derive(Debug, Clone, clap::Args)]

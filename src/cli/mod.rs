@@ -4,7 +4,7 @@
 use clap::{Parser, Subcommand, ValueEnum};
 use glam::Vec3;
 
-use crate::settings::PixelFilter;
+use crate::render::settings::PixelFilter;
 
 pub mod bench;
 pub mod check;

@@ -5,16 +5,16 @@ use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::Arc;
 use std::time::Instant;
 
-use anyhow::{bail, Context as _};
+use anyhow::bail;
 use glam::Vec3;
 
 use super::summary::{summary_line, RenderProgress};
 use super::{parse_vec3, DeviceArgs, PixelFilterArg};
 use crate::camera::Camera;
-use crate::output::{check_writable, save_image, SaveOptions};
-use crate::renderer::Renderer;
+use crate::image_io::output::{check_writable, save_image, SaveOptions};
+use crate::render::settings::{Accel, Integrator, LightSampling, RenderSettings, SamplerKind};
+use crate::render::Renderer;
 use crate::scene::Scene;
-use crate::settings::{Accel, Integrator, LightSampling, RenderSettings, SamplerKind};
 
 /// Arguments of `vkpath render`.
 #[derive(Debug, Clone, clap::Args)]
@@ -201,7 +201,7 @@ pub fn load_scene_source(
         bail!("--generated {triangles}: at most {MAX_GENERATED_TRIANGLES} triangles");
     }
     let started = Instant::now();
-    let scene = crate::meshes::scale_test_scene(triangles)?;
+    let scene = crate::scene::meshes::scale_test_scene(triangles)?;
     eprintln!(
         "{command}: generated {} triangles in {:.2} s",
         scene.triangles.len(),
@@ -284,27 +284,12 @@ pub fn render_and_save(
     let _ = ctrlc::set_handler(|| INTERRUPTED.store(true, Ordering::SeqCst));
     let mut renderer = Renderer::new(context, scene, camera, settings.clone())?;
     let mut progress = RenderProgress::new(settings.spp);
-    let started = Instant::now();
-    let mut failure = None;
-    while !renderer.is_complete() && !INTERRUPTED.load(Ordering::SeqCst) {
-        match renderer.render_batch() {
-            Ok(done) => progress.update(done),
-            Err(error) => {
-                failure = Some(error);
-                break;
-            }
-        }
-    }
+    let outcome = renderer.render_to_end(|done| progress.update(done), Some(&INTERRUPTED))?;
     progress.finish();
-    let seconds = started.elapsed().as_secs_f64();
-    let done = renderer.samples_done();
-    if let Some(error) = failure {
-        if done == 0 {
-            return Err(error.into());
-        }
+    let (seconds, done, image) = (outcome.seconds, outcome.samples, outcome.image);
+    if let Some(error) = outcome.failure {
         eprintln!("vkpath: error after {done} spp: {error}; saving what was rendered");
     }
-    let image = renderer.read_back().context("reading the image back")?;
     if let Err(error) = save_image(output, &image, save) {
         // Nothing already rendered is lost: keep it in the temp directory.
         let rescue = std::env::temp_dir().join(format!("vkpath-rescue-{}.exr", std::process::id()));

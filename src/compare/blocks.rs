@@ -2,7 +2,7 @@
 //! difference of the two images' block means and the estimated variance of that difference,
 //! from the images' moments or, without moments, from the spread within the block.
 
-use crate::image_data::RenderedImage;
+use crate::image_io::data::RenderedImage;
 
 /// Relative size below which a difference of two block means is float rounding, not bias:
 /// the images hold f32 (relative ulp 1.2e-7) and each pixel mean is within a few ulps of the

@@ -1,7 +1,7 @@
 //! The heat map of `vkpath compare --heatmap`: where the failing blocks are.
 
 use super::CompareReport;
-use crate::image_data::RenderedImage;
+use crate::image_io::data::RenderedImage;
 
 /// Linear RGB of a block from its smallest p-value. The evidence is measured as
 /// s = ln p / ln(per-test significance): 0 for p = 1, 1 exactly at the threshold. Passing

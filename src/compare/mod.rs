@@ -23,7 +23,7 @@ pub mod heatmap;
 
 use statrs::distribution::{ContinuousCDF, StudentsT};
 
-use crate::exr_input::ExrImage;
+use crate::image_io::exr_input::ExrImage;
 use crate::stats::sidak_alpha;
 use crate::stats::ztest::{two_sided_p_value, z_score};
 pub use blocks::VarianceSource;
@@ -243,7 +243,7 @@ pub fn compare_images(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::image_data::RenderedImage;
+    use crate::image_io::data::RenderedImage;
 
     /// An image of value `base` plus uniform noise of variance `noise_variance` per pixel,
     /// with moments that state that variance (with n = 5 samples, (E[L^2] - E[L]^2) / 4).

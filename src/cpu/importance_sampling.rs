@@ -9,7 +9,7 @@ use crate::cpu::integrator::{
     is_double_sided, offset_ray_origin, orient_towards_ray, ray_mesh_intersection,
 };
 use crate::cpu::workshop::{get_random_numbers, ray_triangle_intersection, M_PI};
-use crate::lights::LightTable;
+use crate::scene::lights::LightTable;
 use crate::scene::Triangle;
 
 /// Twin of `sample_hemisphere_cosine`: Malley's method in the Duff et al. (2017) basis.

@@ -13,7 +13,7 @@ use crate::cpu::image::{CpuImage, PixelAccumulator};
 use crate::cpu::importance_sampling::get_ray_radiance_importance_sampled;
 use crate::cpu::integrator::get_sample_radiance;
 use crate::cpu::workshop::get_primary_ray_direction;
-use crate::lights::LightTable;
+use crate::scene::lights::LightTable;
 use crate::scene::Triangle;
 
 /// What a CPU render does: the shader's specialization constants and uniforms.

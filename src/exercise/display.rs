@@ -8,10 +8,10 @@ use gpu_allocator::MemoryLocation;
 use super::view::{ExerciseSampler, SampleDisplayPushConstants};
 use crate::contract;
 use crate::error::{Error, Result};
-use crate::image_data::RenderedImage;
-use crate::renderer::spirv_words;
-use crate::settings::MAX_IMAGE_SIDE;
+use crate::image_io::data::RenderedImage;
+use crate::render::settings::MAX_IMAGE_SIDE;
 use crate::shaders;
+use crate::vk::spirv_words;
 use crate::vk::{Buffer, CommandRunner, ComputePipeline, Context};
 
 /// Bytes per pixel of the output buffer (one `vec4`).
@@ -80,28 +80,11 @@ pub fn render_sample_display_with(
         resolution_sampler_seed: [width, height, sampler.contract_value(), seed],
     };
     let commands = CommandRunner::new(context)?;
-    commands.run(|device, command_buffer| unsafe {
-        // SAFETY: the pipeline, set and buffer live until run() has waited for the work.
-        pipeline.record_bind(device, command_buffer, descriptors.set);
-        device.cmd_push_constants(
-            command_buffer,
-            pipeline.layout,
-            vk::ShaderStageFlags::COMPUTE,
-            0,
-            bytemuck::bytes_of(&constants),
-        );
-        device.cmd_dispatch(
-            command_buffer,
-            width.div_ceil(contract::WORKGROUP_SIZE_X),
-            height.div_ceil(contract::WORKGROUP_SIZE_Y),
-            1,
-        );
-        crate::vk::host_read_barrier(
-            device,
-            command_buffer,
-            vk::PipelineStageFlags::COMPUTE_SHADER,
-            vk::AccessFlags::SHADER_WRITE,
-        );
+    commands.run(|recorder| {
+        recorder.bind(&pipeline, &descriptors);
+        recorder.push_constants(&pipeline, &constants);
+        recorder.dispatch(&pipeline, [width, height, 1]);
+        recorder.host_read_barrier();
     })?;
     let colors: Vec<[f32; 4]> = pixels.read();
     Ok(RenderedImage {

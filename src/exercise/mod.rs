@@ -9,7 +9,7 @@ pub mod view;
 pub use display::{render_sample_display, render_sample_display_with};
 pub use view::ExerciseSampler;
 
-use crate::settings::Integrator;
+use crate::render::settings::Integrator;
 
 /// One of the workshop's pictures.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]

@@ -13,8 +13,8 @@ use crate::probe::layout::{
     PrimaryRayInput, ProbePushConstants, RadianceOutput, RandomNumbersInput, RandomNumbersOutput,
     RayInput, RayRadianceInput, RayTriangleInput, SamplerInput,
 };
-use crate::renderer::spirv_words;
 use crate::shaders;
+use crate::vk::spirv_words;
 use crate::vk::{ComputePipeline, Context};
 
 /// One probe kernel, `glsl/probe_<function>.comp`.

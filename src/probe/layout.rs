@@ -6,7 +6,7 @@
 use bytemuck::{Pod, Zeroable};
 use glam::{UVec2, Vec2, Vec3};
 
-use crate::gpu_types::GpuTriangle;
+use crate::render::gpu_types::GpuTriangle;
 use crate::scene::Triangle;
 
 /// `probe_push_constants` of `glsl/probe_common.glsl` (8 bytes): which inputs a dispatch

@@ -9,11 +9,11 @@ use gpu_allocator::MemoryLocation;
 
 use crate::contract;
 use crate::error::{Error, Result};
-use crate::gpu_types::{GpuTriangle, RenderUniforms};
 use crate::probe::kernel::ProbePipeline;
 use crate::probe::layout::ProbePushConstants;
+use crate::render::gpu_types::{GpuTriangle, RenderUniforms};
 use crate::scene::Triangle;
-use crate::vk::{full_compute_barrier, Buffer, CommandRunner, Context, TexelBufferView};
+use crate::vk::{Buffer, CommandRunner, Context, TexelBufferView};
 
 /// Most inputs uploaded at once: bounds the size of the input and output buffers (128 MiB
 /// for the largest structs, 128 bytes) well below every device's `maxStorageBufferRange`
@@ -126,15 +126,12 @@ impl ProbeRunner {
         descriptors.write_buffer(contract::PROBE_BINDING_INPUTS, storage, &input_buffer);
         descriptors.write_buffer(contract::PROBE_BINDING_OUTPUTS, storage, &output_buffer);
 
-        let group_size = contract::PROBE_WORKGROUP_SIZE as usize;
+        let compute = &pipeline.pipeline;
+        let group_size = compute.workgroup_size()[0].max(1) as usize;
         let max_groups = self.context.limits.max_compute_work_group_count[0].max(1) as usize;
         let total_groups = count.div_ceil(group_size);
-        let compute = &pipeline.pipeline;
-        let set = descriptors.set;
-        self.commands.run(|device, command_buffer| unsafe {
-            // SAFETY: the pipeline, set and buffers outlive the submission, which run()
-            // waits for.
-            compute.record_bind(device, command_buffer, set);
+        self.commands.run(|recorder| {
+            recorder.bind(compute, &descriptors);
             let mut first_group = 0;
             while first_group < total_groups {
                 let groups = (total_groups - first_group).min(max_groups);
@@ -142,23 +139,12 @@ impl ProbeRunner {
                     first: (first_group * group_size) as u32,
                     count: count as u32,
                 };
-                device.cmd_push_constants(
-                    command_buffer,
-                    compute.layout,
-                    vk::ShaderStageFlags::COMPUTE,
-                    0,
-                    bytemuck::bytes_of(&constants),
-                );
-                device.cmd_dispatch(command_buffer, groups as u32, 1, 1);
+                recorder.push_constants(compute, &constants);
+                recorder.dispatch(compute, [(groups * group_size) as u32, 1, 1]);
                 first_group += groups;
             }
-            full_compute_barrier(device, command_buffer);
-            crate::vk::host_read_barrier(
-                device,
-                command_buffer,
-                vk::PipelineStageFlags::COMPUTE_SHADER,
-                vk::AccessFlags::SHADER_WRITE,
-            );
+            recorder.compute_barrier();
+            recorder.host_read_barrier();
         })?;
         let mut outputs: Vec<O> = output_buffer.read();
         outputs.truncate(count);

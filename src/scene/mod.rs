@@ -6,12 +6,16 @@ use std::path::{Path, PathBuf};
 use glam::Vec3;
 
 use crate::camera::Camera;
-use crate::gpu_types::GpuTriangle;
+use crate::render::gpu_types::GpuTriangle;
 
 pub mod cornell;
 mod error;
+pub mod export;
 pub mod gltf_loader;
+pub mod lights;
+pub mod meshes;
 pub mod obj_loader;
+pub mod procedural;
 
 pub use error::SceneError;
 

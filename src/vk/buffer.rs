@@ -6,6 +6,7 @@ use ash::vk;
 use gpu_allocator::vulkan::{Allocation, AllocationCreateDesc, AllocationScheme};
 use gpu_allocator::MemoryLocation;
 
+use super::commands::CommandRunner;
 use super::context::Context;
 use super::error::{CallContext, VkError, VkResult};
 
@@ -117,6 +118,34 @@ impl Buffer {
     }
 }
 
+impl Buffer {
+    /// A device-local buffer of `usage` filled with `bytes` through a staging buffer; the
+    /// copy has finished when this returns.
+    pub fn device_local_with_data(
+        context: &Arc<Context>,
+        commands: &CommandRunner,
+        name: &str,
+        bytes: &[u8],
+        usage: vk::BufferUsageFlags,
+    ) -> VkResult<Buffer> {
+        let staging = Buffer::with_data(
+            context,
+            "staging",
+            bytes,
+            vk::BufferUsageFlags::TRANSFER_SRC,
+        )?;
+        let buffer = Buffer::new(
+            context,
+            name,
+            bytes.len() as u64,
+            usage | vk::BufferUsageFlags::TRANSFER_DST,
+            MemoryLocation::GpuOnly,
+        )?;
+        commands.run(|recorder| recorder.copy_buffer(&staging, &buffer, bytes.len() as u64))?;
+        Ok(buffer)
+    }
+}
+
 impl Drop for Buffer {
     fn drop(&mut self) {
         if let Some(allocation) = self.allocation.take() {
@@ -138,6 +167,23 @@ pub struct TexelBufferView {
 }
 
 impl TexelBufferView {
+    /// Views all of `buffer` as RGBA32_UINT texels (16 bytes each), after checking that the
+    /// device allows that many; `what` names the data in the error.
+    pub fn rgba32_uint(
+        context: &Arc<Context>,
+        buffer: Buffer,
+        what: &str,
+    ) -> VkResult<TexelBufferView> {
+        let texels = buffer.size / 16;
+        let limit = u64::from(context.limits.max_texel_buffer_elements);
+        if texels > limit {
+            return Err(VkError::TooLarge(format!(
+                "the {what} need {texels} texels, more than this device's texel-buffer limit of {limit}"
+            )));
+        }
+        TexelBufferView::new(context, buffer, vk::Format::R32G32B32A32_UINT)
+    }
+
     /// Views all of `buffer` (created with `UNIFORM_TEXEL_BUFFER` usage) as texels of `format`.
     pub fn new(
         context: &Arc<Context>,

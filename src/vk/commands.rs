@@ -1,11 +1,17 @@
-//! Recording and submitting command buffers on the compute queue, one batch at a time.
+//! Recording and submitting command buffers on the compute queue, one batch at a time. The
+//! rest of vkpath records work only through `Recorder`, whose methods are safe: every
+//! resource they take is borrowed for the recording, and `CommandRunner::run` waits for the
+//! submission before the borrows end.
 
 use std::sync::Arc;
 
 use ash::vk;
 
+use super::buffer::Buffer;
 use super::context::Context;
 use super::error::{CallContext, VkError, VkResult};
+use super::image::StorageImage;
+use super::pipeline::{ComputePipeline, DescriptorSet};
 
 /// How long a submitted batch may run before we give up waiting (seconds). Generous: a
 /// frame on lavapipe with a large scene can take long, but a hang must not wait forever.
@@ -55,7 +61,7 @@ impl CommandRunner {
     }
 
     /// Records commands with `record`, submits them and waits until they have finished.
-    pub fn run(&self, record: impl FnOnce(&ash::Device, vk::CommandBuffer)) -> VkResult<()> {
+    pub fn run(&self, record: impl FnOnce(&mut Recorder)) -> VkResult<()> {
         let device = &self.context.device;
         let command_buffer = self.command_buffer;
         // SAFETY: the previous submission has finished (we always wait), so the buffer and
@@ -71,7 +77,10 @@ impl CommandRunner {
                         .flags(vk::CommandBufferUsageFlags::ONE_TIME_SUBMIT),
                 )
                 .during("beginning a command buffer")?;
-            record(device, command_buffer);
+            record(&mut Recorder {
+                device,
+                command_buffer,
+            });
             device
                 .end_command_buffer(command_buffer)
                 .during("recording commands")?;
@@ -112,9 +121,208 @@ impl Drop for CommandRunner {
     }
 }
 
+/// Records commands into the command buffer of one `CommandRunner::run`.
+pub struct Recorder<'a> {
+    device: &'a ash::Device,
+    command_buffer: vk::CommandBuffer,
+}
+
+impl Recorder<'_> {
+    /// Binds `pipeline` for compute dispatches, with `set` as its set 0.
+    pub fn bind(&mut self, pipeline: &ComputePipeline, set: &DescriptorSet) {
+        // SAFETY: the command buffer is recording; run() waits for the submission while the
+        // pipeline and set are borrowed by the caller.
+        unsafe {
+            self.device.cmd_bind_pipeline(
+                self.command_buffer,
+                vk::PipelineBindPoint::COMPUTE,
+                pipeline.pipeline,
+            );
+            self.device.cmd_bind_descriptor_sets(
+                self.command_buffer,
+                vk::PipelineBindPoint::COMPUTE,
+                pipeline.layout,
+                0,
+                &[set.set],
+                &[],
+            );
+        }
+    }
+
+    /// Sets the push constants of `pipeline` (its whole range) to `constants`.
+    pub fn push_constants<T: bytemuck::Pod>(&mut self, pipeline: &ComputePipeline, constants: &T) {
+        // SAFETY: the command buffer is recording; the pipeline layout is alive.
+        unsafe {
+            self.device.cmd_push_constants(
+                self.command_buffer,
+                pipeline.layout,
+                vk::ShaderStageFlags::COMPUTE,
+                0,
+                bytemuck::bytes_of(constants),
+            );
+        }
+    }
+
+    /// Dispatches the bound `pipeline` over `invocations` (x, y, z): as many workgroups of
+    /// its size (read from its SPIR-V) as cover them.
+    pub fn dispatch(&mut self, pipeline: &ComputePipeline, invocations: [u32; 3]) {
+        let size = pipeline.workgroup_size();
+        let groups: Vec<u32> = (0..3)
+            .map(|i| invocations[i].div_ceil(size[i].max(1)))
+            .collect();
+        // SAFETY: the command buffer is recording with a compute pipeline bound.
+        unsafe {
+            self.device
+                .cmd_dispatch(self.command_buffer, groups[0], groups[1], groups[2]);
+        }
+    }
+
+    /// Makes all earlier compute-shader and transfer writes visible to later compute
+    /// shaders and transfers (the only synchronisation a batch of frames needs).
+    pub fn compute_barrier(&mut self) {
+        full_compute_barrier(self.device, self.command_buffer);
+    }
+
+    /// Makes all earlier compute-shader and transfer writes visible to the host, which reads
+    /// buffers back after the submission's fence.
+    pub fn host_read_barrier(&mut self) {
+        let barrier = vk::MemoryBarrier::default()
+            .src_access_mask(vk::AccessFlags::SHADER_WRITE | vk::AccessFlags::TRANSFER_WRITE)
+            .dst_access_mask(vk::AccessFlags::HOST_READ);
+        // SAFETY: recording into a command buffer in the recording state.
+        unsafe {
+            self.device.cmd_pipeline_barrier(
+                self.command_buffer,
+                vk::PipelineStageFlags::COMPUTE_SHADER | vk::PipelineStageFlags::TRANSFER,
+                vk::PipelineStageFlags::HOST,
+                vk::DependencyFlags::empty(),
+                &[barrier],
+                &[],
+                &[],
+            );
+        }
+    }
+
+    /// Copies the first `size` bytes of `from` to `to`, then a compute barrier.
+    pub fn copy_buffer(&mut self, from: &Buffer, to: &Buffer, size: u64) {
+        // SAFETY: both buffers are alive and at least `size` bytes (Buffer sizes are >= 1).
+        unsafe {
+            self.device.cmd_copy_buffer(
+                self.command_buffer,
+                from.handle,
+                to.handle,
+                &[vk::BufferCopy {
+                    src_offset: 0,
+                    dst_offset: 0,
+                    size: size.clamp(1, from.size.min(to.size)),
+                }],
+            );
+        }
+        self.compute_barrier();
+    }
+
+    /// Moves a new image from UNDEFINED to GENERAL and clears every layer to zero, then a
+    /// compute barrier.
+    pub fn clear_storage_image(&mut self, image: &StorageImage) {
+        self.set_layout(
+            image,
+            (
+                vk::ImageLayout::UNDEFINED,
+                vk::AccessFlags::empty(),
+                vk::PipelineStageFlags::TOP_OF_PIPE,
+            ),
+            (
+                vk::ImageLayout::GENERAL,
+                vk::AccessFlags::TRANSFER_WRITE,
+                vk::PipelineStageFlags::TRANSFER,
+            ),
+        );
+        // SAFETY: the image is alive and in GENERAL.
+        unsafe {
+            self.device.cmd_clear_color_image(
+                self.command_buffer,
+                image.handle,
+                vk::ImageLayout::GENERAL,
+                &vk::ClearColorValue { float32: [0.0; 4] },
+                &[StorageImage::all_layers(image.layers)],
+            );
+        }
+        self.compute_barrier();
+    }
+
+    /// Copies every layer of a storage image in GENERAL (written by compute shaders) to
+    /// `buffer`, layer after layer, leaves the image in GENERAL, and makes the copy visible
+    /// to the host.
+    pub fn copy_image_to_buffer(&mut self, image: &StorageImage, buffer: &Buffer) {
+        let general = (
+            vk::ImageLayout::GENERAL,
+            vk::AccessFlags::SHADER_READ | vk::AccessFlags::SHADER_WRITE,
+            vk::PipelineStageFlags::COMPUTE_SHADER,
+        );
+        let source = (
+            vk::ImageLayout::TRANSFER_SRC_OPTIMAL,
+            vk::AccessFlags::TRANSFER_READ,
+            vk::PipelineStageFlags::TRANSFER,
+        );
+        self.set_layout(image, general, source);
+        let region = vk::BufferImageCopy::default()
+            .image_subresource(
+                vk::ImageSubresourceLayers::default()
+                    .aspect_mask(vk::ImageAspectFlags::COLOR)
+                    .layer_count(image.layers),
+            )
+            .image_extent(vk::Extent3D {
+                width: image.width,
+                height: image.height,
+                depth: 1,
+            });
+        // SAFETY: the image is in TRANSFER_SRC_OPTIMAL; callers size the buffer with
+        // StorageImage::byte_size().
+        unsafe {
+            self.device.cmd_copy_image_to_buffer(
+                self.command_buffer,
+                image.handle,
+                vk::ImageLayout::TRANSFER_SRC_OPTIMAL,
+                buffer.handle,
+                &[region],
+            );
+        }
+        self.set_layout(image, source, general);
+        self.host_read_barrier();
+    }
+
+    /// Records a barrier that moves all layers of `image` from one use to another.
+    fn set_layout(&mut self, image: &StorageImage, from: LayoutUse, to: LayoutUse) {
+        let barrier = vk::ImageMemoryBarrier::default()
+            .src_access_mask(from.1)
+            .dst_access_mask(to.1)
+            .old_layout(from.0)
+            .new_layout(to.0)
+            .src_queue_family_index(vk::QUEUE_FAMILY_IGNORED)
+            .dst_queue_family_index(vk::QUEUE_FAMILY_IGNORED)
+            .image(image.handle)
+            .subresource_range(StorageImage::all_layers(image.layers));
+        // SAFETY: recording into a command buffer in the recording state; the image is alive.
+        unsafe {
+            self.device.cmd_pipeline_barrier(
+                self.command_buffer,
+                from.2,
+                to.2,
+                vk::DependencyFlags::empty(),
+                &[],
+                &[],
+                &[barrier],
+            );
+        }
+    }
+}
+
+/// A layout, the accesses to wait for or to make wait, and their pipeline stage.
+type LayoutUse = (vk::ImageLayout, vk::AccessFlags, vk::PipelineStageFlags);
+
 /// A barrier that makes all earlier compute-shader and transfer writes visible to later
-/// compute shaders and transfers (the only synchronisation a batch of frames needs).
-pub fn full_compute_barrier(device: &ash::Device, command_buffer: vk::CommandBuffer) {
+/// compute shaders and transfers.
+fn full_compute_barrier(device: &ash::Device, command_buffer: vk::CommandBuffer) {
     let barrier = vk::MemoryBarrier::default()
         .src_access_mask(vk::AccessFlags::SHADER_WRITE | vk::AccessFlags::TRANSFER_WRITE)
         .dst_access_mask(
@@ -129,31 +337,6 @@ pub fn full_compute_barrier(device: &ash::Device, command_buffer: vk::CommandBuf
             command_buffer,
             vk::PipelineStageFlags::COMPUTE_SHADER | vk::PipelineStageFlags::TRANSFER,
             vk::PipelineStageFlags::COMPUTE_SHADER | vk::PipelineStageFlags::TRANSFER,
-            vk::DependencyFlags::empty(),
-            &[barrier],
-            &[],
-            &[],
-        );
-    }
-}
-
-/// A barrier that makes writes of `stage` (with `access`) visible to the host, before it
-/// reads a buffer back after the submission's fence.
-pub fn host_read_barrier(
-    device: &ash::Device,
-    command_buffer: vk::CommandBuffer,
-    stage: vk::PipelineStageFlags,
-    access: vk::AccessFlags,
-) {
-    let barrier = vk::MemoryBarrier::default()
-        .src_access_mask(access)
-        .dst_access_mask(vk::AccessFlags::HOST_READ);
-    // SAFETY: recording into a command buffer in the recording state.
-    unsafe {
-        device.cmd_pipeline_barrier(
-            command_buffer,
-            stage,
-            vk::PipelineStageFlags::HOST,
             vk::DependencyFlags::empty(),
             &[barrier],
             &[],

@@ -58,6 +58,9 @@ pub enum VkError {
     /// SPIR-V that Vulkan cannot take.
     #[error("invalid SPIR-V: {0}")]
     InvalidSpirv(String),
+    /// Data beyond one of the device's limits (the message names the data and the limit).
+    #[error("{0}")]
+    TooLarge(String),
 }
 
 /// Result of the Vulkan layer.

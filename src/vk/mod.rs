@@ -12,9 +12,9 @@ pub mod pipeline;
 pub mod validation;
 
 pub use buffer::{Buffer, TexelBufferView};
-pub use commands::{full_compute_barrier, host_read_barrier, CommandRunner};
+pub use commands::{CommandRunner, Recorder};
 pub use context::{list_devices, Context, ContextOptions, DeviceInfo, DeviceKind};
 pub use error::{VkError, VkResult};
 pub use image::StorageImage;
-pub use pipeline::{ComputePipeline, DescriptorSet};
+pub use pipeline::{spirv_words, ComputePipeline, DescriptorSet};
 pub use validation::ValidationMessages;

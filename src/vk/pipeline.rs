@@ -14,12 +14,43 @@ use super::image::StorageImage;
 pub struct ComputePipeline {
     context: Arc<Context>,
     /// Layout of descriptor set 0.
-    pub descriptor_set_layout: vk::DescriptorSetLayout,
+    pub(crate) descriptor_set_layout: vk::DescriptorSetLayout,
     /// The pipeline layout (set 0 and the push-constant range).
-    pub layout: vk::PipelineLayout,
+    pub(crate) layout: vk::PipelineLayout,
     /// The pipeline.
-    pub pipeline: vk::Pipeline,
+    pub(crate) pipeline: vk::Pipeline,
     bindings: Vec<(u32, vk::DescriptorType)>,
+    workgroup_size: [u32; 3],
+}
+
+/// SPIR-V bytes (as embedded or written by a compiler) as words.
+pub fn spirv_words(bytes: &[u8]) -> VkResult<Vec<u32>> {
+    ash::util::read_spv(&mut std::io::Cursor::new(bytes))
+        .map_err(|e| VkError::InvalidSpirv(e.to_string()))
+}
+
+/// The workgroup size that SPIR-V declares for its entry point (`OpExecutionMode ...
+/// LocalSize x y z`), if it declares one with literals.
+fn declared_workgroup_size(spirv: &[u32]) -> Option<[u32; 3]> {
+    /// `OpExecutionMode` and its `LocalSize` mode.
+    const OP_EXECUTION_MODE: u32 = 16;
+    const EXECUTION_MODE_LOCAL_SIZE: u32 = 17;
+    let mut index = 5; // after the header
+    while index < spirv.len() {
+        let word = spirv[index];
+        let (length, opcode) = ((word >> 16) as usize, word & 0xffff);
+        if length == 0 {
+            return None;
+        }
+        if opcode == OP_EXECUTION_MODE
+            && length == 6
+            && spirv.get(index + 2) == Some(&EXECUTION_MODE_LOCAL_SIZE)
+        {
+            return Some([spirv[index + 3], spirv[index + 4], spirv[index + 5]]);
+        }
+        index += length;
+    }
+    None
 }
 
 impl ComputePipeline {
@@ -38,6 +69,9 @@ impl ComputePipeline {
                 "missing the SPIR-V magic number".into(),
             ));
         }
+        let workgroup_size = declared_workgroup_size(spirv).ok_or_else(|| {
+            VkError::InvalidSpirv("no literal workgroup size (LocalSize) declared".into())
+        })?;
         let device = &context.device;
         let layout_bindings: Vec<_> = bindings
             .iter()
@@ -55,6 +89,7 @@ impl ComputePipeline {
             layout: vk::PipelineLayout::null(),
             pipeline: vk::Pipeline::null(),
             bindings: bindings.to_vec(),
+            workgroup_size,
         };
         // SAFETY: valid create infos on a live device; on error, Drop destroys what exists.
         unsafe {
@@ -111,30 +146,9 @@ impl ComputePipeline {
         Ok(pipeline)
     }
 
-    /// Records binding this pipeline and `set` as its set 0 for compute dispatches.
-    ///
-    /// # Safety
-    /// `command_buffer` is recording on this pipeline's device, and the pipeline and `set`
-    /// outlive the work it submits.
-    pub unsafe fn record_bind(
-        &self,
-        device: &ash::Device,
-        command_buffer: vk::CommandBuffer,
-        set: vk::DescriptorSet,
-    ) {
-        device.cmd_bind_pipeline(
-            command_buffer,
-            vk::PipelineBindPoint::COMPUTE,
-            self.pipeline,
-        );
-        device.cmd_bind_descriptor_sets(
-            command_buffer,
-            vk::PipelineBindPoint::COMPUTE,
-            self.layout,
-            0,
-            &[set],
-            &[],
-        );
+    /// The workgroup size (x, y, z) that the kernel declares.
+    pub fn workgroup_size(&self) -> [u32; 3] {
+        self.workgroup_size
     }
 
     /// Allocates a descriptor set for this pipeline's set 0 from a pool of its own.
@@ -161,7 +175,7 @@ pub struct DescriptorSet {
     context: Arc<Context>,
     pool: vk::DescriptorPool,
     /// The set.
-    pub set: vk::DescriptorSet,
+    pub(crate) set: vk::DescriptorSet,
 }
 
 impl DescriptorSet {
@@ -257,5 +271,35 @@ impl Drop for DescriptorSet {
     fn drop(&mut self) {
         // SAFETY: destroying the pool frees the set; users wait for pending work first.
         unsafe { self.context.device.destroy_descriptor_pool(self.pool, None) };
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn workgroup_sizes_come_from_the_spirv() {
+        // Header, an OpCapability Shader (2 words), then OpExecutionMode %4 LocalSize 8 4 1.
+        let spirv = [
+            0x0723_0203,
+            0x0001_0500,
+            0,
+            10,
+            0,
+            (2 << 16) | 17,
+            1,
+            (6 << 16) | 16,
+            4,
+            17,
+            8,
+            4,
+            1,
+        ];
+        assert_eq!(declared_workgroup_size(&spirv), Some([8, 4, 1]));
+        assert_eq!(declared_workgroup_size(&spirv[..7]), None);
+        let bytes: Vec<u8> = spirv.iter().flat_map(|w: &u32| w.to_le_bytes()).collect();
+        assert_eq!(spirv_words(&bytes).unwrap(), spirv);
+        assert!(spirv_words(&bytes[..7]).is_err());
     }
 }

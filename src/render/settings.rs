@@ -242,6 +242,29 @@ impl RenderSettings {
     pub fn aspect(&self) -> f32 {
         self.width as f32 / self.height as f32
     }
+
+    /// The path tracer's specialization constants for these settings, as
+    /// (`SPEC_*` id, value).
+    pub fn specialization(&self) -> Vec<(u32, u32)> {
+        vec![
+            (contract::SPEC_SAMPLE_COUNT, self.samples_per_frame),
+            (contract::SPEC_MAX_PATH_LENGTH, self.max_path_length),
+            (
+                contract::SPEC_PIXEL_FILTER,
+                self.pixel_filter.spec_constant(),
+            ),
+            (contract::SPEC_INTEGRATOR, self.integrator.spec_constant()),
+            (
+                contract::SPEC_RUSSIAN_ROULETTE_START,
+                self.russian_roulette_start,
+            ),
+            (contract::SPEC_SAMPLER, self.sampler.spec_constant()),
+            (
+                contract::SPEC_LIGHT_SAMPLING,
+                self.light_sampling.spec_constant(),
+            ),
+        ]
+    }
 }
 
 #[cfg(test)]

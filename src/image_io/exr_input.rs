@@ -7,8 +7,8 @@ use std::path::Path;
 use exr::prelude::{read_first_flat_layer_from_file, AnyChannel, FlatSamples};
 
 use crate::error::{Error, Result};
-use crate::image_data::RenderedImage;
-use crate::output::{SAMPLE_COUNT_CHANNEL, SECOND_MOMENT_CHANNELS};
+use crate::image_io::data::RenderedImage;
+use crate::image_io::output::{SAMPLE_COUNT_CHANNEL, SECOND_MOMENT_CHANNELS};
 
 /// An EXR image as read back.
 #[derive(Clone, Debug, PartialEq)]
@@ -100,7 +100,7 @@ pub fn read_exr(path: &Path) -> Result<ExrImage> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::output::{save_image, SaveOptions};
+    use crate::image_io::output::{save_image, SaveOptions};
 
     fn test_image() -> RenderedImage {
         RenderedImage {

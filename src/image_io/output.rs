@@ -8,7 +8,7 @@ use std::path::{Path, PathBuf};
 use exr::prelude::{AnyChannel, AnyChannels, FlatSamples, Image, WritableImage};
 
 use crate::error::{Error, Result};
-use crate::image_data::RenderedImage;
+use crate::image_io::data::RenderedImage;
 
 /// The file formats vkpath writes.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]

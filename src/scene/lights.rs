@@ -4,7 +4,7 @@
 
 use glam::Vec3;
 
-use crate::gpu_types::GpuTriangle;
+use crate::render::gpu_types::GpuTriangle;
 use crate::scene::Triangle;
 
 /// Luminance of linear Rec. 709 RGB: the weight that makes light selection proportional to

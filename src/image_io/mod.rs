@@ -1,0 +1,6 @@
+//! Images in and out: the rendered image as the host holds it (mean, second moment and
+//! sample count per pixel), writing it as EXR or PNG, and reading EXR files back.
+
+pub mod data;
+pub mod exr_input;
+pub mod output;

@@ -1,0 +1,122 @@
+//! The scene as the path-tracing kernel reads it: triangles (in BVH leaf order when a BVH
+//! is used), the light table, the BVH nodes and the render uniforms, uploaded to the device,
+//! and the descriptor bindings and specialization constants that go with them.
+
+use std::sync::Arc;
+
+use ash::vk;
+
+use crate::bvh::Bvh;
+use crate::camera::Camera;
+use crate::contract;
+use crate::error::Result;
+use crate::render::gpu_types::RenderUniforms;
+use crate::render::settings::RenderSettings;
+use crate::render::traversal::{constant_triangle_specialization, Traversal};
+use crate::scene::lights::LightTable;
+use crate::scene::Scene;
+use crate::vk::{Buffer, CommandRunner, Context, DescriptorSet, TexelBufferView};
+
+/// A scene uploaded for one traversal.
+pub struct GpuScene {
+    triangles: TexelBufferView,
+    uniforms: Buffer,
+    lights: TexelBufferView,
+    bvh_nodes: Option<TexelBufferView>,
+    /// The specialization constants that the traversal needs (the constant triangles).
+    pub specialization: Vec<(u32, u32)>,
+}
+
+impl GpuScene {
+    /// Uploads `scene` as `traversal` reads it, with the camera's image plane for the
+    /// settings' aspect ratio and their seed in the render uniforms.
+    pub fn upload(
+        context: &Arc<Context>,
+        commands: &CommandRunner,
+        scene: &Scene,
+        camera: &Camera,
+        settings: &RenderSettings,
+        traversal: Traversal,
+    ) -> Result<GpuScene> {
+        // With a BVH, triangles are stored in the order its leaves reference them; light
+        // indices then refer to that order too.
+        let bvh = (traversal == Traversal::Bvh).then(|| Bvh::build(&scene.triangles));
+        let ordered_triangles = match &bvh {
+            Some(bvh) => bvh.reorder(&scene.triangles),
+            None => scene.triangles.clone(),
+        };
+        let mut gpu_triangles: Vec<_> = ordered_triangles.iter().map(|t| t.to_gpu()).collect();
+        let lights = LightTable::new(&ordered_triangles);
+        lights.annotate(&mut gpu_triangles);
+        let texels = |name: &str, bytes: &[u8]| -> Result<TexelBufferView> {
+            let buffer = Buffer::device_local_with_data(
+                context,
+                commands,
+                name,
+                bytes,
+                vk::BufferUsageFlags::UNIFORM_TEXEL_BUFFER,
+            )?;
+            Ok(TexelBufferView::rgba32_uint(
+                context,
+                buffer,
+                &format!("scene's {name}"),
+            )?)
+        };
+        let triangles = texels("triangles", bytemuck::cast_slice(&gpu_triangles))?;
+        let uniforms = Buffer::with_data(
+            context,
+            "render uniforms",
+            &[RenderUniforms::new(
+                &camera.image_plane(settings.aspect()),
+                settings.width,
+                settings.height,
+                scene.triangles.len() as u32,
+                settings.seed,
+            )],
+            vk::BufferUsageFlags::UNIFORM_BUFFER,
+        )?;
+        let bvh_nodes = match &bvh {
+            Some(bvh) => Some(texels("BVH nodes", bytemuck::cast_slice(&bvh.nodes))?),
+            None => None,
+        };
+        let lights = texels("lights", &lights.gpu_bytes())?;
+        Ok(GpuScene {
+            triangles,
+            uniforms,
+            lights,
+            bvh_nodes,
+            specialization: constant_triangle_specialization(traversal, &ordered_triangles),
+        })
+    }
+
+    /// The descriptor bindings of the path tracer's set 0 that the scene fills.
+    pub fn bindings(&self) -> Vec<(u32, vk::DescriptorType)> {
+        let texel = vk::DescriptorType::UNIFORM_TEXEL_BUFFER;
+        let mut bindings = vec![
+            (contract::BINDING_TRIANGLES, texel),
+            (
+                contract::BINDING_RENDER_UNIFORMS,
+                vk::DescriptorType::UNIFORM_BUFFER,
+            ),
+            (contract::BINDING_LIGHTS, texel),
+        ];
+        if self.bvh_nodes.is_some() {
+            bindings.push((contract::BINDING_BVH_NODES, texel));
+        }
+        bindings
+    }
+
+    /// Writes the scene's resources into `set`.
+    pub fn write(&self, set: &DescriptorSet) {
+        set.write_texel_buffer(contract::BINDING_TRIANGLES, &self.triangles);
+        set.write_buffer(
+            contract::BINDING_RENDER_UNIFORMS,
+            vk::DescriptorType::UNIFORM_BUFFER,
+            &self.uniforms,
+        );
+        if let Some(nodes) = &self.bvh_nodes {
+            set.write_texel_buffer(contract::BINDING_BVH_NODES, nodes);
+        }
+        set.write_texel_buffer(contract::BINDING_LIGHTS, &self.lights);
+    }
+}

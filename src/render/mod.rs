@@ -1,0 +1,13 @@
+//! The progressive GPU renderer and what it needs: the settings of a render, how rays find
+//! triangles (`traversal`), the scene as the kernel reads it (`gpu_scene`), the structs
+//! shared with the path-tracing kernel (`gpu_types`), and the renderer itself.
+
+pub mod gpu_scene;
+pub mod gpu_types;
+pub mod renderer;
+pub mod settings;
+pub mod traversal;
+
+pub use renderer::{RenderOutcome, Renderer};
+pub use settings::RenderSettings;
+pub use traversal::Traversal;

@@ -1,0 +1,81 @@
+//! How the path tracer finds the triangle a ray hits: the workshop's loop compiled into the
+//! kernel (small scenes), the loop over the triangle buffer, or a BVH.
+
+use crate::contract;
+use crate::render::settings::Accel;
+use crate::scene::Triangle;
+use crate::shaders;
+
+/// How the kernel finds the triangle a ray hits. The triangles' data are read from a texel
+/// buffer (RGBA32_UINT, `TRIANGLE_TEXEL_COUNT` texels per triangle): on lavapipe a texel fetch
+/// at a per-lane index is a vector gather, faster than uniform- or storage-buffer loads
+/// (docs/performance.md).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Traversal {
+    /// The workshop's loop over all triangles, compiled into the kernel: their positions are
+    /// specialization constants (`glsl/constant_triangles.glsl`), so a ray reads no memory
+    /// per triangle. For scenes of at most `CONSTANT_TRIANGLE_CAPACITY` triangles.
+    ConstantTriangles,
+    /// The workshop's loop over all triangles, read from the texel buffer
+    /// (`glsl/path_tracer.comp`).
+    Linear,
+    /// A BVH, with the triangles in its leaf order (`path_tracer.comp` with `USE_BVH`).
+    Bvh,
+}
+
+impl Traversal {
+    /// What `accel` asks for, for a scene of `triangle_count` triangles: the loop over all
+    /// triangles is compiled into the kernel whenever they fit.
+    pub fn choose(triangle_count: usize, accel: Accel) -> Traversal {
+        if accel.uses_bvh(triangle_count) {
+            Traversal::Bvh
+        } else if triangle_count <= contract::CONSTANT_TRIANGLE_CAPACITY as usize {
+            Traversal::ConstantTriangles
+        } else {
+            Traversal::Linear
+        }
+    }
+
+    /// A short name for reports: "constant triangles", "linear" or "BVH".
+    pub fn name(self) -> &'static str {
+        match self {
+            Traversal::ConstantTriangles => "constant triangles",
+            Traversal::Linear => "linear",
+            Traversal::Bvh => "BVH",
+        }
+    }
+
+    /// The embedded SPIR-V of the path tracer for this traversal.
+    pub(crate) fn kernel(self) -> &'static [u8] {
+        match self {
+            Traversal::ConstantTriangles | Traversal::Linear => shaders::PATH_TRACER,
+            Traversal::Bvh => shaders::PATH_TRACER_BVH,
+        }
+    }
+}
+
+/// The specialization constants that pass the triangles' positions into the kernel for
+/// `Traversal::ConstantTriangles` (`glsl/constant_triangles.glsl`); none for the others.
+pub(crate) fn constant_triangle_specialization(
+    traversal: Traversal,
+    triangles: &[Triangle],
+) -> Vec<(u32, u32)> {
+    if traversal != Traversal::ConstantTriangles {
+        return Vec::new();
+    }
+    let mut constants = vec![(
+        contract::SPEC_CONSTANT_TRIANGLE_COUNT,
+        triangles.len() as u32,
+    )];
+    let coordinates = triangles
+        .iter()
+        .flat_map(|triangle| triangle.positions)
+        .flat_map(|position| position.to_array());
+    for (k, coordinate) in coordinates.enumerate() {
+        constants.push((
+            contract::SPEC_CONSTANT_TRIANGLES + k as u32,
+            coordinate.to_bits(),
+        ));
+    }
+    constants
+}
