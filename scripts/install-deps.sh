@@ -15,6 +15,6 @@ if [ ${#missing[@]} -gt 0 ]; then
   apt-get install -y -qq "${missing[@]}" >/dev/null
 fi
 if ! command -v cargo >/dev/null; then
-  echo "cargo is missing: install a Rust toolchain (1.80 or newer) first" >&2
+  echo "cargo is missing: install a Rust toolchain (1.89 or newer) first" >&2
   exit 1
 fi
