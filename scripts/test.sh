@@ -5,3 +5,5 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 bash scripts/install-deps.sh
 cargo test --all-targets "$@"
+# The doc tests (the crate documentation renders a few samples); --all-targets leaves them out.
+cargo test --doc "$@"
