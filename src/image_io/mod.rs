@@ -4,3 +4,4 @@
 pub mod data;
 pub mod exr_input;
 pub mod output;
+pub mod state_exr;

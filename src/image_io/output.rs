@@ -5,7 +5,9 @@
 
 use std::path::{Path, PathBuf};
 
-use exr::prelude::{AnyChannel, AnyChannels, FlatSamples, Image, WritableImage};
+use exr::prelude::{
+    AnyChannel, AnyChannels, AttributeValue, FlatSamples, Image, Text, WritableImage,
+};
 
 use crate::error::{Error, Result};
 use crate::image_io::data::RenderedImage;
@@ -72,7 +74,9 @@ pub fn check_writable(path: &Path) -> Result<ImageFormat> {
             path.display()
         )));
     }
-    let probe = temporary_path(path);
+    let target = resolve_output(path)
+        .map_err(|message| Error::Image(format!("cannot write '{}': {message}", path.display())))?;
+    let probe = temporary_path(&target);
     std::fs::write(&probe, b"")
         .and_then(|()| std::fs::remove_file(&probe))
         .map_err(|e| Error::Image(format!("cannot write '{}': {e}", path.display())))?;
@@ -80,7 +84,7 @@ pub fn check_writable(path: &Path) -> Result<ImageFormat> {
 }
 
 /// A hidden sibling of `path` to write into before renaming.
-fn temporary_path(path: &Path) -> PathBuf {
+pub(crate) fn temporary_path(path: &Path) -> PathBuf {
     let name = path
         .file_name()
         .map(|n| n.to_string_lossy().into_owned())
@@ -90,42 +94,126 @@ fn temporary_path(path: &Path) -> PathBuf {
 
 /// Writes `image` to `path` in the format its extension names.
 pub fn save_image(path: &Path, image: &RenderedImage, options: &SaveOptions) -> Result<()> {
-    let format = ImageFormat::from_path(path)?;
-    let temporary = temporary_path(path);
-    let written = match format {
-        ImageFormat::Exr => write_exr(&temporary, image, options.moments),
-        ImageFormat::Png => write_png(&temporary, image, options.exposure),
+    save_image_with_attributes(path, image, options, &[])
+}
+
+/// `save_image` with EXR header attributes (name, text value); PNG files get none.
+pub fn save_image_with_attributes(
+    path: &Path,
+    image: &RenderedImage,
+    options: &SaveOptions,
+    attributes: &[(String, String)],
+) -> Result<()> {
+    match ImageFormat::from_path(path)? {
+        ImageFormat::Exr => write_atomically(path, |temporary| {
+            write_exr_channels(
+                temporary,
+                image.width,
+                image.height,
+                image_channels(image, options.moments),
+                attributes,
+            )
+        }),
+        ImageFormat::Png => write_atomically(path, |temporary| {
+            write_png(temporary, image, options.exposure)
+        }),
     }
-    .and_then(|()| {
-        std::fs::rename(&temporary, path).map_err(|e| format!("renaming into place: {e}"))
+}
+
+/// Writes a file through `write` into a temporary file in the same folder, then renames it
+/// into place: readers never see a partial file, and an interrupted write leaves the old
+/// file as it was. Like `cp`, a symbolic link is written through (its target is replaced)
+/// and an existing file that its owner cannot write is refused.
+pub(crate) fn write_atomically(
+    path: &Path,
+    write: impl FnOnce(&Path) -> std::result::Result<(), String>,
+) -> Result<()> {
+    let fail =
+        |message: String| Error::Image(format!("cannot write '{}': {message}", path.display()));
+    let target = resolve_output(path).map_err(fail)?;
+    let temporary = temporary_path(&target);
+    let written = write(&temporary).and_then(|()| {
+        std::fs::rename(&temporary, &target).map_err(|e| format!("renaming into place: {e}"))
     });
     written.map_err(|message| {
         let _ = std::fs::remove_file(&temporary);
-        Error::Image(format!("cannot write '{}': {message}", path.display()))
+        fail(message)
     })
 }
 
-fn write_exr(path: &Path, image: &RenderedImage, moments: bool) -> std::result::Result<(), String> {
-    let channel = |name: &str, values: Vec<f32>| AnyChannel::new(name, FlatSamples::F32(values));
+/// The file that writing to `path` replaces: the target of a symbolic link (followed as
+/// `cp` does), else `path`. An existing read-only file is refused, as `cp` refuses it.
+fn resolve_output(path: &Path) -> std::result::Result<PathBuf, String> {
+    let target = match std::fs::symlink_metadata(path) {
+        Ok(metadata) if metadata.file_type().is_symlink() => {
+            let link = std::fs::read_link(path).map_err(|e| e.to_string())?;
+            match path.parent() {
+                Some(parent) if link.is_relative() => parent.join(link),
+                _ => link,
+            }
+        }
+        _ => path.to_path_buf(),
+    };
+    if let Ok(metadata) = std::fs::metadata(&target) {
+        if metadata.permissions().readonly() {
+            return Err("the file exists and is read-only".into());
+        }
+    }
+    Ok(target)
+}
+
+/// The channels of an image: R, G, B, A (the mean), with `moments` the second moment and
+/// sample count too.
+fn image_channels(image: &RenderedImage, moments: bool) -> Vec<(String, Vec<f32>)> {
     let mean = |c: usize| image.mean.iter().map(|p| p[c]).collect::<Vec<f32>>();
-    let mut channels = vec![
-        channel("R", mean(0)),
-        channel("G", mean(1)),
-        channel("B", mean(2)),
-        channel("A", mean(3)),
-    ];
+    let mut channels: Vec<(String, Vec<f32>)> = ["R", "G", "B", "A"]
+        .iter()
+        .enumerate()
+        .map(|(c, name)| (name.to_string(), mean(c)))
+        .collect();
     if moments {
         for (c, name) in SECOND_MOMENT_CHANNELS.iter().enumerate() {
-            channels.push(channel(
-                name,
+            channels.push((
+                name.to_string(),
                 image.second_moment.iter().map(|p| p[c]).collect(),
             ));
         }
-        channels.push(channel(SAMPLE_COUNT_CHANNEL, image.sample_count.clone()));
+        channels.push((SAMPLE_COUNT_CHANNEL.to_string(), image.sample_count.clone()));
     }
-    let size = (image.width as usize, image.height as usize);
-    Image::from_channels(size, AnyChannels::sort(channels.into()))
+    channels
+}
+
+/// Writes float channels (rows top-down) and text attributes as one EXR layer. Blocks are
+/// written in order on one thread, so identical images make identical files.
+pub(crate) fn write_exr_channels(
+    path: &Path,
+    width: u32,
+    height: u32,
+    channels: Vec<(String, Vec<f32>)>,
+    attributes: &[(String, String)],
+) -> std::result::Result<(), String> {
+    let channels: Vec<AnyChannel<FlatSamples>> = channels
+        .into_iter()
+        .map(|(name, values)| AnyChannel::new(name.as_str(), FlatSamples::F32(values)))
+        .collect();
+    let mut exr_image = Image::from_channels(
+        (width as usize, height as usize),
+        AnyChannels::sort(channels.into()),
+    );
+    for (name, value) in attributes {
+        let (Some(name), Some(value)) = (Text::new_or_none(name), Text::new_or_none(value)) else {
+            return Err(format!(
+                "attribute {name} = {value} cannot be stored in EXR text"
+            ));
+        };
+        exr_image
+            .attributes
+            .other
+            .insert(name, AttributeValue::Text(value));
+    }
+    exr_image
         .write()
+        .non_parallel()
         .to_file(path)
         .map_err(|e| e.to_string())
 }
@@ -187,6 +275,36 @@ mod tests {
         // Linear 0.5 is sRGB 0.735 -> 188; exposure -1 halves the radiance first.
         assert_eq!(to_srgb8(0.5, 0.0), 188);
         assert_eq!(to_srgb8(1.0, -1.0), 188);
+    }
+
+    #[test]
+    fn outputs_follow_symlinks_refuse_read_only_files_and_are_deterministic() {
+        use std::os::unix::fs::{symlink, PermissionsExt};
+        let dir = tempfile::tempdir().unwrap();
+        let image = RenderedImage::from_accumulation(2, 1, &[[1.0, 2.0, 3.0, 1.0]; 6]);
+        let target = dir.path().join("target.exr");
+        let link = dir.path().join("link.exr");
+        symlink("target.exr", &link).unwrap();
+        save_image(&link, &image, &SaveOptions::default()).unwrap();
+        assert!(std::fs::symlink_metadata(&link)
+            .unwrap()
+            .file_type()
+            .is_symlink());
+        let first = std::fs::read(&target).unwrap();
+        save_image(&target, &image, &SaveOptions::default()).unwrap();
+        assert_eq!(
+            std::fs::read(&target).unwrap(),
+            first,
+            "identical images, identical files"
+        );
+        std::fs::set_permissions(&target, std::fs::Permissions::from_mode(0o444)).unwrap();
+        let message = save_image(&target, &image, &SaveOptions::default())
+            .unwrap_err()
+            .to_string();
+        assert!(message.contains("read-only"), "{message}");
+        // (As root the file could still be opened; vkpath refuses by its mode all the same.)
+        let leftovers = std::fs::read_dir(dir.path()).unwrap().count();
+        assert_eq!(leftovers, 2, "no temporary file is left behind");
     }
 
     #[test]

@@ -2,8 +2,10 @@
 //! triangles (`traversal`), the scene as the kernel reads it (`gpu_scene`), the structs
 //! shared with the path-tracing kernel (`gpu_types`), and the renderer itself.
 
+pub mod accumulation;
 pub mod gpu_scene;
 pub mod gpu_types;
+pub mod metadata;
 pub mod renderer;
 pub mod settings;
 pub mod traversal;

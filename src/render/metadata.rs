@@ -1,0 +1,194 @@
+//! What a render was: the settings that decide its samples, the samples it holds and a hash
+//! of the scene as loaded. Every EXR vkpath writes carries it as header attributes
+//! (`vkpath.*`), so that a checkpoint is resumed and shards are merged only with what they
+//! belong to.
+
+use std::collections::BTreeMap;
+use std::ops::Range;
+
+use sha2::{Digest, Sha256};
+
+use crate::camera::Camera;
+use crate::render::settings::RenderSettings;
+use crate::scene::Scene;
+
+/// The prefix of vkpath's EXR header attributes.
+pub const ATTRIBUTE_PREFIX: &str = "vkpath.";
+
+/// What a render was.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct RenderMetadata {
+    /// (name, value) of everything that decides the samples, in a fixed order: vkpath
+    /// version, seed, integrator, sampler, light sampling, max path length, Russian-roulette
+    /// start, pixel filter, resolution and the scene hash.
+    pub settings: Vec<(String, String)>,
+    /// The samples of every pixel's sequence that the image holds.
+    pub samples: Range<u32>,
+}
+
+impl RenderMetadata {
+    /// The metadata of a render of `scene` seen by `camera` with `settings`, holding
+    /// `samples`.
+    pub fn new(
+        settings: &RenderSettings,
+        scene: &Scene,
+        camera: &Camera,
+        samples: Range<u32>,
+    ) -> RenderMetadata {
+        let entries = [
+            ("version", env!("CARGO_PKG_VERSION").to_string()),
+            ("seed", settings.seed.to_string()),
+            ("integrator", format!("{:?}", settings.integrator)),
+            ("sampler", format!("{:?}", settings.sampler)),
+            ("light_sampling", format!("{:?}", settings.light_sampling)),
+            ("max_path_length", settings.max_path_length.to_string()),
+            (
+                "russian_roulette_start",
+                settings.russian_roulette_start.to_string(),
+            ),
+            ("pixel_filter", format!("{:?}", settings.pixel_filter)),
+            (
+                "resolution",
+                format!("{}x{}", settings.width, settings.height),
+            ),
+            ("scene_hash", scene_hash(scene, camera)),
+        ];
+        RenderMetadata {
+            settings: entries
+                .into_iter()
+                .map(|(name, value)| (name.to_string(), value))
+                .collect(),
+            samples,
+        }
+    }
+
+    /// The header attributes: `vkpath.<name>` for each setting, `vkpath.spp` (samples per
+    /// pixel taken) and `vkpath.sample_range` ("start..end").
+    pub fn attributes(&self) -> Vec<(String, String)> {
+        let mut attributes: Vec<(String, String)> = self
+            .settings
+            .iter()
+            .map(|(name, value)| (format!("{ATTRIBUTE_PREFIX}{name}"), value.clone()))
+            .collect();
+        attributes.push((
+            format!("{ATTRIBUTE_PREFIX}spp"),
+            self.samples.len().to_string(),
+        ));
+        attributes.push((
+            format!("{ATTRIBUTE_PREFIX}sample_range"),
+            format!("{}..{}", self.samples.start, self.samples.end),
+        ));
+        attributes
+    }
+
+    /// Reads the metadata back from header attributes (other attributes are ignored).
+    pub fn from_attributes(
+        attributes: &BTreeMap<String, String>,
+    ) -> Result<RenderMetadata, String> {
+        let range = attributes
+            .get(&format!("{ATTRIBUTE_PREFIX}sample_range"))
+            .ok_or("it has no vkpath.sample_range attribute (not written by vkpath render)")?;
+        let samples = parse_range(range)
+            .ok_or_else(|| format!("its vkpath.sample_range '{range}' is not START..END"))?;
+        let names = [
+            "version",
+            "seed",
+            "integrator",
+            "sampler",
+            "light_sampling",
+            "max_path_length",
+            "russian_roulette_start",
+            "pixel_filter",
+            "resolution",
+            "scene_hash",
+        ];
+        let mut settings = Vec::new();
+        for name in names {
+            let value = attributes
+                .get(&format!("{ATTRIBUTE_PREFIX}{name}"))
+                .ok_or_else(|| format!("it has no vkpath.{name} attribute"))?;
+            settings.push((name.to_string(), value.clone()));
+        }
+        Ok(RenderMetadata { settings, samples })
+    }
+
+    /// The first setting in which `other` differs, as "name: this vs other".
+    pub fn first_difference(&self, other: &RenderMetadata) -> Option<String> {
+        self.settings
+            .iter()
+            .zip(&other.settings)
+            .find(|(a, b)| a != b)
+            .map(|((name, a), (_, b))| format!("{name}: {a} vs {b}"))
+    }
+}
+
+/// "START..END" with START <= END.
+pub fn parse_range(text: &str) -> Option<Range<u32>> {
+    let (start, end) = text.split_once("..")?;
+    let (start, end) = (start.trim().parse().ok()?, end.trim().parse().ok()?);
+    (start <= end).then_some(start..end)
+}
+
+/// A hash of the scene as loaded (every triangle's positions, normal, albedo, emission and
+/// sidedness, in order) and the camera: the first 16 hex digits of a SHA-256 of their
+/// float bits.
+pub fn scene_hash(scene: &Scene, camera: &Camera) -> String {
+    let mut hasher = Sha256::new();
+    let mut add = |values: &[f32]| {
+        for value in values {
+            hasher.update(value.to_bits().to_le_bytes());
+        }
+    };
+    for triangle in &scene.triangles {
+        for position in triangle.positions {
+            add(&position.to_array());
+        }
+        add(&triangle.normal.to_array());
+        add(&triangle.color.to_array());
+        add(&triangle.emission.to_array());
+        add(&[f32::from(u8::from(triangle.double_sided))]);
+    }
+    for vector in [
+        camera.position,
+        camera.image_plane_middle,
+        camera.up,
+        camera.right_per_unit_aspect,
+    ] {
+        add(&vector.to_array());
+    }
+    let digest = hasher.finalize();
+    digest[..8].iter().map(|b| format!("{b:02x}")).collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn attributes_round_trip_and_differences_are_named() {
+        let scene = Scene::builtin_cornell_box().unwrap();
+        let camera = scene.camera.unwrap();
+        let settings = RenderSettings::default();
+        let metadata = RenderMetadata::new(&settings, &scene, &camera, 4..20);
+        let attributes: BTreeMap<String, String> = metadata.attributes().into_iter().collect();
+        assert_eq!(attributes["vkpath.spp"], "16");
+        assert_eq!(attributes["vkpath.sample_range"], "4..20");
+        assert_eq!(
+            RenderMetadata::from_attributes(&attributes),
+            Ok(metadata.clone())
+        );
+        let mut other_settings = settings.clone();
+        other_settings.seed = 7;
+        let other = RenderMetadata::new(&other_settings, &scene, &camera, 0..4);
+        assert_eq!(
+            metadata.first_difference(&other).as_deref(),
+            Some("seed: 0 vs 7")
+        );
+        let mut moved = scene.clone();
+        moved.triangles[0].emission.x += 1.0;
+        assert_ne!(scene_hash(&scene, &camera), scene_hash(&moved, &camera));
+        assert_eq!(parse_range("3..9"), Some(3..9));
+        assert_eq!(parse_range("9..3"), None);
+        assert_eq!(parse_range("x"), None);
+    }
+}
