@@ -10,6 +10,6 @@ pub mod renderer;
 pub mod settings;
 pub mod traversal;
 
-pub use renderer::{RenderOutcome, Renderer};
+pub use renderer::{RenderControl, RenderOutcome, Renderer, StopReason};
 pub use settings::RenderSettings;
 pub use traversal::Traversal;

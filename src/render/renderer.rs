@@ -12,6 +12,7 @@ use crate::camera::Camera;
 use crate::contract;
 use crate::error::{Error, Result};
 use crate::image_io::data::RenderedImage;
+use crate::render::accumulation::Accumulation;
 use crate::render::gpu_scene::GpuScene;
 use crate::render::gpu_types::FramePushConstants;
 use crate::render::settings::RenderSettings;
@@ -39,9 +40,44 @@ pub struct Renderer {
     readback: Buffer,
     // Bound through the descriptor set; kept alive as long as it.
     _scene: GpuScene,
+    /// Index of the first sample of every pixel's sequence that this render takes.
+    first_sample: u32,
     samples_done: u32,
     frames_per_batch: u32,
+    /// Samples each dispatch adds at most: `samples_per_frame`, less when one frame would
+    /// take much longer than a batch should (the result is the same however samples are
+    /// split into dispatches).
+    samples_per_dispatch: u32,
+    /// How long the last batch's frames took each.
+    seconds_per_frame: Option<f64>,
     rays_traced: f64,
+}
+
+/// Why a render stopped.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum StopReason {
+    /// Every sample was taken.
+    Done,
+    /// The time limit was reached.
+    TimeLimit,
+    /// The cancel flag was set (a signal).
+    Cancelled,
+    /// An error stopped it after some samples (`RenderOutcome::failure`).
+    Failed,
+}
+
+/// What may stop a render early, and what to do on the way.
+#[derive(Default)]
+pub struct RenderControl<'a> {
+    /// Stop after the current batch once this is set (e.g. by a signal handler).
+    pub cancel: Option<&'a AtomicBool>,
+    /// Stop once this instant has passed (batches are shortened so as not to overshoot it
+    /// by more than a batch of about 250 ms).
+    pub deadline: Option<Instant>,
+    /// Called with the state every `checkpoint_interval` (not at the end: the caller has the
+    /// final state in the outcome).
+    pub checkpoint: Option<(Duration, &'a mut dyn FnMut(&Accumulation) -> Result<()>)>,
 }
 
 /// How a render that `Renderer::render_to_end` ran ended.
@@ -53,8 +89,10 @@ pub struct RenderOutcome {
     pub samples: u32,
     /// Seconds the frames took (the read-back excluded).
     pub seconds: f64,
-    /// Whether the cancel flag stopped it before all samples were taken.
-    pub cancelled: bool,
+    /// The raw state (for a checkpoint or a shard).
+    pub state: Accumulation,
+    /// Why it stopped.
+    pub stop: StopReason,
     /// The error that stopped it after some samples were taken (they are in `image`).
     pub failure: Option<Error>,
 }
@@ -155,6 +193,7 @@ impl Renderer {
         gpu_scene.write(&descriptors);
         descriptors.write_storage_image(contract::BINDING_ACCUMULATION, &accumulation);
         commands.run(|recorder| recorder.clear_storage_image(&accumulation))?;
+        let settings_samples_per_frame = settings.samples_per_frame;
         Ok(Renderer {
             context: context.clone(),
             settings,
@@ -164,8 +203,11 @@ impl Renderer {
             accumulation,
             readback,
             _scene: gpu_scene,
+            first_sample: 0,
             samples_done: 0,
             frames_per_batch: 1,
+            samples_per_dispatch: settings_samples_per_frame,
+            seconds_per_frame: None,
             rays_traced: 0.0,
         })
     }
@@ -185,6 +227,75 @@ impl Renderer {
         self.samples_done
     }
 
+    /// Makes the render take samples `first..first + spp` of every pixel's sequence instead
+    /// of `0..spp` (a shard of a larger render: the same samples that render would take).
+    /// Only before the first frame.
+    pub fn start_at_sample(&mut self, first: u32) -> Result<()> {
+        if self.samples_done > 0 {
+            return Err(Error::InvalidSettings(
+                "the first sample can only be chosen before rendering".into(),
+            ));
+        }
+        first.checked_add(self.settings.spp).ok_or_else(|| {
+            Error::InvalidSettings(format!("samples {first}.. past 2^32 do not exist"))
+        })?;
+        self.first_sample = first;
+        Ok(())
+    }
+
+    /// The samples of every pixel's sequence taken so far.
+    pub fn samples_taken(&self) -> std::ops::Range<u32> {
+        self.first_sample..self.first_sample + self.samples_done
+    }
+
+    /// Reads the raw accumulation state back (for a checkpoint or a shard), and updates
+    /// `rays_traced`.
+    pub fn accumulation(&mut self) -> Result<Accumulation> {
+        let texels = self.read_texels()?;
+        let state = Accumulation {
+            width: self.settings.width,
+            height: self.settings.height,
+            texels,
+            samples: self.samples_taken(),
+        };
+        self.rays_traced = state.rays_traced();
+        Ok(state)
+    }
+
+    /// Continues a render from its saved state: uploads it and goes on with the next
+    /// sample, so that the result is bit for bit what an uninterrupted render gives. The
+    /// state must be of this render's size and start where this render starts.
+    pub fn resume(&mut self, state: &Accumulation) -> Result<()> {
+        if (state.width, state.height) != (self.settings.width, self.settings.height) {
+            return Err(Error::InvalidSettings(format!(
+                "the saved state is {}x{}, the render {}x{}",
+                state.width, state.height, self.settings.width, self.settings.height
+            )));
+        }
+        if state.samples.start != self.first_sample
+            || state.samples.len() as u32 > self.settings.spp
+        {
+            return Err(Error::InvalidSettings(format!(
+                "the saved state holds samples {}..{}, the render takes {}..{}",
+                state.samples.start,
+                state.samples.end,
+                self.first_sample,
+                self.first_sample + self.settings.spp
+            )));
+        }
+        let upload = Buffer::with_data(
+            &self.context,
+            "saved state",
+            &state.texels,
+            vk::BufferUsageFlags::TRANSFER_SRC,
+        )?;
+        let image = &self.accumulation;
+        self.commands
+            .run(|recorder| recorder.copy_buffer_to_image(&upload, image))?;
+        self.samples_done = state.samples.len() as u32;
+        Ok(())
+    }
+
     /// Rays traced so far (camera, path and shadow rays), as of the last `read_back()`.
     pub fn rays_traced(&self) -> f64 {
         self.rays_traced
@@ -198,41 +309,66 @@ impl Renderer {
     /// Runs one frame: adds up to `samples_per_frame` samples to every pixel. Returns the
     /// samples per pixel accumulated so far.
     pub fn render_frame(&mut self) -> Result<u32> {
-        self.render_frames(1)
+        self.render_frames(1)?;
+        Ok(self.samples_done)
     }
 
     /// Runs one submission of as many frames as keep it near 250 ms (measured on the
     /// previous submission), and returns the samples per pixel accumulated so far. Call it
     /// until `is_complete()`; report progress between calls.
     pub fn render_batch(&mut self) -> Result<u32> {
-        let started = Instant::now();
-        let frames = self.frames_per_batch;
-        self.render_frames(frames)?;
-        let per_frame = started.elapsed().as_secs_f64() / f64::from(frames);
-        let wanted = (TARGET_BATCH_DURATION.as_secs_f64() / per_frame.max(1e-6)) as u32;
-        // Grow at most 4x at a time so one fast outlier cannot make a batch take seconds.
-        self.frames_per_batch = wanted.clamp(1, (frames * 4).min(MAX_FRAMES_PER_BATCH));
-        Ok(self.samples_done)
+        self.render_batch_within(None)
     }
 
-    /// Records `frames` frames into one submission and waits for them.
-    fn render_frames(&mut self, frames: u32) -> Result<u32> {
-        let spf = self.settings.samples_per_frame;
-        let remaining_frames = (self.settings.spp - self.samples_done).div_ceil(spf);
-        let frames = frames.min(remaining_frames);
+    /// `render_batch`, with fewer frames than usual when `budget` would not cover them.
+    fn render_batch_within(&mut self, budget: Option<Duration>) -> Result<u32> {
+        let started = Instant::now();
+        let mut frames = self.frames_per_batch;
+        if let (Some(budget), Some(per_frame)) = (budget, self.seconds_per_frame) {
+            frames = frames.min(((budget.as_secs_f64() / per_frame) as u32).max(1));
+        }
+        let frames = self.render_frames(frames)?;
         if frames == 0 {
             return Ok(self.samples_done);
         }
-        let first = self.samples_done;
-        let sample_end = self.settings.spp;
+        let per_frame = started.elapsed().as_secs_f64() / f64::from(frames);
+        self.seconds_per_frame = Some(per_frame);
+        let target = TARGET_BATCH_DURATION.as_secs_f64();
+        let wanted = (target / per_frame.max(1e-6)) as u32;
+        // Grow at most 4x at a time so one fast outlier cannot make a batch take seconds.
+        self.frames_per_batch = wanted.clamp(1, (frames * 4).min(MAX_FRAMES_PER_BATCH));
+        // A single frame much longer than a batch should be takes fewer samples next time,
+        // so that stopping (a signal, a time limit) waits for at most about a batch.
+        if per_frame > 2.0 * target && self.samples_per_dispatch > 1 {
+            let old_step = self.samples_per_dispatch;
+            let scaled = f64::from(old_step) * target / per_frame;
+            self.samples_per_dispatch = (scaled as u32).clamp(1, old_step - 1);
+            self.seconds_per_frame =
+                Some(per_frame * f64::from(self.samples_per_dispatch) / f64::from(old_step));
+        }
+        Ok(self.samples_done)
+    }
+
+    /// Records up to `frames` frames into one submission and waits for them; returns how
+    /// many were recorded.
+    fn render_frames(&mut self, frames: u32) -> Result<u32> {
+        let step = self.samples_per_dispatch;
+        let remaining_frames = (self.settings.spp - self.samples_done).div_ceil(step);
+        let frames = frames.min(remaining_frames);
+        if frames == 0 {
+            return Ok(0);
+        }
+        let first = self.first_sample + self.samples_done;
+        let end = self.first_sample + self.settings.spp;
         let extent = [self.settings.width, self.settings.height, 1];
         let (pipeline, descriptors) = (&self.pipeline, &self.descriptors);
         self.commands.run(|recorder| {
             recorder.bind(pipeline, descriptors);
             for frame in 0..frames {
+                let frame_first = first + frame * step;
                 let constants = FramePushConstants {
-                    first_sample_index: first + frame * spf,
-                    sample_end,
+                    first_sample_index: frame_first,
+                    sample_end: (frame_first + step).min(end),
                 };
                 recorder.push_constants(pipeline, &constants);
                 recorder.dispatch(pipeline, extent);
@@ -240,28 +376,14 @@ impl Renderer {
                 recorder.compute_barrier();
             }
         })?;
-        self.samples_done = (first + frames * spf).min(sample_end);
-        Ok(self.samples_done)
+        self.samples_done = (first + frames * step).min(end) - self.first_sample;
+        Ok(frames)
     }
 
     /// Copies the accumulation image back and returns the per-pixel mean, second moment and
     /// sample count. Can be called at any time (e.g. to save a partial render).
     pub fn read_back(&mut self) -> Result<RenderedImage> {
-        let (image, readback) = (&self.accumulation, &self.readback);
-        self.commands
-            .run(|recorder| recorder.copy_image_to_buffer(image, readback))?;
-        let texels: Vec<[f32; 4]> = self.readback.read();
-        let pixels = (self.settings.width * self.settings.height) as usize;
-        let compensation_layer = contract::LAYER_COMPENSATION as usize * pixels;
-        self.rays_traced = texels[compensation_layer..compensation_layer + pixels]
-            .iter()
-            .map(|texel| f64::from(texel[3]))
-            .sum();
-        Ok(RenderedImage::from_accumulation(
-            self.settings.width,
-            self.settings.height,
-            &texels,
-        ))
+        Ok(self.accumulation()?.image())
     }
 
     /// Renders until every sample is taken or `cancel` is set, one batch at a time, calling
@@ -270,28 +392,67 @@ impl Renderer {
     /// (`RenderOutcome::failure`); an error before any is returned.
     pub fn render_to_end(
         &mut self,
-        mut progress: impl FnMut(u32),
+        progress: impl FnMut(u32),
         cancel: Option<&AtomicBool>,
     ) -> Result<RenderOutcome> {
+        self.render_with(
+            progress,
+            RenderControl {
+                cancel,
+                ..RenderControl::default()
+            },
+        )
+    }
+
+    /// `render_to_end` with every control: a cancel flag, a deadline, periodic
+    /// checkpoints.
+    pub fn render_with(
+        &mut self,
+        mut progress: impl FnMut(u32),
+        mut control: RenderControl,
+    ) -> Result<RenderOutcome> {
         let started = Instant::now();
+        let mut last_checkpoint = Instant::now();
         let mut failure = None;
-        let cancelled = || cancel.is_some_and(|flag| flag.load(Ordering::SeqCst));
-        while !self.is_complete() && !cancelled() {
-            match self.render_batch() {
+        let stop = loop {
+            if self.is_complete() {
+                break StopReason::Done;
+            }
+            if control
+                .cancel
+                .is_some_and(|flag| flag.load(Ordering::SeqCst))
+            {
+                break StopReason::Cancelled;
+            }
+            let budget = control
+                .deadline
+                .map(|d| d.saturating_duration_since(Instant::now()));
+            if budget == Some(Duration::ZERO) {
+                break StopReason::TimeLimit;
+            }
+            match self.render_batch_within(budget) {
                 Ok(done) => progress(done),
                 Err(error) if self.samples_done == 0 => return Err(error),
                 Err(error) => {
                     failure = Some(error);
-                    break;
+                    break StopReason::Failed;
                 }
             }
-        }
+            if let Some((interval, checkpoint)) = control.checkpoint.as_mut() {
+                if last_checkpoint.elapsed() >= *interval && !self.is_complete() {
+                    checkpoint(&self.accumulation()?)?;
+                    last_checkpoint = Instant::now();
+                }
+            }
+        };
         let seconds = started.elapsed().as_secs_f64();
+        let state = self.accumulation()?;
         Ok(RenderOutcome {
-            image: self.read_back()?,
+            image: state.image(),
             samples: self.samples_done,
             seconds,
-            cancelled: !self.is_complete() && failure.is_none(),
+            stop,
+            state,
             failure,
         })
     }
@@ -299,6 +460,16 @@ impl Renderer {
     /// Renders every remaining sample and reads the image back; any error is returned.
     pub fn render_all(&mut self) -> Result<RenderedImage> {
         Ok(self.render_to_end(|_| {}, None)?.finished()?.image)
+    }
+}
+
+impl Renderer {
+    /// Copies the accumulation image back: every layer, texel by texel.
+    fn read_texels(&mut self) -> Result<Vec<[f32; 4]>> {
+        let (image, readback) = (&self.accumulation, &self.readback);
+        self.commands
+            .run(|recorder| recorder.copy_image_to_buffer(image, readback))?;
+        Ok(self.readback.read())
     }
 }
 

@@ -291,6 +291,46 @@ impl Recorder<'_> {
         self.host_read_barrier();
     }
 
+    /// Copies `buffer` (every layer of the image, layer after layer, as
+    /// `copy_image_to_buffer` writes them) into a storage image in GENERAL and leaves it in
+    /// GENERAL, visible to later compute shaders.
+    pub fn copy_buffer_to_image(&mut self, buffer: &Buffer, image: &StorageImage) {
+        let general = (
+            vk::ImageLayout::GENERAL,
+            vk::AccessFlags::SHADER_READ | vk::AccessFlags::SHADER_WRITE,
+            vk::PipelineStageFlags::COMPUTE_SHADER,
+        );
+        let destination = (
+            vk::ImageLayout::TRANSFER_DST_OPTIMAL,
+            vk::AccessFlags::TRANSFER_WRITE,
+            vk::PipelineStageFlags::TRANSFER,
+        );
+        self.set_layout(image, general, destination);
+        let region = vk::BufferImageCopy::default()
+            .image_subresource(
+                vk::ImageSubresourceLayers::default()
+                    .aspect_mask(vk::ImageAspectFlags::COLOR)
+                    .layer_count(image.layers),
+            )
+            .image_extent(vk::Extent3D {
+                width: image.width,
+                height: image.height,
+                depth: 1,
+            });
+        // SAFETY: the image is in TRANSFER_DST_OPTIMAL; callers size the buffer with
+        // StorageImage::byte_size().
+        unsafe {
+            self.device.cmd_copy_buffer_to_image(
+                self.command_buffer,
+                buffer.handle,
+                image.handle,
+                vk::ImageLayout::TRANSFER_DST_OPTIMAL,
+                &[region],
+            );
+        }
+        self.set_layout(image, destination, general);
+    }
+
     /// Records a barrier that moves all layers of `image` from one use to another.
     fn set_layout(&mut self, image: &StorageImage, from: LayoutUse, to: LayoutUse) {
         let barrier = vk::ImageMemoryBarrier::default()
