@@ -19,6 +19,91 @@ pub enum SceneError {
         /// Why it could not be read.
         error: std::io::Error,
     },
+    /// The path is not a regular file (a directory, a named pipe, a device).
+    #[error("cannot read scene '{}': it is {kind}, not a file", path.display())]
+    NotAFile {
+        /// The path as given.
+        path: PathBuf,
+        /// What it is instead, in words.
+        kind: &'static str,
+    },
+    /// The file is larger than vkpath reads.
+    #[error(
+        "cannot read '{}': it has {bytes} bytes, more than the {limit} vkpath reads from one file",
+        path.display()
+    )]
+    TooLarge {
+        /// The file.
+        path: PathBuf,
+        /// Its size (or the size it claims).
+        bytes: u64,
+        /// The bound.
+        limit: u64,
+    },
+    /// A `.gltf`/`.glb` file that is neither JSON glTF nor GLB.
+    #[error("'{}' is neither a JSON glTF file nor a GLB file: {what}", path.display())]
+    NotGltf {
+        /// The file.
+        path: PathBuf,
+        /// What it seems to be instead.
+        what: String,
+    },
+    /// The glTF file requires extensions vkpath does not implement.
+    #[error(
+        "glTF '{}' requires the extension{} {}, which vkpath does not support",
+        path.display(),
+        if extensions.len() == 1 { "" } else { "s" },
+        extensions.join(", ")
+    )]
+    RequiredExtension {
+        /// The file.
+        path: PathBuf,
+        /// The unsupported extensions it lists in `extensionsRequired`.
+        extensions: Vec<String>,
+    },
+    /// A file that the scene refers to (a buffer) is missing or unreadable.
+    #[error(
+        "glTF '{}': cannot read its buffer {buffer} '{}': {}",
+        path.display(),
+        file.display(),
+        io_message(error)
+    )]
+    MissingBuffer {
+        /// The scene file.
+        path: PathBuf,
+        /// The buffer's index or name.
+        buffer: String,
+        /// The file it looked for.
+        file: PathBuf,
+        /// Why it could not be read.
+        error: std::io::Error,
+    },
+    /// The scene refers to a file outside its folder.
+    #[error(
+        "glTF '{}' refers to '{reference}', outside its folder; pass --allow-external-paths to allow that",
+        path.display()
+    )]
+    ExternalPath {
+        /// The scene file.
+        path: PathBuf,
+        /// The reference as written (decoded).
+        reference: String,
+    },
+    /// A material emits more than 32-bit floats can carry through a render.
+    #[error(
+        "scene '{}': mesh '{mesh}' emits {emission}, beyond the {limit:e} that 32-bit floats carry through a render",
+        path.display()
+    )]
+    EmissionTooLarge {
+        /// The scene file.
+        path: PathBuf,
+        /// The mesh or object.
+        mesh: String,
+        /// The largest emission component.
+        emission: f32,
+        /// The bound.
+        limit: f32,
+    },
     /// The file's extension names no format we can load.
     #[error(
         "cannot load scene '{}': unsupported file extension{} (expected .gltf, .glb or .obj)",
@@ -56,26 +141,14 @@ pub enum SceneError {
         /// The `tobj` crate's error.
         error: tobj::LoadError,
     },
-    /// A glTF primitive draws points or lines, which have no area to render.
-    #[error(
-        "scene '{}': mesh '{mesh}' primitive {primitive} is {mode}; only triangles are supported",
-        path.display()
-    )]
-    UnsupportedPrimitive {
-        /// The scene file as given.
-        path: PathBuf,
-        /// The mesh's name, or `#index` when it has none.
-        mesh: String,
-        /// The primitive's index within the mesh.
-        primitive: usize,
-        /// The primitive's mode as glTF spells it in the `gltf` crate (`Lines`, `Points`, ...).
-        mode: String,
-    },
-    /// After loading (and dropping degenerate triangles) nothing is left to render.
-    #[error("scene '{}' contains no triangles", path.display())]
+    /// After loading (dropping degenerate triangles, skipping points and lines) nothing is
+    /// left to render.
+    #[error("scene '{}' contains no triangles{details}", path.display())]
     NoTriangles {
         /// The scene file as given.
         path: PathBuf,
+        /// What was dropped or skipped, in parentheses (empty when nothing was).
+        details: String,
     },
     /// The scene's camera is orthographic; the workshop's camera is a pinhole.
     #[error(

@@ -8,6 +8,7 @@
 //! accessor types and extents, and camera types.
 
 use std::collections::HashSet;
+use std::io::Read as _;
 use std::path::Path;
 
 use glam::{Mat4, Vec3};
@@ -17,26 +18,34 @@ use gltf::json::validation::{Checked, Validate};
 use gltf::mesh::Mode;
 use gltf::{Document, Gltf, Node};
 
+use super::files::{read_bounded, resolve_reference, LoadOptions, MAX_SCENE_FILE_BYTES};
 use super::{Material, Scene, SceneBuilder, SceneError};
 use crate::camera::Camera;
+
+/// The glTF extensions whose meaning vkpath implements (a file that requires others is
+/// refused with their names).
+pub const SUPPORTED_EXTENSIONS: [&str; 1] = ["KHR_materials_emissive_strength"];
 
 /// Loads a glTF 2.0 file (JSON or binary), resolving external buffers relative to its
 /// directory. Textures are ignored with a warning per material.
 pub fn load_gltf(path: &Path) -> Result<Scene, SceneError> {
-    let bytes = std::fs::read(path).map_err(|error| SceneError::Read {
-        path: path.to_owned(),
-        error,
-    })?;
+    load_gltf_with(path, &LoadOptions::default())
+}
+
+/// `load_gltf` with options: whether buffers outside the file's folder may be read.
+pub fn load_gltf_with(path: &Path, options: &LoadOptions) -> Result<Scene, SceneError> {
+    let bytes = read_bounded(path, MAX_SCENE_FILE_BYTES)?;
     let gltf_error = |error| SceneError::Gltf {
         path: path.to_owned(),
         error,
     };
+    check_format(path, &bytes)?;
     check_glb_header(path, &bytes)?;
     let Gltf { document, blob } =
         Gltf::from_slice_without_validation(&bytes).map_err(gltf_error)?;
+    check_required_extensions(path, &document)?;
     validate(path, &document)?;
-    let base = path.parent().unwrap_or(Path::new(""));
-    let buffers = gltf::import_buffers(&document, Some(base), blob).map_err(gltf_error)?;
+    let buffers = load_buffers(path, &document, blob, options)?;
 
     let mut loader = Loader {
         document: &document,
@@ -57,19 +66,204 @@ pub fn load_gltf(path: &Path) -> Result<Scene, SceneError> {
     loader.builder.finish()
 }
 
-/// The `gltf` crate computes `length - 12` from a GLB header unchecked; reject lengths that
-/// would underflow.
+/// Refuses a file that is neither a GLB (magic `glTF`) nor JSON (`{` after whitespace),
+/// saying what it seems to be.
+fn check_format(path: &Path, bytes: &[u8]) -> Result<(), SceneError> {
+    let text = bytes.strip_prefix(b"\xef\xbb\xbf").unwrap_or(bytes);
+    let first = text.iter().position(|b| !b.is_ascii_whitespace());
+    if bytes.starts_with(b"glTF") || first.is_some_and(|i| text[i] == b'{') {
+        return Ok(());
+    }
+    let start = &text[first.unwrap_or(0)..];
+    let what = if start.is_empty() {
+        "it is empty".to_string()
+    } else if start.starts_with(b"<") {
+        "it looks like HTML or XML (a web page saved instead of the file?)".to_string()
+    } else if start.starts_with(b"\x89PNG") {
+        "it is a PNG image".to_string()
+    } else if start.starts_with(&[0xff, 0xd8, 0xff]) {
+        "it is a JPEG image".to_string()
+    } else if start.starts_with(b"PK\x03\x04") {
+        "it is a ZIP archive (unpack it first)".to_string()
+    } else {
+        let head: Vec<String> = start.iter().take(8).map(|b| format!("{b:02x}")).collect();
+        format!("it starts with the bytes {}", head.join(" "))
+    };
+    Err(SceneError::NotGltf {
+        path: path.to_owned(),
+        what,
+    })
+}
+
+/// Checks a GLB header against the file before anything is read from it: the declared total
+/// length (the `gltf` crate computes `length - 12` unchecked) and each chunk's length must
+/// fit in the file, so that a header claiming gigabytes is refused at once.
 fn check_glb_header(path: &Path, bytes: &[u8]) -> Result<(), SceneError> {
-    if let [b'g', b'l', b'T', b'F', _, _, _, _, l0, l1, l2, l3, ..] = *bytes {
-        let length = u32::from_le_bytes([l0, l1, l2, l3]);
-        if length < 12 {
+    if !bytes.starts_with(b"glTF") {
+        return Ok(());
+    }
+    let word = |at: usize| -> Option<u64> {
+        bytes
+            .get(at..at + 4)
+            .map(|w| u64::from(u32::from_le_bytes([w[0], w[1], w[2], w[3]])))
+    };
+    let Some(length) = word(8) else {
+        return Err(malformed(path, "GLB header is cut off".into()));
+    };
+    if length < 12 {
+        return Err(malformed(
+            path,
+            format!("GLB header declares {length} bytes, fewer than the header's own 12"),
+        ));
+    }
+    if length > bytes.len() as u64 {
+        return Err(malformed(
+            path,
+            format!(
+                "GLB header declares {length} bytes, but the file has {}",
+                bytes.len()
+            ),
+        ));
+    }
+    let mut at = 12u64;
+    while at + 8 <= length {
+        let chunk = word(at as usize).unwrap_or(0);
+        if at + 8 + chunk > length {
             return Err(malformed(
                 path,
-                format!("GLB header declares {length} bytes, fewer than the header's own 12"),
+                format!(
+                    "GLB chunk at byte {at} declares {chunk} bytes, beyond the {length} the file declares"
+                ),
             ));
         }
+        at += 8 + chunk;
     }
     Ok(())
+}
+
+/// Refuses a file whose `extensionsRequired` lists extensions vkpath does not implement,
+/// naming them (a file that needs Draco compression is not "malformed").
+fn check_required_extensions(path: &Path, document: &Document) -> Result<(), SceneError> {
+    let unsupported: Vec<String> = document
+        .extensions_required()
+        .filter(|e| !SUPPORTED_EXTENSIONS.contains(e))
+        .map(str::to_owned)
+        .collect();
+    if unsupported.is_empty() {
+        Ok(())
+    } else {
+        Err(SceneError::RequiredExtension {
+            path: path.to_owned(),
+            extensions: unsupported,
+        })
+    }
+}
+
+/// Every buffer's bytes: the GLB's binary chunk, a base64 data URI, or a file relative to
+/// the glTF's folder (others only with `allow_external_paths`), of which at most its
+/// `byteLength` bytes are read; fewer than `byteLength` is an error.
+fn load_buffers(
+    path: &Path,
+    document: &Document,
+    mut blob: Option<Vec<u8>>,
+    options: &LoadOptions,
+) -> Result<Vec<gltf::buffer::Data>, SceneError> {
+    let mut buffers = Vec::new();
+    for buffer in document.buffers() {
+        let name = label(buffer.name(), buffer.index());
+        let length = buffer.length() as u64;
+        if length > MAX_SCENE_FILE_BYTES {
+            return Err(SceneError::TooLarge {
+                path: path.to_owned(),
+                bytes: length,
+                limit: MAX_SCENE_FILE_BYTES,
+            });
+        }
+        let mut data = match buffer.source() {
+            gltf::buffer::Source::Bin => blob.take().ok_or_else(|| {
+                malformed(
+                    path,
+                    format!("buffer '{name}' refers to a GLB binary chunk that is missing"),
+                )
+            })?,
+            gltf::buffer::Source::Uri(uri) => read_uri(path, &name, uri, length, options)?,
+        };
+        if (data.len() as u64) < length {
+            return Err(malformed(
+                path,
+                format!(
+                    "buffer '{name}' has {} bytes, fewer than its byteLength {length}",
+                    data.len()
+                ),
+            ));
+        }
+        // As the gltf crate does: the reader expects 4-byte alignment.
+        while data.len() % 4 != 0 {
+            data.push(0);
+        }
+        buffers.push(gltf::buffer::Data(data));
+    }
+    Ok(buffers)
+}
+
+/// The bytes a buffer URI names, at most `length` of them.
+fn read_uri(
+    path: &Path,
+    name: &str,
+    uri: &str,
+    length: u64,
+    options: &LoadOptions,
+) -> Result<Vec<u8>, SceneError> {
+    if let Some(rest) = uri.strip_prefix("data:") {
+        let (_, encoded) = rest.split_once(";base64,").ok_or_else(|| {
+            malformed(
+                path,
+                format!("buffer '{name}' has a data URI that is not base64"),
+            )
+        })?;
+        return base64::decode(encoded)
+            .map_err(|e| malformed(path, format!("buffer '{name}': bad base64 data: {e}")));
+    }
+    let file_name = if let Some(rest) = uri
+        .strip_prefix("file://")
+        .or_else(|| uri.strip_prefix("file:"))
+    {
+        rest
+    } else if uri.split_once(':').is_some_and(|(scheme, _)| {
+        scheme.len() > 1
+            && scheme
+                .chars()
+                .all(|c| c.is_ascii_alphanumeric() || "+-.".contains(c))
+    }) {
+        return Err(malformed(
+            path,
+            format!("buffer '{name}' is at '{uri}'; vkpath reads local files only"),
+        ));
+    } else {
+        uri
+    };
+    let decoded = urlencoding::decode(file_name).map_err(|_| {
+        malformed(
+            path,
+            format!("buffer '{name}': its URI is not valid UTF-8 when decoded"),
+        )
+    })?;
+    let file = resolve_reference(path, &decoded, options)?;
+    let missing = |error| SceneError::MissingBuffer {
+        path: path.to_owned(),
+        buffer: format!("'{name}'"),
+        file: file.clone(),
+        error,
+    };
+    let metadata = std::fs::metadata(&file).map_err(missing)?;
+    if !metadata.is_file() {
+        return Err(missing(std::io::Error::other("it is not a regular file")));
+    }
+    let mut bytes = Vec::new();
+    std::io::Read::take(std::fs::File::open(&file).map_err(missing)?, length)
+        .read_to_end(&mut bytes)
+        .map_err(missing)?;
+    Ok(bytes)
 }
 
 /// The `gltf` crate's validation, preceded by the one check its validation needs but does
@@ -201,12 +395,11 @@ impl Loader<'_> {
                 mode,
                 Mode::Triangles | Mode::TriangleStrip | Mode::TriangleFan
             ) {
-                return Err(SceneError::UnsupportedPrimitive {
-                    path: self.builder.path().to_owned(),
-                    mesh: name,
-                    primitive: primitive_index,
-                    mode: format!("{mode:?}"),
-                });
+                // Points and lines have no area to render: skipped, with a word.
+                self.builder.warn(format!(
+                    "mesh '{name}' primitive {primitive_index} is {mode:?}, skipped (only triangles are rendered)"
+                ));
+                continue;
             }
             let context = format!("mesh '{name}' primitive {primitive_index}");
             let (positions, indices) = self.read_geometry(&primitive, &context)?;

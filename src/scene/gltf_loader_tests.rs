@@ -291,7 +291,7 @@ fn malformed_json_is_an_error() {
 }
 
 #[test]
-fn lines_are_an_error_naming_the_mesh() {
+fn lines_alone_leave_no_triangles_and_say_why() {
     let mut buffer = TestBuffer::default();
     let positions = buffer.positions(&[[0.0, 0.0, 0.0], [1.0, 0.0, 0.0]]);
     let text = single_primitive(
@@ -300,7 +300,9 @@ fn lines_are_an_error_naming_the_mesh() {
     );
     let message = error_of(&text);
     assert!(
-        message.ends_with(": mesh 'm' primitive 0 is Lines; only triangles are supported"),
+        message.ends_with(
+            "contains no triangles (mesh 'm' primitive 0 is Lines, skipped (only triangles are rendered))"
+        ),
         "{message}"
     );
 }
@@ -455,10 +457,7 @@ fn emissive_quad_fixture_is_a_lit_box_with_a_camera() {
 #[test]
 fn lines_fixture_is_refused() {
     let error = Scene::load(&fixture("lines.gltf")).unwrap_err();
-    assert!(
-        matches!(error, SceneError::UnsupportedPrimitive { .. }),
-        "{error}"
-    );
+    assert!(matches!(error, SceneError::NoTriangles { .. }), "{error}");
 }
 
 #[test]

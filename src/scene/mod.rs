@@ -11,6 +11,7 @@ use crate::render::gpu_types::GpuTriangle;
 pub mod cornell;
 mod error;
 pub mod export;
+pub mod files;
 pub mod gltf_loader;
 pub mod lights;
 pub mod meshes;
@@ -55,13 +56,17 @@ impl Triangle {
         double_sided: bool,
     ) -> Option<Triangle> {
         let normal = (positions[1] - positions[0]).cross(positions[2] - positions[0]);
-        let length = normal.length();
-        if !(length > 0.0) || !length.is_finite() {
+        // Scale by the largest component before normalizing: the squared length of the
+        // cross product of a triangle 1e10 wide overflows f32, that of one 1e-12 across
+        // underflows, and both have a perfectly good normal.
+        let largest = normal.abs().max_element();
+        if !(largest > 0.0) || !largest.is_finite() {
             return None;
         }
+        let scaled = normal / largest;
         Some(Triangle {
             positions,
-            normal: normal / length,
+            normal: scaled / scaled.length(),
             color,
             emission,
             double_sided,
@@ -78,15 +83,27 @@ impl Scene {
     /// Loads a scene file, choosing the loader by the extension (case-insensitive): `.gltf`
     /// and `.glb` (glTF 2.0), `.obj` (Wavefront OBJ with its MTL libraries).
     pub fn load(path: &Path) -> Result<Scene, SceneError> {
+        Scene::load_with(path, &files::LoadOptions::default())
+    }
+
+    /// `load` with options (whether a glTF file may read buffers outside its folder).
+    pub fn load_with(path: &Path, options: &files::LoadOptions) -> Result<Scene, SceneError> {
         let extension = path.extension().map(|e| e.to_string_lossy().to_lowercase());
         match extension.as_deref() {
-            Some("gltf") | Some("glb") => gltf_loader::load_gltf(path),
+            Some("gltf") | Some("glb") => gltf_loader::load_gltf_with(path, options),
             Some("obj") => obj_loader::load_obj(path),
             _ => Err(SceneError::UnsupportedExtension {
                 path: path.to_owned(),
                 extension,
             }),
         }
+    }
+
+    /// Whether any triangle emits light (a scene where none does renders black).
+    pub fn emits_light(&self) -> bool {
+        self.triangles
+            .iter()
+            .any(|t| t.emission.max_element() > 0.0)
     }
 
     /// The workshop's Cornell box with its camera (`scenes/workshop_cornell_box.json`,
@@ -129,6 +146,11 @@ impl Material {
     }
 }
 
+/// The largest emitted radiance vkpath renders (1e30): a path multiplies it by throughputs
+/// of up to about 2^path length, and a pixel adds up to 2^16 and more samples, which must
+/// stay below f32's 3.4e38 instead of becoming infinite (and NaN) in the shader.
+pub const MAX_EMISSION: f32 = 1e30;
+
 /// Collects a loader's triangles: rejects non-finite positions, drops (and counts) degenerate
 /// triangles, and refuses an empty result, the same way for every file format.
 pub(crate) struct SceneBuilder {
@@ -166,6 +188,15 @@ impl SceneBuilder {
                 mesh: mesh.to_owned(),
             });
         }
+        let emission = material.emission.max_element();
+        if emission > MAX_EMISSION {
+            return Err(SceneError::EmissionTooLarge {
+                path: self.path.clone(),
+                mesh: mesh.to_owned(),
+                emission,
+                limit: MAX_EMISSION,
+            });
+        }
         match Triangle::new(
             positions,
             material.color,
@@ -200,7 +231,15 @@ impl SceneBuilder {
             self.scene.warnings.push(warning);
         }
         if self.scene.triangles.is_empty() {
-            return Err(SceneError::NoTriangles { path: self.path });
+            let details = if self.scene.warnings.is_empty() {
+                String::new()
+            } else {
+                format!(" ({})", self.scene.warnings.join("; "))
+            };
+            return Err(SceneError::NoTriangles {
+                path: self.path,
+                details,
+            });
         }
         Ok(self.scene)
     }

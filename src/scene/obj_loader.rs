@@ -17,10 +17,7 @@ pub const DEFAULT_ALBEDO: f32 = 0.8;
 /// A missing library is a warning, not an error: its materials fall back to
 /// [`DEFAULT_ALBEDO`] and no emission. Texture maps are ignored with a warning.
 pub fn load_obj(path: &Path) -> Result<Scene, SceneError> {
-    let bytes = std::fs::read(path).map_err(|error| SceneError::Read {
-        path: path.to_owned(),
-        error,
-    })?;
+    let bytes = super::files::read_bounded(path, super::files::MAX_SCENE_FILE_BYTES)?;
     let directory = path.parent().unwrap_or(Path::new(""));
     // tobj keeps only one library error (and only when no library loaded at all), so we
     // record every failing library ourselves.
@@ -34,7 +31,17 @@ pub fn load_obj(path: &Path) -> Result<Scene, SceneError> {
     };
     let (models, materials) = tobj::load_obj_buf(&mut bytes.as_slice(), &options, |library| {
         let library_path = directory.join(library);
-        let result = tobj::load_mtl(&library_path);
+        // Material libraries are read like the OBJ itself: regular files inside its folder,
+        // of bounded size; any other is reported as a library that cannot be opened.
+        let result = super::files::resolve_reference(
+            path,
+            &library.to_string_lossy(),
+            &super::files::LoadOptions::default(),
+        )
+        .ok()
+        .and_then(|file| super::files::read_bounded(&file, super::files::MAX_SCENE_FILE_BYTES).ok())
+        .ok_or(tobj::LoadError::OpenFileFailed)
+        .and_then(|text| tobj::load_mtl_buf(&mut text.as_slice()));
         if let Err(error) = &result {
             failed_libraries.borrow_mut().push((library_path, *error));
         }
