@@ -126,7 +126,7 @@ bool ray_mesh_intersection(out float out_t, out triangle_t out_triangle, vec3 ra
     uint hit_index;
     bool hit = bvh_closest_hit(out_t, hit_index, ray_origin, ray_direction);
 #else
-    out_t = 1.0e38;
+    out_t = NO_HIT_T;
     uint hit_index = 0u;
     bool hit = false;
     if (CONSTANT_TRIANGLE_COUNT != 0u) {

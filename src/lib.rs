@@ -4,11 +4,7 @@
 
 use shaderc_link as _;
 
-pub mod contract {
-    //! Binding indices, workgroup size, specialization-constant ids and enumerations shared
-    //! with the shaders, generated from `glsl/shared.h` by `build.rs`.
-    include!(concat!(env!("OUT_DIR"), "/contract.rs"));
-}
+pub mod contract;
 
 pub mod shaders {
     //! The embedded SPIR-V of every kernel in `glsl/`, and the GLSL sources themselves.
