@@ -31,8 +31,8 @@
 #define BINDING_RENDER_UNIFORMS 1
 // The accumulation image (an rgba32f 2D array image with the LAYER_* layers).
 #define BINDING_ACCUMULATION 2
-// Emissive triangles and their power CDF, for light sampling (nee, mis): a texel buffer
-// (glsl/importance_sampling.glsl).
+// Emissive triangles and their power CDF, for light sampling (nee, mis): a texel buffer of
+// GpuLightHeader then one GpuLight per light (glsl/importance_sampling.glsl).
 #define BINDING_LIGHTS 4
 
 // ---- Layers of the accumulation image ----
