@@ -119,31 +119,71 @@ fn main() {
     .expect("OUT_DIR is writable");
 }
 
-/// Rust constants for every `#define NAME <integer>` line of the shared header.
+/// Rust constants for every `#define NAME <value>` line of the shared header: a `u32` for a
+/// plain decimal integer, an `f32` with the literal as written for a float literal. The
+/// comment lines right above a define become its doc comment. Any other value fails the
+/// build, so that nothing in the header is silently left out of the contract.
 fn contract_constants(header: &Path) -> String {
     let text = std::fs::read_to_string(header).expect("glsl/shared.h is readable");
     let mut rust = String::new();
     let mut comment = Vec::new();
-    for line in text.lines() {
+    for (line_index, line) in text.lines().enumerate() {
         let line = line.trim();
         if let Some(c) = line.strip_prefix("//") {
             comment.push(c.trim().to_string());
             continue;
         }
-        let mut words = line.split_whitespace();
-        if let (Some("#define"), Some(name), Some(value), None) =
-            (words.next(), words.next(), words.next(), words.next())
-        {
-            if let Ok(value) = value.parse::<u32>() {
+        let words: Vec<&str> = line.split_whitespace().collect();
+        if let ["#define", name, value @ ..] = words.as_slice() {
+            if !value.is_empty() {
                 let doc = if comment.is_empty() {
                     format!("`{name}` of glsl/shared.h.")
                 } else {
                     comment.join(" ")
                 };
-                writeln!(rust, "/// {doc}\npub const {name}: u32 = {value};").unwrap();
+                let (rust_type, literal) = match value {
+                    [value] if value.parse::<u32>().is_ok() => ("u32", *value),
+                    [value] if is_float_literal(value) => ("f32", *value),
+                    _ => panic!(
+                        "glsl/shared.h:{}: #define {name} {}: the contract holds plain decimal \
+                         integers and float literals (that glslang and Rust round alike) only",
+                        line_index + 1,
+                        value.join(" ")
+                    ),
+                };
+                writeln!(
+                    rust,
+                    "/// {doc}\npub const {name}: {rust_type} = {literal};"
+                )
+                .unwrap();
             }
         }
         comment.clear();
     }
     rust
+}
+
+/// Whether `text` is a float literal that GLSL and Rust both read, and read alike: decimal
+/// digits with a fractional part (`1.15`), an exponent (`1e-3`) or both
+/// (`7.62939453125e-06`); no sign, no suffix, no leading or trailing point. glslang reads a
+/// float literal as a double and rounds that to float, Rust rounds it to the nearest f32
+/// directly; a literal where the double rounding gives another float is refused too.
+fn is_float_literal(text: &str) -> bool {
+    let digits = |s: &str| !s.is_empty() && s.bytes().all(|b| b.is_ascii_digit());
+    let (mantissa, exponent) = match text.split_once(['e', 'E']) {
+        Some((mantissa, exponent)) => {
+            let exponent = exponent.strip_prefix(['+', '-']).unwrap_or(exponent);
+            (mantissa, Some(exponent))
+        }
+        None => (text, None),
+    };
+    let mantissa_ok = match mantissa.split_once('.') {
+        Some((whole, fraction)) => digits(whole) && digits(fraction),
+        None => digits(mantissa) && exponent.is_some(),
+    };
+    mantissa_ok
+        && exponent.is_none_or(digits)
+        && text.parse::<f32>().is_ok_and(|value| {
+            value.is_finite() && text.parse::<f64>().map(|double| double as f32) == Ok(value)
+        })
 }

@@ -36,15 +36,8 @@ uint get_bvh_node_count() {
     return uint(textureSize(g_bvh_node_texels)) / 2u;
 }
 
-// Slab exits are scaled by this before the comparison, so that rounding errors never cull a
-// box that the ray touches: pbrt-v4 (6.8.2) shows that 1 + 2 gamma_3 (3.6e-7) suffices for
-// exact division; 1e-6 (8 ulps) leaves room for a GPU's approximate reciprocal (NVIDIA: 2 ulps).
-#define BVH_SLAB_PADDING 1.000001
-// Direction components below this magnitude are replaced by it (keeping the sign), so that
-// the inverse direction is finite (at most 1e30) and slab products are never 0 * inf = NaN.
-#define BVH_MIN_DIRECTION 1.0e-30
-// Initial out_t of bvh_closest_hit(), as in ray_mesh_intersection(): hits at or beyond it are ignored.
-#define BVH_NO_HIT_T 1.0e38
+// BVH_SLAB_PADDING, BVH_MIN_DIRECTION and NO_HIT_T, shared with the Rust twins, are in
+// glsl/shared.h.
 
 // The per-component inverse of a ray direction for slab tests.
 // \param ray_direction The ray direction, world space (need not be normalized)
@@ -76,12 +69,12 @@ bool bvh_ray_box_intersection(out float out_t_entry, vec3 ray_origin, vec3 inver
 // Finds the closest triangle that a ray hits, traversing the BVH: the brute-force
 // ray_mesh_intersection() with the same triangle tests, nearer child first, and subtrees
 // skipped once they start beyond the closest hit so far.
-// \param out_t Ray parameter of the closest hit (BVH_NO_HIT_T if none)
+// \param out_t Ray parameter of the closest hit (NO_HIT_T if none)
 // \param out_triangle_index Index of the hit triangle in g_triangles (0 if none)
 // \param ray_origin, ray_direction The ray, world space (the direction need not be normalized)
-// \return true iff a triangle was hit at 0 <= t < BVH_NO_HIT_T
+// \return true iff a triangle was hit at 0 <= t < NO_HIT_T
 bool bvh_closest_hit(out float out_t, out uint out_triangle_index, vec3 ray_origin, vec3 ray_direction) {
-    out_t = BVH_NO_HIT_T;
+    out_t = NO_HIT_T;
     out_triangle_index = 0u;
     bool hit = false;
     uint node_count = get_bvh_node_count();

@@ -13,7 +13,7 @@ layout(local_size_x = WORKGROUP_SIZE_X, local_size_y = WORKGROUP_SIZE_Y, local_s
 
 // Unused here; declared so that the included scene files (and a user's functions that call
 // them) compile exactly as in path_tracer.comp.
-layout(constant_id = SPEC_MAX_PATH_LENGTH) const int MAX_PATH_LENGTH = 5;
+layout(constant_id = SPEC_MAX_PATH_LENGTH) const int MAX_PATH_LENGTH = DEFAULT_MAX_PATH_LENGTH;
 
 #include "integrator.glsl"
 #include "exercise_samplers.glsl"
@@ -38,11 +38,10 @@ layout(push_constant) uniform exercise_push_constants {
 // is in direction SAMPLE_VIEW_TOWARD_VIEWER = cross(right, up). Rust twins: SAMPLE_VIEW_*.
 const vec3 SAMPLE_VIEW_RIGHT = vec3(1.0, 0.0, 0.0);
 // (0, sin 30deg, cos 30deg)
-const vec3 SAMPLE_VIEW_UP = vec3(0.0, 0.5, 0.8660254037844386);
+const vec3 SAMPLE_VIEW_UP = vec3(0.0, SAMPLE_VIEW_ELEVATION_SIN, SAMPLE_VIEW_ELEVATION_COS);
 // (0, -cos 30deg, sin 30deg)
-const vec3 SAMPLE_VIEW_TOWARD_VIEWER = vec3(0.0, -0.8660254037844386, 0.5);
-// Half the image height in sphere radii: a margin of 15% around the sphere.
-const float SAMPLE_VIEW_HALF_HEIGHT = 1.15;
+const vec3 SAMPLE_VIEW_TOWARD_VIEWER = vec3(0.0, -SAMPLE_VIEW_ELEVATION_COS, SAMPLE_VIEW_ELEVATION_SIN);
+// SAMPLE_VIEW_HALF_HEIGHT (glsl/shared.h): half the image height in sphere radii.
 // Unit direction to the light that shades the sphere dimly (from the upper left front).
 const vec3 SAMPLE_VIEW_LIGHT = vec3(-0.48507125007266594, -0.48507125007266594, 0.7276068751089989);
 // Colour of a dot on the visible hemisphere, linear RGB; dots behind the sphere blend

@@ -10,11 +10,14 @@
 #include "integrator.glsl"
 #include "sobol.glsl"
 
-// Emissive triangles, a texel buffer of RGBA32_UINT: texel 0 holds the count (x), texel
-// 1 + i light i: x = triangle index, y = cumulative probability (float bits) of choosing this
-// light or an earlier one (power-proportional; the last is 1). Mirrors
-// `vkpath::lights::LightTable::gpu_bytes`. The selection probability of each triangle (0 for
-// non-emitters) is stored in its packed normal.w, for MIS.
+// Emissive triangles, a texel buffer of RGBA32_UINT (16 bytes a texel). Texel 0 is the header,
+// `vkpath::render::gpu_types::GpuLightHeader`: x = number of lights, yzw = 0. Texel 1 + i is
+// light i, `vkpath::render::gpu_types::GpuLight`: x = its scene triangle index, y = the
+// cumulative probability (float bits) of choosing this light or an earlier one
+// (power-proportional; the last is 1), zw = 0. Written by
+// `vkpath::render::gpu_types::gpu_light_bytes`, whose layout tests check these offsets. The
+// selection probability of each triangle (0 for non-emitters) is stored in its packed
+// normal.w, for MIS.
 layout(set = 0, binding = BINDING_LIGHTS) uniform usamplerBuffer g_light_texels;
 
 // Number of emissive triangles.
@@ -102,18 +105,11 @@ spherical_triangle_t get_spherical_triangle(vec3 origin, triangle_t triangle) {
     return spherical;
 }
 
-// Lights that subtend less than this solid angle (steradians) are sampled by area: over so
-// small a triangle the area density's distance^2 barely varies, so it is as good, while
-// Arvo's sampler works with arcs below ~0.03 rad whose sines and cosines carry few digits.
-const float MIN_SPHERICAL_SAMPLING_SOLID_ANGLE = 1.0e-3;
-// Lights that subtend more than this are sampled by area too: the point is then within a
-// hair of the triangle's plane (2 pi is the whole half-space), where the spherical triangle's
-// arcs approach great semicircles and their cross products vanish.
-const float MAX_SPHERICAL_SAMPLING_SOLID_ANGLE = 6.0;
-
 // Whether sample_direct_light() samples a light by solid angle (sample_spherical_triangle())
 // rather than by area (sample_triangle_point()). Both the sampler and get_light_density() ask,
-// so that they agree on the density.
+// so that they agree on the density. Lights that subtend less than
+// MIN_SPHERICAL_SAMPLING_SOLID_ANGLE or more than MAX_SPHERICAL_SAMPLING_SOLID_ANGLE
+// (glsl/shared.h says why) are sampled by area.
 bool use_spherical_sampling(spherical_triangle_t spherical) {
     return LIGHT_SAMPLING == LIGHT_SAMPLING_SOLID_ANGLE && spherical.solid_angle >= MIN_SPHERICAL_SAMPLING_SOLID_ANGLE && spherical.solid_angle <= MAX_SPHERICAL_SAMPLING_SOLID_ANGLE;
 }
@@ -187,13 +183,13 @@ float get_light_density(float selection_probability, triangle_t light, spherical
     if (use_spherical_sampling(spherical))
         return selection_probability / spherical.solid_angle;
     float cosine = abs(dot(light.normal, direction));
-    return selection_probability * distance * distance / (get_triangle_area(light) * max(cosine, 1.0e-20));
+    return selection_probability * distance * distance / (get_triangle_area(light) * max(cosine, MIN_LIGHT_COSINE));
 }
 
 // Whether anything blocks the segment from `origin` to distance `distance` along `direction`
-// (the emitter at its end excluded by a relative margin of 2^-14).
+// (the emitter at its end excluded by a relative margin of SHADOW_RAY_MARGIN = 2^-14).
 bool is_occluded(vec3 origin, vec3 direction, float distance) {
-    return ray_mesh_any_hit(origin, direction, distance * (1.0 - 6.103515625e-05));
+    return ray_mesh_any_hit(origin, direction, distance * (1.0 - SHADOW_RAY_MARGIN));
 }
 
 // The power heuristic with exponent 2 (Veach 1997): weight of a sample from the strategy

@@ -26,15 +26,15 @@ void orient_towards_ray(inout triangle_t triangle, vec3 ray_direction, bool doub
 
 // Moves the origin of a ray that leaves a surface slightly off it, so that the ray does not
 // hit the surface it starts on again through rounding (vkpath's addition: the workshop does
-// not guard against self-intersection). The offset is 2^-17 relative to the largest
-// coordinate (at least 2^-17 absolute): about 64 float ulps, far above the rounding error
-// of ray_triangle_intersection() and far below any feature of a sensible scene.
+// not guard against self-intersection). The offset is RAY_ORIGIN_OFFSET = 2^-17 relative to
+// the largest coordinate (at least 2^-17 absolute): about 64 float ulps, far above the
+// rounding error of ray_triangle_intersection() and far below any feature of a sensible scene.
 // \param position Point on the surface, world space
 // \param normal Unit normal on the side the ray leaves to
 vec3 offset_ray_origin(vec3 position, vec3 normal) {
     vec3 magnitude = abs(position);
     float scale = max(1.0, max(magnitude.x, max(magnitude.y, magnitude.z)));
-    return position + (scale * 7.62939453125e-06) * normal;
+    return position + (scale * RAY_ORIGIN_OFFSET) * normal;
 }
 
 #ifndef USER_DEFINES_COMPUTE_DIRECT_ILLUMINATION

@@ -12,7 +12,7 @@ layout(local_size_x = WORKGROUP_SIZE_X, local_size_y = WORKGROUP_SIZE_Y, local_s
 // Samples per pixel per frame (the workshop's SAMPLE_COUNT).
 layout(constant_id = SPEC_SAMPLE_COUNT) const int SAMPLE_COUNT = 1;
 // Maximum number of surface hits per path (the workshop's MAX_PATH_LENGTH).
-layout(constant_id = SPEC_MAX_PATH_LENGTH) const int MAX_PATH_LENGTH = 5;
+layout(constant_id = SPEC_MAX_PATH_LENGTH) const int MAX_PATH_LENGTH = DEFAULT_MAX_PATH_LENGTH;
 // PIXEL_FILTER_BOX or PIXEL_FILTER_CENTER.
 layout(constant_id = SPEC_PIXEL_FILTER) const int PIXEL_FILTER = PIXEL_FILTER_BOX;
 // INTEGRATOR_PATH_TRACING, INTEGRATOR_DIRECT_ILLUMINATION or INTEGRATOR_RAY_TRACING.
@@ -38,7 +38,7 @@ layout(constant_id = SPEC_LIGHT_SAMPLING) const int LIGHT_SAMPLING = LIGHT_SAMPL
 
 layout(set = 0, binding = BINDING_ACCUMULATION, rgba32f) uniform image2DArray g_accumulation;
 
-// What changes per frame. Mirrors `vkpath::gpu_types::FramePushConstants`.
+// What changes per frame. Mirrors `vkpath::render::gpu_types::FramePushConstants`.
 layout(push_constant) uniform frame_push_constants {
     // Index of the first sample this frame adds to each pixel.
     uint g_first_sample_index;

@@ -15,7 +15,7 @@
 layout(local_size_x = PROBE_WORKGROUP_SIZE, local_size_y = 1, local_size_z = 1) in;
 
 // Maximum number of surface hits per path, for get_ray_radiance() (as in path_tracer.comp).
-layout(constant_id = SPEC_MAX_PATH_LENGTH) const int MAX_PATH_LENGTH = 5;
+layout(constant_id = SPEC_MAX_PATH_LENGTH) const int MAX_PATH_LENGTH = DEFAULT_MAX_PATH_LENGTH;
 
 #include "integrator.glsl"
 

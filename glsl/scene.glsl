@@ -9,12 +9,18 @@
 #include "workshop.glsl"
 
 // triangle_t as stored on the GPU: std430 with every member 16-byte aligned (no bare vec3).
-// Mirrors `vkpath::gpu_types::GpuTriangle`, whose layout test checks these offsets.
+// Mirrors `vkpath::render::gpu_types::GpuTriangle`, whose layout test checks these offsets.
 struct packed_triangle_t {
-    vec4 positions[3]; // xyz: v_0, v_1, v_2 (world space), w: unused
-    vec4 normal;       // xyz: unit normal, w: unused
-    vec4 color;        // rgb: albedo, a: unused
-    vec4 emission;     // rgb: emitted radiance, a: flags (TRIANGLE_FLAG_*) as float bits
+    // xyz: v_0, v_1, v_2 (world space); w: unused (0)
+    vec4 positions[3];
+    // xyz: unit normal (world space, the side the vertices are counter-clockwise from);
+    // w: the probability that light sampling chooses this triangle (power-proportional, 0 for
+    // non-emitters; get_light_selection_probability(), for MIS)
+    vec4 normal;
+    // rgb: albedo (linear RGB in [0, 1]); a: unused (0)
+    vec4 color;
+    // rgb: emitted radiance (linear RGB); a: flags (TRIANGLE_FLAG_*) as float bits
+    vec4 emission;
 };
 
 // The triangles: a texel buffer of RGBA32_UINT, TRIANGLE_TEXEL_COUNT texels per triangle in
@@ -38,7 +44,7 @@ packed_triangle_t get_packed_triangle(uint index) {
     return packed;
 }
 
-// What stays fixed during a render. Mirrors `vkpath::gpu_types::RenderUniforms`.
+// What stays fixed during a render. Mirrors `vkpath::render::gpu_types::RenderUniforms`.
 layout(std140, set = 0, binding = BINDING_RENDER_UNIFORMS) uniform render_uniforms {
     // The pinhole camera (see get_primary_ray_direction()), world space; w unused.
     vec4 g_camera_position;
@@ -126,7 +132,7 @@ bool ray_mesh_intersection(out float out_t, out triangle_t out_triangle, vec3 ra
     uint hit_index;
     bool hit = bvh_closest_hit(out_t, hit_index, ray_origin, ray_direction);
 #else
-    out_t = 1.0e38;
+    out_t = NO_HIT_T;
     uint hit_index = 0u;
     bool hit = false;
     if (CONSTANT_TRIANGLE_COUNT != 0u) {

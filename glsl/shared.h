@@ -1,9 +1,18 @@
-// The contract between the host (Rust) and the shaders: binding indices, workgroup size,
-// specialization-constant ids and enumerations. build.rs turns every `#define NAME <integer>`
-// line of this file into a `pub const NAME: u32` in `vkpath::contract`, so that no number is
-// written twice. Keep the values plain decimal integers.
+// The contract between the host (Rust) and the shaders: binding indices, workgroup sizes,
+// specialization-constant ids and their values, and the numbers that a GLSL function and its
+// Rust twin must agree on. build.rs turns every `#define NAME <value>` line of this file into
+// a constant of `vkpath::contract`, so that no number is written twice: a plain decimal
+// integer (`8`) becomes a `pub const NAME: u32`, a float literal (`1.0e-3`, `0.5`,
+// `7.62939453125e-06`: digits, a point and digits, and/or an exponent; no suffix) a
+// `pub const NAME: f32` with the same literal, which Rust and GLSL round to the same float.
+// Any other value fails the build. The comment lines right above a #define become its doc
+// comment; a group's heading is set apart by a blank line.
 #ifndef VKPATH_SHARED_H
 #define VKPATH_SHARED_H
+
+// ======== Common to the kernels ========
+
+// ---- Workgroup sizes ----
 
 // Workgroup size of the 2D kernels. lavapipe's subgroup size is 8 (AVX2), so 8x8 keeps each
 // subgroup full and gives many workgroups for its thread pool.
@@ -12,33 +21,40 @@
 // Workgroup size of the 1D probe kernels that evaluate one function on a buffer of inputs.
 #define PROBE_WORKGROUP_SIZE 64
 
-// Descriptor set 0 of the path tracer.
-#define BINDING_TRIANGLES 0
-#define BINDING_RENDER_UNIFORMS 1
-#define BINDING_ACCUMULATION 2
+// ---- Descriptor set 0 of the path tracer (glsl/path_tracer.comp, host side src/render/) ----
+// Binding 3 is the BVH's, BINDING_BVH_NODES (below).
 
-// Descriptor set 0 of the probe kernels (glsl/probe_*.comp, host side src/probe/): the scene's
-// BINDING_TRIANGLES (storage buffer) and BINDING_RENDER_UNIFORMS above, for the functions that
-// trace rays, then a storage buffer of inputs and one of outputs. Numbered apart from the path
-// tracer's bindings, which the included GLSL may declare too.
-#define PROBE_BINDING_INPUTS 8
-#define PROBE_BINDING_OUTPUTS 9
-// Emissive triangles and their power CDF, for light sampling (nee, mis).
+// The scene's triangles: a texel buffer of packed_triangle_t (glsl/scene.glsl), GpuTriangle
+// on the host.
+#define BINDING_TRIANGLES 0
+// render_uniforms (glsl/scene.glsl), RenderUniforms on the host.
+#define BINDING_RENDER_UNIFORMS 1
+// The accumulation image (an rgba32f 2D array image with the LAYER_* layers).
+#define BINDING_ACCUMULATION 2
+// Emissive triangles and their power CDF, for light sampling (nee, mis): a texel buffer of
+// GpuLightHeader then one GpuLight per light (glsl/importance_sampling.glsl).
 #define BINDING_LIGHTS 4
 
-// Layers of the accumulation image (an rgba32f 2D array image).
+// ---- Layers of the accumulation image ----
+
 // Layer 0: running sum of the radiance samples (rgb), sample count (a).
 #define LAYER_SUM 0
 // Layer 1: Kahan compensation of the sum (rgb), number of rays traced (a).
 #define LAYER_COMPENSATION 1
 // Layer 2: running sum of squared radiance samples (rgb), for variance estimates.
 #define LAYER_SUM_OF_SQUARES 2
+// Number of layers of the accumulation image.
 #define ACCUMULATION_LAYER_COUNT 3
 
-// Specialization-constant ids of the path tracer.
+// ---- Specialization-constant ids of the path tracer ----
+
+// Samples per pixel per frame (the workshop's SAMPLE_COUNT).
 #define SPEC_SAMPLE_COUNT 0
+// Maximum number of surface hits per path (the workshop's MAX_PATH_LENGTH).
 #define SPEC_MAX_PATH_LENGTH 1
+// Which pixel filter: PIXEL_FILTER_*.
 #define SPEC_PIXEL_FILTER 2
+// Which integrator: INTEGRATOR_*.
 #define SPEC_INTEGRATOR 3
 // Path vertex (surface hit, from 1) after which Russian roulette may end a path; 0: never.
 #define SPEC_RUSSIAN_ROULETTE_START 4
@@ -54,6 +70,13 @@
 #define SPEC_CONSTANT_TRIANGLES 16
 // Most triangles that can be passed as specialization constants.
 #define CONSTANT_TRIANGLE_CAPACITY 64
+
+// ---- Values of the specialization constants ----
+
+// The default of SPEC_MAX_PATH_LENGTH, the workshop's MAX_PATH_LENGTH: the value of every
+// kernel's MAX_PATH_LENGTH unless the host specializes it, and the renderer's default
+// (`vkpath::render::settings::DEFAULT_MAX_PATH_LENGTH`).
+#define DEFAULT_MAX_PATH_LENGTH 5
 
 // Values of SPEC_PIXEL_FILTER.
 // Uniform jitter inside the pixel: the box-filtered image.
@@ -89,14 +112,52 @@
 // Multiple importance sampling of light and cosine samples with the power heuristic.
 #define INTEGRATOR_MIS 5
 
+// ---- Triangles ----
+
 // Bit set in triangle_t's packed emission.w when the triangle emits from both sides.
 #define TRIANGLE_FLAG_DOUBLE_SIDED 1
 // Texels (RGBA32_UINT) per triangle in the texel-buffer layout: the vec4s of packed_triangle_t.
 #define TRIANGLE_TEXEL_COUNT 6
 
-// Descriptor set 0 of the sample display of `vkpath exercise` (glsl/exercise_samples.comp,
-// host side src/exercise/): a storage buffer of one vec4 colour per pixel. Numbered apart from
-// the path tracer's bindings, which the included scene files declare too.
+// ---- Numbers of the GLSL functions and their Rust twins (src/cpu/, src/bvh/) ----
+
+// Initial out_t of ray_mesh_intersection() and bvh_closest_hit() (their Rust twins alike):
+// hits at or beyond it are ignored.
+#define NO_HIT_T 1.0e38
+// Relative (and minimum absolute) offset of offset_ray_origin() (glsl/integrator.glsl): 2^-17
+// of the largest coordinate, about 64 float ulps, far above the rounding error of
+// ray_triangle_intersection() and far below any feature of a sensible scene.
+#define RAY_ORIGIN_OFFSET 7.62939453125e-06
+// Relative margin of is_occluded() (glsl/importance_sampling.glsl), 2^-14: a shadow ray ends
+// at (1 - SHADOW_RAY_MARGIN) times the distance to the light sample, so that it cannot hit
+// the emitter at its end.
+#define SHADOW_RAY_MARGIN 6.103515625e-05
+// Lights that subtend less than this solid angle (steradians) are sampled by area
+// (use_spherical_sampling()): over so small a triangle the area density's distance^2 barely
+// varies, so it is as good, while Arvo's sampler works with arcs below ~0.03 rad whose sines
+// and cosines carry few digits.
+#define MIN_SPHERICAL_SAMPLING_SOLID_ANGLE 1.0e-3
+// Lights that subtend more than this (steradians) are sampled by area too: the point is then
+// within a hair of the triangle's plane (2 pi is the whole half-space), where the spherical
+// triangle's arcs approach great semicircles and their cross products vanish.
+#define MAX_SPHERICAL_SAMPLING_SOLID_ANGLE 6.0
+// Lower bound of |n_light.omega| in get_light_density()'s area density, so that a light seen
+// exactly edge-on gives a huge density rather than a division by zero.
+#define MIN_LIGHT_COSINE 1.0e-20
+
+// ======== Probe kernels (glsl/probe_*.comp, host side src/probe/) ========
+
+// Descriptor set 0 of the probe kernels: the scene's BINDING_TRIANGLES (texel buffer) and
+// BINDING_RENDER_UNIFORMS above, for the functions that trace rays, then a storage buffer of
+// inputs and one of outputs. Numbered apart from the path tracer's bindings, which the
+// included GLSL may declare too.
+#define PROBE_BINDING_INPUTS 8
+#define PROBE_BINDING_OUTPUTS 9
+
+// ======== The sample display of `vkpath exercise` (glsl/exercise_samples.comp, host side src/exercise/) ========
+
+// Descriptor set 0 of the sample display: a storage buffer of one vec4 colour per pixel.
+// Numbered apart from the path tracer's bindings, which the included scene files declare too.
 #define BINDING_EXERCISE_PIXELS 10
 // Values of the sample display's sampler (its push constant).
 // Exercise 4: sample_sphere().
@@ -107,27 +168,44 @@
 #define EXERCISE_SAMPLER_SPHERICAL_COORDINATES 2
 // Number of sample directions the workshop's framework displays (Exercises 4 and 5).
 #define EXERCISE_SAMPLE_COUNT 512
+// Cosine and sine of the elevation of the display's camera, 30 degrees above the sphere's
+// equator: the view's up vector is (0, sin, cos), the direction to the viewer (0, -cos, sin)
+// (SAMPLE_VIEW_UP and SAMPLE_VIEW_TOWARD_VIEWER, Rust twins in src/exercise/view.rs).
+#define SAMPLE_VIEW_ELEVATION_COS 0.8660254037844386
+#define SAMPLE_VIEW_ELEVATION_SIN 0.5
+// Half the image height in sphere radii: a margin of 15% around the sphere.
+#define SAMPLE_VIEW_HALF_HEIGHT 1.15
 
-// The bounding volume hierarchy (glsl/bvh.glsl, host side src/bvh/): a storage buffer of
-// bvh_node_t, 32 bytes each, in descriptor set 0 beside the triangles it indexes.
+// ======== The bounding volume hierarchy (glsl/bvh.glsl, host side src/bvh/) and its probe ========
+
+// A texel buffer of bvh_node_t, 32 bytes each, in the path tracer's descriptor set 0 beside
+// the triangles it indexes.
 #define BINDING_BVH_NODES 3
 // Entries of the traversal stack of bvh_closest_hit() and bvh_any_hit(). The builder makes no
 // leaf deeper than this (root: depth 0), which is what the stack needs: at most one entry is
 // pushed per interior node on the path from the root.
 #define BVH_STACK_SIZE 32
-// Descriptor set 0 of glsl/probe_bvh.comp (tests/bvh_gpu.rs): the scene's BINDING_TRIANGLES
-// (storage buffer), BINDING_RENDER_UNIFORMS and BINDING_BVH_NODES, then a storage buffer of
-// rays and one of results.
+// Slab exits are scaled by this before the comparison, so that rounding errors never cull a
+// box that the ray touches: pbrt-v4 (6.8.2) shows that 1 + 2 gamma_3 (3.6e-7) suffices for
+// exact division; 1e-6 (8 ulps) leaves room for a GPU's approximate reciprocal (NVIDIA: 2 ulps).
+#define BVH_SLAB_PADDING 1.000001
+// Direction components below this magnitude are replaced by it (keeping the sign), so that
+// the inverse direction is finite (at most 1e30) and slab products are never 0 * inf = NaN.
+#define BVH_MIN_DIRECTION 1.0e-30
+// Descriptor set 0 of glsl/probe_bvh.comp (tests/bvh_gpu.rs): the scene's BINDING_TRIANGLES,
+// BINDING_RENDER_UNIFORMS and BINDING_BVH_NODES, then a storage buffer of rays and one of
+// results.
 #define BVH_PROBE_BINDING_RAYS 11
 #define BVH_PROBE_BINDING_RESULTS 12
 // Specialization-constant id of glsl/probe_bvh.comp: 1 to run the brute-force
 // ray_mesh_intersection() beside the BVH, 0 not to.
 #define BVH_PROBE_SPEC_BRUTE_FORCE 0
 
-// `vkpath check` (src/check/source.rs): ShaderToy's iChannel0..3 that a user's file reads get
-// bindings USER_OPAQUE_BINDING_FIRST + 0..3, the file's own sampler uniforms the bindings from
-// USER_OPAQUE_BINDING_FIRST + 4 on. No kernel's layout has them: a function that reads them
-// cannot be judged.
+// ======== `vkpath check` (src/check/source.rs) ========
+
+// ShaderToy's iChannel0..3 that a user's file reads get bindings USER_OPAQUE_BINDING_FIRST +
+// 0..3, the file's own sampler uniforms the bindings from USER_OPAQUE_BINDING_FIRST + 4 on.
+// No kernel's layout has them: a function that reads them cannot be judged.
 #define USER_OPAQUE_BINDING_FIRST 20
 
 #endif

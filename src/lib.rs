@@ -34,11 +34,7 @@
 use shaderc_link as _;
 
 #[doc(hidden)]
-pub mod contract {
-    //! Binding indices, workgroup size, specialization-constant ids and enumerations shared
-    //! with the shaders, generated from `glsl/shared.h` by `build.rs`.
-    include!(concat!(env!("OUT_DIR"), "/contract.rs"));
-}
+pub mod contract;
 
 #[doc(hidden)]
 pub mod shaders {

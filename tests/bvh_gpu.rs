@@ -37,7 +37,7 @@ fn run_probe(
 ) -> (Vec<ProbeResult>, f64) {
     let storage = vk::DescriptorType::STORAGE_BUFFER;
     let texel = vk::DescriptorType::UNIFORM_TEXEL_BUFFER;
-    let gpu_triangles: Vec<GpuTriangle> = triangles.iter().map(Triangle::to_gpu).collect();
+    let gpu_triangles: Vec<GpuTriangle> = triangles.iter().map(GpuTriangle::new).collect();
     let mut uniforms = RenderUniforms::zeroed();
     uniforms.resolution_triangle_count_seed[2] = triangles.len() as u32;
     let usage = vk::BufferUsageFlags::STORAGE_BUFFER;

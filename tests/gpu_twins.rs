@@ -32,7 +32,7 @@ use vkpath::vk::Context;
 use vkpath::Scene;
 
 /// `MAX_PATH_LENGTH` for the `get_ray_radiance` probe: the renderer's default.
-const MAX_PATH_LENGTH: u32 = 5;
+const MAX_PATH_LENGTH: u32 = vkpath::render::settings::DEFAULT_MAX_PATH_LENGTH;
 
 /// Runs the reference probe `kind` on `inputs` with `triangles` as the scene.
 fn run_reference<I: bytemuck::Pod, O: bytemuck::Pod>(

@@ -9,6 +9,7 @@
 
 mod common;
 
+use vkpath::render::settings::DEFAULT_MAX_PATH_LENGTH;
 use vkpath::stats::ztest::{z_test_images, MeanImage};
 use vkpath::{Integrator, RenderSettings, RenderedImage, Renderer, Scene};
 
@@ -84,7 +85,7 @@ fn a_biased_render_is_detected() {
     let mut renderer = Renderer::new(&context, &scene, &scene.camera.unwrap(), settings).unwrap();
     let biased = block_means(&renderer.render_all().unwrap());
     let report = z_test_images(&biased, &workshop, 0.01).unwrap();
-    println!("path length 3 vs 5: {report:?}");
+    println!("path length 3 vs {DEFAULT_MAX_PATH_LENGTH} (the default): {report:?}");
     assert!(
         !report.passed,
         "a path-length-3 render passed as unbiased: {report:?}"

@@ -35,26 +35,6 @@ fn node_matches_std430_bvh_node_t() {
 }
 
 #[test]
-fn glsl_constants_match_the_rust_twins() {
-    let source = crate::shaders::GLSL_SOURCES
-        .iter()
-        .find(|(name, _)| *name == "bvh.glsl")
-        .map(|(_, text)| *text)
-        .expect("bvh.glsl is embedded");
-    let define = |name: &str| -> f32 {
-        let prefix = format!("#define {name} ");
-        let line = source.lines().find(|l| l.starts_with(&prefix)).expect(name);
-        line[prefix.len()..]
-            .trim()
-            .parse()
-            .expect("a float literal")
-    };
-    assert_eq!(define("BVH_SLAB_PADDING"), traversal::BVH_SLAB_PADDING);
-    assert_eq!(define("BVH_MIN_DIRECTION"), traversal::BVH_MIN_DIRECTION);
-    assert_eq!(define("BVH_NO_HIT_T"), traversal::BVH_NO_HIT_T);
-}
-
-#[test]
 fn slab_test_handles_axis_parallel_rays_and_flat_boxes() {
     let lower = Vec3::new(0.0, 0.0, 0.0);
     let upper = Vec3::new(1.0, 1.0, 0.0); // flat, like a Cornell box wall's triangle

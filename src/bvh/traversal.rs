@@ -7,22 +7,10 @@
 use glam::Vec3;
 
 use super::GpuBvhNode;
-use crate::contract::BVH_STACK_SIZE;
+use crate::contract::{BVH_MIN_DIRECTION, BVH_SLAB_PADDING, BVH_STACK_SIZE, NO_HIT_T};
 use crate::cpu::integrator::MeshHit;
 use crate::cpu::workshop::ray_triangle_intersection;
 use crate::scene::Triangle;
-
-/// The shader's `BVH_SLAB_PADDING`: slab exits are scaled by it so that rounding never
-/// culls a box that the ray touches (pbrt-v4 6.8.2: 1 + 2 gamma_3 = 1 + 3.6e-7 suffices for
-/// exact division; 1e-6, 8 ulps, leaves room for a GPU's approximate reciprocal).
-pub const BVH_SLAB_PADDING: f32 = 1.000001;
-
-/// The shader's `BVH_MIN_DIRECTION`: smaller direction components are replaced by it so that
-/// the inverse direction is finite and slab products are never 0 * inf = NaN.
-pub const BVH_MIN_DIRECTION: f32 = 1.0e-30;
-
-/// The shader's `BVH_NO_HIT_T`, `ray_mesh_intersection`'s initial `out_t`.
-pub const BVH_NO_HIT_T: f32 = 1.0e38;
 
 const STACK_SIZE: usize = BVH_STACK_SIZE as usize;
 
@@ -90,7 +78,7 @@ fn node_box_test(
 /// \param scene_triangles The reordered triangles (the shader's `g_triangles`)
 /// \param ray_origin, ray_direction The ray, world space
 /// \return The closest hit (t, index into `scene_triangles`), `None` iff no triangle is hit
-///         at t < 1e38
+///         at t < `NO_HIT_T` (1e38)
 ///
 /// # Panics
 /// If the nodes index past `nodes` or `scene_triangles` (a BVH built for other triangles).
@@ -100,7 +88,7 @@ pub fn bvh_closest_hit(
     ray_origin: Vec3,
     ray_direction: Vec3,
 ) -> Option<MeshHit> {
-    let mut out_t = BVH_NO_HIT_T;
+    let mut out_t = NO_HIT_T;
     let mut out_triangle_index = 0u32;
     let mut hit = false;
     let node_count = nodes.len();

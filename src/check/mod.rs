@@ -42,8 +42,9 @@ pub use compile::UserFunctions;
 pub use detect::WorkshopFunction;
 pub use report::{CheckReport, FunctionReport};
 
-/// `MAX_PATH_LENGTH` of the probe kernels (only `get_ray_radiance` reads it).
-const PROBE_MAX_PATH_LENGTH: u32 = 5;
+/// `MAX_PATH_LENGTH` of the probe kernels (only `get_ray_radiance` reads it): the renderer's
+/// default.
+const PROBE_MAX_PATH_LENGTH: u32 = crate::render::settings::DEFAULT_MAX_PATH_LENGTH;
 
 /// How `vkpath check` judges.
 #[derive(Clone, Debug, PartialEq)]

@@ -4,7 +4,11 @@
 
 use glam::{UVec2, Vec2, Vec3};
 
-use crate::contract::{INTEGRATOR_COSINE, INTEGRATOR_MIS, LIGHT_SAMPLING_SOLID_ANGLE};
+use crate::contract::{
+    INTEGRATOR_COSINE, INTEGRATOR_MIS, LIGHT_SAMPLING_SOLID_ANGLE,
+    MAX_SPHERICAL_SAMPLING_SOLID_ANGLE, MIN_LIGHT_COSINE, MIN_SPHERICAL_SAMPLING_SOLID_ANGLE,
+    SHADOW_RAY_MARGIN,
+};
 use crate::cpu::integrator::{
     is_double_sided, offset_ray_origin, orient_towards_ray, ray_mesh_intersection,
 };
@@ -82,12 +86,8 @@ pub fn get_spherical_triangle(origin: Vec3, triangle: &Triangle) -> SphericalTri
     }
 }
 
-/// Twin of `MIN_SPHERICAL_SAMPLING_SOLID_ANGLE` (steradians).
-pub const MIN_SPHERICAL_SAMPLING_SOLID_ANGLE: f32 = 1.0e-3;
-/// Twin of `MAX_SPHERICAL_SAMPLING_SOLID_ANGLE` (steradians).
-pub const MAX_SPHERICAL_SAMPLING_SOLID_ANGLE: f32 = 6.0;
-
-/// Twin of `use_spherical_sampling`; `light_sampling` is the kernel's `LIGHT_SAMPLING`.
+/// Twin of `use_spherical_sampling`; `light_sampling` is the kernel's `LIGHT_SAMPLING`. The
+/// solid-angle thresholds (steradians) are `glsl/shared.h`'s, which says why they are there.
 pub fn use_spherical_sampling(light_sampling: u32, spherical: &SphericalTriangle) -> bool {
     light_sampling == LIGHT_SAMPLING_SOLID_ANGLE
         && (MIN_SPHERICAL_SAMPLING_SOLID_ANGLE..=MAX_SPHERICAL_SAMPLING_SOLID_ANGLE)
@@ -155,7 +155,8 @@ pub fn get_light_density(
         return selection_probability / spherical.solid_angle;
     }
     let cosine = light.normal.dot(direction).abs();
-    selection_probability * distance * distance / (get_triangle_area(light) * cosine.max(1.0e-20))
+    selection_probability * distance * distance
+        / (get_triangle_area(light) * cosine.max(MIN_LIGHT_COSINE))
 }
 
 /// Twin of `ray_mesh_any_hit` (brute force, the kernels without USE_BVH): whether any
@@ -171,7 +172,7 @@ pub fn ray_mesh_any_hit(
     })
 }
 
-/// Twin of `is_occluded`.
+/// Twin of `is_occluded`: the segment ends `SHADOW_RAY_MARGIN` (2^-14) short of the light.
 pub fn is_occluded(
     scene_triangles: &[Triangle],
     origin: Vec3,
@@ -182,7 +183,7 @@ pub fn is_occluded(
         scene_triangles,
         origin,
         direction,
-        distance * (1.0 - 6.103_515_6e-5),
+        distance * (1.0 - SHADOW_RAY_MARGIN),
     )
 }
 

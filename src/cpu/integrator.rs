@@ -7,7 +7,9 @@
 
 use glam::{UVec2, Vec3};
 
-use crate::contract::{INTEGRATOR_PATH_TRACING, INTEGRATOR_RAY_TRACING};
+use crate::contract::{
+    INTEGRATOR_PATH_TRACING, INTEGRATOR_RAY_TRACING, NO_HIT_T, RAY_ORIGIN_OFFSET,
+};
 use crate::cpu::workshop::{
     get_random_numbers, ray_triangle_intersection, sample_hemisphere, M_PI,
 };
@@ -23,15 +25,12 @@ pub struct MeshHit {
     pub triangle_index: usize,
 }
 
-/// The shader's initial `out_t`: hits at or beyond it are ignored.
-const NO_HIT_T: f32 = 1.0e38;
-
 /// Finds the closest triangle that a ray hits (Part 1), brute force over all triangles, twin
 /// of GLSL `ray_mesh_intersection`. Ties keep the triangle with the lower index, as the
 /// shader's strict `t < out_t` does.
 /// \param scene_triangles All triangles of the scene (the shader's `g_triangles`)
 /// \param ray_origin, ray_direction The ray, world space
-/// \return The closest hit, `None` iff no triangle was hit at t < 1e38
+/// \return The closest hit, `None` iff no triangle was hit at t < `NO_HIT_T` (1e38)
 pub fn ray_mesh_intersection(
     scene_triangles: &[Triangle],
     ray_origin: Vec3,
@@ -74,17 +73,11 @@ pub fn orient_towards_ray(triangle: &mut Triangle, ray_direction: Vec3, double_s
     }
 }
 
-/// Relative (and minimum absolute) offset of `offset_ray_origin`: 2^-17, about 64 float ulps
-/// of the largest coordinate, far above the rounding error of `ray_triangle_intersection`
-/// and far below any feature of a sensible scene.
-#[allow(
-    clippy::excessive_precision,
-    reason = "the shader's literal, digit for digit (exactly 2^-17)"
-)]
-const RAY_ORIGIN_OFFSET: f32 = 7.62939453125e-06;
-
 /// Moves the origin of a ray that leaves a surface slightly off it, against
-/// self-intersection, twin of GLSL `offset_ray_origin`.
+/// self-intersection, twin of GLSL `offset_ray_origin`. The offset, `RAY_ORIGIN_OFFSET`
+/// (2^-17, `glsl/shared.h`), is about 64 float ulps of the largest coordinate: far above the
+/// rounding error of `ray_triangle_intersection` and far below any feature of a sensible
+/// scene.
 /// \param position Point on the surface, world space
 /// \param normal Unit normal on the side the ray leaves to
 /// \return position + max(1, max_i |position_i|) * 2^-17 * normal

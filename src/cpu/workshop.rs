@@ -177,6 +177,22 @@ mod tests {
     }
 
     #[test]
+    fn m_pi_is_the_workshops_literal() {
+        // M_PI stays in glsl/workshop.glsl, as on the slides, rather than in glsl/shared.h;
+        // this keeps the twin honest instead.
+        let workshop = crate::shaders::GLSL_SOURCES
+            .iter()
+            .find(|(name, _)| *name == "workshop.glsl")
+            .map(|(_, text)| *text)
+            .expect("workshop.glsl is embedded");
+        let literal = workshop
+            .lines()
+            .find_map(|line| line.strip_prefix("#define M_PI "))
+            .expect("workshop.glsl defines M_PI");
+        assert_eq!(literal.trim().parse::<f32>(), Ok(M_PI));
+    }
+
+    #[test]
     fn pcg2d_matches_the_formula_and_known_values() {
         for start in [
             [0u32, 0u32],

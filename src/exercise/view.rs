@@ -7,7 +7,7 @@ use glam::{UVec2, Vec2, Vec3};
 
 use crate::contract::{
     EXERCISE_SAMPLER_HEMISPHERE, EXERCISE_SAMPLER_SPHERE, EXERCISE_SAMPLER_SPHERICAL_COORDINATES,
-    EXERCISE_SAMPLE_COUNT,
+    EXERCISE_SAMPLE_COUNT, SAMPLE_VIEW_ELEVATION_COS, SAMPLE_VIEW_ELEVATION_SIN,
 };
 use crate::cpu::workshop::{
     get_random_numbers, sample_hemisphere, sample_sphere, sample_sphere_spherical_coordinates,
@@ -18,21 +18,15 @@ use crate::cpu::workshop::{
 pub const SAMPLE_VIEW_RIGHT: Vec3 = Vec3::new(1.0, 0.0, 0.0);
 /// The image plane's up vector, (0, sin 30°, cos 30°): the camera looks from 30° above the
 /// equator and +z points up in the image. Twin of GLSL `SAMPLE_VIEW_UP`.
-#[allow(
-    clippy::excessive_precision,
-    reason = "the shader's literal, digit for digit"
-)]
-pub const SAMPLE_VIEW_UP: Vec3 = Vec3::new(0.0, 0.5, 0.8660254037844386);
+pub const SAMPLE_VIEW_UP: Vec3 =
+    Vec3::new(0.0, SAMPLE_VIEW_ELEVATION_SIN, SAMPLE_VIEW_ELEVATION_COS);
 /// Unit direction from the sphere's centre to the viewer, cross(right, up) =
 /// (0, -cos 30°, sin 30°). Twin of GLSL `SAMPLE_VIEW_TOWARD_VIEWER`.
-#[allow(
-    clippy::excessive_precision,
-    reason = "the shader's literal, digit for digit"
-)]
-pub const SAMPLE_VIEW_TOWARD_VIEWER: Vec3 = Vec3::new(0.0, -0.8660254037844386, 0.5);
-/// Half the image height in sphere radii (a 15% margin around the sphere), twin of GLSL
-/// `SAMPLE_VIEW_HALF_HEIGHT`.
-pub const SAMPLE_VIEW_HALF_HEIGHT: f32 = 1.15;
+pub const SAMPLE_VIEW_TOWARD_VIEWER: Vec3 =
+    Vec3::new(0.0, -SAMPLE_VIEW_ELEVATION_COS, SAMPLE_VIEW_ELEVATION_SIN);
+/// Half the image height in sphere radii (a 15% margin around the sphere), shared with GLSL
+/// (`glsl/shared.h`).
+pub use crate::contract::SAMPLE_VIEW_HALF_HEIGHT;
 
 /// `exercise_push_constants` of `glsl/exercise_samples.comp` (16 bytes).
 #[repr(C)]

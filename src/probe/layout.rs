@@ -132,7 +132,7 @@ impl RayTriangleInput {
         RayTriangleInput {
             ray_origin: extend(ray_origin),
             ray_direction: extend(ray_direction),
-            triangle: triangle.to_gpu(),
+            triangle: GpuTriangle::new(triangle),
         }
     }
 
@@ -433,7 +433,7 @@ mod tests {
         let output = MeshIntersectionOutput {
             t: [1.0, 0.0, 0.0, 0.0],
             hit: [1, u32::MAX, 0, 0],
-            triangle: b.to_gpu(),
+            triangle: GpuTriangle::new(&b),
         };
         assert_eq!(output.triangle_index(&[a, b]), Some(1));
         assert_eq!(output.hit_t(), Some(1.0));

@@ -34,7 +34,7 @@ impl ProbeRunner {
     /// render uniforms whose `.z` is their count. An empty scene is allowed: the kernels that
     /// do not trace rays need none.
     pub fn new(context: &Arc<Context>, scene_triangles: &[Triangle]) -> Result<ProbeRunner> {
-        let mut packed: Vec<GpuTriangle> = scene_triangles.iter().map(Triangle::to_gpu).collect();
+        let mut packed: Vec<GpuTriangle> = scene_triangles.iter().map(GpuTriangle::new).collect();
         let count = packed.len() as u32;
         if packed.is_empty() {
             // A buffer cannot be empty; the count of 0 keeps the shader from reading this.

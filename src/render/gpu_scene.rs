@@ -10,7 +10,9 @@ use crate::bvh::Bvh;
 use crate::camera::Camera;
 use crate::contract;
 use crate::error::Result;
-use crate::render::gpu_types::RenderUniforms;
+use crate::render::gpu_types::{
+    annotate_selection_probabilities, gpu_light_bytes, GpuTriangle, RenderUniforms,
+};
 use crate::render::settings::RenderSettings;
 use crate::render::traversal::{constant_triangle_specialization, Traversal};
 use crate::scene::lights::LightTable;
@@ -45,9 +47,10 @@ impl GpuScene {
             Some(bvh) => bvh.reorder(&scene.triangles),
             None => scene.triangles.clone(),
         };
-        let mut gpu_triangles: Vec<_> = ordered_triangles.iter().map(|t| t.to_gpu()).collect();
+        let mut gpu_triangles: Vec<GpuTriangle> =
+            ordered_triangles.iter().map(GpuTriangle::new).collect();
         let lights = LightTable::new(&ordered_triangles);
-        lights.annotate(&mut gpu_triangles);
+        annotate_selection_probabilities(&lights, &mut gpu_triangles);
         let texels = |name: &str, bytes: &[u8]| -> Result<TexelBufferView> {
             let buffer = Buffer::device_local_with_data(
                 context,
@@ -79,7 +82,7 @@ impl GpuScene {
             Some(bvh) => Some(texels("BVH nodes", bytemuck::cast_slice(&bvh.nodes))?),
             None => None,
         };
-        let lights = texels("lights", &lights.gpu_bytes())?;
+        let lights = texels("lights", &gpu_light_bytes(&lights))?;
         Ok(GpuScene {
             triangles,
             uniforms,

@@ -151,7 +151,7 @@ pub const MAX_SPP: u32 = 1 << 24;
 pub const MAX_PATH_LENGTH_LIMIT: u32 = 1024;
 
 /// The workshop's MAX_PATH_LENGTH, the default path length.
-pub const DEFAULT_MAX_PATH_LENGTH: u32 = 5;
+pub const DEFAULT_MAX_PATH_LENGTH: u32 = crate::contract::DEFAULT_MAX_PATH_LENGTH;
 
 /// Everything a render needs besides the scene and camera.
 #[derive(Clone, Debug, PartialEq)]

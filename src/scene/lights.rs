@@ -1,10 +1,11 @@
 //! The emissive triangles of a scene as light sampling needs them: a power-proportional CDF
-//! (`light_buffer` of `glsl/importance_sampling.glsl`) and each triangle's selection
-//! probability (stored in its packed normal.w, for multiple importance sampling).
+//! and each triangle's selection probability, for multiple importance sampling. How the
+//! shaders store them (`g_light_texels` of `glsl/importance_sampling.glsl`, the packed
+//! triangles' normal.w) is the renderer's business: `gpu_light_bytes` and
+//! `annotate_selection_probabilities` in `src/render/gpu_types.rs`.
 
 use glam::Vec3;
 
-use crate::render::gpu_types::GpuTriangle;
 use crate::scene::Triangle;
 
 /// Luminance of linear Rec. 709 RGB: the weight that makes light selection proportional to
@@ -66,23 +67,6 @@ impl LightTable {
         }
         table
     }
-
-    /// The bytes of the lights' texel buffer (`g_light_texels`, RGBA32_UINT): a header texel
-    /// (x: count) then one texel per light (x: triangle index, y: cdf as float bits).
-    pub fn gpu_bytes(&self) -> Vec<u8> {
-        let mut words: Vec<u32> = vec![self.triangle_indices.len() as u32, 0, 0, 0];
-        for (&index, &cdf) in self.triangle_indices.iter().zip(&self.cdf) {
-            words.extend_from_slice(&[index, cdf.to_bits(), 0, 0]);
-        }
-        bytemuck::cast_slice(&words).to_vec()
-    }
-
-    /// Writes each triangle's selection probability into its packed normal.w.
-    pub fn annotate(&self, triangles: &mut [GpuTriangle]) {
-        for (triangle, &probability) in triangles.iter_mut().zip(&self.selection_probability) {
-            triangle.normal[3] = probability;
-        }
-    }
 }
 
 #[cfg(test)]
@@ -112,7 +96,7 @@ mod tests {
         assert!((p[0] - 1.0 / 7.0).abs() < 1e-6 && p[1] == 0.0);
         assert!((p[2] - 4.0 / 7.0).abs() < 1e-6 && (p[3] - 2.0 / 7.0).abs() < 1e-6);
         assert_eq!(*table.cdf.last().unwrap(), 1.0);
-        assert_eq!(table.gpu_bytes().len(), 16 + 3 * 16);
+        assert_eq!(table.cdf.len(), 3);
     }
 
     #[test]
@@ -121,6 +105,6 @@ mod tests {
             Triangle::new([Vec3::ZERO, Vec3::X, Vec3::Y], Vec3::ONE, Vec3::ZERO, false).unwrap();
         let table = LightTable::new(&[t]);
         assert!(table.triangle_indices.is_empty());
-        assert_eq!(table.gpu_bytes().len(), 16);
+        assert!(table.cdf.is_empty() && table.selection_probability == vec![0.0]);
     }
 }

@@ -6,7 +6,6 @@ use std::path::{Path, PathBuf};
 use glam::Vec3;
 
 use crate::camera::Camera;
-use crate::render::gpu_types::GpuTriangle;
 
 pub mod cornell;
 mod error;
@@ -72,11 +71,6 @@ impl Triangle {
             double_sided,
         })
     }
-
-    /// The triangle as the shaders store it (`packed_triangle_t`).
-    pub fn to_gpu(&self) -> GpuTriangle {
-        GpuTriangle::new(self)
-    }
 }
 
 impl Scene {
@@ -110,11 +104,6 @@ impl Scene {
     /// embedded in the binary).
     pub fn builtin_cornell_box() -> Result<Scene, SceneError> {
         cornell::workshop_cornell_box()
-    }
-
-    /// The triangles as the shaders store them.
-    pub fn gpu_triangles(&self) -> Vec<GpuTriangle> {
-        self.triangles.iter().map(Triangle::to_gpu).collect()
     }
 }
 
@@ -318,6 +307,9 @@ mod tests {
         let mut builder = SceneBuilder::new(Path::new("t.obj"));
         builder.push("m", [Vec3::ZERO; 3], &material).unwrap();
         let error = builder.finish().unwrap_err();
-        assert_eq!(error.to_string(), "scene 't.obj' contains no triangles");
+        assert_eq!(
+            error.to_string(),
+            "scene 't.obj' contains no triangles (dropped 1 degenerate triangles)"
+        );
     }
 }
