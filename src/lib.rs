@@ -20,6 +20,7 @@ pub mod shader_compiler;
 pub mod bench;
 pub mod bvh;
 pub mod camera;
+#[cfg(feature = "cli")]
 pub mod cli;
 pub mod compare;
 pub mod error;
