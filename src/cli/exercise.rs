@@ -4,10 +4,11 @@ use std::path::PathBuf;
 
 use anyhow::bail;
 
+use super::options::SaveArgs;
 use super::output::{fail_on_validation_messages, render_and_save};
 use super::DeviceArgs;
 use crate::exercise::{render_sample_display, workshop_frame_settings, Exercise, ExerciseKind};
-use crate::image_io::output::{check_writable, save_image, SaveOptions};
+use crate::image_io::output::{check_writable, save_image};
 use crate::render::settings::{PixelFilter, RenderSettings};
 use crate::scene::SceneSource;
 
@@ -45,12 +46,9 @@ pub struct ExerciseArgs {
     /// Where samples look inside a pixel; the workshop uses the centre.
     #[arg(long, value_enum, default_value_t = workshop_frame_settings().pixel_filter)]
     pub pixel_filter: PixelFilter,
-    /// PNG only: multiply radiance by 2^EXPOSURE before clamping and sRGB encoding.
-    #[arg(long, default_value_t = SaveOptions::default().exposure, allow_negative_numbers = true)]
-    pub exposure: f32,
-    /// EXR only: also store each pixel's second moment and sample count.
-    #[arg(long)]
-    pub moments: bool,
+    /// How the image is written.
+    #[command(flatten)]
+    pub save: SaveArgs,
     /// Device selection and validation.
     #[command(flatten)]
     pub device: DeviceArgs,
@@ -58,10 +56,7 @@ pub struct ExerciseArgs {
 
 /// Runs `vkpath exercise`.
 pub fn run(args: &ExerciseArgs) -> anyhow::Result<()> {
-    let save = SaveOptions {
-        exposure: args.exposure,
-        moments: args.moments,
-    };
+    let save = args.save.options();
     match args.name.kind() {
         ExerciseKind::Render(integrator) => {
             let settings = RenderSettings {

@@ -4,6 +4,7 @@
 use std::path::PathBuf;
 use std::time::Instant;
 
+use crate::image_io::output::SaveOptions;
 use crate::render::settings::{Accel, LightSampling, RenderSettings, SamplerKind};
 use crate::scene::{Scene, SceneSource};
 
@@ -84,6 +85,27 @@ impl RenderOptions {
             sampler: self.sampler,
             light_sampling: self.light_sampling,
             ..settings
+        }
+    }
+}
+
+/// How the image file is written: `render` and `exercise` take it alike.
+#[derive(Debug, Clone, clap::Args)]
+pub struct SaveArgs {
+    /// PNG only: multiply radiance by 2^EXPOSURE before clamping to [0, 1] and sRGB encoding.
+    #[arg(long, default_value_t = SaveOptions::default().exposure, allow_negative_numbers = true)]
+    pub exposure: f32,
+    /// EXR only: also store each pixel's second moment and sample count (for `vkpath compare`).
+    #[arg(long)]
+    pub moments: bool,
+}
+
+impl SaveArgs {
+    /// The library's save options these arguments describe.
+    pub fn options(&self) -> SaveOptions {
+        SaveOptions {
+            exposure: self.exposure,
+            moments: self.moments,
         }
     }
 }

@@ -5,11 +5,11 @@ use std::path::{Path, PathBuf};
 use anyhow::bail;
 use glam::Vec3;
 
-use super::options::{RenderOptions, SceneArgs};
+use super::options::{RenderOptions, SaveArgs, SceneArgs};
 use super::output::render_and_save;
 use super::{parse_vec3, DeviceArgs};
 use crate::camera::{Camera, DEFAULT_VERTICAL_FOV_DEGREES};
-use crate::image_io::output::{check_writable, SaveOptions};
+use crate::image_io::output::check_writable;
 use crate::render::settings::{Integrator, PixelFilter, RenderSettings};
 use crate::scene::Scene;
 
@@ -44,12 +44,9 @@ pub struct RenderArgs {
     /// Where samples look inside a pixel.
     #[arg(long, value_enum, default_value_t = RenderSettings::default().pixel_filter)]
     pub pixel_filter: PixelFilter,
-    /// PNG only: multiply radiance by 2^EXPOSURE before clamping to [0, 1] and sRGB encoding.
-    #[arg(long, default_value_t = SaveOptions::default().exposure, allow_negative_numbers = true)]
-    pub exposure: f32,
-    /// EXR only: also store each pixel's second moment and sample count (for `vkpath compare`).
-    #[arg(long)]
-    pub moments: bool,
+    /// How the image is written.
+    #[command(flatten)]
+    pub save: SaveArgs,
     /// The camera, when not the scene's.
     #[command(flatten)]
     pub camera: CameraArgs,
@@ -133,9 +130,6 @@ pub fn run(args: &RenderArgs) -> anyhow::Result<()> {
         &camera,
         settings,
         &args.output,
-        &SaveOptions {
-            exposure: args.exposure,
-            moments: args.moments,
-        },
+        &args.save.options(),
     )
 }
