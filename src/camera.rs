@@ -3,6 +3,24 @@
 //! workshop's, glTF's perspective cameras, look-at cameras for OBJ) is expressed this way.
 
 use glam::Vec3;
+use thiserror::Error;
+
+/// The vertical field of view of a look-at camera when none is given, in degrees.
+pub const DEFAULT_VERTICAL_FOV_DEGREES: f32 = 45.0;
+
+/// Why a look-at camera cannot be made. The messages name the `vkpath render` options that
+/// give a look-at camera's parameters.
+#[derive(Clone, Copy, Debug, PartialEq, Error)]
+pub enum CameraError {
+    /// The vertical field of view is not in (0, 180) degrees (or is NaN).
+    #[error("--fov {0} is outside (0, 180) degrees")]
+    FieldOfView(f32),
+    /// The camera position equals the target, or the view direction is parallel to up.
+    #[error(
+        "--camera-position, --look-at and --up do not define a view (the view direction is zero or parallel to --up)"
+    )]
+    NoViewDirection,
+}
 
 /// A pinhole camera, independent of the image's aspect ratio (world space, metres).
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -49,6 +67,35 @@ impl Camera {
         }
     }
 
+    /// `look_at` for parameters given by a user: refuses a vertical field of view outside
+    /// (0, 180) degrees, a `target` equal to `position` and an `up_hint` (numerically)
+    /// parallel to the view direction, rather than producing NaNs. `vertical_fov_degrees` is
+    /// the full vertical opening angle in degrees.
+    pub fn look_at_checked(
+        position: Vec3,
+        target: Vec3,
+        up_hint: Vec3,
+        vertical_fov_degrees: f32,
+    ) -> Result<Camera, CameraError> {
+        // Written so that NaN fails too.
+        if !(vertical_fov_degrees > 0.0 && vertical_fov_degrees < 180.0) {
+            return Err(CameraError::FieldOfView(vertical_fov_degrees));
+        }
+        let forward = target - position;
+        // |forward x up| = |forward| |up| sin(angle): parallel when the sine is below 1e-6.
+        if forward.length() == 0.0
+            || forward.cross(up_hint).length() < 1e-6 * forward.length() * up_hint.length()
+        {
+            return Err(CameraError::NoViewDirection);
+        }
+        Ok(Camera::look_at(
+            position,
+            target,
+            up_hint,
+            vertical_fov_degrees.to_radians(),
+        ))
+    }
+
     /// The image plane for an image of `aspect` = width / height:
     /// left_bottom = middle - right / 2 - up / 2, right = aspect * right_per_unit_aspect.
     pub fn image_plane(&self, aspect: f32) -> ImagePlane {
@@ -82,5 +129,46 @@ mod tests {
         assert!((bottom.angle_between(top) - 1.0).abs() < 1e-5);
         // Width is aspect times height.
         assert!((plane.right.length() - 2.0 * plane.up.length()).abs() < 1e-5);
+    }
+
+    #[test]
+    fn look_at_checked_matches_look_at() {
+        let (position, target) = (Vec3::new(1.0, 2.0, 3.0), Vec3::ZERO);
+        let checked = Camera::look_at_checked(position, target, Vec3::Y, 45.0).unwrap();
+        let unchecked = Camera::look_at(position, target, Vec3::Y, 45f32.to_radians());
+        assert_eq!(checked, unchecked);
+    }
+
+    #[test]
+    fn look_at_checked_refuses_fields_of_view_outside_0_to_180_degrees() {
+        for fov in [0.0, -10.0, 180.0, 200.0, f32::NAN] {
+            let error = Camera::look_at_checked(Vec3::Z, Vec3::ZERO, Vec3::Y, fov).unwrap_err();
+            assert!(matches!(error, CameraError::FieldOfView(_)), "{fov}");
+            assert!(error.to_string().starts_with("--fov "), "{error}");
+            assert!(error.to_string().ends_with(" is outside (0, 180) degrees"));
+        }
+    }
+
+    #[test]
+    fn look_at_checked_refuses_a_zero_view_direction() {
+        let point = Vec3::new(1.0, 2.0, 3.0);
+        let error = Camera::look_at_checked(point, point, Vec3::Y, 45.0).unwrap_err();
+        assert_eq!(error, CameraError::NoViewDirection);
+        assert!(
+            error.to_string().contains("do not define a view"),
+            "{error}"
+        );
+    }
+
+    #[test]
+    fn look_at_checked_refuses_up_parallel_to_the_view_direction() {
+        for up in [Vec3::Y, -2.0 * Vec3::Y] {
+            let error = Camera::look_at_checked(Vec3::ZERO, Vec3::Y, up, 45.0).unwrap_err();
+            assert_eq!(error, CameraError::NoViewDirection, "up {up}");
+        }
+        // Nearly parallel but not numerically so is a valid (if tilted) view.
+        assert!(
+            Camera::look_at_checked(Vec3::ZERO, Vec3::Y, Vec3::new(1e-3, 1.0, 0.0), 45.0).is_ok()
+        );
     }
 }

@@ -50,6 +50,7 @@ pub mod bench;
 #[doc(hidden)]
 pub mod bvh;
 pub mod camera;
+#[cfg(feature = "cli")]
 #[doc(hidden)]
 pub mod cli;
 pub mod compare;

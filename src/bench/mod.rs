@@ -13,7 +13,7 @@ use crate::error::Result;
 use crate::image_io::data::RenderedImage;
 use crate::render::settings::{Integrator, RenderSettings, SamplerKind};
 use crate::render::{Renderer, Traversal};
-use crate::scene::Scene;
+use crate::scene::{Scene, SceneSource};
 use crate::vk::Context;
 
 /// The relMSE at which `seconds_to_target` is reported.
@@ -134,6 +134,30 @@ pub struct BenchSetup {
     /// Timed renders per integrator; the fastest counts (the image is the same each time,
     /// so only the timing varies, and the minimum is the least disturbed by other load).
     pub repeats: u32,
+}
+
+impl Default for BenchSetup {
+    /// `vkpath bench`'s defaults: the four path tracers on a 64 x 64 image at 64 spp against
+    /// a 4096 spp reference, the fastest of 3 timed renders; the workshop's Cornell box.
+    fn default() -> Self {
+        BenchSetup {
+            settings: RenderSettings {
+                width: 64,
+                height: 64,
+                spp: 64,
+                ..RenderSettings::default()
+            },
+            reference_spp: 4096,
+            integrators: vec![
+                Integrator::PathTracing,
+                Integrator::Cosine,
+                Integrator::Nee,
+                Integrator::Mis,
+            ],
+            scene_name: SceneSource::CornellBox.description(),
+            repeats: 3,
+        }
+    }
 }
 
 /// Renders the reference, then each integrator, and reports. `progress` is told what runs.

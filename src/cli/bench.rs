@@ -1,65 +1,48 @@
 //! `vkpath bench`: the integrators side by side on a fixed scene (see `crate::bench`).
 
-use std::path::PathBuf;
+use std::sync::LazyLock;
 
 use anyhow::bail;
+use clap::ValueEnum;
 
-use super::render::{load_scene_source, AccelArg, IntegratorArg, LightSamplingArg, SamplerArg};
+use super::options::{RenderOptions, SceneArgs};
 use super::DeviceArgs;
 use crate::bench::{format_table, run_bench, BenchSetup};
-use crate::render::settings::{Accel, Integrator, RenderSettings};
+use crate::render::settings::{Integrator, RenderSettings};
 
-/// Arguments of `vkpath bench`.
+/// Arguments of `vkpath bench`. Its defaults are `BenchSetup::default()`'s: a smaller image
+/// than `render`'s, and a list of integrators instead of one.
 #[derive(Debug, Clone, clap::Args)]
 pub struct BenchArgs {
-    /// Scene file (.gltf, .glb or .obj with a camera); the workshop's Cornell box when omitted.
-    pub scene: Option<PathBuf>,
-    /// Instead of a scene file: the generated scale-test scene (the Cornell box with an
-    /// icosphere and a displaced grid) of about this many triangles, e.g. 1000000.
-    #[arg(long, conflicts_with = "scene")]
-    pub generated: Option<usize>,
-    /// Ray traversal: auto (BVH above 64 triangles), none (linear loop) or bvh.
-    #[arg(long, value_enum, default_value_t = AccelArg::Auto)]
-    pub accel: AccelArg,
-    /// Random numbers of cosine, nee and mis: pcg (the workshop's PCG2D) or sobol
-    /// (Owen-scrambled Sobol points); the workshop integrator always uses PCG2D.
-    #[arg(long, value_enum, default_value_t = SamplerArg::Pcg)]
-    pub sampler: SamplerArg,
-    /// How nee and mis sample a point on the chosen light: solid-angle or area.
-    #[arg(long, value_enum, default_value_t = LightSamplingArg::SolidAngle)]
-    pub light_sampling: LightSamplingArg,
+    /// The scene; a scene file needs a camera of its own (glTF).
+    #[command(flatten)]
+    pub scene: SceneArgs,
     /// Image width in pixels.
-    #[arg(long, default_value_t = 64)]
+    #[arg(long, default_value_t = BenchSetup::default().settings.width)]
     pub width: u32,
     /// Image height in pixels.
-    #[arg(long, default_value_t = 64)]
+    #[arg(long, default_value_t = BenchSetup::default().settings.height)]
     pub height: u32,
     /// Samples per pixel of each measured render.
-    #[arg(long, default_value_t = 64)]
+    #[arg(long, default_value_t = BenchSetup::default().settings.spp)]
     pub spp: u32,
     /// Samples per pixel of the reference (rendered with mis); its own error adds
     /// 1/(reference_spp/spp) of a same-strategy render's to every relMSE.
-    #[arg(long, default_value_t = 4096)]
+    #[arg(long, default_value_t = BenchSetup::default().reference_spp)]
     pub reference_spp: u32,
-    /// Maximum number of surface hits per path.
-    #[arg(long, default_value_t = 5)]
-    pub max_path_length: u32,
-    /// Path vertex after which Russian roulette may end a path (cosine, nee, mis); 0: off.
-    #[arg(long, default_value_t = 3)]
-    pub russian_roulette_start: u32,
-    /// Samples per pixel per frame.
-    #[arg(long, default_value_t = 4)]
-    pub samples_per_frame: u32,
+    /// How paths are traced.
+    #[command(flatten)]
+    pub render: RenderOptions,
     /// Integrators to measure, in order; efficiency ratios are relative to the first.
     #[arg(
         long,
         value_enum,
         value_delimiter = ',',
-        default_value = "workshop,cosine,nee,mis"
+        default_value = DEFAULT_INTEGRATORS.as_str()
     )]
-    pub integrators: Vec<IntegratorArg>,
+    pub integrators: Vec<Integrator>,
     /// Timed renders per integrator; the fastest counts.
-    #[arg(long, default_value_t = 3)]
+    #[arg(long, default_value_t = BenchSetup::default().repeats)]
     pub repeats: u32,
     /// Print JSON instead of a table.
     #[arg(long)]
@@ -69,34 +52,36 @@ pub struct BenchArgs {
     pub device: DeviceArgs,
 }
 
+/// `BenchSetup::default().integrators` as `--integrators` spells them: "workshop,cosine,...".
+static DEFAULT_INTEGRATORS: LazyLock<String> = LazyLock::new(|| {
+    let names: Vec<String> = BenchSetup::default()
+        .integrators
+        .iter()
+        .filter_map(|integrator| integrator.to_possible_value())
+        .map(|value| value.get_name().to_owned())
+        .collect();
+    names.join(",")
+});
+
 /// Runs `vkpath bench`.
 pub fn run(args: &BenchArgs) -> anyhow::Result<()> {
     if args.integrators.is_empty() {
         bail!("--integrators is empty");
     }
-    let settings = RenderSettings {
+    let settings = args.render.apply(RenderSettings {
         width: args.width,
         height: args.height,
         spp: args.spp,
-        max_path_length: args.max_path_length,
-        samples_per_frame: args.samples_per_frame,
-        russian_roulette_start: args.russian_roulette_start,
-        accel: match args.accel {
-            AccelArg::Auto => Accel::Auto,
-            AccelArg::None => Accel::None,
-            AccelArg::Bvh => Accel::Bvh,
-        },
-        sampler: args.sampler.into(),
-        light_sampling: args.light_sampling.into(),
-        ..Default::default()
-    };
+        ..RenderSettings::default()
+    });
     settings.validate()?;
     RenderSettings {
         spp: args.reference_spp,
         ..settings.clone()
     }
     .validate()?;
-    let scene = load_scene_source(args.scene.as_deref(), args.generated, "vkpath bench")?;
+    let source = args.scene.source();
+    let scene = args.scene.load("vkpath bench")?;
     let Some(camera) = scene.camera else {
         bail!("the scene has no camera; bench needs a scene with its own camera (glTF or the built-in one)");
     };
@@ -105,21 +90,8 @@ pub fn run(args: &BenchArgs) -> anyhow::Result<()> {
         repeats: args.repeats,
         settings,
         reference_spp: args.reference_spp,
-        integrators: args
-            .integrators
-            .iter()
-            .map(|arg| match arg {
-                IntegratorArg::Workshop => Integrator::PathTracing,
-                IntegratorArg::Cosine => Integrator::Cosine,
-                IntegratorArg::Nee => Integrator::Nee,
-                IntegratorArg::Mis => Integrator::Mis,
-            })
-            .collect(),
-        scene_name: match (&args.scene, args.generated) {
-            (Some(path), _) => path.display().to_string(),
-            (None, Some(_)) => "generated scale-test scene".into(),
-            (None, None) => "workshop Cornell box".into(),
-        },
+        integrators: args.integrators.clone(),
+        scene_name: source.description(),
     };
     let report = run_bench(&context, &scene, &camera, &setup, |what| {
         eprintln!("vkpath bench: {what}")

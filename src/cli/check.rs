@@ -7,6 +7,7 @@
 use std::io::Write as _;
 use std::path::PathBuf;
 
+use super::output::fail_on_validation_messages;
 use super::DeviceArgs;
 use crate::check::{check, load_user_functions, report::describe, CheckOptions};
 
@@ -73,15 +74,7 @@ pub fn run(args: &CheckArgs) -> anyhow::Result<()> {
     } else {
         print!("{}", describe(&report));
     }
-    if let Some(messages) = context.validation_messages() {
-        if messages.total() > 0 {
-            anyhow::bail!(
-                "the validation layer reported {} errors and {} warnings (see the log above)",
-                messages.errors(),
-                messages.warnings()
-            );
-        }
-    }
+    fail_on_validation_messages(&context)?;
     if !report.passed {
         std::io::stdout().flush()?;
         std::process::exit(EXIT_FAILED);

@@ -1,10 +1,10 @@
 //! The `vkpath` command line: argument parsing and the subcommands. Errors reach `main` as
-//! `anyhow` chains and are printed as one line.
+//! `anyhow` chains and are printed as one line. The subcommands parse and print; what they
+//! share lives here (`DeviceArgs`, `parse_vec3`), in `options` (arguments), `output` (the
+//! end of a render) and `summary`, never in one another.
 
-use clap::{Parser, Subcommand, ValueEnum};
+use clap::{Parser, Subcommand};
 use glam::Vec3;
-
-use crate::render::settings::PixelFilter;
 
 pub mod bench;
 pub mod check;
@@ -12,6 +12,8 @@ pub mod compare;
 pub mod devices;
 pub mod exercise;
 pub mod export;
+pub mod options;
+pub mod output;
 pub mod render;
 pub mod summary;
 
@@ -67,24 +69,6 @@ impl DeviceArgs {
         })?;
         eprintln!("vkpath: device {}", context.info);
         Ok(context)
-    }
-}
-
-/// `--pixel-filter` values.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
-pub enum PixelFilterArg {
-    /// Jitter uniformly inside the pixel (box filter).
-    Box,
-    /// The pixel centre, as the workshop does.
-    Center,
-}
-
-impl From<PixelFilterArg> for PixelFilter {
-    fn from(arg: PixelFilterArg) -> PixelFilter {
-        match arg {
-            PixelFilterArg::Box => PixelFilter::Box,
-            PixelFilterArg::Center => PixelFilter::Center,
-        }
     }
 }
 

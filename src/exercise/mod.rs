@@ -9,23 +9,69 @@ pub mod view;
 pub use display::{render_sample_display, render_sample_display_with};
 pub use view::ExerciseSampler;
 
-use crate::render::settings::Integrator;
+use crate::render::settings::{Integrator, PixelFilter, RenderSettings};
 
-/// One of the workshop's pictures.
+/// The settings the workshop's ShaderToy framework renders its exercises with, and the
+/// defaults of `vkpath exercise`: one frame of SAMPLE_COUNT = 1 sample per pixel at the pixel
+/// centres, 256 x 256 pixels (quick even on a CPU device such as lavapipe). The integrator is
+/// the exercise's own (`Exercise::kind`).
+pub fn workshop_frame_settings() -> RenderSettings {
+    RenderSettings {
+        width: 256,
+        height: 256,
+        spp: 1,
+        samples_per_frame: 1,
+        pixel_filter: PixelFilter::Center,
+        ..RenderSettings::default()
+    }
+}
+
+/// One of the workshop's pictures; `vkpath exercise` names them in kebab case.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[cfg_attr(feature = "cli", derive(clap::ValueEnum))]
 pub enum Exercise {
     /// Part 1: ray tracing, the albedo of the first hit, unshaded.
+    #[cfg_attr(
+        feature = "cli",
+        value(
+            help = "Part 1: unshaded ray tracing of the Cornell box (the albedo of the first hit)"
+        )
+    )]
     RayTracing,
     /// Exercise 4: 512 samples of `sample_sphere` on the sphere.
+    #[cfg_attr(
+        feature = "cli",
+        value(help = "Exercise 4: 512 samples of sample_sphere() drawn on the sphere")
+    )]
     SampleSphere,
     /// Exercise 5: 512 samples of `sample_hemisphere` (normal +z) on the sphere.
+    #[cfg_attr(
+        feature = "cli",
+        value(
+            help = "Exercise 5: 512 samples of sample_hemisphere() (normal +z) drawn on the sphere"
+        )
+    )]
     SampleHemisphere,
     /// The slide "Non-uniform sphere sampling": 512 samples of the naive spherical-
     /// coordinates mapping phi = 2 pi u_0, theta = pi u_1, crowded at the top.
+    #[cfg_attr(
+        feature = "cli",
+        value(help = "The naive spherical-coordinates sampler: too many samples at the top")
+    )]
     SphericalCoords,
     /// Exercise 6: emission plus one-sample direct illumination.
+    #[cfg_attr(
+        feature = "cli",
+        value(
+            help = "Exercise 6: direct illumination (one frame of --sample-count samples by default)"
+        )
+    )]
     DirectIllumination,
     /// Exercise 7: path tracing with uniform hemisphere sampling.
+    #[cfg_attr(
+        feature = "cli",
+        value(help = "Exercise 7: path tracing (one frame of --sample-count samples by default)")
+    )]
     PathTracing,
 }
 

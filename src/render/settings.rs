@@ -5,11 +5,20 @@ use crate::error::{Error, Result};
 
 /// Where in a pixel the samples look.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+#[cfg_attr(feature = "cli", derive(clap::ValueEnum))]
 pub enum PixelFilter {
     /// Uniformly jittered inside the pixel: the box-filtered image.
     #[default]
+    #[cfg_attr(
+        feature = "cli",
+        value(help = "Jitter uniformly inside the pixel (box filter)")
+    )]
     Box,
     /// Always the pixel centre, as the workshop's ShaderToy does.
+    #[cfg_attr(
+        feature = "cli",
+        value(help = "The pixel centre, as the workshop does")
+    )]
     Center,
 }
 
@@ -23,21 +32,41 @@ impl PixelFilter {
     }
 }
 
-/// What the kernel computes per sample.
+/// What the kernel computes per sample. The command line's `--integrator` offers the four
+/// path tracers (the first as `workshop`); the other two are `vkpath exercise` pictures.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+#[cfg_attr(feature = "cli", derive(clap::ValueEnum))]
 pub enum Integrator {
     /// Exercise 7: the workshop's path tracer (uniform hemisphere sampling).
     #[default]
+    #[cfg_attr(
+        feature = "cli",
+        value(
+            name = "workshop",
+            help = "Uniform hemisphere sampling, exactly as the workshop's slides"
+        )
+    )]
     PathTracing,
     /// Exercise 6: emission plus one-sample direct illumination.
+    #[cfg_attr(feature = "cli", value(skip))]
     DirectIllumination,
     /// Part 1: the albedo of the first hit, unshaded.
+    #[cfg_attr(feature = "cli", value(skip))]
     RayTracing,
     /// Path tracing with cosine-weighted hemisphere sampling.
+    #[cfg_attr(feature = "cli", value(help = "Cosine-weighted hemisphere sampling"))]
     Cosine,
     /// Next event estimation: a light sample at every vertex, cosine sampling to continue.
+    #[cfg_attr(
+        feature = "cli",
+        value(help = "Next event estimation (light sampling)")
+    )]
     Nee,
     /// Light and cosine samples combined with the power heuristic.
+    #[cfg_attr(
+        feature = "cli",
+        value(help = "Light and cosine sampling combined with the power heuristic")
+    )]
     Mis,
 }
 
@@ -63,12 +92,21 @@ impl Integrator {
 /// Where the importance-sampled integrators (cosine, nee, mis) get their random numbers; the
 /// workshop integrators always use the workshop's PCG2D.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+#[cfg_attr(feature = "cli", derive(clap::ValueEnum))]
 pub enum SamplerKind {
     /// The workshop's PCG2D hash, `get_random_numbers()`: independent random numbers.
     #[default]
+    #[cfg_attr(
+        feature = "cli",
+        value(help = "The workshop's PCG2D: independent random numbers")
+    )]
     Pcg,
     /// Owen-scrambled, shuffled 2D Sobol points per dimension pair (Burley 2020,
     /// `glsl/sobol.glsl`): low-discrepancy, still unbiased.
+    #[cfg_attr(
+        feature = "cli",
+        value(help = "Owen-scrambled Sobol points (Burley 2020): lower error at the same spp")
+    )]
     Sobol,
 }
 
@@ -84,14 +122,22 @@ impl SamplerKind {
 
 /// How nee and mis sample a point on the light they chose.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+#[cfg_attr(feature = "cli", derive(clap::ValueEnum))]
 pub enum LightSampling {
-    /// A point uniformly distributed on the triangle's area, as the nee describes:
-    /// its density in solid angle grows as distance^2, so points near a light are noisy.
-    Area,
     /// A direction uniformly distributed in the solid angle the triangle subtends (Arvo
     /// 1995); by area where that is below 10^-3 sr or above 6 sr.
     #[default]
+    #[cfg_attr(
+        feature = "cli",
+        value(
+            help = "A direction uniform in the light's solid angle (Arvo 1995): less noise near lights"
+        )
+    )]
     SolidAngle,
+    /// A point uniformly distributed on the triangle's area, as the nee describes:
+    /// its density in solid angle grows as distance^2, so points near a light are noisy.
+    #[cfg_attr(feature = "cli", value(help = "A point uniform on the light's area"))]
+    Area,
 }
 
 impl LightSampling {
@@ -114,13 +160,23 @@ impl LightSampling {
 
 /// How rays find the closest triangle.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+#[cfg_attr(feature = "cli", derive(clap::ValueEnum))]
 pub enum Accel {
     /// A BVH for scenes of more than `BVH_THRESHOLD` triangles, else the linear loop.
     #[default]
+    #[cfg_attr(
+        feature = "cli",
+        value(help = "A BVH above 64 triangles, else the linear loop")
+    )]
     Auto,
     /// The workshop's loop over all triangles.
+    #[cfg_attr(
+        feature = "cli",
+        value(help = "The workshop's linear loop over all triangles")
+    )]
     None,
     /// A bounding volume hierarchy (binned SAH), traversed in the shader.
+    #[cfg_attr(feature = "cli", value(help = "Always a BVH"))]
     Bvh,
 }
 

@@ -179,6 +179,14 @@ pub enum SceneError {
         /// The mesh (glTF) or object (OBJ) name, or `#index` when it has none.
         mesh: String,
     },
+    /// More triangles were asked of the generated scale-test scene than it may have.
+    #[error("--generated {requested}: at most {limit} triangles")]
+    TooManyGeneratedTriangles {
+        /// The triangle count asked for.
+        requested: usize,
+        /// The most it may have (`scene::source::MAX_GENERATED_TRIANGLES`).
+        limit: usize,
+    },
     /// The embedded workshop scene could not be parsed (a bug in the build, not user input).
     #[error("built-in Cornell box scene is broken: {reason}")]
     Builtin {

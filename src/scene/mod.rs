@@ -16,8 +16,10 @@ pub mod lights;
 pub mod meshes;
 pub mod obj_loader;
 pub mod procedural;
+pub mod source;
 
 pub use error::SceneError;
+pub use source::SceneSource;
 
 /// A triangle with the workshop's shading parameters (`triangle_t`), world space.
 #[derive(Clone, Copy, Debug, PartialEq)]
