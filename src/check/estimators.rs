@@ -25,7 +25,6 @@ use crate::image_io::data::RenderedImage;
 use crate::render::settings::{Integrator, PixelFilter, RenderSettings};
 use crate::render::{Renderer, Traversal};
 use crate::stats::ztest::{two_sided_p_value, z_score, z_test_images, MeanImage};
-use crate::vk::spirv_words;
 
 /// The renders are compared in blocks of `block_size` pixels a side: at least 8 x 8
 /// pixels, so that a block pools at least 64 x spp samples and its mean is close to normal
@@ -334,11 +333,6 @@ fn render(
     };
     let compiled = compile_kernel("path_tracer.comp", code.as_ref(), macros)
         .map_err(Error::ShaderCompilation)?;
-    let bytes: Vec<u8> = compiled
-        .spirv
-        .iter()
-        .flat_map(|w| w.to_le_bytes())
-        .collect();
     let size = session.options.image_size;
     let settings = RenderSettings {
         width: size,
@@ -367,7 +361,7 @@ fn render(
         scene,
         &camera,
         settings,
-        &spirv_words(&bytes)?,
+        &compiled.spirv,
         traversal,
     )?;
     renderer.render_all()

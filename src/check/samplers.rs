@@ -21,7 +21,6 @@ use crate::probe::inputs;
 use crate::probe::{DirectionOutput, ProbeKind};
 use crate::stats::chi2::{chi2_direction_test, Chi2Config, Chi2Result};
 use crate::stats::sphere_histogram::{SphereFrame, TargetDensity, UNIT_LENGTH_TOLERANCE};
-use crate::vk::spirv_words;
 
 /// 10^6 samples put about 200 into each of Mitsuba's 5050 bins (400 on a hemisphere): the
 /// χ² approximation is excellent, and a density error of a few percent over some bins is far
@@ -293,19 +292,8 @@ fn draw_samples(session: &Session, function: WorkshopFunction) -> Result<Vec<Str
         &[],
     )
     .map_err(Error::ShaderCompilation)?;
-    let bytes: Vec<u8> = compiled
-        .spirv
-        .iter()
-        .flat_map(|w| w.to_le_bytes())
-        .collect();
-    let yours = render_sample_display_with(
-        &session.context,
-        &spirv_words(&bytes)?,
-        sampler,
-        size,
-        size,
-        0,
-    )?;
+    let yours =
+        render_sample_display_with(&session.context, &compiled.spirv, sampler, size, size, 0)?;
     session.save_pngs(&[(
         format!("{}-samples", function.name()),
         side_by_side(&reference, &yours),

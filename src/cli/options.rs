@@ -6,6 +6,7 @@ use std::time::Instant;
 
 use crate::image_io::output::SaveOptions;
 use crate::render::settings::{Accel, LightSampling, RenderSettings, SamplerKind};
+use crate::scene::files::LoadOptions;
 use crate::scene::{Scene, SceneSource};
 
 /// Which scene: `render`, `bench` and `export` take it alike.
@@ -17,6 +18,10 @@ pub struct SceneArgs {
     /// icosphere and a displaced grid) of about this many triangles, e.g. 1000000.
     #[arg(long, conflicts_with = "scene")]
     pub generated: Option<usize>,
+    /// Let a glTF file read buffers outside its own folder (absolute paths, `../`, `file:`
+    /// URIs); off by default, so that a scene from elsewhere cannot read other files.
+    #[arg(long)]
+    pub allow_external_paths: bool,
 }
 
 impl SceneArgs {
@@ -30,7 +35,9 @@ impl SceneArgs {
     pub fn load(&self, command: &str) -> anyhow::Result<Scene> {
         let source = self.source();
         let started = Instant::now();
-        let scene = source.load()?;
+        let scene = source.load_with(&LoadOptions {
+            allow_external_paths: self.allow_external_paths,
+        })?;
         if let SceneSource::Generated(_) = source {
             eprintln!(
                 "{command}: generated {} triangles in {:.2} s",

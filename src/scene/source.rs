@@ -34,8 +34,13 @@ impl SceneSource {
     /// Loads (or generates) the scene. Refuses more than `MAX_GENERATED_TRIANGLES`
     /// generated triangles before generating any.
     pub fn load(&self) -> Result<Scene, SceneError> {
+        self.load_with(&super::files::LoadOptions::default())
+    }
+
+    /// `load` with options for reading files (see `Scene::load_with`).
+    pub fn load_with(&self, options: &super::files::LoadOptions) -> Result<Scene, SceneError> {
         match self {
-            SceneSource::File(path) => Scene::load(path),
+            SceneSource::File(path) => Scene::load_with(path, options),
             SceneSource::CornellBox => Scene::builtin_cornell_box(),
             SceneSource::Generated(triangles) if *triangles > MAX_GENERATED_TRIANGLES => {
                 Err(SceneError::TooManyGeneratedTriangles {

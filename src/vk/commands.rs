@@ -265,17 +265,7 @@ impl Recorder<'_> {
             vk::PipelineStageFlags::TRANSFER,
         );
         self.set_layout(image, general, source);
-        let region = vk::BufferImageCopy::default()
-            .image_subresource(
-                vk::ImageSubresourceLayers::default()
-                    .aspect_mask(vk::ImageAspectFlags::COLOR)
-                    .layer_count(image.layers),
-            )
-            .image_extent(vk::Extent3D {
-                width: image.width,
-                height: image.height,
-                depth: 1,
-            });
+        let region = whole_image(image);
         // SAFETY: the image is in TRANSFER_SRC_OPTIMAL; callers size the buffer with
         // StorageImage::byte_size().
         unsafe {
@@ -306,17 +296,7 @@ impl Recorder<'_> {
             vk::PipelineStageFlags::TRANSFER,
         );
         self.set_layout(image, general, destination);
-        let region = vk::BufferImageCopy::default()
-            .image_subresource(
-                vk::ImageSubresourceLayers::default()
-                    .aspect_mask(vk::ImageAspectFlags::COLOR)
-                    .layer_count(image.layers),
-            )
-            .image_extent(vk::Extent3D {
-                width: image.width,
-                height: image.height,
-                depth: 1,
-            });
+        let region = whole_image(image);
         // SAFETY: the image is in TRANSFER_DST_OPTIMAL; callers size the buffer with
         // StorageImage::byte_size().
         unsafe {
@@ -355,6 +335,21 @@ impl Recorder<'_> {
             );
         }
     }
+}
+
+/// A copy region covering every layer of a storage image, tightly packed in the buffer.
+fn whole_image(image: &StorageImage) -> vk::BufferImageCopy {
+    vk::BufferImageCopy::default()
+        .image_subresource(
+            vk::ImageSubresourceLayers::default()
+                .aspect_mask(vk::ImageAspectFlags::COLOR)
+                .layer_count(image.layers),
+        )
+        .image_extent(vk::Extent3D {
+            width: image.width,
+            height: image.height,
+            depth: 1,
+        })
 }
 
 /// A layout, the accesses to wait for or to make wait, and their pipeline stage.
