@@ -1,9 +1,35 @@
 //! `vkpath devices`: lists the Vulkan devices.
 
-/// Prints one line per device.
-pub fn run() -> anyhow::Result<()> {
-    for device in crate::vk::list_devices()? {
-        println!("{device}");
+/// Arguments of `vkpath devices`.
+#[derive(Debug, Clone, clap::Args)]
+pub struct DevicesArgs {
+    /// Print a JSON array (index, name, kind, API version) instead of one line per device.
+    #[arg(long)]
+    pub json: bool,
+}
+
+/// Prints one line per device, or a JSON array.
+pub fn run(args: &DevicesArgs) -> anyhow::Result<()> {
+    let devices = crate::vk::list_devices()?;
+    if args.json {
+        let list: Vec<serde_json::Value> = devices
+            .iter()
+            .map(|device| {
+                serde_json::json!({
+                    "index": device.index,
+                    "name": device.name,
+                    "kind": format!("{:?}", device.kind),
+                    "api_version": device.api_version,
+                    "compute": device.compute_queue_family.is_some(),
+                    "description": device.to_string(),
+                })
+            })
+            .collect();
+        println!("{}", serde_json::to_string_pretty(&list)?);
+    } else {
+        for device in devices {
+            println!("{device}");
+        }
     }
     Ok(())
 }

@@ -12,9 +12,11 @@ pub mod compare;
 pub mod devices;
 pub mod exercise;
 pub mod export;
+pub mod merge;
 pub mod options;
 pub mod output;
 pub mod render;
+pub mod signals;
 pub mod summary;
 
 /// Headless progressive path tracer: the Path Tracing Workshop's GLSL on Vulkan.
@@ -32,7 +34,7 @@ pub enum Command {
     /// Render a scene (the workshop's Cornell box when none is given) to an EXR or PNG image.
     Render(render::RenderArgs),
     /// List the Vulkan devices.
-    Devices,
+    Devices(devices::DevicesArgs),
     /// Render one of the workshop's exercises as its ShaderToy framework shows it.
     Exercise(exercise::ExerciseArgs),
     /// Test whether image A is an unbiased estimate of image B (exit 0: consistent, 1: not, 2: unusable input).
@@ -43,6 +45,8 @@ pub enum Command {
     Bench(bench::BenchArgs),
     /// Write a scene as PLY meshes (one per material) and a JSON manifest, for other renderers.
     Export(export::ExportArgs),
+    /// Combine shards (`render --sample-range/--shard`) into one image (EXR or PNG).
+    Merge(merge::MergeArgs),
 }
 
 /// Options that choose and check the Vulkan device.
@@ -96,12 +100,13 @@ pub fn parse_vec3(text: &str) -> Result<Vec3, String> {
 pub fn run(cli: Cli) -> anyhow::Result<()> {
     match cli.command {
         Command::Render(args) => render::run(&args),
-        Command::Devices => devices::run(),
+        Command::Devices(args) => devices::run(&args),
         Command::Exercise(args) => exercise::run(&args),
         Command::Compare(args) => compare::run(&args),
         Command::Bench(args) => bench::run(&args),
         Command::Check(args) => check::run(&args),
         Command::Export(args) => export::run(&args),
+        Command::Merge(args) => merge::run(&args),
     }
 }
 

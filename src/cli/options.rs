@@ -1,8 +1,13 @@
 //! Options that several subcommands take, parsed into the library's own types. Their
 //! defaults are the library's (`RenderSettings::default()`), never written here.
 
+use std::ops::Range;
 use std::path::PathBuf;
-use std::time::Instant;
+use std::time::{Duration, Instant};
+
+use super::output::Reporting;
+use crate::render::job::{shard_range, JobOptions, DEFAULT_CHECKPOINT_INTERVAL};
+use crate::render::metadata::parse_range;
 
 use crate::image_io::output::SaveOptions;
 use crate::render::settings::{Accel, LightSampling, RenderSettings, SamplerKind};
@@ -96,11 +101,124 @@ impl RenderOptions {
     }
 }
 
+/// A production render's controls (`render` only).
+#[derive(Debug, Clone, clap::Args)]
+pub struct JobArgs {
+    /// Stop after this many seconds (after the current batch, within about a second) and
+    /// write the samples taken so far; the EXR header says how many.
+    #[arg(long, value_parser = parse_seconds)]
+    pub time_limit: Option<f64>,
+    /// Write the render state (sums, compensations, counts, metadata) to this EXR every
+    /// --checkpoint-interval seconds and whenever the render stops.
+    #[arg(long)]
+    pub checkpoint: Option<PathBuf>,
+    /// Seconds between checkpoints.
+    #[arg(long, value_parser = parse_seconds, default_value_t = DEFAULT_CHECKPOINT_INTERVAL.as_secs_f64())]
+    pub checkpoint_interval: f64,
+    /// Continue the render saved in this checkpoint (same scene and settings); the result
+    /// equals the uninterrupted render bit for bit.
+    #[arg(long)]
+    pub resume: Option<PathBuf>,
+    /// Render only samples START..END of every pixel's sequence (a shard; combine shards
+    /// with `vkpath merge`). --spp is ignored.
+    #[arg(long, value_parser = parse_sample_range, conflicts_with = "shard")]
+    pub sample_range: Option<Range<u32>>,
+    /// Shard INDEX/COUNT (INDEX from 0) of the --spp samples: the INDEX-th of COUNT
+    /// contiguous sample ranges (e.g. from SLURM_ARRAY_TASK_ID or JOB_COMPLETION_INDEX).
+    #[arg(long, value_parser = parse_shard)]
+    pub shard: Option<(u32, u32)>,
+    /// Print one JSON object at the end (output, spp, seconds, samples/s, devices, stop
+    /// reason) on stdout instead of the progress bar and summary.
+    #[arg(long)]
+    pub json: bool,
+    /// Print only warnings and errors.
+    #[arg(long)]
+    pub quiet: bool,
+}
+
+impl JobArgs {
+    /// The library's job options for a render of `spp` samples per pixel.
+    pub fn options(&self, spp: u32) -> anyhow::Result<JobOptions<'static>> {
+        let samples = match (&self.sample_range, self.shard) {
+            (Some(range), _) => range.clone(),
+            (None, Some((index, count))) => shard_range(index, count, spp)?,
+            (None, None) => 0..spp,
+        };
+        if samples.is_empty() {
+            anyhow::bail!(
+                "the sample range {}..{} is empty",
+                samples.start,
+                samples.end
+            );
+        }
+        Ok(JobOptions {
+            samples,
+            time_limit: self.time_limit.map(Duration::from_secs_f64),
+            cancel: None,
+            checkpoint: self.checkpoint.clone(),
+            checkpoint_interval: Duration::from_secs_f64(self.checkpoint_interval),
+            resume: self.resume.clone(),
+        })
+    }
+
+    /// Whether the render is a shard (its EXR holds the render state).
+    pub fn is_shard(&self) -> bool {
+        self.sample_range.is_some() || self.shard.is_some()
+    }
+
+    /// How the command reports.
+    pub fn reporting(&self) -> Reporting {
+        Reporting {
+            json: self.json,
+            quiet: self.quiet,
+        }
+    }
+}
+
+/// A positive, finite number of seconds.
+fn parse_seconds(text: &str) -> Result<f64, String> {
+    let seconds: f64 = text
+        .parse()
+        .map_err(|_| format!("'{text}' is not a number of seconds"))?;
+    if !(seconds > 0.0 && seconds < 1e9) {
+        return Err(format!("{text} is not a positive number of seconds"));
+    }
+    Ok(seconds)
+}
+
+/// START..END with START < END.
+fn parse_sample_range(text: &str) -> Result<Range<u32>, String> {
+    parse_range(text)
+        .filter(|r| !r.is_empty())
+        .ok_or_else(|| format!("'{text}' is not START..END with START < END"))
+}
+
+/// INDEX/COUNT with INDEX < COUNT.
+fn parse_shard(text: &str) -> Result<(u32, u32), String> {
+    let parsed = text
+        .split_once('/')
+        .and_then(|(i, c)| Some((i.trim().parse::<u32>().ok()?, c.trim().parse::<u32>().ok()?)));
+    match parsed {
+        Some((index, count)) if index < count => Ok((index, count)),
+        _ => Err(format!(
+            "'{text}' is not INDEX/COUNT with 0 <= INDEX < COUNT"
+        )),
+    }
+}
+
+/// A finite exposure.
+fn parse_exposure(text: &str) -> Result<f32, String> {
+    match text.parse::<f32>() {
+        Ok(value) if value.is_finite() => Ok(value),
+        _ => Err(format!("'{text}' is not a finite number")),
+    }
+}
+
 /// How the image file is written: `render` and `exercise` take it alike.
 #[derive(Debug, Clone, clap::Args)]
 pub struct SaveArgs {
     /// PNG only: multiply radiance by 2^EXPOSURE before clamping to [0, 1] and sRGB encoding.
-    #[arg(long, default_value_t = SaveOptions::default().exposure, allow_negative_numbers = true)]
+    #[arg(long, default_value_t = SaveOptions::default().exposure, allow_negative_numbers = true, value_parser = parse_exposure)]
     pub exposure: f32,
     /// EXR only: also store each pixel's second moment and sample count (for `vkpath compare`).
     #[arg(long)]

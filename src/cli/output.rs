@@ -1,27 +1,51 @@
-//! The end of a render command: render with a progress bar, save the image (into the temp
-//! directory when the output cannot be written), print the summary line, and fail when the
+//! The end of a render command: render with a progress bar (or quietly), stop on a signal or
+//! a time limit, save the image with its metadata (into the temp directory when the output
+//! cannot be written), print the summary line (or one JSON object), and fail when the
 //! validation layer complained.
 
 use std::path::Path;
-use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::Arc;
 
 use anyhow::bail;
+use serde::Serialize;
 
+use super::signals;
 use super::summary::{summary_line, RenderProgress};
 use crate::camera::Camera;
-use crate::image_io::output::{save_image, SaveOptions};
+use crate::image_io::output::{save_image_with_attributes, SaveOptions};
+use crate::image_io::state_exr::write_state;
+use crate::render::job::{run_job, JobOptions, DEFAULT_CHECKPOINT_INTERVAL};
+use crate::render::metadata::RenderMetadata;
 use crate::render::settings::RenderSettings;
-use crate::render::Renderer;
+use crate::render::StopReason;
 use crate::scene::Scene;
 use crate::vk::Context;
 use crate::RenderedImage;
 
-/// Set by Ctrl-C: stop after the current batch and save what was rendered.
-static INTERRUPTED: AtomicBool = AtomicBool::new(false);
+/// How a command reports.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct Reporting {
+    /// One JSON object on stdout at the end instead of the summary line.
+    pub json: bool,
+    /// No progress bar, summary or `wrote` lines (warnings and errors still print).
+    pub quiet: bool,
+}
 
-/// Renders with a progress bar, saves the image and prints the summary line. Ctrl-C stops
-/// early and saves the samples taken so far.
+/// The JSON object `render --json` prints.
+#[derive(Serialize)]
+struct RenderReport<'a> {
+    output: String,
+    spp: u32,
+    sample_range: [u32; 2],
+    seconds: f64,
+    samples_per_second: f64,
+    devices: Vec<String>,
+    stop: &'a str,
+    checkpoint: Option<String>,
+}
+
+/// Renders all samples with a progress bar, saves the image and prints the summary line.
+/// A signal stops it early and saves the samples taken so far.
 pub fn render_and_save(
     context: &Arc<Context>,
     scene: &Scene,
@@ -30,56 +54,161 @@ pub fn render_and_save(
     output: &Path,
     save: &SaveOptions,
 ) -> anyhow::Result<()> {
-    // A second handler cannot be installed (e.g. in tests calling this twice); the render
-    // then simply is not interruptible, which is harmless.
-    let _ = ctrlc::set_handler(|| INTERRUPTED.store(true, Ordering::SeqCst));
-    let mut renderer = Renderer::new(context, scene, camera, settings.clone())?;
-    let mut progress = RenderProgress::new(settings.spp);
-    let outcome = renderer.render_to_end(|done| progress.update(done), Some(&INTERRUPTED))?;
-    progress.finish();
-    let (seconds, done, image) = (outcome.seconds, outcome.samples, outcome.image);
-    if let Some(error) = outcome.failure {
+    let job = JobOptions {
+        samples: 0..settings.spp,
+        time_limit: None,
+        cancel: None,
+        checkpoint: None,
+        checkpoint_interval: DEFAULT_CHECKPOINT_INTERVAL,
+        resume: None,
+    };
+    render_job_and_save(
+        context,
+        scene,
+        camera,
+        &settings,
+        job,
+        output,
+        save,
+        Reporting::default(),
+        false,
+    )
+}
+
+/// Runs a production render (`job`) and saves it; `shard` writes the render state into the
+/// EXR too (for `vkpath merge`). Exits with 128 + the signal's number when a signal stopped
+/// it, after everything is written.
+#[allow(clippy::too_many_arguments)]
+pub fn render_job_and_save(
+    context: &Arc<Context>,
+    scene: &Scene,
+    camera: &Camera,
+    settings: &RenderSettings,
+    mut job: JobOptions,
+    output: &Path,
+    save: &SaveOptions,
+    reporting: Reporting,
+    shard: bool,
+) -> anyhow::Result<()> {
+    signals::install()?;
+    job.cancel = Some(&signals::STOP_REQUESTED);
+    let total = job.samples.len() as u32;
+    let mut progress = (!reporting.quiet && !reporting.json).then(|| RenderProgress::new(total));
+    let outcome = run_job(context, scene, camera, settings, &job, |done| {
+        if let Some(progress) = progress.as_mut() {
+            progress.update(done);
+        }
+    })?;
+    if let Some(progress) = progress {
+        progress.finish();
+    }
+    let metadata = &outcome.metadata;
+    let result = &outcome.outcome;
+    let done = result.samples;
+    if let Some(error) = &result.failure {
         eprintln!("vkpath: error after {done} spp: {error}; saving what was rendered");
     }
-    save_or_rescue(output, &image, save)?;
-    eprintln!(
-        "{}",
-        summary_line(
-            &context.info,
-            settings.width,
-            settings.height,
-            done,
-            seconds
-        )
-    );
-    if INTERRUPTED.load(Ordering::SeqCst) && done < settings.spp {
-        bail!(
-            "interrupted after {done} of {} spp; the partial render was saved to '{}'",
-            settings.spp,
-            output.display()
+    let non_finite = result
+        .image
+        .mean
+        .iter()
+        .filter(|p| !(p[0].is_finite() && p[1].is_finite() && p[2].is_finite()))
+        .count();
+    if non_finite > 0 {
+        eprintln!(
+            "vkpath: warning: {non_finite} pixels are not finite (NaN or infinite); the scene's values overflow 32-bit floats"
         );
+    }
+    if shard {
+        write_state(output, &result.state, metadata)?;
+    } else {
+        save_or_rescue(output, &result.image, save, metadata)?;
+    }
+    let quiet = reporting.quiet || reporting.json;
+    if !quiet {
+        eprintln!("vkpath: wrote {}", output.display());
+        if let Some(checkpoint) = &job.checkpoint {
+            eprintln!("vkpath: wrote {} (checkpoint)", checkpoint.display());
+        }
+        let seconds = result.seconds;
+        eprintln!(
+            "{}",
+            summary_line(
+                &context.info,
+                settings.width,
+                settings.height,
+                done,
+                seconds
+            )
+        );
+    }
+    let stop = match result.stop {
+        StopReason::Done => "done",
+        StopReason::TimeLimit => "time-limit",
+        StopReason::Cancelled => "signal",
+        StopReason::Failed => "failed",
+    };
+    if reporting.json {
+        let pixels = f64::from(settings.width) * f64::from(settings.height);
+        let new_samples = f64::from(done - outcome.resumed_samples) * pixels;
+        let report = RenderReport {
+            output: output.display().to_string(),
+            spp: done,
+            sample_range: [result.state.samples.start, result.state.samples.end],
+            seconds: result.seconds,
+            samples_per_second: new_samples / result.seconds.max(1e-9),
+            devices: vec![context.info.name.clone()],
+            stop,
+            checkpoint: job.checkpoint.as_ref().map(|p| p.display().to_string()),
+        };
+        println!("{}", serde_json::to_string(&report)?);
+    }
+    if let Some(error) = &result.failure {
+        bail!("rendering stopped after {done} of {total} spp: {error}");
+    }
+    match result.stop {
+        StopReason::Cancelled => {
+            let (name, status) = signals::received().unwrap_or(("a signal", 130));
+            eprintln!(
+                "vkpath: stopped by {name} after {done} of {total} spp; saved to '{}'{}",
+                output.display(),
+                job.checkpoint
+                    .as_ref()
+                    .map(|c| format!(" and '{}'", c.display()))
+                    .unwrap_or_default()
+            );
+            std::process::exit(status);
+        }
+        StopReason::TimeLimit if !quiet => {
+            eprintln!("vkpath: time limit reached after {done} of {total} spp");
+        }
+        _ => {}
     }
     fail_on_validation_messages(context)
 }
 
-/// Saves `image` to `output`; when that fails, nothing already rendered is lost: the image
-/// (with its moments) goes to the temp directory and the error says where.
+/// Saves `image` to `output` with the render's metadata in its header; when that fails,
+/// nothing already rendered is lost: the image (with its moments) goes to the temp directory
+/// and the error says where.
 pub fn save_or_rescue(
     output: &Path,
     image: &RenderedImage,
     save: &SaveOptions,
+    metadata: &RenderMetadata,
 ) -> anyhow::Result<()> {
-    let Err(error) = save_image(output, image, save) else {
+    let attributes = metadata.attributes();
+    let Err(error) = save_image_with_attributes(output, image, save, &attributes) else {
         return Ok(());
     };
     let rescue = std::env::temp_dir().join(format!("vkpath-rescue-{}.exr", std::process::id()));
-    let rescued = save_image(
+    let rescued = save_image_with_attributes(
         &rescue,
         image,
         &SaveOptions {
             moments: true,
             ..*save
         },
+        &attributes,
     );
     match rescued {
         Ok(()) => bail!(

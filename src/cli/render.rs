@@ -5,8 +5,8 @@ use std::path::{Path, PathBuf};
 use anyhow::bail;
 use glam::Vec3;
 
-use super::options::{RenderOptions, SaveArgs, SceneArgs};
-use super::output::render_and_save;
+use super::options::{JobArgs, RenderOptions, SaveArgs, SceneArgs};
+use super::output::render_job_and_save;
 use super::{parse_vec3, DeviceArgs};
 use crate::camera::{Camera, DEFAULT_VERTICAL_FOV_DEGREES};
 use crate::image_io::output::check_writable;
@@ -50,6 +50,9 @@ pub struct RenderArgs {
     /// The camera, when not the scene's.
     #[command(flatten)]
     pub camera: CameraArgs,
+    /// Time limit, checkpoints, shards and reporting.
+    #[command(flatten)]
+    pub job: JobArgs,
     /// Device selection and validation.
     #[command(flatten)]
     pub device: DeviceArgs,
@@ -119,17 +122,36 @@ impl RenderArgs {
 /// Runs `vkpath render`.
 pub fn run(args: &RenderArgs) -> anyhow::Result<()> {
     let settings = args.settings();
+    let job = args.job.options(settings.spp)?;
     settings.validate()?;
     check_writable(&args.output)?;
+    let shard = args.job.is_shard();
+    if shard
+        && !args
+            .output
+            .extension()
+            .is_some_and(|e| e.eq_ignore_ascii_case("exr"))
+    {
+        bail!("a shard (--sample-range or --shard) is written as EXR, for `vkpath merge`: use an .exr output");
+    }
+    if let Some(checkpoint) = &job.checkpoint {
+        check_writable(checkpoint)?;
+    }
     let scene = args.scene.load("vkpath render")?;
+    if !scene.emits_light() {
+        eprintln!("vkpath: warning: nothing in the scene emits light: the image will be black");
+    }
     let camera = args.camera(&scene)?;
     let context = args.device.create_context()?;
-    render_and_save(
+    render_job_and_save(
         &context,
         &scene,
         &camera,
-        settings,
+        &settings,
+        job,
         &args.output,
         &args.save.options(),
+        args.job.reporting(),
+        shard,
     )
 }

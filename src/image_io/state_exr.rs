@@ -136,6 +136,38 @@ pub fn read_state(path: &Path) -> Result<(Accumulation, RenderMetadata)> {
     Ok((state, metadata))
 }
 
+/// Reads shards (files `write_state` wrote) and merges them: every shard must come from the
+/// same render (the first setting that differs is named, with both files) and their sample
+/// ranges must tile one range (overlaps and gaps are named). Returns the merged state and
+/// its metadata.
+pub fn merge_state_files(paths: &[std::path::PathBuf]) -> Result<(Accumulation, RenderMetadata)> {
+    let mut states = Vec::new();
+    let mut first: Option<(&std::path::PathBuf, RenderMetadata)> = None;
+    for path in paths {
+        let (state, metadata) = read_state(path)?;
+        match &first {
+            None => first = Some((path, metadata)),
+            Some((first_path, first_metadata)) => {
+                if let Some(difference) = first_metadata.first_difference(&metadata) {
+                    return Err(Error::InvalidSettings(format!(
+                        "'{}' and '{}' are not shards of one render: {difference}",
+                        first_path.display(),
+                        path.display()
+                    )));
+                }
+            }
+        }
+        states.push(state);
+    }
+    let merged = Accumulation::merge(&states)
+        .map_err(|e| Error::InvalidSettings(format!("cannot merge: {e}")))?;
+    let mut metadata = first
+        .map(|(_, m)| m)
+        .ok_or_else(|| Error::InvalidSettings("no shards to merge".into()))?;
+    metadata.samples = merged.samples.clone();
+    Ok((merged, metadata))
+}
+
 /// Refuses an EXR whose header claims more than `MAX_EXR_PIXELS` (read before any pixel,
 /// so that a hostile header cannot make vkpath allocate terabytes).
 pub fn check_exr_size(path: &Path) -> std::result::Result<(), String> {
@@ -189,6 +221,6 @@ mod tests {
         let plain = dir.path().join("plain.exr");
         crate::image_io::output::save_image(&plain, &state.image(), &Default::default()).unwrap();
         let message = read_state(&plain).unwrap_err().to_string();
-        assert!(message.contains("vkpath.sample_range"), "{message}");
+        assert!(message.contains("no vkpath attribute"), "{message}");
     }
 }

@@ -1,7 +1,9 @@
 //! What a render was: the settings that decide its samples, the samples it holds and a hash
-//! of the scene as loaded. Every EXR vkpath writes carries it as header attributes
-//! (`vkpath.*`), so that a checkpoint is resumed and shards are merged only with what they
-//! belong to.
+//! of the scene as loaded. Every EXR vkpath writes carries it as the header attribute
+//! `vkpath` (text: `version=0.1.0; spp=64; sample_range=0..64; seed=0; ...`), so that a
+//! checkpoint is resumed and shards are merged only with what they belong to. One attribute,
+//! not one per field: the EXR writer stores attributes in hash order, which would make two
+//! identical renders different files.
 
 use std::collections::BTreeMap;
 use std::ops::Range;
@@ -12,8 +14,23 @@ use crate::camera::Camera;
 use crate::render::settings::RenderSettings;
 use crate::scene::Scene;
 
-/// The prefix of vkpath's EXR header attributes.
-pub const ATTRIBUTE_PREFIX: &str = "vkpath.";
+/// The name of vkpath's EXR header attribute.
+pub const ATTRIBUTE_NAME: &str = "vkpath";
+/// What separates the fields in the attribute's text.
+const FIELD_SEPARATOR: &str = "; ";
+/// The settings recorded, in order.
+const SETTING_NAMES: [&str; 10] = [
+    "version",
+    "seed",
+    "integrator",
+    "sampler",
+    "light_sampling",
+    "max_path_length",
+    "russian_roulette_start",
+    "pixel_filter",
+    "resolution",
+    "scene_hash",
+];
 
 /// What a render was.
 #[derive(Clone, Debug, PartialEq, Eq)]
@@ -35,7 +52,7 @@ impl RenderMetadata {
         camera: &Camera,
         samples: Range<u32>,
     ) -> RenderMetadata {
-        let entries = [
+        let entries: [(&str, String); 10] = [
             ("version", env!("CARGO_PKG_VERSION").to_string()),
             ("seed", settings.seed.to_string()),
             ("integrator", format!("{:?}", settings.integrator)),
@@ -62,52 +79,52 @@ impl RenderMetadata {
         }
     }
 
-    /// The header attributes: `vkpath.<name>` for each setting, `vkpath.spp` (samples per
-    /// pixel taken) and `vkpath.sample_range` ("start..end").
+    /// The fields: `spp` (samples per pixel taken), `sample_range` ("start..end") and the
+    /// settings.
+    pub fn fields(&self) -> Vec<(String, String)> {
+        let mut fields = vec![
+            ("spp".to_string(), self.samples.len().to_string()),
+            (
+                "sample_range".to_string(),
+                format!("{}..{}", self.samples.start, self.samples.end),
+            ),
+        ];
+        fields.extend(self.settings.iter().cloned());
+        fields
+    }
+
+    /// The header attributes: one, `vkpath`, with every field as `name=value`.
     pub fn attributes(&self) -> Vec<(String, String)> {
-        let mut attributes: Vec<(String, String)> = self
-            .settings
+        let text: Vec<String> = self
+            .fields()
             .iter()
-            .map(|(name, value)| (format!("{ATTRIBUTE_PREFIX}{name}"), value.clone()))
+            .map(|(name, value)| format!("{name}={value}"))
             .collect();
-        attributes.push((
-            format!("{ATTRIBUTE_PREFIX}spp"),
-            self.samples.len().to_string(),
-        ));
-        attributes.push((
-            format!("{ATTRIBUTE_PREFIX}sample_range"),
-            format!("{}..{}", self.samples.start, self.samples.end),
-        ));
-        attributes
+        vec![(ATTRIBUTE_NAME.to_string(), text.join(FIELD_SEPARATOR))]
     }
 
     /// Reads the metadata back from header attributes (other attributes are ignored).
     pub fn from_attributes(
         attributes: &BTreeMap<String, String>,
     ) -> Result<RenderMetadata, String> {
-        let range = attributes
-            .get(&format!("{ATTRIBUTE_PREFIX}sample_range"))
-            .ok_or("it has no vkpath.sample_range attribute (not written by vkpath render)")?;
+        let text = attributes
+            .get(ATTRIBUTE_NAME)
+            .ok_or("it has no vkpath attribute (not written by vkpath render)")?;
+        let fields: BTreeMap<&str, &str> = text
+            .split(FIELD_SEPARATOR)
+            .filter_map(|field| field.split_once('='))
+            .collect();
+        let range = fields
+            .get("sample_range")
+            .ok_or("its vkpath attribute has no sample_range")?;
         let samples = parse_range(range)
-            .ok_or_else(|| format!("its vkpath.sample_range '{range}' is not START..END"))?;
-        let names = [
-            "version",
-            "seed",
-            "integrator",
-            "sampler",
-            "light_sampling",
-            "max_path_length",
-            "russian_roulette_start",
-            "pixel_filter",
-            "resolution",
-            "scene_hash",
-        ];
+            .ok_or_else(|| format!("its sample_range '{range}' is not START..END"))?;
         let mut settings = Vec::new();
-        for name in names {
-            let value = attributes
-                .get(&format!("{ATTRIBUTE_PREFIX}{name}"))
-                .ok_or_else(|| format!("it has no vkpath.{name} attribute"))?;
-            settings.push((name.to_string(), value.clone()));
+        for name in SETTING_NAMES {
+            let value = fields
+                .get(name)
+                .ok_or_else(|| format!("its vkpath attribute has no {name}"))?;
+            settings.push((name.to_string(), value.to_string()));
         }
         Ok(RenderMetadata { settings, samples })
     }
@@ -171,8 +188,7 @@ mod tests {
         let settings = RenderSettings::default();
         let metadata = RenderMetadata::new(&settings, &scene, &camera, 4..20);
         let attributes: BTreeMap<String, String> = metadata.attributes().into_iter().collect();
-        assert_eq!(attributes["vkpath.spp"], "16");
-        assert_eq!(attributes["vkpath.sample_range"], "4..20");
+        assert!(attributes["vkpath"].starts_with("spp=16; sample_range=4..20; version="));
         assert_eq!(
             RenderMetadata::from_attributes(&attributes),
             Ok(metadata.clone())

@@ -5,6 +5,7 @@
 pub mod accumulation;
 pub mod gpu_scene;
 pub mod gpu_types;
+pub mod job;
 pub mod metadata;
 pub mod renderer;
 pub mod settings;

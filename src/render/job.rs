@@ -1,0 +1,145 @@
+//! A production render: a range of every pixel's sample sequence (all of it, or a shard), a
+//! time limit, a cancel flag (signals), periodic checkpoints and resuming from one, bit for
+//! bit. The command line only parses these and prints what happened.
+
+use std::ops::Range;
+use std::path::PathBuf;
+use std::sync::atomic::AtomicBool;
+use std::sync::Arc;
+use std::time::{Duration, Instant};
+
+use crate::camera::Camera;
+use crate::error::{Error, Result};
+use crate::image_io::state_exr::{read_state, write_state};
+use crate::render::metadata::RenderMetadata;
+use crate::render::renderer::{RenderControl, RenderOutcome, Renderer};
+use crate::render::settings::RenderSettings;
+use crate::scene::Scene;
+use crate::vk::Context;
+
+/// The default interval between checkpoints.
+pub const DEFAULT_CHECKPOINT_INTERVAL: Duration = Duration::from_secs(60);
+
+/// How a production render runs.
+#[derive(Clone, Debug)]
+pub struct JobOptions<'a> {
+    /// The samples of every pixel's sequence to take (`0..spp` for a whole render).
+    pub samples: Range<u32>,
+    /// Stop after this long (after the current batch).
+    pub time_limit: Option<Duration>,
+    /// Stop after the current batch once set (signals).
+    pub cancel: Option<&'a AtomicBool>,
+    /// Write the render state here every `checkpoint_interval` and when the render stops.
+    pub checkpoint: Option<PathBuf>,
+    /// See `checkpoint`.
+    pub checkpoint_interval: Duration,
+    /// Continue from this checkpoint (it must be of the same scene and settings).
+    pub resume: Option<PathBuf>,
+}
+
+/// What a production render did.
+pub struct JobOutcome {
+    /// The render's outcome (image, state, stop reason, ...).
+    pub outcome: RenderOutcome,
+    /// The metadata of what it holds (for the output file's header).
+    pub metadata: RenderMetadata,
+    /// The samples that came from the resumed checkpoint.
+    pub resumed_samples: u32,
+}
+
+/// The samples of shard `index` (from 0) of `count` of a render of `spp` samples per pixel:
+/// contiguous ranges whose sizes differ by at most one, in order.
+pub fn shard_range(index: u32, count: u32, spp: u32) -> Result<Range<u32>> {
+    if count == 0 || index >= count {
+        return Err(Error::InvalidSettings(format!(
+            "shard {index}/{count}: the index must be below the count (from 0)"
+        )));
+    }
+    let boundary = |i: u32| (u64::from(spp) * u64::from(i) / u64::from(count)) as u32;
+    Ok(boundary(index)..boundary(index + 1))
+}
+
+/// Runs a render as `options` say. `settings.spp` is ignored: the sample range decides.
+pub fn run_job(
+    context: &Arc<Context>,
+    scene: &Scene,
+    camera: &Camera,
+    settings: &RenderSettings,
+    options: &JobOptions,
+    progress: impl FnMut(u32),
+) -> Result<JobOutcome> {
+    let samples = options.samples.clone();
+    let settings = RenderSettings {
+        spp: samples.len() as u32,
+        ..settings.clone()
+    };
+    let metadata_of = |taken: Range<u32>| RenderMetadata::new(&settings, scene, camera, taken);
+    let mut renderer = Renderer::new(context, scene, camera, settings.clone())?;
+    renderer.start_at_sample(samples.start)?;
+    let mut resumed_samples = 0;
+    if let Some(path) = &options.resume {
+        let (state, saved) = read_state(path)?;
+        let refuse = |why: String| {
+            Error::InvalidSettings(format!("cannot resume from '{}': {why}", path.display()))
+        };
+        if let Some(difference) = saved.first_difference(&metadata_of(samples.clone())) {
+            return Err(refuse(format!(
+                "it was rendered with another {} (checkpoint vs now)",
+                difference
+            )));
+        }
+        if state.samples.start != samples.start || state.samples.end > samples.end {
+            return Err(refuse(format!(
+                "it holds samples {}..{}, this render takes {}..{}",
+                state.samples.start, state.samples.end, samples.start, samples.end
+            )));
+        }
+        renderer.resume(&state)?;
+        resumed_samples = state.samples.len() as u32;
+    }
+    let mut write_checkpoint = |state: &crate::render::accumulation::Accumulation| -> Result<()> {
+        match &options.checkpoint {
+            Some(path) => write_state(path, state, &metadata_of(state.samples.clone())),
+            None => Ok(()),
+        }
+    };
+    let control = RenderControl {
+        cancel: options.cancel,
+        deadline: options.time_limit.map(|limit| Instant::now() + limit),
+        checkpoint: options.checkpoint.as_ref().map(|_| {
+            (
+                options.checkpoint_interval,
+                &mut write_checkpoint as &mut dyn FnMut(&_) -> Result<()>,
+            )
+        }),
+    };
+    let outcome = renderer.render_with(progress, control)?;
+    // Every stop writes the checkpoint, so that nothing rendered is lost.
+    if let Some(path) = &options.checkpoint {
+        write_state(
+            path,
+            &outcome.state,
+            &metadata_of(outcome.state.samples.clone()),
+        )?;
+    }
+    Ok(JobOutcome {
+        metadata: metadata_of(outcome.state.samples.clone()),
+        outcome,
+        resumed_samples,
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn shards_tile_the_samples() {
+        let ranges: Vec<Range<u32>> = (0..4).map(|i| shard_range(i, 4, 10).unwrap()).collect();
+        assert_eq!(ranges, [0..2, 2..5, 5..7, 7..10]);
+        assert_eq!(shard_range(0, 1, 64).unwrap(), 0..64);
+        assert!(shard_range(4, 4, 10).is_err());
+        assert!(shard_range(0, 0, 10).is_err());
+        assert_eq!(shard_range(2, 3, u32::MAX).unwrap().end, u32::MAX);
+    }
+}
