@@ -254,3 +254,52 @@ fn identical_renders_are_identical_files() {
     );
     assert!(a == b, "two identical renders wrote different bytes");
 }
+
+#[test]
+fn two_devices_render_the_single_image() {
+    // lavapipe is one device; listed twice it is two renderers, as two GPUs would be.
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path();
+    let small = [
+        "--width",
+        "48",
+        "--height",
+        "32",
+        "--spp",
+        "64",
+        "--sample-range",
+        "0..64",
+    ];
+    let mut args = vec!["render", "-o", "single.exr", "--quiet"];
+    args.extend_from_slice(&small);
+    vkpath_ok(path, &args);
+    let mut args = vec![
+        "render",
+        "-o",
+        "two.exr",
+        "--device",
+        "0,0",
+        "--validate",
+        "--json",
+    ];
+    args.extend_from_slice(&small);
+    let report: serde_json::Value = serde_json::from_str(vkpath_ok(path, &args).trim()).unwrap();
+    let shares: Vec<u64> = report["devices"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|d| d["spp"].as_u64().unwrap())
+        .collect();
+    assert_eq!(shares, [32, 32], "each device's share: {report}");
+    let (two, _) = read_state(&path.join("two.exr")).unwrap();
+    let (single, _) = read_state(&path.join("single.exr")).unwrap();
+    let (a, b) = (two.image(), single.image());
+    let worst = a
+        .mean
+        .iter()
+        .zip(&b.mean)
+        .flat_map(|(p, q)| (0..3).map(move |c| ulps(p[c], q[c])))
+        .max()
+        .unwrap();
+    assert!(worst <= 4, "{worst} ulps");
+}

@@ -52,7 +52,9 @@ pub enum Command {
 /// Options that choose and check the Vulkan device.
 #[derive(Debug, Clone, clap::Args)]
 pub struct DeviceArgs {
-    /// Device to use: an index or part of a name, as `vkpath devices` lists them.
+    /// Device to use: an index or part of a name, as `vkpath devices` lists them; for
+    /// `render`, also `all` or a comma-separated list (e.g. 0,1) to render on several at
+    /// once (a device may be listed twice).
     #[arg(long)]
     pub device: Option<String>,
     /// Fail unless the device is a GPU (not a CPU implementation such as lavapipe).
@@ -64,6 +66,41 @@ pub struct DeviceArgs {
 }
 
 impl DeviceArgs {
+    /// The devices of `--device all` or `--device A,B,...`; `None` for one device.
+    pub fn several(&self) -> anyhow::Result<Option<Vec<String>>> {
+        match self.device.as_deref() {
+            Some("all") => {
+                let devices: Vec<String> = crate::vk::list_devices()?
+                    .into_iter()
+                    .filter(|d| d.compute_queue_family.is_some())
+                    .map(|d| d.index.to_string())
+                    .collect();
+                Ok(Some(devices))
+            }
+            Some(list) if list.contains(',') => Ok(Some(
+                list.split(',').map(|s| s.trim().to_string()).collect(),
+            )),
+            _ => Ok(None),
+        }
+    }
+
+    /// A context on each device of `selectors` (as `create_context` does for one).
+    pub fn create_contexts(
+        &self,
+        selectors: &[String],
+    ) -> crate::Result<Vec<std::sync::Arc<crate::vk::Context>>> {
+        selectors
+            .iter()
+            .map(|selector| {
+                DeviceArgs {
+                    device: Some(selector.clone()),
+                    ..self.clone()
+                }
+                .create_context()
+            })
+            .collect()
+    }
+
     /// Creates the Vulkan context these options describe and prints which device it uses.
     pub fn create_context(&self) -> crate::Result<std::sync::Arc<crate::vk::Context>> {
         let context = crate::vk::Context::new(&crate::vk::ContextOptions {

@@ -16,6 +16,7 @@ use crate::image_io::output::{save_image_with_attributes, SaveOptions};
 use crate::image_io::state_exr::write_state;
 use crate::render::job::{run_job, JobOptions, DEFAULT_CHECKPOINT_INTERVAL};
 use crate::render::metadata::RenderMetadata;
+use crate::render::multi::run_on_devices;
 use crate::render::settings::RenderSettings;
 use crate::render::StopReason;
 use crate::scene::Scene;
@@ -185,6 +186,83 @@ pub fn render_job_and_save(
         _ => {}
     }
     fail_on_validation_messages(context)
+}
+
+/// `render_job_and_save` on several devices at once (each an equal share; no checkpoints).
+/// The summary gives each device's share.
+#[allow(clippy::too_many_arguments)]
+pub fn render_on_devices_and_save(
+    contexts: &[Arc<Context>],
+    scene: &Scene,
+    camera: &Camera,
+    settings: &RenderSettings,
+    job: JobOptions,
+    output: &Path,
+    save: &SaveOptions,
+    reporting: Reporting,
+    shard: bool,
+) -> anyhow::Result<()> {
+    signals::install()?;
+    let outcome = run_on_devices(
+        contexts,
+        scene,
+        camera,
+        settings,
+        job.samples.clone(),
+        job.time_limit,
+        Some(&signals::STOP_REQUESTED),
+    )?;
+    let spp_settings = RenderSettings {
+        spp: job.samples.len() as u32,
+        ..settings.clone()
+    };
+    let metadata = RenderMetadata::new(&spp_settings, scene, camera, outcome.state.samples.clone());
+    if shard {
+        write_state(output, &outcome.state, &metadata)?;
+    } else {
+        save_or_rescue(output, &outcome.state.image(), save, &metadata)?;
+    }
+    let done = outcome.state.samples.len() as u32;
+    let shares: Vec<String> = outcome
+        .shares
+        .iter()
+        .map(|(name, spp)| format!("{name}: {spp} spp"))
+        .collect();
+    if reporting.json {
+        let pixels = f64::from(settings.width) * f64::from(settings.height);
+        let report = serde_json::json!({
+            "output": output.display().to_string(),
+            "spp": done,
+            "sample_range": [outcome.state.samples.start, outcome.state.samples.end],
+            "seconds": outcome.seconds,
+            "samples_per_second": f64::from(done) * pixels / outcome.seconds.max(1e-9),
+            "devices": outcome.shares.iter().map(|(name, spp)| serde_json::json!({"name": name, "spp": spp})).collect::<Vec<_>>(),
+            "stop": match outcome.stop { StopReason::Done => "done", StopReason::TimeLimit => "time-limit", StopReason::Cancelled => "signal", StopReason::Failed => "failed" },
+        });
+        println!("{report}");
+    } else if !reporting.quiet {
+        eprintln!("vkpath: wrote {}", output.display());
+        eprintln!(
+            "{} devices, {}x{}, {done} spp, {:.2} s ({})",
+            contexts.len(),
+            settings.width,
+            settings.height,
+            outcome.seconds,
+            shares.join(", ")
+        );
+    }
+    if outcome.stop == StopReason::Cancelled {
+        let (name, status) = signals::received().unwrap_or(("a signal", 130));
+        eprintln!(
+            "vkpath: stopped by {name} after {done} spp; saved to '{}'",
+            output.display()
+        );
+        std::process::exit(status);
+    }
+    for context in contexts {
+        fail_on_validation_messages(context)?;
+    }
+    Ok(())
 }
 
 /// Saves `image` to `output` with the render's metadata in its header; when that fails,

@@ -6,7 +6,7 @@ use anyhow::bail;
 use glam::Vec3;
 
 use super::options::{JobArgs, RenderOptions, SaveArgs, SceneArgs};
-use super::output::render_job_and_save;
+use super::output::{render_job_and_save, render_on_devices_and_save};
 use super::{parse_vec3, DeviceArgs};
 use crate::camera::{Camera, DEFAULT_VERTICAL_FOV_DEGREES};
 use crate::image_io::output::check_writable;
@@ -142,6 +142,23 @@ pub fn run(args: &RenderArgs) -> anyhow::Result<()> {
         eprintln!("vkpath: warning: nothing in the scene emits light: the image will be black");
     }
     let camera = args.camera(&scene)?;
+    if let Some(selectors) = args.device.several()? {
+        if job.checkpoint.is_some() || job.resume.is_some() {
+            bail!("--checkpoint and --resume work with one device; render on several with shards instead");
+        }
+        let contexts = args.device.create_contexts(&selectors)?;
+        return render_on_devices_and_save(
+            &contexts,
+            &scene,
+            &camera,
+            &settings,
+            job,
+            &args.output,
+            &args.save.options(),
+            args.job.reporting(),
+            shard,
+        );
+    }
     let context = args.device.create_context()?;
     render_job_and_save(
         &context,

@@ -106,17 +106,27 @@ impl Accumulation {
                 return Err(MergeError::Gap(a.samples.end, b.samples.start));
             }
         }
+        let samples =
+            first.samples.start..order.last().map_or(first.samples.end, |p| p.samples.end);
+        Ok(Accumulation::sum(&order, samples))
+    }
+
+    /// The sum of parts of the same size, in the order given, labelled as holding
+    /// `samples` (`merge` after its checks, in sample order; also the sum of shares that
+    /// stopped early, whose ranges leave gaps).
+    pub fn sum(order: &[&Accumulation], samples: Range<u32>) -> Accumulation {
+        let first = order[0];
         let pixels = (first.width * first.height) as usize;
         let sum_layer = contract::LAYER_SUM as usize * pixels;
         let compensation_layer = contract::LAYER_COMPENSATION as usize * pixels;
         let squares_layer = contract::LAYER_SUM_OF_SQUARES as usize * pixels;
-        let mut merged = Accumulation::empty(first.width, first.height, first.samples.start);
-        merged.samples.end = order.last().map_or(first.samples.end, |p| p.samples.end);
+        let mut merged = Accumulation::empty(first.width, first.height, samples.start);
+        merged.samples = samples;
         for pixel in 0..pixels {
             let mut sum = [0.0f64; 3];
             let (mut count, mut rays) = (0.0f64, 0.0f64);
             let mut squares = [0.0f64; 3];
-            for part in &order {
+            for part in order {
                 let s = part.texels[sum_layer + pixel];
                 let c = part.texels[compensation_layer + pixel];
                 let q = part.texels[squares_layer + pixel];
@@ -139,7 +149,7 @@ impl Accumulation {
             merged.texels[squares_layer + pixel] =
                 [squares[0] as f32, squares[1] as f32, squares[2] as f32, 0.0];
         }
-        Ok(merged)
+        merged
     }
 }
 

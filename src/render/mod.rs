@@ -7,6 +7,7 @@ pub mod gpu_scene;
 pub mod gpu_types;
 pub mod job;
 pub mod metadata;
+pub mod multi;
 pub mod renderer;
 pub mod settings;
 pub mod traversal;

@@ -1,0 +1,123 @@
+//! One image on several devices at once (`--device all`, `--device 0,1`): each device takes
+//! an equal contiguous share of the sample range, in its own thread with its own renderer,
+//! and the shares are merged as shards are (`Accumulation::merge`: within 4 ulps of one
+//! render). A device listed twice is two renderers on it (that is how the tests run it on
+//! lavapipe). Each device takes an equal share, so a faster device finishes first: balancing
+//! by speed is left for later.
+
+use std::ops::Range;
+use std::sync::atomic::AtomicBool;
+use std::sync::Arc;
+use std::time::{Duration, Instant};
+
+use crate::camera::Camera;
+use crate::error::{Error, Result};
+use crate::render::accumulation::Accumulation;
+use crate::render::job::{run_job, shard_range, JobOptions, DEFAULT_CHECKPOINT_INTERVAL};
+use crate::render::renderer::StopReason;
+use crate::render::settings::RenderSettings;
+use crate::scene::Scene;
+use crate::vk::Context;
+
+/// What a render on several devices did.
+pub struct MultiOutcome {
+    /// The merged state of every device's share.
+    pub state: Accumulation,
+    /// Each device's name and the samples per pixel it took.
+    pub shares: Vec<(String, u32)>,
+    /// Seconds from start to the last device's end.
+    pub seconds: f64,
+    /// Why it stopped: `Done` only when every device finished its share.
+    pub stop: StopReason,
+}
+
+/// Renders `samples` of `scene` on every context at once and merges the shares. A time
+/// limit or the cancel flag stops every device; the merged state then holds what each took
+/// (the shares' ranges then leave gaps, so the state is returned only when all finished or
+/// the stop is reported with the samples each took).
+pub fn run_on_devices(
+    contexts: &[Arc<Context>],
+    scene: &Scene,
+    camera: &Camera,
+    settings: &RenderSettings,
+    samples: Range<u32>,
+    time_limit: Option<Duration>,
+    cancel: Option<&AtomicBool>,
+) -> Result<MultiOutcome> {
+    let count = contexts.len() as u32;
+    if count == 0 {
+        return Err(Error::InvalidSettings("no device to render on".into()));
+    }
+    let started = Instant::now();
+    let (first, total) = (samples.start, samples.len() as u32);
+    let results: Vec<Result<(Accumulation, StopReason, Option<Error>)>> =
+        std::thread::scope(|scope| {
+            let handles: Vec<_> = contexts
+                .iter()
+                .enumerate()
+                .map(|(index, context)| {
+                    scope.spawn(
+                        move || -> Result<(Accumulation, StopReason, Option<Error>)> {
+                            let share = shard_range(index as u32, count, total)?;
+                            let job = JobOptions {
+                                samples: first + share.start..first + share.end,
+                                time_limit,
+                                cancel,
+                                checkpoint: None,
+                                checkpoint_interval: DEFAULT_CHECKPOINT_INTERVAL,
+                                resume: None,
+                            };
+                            let outcome =
+                                run_job(context, scene, camera, settings, &job, |_| {})?.outcome;
+                            Ok((outcome.state, outcome.stop, outcome.failure))
+                        },
+                    )
+                })
+                .collect();
+            handles
+                .into_iter()
+                .map(|handle| {
+                    handle.join().unwrap_or_else(|_| {
+                        Err(Error::InvalidSettings(
+                            "a device's render thread panicked".into(),
+                        ))
+                    })
+                })
+                .collect()
+        });
+    let mut states = Vec::new();
+    let mut shares = Vec::new();
+    let mut stop = StopReason::Done;
+    for (context, result) in contexts.iter().zip(results) {
+        let (state, device_stop, failure) = result?;
+        if let Some(error) = failure {
+            return Err(Error::InvalidSettings(format!(
+                "device '{}' failed after {} samples: {error}",
+                context.info.name,
+                state.samples.len()
+            )));
+        }
+        if device_stop != StopReason::Done {
+            stop = device_stop;
+        }
+        shares.push((context.info.name.clone(), state.samples.len() as u32));
+        states.push(state);
+    }
+    let state = if stop == StopReason::Done {
+        Accumulation::merge(&states).map_err(|e| Error::InvalidSettings(e.to_string()))?
+    } else {
+        // Stopped early: the shares end before their ranges do; their sum is still an
+        // unbiased image of the samples taken (each pixel's count says how many).
+        let parts: Vec<&Accumulation> = states.iter().collect();
+        Accumulation::sum(
+            &parts,
+            first..first + shares.iter().map(|s| s.1).sum::<u32>(),
+        )
+    };
+    Ok(MultiOutcome {
+        state,
+        shares,
+        seconds: started.elapsed().as_secs_f64(),
+        stop,
+    })
+}
