@@ -211,3 +211,48 @@ fn bad_inputs_exit_with_status_2() {
     // An image is consistent with itself.
     assert_eq!(compare(dir, &["a.exr", "a.exr"]).status.code(), Some(0));
 }
+
+/// Runs `vkpath compare A B` in `dir`; (exit code, stderr).
+fn compare_outcome(dir: &std::path::Path, a: &str, b: &str) -> (Option<i32>, String) {
+    let output = common::vkpath(dir, &["compare", a, b]);
+    let stderr = String::from_utf8_lossy(&output.stderr).to_string();
+    assert!(!stderr.contains("panicked"), "{stderr}");
+    (output.status.code(), stderr)
+}
+
+#[test]
+fn hostile_headers_and_infinite_pixels_are_unusable_input() {
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path();
+    let pixels = 64;
+    let image = |value: f32| vkpath::RenderedImage {
+        width: 8,
+        height: 8,
+        mean: vec![[value, 1.0, 1.0, 1.0]; pixels],
+        second_moment: vec![[1.0; 3]; pixels],
+        sample_count: vec![4.0; pixels],
+    };
+    let save = |name: &str, value: f32| {
+        vkpath::save_image(&path.join(name), &image(value), &Default::default()).unwrap();
+    };
+    save("finite.exr", 1.0);
+    save("infinite.exr", f32::INFINITY);
+    let (code, stderr) = compare_outcome(path, "infinite.exr", "infinite.exr");
+    assert_eq!(code, Some(2), "{stderr}");
+    assert!(stderr.contains("infinite or NaN"), "{stderr}");
+
+    // A header that claims 10^6 x 10^6 pixels: refused from the header, one line.
+    let mut bytes = std::fs::read(path.join("finite.exr")).unwrap();
+    for name in [&b"dataWindow"[..], &b"displayWindow"[..]] {
+        let at = bytes.windows(name.len()).position(|w| w == name).unwrap();
+        let values = at + name.len() + 1 + b"box2i".len() + 1 + 4;
+        for (k, value) in [0i32, 0, 999_999, 999_999].iter().enumerate() {
+            bytes[values + 4 * k..values + 4 * k + 4].copy_from_slice(&value.to_le_bytes());
+        }
+    }
+    std::fs::write(path.join("huge.exr"), &bytes).unwrap();
+    let (code, stderr) = compare_outcome(path, "huge.exr", "finite.exr");
+    assert_eq!(code, Some(2), "{stderr}");
+    assert_eq!(stderr.lines().count(), 1, "{stderr}");
+    assert!(stderr.contains("claims 1000000x1000000 pixels"), "{stderr}");
+}

@@ -30,6 +30,8 @@ pub fn read_exr(path: &Path) -> Result<ExrImage> {
     if !path.is_file() {
         return Err(fail("no such file".into()));
     }
+    // A header may claim any size: refuse a hostile one before a pixel is read.
+    crate::image_io::state_exr::check_exr_size(path).map_err(&fail)?;
     let file = read_first_flat_layer_from_file(path).map_err(|e| fail(e.to_string()))?;
     let layer = &file.layer_data;
     let (width, height) = (layer.size.width(), layer.size.height());
@@ -68,6 +70,22 @@ pub fn read_exr(path: &Path) -> Result<ExrImage> {
             "a channel does not cover the whole image (subsampled channels are not supported)"
                 .into(),
         ));
+    }
+    // Statistics over infinite or NaN pixels mean nothing (inf - inf is NaN, inf <= inf
+    // holds): such an image cannot be compared.
+    let non_finite = channels
+        .iter()
+        .map(|c| c.iter().filter(|v| !v.is_finite()).count())
+        .sum::<usize>()
+        + moments
+            .iter()
+            .flatten()
+            .map(|m| m.iter().filter(|v| !v.is_finite()).count())
+            .sum::<usize>();
+    if non_finite > 0 {
+        return Err(fail(format!(
+            "{non_finite} of its values are infinite or NaN; it cannot be compared"
+        )));
     }
     let mean: Vec<[f32; 4]> = (0..pixel_count)
         .map(|i| [red[i], green[i], blue[i], 1.0])
