@@ -303,3 +303,53 @@ fn two_devices_render_the_single_image() {
         .unwrap();
     assert!(worst <= 4, "{worst} ulps");
 }
+
+#[test]
+fn device_faults_name_the_device_and_keep_the_checkpoint() {
+    // Submissions 1-3 set the render up, 4 is the first batch and 5 its checkpoint's
+    // read-back: submission 6, the second batch, fails.
+    for fault in ["device-lost:6", "out-of-memory:6", "fence-timeout:6"] {
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path();
+        let args = [
+            "render",
+            "-o",
+            "out.exr",
+            "--width",
+            "32",
+            "--height",
+            "32",
+            "--spp",
+            "64",
+            "--samples-per-frame",
+            "1",
+            "--checkpoint",
+            "ck.exr",
+            "--checkpoint-interval",
+            "0.001",
+        ];
+        let output = common::vkpath_with_env(path, &args, &[("VKPATH_INJECT_FAULT", fault)]);
+        let stderr = String::from_utf8_lossy(&output.stderr);
+        assert_eq!(output.status.code(), Some(1), "{fault}: {stderr}");
+        let errors: Vec<&str> = stderr.lines().filter(|l| l.contains("error")).collect();
+        assert_eq!(errors.len(), 1, "{fault}: one line: {stderr}");
+        assert!(
+            errors[0].contains("llvmpipe"),
+            "{fault} names the device: {}",
+            errors[0]
+        );
+        assert!(
+            errors[0].contains("--resume") || errors[0].contains("smaller"),
+            "{fault} says what to do: {}",
+            errors[0]
+        );
+        let (state, _) = read_state(&path.join("ck.exr")).unwrap();
+        assert!(
+            !state.samples.is_empty(),
+            "{fault}: the checkpoint holds the samples taken"
+        );
+        let mut resume: Vec<&str> = args[..11].to_vec();
+        resume.extend_from_slice(&["--resume", "ck.exr", "--quiet"]);
+        vkpath_ok(path, &resume);
+    }
+}

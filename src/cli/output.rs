@@ -106,9 +106,6 @@ pub fn render_job_and_save(
     let metadata = &outcome.metadata;
     let result = &outcome.outcome;
     let done = result.samples;
-    if let Some(error) = &result.failure {
-        eprintln!("vkpath: error after {done} spp: {error}; saving what was rendered");
-    }
     let non_finite = result
         .image
         .mean

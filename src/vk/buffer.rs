@@ -51,7 +51,8 @@ impl Buffer {
                 unsafe { device.destroy_buffer(handle, None) };
                 return Err(VkError::Allocation {
                     what: format!("buffer '{name}' ({size} bytes)"),
-                    source,
+                    device: context.info.name.clone(),
+                    error: source,
                 });
             }
         };

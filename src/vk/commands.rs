@@ -16,6 +16,41 @@ use super::pipeline::{ComputePipeline, DescriptorSet};
 /// How long a submitted batch may run before we give up waiting (seconds). Generous: a
 /// frame on lavapipe with a large scene can take long, but a hang must not wait forever.
 const SUBMIT_TIMEOUT_SECONDS: u64 = 600;
+/// How long dropping a runner waits for work that timed out before it leaks the pool and
+/// fence instead (destroying them while the device may still use them is not allowed, and
+/// waiting for a hung device has no end).
+const DROP_WAIT_SECONDS: u64 = 10;
+
+/// Fault injection for tests: `VKPATH_INJECT_FAULT=KIND:N` makes submission N (from 1, over
+/// the whole process) fail as KIND would: `device-lost`, `out-of-memory` or `fence-timeout`.
+const FAULT_VARIABLE: &str = "VKPATH_INJECT_FAULT";
+/// Submissions so far (for fault injection).
+static SUBMISSIONS: std::sync::atomic::AtomicU64 = std::sync::atomic::AtomicU64::new(0);
+
+/// The injected fault for this submission, if any.
+fn injected_fault(device: &str) -> Option<VkError> {
+    let spec = std::env::var(FAULT_VARIABLE).ok()?;
+    let (kind, at) = spec.split_once(':')?;
+    let at: u64 = at.parse().ok()?;
+    let count = SUBMISSIONS.load(std::sync::atomic::Ordering::SeqCst);
+    if count != at {
+        return None;
+    }
+    let device = device.to_string();
+    match kind {
+        "device-lost" => Some(VkError::DeviceLost(device)),
+        "out-of-memory" => Some(VkError::Allocation {
+            what: "memory for a frame (injected fault)".into(),
+            device,
+            error: gpu_allocator::AllocationError::OutOfMemory,
+        }),
+        "fence-timeout" => Some(VkError::Timeout {
+            device,
+            seconds: SUBMIT_TIMEOUT_SECONDS,
+        }),
+        _ => None,
+    }
+}
 
 /// A command pool with one reusable command buffer and a fence.
 pub struct CommandRunner {
@@ -23,6 +58,8 @@ pub struct CommandRunner {
     pool: vk::CommandPool,
     command_buffer: vk::CommandBuffer,
     fence: vk::Fence,
+    /// Whether a submission did not finish in time (dropping then waits only so long).
+    timed_out: std::cell::Cell<bool>,
 }
 
 impl CommandRunner {
@@ -34,6 +71,7 @@ impl CommandRunner {
             pool: vk::CommandPool::null(),
             command_buffer: vk::CommandBuffer::null(),
             fence: vk::Fence::null(),
+            timed_out: std::cell::Cell::new(false),
         };
         // SAFETY: valid create infos; on error, Drop destroys what exists.
         unsafe {
@@ -89,20 +127,33 @@ impl CommandRunner {
             device
                 .reset_fences(&[self.fence])
                 .during("resetting a fence")?;
+            let name = &self.context.info.name;
+            let lost = |result| match result {
+                vk::Result::ERROR_DEVICE_LOST => VkError::DeviceLost(name.clone()),
+                result => VkError::Call {
+                    what: "submitting commands",
+                    result,
+                },
+            };
             device
                 .queue_submit(self.context.queue, &submit, self.fence)
-                .during("submitting commands")?;
-            match device.wait_for_fences(
-                &[self.fence],
-                true,
-                SUBMIT_TIMEOUT_SECONDS * 1_000_000_000,
-            ) {
+                .map_err(lost)?;
+            let waited =
+                device.wait_for_fences(&[self.fence], true, SUBMIT_TIMEOUT_SECONDS * 1_000_000_000);
+            SUBMISSIONS.fetch_add(1, std::sync::atomic::Ordering::SeqCst);
+            if let Some(fault) = injected_fault(name) {
+                return Err(fault);
+            }
+            match waited {
                 Ok(()) => Ok(()),
-                Err(vk::Result::TIMEOUT) => Err(VkError::Timeout(SUBMIT_TIMEOUT_SECONDS)),
-                Err(result) => Err(VkError::Call {
-                    what: "waiting for the device",
-                    result,
-                }),
+                Err(vk::Result::TIMEOUT) => {
+                    self.timed_out.set(true);
+                    Err(VkError::Timeout {
+                        device: name.clone(),
+                        seconds: SUBMIT_TIMEOUT_SECONDS,
+                    })
+                }
+                Err(result) => Err(lost(result)),
             }
         }
     }
@@ -110,11 +161,19 @@ impl CommandRunner {
 
 impl Drop for CommandRunner {
     fn drop(&mut self) {
-        // SAFETY: run() waits for its submission, so nothing is pending (unless it timed
-        // out, in which case we wait for the device before destroying anything).
+        // SAFETY: run() waits for its submission, so nothing is pending, unless it timed
+        // out: then wait a bounded while, and leak the pool and fence if the device still
+        // has not finished (destroying them in use is not allowed; a hung device never
+        // finishes).
         unsafe {
             let device = &self.context.device;
-            let _ = device.device_wait_idle();
+            if self.timed_out.get() {
+                let done =
+                    device.wait_for_fences(&[self.fence], true, DROP_WAIT_SECONDS * 1_000_000_000);
+                if done.is_err() {
+                    return;
+                }
+            }
             device.destroy_fence(self.fence, None);
             device.destroy_command_pool(self.pool, None);
         }

@@ -392,7 +392,8 @@ impl Context {
                 destroy_instance(messenger);
                 return Err(VkError::Allocation {
                     what: "the memory allocator".into(),
-                    source,
+                    device: info.name.clone(),
+                    error: source,
                 });
             }
         };

@@ -45,16 +45,26 @@ pub enum VkError {
         result: vk::Result,
     },
     /// A GPU memory allocation failed.
-    #[error("allocating {what} failed: {source}")]
+    #[error("allocating {what} on '{device}' failed: {error}; use a smaller image or scene, or a device with more memory")]
     Allocation {
         /// What the memory was for.
         what: String,
-        /// The allocator's error.
-        source: gpu_allocator::AllocationError,
+        /// The device's name.
+        device: String,
+        /// The allocator's error (in the message, not chained: the message says it all).
+        error: gpu_allocator::AllocationError,
     },
     /// A submitted frame did not finish in time.
-    #[error("the device did not finish a frame within {0} s")]
-    Timeout(u64),
+    #[error("the device '{device}' did not finish a frame within {seconds} s (hung, or a frame too long for it); what was rendered up to the last checkpoint is kept: use fewer --samples-per-frame and --resume")]
+    Timeout {
+        /// The device's name.
+        device: String,
+        /// The limit.
+        seconds: u64,
+    },
+    /// The device was lost (a driver crash, a GPU reset, a hang the driver gave up on).
+    #[error("the device '{0}' was lost (driver crash, GPU reset or hang); what was rendered up to the last checkpoint is kept: restart the render with --resume")]
+    DeviceLost(String),
     /// SPIR-V that Vulkan cannot take.
     #[error("invalid SPIR-V: {0}")]
     InvalidSpirv(String),

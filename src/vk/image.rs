@@ -73,7 +73,8 @@ impl StorageImage {
                 unsafe { device.destroy_image(handle, None) };
                 return Err(VkError::Allocation {
                     what: format!("image '{name}' ({width}x{height}x{layers})"),
-                    source,
+                    device: context.info.name.clone(),
+                    error: source,
                 });
             }
         };
