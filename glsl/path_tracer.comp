@@ -25,6 +25,8 @@ layout(constant_id = SPEC_RUSSIAN_ROULETTE_START) const int RUSSIAN_ROULETTE_STA
 layout(constant_id = SPEC_SAMPLER) const int SAMPLER = SAMPLER_PCG;
 // LIGHT_SAMPLING_AREA or LIGHT_SAMPLING_SOLID_ANGLE: how nee and mis sample their lights.
 layout(constant_id = SPEC_LIGHT_SAMPLING) const int LIGHT_SAMPLING = LIGHT_SAMPLING_SOLID_ANGLE;
+// LLVMPIPE_LOOP_LIMIT / LLVMPIPE_SIMD_WIDTH on lavapipe, 0 elsewhere.
+layout(constant_id = SPEC_LOOP_LIMIT) const uint LOOP_LIMIT = 0u;
 
 #include "integrator.glsl"
 #include "importance_sampling.glsl"
@@ -74,7 +76,9 @@ void main() {
     vec4 sum = imageLoad(g_accumulation, ivec3(texel, LAYER_SUM));
     vec4 compensation_and_rays = imageLoad(g_accumulation, ivec3(texel, LAYER_COMPENSATION));
     precise vec3 compensation = compensation_and_rays.rgb;
-    vec3 sum_of_squares = imageLoad(g_accumulation, ivec3(texel, LAYER_SUM_OF_SQUARES)).rgb;
+    vec4 sum_of_squares_and_flag = imageLoad(g_accumulation, ivec3(texel, LAYER_SUM_OF_SQUARES));
+    vec3 sum_of_squares = sum_of_squares_and_flag.rgb;
+    float sum_of_squares_flag = sum_of_squares_and_flag.a;
     // Not unrolled: one copy of the path tracer compiles faster and runs as fast.
     [[dont_unroll]] for (int i = 0; i != SAMPLE_COUNT; ++i) {
         uint sample_index = g_first_sample_index + uint(i);
@@ -102,8 +106,26 @@ void main() {
         sum.a += 1.0;
         sum_of_squares += radiance * radiance;
     }
+    // llvmpipe ends all loops of a SIMD program after LLVMPIPE_LOOP_LIMIT iterations in
+    // total, without an error; a program's iterations are at most LLVMPIPE_SIMD_WIDTH times
+    // the largest lane's (see shared.h). An upper bound of this lane's iterations: one per
+    // sample; per ray one of the path loop, one of the light search's (at most the bits of
+    // the light count), and the loop over all triangles (unless unrolled as constants, or a
+    // BVH, counted in bvh.glsl). Reaching LOOP_LIMIT flags the pixel; the host refuses a
+    // flagged image.
+    if (LOOP_LIMIT != 0u) {
+        uint per_ray = 1u + uint(findMSB(max(get_light_count(), 1u)) + 1);
+#ifndef USE_BVH
+        if (CONSTANT_TRIANGLE_COUNT == 0u)
+            per_ray += g_resolution_triangle_count_seed.z;
+#endif
+        uint samples = min(uint(SAMPLE_COUNT), g_sample_end - min(g_first_sample_index, g_sample_end));
+        uint iterations = samples + g_ray_count * per_ray + g_traversal_iterations;
+        if (iterations >= LOOP_LIMIT || g_ray_count * per_ray >= LOOP_LIMIT)
+            sum_of_squares_flag = 1.0;
+    }
     imageStore(g_accumulation, ivec3(texel, LAYER_SUM), sum);
     // Ray counts are exact in a float up to 2^24 per pixel, far beyond what a benchmark takes.
     imageStore(g_accumulation, ivec3(texel, LAYER_COMPENSATION), vec4(compensation, compensation_and_rays.a + float(g_ray_count)));
-    imageStore(g_accumulation, ivec3(texel, LAYER_SUM_OF_SQUARES), vec4(sum_of_squares, 0.0));
+    imageStore(g_accumulation, ivec3(texel, LAYER_SUM_OF_SQUARES), vec4(sum_of_squares, sum_of_squares_flag));
 }

@@ -85,6 +85,10 @@ uint g_hit_triangle_index = 0u;
 // Number of rays this invocation traced (vkpath's addition, for `vkpath bench`'s rays/s).
 uint g_ray_count = 0u;
 
+// Iterations of the BVH traversal loops this invocation ran (vkpath's addition: llvmpipe
+// ends all loops of an invocation after LLVMPIPE_LOOP_LIMIT iterations, see path_tracer.comp).
+uint g_traversal_iterations = 0u;
+
 #include "constant_triangles.glsl"
 
 #ifdef IGNORE_START_SURFACE

@@ -41,7 +41,8 @@
 #define LAYER_SUM 0
 // Layer 1: Kahan compensation of the sum (rgb), number of rays traced (a).
 #define LAYER_COMPENSATION 1
-// Layer 2: running sum of squared radiance samples (rgb), for variance estimates.
+// Layer 2: running sum of squared radiance samples (rgb), for variance estimates; a: 1 where
+// an invocation may have run into llvmpipe's loop limit (see SPEC_LOOP_LIMIT), else 0.
 #define LAYER_SUM_OF_SQUARES 2
 // Number of layers of the accumulation image.
 #define ACCUMULATION_LAYER_COUNT 3
@@ -64,6 +65,18 @@
 #define SPEC_LIGHT_SAMPLING 7
 // Number of triangles passed as specialization constants (0: read them from the texel buffer).
 #define SPEC_CONSTANT_TRIANGLE_COUNT 6
+// Loop iterations one invocation may run before the driver may end its loops silently: on
+// lavapipe LLVMPIPE_LOOP_LIMIT / LLVMPIPE_SIMD_WIDTH, 0 (no limit) elsewhere. The path
+// tracer counts (an upper bound of) its iterations and flags the pixel when they reach it.
+#define SPEC_LOOP_LIMIT 8
+// Mesa's llvmpipe ends every loop of a shader invocation once all its loops together have
+// run this many iterations, with no error (LP_MAX_TGSI_LOOP_ITERATIONS).
+#define LLVMPIPE_LOOP_LIMIT 65535
+// llvmpipe runs this many invocations as one SIMD program (AVX2: 8 lanes); its loops run
+// while any lane is active, so their iterations are at most the sum of the lanes' own,
+// at most this many times the largest lane's. A lane that stays below
+// LLVMPIPE_LOOP_LIMIT / LLVMPIPE_SIMD_WIDTH can never reach the limit.
+#define LLVMPIPE_SIMD_WIDTH 8
 // The first of the 9 * CONSTANT_TRIANGLE_CAPACITY specialization constants holding the
 // vertex positions of those triangles: constant SPEC_CONSTANT_TRIANGLES + 9 i + 3 j + k is
 // coordinate k of vertex j of triangle i.

@@ -1,7 +1,9 @@
 #!/usr/bin/env bash
 # Proves that a change leaves every output bit as it was: renders the same matrix of images
 # with two vkpath binaries (e.g. one built from the commit before a change and one from the
-# change) on this machine, and compares the files byte for byte.
+# change) on this machine, and compares them: EXR pixels bit for bit with the new binary's
+# `vkpath compare --exact` (headers carry each render's metadata, which may change), PNG
+# files byte for byte.
 # Usage: scripts/same-images.sh OLD_VKPATH NEW_VKPATH [WORK_DIR]
 # Matrix: the built-in Cornell box and tests/data/emissive_quad.gltf; every integrator; both
 # samplers (for the importance-sampled integrators); both traversals (bvh and none); both
@@ -40,7 +42,7 @@ for case in "${cases[@]}"; do
     "$binary" "${args[@]}" -o "$work/$side/$name" >/dev/null 2>&1
   done
   compared=$((compared + 1))
-  if ! cmp -s "$work/old/$name" "$work/new/$name"; then
+  if ! "$new" compare --exact "$work/old/$name" "$work/new/$name" >/dev/null 2>&1; then
     echo "DIFFERENT: $name"
     differ=$((differ + 1))
   fi
@@ -57,5 +59,5 @@ for exercise in ray-tracing sample-sphere sample-hemisphere spherical-coords dir
     differ=$((differ + 1))
   fi
 done
-echo "$compared images compared byte for byte in $work: $((compared - differ)) identical, $differ different"
+echo "$compared images compared bit for bit in $work: $((compared - differ)) identical, $differ different"
 [ "$differ" -eq 0 ]

@@ -353,3 +353,74 @@ fn device_faults_name_the_device_and_keep_the_checkpoint() {
         vkpath_ok(path, &resume);
     }
 }
+
+/// Renders `args` with two --samples-per-frame values and expects identical pixels.
+fn same_image_however_split(args: &[&str], spfs: [&str; 2]) {
+    let dir = tempfile::tempdir().unwrap();
+    for (name, spf) in [("a.exr", spfs[0]), ("b.exr", spfs[1])] {
+        let mut full = vec!["render", "-o", name, "--quiet", "--samples-per-frame", spf];
+        full.extend_from_slice(args);
+        vkpath_ok(dir.path(), &full);
+    }
+    let output = common::vkpath(dir.path(), &["compare", "--exact", "a.exr", "b.exr"]);
+    assert!(
+        output.status.success(),
+        "{args:?}: {}",
+        String::from_utf8_lossy(&output.stdout)
+    );
+}
+
+#[test]
+fn llvmpipes_loop_limit_never_changes_an_image_silently() {
+    // Long paths: 4096 samples of 20 vertices in one invocation ran past llvmpipe's limit.
+    same_image_however_split(
+        &[
+            "--max-path-length",
+            "20",
+            "--spp",
+            "4096",
+            "--width",
+            "16",
+            "--height",
+            "16",
+        ],
+        ["1", "4096"],
+    );
+    // A BVH scene: its traversal loops count too.
+    same_image_however_split(
+        &[
+            "--generated",
+            "2000",
+            "--spp",
+            "256",
+            "--width",
+            "32",
+            "--height",
+            "32",
+        ],
+        ["1", "256"],
+    );
+    // The loop over 20 000 triangles cannot fit even one sample: refused, not black.
+    let dir = tempfile::tempdir().unwrap();
+    let output = common::vkpath(
+        dir.path(),
+        &[
+            "render",
+            "-o",
+            "out.png",
+            "--generated",
+            "20000",
+            "--accel",
+            "none",
+            "--spp",
+            "1",
+            "--width",
+            "8",
+            "--height",
+            "8",
+        ],
+    );
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    assert_eq!(output.status.code(), Some(1), "{stderr}");
+    assert!(stderr.contains("use --accel bvh"), "{stderr}");
+}

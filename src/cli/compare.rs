@@ -39,12 +39,19 @@ pub struct CompareArgs {
     /// Print the report as JSON on stdout instead of text.
     #[arg(long)]
     pub json: bool,
+    /// Instead of the statistical test: are the pixels (and moments, where both have
+    /// them) identical, bit for bit? Exit 0 if so, 1 if not (headers are not compared).
+    #[arg(long, conflicts_with_all = ["heatmap", "json"])]
+    pub exact: bool,
 }
 
 /// Runs `vkpath compare`. Does not return when the verdict is "inconsistent" (exit status 1)
 /// or the images cannot be compared (one error line, exit status 2): `main` maps every error
 /// to status 1, and these statuses tell scripts what happened.
 pub fn run(args: &CompareArgs) -> anyhow::Result<()> {
+    if args.exact {
+        return run_exact(args);
+    }
     let report = match compare_files(args) {
         Ok(report) => report,
         Err(error) => {
@@ -62,6 +69,42 @@ pub fn run(args: &CompareArgs) -> anyhow::Result<()> {
         std::process::exit(EXIT_INCONSISTENT);
     }
     Ok(())
+}
+
+/// `vkpath compare --exact`: the pixels bit for bit.
+fn run_exact(args: &CompareArgs) -> anyhow::Result<()> {
+    let read = |path: &Path| {
+        read_exr(path).unwrap_or_else(|error| {
+            eprintln!("vkpath: error: {error:#}");
+            std::process::exit(EXIT_USAGE);
+        })
+    };
+    let (a, b) = (read(&args.a), read(&args.b));
+    if (a.image.width, a.image.height) != (b.image.width, b.image.height) {
+        eprintln!("vkpath: error: the images differ in size");
+        std::process::exit(EXIT_USAGE);
+    }
+    let bits = |v: &[f32]| v.iter().map(|x| x.to_bits()).collect::<Vec<u32>>();
+    let moments = a.has_moments && b.has_moments;
+    let differing = (0..a.image.mean.len())
+        .filter(|&i| {
+            bits(&a.image.mean[i][..3]) != bits(&b.image.mean[i][..3])
+                || moments
+                    && (bits(&a.image.second_moment[i]) != bits(&b.image.second_moment[i])
+                        || a.image.sample_count[i].to_bits() != b.image.sample_count[i].to_bits())
+        })
+        .count();
+    if differing == 0 {
+        println!("identical: every pixel is bit for bit the same");
+        Ok(())
+    } else {
+        println!(
+            "different: {differing} of {} pixels differ",
+            a.image.mean.len()
+        );
+        std::io::stdout().flush()?;
+        std::process::exit(EXIT_INCONSISTENT);
+    }
 }
 
 /// Reads both images, compares them and writes the heat map.

@@ -37,7 +37,7 @@ pub const STATE_CHANNELS: [[&str; 4]; 3] = [
         "state.sum_of_squares.R",
         "state.sum_of_squares.G",
         "state.sum_of_squares.B",
-        "state.unused",
+        "state.loop_limit_flag",
     ],
 ];
 

@@ -162,8 +162,12 @@ impl Renderer {
             contract::BINDING_ACCUMULATION,
             vk::DescriptorType::STORAGE_IMAGE,
         ));
+        let loop_limit = LoopLimit::of(context);
+        let samples_per_dispatch =
+            loop_limit.samples_per_dispatch(&settings, traversal, scene.triangles.len())?;
         let mut specialization = settings.specialization();
         specialization.extend_from_slice(&gpu_scene.specialization);
+        specialization.push((contract::SPEC_LOOP_LIMIT, loop_limit.0));
         let spirv = match kernel {
             Some((spirv, _)) => spirv.to_vec(),
             None => spirv_words(traversal.kernel())?,
@@ -193,7 +197,6 @@ impl Renderer {
         gpu_scene.write(&descriptors);
         descriptors.write_storage_image(contract::BINDING_ACCUMULATION, &accumulation);
         commands.run(|recorder| recorder.clear_storage_image(&accumulation))?;
-        let settings_samples_per_frame = settings.samples_per_frame;
         Ok(Renderer {
             context: context.clone(),
             settings,
@@ -206,7 +209,7 @@ impl Renderer {
             first_sample: 0,
             samples_done: 0,
             frames_per_batch: 1,
-            samples_per_dispatch: settings_samples_per_frame,
+            samples_per_dispatch,
             seconds_per_frame: None,
             rays_traced: 0.0,
         })
@@ -252,6 +255,21 @@ impl Renderer {
     /// `rays_traced`.
     pub fn accumulation(&mut self) -> Result<Accumulation> {
         let texels = self.read_texels()?;
+        let pixels = (self.settings.width * self.settings.height) as usize;
+        let squares = contract::LAYER_SUM_OF_SQUARES as usize * pixels;
+        let flagged = texels[squares..squares + pixels]
+            .iter()
+            .filter(|texel| texel[3] != 0.0)
+            .count();
+        if flagged > 0 {
+            return Err(Error::InvalidSettings(format!(
+                "llvmpipe's loop limit ({} loop iterations per shader invocation, after which it \
+                 ends loops silently) may have cut paths short in {flagged} pixels, so the image \
+                 would be wrong: use fewer --samples-per-frame, a shorter --max-path-length or \
+                 --accel bvh",
+                contract::LLVMPIPE_LOOP_LIMIT
+            )));
+        }
         let state = Accumulation {
             width: self.settings.width,
             height: self.settings.height,
@@ -470,6 +488,68 @@ impl Renderer {
         self.commands
             .run(|recorder| recorder.copy_image_to_buffer(image, readback))?;
         Ok(self.readback.read())
+    }
+}
+
+/// The loop iterations one invocation may run before the driver may end its loops
+/// silently: on CPU devices (lavapipe) llvmpipe's limit per SIMD program divided by its
+/// width (see `glsl/shared.h`), none (0) on GPUs.
+struct LoopLimit(u32);
+
+impl LoopLimit {
+    /// The limit of `context`'s device.
+    fn of(context: &Context) -> LoopLimit {
+        LoopLimit(if context.info.kind.is_gpu() {
+            0
+        } else {
+            contract::LLVMPIPE_LOOP_LIMIT / contract::LLVMPIPE_SIMD_WIDTH
+        })
+    }
+
+    /// Samples per dispatch that keep an invocation's loop iterations below the limit by
+    /// construction (the kernel still checks, and flags what reaches it): at most
+    /// `samples_per_frame`, fewer where a sample loops a lot. A single sample that cannot
+    /// fit (the loop over very many triangles) is refused.
+    fn samples_per_dispatch(
+        &self,
+        settings: &RenderSettings,
+        traversal: Traversal,
+        triangle_count: usize,
+    ) -> Result<u32> {
+        if self.0 == 0 {
+            return Ok(settings.samples_per_frame);
+        }
+        // Estimated iterations per ray: the path loop's, the light search's, and the
+        // traversal's (none for the unrolled constant triangles, all triangles for the
+        // loop, a typical BVH visit otherwise; the kernel counts the BVH exactly).
+        let traversal_iterations = match traversal {
+            Traversal::ConstantTriangles => 0,
+            Traversal::Linear => triangle_count as u64,
+            Traversal::Bvh => 128,
+        };
+        let rays_per_vertex = if settings.integrator.is_importance_sampled() {
+            2
+        } else {
+            1
+        };
+        let per_sample = 1 + u64::from(settings.max_path_length)
+            * rays_per_vertex
+            * (2 + 32 + traversal_iterations);
+        // Keep a margin of 10% for the estimate.
+        let budget = u64::from(self.0) * 9 / 10;
+        if per_sample > budget {
+            return Err(Error::InvalidSettings(format!(
+                "one sample of {} path vertices over {triangle_count} triangles loops about \
+                 {per_sample} times, more than llvmpipe safely allows one shader invocation \
+                 ({} of its {} per {} lanes): use --accel bvh (or auto) or a shorter \
+                 --max-path-length",
+                settings.max_path_length,
+                self.0,
+                contract::LLVMPIPE_LOOP_LIMIT,
+                contract::LLVMPIPE_SIMD_WIDTH
+            )));
+        }
+        Ok(((budget / per_sample) as u32).clamp(1, settings.samples_per_frame))
     }
 }
 
