@@ -105,6 +105,11 @@ fn zero_and_absurd_sizes_and_sample_counts() {
     render_error(&["--spp", "4000000000"], "--spp");
     render_error(&["--max-path-length", "0"], "--max-path-length");
     render_error(&["--generated", "100000000000"], "--generated");
+    // Checked against the device's memory before anything is allocated, with the sizes.
+    render_error(
+        &["--width", "16384", "--height", "16384"],
+        "MB for a 16384x16384 image",
+    );
 }
 
 #[test]

@@ -122,8 +122,8 @@ impl RenderArgs {
 /// Runs `vkpath render`.
 pub fn run(args: &RenderArgs) -> anyhow::Result<()> {
     let settings = args.settings();
-    let job = args.job.options(settings.spp)?;
     settings.validate()?;
+    let job = args.job.options(settings.spp)?;
     check_writable(&args.output)?;
     let shard = args.job.is_shard();
     if shard

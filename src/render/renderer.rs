@@ -567,5 +567,29 @@ fn validate(context: &Context, scene: &Scene, settings: &RenderSettings) -> Resu
     if scene.triangles.is_empty() {
         return Err(Error::MissingInput("the scene has no triangles".into()));
     }
+    // What the render allocates on the device: the triangles (96 bytes each), a BVH of at
+    // most 2 nodes per triangle (32 bytes each), the lights (16 bytes each and a header),
+    // the accumulation image and its read-back buffer (48 bytes per pixel each).
+    let triangles = scene.triangles.len() as u64;
+    let scene_bytes = triangles * (96 + 64 + 16) + 16;
+    let image_bytes = 2
+        * u64::from(settings.width)
+        * u64::from(settings.height)
+        * 16
+        * u64::from(contract::ACCUMULATION_LAYER_COUNT);
+    let available = context.device_memory_bytes();
+    if available > 0 && scene_bytes + image_bytes > available {
+        return Err(Error::InvalidSettings(format!(
+            "the render needs about {} MB on '{}' ({} MB for {triangles} triangles, {} MB for a \
+             {}x{} image), more than its {} MB: use a smaller image or scene",
+            (scene_bytes + image_bytes) >> 20,
+            context.info.name,
+            scene_bytes >> 20,
+            image_bytes >> 20,
+            settings.width,
+            settings.height,
+            available >> 20
+        )));
+    }
     Ok(())
 }

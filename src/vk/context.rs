@@ -417,6 +417,22 @@ impl Context {
         self.validation.as_deref()
     }
 
+    /// The size of the device's largest device-local memory heap, in bytes (what one
+    /// render's resources must fit in).
+    pub fn device_memory_bytes(&self) -> u64 {
+        // SAFETY: the physical device belongs to the live instance.
+        let properties = unsafe {
+            self.instance
+                .get_physical_device_memory_properties(self.physical_device)
+        };
+        properties.memory_heaps[..properties.memory_heap_count as usize]
+            .iter()
+            .filter(|heap| heap.flags.contains(vk::MemoryHeapFlags::DEVICE_LOCAL))
+            .map(|heap| heap.size)
+            .max()
+            .unwrap_or(0)
+    }
+
     /// Locks the memory allocator.
     pub(crate) fn allocator(&self) -> MutexGuard<'_, Allocator> {
         // A panic while holding the lock cannot leave the allocator half-updated in a way
