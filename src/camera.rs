@@ -11,6 +11,7 @@ pub const DEFAULT_VERTICAL_FOV_DEGREES: f32 = 45.0;
 /// Why a look-at camera cannot be made. The messages name the `vkpath render` options that
 /// give a look-at camera's parameters.
 #[derive(Clone, Copy, Debug, PartialEq, Error)]
+#[non_exhaustive]
 pub enum CameraError {
     /// The vertical field of view is not in (0, 180) degrees (or is NaN).
     #[error("--fov {0} is outside (0, 180) degrees")]

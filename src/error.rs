@@ -5,6 +5,7 @@ use crate::vk::VkError;
 
 /// Anything that can go wrong in vkpath.
 #[derive(Debug, thiserror::Error)]
+#[non_exhaustive]
 pub enum Error {
     /// Vulkan could not be set up or a Vulkan call failed.
     #[error(transparent)]

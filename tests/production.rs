@@ -36,7 +36,7 @@ fn sigterm_keeps_the_work_and_resuming_is_bit_exact() {
     vkpath_ok(path, &render_args("whole.exr", &[]));
 
     // Start a render with frequent checkpoints; once the first is there, it is mid-render.
-    let mut child = Command::new(env!("CARGO_BIN_EXE_vkpath"))
+    let child = Command::new(env!("CARGO_BIN_EXE_vkpath"))
         .args(render_args(
             "part.exr",
             &["--checkpoint", "ck.exr", "--checkpoint-interval", "0.2"],

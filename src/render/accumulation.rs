@@ -28,6 +28,7 @@ pub struct Accumulation {
 
 /// Why shards cannot be merged.
 #[derive(Debug, thiserror::Error, PartialEq, Eq)]
+#[non_exhaustive]
 pub enum MergeError {
     /// Nothing to merge.
     #[error("no shards to merge")]

@@ -56,6 +56,7 @@ pub struct Renderer {
 /// Why a render stopped.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize)]
 #[serde(rename_all = "kebab-case")]
+#[non_exhaustive]
 pub enum StopReason {
     /// Every sample was taken.
     Done,

@@ -10,6 +10,7 @@ use thiserror::Error;
 /// The `Display` text is the whole story, including the underlying crate's message; the
 /// variants do not chain a `source()` so that printing the chain does not repeat it.
 #[derive(Debug, Error)]
+#[non_exhaustive]
 pub enum SceneError {
     /// The file could not be read (missing, no permission, a directory, ...).
     #[error("cannot read scene '{}': {}", path.display(), io_message(error))]

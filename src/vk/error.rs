@@ -5,6 +5,7 @@ use ash::vk;
 
 /// Something went wrong talking to Vulkan.
 #[derive(Debug, thiserror::Error)]
+#[non_exhaustive]
 pub enum VkError {
     /// `libvulkan.so.1` could not be loaded.
     #[error("cannot load the Vulkan loader ({0}); install it with `apt-get install libvulkan1`")]
