@@ -64,9 +64,8 @@ pub enum SceneError {
     },
     /// A file that the scene refers to (a buffer) is missing or unreadable.
     #[error(
-        "glTF '{}': cannot read its buffer {buffer} '{}': {}",
+        "glTF '{}': cannot read its buffer {buffer} '{file}': {}",
         path.display(),
-        file.display(),
         io_message(error)
     )]
     MissingBuffer {
@@ -74,8 +73,8 @@ pub enum SceneError {
         path: PathBuf,
         /// The buffer's index or name.
         buffer: String,
-        /// The file it looked for.
-        file: PathBuf,
+        /// The file it looked for (printable).
+        file: String,
         /// Why it could not be read.
         error: std::io::Error,
     },
@@ -142,6 +141,14 @@ pub enum SceneError {
         /// The `tobj` crate's error.
         error: tobj::LoadError,
     },
+    /// The scene has more triangles than vkpath renders (glTF instancing can make many).
+    #[error("scene '{}' has more than {limit} triangles, more than vkpath renders", path.display())]
+    TooManyTriangles {
+        /// The scene file.
+        path: PathBuf,
+        /// The bound.
+        limit: usize,
+    },
     /// After loading (dropping degenerate triangles, skipping points and lines) nothing is
     /// left to render.
     #[error("scene '{}' contains no triangles{details}", path.display())]
@@ -194,6 +201,20 @@ pub enum SceneError {
         /// What is wrong with it.
         reason: String,
     },
+}
+
+/// Text from a file (a name, a URI), made safe for a one-line message: control characters
+/// (newlines, carriage returns, ...) are written as escapes.
+pub fn printable(text: &str) -> String {
+    text.chars()
+        .map(|c| {
+            if c.is_control() {
+                c.escape_default().to_string()
+            } else {
+                c.to_string()
+            }
+        })
+        .collect()
 }
 
 /// An I/O error's message without the "(os error N)" suffix that `std` appends, which means

@@ -96,13 +96,31 @@ pub fn resolve_reference(
             depth < 0
         })
     };
+    let outside = || SceneError::ExternalPath {
+        path: scene.to_owned(),
+        reference: super::printable(name),
+    };
     if escapes && !options.allow_external_paths {
-        return Err(SceneError::ExternalPath {
-            path: scene.to_owned(),
-            reference: name.to_owned(),
-        });
+        return Err(outside());
     }
-    Ok(folder.join(reference))
+    let file = folder.join(reference);
+    // A symbolic link inside the folder may point outside it: what it resolves to counts.
+    if !options.allow_external_paths {
+        if let (Ok(real_file), Ok(real_folder)) = (
+            file.canonicalize(),
+            if folder.as_os_str().is_empty() {
+                Path::new(".")
+            } else {
+                folder
+            }
+            .canonicalize(),
+        ) {
+            if !real_file.starts_with(&real_folder) {
+                return Err(outside());
+            }
+        }
+    }
+    Ok(file)
 }
 
 #[cfg(test)]
@@ -150,6 +168,13 @@ mod tests {
                 "{outside}: {error}"
             );
         }
+        // A link inside the folder to a file outside it is outside too.
+        let dir = tempfile::tempdir().unwrap();
+        let inner = dir.path().join("scene");
+        std::fs::create_dir(&inner).unwrap();
+        std::fs::write(dir.path().join("secret.bin"), b"x").unwrap();
+        std::os::unix::fs::symlink("../secret.bin", inner.join("link.bin")).unwrap();
+        assert!(resolve_reference(&inner.join("a.gltf"), "link.bin", &options).is_err());
         let allowed = LoadOptions {
             allow_external_paths: true,
         };

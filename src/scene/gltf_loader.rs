@@ -147,7 +147,7 @@ fn check_required_extensions(path: &Path, document: &Document) -> Result<(), Sce
     let unsupported: Vec<String> = document
         .extensions_required()
         .filter(|e| !SUPPORTED_EXTENSIONS.contains(e))
-        .map(str::to_owned)
+        .map(super::printable)
         .collect();
     if unsupported.is_empty() {
         Ok(())
@@ -252,7 +252,7 @@ fn read_uri(
     let missing = |error| SceneError::MissingBuffer {
         path: path.to_owned(),
         buffer: format!("'{name}'"),
-        file: file.clone(),
+        file: super::printable(&file.display().to_string()),
         error,
     };
     let metadata = std::fs::metadata(&file).map_err(missing)?;
@@ -548,7 +548,21 @@ impl Loader<'_> {
         if !position.is_finite() || !forward.is_finite() || right.length() <= 1e-6 {
             return Err(invalid("its node's transform is degenerate"));
         }
-        let camera = Camera::look_at(position, position + forward, up, yfov);
+        // A target at a distance like the camera's own from the origin, so that it does not
+        // round back onto the position of a camera far from the origin.
+        let reach = position.length().max(1.0);
+        let camera = Camera::look_at(position, position + forward.normalize() * reach, up, yfov);
+        let finite = [
+            camera.position,
+            camera.image_plane_middle,
+            camera.up,
+            camera.right_per_unit_aspect,
+        ]
+        .iter()
+        .all(|v| v.is_finite());
+        if !finite {
+            return Err(invalid("its node's transform is degenerate"));
+        }
         self.builder.set_camera(camera);
         Ok(())
     }
@@ -622,9 +636,9 @@ fn triangle_corners(mode: Mode, vertex_count: usize) -> Vec<[usize; 3]> {
     }
 }
 
-/// An object's name, or `#index` when it has none (names are optional in glTF).
+/// An object's name (printable), or `#index` when it has none (names are optional in glTF).
 fn label(name: Option<&str>, index: usize) -> String {
-    name.map_or_else(|| format!("#{index}"), str::to_owned)
+    name.map_or_else(|| format!("#{index}"), super::printable)
 }
 
 /// A [`SceneError::MalformedGltf`] for `path`.

@@ -18,7 +18,7 @@ pub mod obj_loader;
 pub mod procedural;
 pub mod source;
 
-pub use error::SceneError;
+pub use error::{printable, SceneError};
 pub use source::SceneSource;
 
 /// A triangle with the workshop's shading parameters (`triangle_t`), world space.
@@ -56,18 +56,18 @@ impl Triangle {
         emission: Vec3,
         double_sided: bool,
     ) -> Option<Triangle> {
-        let normal = (positions[1] - positions[0]).cross(positions[2] - positions[0]);
-        // Scale by the largest component before normalizing: the squared length of the
-        // cross product of a triangle 1e10 wide overflows f32, that of one 1e-12 across
-        // underflows, and both have a perfectly good normal.
-        let largest = normal.abs().max_element();
-        if !(largest > 0.0) || !largest.is_finite() {
+        // In float64: the cross product of a triangle 1e10 wide (or with corners near
+        // f32::MAX) overflows f32, that of one 1e-12 across underflows, and both have a
+        // perfectly good normal.
+        let [a, b, c] = positions.map(|p| p.as_dvec3());
+        let normal = (b - a).cross(c - a);
+        let length = normal.length();
+        if !(length > 0.0) || !length.is_finite() {
             return None;
         }
-        let scaled = normal / largest;
         Some(Triangle {
             positions,
-            normal: scaled / scaled.length(),
+            normal: (normal / length).as_vec3(),
             color,
             emission,
             double_sided,
@@ -137,6 +137,11 @@ impl Material {
     }
 }
 
+/// The most triangles a scene may have (16 M: about 1.6 GB on the host while loading, and
+/// within every device's texel-buffer limit); glTF instancing can make a small file
+/// describe far more.
+pub const MAX_SCENE_TRIANGLES: usize = 16 << 20;
+
 /// The largest emitted radiance vkpath renders (1e30): a path multiplies it by throughputs
 /// of up to about 2^path length, and a pixel adds up to 2^16 and more samples, which must
 /// stay below f32's 3.4e38 instead of becoming infinite (and NaN) in the shader.
@@ -177,6 +182,12 @@ impl SceneBuilder {
             return Err(SceneError::NonFinitePosition {
                 path: self.path.clone(),
                 mesh: mesh.to_owned(),
+            });
+        }
+        if self.scene.triangles.len() + self.degenerate_count >= MAX_SCENE_TRIANGLES {
+            return Err(SceneError::TooManyTriangles {
+                path: self.path.clone(),
+                limit: MAX_SCENE_TRIANGLES,
             });
         }
         let emission = material.emission.max_element();

@@ -29,19 +29,30 @@ pub fn load_obj(path: &Path) -> Result<Scene, SceneError> {
         ignore_lines: true,
         ..Default::default()
     };
+    // tobj asks for a library at every `mtllib` line and keeps every copy: each is read once.
+    let loaded_libraries: RefCell<std::collections::HashSet<PathBuf>> = RefCell::default();
+    let library_bytes = std::cell::Cell::new(0u64);
     let (models, materials) = tobj::load_obj_buf(&mut bytes.as_slice(), &options, |library| {
         let library_path = directory.join(library);
+        if !loaded_libraries.borrow_mut().insert(library_path.clone()) {
+            return Ok((Vec::new(), Default::default()));
+        }
         // Material libraries are read like the OBJ itself: regular files inside its folder,
-        // of bounded size; any other is reported as a library that cannot be opened.
+        // of bounded size (all of them together too); any other is reported as a library
+        // that cannot be opened.
+        let budget = super::files::MAX_SCENE_FILE_BYTES.saturating_sub(library_bytes.get());
         let result = super::files::resolve_reference(
             path,
             &library.to_string_lossy(),
             &super::files::LoadOptions::default(),
         )
         .ok()
-        .and_then(|file| super::files::read_bounded(&file, super::files::MAX_SCENE_FILE_BYTES).ok())
+        .and_then(|file| super::files::read_bounded(&file, budget).ok())
         .ok_or(tobj::LoadError::OpenFileFailed)
-        .and_then(|text| tobj::load_mtl_buf(&mut text.as_slice()));
+        .and_then(|text| {
+            library_bytes.set(library_bytes.get() + text.len() as u64);
+            tobj::load_mtl_buf(&mut sanitize_mtl(&text).as_bytes())
+        });
         if let Err(error) = &result {
             failed_libraries.borrow_mut().push((library_path, *error));
         }
@@ -80,7 +91,7 @@ pub fn load_obj(path: &Path) -> Result<Scene, SceneError> {
         let name = if model.name.is_empty() {
             format!("#{model_index}")
         } else {
-            model.name.clone()
+            super::printable(&model.name)
         };
         let material = model
             .mesh
@@ -165,6 +176,32 @@ fn texture_warning(material: &tobj::Material) -> Option<String> {
         material.name,
         maps.join(", ")
     ))
+}
+
+/// An MTL text that tobj can parse without panicking: a colour statement (`Ka`, `Kd`,
+/// `Ks`, `Ke`, `Tf`) with fewer than three numbers gets its missing components from the
+/// first (the MTL format lets `Kd r` stand for `Kd r r r`), and one with none is dropped
+/// (tobj 4 unwraps three numbers).
+fn sanitize_mtl(bytes: &[u8]) -> String {
+    let text = String::from_utf8_lossy(bytes);
+    let mut sanitized = String::with_capacity(text.len());
+    for line in text.lines() {
+        let mut words = line.split_whitespace();
+        let keyword = words.next().unwrap_or("");
+        if ["Ka", "Kd", "Ks", "Ke", "Tf"].contains(&keyword) {
+            let numbers: Vec<&str> = words.collect();
+            match numbers.as_slice() {
+                [] => continue,
+                [r] => sanitized.push_str(&format!("{keyword} {r} {r} {r}")),
+                [r, g] => sanitized.push_str(&format!("{keyword} {r} {g} {g}")),
+                _ => sanitized.push_str(line),
+            }
+        } else {
+            sanitized.push_str(line);
+        }
+        sanitized.push('\n');
+    }
+    sanitized
 }
 
 #[cfg(test)]
