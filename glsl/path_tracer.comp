@@ -106,8 +106,8 @@ void main() {
         sum.a += 1.0;
         sum_of_squares += radiance * radiance;
     }
-    // llvmpipe ends all loops of a SIMD program after LLVMPIPE_LOOP_LIMIT iterations in
-    // total, without an error; a program's iterations are at most LLVMPIPE_SIMD_WIDTH times
+    // llvmpipe ends a loop of a SIMD program after LLVMPIPE_LOOP_LIMIT iterations over its
+    // entries, without an error; a program's iterations are at most LLVMPIPE_SIMD_WIDTH times
     // the largest lane's (see shared.h). An upper bound of this lane's iterations: one per
     // sample; per ray one of the path loop, one of the light search's (at most the bits of
     // the light count), and the loop over all triangles (unless unrolled as constants, or a

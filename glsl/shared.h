@@ -69,8 +69,10 @@
 // lavapipe LLVMPIPE_LOOP_LIMIT / LLVMPIPE_SIMD_WIDTH, 0 (no limit) elsewhere. The path
 // tracer counts (an upper bound of) its iterations and flags the pixel when they reach it.
 #define SPEC_LOOP_LIMIT 8
-// Mesa's llvmpipe ends every loop of a shader invocation once all its loops together have
-// run this many iterations, with no error (LP_MAX_TGSI_LOOP_ITERATIONS).
+// Mesa's llvmpipe ends a loop of a shader invocation, with no error, once it has run this
+// many iterations over all its entries in that invocation (LP_MAX_TGSI_LOOP_ITERATIONS).
+// Each loop counts on its own (measured: a second loop still runs in full after the first
+// was cut); the kernel bounds the sum over all its loops, which bounds each of them.
 #define LLVMPIPE_LOOP_LIMIT 65535
 // llvmpipe runs this many invocations as one SIMD program (AVX2: 8 lanes); its loops run
 // while any lane is active, so their iterations are at most the sum of the lanes' own,
