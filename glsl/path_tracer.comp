@@ -124,6 +124,11 @@ void main() {
         if (iterations >= LOOP_LIMIT || g_ray_count * per_ray >= LOOP_LIMIT)
             sum_of_squares_flag = 1.0;
     }
+#ifdef USER_FUNCTIONS
+    // vkpath check: the user's loops ran past their limit (an endless loop)
+    if (g_user_loop_limit_hit)
+        sum_of_squares_flag = 1.0;
+#endif
     imageStore(g_accumulation, ivec3(texel, LAYER_SUM), sum);
     // Ray counts are exact in a float up to 2^24 per pixel, far beyond what a benchmark takes.
     imageStore(g_accumulation, ivec3(texel, LAYER_COMPENSATION), vec4(compensation, compensation_and_rays.a + float(g_ray_count)));

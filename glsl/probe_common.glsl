@@ -33,6 +33,19 @@ bool get_probe_index(out uint index) {
     return index < g_probe_count;
 }
 
+layout(std430, set = 0, binding = PROBE_BINDING_FLAGS) writeonly buffer probe_flags {
+    uint g_probe_flags[];
+};
+
+// Ends a probe invocation: records whether the user's loops ran past their limit
+// (src/check/source.rs guards them). A macro: the user's file, which declares the flag,
+// comes after this one.
+#ifdef USER_FUNCTIONS
+#define FINISH_PROBE(index) g_probe_flags[index] = g_user_loop_limit_hit ? 1u : 0u
+#else
+#define FINISH_PROBE(index) g_probe_flags[index] = 0u
+#endif
+
 // Packs a triangle for output (flags 0: the workshop's struct has none).
 packed_triangle_t pack_triangle(triangle_t triangle) {
     packed_triangle_t packed;

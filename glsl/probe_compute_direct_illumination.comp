@@ -37,4 +37,5 @@ void main() {
     vec3 radiance = compute_direct_illumination(probe_input.shading_position.xyz, triangle, seed);
     g_outputs[index].radiance = vec4(radiance, 0.0);
     g_outputs[index].seed = uvec4(seed, 0u, 0u);
+    FINISH_PROBE(index);
 }

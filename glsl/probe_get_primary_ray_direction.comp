@@ -35,4 +35,5 @@ void main() {
                                                probe_input.left_bottom.xyz, probe_input.right.xyz,
                                                probe_input.up.xyz);
     g_outputs[index].direction = vec4(direction, 0.0);
+    FINISH_PROBE(index);
 }

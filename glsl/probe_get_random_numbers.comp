@@ -31,4 +31,5 @@ void main() {
     uvec2 seed = g_inputs[index].seed.xy;
     vec2 numbers = get_random_numbers(seed);
     g_outputs[index].seed_and_numbers = uvec4(seed, floatBitsToUint(numbers));
+    FINISH_PROBE(index);
 }

@@ -36,4 +36,5 @@ void main() {
     vec3 radiance = get_ray_radiance(probe_input.ray_origin.xyz, probe_input.ray_direction.xyz, seed);
     g_outputs[index].radiance = vec4(radiance, 0.0);
     g_outputs[index].seed = uvec4(seed, 0u, 0u);
+    FINISH_PROBE(index);
 }

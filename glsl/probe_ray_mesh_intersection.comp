@@ -43,4 +43,5 @@ void main() {
     g_outputs[index].t = vec4(t, 0.0, 0.0, 0.0);
     g_outputs[index].hit = uvec4(hit ? 1u : 0u, g_hit_triangle_index, 0u, 0u);
     g_outputs[index].triangle = pack_triangle(triangle);
+    FINISH_PROBE(index);
 }

@@ -36,4 +36,5 @@ void main() {
                                          unpack_triangle(probe_input.triangle));
     g_outputs[index].t = vec4(t, 0.0, 0.0, 0.0);
     g_outputs[index].hit = uvec4(hit ? 1u : 0u, 0u, 0u, 0u);
+    FINISH_PROBE(index);
 }

@@ -29,4 +29,5 @@ void main() {
         return;
     probe_input_t probe_input = g_inputs[index];
     g_outputs[index].direction = vec4(sample_hemisphere(probe_input.random_numbers.xy, probe_input.normal.xyz), 0.0);
+    FINISH_PROBE(index);
 }

@@ -32,4 +32,5 @@ void main() {
         return;
     probe_input_t probe_input = g_inputs[index];
     g_outputs[index].direction = vec4(sample_sphere_spherical_coordinates(probe_input.random_numbers.xy), 0.0);
+    FINISH_PROBE(index);
 }

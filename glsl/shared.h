@@ -168,6 +168,9 @@
 // included GLSL may declare too.
 #define PROBE_BINDING_INPUTS 8
 #define PROBE_BINDING_OUTPUTS 9
+// A storage buffer of one uint per input: 1 where the user's function (vkpath check) ran
+// past its loop limit (an endless loop), else 0.
+#define PROBE_BINDING_FLAGS 13
 
 // ======== The sample display of `vkpath exercise` (glsl/exercise_samples.comp, host side src/exercise/) ========
 

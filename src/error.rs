@@ -25,6 +25,11 @@ pub enum Error {
     /// A shader could not be compiled.
     #[error("{0}")]
     ShaderCompilation(String),
+    /// A kernel's loops ran past their limit (llvmpipe ends loops silently after 65535
+    /// iterations; a user's function under `vkpath check` after its own limit), so its
+    /// results cannot be trusted.
+    #[error("{0}")]
+    LoopLimit(String),
 }
 
 /// Result with vkpath's error.

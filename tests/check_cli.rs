@@ -500,3 +500,18 @@ fn unusable_files_are_usage_errors() {
         );
     }
 }
+
+#[test]
+fn an_endless_loop_fails_instead_of_being_cut_silently() {
+    let report = expect_verdicts(
+        "sample_sphere_endless_loop.glsl",
+        1,
+        &[("sample_sphere", false)],
+    );
+    let function = &report["functions"][0];
+    assert_eq!(function["method"], "loop limit");
+    assert!(function["hint"]
+        .as_str()
+        .expect("text")
+        .contains("endless loop"));
+}

@@ -266,7 +266,10 @@ pub fn check(
     for function in user.functions() {
         let verdict = match user.broken.iter().find(|b| b.name == function.name()) {
             Some(broken) => does_not_compile(function, broken),
-            None => judge(&session, function)?,
+            None => match judge(&session, function) {
+                Err(Error::LoopLimit(message)) => loops_without_end(function, user, message),
+                verdict => verdict?,
+            },
         };
         report.functions.push(verdict);
     }
@@ -288,6 +291,27 @@ fn judge(session: &Session, function: WorkshopFunction) -> Result<FunctionReport
             estimators::check_estimator(session, function)
         }
     }
+}
+
+/// The verdict on a function whose loops ran past their limit: failed (on lavapipe an
+/// endless loop would otherwise end silently and the function might pass).
+fn loops_without_end(
+    function: WorkshopFunction,
+    user: &UserFunctions,
+    message: String,
+) -> FunctionReport {
+    let mut report = FunctionReport::new(
+        function.name(),
+        user.line_of(function),
+        "loop limit",
+        format!(
+            "every call must end its loops within {} iterations",
+            source::USER_LOOP_LIMIT
+        ),
+    );
+    report.summary = "loops without end: a call's loops ran past their limit".into();
+    report.hint = Some(message);
+    report
 }
 
 /// The verdict on a function that does not compile: failed, with the compiler's messages.

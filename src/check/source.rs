@@ -26,6 +26,11 @@ use crate::check::glsl_syntax::{
 use crate::contract::USER_OPAQUE_BINDING_FIRST;
 use crate::shaders::GLSL_SOURCES;
 
+/// Loop iterations the user's functions may run in one kernel invocation (all their loops
+/// together) before their loops are ended and the call fails as an endless loop: below
+/// llvmpipe's 65535, which would end a loop silently.
+pub const USER_LOOP_LIMIT: u32 = 20_000;
+
 /// Entry points of ShaderToy and page shaders: never judged, dropped.
 const ENTRY_POINTS: [&str; 5] = ["mainImage", "main", "mainSound", "mainVR", "mainCubemap"];
 
@@ -525,10 +530,75 @@ pub fn prepare(source: &str) -> PreparedSource {
         }
         referenced.insert(token.text.clone());
     }
+    // Every loop of the user's functions gets a guard in its condition: an endless loop ends
+    // after USER_LOOP_LIMIT iterations, and the kernel knows it (llvmpipe would end it
+    // silently after 65535 and return whatever the function had).
+    for item in items
+        .iter()
+        .filter(|i| i.kind == ItemKind::FunctionDefinition)
+    {
+        if blanked
+            .iter()
+            .any(|r| r.contains(&structure[item.first].start))
+        {
+            continue;
+        }
+        for index in item.first..item.last {
+            let keyword = structure[index].text.as_str();
+            if !(keyword == "for" || keyword == "while")
+                || structure.get(index + 1).is_none_or(|t| t.text != "(")
+            {
+                continue;
+            }
+            let Some(close) = matching(&structure, index + 1, "(", ")") else {
+                continue;
+            };
+            let (start, end) = if keyword == "while" {
+                (structure[index + 1].end, structure[close].start)
+            } else {
+                // The condition of for (init; condition; increment)
+                let mut depth = 0i32;
+                let semicolons: Vec<usize> = (index + 1..close)
+                    .filter(|&i| {
+                        match structure[i].text.as_str() {
+                            "(" => depth += 1,
+                            ")" => depth -= 1,
+                            _ => {}
+                        }
+                        depth == 1 && structure[i].text == ";"
+                    })
+                    .collect();
+                let [first, second] = semicolons[..] else {
+                    continue;
+                };
+                if second == first + 1 {
+                    edits.push(Edit {
+                        range: structure[first].end..structure[first].end,
+                        replacement: " vkpath_loop_guard()".into(),
+                    });
+                    continue;
+                }
+                (structure[first].end, structure[second].start)
+            };
+            edits.push(Edit {
+                range: start..start,
+                replacement: "vkpath_loop_guard() && (".into(),
+            });
+            edits.push(Edit {
+                range: end..end,
+                replacement: ")".into(),
+            });
+        }
+    }
     prepared.text = apply(source, edits);
 
-    // The prelude: undefine the user's macros, supply what the kept code reads.
-    let mut prelude = String::new();
+    // The prelude: undefine the user's macros, supply what the kept code reads, and the
+    // guard of the user's loops.
+    let mut prelude = format!(
+        "uint g_user_loop_iterations = 0u;\nbool g_user_loop_limit_hit = false;\n\
+         bool vkpath_loop_guard() {{ if (++g_user_loop_iterations > {USER_LOOP_LIMIT}u) {{ \
+         g_user_loop_limit_hit = true; return false; }} return true; }}\n"
+    );
     let unique_macros: BTreeSet<&String> = user_macros.iter().collect();
     for name in &unique_macros {
         let _ = writeln!(prelude, "#undef {name}");

@@ -137,7 +137,7 @@ impl ProbeKind {
 }
 
 /// The descriptor bindings of every probe kernel (`glsl/probe_common.glsl`).
-pub(crate) fn probe_bindings() -> [(u32, vk::DescriptorType); 4] {
+pub(crate) fn probe_bindings() -> [(u32, vk::DescriptorType); 5] {
     [
         (
             contract::BINDING_TRIANGLES,
@@ -153,6 +153,10 @@ pub(crate) fn probe_bindings() -> [(u32, vk::DescriptorType); 4] {
         ),
         (
             contract::PROBE_BINDING_OUTPUTS,
+            vk::DescriptorType::STORAGE_BUFFER,
+        ),
+        (
+            contract::PROBE_BINDING_FLAGS,
             vk::DescriptorType::STORAGE_BUFFER,
         ),
     ]

@@ -19,6 +19,8 @@ use crate::vk::{Buffer, CommandRunner, Context, TexelBufferView};
 /// for the largest structs, 128 bytes) well below every device's `maxStorageBufferRange`
 /// of at least 2^27 bytes, while 10^6 inputs still go in one chunk.
 const MAX_INPUTS_PER_CHUNK: usize = 1 << 20;
+/// Inputs of the first chunk of every run (see `ProbeRunner::run`).
+const FIRST_CHUNK: usize = 256;
 
 /// Runs probe kernels against one scene (the triangles that `ray_mesh_intersection`,
 /// `compute_direct_illumination` and `get_ray_radiance` see).
@@ -89,8 +91,13 @@ impl ProbeRunner {
             )));
         }
         let mut outputs = Vec::with_capacity(inputs.len());
-        for chunk in inputs.chunks(MAX_INPUTS_PER_CHUNK) {
-            outputs.extend(self.run_chunk::<I, O>(pipeline, chunk)?);
+        // A small first chunk: a function that loops without end (vkpath check) is found
+        // after a few hundred calls instead of a million.
+        let (first, rest) = inputs.split_at(inputs.len().min(FIRST_CHUNK));
+        for chunk in std::iter::once(first).chain(rest.chunks(MAX_INPUTS_PER_CHUNK)) {
+            if !chunk.is_empty() {
+                outputs.extend(self.run_chunk::<I, O>(pipeline, chunk)?);
+            }
         }
         Ok(outputs)
     }
@@ -115,6 +122,13 @@ impl ProbeRunner {
             vk::BufferUsageFlags::STORAGE_BUFFER,
             MemoryLocation::GpuToCpu,
         )?;
+        let flag_buffer = Buffer::new(
+            &self.context,
+            "probe flags",
+            (count * 4) as u64,
+            vk::BufferUsageFlags::STORAGE_BUFFER,
+            MemoryLocation::GpuToCpu,
+        )?;
         let descriptors = pipeline.pipeline.allocate_descriptor_set()?;
         let storage = vk::DescriptorType::STORAGE_BUFFER;
         descriptors.write_texel_buffer(contract::BINDING_TRIANGLES, &self.triangles);
@@ -125,6 +139,7 @@ impl ProbeRunner {
         );
         descriptors.write_buffer(contract::PROBE_BINDING_INPUTS, storage, &input_buffer);
         descriptors.write_buffer(contract::PROBE_BINDING_OUTPUTS, storage, &output_buffer);
+        descriptors.write_buffer(contract::PROBE_BINDING_FLAGS, storage, &flag_buffer);
 
         let compute = &pipeline.pipeline;
         let group_size = compute.workgroup_size()[0].max(1) as usize;
@@ -146,6 +161,15 @@ impl ProbeRunner {
             recorder.compute_barrier();
             recorder.host_read_barrier();
         })?;
+        let flags: Vec<u32> = flag_buffer.read();
+        let limited = flags.iter().take(count).filter(|&&flag| flag != 0).count();
+        if limited > 0 {
+            return Err(Error::LoopLimit(format!(
+                "in {limited} of {count} calls, {}'s loops ran more than {} iterations (an endless loop?)",
+                pipeline.kind().function_name(),
+                crate::check::source::USER_LOOP_LIMIT
+            )));
+        }
         let mut outputs: Vec<O> = output_buffer.read();
         outputs.truncate(count);
         Ok(outputs)

@@ -263,11 +263,11 @@ impl Renderer {
             .filter(|texel| texel[3] != 0.0)
             .count();
         if flagged > 0 {
-            return Err(Error::InvalidSettings(format!(
-                "llvmpipe's loop limit ({} loop iterations per shader invocation, after which it \
-                 ends loops silently) may have cut paths short in {flagged} pixels, so the image \
-                 would be wrong: use fewer --samples-per-frame, a shorter --max-path-length or \
-                 --accel bvh",
+            return Err(Error::LoopLimit(format!(
+                "the loop limit (llvmpipe's {} loop iterations, after which it ends loops \
+                 silently, or the limit of a checked function's loops) may have cut paths short \
+                 in {flagged} pixels, so the image would be wrong: use fewer \
+                 --samples-per-frame, a shorter --max-path-length or --accel bvh",
                 contract::LLVMPIPE_LOOP_LIMIT
             )));
         }
