@@ -17,6 +17,9 @@ pub struct Token {
     /// Whether it stands in a preprocessor directive (these tokens are kept for renaming
     /// inside macro bodies, and left out of the structure).
     pub in_directive: bool,
+    /// Whether it is the `#` that starts a directive (the first token of a logical line;
+    /// a `#` or `##` inside a directive, also on a continuation line, is not).
+    pub starts_directive: bool,
 }
 
 impl Token {
@@ -61,9 +64,8 @@ pub fn tokenize(source: &str) -> Vec<Token> {
             }
             i = (i + 2).min(bytes.len());
         } else {
-            if c == b'#' && at_line_start {
-                in_directive = true;
-            }
+            let starts_directive = c == b'#' && at_line_start;
+            in_directive |= starts_directive;
             let start = i;
             if c.is_ascii_alphanumeric()
                 || c == b'_'
@@ -95,6 +97,7 @@ pub fn tokenize(source: &str) -> Vec<Token> {
                 start,
                 end: i,
                 in_directive,
+                starts_directive,
             });
             at_line_start = false;
         }
@@ -238,6 +241,7 @@ mod tests {
             ]
         );
         assert!(tokens[..9].iter().all(|t| t.in_directive));
+        assert!(tokens[0].starts_directive && !tokens[1..].iter().any(|t| t.starts_directive));
         assert!(tokens[9..].iter().all(|t| !t.in_directive));
         assert_eq!(tokens[8].line, 2);
         assert_eq!(tokens[12].line, 5);

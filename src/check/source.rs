@@ -165,31 +165,14 @@ fn object_macros(tokens: &[Token]) -> Vec<(String, String)> {
 /// The preprocessor directives of a token list, each as its tokens (`#` first).
 fn directives(tokens: &[Token]) -> Vec<Vec<Token>> {
     let mut result: Vec<Vec<Token>> = Vec::new();
-    for (index, token) in tokens.iter().enumerate() {
-        if !token.in_directive {
-            continue;
-        }
-        let starts = token.text == "#"
-            && (index == 0
-                || !tokens[index - 1].in_directive
-                || tokens[index - 1].line < token.line && !continues(tokens, index));
-        if starts || result.is_empty() {
+    for token in tokens.iter().filter(|t| t.in_directive) {
+        if token.starts_directive || result.is_empty() {
             result.push(vec![token.clone()]);
         } else {
             result.last_mut().expect("not empty").push(token.clone());
         }
     }
     result
-}
-
-/// Whether the directive token at `index` continues the previous directive (a `#` inside a
-/// directive is the stringizing or pasting operator, on the same logical line).
-fn continues(tokens: &[Token], index: usize) -> bool {
-    // Tokens on a later physical line belong to the previous directive only through a
-    // backslash continuation, which the tokenizer hides; a new directive's `#` is the first
-    // token of its line, so it starts a directive unless it follows `#` or `##` use on the
-    // same line.
-    tokens[index - 1].line == tokens[index].line
 }
 
 /// The names that a top-level item declares: a function's name, a struct's name, the

@@ -140,12 +140,7 @@ pub fn render_job_and_save(
             )
         );
     }
-    let stop = match result.stop {
-        StopReason::Done => "done",
-        StopReason::TimeLimit => "time-limit",
-        StopReason::Cancelled => "signal",
-        StopReason::Failed => "failed",
-    };
+    let stop = result.stop.name();
     if reporting.json {
         let pixels = f64::from(settings.width) * f64::from(settings.height);
         let new_samples = f64::from(done - outcome.resumed_samples) * pixels;
@@ -234,7 +229,7 @@ pub fn render_on_devices_and_save(
             "seconds": outcome.seconds,
             "samples_per_second": f64::from(done) * pixels / outcome.seconds.max(1e-9),
             "devices": outcome.shares.iter().map(|(name, spp)| serde_json::json!({"name": name, "spp": spp})).collect::<Vec<_>>(),
-            "stop": match outcome.stop { StopReason::Done => "done", StopReason::TimeLimit => "time-limit", StopReason::Cancelled => "signal", StopReason::Failed => "failed" },
+            "stop": outcome.stop.name(),
         });
         println!("{report}");
     } else if !reporting.quiet {

@@ -54,8 +54,7 @@ pub struct Renderer {
 }
 
 /// Why a render stopped.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize)]
-#[serde(rename_all = "kebab-case")]
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
 #[non_exhaustive]
 pub enum StopReason {
     /// Every sample was taken.
@@ -66,6 +65,18 @@ pub enum StopReason {
     Cancelled,
     /// An error stopped it after some samples (`RenderOutcome::failure`).
     Failed,
+}
+
+impl StopReason {
+    /// How reports (`render --json`) name it: done, time-limit, signal or failed.
+    pub fn name(self) -> &'static str {
+        match self {
+            StopReason::Done => "done",
+            StopReason::TimeLimit => "time-limit",
+            StopReason::Cancelled => "signal",
+            StopReason::Failed => "failed",
+        }
+    }
 }
 
 /// What may stop a render early, and what to do on the way.
