@@ -160,6 +160,13 @@
 // exactly edge-on gives a huge density rather than a division by zero.
 #define MIN_LIGHT_COSINE 1.0e-20
 
+// ======== Materials (glsl/brdf.glsl, glsl/materials.glsl; Rust twins src/cpu/brdf.rs) ========
+
+// Smallest GGX alpha (get_ggx_alpha()): roughness 0 (a perfect mirror) becomes alpha 10^-4,
+// a lobe about 10^-4 rad wide with a peak density of 1 / (pi alpha^2) = 3.2e7, whose square
+// (MIS weights) stays far below float's 3.4e38.
+#define MIN_GGX_ALPHA 1.0e-4
+
 // ======== Probe kernels (glsl/probe_*.comp, host side src/probe/) ========
 
 // Descriptor set 0 of the probe kernels: the scene's BINDING_TRIANGLES (texel buffer) and

@@ -2,6 +2,7 @@
 //! operation for operation) and a CPU renderer built from them, so that tests can check the
 //! GPU against the CPU sample by sample and the CPU against analytic answers.
 
+pub mod brdf;
 pub mod camera;
 pub mod image;
 pub mod importance_sampling;

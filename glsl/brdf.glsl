@@ -1,0 +1,200 @@
+// The glTF 2.0 metallic-roughness BRDF (the specification's Appendix B), with
+// KHR_materials_specular and KHR_materials_ior, and its importance sampling: the workshop's
+// closing slide's "BRDF importance sampling" for real materials. Functions come in pairs
+// sample_x / get_x_density as in Peters' renderers. Rust twins: src/cpu/brdf.rs (same names,
+// same maths); change both together.
+//
+// Conventions: every direction is a unit vector, world space unless named local_; `view`
+// points from the surface towards the viewer (the reverse of the incoming ray), `light`
+// from the surface towards where light comes from. The BRDF is evaluated in the shading
+// frame (the shading normal, see glsl/materials.glsl), without the cosine factor.
+#ifndef VKPATH_BRDF_GLSL
+#define VKPATH_BRDF_GLSL
+
+#include "shared.h"
+#include "workshop.glsl"
+
+// A surface point's material after texture lookups: what get_brdf() and sample_brdf() read.
+struct material_t {
+    // Base colour (glTF baseColorFactor times baseColorTexture), linear RGB in [0, 1]
+    vec3 base_color;
+    // 0: dielectric, 1: metal; in between a linear mix of the two BRDFs
+    float metallic;
+    // Perceptual roughness in [0, 1]; the GGX alpha is its square (get_ggx_alpha())
+    float roughness;
+    // KHR_materials_specular's specularFactor: scales the dielectric's Fresnel (0: Lambertian)
+    float specular;
+    // KHR_materials_specular's specularColorFactor: tints the dielectric's F0, linear RGB
+    vec3 specular_color;
+    // KHR_materials_ior's index of refraction (glTF's default 1.5, F0 = 0.04)
+    float ior;
+};
+
+// The GGX alpha of a perceptual roughness: roughness^2 as glTF defines it, but at least
+// MIN_GGX_ALPHA, so that roughness 0 (a perfect mirror, a delta lobe that no density can
+// describe) becomes a lobe about 10^-4 rad wide whose peak density (3e7) and squared MIS
+// weights stay far inside float range.
+float get_ggx_alpha(float roughness) {
+    return max(roughness * roughness, MIN_GGX_ALPHA);
+}
+
+// An orthonormal basis (tangent, bitangent, normal) around a unit normal (Duff et al. 2017,
+// "Building an Orthonormal Basis, Revisited", JCGT 6(1)); the BRDF is isotropic, so any
+// tangent serves. Multiply a local vector by it to get the world vector.
+mat3 get_shading_basis(vec3 normal) {
+    float sign_z = (normal.z >= 0.0) ? 1.0 : -1.0;
+    float a = -1.0 / (sign_z + normal.z);
+    float b = normal.x * normal.y * a;
+    vec3 tangent = vec3(1.0 + sign_z * normal.x * normal.x * a, sign_z * b, -sign_z * normal.x);
+    vec3 bitangent = vec3(b, sign_z + normal.y * normal.y * a, -normal.y);
+    return mat3(tangent, bitangent, normal);
+}
+
+// The Trowbridge-Reitz (GGX) normal distribution D(h) = alpha^2 / (pi ((n.h)^2 (alpha^2 - 1)
+// + 1)^2), written with the local half vector's components as
+// 1 / (pi alpha^2 ((h_x^2 + h_y^2) / alpha^2 + h_z^2)^2), which keeps its digits near the
+// peak where the textbook form subtracts nearly equal numbers. 0 below the surface.
+// \param local_half Unit half vector in the shading frame (z = normal)
+float get_ggx_distribution(float alpha, vec3 local_half) {
+    if (local_half.z <= 0.0)
+        return 0.0;
+    float stretched = (local_half.x * local_half.x + local_half.y * local_half.y) / (alpha * alpha) + local_half.z * local_half.z;
+    return 1.0 / (M_PI * alpha * alpha * stretched * stretched);
+}
+
+// The height-correlated Smith visibility term V = G_2 / (4 |n.l| |n.v|) of GGX (Heitz 2014):
+// 0.5 / (n.l sqrt(alpha^2 + (1 - alpha^2) (n.v)^2) + n.v sqrt(alpha^2 + (1 - alpha^2) (n.l)^2)).
+// Both cosines must be positive.
+float get_smith_visibility(float alpha, float normal_dot_view, float normal_dot_light) {
+    float alpha_squared = alpha * alpha;
+    float view_term = normal_dot_light * sqrt(alpha_squared + (1.0 - alpha_squared) * normal_dot_view * normal_dot_view);
+    float light_term = normal_dot_view * sqrt(alpha_squared + (1.0 - alpha_squared) * normal_dot_light * normal_dot_light);
+    return 0.5 / (view_term + light_term);
+}
+
+// Schlick's Fresnel approximation F = f0 + (f90 - f0) (1 - |v.h|)^5.
+vec3 get_schlick_fresnel(vec3 f0, vec3 f90, float view_dot_half) {
+    float weight = 1.0 - abs(view_dot_half);
+    float weight_squared = weight * weight;
+    return f0 + (f90 - f0) * (weight_squared * weight_squared * weight);
+}
+
+// The dielectric's reflectance at normal incidence F0 = min(((ior - 1)/(ior + 1))^2
+// specular_color, 1) specular and at grazing incidence F90 = specular
+// (KHR_materials_specular with KHR_materials_ior); glTF's defaults give 0.04 and 1.
+vec3 get_dielectric_f0(material_t material) {
+    float reflectance = (material.ior - 1.0) / (material.ior + 1.0);
+    return min(reflectance * reflectance * material.specular_color, vec3(1.0)) * material.specular;
+}
+
+// The glTF BRDF (Appendix B), without the cosine:
+// mix(dielectric, metal, metallic) with
+// dielectric = (1 - F_d) base_color / pi + F_d D V  (F_d: the dielectric's Fresnel),
+// metal = F_m D V  (F_m: Schlick with F0 = base_color, F90 = 1).
+// 0 where the view or the light is below the shading normal's horizon.
+// \param normal Unit shading normal, world space
+// \return f(view, light), linear RGB, per steradian
+vec3 get_brdf(material_t material, vec3 normal, vec3 view, vec3 light) {
+    float normal_dot_view = dot(normal, view);
+    float normal_dot_light = dot(normal, light);
+    if (normal_dot_view <= 0.0 || normal_dot_light <= 0.0)
+        return vec3(0.0);
+    mat3 basis = get_shading_basis(normal);
+    vec3 local_half = normalize((view + light) * basis);
+    float view_dot_half = dot(view, basis * local_half);
+    float alpha = get_ggx_alpha(material.roughness);
+    float specular = get_ggx_distribution(alpha, local_half) * get_smith_visibility(alpha, normal_dot_view, normal_dot_light);
+    vec3 dielectric_fresnel = get_schlick_fresnel(get_dielectric_f0(material), vec3(material.specular), view_dot_half);
+    vec3 dielectric = (1.0 - dielectric_fresnel) * material.base_color / M_PI + dielectric_fresnel * specular;
+    vec3 metal = get_schlick_fresnel(material.base_color, vec3(1.0), view_dot_half) * specular;
+    return mix(dielectric, metal, material.metallic);
+}
+
+// Relative luminance of linear RGB (Rec. 709 weights), for choosing lobes.
+float get_luminance(vec3 color) {
+    return dot(color, vec3(0.2126, 0.7152, 0.0722));
+}
+
+// The probability with which sample_brdf() samples the specular (GGX) lobe rather than the
+// diffuse one: the specular lobe's share of the reflected energy estimated at the view
+// angle (Fresnel at v.h = n.v). 0 where the specular lobe vanishes (specular 0 and not
+// metallic), 1 where the diffuse one does (metals, black base colours).
+float get_specular_probability(material_t material, float normal_dot_view) {
+    vec3 dielectric_fresnel = get_schlick_fresnel(get_dielectric_f0(material), vec3(material.specular), normal_dot_view);
+    vec3 metal_fresnel = get_schlick_fresnel(material.base_color, vec3(1.0), normal_dot_view);
+    float specular = get_luminance(mix(dielectric_fresnel, metal_fresnel, material.metallic));
+    float diffuse = (1.0 - material.metallic) * get_luminance((1.0 - dielectric_fresnel) * material.base_color);
+    return (specular + diffuse > 0.0) ? specular / (specular + diffuse) : 0.5;
+}
+
+// Samples a GGX microfacet normal visible from the view direction (the distribution of
+// visible normals, Heitz 2018) with Dupuy and Benyoub's spherical caps (2023): in the
+// configuration stretched to alpha = 1, a visible normal is the view direction plus a
+// uniform point on the spherical cap below it.
+// \param random_numbers Uniform (u_0, u_1) in [0,1)^2
+// \param local_view Unit view direction in the shading frame, z > 0
+// \return A unit half vector in the shading frame, density
+//         G_1(v) max(0, v.h) D(h) / v_z w.r.t. solid angle
+vec3 sample_ggx_visible_normal(vec2 random_numbers, float alpha, vec3 local_view) {
+    vec3 stretched_view = normalize(vec3(alpha * local_view.xy, local_view.z));
+    float phi = 2.0 * M_PI * random_numbers[0];
+    float z = (1.0 - random_numbers[1]) * (1.0 + stretched_view.z) - stretched_view.z;
+    float sin_theta = sqrt(clamp(1.0 - z * z, 0.0, 1.0));
+    vec3 cap_point = vec3(sin_theta * cos(phi), sin_theta * sin(phi), z);
+    vec3 stretched_half = cap_point + stretched_view;
+    return normalize(vec3(alpha * stretched_half.xy, stretched_half.z));
+}
+
+// Density w.r.t. solid angle of the light direction that reflecting the view direction at a
+// sampled visible normal gives: G_1(v) D(h) / (4 n.v), with Smith's
+// G_1(v) = 2 n.v / (n.v + sqrt(alpha^2 + (1 - alpha^2) (n.v)^2)), so
+// D(h) / (2 (n.v + sqrt(alpha^2 + (1 - alpha^2) (n.v)^2))).
+float get_ggx_reflection_density(float alpha, vec3 local_view, vec3 local_half) {
+    float alpha_squared = alpha * alpha;
+    float root = sqrt(alpha_squared + (1.0 - alpha_squared) * local_view.z * local_view.z);
+    return get_ggx_distribution(alpha, local_half) / (2.0 * (local_view.z + root));
+}
+
+// Samples a light direction for the glTF BRDF: the specular lobe (a reflected visible GGX
+// normal) with probability get_specular_probability(), else the diffuse lobe (cosine
+// weighted). u_0 chooses the lobe and is stretched back to [0, 1) for the lobe's sampler.
+// The direction may lie below the surface (a GGX reflection can); get_brdf() is 0 there.
+// \param random_numbers Uniform (u_0, u_1) in [0,1)^2
+// \param normal Unit shading normal, world space; the view must be above it
+// \return A unit light direction, world space, density get_brdf_density()
+vec3 sample_brdf(vec2 random_numbers, material_t material, vec3 normal, vec3 view) {
+    mat3 basis = get_shading_basis(normal);
+    vec3 local_view = view * basis;
+    float specular_probability = get_specular_probability(material, local_view.z);
+    if (random_numbers[0] < specular_probability) {
+        vec2 lobe_randoms = vec2(random_numbers[0] / specular_probability, random_numbers[1]);
+        vec3 local_half = sample_ggx_visible_normal(lobe_randoms, get_ggx_alpha(material.roughness), local_view);
+        return normalize(basis * reflect(-local_view, local_half));
+    }
+    // Malley's method: a uniform point on the unit disk, projected up to the hemisphere.
+    float u = (random_numbers[0] - specular_probability) / (1.0 - specular_probability);
+    float radius = sqrt(u);
+    float phi = 2.0 * M_PI * random_numbers[1];
+    return basis * vec3(radius * cos(phi), radius * sin(phi), sqrt(max(0.0, 1.0 - u)));
+}
+
+// Density of sample_brdf() w.r.t. solid angle: p_s G_1(v) D(h) / (4 n.v) + (1 - p_s)
+// max(0, n.l) / pi with p_s = get_specular_probability(). It integrates to 1 over the sphere
+// (part of the specular lobe may fall below the horizon). 0 when the view is below.
+float get_brdf_density(material_t material, vec3 normal, vec3 view, vec3 light) {
+    float normal_dot_view = dot(normal, view);
+    if (normal_dot_view <= 0.0)
+        return 0.0;
+    mat3 basis = get_shading_basis(normal);
+    vec3 local_view = view * basis;
+    float specular_probability = get_specular_probability(material, normal_dot_view);
+    // light = -view has no half vector; no reflection reaches it.
+    vec3 half_sum = view + light;
+    float specular = 0.0;
+    if (dot(half_sum, half_sum) > 0.0)
+        specular = get_ggx_reflection_density(get_ggx_alpha(material.roughness), local_view, normalize(half_sum * basis));
+    float diffuse = max(0.0, dot(normal, light)) / M_PI;
+    return specular_probability * specular + (1.0 - specular_probability) * diffuse;
+}
+
+#endif
