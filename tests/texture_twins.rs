@@ -23,7 +23,8 @@ use vkpath::scene::textures::{DecodedImage, Texture, TextureTransform, WrapMode}
 /// Largest difference between a GPU and a CPU texel or sample whose texture is not sRGB:
 /// none. The twins read the same bytes, scale them by the same correctly rounded product,
 /// and the shader's `precise` arithmetic (transform, u * width - 0.5, floor, weights and
-/// the weighted sum) is rounded operation by operation as Rust rounds it.
+/// the weighted sum) is rounded operation by operation as Rust rounds it. Measured on
+/// lavapipe (95 040 inputs on 648 slots): 0, and the transform bit for bit.
 const LINEAR_TOLERANCE: f32 = 0.0;
 
 /// Largest difference for sRGB textures (values in [0, 1]): the GPU's pow() is
@@ -31,6 +32,8 @@ const LINEAR_TOLERANCE: f32 = 0.0;
 /// (log2: 2^-21 absolute near 1, 3 ulps elsewhere; exp2: 3 + 2|x| ulps), and the linear
 /// segment's division is only 2.5 ulps; a bilinear mix is a convex combination, so it keeps
 /// the bound. 4e-6 is that bound with a margin of 2; the measured error is printed.
+/// Measured on lavapipe: 2.4e-7 for samples (2 ulps of one), 1.8e-7 for texels, 6.7e-7
+/// relative for srgb_to_linear() on random arguments in [0, 1).
 const SRGB_TOLERANCE: f32 = 4.0e-6;
 
 /// The same texture in several samplers: its texels (RGBA8, random bytes) and size.
@@ -99,7 +102,10 @@ fn tex_coords(rng: &mut InputRng, width: u32, height: u32) -> Vec<Vec2> {
         coords.push(Vec2::new(rng.range(-2.0, 3.0), rng.range(-2.0, 3.0)));
     }
     for _ in 0..16 {
-        coords.push(Vec2::new(rng.range(-1.0e4, 1.0e4), rng.range(-1.0e4, 1.0e4)));
+        coords.push(Vec2::new(
+            rng.range(-1.0e4, 1.0e4),
+            rng.range(-1.0e4, 1.0e4),
+        ));
     }
     for special in [
         Vec2::new(1.0e4, -1.0e4),
@@ -236,7 +242,12 @@ fn texture_functions_match_their_twins() {
         };
         *worst_sample = worst_sample.max(error);
         if error > tolerance {
-            report("sample_texture", input, output.sampled().to_string(), sampled.to_string());
+            report(
+                "sample_texture",
+                input,
+                output.sampled().to_string(),
+                sampled.to_string(),
+            );
         }
 
         let texel = get_texel(texels, slot, input.texel());
@@ -254,7 +265,12 @@ fn texture_functions_match_their_twins() {
             && same_float(gpu_transformed.y, transformed.y))
         {
             worst.transform_mismatches += 1;
-            report("transform_tex_coord", input, gpu_transformed.to_string(), transformed.to_string());
+            report(
+                "transform_tex_coord",
+                input,
+                gpu_transformed.to_string(),
+                transformed.to_string(),
+            );
         }
 
         let linear = srgb_to_linear(input.tex_coord[2]);
@@ -265,7 +281,12 @@ fn texture_functions_match_their_twins() {
         let wrapped = wrap_texel_coordinate(coordinate, size, input.slot_and_mode[1]);
         if output.wrapped[0] != wrapped {
             worst.wrap_mismatches += 1;
-            report("wrap_texel_coordinate", input, output.wrapped[0].to_string(), wrapped.to_string());
+            report(
+                "wrap_texel_coordinate",
+                input,
+                output.wrapped[0].to_string(),
+                wrapped.to_string(),
+            );
         }
     }
     println!(
@@ -280,8 +301,14 @@ fn texture_functions_match_their_twins() {
         worst.transform_mismatches,
         worst.wrap_mismatches
     );
-    assert_eq!(worst.wrap_mismatches, 0, "wrap_texel_coordinate must be exact");
-    assert_eq!(worst.transform_mismatches, 0, "transform_tex_coord must be bit-exact");
+    assert_eq!(
+        worst.wrap_mismatches, 0,
+        "wrap_texel_coordinate must be exact"
+    );
+    assert_eq!(
+        worst.transform_mismatches, 0,
+        "transform_tex_coord must be bit-exact"
+    );
     assert!(worst.linear_texel <= LINEAR_TOLERANCE, "{worst:?}");
     assert!(worst.linear_sample <= LINEAR_TOLERANCE, "{worst:?}");
     assert!(worst.srgb_texel <= SRGB_TOLERANCE, "{worst:?}");
@@ -319,7 +346,12 @@ fn texel_centres_read_exactly_their_texel_on_the_gpu() {
                 nearest,
                 ..texture.clone()
             };
-            slots.push(GpuTextureSlot::new(0, &sampler, false, &TextureTransform::identity()));
+            slots.push(GpuTextureSlot::new(
+                0,
+                &sampler,
+                false,
+                &TextureTransform::identity(),
+            ));
         }
     }
     let mut inputs = Vec::new();
@@ -331,20 +363,34 @@ fn texel_centres_read_exactly_their_texel_on_the_gpu() {
                     (y as f32 + 0.5) / height as f32,
                 );
                 let texel = IVec2::new(x as i32, y as i32);
-                inputs.push(TextureProbeInput::new(slot_index, centre, texel, 0.5, (0, 1, 0)));
+                inputs.push(TextureProbeInput::new(
+                    slot_index,
+                    centre,
+                    texel,
+                    0.5,
+                    (0, 1, 0),
+                ));
             }
         }
     }
     let runner = TextureProbeRunner::new(&context, &atlas, &slots).expect("texture probe");
     let outputs = runner.run(&inputs).expect("probe run");
     for (input, output) in inputs.iter().zip(&outputs) {
-        let raw = texture.texels[(input.texel().y as u32 * width + input.texel().x as u32) as usize];
+        let raw =
+            texture.texels[(input.texel().y as u32 * width + input.texel().x as u32) as usize];
         let expected = Vec4::from_array(raw.map(|b| f32::from(b) / 255.0));
         assert_eq!(output.sampled(), output.texel(), "{input:?}");
         // Within one ulp of b / 255 (the twins multiply by the rounded 1/255).
         let error = (output.sampled() - expected).abs().max_element();
-        assert!(error <= f32::EPSILON / 2.0, "{input:?}: {} vs {expected}", output.sampled());
+        assert!(
+            error <= f32::EPSILON / 2.0,
+            "{input:?}: {} vs {expected}",
+            output.sampled()
+        );
     }
-    println!("texel centres: {} lookups, each exactly its texel", inputs.len());
+    println!(
+        "texel centres: {} lookups, each exactly its texel",
+        inputs.len()
+    );
     common::assert_validation_silent(&context);
 }

@@ -34,7 +34,13 @@ pub struct TextureSlot {
 /// Twin of GLSL `unpack_texture_slot`: a slot from its three packed texels
 /// (`GpuTextureSlot::to_texels`).
 pub fn unpack_texture_slot(a: UVec4, b: UVec4, c: UVec4) -> TextureSlot {
-    let floats = |t: UVec4| Vec3::new(f32::from_bits(t.x), f32::from_bits(t.y), f32::from_bits(t.z));
+    let floats = |t: UVec4| {
+        Vec3::new(
+            f32::from_bits(t.x),
+            f32::from_bits(t.y),
+            f32::from_bits(t.z),
+        )
+    };
     TextureSlot {
         first_texel: a.x,
         width: a.y,
@@ -73,7 +79,11 @@ pub fn transform_tex_coord(slot: &TextureSlot, tex_coord: Vec2) -> Vec2 {
 pub fn wrap_texel_coordinate(coordinate: i32, size: i32, wrap_mode: u32) -> i32 {
     let size = size.max(1);
     if wrap_mode == WRAP_REPEAT || wrap_mode == WRAP_MIRRORED_REPEAT {
-        let period = if wrap_mode == WRAP_REPEAT { size } else { 2 * size };
+        let period = if wrap_mode == WRAP_REPEAT {
+            size
+        } else {
+            2 * size
+        };
         // Euclidean modulo, written as the shader must (GLSL's % of negatives is undefined).
         let wrapped = if coordinate >= 0 {
             coordinate % period
@@ -124,7 +134,8 @@ pub fn limit_texel_coordinate(x: f32) -> f32 {
     if x.is_nan() {
         0.0
     } else {
-        x.max(-TEXTURE_COORDINATE_LIMIT).min(TEXTURE_COORDINATE_LIMIT)
+        // GLSL clamp(): min(max(x, lo), hi), the same for any x but NaN.
+        x.clamp(-TEXTURE_COORDINATE_LIMIT, TEXTURE_COORDINATE_LIMIT)
     }
 }
 

@@ -91,7 +91,10 @@ impl TextureProbeOutput {
 
     /// What `transform_tex_coord` returned.
     pub fn transformed(&self) -> Vec2 {
-        Vec2::new(self.transformed_and_linear[0], self.transformed_and_linear[1])
+        Vec2::new(
+            self.transformed_and_linear[0],
+            self.transformed_and_linear[1],
+        )
     }
 }
 

@@ -134,7 +134,10 @@ mod tests {
     #[test]
     fn slot_matches_the_texels_of_texture_slot_t() {
         // uvec4(first_texel, width, height, flags); vec4 transform_row0; vec4 transform_row1
-        assert_eq!(size_of::<GpuTextureSlot>(), 16 * TEXTURE_SLOT_TEXEL_COUNT as usize);
+        assert_eq!(
+            size_of::<GpuTextureSlot>(),
+            16 * TEXTURE_SLOT_TEXEL_COUNT as usize
+        );
         assert_eq!(offset_of!(GpuTextureSlot, first_texel), 0);
         assert_eq!(offset_of!(GpuTextureSlot, width), 4);
         assert_eq!(offset_of!(GpuTextureSlot, height), 8);
@@ -182,7 +185,13 @@ mod tests {
         assert_eq!(atlas.texels[4], [2; 4]);
         assert_eq!(atlas.texels[7], [3; 4]);
         let error = TextureAtlas::new(&textures, 7).unwrap_err();
-        assert_eq!(error, TextureError::AtlasTooLarge { texels: 8, limit: 7 });
+        assert_eq!(
+            error,
+            TextureError::AtlasTooLarge {
+                texels: 8,
+                limit: 7
+            }
+        );
         assert_eq!(error.to_string().lines().count(), 1);
         let empty = TextureAtlas::new(&[], 0).expect("no textures");
         assert_eq!((empty.texels.len(), empty.first_texels.len()), (1, 0));

@@ -139,7 +139,11 @@ impl Texture {
 /// absurd header is refused before anything is allocated for it.
 pub fn decode_texture(bytes: &[u8], mime_type: Option<&str>) -> Result<DecodedImage, TextureError> {
     let format = texture_format(bytes, mime_type)?;
-    let format_name = if format == ImageFormat::Png { "PNG" } else { "JPEG" };
+    let format_name = if format == ImageFormat::Png {
+        "PNG"
+    } else {
+        "JPEG"
+    };
     let corrupt = |error: image::ImageError| TextureError::Corrupt {
         format: format_name,
         message: one_line(&error.to_string()),
@@ -154,7 +158,10 @@ pub fn decode_texture(bytes: &[u8], mime_type: Option<&str>) -> Result<DecodedIm
         .into_dimensions()
         .map_err(corrupt)?;
     let decoded_bytes = u64::from(width) * u64::from(height) * 4;
-    if width > MAX_TEXTURE_SIZE || height > MAX_TEXTURE_SIZE || decoded_bytes > MAX_TEXTURE_DECODE_BYTES {
+    if width > MAX_TEXTURE_SIZE
+        || height > MAX_TEXTURE_SIZE
+        || decoded_bytes > MAX_TEXTURE_DECODE_BYTES
+    {
         return Err(TextureError::TooLarge { width, height });
     }
     if width == 0 || height == 0 {
@@ -163,10 +170,12 @@ pub fn decode_texture(bytes: &[u8], mime_type: Option<&str>) -> Result<DecodedIm
             message: format!("the image has {width}x{height} texels"),
         });
     }
-    let image = reader(texture_limits()).decode().map_err(|error| match error {
-        image::ImageError::Limits(_) => TextureError::TooLarge { width, height },
-        error => corrupt(error),
-    })?;
+    let image = reader(texture_limits())
+        .decode()
+        .map_err(|error| match error {
+            image::ImageError::Limits(_) => TextureError::TooLarge { width, height },
+            error => corrupt(error),
+        })?;
     let rgba = image.to_rgba8();
     let (width, height) = rgba.dimensions();
     let texels = rgba

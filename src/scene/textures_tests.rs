@@ -17,7 +17,9 @@ fn png(image: impl Into<DynamicImage>) -> Vec<u8> {
 
 #[test]
 fn rgba_png_keeps_its_texels_top_down() {
-    let image = RgbaImage::from_fn(3, 2, |x, y| Rgba([x as u8 * 10, y as u8 * 100, 7, 200 + x as u8]));
+    let image = RgbaImage::from_fn(3, 2, |x, y| {
+        Rgba([x as u8 * 10, y as u8 * 100, 7, 200 + x as u8])
+    });
     let decoded = decode_texture(&png(image), Some("image/png")).expect("decodes");
     assert_eq!((decoded.width, decoded.height), (3, 2));
     assert_eq!(decoded.texels.len(), 6);
@@ -31,9 +33,9 @@ fn grey_and_rgb_images_become_opaque_rgba() {
     let grey = GrayImage::from_fn(2, 1, |x, _| Luma([40 + x as u8]));
     let decoded = decode_texture(&png(grey), None).expect("decodes");
     assert_eq!(decoded.texels, vec![[40, 40, 40, 255], [41, 41, 41, 255]]);
-    let grey_alpha: ImageBuffer<LumaA<u8>, Vec<u8>> =
-        ImageBuffer::from_pixel(1, 1, LumaA([9, 30]));
-    let decoded = decode_texture(&png(DynamicImage::ImageLumaA8(grey_alpha)), None).expect("decodes");
+    let grey_alpha: ImageBuffer<LumaA<u8>, Vec<u8>> = ImageBuffer::from_pixel(1, 1, LumaA([9, 30]));
+    let decoded =
+        decode_texture(&png(DynamicImage::ImageLumaA8(grey_alpha)), None).expect("decodes");
     assert_eq!(decoded.texels, vec![[9, 9, 9, 30]]);
     let rgb = RgbImage::from_pixel(1, 1, Rgb([1, 2, 3]));
     let decoded = decode_texture(&png(rgb), None).expect("decodes");
@@ -81,7 +83,10 @@ fn the_bytes_decide_the_format_over_the_mime_type() {
 fn webp_ktx2_and_unknown_formats_are_refused() {
     let webp = b"RIFF\x1a\0\0\0WEBPVP8L\x0d\0\0\0\x2f\0\0\0\x10\x07\x10\x11\x11\x88\x88\xfe\x07\0";
     let error = decode_texture(webp, Some("image/webp")).unwrap_err();
-    assert!(matches!(error, TextureError::UnsupportedFormat { .. }), "{error}");
+    assert!(
+        matches!(error, TextureError::UnsupportedFormat { .. }),
+        "{error}"
+    );
     assert!(error.to_string().contains("WebP"), "{error}");
 
     let mut ktx2 = KTX2_IDENTIFIER.to_vec();
@@ -95,7 +100,10 @@ fn webp_ktx2_and_unknown_formats_are_refused() {
     );
 
     let error = decode_texture(b"not an image", Some("image/x-made\nup")).unwrap_err();
-    assert!(matches!(error, TextureError::UnsupportedFormat { .. }), "{error}");
+    assert!(
+        matches!(error, TextureError::UnsupportedFormat { .. }),
+        "{error}"
+    );
     let error = decode_texture(b"not an image", None).unwrap_err();
     assert!(error.to_string().contains("unknown"), "{error}");
     for error in [
@@ -111,17 +119,26 @@ fn corrupt_data_is_an_error_on_one_line() {
     let bytes = png(RgbImage::from_fn(16, 16, |x, y| Rgb([x as u8, y as u8, 0])));
     let truncated = &bytes[..bytes.len() / 2];
     let error = decode_texture(truncated, None).unwrap_err();
-    assert!(matches!(error, TextureError::Corrupt { format: "PNG", .. }), "{error}");
+    assert!(
+        matches!(error, TextureError::Corrupt { format: "PNG", .. }),
+        "{error}"
+    );
     assert_eq!(error.to_string().lines().count(), 1, "{error}");
 
     let mut garbage = bytes[..8].to_vec(); // the PNG signature, then nothing sensible
     garbage.extend_from_slice(&[0xff; 40]);
     let error = decode_texture(&garbage, None).unwrap_err();
-    assert!(matches!(error, TextureError::Corrupt { format: "PNG", .. }), "{error}");
+    assert!(
+        matches!(error, TextureError::Corrupt { format: "PNG", .. }),
+        "{error}"
+    );
 
     // Unrecognisable bytes that the MIME type calls JPEG.
     let error = decode_texture(b"\0\0\0\0 not a jpeg", Some("image/jpeg")).unwrap_err();
-    assert!(matches!(error, TextureError::Corrupt { format: "JPEG", .. }), "{error}");
+    assert!(
+        matches!(error, TextureError::Corrupt { format: "JPEG", .. }),
+        "{error}"
+    );
     assert_eq!(error.to_string().lines().count(), 1, "{error}");
 }
 
@@ -144,14 +161,20 @@ fn images_wider_or_taller_than_the_limit_are_refused_with_their_size() {
     ));
     // At the limit it decodes.
     let at_limit = png(GrayImage::new(MAX_TEXTURE_SIZE, 1));
-    assert_eq!(decode_texture(&at_limit, None).expect("decodes").width, MAX_TEXTURE_SIZE);
+    assert_eq!(
+        decode_texture(&at_limit, None).expect("decodes").width,
+        MAX_TEXTURE_SIZE
+    );
 }
 
 #[test]
 fn wrap_modes_come_from_gltf() {
     use gltf::texture::WrappingMode;
     assert_eq!(WrapMode::from_gltf(WrappingMode::Repeat), WrapMode::Repeat);
-    assert_eq!(WrapMode::from_gltf(WrappingMode::ClampToEdge), WrapMode::ClampToEdge);
+    assert_eq!(
+        WrapMode::from_gltf(WrappingMode::ClampToEdge),
+        WrapMode::ClampToEdge
+    );
     assert_eq!(
         WrapMode::from_gltf(WrappingMode::MirroredRepeat),
         WrapMode::MirroredRepeat
@@ -165,16 +188,22 @@ fn apply(transform: &TextureTransform, u: f32, v: f32) -> [f32; 2] {
 }
 
 fn assert_close(actual: [f32; 2], expected: [f32; 2]) {
-    let error = (actual[0] - expected[0]).abs().max((actual[1] - expected[1]).abs());
+    let error = (actual[0] - expected[0])
+        .abs()
+        .max((actual[1] - expected[1]).abs());
     assert!(error < 1e-6, "{actual:?} != {expected:?}");
 }
 
 #[test]
 fn texture_transform_follows_the_extension_example() {
-    assert_eq!(apply(&TextureTransform::identity(), 0.25, 0.75), [0.25, 0.75]);
+    assert_eq!(
+        apply(&TextureTransform::identity(), 0.25, 0.75),
+        [0.25, 0.75]
+    );
     // KHR_texture_transform's example: offset (0, 1), rotation pi/2, scale 0.5 "utilizes only
     // the lower left quadrant of the source image, rotated clockwise 90 degrees".
-    let transform = TextureTransform::from_gltf([0.0, 1.0], std::f32::consts::FRAC_PI_2, [0.5, 0.5]);
+    let transform =
+        TextureTransform::from_gltf([0.0, 1.0], std::f32::consts::FRAC_PI_2, [0.5, 0.5]);
     assert_close(apply(&transform, 0.0, 0.0), [0.0, 1.0]); // bottom-left corner of the image
     assert_close(apply(&transform, 1.0, 0.0), [0.0, 0.5]);
     assert_close(apply(&transform, 0.0, 1.0), [0.5, 1.0]);
