@@ -233,4 +233,54 @@
 // No kernel's layout has them: a function that reads them cannot be judged.
 #define USER_OPAQUE_BINDING_FIRST 20
 
+// ======== Textures (glsl/textures.glsl, host side src/render/gpu_textures.rs) ========
+
+// The texels of every texture, concatenated (TextureAtlas on the host): a uniform texel
+// buffer of R8G8B8A8_UINT texels (usamplerBuffer), rows top-down as in the image files, in
+// the path tracer's descriptor set 0.
+#define BINDING_TEXTURE_TEXELS 5
+// RGBA32_UINT texels (uvec4) per texture_slot_t as packed (GpuTextureSlot, 48 bytes).
+#define TEXTURE_SLOT_TEXEL_COUNT 3
+
+// ---- Bits of texture_slot_t.flags ----
+
+// The texture's rgb is sRGB-encoded (base colour, emission) and decoded to linear per texel,
+// before filtering; alpha is always linear.
+#define TEXTURE_FLAG_SRGB 1
+// The wrap mode along u (glTF wrapS, a WRAP_* value) is (flags >> TEXTURE_WRAP_S_SHIFT) &
+// TEXTURE_WRAP_MASK.
+#define TEXTURE_WRAP_S_SHIFT 1
+// The wrap mode along v (glTF wrapT) is (flags >> TEXTURE_WRAP_T_SHIFT) & TEXTURE_WRAP_MASK.
+#define TEXTURE_WRAP_T_SHIFT 3
+// Mask of a wrap mode once shifted down.
+#define TEXTURE_WRAP_MASK 3
+// Nearest-texel lookup (glTF magFilter NEAREST) instead of bilinear filtering.
+#define TEXTURE_FLAG_NEAREST 32
+
+// ---- Wrap modes (wrap_texel_coordinate()) ----
+
+// glTF REPEAT (10497): the texture tiles the plane.
+#define WRAP_REPEAT 0
+// glTF CLAMP_TO_EDGE (33071): texels outside repeat the edge texel.
+#define WRAP_CLAMP_TO_EDGE 1
+// glTF MIRRORED_REPEAT (33648): tiles alternate with their mirror image (OpenGL 4.6, 8.14.2).
+#define WRAP_MIRRORED_REPEAT 2
+
+// ---- Numbers of the texture functions and their Rust twins (src/cpu/textures.rs) ----
+
+// 1/255 rounded to float: a byte b reads as b * TEXEL_UNORM_SCALE. A multiplication is
+// correctly rounded on every Vulkan device (a division only to 2.5 ulps), so GPU and CPU
+// agree bit for bit; 255 * TEXEL_UNORM_SCALE rounds to exactly 1.0, and b * scale is within
+// one ulp of b / 255.
+#define TEXEL_UNORM_SCALE 0.00392156862745098
+// Texel coordinates (u * width - 0.5 and the like) are clamped to +-2^30 before they become
+// ints, so that huge or infinite texture coordinates give a defined texel (GLSL's int() of
+// a float out of range is undefined); a float that large has no fractional part left.
+#define TEXTURE_COORDINATE_LIMIT 1073741824.0
+
+// Descriptor set 0 of glsl/probe_sample_texture.comp (tests/texture_twins.rs, host side
+// src/probe/texture_probe.rs): BINDING_TEXTURE_TEXELS, a storage buffer of packed
+// texture_slot_t (uvec4s) here, and PROBE_BINDING_INPUTS and PROBE_BINDING_OUTPUTS.
+#define PROBE_BINDING_TEXTURE_SLOTS 14
+
 #endif

@@ -9,6 +9,7 @@ pub mod importance_sampling;
 pub mod integrator;
 pub mod renderer;
 pub mod sobol;
+pub mod textures;
 pub mod workshop;
 
 #[cfg(test)]

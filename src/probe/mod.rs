@@ -7,6 +7,8 @@
 //! - `layout`: the input and output structs, byte for byte as the kernels declare them;
 //! - `runner`: `ProbeRunner`, which runs a kernel on a `Vec` of inputs;
 //! - `inputs`: deterministic random inputs shared by the tests and `vkpath check`;
+//! - `texture_probe`: the texture functions' probe (`glsl/probe_sample_texture.comp`),
+//!   which binds textures instead of a scene and so has a runner of its own;
 //! - `compare`: error measures (ulps, relative errors) and the near-degenerate
 //!   ray-triangle configurations where two correct algorithms may disagree.
 
@@ -15,6 +17,7 @@ pub mod inputs;
 pub mod kernel;
 pub mod layout;
 pub mod runner;
+pub mod texture_probe;
 
 pub use kernel::{ProbeKind, ProbePipeline};
 pub use layout::*;

@@ -4,6 +4,7 @@
 
 pub mod accumulation;
 pub mod gpu_scene;
+pub mod gpu_textures;
 pub mod gpu_types;
 pub mod job;
 pub mod metadata;

@@ -17,6 +17,7 @@ pub mod meshes;
 pub mod obj_loader;
 pub mod procedural;
 pub mod source;
+pub mod textures;
 
 pub use error::{printable, SceneError};
 pub use source::SceneSource;

@@ -185,6 +185,24 @@ impl TexelBufferView {
         TexelBufferView::new(context, buffer, vk::Format::R32G32B32A32_UINT)
     }
 
+    /// Views all of `buffer` as RGBA8_UINT texels (4 bytes each, read as `uvec4` in 0..=255
+    /// by a `usamplerBuffer`), after checking that the device allows that many; `what` names
+    /// the data in the error. Uniform texel buffers of this format are mandatory in Vulkan.
+    pub fn rgba8_uint(
+        context: &Arc<Context>,
+        buffer: Buffer,
+        what: &str,
+    ) -> VkResult<TexelBufferView> {
+        let texels = buffer.size / 4;
+        let limit = u64::from(context.limits.max_texel_buffer_elements);
+        if texels > limit {
+            return Err(VkError::TooLarge(format!(
+                "the {what} need {texels} texels, more than this device's texel-buffer limit of {limit}"
+            )));
+        }
+        TexelBufferView::new(context, buffer, vk::Format::R8G8B8A8_UINT)
+    }
+
     /// Views all of `buffer` (created with `UNIFORM_TEXEL_BUFFER` usage) as texels of `format`.
     pub fn new(
         context: &Arc<Context>,

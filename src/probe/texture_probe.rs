@@ -1,0 +1,248 @@
+//! The texture probe (`glsl/probe_sample_texture.comp`): runs the functions of
+//! `glsl/textures.glsl` on a buffer of inputs against an atlas and its slots, so that tests
+//! can compare them with their Rust twins (`crate::cpu::textures`). It has bindings of its
+//! own (an RGBA8 texel buffer and the slots, no scene), so it has its own runner beside
+//! `ProbeRunner`.
+
+use std::sync::Arc;
+
+use ash::vk;
+use bytemuck::{Pod, Zeroable};
+use glam::{IVec2, Vec2, Vec4};
+use gpu_allocator::MemoryLocation;
+
+use crate::contract;
+use crate::error::{Error, Result};
+use crate::probe::layout::ProbePushConstants;
+use crate::render::gpu_textures::{GpuTextureSlot, TextureAtlas};
+use crate::shaders;
+use crate::vk::{spirv_words, Buffer, CommandRunner, ComputePipeline, Context, TexelBufferView};
+
+/// Most inputs of one run: bounds the input and output buffers (64 MiB of outputs) below
+/// every device's `maxStorageBufferRange` of at least 2^27 bytes.
+pub const MAX_TEXTURE_PROBE_INPUTS: usize = 1 << 20;
+
+/// `probe_input_t` of `glsl/probe_sample_texture.comp` (48 bytes).
+#[repr(C)]
+#[derive(Clone, Copy, Debug, PartialEq, Pod, Zeroable)]
+pub struct TextureProbeInput {
+    /// xy: texture coordinates for `sample_texture`; z: the argument of `srgb_to_linear`;
+    /// w: 0.
+    pub tex_coord: [f32; 4],
+    /// xy: the texel of `get_texel`; z, w: coordinate and size for `wrap_texel_coordinate`.
+    pub texel_and_wrap: [i32; 4],
+    /// x: index of the slot; y: the wrap mode of `wrap_texel_coordinate`; zw: 0.
+    pub slot_and_mode: [u32; 4],
+}
+
+impl TextureProbeInput {
+    /// The input for one evaluation of every function on slot `slot_index`.
+    /// \param wrap (coordinate, size, wrap mode) for `wrap_texel_coordinate`.
+    pub fn new(
+        slot_index: u32,
+        tex_coord: Vec2,
+        texel: IVec2,
+        srgb_value: f32,
+        wrap: (i32, i32, u32),
+    ) -> TextureProbeInput {
+        TextureProbeInput {
+            tex_coord: [tex_coord.x, tex_coord.y, srgb_value, 0.0],
+            texel_and_wrap: [texel.x, texel.y, wrap.0, wrap.1],
+            slot_and_mode: [slot_index, wrap.2, 0, 0],
+        }
+    }
+
+    /// The texture coordinates of `sample_texture`.
+    pub fn tex_coord(&self) -> Vec2 {
+        Vec2::new(self.tex_coord[0], self.tex_coord[1])
+    }
+
+    /// The texel of `get_texel`.
+    pub fn texel(&self) -> IVec2 {
+        IVec2::new(self.texel_and_wrap[0], self.texel_and_wrap[1])
+    }
+}
+
+/// `probe_output_t` of `glsl/probe_sample_texture.comp` (64 bytes).
+#[repr(C)]
+#[derive(Clone, Copy, Debug, PartialEq, Pod, Zeroable)]
+pub struct TextureProbeOutput {
+    /// `sample_texture(slot, tex_coord.xy)`.
+    pub sampled: [f32; 4],
+    /// `get_texel(slot, texel_and_wrap.xy)`.
+    pub texel: [f32; 4],
+    /// xy: `transform_tex_coord(slot, tex_coord.xy)`; z: `srgb_to_linear(tex_coord.z)`;
+    /// w: 0.
+    pub transformed_and_linear: [f32; 4],
+    /// x: `wrap_texel_coordinate(...)`; yzw: 0.
+    pub wrapped: [i32; 4],
+}
+
+impl TextureProbeOutput {
+    /// What `sample_texture` returned.
+    pub fn sampled(&self) -> Vec4 {
+        Vec4::from_array(self.sampled)
+    }
+
+    /// What `get_texel` returned.
+    pub fn texel(&self) -> Vec4 {
+        Vec4::from_array(self.texel)
+    }
+
+    /// What `transform_tex_coord` returned.
+    pub fn transformed(&self) -> Vec2 {
+        Vec2::new(
+            self.transformed_and_linear[0],
+            self.transformed_and_linear[1],
+        )
+    }
+}
+
+/// The descriptor bindings of `glsl/probe_sample_texture.comp`.
+fn texture_probe_bindings() -> [(u32, vk::DescriptorType); 4] {
+    let storage = vk::DescriptorType::STORAGE_BUFFER;
+    [
+        (
+            contract::BINDING_TEXTURE_TEXELS,
+            vk::DescriptorType::UNIFORM_TEXEL_BUFFER,
+        ),
+        (contract::PROBE_BINDING_TEXTURE_SLOTS, storage),
+        (contract::PROBE_BINDING_INPUTS, storage),
+        (contract::PROBE_BINDING_OUTPUTS, storage),
+    ]
+}
+
+/// Runs the texture probe against one atlas and its slots.
+pub struct TextureProbeRunner {
+    context: Arc<Context>,
+    commands: CommandRunner,
+    pipeline: ComputePipeline,
+    texels: TexelBufferView,
+    slots: Buffer,
+}
+
+impl TextureProbeRunner {
+    /// Uploads the atlas's texels (an RGBA8_UINT texel buffer) and `slots` (at least one).
+    pub fn new(
+        context: &Arc<Context>,
+        atlas: &TextureAtlas,
+        slots: &[GpuTextureSlot],
+    ) -> Result<TextureProbeRunner> {
+        if slots.is_empty() {
+            return Err(Error::InvalidSettings(
+                "the texture probe needs at least one texture slot".into(),
+            ));
+        }
+        let texels = TexelBufferView::rgba8_uint(
+            context,
+            Buffer::with_data(
+                context,
+                "probe texture texels",
+                &atlas.texels,
+                vk::BufferUsageFlags::UNIFORM_TEXEL_BUFFER,
+            )?,
+            "probe textures",
+        )?;
+        let slots = Buffer::with_data(
+            context,
+            "probe texture slots",
+            slots,
+            vk::BufferUsageFlags::STORAGE_BUFFER,
+        )?;
+        let pipeline = ComputePipeline::new(
+            context,
+            &spirv_words(shaders::PROBE_SAMPLE_TEXTURE)?,
+            &texture_probe_bindings(),
+            std::mem::size_of::<ProbePushConstants>() as u32,
+            &[],
+        )?;
+        Ok(TextureProbeRunner {
+            context: context.clone(),
+            commands: CommandRunner::new(context)?,
+            pipeline,
+            texels,
+            slots,
+        })
+    }
+
+    /// Evaluates the texture functions on every input (at most
+    /// `MAX_TEXTURE_PROBE_INPUTS`) and returns the outputs in order.
+    pub fn run(&self, inputs: &[TextureProbeInput]) -> Result<Vec<TextureProbeOutput>> {
+        let count = inputs.len();
+        if count > MAX_TEXTURE_PROBE_INPUTS {
+            return Err(Error::InvalidSettings(format!(
+                "the texture probe takes at most {MAX_TEXTURE_PROBE_INPUTS} inputs at once, not {count}"
+            )));
+        }
+        if count == 0 {
+            return Ok(Vec::new());
+        }
+        let storage = vk::DescriptorType::STORAGE_BUFFER;
+        let input_buffer = Buffer::with_data(
+            &self.context,
+            "texture probe inputs",
+            inputs,
+            vk::BufferUsageFlags::STORAGE_BUFFER,
+        )?;
+        let output_buffer = Buffer::new(
+            &self.context,
+            "texture probe outputs",
+            (count * std::mem::size_of::<TextureProbeOutput>()) as u64,
+            vk::BufferUsageFlags::STORAGE_BUFFER,
+            MemoryLocation::GpuToCpu,
+        )?;
+        let descriptors = self.pipeline.allocate_descriptor_set()?;
+        descriptors.write_texel_buffer(contract::BINDING_TEXTURE_TEXELS, &self.texels);
+        descriptors.write_buffer(contract::PROBE_BINDING_TEXTURE_SLOTS, storage, &self.slots);
+        descriptors.write_buffer(contract::PROBE_BINDING_INPUTS, storage, &input_buffer);
+        descriptors.write_buffer(contract::PROBE_BINDING_OUTPUTS, storage, &output_buffer);
+
+        let pipeline = &self.pipeline;
+        let group_size = pipeline.workgroup_size()[0].max(1) as usize;
+        let max_groups = self.context.limits.max_compute_work_group_count[0].max(1) as usize;
+        let total_groups = count.div_ceil(group_size);
+        self.commands.run(|recorder| {
+            recorder.bind(pipeline, &descriptors);
+            let mut first_group = 0;
+            while first_group < total_groups {
+                let groups = (total_groups - first_group).min(max_groups);
+                let constants = ProbePushConstants {
+                    first: (first_group * group_size) as u32,
+                    count: count as u32,
+                };
+                recorder.push_constants(pipeline, &constants);
+                recorder.dispatch(pipeline, [(groups * group_size) as u32, 1, 1]);
+                first_group += groups;
+            }
+            recorder.compute_barrier();
+            recorder.host_read_barrier();
+        })?;
+        let mut outputs: Vec<TextureProbeOutput> = output_buffer.read();
+        outputs.truncate(count);
+        Ok(outputs)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use std::mem::{offset_of, size_of};
+
+    #[test]
+    fn structs_match_the_std430_declarations() {
+        // vec4 tex_coord; ivec4 texel_and_wrap; uvec4 slot_and_mode
+        assert_eq!(size_of::<TextureProbeInput>(), 48);
+        assert_eq!(offset_of!(TextureProbeInput, texel_and_wrap), 16);
+        assert_eq!(offset_of!(TextureProbeInput, slot_and_mode), 32);
+        // vec4 sampled; vec4 texel; vec4 transformed_and_linear; ivec4 wrapped
+        assert_eq!(size_of::<TextureProbeOutput>(), 64);
+        assert_eq!(offset_of!(TextureProbeOutput, texel), 16);
+        assert_eq!(offset_of!(TextureProbeOutput, transformed_and_linear), 32);
+        assert_eq!(offset_of!(TextureProbeOutput, wrapped), 48);
+    }
+
+    #[test]
+    fn the_kernel_is_embedded() {
+        assert!(spirv_words(shaders::PROBE_SAMPLE_TEXTURE).is_ok());
+    }
+}
