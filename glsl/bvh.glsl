@@ -100,7 +100,7 @@ bool bvh_closest_hit(out float out_t, out uint out_triangle_index, vec3 ray_orig
             uint end = first_index + triangle_count;
             for (uint i = first_index; i < end; ++i) {
                 float t;
-                if (ray_triangle_intersection(t, ray_origin, ray_direction, get_triangle(i)) && t < out_t) {
+                if (ray_triangle_intersection(t, ray_origin, ray_direction, get_triangle(i)) && t < out_t AND_HIT_IS_OPAQUE(i, ray_origin, ray_direction, t)) {
                     out_t = t;
                     out_triangle_index = i;
                     hit = true;
@@ -169,7 +169,7 @@ bool bvh_any_hit(vec3 ray_origin, vec3 ray_direction, float t_max) {
             uint end = first_index + triangle_count;
             for (uint i = first_index; i < end; ++i) {
                 float t;
-                if (ray_triangle_intersection(t, ray_origin, ray_direction, get_triangle(i)) && t < t_max)
+                if (ray_triangle_intersection(t, ray_origin, ray_direction, get_triangle(i)) && t < t_max AND_HIT_IS_OPAQUE(i, ray_origin, ray_direction, t))
                     return true;
             }
         } else {

@@ -34,6 +34,9 @@ layout(constant_id = SPEC_LOOP_LIMIT) const uint LOOP_LIMIT = 0u;
 #include "bvh.glsl"
 #endif
 #include "camera.glsl"
+#ifdef USE_MATERIALS
+#include "material_integrators.glsl"
+#endif
 #ifdef USER_FUNCTIONS
 #include "user_functions.glsl"
 #endif
@@ -51,6 +54,11 @@ layout(push_constant) uniform frame_push_constants {
 // One sample of the radiance through a pixel with the chosen integrator.
 vec3 get_sample_radiance(vec3 ray_direction, inout uvec2 seed) {
     vec3 camera_position = g_camera_position.xyz;
+#ifdef USE_MATERIALS
+    // Glossy, textured, alpha-tested glTF materials (glsl/material_integrators.glsl)
+    g_alpha_seed = seed;
+    return get_ray_radiance_with_materials(camera_position, ray_direction, seed);
+#endif
     if (INTEGRATOR == INTEGRATOR_PATH_TRACING)
         return get_ray_radiance(camera_position, ray_direction, seed);
     if (INTEGRATOR == INTEGRATOR_COSINE || INTEGRATOR == INTEGRATOR_NEE || INTEGRATOR == INTEGRATOR_MIS)

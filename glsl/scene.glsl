@@ -117,6 +117,15 @@ bool starts_on_triangle_plane(vec3 ray_origin, triangle_t triangle) {
     ray_triangle_intersection(out_t, ray_origin, ray_direction, triangle)
 #endif
 
+#ifdef USE_MATERIALS
+// Whether a candidate hit counts, for alpha-masked and alpha-blended materials
+// (glsl/materials.glsl); kernels without materials test no alpha, and the macro vanishes.
+bool is_opaque_hit(uint triangle_index, vec3 ray_origin, vec3 ray_direction, float t);
+#define AND_HIT_IS_OPAQUE(index, ray_origin, ray_direction, t) && is_opaque_hit(index, ray_origin, ray_direction, t)
+#else
+#define AND_HIT_IS_OPAQUE(index, ray_origin, ray_direction, t)
+#endif
+
 #ifdef USE_BVH
 // Defined in bvh.glsl, which kernels built with USE_BVH include.
 bool bvh_closest_hit(out float out_t, out uint out_triangle_index, vec3 ray_origin, vec3 ray_direction);
@@ -144,7 +153,7 @@ bool ray_mesh_intersection(out float out_t, out triangle_t out_triangle, vec3 ra
 #define TEST_CONSTANT_TRIANGLE(i) \
         if (i < CONSTANT_TRIANGLE_COUNT) { \
             float t; \
-            if (RAY_HITS_TRIANGLE(t, ray_origin, ray_direction, GET_CONSTANT_TRIANGLE(i)) && t < out_t) { \
+            if (RAY_HITS_TRIANGLE(t, ray_origin, ray_direction, GET_CONSTANT_TRIANGLE(i)) && t < out_t AND_HIT_IS_OPAQUE(i, ray_origin, ray_direction, t)) { \
                 out_t = t; \
                 hit_index = i; \
                 hit = true; \
@@ -156,7 +165,7 @@ bool ray_mesh_intersection(out float out_t, out triangle_t out_triangle, vec3 ra
         uint triangle_count = g_resolution_triangle_count_seed.z;
         for (uint i = 0u; i != triangle_count; ++i) {
             float t;
-            if (RAY_HITS_TRIANGLE(t, ray_origin, ray_direction, get_triangle(i)) && t < out_t) {
+            if (RAY_HITS_TRIANGLE(t, ray_origin, ray_direction, get_triangle(i)) && t < out_t AND_HIT_IS_OPAQUE(i, ray_origin, ray_direction, t)) {
                 out_t = t;
                 hit_index = i;
                 hit = true;
@@ -183,7 +192,7 @@ bool ray_mesh_any_hit(vec3 ray_origin, vec3 ray_direction, float t_max) {
 #define TEST_CONSTANT_TRIANGLE(i) \
         if (i < CONSTANT_TRIANGLE_COUNT) { \
             float t; \
-            if (ray_triangle_intersection(t, ray_origin, ray_direction, GET_CONSTANT_TRIANGLE(i)) && t < t_max) \
+            if (ray_triangle_intersection(t, ray_origin, ray_direction, GET_CONSTANT_TRIANGLE(i)) && t < t_max AND_HIT_IS_OPAQUE(i, ray_origin, ray_direction, t)) \
                 return true; \
         }
         FOR_EACH_CONSTANT_TRIANGLE(TEST_CONSTANT_TRIANGLE)
@@ -193,7 +202,7 @@ bool ray_mesh_any_hit(vec3 ray_origin, vec3 ray_direction, float t_max) {
     uint triangle_count = g_resolution_triangle_count_seed.z;
     for (uint i = 0u; i != triangle_count; ++i) {
         float t;
-        if (ray_triangle_intersection(t, ray_origin, ray_direction, get_triangle(i)) && t < t_max)
+        if (ray_triangle_intersection(t, ray_origin, ray_direction, get_triangle(i)) && t < t_max AND_HIT_IS_OPAQUE(i, ray_origin, ray_direction, t))
             return true;
     }
     return false;

@@ -167,6 +167,29 @@
 // (MIS weights) stays far below float's 3.4e38.
 #define MIN_GGX_ALPHA 1.0e-4
 
+// Descriptor set 0 of the path tracer with materials (kernels built with USE_MATERIALS):
+// per-triangle shading data, a texel buffer of SHADING_TEXEL_COUNT RGBA32_UINT texels per
+// triangle (GpuTriangleShading on the host): vertex normals (xyz; texel 0's w: the material
+// index), texture coordinates (texel 3: uv_0, uv_1; texel 4: uv_2), tangents (xyzw).
+#define BINDING_SHADING 6
+// The materials, a texel buffer of MATERIAL_TEXEL_COUNT RGBA32_UINT texels per material
+// (GpuMaterial on the host, glsl/materials.glsl says what each holds).
+#define BINDING_MATERIALS 7
+#define SHADING_TEXEL_COUNT 8
+#define MATERIAL_TEXEL_COUNT 17
+// A material's texture slots, in the order of their texture_slot_t (3 texels each) after the
+// material's first MATERIAL_FACTOR_TEXEL_COUNT texels; bit (1 << slot) of the material's
+// texture flags says that the slot holds a texture.
+#define MATERIAL_FACTOR_TEXEL_COUNT 5
+#define MATERIAL_TEXTURE_BASE_COLOR 0
+#define MATERIAL_TEXTURE_METALLIC_ROUGHNESS 1
+#define MATERIAL_TEXTURE_NORMAL 2
+#define MATERIAL_TEXTURE_EMISSIVE 3
+// Values of a material's alpha mode (glTF alphaMode).
+#define ALPHA_MODE_OPAQUE 0
+#define ALPHA_MODE_MASK 1
+#define ALPHA_MODE_BLEND 2
+
 // ======== Probe kernels (glsl/probe_*.comp, host side src/probe/) ========
 
 // Descriptor set 0 of the probe kernels: the scene's BINDING_TRIANGLES (texel buffer) and

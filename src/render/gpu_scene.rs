@@ -9,7 +9,9 @@ use ash::vk;
 use crate::bvh::Bvh;
 use crate::camera::Camera;
 use crate::contract;
-use crate::error::Result;
+use crate::error::{Error, Result};
+use crate::render::gpu_materials::{GpuMaterial, GpuTriangleShading};
+use crate::render::gpu_textures::TextureAtlas;
 use crate::render::gpu_types::{
     annotate_selection_probabilities, gpu_light_bytes, GpuTriangle, RenderUniforms,
 };
@@ -19,12 +21,21 @@ use crate::scene::lights::LightTable;
 use crate::scene::Scene;
 use crate::vk::{Buffer, CommandRunner, Context, DescriptorSet, TexelBufferView};
 
+/// The buffers of `glsl/materials.glsl`.
+struct MaterialBuffers {
+    shading: TexelBufferView,
+    materials: TexelBufferView,
+    texture_texels: TexelBufferView,
+}
+
 /// A scene uploaded for one traversal.
 pub struct GpuScene {
     triangles: TexelBufferView,
     uniforms: Buffer,
     lights: TexelBufferView,
     bvh_nodes: Option<TexelBufferView>,
+    /// Shading data, materials and texture texels (scenes with materials only).
+    materials: Option<MaterialBuffers>,
     /// The specialization constants that the traversal needs (the constant triangles).
     pub specialization: Vec<(u32, u32)>,
 }
@@ -83,11 +94,53 @@ impl GpuScene {
             None => None,
         };
         let lights = texels("lights", &gpu_light_bytes(&lights))?;
+        let materials = match &scene.materials {
+            None => None,
+            Some(scene_materials) => {
+                let shading: Vec<GpuTriangleShading> = match &bvh {
+                    Some(bvh) => bvh.reorder(&scene_materials.triangles),
+                    None => scene_materials.triangles.clone(),
+                }
+                .iter()
+                .map(GpuTriangleShading::new)
+                .collect();
+                let limit = u64::from(context.limits.max_texel_buffer_elements);
+                let atlas = TextureAtlas::new(&scene_materials.textures, limit)
+                    .map_err(|e| Error::MissingInput(format!("the scene's textures do not fit this device: {e}")))?;
+                let texture_bytes = atlas.texels.len() as u64 * 4;
+                let memory = context.device_memory_bytes();
+                if texture_bytes > memory / 2 {
+                    return Err(Error::MissingInput(format!(
+                        "the scene's textures need {} MiB, more than half of this device's {} MiB of memory",
+                        texture_bytes >> 20,
+                        memory >> 20
+                    )));
+                }
+                let gpu_materials: Vec<GpuMaterial> = scene_materials
+                    .materials
+                    .iter()
+                    .map(|m| GpuMaterial::new(m, scene_materials, &atlas))
+                    .collect();
+                let texture_buffer = Buffer::device_local_with_data(
+                    context,
+                    commands,
+                    "texture texels",
+                    bytemuck::cast_slice(&atlas.texels),
+                    vk::BufferUsageFlags::UNIFORM_TEXEL_BUFFER,
+                )?;
+                Some(MaterialBuffers {
+                    shading: texels("shading data", bytemuck::cast_slice(&shading))?,
+                    materials: texels("materials", bytemuck::cast_slice(&gpu_materials))?,
+                    texture_texels: TexelBufferView::rgba8_uint(context, texture_buffer, "scene's texture texels")?,
+                })
+            }
+        };
         Ok(GpuScene {
             triangles,
             uniforms,
             lights,
             bvh_nodes,
+            materials,
             specialization: constant_triangle_specialization(traversal, &ordered_triangles),
         })
     }
@@ -106,6 +159,11 @@ impl GpuScene {
         if self.bvh_nodes.is_some() {
             bindings.push((contract::BINDING_BVH_NODES, texel));
         }
+        if self.materials.is_some() {
+            bindings.push((contract::BINDING_SHADING, texel));
+            bindings.push((contract::BINDING_MATERIALS, texel));
+            bindings.push((contract::BINDING_TEXTURE_TEXELS, texel));
+        }
         bindings
     }
 
@@ -121,5 +179,10 @@ impl GpuScene {
             set.write_texel_buffer(contract::BINDING_BVH_NODES, nodes);
         }
         set.write_texel_buffer(contract::BINDING_LIGHTS, &self.lights);
+        if let Some(materials) = &self.materials {
+            set.write_texel_buffer(contract::BINDING_SHADING, &materials.shading);
+            set.write_texel_buffer(contract::BINDING_MATERIALS, &materials.materials);
+            set.write_texel_buffer(contract::BINDING_TEXTURE_TEXELS, &materials.texture_texels);
+        }
     }
 }

@@ -45,11 +45,14 @@ impl Traversal {
         }
     }
 
-    /// The embedded SPIR-V of the path tracer for this traversal.
-    pub(crate) fn kernel(self) -> &'static [u8] {
-        match self {
-            Traversal::ConstantTriangles | Traversal::Linear => shaders::PATH_TRACER,
-            Traversal::Bvh => shaders::PATH_TRACER_BVH,
+    /// The embedded SPIR-V of the path tracer for this traversal, with glTF materials
+    /// (`glsl/material_integrators.glsl`) or the workshop's diffuse triangles.
+    pub(crate) fn kernel(self, materials: bool) -> &'static [u8] {
+        match (self, materials) {
+            (Traversal::ConstantTriangles | Traversal::Linear, false) => shaders::PATH_TRACER,
+            (Traversal::Bvh, false) => shaders::PATH_TRACER_BVH,
+            (Traversal::ConstantTriangles | Traversal::Linear, true) => shaders::PATH_TRACER_MATERIALS,
+            (Traversal::Bvh, true) => shaders::PATH_TRACER_MATERIALS_BVH,
         }
     }
 }

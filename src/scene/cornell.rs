@@ -64,6 +64,7 @@ pub fn workshop_cornell_box() -> Result<Scene, SceneError> {
         triangles,
         camera: Some(camera),
         warnings: Vec::new(),
+        materials: None,
     })
 }
 

@@ -11,7 +11,7 @@ use std::collections::HashSet;
 use std::io::Read as _;
 use std::path::Path;
 
-use glam::{Mat4, Vec3};
+use glam::{Mat3, Mat4, Vec2, Vec3, Vec4};
 use gltf::accessor::{DataType, Dimensions};
 use gltf::json::camera::Type as CameraType;
 use gltf::json::validation::{Checked, Validate};
@@ -19,12 +19,21 @@ use gltf::mesh::Mode;
 use gltf::{Document, Gltf, Node};
 
 use super::files::{read_bounded, resolve_reference, LoadOptions, MAX_SCENE_FILE_BYTES};
+use super::gltf_materials::MaterialReader;
+use super::materials::TriangleShading;
+use super::tangents::generate_tangents;
 use super::{Material, Scene, SceneBuilder, SceneError};
 use crate::camera::Camera;
 
 /// The glTF extensions whose meaning vkpath implements (a file that requires others is
 /// refused with their names).
-pub const SUPPORTED_EXTENSIONS: [&str; 1] = ["KHR_materials_emissive_strength"];
+pub const SUPPORTED_EXTENSIONS: [&str; 5] = [
+    "KHR_materials_emissive_strength",
+    "KHR_materials_specular",
+    "KHR_materials_ior",
+    "KHR_texture_transform",
+    "KHR_mesh_quantization",
+];
 
 /// Loads a glTF 2.0 file (JSON or binary), resolving external buffers relative to its
 /// directory. Textures are ignored with a warning per material.
@@ -51,12 +60,22 @@ pub fn load_gltf_with(path: &Path, options: &LoadOptions) -> Result<Scene, Scene
         document: &document,
         buffers: &buffers,
         builder: SceneBuilder::new(path),
-        warned_materials: HashSet::new(),
+        materials: MaterialReader::new(path, &buffers, options),
         orthographic_camera: None,
     };
     for (node, world) in flatten_hierarchy(path, &document)? {
         loader.visit(&node, world)?;
     }
+    let MaterialReader {
+        materials,
+        textures,
+        warnings,
+        ..
+    } = loader.materials;
+    for warning in warnings {
+        loader.builder.warn(warning);
+    }
+    loader.builder.set_materials(materials, textures);
     if let (false, Some(camera)) = (loader.builder.has_camera(), loader.orthographic_camera) {
         return Err(SceneError::OrthographicCamera {
             path: path.to_owned(),
@@ -363,8 +382,8 @@ struct Loader<'a> {
     document: &'a Document,
     buffers: &'a [gltf::buffer::Data],
     builder: SceneBuilder,
-    /// Materials whose textures we already warned about.
-    warned_materials: HashSet<usize>,
+    /// The materials met so far, with their textures.
+    materials: MaterialReader<'a>,
     /// The first orthographic camera met, reported if no perspective camera follows.
     orthographic_camera: Option<String>,
 }
@@ -403,16 +422,67 @@ impl Loader<'_> {
             }
             let context = format!("mesh '{name}' primitive {primitive_index}");
             let (positions, indices) = self.read_geometry(&primitive, &context)?;
-            let material = self.material(&primitive.material());
-            for corners in triangle_corners(mode, indices.len()) {
-                let mut world = corners.map(|corner| {
-                    // In range: read_geometry checked every index against the vertex count.
-                    local_to_world.transform_point3(positions[indices[corner] as usize])
-                });
+            let material_index = self.materials.material_index(&primitive.material());
+            let pbr = self.materials.materials[material_index as usize];
+            let material = Material::sanitized(pbr.base_color.truncate(), pbr.emission, pbr.double_sided);
+            let attributes = self.read_attributes(&primitive, &context, positions.len())?;
+            let corners = triangle_corners(mode, indices.len());
+            // Every per-corner attribute, gathered per triangle (indices checked in range).
+            let gather = |values: &[Vec3]| -> Vec<[Vec3; 3]> {
+                corners
+                    .iter()
+                    .map(|c| c.map(|corner| values[indices[corner] as usize]))
+                    .collect()
+            };
+            let object_positions = gather(&positions);
+            let face_normals: Vec<Vec3> = object_positions
+                .iter()
+                .map(|[a, b, c]| (*b - *a).cross(*c - *a).normalize_or_zero())
+                .collect();
+            let normals: Vec<[Vec3; 3]> = match &attributes.normals {
+                Some(normals) => gather(normals),
+                None => face_normals.iter().map(|&n| [n; 3]).collect(),
+            };
+            let tex_coords: Vec<[Vec2; 3]> = match &attributes.tex_coords {
+                Some(uv) => corners
+                    .iter()
+                    .map(|c| c.map(|corner| uv[indices[corner] as usize]))
+                    .collect(),
+                None => vec![[Vec2::ZERO; 3]; corners.len()],
+            };
+            let tangents: Vec<[Vec4; 3]> = match (&attributes.tangents, pbr.normal_texture) {
+                (_, None) => vec![[Vec4::ZERO; 3]; corners.len()],
+                (Some(tangents), Some(_)) => corners
+                    .iter()
+                    .map(|c| c.map(|corner| tangents[indices[corner] as usize]))
+                    .collect(),
+                (None, Some(_)) => generate_tangents(&object_positions, &normals, &tex_coords)
+                    .unwrap_or_else(|| vec![[Vec4::ZERO; 3]; corners.len()]),
+            };
+            // Normals transform with the inverse transpose; tangents as vectors, and a
+            // mirroring transform flips the bitangent's handedness.
+            let normal_matrix = Mat3::from_mat4(local_to_world).inverse().transpose();
+            let vector_matrix = Mat3::from_mat4(local_to_world);
+            let handedness = if mirrors { -1.0 } else { 1.0 };
+            for (t, corner_positions) in object_positions.iter().enumerate() {
+                let mut world = corner_positions.map(|p| local_to_world.transform_point3(p));
+                let mut shading = TriangleShading {
+                    material: material_index,
+                    normals: normals[t].map(|n| (normal_matrix * n).normalize_or_zero()),
+                    tex_coords: tex_coords[t],
+                    tangents: tangents[t].map(|tangent| {
+                        (vector_matrix * tangent.truncate())
+                            .normalize_or_zero()
+                            .extend(if tangent.w < 0.0 { -handedness } else { handedness })
+                    }),
+                };
                 if mirrors {
                     world.swap(1, 2);
+                    shading.normals.swap(1, 2);
+                    shading.tex_coords.swap(1, 2);
+                    shading.tangents.swap(1, 2);
                 }
-                self.builder.push(&name, world, &material)?;
+                self.builder.push_shaded(&name, world, &material, shading)?;
             }
         }
         Ok(())
@@ -472,45 +542,43 @@ impl Loader<'_> {
         Ok((positions, indices))
     }
 
-    /// The workshop's material from a glTF material's constant factors; warns (once per
-    /// material) when it has textures, which we ignore.
-    fn material(&mut self, material: &gltf::Material) -> Material {
-        let pbr = material.pbr_metallic_roughness();
-        let textures = [
-            ("baseColor", pbr.base_color_texture().is_some()),
-            (
-                "metallicRoughness",
-                pbr.metallic_roughness_texture().is_some(),
-            ),
-            ("normal", material.normal_texture().is_some()),
-            ("occlusion", material.occlusion_texture().is_some()),
-            ("emissive", material.emissive_texture().is_some()),
-        ];
-        let used: Vec<&str> = textures
-            .iter()
-            .filter(|(_, has)| *has)
-            .map(|(n, _)| *n)
-            .collect();
-        // The default material (index None) has no textures.
-        if let (false, Some(index)) = (used.is_empty(), material.index()) {
-            if self.warned_materials.insert(index) {
-                self.builder.warn(format!(
-                    "material '{}' has textures ({}), which are ignored; using its constant \
-                     factors",
-                    label(material.name(), index),
-                    used.join(", ")
-                ));
+    /// The primitive's NORMAL, TEXCOORD_0 and TANGENT, where present and usable: an
+    /// attribute with another element count than POSITION is ignored with a warning.
+    fn read_attributes(
+        &mut self,
+        primitive: &gltf::Primitive,
+        context: &str,
+        vertex_count: usize,
+    ) -> Result<VertexAttributes, SceneError> {
+        let reader = primitive.reader(|buffer| self.buffers.get(buffer.index()).map(|d| &d[..]));
+        let mut attributes = VertexAttributes::default();
+        let usable = |semantic: gltf::Semantic, dimensions, types: &[DataType], builder: &mut SceneBuilder| {
+            let accessor = primitive.get(&semantic)?;
+            let name = format!("{semantic:?}");
+            match check_accessor(&accessor, dimensions, types) {
+                Err(reason) => builder.warn(format!("{context}: {name} ignored: {reason}")),
+                Ok(()) if accessor.count() != vertex_count => builder.warn(format!(
+                    "{context}: {name} ignored: {} elements for {vertex_count} vertices",
+                    accessor.count()
+                )),
+                Ok(()) => return Some(()),
             }
+            None
+        };
+        if usable(gltf::Semantic::Normals, Dimensions::Vec3, &[DataType::F32], &mut self.builder).is_some() {
+            attributes.normals = reader.read_normals().map(|n| n.map(Vec3::from).collect());
         }
-        let [red, green, blue, _alpha] = pbr.base_color_factor();
-        // KHR_materials_emissive_strength scales emissiveFactor beyond glTF's [0, 1].
-        let strength = material.emissive_strength().unwrap_or(1.0);
-        let emission = strength * Vec3::from(material.emissive_factor());
-        Material::sanitized(
-            Vec3::new(red, green, blue),
-            emission,
-            material.double_sided(),
-        )
+        let uv_types = [DataType::F32, DataType::U8, DataType::U16];
+        if usable(gltf::Semantic::TexCoords(0), Dimensions::Vec2, &uv_types, &mut self.builder).is_some() {
+            attributes.tex_coords = reader
+                .read_tex_coords(0)
+                .map(|uv| uv.into_f32().map(Vec2::from).collect());
+        }
+        if usable(gltf::Semantic::Tangents, Dimensions::Vec4, &[DataType::F32], &mut self.builder).is_some() {
+            attributes.tangents = reader.read_tangents().map(|t| t.map(Vec4::from).collect());
+        }
+        let _ = self.builder.path();
+        Ok(attributes)
     }
 
     /// Sets the scene camera from a perspective camera on a node: glTF cameras look along
@@ -566,6 +634,14 @@ impl Loader<'_> {
         self.builder.set_camera(camera);
         Ok(())
     }
+}
+
+/// A primitive's optional vertex attributes, one element per vertex.
+#[derive(Default)]
+struct VertexAttributes {
+    normals: Option<Vec<Vec3>>,
+    tex_coords: Option<Vec<Vec2>>,
+    tangents: Option<Vec<Vec4>>,
 }
 
 /// Checks what the `gltf` crate's accessor reader assumes but does not check (it asserts or

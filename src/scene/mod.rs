@@ -12,11 +12,14 @@ mod error;
 pub mod export;
 pub mod files;
 pub mod gltf_loader;
+mod gltf_materials;
 pub mod lights;
+pub mod materials;
 pub mod meshes;
 pub mod obj_loader;
 pub mod procedural;
 pub mod source;
+pub mod tangents;
 pub mod textures;
 
 pub use error::{printable, SceneError};
@@ -46,6 +49,10 @@ pub struct Scene {
     pub camera: Option<Camera>,
     /// Things the loader ignored that the user should know about (e.g. textures).
     pub warnings: Vec<String>,
+    /// Materials, textures and per-vertex shading data, for scenes that need more than the
+    /// workshop's flat diffuse triangles; `None` for scenes that do not (they render with
+    /// the workshop's kernels, bit for bit as before).
+    pub materials: Option<materials::SceneMaterials>,
 }
 
 impl Triangle {
@@ -154,6 +161,8 @@ pub(crate) struct SceneBuilder {
     path: PathBuf,
     scene: Scene,
     degenerate_count: usize,
+    /// Materials and shading of the triangles pushed with `push_shaded`.
+    materials: materials::SceneMaterials,
 }
 
 impl SceneBuilder {
@@ -163,6 +172,7 @@ impl SceneBuilder {
             path: path.to_owned(),
             scene: Scene::default(),
             degenerate_count: 0,
+            materials: materials::SceneMaterials::default(),
         }
     }
 
@@ -178,6 +188,39 @@ impl SceneBuilder {
         mesh: &str,
         positions: [Vec3; 3],
         material: &Material,
+    ) -> Result<(), SceneError> {
+        self.push_with(mesh, positions, material, None)
+    }
+
+    /// `push` with the triangle's shading data (its material index into `set_materials`'
+    /// list, vertex normals, texture coordinates, tangents). A loader pushes all its
+    /// triangles one way or the other.
+    pub fn push_shaded(
+        &mut self,
+        mesh: &str,
+        positions: [Vec3; 3],
+        material: &Material,
+        shading: materials::TriangleShading,
+    ) -> Result<(), SceneError> {
+        self.push_with(mesh, positions, material, Some(shading))
+    }
+
+    /// The materials (and their textures) that `push_shaded` triangles refer to.
+    pub fn set_materials(
+        &mut self,
+        materials: Vec<materials::PbrMaterial>,
+        textures: Vec<textures::Texture>,
+    ) {
+        self.materials.materials = materials;
+        self.materials.textures = textures;
+    }
+
+    fn push_with(
+        &mut self,
+        mesh: &str,
+        positions: [Vec3; 3],
+        material: &Material,
+        shading: Option<materials::TriangleShading>,
     ) -> Result<(), SceneError> {
         if !positions.iter().all(|p| p.is_finite()) {
             return Err(SceneError::NonFinitePosition {
@@ -206,7 +249,16 @@ impl SceneBuilder {
             material.emission,
             material.double_sided,
         ) {
-            Some(triangle) => self.scene.triangles.push(triangle),
+            Some(triangle) => {
+                self.scene.triangles.push(triangle);
+                if let Some(mut shading) = shading {
+                    // Vertex normals that are not finite or vanish: the face's normal.
+                    for normal in &mut shading.normals {
+                        *normal = normal.try_normalize().unwrap_or(triangle.normal);
+                    }
+                    self.materials.triangles.push(shading);
+                }
+            }
             None => self.degenerate_count += 1,
         }
         Ok(())
@@ -227,8 +279,14 @@ impl SceneBuilder {
         self.scene.camera.is_some()
     }
 
-    /// The finished scene; an error when it has no triangles.
+    /// The finished scene; an error when it has no triangles. Shading data stays only when
+    /// the workshop's flat diffuse triangles cannot describe the scene.
     pub fn finish(mut self) -> Result<Scene, SceneError> {
+        let shaded = self.materials.triangles.len() == self.scene.triangles.len()
+            && !self.materials.materials.is_empty();
+        if shaded && !self.materials.is_plain(self.scene.triangles.iter().map(|t| t.normal)) {
+            self.scene.materials = Some(std::mem::take(&mut self.materials));
+        }
         if self.degenerate_count > 0 {
             let warning = format!("dropped {} degenerate triangles", self.degenerate_count);
             self.scene.warnings.push(warning);

@@ -58,6 +58,7 @@ pub fn furnace(albedo: f32, emission: f32) -> Scene {
             1.2,
         )),
         warnings: Vec::new(),
+        materials: None,
     }
 }
 

@@ -1,0 +1,134 @@
+//! The materials, per-triangle shading data and textures of `glsl/materials.glsl`, byte for
+//! byte: `GpuTriangleShading` (`SHADING_TEXEL_COUNT` RGBA32 texels per triangle) and
+//! `GpuMaterial` (`MATERIAL_TEXEL_COUNT` texels per material), with layout tests.
+
+use bytemuck::{Pod, Zeroable};
+
+use crate::contract::{
+    ALPHA_MODE_BLEND, ALPHA_MODE_MASK, ALPHA_MODE_OPAQUE, MATERIAL_TEXTURE_BASE_COLOR,
+    MATERIAL_TEXTURE_EMISSIVE, MATERIAL_TEXTURE_METALLIC_ROUGHNESS, MATERIAL_TEXTURE_NORMAL,
+};
+use crate::render::gpu_textures::{GpuTextureSlot, TextureAtlas};
+use crate::scene::materials::{AlphaMode, PbrMaterial, SceneMaterials, TextureBinding, TriangleShading};
+
+/// One triangle's shading data as `get_shading_texel()` reads it (128 bytes).
+#[repr(C)]
+#[derive(Clone, Copy, Debug, PartialEq, Pod, Zeroable)]
+pub struct GpuTriangleShading {
+    /// xyz: vertex normal i (world space, unit); w of the first: the material index's bits.
+    pub normals: [[f32; 4]; 3],
+    /// uv_0, uv_1.
+    pub tex_coords_01: [f32; 4],
+    /// uv_2, 0, 0.
+    pub tex_coords_2: [f32; 4],
+    /// Tangent i (xyz) and bitangent sign (w).
+    pub tangents: [[f32; 4]; 3],
+}
+
+/// One material as `get_material_texel()` reads it (272 bytes).
+#[repr(C)]
+#[derive(Clone, Copy, Debug, PartialEq, Pod, Zeroable)]
+pub struct GpuMaterial {
+    /// Base colour factor (linear RGB, alpha).
+    pub base_color: [f32; 4],
+    /// rgb: emission factor; a: metallic factor.
+    pub emission_metallic: [f32; 4],
+    /// Roughness factor, specular factor, ior, normal scale.
+    pub roughness_specular_ior_normal_scale: [f32; 4],
+    /// rgb: specular colour factor; a: alpha cutoff.
+    pub specular_color_alpha_cutoff: [f32; 4],
+    /// x: ALPHA_MODE_*; y: bit (1 << MATERIAL_TEXTURE_*) per texture present; zw: 0.
+    pub alpha_mode_texture_flags: [u32; 4],
+    /// The texture slots in MATERIAL_TEXTURE_* order (zeros where absent).
+    pub textures: [GpuTextureSlot; 4],
+}
+
+impl GpuTriangleShading {
+    /// Packs a triangle's shading data.
+    pub fn new(shading: &TriangleShading) -> GpuTriangleShading {
+        let [n0, n1, n2] = shading.normals;
+        let [t0, t1, t2] = shading.tex_coords;
+        GpuTriangleShading {
+            normals: [
+                [n0.x, n0.y, n0.z, f32::from_bits(shading.material)],
+                n1.extend(0.0).to_array(),
+                n2.extend(0.0).to_array(),
+            ],
+            tex_coords_01: [t0.x, t0.y, t1.x, t1.y],
+            tex_coords_2: [t2.x, t2.y, 0.0, 0.0],
+            tangents: shading.tangents.map(|t| t.to_array()),
+        }
+    }
+}
+
+impl GpuMaterial {
+    /// Packs a material; `atlas` gives where each texture's texels start.
+    pub fn new(material: &PbrMaterial, scene: &SceneMaterials, atlas: &TextureAtlas) -> GpuMaterial {
+        let (alpha_mode, cutoff) = match material.alpha_mode {
+            AlphaMode::Opaque => (ALPHA_MODE_OPAQUE, 0.0),
+            AlphaMode::Mask { cutoff } => (ALPHA_MODE_MASK, cutoff),
+            AlphaMode::Blend => (ALPHA_MODE_BLEND, 0.0),
+        };
+        let mut flags = 0;
+        let mut textures = [GpuTextureSlot::zeroed(); 4];
+        let slots = [
+            (MATERIAL_TEXTURE_BASE_COLOR, material.base_color_texture, true),
+            (MATERIAL_TEXTURE_METALLIC_ROUGHNESS, material.metallic_roughness_texture, false),
+            (MATERIAL_TEXTURE_NORMAL, material.normal_texture, false),
+            (MATERIAL_TEXTURE_EMISSIVE, material.emissive_texture, true),
+        ];
+        for (slot, binding, srgb) in slots {
+            if let Some(TextureBinding { texture, transform }) = binding {
+                let index = texture as usize;
+                flags |= 1 << slot;
+                textures[slot as usize] = GpuTextureSlot::new(
+                    atlas.first_texels[index],
+                    &scene.textures[index],
+                    srgb,
+                    &transform,
+                );
+            }
+        }
+        GpuMaterial {
+            base_color: material.base_color.to_array(),
+            emission_metallic: material.emission.extend(material.metallic).to_array(),
+            roughness_specular_ior_normal_scale: [
+                material.roughness,
+                material.specular,
+                material.ior,
+                material.normal_scale,
+            ],
+            specular_color_alpha_cutoff: material.specular_color.extend(cutoff).to_array(),
+            alpha_mode_texture_flags: [alpha_mode, flags, 0, 0],
+            textures,
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::contract::{MATERIAL_FACTOR_TEXEL_COUNT, MATERIAL_TEXEL_COUNT, SHADING_TEXEL_COUNT};
+    use std::mem::{offset_of, size_of};
+
+    #[test]
+    fn shading_matches_get_shading_texel() {
+        assert_eq!(size_of::<GpuTriangleShading>(), 16 * SHADING_TEXEL_COUNT as usize);
+        assert_eq!(offset_of!(GpuTriangleShading, normals), 0);
+        assert_eq!(offset_of!(GpuTriangleShading, tex_coords_01), 3 * 16);
+        assert_eq!(offset_of!(GpuTriangleShading, tex_coords_2), 4 * 16);
+        assert_eq!(offset_of!(GpuTriangleShading, tangents), 5 * 16);
+    }
+
+    #[test]
+    fn material_matches_get_material_texel() {
+        assert_eq!(size_of::<GpuMaterial>(), 16 * MATERIAL_TEXEL_COUNT as usize);
+        assert_eq!(offset_of!(GpuMaterial, base_color), 0);
+        assert_eq!(offset_of!(GpuMaterial, emission_metallic), 16);
+        assert_eq!(offset_of!(GpuMaterial, roughness_specular_ior_normal_scale), 32);
+        assert_eq!(offset_of!(GpuMaterial, specular_color_alpha_cutoff), 48);
+        assert_eq!(offset_of!(GpuMaterial, alpha_mode_texture_flags), 64);
+        assert_eq!(offset_of!(GpuMaterial, textures), 16 * MATERIAL_FACTOR_TEXEL_COUNT as usize);
+        assert_eq!(size_of::<GpuTextureSlot>(), 48);
+    }
+}

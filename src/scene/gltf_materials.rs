@@ -1,0 +1,275 @@
+//! glTF materials as vkpath renders them: the metallic-roughness factors with
+//! KHR_materials_emissive_strength, KHR_materials_specular, KHR_materials_ior and
+//! KHR_texture_transform, and the textures they use, decoded once each.
+//!
+//! A texture that cannot be used (a missing or unreadable image, a format other than PNG
+//! or JPEG, an image larger than `MAX_TEXTURE_SIZE` per side, a second texture coordinate
+//! set) gives a warning and the material falls back to its factor for that slot: one broken
+//! texture should not stop a whole asset from rendering.
+
+use std::collections::HashMap;
+use std::io::Read as _;
+use std::path::Path;
+
+use glam::{Vec3, Vec4};
+
+use super::files::{resolve_reference, LoadOptions, MAX_SCENE_FILE_BYTES};
+use super::materials::{AlphaMode, PbrMaterial, TextureBinding};
+use super::textures::{decode_texture, Texture, TextureTransform, WrapMode};
+
+/// Converts materials and loads their textures, each once.
+pub(crate) struct MaterialReader<'a> {
+    path: &'a Path,
+    buffers: &'a [gltf::buffer::Data],
+    options: &'a LoadOptions,
+    /// glTF material index (None: the default material) -> index in `materials`.
+    material_indices: HashMap<Option<usize>, u32>,
+    /// glTF texture index -> index in `textures`, or None when it could not be loaded.
+    texture_indices: HashMap<usize, Option<u32>>,
+    /// The converted materials.
+    pub materials: Vec<PbrMaterial>,
+    /// The decoded textures.
+    pub textures: Vec<Texture>,
+    /// What the user should know (textures that could not be used, ignored features).
+    pub warnings: Vec<String>,
+}
+
+impl<'a> MaterialReader<'a> {
+    /// A reader for the glTF file at `path` with its loaded `buffers`.
+    pub fn new(
+        path: &'a Path,
+        buffers: &'a [gltf::buffer::Data],
+        options: &'a LoadOptions,
+    ) -> MaterialReader<'a> {
+        MaterialReader {
+            path,
+            buffers,
+            options,
+            material_indices: HashMap::new(),
+            texture_indices: HashMap::new(),
+            materials: Vec::new(),
+            textures: Vec::new(),
+            warnings: Vec::new(),
+        }
+    }
+
+    /// The index of `material` among the converted materials, converting it on first use.
+    pub fn material_index(&mut self, material: &gltf::Material) -> u32 {
+        if let Some(&index) = self.material_indices.get(&material.index()) {
+            return index;
+        }
+        let converted = self.convert(material);
+        let index = self.materials.len() as u32;
+        self.materials.push(converted);
+        self.material_indices.insert(material.index(), index);
+        index
+    }
+
+    fn convert(&mut self, material: &gltf::Material) -> PbrMaterial {
+        let name = material_label(material);
+        let pbr = material.pbr_metallic_roughness();
+        let strength = material.emissive_strength().unwrap_or(1.0);
+        let (specular, specular_color) = match material.specular() {
+            Some(specular) => {
+                if specular.specular_texture().is_some() || specular.specular_color_texture().is_some() {
+                    self.warnings.push(format!(
+                        "material '{name}': KHR_materials_specular textures are ignored; using its factors"
+                    ));
+                }
+                (specular.specular_factor(), Vec3::from(specular.specular_color_factor()))
+            }
+            None => (1.0, Vec3::ONE),
+        };
+        let alpha_mode = match material.alpha_mode() {
+            gltf::material::AlphaMode::Opaque => AlphaMode::Opaque,
+            gltf::material::AlphaMode::Mask => AlphaMode::Mask {
+                cutoff: material.alpha_cutoff().unwrap_or(0.5),
+            },
+            gltf::material::AlphaMode::Blend => AlphaMode::Blend,
+        };
+        let base_color_texture = pbr
+            .base_color_texture()
+            .and_then(|info| self.binding(&name, "baseColorTexture", &info));
+        let metallic_roughness_texture = pbr
+            .metallic_roughness_texture()
+            .and_then(|info| self.binding(&name, "metallicRoughnessTexture", &info));
+        let emissive_texture = material
+            .emissive_texture()
+            .and_then(|info| self.binding(&name, "emissiveTexture", &info));
+        let (normal_texture, normal_scale) = match material.normal_texture() {
+            Some(normal) => (
+                self.normal_binding(&name, &normal),
+                normal.scale(),
+            ),
+            None => (None, 1.0),
+        };
+        PbrMaterial {
+            base_color: Vec4::from(pbr.base_color_factor()),
+            emission: strength * Vec3::from(material.emissive_factor()),
+            metallic: pbr.metallic_factor(),
+            roughness: pbr.roughness_factor(),
+            specular,
+            specular_color,
+            ior: material.ior().unwrap_or(1.5),
+            normal_scale,
+            alpha_mode,
+            double_sided: material.double_sided(),
+            base_color_texture,
+            metallic_roughness_texture,
+            normal_texture,
+            emissive_texture,
+        }
+        .sanitized()
+    }
+
+    /// The binding of a texture slot, with its KHR_texture_transform.
+    fn binding(&mut self, material: &str, slot: &str, info: &gltf::texture::Info) -> Option<TextureBinding> {
+        let transform = info.texture_transform();
+        let tex_coord = transform
+            .as_ref()
+            .and_then(|t| t.tex_coord())
+            .unwrap_or(info.tex_coord());
+        let transform = transform.map_or_else(TextureTransform::identity, |t| {
+            TextureTransform::from_gltf(t.offset(), t.rotation(), t.scale())
+        });
+        self.bind(material, slot, &info.texture(), tex_coord, transform)
+    }
+
+    /// The normal texture's binding; gltf 1.4 exposes no KHR_texture_transform on it, so
+    /// the extension is read from the JSON.
+    fn normal_binding(&mut self, material: &str, normal: &gltf::material::NormalTexture) -> Option<TextureBinding> {
+        let transform = normal.extension_value("KHR_texture_transform");
+        let number = |value: Option<&serde_json::Value>, default: f32| {
+            value.and_then(|v| v.as_f64()).map_or(default, |v| v as f32)
+        };
+        let pair = |key: &str, default: [f32; 2]| {
+            transform
+                .and_then(|t| t.get(key))
+                .and_then(|v| v.as_array())
+                .map_or(default, |a| [number(a.first(), default[0]), number(a.get(1), default[1])])
+        };
+        let transform_matrix = match transform {
+            Some(t) => TextureTransform::from_gltf(
+                pair("offset", [0.0, 0.0]),
+                number(t.get("rotation"), 0.0),
+                pair("scale", [1.0, 1.0]),
+            ),
+            None => TextureTransform::identity(),
+        };
+        let tex_coord = transform
+            .and_then(|t| t.get("texCoord"))
+            .and_then(|v| v.as_u64())
+            .map_or(normal.tex_coord(), |v| v as u32);
+        self.bind(material, "normalTexture", &normal.texture(), tex_coord, transform_matrix)
+    }
+
+    fn bind(
+        &mut self,
+        material: &str,
+        slot: &str,
+        texture: &gltf::Texture,
+        tex_coord: u32,
+        transform: TextureTransform,
+    ) -> Option<TextureBinding> {
+        if tex_coord != 0 {
+            self.warnings.push(format!(
+                "material '{material}': {slot} uses TEXCOORD_{tex_coord}; only TEXCOORD_0 is read, so the texture is ignored"
+            ));
+            return None;
+        }
+        let index = self.texture_index(texture)?;
+        Some(TextureBinding {
+            texture: index,
+            transform,
+        })
+    }
+
+    /// Decodes a texture on first use; None (with a warning) when it cannot be used.
+    fn texture_index(&mut self, texture: &gltf::Texture) -> Option<u32> {
+        if let Some(&index) = self.texture_indices.get(&texture.index()) {
+            return index;
+        }
+        let index = match self.load_texture(texture) {
+            Ok(loaded) => {
+                self.textures.push(loaded);
+                Some(self.textures.len() as u32 - 1)
+            }
+            Err(reason) => {
+                let name = texture
+                    .name()
+                    .map_or_else(|| format!("#{}", texture.index()), super::printable);
+                self.warnings.push(format!(
+                    "texture '{name}' is ignored (the material uses its factor instead): {reason}"
+                ));
+                None
+            }
+        };
+        self.texture_indices.insert(texture.index(), index);
+        index
+    }
+
+    fn load_texture(&self, texture: &gltf::Texture) -> Result<Texture, String> {
+        let image = texture.source();
+        let (bytes, mime_type) = match image.source() {
+            gltf::image::Source::View { view, mime_type } => {
+                let buffer = self
+                    .buffers
+                    .get(view.buffer().index())
+                    .ok_or("its buffer view's buffer is missing")?;
+                let end = view
+                    .offset()
+                    .checked_add(view.length())
+                    .filter(|&end| end <= buffer.len())
+                    .ok_or("its buffer view lies outside its buffer")?;
+                (buffer[view.offset()..end].to_vec(), Some(mime_type))
+            }
+            gltf::image::Source::Uri { uri, mime_type } => (self.read_image_uri(uri)?, mime_type),
+        };
+        let decoded = decode_texture(&bytes, mime_type).map_err(|e| e.to_string())?;
+        let sampler = texture.sampler();
+        let nearest = sampler.mag_filter() == Some(gltf::texture::MagFilter::Nearest);
+        Ok(Texture::new(
+            decoded,
+            WrapMode::from_gltf(sampler.wrap_s()),
+            WrapMode::from_gltf(sampler.wrap_t()),
+            nearest,
+        ))
+    }
+
+    /// An image's bytes from a data URI or a file next to the glTF (bounded as buffers are).
+    fn read_image_uri(&self, uri: &str) -> Result<Vec<u8>, String> {
+        if let Some(rest) = uri.strip_prefix("data:") {
+            let (_, encoded) = rest
+                .split_once(";base64,")
+                .ok_or("its data URI is not base64")?;
+            return base64::decode(encoded).map_err(|e| format!("bad base64 data: {e}"));
+        }
+        if uri.split_once(':').is_some_and(|(scheme, _)| scheme.len() > 1) && !uri.starts_with("file:") {
+            return Err(format!("it is at '{}'; vkpath reads local files only", super::printable(uri)));
+        }
+        let file_name = uri
+            .strip_prefix("file://")
+            .or_else(|| uri.strip_prefix("file:"))
+            .unwrap_or(uri);
+        let decoded = urlencoding::decode(file_name).map_err(|_| "its URI is not valid UTF-8".to_owned())?;
+        let file = resolve_reference(self.path, &decoded, self.options).map_err(|e| e.to_string())?;
+        let shown = super::printable(&file.display().to_string());
+        let metadata = std::fs::metadata(&file).map_err(|e| format!("cannot read '{shown}': {e}"))?;
+        if !metadata.is_file() {
+            return Err(format!("'{shown}' is not a regular file"));
+        }
+        let mut bytes = Vec::new();
+        std::fs::File::open(&file)
+            .and_then(|f| f.take(MAX_SCENE_FILE_BYTES).read_to_end(&mut bytes))
+            .map_err(|e| format!("cannot read '{shown}': {e}"))?;
+        Ok(bytes)
+    }
+}
+
+fn material_label(material: &gltf::Material) -> String {
+    match (material.name(), material.index()) {
+        (Some(name), _) => super::printable(name),
+        (None, Some(index)) => format!("#{index}"),
+        (None, None) => "default".to_owned(),
+    }
+}

@@ -1,0 +1,244 @@
+//! What real assets carry beyond the workshop's diffuse triangles: glTF metallic-roughness
+//! materials (with KHR_materials_specular, KHR_materials_ior, textures and alpha), and per
+//! vertex normals, texture coordinates and tangents. A scene that has none of it (flat,
+//! untextured, opaque Lambertian triangles) keeps `Scene::materials` at `None` and renders
+//! with the workshop's kernels, bit for bit as before.
+
+use glam::{Vec2, Vec3, Vec4};
+
+use super::textures::{Texture, TextureTransform};
+
+/// How a material's alpha (base colour alpha times its texture's) is used (glTF `alphaMode`).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum AlphaMode {
+    /// Alpha is ignored: the surface is opaque.
+    Opaque,
+    /// The surface is there where alpha >= `cutoff` and absent elsewhere (foliage).
+    Mask {
+        /// glTF `alphaCutoff` (default 0.5).
+        cutoff: f32,
+    },
+    /// The surface is there with probability alpha (stochastic coverage: decals, glass
+    /// without refraction), for camera, bounce and shadow rays alike.
+    Blend,
+}
+
+/// A texture as one material slot uses it.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct TextureBinding {
+    /// Index into `SceneMaterials::textures`.
+    pub texture: u32,
+    /// KHR_texture_transform's matrix (identity without the extension).
+    pub transform: TextureTransform,
+}
+
+/// A glTF metallic-roughness material, with glTF's defaults where a file says nothing.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct PbrMaterial {
+    /// `baseColorFactor`: linear RGB in [0, 1] and alpha.
+    pub base_color: Vec4,
+    /// `emissiveFactor` times KHR_materials_emissive_strength, linear RGB radiance.
+    pub emission: Vec3,
+    /// `metallicFactor` in [0, 1] (glTF default 1).
+    pub metallic: f32,
+    /// `roughnessFactor` in [0, 1] (glTF default 1).
+    pub roughness: f32,
+    /// KHR_materials_specular `specularFactor` (default 1; 0 with metallic 0: Lambertian).
+    pub specular: f32,
+    /// KHR_materials_specular `specularColorFactor` (default white), linear RGB.
+    pub specular_color: Vec3,
+    /// KHR_materials_ior `ior` (default 1.5).
+    pub ior: f32,
+    /// `normalTexture.scale` (default 1).
+    pub normal_scale: f32,
+    /// `alphaMode` and `alphaCutoff`.
+    pub alpha_mode: AlphaMode,
+    /// Whether the emission shines from the back side too (glTF `doubleSided`).
+    pub double_sided: bool,
+    /// `baseColorTexture` (sRGB): multiplies `base_color`.
+    pub base_color_texture: Option<TextureBinding>,
+    /// `metallicRoughnessTexture` (linear; G = roughness, B = metallic): multiplies the factors.
+    pub metallic_roughness_texture: Option<TextureBinding>,
+    /// `normalTexture` (linear, tangent space).
+    pub normal_texture: Option<TextureBinding>,
+    /// `emissiveTexture` (sRGB): multiplies `emission`.
+    pub emissive_texture: Option<TextureBinding>,
+}
+
+impl PbrMaterial {
+    /// The workshop's material as glTF says it: metallic 0, specular 0 (Lambertian), opaque.
+    pub fn lambertian(color: Vec3, emission: Vec3, double_sided: bool) -> PbrMaterial {
+        PbrMaterial {
+            base_color: color.extend(1.0),
+            emission,
+            metallic: 0.0,
+            roughness: 1.0,
+            specular: 0.0,
+            specular_color: Vec3::ONE,
+            ior: 1.5,
+            normal_scale: 1.0,
+            alpha_mode: AlphaMode::Opaque,
+            double_sided,
+            base_color_texture: None,
+            metallic_roughness_texture: None,
+            normal_texture: None,
+            emissive_texture: None,
+        }
+    }
+
+    /// Whether the workshop's diffuse material describes this one exactly: metallic 0,
+    /// specular 0, no textures, opaque.
+    pub fn is_plain_lambertian(&self) -> bool {
+        self.metallic == 0.0
+            && self.specular == 0.0
+            && self.alpha_mode == AlphaMode::Opaque
+            && self.base_color_texture.is_none()
+            && self.metallic_roughness_texture.is_none()
+            && self.normal_texture.is_none()
+            && self.emissive_texture.is_none()
+    }
+
+    /// The material made safe for the shaders: factors clamped to their ranges (NaN to
+    /// the range's low end), emission to [0, f32::MAX], ior to [1, 10^4] (0 and inf, which
+    /// KHR_materials_specular's conversions use for F0 = 1, become 10^4: F0 = 0.9996).
+    #[allow(clippy::manual_clamp)]
+    pub fn sanitized(mut self) -> PbrMaterial {
+        let unit = |x: f32| x.max(0.0).min(1.0);
+        self.base_color = Vec4::from(self.base_color.to_array().map(unit));
+        self.emission = Vec3::from(self.emission.to_array().map(|e| e.max(0.0).min(f32::MAX)));
+        self.metallic = unit(self.metallic);
+        self.roughness = unit(self.roughness);
+        self.specular = unit(self.specular);
+        self.specular_color = Vec3::from(self.specular_color.to_array().map(|c| c.max(0.0).min(1e4)));
+        self.ior = if self.ior == 0.0 || self.ior.is_infinite() {
+            1e4
+        } else {
+            self.ior.max(1.0).min(1e4)
+        };
+        self.normal_scale = self.normal_scale.max(-1e4).min(1e4);
+        if let AlphaMode::Mask { cutoff } = self.alpha_mode {
+            self.alpha_mode = AlphaMode::Mask {
+                cutoff: cutoff.max(0.0).min(1.0),
+            };
+        }
+        self
+    }
+}
+
+/// A triangle's per-vertex shading data, parallel to `Scene::triangles`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct TriangleShading {
+    /// Index into `SceneMaterials::materials`.
+    pub material: u32,
+    /// Unit vertex normals, world space (the face normal where the file has none).
+    pub normals: [Vec3; 3],
+    /// `TEXCOORD_0` per vertex (0 where the file has none).
+    pub tex_coords: [Vec2; 3],
+    /// World-space unit tangents (xyz) and bitangent signs (w), from the file's `TANGENT`
+    /// or MikkTSpace; 0 where no normal texture needs them.
+    pub tangents: [Vec4; 3],
+}
+
+/// A scene's materials, textures and per-triangle shading data.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct SceneMaterials {
+    /// The materials that triangles refer to.
+    pub materials: Vec<PbrMaterial>,
+    /// The decoded textures that materials refer to.
+    pub textures: Vec<Texture>,
+    /// One entry per triangle of the scene, in the same order.
+    pub triangles: Vec<TriangleShading>,
+}
+
+/// Vertex normals closer to the face normal than this (1 - cos of 0.8 degrees) count as
+/// flat: a mesh exported with its face normals renders as the workshop's faceted triangles.
+pub const FLAT_NORMAL_TOLERANCE: f32 = 1e-4;
+
+impl SceneMaterials {
+    /// Whether the workshop's flat, diffuse triangles describe the scene exactly: every
+    /// material is plain Lambertian and every vertex normal is its face's normal.
+    pub fn is_plain(&self, face_normals: impl Iterator<Item = Vec3>) -> bool {
+        self.materials.iter().all(PbrMaterial::is_plain_lambertian)
+            && self
+                .triangles
+                .iter()
+                .zip(face_normals)
+                .all(|(shading, face)| {
+                    shading
+                        .normals
+                        .iter()
+                        .all(|n| n.dot(face) >= 1.0 - FLAT_NORMAL_TOLERANCE)
+                })
+    }
+
+    /// Whether any material uses alpha (mask or blend).
+    pub fn uses_alpha(&self) -> bool {
+        self.materials
+            .iter()
+            .any(|m| m.alpha_mode != AlphaMode::Opaque)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn lambertian_is_plain_and_defaults_are_not() {
+        let plain = PbrMaterial::lambertian(Vec3::splat(0.5), Vec3::ZERO, false);
+        assert!(plain.is_plain_lambertian());
+        let metal = PbrMaterial {
+            metallic: 1.0,
+            ..plain
+        };
+        assert!(!metal.is_plain_lambertian());
+        let shiny = PbrMaterial {
+            specular: 1.0,
+            ..plain
+        };
+        assert!(!shiny.is_plain_lambertian());
+        let masked = PbrMaterial {
+            alpha_mode: AlphaMode::Mask { cutoff: 0.5 },
+            ..plain
+        };
+        assert!(!masked.is_plain_lambertian());
+    }
+
+    #[test]
+    fn sanitized_clamps_and_maps_special_iors() {
+        let material = PbrMaterial {
+            base_color: Vec4::new(2.0, -1.0, f32::NAN, 0.5),
+            metallic: 3.0,
+            roughness: f32::NAN,
+            ior: 0.0,
+            ..PbrMaterial::lambertian(Vec3::ONE, Vec3::ZERO, false)
+        }
+        .sanitized();
+        assert_eq!(material.base_color, Vec4::new(1.0, 0.0, 0.0, 0.5));
+        assert_eq!((material.metallic, material.roughness, material.ior), (1.0, 0.0, 1e4));
+        let inf = PbrMaterial {
+            ior: f32::INFINITY,
+            ..material
+        }
+        .sanitized();
+        assert_eq!(inf.ior, 1e4);
+    }
+
+    #[test]
+    fn flat_vertex_normals_are_plain() {
+        let shading = TriangleShading {
+            material: 0,
+            normals: [Vec3::Z; 3],
+            tex_coords: [Vec2::ZERO; 3],
+            tangents: [Vec4::ZERO; 3],
+        };
+        let mut materials = SceneMaterials {
+            materials: vec![PbrMaterial::lambertian(Vec3::ONE, Vec3::ZERO, false)],
+            textures: vec![],
+            triangles: vec![shading],
+        };
+        assert!(materials.is_plain([Vec3::Z].into_iter()));
+        materials.triangles[0].normals[1] = Vec3::new(0.1, 0.0, 1.0).normalize();
+        assert!(!materials.is_plain([Vec3::Z].into_iter()));
+    }
+}
