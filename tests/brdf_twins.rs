@@ -33,11 +33,13 @@ fn random_material(rng: &mut InputRng) -> MaterialSample {
     let metallic = pick(&[0.0, 1.0]);
     let roughness = pick(&[0.0, 0.01, 1.0]);
     let specular = pick(&[0.0, 1.0]);
-    let black = pick(&[0.0]);
+    // Black one time in ten: the lobe choice's other corner (no diffuse energy).
+    let black = rng.uniform() < 0.1;
     MaterialSample {
-        base_color: match black {
-            Some(_) if rng.uniform() < 0.2 => Vec3::ZERO,
-            _ => rng.in_box(Vec3::ZERO, Vec3::ONE),
+        base_color: if black {
+            Vec3::ZERO
+        } else {
+            rng.in_box(Vec3::ZERO, Vec3::ONE)
         },
         metallic: metallic.unwrap_or_else(|| rng.uniform()),
         roughness: roughness.unwrap_or_else(|| rng.uniform()),
@@ -95,10 +97,10 @@ fn twin_cases(rng: &mut InputRng, count: usize) -> Vec<BrdfProbeInput> {
                 _ => random_direction(rng, normal),
             };
             let mut random_numbers = Vec2::new(rng.uniform(), rng.uniform());
-            if rng.next_u32() % 32 == 0 {
+            if rng.next_u32().is_multiple_of(32) {
                 random_numbers.x = 0.0;
             }
-            if rng.next_u32() % 32 == 0 {
+            if rng.next_u32().is_multiple_of(32) {
                 random_numbers.y = 0.0;
             }
             BrdfProbeInput::new(&material, random_numbers, normal, view, light)
