@@ -7,11 +7,14 @@
 //! - `layout`: the input and output structs, byte for byte as the kernels declare them;
 //! - `runner`: `ProbeRunner`, which runs a kernel on a `Vec` of inputs;
 //! - `inputs`: deterministic random inputs shared by the tests and `vkpath check`;
+//! - `brdf_probe`: the glTF BRDF's probe (`glsl/probe_brdf.comp`), which binds only its
+//!   inputs and outputs and so has a small runner of its own;
 //! - `texture_probe`: the texture functions' probe (`glsl/probe_sample_texture.comp`),
 //!   which binds textures instead of a scene and so has a runner of its own;
 //! - `compare`: error measures (ulps, relative errors) and the near-degenerate
 //!   ray-triangle configurations where two correct algorithms may disagree.
 
+pub mod brdf_probe;
 pub mod compare;
 pub mod inputs;
 pub mod kernel;
