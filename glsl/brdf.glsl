@@ -74,7 +74,8 @@ float get_smith_visibility(float alpha, float normal_dot_view, float normal_dot_
 
 // Schlick's Fresnel approximation F = f0 + (f90 - f0) (1 - |v.h|)^5.
 vec3 get_schlick_fresnel(vec3 f0, vec3 f90, float view_dot_half) {
-    float weight = 1.0 - abs(view_dot_half);
+    // max(): |v.h| may round above 1
+    float weight = max(0.0, 1.0 - abs(view_dot_half));
     float weight_squared = weight * weight;
     return f0 + (f90 - f0) * (weight_squared * weight_squared * weight);
 }

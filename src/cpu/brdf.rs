@@ -86,7 +86,7 @@ pub fn get_smith_visibility(alpha: f32, normal_dot_view: f32, normal_dot_light: 
 
 /// Twin of `get_schlick_fresnel`: f0 + (f90 - f0) (1 - |v.h|)^5.
 pub fn get_schlick_fresnel(f0: Vec3, f90: Vec3, view_dot_half: f32) -> Vec3 {
-    let weight = 1.0 - view_dot_half.abs();
+    let weight = (1.0 - view_dot_half.abs()).max(0.0);
     let weight_squared = weight * weight;
     f0 + (f90 - f0) * (weight_squared * weight_squared * weight)
 }

@@ -68,6 +68,22 @@ impl TestBuffer {
         self.accessors.len() - 1
     }
 
+    /// A FLOAT accessor of `kind` ("VEC2", "VEC3", "VEC4") over `values`, element after
+    /// element; its index.
+    pub fn floats(&mut self, kind: &str, values: &[f32]) -> usize {
+        let width = match kind {
+            "VEC2" => 2,
+            "VEC3" => 3,
+            _ => 4,
+        };
+        let data: Vec<u8> = values.iter().flat_map(|x| x.to_le_bytes()).collect();
+        let view = self.view(&data);
+        self.accessors.push(json!({
+            "bufferView": view, "componentType": 5126, "count": values.len() / width, "type": kind,
+        }));
+        self.accessors.len() - 1
+    }
+
     /// A SCALAR UNSIGNED_SHORT accessor; its index.
     pub fn indices(&mut self, indices: &[u16]) -> usize {
         let data: Vec<u8> = indices.iter().flat_map(|i| i.to_le_bytes()).collect();
