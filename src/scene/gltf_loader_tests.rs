@@ -386,9 +386,10 @@ fn a_normal_map_without_tangents_gets_mikktspace_tangents() {
     let scene = load_gltf(&write(&directory, "n.gltf", text)).unwrap();
     let materials = scene.materials.expect("normal map");
     assert_eq!(materials.materials[0].normal_scale, 0.5);
-    // u grows along +x, v (downwards in the image) along -y: tangent +x, bitangent sign -1.
+    // u grows along +x, v (downwards in the image) along -y, so the image's top is +y:
+    // tangent +x and bitangent +y = (n x t) w, w = +1.
     for tangent in materials.triangles[0].tangents {
-        assert!((tangent.truncate() - Vec3::X).length() < 1e-5 && tangent.w == -1.0, "{tangent}");
+        assert!((tangent.truncate() - Vec3::X).length() < 1e-5 && tangent.w == 1.0, "{tangent}");
     }
 }
 

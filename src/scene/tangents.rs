@@ -32,7 +32,11 @@ impl mikktspace::Geometry for Corners<'_> {
     }
 
     fn tex_coord(&self, face: usize, vert: usize) -> [f32; 2] {
-        self.tex_coords[face][vert].to_array()
+        // glTF's v runs down the image while a normal map's +Y (green) points up it, as in
+        // OpenGL's and Blender's texture space, where MikkTSpace's bitangent follows +v: the
+        // algorithm sees v flipped, so that B = cross(N, T) w points to the image's top.
+        let uv = self.tex_coords[face][vert];
+        [uv.x, 1.0 - uv.y]
     }
 
     fn set_tangent_encoded(&mut self, tangent: [f32; 4], face: usize, vert: usize) {
@@ -65,8 +69,8 @@ mod tests {
     #[test]
     fn a_quad_mapped_along_x_gets_tangent_x() {
         // The unit quad in the x-y plane with u along +x and v along -y (glTF's v runs down
-        // the image): the tangent is +x and the bitangent, n x t * w, is +y... w = -1 since
-        // v grows towards -y.
+        // the image, so the image's top is +y): the tangent is +x and the bitangent, the
+        // direction a normal map's green channel points, is +y = (n x t) w with w = +1.
         let positions = [
             [Vec3::ZERO, Vec3::X, Vec3::new(1.0, 1.0, 0.0)],
             [Vec3::ZERO, Vec3::new(1.0, 1.0, 0.0), Vec3::Y],
@@ -79,9 +83,8 @@ mod tests {
         let tangents = generate_tangents(&positions, &normals, &tex_coords).unwrap();
         for corner in tangents.iter().flatten() {
             assert!((corner.truncate() - Vec3::X).length() < 1e-5, "{corner}");
-            // The bitangent, the direction of growing v, is -y = (n x t) * w.
             let bitangent = Vec3::Z.cross(corner.truncate()) * corner.w;
-            assert!((bitangent - Vec3::NEG_Y).length() < 1e-5, "{corner}");
+            assert!((bitangent - Vec3::Y).length() < 1e-5, "{corner}");
         }
     }
 }
