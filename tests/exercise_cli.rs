@@ -271,11 +271,23 @@ fn brdf_samples_of_a_smooth_metal_cluster_at_the_mirror_direction() {
     // The markers: a blue disk at the view direction (a metal samples nothing there), a
     // green ring 3 dot radii (6 pixels) around the mirror direction.
     let view = texel_of(sharp_setup.view);
-    let [r, g, b] = sharp.get_pixel(view.x as u32, view.y as u32).0.map(i32::from);
-    assert!(b > r + 100 && b > g + 50, "view marker is not blue: {r} {g} {b}");
+    let [r, g, b] = sharp
+        .get_pixel(view.x as u32, view.y as u32)
+        .0
+        .map(i32::from);
+    assert!(
+        b > r + 100 && b > g + 50,
+        "view marker is not blue: {r} {g} {b}"
+    );
     let ring = mirror + Vec2::new(0.0, 3.0 * dot_radius_pixels(256));
-    let [r, g, b] = sharp.get_pixel(ring.x as u32, ring.y as u32).0.map(i32::from);
-    assert!(g > r + 100 && g > b + 100, "mirror ring is not green: {r} {g} {b}");
+    let [r, g, b] = sharp
+        .get_pixel(ring.x as u32, ring.y as u32)
+        .0
+        .map(i32::from);
+    assert!(
+        g > r + 100 && g > b + 100,
+        "mirror ring is not green: {r} {g} {b}"
+    );
 }
 
 #[test]

@@ -9,8 +9,8 @@ use super::options::SaveArgs;
 use super::output::{fail_on_validation_messages, render_and_save};
 use super::{parse_vec3, DeviceArgs};
 use crate::exercise::{
-    render_brdf_sample_display, render_sample_display, workshop_frame_settings,
-    BrdfDisplaySetup, Exercise, ExerciseKind, ExerciseSampler,
+    render_brdf_sample_display, render_sample_display, workshop_frame_settings, BrdfDisplaySetup,
+    Exercise, ExerciseKind, ExerciseSampler,
 };
 use crate::image_io::output::{check_writable, save_image};
 use crate::render::settings::{PixelFilter, RenderSettings};
@@ -104,7 +104,10 @@ impl BrdfArgs {
         material.specular = self.specular.unwrap_or(material.specular);
         match self.view_angle {
             Some(angle) => BrdfDisplaySetup::new(material, angle),
-            None => BrdfDisplaySetup { material, ..default },
+            None => BrdfDisplaySetup {
+                material,
+                ..default
+            },
         }
     }
 }

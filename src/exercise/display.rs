@@ -59,13 +59,8 @@ pub fn render_sample_display_with(
     height: u32,
     seed: u32,
 ) -> Result<RenderedImage> {
-    let constants = SampleDisplayPushConstants::new(
-        sampler,
-        width,
-        height,
-        seed,
-        &BrdfDisplaySetup::default(),
-    );
+    let constants =
+        SampleDisplayPushConstants::new(sampler, width, height, seed, &BrdfDisplaySetup::default());
     draw_sample_display(context, spirv, &constants)
 }
 
