@@ -1,11 +1,14 @@
 #version 460
 // The sample display of the workshop's ShaderToy framework for Exercises 4 and 5 ("The
 // framework displays 512 samples"), for `vkpath exercise sample-sphere|sample-hemisphere|
-// spherical-coords`: a dimly shaded unit sphere, seen from a fixed orthographic camera, with a
-// dot wherever one of EXERCISE_SAMPLE_COUNT sample directions lands. Dots on the visible
-// hemisphere are bright; those on the far side show through the sphere, fainter. Every pixel
-// draws the same sample directions from the same seed, so the dots are the samples, not
-// noise. Rust twins of the view and the samples: src/exercise/view.rs.
+// spherical-coords|brdf-samples`: a dimly shaded unit sphere, seen from a fixed orthographic
+// camera, with a dot wherever one of EXERCISE_SAMPLE_COUNT sample directions lands. Dots on
+// the visible hemisphere are bright; those on the far side show through the sphere, fainter.
+// Every pixel draws the same sample directions from the same seed, so the dots are the
+// samples, not noise. For sample_brdf() (normal +z), a blue disk marks the view direction
+// and a green ring the mirror direction on the sphere's visible side: above the faint dots
+// behind the sphere, beneath the bright ones. Rust twins of the view and the
+// samples: src/exercise/view.rs.
 
 #include "shared.h"
 
@@ -17,6 +20,7 @@ layout(constant_id = SPEC_MAX_PATH_LENGTH) const int MAX_PATH_LENGTH = DEFAULT_M
 
 #include "integrator.glsl"
 #include "exercise_samplers.glsl"
+#include "brdf.glsl"
 #ifdef USER_FUNCTIONS
 #include "user_functions.glsl"
 #endif
@@ -27,9 +31,18 @@ layout(std430, set = 0, binding = BINDING_EXERCISE_PIXELS) writeonly buffer exer
 };
 
 // What the display shows. Mirrors `vkpath::exercise::view::SampleDisplayPushConstants`.
+// All but the first member only matter for EXERCISE_SAMPLER_BRDF.
 layout(push_constant) uniform exercise_push_constants {
     // x, y: image size in pixels; z: EXERCISE_SAMPLER_*; w: seed of the sample sequence
     uvec4 g_resolution_sampler_seed;
+    // xyz: the material's base colour, linear RGB; w: its metallic factor
+    vec4 g_base_color_metallic;
+    // xyz: the material's specular colour, linear RGB; w: its specular factor
+    vec4 g_specular_color_specular;
+    // xyz: unit view direction, from the surface towards the viewer (normal +z, z > 0)
+    vec4 g_view_direction;
+    // x: the material's perceptual roughness; y: its index of refraction
+    vec4 g_roughness_ior;
 };
 
 // The camera looks at the sphere from 30 degrees above its equator with +z up in the image,
@@ -49,6 +62,14 @@ const vec3 SAMPLE_VIEW_LIGHT = vec3(-0.48507125007266594, -0.48507125007266594, 
 // reader (or a test) tells them apart by hue.
 const vec3 DOT_COLOR = vec3(1.0, 0.45, 0.05);
 const float BACK_DOT_OPACITY = 0.35;
+// Markers of the BRDF display, linear RGB, told apart from the dots and the grey sphere by
+// hue: the view direction is a blue disk of MARKER_RADIUS dot radii, the mirror direction a
+// green ring of that radius, MARKER_RING_WIDTH dot radii wide, so that the samples that
+// cluster at the mirror direction stay visible inside it.
+const vec3 VIEW_MARKER_COLOR = vec3(0.1, 0.3, 1.0);
+const vec3 MIRROR_MARKER_COLOR = vec3(0.1, 0.9, 0.15);
+const float MARKER_RADIUS = 3.0;
+const float MARKER_RING_WIDTH = 1.0;
 
 // The point of the view's image plane that a pixel centre shows, in sphere radii: x to the
 // right, y up, (0, 0) at the sphere's centre.
@@ -72,11 +93,28 @@ uvec2 get_sample_display_seed(uint user_seed) {
     return uvec2(2654435769u, 2246822507u) * user_seed;
 }
 
+// The material of the BRDF display, from the push constants.
+material_t get_display_material() {
+    material_t material;
+    material.base_color = g_base_color_metallic.xyz;
+    material.metallic = g_base_color_metallic.w;
+    material.roughness = g_roughness_ior.x;
+    material.specular = g_specular_color_specular.w;
+    material.specular_color = g_specular_color_specular.xyz;
+    material.ior = g_roughness_ior.y;
+    return material;
+}
+
 // The sampler the display shows, by EXERCISE_SAMPLER_* value.
-// \param sampler_id EXERCISE_SAMPLER_SPHERE, _HEMISPHERE (normal +z) or _SPHERICAL_COORDINATES
+// \param sampler_id EXERCISE_SAMPLER_SPHERE, _HEMISPHERE (normal +z), _SPHERICAL_COORDINATES
+//        or _BRDF
 // \param random_numbers Uniform (u_0, u_1) in [0,1)^2
+// \param material, view What EXERCISE_SAMPLER_BRDF samples: the normal is +z, view a unit
+//        vector above it
 // \return A unit vector
-vec3 get_exercise_sample_direction(uint sampler_id, vec2 random_numbers) {
+vec3 get_exercise_sample_direction(uint sampler_id, vec2 random_numbers, material_t material, vec3 view) {
+    if (sampler_id == EXERCISE_SAMPLER_BRDF)
+        return sample_brdf(random_numbers, material, vec3(0.0, 0.0, 1.0), view);
     if (sampler_id == EXERCISE_SAMPLER_HEMISPHERE)
         return sample_hemisphere(random_numbers, vec3(0.0, 0.0, 1.0));
     if (sampler_id == EXERCISE_SAMPLER_SPHERICAL_COORDINATES)
@@ -108,12 +146,24 @@ void main() {
 
     // A dot is a disk of radius max(1.5, height / 128) pixels around a sample's projection.
     float dot_radius = max(1.5, float(resolution.y) / 128.0) * (2.0 * SAMPLE_VIEW_HALF_HEIGHT / float(resolution.y));
+    uint sampler_id = g_resolution_sampler_seed.z;
+    material_t material = get_display_material();
+    vec3 view = g_view_direction.xyz;
+    bool view_marker = false;
+    bool mirror_marker = false;
+    if (sampler_id == EXERCISE_SAMPLER_BRDF) {
+        // The view and its mirror image reflect(-view, +z) face the camera (both have y = 0).
+        float view_distance = length(project_to_sample_view(view) - view_point);
+        vec3 mirror = reflect(-view, vec3(0.0, 0.0, 1.0));
+        float mirror_distance = length(project_to_sample_view(mirror) - view_point);
+        view_marker = view_distance <= MARKER_RADIUS * dot_radius;
+        mirror_marker = abs(mirror_distance - MARKER_RADIUS * dot_radius) <= 0.5 * MARKER_RING_WIDTH * dot_radius;
+    }
     bool front_dot = false;
     bool back_dot = false;
-    uint sampler_id = g_resolution_sampler_seed.z;
     uvec2 seed = get_sample_display_seed(g_resolution_sampler_seed.w);
     for (int i = 0; i != EXERCISE_SAMPLE_COUNT; ++i) {
-        vec3 sample_direction = get_exercise_sample_direction(sampler_id, get_random_numbers(seed));
+        vec3 sample_direction = get_exercise_sample_direction(sampler_id, get_random_numbers(seed), material, view);
         vec2 offset = project_to_sample_view(sample_direction) - view_point;
         if (dot(offset, offset) <= dot_radius * dot_radius) {
             if (dot(sample_direction, SAMPLE_VIEW_TOWARD_VIEWER) >= 0.0)
@@ -122,9 +172,14 @@ void main() {
                 back_dot = true;
         }
     }
+    // Back to front: dots behind the sphere, markers on it, dots in front.
+    if (back_dot)
+        color = mix(color, DOT_COLOR, BACK_DOT_OPACITY);
+    if (view_marker)
+        color = VIEW_MARKER_COLOR;
+    else if (mirror_marker)
+        color = MIRROR_MARKER_COLOR;
     if (front_dot)
         color = DOT_COLOR;
-    else if (back_dot)
-        color = mix(color, DOT_COLOR, BACK_DOT_OPACITY);
     g_pixels[texel.y * resolution.x + texel.x] = vec4(color, 1.0);
 }

@@ -214,6 +214,9 @@
 #define EXERCISE_SAMPLER_HEMISPHERE 1
 // The slides' naive sample_sphere_spherical_coordinates() ("too many samples at the top").
 #define EXERCISE_SAMPLER_SPHERICAL_COORDINATES 2
+// glsl/brdf.glsl's sample_brdf() at a surface with normal +z, for the material and view
+// direction of the push constants (`vkpath exercise brdf-samples`).
+#define EXERCISE_SAMPLER_BRDF 3
 // Number of sample directions the workshop's framework displays (Exercises 4 and 5).
 #define EXERCISE_SAMPLE_COUNT 512
 // Cosine and sine of the elevation of the display's camera, 30 degrees above the sphere's

@@ -1,19 +1,21 @@
 //! `vkpath exercise` through the binary: every exercise renders; the sample displays put
 //! their dots where the Rust twins of the samplers say, spread over the sphere for
-//! `sample_sphere` and crowded at the top for spherical coordinates; the ray tracer shows the
-//! Cornell box's red wall on the left and green wall on the right.
+//! `sample_sphere` and crowded at the top for spherical coordinates, and cluster at the
+//! mirror direction for a smooth metal's `sample_brdf`; the ray tracer shows the Cornell box's
+//! red wall on the left and green wall on the right.
 
 mod common;
 
 use std::path::Path;
 
 use glam::{UVec2, Vec2, Vec3};
+use vkpath::cpu::brdf::MaterialSample;
 use vkpath::cpu::workshop::{get_random_numbers, sample_sphere};
 use vkpath::exercise::view::{
-    get_sample_view_point, project_to_sample_view, sample_display_directions,
-    sample_view_point_to_texel, SAMPLE_VIEW_TOWARD_VIEWER,
+    dot_radius_pixels, get_sample_view_point, project_to_sample_view, sample_display_directions,
+    sample_display_directions_with, sample_view_point_to_texel, SAMPLE_VIEW_TOWARD_VIEWER,
 };
-use vkpath::exercise::ExerciseSampler;
+use vkpath::exercise::{BrdfDisplaySetup, ExerciseSampler};
 
 /// Runs `vkpath exercise ARGS` in `dir` with validation on and expects success.
 fn exercise(dir: &Path, args: &[&str]) {
@@ -30,17 +32,28 @@ fn exercise(dir: &Path, args: &[&str]) {
 
 /// What a pixel of a sample display shows, from its sRGB colour: the sphere and background
 /// are grey (r = g = b), front dots the full dot colour (linear (1, 0.45, 0.05): sRGB 255,
-/// 178, 63), back dots 35% of it over the sphere (red well above green, but below 230).
+/// 178, 63), back dots 35% of it over the sphere (red well above green, but below 230); the
+/// BRDF display's markers are blue or green (linear (0.1, 0.3, 1) and (0.1, 0.9, 0.15): red
+/// more than 100 below blue or green).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 enum Shown {
     Grey,
     FrontDot,
     BackDot,
+    Marker,
+}
+
+impl Shown {
+    fn is_dot(self) -> bool {
+        matches!(self, Shown::FrontDot | Shown::BackDot)
+    }
 }
 
 fn classify(pixel: &image::Rgb<u8>) -> Shown {
-    let [r, g, _] = pixel.0.map(i32::from);
-    if r >= 230 && r - g > 40 {
+    let [r, g, b] = pixel.0.map(i32::from);
+    if g.max(b) > r + 100 {
+        Shown::Marker
+    } else if r >= 230 && r - g > 40 {
         Shown::FrontDot
     } else if r - g > 20 {
         Shown::BackDot
@@ -51,23 +64,36 @@ fn classify(pixel: &image::Rgb<u8>) -> Shown {
 
 /// Renders a sample display at 256x256 and returns its pixels.
 fn sample_display(dir: &Path, name: &str) -> image::RgbImage {
-    let file = format!("{name}.png");
-    exercise(dir, &[name, "-o", &file]);
+    sample_display_with(dir, name, &[], name)
+}
+
+/// `sample_display` with extra arguments, saved as `file_stem`.png.
+fn sample_display_with(dir: &Path, name: &str, extra: &[&str], file_stem: &str) -> image::RgbImage {
+    let file = format!("{file_stem}.png");
+    let mut args = vec![name, "-o", &file];
+    args.extend_from_slice(extra);
+    exercise(dir, &args);
     let image = image::open(dir.join(&file)).unwrap().to_rgb8();
     assert_eq!(image.dimensions(), (256, 256));
     image
 }
 
 /// Every dot the Rust twins predict is in the GPU's image: the pixel under each sample's
-/// projection shows a dot (front dots also hide back dots, so a back sample may show either).
+/// projection shows a dot (front dots and markers hide back dots, so a back sample may show
+/// either of those too).
 fn assert_dots_where_the_twins_say(image: &image::RgbImage, sampler: ExerciseSampler) {
+    assert_dots_at(image, sampler, &sample_display_directions(sampler, 0));
+}
+
+/// `assert_dots_where_the_twins_say` for the twins' `directions` of `sampler`.
+fn assert_dots_at(image: &image::RgbImage, sampler: ExerciseSampler, directions: &[Vec3]) {
     let resolution = UVec2::new(image.width(), image.height());
-    for (index, direction) in sample_display_directions(sampler, 0).iter().enumerate() {
+    for (index, direction) in directions.iter().enumerate() {
         let texel = sample_view_point_to_texel(project_to_sample_view(*direction), resolution);
         let shown = classify(image.get_pixel(texel.x as u32, texel.y as u32));
         let front = direction.dot(SAMPLE_VIEW_TOWARD_VIEWER) >= 0.0;
         assert!(
-            shown == Shown::FrontDot || (!front && shown == Shown::BackDot),
+            shown == Shown::FrontDot || (!front && shown != Shown::Grey),
             "{sampler:?} sample {index} ({direction}, front {front}) lands on texel {texel} which shows {shown:?}"
         );
     }
@@ -96,7 +122,7 @@ const POLE_RADIUS: f32 = 0.25;
 fn pole_fraction(image: &image::RgbImage) -> f64 {
     let pole = project_to_sample_view(Vec3::Z);
     let points = shown_points(image);
-    let dots = points.iter().filter(|(_, s)| *s != Shown::Grey).count();
+    let dots = points.iter().filter(|(_, s)| s.is_dot()).count();
     let at_pole = points
         .iter()
         .filter(|(p, s)| *s == Shown::FrontDot && p.distance(pole) <= POLE_RADIUS)
@@ -169,9 +195,99 @@ fn sample_hemisphere_stays_above_the_equator() {
     // (0.018 radii) beyond their centres. The lowest half of the sphere's image stays bare.
     let low_dots = shown_points(&hemisphere)
         .iter()
-        .filter(|(p, s)| *s != Shown::Grey && p.y < -0.55)
+        .filter(|(p, s)| s.is_dot() && p.y < -0.55)
         .count();
     assert_eq!(low_dots, 0, "hemisphere samples below the equator");
+}
+
+/// The texel (x right, y down) where a direction lands in a 256x256 display.
+fn texel_of(direction: Vec3) -> Vec2 {
+    sample_view_point_to_texel(project_to_sample_view(direction), UVec2::splat(256))
+}
+
+/// The BRDF display of a metal at view angle 45° with this roughness, and its setup.
+fn metal_display(dir: &Path, roughness: &str) -> (image::RgbImage, BrdfDisplaySetup) {
+    let args = [
+        "--metallic",
+        "1",
+        "--roughness",
+        roughness,
+        "--view-angle",
+        "45",
+    ];
+    let image = sample_display_with(dir, "brdf-samples", &args, &format!("metal-{roughness}"));
+    let material = MaterialSample::gltf(Vec3::ONE, 1.0, roughness.parse().unwrap());
+    (image, BrdfDisplaySetup::new(material, 45.0))
+}
+
+/// The dot pixels of `image` and how many of them lie within `radius` pixels of `texel`.
+fn dot_pixels_near(image: &image::RgbImage, texel: Vec2, radius: f32) -> (usize, usize) {
+    let dots: Vec<Vec2> = image
+        .enumerate_pixels()
+        .filter(|(_, _, p)| classify(p).is_dot())
+        .map(|(x, y, _)| Vec2::new(x as f32 + 0.5, y as f32 + 0.5))
+        .collect();
+    let near = dots.iter().filter(|p| p.distance(texel) <= radius).count();
+    (dots.len(), near)
+}
+
+#[test]
+fn brdf_samples_of_a_smooth_metal_cluster_at_the_mirror_direction() {
+    let dir = tempfile::tempdir().unwrap();
+    let (sharp, sharp_setup) = metal_display(dir.path(), "0.05");
+    let (rough, rough_setup) = metal_display(dir.path(), "1.0");
+    // The GPU's sample_brdf puts its dots where the Rust twin's samples project.
+    for (image, setup) in [(&sharp, &sharp_setup), (&rough, &rough_setup)] {
+        let directions = sample_display_directions_with(ExerciseSampler::Brdf, 0, setup);
+        assert_dots_at(image, ExerciseSampler::Brdf, &directions);
+    }
+    let mirror = texel_of(sharp_setup.mirror());
+    // 8 dot radii (16 pixels, 0.14 sphere radii, about 8° around the mirror direction at
+    // this view): GGX alpha 0.0025 puts all but ~1% of the samples within 2.6° of it (see
+    // the unit test in src/exercise/view.rs), so nearly every dot pixel lies inside, while
+    // roughness 1 (alpha 1) spreads the lobe over the hemisphere.
+    let radius = 8.0 * dot_radius_pixels(256);
+    let (sharp_dots, sharp_near) = dot_pixels_near(&sharp, mirror, radius);
+    let (rough_dots, rough_near) = dot_pixels_near(&rough, mirror, radius);
+    println!(
+        "mirror texel {mirror}: roughness 0.05 {sharp_near} of {sharp_dots} dot pixels near it, \
+         roughness 1 {rough_near} of {rough_dots}"
+    );
+    assert!(sharp_dots > 0 && rough_dots > 0);
+    assert_eq!(
+        classify(sharp.get_pixel(mirror.x as u32, mirror.y as u32)),
+        Shown::FrontDot,
+        "no sample at the mirror direction"
+    );
+    assert!(
+        sharp_near as f64 >= 0.9 * sharp_dots as f64,
+        "roughness 0.05: only {sharp_near} of {sharp_dots} dot pixels near the mirror direction"
+    );
+    assert!(
+        (rough_near as f64) < 0.25 * rough_dots as f64 && rough_dots > 5 * sharp_dots,
+        "roughness 1 is not spread out: {rough_near} of {rough_dots} near, sharp {sharp_dots}"
+    );
+    assert_ne!(sharp.as_raw(), rough.as_raw());
+    // The markers: a blue disk at the view direction (a metal samples nothing there), a
+    // green ring 3 dot radii (6 pixels) around the mirror direction.
+    let view = texel_of(sharp_setup.view);
+    let [r, g, b] = sharp
+        .get_pixel(view.x as u32, view.y as u32)
+        .0
+        .map(i32::from);
+    assert!(
+        b > r + 100 && b > g + 50,
+        "view marker is not blue: {r} {g} {b}"
+    );
+    let ring = mirror + Vec2::new(0.0, 3.0 * dot_radius_pixels(256));
+    let [r, g, b] = sharp
+        .get_pixel(ring.x as u32, ring.y as u32)
+        .0
+        .map(i32::from);
+    assert!(
+        g > r + 100 && g > b + 100,
+        "mirror ring is not green: {r} {g} {b}"
+    );
 }
 
 #[test]
@@ -222,6 +338,7 @@ fn every_exercise_renders_and_sample_count_sets_the_frame() {
         "spherical-coords",
         "direct-illumination",
         "path-tracing",
+        "brdf-samples",
     ] {
         let file = format!("{name}.png");
         exercise(
@@ -280,6 +397,18 @@ fn bad_exercise_arguments_fail_with_one_line() {
     let stderr = String::from_utf8_lossy(&zero.stderr);
     assert_eq!(zero.status.code(), Some(1), "{stderr}");
     assert!(stderr.contains("0x256"), "{stderr}");
+    for bad in [
+        &["--roughness", "1.5"][..],
+        &["--view-angle", "90"],
+        &["--base-color", "1,2,1"],
+    ] {
+        let mut args = vec!["exercise", "brdf-samples", "-o", "x.png"];
+        args.extend_from_slice(bad);
+        let output = common::vkpath(dir.path(), &args);
+        let stderr = String::from_utf8_lossy(&output.stderr);
+        assert_eq!(output.status.code(), Some(2), "{bad:?}: {stderr}");
+        assert!(stderr.contains(bad[0]), "{bad:?}: {stderr}");
+    }
     assert_eq!(
         std::fs::read_dir(dir.path()).unwrap().count(),
         0,

@@ -3,11 +3,15 @@
 use std::path::PathBuf;
 
 use anyhow::bail;
+use glam::Vec3;
 
 use super::options::SaveArgs;
 use super::output::{fail_on_validation_messages, render_and_save};
-use super::DeviceArgs;
-use crate::exercise::{render_sample_display, workshop_frame_settings, Exercise, ExerciseKind};
+use super::{parse_vec3, DeviceArgs};
+use crate::exercise::{
+    render_brdf_sample_display, render_sample_display, workshop_frame_settings, BrdfDisplaySetup,
+    Exercise, ExerciseKind, ExerciseSampler,
+};
 use crate::image_io::output::{check_writable, save_image};
 use crate::render::settings::{PixelFilter, RenderSettings};
 use crate::scene::SceneSource;
@@ -46,6 +50,9 @@ pub struct ExerciseArgs {
     /// Where samples look inside a pixel; the workshop uses the centre.
     #[arg(long, value_enum, default_value_t = workshop_frame_settings().pixel_filter)]
     pub pixel_filter: PixelFilter,
+    /// The material and view of `brdf-samples`.
+    #[command(flatten)]
+    pub brdf: BrdfArgs,
     /// How the image is written.
     #[command(flatten)]
     pub save: SaveArgs,
@@ -54,11 +61,100 @@ pub struct ExerciseArgs {
     pub device: DeviceArgs,
 }
 
+/// The material (glTF's metallic-roughness parameters) and view angle whose `sample_brdf`
+/// samples `vkpath exercise brdf-samples` draws; what is not given is
+/// `BrdfDisplaySetup::default()`'s, a white dielectric with glTF's defaults seen from 45°.
+#[derive(Debug, Clone, clap::Args)]
+#[command(next_help_heading = "brdf-samples")]
+pub struct BrdfArgs {
+    /// Metallic factor in [0, 1] (0: dielectric, 1: metal) [default: 0].
+    #[arg(long, value_parser = parse_fraction)]
+    pub metallic: Option<f32>,
+    /// Perceptual roughness in [0, 1] (GGX alpha = roughness^2) [default: 1].
+    #[arg(long, value_parser = parse_fraction)]
+    pub roughness: Option<f32>,
+    /// Angle between the view direction and the normal in degrees, in [0, 90) [default: 45].
+    #[arg(long, value_parser = parse_view_angle)]
+    pub view_angle: Option<f32>,
+    /// Base colour, linear RGB in [0, 1] [default: 1,1,1].
+    #[arg(long, value_parser = parse_color)]
+    pub base_color: Option<Vec3>,
+    /// KHR_materials_specular's specularFactor in [0, 1] [default: 1].
+    #[arg(long, value_parser = parse_fraction)]
+    pub specular: Option<f32>,
+}
+
+impl BrdfArgs {
+    /// Whether any of the options was given.
+    pub fn any_given(&self) -> bool {
+        self.metallic.is_some()
+            || self.roughness.is_some()
+            || self.view_angle.is_some()
+            || self.base_color.is_some()
+            || self.specular.is_some()
+    }
+
+    /// The setup these options describe, defaults filled in.
+    pub fn setup(&self) -> BrdfDisplaySetup {
+        let default = BrdfDisplaySetup::default();
+        let mut material = default.material;
+        material.metallic = self.metallic.unwrap_or(material.metallic);
+        material.roughness = self.roughness.unwrap_or(material.roughness);
+        material.base_color = self.base_color.unwrap_or(material.base_color);
+        material.specular = self.specular.unwrap_or(material.specular);
+        match self.view_angle {
+            Some(angle) => BrdfDisplaySetup::new(material, angle),
+            None => BrdfDisplaySetup {
+                material,
+                ..default
+            },
+        }
+    }
+}
+
+/// Parses a number in [0, 1].
+fn parse_fraction(text: &str) -> Result<f32, String> {
+    let value: f32 = text
+        .trim()
+        .parse()
+        .map_err(|_| format!("'{text}' is not a number"))?;
+    if !(0.0..=1.0).contains(&value) {
+        return Err(format!("{value} is outside [0, 1]"));
+    }
+    Ok(value)
+}
+
+/// Parses a view angle in degrees in [0, 90): `sample_brdf` needs the view above the surface.
+fn parse_view_angle(text: &str) -> Result<f32, String> {
+    let value: f32 = text
+        .trim()
+        .parse()
+        .map_err(|_| format!("'{text}' is not a number"))?;
+    if !(0.0..90.0).contains(&value) {
+        return Err(format!(
+            "{value} is outside [0, 90) degrees: the view must be above the surface"
+        ));
+    }
+    Ok(value)
+}
+
+/// Parses "r,g,b" with every component in [0, 1].
+fn parse_color(text: &str) -> Result<Vec3, String> {
+    let color = parse_vec3(text)?;
+    if color.cmplt(Vec3::ZERO).any() || color.cmpgt(Vec3::ONE).any() {
+        return Err(format!("{color} has a component outside [0, 1]"));
+    }
+    Ok(color)
+}
+
 /// Runs `vkpath exercise`.
 pub fn run(args: &ExerciseArgs) -> anyhow::Result<()> {
     let save = args.save.options();
     match args.name.kind() {
         ExerciseKind::Render(integrator) => {
+            if args.brdf.any_given() {
+                eprintln!("vkpath: note: the material options only apply to brdf-samples");
+            }
             let settings = RenderSettings {
                 width: args.width,
                 height: args.height,
@@ -80,6 +176,9 @@ pub fn run(args: &ExerciseArgs) -> anyhow::Result<()> {
             render_and_save(&context, &scene, &camera, settings, &args.output, &save)
         }
         ExerciseKind::Samples(sampler) => {
+            if sampler != ExerciseSampler::Brdf && args.brdf.any_given() {
+                eprintln!("vkpath: note: the material options only apply to brdf-samples");
+            }
             if args.spp.is_some()
                 || args.sample_count != workshop_frame_settings().samples_per_frame
             {
@@ -89,8 +188,16 @@ pub fn run(args: &ExerciseArgs) -> anyhow::Result<()> {
             }
             check_writable(&args.output)?;
             let context = args.device.create_context()?;
-            let image =
-                render_sample_display(&context, sampler, args.width, args.height, args.seed)?;
+            let image = match sampler {
+                ExerciseSampler::Brdf => render_brdf_sample_display(
+                    &context,
+                    &args.brdf.setup(),
+                    args.width,
+                    args.height,
+                    args.seed,
+                )?,
+                _ => render_sample_display(&context, sampler, args.width, args.height, args.seed)?,
+            };
             save_image(&args.output, &image, &save)?;
             fail_on_validation_messages(&context)
         }

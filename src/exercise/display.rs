@@ -5,7 +5,7 @@ use std::sync::Arc;
 use ash::vk;
 use gpu_allocator::MemoryLocation;
 
-use super::view::{ExerciseSampler, SampleDisplayPushConstants};
+use super::view::{BrdfDisplaySetup, ExerciseSampler, SampleDisplayPushConstants};
 use crate::contract;
 use crate::error::{Error, Result};
 use crate::image_io::data::RenderedImage;
@@ -18,7 +18,8 @@ use crate::vk::{Buffer, CommandRunner, ComputePipeline, Context};
 const BYTES_PER_PIXEL: u64 = 16;
 
 /// Draws the `EXERCISE_SAMPLE_COUNT` samples of `sampler` (drawn from `seed`) on the unit
-/// sphere, as the workshop's framework displays them for Exercises 4 and 5.
+/// sphere, as the workshop's framework displays them for Exercises 4 and 5
+/// (`ExerciseSampler::Brdf` with `BrdfDisplaySetup::default()`).
 /// \return Display colours (linear RGB, alpha 1) as an image of one sample per pixel
 pub fn render_sample_display(
     context: &Arc<Context>,
@@ -31,6 +32,23 @@ pub fn render_sample_display(
     render_sample_display_with(context, &spirv, sampler, width, height, seed)
 }
 
+/// Draws the `EXERCISE_SAMPLE_COUNT` samples of `sample_brdf` for `brdf`'s material and view
+/// (drawn from `seed`) on the unit sphere as `render_sample_display` draws its samplers, with
+/// the view direction and its mirror direction marked.
+/// \return Display colours (linear RGB, alpha 1) as an image of one sample per pixel
+pub fn render_brdf_sample_display(
+    context: &Arc<Context>,
+    brdf: &BrdfDisplaySetup,
+    width: u32,
+    height: u32,
+    seed: u32,
+) -> Result<RenderedImage> {
+    let spirv = spirv_words(shaders::EXERCISE_SAMPLES)?;
+    let constants =
+        SampleDisplayPushConstants::new(ExerciseSampler::Brdf, width, height, seed, brdf);
+    draw_sample_display(context, &spirv, &constants)
+}
+
 /// `render_sample_display` with `glsl/exercise_samples.comp` compiled elsewhere (e.g. with
 /// a user's sampler, for `vkpath check`).
 pub fn render_sample_display_with(
@@ -41,6 +59,18 @@ pub fn render_sample_display_with(
     height: u32,
     seed: u32,
 ) -> Result<RenderedImage> {
+    let constants =
+        SampleDisplayPushConstants::new(sampler, width, height, seed, &BrdfDisplaySetup::default());
+    draw_sample_display(context, spirv, &constants)
+}
+
+/// Runs the display kernel `spirv` once with `constants` and reads its colours back.
+fn draw_sample_display(
+    context: &Arc<Context>,
+    spirv: &[u32],
+    constants: &SampleDisplayPushConstants,
+) -> Result<RenderedImage> {
+    let [width, height, _, _] = constants.resolution_sampler_seed;
     if width == 0 || height == 0 || width > MAX_IMAGE_SIDE || height > MAX_IMAGE_SIDE {
         return Err(Error::InvalidSettings(format!(
             "image size {width}x{height} is outside 1..={MAX_IMAGE_SIDE} pixels per side"
@@ -76,13 +106,10 @@ pub fn render_sample_display_with(
         vk::DescriptorType::STORAGE_BUFFER,
         &pixels,
     );
-    let constants = SampleDisplayPushConstants {
-        resolution_sampler_seed: [width, height, sampler.contract_value(), seed],
-    };
     let commands = CommandRunner::new(context)?;
     commands.run(|recorder| {
         recorder.bind(&pipeline, &descriptors);
-        recorder.push_constants(&pipeline, &constants);
+        recorder.push_constants(&pipeline, constants);
         recorder.dispatch(&pipeline, [width, height, 1]);
         recorder.host_read_barrier();
     })?;

@@ -1,13 +1,14 @@
 //! The workshop's exercises as its ShaderToy framework shows them (`vkpath exercise`): the
 //! unshaded ray tracer of Part 1, the 512-sample displays of Exercises 4 and 5 (and the
 //! slides' "too many samples at the top" counter-example), direct illumination (Exercise 6)
-//! and path tracing (Exercise 7) in the workshop's Cornell box.
+//! and path tracing (Exercise 7) in the workshop's Cornell box; and, beyond the workshop, the
+//! same display of `sample_brdf` for a glTF material.
 
 pub mod display;
 pub mod view;
 
-pub use display::{render_sample_display, render_sample_display_with};
-pub use view::ExerciseSampler;
+pub use display::{render_brdf_sample_display, render_sample_display, render_sample_display_with};
+pub use view::{BrdfDisplaySetup, ExerciseSampler};
 
 use crate::render::settings::{Integrator, PixelFilter, RenderSettings};
 
@@ -73,6 +74,15 @@ pub enum Exercise {
         value(help = "Exercise 7: path tracing (one frame of --sample-count samples by default)")
     )]
     PathTracing,
+    /// Beyond the workshop: 512 samples of `sample_brdf` (normal +z) on the sphere, for the
+    /// material and view angle of the command line.
+    #[cfg_attr(
+        feature = "cli",
+        value(
+            help = "512 samples of sample_brdf() (normal +z) for --metallic, --roughness, --view-angle ..."
+        )
+    )]
+    BrdfSamples,
 }
 
 /// What an exercise draws.
@@ -86,13 +96,14 @@ pub enum ExerciseKind {
 
 impl Exercise {
     /// Every exercise, in the workshop's order.
-    pub const ALL: [Exercise; 6] = [
+    pub const ALL: [Exercise; 7] = [
         Exercise::RayTracing,
         Exercise::SampleSphere,
         Exercise::SampleHemisphere,
         Exercise::SphericalCoords,
         Exercise::DirectIllumination,
         Exercise::PathTracing,
+        Exercise::BrdfSamples,
     ];
 
     /// Whether the exercise renders the Cornell box or displays samples, and which.
@@ -106,6 +117,7 @@ impl Exercise {
             }
             Exercise::DirectIllumination => ExerciseKind::Render(Integrator::DirectIllumination),
             Exercise::PathTracing => ExerciseKind::Render(Integrator::PathTracing),
+            Exercise::BrdfSamples => ExerciseKind::Samples(ExerciseSampler::Brdf),
         }
     }
 }
@@ -115,7 +127,7 @@ mod tests {
     use super::*;
 
     #[test]
-    fn every_integrator_and_sampler_of_the_workshop_has_an_exercise() {
+    fn every_integrator_and_sampler_has_an_exercise() {
         let kinds: Vec<ExerciseKind> = Exercise::ALL.iter().map(|e| e.kind()).collect();
         for integrator in [
             Integrator::RayTracing,
@@ -128,6 +140,7 @@ mod tests {
             ExerciseSampler::Sphere,
             ExerciseSampler::Hemisphere,
             ExerciseSampler::SphericalCoordinates,
+            ExerciseSampler::Brdf,
         ] {
             assert!(kinds.contains(&ExerciseKind::Samples(sampler)));
         }

@@ -1,14 +1,17 @@
 //! Rust twins of `glsl/exercise_samples.comp`: the fixed view of the unit sphere on which the
-//! sample display draws its dots, and the sequence of sample directions it draws. Same
-//! names and maths as the shader, so that a test can predict where every dot lands.
+//! sample display draws its dots, and the sequence of sample directions it draws (for
+//! `sample_brdf`, with the material and view direction of a `BrdfDisplaySetup`). Same names
+//! and maths as the shader, so that a test can predict where every dot lands.
 
 use bytemuck::{Pod, Zeroable};
 use glam::{UVec2, Vec2, Vec3};
 
 use crate::contract::{
-    EXERCISE_SAMPLER_HEMISPHERE, EXERCISE_SAMPLER_SPHERE, EXERCISE_SAMPLER_SPHERICAL_COORDINATES,
-    EXERCISE_SAMPLE_COUNT, SAMPLE_VIEW_ELEVATION_COS, SAMPLE_VIEW_ELEVATION_SIN,
+    EXERCISE_SAMPLER_BRDF, EXERCISE_SAMPLER_HEMISPHERE, EXERCISE_SAMPLER_SPHERE,
+    EXERCISE_SAMPLER_SPHERICAL_COORDINATES, EXERCISE_SAMPLE_COUNT, SAMPLE_VIEW_ELEVATION_COS,
+    SAMPLE_VIEW_ELEVATION_SIN,
 };
+use crate::cpu::brdf::{sample_brdf, MaterialSample};
 use crate::cpu::workshop::{
     get_random_numbers, sample_hemisphere, sample_sphere, sample_sphere_spherical_coordinates,
 };
@@ -28,12 +31,80 @@ pub const SAMPLE_VIEW_TOWARD_VIEWER: Vec3 =
 /// (`glsl/shared.h`).
 pub use crate::contract::SAMPLE_VIEW_HALF_HEIGHT;
 
-/// `exercise_push_constants` of `glsl/exercise_samples.comp` (16 bytes).
+/// `exercise_push_constants` of `glsl/exercise_samples.comp` (80 bytes, within the 128 that
+/// Vulkan guarantees). All but the first field only matter for `EXERCISE_SAMPLER_BRDF`.
 #[repr(C)]
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Pod, Zeroable)]
+#[derive(Clone, Copy, Debug, PartialEq, Pod, Zeroable)]
 pub struct SampleDisplayPushConstants {
     /// Image width and height in pixels, `EXERCISE_SAMPLER_*`, seed of the sample sequence.
     pub resolution_sampler_seed: [u32; 4],
+    /// The material's base colour (linear RGB) and metallic factor.
+    pub base_color_metallic: [f32; 4],
+    /// The material's specular colour (linear RGB) and specular factor.
+    pub specular_color_specular: [f32; 4],
+    /// Unit view direction (from the surface towards the viewer, world space; the normal is
+    /// +z), w = 0.
+    pub view_direction: [f32; 4],
+    /// The material's perceptual roughness and index of refraction, z = w = 0.
+    pub roughness_ior: [f32; 4],
+}
+
+impl SampleDisplayPushConstants {
+    /// The constants that draw `sampler` (its samples drawn from `seed`) at `width` x
+    /// `height` pixels; `brdf` says what `ExerciseSampler::Brdf` samples.
+    pub fn new(
+        sampler: ExerciseSampler,
+        width: u32,
+        height: u32,
+        seed: u32,
+        brdf: &BrdfDisplaySetup,
+    ) -> SampleDisplayPushConstants {
+        let material = &brdf.material;
+        SampleDisplayPushConstants {
+            resolution_sampler_seed: [width, height, sampler.contract_value(), seed],
+            base_color_metallic: material.base_color.extend(material.metallic).to_array(),
+            specular_color_specular: material.specular_color.extend(material.specular).to_array(),
+            view_direction: brdf.view.extend(0.0).to_array(),
+            roughness_ior: [material.roughness, material.ior, 0.0, 0.0],
+        }
+    }
+}
+
+/// What the BRDF display (`vkpath exercise brdf-samples`) samples: `sample_brdf` for a
+/// material at a surface with normal +z, seen from `view`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct BrdfDisplaySetup {
+    /// The material, as glTF describes it.
+    pub material: MaterialSample,
+    /// Unit view direction, world space, z > 0 (above the surface).
+    pub view: Vec3,
+}
+
+impl BrdfDisplaySetup {
+    /// The view `view_angle_degrees` (in [0, 90)) away from the normal +z, towards -x: the
+    /// viewer sits on the left of the display's sphere and the mirror direction on its
+    /// right, both on the hemisphere that faces the display's camera.
+    pub fn new(material: MaterialSample, view_angle_degrees: f32) -> BrdfDisplaySetup {
+        let (sin, cos) = view_angle_degrees.to_radians().sin_cos();
+        BrdfDisplaySetup {
+            material,
+            view: Vec3::new(-sin, 0.0, cos),
+        }
+    }
+
+    /// The view reflected about the normal +z: where a perfect mirror sends it, the centre of
+    /// the specular lobe of a smooth material. Twin of the shader's `reflect(-view, +z)`.
+    pub fn mirror(&self) -> Vec3 {
+        Vec3::new(-self.view.x, -self.view.y, self.view.z)
+    }
+}
+
+impl Default for BrdfDisplaySetup {
+    /// A white dielectric with glTF's defaults otherwise (roughness 1, specular 1, ior 1.5),
+    /// seen from 45 degrees.
+    fn default() -> BrdfDisplaySetup {
+        BrdfDisplaySetup::new(MaterialSample::gltf(Vec3::ONE, 0.0, 1.0), 45.0)
+    }
 }
 
 /// The samplers the display can show.
@@ -45,6 +116,8 @@ pub enum ExerciseSampler {
     Hemisphere,
     /// The slides' naive `sample_sphere_spherical_coordinates`, crowded at the poles.
     SphericalCoordinates,
+    /// `sample_brdf` (`glsl/brdf.glsl`) for a `BrdfDisplaySetup`'s material and view.
+    Brdf,
 }
 
 impl ExerciseSampler {
@@ -54,6 +127,7 @@ impl ExerciseSampler {
             ExerciseSampler::Sphere => EXERCISE_SAMPLER_SPHERE,
             ExerciseSampler::Hemisphere => EXERCISE_SAMPLER_HEMISPHERE,
             ExerciseSampler::SphericalCoordinates => EXERCISE_SAMPLER_SPHERICAL_COORDINATES,
+            ExerciseSampler::Brdf => EXERCISE_SAMPLER_BRDF,
         }
     }
 }
@@ -96,8 +170,17 @@ pub fn get_sample_display_seed(user_seed: u32) -> UVec2 {
 /// `get_exercise_sample_direction` (unknown values fall back to `sample_sphere`, as there).
 /// \param sampler `EXERCISE_SAMPLER_*`
 /// \param random_numbers Uniform (u_0, u_1) in [0, 1)^2
+/// \param material, view What `EXERCISE_SAMPLER_BRDF` samples (normal +z, view above it)
 /// \return A unit vector
-pub fn get_exercise_sample_direction(sampler: u32, random_numbers: Vec2) -> Vec3 {
+pub fn get_exercise_sample_direction(
+    sampler: u32,
+    random_numbers: Vec2,
+    material: &MaterialSample,
+    view: Vec3,
+) -> Vec3 {
+    if sampler == EXERCISE_SAMPLER_BRDF {
+        return sample_brdf(random_numbers, material, Vec3::Z, view);
+    }
     if sampler == EXERCISE_SAMPLER_HEMISPHERE {
         return sample_hemisphere(random_numbers, Vec3::Z);
     }
@@ -108,12 +191,26 @@ pub fn get_exercise_sample_direction(sampler: u32, random_numbers: Vec2) -> Vec3
 }
 
 /// The `EXERCISE_SAMPLE_COUNT` directions the display draws for a sampler and seed, in the
-/// shader's order.
+/// shader's order (`ExerciseSampler::Brdf` with `BrdfDisplaySetup::default()`).
 pub fn sample_display_directions(sampler: ExerciseSampler, user_seed: u32) -> Vec<Vec3> {
+    sample_display_directions_with(sampler, user_seed, &BrdfDisplaySetup::default())
+}
+
+/// `sample_display_directions` with `brdf` saying what `ExerciseSampler::Brdf` samples.
+pub fn sample_display_directions_with(
+    sampler: ExerciseSampler,
+    user_seed: u32,
+    brdf: &BrdfDisplaySetup,
+) -> Vec<Vec3> {
     let mut seed = get_sample_display_seed(user_seed);
     (0..EXERCISE_SAMPLE_COUNT)
         .map(|_| {
-            get_exercise_sample_direction(sampler.contract_value(), get_random_numbers(&mut seed))
+            get_exercise_sample_direction(
+                sampler.contract_value(),
+                get_random_numbers(&mut seed),
+                &brdf.material,
+                brdf.view,
+            )
         })
         .collect()
 }
@@ -131,11 +228,85 @@ mod tests {
 
     #[test]
     fn push_constants_match_the_shader_block() {
-        // uniform exercise_push_constants { uvec4 g_resolution_sampler_seed; }
-        assert_eq!(size_of::<SampleDisplayPushConstants>(), 16);
+        // uniform exercise_push_constants { uvec4 g_resolution_sampler_seed;
+        //     vec4 g_base_color_metallic; vec4 g_specular_color_specular;
+        //     vec4 g_view_direction; vec4 g_roughness_ior; }: five 16-byte members.
+        assert_eq!(size_of::<SampleDisplayPushConstants>(), 80);
         assert_eq!(
             offset_of!(SampleDisplayPushConstants, resolution_sampler_seed),
             0
+        );
+        assert_eq!(
+            offset_of!(SampleDisplayPushConstants, base_color_metallic),
+            16
+        );
+        assert_eq!(
+            offset_of!(SampleDisplayPushConstants, specular_color_specular),
+            32
+        );
+        assert_eq!(offset_of!(SampleDisplayPushConstants, view_direction), 48);
+        assert_eq!(offset_of!(SampleDisplayPushConstants, roughness_ior), 64);
+        let setup = BrdfDisplaySetup::new(
+            MaterialSample {
+                base_color: Vec3::new(0.1, 0.2, 0.3),
+                metallic: 0.4,
+                roughness: 0.5,
+                specular: 0.6,
+                specular_color: Vec3::new(0.7, 0.8, 0.9),
+                ior: 1.7,
+            },
+            30.0,
+        );
+        let constants = SampleDisplayPushConstants::new(ExerciseSampler::Brdf, 64, 32, 7, &setup);
+        assert_eq!(
+            constants.resolution_sampler_seed,
+            [64, 32, EXERCISE_SAMPLER_BRDF, 7]
+        );
+        assert_eq!(constants.base_color_metallic, [0.1, 0.2, 0.3, 0.4]);
+        assert_eq!(constants.specular_color_specular, [0.7, 0.8, 0.9, 0.6]);
+        assert_eq!(constants.roughness_ior, [0.5, 1.7, 0.0, 0.0]);
+        assert_eq!(constants.view_direction, setup.view.extend(0.0).to_array());
+    }
+
+    #[test]
+    fn brdf_view_and_mirror_face_the_camera_on_either_side_of_the_normal() {
+        let setup = BrdfDisplaySetup::new(MaterialSample::gltf(Vec3::ONE, 1.0, 0.3), 45.0);
+        // sin 45° = cos 45° = 0.7071; 1e-6 covers the f32 roundings.
+        assert!(setup
+            .view
+            .abs_diff_eq(Vec3::new(-0.70710677, 0.0, 0.70710677), 1e-6));
+        let mirror = setup.mirror();
+        // The mirror reflects the view about the normal: v + r = 2 (n.v) n.
+        assert!((setup.view + mirror).abs_diff_eq(2.0 * setup.view.z * Vec3::Z, 1e-6));
+        for direction in [setup.view, mirror] {
+            assert!(direction.dot(SAMPLE_VIEW_TOWARD_VIEWER) > 0.0);
+        }
+        assert!(
+            project_to_sample_view(setup.view).x < 0.0 && project_to_sample_view(mirror).x > 0.0
+        );
+        // A near-mirror metal (GGX alpha 0.0025) sends almost every sample within 2.6° of the
+        // mirror direction (cos > 0.999): half vectors stray more than 1.3° from the normal
+        // with probability about alpha^2 / (0.0223^2 + alpha^2) = 1.2%, 6.4 +- 2.5 of 512.
+        // The rough white dielectric (mostly diffuse, alpha 1) spreads its samples over the
+        // hemisphere: a cap of 2.6° holds 0.1% of the cosine-weighted ones.
+        let sharp = BrdfDisplaySetup::new(MaterialSample::gltf(Vec3::ONE, 1.0, 0.05), 45.0);
+        let near_mirror = |directions: Vec<Vec3>, mirror: Vec3| {
+            directions.iter().filter(|d| d.dot(mirror) > 0.999).count()
+        };
+        let sharp_count = near_mirror(
+            sample_display_directions_with(ExerciseSampler::Brdf, 0, &sharp),
+            sharp.mirror(),
+        );
+        let rough_count = near_mirror(
+            sample_display_directions(ExerciseSampler::Brdf, 0),
+            BrdfDisplaySetup::default().mirror(),
+        );
+        println!(
+            "samples near the mirror direction: sharp metal {sharp_count}, default {rough_count}"
+        );
+        assert!(
+            sharp_count >= 490 && rough_count < 50,
+            "{sharp_count} {rough_count}"
         );
     }
 
