@@ -48,6 +48,7 @@ import sys
 import time
 
 HERE = os.path.dirname(os.path.abspath(__file__))
+sys.dont_write_bytecode = True  # no __pycache__ next to the imported scripts
 sys.path.insert(0, HERE)
 sys.path.insert(0, os.path.join(os.path.dirname(HERE), "scripts"))
 import mitsuba_compare as mc  # noqa: E402  (setup, Mitsuba rendering, moments, the gate)
@@ -239,7 +240,8 @@ def main():
     parser.add_argument("--batches", type=int, default=16,
                         help="independent Mitsuba renders at spp/batches for mitsuba.exr's variance")
     parser.add_argument("--vkpath-spp", type=int, default=512, help="spp of the vkpath image")
-    parser.add_argument("--seed", type=int, default=0, help="vkpath --seed")
+    parser.add_argument("--seed", type=int, default=0,
+                        help="vkpath --seed; Mitsuba's seeds are 2 * 10^6 * seed (+ 1000 + b for batch b)")
     parser.add_argument("--break", dest="break_", choices=BREAKS, default=None,
                         help="render Mitsuba with this wrong convention: the gate must fail")
     parser.add_argument("--threads", type=int, default=2, help="Mitsuba (drjit) CPU threads")
@@ -279,9 +281,9 @@ def main():
 
     print("[2] Mitsuba", flush=True)
     scene = build_mitsuba_scene(mi, args, args.spp, png_path)
-    image, seconds = mc.mitsuba_render(mi, dr, scene, args.spp, seed=0)
+    image, seconds = mc.mitsuba_render(mi, dr, scene, args.spp, seed=2_000_000 * args.seed)
     batch_spp = args.spp // args.batches
-    batches = [mc.mitsuba_render(mi, dr, scene, batch_spp, seed=1000 + b)[0] for b in range(args.batches)]
+    batches = [mc.mitsuba_render(mi, dr, scene, batch_spp, seed=2_000_000 * args.seed + 1000 + b)[0] for b in range(args.batches)]
     mi_exr = os.path.join(args.workdir, "mitsuba.exr")
     mc.write_with_moments(mi, dr, mi_exr, image, batches, args.spp, batch_spp)
     print(f"    {seconds:.2f} s (first render, with JIT compilation)")

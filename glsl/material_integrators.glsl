@@ -14,6 +14,49 @@
 
 #include "importance_sampling.glsl"
 #include "materials.glsl"
+#include "environment.glsl"
+#include "punctual_lights.glsl"
+
+// Whether a shadow ray from `origin` leaves the scene along `direction` (reaches the
+// environment or a directional light) or reaches a point light `distance` away.
+bool is_visible(vec3 origin, vec3 direction, float distance) {
+    float t_max = (distance >= NO_HIT_T) ? NO_HIT_T : distance * (1.0 - SHADOW_RAY_MARGIN);
+    return !ray_mesh_any_hit(origin, direction, t_max);
+}
+
+// One sample of the environment's light at a surface point, MIS-weighted against BRDF
+// sampling for INTEGRATOR_MIS: f (n_s . l) L_env(l) / p_env(l) * w. Nothing for a black
+// environment (no random numbers are drawn then either).
+vec3 sample_environment_light(vec3 shading_position, surface_t surface, vec3 view, inout uvec2 seed) {
+    if (get_environment_kind() == ENVIRONMENT_NONE)
+        return vec3(0.0);
+    vec3 direction = sample_environment(get_path_random_numbers(seed));
+    float density = get_environment_density(direction);
+    vec3 reflection = get_surface_reflection(surface, view, direction);
+    if (reflection == vec3(0.0) || !(density > 0.0))
+        return vec3(0.0);
+    if (!is_visible(offset_ray_origin(shading_position, surface.geometric_normal), direction, NO_HIT_T))
+        return vec3(0.0);
+    float weight = (INTEGRATOR == INTEGRATOR_MIS) ? get_power_heuristic_weight(density, get_brdf_density(surface.material, surface.shading_normal, view, direction)) : 1.0;
+    return reflection * get_environment_radiance(direction) / density * weight;
+}
+
+// The light of one punctual light, chosen uniformly (so times their count): delta lights
+// have no density to weigh against, so no MIS.
+vec3 sample_punctual_light(vec3 shading_position, surface_t surface, vec3 view, inout uvec2 seed) {
+    uint count = get_punctual_light_count();
+    if (count == 0u)
+        return vec3(0.0);
+    uint index = min(uint(get_path_random_numbers(seed)[0] * float(count)), count - 1u);
+    vec3 origin = offset_ray_origin(shading_position, surface.geometric_normal);
+    vec3 direction;
+    float distance;
+    vec3 irradiance = get_punctual_irradiance(get_punctual_light(index), origin, direction, distance);
+    vec3 reflection = get_surface_reflection(surface, view, direction);
+    if (reflection == vec3(0.0) || irradiance == vec3(0.0) || !is_visible(origin, direction, distance))
+        return vec3(0.0);
+    return reflection * irradiance * float(count);
+}
 
 // One light sample at a surface point with a glTF material (next event estimation),
 // MIS-weighted against BRDF sampling when INTEGRATOR == INTEGRATOR_MIS:
@@ -66,8 +109,15 @@ vec3 get_ray_radiance_with_materials(vec3 ray_origin, vec3 ray_direction, inout 
     for (int i = 0; i != vertex_count; ++i) {
         float t;
         triangle_t triangle;
-        if (!ray_mesh_intersection(t, triangle, ray_origin, ray_direction))
+        if (!ray_mesh_intersection(t, triangle, ray_origin, ray_direction)) {
+            // The environment: all of it for the camera ray, the workshop's integrators and
+            // cosine sampling; none for NEE (its light samples account for it); MIS-weighted.
+            if (INTEGRATOR != INTEGRATOR_RAY_TRACING && (i == 0 || !(INTEGRATOR == INTEGRATOR_NEE || INTEGRATOR == INTEGRATOR_MIS)))
+                radiance += throughput_weight * get_environment_radiance(ray_direction);
+            else if (INTEGRATOR == INTEGRATOR_MIS && get_environment_kind() != ENVIRONMENT_NONE)
+                radiance += throughput_weight * get_environment_radiance(ray_direction) * get_power_heuristic_weight(direction_density, get_environment_density(ray_direction));
             break;
+        }
         uint triangle_index = g_hit_triangle_index;
         ray_origin += t * ray_direction;
         surface_t surface = get_surface(triangle_index, triangle, ray_origin, ray_direction);
@@ -85,8 +135,13 @@ vec3 get_ray_radiance_with_materials(vec3 ray_origin, vec3 ray_direction, inout 
         // Exercise 6 is emission plus one bounce of direct light, whatever MAX_PATH_LENGTH.
         if (i + 1 == vertex_count)
             break;
-        if (INTEGRATOR == INTEGRATOR_NEE || INTEGRATOR == INTEGRATOR_MIS)
-            radiance += throughput_weight * sample_direct_light_with_material(ray_origin, surface, view, seed);
+        if (INTEGRATOR == INTEGRATOR_NEE || INTEGRATOR == INTEGRATOR_MIS) {
+            // One sample of each kind of light: their sum estimates all the direct light.
+            vec3 direct = sample_direct_light_with_material(ray_origin, surface, view, seed);
+            direct += sample_environment_light(ray_origin, surface, view, seed);
+            direct += sample_punctual_light(ray_origin, surface, view, seed);
+            radiance += throughput_weight * direct;
+        }
         vec3 reflection;
         if (INTEGRATOR == INTEGRATOR_PATH_TRACING || INTEGRATOR == INTEGRATOR_DIRECT_ILLUMINATION) {
             // The workshop's uniform hemisphere: weight f (n_s . l) / (1 / (2 pi))

@@ -74,9 +74,12 @@ bool has_material_texture(uint material_index, uint slot) {
     return (get_material_texel(material_index, 4).y & (1u << slot)) != 0u;
 }
 
+// Whether the scene has any texture (the host specializes it; false compiles lookups out).
+layout(constant_id = SPEC_SCENE_HAS_TEXTURES) const bool SCENE_HAS_TEXTURES = true;
+
 // A texture slot MATERIAL_TEXTURE_* of material i, sampled at tex_coord (1 without texture).
 vec4 sample_material_texture(uint material_index, uint slot, vec2 tex_coord) {
-    if (!has_material_texture(material_index, slot))
+    if (!SCENE_HAS_TEXTURES || !has_material_texture(material_index, slot))
         return vec4(1.0);
     int first = MATERIAL_FACTOR_TEXEL_COUNT + 3 * int(slot);
     texture_slot_t texture = unpack_texture_slot(get_material_texel(material_index, first), get_material_texel(material_index, first + 1), get_material_texel(material_index, first + 2));
@@ -119,7 +122,7 @@ vec3 get_front_shading_normal(uint triangle_index, uint material_index, vec3 bar
     if (!(dot(normal, normal) > 1.0e-12))
         return face_normal;
     normal = normalize(normal);
-    if (has_material_texture(material_index, MATERIAL_TEXTURE_NORMAL)) {
+    if (SCENE_HAS_TEXTURES && has_material_texture(material_index, MATERIAL_TEXTURE_NORMAL)) {
         vec4 tangent_0 = uintBitsToFloat(get_shading_texel(triangle_index, 5));
         vec3 tangent = barycentrics[0] * tangent_0.xyz + barycentrics[1] * uintBitsToFloat(get_shading_texel(triangle_index, 6).xyz) + barycentrics[2] * uintBitsToFloat(get_shading_texel(triangle_index, 7).xyz);
         // Gram-Schmidt against the interpolated normal

@@ -121,7 +121,9 @@ bool starts_on_triangle_plane(vec3 ray_origin, triangle_t triangle) {
 // Whether a candidate hit counts, for alpha-masked and alpha-blended materials
 // (glsl/materials.glsl); kernels without materials test no alpha, and the macro vanishes.
 bool is_opaque_hit(uint triangle_index, vec3 ray_origin, vec3 ray_direction, float t);
-#define AND_HIT_IS_OPAQUE(index, ray_origin, ray_direction, t) && is_opaque_hit(index, ray_origin, ray_direction, t)
+// Whether any material uses alpha (the host specializes it; false compiles the test out).
+layout(constant_id = SPEC_SCENE_HAS_ALPHA) const bool SCENE_HAS_ALPHA = true;
+#define AND_HIT_IS_OPAQUE(index, ray_origin, ray_direction, t) && (!SCENE_HAS_ALPHA || is_opaque_hit(index, ray_origin, ray_direction, t))
 #else
 #define AND_HIT_IS_OPAQUE(index, ray_origin, ray_direction, t)
 #endif

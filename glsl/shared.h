@@ -63,6 +63,12 @@
 #define SPEC_SAMPLER 5
 // How nee and mis sample a point on the chosen light: LIGHT_SAMPLING_*.
 #define SPEC_LIGHT_SAMPLING 7
+// Kernels built with USE_MATERIALS: whether any material uses alpha (0: the traversal loops
+// test no alpha) and whether the scene has textures (0: no texture is ever sampled). On
+// lavapipe, code under an `if` costs the whole SIMD program whenever any lane takes it, so
+// what a scene does not use is compiled out instead.
+#define SPEC_SCENE_HAS_ALPHA 9
+#define SPEC_SCENE_HAS_TEXTURES 10
 // Number of triangles passed as specialization constants (0: read them from the texel buffer).
 #define SPEC_CONSTANT_TRIANGLE_COUNT 6
 // Loop iterations one invocation may run before the driver may end its loops silently: on
@@ -189,6 +195,24 @@
 #define ALPHA_MODE_OPAQUE 0
 #define ALPHA_MODE_MASK 1
 #define ALPHA_MODE_BLEND 2
+
+// ======== Lights beyond emissive triangles (glsl/environment.glsl, glsl/punctual_lights.glsl) ========
+
+// The environment (kernels built with USE_MATERIALS): a texel buffer of RGBA32_UINT,
+// GpuEnvironment on the host (glsl/environment.glsl says what each texel holds).
+#define BINDING_ENVIRONMENT 16
+// KHR_lights_punctual's lights: a texel buffer of RGBA32_UINT, a header texel (x = count)
+// then PUNCTUAL_LIGHT_TEXEL_COUNT texels per light (GpuPunctualLight on the host).
+#define BINDING_PUNCTUAL_LIGHTS 17
+#define PUNCTUAL_LIGHT_TEXEL_COUNT 4
+// What the environment is: black (nothing to sample), a constant colour, a map.
+#define ENVIRONMENT_NONE 0
+#define ENVIRONMENT_CONSTANT 1
+#define ENVIRONMENT_MAP 2
+// Kinds of punctual light (KHR_lights_punctual's type).
+#define PUNCTUAL_LIGHT_POINT 0
+#define PUNCTUAL_LIGHT_SPOT 1
+#define PUNCTUAL_LIGHT_DIRECTIONAL 2
 
 // ======== Probe kernels (glsl/probe_*.comp, host side src/probe/) ========
 

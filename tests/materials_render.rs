@@ -75,6 +75,8 @@ impl QuadScene {
             triangles: self.triangles,
             camera: Some(camera),
             warnings: Vec::new(),
+            punctual_lights: Vec::new(),
+            environment: None,
             materials: Some(SceneMaterials {
                 materials: self.materials,
                 textures: self.textures,

@@ -10,6 +10,7 @@ use crate::bvh::Bvh;
 use crate::camera::Camera;
 use crate::contract;
 use crate::error::{Error, Result};
+use crate::render::gpu_lights::{gpu_environment_words, gpu_punctual_light_words};
 use crate::render::gpu_materials::{GpuMaterial, GpuTriangleShading};
 use crate::render::gpu_textures::TextureAtlas;
 use crate::render::gpu_types::{
@@ -26,6 +27,8 @@ struct MaterialBuffers {
     shading: TexelBufferView,
     materials: TexelBufferView,
     texture_texels: TexelBufferView,
+    environment: TexelBufferView,
+    punctual_lights: TexelBufferView,
 }
 
 /// A scene uploaded for one traversal.
@@ -94,7 +97,16 @@ impl GpuScene {
             None => None,
         };
         let lights = texels("lights", &gpu_light_bytes(&lights))?;
-        let materials = match &scene.materials {
+        let plain_materials;
+        let scene_materials = match &scene.materials {
+            Some(materials) => Some(materials),
+            None if scene.needs_material_kernels() => {
+                plain_materials = crate::scene::materials::SceneMaterials::from_plain(&scene.triangles);
+                Some(&plain_materials)
+            }
+            None => None,
+        };
+        let materials = match scene_materials {
             None => None,
             Some(scene_materials) => {
                 let shading: Vec<GpuTriangleShading> = match &bvh {
@@ -132,16 +144,29 @@ impl GpuScene {
                     shading: texels("shading data", bytemuck::cast_slice(&shading))?,
                     materials: texels("materials", bytemuck::cast_slice(&gpu_materials))?,
                     texture_texels: TexelBufferView::rgba8_uint(context, texture_buffer, "scene's texture texels")?,
+                    environment: texels(
+                        "environment",
+                        bytemuck::cast_slice(&gpu_environment_words(scene.environment.as_ref())),
+                    )?,
+                    punctual_lights: texels(
+                        "punctual lights",
+                        bytemuck::cast_slice(&gpu_punctual_light_words(&scene.punctual_lights)),
+                    )?,
                 })
             }
         };
+        let mut specialization = constant_triangle_specialization(traversal, &ordered_triangles);
+        if let Some(scene_materials) = scene_materials {
+            specialization.push((contract::SPEC_SCENE_HAS_ALPHA, u32::from(scene_materials.uses_alpha())));
+            specialization.push((contract::SPEC_SCENE_HAS_TEXTURES, u32::from(!scene_materials.textures.is_empty())));
+        }
         Ok(GpuScene {
             triangles,
             uniforms,
             lights,
             bvh_nodes,
             materials,
-            specialization: constant_triangle_specialization(traversal, &ordered_triangles),
+            specialization,
         })
     }
 
@@ -163,6 +188,8 @@ impl GpuScene {
             bindings.push((contract::BINDING_SHADING, texel));
             bindings.push((contract::BINDING_MATERIALS, texel));
             bindings.push((contract::BINDING_TEXTURE_TEXELS, texel));
+            bindings.push((contract::BINDING_ENVIRONMENT, texel));
+            bindings.push((contract::BINDING_PUNCTUAL_LIGHTS, texel));
         }
         bindings
     }
@@ -183,6 +210,8 @@ impl GpuScene {
             set.write_texel_buffer(contract::BINDING_SHADING, &materials.shading);
             set.write_texel_buffer(contract::BINDING_MATERIALS, &materials.materials);
             set.write_texel_buffer(contract::BINDING_TEXTURE_TEXELS, &materials.texture_texels);
+            set.write_texel_buffer(contract::BINDING_ENVIRONMENT, &materials.environment);
+            set.write_texel_buffer(contract::BINDING_PUNCTUAL_LIGHTS, &materials.punctual_lights);
         }
     }
 }

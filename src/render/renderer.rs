@@ -182,7 +182,7 @@ impl Renderer {
         specialization.push((contract::SPEC_LOOP_LIMIT, loop_limit.0));
         let spirv = match kernel {
             Some((spirv, _)) => spirv.to_vec(),
-            None => spirv_words(traversal.kernel(scene.materials.is_some()))?,
+            None => spirv_words(traversal.kernel(scene.needs_material_kernels()))?,
         };
         let pipeline = ComputePipeline::new(
             context,

@@ -65,6 +65,8 @@ pub fn workshop_cornell_box() -> Result<Scene, SceneError> {
         camera: Some(camera),
         warnings: Vec::new(),
         materials: None,
+        punctual_lights: Vec::new(),
+        environment: None,
     })
 }
 

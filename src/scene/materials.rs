@@ -155,6 +155,39 @@ pub struct SceneMaterials {
 pub const FLAT_NORMAL_TOLERANCE: f32 = 1e-4;
 
 impl SceneMaterials {
+    /// The materials of flat, diffuse triangles (one per distinct albedo, emission and
+    /// sidedness), for a plain scene rendered with the material kernels (an environment or
+    /// punctual lights need them).
+    pub fn from_plain(triangles: &[super::Triangle]) -> SceneMaterials {
+        let mut indices = std::collections::HashMap::new();
+        let mut materials = Vec::new();
+        let shading = triangles
+            .iter()
+            .map(|triangle| {
+                let key = (
+                    triangle.color.to_array().map(f32::to_bits),
+                    triangle.emission.to_array().map(f32::to_bits),
+                    triangle.double_sided,
+                );
+                let material = *indices.entry(key).or_insert_with(|| {
+                    materials.push(PbrMaterial::lambertian(triangle.color, triangle.emission, triangle.double_sided));
+                    materials.len() as u32 - 1
+                });
+                TriangleShading {
+                    material,
+                    normals: [triangle.normal; 3],
+                    tex_coords: [Vec2::ZERO; 3],
+                    tangents: [Vec4::ZERO; 3],
+                }
+            })
+            .collect();
+        SceneMaterials {
+            materials,
+            textures: Vec::new(),
+            triangles: shading,
+        }
+    }
+
     /// Whether the workshop's flat, diffuse triangles describe the scene exactly: every
     /// material is plain Lambertian and every vertex normal is its face's normal.
     pub fn is_plain(&self, face_normals: impl Iterator<Item = Vec3>) -> bool {

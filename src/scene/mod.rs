@@ -8,6 +8,7 @@ use glam::Vec3;
 use crate::camera::Camera;
 
 pub mod cornell;
+pub mod environment;
 mod error;
 pub mod export;
 pub mod files;
@@ -18,6 +19,7 @@ pub mod materials;
 pub mod meshes;
 pub mod obj_loader;
 pub mod procedural;
+pub mod punctual;
 pub mod source;
 pub mod tangents;
 pub mod textures;
@@ -53,6 +55,10 @@ pub struct Scene {
     /// workshop's flat diffuse triangles; `None` for scenes that do not (they render with
     /// the workshop's kernels, bit for bit as before).
     pub materials: Option<materials::SceneMaterials>,
+    /// KHR_lights_punctual's lights (glTF).
+    pub punctual_lights: Vec<punctual::PunctualLight>,
+    /// What rays that leave the scene see (`--environment`, `--background`); `None`: black.
+    pub environment: Option<environment::Environment>,
 }
 
 impl Triangle {
@@ -103,11 +109,22 @@ impl Scene {
         }
     }
 
-    /// Whether any triangle emits light (a scene where none does renders black).
+    /// Whether anything lights the scene: an emissive triangle, a punctual light or the
+    /// environment (a scene where nothing does renders black).
     pub fn emits_light(&self) -> bool {
         self.triangles
             .iter()
             .any(|t| t.emission.max_element() > 0.0)
+            || self.punctual_lights.iter().any(|l| l.emits_light())
+            || self.environment.as_ref().is_some_and(|e| e.emits_light())
+    }
+
+    /// Whether the scene needs the kernels built with USE_MATERIALS: glTF materials, an
+    /// environment or punctual lights. The others render with the workshop's kernels.
+    pub fn needs_material_kernels(&self) -> bool {
+        self.materials.is_some()
+            || !self.punctual_lights.is_empty()
+            || self.environment.as_ref().is_some_and(|e| e.emits_light())
     }
 
     /// The workshop's Cornell box with its camera (`scenes/workshop_cornell_box.json`,

@@ -59,6 +59,8 @@ pub fn furnace(albedo: f32, emission: f32) -> Scene {
         )),
         warnings: Vec::new(),
         materials: None,
+        punctual_lights: Vec::new(),
+        environment: None,
     }
 }
 
