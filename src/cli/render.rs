@@ -11,6 +11,7 @@ use super::{parse_vec3, DeviceArgs};
 use crate::camera::{Camera, DEFAULT_VERTICAL_FOV_DEGREES};
 use crate::image_io::output::check_writable;
 use crate::render::settings::{Integrator, PixelFilter, RenderSettings};
+use crate::scene::environment::{load_environment_map, Environment};
 use crate::scene::Scene;
 
 /// Arguments of `vkpath render`.
@@ -50,12 +51,62 @@ pub struct RenderArgs {
     /// The camera, when not the scene's.
     #[command(flatten)]
     pub camera: CameraArgs,
+    /// Light from beyond the scene.
+    #[command(flatten)]
+    pub lights: LightArgs,
     /// Time limit, checkpoints, shards and reporting.
     #[command(flatten)]
     pub job: JobArgs,
     /// Device selection and validation.
     #[command(flatten)]
     pub device: DeviceArgs,
+}
+
+/// An environment map or a constant background around the scene.
+#[derive(Debug, Clone, clap::Args)]
+pub struct LightArgs {
+    /// An equirectangular environment map (.exr or .hdr) that lights the scene: +Y is up and
+    /// the image's centre is the direction -Z.
+    #[arg(long)]
+    pub environment: Option<PathBuf>,
+    /// Factor on the environment map's radiance.
+    #[arg(long, default_value_t = 1.0)]
+    pub environment_strength: f32,
+    /// Turns the environment map about +Y by this many degrees (90: what was seen looking
+    /// down -Z is seen looking down -X).
+    #[arg(long, default_value_t = 0.0, allow_hyphen_values = true)]
+    pub environment_rotation: f32,
+    /// A constant environment of this radiance, R,G,B (default: black, nothing).
+    #[arg(long, value_parser = parse_vec3, conflicts_with = "environment")]
+    pub background: Option<Vec3>,
+}
+
+impl LightArgs {
+    /// The environment these options describe, if any.
+    pub fn environment(&self) -> anyhow::Result<Option<Environment>> {
+        if !(self.environment_strength >= 0.0 && self.environment_strength.is_finite()) {
+            bail!("--environment-strength must be a finite number >= 0, not {}", self.environment_strength);
+        }
+        if !self.environment_rotation.is_finite() {
+            bail!("--environment-rotation must be finite");
+        }
+        if let Some(background) = self.background {
+            if !(background.is_finite() && background.min_element() >= 0.0) {
+                bail!("--background must be three finite numbers >= 0");
+            }
+            return Ok(Some(Environment::constant(background)));
+        }
+        let Some(path) = &self.environment else {
+            return Ok(None);
+        };
+        let map = load_environment_map(path).map_err(anyhow::Error::msg)?;
+        Ok(Some(Environment {
+            map: Some(map),
+            background: Vec3::ZERO,
+            strength: self.environment_strength,
+            rotation_degrees: self.environment_rotation,
+        }))
+    }
 }
 
 /// A look-at camera in place of the scene's.
@@ -137,9 +188,19 @@ pub fn run(args: &RenderArgs) -> anyhow::Result<()> {
     if let Some(checkpoint) = &job.checkpoint {
         check_writable(checkpoint)?;
     }
-    let scene = args.scene.load("vkpath render")?;
+    let mut scene = args.scene.load("vkpath render")?;
+    scene.environment = args.lights.environment()?;
     if !scene.emits_light() {
-        eprintln!("vkpath: warning: nothing in the scene emits light: the image will be black");
+        eprintln!(
+            "vkpath: warning: nothing lights the scene (no emissive surface, punctual light, --environment or --background): the image will be black"
+        );
+    }
+    if !scene.punctual_lights.is_empty() && !matches!(settings.integrator, Integrator::Nee | Integrator::Mis) {
+        eprintln!(
+            "vkpath: warning: the scene's {} punctual lights are invisible to --integrator {}: only nee and mis sample them",
+            scene.punctual_lights.len(),
+            clap::ValueEnum::to_possible_value(&settings.integrator).map_or_else(String::new, |v| v.get_name().to_owned())
+        );
     }
     let camera = args.camera(&scene)?;
     if let Some(selectors) = args.device.several()? {

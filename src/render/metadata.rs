@@ -165,6 +165,32 @@ pub fn scene_hash(scene: &Scene, camera: &Camera) -> String {
         add(&triangle.emission.to_array());
         add(&[f32::from(u8::from(triangle.double_sided))]);
     }
+    // What plain scenes lack, only when present (plain scenes keep their hashes).
+    if let Some(materials) = &scene.materials {
+        hasher.update(format!("{:?}", materials.materials).as_bytes());
+        for texture in &materials.textures {
+            hasher.update(format!("{}x{} {:?} {:?} {}", texture.width, texture.height, texture.wrap_s, texture.wrap_t, texture.nearest).as_bytes());
+            hasher.update(texture.texels.as_flattened());
+        }
+        hasher.update(format!("{:?}", materials.triangles).as_bytes());
+    }
+    if !scene.punctual_lights.is_empty() {
+        hasher.update(format!("{:?}", scene.punctual_lights).as_bytes());
+    }
+    if let Some(environment) = &scene.environment {
+        hasher.update(format!("{:?} {} {}", environment.background, environment.strength, environment.rotation_degrees).as_bytes());
+        if let Some(map) = &environment.map {
+            hasher.update(format!("{}x{}", map.width, map.height).as_bytes());
+            for texel in &map.texels {
+                hasher.update(bytemuck::bytes_of(texel));
+            }
+        }
+    }
+    let mut add = |values: &[f32]| {
+        for value in values {
+            hasher.update(value.to_bits().to_le_bytes());
+        }
+    };
     for vector in [
         camera.position,
         camera.image_plane_middle,

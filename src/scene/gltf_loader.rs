@@ -21,18 +21,20 @@ use gltf::{Document, Gltf, Node};
 use super::files::{read_bounded, resolve_reference, LoadOptions, MAX_SCENE_FILE_BYTES};
 use super::gltf_materials::MaterialReader;
 use super::materials::TriangleShading;
+use super::punctual::{PunctualKind, PunctualLight};
 use super::tangents::generate_tangents;
 use super::{Material, Scene, SceneBuilder, SceneError};
 use crate::camera::Camera;
 
 /// The glTF extensions whose meaning vkpath implements (a file that requires others is
 /// refused with their names).
-pub const SUPPORTED_EXTENSIONS: [&str; 5] = [
+pub const SUPPORTED_EXTENSIONS: [&str; 6] = [
     "KHR_materials_emissive_strength",
     "KHR_materials_specular",
     "KHR_materials_ior",
     "KHR_texture_transform",
     "KHR_mesh_quantization",
+    "KHR_lights_punctual",
 ];
 
 /// Loads a glTF 2.0 file (JSON or binary), resolving external buffers relative to its
@@ -399,7 +401,51 @@ impl Loader<'_> {
                 self.add_camera(&camera, local_to_world)?;
             }
         }
+        self.add_punctual_light(node, local_to_world);
         Ok(())
+    }
+
+    /// Adds a node's KHR_lights_punctual light, read from the JSON (the `gltf` crate's
+    /// accessors unwrap what validation does not check); unusable ones are warnings.
+    fn add_punctual_light(&mut self, node: &Node, local_to_world: Mat4) {
+        use gltf::json::extensions::scene::khr_lights_punctual::Type;
+        let Some(reference) = node
+            .extensions()
+            .and_then(|_| self.document.as_json().nodes.get(node.index()))
+            .and_then(|json| json.extensions.as_ref())
+            .and_then(|extensions| extensions.khr_lights_punctual.as_ref())
+        else {
+            return;
+        };
+        let index = reference.light.value();
+        let light = self
+            .document
+            .as_json()
+            .extensions
+            .as_ref()
+            .and_then(|e| e.khr_lights_punctual.as_ref())
+            .and_then(|l| l.lights.get(index));
+        let node_name = label(node.name(), node.index());
+        let Some(light) = light else {
+            self.builder.warn(format!("node '{node_name}' names light {index}, which does not exist; ignored"));
+            return;
+        };
+        let kind = match (&light.type_, &light.spot) {
+            (Checked::Valid(Type::Point), _) => PunctualKind::Point,
+            (Checked::Valid(Type::Directional), _) => PunctualKind::Directional,
+            (Checked::Valid(Type::Spot), Some(spot)) => PunctualKind::Spot {
+                inner_cone_angle: spot.inner_cone_angle,
+                outer_cone_angle: spot.outer_cone_angle,
+            },
+            _ => {
+                self.builder.warn(format!("light {index} of node '{node_name}' has an unknown type or a spot without its cone; ignored"));
+                return;
+            }
+        };
+        match PunctualLight::new(kind, Vec3::from(light.color), light.intensity, local_to_world) {
+            Some(light) => self.builder.add_punctual_light(light),
+            None => self.builder.warn(format!("light {index} of node '{node_name}' has a degenerate transform or intensity; ignored")),
+        }
     }
 
     /// Adds every primitive of a mesh, transformed to world space.

@@ -286,6 +286,11 @@ impl SceneBuilder {
         self.scene.warnings.push(warning);
     }
 
+    /// Adds a punctual light (glTF's KHR_lights_punctual).
+    pub fn add_punctual_light(&mut self, light: punctual::PunctualLight) {
+        self.scene.punctual_lights.push(light);
+    }
+
     /// Sets the scene's camera.
     pub fn set_camera(&mut self, camera: Camera) {
         self.scene.camera = Some(camera);
