@@ -10,7 +10,7 @@
 //!    `libOpenImageDenoise.so.2`, `.so.1`, `.so`.
 //!
 //! OIDN 1.x and 2.x both work: the few C functions used here have kept their signatures, and
-//! the one that was renamed (`oidnSetFilter1b`, `oidnSetFilterBool` since 2.0) is looked up
+//! the one that was renamed (`oidnSetFilter1b`, `oidnSetFilterBool` in 2.x) is looked up
 //! under both names. The device is always OIDN's CPU device, because the images are shared
 //! from host memory (`oidnSetSharedFilterImage`), which a GPU device could not read.
 //!
@@ -36,7 +36,8 @@ const SONAMES: [&str; 3] = [
 ];
 
 /// The TBB that OIDN needs; loaded first from the OIDN library's own folder when it is
-/// there, since a library unpacked from a Python wheel does not find it through its RPATH.
+/// there, since a library unpacked from a Python wheel (whose RPATH is `$ORIGIN/../lib`)
+/// does not find it otherwise.
 const TBB_SONAME: &str = "libtbb.so.12";
 
 /// How to install OIDN, the tail of the not-found messages.
@@ -145,7 +146,11 @@ fn check_layers(
     if normal.is_some() && albedo.is_none() {
         return invalid("OIDN takes a normal layer only together with an albedo layer".into());
     }
-    let layers = [("color", Some(color)), ("albedo", albedo), ("normal", normal)];
+    let layers = [
+        ("color", Some(color)),
+        ("albedo", albedo),
+        ("normal", normal),
+    ];
     for (name, layer) in layers {
         if let Some(layer) = layer {
             if layer.len() != pixel_count {
@@ -263,17 +268,37 @@ fn load_file(path: &Path) -> Result<Api, DenoiseError> {
         path: path.display().to_string(),
         reason: one_line(&reason),
     };
-    let tbb_path: PathBuf = path.with_file_name(TBB_SONAME);
-    let tbb = if tbb_path.exists() {
+    let tbb = match sibling_tbb(path) {
         // SAFETY: as in `load`: TBB's initialisers have no preconditions. Once loaded, the
         // dynamic loader satisfies OIDN's dependency on the soname libtbb.so.12 with it.
-        Some(unsafe { Library::new(&tbb_path) }.map_err(|error| unusable(error.to_string()))?)
-    } else {
-        None
+        Some(tbb_path) => {
+            Some(unsafe { Library::new(&tbb_path) }.map_err(|error| unusable(error.to_string()))?)
+        }
+        None => None,
     };
     // SAFETY: as in `load`.
     let library = unsafe { Library::new(path) }.map_err(|error| unusable(error.to_string()))?;
     resolve(library, tbb, path.display().to_string())
+}
+
+/// The TBB beside the OIDN library `path`: `libtbb.so.12`, or else a `libtbb.so.12.*` (a
+/// wheel ships the versioned file alone).
+fn sibling_tbb(path: &Path) -> Option<PathBuf> {
+    let exact = path.with_file_name(TBB_SONAME);
+    if exact.exists() {
+        return Some(exact);
+    }
+    let folder = path.parent()?.read_dir().ok()?;
+    let versioned_prefix = format!("{TBB_SONAME}.");
+    folder
+        .filter_map(|entry| entry.ok())
+        .map(|entry| entry.path())
+        .find(|candidate| {
+            candidate
+                .file_name()
+                .and_then(|name| name.to_str())
+                .is_some_and(|name| name.starts_with(&versioned_prefix))
+        })
 }
 
 /// Looks up the functions vkpath calls.
@@ -292,7 +317,7 @@ fn resolve(library: Library, tbb: Option<Library>, location: String) -> Result<A
                 .map_err(|_| missing($name))?
         };
     }
-    // oidnSetFilter1b was renamed oidnSetFilterBool in OIDN 2.0 (same signature).
+    // oidnSetFilter1b became oidnSetFilterBool in OIDN 2 (same signature).
     let set_filter_bool: SetFilterBoolFn =
         match unsafe { library.get::<SetFilterBoolFn>(b"oidnSetFilterBool\0") } {
             Ok(symbol) => *symbol,
@@ -336,7 +361,11 @@ fn check(api: &Api, device: Handle, step: &'static str) -> Result<(), DenoiseErr
         // SAFETY: non-null and NUL-terminated, see above; copied before any other OIDN call.
         one_line(&unsafe { CStr::from_ptr(message) }.to_string_lossy())
     };
-    Err(DenoiseError::Oidn { step, code, message })
+    Err(DenoiseError::Oidn {
+        step,
+        code,
+        message,
+    })
 }
 
 /// An OIDN CPU device, released on drop.
@@ -426,14 +455,22 @@ impl<'device> Filter<'device> {
                 pixel_stride * width,
             )
         };
-        check(self.device.api, self.device.handle, "set an image of the RT filter")
+        check(
+            self.device.api,
+            self.device.handle,
+            "set an image of the RT filter",
+        )
     }
 
     /// Tells the filter that the colour is HDR (linear, any range), not [0, 1] sRGB-like.
     fn set_hdr(&self) -> Result<(), DenoiseError> {
         // SAFETY: live filter, NUL-terminated parameter name.
         unsafe { (self.device.api.set_filter_bool)(self.handle, c"hdr".as_ptr(), true) };
-        check(self.device.api, self.device.handle, "set the RT filter's hdr mode")
+        check(
+            self.device.api,
+            self.device.handle,
+            "set the RT filter's hdr mode",
+        )
     }
 
     fn commit_and_execute(&self) -> Result<(), DenoiseError> {
@@ -478,8 +515,14 @@ mod tests {
 
     #[test]
     fn non_finite_values_become_zero() {
-        let pixels = [[f32::NAN, f32::INFINITY, 1.5], [f32::NEG_INFINITY, -2.0, 0.0]];
-        assert_eq!(finite_or_zero(&pixels), vec![[0.0, 0.0, 1.5], [0.0, -2.0, 0.0]]);
+        let pixels = [
+            [f32::NAN, f32::INFINITY, 1.5],
+            [f32::NEG_INFINITY, -2.0, 0.0],
+        ];
+        assert_eq!(
+            finite_or_zero(&pixels),
+            vec![[0.0, 0.0, 1.5], [0.0, -2.0, 0.0]]
+        );
     }
 
     #[test]

@@ -3,22 +3,25 @@
 //! one, and contains no NaN. These tests need OIDN (`bash scripts/install-oidn.sh`, which
 //! `scripts/test.sh` runs through `scripts/install-deps.sh`); without it they fail with that
 //! instruction, never skip.
+//!
+//! Measured on lavapipe with OIDN 1.4.3 (colour only, 128x128): the workshop's integrator
+//! relMSE 0.256 noisy, 0.0105 denoised (24x lower); MIS 0.0330 and 0.0044 (7.5x).
 
 mod common;
 
 use vkpath::denoise::{available, denoise};
 use vkpath::{Integrator, RenderSettings, Renderer, SamplerKind, Scene};
 
-const WIDTH: u32 = 64;
-const HEIGHT: u32 = 64;
+/// 128x128: at 64x64 the box's edges, which a colour-only denoiser blurs, are a larger
+/// share of the pixels (measured there: workshop 12.6x, MIS only 5.4x better).
+const WIDTH: u32 = 128;
+const HEIGHT: u32 = 128;
 /// The noisy image's sample count, a typical preview that one wants to denoise.
 const NOISY_SPP: u32 = 16;
-/// The reference: MIS with Owen-scrambled Sobol points, vkpath's most efficient estimator,
-/// at 4096 spp. Its own relMSE is about 16 / 4096 / (3.7 * 8.7 / 3.7) of the noisy
-/// workshop image's (README: sobol-mis is ~9x as efficient as the workshop's integrator at
-/// equal time), i.e. ~5e-4 of it: far below the denoised image's error, so the reference's
-/// noise does not decide the comparison.
-const REFERENCE_SPP: u32 = 4096;
+/// The reference: MIS with Owen-scrambled Sobol points, vkpath's most efficient estimator.
+/// Its own noise does not decide the comparison: with 4096 spp instead of 2048 every relMSE
+/// below changed by less than 1.5% (measured on lavapipe; denoised MIS 0.00443 -> 0.00437).
+const REFERENCE_SPP: u32 = 2048;
 /// What the test demands of the denoiser (the issue's acceptance criterion).
 const REQUIRED_IMPROVEMENT: f64 = 5.0;
 
@@ -71,8 +74,14 @@ fn denoising_16_spp_is_at_least_5x_closer_to_the_reference() {
     for integrator in [Integrator::PathTracing, Integrator::Mis] {
         let noisy = render(integrator, SamplerKind::Pcg, NOISY_SPP, 2);
         let clean = denoised(&noisy, WIDTH, HEIGHT);
-        let nan_pixels = clean.iter().filter(|p| p.iter().any(|v| v.is_nan())).count();
-        assert_eq!(nan_pixels, 0, "{integrator:?}: {nan_pixels} denoised pixels are NaN");
+        let nan_pixels = clean
+            .iter()
+            .filter(|p| p.iter().any(|v| v.is_nan()))
+            .count();
+        assert_eq!(
+            nan_pixels, 0,
+            "{integrator:?}: {nan_pixels} denoised pixels are NaN"
+        );
         let (noisy_error, clean_error) = (rel_mse(&noisy, &reference), rel_mse(&clean, &reference));
         println!(
             "{integrator:?} at {NOISY_SPP} spp: relMSE noisy {noisy_error:.5}, denoised \
@@ -97,7 +106,10 @@ fn non_finite_pixels_do_not_spread() {
     color[600] = [f32::INFINITY; 3];
     let clean = denoised(&color, width, height);
     for (index, pixel) in clean.iter().enumerate() {
-        assert!(pixel.iter().all(|v| v.is_finite()), "pixel {index} is {pixel:?}");
+        assert!(
+            pixel.iter().all(|v| v.is_finite()),
+            "pixel {index} is {pixel:?}"
+        );
     }
     let mean = clean.iter().map(|p| f64::from(p[1])).sum::<f64>() / clean.len() as f64;
     assert!((mean - 0.5).abs() < 0.05, "the grey image became {mean}");
