@@ -54,6 +54,7 @@ pub mod camera;
 #[doc(hidden)]
 pub mod cli;
 pub mod compare;
+pub mod denoise;
 pub mod error;
 #[doc(hidden)]
 pub mod exercise;
