@@ -77,6 +77,7 @@ impl QuadScene {
             warnings: Vec::new(),
             punctual_lights: Vec::new(),
             environment: None,
+            cameras: Vec::new(),
             materials: Some(SceneMaterials {
                 materials: self.materials,
                 textures: self.textures,

@@ -1,6 +1,6 @@
 //! `vkpath render`: loads a scene, renders it progressively and writes the image.
 
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 
 use anyhow::bail;
 use glam::Vec3;
@@ -124,6 +124,9 @@ pub struct CameraArgs {
     /// Vertical field of view in degrees.
     #[arg(long, default_value_t = DEFAULT_VERTICAL_FOV_DEGREES)]
     pub fov: f32,
+    /// The file's N-th perspective camera (0: the first, the default).
+    #[arg(long = "camera", conflicts_with_all = ["camera_position", "look_at"])]
+    pub camera_index: Option<usize>,
 }
 
 impl RenderArgs {
@@ -147,7 +150,16 @@ impl RenderArgs {
             look_at,
             up,
             fov,
+            camera_index,
         } = self.camera;
+        if let Some(index) = camera_index {
+            return scene.cameras.get(index).copied().ok_or_else(|| {
+                anyhow::anyhow!(
+                    "--camera {index}: the scene has {} perspective camera(s), numbered from 0",
+                    scene.cameras.len()
+                )
+            });
+        }
         match (camera_position, look_at) {
             (Some(position), Some(target)) => {
                 Ok(Camera::look_at_checked(position, target, up, fov)?)
@@ -158,12 +170,15 @@ impl RenderArgs {
             (None, None) => match scene.camera {
                 Some(camera) => Ok(camera),
                 None => {
-                    let name = self.scene.scene.as_deref().unwrap_or(Path::new(""));
-                    bail!(
-                        "scene '{}' has no camera: pass --camera-position X,Y,Z and \
-                         --look-at X,Y,Z (and optionally --up, --fov)",
-                        name.display()
-                    )
+                    let aspect = self.width as f32 / self.height as f32;
+                    let Some((camera, centre, radius)) = scene.framing_camera(aspect) else {
+                        bail!("the scene has no camera and nothing to frame");
+                    };
+                    eprintln!(
+                        "vkpath: the scene has no camera: framing its bounding sphere (centre {:.3},{:.3},{:.3}, radius {radius:.3}) from +Z, 20 degrees above, vertical field of view {DEFAULT_VERTICAL_FOV_DEGREES} degrees",
+                        centre.x, centre.y, centre.z
+                    );
+                    Ok(camera)
                 }
             },
         }

@@ -67,6 +67,7 @@ pub fn workshop_cornell_box() -> Result<Scene, SceneError> {
         materials: None,
         punctual_lights: Vec::new(),
         environment: None,
+        cameras: vec![camera],
     })
 }
 

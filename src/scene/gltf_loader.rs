@@ -399,6 +399,13 @@ impl Loader<'_> {
         if let Some(camera) = node.camera() {
             if !self.builder.has_camera() {
                 self.add_camera(&camera, local_to_world)?;
+            } else {
+                // Later cameras (for --camera N): an unusable one is a warning, not an error.
+                let had = self.builder.camera_count();
+                if let Err(error) = self.add_camera(&camera, local_to_world) {
+                    self.builder.warn(format!("{error}; the camera is ignored"));
+                }
+                debug_assert!(self.builder.camera_count() >= had);
             }
         }
         self.add_punctual_light(node, local_to_world);

@@ -47,8 +47,10 @@ pub struct Triangle {
 pub struct Scene {
     /// All triangles; degenerate ones were dropped when loading.
     pub triangles: Vec<Triangle>,
-    /// The scene's own camera, if it has one.
+    /// The scene's own camera, if it has one: the first of `cameras`.
     pub camera: Option<Camera>,
+    /// Every perspective camera of the file, in the order of its nodes (`--camera N`).
+    pub cameras: Vec<Camera>,
     /// Things the loader ignored that the user should know about (e.g. textures).
     pub warnings: Vec<String>,
     /// Materials, textures and per-vertex shading data, for scenes that need more than the
@@ -117,6 +119,33 @@ impl Scene {
             .any(|t| t.emission.max_element() > 0.0)
             || self.punctual_lights.iter().any(|l| l.emits_light())
             || self.environment.as_ref().is_some_and(|e| e.emits_light())
+    }
+
+    /// A camera that frames the scene's bounding sphere for an image of `aspect` (width /
+    /// height), for files without one: from the +Z side, 20 degrees above (+Y is up), with
+    /// the default vertical field of view (45 degrees), at the distance where the sphere fits
+    /// both the vertical and the horizontal field of view, plus 5%. `None` without triangles.
+    pub fn framing_camera(&self, aspect: f32) -> Option<(Camera, Vec3, f32)> {
+        let mut low = Vec3::splat(f32::INFINITY);
+        let mut high = Vec3::splat(f32::NEG_INFINITY);
+        for triangle in &self.triangles {
+            for position in triangle.positions {
+                low = low.min(position);
+                high = high.max(position);
+            }
+        }
+        if !low.is_finite() || !high.is_finite() {
+            return None;
+        }
+        let centre = 0.5 * (low + high);
+        let radius = (0.5 * (high - low).length()).max(1e-6);
+        let vertical = crate::camera::DEFAULT_VERTICAL_FOV_DEGREES.to_radians();
+        let half_vertical = 0.5 * vertical;
+        let half_horizontal = (half_vertical.tan() * aspect).atan();
+        let distance = 1.05 * radius / half_vertical.min(half_horizontal).sin();
+        let elevation = 20f32.to_radians();
+        let position = centre + distance * Vec3::new(0.0, elevation.sin(), elevation.cos());
+        Some((Camera::look_at(position, centre, Vec3::Y, vertical), centre, radius))
     }
 
     /// Whether the scene needs the kernels built with USE_MATERIALS: glTF materials, an
@@ -291,9 +320,15 @@ impl SceneBuilder {
         self.scene.punctual_lights.push(light);
     }
 
-    /// Sets the scene's camera.
+    /// Adds a camera; the first one is the scene's camera.
     pub fn set_camera(&mut self, camera: Camera) {
-        self.scene.camera = Some(camera);
+        self.scene.camera.get_or_insert(camera);
+        self.scene.cameras.push(camera);
+    }
+
+    /// How many cameras were added.
+    pub fn camera_count(&self) -> usize {
+        self.scene.cameras.len()
     }
 
     /// Whether a camera was set already (loaders take the first one they meet).

@@ -61,6 +61,7 @@ pub fn furnace(albedo: f32, emission: f32) -> Scene {
         materials: None,
         punctual_lights: Vec::new(),
         environment: None,
+        cameras: Vec::new(),
     }
 }
 
