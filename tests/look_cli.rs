@@ -58,8 +58,16 @@ fn tone_maps_change_pngs_but_never_exrs() {
     let path = dir.path();
     // Two stops up, the box's walls are far above 1: clamp clips them, the curves do not.
     for map in ["clamp", "aces", "agx"] {
-        cornell(path, &format!("{map}.png"), &["--tonemap", map, "--exposure", "2"]);
-        cornell(path, &format!("{map}.exr"), &["--tonemap", map, "--exposure", "2"]);
+        cornell(
+            path,
+            &format!("{map}.png"),
+            &["--tonemap", map, "--exposure", "2"],
+        );
+        cornell(
+            path,
+            &format!("{map}.exr"),
+            &["--tonemap", map, "--exposure", "2"],
+        );
     }
     let (width, height, clamp) = pixels(&path.join("clamp.png"));
     assert_eq!((width, height), (64, 64));
@@ -70,7 +78,10 @@ fn tone_maps_change_pngs_but_never_exrs() {
     // tone map that was silently ignored.
     for (name, other) in [("aces", &aces), ("agx", &agx)] {
         let n = differing(&clamp, other);
-        assert!(n > clamp.len() / 10, "{name} differs from clamp in {n} channels");
+        assert!(
+            n > clamp.len() / 10,
+            "{name} differs from clamp in {n} channels"
+        );
     }
     assert!(differing(&aces, &agx) > 0);
     // A bright scene: clamp clips, AgX rolls off.
@@ -92,7 +103,11 @@ fn automatic_exposure_clips_under_one_percent_of_the_cornell_box() {
     let path = dir.path();
     // The workshop's display (clamp at 0 stops), as every PNG was before tone maps: the
     // light and the walls near it clip (measured 31% of pixels at 512x512).
-    cornell(path, "before.png", &["--tonemap", "clamp", "--exposure", "0"]);
+    cornell(
+        path,
+        "before.png",
+        &["--tonemap", "clamp", "--exposure", "0"],
+    );
     let before = clipped_share(&path.join("before.png"));
     assert!(before > 0.1, "clamp clipped only {before}");
     // The default tone map (agx) with automatic exposure.
@@ -182,7 +197,10 @@ fn a_preview_is_written_while_the_render_runs_and_at_the_end() {
     let output = child.wait_with_output().unwrap();
     let stderr = String::from_utf8_lossy(&output.stderr);
     assert!(output.status.success(), "{stderr}");
-    assert!(seen_while_running, "no preview before the render ended: {stderr}");
+    assert!(
+        seen_while_running,
+        "no preview before the render ended: {stderr}"
+    );
     // The last preview is of the final image; one line says so, no line per rewrite.
     assert_eq!(pixels(&preview).0, 48);
     assert_eq!(stderr.matches("preview").count(), 1, "{stderr}");
@@ -204,8 +222,14 @@ fn bad_look_options_are_one_line_usage_errors() {
         (&["--tonemap", "foo"][..], "--tonemap"),
         (&["--exposure", "nope"], "--exposure"),
         (&["--exposure", "inf"], "--exposure"),
-        (&["--preview", "p.png", "--preview-interval", "0"], "--preview-interval"),
-        (&["--preview", "p.png", "--preview-interval", "-1"], "--preview-interval"),
+        (
+            &["--preview", "p.png", "--preview-interval", "0"],
+            "--preview-interval",
+        ),
+        (
+            &["--preview", "p.png", "--preview-interval", "-1"],
+            "--preview-interval",
+        ),
         (&["--preview-interval", "1"], "--preview"),
     ] {
         let mut args = render.to_vec();
@@ -226,6 +250,13 @@ fn bad_look_options_are_one_line_usage_errors() {
     let output = common::vkpath(dir.path(), &args);
     let stderr = String::from_utf8_lossy(&output.stderr);
     assert_eq!(output.status.code(), Some(1), "{stderr}");
-    assert!(stderr.contains("p.exr") && stderr.contains(".png"), "{stderr}");
-    assert_eq!(std::fs::read_dir(dir.path()).unwrap().count(), 0, "files left behind");
+    assert!(
+        stderr.contains("p.exr") && stderr.contains(".png"),
+        "{stderr}"
+    );
+    assert_eq!(
+        std::fs::read_dir(dir.path()).unwrap().count(),
+        0,
+        "files left behind"
+    );
 }

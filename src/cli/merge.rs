@@ -31,7 +31,11 @@ pub fn run(args: &MergeArgs) -> anyhow::Result<()> {
     let (merged, metadata) = merge_state_files(&args.shards)?;
     match format {
         ImageFormat::Exr => write_state(&args.output, &merged, &metadata)?,
-        ImageFormat::Png => save_image(&args.output, &merged.image(), &args.save.options(RENDER_PNG_TONE_MAP))?,
+        ImageFormat::Png => save_image(
+            &args.output,
+            &merged.image(),
+            &args.save.options(RENDER_PNG_TONE_MAP),
+        )?,
     }
     if !args.quiet {
         eprintln!(

@@ -233,7 +233,9 @@ fn parse_exposure(text: &str) -> Result<Exposure, String> {
     }
     match text.parse::<f32>() {
         Ok(value) if value.is_finite() => Ok(Exposure::Stops(value)),
-        _ => Err(format!("'{text}' is neither 'auto' nor a finite number of stops")),
+        _ => Err(format!(
+            "'{text}' is neither 'auto' nor a finite number of stops"
+        )),
     }
 }
 

@@ -288,7 +288,19 @@ mod tests {
     #[test]
     fn the_clamp_tone_map_writes_what_to_srgb8_wrote() {
         // `exercise` PNGs must stay byte for byte what they were before tone maps existed.
-        let values = [0.0, 1e-4, 0.003, 0.2, 0.5, 0.99, 1.0, 7.0, -2.0, f32::NAN, f32::INFINITY];
+        let values = [
+            0.0,
+            1e-4,
+            0.003,
+            0.2,
+            0.5,
+            0.99,
+            1.0,
+            7.0,
+            -2.0,
+            f32::NAN,
+            f32::INFINITY,
+        ];
         let mut image = RenderedImage::from_accumulation(values.len() as u32, 1, &[[0.0; 4]; 33]);
         for (pixel, &v) in image.mean.iter_mut().zip(&values) {
             *pixel = [v, v * 0.5, v * 3.0, 1.0];
@@ -297,7 +309,13 @@ mod tests {
             let expected: Vec<u8> = image
                 .mean
                 .iter()
-                .flat_map(|p| [to_srgb8(p[0], stops), to_srgb8(p[1], stops), to_srgb8(p[2], stops)])
+                .flat_map(|p| {
+                    [
+                        to_srgb8(p[0], stops),
+                        to_srgb8(p[1], stops),
+                        to_srgb8(p[2], stops),
+                    ]
+                })
                 .collect();
             let written = tone_mapped_srgb8(&image, Exposure::Stops(stops), ToneMap::Clamp);
             assert_eq!(written, expected, "exposure {stops}");

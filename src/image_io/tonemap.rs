@@ -241,9 +241,15 @@ mod tests {
 
     #[test]
     fn clamp_is_exposure_then_clip() {
-        assert_eq!(tone_map([0.5, 0.25, 0.0], 1.0, ToneMap::Clamp), [0.5, 0.25, 0.0]);
+        assert_eq!(
+            tone_map([0.5, 0.25, 0.0], 1.0, ToneMap::Clamp),
+            [0.5, 0.25, 0.0]
+        );
         assert_eq!(tone_map([1.0; 3], 1.0, ToneMap::Clamp), [1.0; 3]);
-        assert_eq!(tone_map([7.0, -1.0, f32::NAN], 1.0, ToneMap::Clamp), [1.0, 0.0, 0.0]);
+        assert_eq!(
+            tone_map([7.0, -1.0, f32::NAN], 1.0, ToneMap::Clamp),
+            [1.0, 0.0, 0.0]
+        );
         // One stop down halves the radiance before the clip.
         assert_eq!(tone_map([1.0; 3], 0.5, ToneMap::Clamp), [0.5; 3]);
     }
@@ -271,7 +277,11 @@ mod tests {
             // From 2^-12 to 2^8 in quarter stops.
             for step in -48..=32 {
                 let value = grey((step as f32 / 4.0).exp2(), map);
-                assert!(value >= previous, "{map:?} falls at 2^{}", step as f32 / 4.0);
+                assert!(
+                    value >= previous,
+                    "{map:?} falls at 2^{}",
+                    step as f32 / 4.0
+                );
                 previous = value;
             }
         }
@@ -290,7 +300,10 @@ mod tests {
             assert!(middle > 0.05 && middle < 0.3, "{map:?}: 0.18 -> {middle}");
             // inf is white, NaN black.
             assert!(grey(f32::INFINITY, map) > 0.99, "{map:?}");
-            assert_eq!(tone_map([f32::NAN; 3], 1.0, map), tone_map([0.0; 3], 1.0, map));
+            assert_eq!(
+                tone_map([f32::NAN; 3], 1.0, map),
+                tone_map([0.0; 3], 1.0, map)
+            );
         }
         // Hill's fit: RRTAndODTFit(0.18) = 0.1056 for a grey.
         assert!((grey(MIDDLE_GREY, ToneMap::Aces) - 0.1056).abs() < 1e-3);
@@ -304,7 +317,10 @@ mod tests {
         let (dim, bright) = (red(0.25), red(64.0));
         assert!(dim[0] > dim[1] * 4.0, "{dim:?}");
         assert!(bright[1] > 0.5 && bright[2] > 0.5, "{bright:?}");
-        assert!(bright[0] >= bright[1] && bright[0] >= bright[2], "{bright:?}");
+        assert!(
+            bright[0] >= bright[1] && bright[0] >= bright[2],
+            "{bright:?}"
+        );
     }
 
     #[test]
@@ -312,7 +328,10 @@ mod tests {
         for l in [0.01f32, 0.5, 3.0, 1000.0] {
             let stops = auto_exposure(&uniform([l; 3], 16));
             let scale = stops.exp2();
-            assert!((scale - MIDDLE_GREY / l).abs() <= 1e-4 * MIDDLE_GREY / l, "{l}: {scale}");
+            assert!(
+                (scale - MIDDLE_GREY / l).abs() <= 1e-4 * MIDDLE_GREY / l,
+                "{l}: {scale}"
+            );
         }
         // The geometric mean of 0.02 and 2 is 0.2.
         let mut image = uniform([0.02; 3], 2);

@@ -154,9 +154,10 @@ pub fn run_job(
         }),
     };
     let outcome = renderer.render_with(progress, control)?;
-    let preview_failure = options.preview.as_ref().and_then(|preview| {
-        save_image(&preview.path, &outcome.image, &preview.save).err()
-    });
+    let preview_failure = options
+        .preview
+        .as_ref()
+        .and_then(|preview| save_image(&preview.path, &outcome.image, &preview.save).err());
     // Every stop writes the checkpoint, so that nothing rendered is lost.
     if let Some(path) = &options.checkpoint {
         write_state(

@@ -482,7 +482,8 @@ impl Renderer {
             let preview_due = due(&control.preview, last_preview);
             if (checkpoint_due || preview_due) && !self.is_complete() {
                 let state = self.accumulation()?;
-                if let (true, Some((_, checkpoint))) = (checkpoint_due, control.checkpoint.as_mut()) {
+                if let (true, Some((_, checkpoint))) = (checkpoint_due, control.checkpoint.as_mut())
+                {
                     checkpoint(&state)?;
                     last_checkpoint = Instant::now();
                 }
