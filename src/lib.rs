@@ -6,7 +6,7 @@
 //! [`Camera`], [`RenderSettings`] and a Vulkan [`Context`]; a [`Renderer`] adds samples to
 //! an accumulation image batch by batch and reads the image back as a [`RenderedImage`]
 //! (per-pixel mean, second moment and sample count), which [`save_image`] writes as EXR or
-//! PNG. [`compare_images`] tests whether one image is an unbiased estimate of another.
+//! PNG (through a [`ToneMap`]). [`compare_images`] tests whether one image is an unbiased estimate of another.
 //!
 //! ```
 //! use vkpath::{Context, ContextOptions, RenderSettings, Renderer, Scene};
@@ -69,6 +69,7 @@ pub use compare::{compare_images, CompareOptions, CompareReport};
 pub use error::{Error, Result};
 pub use image_io::data::RenderedImage;
 pub use image_io::output::{save_image, SaveOptions};
+pub use image_io::tonemap::{Exposure, ToneMap};
 pub use render::settings::{
     Accel, Integrator, LightSampling, PixelFilter, RenderSettings, SamplerKind,
 };

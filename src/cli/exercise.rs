@@ -13,6 +13,7 @@ use crate::exercise::{
     Exercise, ExerciseKind, ExerciseSampler,
 };
 use crate::image_io::output::{check_writable, save_image};
+use crate::image_io::tonemap::ToneMap;
 use crate::render::settings::{PixelFilter, RenderSettings};
 use crate::scene::SceneSource;
 
@@ -149,7 +150,8 @@ fn parse_color(text: &str) -> Result<Vec3, String> {
 
 /// Runs `vkpath exercise`.
 pub fn run(args: &ExerciseArgs) -> anyhow::Result<()> {
-    let save = args.save.options();
+    // The workshop's display: exposure, then clip (PNGs byte for byte as they always were).
+    let save = args.save.options(ToneMap::Clamp);
     match args.name.kind() {
         ExerciseKind::Render(integrator) => {
             if args.brdf.any_given() {

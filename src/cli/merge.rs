@@ -5,6 +5,7 @@ use std::path::PathBuf;
 use super::options::SaveArgs;
 use crate::image_io::output::{check_writable, save_image, ImageFormat};
 use crate::image_io::state_exr::{merge_state_files, write_state};
+use crate::image_io::tonemap::RENDER_PNG_TONE_MAP;
 
 /// Arguments of `vkpath merge`.
 #[derive(Debug, Clone, clap::Args)]
@@ -16,7 +17,7 @@ pub struct MergeArgs {
     /// The merged image: .exr (with the merged state, so it can be merged again) or .png.
     #[arg(short, long)]
     pub output: PathBuf,
-    /// How a PNG is written.
+    /// How a PNG is written (tone map: agx unless --tonemap says otherwise).
     #[command(flatten)]
     pub save: SaveArgs,
     /// Print nothing but warnings and errors.
@@ -30,7 +31,11 @@ pub fn run(args: &MergeArgs) -> anyhow::Result<()> {
     let (merged, metadata) = merge_state_files(&args.shards)?;
     match format {
         ImageFormat::Exr => write_state(&args.output, &merged, &metadata)?,
-        ImageFormat::Png => save_image(&args.output, &merged.image(), &args.save.options())?,
+        ImageFormat::Png => save_image(
+            &args.output,
+            &merged.image(),
+            &args.save.options(RENDER_PNG_TONE_MAP),
+        )?,
     }
     if !args.quiet {
         eprintln!(

@@ -6,10 +6,13 @@ use std::path::PathBuf;
 use std::time::{Duration, Instant};
 
 use super::output::Reporting;
-use crate::render::job::{shard_range, JobOptions, DEFAULT_CHECKPOINT_INTERVAL};
+use crate::render::job::{
+    shard_range, JobOptions, PreviewOptions, DEFAULT_CHECKPOINT_INTERVAL, DEFAULT_PREVIEW_INTERVAL,
+};
 use crate::render::metadata::parse_range;
 
 use crate::image_io::output::SaveOptions;
+use crate::image_io::tonemap::{Exposure, ToneMap};
 use crate::render::settings::{Accel, LightSampling, RenderSettings, SamplerKind};
 use crate::scene::files::LoadOptions;
 use crate::scene::{Scene, SceneSource};
@@ -127,6 +130,15 @@ pub struct JobArgs {
     /// contiguous sample ranges (e.g. from SLURM_ARRAY_TASK_ID or JOB_COMPLETION_INDEX).
     #[arg(long, value_parser = parse_shard)]
     pub shard: Option<(u32, u32)>,
+    /// Rewrite a tone-mapped PNG of the image so far here (atomically) every
+    /// --preview-interval seconds and when the render stops, with the output's --exposure
+    /// and --tonemap.
+    #[arg(long)]
+    pub preview: Option<PathBuf>,
+    /// Seconds between previews.
+    #[arg(long, value_parser = parse_seconds, default_value_t = DEFAULT_PREVIEW_INTERVAL.as_secs_f64(),
+        allow_negative_numbers = true, requires = "preview")]
+    pub preview_interval: f64,
     /// Print one JSON object at the end (output, spp, seconds, samples/s, devices, stop
     /// reason) on stdout instead of the progress bar and summary.
     #[arg(long)]
@@ -137,8 +149,9 @@ pub struct JobArgs {
 }
 
 impl JobArgs {
-    /// The library's job options for a render of `spp` samples per pixel.
-    pub fn options(&self, spp: u32) -> anyhow::Result<JobOptions<'static>> {
+    /// The library's job options for a render of `spp` samples per pixel; a preview is
+    /// written with `save`.
+    pub fn options(&self, spp: u32, save: SaveOptions) -> anyhow::Result<JobOptions<'static>> {
         let samples = match (&self.sample_range, self.shard) {
             (Some(range), _) => range.clone(),
             (None, Some((index, count))) => shard_range(index, count, spp)?,
@@ -158,6 +171,14 @@ impl JobArgs {
             checkpoint: self.checkpoint.clone(),
             checkpoint_interval: Duration::from_secs_f64(self.checkpoint_interval),
             resume: self.resume.clone(),
+            preview: self.preview.clone().map(|path| PreviewOptions {
+                path,
+                interval: Duration::from_secs_f64(self.preview_interval),
+                save: SaveOptions {
+                    moments: false,
+                    ..save
+                },
+            }),
         })
     }
 
@@ -206,30 +227,43 @@ fn parse_shard(text: &str) -> Result<(u32, u32), String> {
     }
 }
 
-/// A finite exposure.
-fn parse_exposure(text: &str) -> Result<f32, String> {
+/// `auto`, or a finite number of stops.
+fn parse_exposure(text: &str) -> Result<Exposure, String> {
+    if text.eq_ignore_ascii_case("auto") {
+        return Ok(Exposure::Auto);
+    }
     match text.parse::<f32>() {
-        Ok(value) if value.is_finite() => Ok(value),
-        _ => Err(format!("'{text}' is not a finite number")),
+        Ok(value) if value.is_finite() => Ok(Exposure::Stops(value)),
+        _ => Err(format!(
+            "'{text}' is neither 'auto' nor a finite number of stops"
+        )),
     }
 }
 
-/// How the image file is written: `render` and `exercise` take it alike.
+/// How the image file is written: `render`, `merge` and `exercise` take it alike; only the
+/// default tone map differs (`options`).
 #[derive(Debug, Clone, clap::Args)]
 pub struct SaveArgs {
-    /// PNG only: multiply radiance by 2^EXPOSURE before clamping to [0, 1] and sRGB encoding.
-    #[arg(long, default_value_t = SaveOptions::default().exposure, allow_negative_numbers = true, value_parser = parse_exposure)]
-    pub exposure: f32,
+    /// PNG (and --preview) only: multiply radiance by 2^EXPOSURE before the tone map; `auto`
+    /// maps the image's log-average luminance to middle grey 0.18.
+    #[arg(long, default_value = "0", allow_negative_numbers = true, value_parser = parse_exposure)]
+    pub exposure: Exposure,
+    /// PNG (and --preview) only: how exposed radiance becomes display values
+    /// [default: agx; for `exercise`, clamp].
+    #[arg(long, value_enum)]
+    pub tonemap: Option<ToneMap>,
     /// EXR only: also store each pixel's second moment and sample count (for `vkpath compare`).
     #[arg(long)]
     pub moments: bool,
 }
 
 impl SaveArgs {
-    /// The library's save options these arguments describe.
-    pub fn options(&self) -> SaveOptions {
+    /// The library's save options these arguments describe, with `default_tone_map` when
+    /// --tonemap is not given.
+    pub fn options(&self, default_tone_map: ToneMap) -> SaveOptions {
         SaveOptions {
             exposure: self.exposure,
+            tone_map: self.tonemap.unwrap_or(default_tone_map),
             moments: self.moments,
         }
     }
@@ -240,6 +274,7 @@ mod tests {
     use clap::ValueEnum;
 
     use crate::bench::integrator_name;
+    use crate::image_io::tonemap::ToneMap;
     use crate::render::settings::{Integrator, LightSampling};
 
     /// The library spells some names itself (in reports, without clap); they must be the
@@ -253,6 +288,10 @@ mod tests {
         for light_sampling in LightSampling::value_variants() {
             let value = light_sampling.to_possible_value().unwrap();
             assert_eq!(value.get_name(), light_sampling.name());
+        }
+        for tone_map in ToneMap::value_variants() {
+            let value = tone_map.to_possible_value().unwrap();
+            assert_eq!(value.get_name(), tone_map.name());
         }
     }
 }

@@ -62,6 +62,7 @@ pub fn render_and_save(
         checkpoint: None,
         checkpoint_interval: DEFAULT_CHECKPOINT_INTERVAL,
         resume: None,
+        preview: None,
     };
     render_job_and_save(
         context,
@@ -122,11 +123,17 @@ pub fn render_job_and_save(
     } else {
         save_or_rescue(output, &result.image, save, metadata)?;
     }
+    if let Some(error) = &outcome.preview_failure {
+        eprintln!("vkpath: warning: {error} (the preview)");
+    }
     let quiet = reporting.quiet || reporting.json;
     if !quiet {
         eprintln!("vkpath: wrote {}", output.display());
         if let Some(checkpoint) = &job.checkpoint {
             eprintln!("vkpath: wrote {} (checkpoint)", checkpoint.display());
+        }
+        if let (Some(preview), None) = (&job.preview, &outcome.preview_failure) {
+            eprintln!("vkpath: wrote {} (preview)", preview.path.display());
         }
         let seconds = result.seconds;
         eprintln!(

@@ -9,7 +9,8 @@ use super::options::{JobArgs, RenderOptions, SaveArgs, SceneArgs};
 use super::output::{render_job_and_save, render_on_devices_and_save};
 use super::{parse_vec3, DeviceArgs};
 use crate::camera::{Camera, DEFAULT_VERTICAL_FOV_DEGREES};
-use crate::image_io::output::check_writable;
+use crate::image_io::output::{check_writable, ImageFormat};
+use crate::image_io::tonemap::RENDER_PNG_TONE_MAP;
 use crate::render::settings::{Integrator, PixelFilter, RenderSettings};
 use crate::scene::environment::{load_environment_map, Environment};
 use crate::scene::Scene;
@@ -189,7 +190,8 @@ impl RenderArgs {
 pub fn run(args: &RenderArgs) -> anyhow::Result<()> {
     let settings = args.settings();
     settings.validate()?;
-    let job = args.job.options(settings.spp)?;
+    let save = args.save.options(RENDER_PNG_TONE_MAP);
+    let job = args.job.options(settings.spp, save)?;
     check_writable(&args.output)?;
     let shard = args.job.is_shard();
     if shard
@@ -202,6 +204,14 @@ pub fn run(args: &RenderArgs) -> anyhow::Result<()> {
     }
     if let Some(checkpoint) = &job.checkpoint {
         check_writable(checkpoint)?;
+    }
+    if let Some(preview) = &job.preview {
+        if check_writable(&preview.path)? != ImageFormat::Png {
+            bail!(
+                "the preview '{}' is a tone-mapped picture: use a .png",
+                preview.path.display()
+            );
+        }
     }
     let mut scene = args.scene.load("vkpath render")?;
     scene.environment = args.lights.environment()?;
@@ -219,8 +229,8 @@ pub fn run(args: &RenderArgs) -> anyhow::Result<()> {
     }
     let camera = args.camera(&scene)?;
     if let Some(selectors) = args.device.several()? {
-        if job.checkpoint.is_some() || job.resume.is_some() {
-            bail!("--checkpoint and --resume work with one device; render on several with shards instead");
+        if job.checkpoint.is_some() || job.resume.is_some() || job.preview.is_some() {
+            bail!("--checkpoint, --resume and --preview work with one device; render on several with shards instead");
         }
         let contexts = args.device.create_contexts(&selectors)?;
         return render_on_devices_and_save(
@@ -230,7 +240,7 @@ pub fn run(args: &RenderArgs) -> anyhow::Result<()> {
             &settings,
             job,
             &args.output,
-            &args.save.options(),
+            &save,
             args.job.reporting(),
             shard,
         );
@@ -243,7 +253,7 @@ pub fn run(args: &RenderArgs) -> anyhow::Result<()> {
         &settings,
         job,
         &args.output,
-        &args.save.options(),
+        &save,
         args.job.reporting(),
         shard,
     )

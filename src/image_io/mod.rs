@@ -5,3 +5,4 @@ pub mod data;
 pub mod exr_input;
 pub mod output;
 pub mod state_exr;
+pub mod tonemap;

@@ -1,5 +1,6 @@
 //! Writing images: OpenEXR with linear radiance as 32-bit floats (optionally with the
-//! per-pixel second moment and sample count), or PNG, sRGB-encoded after exposure and clamp.
+//! per-pixel second moment and sample count), or PNG, sRGB-encoded after exposure and a
+//! tone map (`tonemap`).
 //! Files are written to a temporary name in the same directory and renamed into place, so a
 //! failed write never leaves a partial file behind.
 
@@ -11,13 +12,14 @@ use exr::prelude::{
 
 use crate::error::{Error, Result};
 use crate::image_io::data::RenderedImage;
+use crate::image_io::tonemap::{tone_map, Exposure, ToneMap};
 
 /// The file formats vkpath writes.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum ImageFormat {
     /// OpenEXR: linear radiance, 32-bit float per channel.
     Exr,
-    /// PNG: 8-bit sRGB after exposure and clamping.
+    /// PNG: 8-bit sRGB after exposure and a tone map.
     Png,
 }
 
@@ -27,22 +29,18 @@ pub const SECOND_MOMENT_CHANNELS: [&str; 3] =
 /// Name of the EXR channel holding each pixel's sample count (with `--moments`).
 pub const SAMPLE_COUNT_CHANNEL: &str = "sample_count.Y";
 
-/// How to turn radiance into an image file.
-#[derive(Clone, Copy, Debug, PartialEq)]
+/// How to turn radiance into an image file. The default writes a PNG's values as they are
+/// (0 stops, clamped to [0, 1]), right for images that are not scene radiance (heat maps,
+/// sample displays); `vkpath render` and `merge` use `tonemap::RENDER_PNG_TONE_MAP`.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct SaveOptions {
-    /// PNG only: radiance is multiplied by 2^exposure before clamping to [0, 1].
-    pub exposure: f32,
+    /// PNG only: radiance is multiplied by 2^stops (or the image's automatic exposure)
+    /// before the tone map.
+    pub exposure: Exposure,
+    /// PNG only: how exposed radiance becomes display values in [0, 1].
+    pub tone_map: ToneMap,
     /// EXR only: also store the second moment and sample count of each pixel.
     pub moments: bool,
-}
-
-impl Default for SaveOptions {
-    fn default() -> Self {
-        SaveOptions {
-            exposure: 0.0,
-            moments: false,
-        }
-    }
 }
 
 impl ImageFormat {
@@ -115,7 +113,7 @@ pub fn save_image_with_attributes(
             )
         }),
         ImageFormat::Png => write_atomically(path, |temporary| {
-            write_png(temporary, image, options.exposure)
+            write_png(temporary, image, options.exposure, options.tone_map)
         }),
     }
 }
@@ -228,7 +226,7 @@ pub fn linear_to_srgb(linear: f32) -> f32 {
 }
 
 /// 8-bit sRGB of a linear radiance value: times 2^exposure, clamped to [0, 1] (NaN to 0),
-/// encoded, rounded.
+/// encoded, rounded (the `Clamp` tone map of one channel).
 pub fn to_srgb8(radiance: f32, exposure: f32) -> u8 {
     let scaled = radiance * exposure.exp2();
     let clamped = if scaled.is_nan() {
@@ -236,21 +234,31 @@ pub fn to_srgb8(radiance: f32, exposure: f32) -> u8 {
     } else {
         scaled.clamp(0.0, 1.0)
     };
-    (linear_to_srgb(clamped) * 255.0).round() as u8
+    encode_srgb8(clamped)
 }
 
-fn write_png(path: &Path, image: &RenderedImage, exposure: f32) -> std::result::Result<(), String> {
-    let bytes: Vec<u8> = image
+/// 8-bit sRGB of a display-linear value in [0, 1], rounded.
+fn encode_srgb8(display_linear: f32) -> u8 {
+    (linear_to_srgb(display_linear) * 255.0).round() as u8
+}
+
+/// The 8-bit sRGB pixels (RGB, rows top-down) of `image` after `exposure` and `map`.
+pub fn tone_mapped_srgb8(image: &RenderedImage, exposure: Exposure, map: ToneMap) -> Vec<u8> {
+    let scale = exposure.scale_for(image);
+    image
         .mean
         .iter()
-        .flat_map(|p| {
-            [
-                to_srgb8(p[0], exposure),
-                to_srgb8(p[1], exposure),
-                to_srgb8(p[2], exposure),
-            ]
-        })
-        .collect();
+        .flat_map(|p| tone_map([p[0], p[1], p[2]], scale, map).map(encode_srgb8))
+        .collect()
+}
+
+fn write_png(
+    path: &Path,
+    image: &RenderedImage,
+    exposure: Exposure,
+    map: ToneMap,
+) -> std::result::Result<(), String> {
+    let bytes = tone_mapped_srgb8(image, exposure, map);
     image::save_buffer_with_format(
         path,
         &bytes,
@@ -275,6 +283,43 @@ mod tests {
         // Linear 0.5 is sRGB 0.735 -> 188; exposure -1 halves the radiance first.
         assert_eq!(to_srgb8(0.5, 0.0), 188);
         assert_eq!(to_srgb8(1.0, -1.0), 188);
+    }
+
+    #[test]
+    fn the_clamp_tone_map_writes_what_to_srgb8_wrote() {
+        // `exercise` PNGs must stay byte for byte what they were before tone maps existed.
+        let values = [
+            0.0,
+            1e-4,
+            0.003,
+            0.2,
+            0.5,
+            0.99,
+            1.0,
+            7.0,
+            -2.0,
+            f32::NAN,
+            f32::INFINITY,
+        ];
+        let mut image = RenderedImage::from_accumulation(values.len() as u32, 1, &[[0.0; 4]; 33]);
+        for (pixel, &v) in image.mean.iter_mut().zip(&values) {
+            *pixel = [v, v * 0.5, v * 3.0, 1.0];
+        }
+        for stops in [0.0f32, -1.0, 2.5] {
+            let expected: Vec<u8> = image
+                .mean
+                .iter()
+                .flat_map(|p| {
+                    [
+                        to_srgb8(p[0], stops),
+                        to_srgb8(p[1], stops),
+                        to_srgb8(p[2], stops),
+                    ]
+                })
+                .collect();
+            let written = tone_mapped_srgb8(&image, Exposure::Stops(stops), ToneMap::Clamp);
+            assert_eq!(written, expected, "exposure {stops}");
+        }
     }
 
     #[test]

@@ -1,6 +1,7 @@
 //! A production render: a range of every pixel's sample sequence (all of it, or a shard), a
 //! time limit, a cancel flag (signals), periodic checkpoints and resuming from one, bit for
-//! bit. The command line only parses these and prints what happened.
+//! bit, and a periodic tone-mapped preview. The command line only parses these and prints
+//! what happened.
 
 use std::ops::Range;
 use std::path::PathBuf;
@@ -10,7 +11,9 @@ use std::time::{Duration, Instant};
 
 use crate::camera::Camera;
 use crate::error::{Error, Result};
+use crate::image_io::output::{save_image, SaveOptions};
 use crate::image_io::state_exr::{read_state, write_state};
+use crate::render::accumulation::Accumulation;
 use crate::render::metadata::RenderMetadata;
 use crate::render::renderer::{RenderControl, RenderOutcome, Renderer};
 use crate::render::settings::RenderSettings;
@@ -19,6 +22,20 @@ use crate::vk::Context;
 
 /// The default interval between checkpoints.
 pub const DEFAULT_CHECKPOINT_INTERVAL: Duration = Duration::from_secs(60);
+
+/// The default interval between previews.
+pub const DEFAULT_PREVIEW_INTERVAL: Duration = Duration::from_secs(10);
+
+/// A PNG of the image so far, rewritten (atomically, as every output) while a render runs.
+#[derive(Clone, Debug)]
+pub struct PreviewOptions {
+    /// The preview image (.png; an .exr would be linear).
+    pub path: PathBuf,
+    /// Seconds between rewrites; the preview is also written when the render stops.
+    pub interval: Duration,
+    /// Exposure and tone map (the output PNG's).
+    pub save: SaveOptions,
+}
 
 /// How a production render runs.
 #[derive(Clone, Debug)]
@@ -35,6 +52,8 @@ pub struct JobOptions<'a> {
     pub checkpoint_interval: Duration,
     /// Continue from this checkpoint (it must be of the same scene and settings).
     pub resume: Option<PathBuf>,
+    /// Rewrite a preview image every so often and when the render stops.
+    pub preview: Option<PreviewOptions>,
 }
 
 /// What a production render did.
@@ -45,6 +64,9 @@ pub struct JobOutcome {
     pub metadata: RenderMetadata,
     /// The samples that came from the resumed checkpoint.
     pub resumed_samples: u32,
+    /// Why the preview could not be written when the render stopped, if it could not. A
+    /// preview that fails never stops the render; failures on the way are logged.
+    pub preview_failure: Option<Error>,
 }
 
 /// The samples of shard `index` (from 0) of `count` of a render of `spp` samples per pixel:
@@ -97,11 +119,23 @@ pub fn run_job(
         renderer.resume(&state)?;
         resumed_samples = state.samples.len() as u32;
     }
-    let mut write_checkpoint = |state: &crate::render::accumulation::Accumulation| -> Result<()> {
+    let mut write_checkpoint = |state: &Accumulation| -> Result<()> {
         match &options.checkpoint {
             Some(path) => write_state(path, state, &metadata_of(state.samples.clone())),
             None => Ok(()),
         }
+    };
+    // A preview is a convenience: a failed write is logged (once) and the render goes on.
+    let mut preview_warned = false;
+    let mut write_preview = |state: &Accumulation| -> Result<()> {
+        if let Some(preview) = &options.preview {
+            if let Err(error) = save_image(&preview.path, &state.image(), &preview.save) {
+                if !std::mem::replace(&mut preview_warned, true) {
+                    log::warn!("{error} (the preview; the render goes on)");
+                }
+            }
+        }
+        Ok(())
     };
     let control = RenderControl {
         cancel: options.cancel,
@@ -112,8 +146,18 @@ pub fn run_job(
                 &mut write_checkpoint as &mut dyn FnMut(&_) -> Result<()>,
             )
         }),
+        preview: options.preview.as_ref().map(|preview| {
+            (
+                preview.interval,
+                &mut write_preview as &mut dyn FnMut(&_) -> Result<()>,
+            )
+        }),
     };
     let outcome = renderer.render_with(progress, control)?;
+    let preview_failure = options
+        .preview
+        .as_ref()
+        .and_then(|preview| save_image(&preview.path, &outcome.image, &preview.save).err());
     // Every stop writes the checkpoint, so that nothing rendered is lost.
     if let Some(path) = &options.checkpoint {
         write_state(
@@ -126,6 +170,7 @@ pub fn run_job(
         metadata: metadata_of(outcome.state.samples.clone()),
         outcome,
         resumed_samples,
+        preview_failure,
     })
 }
 

@@ -66,6 +66,7 @@ pub fn run_on_devices(
                                 checkpoint: None,
                                 checkpoint_interval: DEFAULT_CHECKPOINT_INTERVAL,
                                 resume: None,
+                                preview: None,
                             };
                             let outcome =
                                 run_job(context, scene, camera, settings, &job, |_| {})?.outcome;

@@ -90,6 +90,9 @@ pub struct RenderControl<'a> {
     /// Called with the state every `checkpoint_interval` (not at the end: the caller has the
     /// final state in the outcome).
     pub checkpoint: Option<(Duration, &'a mut dyn FnMut(&Accumulation) -> Result<()>)>,
+    /// Called with the state every interval, like `checkpoint` (e.g. to write a preview
+    /// image); when both are due, the state is read back once for both.
+    pub preview: Option<(Duration, &'a mut dyn FnMut(&Accumulation) -> Result<()>)>,
 }
 
 /// How a render that `Renderer::render_to_end` ran ended.
@@ -443,6 +446,7 @@ impl Renderer {
     ) -> Result<RenderOutcome> {
         let started = Instant::now();
         let mut last_checkpoint = Instant::now();
+        let mut last_preview = Instant::now();
         let mut failure = None;
         let stop = loop {
             if self.is_complete() {
@@ -468,10 +472,24 @@ impl Renderer {
                     break StopReason::Failed;
                 }
             }
-            if let Some((interval, checkpoint)) = control.checkpoint.as_mut() {
-                if last_checkpoint.elapsed() >= *interval && !self.is_complete() {
-                    checkpoint(&self.accumulation()?)?;
+            // Periodic hooks read the accumulation back only when one is due (and not after
+            // the last batch: the caller has the final state in the outcome).
+            let due = |hook: &Option<(Duration, _)>, last: Instant| {
+                hook.as_ref()
+                    .is_some_and(|(interval, _)| last.elapsed() >= *interval)
+            };
+            let checkpoint_due = due(&control.checkpoint, last_checkpoint);
+            let preview_due = due(&control.preview, last_preview);
+            if (checkpoint_due || preview_due) && !self.is_complete() {
+                let state = self.accumulation()?;
+                if let (true, Some((_, checkpoint))) = (checkpoint_due, control.checkpoint.as_mut())
+                {
+                    checkpoint(&state)?;
                     last_checkpoint = Instant::now();
+                }
+                if let (true, Some((_, preview))) = (preview_due, control.preview.as_mut()) {
+                    preview(&state)?;
+                    last_preview = Instant::now();
                 }
             }
         };
