@@ -39,8 +39,8 @@ pub fn load_obj(path: &Path) -> Result<Scene, SceneError> {
         // Points and lines would become zero-area triangles; they have nothing to render.
         ignore_points: true,
         ignore_lines: true,
-        // Normals and texture coordinates keep their own per-corner indices.
-        single_index: false,
+        // `single_index` stays false: normals and texture coordinates keep their own
+        // per-corner indices (`normal_indices`, `texcoord_indices`).
         ..Default::default()
     };
     // tobj asks for a library at every `mtllib` line and keeps every copy: each is read once.
@@ -202,12 +202,12 @@ fn index_every_corner(bytes: &[u8]) -> Result<String, tobj::LoadError> {
         match words.next() {
             Some("vt") => counts[0] += 1,
             Some("vn") => counts[1] += 1,
-            Some("f") => {
+            // Points and lines (one or two corners) are ignored; they stay as they are.
+            Some("f") if words.clone().nth(2).is_some() => {
                 let corners: Result<Option<Vec<String>>, _> = words
                     .map(|corner| index_corner(corner, counts, totals))
                     .collect();
-                // Points and lines (one or two corners) are ignored; keep them as they are.
-                if let Some(corners) = corners?.filter(|c| c.len() >= 3) {
+                if let Some(corners) = corners? {
                     indexed.push_str("f ");
                     indexed.push_str(&corners.join(" "));
                     indexed.push('\n');
@@ -247,15 +247,16 @@ fn index_corner(
         let Ok(index) = part.parse::<i64>() else {
             return Ok(None);
         };
-        // 1-based absolute index; 0 (not a valid OBJ index) counts as missing, as in tobj.
+        // 0 is no OBJ index; tobj reads it as missing, and so do we.
+        if index == 0 {
+            continue;
+        }
+        // 1-based absolute index.
         let absolute = if index < 0 {
             counts[k] as i64 + 1 + index
         } else {
             index
         };
-        if index == 0 {
-            continue;
-        }
         if absolute < 1 || absolute > totals[k] as i64 {
             return Err(errors[k]);
         }

@@ -371,4 +371,11 @@ fn corner_indices_out_of_range_are_errors() {
             other => panic!("{face}: {other:?}"),
         }
     }
+    // A line (two corners) is ignored, whatever its indices.
+    let obj = write(
+        directory.path(),
+        "line.obj",
+        "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1//9 2//9\nf 1 2 3\n",
+    );
+    assert_eq!(load_obj(&obj).unwrap().triangles.len(), 1);
 }
