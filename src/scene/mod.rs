@@ -18,6 +18,7 @@ pub mod lights;
 pub mod materials;
 pub mod meshes;
 pub mod obj_loader;
+mod obj_materials;
 pub mod procedural;
 pub mod punctual;
 pub mod source;
@@ -228,7 +229,9 @@ impl SceneBuilder {
     }
 
     /// Adds a triangle with world-space, counter-clockwise `positions`; `mesh` names its
-    /// mesh or object in the error for a non-finite position.
+    /// mesh or object in the error for a non-finite position. (The loaders push shaded
+    /// triangles; tests push plain ones.)
+    #[cfg(test)]
     pub fn push(
         &mut self,
         mesh: &str,

@@ -1,11 +1,16 @@
 //! Wavefront OBJ + MTL scenes via `tobj`: polygons are triangulated as fans, `Kd` is the
-//! albedo and `Ke` the emission. OBJ has no camera, so the scene has none.
+//! albedo and `Ke` the emission (the workshop's Lambertian material), `map_Kd` its texture
+//! (see `obj_materials`). `vn` normals are interpolated over each triangle (faceted where a
+//! face has none) and `vt` coordinates are flipped to glTF's convention (v down the image).
+//! OBJ has no camera, so the scene has none.
 
 use std::cell::RefCell;
 use std::path::{Path, PathBuf};
 
-use glam::Vec3;
+use glam::{Vec2, Vec3, Vec4};
 
+use super::materials::TriangleShading;
+use super::obj_materials::{sanitize_mtl, ObjMaterials};
 use super::{Material, Scene, SceneBuilder, SceneError};
 
 /// The albedo of faces without a material (no `usemtl`, or its library is missing) and of
@@ -15,9 +20,16 @@ pub const DEFAULT_ALBEDO: f32 = 0.8;
 /// Loads an OBJ file and the MTL libraries it names (relative to the OBJ's directory).
 ///
 /// A missing library is a warning, not an error: its materials fall back to
-/// [`DEFAULT_ALBEDO`] and no emission. Texture maps are ignored with a warning.
+/// [`DEFAULT_ALBEDO`] and no emission. A `map_Kd` texture that cannot be used is a warning
+/// too (the material keeps its `Kd`); other texture maps are ignored with a warning.
 pub fn load_obj(path: &Path) -> Result<Scene, SceneError> {
     let bytes = super::files::read_bounded(path, super::files::MAX_SCENE_FILE_BYTES)?;
+    let malformed = |error| SceneError::Obj {
+        path: path.to_owned(),
+        error,
+    };
+    let text = index_every_corner(&bytes).map_err(malformed)?;
+    drop(bytes);
     let directory = path.parent().unwrap_or(Path::new(""));
     // tobj keeps only one library error (and only when no library loaded at all), so we
     // record every failing library ourselves.
@@ -27,12 +39,14 @@ pub fn load_obj(path: &Path) -> Result<Scene, SceneError> {
         // Points and lines would become zero-area triangles; they have nothing to render.
         ignore_points: true,
         ignore_lines: true,
+        // `single_index` stays false: normals and texture coordinates keep their own
+        // per-corner indices (`normal_indices`, `texcoord_indices`).
         ..Default::default()
     };
     // tobj asks for a library at every `mtllib` line and keeps every copy: each is read once.
     let loaded_libraries: RefCell<std::collections::HashSet<PathBuf>> = RefCell::default();
     let library_bytes = std::cell::Cell::new(0u64);
-    let (models, materials) = tobj::load_obj_buf(&mut bytes.as_slice(), &options, |library| {
+    let (models, materials) = tobj::load_obj_buf(&mut text.as_bytes(), &options, |library| {
         let library_path = directory.join(library);
         if !loaded_libraries.borrow_mut().insert(library_path.clone()) {
             return Ok((Vec::new(), Default::default()));
@@ -58,10 +72,8 @@ pub fn load_obj(path: &Path) -> Result<Scene, SceneError> {
         }
         result
     })
-    .map_err(|error| SceneError::Obj {
-        path: path.to_owned(),
-        error,
-    })?;
+    .map_err(malformed)?;
+    drop(text);
 
     let mut builder = SceneBuilder::new(path);
     for (library_path, error) in failed_libraries.into_inner() {
@@ -78,14 +90,11 @@ pub fn load_obj(path: &Path) -> Result<Scene, SceneError> {
         ));
     }
     // With every library missing, tobj returns the error here instead of an empty list.
-    let materials = materials.unwrap_or_default();
-    for material in &materials {
-        if let Some(warning) = texture_warning(material) {
-            builder.warn(warning);
-        }
+    let materials = ObjMaterials::new(path, &materials.unwrap_or_default());
+    for warning in materials.warnings {
+        builder.warn(warning);
     }
-    let materials: Vec<Material> = materials.iter().map(convert_material).collect();
-    let default_material = Material::sanitized(Vec3::splat(DEFAULT_ALBEDO), Vec3::ZERO, false);
+    let default_material = materials.workshop.len() - 1;
 
     for (model_index, model) in models.iter().enumerate() {
         let name = if model.name.is_empty() {
@@ -96,28 +105,47 @@ pub fn load_obj(path: &Path) -> Result<Scene, SceneError> {
         let material = model
             .mesh
             .material_id
-            .and_then(|id| materials.get(id))
-            .unwrap_or(&default_material);
-        push_mesh(&mut builder, &name, &model.mesh, material)?;
+            .filter(|&id| id < default_material)
+            .unwrap_or(default_material);
+        push_mesh(
+            &mut builder,
+            &name,
+            &model.mesh,
+            &materials.workshop[material],
+            material as u32,
+        )?;
     }
+    builder.set_materials(materials.materials, materials.textures);
     builder.finish()
 }
 
-/// Adds the triangles of one triangulated mesh.
+/// Adds the triangles of one triangulated mesh, each with its shading data.
 fn push_mesh(
     builder: &mut SceneBuilder,
     name: &str,
     mesh: &tobj::Mesh,
     material: &Material,
+    material_index: u32,
 ) -> Result<(), SceneError> {
-    // `as f32` because tobj's float type is f64 under its `use_f64` feature.
-    #[allow(clippy::unnecessary_cast)]
-    let position = |index: u32| -> Option<Vec3> {
-        let start = 3 * usize::try_from(index).ok()?;
-        let xyz = mesh.positions.get(start..start + 3)?;
-        Some(Vec3::new(xyz[0] as f32, xyz[1] as f32, xyz[2] as f32))
+    let position = |index: u32| element::<3, _>(&mesh.positions, index).map(Vec3::from);
+    // `index_every_corner` gives every corner its own normal and texture coordinate index;
+    // the guards only cover a gap in tobj. A zero normal becomes the face's in the builder.
+    let normal = |corner: usize| {
+        mesh.normal_indices
+            .get(corner)
+            .and_then(|&index| element::<3, _>(&mesh.normals, index))
+            .map_or(Vec3::ZERO, Vec3::from)
     };
-    for face in mesh.indices.chunks_exact(3) {
+    // OBJ's v points up the image, glTF's (and vkpath's) down.
+    let tex_coord = |corner: usize| {
+        mesh.texcoord_indices
+            .get(corner)
+            .and_then(|&index| element::<2, _>(&mesh.texcoords, index))
+            .map(|uv| Vec2::new(uv[0], 1.0 - uv[1]))
+            .filter(|uv| uv.is_finite())
+            .unwrap_or(Vec2::ZERO)
+    };
+    for (triangle, face) in mesh.indices.chunks_exact(3).enumerate() {
         let corners = [position(face[0]), position(face[1]), position(face[2])];
         let [Some(v0), Some(v1), Some(v2)] = corners else {
             // tobj checks face indices while parsing; this guards against a gap there.
@@ -126,228 +154,117 @@ fn push_mesh(
                 error: tobj::LoadError::FaceVertexOutOfBounds,
             });
         };
-        builder.push(name, [v0, v1, v2], material)?;
+        let corner = |k: usize| 3 * triangle + k;
+        let shading = TriangleShading {
+            material: material_index,
+            normals: [0, 1, 2].map(|k| normal(corner(k))),
+            tex_coords: [0, 1, 2].map(|k| tex_coord(corner(k))),
+            tangents: [Vec4::ZERO; 3],
+        };
+        builder.push_shaded(name, [v0, v1, v2], material, shading)?;
     }
     Ok(())
 }
 
-/// `Kd` as albedo (default [`DEFAULT_ALBEDO`]), `Ke` as emission (default 0).
-fn convert_material(material: &tobj::Material) -> Material {
-    // `as f32` because tobj's float type is f64 under its `use_f64` feature.
-    #[allow(clippy::unnecessary_cast)]
-    let to_vec3 = |c: [_; 3]| Vec3::new(c[0] as f32, c[1] as f32, c[2] as f32);
-    let color = material
-        .diffuse
-        .map(to_vec3)
-        .unwrap_or(Vec3::splat(DEFAULT_ALBEDO));
-    let emission = material.emissive.map(to_vec3).unwrap_or(Vec3::ZERO);
-    Material::sanitized(color, emission, false)
+/// Element `index` of a flattened array of `N`-vectors, if there is one.
+/// (Generic because tobj's float type is f64 under its `use_f64` feature.)
+fn element<const N: usize, F: Copy + Into<f64>>(values: &[F], index: u32) -> Option<[f32; N]> {
+    let start = N.checked_mul(usize::try_from(index).ok()?)?;
+    let values = values.get(start..start.checked_add(N)?)?;
+    Some(std::array::from_fn(|i| values[i].into() as f32))
 }
 
-/// A warning naming the material and its texture maps, if it has any.
-fn texture_warning(material: &tobj::Material) -> Option<String> {
-    let known = [
-        ("map_Ka", &material.ambient_texture),
-        ("map_Kd", &material.diffuse_texture),
-        ("map_Ks", &material.specular_texture),
-        ("map_Bump", &material.normal_texture),
-        ("map_Ns", &material.shininess_texture),
-        ("map_d", &material.dissolve_texture),
-    ];
-    let mut maps: Vec<String> = known
-        .iter()
-        .filter(|(_, texture)| texture.is_some())
-        .map(|(keyword, _)| keyword.to_string())
-        .collect();
-    // Maps tobj does not know (map_Ke, map_Pr, ...) land among the unknown parameters.
-    let mut unknown: Vec<String> = material
-        .unknown_param
-        .keys()
-        .filter(|key| key.starts_with("map_"))
-        .cloned()
-        .collect();
-    unknown.sort();
-    maps.extend(unknown);
-    if maps.is_empty() {
-        return None;
-    }
-    Some(format!(
-        "material '{}' has texture maps ({}), which are ignored; using its constant colours",
-        material.name,
-        maps.join(", ")
-    ))
-}
+/// The texture coordinate and normal that corners without `vt` or `vn` refer to: they come
+/// first, so that they are `vt 1` and `vn 1`. (0, 1) is glTF's (0, 0) (where glTF puts the
+/// coordinates of a mesh without any); a zero normal becomes the face's normal.
+const MISSING_CORNER_DATA: &str = "vt 0 1\nvn 0 0 0\n";
 
-/// An MTL text that tobj can parse without panicking: a colour statement (`Ka`, `Kd`,
-/// `Ks`, `Ke`, `Tf`) with fewer than three numbers gets its missing components from the
-/// first (the MTL format lets `Kd r` stand for `Kd r r r`), and one with none is dropped
-/// (tobj 4 unwraps three numbers).
-fn sanitize_mtl(bytes: &[u8]) -> String {
-    let text = String::from_utf8_lossy(bytes);
-    let mut sanitized = String::with_capacity(text.len());
+/// The OBJ text with every face corner naming its texture coordinate and normal explicitly
+/// (`v/vt/vn`, absolute indices): corners without them refer to [`MISSING_CORNER_DATA`].
+///
+/// tobj gives a corner without `vn` (or `vt`) the previous corner's, so a faceted face next
+/// to a smooth one would borrow its neighbour's normal. Indices out of range are errors
+/// here (tobj overflows on some); a corner that does not parse is left for tobj to report.
+fn index_every_corner(bytes: &[u8]) -> Result<String, tobj::LoadError> {
+    // tobj reads lines as UTF-8 and fails on any other.
+    let text = std::str::from_utf8(bytes).map_err(|_| tobj::LoadError::ReadError)?;
+    let total = |wanted: &str| {
+        text.lines()
+            .filter(|line| line.split_whitespace().next() == Some(wanted))
+            .count()
+    };
+    let totals = [total("vt"), total("vn")];
+    let mut counts = [0usize; 2];
+    let mut indexed = String::with_capacity(text.len() + text.len() / 4 + 32);
+    indexed.push_str(MISSING_CORNER_DATA);
     for line in text.lines() {
         let mut words = line.split_whitespace();
-        let keyword = words.next().unwrap_or("");
-        if ["Ka", "Kd", "Ks", "Ke", "Tf"].contains(&keyword) {
-            let numbers: Vec<&str> = words.collect();
-            match numbers.as_slice() {
-                [] => continue,
-                [r] => sanitized.push_str(&format!("{keyword} {r} {r} {r}")),
-                [r, g] => sanitized.push_str(&format!("{keyword} {r} {g} {g}")),
-                _ => sanitized.push_str(line),
+        match words.next() {
+            Some("vt") => counts[0] += 1,
+            Some("vn") => counts[1] += 1,
+            // Points and lines (one or two corners) are ignored; they stay as they are.
+            Some("f") if words.clone().nth(2).is_some() => {
+                let corners: Result<Option<Vec<String>>, _> = words
+                    .map(|corner| index_corner(corner, counts, totals))
+                    .collect();
+                if let Some(corners) = corners? {
+                    indexed.push_str("f ");
+                    indexed.push_str(&corners.join(" "));
+                    indexed.push('\n');
+                    continue;
+                }
             }
-        } else {
-            sanitized.push_str(line);
+            _ => {}
         }
-        sanitized.push('\n');
+        indexed.push_str(line);
+        indexed.push('\n');
     }
-    sanitized
+    Ok(indexed)
+}
+
+/// One face corner (`v`, `v/vt`, `v//vn`, `v/vt/vn`) as `v/vt/vn` with absolute indices
+/// shifted past [`MISSING_CORNER_DATA`]; `counts` are the `vt` and `vn` lines so far
+/// (negative indices count back from there), `totals` those of the whole file.
+fn index_corner(
+    corner: &str,
+    counts: [usize; 2],
+    totals: [usize; 2],
+) -> Result<Option<String>, tobj::LoadError> {
+    let parts: Vec<&str> = corner.split('/').collect();
+    if parts.len() > 3 {
+        return Ok(None);
+    }
+    let errors = [
+        tobj::LoadError::FaceTexCoordOutOfBounds,
+        tobj::LoadError::FaceNormalOutOfBounds,
+    ];
+    let mut indices = [1usize; 2];
+    for k in 0..2 {
+        let part = parts.get(k + 1).copied().unwrap_or("");
+        if part.is_empty() {
+            continue;
+        }
+        let Ok(index) = part.parse::<i64>() else {
+            return Ok(None);
+        };
+        // 0 is no OBJ index; tobj reads it as missing, and so do we.
+        if index == 0 {
+            continue;
+        }
+        // 1-based absolute index.
+        let absolute = if index < 0 {
+            counts[k] as i64 + 1 + index
+        } else {
+            index
+        };
+        if absolute < 1 || absolute > totals[k] as i64 {
+            return Err(errors[k]);
+        }
+        indices[k] = absolute as usize + 1;
+    }
+    Ok(Some(format!("{}/{}/{}", parts[0], indices[0], indices[1])))
 }
 
 #[cfg(test)]
-mod tests {
-    use super::*;
-
-    fn write(directory: &Path, name: &str, text: &str) -> PathBuf {
-        let path = directory.join(name);
-        std::fs::write(&path, text).unwrap();
-        path
-    }
-
-    #[test]
-    fn quad_is_triangulated_with_kd_and_ke() {
-        let directory = tempfile::tempdir().unwrap();
-        write(
-            directory.path(),
-            "quad.mtl",
-            "newmtl lamp\nKd 0.25 0.5 0.75\nKe 4 2 1\n",
-        );
-        let obj = write(
-            directory.path(),
-            "quad.obj",
-            "mtllib quad.mtl\no lamp\nv 0 0 0\nv 2 0 0\nv 2 1 0\nv 0 1 0\nusemtl lamp\nf 1 2 3 4\n",
-        );
-        let scene = load_obj(&obj).unwrap();
-        assert!(scene.camera.is_none());
-        assert!(scene.warnings.is_empty(), "{:?}", scene.warnings);
-        assert_eq!(scene.triangles.len(), 2);
-        // A fan around the first corner, keeping the face's counter-clockwise winding.
-        let expected = [
-            [
-                Vec3::ZERO,
-                Vec3::new(2.0, 0.0, 0.0),
-                Vec3::new(2.0, 1.0, 0.0),
-            ],
-            [
-                Vec3::ZERO,
-                Vec3::new(2.0, 1.0, 0.0),
-                Vec3::new(0.0, 1.0, 0.0),
-            ],
-        ];
-        for (triangle, positions) in scene.triangles.iter().zip(expected) {
-            assert_eq!(triangle.positions, positions);
-            assert_eq!(triangle.normal, Vec3::Z);
-            assert_eq!(triangle.color, Vec3::new(0.25, 0.5, 0.75));
-            assert_eq!(triangle.emission, Vec3::new(4.0, 2.0, 1.0));
-            assert!(!triangle.double_sided);
-        }
-    }
-
-    #[test]
-    fn missing_library_warns_and_uses_the_default_material() {
-        let directory = tempfile::tempdir().unwrap();
-        let obj = write(
-            directory.path(),
-            "t.obj",
-            "mtllib gone.mtl\nusemtl red\nv 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n",
-        );
-        let scene = load_obj(&obj).unwrap();
-        assert_eq!(scene.triangles.len(), 1);
-        assert_eq!(scene.triangles[0].color, Vec3::splat(DEFAULT_ALBEDO));
-        assert_eq!(scene.triangles[0].emission, Vec3::ZERO);
-        assert_eq!(scene.warnings.len(), 1);
-        assert!(
-            scene.warnings[0].contains("gone.mtl"),
-            "{}",
-            scene.warnings[0]
-        );
-    }
-
-    #[test]
-    fn textures_are_reported_once_per_material() {
-        let directory = tempfile::tempdir().unwrap();
-        write(
-            directory.path(),
-            "t.mtl",
-            "newmtl brick\nKd 0.5 0.5 0.5\nmap_Kd brick.png\nmap_Ke glow.png\nnewmtl plain\nKd 1 1 1\n",
-        );
-        let obj = write(
-            directory.path(),
-            "t.obj",
-            "mtllib t.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nusemtl brick\nf 1 2 3\nusemtl plain\nf 1 2 3\n",
-        );
-        let scene = load_obj(&obj).unwrap();
-        assert_eq!(
-            scene.warnings,
-            vec![
-                "material 'brick' has texture maps (map_Kd, map_Ke), which are ignored; \
-                 using its constant colours"
-                    .to_owned()
-            ]
-        );
-        assert_eq!(scene.triangles[0].color, Vec3::splat(0.5));
-        assert_eq!(scene.triangles[1].color, Vec3::ONE);
-    }
-
-    #[test]
-    fn errors_name_the_file() {
-        let directory = tempfile::tempdir().unwrap();
-        let missing = directory.path().join("missing.obj");
-        let error = load_obj(&missing).unwrap_err();
-        assert!(matches!(error, SceneError::Read { .. }), "{error}");
-
-        let bad_index = write(directory.path(), "bad.obj", "v 0 0 0\nf 1 2 3\n");
-        let error = load_obj(&bad_index).unwrap_err();
-        assert!(matches!(error, SceneError::Obj { .. }), "{error}");
-        assert!(error.to_string().starts_with("malformed OBJ '"), "{error}");
-
-        let empty = write(directory.path(), "empty.obj", "v 0 0 0\n");
-        let error = load_obj(&empty).unwrap_err();
-        assert!(matches!(error, SceneError::NoTriangles { .. }), "{error}");
-
-        let infinite = write(
-            directory.path(),
-            "inf.obj",
-            "o x\nv 0 0 0\nv 1 0 0\nv inf 1 0\nf 1 2 3\n",
-        );
-        let error = load_obj(&infinite).unwrap_err();
-        assert!(
-            matches!(error, SceneError::NonFinitePosition { .. }),
-            "{error}"
-        );
-    }
-
-    #[test]
-    fn cube_fixture_has_an_emissive_top() {
-        let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/cube.obj");
-        let scene = Scene::load(&path).unwrap();
-        assert!(scene.warnings.is_empty(), "{:?}", scene.warnings);
-        assert_eq!(scene.triangles.len(), 12);
-        let lights: Vec<_> = scene
-            .triangles
-            .iter()
-            .filter(|t| t.emission != Vec3::ZERO)
-            .collect();
-        assert_eq!(lights.len(), 2);
-        for light in lights {
-            assert_eq!(light.emission, Vec3::new(4.0, 3.0, 2.0));
-            assert_eq!(light.normal, Vec3::Y);
-        }
-        // Every face points out of the box centred at the origin.
-        for triangle in &scene.triangles {
-            let centre =
-                (triangle.positions[0] + triangle.positions[1] + triangle.positions[2]) / 3.0;
-            assert!(triangle.normal.dot(centre) > 0.0);
-        }
-    }
-}
+#[path = "obj_loader_tests.rs"]
+mod tests;
