@@ -112,7 +112,7 @@ vec3 get_ray_radiance_with_materials(vec3 ray_origin, vec3 ray_direction, inout 
         if (!ray_mesh_intersection(t, triangle, ray_origin, ray_direction)) {
             // The environment: all of it for the camera ray, the workshop's integrators and
             // cosine sampling; none for NEE (its light samples account for it); MIS-weighted.
-            if (INTEGRATOR != INTEGRATOR_RAY_TRACING && (i == 0 || !(INTEGRATOR == INTEGRATOR_NEE || INTEGRATOR == INTEGRATOR_MIS)))
+            if (INTEGRATOR != INTEGRATOR_RAY_TRACING && INTEGRATOR != INTEGRATOR_NORMAL && INTEGRATOR != INTEGRATOR_DEPTH && (i == 0 || !(INTEGRATOR == INTEGRATOR_NEE || INTEGRATOR == INTEGRATOR_MIS)))
                 radiance += throughput_weight * get_environment_radiance(ray_direction);
             else if (INTEGRATOR == INTEGRATOR_MIS && get_environment_kind() != ENVIRONMENT_NONE)
                 radiance += throughput_weight * get_environment_radiance(ray_direction) * get_power_heuristic_weight(direction_density, get_environment_density(ray_direction));
@@ -124,6 +124,10 @@ vec3 get_ray_radiance_with_materials(vec3 ray_origin, vec3 ray_direction, inout 
         vec3 view = -ray_direction;
         if (INTEGRATOR == INTEGRATOR_RAY_TRACING)
             return surface.material.base_color;
+        if (INTEGRATOR == INTEGRATOR_NORMAL)
+            return surface.shading_normal;
+        if (INTEGRATOR == INTEGRATOR_DEPTH)
+            return vec3(t);
         // Emission found by following the path: all of it for the workshop's integrators,
         // cosine sampling and the camera ray; none for NEE; MIS-weighted for MIS.
         if (i == 0 || !(INTEGRATOR == INTEGRATOR_NEE || INTEGRATOR == INTEGRATOR_MIS)) {

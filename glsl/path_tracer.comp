@@ -69,7 +69,11 @@ vec3 get_sample_radiance(vec3 ray_direction, inout uvec2 seed) {
         return vec3(0.0);
     if (INTEGRATOR == INTEGRATOR_RAY_TRACING)
         return triangle.color;
+    if (INTEGRATOR == INTEGRATOR_DEPTH)
+        return vec3(t);
     orient_towards_ray(triangle, ray_direction, is_double_sided(g_hit_triangle_index));
+    if (INTEGRATOR == INTEGRATOR_NORMAL)
+        return triangle.normal;
     return compute_direct_illumination(camera_position + t * ray_direction, triangle, seed);
 }
 

@@ -132,6 +132,11 @@
 #define INTEGRATOR_NEE 4
 // Multiple importance sampling of light and cosine samples with the power heuristic.
 #define INTEGRATOR_MIS 5
+// Outputs for compositing and denoising (--aov), like INTEGRATOR_RAY_TRACING's albedo: the
+// first hit's shading normal (world space, facing the camera; 0 where the ray escapes) and
+// its distance from the camera (0 where the ray escapes).
+#define INTEGRATOR_NORMAL 6
+#define INTEGRATOR_DEPTH 7
 
 // ---- Triangles ----
 

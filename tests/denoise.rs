@@ -9,6 +9,8 @@
 
 mod common;
 
+use vkpath::render::aov::{render_aov, Aov};
+
 use vkpath::denoise::{available, denoise};
 use vkpath::{Integrator, RenderSettings, Renderer, SamplerKind, Scene};
 
@@ -46,6 +48,16 @@ fn render(integrator: Integrator, sampler: SamplerKind, spp: u32, seed: u32) -> 
     image.mean.iter().map(|&[r, g, b, _]| [r, g, b]).collect()
 }
 
+/// An output of the built-in box at the noisy render's settings.
+fn aov(aov: Aov) -> Vec<[f32; 3]> {
+    let context = common::validated_context();
+    let scene = Scene::builtin_cornell_box().unwrap();
+    let settings = RenderSettings { width: WIDTH, height: HEIGHT, spp: NOISY_SPP, seed: 2, ..Default::default() };
+    let pixels = render_aov(&context, &scene, &scene.camera.unwrap(), &settings, aov).unwrap();
+    common::assert_validation_silent(&context);
+    pixels
+}
+
 /// Relative MSE, mean over pixels and channels of (x - r)² / (r² + 0.01): the squared error
 /// relative to the reference's brightness, with 0.01 keeping black pixels from dominating
 /// (the measure `vkpath bench` and the denoising literature use).
@@ -74,6 +86,13 @@ fn denoising_16_spp_is_at_least_5x_closer_to_the_reference() {
     for integrator in [Integrator::PathTracing, Integrator::Mis] {
         let noisy = render(integrator, SamplerKind::Pcg, NOISY_SPP, 2);
         let clean = denoised(&noisy, WIDTH, HEIGHT);
+        // With the albedo and normal that `--denoise` gives it (vkpath::render::aov).
+        let (albedo, normal) = (aov(Aov::Albedo), aov(Aov::Normal));
+        let guided = denoise(&noisy, Some(&albedo), Some(&normal), WIDTH, HEIGHT).unwrap();
+        let guided_error = rel_mse(&guided, &reference);
+        println!("{integrator:?}: guided by albedo and normal: relMSE {guided_error:.5}");
+        assert!(guided.iter().all(|p| p.iter().all(|v| v.is_finite())));
+        assert!(guided_error * REQUIRED_IMPROVEMENT <= rel_mse(&noisy, &reference));
         let nan_pixels = clean
             .iter()
             .filter(|p| p.iter().any(|v| v.is_nan()))

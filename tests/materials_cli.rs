@@ -137,3 +137,87 @@ fn the_showcase_scene_renders_without_warnings() {
     assert!(output.status.success(), "{stderr}");
     assert!(!stderr.contains("warning"), "{stderr}");
 }
+
+/// The channel names of an EXR's first layer, and one channel's values.
+fn exr_channel(path: &Path, name: &str) -> (Vec<String>, Vec<f32>) {
+    let image = exr::prelude::read_all_flat_layers_from_file(path).unwrap();
+    let layer = &image.layer_data[0];
+    let names: Vec<String> = layer.channel_data.list.iter().map(|c| c.name.to_string()).collect();
+    let values = layer
+        .channel_data
+        .list
+        .iter()
+        .find(|c| c.name.to_string() == name)
+        .map(|c| c.sample_data.values_as_f32().collect())
+        .unwrap_or_default();
+    (names, values)
+}
+
+#[test]
+fn aovs_and_denoising_are_written_as_layers() {
+    let dir = tempfile::tempdir().unwrap();
+    let output = common::vkpath(dir.path(), &[
+        "render", "-o", "out.exr", "--width", "32", "--height", "32", "--spp", "16",
+        "--aov", "albedo,normal,depth", "--denoise", "--validate",
+    ]);
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    assert!(output.status.success(), "{stderr}");
+    let path = dir.path().join("out.exr");
+    let (names, albedo_red) = exr_channel(&path, "albedo.R");
+    for channel in ["R", "G", "B", "albedo.R", "albedo.G", "albedo.B", "normal.R", "normal.G", "normal.B", "depth.Z", "noisy.R", "noisy.G", "noisy.B"] {
+        assert!(names.iter().any(|n| n == channel), "{channel} missing from {names:?}");
+    }
+    // The box's red wall (albedo 0.73, 0.246, 0.251 in the workshop's scene) is in view.
+    assert!(albedo_red.iter().any(|&r| (r - 0.73).abs() < 0.01), "no red wall in the albedo");
+    let (_, depth) = exr_channel(&path, "depth.Z");
+    assert!(depth.iter().all(|&d| d > 0.0 && d.is_finite()), "the closed box fills the view");
+    let normals: Vec<Vec<f32>> = ["normal.R", "normal.G", "normal.B"].iter().map(|c| exr_channel(&path, c).1).collect();
+    // A pixel's average of unit normals is at most unit length, and exactly so on a face.
+    let lengths: Vec<f32> = (0..depth.len())
+        .map(|i| (normals[0][i].powi(2) + normals[1][i].powi(2) + normals[2][i].powi(2)).sqrt())
+        .collect();
+    assert!(lengths.iter().all(|&l| l <= 1.0 + 1e-5));
+    assert!(lengths.iter().filter(|&&l| l > 0.999).count() > depth.len() / 2);
+    // The denoised colour differs from the noisy one, and neither has NaNs.
+    let (_, red) = exr_channel(&path, "R");
+    let (_, noisy) = exr_channel(&path, "noisy.R");
+    assert!(red.iter().chain(&noisy).all(|v| v.is_finite()));
+    assert_ne!(red, noisy);
+}
+
+#[test]
+fn a_file_without_a_camera_is_framed_and_lit_by_the_sky() {
+    let dir = tempfile::tempdir().unwrap();
+    let mut document: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(common::fixture("emissive_quad.gltf")).unwrap()).unwrap();
+    document["scenes"][0]["nodes"] = json!([0]); // the room only: no light, no camera
+    std::fs::write(dir.path().join("room.gltf"), document.to_string()).unwrap();
+    let render = |extra: &[&str]| {
+        let mut args = vec!["render", "room.gltf", "-o", "room.exr", "--width", "16", "--height", "16", "--spp", "2", "--validate"];
+        args.extend_from_slice(extra);
+        common::vkpath(dir.path(), &args)
+    };
+    let output = render(&[]);
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    assert!(output.status.success(), "{stderr}");
+    assert!(stderr.contains("the scene has no camera: framing its bounding sphere"), "{stderr}");
+    assert!(stderr.contains("nothing lights the scene"), "{stderr}");
+    // A constant sky lights it, and silences the warning.
+    let output = render(&["--background", "0.5,0.5,0.5", "--integrator", "mis"]);
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    assert!(output.status.success() && !stderr.contains("nothing lights"), "{stderr}");
+    let (_, red) = exr_channel(&dir.path().join("room.exr"), "R");
+    // Every pixel sees the sky or a wall that sees it (2 samples may miss it deep inside).
+    let lit = red.iter().filter(|&&r| r > 0.0).count();
+    assert!(lit * 10 >= red.len() * 9, "{lit} of {} pixels lit", red.len());
+    // An EXR map (the render just written) lights it too; a missing one is one error line.
+    let output = render(&["--environment", "room.exr", "--environment-rotation", "90"]);
+    assert!(output.status.success(), "{}", String::from_utf8_lossy(&output.stderr));
+    let output = render(&["--environment", "missing.hdr"]);
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    assert_eq!(output.status.code(), Some(1), "{stderr}");
+    assert_eq!(stderr.lines().filter(|l| l.contains("error")).count(), 1, "{stderr}");
+    // --camera picks among the file's cameras: this one has none.
+    let output = render(&["--camera", "1"]);
+    assert_eq!(output.status.code(), Some(1));
+}

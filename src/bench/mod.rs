@@ -91,6 +91,8 @@ pub fn integrator_name(integrator: Integrator) -> &'static str {
         Integrator::Mis => "mis",
         Integrator::DirectIllumination => "direct-illumination",
         Integrator::RayTracing => "ray-tracing",
+        Integrator::Normal => "normal",
+        Integrator::Depth => "depth",
     }
 }
 

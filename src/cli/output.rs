@@ -12,7 +12,8 @@ use serde::Serialize;
 use super::signals;
 use super::summary::{summary_line, RenderProgress};
 use crate::camera::Camera;
-use crate::image_io::output::{save_image_with_attributes, SaveOptions};
+use crate::image_io::output::{save_image_with_attributes, save_image_with_layers, ImageLayer, SaveOptions};
+use crate::render::aov::{render_aov, Aov};
 use crate::image_io::state_exr::write_state;
 use crate::render::job::{run_job, JobOptions, DEFAULT_CHECKPOINT_INTERVAL};
 use crate::render::metadata::RenderMetadata;
@@ -74,7 +75,81 @@ pub fn render_and_save(
         save,
         Reporting::default(),
         false,
+        &PostProcess::default(),
     )
+}
+
+/// What happens to a finished render before it is saved: outputs beside the colour
+/// (`--aov`) and denoising (`--denoise`, which renders the albedo and normal it needs).
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct PostProcess {
+    /// The outputs to add as EXR layers.
+    pub aovs: Vec<Aov>,
+    /// Whether to denoise the colour with Open Image Denoise (the EXR keeps the original in a
+    /// `noisy` layer).
+    pub denoise: bool,
+}
+
+impl PostProcess {
+    /// Whether there is anything to do.
+    pub fn is_empty(&self) -> bool {
+        self.aovs.is_empty() && !self.denoise
+    }
+
+    /// The image to save and its extra layers.
+    fn apply(
+        &self,
+        context: &Arc<Context>,
+        scene: &Scene,
+        camera: &Camera,
+        settings: &RenderSettings,
+        image: &RenderedImage,
+    ) -> anyhow::Result<(RenderedImage, Vec<ImageLayer>)> {
+        let mut wanted = self.aovs.clone();
+        if self.denoise {
+            for aov in [Aov::Albedo, Aov::Normal] {
+                if !wanted.contains(&aov) {
+                    wanted.push(aov);
+                }
+            }
+        }
+        let mut rendered = Vec::new();
+        for aov in wanted {
+            rendered.push((aov, render_aov(context, scene, camera, settings, aov)?));
+        }
+        let layer_of = |aov: Aov| rendered.iter().find(|(a, _)| *a == aov).map(|(_, p)| p);
+        let mut layers: Vec<ImageLayer> = self
+            .aovs
+            .iter()
+            .filter_map(|&aov| {
+                layer_of(aov).map(|pixels| ImageLayer {
+                    name: aov.name().to_owned(),
+                    pixels: pixels.clone(),
+                    single_channel: aov == Aov::Depth,
+                })
+            })
+            .collect();
+        let mut result = image.clone();
+        if self.denoise {
+            let noisy: Vec<[f32; 3]> = image.mean.iter().map(|p| [p[0], p[1], p[2]]).collect();
+            let denoised = crate::denoise::denoise(
+                &noisy,
+                layer_of(Aov::Albedo).map(Vec::as_slice),
+                layer_of(Aov::Normal).map(Vec::as_slice),
+                image.width,
+                image.height,
+            )?;
+            for (pixel, value) in result.mean.iter_mut().zip(&denoised) {
+                pixel[..3].copy_from_slice(value);
+            }
+            layers.push(ImageLayer {
+                name: "noisy".to_owned(),
+                pixels: noisy,
+                single_channel: false,
+            });
+        }
+        Ok((result, layers))
+    }
 }
 
 /// Runs a production render (`job`) and saves it; `shard` writes the render state into the
@@ -91,6 +166,7 @@ pub fn render_job_and_save(
     save: &SaveOptions,
     reporting: Reporting,
     shard: bool,
+    post: &PostProcess,
 ) -> anyhow::Result<()> {
     signals::install()?;
     job.cancel = Some(&signals::STOP_REQUESTED);
@@ -120,8 +196,16 @@ pub fn render_job_and_save(
     }
     if shard {
         write_state(output, &result.state, metadata)?;
+    } else if post.is_empty() {
+        save_or_rescue(output, &result.image, save, metadata, &[])?;
+    } else if result.stop != StopReason::Done {
+        eprintln!("vkpath: warning: the render stopped early: saved without --aov/--denoise");
+        save_or_rescue(output, &result.image, save, metadata, &[])?;
     } else {
-        save_or_rescue(output, &result.image, save, metadata)?;
+        // Saved as rendered first, so that nothing is lost if post-processing fails.
+        save_or_rescue(output, &result.image, save, metadata, &[])?;
+        let (image, layers) = post.apply(context, scene, camera, settings, &result.image)?;
+        save_or_rescue(output, &image, save, metadata, &layers)?;
     }
     if let Some(error) = &outcome.preview_failure {
         eprintln!("vkpath: warning: {error} (the preview)");
@@ -219,7 +303,7 @@ pub fn render_on_devices_and_save(
     if shard {
         write_state(output, &outcome.state, &metadata)?;
     } else {
-        save_or_rescue(output, &outcome.state.image(), save, &metadata)?;
+        save_or_rescue(output, &outcome.state.image(), save, &metadata, &[])?;
     }
     let done = outcome.state.samples.len() as u32;
     let shares: Vec<String> = outcome
@@ -272,9 +356,10 @@ pub fn save_or_rescue(
     image: &RenderedImage,
     save: &SaveOptions,
     metadata: &RenderMetadata,
+    layers: &[ImageLayer],
 ) -> anyhow::Result<()> {
     let attributes = metadata.attributes();
-    let Err(error) = save_image_with_attributes(output, image, save, &attributes) else {
+    let Err(error) = save_image_with_layers(output, image, save, &attributes, layers) else {
         return Ok(());
     };
     let rescue = std::env::temp_dir().join(format!("vkpath-rescue-{}.exr", std::process::id()));

@@ -6,7 +6,7 @@ use anyhow::bail;
 use glam::Vec3;
 
 use super::options::{JobArgs, RenderOptions, SaveArgs, SceneArgs};
-use super::output::{render_job_and_save, render_on_devices_and_save};
+use super::output::{render_job_and_save, render_on_devices_and_save, PostProcess};
 use super::{parse_vec3, DeviceArgs};
 use crate::camera::{Camera, DEFAULT_VERTICAL_FOV_DEGREES};
 use crate::image_io::output::{check_writable, ImageFormat};
@@ -55,6 +55,16 @@ pub struct RenderArgs {
     /// Light from beyond the scene.
     #[command(flatten)]
     pub lights: LightArgs,
+    /// Outputs beside the colour, as EXR layers: albedo (the first hit's base colour),
+    /// normal (its shading normal, world space), depth (its distance from the camera), each
+    /// averaged over the pixel's samples.
+    #[arg(long, value_enum, value_delimiter = ',')]
+    pub aov: Vec<crate::render::aov::Aov>,
+    /// Denoise the image with Intel Open Image Denoise (the RT filter, HDR, guided by the
+    /// albedo and normal): the EXR's colour is denoised and a `noisy` layer keeps the
+    /// original; a PNG gets the denoised image.
+    #[arg(long)]
+    pub denoise: bool,
     /// Time limit, checkpoints, shards and reporting.
     #[command(flatten)]
     pub job: JobArgs,
@@ -213,6 +223,16 @@ pub fn run(args: &RenderArgs) -> anyhow::Result<()> {
             );
         }
     }
+    let post = PostProcess {
+        aovs: args.aov.clone(),
+        denoise: args.denoise,
+    };
+    if !post.is_empty() && shard {
+        bail!("--aov and --denoise work on whole renders: merge the shards first");
+    }
+    if args.denoise {
+        crate::denoise::available()?;
+    }
     let mut scene = args.scene.load("vkpath render")?;
     scene.environment = args.lights.environment()?;
     if !scene.emits_light() {
@@ -224,13 +244,16 @@ pub fn run(args: &RenderArgs) -> anyhow::Result<()> {
         eprintln!(
             "vkpath: warning: the scene's {} punctual lights are invisible to --integrator {}: only nee and mis sample them",
             scene.punctual_lights.len(),
-            clap::ValueEnum::to_possible_value(&settings.integrator).map_or_else(String::new, |v| v.get_name().to_owned())
+            crate::bench::integrator_name(settings.integrator)
         );
     }
     let camera = args.camera(&scene)?;
     if let Some(selectors) = args.device.several()? {
         if job.checkpoint.is_some() || job.resume.is_some() || job.preview.is_some() {
             bail!("--checkpoint, --resume and --preview work with one device; render on several with shards instead");
+        }
+        if !post.is_empty() {
+            bail!("--aov and --denoise work with one device");
         }
         let contexts = args.device.create_contexts(&selectors)?;
         return render_on_devices_and_save(
@@ -256,5 +279,6 @@ pub fn run(args: &RenderArgs) -> anyhow::Result<()> {
         &save,
         args.job.reporting(),
         shard,
+        &post,
     )
 }

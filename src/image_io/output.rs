@@ -118,6 +118,43 @@ pub fn save_image_with_attributes(
     }
 }
 
+/// A layer of an EXR beside the colour: `name.R/G/B` (or `name.Z` for one channel).
+#[derive(Clone, Debug, PartialEq)]
+pub struct ImageLayer {
+    /// The layer's name (e.g. "albedo", "noisy").
+    pub name: String,
+    /// One value per pixel, rows top-down.
+    pub pixels: Vec<[f32; 3]>,
+    /// Whether the layer has one channel (`name.Z`, from the first component) not three.
+    pub single_channel: bool,
+}
+
+/// `save_image_with_attributes` with extra EXR layers (PNG files get the colour only).
+pub fn save_image_with_layers(
+    path: &Path,
+    image: &RenderedImage,
+    options: &SaveOptions,
+    attributes: &[(String, String)],
+    layers: &[ImageLayer],
+) -> Result<()> {
+    if layers.is_empty() || ImageFormat::from_path(path)? != ImageFormat::Exr {
+        return save_image_with_attributes(path, image, options, attributes);
+    }
+    let mut channels = image_channels(image, options.moments);
+    for layer in layers {
+        if layer.single_channel {
+            channels.push((format!("{}.Z", layer.name), layer.pixels.iter().map(|p| p[0]).collect()));
+        } else {
+            for (c, suffix) in ["R", "G", "B"].iter().enumerate() {
+                channels.push((format!("{}.{suffix}", layer.name), layer.pixels.iter().map(|p| p[c]).collect()));
+            }
+        }
+    }
+    write_atomically(path, |temporary| {
+        write_exr_channels(temporary, image.width, image.height, channels, attributes)
+    })
+}
+
 /// Writes a file through `write` into a temporary file in the same folder, then renames it
 /// into place: readers never see a partial file, and an interrupted write leaves the old
 /// file as it was. Like `cp`, a symbolic link is written through (its target is replaced)

@@ -3,6 +3,7 @@
 //! shared with the path-tracing kernel (`gpu_types`), and the renderer itself.
 
 pub mod accumulation;
+pub mod aov;
 pub mod gpu_lights;
 pub mod gpu_materials;
 pub mod gpu_scene;

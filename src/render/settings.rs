@@ -68,6 +68,12 @@ pub enum Integrator {
         value(help = "Light and cosine sampling combined with the power heuristic")
     )]
     Mis,
+    /// The first hit's shading normal (world space, facing the camera), for `--aov normal`.
+    #[cfg_attr(feature = "cli", value(skip))]
+    Normal,
+    /// The first hit's distance from the camera, for `--aov depth`.
+    #[cfg_attr(feature = "cli", value(skip))]
+    Depth,
 }
 
 impl Integrator {
@@ -80,6 +86,8 @@ impl Integrator {
             Integrator::Cosine => contract::INTEGRATOR_COSINE,
             Integrator::Nee => contract::INTEGRATOR_NEE,
             Integrator::Mis => contract::INTEGRATOR_MIS,
+            Integrator::Normal => contract::INTEGRATOR_NORMAL,
+            Integrator::Depth => contract::INTEGRATOR_DEPTH,
         }
     }
 
