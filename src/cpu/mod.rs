@@ -4,6 +4,7 @@
 
 pub mod brdf;
 pub mod camera;
+pub mod environment;
 pub mod image;
 pub mod importance_sampling;
 pub mod integrator;

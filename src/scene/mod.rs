@@ -406,6 +406,33 @@ mod tests {
     }
 
     #[test]
+    fn framing_keeps_the_whole_bounding_box_in_view() {
+        let material = Material::sanitized(Vec3::ONE, Vec3::ZERO, false);
+        let mut builder = SceneBuilder::new(Path::new("t.gltf"));
+        let (low, high) = (Vec3::new(-3.0, 1.0, 2.0), Vec3::new(5.0, 2.0, 2.5));
+        builder.push("m", [low, Vec3::new(high.x, low.y, low.z), high], &material).unwrap();
+        let scene = builder.finish().unwrap();
+        for aspect in [0.5_f32, 1.0, 16.0 / 9.0] {
+            let (camera, _, _) = scene.framing_camera(aspect).unwrap();
+            let plane = camera.image_plane(aspect);
+            let normal = plane.right.cross(plane.up);
+            for i in 0..8 {
+                let corner = Vec3::new(
+                    if i & 1 == 0 { low.x } else { high.x },
+                    if i & 2 == 0 { low.y } else { high.y },
+                    if i & 4 == 0 { low.z } else { high.z },
+                );
+                // Where the ray to the corner crosses the image plane, in (0, 1)^2.
+                let direction = corner - plane.camera_position;
+                let t = (plane.left_bottom - plane.camera_position).dot(normal) / direction.dot(normal);
+                let offset = plane.camera_position + t * direction - plane.left_bottom;
+                let (u, v) = (offset.dot(plane.right) / plane.right.length_squared(), offset.dot(plane.up) / plane.up.length_squared());
+                assert!(t > 0.0 && (0.0..1.0).contains(&u) && (0.0..1.0).contains(&v), "aspect {aspect}: corner {corner} at ({u}, {v})");
+            }
+        }
+    }
+
+    #[test]
     fn material_is_sanitized() {
         let material = Material::sanitized(
             Vec3::new(1.5, -0.5, f32::NAN),
