@@ -113,6 +113,23 @@ bool is_opaque_hit(uint triangle_index, vec3 ray_origin, vec3 ray_direction, flo
     return get_random_numbers(hash_state)[0] < alpha;
 }
 
+// A normal perturbed by a tangent-space normal map (glTF 2.0, 3.9.3): the tangent is made
+// orthogonal to the normal (Gram-Schmidt), B = cross(N, T) w, and the texel's
+// (2 rgb - 1) * (scale, scale, 1) is taken in (T, B, N). The unperturbed normal where the
+// tangent or the result vanishes.
+// \param normal Unit normal; \param tangent xyz: tangent (any length), w: bitangent sign
+// \param texel The normal texture's rgb in [0, 1]; \param scale normalTexture.scale
+vec3 apply_normal_map(vec3 normal, vec4 tangent, vec3 texel, float scale) {
+    vec3 orthogonal = tangent.xyz - dot(tangent.xyz, normal) * normal;
+    if (!(dot(orthogonal, orthogonal) > 1.0e-12))
+        return normal;
+    orthogonal = normalize(orthogonal);
+    vec3 bitangent = cross(normal, orthogonal) * ((tangent.w < 0.0) ? -1.0 : 1.0);
+    vec3 direction = 2.0 * texel - 1.0;
+    vec3 mapped = direction.x * scale * orthogonal + direction.y * scale * bitangent + direction.z * normal;
+    return (dot(mapped, mapped) > 1.0e-12) ? normalize(mapped) : normal;
+}
+
 // The interpolated shading normal of triangle i (front side), perturbed by the material's
 // normal map in the interpolated MikkTSpace frame (glTF: n = normalize(T x + B y + N z) with
 // (x, y, z) = (2 rgb - 1) * (scale, scale, 1) and B = cross(N, T) w). The face normal where
@@ -125,17 +142,9 @@ vec3 get_front_shading_normal(uint triangle_index, uint material_index, vec3 bar
     if (SCENE_HAS_TEXTURES && has_material_texture(material_index, MATERIAL_TEXTURE_NORMAL)) {
         vec4 tangent_0 = uintBitsToFloat(get_shading_texel(triangle_index, 5));
         vec3 tangent = barycentrics[0] * tangent_0.xyz + barycentrics[1] * uintBitsToFloat(get_shading_texel(triangle_index, 6).xyz) + barycentrics[2] * uintBitsToFloat(get_shading_texel(triangle_index, 7).xyz);
-        // Gram-Schmidt against the interpolated normal
-        tangent -= dot(tangent, normal) * normal;
-        if (dot(tangent, tangent) > 1.0e-12) {
-            tangent = normalize(tangent);
-            vec3 bitangent = cross(normal, tangent) * ((tangent_0.w < 0.0) ? -1.0 : 1.0);
-            float scale = uintBitsToFloat(get_material_texel(material_index, 2).w);
-            vec3 texel = 2.0 * sample_material_texture(material_index, MATERIAL_TEXTURE_NORMAL, tex_coord).rgb - 1.0;
-            vec3 mapped = texel.x * scale * tangent + texel.y * scale * bitangent + texel.z * normal;
-            if (dot(mapped, mapped) > 1.0e-12)
-                normal = normalize(mapped);
-        }
+        float scale = uintBitsToFloat(get_material_texel(material_index, 2).w);
+        vec3 texel = sample_material_texture(material_index, MATERIAL_TEXTURE_NORMAL, tex_coord).rgb;
+        normal = apply_normal_map(normal, vec4(tangent, tangent_0.w), texel, scale);
     }
     return normal;
 }

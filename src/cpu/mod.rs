@@ -6,6 +6,7 @@ pub mod brdf;
 pub mod camera;
 pub mod environment;
 pub mod image;
+pub mod materials;
 pub mod importance_sampling;
 pub mod integrator;
 pub mod renderer;
