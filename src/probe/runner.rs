@@ -13,7 +13,7 @@ use crate::probe::kernel::ProbePipeline;
 use crate::probe::layout::ProbePushConstants;
 use crate::render::gpu_types::{GpuTriangle, RenderUniforms};
 use crate::scene::Triangle;
-use crate::vk::{Buffer, CommandRunner, Context, TexelBufferView};
+use crate::vk::{Buffer, CommandRunner, ComputePipeline, Context, DescriptorSet, Recorder, TexelBufferView};
 
 /// Most inputs uploaded at once: bounds the size of the input and output buffers (128 MiB
 /// for the largest structs, 128 bytes) well below every device's `maxStorageBufferRange`
@@ -142,24 +142,9 @@ impl ProbeRunner {
         descriptors.write_buffer(contract::PROBE_BINDING_FLAGS, storage, &flag_buffer);
 
         let compute = &pipeline.pipeline;
-        let group_size = compute.workgroup_size()[0].max(1) as usize;
-        let max_groups = self.context.limits.max_compute_work_group_count[0].max(1) as usize;
-        let total_groups = count.div_ceil(group_size);
+        let max_groups = self.context.limits.max_compute_work_group_count[0] as usize;
         self.commands.run(|recorder| {
-            recorder.bind(compute, &descriptors);
-            let mut first_group = 0;
-            while first_group < total_groups {
-                let groups = (total_groups - first_group).min(max_groups);
-                let constants = ProbePushConstants {
-                    first: (first_group * group_size) as u32,
-                    count: count as u32,
-                };
-                recorder.push_constants(compute, &constants);
-                recorder.dispatch(compute, [(groups * group_size) as u32, 1, 1]);
-                first_group += groups;
-            }
-            recorder.compute_barrier();
-            recorder.host_read_barrier();
+            record_probe_dispatches(recorder, compute, &descriptors, count, max_groups)
         })?;
         let flags: Vec<u32> = flag_buffer.read();
         let limited = flags.iter().take(count).filter(|&&flag| flag != 0).count();
@@ -174,4 +159,33 @@ impl ProbeRunner {
         outputs.truncate(count);
         Ok(outputs)
     }
+}
+
+/// Records the dispatches that run a probe kernel over `count` inputs: as many workgroups as
+/// the inputs need, split into dispatches of at most the device's workgroup-count limit, each
+/// told its first input by `ProbePushConstants`; then the barriers that make the outputs
+/// readable on the host. Every probe runner records its work with it.
+pub(crate) fn record_probe_dispatches(
+    recorder: &mut Recorder,
+    pipeline: &ComputePipeline,
+    descriptors: &DescriptorSet,
+    count: usize,
+    max_groups: usize,
+) {
+    let group_size = pipeline.workgroup_size()[0].max(1) as usize;
+    let total_groups = count.div_ceil(group_size);
+    recorder.bind(pipeline, descriptors);
+    let mut first_group = 0;
+    while first_group < total_groups {
+        let groups = (total_groups - first_group).min(max_groups.max(1));
+        let constants = ProbePushConstants {
+            first: (first_group * group_size) as u32,
+            count: count as u32,
+        };
+        recorder.push_constants(pipeline, &constants);
+        recorder.dispatch(pipeline, [(groups * group_size) as u32, 1, 1]);
+        first_group += groups;
+    }
+    recorder.compute_barrier();
+    recorder.host_read_barrier();
 }

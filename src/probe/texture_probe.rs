@@ -14,6 +14,7 @@ use gpu_allocator::MemoryLocation;
 use crate::contract;
 use crate::error::{Error, Result};
 use crate::probe::layout::ProbePushConstants;
+use crate::probe::runner::record_probe_dispatches;
 use crate::render::gpu_textures::{GpuTextureSlot, TextureAtlas};
 use crate::shaders;
 use crate::vk::{spirv_words, Buffer, CommandRunner, ComputePipeline, Context, TexelBufferView};
@@ -198,24 +199,9 @@ impl TextureProbeRunner {
         descriptors.write_buffer(contract::PROBE_BINDING_OUTPUTS, storage, &output_buffer);
 
         let pipeline = &self.pipeline;
-        let group_size = pipeline.workgroup_size()[0].max(1) as usize;
-        let max_groups = self.context.limits.max_compute_work_group_count[0].max(1) as usize;
-        let total_groups = count.div_ceil(group_size);
+        let max_groups = self.context.limits.max_compute_work_group_count[0] as usize;
         self.commands.run(|recorder| {
-            recorder.bind(pipeline, &descriptors);
-            let mut first_group = 0;
-            while first_group < total_groups {
-                let groups = (total_groups - first_group).min(max_groups);
-                let constants = ProbePushConstants {
-                    first: (first_group * group_size) as u32,
-                    count: count as u32,
-                };
-                recorder.push_constants(pipeline, &constants);
-                recorder.dispatch(pipeline, [(groups * group_size) as u32, 1, 1]);
-                first_group += groups;
-            }
-            recorder.compute_barrier();
-            recorder.host_read_barrier();
+            record_probe_dispatches(recorder, pipeline, &descriptors, count, max_groups)
         })?;
         let mut outputs: Vec<TextureProbeOutput> = output_buffer.read();
         outputs.truncate(count);
