@@ -200,6 +200,24 @@ float get_power_heuristic_weight(float density, float other_density) {
     return (squared + other_squared > 0.0) ? squared / (squared + other_squared) : 0.0;
 }
 
+// A direction from `origin` towards a point of a light triangle and the distance to it
+// along that direction: by solid angle or by area, as use_spherical_sampling() says.
+// \param spherical The light as seen from `origin` (get_spherical_triangle())
+void sample_light_direction(vec2 point_randoms, triangle_t light, vec3 origin, spherical_triangle_t spherical, out vec3 out_direction, out float out_distance) {
+    if (use_spherical_sampling(spherical)) {
+        out_direction = sample_spherical_triangle(point_randoms, spherical);
+        // The distance from the triangle test that shadow rays run, so that is_occluded()'s
+        // margin excludes exactly this triangle; where rounding put the direction just
+        // outside the triangle, the distance to its plane.
+        if (!ray_triangle_intersection(out_distance, origin, out_direction, light))
+            out_distance = dot(light.normal, light.positions[0] - origin) / dot(light.normal, out_direction);
+    } else {
+        vec3 to_light = sample_triangle_point(point_randoms, light) - origin;
+        out_distance = length(to_light);
+        out_direction = to_light / out_distance;
+    }
+}
+
 // One light sample at a diffuse surface point (next event estimation), MIS-weighted
 // against cosine sampling when INTEGRATOR == INTEGRATOR_MIS:
 // a(x)/pi * L_e(y) * (n.omega) / p_light(omega) * w_light
@@ -217,18 +235,7 @@ vec3 sample_direct_light(vec3 shading_position, triangle_t triangle, inout uvec2
     vec3 direction;
     float distance;
     spherical_triangle_t spherical = get_spherical_triangle(origin, light);
-    if (use_spherical_sampling(spherical)) {
-        direction = sample_spherical_triangle(point_randoms, spherical);
-        // The distance from the triangle test that shadow rays run, so that is_occluded()'s
-        // margin excludes exactly this triangle; where rounding put the direction just
-        // outside the triangle, the distance to its plane.
-        if (!ray_triangle_intersection(distance, origin, direction, light))
-            distance = dot(light.normal, light.positions[0] - origin) / dot(light.normal, direction);
-    } else {
-        vec3 to_light = sample_triangle_point(point_randoms, light) - origin;
-        distance = length(to_light);
-        direction = to_light / distance;
-    }
+    sample_light_direction(point_randoms, light, origin, spherical, direction, distance);
     float cosine = dot(triangle.normal, direction);
     // One-sided emitters shine only towards their normal.
     bool front = dot(light.normal, direction) < 0.0;

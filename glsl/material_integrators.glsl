@@ -73,15 +73,7 @@ vec3 sample_direct_light_with_material(vec3 shading_position, surface_t surface,
     vec3 direction;
     float distance;
     spherical_triangle_t spherical = get_spherical_triangle(origin, light);
-    if (use_spherical_sampling(spherical)) {
-        direction = sample_spherical_triangle(point_randoms, spherical);
-        if (!ray_triangle_intersection(distance, origin, direction, light))
-            distance = dot(light.normal, light.positions[0] - origin) / dot(light.normal, direction);
-    } else {
-        vec3 to_light = sample_triangle_point(point_randoms, light) - origin;
-        distance = length(to_light);
-        direction = to_light / distance;
-    }
+    sample_light_direction(point_randoms, light, origin, spherical, direction, distance);
     vec3 reflection = get_surface_reflection(surface, view, direction);
     bool front = dot(light.normal, direction) < 0.0;
     if (reflection == vec3(0.0) || !(distance > 0.0) || (!front && !is_double_sided(light_triangle_index)))

@@ -198,6 +198,29 @@ pub fn get_power_heuristic_weight(density: f32, other_density: f32) -> f32 {
     }
 }
 
+
+/// Twin of `sample_light_direction`: a direction from `origin` towards a point of `light`
+/// (by solid angle or by area, as `use_spherical_sampling` says) and the distance along it.
+pub fn sample_light_direction(
+    light_sampling: u32,
+    point_randoms: Vec2,
+    light: &Triangle,
+    origin: Vec3,
+    spherical: &SphericalTriangle,
+) -> (Vec3, f32) {
+    if use_spherical_sampling(light_sampling, spherical) {
+        let direction = sample_spherical_triangle(point_randoms, spherical);
+        let distance = ray_triangle_intersection(origin, direction, light).unwrap_or_else(|| {
+            light.normal.dot(light.positions[0] - origin) / light.normal.dot(direction)
+        });
+        (direction, distance)
+    } else {
+        let to_light = sample_triangle_point(point_randoms, light) - origin;
+        let distance = to_light.length();
+        (to_light / distance, distance)
+    }
+}
+
 /// Twin of `sample_direct_light`; `light_sampling` is the kernel's `LIGHT_SAMPLING`.
 #[allow(clippy::too_many_arguments)]
 pub fn sample_direct_light(
@@ -218,17 +241,8 @@ pub fn sample_direct_light(
     let light = &scene_triangles[light_index];
     let origin = offset_ray_origin(shading_position, triangle.normal);
     let spherical = get_spherical_triangle(origin, light);
-    let (direction, distance) = if use_spherical_sampling(light_sampling, &spherical) {
-        let direction = sample_spherical_triangle(point_randoms, &spherical);
-        let distance = ray_triangle_intersection(origin, direction, light).unwrap_or_else(|| {
-            light.normal.dot(light.positions[0] - origin) / light.normal.dot(direction)
-        });
-        (direction, distance)
-    } else {
-        let to_light = sample_triangle_point(point_randoms, light) - origin;
-        let distance = to_light.length();
-        (to_light / distance, distance)
-    };
+    let (direction, distance) =
+        sample_light_direction(light_sampling, point_randoms, light, origin, &spherical);
     let cosine = triangle.normal.dot(direction);
     let front = light.normal.dot(direction) < 0.0;
     if cosine <= 0.0
