@@ -10,16 +10,19 @@ use shaderc_link as _;
 mod shader_compiler;
 
 /// Kernels compiled more than once with different macros: (source stem, variant stem, macros).
-const VARIANTS: &[(&str, &str, &[(&str, &str)])] =
-    &[
-        ("path_tracer", "path_tracer_bvh", &[("USE_BVH", "1")]),
-        ("path_tracer", "path_tracer_materials", &[("USE_MATERIALS", "1")]),
-        (
-            "path_tracer",
-            "path_tracer_materials_bvh",
-            &[("USE_BVH", "1"), ("USE_MATERIALS", "1")],
-        ),
-    ];
+const VARIANTS: &[(&str, &str, &[(&str, &str)])] = &[
+    ("path_tracer", "path_tracer_bvh", &[("USE_BVH", "1")]),
+    (
+        "path_tracer",
+        "path_tracer_materials",
+        &[("USE_MATERIALS", "1")],
+    ),
+    (
+        "path_tracer",
+        "path_tracer_materials_bvh",
+        &[("USE_BVH", "1"), ("USE_MATERIALS", "1")],
+    ),
+];
 
 fn main() {
     // Read at run time: a build script compiled for one checkout may run for another.

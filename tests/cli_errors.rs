@@ -92,10 +92,18 @@ fn obj_without_camera_is_framed() {
     // No longer an error (issue 13): a scene without a camera is framed, and one line says so.
     let dir = tempfile::tempdir().unwrap();
     let cube = common::fixture("cube.obj");
-    let output = common::vkpath(dir.path(), &["render", "-o", "out.png", "--width", "8", "--height", "8", "--spp", "1", &cube]);
+    let output = common::vkpath(
+        dir.path(),
+        &[
+            "render", "-o", "out.png", "--width", "8", "--height", "8", "--spp", "1", &cube,
+        ],
+    );
     let stderr = String::from_utf8_lossy(&output.stderr);
     assert!(output.status.success(), "{stderr}");
-    assert!(stderr.contains("the scene has no camera: framing its bounding sphere"), "{stderr}");
+    assert!(
+        stderr.contains("the scene has no camera: framing its bounding sphere"),
+        "{stderr}"
+    );
 }
 
 #[test]

@@ -52,7 +52,13 @@ fn render(integrator: Integrator, sampler: SamplerKind, spp: u32, seed: u32) -> 
 fn aov(aov: Aov) -> Vec<[f32; 3]> {
     let context = common::validated_context();
     let scene = Scene::builtin_cornell_box().unwrap();
-    let settings = RenderSettings { width: WIDTH, height: HEIGHT, spp: NOISY_SPP, seed: 2, ..Default::default() };
+    let settings = RenderSettings {
+        width: WIDTH,
+        height: HEIGHT,
+        spp: NOISY_SPP,
+        seed: 2,
+        ..Default::default()
+    };
     let pixels = render_aov(&context, &scene, &scene.camera.unwrap(), &settings, aov).unwrap();
     common::assert_validation_silent(&context);
     pixels

@@ -6,8 +6,8 @@ mod common;
 
 use glam::{Mat4, Vec3};
 use vkpath::camera::Camera;
-use vkpath::scene::procedural::inward_cube;
 use vkpath::scene::environment::{Environment, EnvironmentMap};
+use vkpath::scene::procedural::inward_cube;
 use vkpath::scene::punctual::{PunctualKind, PunctualLight};
 use vkpath::scene::Triangle;
 use vkpath::stats::ztest::{z_test_images, MeanImage};
@@ -26,7 +26,15 @@ fn render(scene: &Scene, settings: RenderSettings) -> RenderedImage {
 fn outward_cube(albedo: Vec3) -> Vec<Triangle> {
     inward_cube(albedo, Vec3::ZERO)
         .into_iter()
-        .map(|t| Triangle::new([t.positions[0], t.positions[2], t.positions[1]], albedo, Vec3::ZERO, false).unwrap())
+        .map(|t| {
+            Triangle::new(
+                [t.positions[0], t.positions[2], t.positions[1]],
+                albedo,
+                Vec3::ZERO,
+                false,
+            )
+            .unwrap()
+        })
         .collect()
 }
 
@@ -48,22 +56,35 @@ fn a_convex_diffuse_object_under_a_constant_sky_reflects_albedo_times_sky() {
     let camera = Camera::look_at(Vec3::new(1.5, 2.5, 2.0), Vec3::ZERO, Vec3::Z, 0.9);
     let mut cube = scene(outward_cube(albedo), camera);
     cube.environment = Some(Environment::constant(sky));
-    for (integrator, spp) in [(Integrator::PathTracing, 256), (Integrator::Cosine, 256), (Integrator::Nee, 64), (Integrator::Mis, 64)] {
-        let image = render(&cube, RenderSettings {
-            width: 24,
-            height: 24,
-            spp,
-            max_path_length: 3,
-            pixel_filter: PixelFilter::Center,
-            integrator,
-            ..Default::default()
-        });
+    for (integrator, spp) in [
+        (Integrator::PathTracing, 256),
+        (Integrator::Cosine, 256),
+        (Integrator::Nee, 64),
+        (Integrator::Mis, 64),
+    ] {
+        let image = render(
+            &cube,
+            RenderSettings {
+                width: 24,
+                height: 24,
+                spp,
+                max_path_length: 3,
+                pixel_filter: PixelFilter::Center,
+                integrator,
+                ..Default::default()
+            },
+        );
         let variance = image.variance_of_mean();
         let (mut worst_z, mut object_pixels) = (0.0f64, 0);
         for (mean, variance) in image.mean.iter().zip(&variance) {
             let value = Vec3::new(mean[0], mean[1], mean[2]);
             // A pixel sees the sky (exactly L) or the cube (a L in expectation).
-            let expected = if (value - sky).abs().max_element() < 1e-6 { sky } else { object_pixels += 1; albedo * sky };
+            let expected = if (value - sky).abs().max_element() < 1e-6 {
+                sky
+            } else {
+                object_pixels += 1;
+                albedo * sky
+            };
             for c in 0..3 {
                 let z = f64::from(value[c] - expected[c]) / f64::from(variance[c]).sqrt().max(1e-7);
                 worst_z = worst_z.max(z.abs());
@@ -79,10 +100,27 @@ fn a_convex_diffuse_object_under_a_constant_sky_reflects_albedo_times_sky() {
 /// A 40 m diffuse square at z = 0 seen from above, with one punctual light.
 fn plane_with(light: PunctualLight, albedo: f32) -> Scene {
     let s = 20.0;
-    let corners = [Vec3::new(-s, -s, 0.0), Vec3::new(s, -s, 0.0), Vec3::new(s, s, 0.0), Vec3::new(-s, s, 0.0)];
+    let corners = [
+        Vec3::new(-s, -s, 0.0),
+        Vec3::new(s, -s, 0.0),
+        Vec3::new(s, s, 0.0),
+        Vec3::new(-s, s, 0.0),
+    ];
     let triangles = vec![
-        Triangle::new([corners[0], corners[1], corners[2]], Vec3::splat(albedo), Vec3::ZERO, false).unwrap(),
-        Triangle::new([corners[0], corners[2], corners[3]], Vec3::splat(albedo), Vec3::ZERO, false).unwrap(),
+        Triangle::new(
+            [corners[0], corners[1], corners[2]],
+            Vec3::splat(albedo),
+            Vec3::ZERO,
+            false,
+        )
+        .unwrap(),
+        Triangle::new(
+            [corners[0], corners[2], corners[3]],
+            Vec3::splat(albedo),
+            Vec3::ZERO,
+            false,
+        )
+        .unwrap(),
     ];
     let camera = Camera::look_at(Vec3::new(0.0, -1.0, 4.0), Vec3::ZERO, Vec3::Y, 1.2);
     let mut plane = scene(triangles, camera);
@@ -95,15 +133,18 @@ fn plane_with(light: PunctualLight, albedo: f32) -> Scene {
 /// `expected(point on the plane)`.
 fn punctual_error(scene: &Scene, expected: impl Fn(Vec3) -> f32) -> f32 {
     let (width, height) = (16, 16);
-    let image = render(scene, RenderSettings {
-        width,
-        height,
-        spp: 1,
-        max_path_length: 2,
-        pixel_filter: PixelFilter::Center,
-        integrator: Integrator::Nee,
-        ..Default::default()
-    });
+    let image = render(
+        scene,
+        RenderSettings {
+            width,
+            height,
+            spp: 1,
+            max_path_length: 2,
+            pixel_filter: PixelFilter::Center,
+            integrator: Integrator::Nee,
+            ..Default::default()
+        },
+    );
     let camera = scene.camera.unwrap();
     let plane = camera.image_plane(1.0);
     let mut worst = 0.0f32;
@@ -111,8 +152,11 @@ fn punctual_error(scene: &Scene, expected: impl Fn(Vec3) -> f32) -> f32 {
         for x in 0..width {
             let u = (x as f32 + 0.5) / width as f32;
             let v = ((height - 1 - y) as f32 + 0.5) / height as f32;
-            let direction = (plane.left_bottom + u * plane.right + v * plane.up - plane.camera_position).normalize();
-            let point = plane.camera_position + (-plane.camera_position.z / direction.z) * direction;
+            let direction = (plane.left_bottom + u * plane.right + v * plane.up
+                - plane.camera_position)
+                .normalize();
+            let point =
+                plane.camera_position + (-plane.camera_position.z / direction.z) * direction;
             let want = expected(point);
             let got = image.mean[(y * width + x) as usize][0];
             worst = worst.max((got - want).abs() / want.max(1e-3));
@@ -135,7 +179,16 @@ fn point_spot_and_directional_lights_match_their_closed_forms() {
     println!("point light: largest relative error {error:e}");
     assert!(error < 1e-4, "{error}");
     // Spot, pointing straight down: times the extension's falloff (clamp(cos s + o)^2).
-    let spot = PunctualLight::new(PunctualKind::Spot { inner_cone_angle: 0.3, outer_cone_angle: 0.6 }, Vec3::ONE, 10.0, above).unwrap();
+    let spot = PunctualLight::new(
+        PunctualKind::Spot {
+            inner_cone_angle: 0.3,
+            outer_cone_angle: 0.6,
+        },
+        Vec3::ONE,
+        10.0,
+        above,
+    )
+    .unwrap();
     let (scale, offset) = spot.cone_scale_offset();
     let error = punctual_error(&plane_with(spot, albedo), |p| {
         let to_light = spot.position - p;
@@ -162,19 +215,67 @@ fn every_integrator_sees_an_environment_map_alike() {
     // a floor: block means agree between all four integrators.
     let mut texels = vec![Vec3::new(0.05, 0.1, 0.2); 32];
     texels[8 + 5] = Vec3::new(20.0, 16.0, 10.0);
-    let map = EnvironmentMap { width: 8, height: 4, texels };
+    let map = EnvironmentMap {
+        width: 8,
+        height: 4,
+        texels,
+    };
     let mut triangles = outward_cube(Vec3::splat(0.7));
     let s = 6.0;
-    let floor = [Vec3::new(-s, -s, -0.5), Vec3::new(s, -s, -0.5), Vec3::new(s, s, -0.5), Vec3::new(-s, s, -0.5)];
-    triangles.push(Triangle::new([floor[0], floor[1], floor[2]], Vec3::splat(0.5), Vec3::ZERO, false).unwrap());
-    triangles.push(Triangle::new([floor[0], floor[2], floor[3]], Vec3::splat(0.5), Vec3::ZERO, false).unwrap());
+    let floor = [
+        Vec3::new(-s, -s, -0.5),
+        Vec3::new(s, -s, -0.5),
+        Vec3::new(s, s, -0.5),
+        Vec3::new(-s, s, -0.5),
+    ];
+    triangles.push(
+        Triangle::new(
+            [floor[0], floor[1], floor[2]],
+            Vec3::splat(0.5),
+            Vec3::ZERO,
+            false,
+        )
+        .unwrap(),
+    );
+    triangles.push(
+        Triangle::new(
+            [floor[0], floor[2], floor[3]],
+            Vec3::splat(0.5),
+            Vec3::ZERO,
+            false,
+        )
+        .unwrap(),
+    );
     let camera = Camera::look_at(Vec3::new(2.0, 2.5, 1.5), Vec3::ZERO, Vec3::Z, 1.0);
     let mut lit = scene(triangles, camera);
-    lit.environment = Some(Environment { map: Some(map), background: Vec3::ZERO, strength: 1.5, rotation_degrees: 30.0 });
+    lit.environment = Some(Environment {
+        map: Some(map),
+        background: Vec3::ZERO,
+        strength: 1.5,
+        rotation_degrees: 30.0,
+    });
     let means = |integrator, seed| {
-        let image = render(&lit, RenderSettings { width: 32, height: 32, spp: 256, max_path_length: 3, integrator, seed, ..Default::default() });
-        let variance: Vec<[f64; 3]> = image.variance_of_mean().iter().map(|v| v.map(f64::from)).collect();
-        MeanImage::from_rgb(32, 32, &image.mean, &variance).unwrap().block_average(8).unwrap()
+        let image = render(
+            &lit,
+            RenderSettings {
+                width: 32,
+                height: 32,
+                spp: 256,
+                max_path_length: 3,
+                integrator,
+                seed,
+                ..Default::default()
+            },
+        );
+        let variance: Vec<[f64; 3]> = image
+            .variance_of_mean()
+            .iter()
+            .map(|v| v.map(f64::from))
+            .collect();
+        MeanImage::from_rgb(32, 32, &image.mean, &variance)
+            .unwrap()
+            .block_average(8)
+            .unwrap()
     };
     let reference = means(Integrator::Mis, 1);
     for integrator in [Integrator::PathTracing, Integrator::Cosine, Integrator::Nee] {

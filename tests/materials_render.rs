@@ -11,7 +11,9 @@ use vkpath::cpu::brdf::{get_brdf, MaterialSample};
 use vkpath::cpu::materials::apply_normal_map;
 use vkpath::cpu::textures::{sample_texture, unpack_texture_slot};
 use vkpath::render::gpu_textures::GpuTextureSlot;
-use vkpath::scene::materials::{AlphaMode, PbrMaterial, SceneMaterials, TextureBinding, TriangleShading};
+use vkpath::scene::materials::{
+    AlphaMode, PbrMaterial, SceneMaterials, TextureBinding, TriangleShading,
+};
 use vkpath::scene::textures::{Texture, TextureTransform, WrapMode};
 use vkpath::scene::Triangle;
 use vkpath::stats::ztest::{z_test_images, MeanImage};
@@ -32,7 +34,12 @@ impl QuadScene {
     fn quad(&mut self, corners: [Vec3; 4], material: PbrMaterial) {
         let index = self.materials.len() as u32;
         self.materials.push(material);
-        let uv = [Vec2::new(0.0, 1.0), Vec2::new(1.0, 1.0), Vec2::new(1.0, 0.0), Vec2::ZERO];
+        let uv = [
+            Vec2::new(0.0, 1.0),
+            Vec2::new(1.0, 1.0),
+            Vec2::new(1.0, 0.0),
+            Vec2::ZERO,
+        ];
         for [i, j, k] in [[0, 1, 2], [0, 2, 3]] {
             let triangle = Triangle::new(
                 [corners[i], corners[j], corners[k]],
@@ -126,7 +133,8 @@ fn white_metal_albedo(roughness: f32, view: Vec3) -> f64 {
         let sin_theta = (1.0 - cos_theta * cos_theta).sqrt();
         for j in 0..2 * n {
             let phi = std::f64::consts::PI * (j as f64 + 0.5) / n as f64;
-            let light = glam::DVec3::new(sin_theta * phi.cos(), sin_theta * phi.sin(), cos_theta).as_vec3();
+            let light =
+                glam::DVec3::new(sin_theta * phi.cos(), sin_theta * phi.sin(), cos_theta).as_vec3();
             sum += f64::from(get_brdf(&material, Vec3::Z, view, light).x) * cos_theta;
         }
     }
@@ -141,25 +149,40 @@ fn white_metal_in_a_white_furnace_reflects_its_numerical_albedo() {
     // walls), and the walls themselves read 1. The camera looks down at 50 degrees from the
     // normal, so the square's pixels span view angles of about 30 to 65 degrees.
     let (width, height) = (16, 16);
-    for (roughness, integrator, spp) in [(0.3, Integrator::Mis, 512), (0.6, Integrator::Nee, 512), (0.6, Integrator::PathTracing, 2048)] {
+    for (roughness, integrator, spp) in [
+        (0.3, Integrator::Mis, 512),
+        (0.6, Integrator::Nee, 512),
+        (0.6, Integrator::PathTracing, 2048),
+    ] {
         let mut builder = QuadScene::default();
         builder.furnace_walls(10.0, 1.0);
         let s = 2.0;
-        builder.quad([Vec3::new(-s, -s, 0.0), Vec3::new(s, -s, 0.0), Vec3::new(s, s, 0.0), Vec3::new(-s, s, 0.0)], white_metal(roughness));
+        builder.quad(
+            [
+                Vec3::new(-s, -s, 0.0),
+                Vec3::new(s, -s, 0.0),
+                Vec3::new(s, s, 0.0),
+                Vec3::new(-s, s, 0.0),
+            ],
+            white_metal(roughness),
+        );
         let position = Vec3::new(0.0, -3.0, 2.5);
         let camera = Camera::look_at(position, Vec3::ZERO, Vec3::Z, 0.9);
         let scene = builder.build(camera);
-        let image = render(&scene, RenderSettings {
-            width,
-            height,
-            spp,
-            samples_per_frame: 64,
-            max_path_length: 2,
-            pixel_filter: PixelFilter::Center,
-            integrator,
-            seed: 7,
-            ..Default::default()
-        });
+        let image = render(
+            &scene,
+            RenderSettings {
+                width,
+                height,
+                spp,
+                samples_per_frame: 64,
+                max_path_length: 2,
+                pixel_filter: PixelFilter::Center,
+                integrator,
+                seed: 7,
+                ..Default::default()
+            },
+        );
         let variance = image.variance_of_mean();
         let (mut worst_z, mut worst_relative, mut metal_pixels) = (0.0_f64, 0.0_f64, 0);
         for y in 0..height {
@@ -184,39 +207,66 @@ fn white_metal_in_a_white_furnace_reflects_its_numerical_albedo() {
         assert!(metal_pixels > 64, "the square should fill much of the view");
         // 256 pixels at 1%, Šidák-corrected: |z| < 4.0; the estimators are bounded here
         // (weights G2/G1 <= 1 for BRDF samples), so per-pixel means are close to normal.
-        assert!(worst_z < 4.0, "roughness {roughness}, {integrator:?}: |z| = {worst_z}");
+        assert!(
+            worst_z < 4.0,
+            "roughness {roughness}, {integrator:?}: |z| = {worst_z}"
+        );
     }
 }
 
 fn block_means(image: &RenderedImage) -> MeanImage {
-    let variance: Vec<[f64; 3]> = image.variance_of_mean().iter().map(|v| v.map(f64::from)).collect();
-    MeanImage::from_rgb(image.width as usize, image.height as usize, &image.mean, &variance)
-        .unwrap()
-        .block_average(8)
-        .unwrap()
+    let variance: Vec<[f64; 3]> = image
+        .variance_of_mean()
+        .iter()
+        .map(|v| v.map(f64::from))
+        .collect();
+    MeanImage::from_rgb(
+        image.width as usize,
+        image.height as usize,
+        &image.mean,
+        &variance,
+    )
+    .unwrap()
+    .block_average(8)
+    .unwrap()
 }
 
 /// The test glTF's open box with glossy walls: metal walls, a plastic floor.
 fn glossy_box(roughness: f32) -> Scene {
-    let mut scene = Scene::load(std::path::Path::new(&common::fixture("emissive_quad.gltf"))).unwrap();
+    let mut scene =
+        Scene::load(std::path::Path::new(&common::fixture("emissive_quad.gltf"))).unwrap();
     let shading: Vec<TriangleShading> = scene
         .triangles
         .iter()
         .map(|t| TriangleShading {
-            material: if t.emission.max_element() > 0.0 { 0 } else if t.normal.y > 0.5 { 1 } else { 2 },
+            material: if t.emission.max_element() > 0.0 {
+                0
+            } else if t.normal.y > 0.5 {
+                1
+            } else {
+                2
+            },
             normals: [t.normal; 3],
             tex_coords: [Vec2::ZERO; 3],
             tangents: [Vec4::ZERO; 3],
         })
         .collect();
-    let light = scene.triangles.iter().find(|t| t.emission.max_element() > 0.0).unwrap();
+    let light = scene
+        .triangles
+        .iter()
+        .find(|t| t.emission.max_element() > 0.0)
+        .unwrap();
     let mut plastic = PbrMaterial::lambertian(Vec3::new(0.7, 0.2, 0.2), Vec3::ZERO, false);
     plastic.specular = 1.0;
     plastic.roughness = roughness;
     let mut metal = white_metal(roughness);
     metal.base_color = Vec4::new(0.9, 0.8, 0.5, 1.0);
     scene.materials = Some(SceneMaterials {
-        materials: vec![PbrMaterial::lambertian(Vec3::ZERO, light.emission, light.double_sided), plastic, metal],
+        materials: vec![
+            PbrMaterial::lambertian(Vec3::ZERO, light.emission, light.double_sided),
+            plastic,
+            metal,
+        ],
         textures: Vec::new(),
         triangles: shading,
     });
@@ -243,7 +293,10 @@ fn integrators_agree_on_glossy_materials() {
         let other = block_means(&render(&rough, settings(integrator, 2)));
         let report = z_test_images(&other, &reference, 0.01).unwrap();
         println!("roughness 0.6, {integrator:?} vs mis: {report:?}");
-        assert!(report.passed, "{integrator:?} disagrees with mis: {report:?}");
+        assert!(
+            report.passed,
+            "{integrator:?} disagrees with mis: {report:?}"
+        );
     }
     // Glossy (0.15): NEE and MIS, which both sample the BRDF, agree.
     let glossy = glossy_box(0.15);
@@ -257,9 +310,23 @@ fn integrators_agree_on_glossy_materials() {
 /// A 4x4 texture: colours that differ per texel, alpha 0 in the left column.
 fn test_texture() -> Texture {
     let texels = (0..16u8)
-        .map(|i| [i * 16, 255 - i * 16, (i % 4) * 80, if i % 4 == 0 { 0 } else { 255 }])
+        .map(|i| {
+            [
+                i * 16,
+                255 - i * 16,
+                (i % 4) * 80,
+                if i % 4 == 0 { 0 } else { 255 },
+            ]
+        })
         .collect();
-    Texture { width: 4, height: 4, texels, wrap_s: WrapMode::Repeat, wrap_t: WrapMode::MirroredRepeat, nearest: false }
+    Texture {
+        width: 4,
+        height: 4,
+        texels,
+        wrap_s: WrapMode::Repeat,
+        wrap_t: WrapMode::MirroredRepeat,
+        nearest: false,
+    }
 }
 
 #[test]
@@ -274,27 +341,53 @@ fn textures_and_alpha_masks_render_as_the_cpu_twins_predict() {
     let transform = TextureTransform::from_gltf([0.1, 0.2], 0.3, [1.5, 1.5]);
     let mut textured = PbrMaterial::lambertian(Vec3::ONE, Vec3::ZERO, false);
     textured.base_color = Vec4::new(1.0, 0.8, 0.6, 1.0);
-    textured.base_color_texture = Some(TextureBinding { texture: 0, transform });
+    textured.base_color_texture = Some(TextureBinding {
+        texture: 0,
+        transform,
+    });
     textured.alpha_mode = AlphaMode::Mask { cutoff: 0.5 };
-    builder.quad([Vec3::new(-1.0, -1.0, 0.0), Vec3::new(1.0, -1.0, 0.0), Vec3::new(1.0, 1.0, 0.0), Vec3::new(-1.0, 1.0, 0.0)], textured);
+    builder.quad(
+        [
+            Vec3::new(-1.0, -1.0, 0.0),
+            Vec3::new(1.0, -1.0, 0.0),
+            Vec3::new(1.0, 1.0, 0.0),
+            Vec3::new(-1.0, 1.0, 0.0),
+        ],
+        textured,
+    );
     let backdrop_color = Vec3::new(0.25, 0.5, 0.75);
     let mut backdrop = PbrMaterial::lambertian(backdrop_color, Vec3::ZERO, false);
     backdrop.specular = 1.0; // not plain, so that the scene keeps its materials
-    builder.quad([Vec3::new(-5.0, -5.0, -1.0), Vec3::new(5.0, -5.0, -1.0), Vec3::new(5.0, 5.0, -1.0), Vec3::new(-5.0, 5.0, -1.0)], backdrop);
+    builder.quad(
+        [
+            Vec3::new(-5.0, -5.0, -1.0),
+            Vec3::new(5.0, -5.0, -1.0),
+            Vec3::new(5.0, 5.0, -1.0),
+            Vec3::new(-5.0, 5.0, -1.0),
+        ],
+        backdrop,
+    );
     let position = Vec3::new(0.0, 0.0, 2.2);
     let camera = Camera::look_at(position, Vec3::ZERO, Vec3::Y, 1.0);
     let texture = builder.textures[0].clone();
     let scene = builder.build(camera);
-    let image = render(&scene, RenderSettings {
-        width,
-        height,
-        spp: 1,
-        pixel_filter: PixelFilter::Center,
-        integrator: Integrator::RayTracing,
-        ..Default::default()
-    });
+    let image = render(
+        &scene,
+        RenderSettings {
+            width,
+            height,
+            spp: 1,
+            pixel_filter: PixelFilter::Center,
+            integrator: Integrator::RayTracing,
+            ..Default::default()
+        },
+    );
     let words = GpuTextureSlot::new(0, &texture, true, &transform).to_texels();
-    let slot = unpack_texture_slot(UVec4::from(words[0]), UVec4::from(words[1]), UVec4::from(words[2]));
+    let slot = unpack_texture_slot(
+        UVec4::from(words[0]),
+        UVec4::from(words[1]),
+        UVec4::from(words[2]),
+    );
     let (mut worst, mut textured_pixels, mut masked_pixels) = (0.0_f32, 0, 0);
     for y in 0..height {
         for x in 0..width {
@@ -304,7 +397,8 @@ fn textures_and_alpha_masks_render_as_the_cpu_twins_predict() {
             let expected = if hit.x.abs() < 1.0 && hit.y.abs() < 1.0 {
                 // uv: (0, 1) at (-1, -1), (1, 0) at (1, 1)
                 let uv = Vec2::new((hit.x + 1.0) / 2.0, (1.0 - hit.y) / 2.0);
-                let texel = sample_texture(&texture.texels, &slot, uv) * Vec4::new(1.0, 0.8, 0.6, 1.0);
+                let texel =
+                    sample_texture(&texture.texels, &slot, uv) * Vec4::new(1.0, 0.8, 0.6, 1.0);
                 if (texel.w - 0.5).abs() < 0.02 {
                     continue; // a pixel centre on the mask's edge: an ulp decides
                 }
@@ -337,19 +431,39 @@ fn blended_alpha_covers_its_share_of_the_samples() {
     let mut glass = PbrMaterial::lambertian(Vec3::ONE, Vec3::ZERO, false);
     glass.base_color.w = 0.25;
     glass.alpha_mode = AlphaMode::Blend;
-    builder.quad([Vec3::new(-5.0, -5.0, 0.0), Vec3::new(5.0, -5.0, 0.0), Vec3::new(5.0, 5.0, 0.0), Vec3::new(-5.0, 5.0, 0.0)], glass);
+    builder.quad(
+        [
+            Vec3::new(-5.0, -5.0, 0.0),
+            Vec3::new(5.0, -5.0, 0.0),
+            Vec3::new(5.0, 5.0, 0.0),
+            Vec3::new(-5.0, 5.0, 0.0),
+        ],
+        glass,
+    );
     let black = PbrMaterial::lambertian(Vec3::ZERO, Vec3::ZERO, false);
-    builder.quad([Vec3::new(-9.0, -9.0, -1.0), Vec3::new(9.0, -9.0, -1.0), Vec3::new(9.0, 9.0, -1.0), Vec3::new(-9.0, 9.0, -1.0)], black);
+    builder.quad(
+        [
+            Vec3::new(-9.0, -9.0, -1.0),
+            Vec3::new(9.0, -9.0, -1.0),
+            Vec3::new(9.0, 9.0, -1.0),
+            Vec3::new(-9.0, 9.0, -1.0),
+        ],
+        black,
+    );
     let camera = Camera::look_at(Vec3::new(0.0, 0.0, 2.0), Vec3::ZERO, Vec3::Y, 0.8);
     let scene = builder.build(camera);
-    let image = render(&scene, RenderSettings {
-        width: 16,
-        height: 16,
-        spp: 256,
-        integrator: Integrator::RayTracing,
-        ..Default::default()
-    });
-    let mean: f64 = image.mean.iter().map(|p| f64::from(p[0])).sum::<f64>() / image.mean.len() as f64;
+    let image = render(
+        &scene,
+        RenderSettings {
+            width: 16,
+            height: 16,
+            spp: 256,
+            integrator: Integrator::RayTracing,
+            ..Default::default()
+        },
+    );
+    let mean: f64 =
+        image.mean.iter().map(|p| f64::from(p[0])).sum::<f64>() / image.mean.len() as f64;
     // 65536 Bernoulli(0.25) samples: standard deviation of the mean 0.0017; 0.01 is 6 sigma.
     println!("coverage {mean:.4}");
     assert!((mean - 0.25).abs() < 0.01, "{mean}");
@@ -367,15 +481,33 @@ fn normal_maps_render_as_the_cpu_twins_predict() {
         state = state.wrapping_mul(1664525).wrapping_add(1013904223);
         (state >> 24) as u8
     };
-    let texels = (0..16).map(|_| [next(), next(), 128 + next() / 2, 255]).collect();
-    builder.textures.push(Texture { width: 4, height: 4, texels, wrap_s: WrapMode::Repeat, wrap_t: WrapMode::Repeat, nearest: false });
+    let texels = (0..16)
+        .map(|_| [next(), next(), 128 + next() / 2, 255])
+        .collect();
+    builder.textures.push(Texture {
+        width: 4,
+        height: 4,
+        texels,
+        wrap_s: WrapMode::Repeat,
+        wrap_t: WrapMode::Repeat,
+        nearest: false,
+    });
     let mut bumpy = PbrMaterial::lambertian(Vec3::splat(0.5), Vec3::ZERO, false);
     bumpy.specular = 1.0;
     bumpy.normal_scale = 0.7;
     let transform = TextureTransform::identity();
-    bumpy.normal_texture = Some(TextureBinding { texture: 0, transform });
+    bumpy.normal_texture = Some(TextureBinding {
+        texture: 0,
+        transform,
+    });
     let tilt = glam::Mat3::from_rotation_x(0.3);
-    let corners = [Vec3::new(-1.0, -1.0, 0.0), Vec3::new(1.0, -1.0, 0.0), Vec3::new(1.0, 1.0, 0.0), Vec3::new(-1.0, 1.0, 0.0)].map(|c| tilt * c);
+    let corners = [
+        Vec3::new(-1.0, -1.0, 0.0),
+        Vec3::new(1.0, -1.0, 0.0),
+        Vec3::new(1.0, 1.0, 0.0),
+        Vec3::new(-1.0, 1.0, 0.0),
+    ]
+    .map(|c| tilt * c);
     builder.quad(corners, bumpy);
     let tangent = (tilt * Vec3::X).extend(-1.0);
     for shading in &mut builder.shading {
@@ -386,16 +518,23 @@ fn normal_maps_render_as_the_cpu_twins_predict() {
     let camera = Camera::look_at(position, Vec3::ZERO, Vec3::Y, 1.0);
     let texture = builder.textures[0].clone();
     let scene = builder.build(camera);
-    let image = render(&scene, RenderSettings {
-        width,
-        height,
-        spp: 1,
-        pixel_filter: PixelFilter::Center,
-        integrator: Integrator::Normal,
-        ..Default::default()
-    });
+    let image = render(
+        &scene,
+        RenderSettings {
+            width,
+            height,
+            spp: 1,
+            pixel_filter: PixelFilter::Center,
+            integrator: Integrator::Normal,
+            ..Default::default()
+        },
+    );
     let words = GpuTextureSlot::new(0, &texture, false, &transform).to_texels();
-    let slot = unpack_texture_slot(UVec4::from(words[0]), UVec4::from(words[1]), UVec4::from(words[2]));
+    let slot = unpack_texture_slot(
+        UVec4::from(words[0]),
+        UVec4::from(words[1]),
+        UVec4::from(words[2]),
+    );
     let (mut worst, mut mapped_pixels) = (0.0f32, 0);
     for y in 0..height {
         for x in 0..width {
@@ -411,7 +550,11 @@ fn normal_maps_render_as_the_cpu_twins_predict() {
             let mapped = apply_normal_map(face_normal, tangent, texel, 0.7);
             // Where the mapped normal faces away from the viewer, the geometric one is used
             // (glsl/materials.glsl's convention).
-            let expected = if mapped.dot(-direction) > 0.0 { mapped } else { face_normal };
+            let expected = if mapped.dot(-direction) > 0.0 {
+                mapped
+            } else {
+                face_normal
+            };
             let actual = Vec3::from_slice(&image.mean[(y * width + x) as usize][..3]);
             worst = worst.max((actual - expected).length());
         }

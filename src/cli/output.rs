@@ -12,9 +12,11 @@ use serde::Serialize;
 use super::signals;
 use super::summary::{summary_line, RenderProgress};
 use crate::camera::Camera;
-use crate::image_io::output::{save_image_with_attributes, save_image_with_layers, ImageLayer, SaveOptions};
-use crate::render::aov::{render_aov, Aov};
+use crate::image_io::output::{
+    save_image_with_attributes, save_image_with_layers, ImageLayer, SaveOptions,
+};
 use crate::image_io::state_exr::write_state;
+use crate::render::aov::{render_aov, Aov};
 use crate::render::job::{run_job, JobOptions, DEFAULT_CHECKPOINT_INTERVAL};
 use crate::render::metadata::RenderMetadata;
 use crate::render::multi::run_on_devices;

@@ -96,7 +96,10 @@ impl LightArgs {
     /// The environment these options describe, if any.
     pub fn environment(&self) -> anyhow::Result<Option<Environment>> {
         if !(self.environment_strength >= 0.0 && self.environment_strength.is_finite()) {
-            bail!("--environment-strength must be a finite number >= 0, not {}", self.environment_strength);
+            bail!(
+                "--environment-strength must be a finite number >= 0, not {}",
+                self.environment_strength
+            );
         }
         if !self.environment_rotation.is_finite() {
             bail!("--environment-rotation must be finite");
@@ -240,7 +243,9 @@ pub fn run(args: &RenderArgs) -> anyhow::Result<()> {
             "vkpath: warning: nothing lights the scene (no emissive surface, punctual light, --environment or --background): the image will be black"
         );
     }
-    if !scene.punctual_lights.is_empty() && !matches!(settings.integrator, Integrator::Nee | Integrator::Mis) {
+    if !scene.punctual_lights.is_empty()
+        && !matches!(settings.integrator, Integrator::Nee | Integrator::Mis)
+    {
         eprintln!(
             "vkpath: warning: the scene's {} punctual lights are invisible to --integrator {}: only nee and mis sample them",
             scene.punctual_lights.len(),

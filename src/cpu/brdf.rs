@@ -115,8 +115,8 @@ pub fn get_brdf(material: &MaterialSample, normal: Vec3, view: Vec3, light: Vec3
         Vec3::splat(material.specular),
         view_dot_half,
     );
-    let dielectric = (1.0 - dielectric_fresnel) * material.base_color / M_PI
-        + dielectric_fresnel * specular;
+    let dielectric =
+        (1.0 - dielectric_fresnel) * material.base_color / M_PI + dielectric_fresnel * specular;
     let metal = get_schlick_fresnel(material.base_color, Vec3::ONE, view_dot_half) * specular;
     dielectric.lerp(metal, material.metallic)
 }
@@ -135,8 +135,8 @@ pub fn get_specular_probability(material: &MaterialSample, normal_dot_view: f32)
     );
     let metal_fresnel = get_schlick_fresnel(material.base_color, Vec3::ONE, normal_dot_view);
     let specular = get_luminance(dielectric_fresnel.lerp(metal_fresnel, material.metallic));
-    let diffuse = (1.0 - material.metallic)
-        * get_luminance((1.0 - dielectric_fresnel) * material.base_color);
+    let diffuse =
+        (1.0 - material.metallic) * get_luminance((1.0 - dielectric_fresnel) * material.base_color);
     if specular + diffuse > 0.0 {
         specular / (specular + diffuse)
     } else {
@@ -185,11 +185,8 @@ pub fn sample_brdf(
     let specular_probability = get_specular_probability(material, local_view.z);
     if random_numbers[0] < specular_probability {
         let lobe_randoms = Vec2::new(random_numbers[0] / specular_probability, random_numbers[1]);
-        let local_half = sample_ggx_visible_normal(
-            lobe_randoms,
-            get_ggx_alpha(material.roughness),
-            local_view,
-        );
+        let local_half =
+            sample_ggx_visible_normal(lobe_randoms, get_ggx_alpha(material.roughness), local_view);
         return (basis * reflect(-local_view, local_half)).normalize();
     }
     let u = (random_numbers[0] - specular_probability) / (1.0 - specular_probability);

@@ -24,10 +24,26 @@ fn mixed_cases() -> Vec<(&'static str, MaterialSample, f32)> {
     tinted.specular_color = Vec3::new(1.0, 0.5, 2.0);
     tinted.ior = 2.2;
     vec![
-        ("rough dielectric, normal view", MaterialSample::gltf(Vec3::splat(0.5), 0.0, 1.0), 0.0),
-        ("dielectric, roughness 0.3, 60 degrees", MaterialSample::gltf(Vec3::new(0.2, 0.6, 0.9), 0.0, 0.3), 60.0),
-        ("half metal, roughness 0.5, 30 degrees", MaterialSample::gltf(Vec3::new(0.9, 0.7, 0.2), 0.5, 0.5), 30.0),
-        ("metal, roughness 0.7, 80 degrees", MaterialSample::gltf(Vec3::ONE, 1.0, 0.7), 80.0),
+        (
+            "rough dielectric, normal view",
+            MaterialSample::gltf(Vec3::splat(0.5), 0.0, 1.0),
+            0.0,
+        ),
+        (
+            "dielectric, roughness 0.3, 60 degrees",
+            MaterialSample::gltf(Vec3::new(0.2, 0.6, 0.9), 0.0, 0.3),
+            60.0,
+        ),
+        (
+            "half metal, roughness 0.5, 30 degrees",
+            MaterialSample::gltf(Vec3::new(0.9, 0.7, 0.2), 0.5, 0.5),
+            30.0,
+        ),
+        (
+            "metal, roughness 0.7, 80 degrees",
+            MaterialSample::gltf(Vec3::ONE, 1.0, 0.7),
+            80.0,
+        ),
         ("tinted specular, ior 2.2, 45 degrees", tinted, 45.0),
     ]
 }
@@ -57,7 +73,10 @@ fn sample_brdf_follows_get_brdf_density() {
             &config,
         )
         .unwrap();
-        println!("{name}: p = {:.4}, chi2 = {:.1}, dof {}", result.p_value, result.statistic, result.degrees_of_freedom);
+        println!(
+            "{name}: p = {:.4}, chi2 = {:.1}, dof {}",
+            result.p_value, result.statistic, result.degrees_of_freedom
+        );
         assert!(result.passed, "{name}: {result:?}");
     }
 }
@@ -94,7 +113,9 @@ fn sample_brdf_follows_its_density_down_to_roughness_0_01() {
             .into_iter()
             .map(|light| {
                 let half = (view64 + light.as_dvec3()).normalize();
-                DVec3::new(half.x / alpha, half.y / alpha, half.z).normalize().as_vec3()
+                DVec3::new(half.x / alpha, half.y / alpha, half.z)
+                    .normalize()
+                    .as_vec3()
             })
             .collect();
         // Below the stretched horizon the half vector would be flipped, which reflects the
@@ -104,7 +125,12 @@ fn sample_brdf_follows_its_density_down_to_roughness_0_01() {
                 return 0.0;
             }
             let (light, half, length) = light_of_stretched(alpha, view64, s.as_dvec3());
-            let p = f64::from(get_brdf_density(&material, Vec3::Z, view, light.normalize().as_vec3()));
+            let p = f64::from(get_brdf_density(
+                &material,
+                Vec3::Z,
+                view,
+                light.normalize().as_vec3(),
+            ));
             p * 4.0 * view64.dot(half).abs() * alpha * alpha / length.powi(3)
         };
         let result = chi2_direction_test(
@@ -114,8 +140,14 @@ fn sample_brdf_follows_its_density_down_to_roughness_0_01() {
             &config,
         )
         .unwrap();
-        println!("metal roughness {roughness} at {degrees} degrees: p = {:.4}, chi2 = {:.1}", result.p_value, result.statistic);
-        assert!(result.passed, "roughness {roughness}, {degrees} degrees: {result:?}");
+        println!(
+            "metal roughness {roughness} at {degrees} degrees: p = {:.4}, chi2 = {:.1}",
+            result.p_value, result.statistic
+        );
+        assert!(
+            result.passed,
+            "roughness {roughness}, {degrees} degrees: {result:?}"
+        );
     }
 }
 
@@ -140,7 +172,9 @@ fn brdf_density_integrates_to_one() {
     // error is then ~1e-4); narrower lobes are covered by the χ² tests above.
     for (name, material, degrees) in mixed_cases() {
         let view = view_at(degrees);
-        let integral = integrate_sphere(1000, |light| f64::from(get_brdf_density(&material, Vec3::Z, view, light)));
+        let integral = integrate_sphere(1000, |light| {
+            f64::from(get_brdf_density(&material, Vec3::Z, view, light))
+        });
         println!("{name}: density integral {integral:.5}");
         assert!((integral - 1.0).abs() < 2e-3, "{name}: {integral}");
     }
@@ -190,7 +224,10 @@ fn white_furnace_albedo_never_exceeds_one() {
     // scattering, below 1 and near 1 for smooth surfaces at moderate angles.
     for roughness in [0.3_f32, 0.6, 1.0] {
         for degrees in [0.0_f32, 30.0, 60.0, 80.0] {
-            let albedo = directional_albedo(&MaterialSample::gltf(Vec3::ONE, 1.0, roughness), view_at(degrees));
+            let albedo = directional_albedo(
+                &MaterialSample::gltf(Vec3::ONE, 1.0, roughness),
+                view_at(degrees),
+            );
             println!("white metal roughness {roughness}, {degrees} degrees: albedo {albedo:.4}");
             // Roughness 1 at normal view loses most: f = 0.5 / (pi (n.l + n.v)), albedo 1 - ln 2.
             assert!(albedo <= 1.0 + 1e-3 && albedo > 0.3, "{albedo}");
@@ -211,7 +248,10 @@ fn specular_zero_dielectric_is_lambertian_and_samples_the_cosine() {
     assert_eq!(get_specular_probability(&material, view.z), 0.0);
     let light = Vec3::new(0.3, -0.4, 0.866).normalize();
     let f = get_brdf(&material, Vec3::Z, view, light);
-    assert!((f - material.base_color / M_PI).abs().max_element() < 1e-7, "{f}");
+    assert!(
+        (f - material.base_color / M_PI).abs().max_element() < 1e-7,
+        "{f}"
+    );
     let density = get_brdf_density(&material, Vec3::Z, view, light);
     assert!((density - light.z / M_PI).abs() < 1e-7);
 }
@@ -250,4 +290,3 @@ fn fresnel_and_f0_by_hand() {
     assert!((half_way.x - 1.0 / 32.0).abs() < 1e-7);
     assert!(Vec2::ZERO.is_finite());
 }
-

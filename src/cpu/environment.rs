@@ -16,7 +16,12 @@ pub struct EnvironmentTexels<'a> {
 impl EnvironmentTexels<'_> {
     fn texel(&self, index: usize) -> [u32; 4] {
         let start = 4 * index;
-        [self.words[start], self.words[start + 1], self.words[start + 2], self.words[start + 3]]
+        [
+            self.words[start],
+            self.words[start + 1],
+            self.words[start + 2],
+            self.words[start + 3],
+        ]
     }
 
     fn float_texel(&self, index: usize) -> [f32; 4] {
@@ -88,7 +93,11 @@ pub fn sample_environment(texels: &EnvironmentTexels, random_numbers: Vec2) -> V
     let v = ((texel / header[0]) as f32 + random_numbers[1]) / header[1] as f32;
     let theta = v * M_PI;
     let phi = (u - 0.5) * 2.0 * M_PI;
-    let map_direction = Vec3::new(theta.sin() * phi.sin(), theta.cos(), -theta.sin() * phi.cos());
+    let map_direction = Vec3::new(
+        theta.sin() * phi.sin(),
+        theta.cos(),
+        -theta.sin() * phi.cos(),
+    );
     let rotation = texels.float_texel(1);
     rotate_about_y(map_direction, rotation[1], rotation[2])
 }
@@ -126,13 +135,19 @@ mod tests {
 
     fn test_map() -> Environment {
         // 16 x 8 texels: a gradient, a bright texel, a black row.
-        let mut texels: Vec<Vec3> = (0..128).map(|i| Vec3::new(0.1 + (i % 16) as f32 * 0.05, 0.2, 0.3)).collect();
+        let mut texels: Vec<Vec3> = (0..128)
+            .map(|i| Vec3::new(0.1 + (i % 16) as f32 * 0.05, 0.2, 0.3))
+            .collect();
         texels[3 * 16 + 5] = Vec3::splat(40.0);
         for texel in &mut texels[16 * 6..16 * 7] {
             *texel = Vec3::ZERO;
         }
         Environment {
-            map: Some(EnvironmentMap { width: 16, height: 8, texels }),
+            map: Some(EnvironmentMap {
+                width: 16,
+                height: 8,
+                texels,
+            }),
             background: Vec3::ZERO,
             strength: 2.0,
             rotation_degrees: 40.0,
@@ -144,15 +159,29 @@ mod tests {
         let words = gpu_environment_words(Some(&test_map()));
         let texels = EnvironmentTexels { words: &words };
         let mut seed = UVec2::new(5, 77);
-        let samples: Vec<Vec3> = (0..1_000_000).map(|_| sample_environment(&texels, get_random_numbers(&mut seed))).collect();
+        let samples: Vec<Vec3> = (0..1_000_000)
+            .map(|_| sample_environment(&texels, get_random_numbers(&mut seed)))
+            .collect();
         let density = |d: Vec3| f64::from(get_environment_density(&texels, d));
         // The density is piecewise constant with jumps at texel edges, which Simpson's rule
         // blurs in the bins they cross: with the default 6 (or 24) intervals per bin that
         // error alone rejected the correct sampler (chi2 5006 for 4613 dof at 24); 96
         // intervals put it below the noise of 10^6 samples.
-        let config = Chi2Config { quadrature_resolution: 96, ..Chi2Config::default() };
-        let result = chi2_direction_test(samples, TargetDensity::SolidAngle(&density), &SphereFrame::WORLD, &config).unwrap();
-        println!("environment sampler: p = {:.4}, chi2 = {:.1}, dof {}", result.p_value, result.statistic, result.degrees_of_freedom);
+        let config = Chi2Config {
+            quadrature_resolution: 96,
+            ..Chi2Config::default()
+        };
+        let result = chi2_direction_test(
+            samples,
+            TargetDensity::SolidAngle(&density),
+            &SphereFrame::WORLD,
+            &config,
+        )
+        .unwrap();
+        println!(
+            "environment sampler: p = {:.4}, chi2 = {:.1}, dof {}",
+            result.p_value, result.statistic, result.degrees_of_freedom
+        );
         assert!(result.passed, "{result:?}");
         // No sample lands in the black row (zero weight).
         assert_eq!(result.impossible_sample_count, 0);

@@ -198,7 +198,6 @@ pub fn get_power_heuristic_weight(density: f32, other_density: f32) -> f32 {
     }
 }
 
-
 /// Twin of `sample_light_direction`: a direction from `origin` towards a point of `light`
 /// (by solid angle or by area, as `use_spherical_sampling` says) and the distance along it.
 pub fn sample_light_direction(

@@ -28,7 +28,8 @@ pub fn apply_normal_map(normal: Vec3, tangent: Vec4, texel: Vec3, scale: f32) ->
     let sign = if tangent.w < 0.0 { -1.0 } else { 1.0 };
     let bitangent = normal.cross(orthogonal) * sign;
     let direction = 2.0 * texel - Vec3::ONE;
-    let mapped = direction.x * scale * orthogonal + direction.y * scale * bitangent + direction.z * normal;
+    let mapped =
+        direction.x * scale * orthogonal + direction.y * scale * bitangent + direction.z * normal;
     if mapped.dot(mapped) > 1.0e-12 {
         mapped.normalize()
     } else {
@@ -51,16 +52,28 @@ mod tests {
         // Green up is the bitangent cross(N, T) w = +y; w = -1 flips it.
         let up = apply_normal_map(Vec3::Z, tangent, Vec3::new(0.5, 1.0, 1.0), 1.0);
         assert!(up.y > 0.7);
-        let down = apply_normal_map(Vec3::Z, Vec4::new(1.0, 0.0, 0.0, -1.0), Vec3::new(0.5, 1.0, 1.0), 1.0);
+        let down = apply_normal_map(
+            Vec3::Z,
+            Vec4::new(1.0, 0.0, 0.0, -1.0),
+            Vec3::new(0.5, 1.0, 1.0),
+            1.0,
+        );
         assert!(down.y < -0.7);
         // A tangent along the normal has no frame: the normal stays.
-        assert_eq!(apply_normal_map(Vec3::Z, Vec4::new(0.0, 0.0, 1.0, 1.0), Vec3::ONE, 1.0), Vec3::Z);
+        assert_eq!(
+            apply_normal_map(Vec3::Z, Vec4::new(0.0, 0.0, 1.0, 1.0), Vec3::ONE, 1.0),
+            Vec3::Z
+        );
     }
 
     #[test]
     fn barycentrics_of_the_corners_and_the_centroid() {
-        let triangle = Triangle::new([Vec3::ZERO, Vec3::X, Vec3::Y], Vec3::ONE, Vec3::ZERO, false).unwrap();
-        assert_eq!(get_barycentrics(Vec3::X, &triangle), Vec3::new(0.0, 1.0, 0.0));
+        let triangle =
+            Triangle::new([Vec3::ZERO, Vec3::X, Vec3::Y], Vec3::ONE, Vec3::ZERO, false).unwrap();
+        assert_eq!(
+            get_barycentrics(Vec3::X, &triangle),
+            Vec3::new(0.0, 1.0, 0.0)
+        );
         let centroid = get_barycentrics(Vec3::new(1.0 / 3.0, 1.0 / 3.0, 0.0), &triangle);
         assert!((centroid - Vec3::splat(1.0 / 3.0)).length() < 1e-6);
     }

@@ -143,10 +143,16 @@ pub fn save_image_with_layers(
     let mut channels = image_channels(image, options.moments);
     for layer in layers {
         if layer.single_channel {
-            channels.push((format!("{}.Z", layer.name), layer.pixels.iter().map(|p| p[0]).collect()));
+            channels.push((
+                format!("{}.Z", layer.name),
+                layer.pixels.iter().map(|p| p[0]).collect(),
+            ));
         } else {
             for (c, suffix) in ["R", "G", "B"].iter().enumerate() {
-                channels.push((format!("{}.{suffix}", layer.name), layer.pixels.iter().map(|p| p[c]).collect()));
+                channels.push((
+                    format!("{}.{suffix}", layer.name),
+                    layer.pixels.iter().map(|p| p[c]).collect(),
+                ));
             }
         }
     }

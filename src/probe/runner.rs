@@ -13,7 +13,9 @@ use crate::probe::kernel::ProbePipeline;
 use crate::probe::layout::ProbePushConstants;
 use crate::render::gpu_types::{GpuTriangle, RenderUniforms};
 use crate::scene::Triangle;
-use crate::vk::{Buffer, CommandRunner, ComputePipeline, Context, DescriptorSet, Recorder, TexelBufferView};
+use crate::vk::{
+    Buffer, CommandRunner, ComputePipeline, Context, DescriptorSet, Recorder, TexelBufferView,
+};
 
 /// Most inputs uploaded at once: bounds the size of the input and output buffers (128 MiB
 /// for the largest structs, 128 bytes) well below every device's `maxStorageBufferRange`

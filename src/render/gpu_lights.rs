@@ -13,7 +13,20 @@ use crate::scene::punctual::{PunctualKind, PunctualLight};
 pub fn gpu_environment_words(environment: Option<&Environment>) -> Vec<u32> {
     let f = f32::to_bits;
     let Some(environment) = environment.filter(|e| e.emits_light()) else {
-        return vec![1, 1, ENVIRONMENT_NONE, 0, f(1.0), f(1.0), f(0.0), 0, 0, 0, 0, 0];
+        return vec![
+            1,
+            1,
+            ENVIRONMENT_NONE,
+            0,
+            f(1.0),
+            f(1.0),
+            f(0.0),
+            0,
+            0,
+            0,
+            0,
+            0,
+        ];
     };
     let radians = environment.rotation_degrees.to_radians();
     let (width, height, kind) = match &environment.map {
@@ -40,7 +53,12 @@ pub fn gpu_environment_words(environment: Option<&Environment>) -> Vec<u32> {
         words.reserve(8 * map.texels.len());
         for (i, radiance) in map.texels.iter().enumerate() {
             let scaled = *radiance * environment.strength;
-            words.extend_from_slice(&[f(scaled.x), f(scaled.y), f(scaled.z), f(table.probabilities[i])]);
+            words.extend_from_slice(&[
+                f(scaled.x),
+                f(scaled.y),
+                f(scaled.z),
+                f(table.probabilities[i]),
+            ]);
             words.extend_from_slice(&[f(table.thresholds[i]), table.aliases[i], 0, 0]);
         }
     }
@@ -76,7 +94,13 @@ mod tests {
 
     #[test]
     fn punctual_lights_fill_their_texels() {
-        let light = PunctualLight::new(PunctualKind::Point, Vec3::ONE, 2.0, Mat4::from_translation(Vec3::Y)).unwrap();
+        let light = PunctualLight::new(
+            PunctualKind::Point,
+            Vec3::ONE,
+            2.0,
+            Mat4::from_translation(Vec3::Y),
+        )
+        .unwrap();
         let words = gpu_punctual_light_words(&[light, light]);
         assert_eq!(words.len(), 4 + 2 * 4 * PUNCTUAL_LIGHT_TEXEL_COUNT as usize);
         assert_eq!(words[0], 2);
@@ -90,6 +114,9 @@ mod tests {
         let words = gpu_environment_words(Some(&Environment::constant(Vec3::ZERO)));
         assert_eq!(words[2], ENVIRONMENT_NONE);
         let words = gpu_environment_words(Some(&Environment::constant(Vec3::ONE)));
-        assert_eq!((words[2], f32::from_bits(words[8])), (ENVIRONMENT_CONSTANT, 1.0));
+        assert_eq!(
+            (words[2], f32::from_bits(words[8])),
+            (ENVIRONMENT_CONSTANT, 1.0)
+        );
     }
 }

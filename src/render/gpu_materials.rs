@@ -9,7 +9,9 @@ use crate::contract::{
     MATERIAL_TEXTURE_EMISSIVE, MATERIAL_TEXTURE_METALLIC_ROUGHNESS, MATERIAL_TEXTURE_NORMAL,
 };
 use crate::render::gpu_textures::{GpuTextureSlot, TextureAtlas};
-use crate::scene::materials::{AlphaMode, PbrMaterial, SceneMaterials, TextureBinding, TriangleShading};
+use crate::scene::materials::{
+    AlphaMode, PbrMaterial, SceneMaterials, TextureBinding, TriangleShading,
+};
 
 /// One triangle's shading data as `get_shading_texel()` reads it (128 bytes).
 #[repr(C)]
@@ -63,7 +65,11 @@ impl GpuTriangleShading {
 
 impl GpuMaterial {
     /// Packs a material; `atlas` gives where each texture's texels start.
-    pub fn new(material: &PbrMaterial, scene: &SceneMaterials, atlas: &TextureAtlas) -> GpuMaterial {
+    pub fn new(
+        material: &PbrMaterial,
+        scene: &SceneMaterials,
+        atlas: &TextureAtlas,
+    ) -> GpuMaterial {
         let (alpha_mode, cutoff) = match material.alpha_mode {
             AlphaMode::Opaque => (ALPHA_MODE_OPAQUE, 0.0),
             AlphaMode::Mask { cutoff } => (ALPHA_MODE_MASK, cutoff),
@@ -72,8 +78,16 @@ impl GpuMaterial {
         let mut flags = 0;
         let mut textures = [GpuTextureSlot::zeroed(); 4];
         let slots = [
-            (MATERIAL_TEXTURE_BASE_COLOR, material.base_color_texture, true),
-            (MATERIAL_TEXTURE_METALLIC_ROUGHNESS, material.metallic_roughness_texture, false),
+            (
+                MATERIAL_TEXTURE_BASE_COLOR,
+                material.base_color_texture,
+                true,
+            ),
+            (
+                MATERIAL_TEXTURE_METALLIC_ROUGHNESS,
+                material.metallic_roughness_texture,
+                false,
+            ),
             (MATERIAL_TEXTURE_NORMAL, material.normal_texture, false),
             (MATERIAL_TEXTURE_EMISSIVE, material.emissive_texture, true),
         ];
@@ -113,7 +127,10 @@ mod tests {
 
     #[test]
     fn shading_matches_get_shading_texel() {
-        assert_eq!(size_of::<GpuTriangleShading>(), 16 * SHADING_TEXEL_COUNT as usize);
+        assert_eq!(
+            size_of::<GpuTriangleShading>(),
+            16 * SHADING_TEXEL_COUNT as usize
+        );
         assert_eq!(offset_of!(GpuTriangleShading, normals), 0);
         assert_eq!(offset_of!(GpuTriangleShading, tex_coords_01), 3 * 16);
         assert_eq!(offset_of!(GpuTriangleShading, tex_coords_2), 4 * 16);
@@ -125,10 +142,16 @@ mod tests {
         assert_eq!(size_of::<GpuMaterial>(), 16 * MATERIAL_TEXEL_COUNT as usize);
         assert_eq!(offset_of!(GpuMaterial, base_color), 0);
         assert_eq!(offset_of!(GpuMaterial, emission_metallic), 16);
-        assert_eq!(offset_of!(GpuMaterial, roughness_specular_ior_normal_scale), 32);
+        assert_eq!(
+            offset_of!(GpuMaterial, roughness_specular_ior_normal_scale),
+            32
+        );
         assert_eq!(offset_of!(GpuMaterial, specular_color_alpha_cutoff), 48);
         assert_eq!(offset_of!(GpuMaterial, alpha_mode_texture_flags), 64);
-        assert_eq!(offset_of!(GpuMaterial, textures), 16 * MATERIAL_FACTOR_TEXEL_COUNT as usize);
+        assert_eq!(
+            offset_of!(GpuMaterial, textures),
+            16 * MATERIAL_FACTOR_TEXEL_COUNT as usize
+        );
         assert_eq!(size_of::<GpuTextureSlot>(), 48);
     }
 }

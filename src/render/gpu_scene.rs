@@ -101,7 +101,8 @@ impl GpuScene {
         let scene_materials = match &scene.materials {
             Some(materials) => Some(materials),
             None if scene.needs_material_kernels() => {
-                plain_materials = crate::scene::materials::SceneMaterials::from_plain(&scene.triangles);
+                plain_materials =
+                    crate::scene::materials::SceneMaterials::from_plain(&scene.triangles);
                 Some(&plain_materials)
             }
             None => None,
@@ -117,8 +118,9 @@ impl GpuScene {
                 .map(GpuTriangleShading::new)
                 .collect();
                 let limit = u64::from(context.limits.max_texel_buffer_elements);
-                let atlas = TextureAtlas::new(&scene_materials.textures, limit)
-                    .map_err(|e| Error::MissingInput(format!("the scene's textures do not fit this device: {e}")))?;
+                let atlas = TextureAtlas::new(&scene_materials.textures, limit).map_err(|e| {
+                    Error::MissingInput(format!("the scene's textures do not fit this device: {e}"))
+                })?;
                 let texture_bytes = atlas.texels.len() as u64 * 4;
                 let memory = context.device_memory_bytes();
                 if texture_bytes > memory / 2 {
@@ -143,7 +145,11 @@ impl GpuScene {
                 Some(MaterialBuffers {
                     shading: texels("shading data", bytemuck::cast_slice(&shading))?,
                     materials: texels("materials", bytemuck::cast_slice(&gpu_materials))?,
-                    texture_texels: TexelBufferView::rgba8_uint(context, texture_buffer, "scene's texture texels")?,
+                    texture_texels: TexelBufferView::rgba8_uint(
+                        context,
+                        texture_buffer,
+                        "scene's texture texels",
+                    )?,
                     environment: texels(
                         "environment",
                         bytemuck::cast_slice(&gpu_environment_words(scene.environment.as_ref())),
@@ -157,8 +163,14 @@ impl GpuScene {
         };
         let mut specialization = constant_triangle_specialization(traversal, &ordered_triangles);
         if let Some(scene_materials) = scene_materials {
-            specialization.push((contract::SPEC_SCENE_HAS_ALPHA, u32::from(scene_materials.uses_alpha())));
-            specialization.push((contract::SPEC_SCENE_HAS_TEXTURES, u32::from(!scene_materials.textures.is_empty())));
+            specialization.push((
+                contract::SPEC_SCENE_HAS_ALPHA,
+                u32::from(scene_materials.uses_alpha()),
+            ));
+            specialization.push((
+                contract::SPEC_SCENE_HAS_TEXTURES,
+                u32::from(!scene_materials.textures.is_empty()),
+            ));
         }
         Ok(GpuScene {
             triangles,
@@ -211,7 +223,10 @@ impl GpuScene {
             set.write_texel_buffer(contract::BINDING_MATERIALS, &materials.materials);
             set.write_texel_buffer(contract::BINDING_TEXTURE_TEXELS, &materials.texture_texels);
             set.write_texel_buffer(contract::BINDING_ENVIRONMENT, &materials.environment);
-            set.write_texel_buffer(contract::BINDING_PUNCTUAL_LIGHTS, &materials.punctual_lights);
+            set.write_texel_buffer(
+                contract::BINDING_PUNCTUAL_LIGHTS,
+                &materials.punctual_lights,
+            );
         }
     }
 }

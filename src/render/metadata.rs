@@ -169,7 +169,13 @@ pub fn scene_hash(scene: &Scene, camera: &Camera) -> String {
     if let Some(materials) = &scene.materials {
         hasher.update(format!("{:?}", materials.materials).as_bytes());
         for texture in &materials.textures {
-            hasher.update(format!("{}x{} {:?} {:?} {}", texture.width, texture.height, texture.wrap_s, texture.wrap_t, texture.nearest).as_bytes());
+            hasher.update(
+                format!(
+                    "{}x{} {:?} {:?} {}",
+                    texture.width, texture.height, texture.wrap_s, texture.wrap_t, texture.nearest
+                )
+                .as_bytes(),
+            );
             hasher.update(texture.texels.as_flattened());
         }
         hasher.update(format!("{:?}", materials.triangles).as_bytes());
@@ -178,7 +184,13 @@ pub fn scene_hash(scene: &Scene, camera: &Camera) -> String {
         hasher.update(format!("{:?}", scene.punctual_lights).as_bytes());
     }
     if let Some(environment) = &scene.environment {
-        hasher.update(format!("{:?} {} {}", environment.background, environment.strength, environment.rotation_degrees).as_bytes());
+        hasher.update(
+            format!(
+                "{:?} {} {}",
+                environment.background, environment.strength, environment.rotation_degrees
+            )
+            .as_bytes(),
+        );
         if let Some(map) = &environment.map {
             hasher.update(format!("{}x{}", map.width, map.height).as_bytes());
             for texel in &map.texels {

@@ -51,7 +51,9 @@ impl Traversal {
         match (self, materials) {
             (Traversal::ConstantTriangles | Traversal::Linear, false) => shaders::PATH_TRACER,
             (Traversal::Bvh, false) => shaders::PATH_TRACER_BVH,
-            (Traversal::ConstantTriangles | Traversal::Linear, true) => shaders::PATH_TRACER_MATERIALS,
+            (Traversal::ConstantTriangles | Traversal::Linear, true) => {
+                shaders::PATH_TRACER_MATERIALS
+            }
             (Traversal::Bvh, true) => shaders::PATH_TRACER_MATERIALS_BVH,
         }
     }

@@ -71,7 +71,11 @@ pub fn load_environment_map(path: &Path) -> Result<EnvironmentMap, String> {
             let exr = crate::image_io::exr_input::read_exr(path)
                 .map_err(|e| format!("cannot read environment map '{shown}': {e}"))?;
             let image = exr.image;
-            let texels: Vec<Vec3> = image.mean.iter().map(|p| Vec3::new(p[0], p[1], p[2])).collect();
+            let texels: Vec<Vec3> = image
+                .mean
+                .iter()
+                .map(|p| Vec3::new(p[0], p[1], p[2]))
+                .collect();
             (image.width, image.height, texels)
         }
         Some("hdr") => {
@@ -95,7 +99,10 @@ pub fn load_environment_map(path: &Path) -> Result<EnvironmentMap, String> {
             "environment map '{shown}' has {width}x{height} texels; vkpath reads 1 to {MAX_ENVIRONMENT_TEXELS} texels"
         ));
     }
-    if let Some(index) = texels.iter().position(|t: &Vec3| !t.is_finite() || t.min_element() < 0.0) {
+    if let Some(index) = texels
+        .iter()
+        .position(|t: &Vec3| !t.is_finite() || t.min_element() < 0.0)
+    {
         return Err(format!(
             "environment map '{shown}' has a negative or non-finite texel at ({}, {})",
             index % width as usize,
@@ -174,7 +181,9 @@ mod tests {
         let map = EnvironmentMap {
             width: 4,
             height: 2,
-            texels: [0.0, 1.0, 2.0, 3.0, 0.5, 0.0, 8.0, 1.0].map(Vec3::splat).to_vec(),
+            texels: [0.0, 1.0, 2.0, 3.0, 0.5, 0.0, 8.0, 1.0]
+                .map(Vec3::splat)
+                .to_vec(),
         };
         let table = AliasTable::new(&map);
         // Each bucket has mass 1/n; bucket i gives t_i/n to i and the rest to its alias.
@@ -185,7 +194,11 @@ mod tests {
             mass[table.aliases[i] as usize] += (1.0 - f64::from(table.thresholds[i])) / n as f64;
         }
         for (m, p) in mass.iter().zip(&table.probabilities) {
-            assert!((m - f64::from(*p)).abs() < 1e-6, "{mass:?} vs {:?}", table.probabilities);
+            assert!(
+                (m - f64::from(*p)).abs() < 1e-6,
+                "{mass:?} vs {:?}",
+                table.probabilities
+            );
         }
         assert_eq!(table.probabilities[0], 0.0);
         assert!((table.probabilities.iter().sum::<f32>() - 1.0).abs() < 1e-6);

@@ -434,7 +434,9 @@ impl Loader<'_> {
             .and_then(|l| l.lights.get(index));
         let node_name = label(node.name(), node.index());
         let Some(light) = light else {
-            self.builder.warn(format!("node '{node_name}' names light {index}, which does not exist; ignored"));
+            self.builder.warn(format!(
+                "node '{node_name}' names light {index}, which does not exist; ignored"
+            ));
             return;
         };
         let kind = match (&light.type_, &light.spot) {
@@ -477,7 +479,8 @@ impl Loader<'_> {
             let (positions, indices) = self.read_geometry(&primitive, &context)?;
             let material_index = self.materials.material_index(&primitive.material());
             let pbr = self.materials.materials[material_index as usize];
-            let material = Material::sanitized(pbr.base_color.truncate(), pbr.emission, pbr.double_sided);
+            let material =
+                Material::sanitized(pbr.base_color.truncate(), pbr.emission, pbr.double_sided);
             let attributes = self.read_attributes(&primitive, &context, positions.len())?;
             let corners = triangle_corners(mode, indices.len());
             // Every per-corner attribute, gathered per triangle (indices checked in range).
@@ -526,7 +529,11 @@ impl Loader<'_> {
                     tangents: tangents[t].map(|tangent| {
                         (vector_matrix * tangent.truncate())
                             .normalize_or_zero()
-                            .extend(if tangent.w < 0.0 { -handedness } else { handedness })
+                            .extend(if tangent.w < 0.0 {
+                                -handedness
+                            } else {
+                                handedness
+                            })
                     }),
                 };
                 if mirrors {
@@ -605,7 +612,10 @@ impl Loader<'_> {
     ) -> Result<VertexAttributes, SceneError> {
         let reader = primitive.reader(|buffer| self.buffers.get(buffer.index()).map(|d| &d[..]));
         let mut attributes = VertexAttributes::default();
-        let usable = |semantic: gltf::Semantic, dimensions, types: &[DataType], builder: &mut SceneBuilder| {
+        let usable = |semantic: gltf::Semantic,
+                      dimensions,
+                      types: &[DataType],
+                      builder: &mut SceneBuilder| {
             let accessor = primitive.get(&semantic)?;
             let name = format!("{semantic:?}");
             match check_accessor(&accessor, dimensions, types) {
@@ -618,16 +628,37 @@ impl Loader<'_> {
             }
             None
         };
-        if usable(gltf::Semantic::Normals, Dimensions::Vec3, &[DataType::F32], &mut self.builder).is_some() {
+        if usable(
+            gltf::Semantic::Normals,
+            Dimensions::Vec3,
+            &[DataType::F32],
+            &mut self.builder,
+        )
+        .is_some()
+        {
             attributes.normals = reader.read_normals().map(|n| n.map(Vec3::from).collect());
         }
         let uv_types = [DataType::F32, DataType::U8, DataType::U16];
-        if usable(gltf::Semantic::TexCoords(0), Dimensions::Vec2, &uv_types, &mut self.builder).is_some() {
+        if usable(
+            gltf::Semantic::TexCoords(0),
+            Dimensions::Vec2,
+            &uv_types,
+            &mut self.builder,
+        )
+        .is_some()
+        {
             attributes.tex_coords = reader
                 .read_tex_coords(0)
                 .map(|uv| uv.into_f32().map(Vec2::from).collect());
         }
-        if usable(gltf::Semantic::Tangents, Dimensions::Vec4, &[DataType::F32], &mut self.builder).is_some() {
+        if usable(
+            gltf::Semantic::Tangents,
+            Dimensions::Vec4,
+            &[DataType::F32],
+            &mut self.builder,
+        )
+        .is_some()
+        {
             attributes.tangents = reader.read_tangents().map(|t| t.map(Vec4::from).collect());
         }
         let _ = self.builder.path();

@@ -239,9 +239,15 @@ fn two_texel_png_uri() -> String {
     let image = image::RgbaImage::from_raw(2, 1, vec![255, 0, 0, 255, 0, 255, 0, 128]).unwrap();
     let mut bytes = Vec::new();
     image
-        .write_to(&mut std::io::Cursor::new(&mut bytes), image::ImageFormat::Png)
+        .write_to(
+            &mut std::io::Cursor::new(&mut bytes),
+            image::ImageFormat::Png,
+        )
         .unwrap();
-    format!("data:image/png;base64,{}", super::test_support::base64(&bytes))
+    format!(
+        "data:image/png;base64,{}",
+        super::test_support::base64(&bytes)
+    )
 }
 
 /// One triangle with `material` and the given extra attributes, as a .gltf text.
@@ -251,9 +257,18 @@ fn triangle_with(material: Value, extra: &[(&str, Value)], more: Value) -> Strin
     let mut attributes = json!({"POSITION": positions});
     for (name, value) in extra {
         let accessor = match *name {
-            "NORMAL" => buffer.floats("VEC3", &serde_json::from_value::<Vec<f32>>(value.clone()).unwrap()),
-            "TEXCOORD_0" => buffer.floats("VEC2", &serde_json::from_value::<Vec<f32>>(value.clone()).unwrap()),
-            _ => buffer.floats("VEC4", &serde_json::from_value::<Vec<f32>>(value.clone()).unwrap()),
+            "NORMAL" => buffer.floats(
+                "VEC3",
+                &serde_json::from_value::<Vec<f32>>(value.clone()).unwrap(),
+            ),
+            "TEXCOORD_0" => buffer.floats(
+                "VEC2",
+                &serde_json::from_value::<Vec<f32>>(value.clone()).unwrap(),
+            ),
+            _ => buffer.floats(
+                "VEC4",
+                &serde_json::from_value::<Vec<f32>>(value.clone()).unwrap(),
+            ),
         };
         attributes[*name] = json!(accessor);
     }
@@ -278,15 +293,20 @@ fn a_missing_image_is_ignored_once_with_a_warning_and_the_factor_stays() {
                           "pbrMetallicRoughness": {"baseColorFactor": [0.5, 0.25, 1.0, 1.0],
                                                    "baseColorTexture": {"index": 0}},
                           "normalTexture": {"index": 0}});
-    let text = triangle_with(material, &[], json!({
-        "textures": [{"source": 0}],
-        "images": [{"uri": "not_loaded.png"}],
-    }));
+    let text = triangle_with(
+        material,
+        &[],
+        json!({
+            "textures": [{"source": 0}],
+            "images": [{"uri": "not_loaded.png"}],
+        }),
+    );
     let scene = load_gltf(&write(&directory, "s.gltf", text)).unwrap();
     assert_eq!(scene.warnings.len(), 1, "{:?}", scene.warnings);
     assert!(
-        scene.warnings[0].starts_with("texture '#0' is ignored (the material uses its factor instead): cannot read '")
-            && scene.warnings[0].contains("not_loaded.png': No such file or directory"),
+        scene.warnings[0].starts_with(
+            "texture '#0' is ignored (the material uses its factor instead): cannot read '"
+        ) && scene.warnings[0].contains("not_loaded.png': No such file or directory"),
         "{}",
         scene.warnings[0]
     );
@@ -306,19 +326,42 @@ fn explicit_lambertian_materials_render_with_the_workshop_kernels() {
                             "extensions": {"KHR_materials_specular": {"specularFactor": 0.0}}});
     // Flat vertex normals (the face's) change nothing either.
     let flat = [("NORMAL", json!([0, 0, 1, 0, 0, 1, 0, 0, 1]))];
-    let scene = load_gltf(&write(&directory, "a.gltf", triangle_with(lambertian.clone(), &flat, json!({})))).unwrap();
+    let scene = load_gltf(&write(
+        &directory,
+        "a.gltf",
+        triangle_with(lambertian.clone(), &flat, json!({})),
+    ))
+    .unwrap();
     assert!(scene.materials.is_none());
     assert_eq!(scene.triangles[0].color, Vec3::splat(0.5));
     // Smooth normals need the materials kernels.
     let bent = [("NORMAL", json!([0, 0, 1, 0.6, 0, 0.8, 0, 0, 1]))];
-    let scene = load_gltf(&write(&directory, "b.gltf", triangle_with(lambertian, &bent, json!({})))).unwrap();
+    let scene = load_gltf(&write(
+        &directory,
+        "b.gltf",
+        triangle_with(lambertian, &bent, json!({})),
+    ))
+    .unwrap();
     let materials = scene.materials.expect("smooth normals");
     assert_close(materials.triangles[0].normals[1], Vec3::new(0.6, 0.0, 0.8));
     // Without the specular extension a dielectric has glTF's specular lobe.
     let plastic = json!({"pbrMetallicRoughness": {"metallicFactor": 0.0, "roughnessFactor": 0.25}});
-    let scene = load_gltf(&write(&directory, "c.gltf", triangle_with(plastic, &[], json!({})))).unwrap();
+    let scene = load_gltf(&write(
+        &directory,
+        "c.gltf",
+        triangle_with(plastic, &[], json!({})),
+    ))
+    .unwrap();
     let material = scene.materials.expect("specular lobe").materials[0];
-    assert_eq!((material.metallic, material.roughness, material.specular, material.ior), (0.0, 0.25, 1.0, 1.5));
+    assert_eq!(
+        (
+            material.metallic,
+            material.roughness,
+            material.specular,
+            material.ior
+        ),
+        (0.0, 0.25, 1.0, 1.5)
+    );
 }
 
 #[test]
@@ -334,17 +377,24 @@ fn textures_transforms_and_extensions_are_read() {
                        "KHR_materials_ior": {"ior": 1.33}}
     });
     let uv = [("TEXCOORD_0", json!([0, 0, 1, 0, 0, 1]))];
-    let text = triangle_with(material, &uv, json!({
-        "extensionsUsed": ["KHR_texture_transform", "KHR_materials_specular", "KHR_materials_ior"],
-        "samplers": [{"magFilter": 9728, "wrapS": 33071, "wrapT": 33648}],
-        "textures": [{"source": 0, "sampler": 0}],
-        "images": [{"uri": two_texel_png_uri()}],
-    }));
+    let text = triangle_with(
+        material,
+        &uv,
+        json!({
+            "extensionsUsed": ["KHR_texture_transform", "KHR_materials_specular", "KHR_materials_ior"],
+            "samplers": [{"magFilter": 9728, "wrapS": 33071, "wrapT": 33648}],
+            "textures": [{"source": 0, "sampler": 0}],
+            "images": [{"uri": two_texel_png_uri()}],
+        }),
+    );
     let scene = load_gltf(&write(&directory, "t.gltf", text)).unwrap();
     assert!(scene.warnings.is_empty(), "{:?}", scene.warnings);
     let materials = scene.materials.expect("textured");
     let material = materials.materials[0];
-    assert_eq!(material.alpha_mode, crate::scene::materials::AlphaMode::Mask { cutoff: 0.25 });
+    assert_eq!(
+        material.alpha_mode,
+        crate::scene::materials::AlphaMode::Mask { cutoff: 0.25 }
+    );
     assert_eq!((material.specular, material.ior), (0.5, 1.33));
     assert_eq!(material.specular_color, Vec3::new(1.0, 0.5, 0.25));
     let binding = material.base_color_texture.expect("base colour texture");
@@ -354,8 +404,14 @@ fn textures_transforms_and_extensions_are_read() {
     assert_eq!((texture.width, texture.height), (2, 1));
     assert_eq!(texture.texels, vec![[255, 0, 0, 255], [0, 255, 0, 128]]);
     use crate::scene::textures::WrapMode;
-    assert_eq!((texture.wrap_s, texture.wrap_t, texture.nearest), (WrapMode::ClampToEdge, WrapMode::MirroredRepeat, true));
-    assert_eq!(materials.triangles[0].tex_coords, [Vec2::ZERO, Vec2::X, Vec2::Y]);
+    assert_eq!(
+        (texture.wrap_s, texture.wrap_t, texture.nearest),
+        (WrapMode::ClampToEdge, WrapMode::MirroredRepeat, true)
+    );
+    assert_eq!(
+        materials.triangles[0].tex_coords,
+        [Vec2::ZERO, Vec2::X, Vec2::Y]
+    );
 }
 
 /// Loads `text` as a .gltf and returns the error's message.
@@ -379,17 +435,24 @@ fn a_normal_map_without_tangents_gets_mikktspace_tangents() {
         ("NORMAL", json!([0, 0, 1, 0, 0, 1, 0, 0, 1])),
         ("TEXCOORD_0", json!([0, 1, 1, 1, 0, 0])),
     ];
-    let text = triangle_with(material, &attributes, json!({
-        "textures": [{"source": 0}],
-        "images": [{"uri": two_texel_png_uri()}],
-    }));
+    let text = triangle_with(
+        material,
+        &attributes,
+        json!({
+            "textures": [{"source": 0}],
+            "images": [{"uri": two_texel_png_uri()}],
+        }),
+    );
     let scene = load_gltf(&write(&directory, "n.gltf", text)).unwrap();
     let materials = scene.materials.expect("normal map");
     assert_eq!(materials.materials[0].normal_scale, 0.5);
     // u grows along +x, v (downwards in the image) along -y, so the image's top is +y:
     // tangent +x and bitangent +y = (n x t) w, w = +1.
     for tangent in materials.triangles[0].tangents {
-        assert!((tangent.truncate() - Vec3::X).length() < 1e-5 && tangent.w == 1.0, "{tangent}");
+        assert!(
+            (tangent.truncate() - Vec3::X).length() < 1e-5 && tangent.w == 1.0,
+            "{tangent}"
+        );
     }
 }
 

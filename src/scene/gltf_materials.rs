@@ -71,12 +71,17 @@ impl<'a> MaterialReader<'a> {
         let strength = material.emissive_strength().unwrap_or(1.0);
         let (specular, specular_color) = match material.specular() {
             Some(specular) => {
-                if specular.specular_texture().is_some() || specular.specular_color_texture().is_some() {
+                if specular.specular_texture().is_some()
+                    || specular.specular_color_texture().is_some()
+                {
                     self.warnings.push(format!(
                         "material '{name}': KHR_materials_specular textures are ignored; using its factors"
                     ));
                 }
-                (specular.specular_factor(), Vec3::from(specular.specular_color_factor()))
+                (
+                    specular.specular_factor(),
+                    Vec3::from(specular.specular_color_factor()),
+                )
             }
             None => (1.0, Vec3::ONE),
         };
@@ -97,10 +102,7 @@ impl<'a> MaterialReader<'a> {
             .emissive_texture()
             .and_then(|info| self.binding(&name, "emissiveTexture", &info));
         let (normal_texture, normal_scale) = match material.normal_texture() {
-            Some(normal) => (
-                self.normal_binding(&name, &normal),
-                normal.scale(),
-            ),
+            Some(normal) => (self.normal_binding(&name, &normal), normal.scale()),
             None => (None, 1.0),
         };
         PbrMaterial {
@@ -123,7 +125,12 @@ impl<'a> MaterialReader<'a> {
     }
 
     /// The binding of a texture slot, with its KHR_texture_transform.
-    fn binding(&mut self, material: &str, slot: &str, info: &gltf::texture::Info) -> Option<TextureBinding> {
+    fn binding(
+        &mut self,
+        material: &str,
+        slot: &str,
+        info: &gltf::texture::Info,
+    ) -> Option<TextureBinding> {
         let transform = info.texture_transform();
         let tex_coord = transform
             .as_ref()
@@ -137,7 +144,11 @@ impl<'a> MaterialReader<'a> {
 
     /// The normal texture's binding; gltf 1.4 exposes no KHR_texture_transform on it, so
     /// the extension is read from the JSON.
-    fn normal_binding(&mut self, material: &str, normal: &gltf::material::NormalTexture) -> Option<TextureBinding> {
+    fn normal_binding(
+        &mut self,
+        material: &str,
+        normal: &gltf::material::NormalTexture,
+    ) -> Option<TextureBinding> {
         let transform = normal.extension_value("KHR_texture_transform");
         let number = |value: Option<&serde_json::Value>, default: f32| {
             value.and_then(|v| v.as_f64()).map_or(default, |v| v as f32)
@@ -146,7 +157,9 @@ impl<'a> MaterialReader<'a> {
             transform
                 .and_then(|t| t.get(key))
                 .and_then(|v| v.as_array())
-                .map_or(default, |a| [number(a.first(), default[0]), number(a.get(1), default[1])])
+                .map_or(default, |a| {
+                    [number(a.first(), default[0]), number(a.get(1), default[1])]
+                })
         };
         let transform_matrix = match transform {
             Some(t) => TextureTransform::from_gltf(
@@ -160,7 +173,13 @@ impl<'a> MaterialReader<'a> {
             .and_then(|t| t.get("texCoord"))
             .and_then(|v| v.as_u64())
             .map_or(normal.tex_coord(), |v| v as u32);
-        self.bind(material, "normalTexture", &normal.texture(), tex_coord, transform_matrix)
+        self.bind(
+            material,
+            "normalTexture",
+            &normal.texture(),
+            tex_coord,
+            transform_matrix,
+        )
     }
 
     fn bind(
@@ -244,17 +263,27 @@ impl<'a> MaterialReader<'a> {
                 .ok_or("its data URI is not base64")?;
             return base64::decode(encoded).map_err(|e| format!("bad base64 data: {e}"));
         }
-        if uri.split_once(':').is_some_and(|(scheme, _)| scheme.len() > 1) && !uri.starts_with("file:") {
-            return Err(format!("it is at '{}'; vkpath reads local files only", super::printable(uri)));
+        if uri
+            .split_once(':')
+            .is_some_and(|(scheme, _)| scheme.len() > 1)
+            && !uri.starts_with("file:")
+        {
+            return Err(format!(
+                "it is at '{}'; vkpath reads local files only",
+                super::printable(uri)
+            ));
         }
         let file_name = uri
             .strip_prefix("file://")
             .or_else(|| uri.strip_prefix("file:"))
             .unwrap_or(uri);
-        let decoded = urlencoding::decode(file_name).map_err(|_| "its URI is not valid UTF-8".to_owned())?;
-        let file = resolve_reference(self.path, &decoded, self.options).map_err(|e| e.to_string())?;
+        let decoded =
+            urlencoding::decode(file_name).map_err(|_| "its URI is not valid UTF-8".to_owned())?;
+        let file =
+            resolve_reference(self.path, &decoded, self.options).map_err(|e| e.to_string())?;
         let shown = super::printable(&file.display().to_string());
-        let metadata = std::fs::metadata(&file).map_err(|e| format!("cannot read '{shown}': {e}"))?;
+        let metadata =
+            std::fs::metadata(&file).map_err(|e| format!("cannot read '{shown}': {e}"))?;
         if !metadata.is_file() {
             return Err(format!("'{shown}' is not a regular file"));
         }

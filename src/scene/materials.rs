@@ -109,7 +109,8 @@ impl PbrMaterial {
         self.metallic = unit(self.metallic);
         self.roughness = unit(self.roughness);
         self.specular = unit(self.specular);
-        self.specular_color = Vec3::from(self.specular_color.to_array().map(|c| c.max(0.0).min(1e4)));
+        self.specular_color =
+            Vec3::from(self.specular_color.to_array().map(|c| c.max(0.0).min(1e4)));
         self.ior = if self.ior == 0.0 || self.ior.is_infinite() {
             1e4
         } else {
@@ -170,7 +171,11 @@ impl SceneMaterials {
                     triangle.double_sided,
                 );
                 let material = *indices.entry(key).or_insert_with(|| {
-                    materials.push(PbrMaterial::lambertian(triangle.color, triangle.emission, triangle.double_sided));
+                    materials.push(PbrMaterial::lambertian(
+                        triangle.color,
+                        triangle.emission,
+                        triangle.double_sided,
+                    ));
                     materials.len() as u32 - 1
                 });
                 TriangleShading {
@@ -248,7 +253,10 @@ mod tests {
         }
         .sanitized();
         assert_eq!(material.base_color, Vec4::new(1.0, 0.0, 0.0, 0.5));
-        assert_eq!((material.metallic, material.roughness, material.ior), (1.0, 0.0, 1e4));
+        assert_eq!(
+            (material.metallic, material.roughness, material.ior),
+            (1.0, 0.0, 1e4)
+        );
         let inf = PbrMaterial {
             ior: f32::INFINITY,
             ..material

@@ -146,7 +146,11 @@ impl Scene {
         let distance = 1.05 * radius / half_vertical.min(half_horizontal).sin();
         let elevation = 20f32.to_radians();
         let position = centre + distance * Vec3::new(0.0, elevation.sin(), elevation.cos());
-        Some((Camera::look_at(position, centre, Vec3::Y, vertical), centre, radius))
+        Some((
+            Camera::look_at(position, centre, Vec3::Y, vertical),
+            centre,
+            radius,
+        ))
     }
 
     /// Whether the scene needs the kernels built with USE_MATERIALS: glTF materials, an
@@ -344,7 +348,11 @@ impl SceneBuilder {
     pub fn finish(mut self) -> Result<Scene, SceneError> {
         let shaded = self.materials.triangles.len() == self.scene.triangles.len()
             && !self.materials.materials.is_empty();
-        if shaded && !self.materials.is_plain(self.scene.triangles.iter().map(|t| t.normal)) {
+        if shaded
+            && !self
+                .materials
+                .is_plain(self.scene.triangles.iter().map(|t| t.normal))
+        {
             self.scene.materials = Some(std::mem::take(&mut self.materials));
         }
         if self.degenerate_count > 0 {
@@ -410,7 +418,9 @@ mod tests {
         let material = Material::sanitized(Vec3::ONE, Vec3::ZERO, false);
         let mut builder = SceneBuilder::new(Path::new("t.gltf"));
         let (low, high) = (Vec3::new(-3.0, 1.0, 2.0), Vec3::new(5.0, 2.0, 2.5));
-        builder.push("m", [low, Vec3::new(high.x, low.y, low.z), high], &material).unwrap();
+        builder
+            .push("m", [low, Vec3::new(high.x, low.y, low.z), high], &material)
+            .unwrap();
         let scene = builder.finish().unwrap();
         for aspect in [0.5_f32, 1.0, 16.0 / 9.0] {
             let (camera, _, _) = scene.framing_camera(aspect).unwrap();
@@ -424,10 +434,17 @@ mod tests {
                 );
                 // Where the ray to the corner crosses the image plane, in (0, 1)^2.
                 let direction = corner - plane.camera_position;
-                let t = (plane.left_bottom - plane.camera_position).dot(normal) / direction.dot(normal);
+                let t =
+                    (plane.left_bottom - plane.camera_position).dot(normal) / direction.dot(normal);
                 let offset = plane.camera_position + t * direction - plane.left_bottom;
-                let (u, v) = (offset.dot(plane.right) / plane.right.length_squared(), offset.dot(plane.up) / plane.up.length_squared());
-                assert!(t > 0.0 && (0.0..1.0).contains(&u) && (0.0..1.0).contains(&v), "aspect {aspect}: corner {corner} at ({u}, {v})");
+                let (u, v) = (
+                    offset.dot(plane.right) / plane.right.length_squared(),
+                    offset.dot(plane.up) / plane.up.length_squared(),
+                );
+                assert!(
+                    t > 0.0 && (0.0..1.0).contains(&u) && (0.0..1.0).contains(&v),
+                    "aspect {aspect}: corner {corner} at ({u}, {v})"
+                );
             }
         }
     }

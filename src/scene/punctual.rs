@@ -39,9 +39,16 @@ pub struct PunctualLight {
 impl PunctualLight {
     /// The light of a glTF node with `local_to_world`; `None` (to be reported) when the
     /// transform or the values are unusable.
-    pub fn new(kind: PunctualKind, color: Vec3, intensity: f32, local_to_world: Mat4) -> Option<PunctualLight> {
+    pub fn new(
+        kind: PunctualKind,
+        color: Vec3,
+        intensity: f32,
+        local_to_world: Mat4,
+    ) -> Option<PunctualLight> {
         let position = local_to_world.transform_point3(Vec3::ZERO);
-        let direction = local_to_world.transform_vector3(Vec3::NEG_Z).try_normalize()?;
+        let direction = local_to_world
+            .transform_vector3(Vec3::NEG_Z)
+            .try_normalize()?;
         let intensity = color.max(Vec3::ZERO) * intensity.max(0.0);
         (position.is_finite() && intensity.is_finite()).then_some(PunctualLight {
             kind,

@@ -77,8 +77,16 @@ mod tests {
         ];
         let normals = [[Vec3::Z; 3]; 2];
         let tex_coords = [
-            [Vec2::new(0.0, 1.0), Vec2::new(1.0, 1.0), Vec2::new(1.0, 0.0)],
-            [Vec2::new(0.0, 1.0), Vec2::new(1.0, 0.0), Vec2::new(0.0, 0.0)],
+            [
+                Vec2::new(0.0, 1.0),
+                Vec2::new(1.0, 1.0),
+                Vec2::new(1.0, 0.0),
+            ],
+            [
+                Vec2::new(0.0, 1.0),
+                Vec2::new(1.0, 0.0),
+                Vec2::new(0.0, 0.0),
+            ],
         ];
         let tangents = generate_tangents(&positions, &normals, &tex_coords).unwrap();
         for corner in tangents.iter().flatten() {
