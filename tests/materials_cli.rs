@@ -348,3 +348,60 @@ fn a_file_without_a_camera_is_framed_and_lit_by_the_sky() {
     let output = render(&["--camera", "1"]);
     assert_eq!(output.status.code(), Some(1));
 }
+
+#[test]
+fn an_unsupported_extension_is_one_warning_naming_it_and_what_is_lost() {
+    let dir = tempfile::tempdir().unwrap();
+    let source = format!(
+        "{}/tests/data/emissive_quad.gltf",
+        env!("CARGO_MANIFEST_DIR")
+    );
+    let mut document: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(source).unwrap()).unwrap();
+    // Declared twice (and once more as a material extension would be): still one warning.
+    document["extensionsUsed"] = json!([
+        "KHR_materials_emissive_strength",
+        "KHR_materials_specular",
+        "KHR_materials_clearcoat",
+        "KHR_materials_iridescence",
+        "KHR_materials_clearcoat"
+    ]);
+    let scene = dir.path().join("declares.gltf");
+    std::fs::write(&scene, document.to_string()).unwrap();
+    let output = common::vkpath(
+        dir.path(),
+        &[
+            "render",
+            scene.to_str().unwrap(),
+            "-o",
+            "out.exr",
+            "--width",
+            "8",
+            "--height",
+            "8",
+            "--spp",
+            "1",
+            "--integrator",
+            "mis",
+        ],
+    );
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    assert!(output.status.success(), "{stderr}");
+    let warnings: Vec<&str> = stderr
+        .lines()
+        .filter(|l| l.contains("glTF extension"))
+        .collect();
+    assert_eq!(warnings.len(), 2, "{stderr}");
+    assert!(
+        warnings[0]
+            .contains("KHR_materials_clearcoat: ignored, surfaces render without their clear coat"),
+        "{stderr}"
+    );
+    assert!(
+        warnings[1].contains(
+            "KHR_materials_iridescence: ignored, surfaces render without thin-film colours"
+        ),
+        "{stderr}"
+    );
+    assert!(!stderr.contains("KHR_materials_specular:"), "{stderr}");
+}

@@ -19,6 +19,7 @@ use gltf::mesh::Mode;
 use gltf::{Document, Gltf, Node};
 
 use super::files::{read_bounded, resolve_reference, LoadOptions, MAX_SCENE_FILE_BYTES};
+use super::gltf_extensions::unsupported_extension_warnings;
 use super::gltf_materials::MaterialReader;
 use super::materials::TriangleShading;
 use super::punctual::{PunctualKind, PunctualLight};
@@ -26,16 +27,7 @@ use super::tangents::generate_tangents;
 use super::{Material, Scene, SceneBuilder, SceneError};
 use crate::camera::Camera;
 
-/// The glTF extensions whose meaning vkpath implements (a file that requires others is
-/// refused with their names).
-pub const SUPPORTED_EXTENSIONS: [&str; 6] = [
-    "KHR_materials_emissive_strength",
-    "KHR_materials_specular",
-    "KHR_materials_ior",
-    "KHR_texture_transform",
-    "KHR_mesh_quantization",
-    "KHR_lights_punctual",
-];
+pub use super::gltf_extensions::SUPPORTED_EXTENSIONS;
 
 /// Loads a glTF 2.0 file (JSON or binary), resolving external buffers relative to its
 /// directory. Textures are ignored with a warning per material.
@@ -65,6 +57,9 @@ pub fn load_gltf_with(path: &Path, options: &LoadOptions) -> Result<Scene, Scene
         materials: MaterialReader::new(path, &buffers, options),
         orthographic_camera: None,
     };
+    for warning in unsupported_extension_warnings(document.extensions_used()) {
+        loader.builder.warn(warning);
+    }
     for (node, world) in flatten_hierarchy(path, &document)? {
         loader.visit(&node, world)?;
     }

@@ -12,6 +12,7 @@ pub mod environment;
 mod error;
 pub mod export;
 pub mod files;
+mod gltf_extensions;
 pub mod gltf_loader;
 mod gltf_materials;
 pub mod lights;

@@ -1,0 +1,138 @@
+//! Which glTF extensions vkpath implements, and one warning for each extension a file uses
+//! that it does not (so nothing a file asks for is ignored in silence).
+
+/// The glTF extensions whose meaning vkpath implements (a file that requires others is
+/// refused with their names).
+pub const SUPPORTED_EXTENSIONS: [&str; 6] = [
+    "KHR_materials_emissive_strength",
+    "KHR_materials_specular",
+    "KHR_materials_ior",
+    "KHR_texture_transform",
+    "KHR_mesh_quantization",
+    "KHR_lights_punctual",
+];
+
+/// What a render loses when vkpath ignores a known extension: (extension, what is lost).
+/// Extensions not listed here get a generic sentence.
+const WHAT_IS_LOST: &[(&str, &str)] = &[
+    (
+        "KHR_materials_clearcoat",
+        "surfaces render without their clear coat",
+    ),
+    (
+        "KHR_materials_transmission",
+        "transmissive surfaces (glass) render opaque",
+    ),
+    (
+        "KHR_materials_volume",
+        "no absorption or thickness inside volumes",
+    ),
+    (
+        "KHR_materials_sheen",
+        "surfaces render without their sheen (cloth)",
+    ),
+    (
+        "KHR_materials_iridescence",
+        "surfaces render without thin-film colours",
+    ),
+    (
+        "KHR_materials_anisotropy",
+        "anisotropic highlights render isotropic",
+    ),
+    (
+        "KHR_materials_dispersion",
+        "refraction renders without dispersion",
+    ),
+    (
+        "KHR_materials_diffuse_transmission",
+        "no light passes diffusely through thin surfaces",
+    ),
+    (
+        "KHR_materials_unlit",
+        "unlit materials are shaded as lit metallic-roughness ones",
+    ),
+    (
+        "KHR_materials_variants",
+        "only the default material of each primitive is used",
+    ),
+    (
+        "KHR_materials_pbrSpecularGlossiness",
+        "specular-glossiness materials render with their metallic-roughness fallback",
+    ),
+    (
+        "KHR_texture_basisu",
+        "KTX2/Basis textures are not read; their factors stay",
+    ),
+    (
+        "EXT_texture_webp",
+        "WebP textures are not read; their factors stay",
+    ),
+    (
+        "KHR_draco_mesh_compression",
+        "Draco-compressed meshes are not decoded",
+    ),
+    (
+        "EXT_meshopt_compression",
+        "meshopt-compressed buffers are not decoded",
+    ),
+    (
+        "EXT_mesh_gpu_instancing",
+        "instanced copies of meshes are not drawn (only the node itself)",
+    ),
+    ("KHR_animation_pointer", "animations are ignored"),
+    ("KHR_xmp_json_ld", "metadata only; nothing is lost"),
+];
+
+/// One warning line for each extension in `extensions_used` that vkpath does not implement,
+/// naming it and what the render loses ("KHR_materials_iridescence: ignored, surfaces
+/// render without thin-film colours"), each extension once, in the file's order.
+pub fn unsupported_extension_warnings<'a>(
+    extensions_used: impl IntoIterator<Item = &'a str>,
+) -> Vec<String> {
+    let mut seen: Vec<&str> = Vec::new();
+    let mut warnings = Vec::new();
+    for extension in extensions_used {
+        if SUPPORTED_EXTENSIONS.contains(&extension) || seen.contains(&extension) {
+            continue;
+        }
+        seen.push(extension);
+        let lost = WHAT_IS_LOST
+            .iter()
+            .find(|(name, _)| *name == extension)
+            .map(|(_, lost)| (*lost).to_string())
+            .unwrap_or_else(|| "vkpath does not implement it; what it adds is lost".to_string());
+        warnings.push(format!(
+            "glTF extension {}: ignored, {lost}",
+            super::printable(extension)
+        ));
+    }
+    warnings
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn every_unsupported_extension_warns_once_and_supported_ones_do_not() {
+        let warnings = unsupported_extension_warnings([
+            "KHR_materials_clearcoat",
+            "KHR_materials_ior",
+            "KHR_materials_clearcoat",
+            "VENDOR_something",
+        ]);
+        assert_eq!(warnings.len(), 2, "{warnings:?}");
+        assert_eq!(
+            warnings[0],
+            "glTF extension KHR_materials_clearcoat: ignored, surfaces render without their clear coat"
+        );
+        assert!(warnings[1].starts_with("glTF extension VENDOR_something: ignored, "));
+    }
+
+    #[test]
+    fn the_table_names_no_supported_extension() {
+        for (name, _) in WHAT_IS_LOST {
+            assert!(!SUPPORTED_EXTENSIONS.contains(name), "{name}");
+        }
+    }
+}
