@@ -114,9 +114,16 @@ fn decode<'a>(key: &PipelineCacheKey, file: &'a [u8]) -> Result<&'a [u8], Unusab
     if reader.take(MAGIC.len())? != MAGIC {
         return Err(Unusable::Corrupt("not a vkpath pipeline cache file".into()));
     }
+    // An older layout is an upgrade's leftover; anything else is damage (or a newer vkpath's
+    // file, which this one cannot read either).
     let format = reader.u32()?;
-    if format != FORMAT_VERSION {
+    if format < FORMAT_VERSION {
         return Err(Unusable::Stale(format!("file format {format}")));
+    }
+    if format != FORMAT_VERSION {
+        return Err(Unusable::Corrupt(format!(
+            "file format {format}, not {FORMAT_VERSION}: damaged, or written by a newer vkpath"
+        )));
     }
     let (vendor, device, driver) = (reader.u32()?, reader.u32()?, reader.u32()?);
     let uuid = reader.take(key.pipeline_cache_uuid.len())?;
@@ -304,6 +311,10 @@ mod tests {
         let mut magic = file.clone();
         magic[0] = b'X';
         assert!(corrupt(&magic));
+        // A damaged format version.
+        let mut format = file.clone();
+        format[8] ^= 0x5a;
+        assert!(corrupt(&format));
         // A byte too many.
         let mut longer = file.clone();
         longer.push(0);
