@@ -28,7 +28,7 @@ log="$out/gpu-bench.log"
 say() { echo "$@" | tee -a "$log"; }
 
 # The Vulkan loader, when the machine has none (the device README's recipe).
-if ! ldconfig -p | grep -q 'libvulkan\.so\.1'; then
+if ! ldconfig -p | grep 'libvulkan\.so\.1' >/dev/null; then
     if ls .gl/*.deb >/dev/null 2>&1; then
         for f in .gl/*.deb; do dpkg -x "$f" /; done
         ldconfig
