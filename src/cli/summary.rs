@@ -67,7 +67,7 @@ pub fn pipeline_cache_store() -> Option<std::sync::Arc<dyn crate::vk::PipelineCa
     )))
 }
 
-/// "device NAME [KIND], WxH, N spp, setup T s, S s, M M samples/s": `setup_seconds` to
+/// "device NAME [KIND], WxH, N spp, setup T s, render S s, M M samples/s": `setup_seconds` to
 /// build the renderer (kernels, BVH, uploads), `seconds` to render.
 pub fn summary_line(
     device: &crate::vk::DeviceInfo,
@@ -79,7 +79,7 @@ pub fn summary_line(
 ) -> String {
     let samples = f64::from(width) * f64::from(height) * f64::from(spp);
     format!(
-        "device {} [{}], {width}x{height}, {spp} spp, setup {setup_seconds:.2} s, {seconds:.2} s, {:.3} M samples/s",
+        "device {} [{}], {width}x{height}, {spp} spp, setup {setup_seconds:.2} s, render {seconds:.2} s, {:.3} M samples/s",
         device.name,
         device.kind,
         samples / seconds.max(1e-9) / 1e6
