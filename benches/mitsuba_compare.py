@@ -26,8 +26,8 @@ Timing:
     "cold"), then the timed mi.render at --spp with another seed, timed around mi.render and
     the evaluation of its result only. Drjit caches compiled kernels on disk (~/.drjit), so
     the cold time of a second run of this script is smaller.
-  * vkpath: the seconds of its stderr summary line ('..., S s, M M samples/s'), which cover
-    the frames only (not device start-up or pipeline creation).
+  * vkpath: the render seconds of its stderr summary line ('..., setup T s, render S s,
+    M M samples/s'), which cover the frames only (not device start-up or pipeline creation).
 
 Moments for the gate: `vkpath compare` needs each image's per-pixel variance. vkpath stores
 it with --moments; for Mitsuba the script renders --batches more independent images at
@@ -64,6 +64,7 @@ TARGET_RELMSE = 0.005
 SAMPLERS = {"independent": ("pcg", "independent"), "low-discrepancy": ("sobol", "ldsampler")}
 SUMMARY_RE = re.compile(
     r"device (?P<device>.*?), (?P<w>\d+)x(?P<h>\d+), (?P<spp>\d+) spp, "
+    r"(?:setup (?P<setup>[0-9.eE+-]+) s, render )?"
     r"(?P<seconds>[0-9.eE+-]+) s, (?P<msps>[0-9.eE+-]+) M samples/s"
 )
 

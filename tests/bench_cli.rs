@@ -79,3 +79,51 @@ fn generated_scene_bench_uses_the_bvh() {
     assert_eq!(report["traversal"], "BVH");
     check_results(&report, &["cosine"]);
 }
+
+/// `bench --startup` runs whole `vkpath render` processes (in temp cache directories of its
+/// own) and reports every configuration's cold and warm seconds; what they are is a
+/// measurement, so only their being there, finite and positive is checked.
+#[test]
+fn startup_bench_reports_cold_and_warm_runs_of_both_kernels() {
+    let dir = tempfile::tempdir().unwrap();
+    let args = [
+        "bench",
+        "--startup",
+        "--width",
+        "8",
+        "--height",
+        "8",
+        "--json",
+    ];
+    let output = common::vkpath(dir.path(), &args);
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    assert!(output.status.success(), "{stderr}");
+    let report: Value = serde_json::from_slice(&output.stdout).unwrap();
+    let results = report.as_array().unwrap();
+    assert_eq!(results.len(), 2, "{report}");
+    assert!(results[1]["what"]
+        .as_str()
+        .unwrap()
+        .ends_with("--background 1,1,1"));
+    for result in results {
+        for key in [
+            "cold_seconds",
+            "warm_seconds",
+            "warm_no_cache_seconds",
+            "cold_over_warm",
+        ] {
+            let value = result[key].as_f64().unwrap();
+            assert!(
+                value.is_finite() && value > 0.0,
+                "{key} = {value} in {result}"
+            );
+        }
+        for setup in result["setup_seconds"].as_array().unwrap() {
+            let value = setup.as_f64().unwrap();
+            assert!(
+                value.is_finite() && value > 0.0,
+                "setup {value} in {result}"
+            );
+        }
+    }
+}

@@ -152,6 +152,7 @@ fn a_preview_is_written_while_the_render_runs_and_at_the_end() {
     let path = dir.path();
     let preview = path.join("preview.png");
     let mut child = std::process::Command::new(env!("CARGO_BIN_EXE_vkpath"))
+        .env("VKPATH_CACHE_DIR", common::test_cache_dir())
         .args([
             "render",
             "-o",

@@ -37,6 +37,7 @@ fn sigterm_keeps_the_work_and_resuming_is_bit_exact() {
 
     // Start a render with frequent checkpoints; once the first is there, it is mid-render.
     let child = Command::new(env!("CARGO_BIN_EXE_vkpath"))
+        .env("VKPATH_CACHE_DIR", common::test_cache_dir())
         .args(render_args(
             "part.exr",
             &["--checkpoint", "ck.exr", "--checkpoint-interval", "0.2"],

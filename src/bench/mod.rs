@@ -3,6 +3,8 @@
 //! quality, and efficiency 1 / (relMSE * seconds), with the time each needs to reach a relMSE
 //! of 0.005. Pipeline creation (cold start) is timed apart from the steady-state frames.
 
+pub mod startup;
+
 use std::sync::Arc;
 use std::time::Instant;
 
@@ -209,9 +211,13 @@ pub fn run_bench(
         device: format!("{} [{}]", context.info.name, context.info.kind),
         scene: setup.scene_name.clone(),
         triangle_count: scene.triangles.len(),
-        traversal: Traversal::choose(scene.triangles.len(), setup.settings.accel)
-            .name()
-            .to_string(),
+        traversal: Traversal::choose(
+            scene.triangles.len(),
+            setup.settings.accel,
+            scene.needs_material_kernels(),
+        )
+        .name()
+        .to_string(),
         sampler: match setup.settings.sampler {
             SamplerKind::Pcg => "pcg",
             SamplerKind::Sobol => "sobol",

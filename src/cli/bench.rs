@@ -47,6 +47,11 @@ pub struct BenchArgs {
     /// Print JSON instead of a table.
     #[arg(long)]
     pub json: bool,
+    /// Measure start-up instead: whole `vkpath render` processes of 1 spp, cold (empty
+    /// pipeline and driver caches) against warm, on the scene as it is and under a white
+    /// sky (`--background 1,1,1`, the glTF-material kernels), with the first integrator.
+    #[arg(long)]
+    pub startup: bool,
     /// Device selection and validation.
     #[command(flatten)]
     pub device: DeviceArgs,
@@ -63,10 +68,80 @@ static DEFAULT_INTEGRATORS: LazyLock<String> = LazyLock::new(|| {
     names.join(",")
 });
 
+/// `render`'s arguments for the scene, size, path options, first integrator and device of
+/// `args` (for `--startup`).
+fn startup_render_args(args: &BenchArgs) -> Vec<String> {
+    let mut list: Vec<String> = Vec::new();
+    let mut push = |items: &[&str]| list.extend(items.iter().map(|s| s.to_string()));
+    if let Some(scene) = &args.scene.scene {
+        push(&[&scene.to_string_lossy()]);
+    }
+    if let Some(count) = args.scene.generated {
+        push(&["--generated", &count.to_string()]);
+    }
+    if args.scene.allow_external_paths {
+        push(&["--allow-external-paths"]);
+    }
+    let name = |value: Option<clap::builder::PossibleValue>| {
+        value.map(|v| v.get_name().to_owned()).unwrap_or_default()
+    };
+    let integrator = name(args.integrators[0].to_possible_value());
+    let accel = name(args.render.accel.to_possible_value());
+    push(&[
+        "--width",
+        &args.width.to_string(),
+        "--height",
+        &args.height.to_string(),
+        "--integrator",
+        &integrator,
+        "--accel",
+        &accel,
+        "--max-path-length",
+        &args.render.max_path_length.to_string(),
+    ]);
+    if let Some(device) = &args.device.device {
+        push(&["--device", device]);
+    }
+    if args.device.require_gpu {
+        push(&["--require-gpu"]);
+    }
+    list
+}
+
+/// Runs `vkpath bench --startup`.
+fn run_startup(args: &BenchArgs) -> anyhow::Result<()> {
+    use crate::bench::startup::{format_startup_table, measure_startup};
+    let exe = std::env::current_exe()?;
+    let render_args = startup_render_args(args);
+    let scene = args.scene.source().description();
+    let mut results = Vec::new();
+    for (what, extra) in [
+        (scene.clone(), &[][..]),
+        (
+            format!("{scene}, --background 1,1,1"),
+            &["--background", "1,1,1"][..],
+        ),
+    ] {
+        eprintln!("vkpath bench: start-up of {what}");
+        let mut all = render_args.clone();
+        all.extend(extra.iter().map(|s| s.to_string()));
+        results.push(measure_startup(&exe, &what, &all)?);
+    }
+    if args.json {
+        println!("{}", serde_json::to_string_pretty(&results)?);
+    } else {
+        print!("{}", format_startup_table(&results));
+    }
+    Ok(())
+}
+
 /// Runs `vkpath bench`.
 pub fn run(args: &BenchArgs) -> anyhow::Result<()> {
     if args.integrators.is_empty() {
         bail!("--integrators is empty");
+    }
+    if args.startup {
+        return run_startup(args);
     }
     let settings = args.render.apply(RenderSettings {
         width: args.width,

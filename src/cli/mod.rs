@@ -63,6 +63,10 @@ pub struct DeviceArgs {
     /// Enable the Vulkan validation layers (VK_LAYER_KHRONOS_validation).
     #[arg(long)]
     pub validate: bool,
+    /// Neither read nor write the pipeline cache (compiled kernels kept between runs in
+    /// $VKPATH_CACHE_DIR, else $XDG_CACHE_HOME/vkpath or ~/.cache/vkpath).
+    #[arg(long)]
+    pub no_cache: bool,
 }
 
 impl DeviceArgs {
@@ -107,6 +111,11 @@ impl DeviceArgs {
             validate: self.validate,
             device: self.device.clone(),
             require_gpu: self.require_gpu,
+            pipeline_cache: if self.no_cache {
+                None
+            } else {
+                summary::pipeline_cache_store()
+            },
         })?;
         eprintln!("vkpath: device {}", context.info);
         Ok(context)

@@ -42,6 +42,8 @@ struct RenderReport<'a> {
     spp: u32,
     sample_range: [u32; 2],
     seconds: f64,
+    /// Seconds before the first frame (building the kernels, the BVH, uploads).
+    setup_seconds: f64,
     samples_per_second: f64,
     devices: Vec<String>,
     stop: &'a str,
@@ -229,6 +231,7 @@ pub fn render_job_and_save(
                 settings.width,
                 settings.height,
                 done,
+                result.setup_seconds,
                 seconds
             )
         );
@@ -242,6 +245,7 @@ pub fn render_job_and_save(
             spp: done,
             sample_range: [result.state.samples.start, result.state.samples.end],
             seconds: result.seconds,
+            setup_seconds: result.setup_seconds,
             samples_per_second: new_samples / result.seconds.max(1e-9),
             devices: vec![context.info.name.clone()],
             stop,

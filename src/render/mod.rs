@@ -1,6 +1,7 @@
 //! The progressive GPU renderer and what it needs: the settings of a render, how rays find
 //! triangles (`traversal`), the scene as the kernel reads it (`gpu_scene`), the structs
-//! shared with the path-tracing kernel (`gpu_types`), and the renderer itself.
+//! shared with the path-tracing kernel (`gpu_types`), the kernels kept between runs
+//! (`pipeline_cache`), and the renderer itself.
 
 pub mod accumulation;
 pub mod aov;
@@ -12,6 +13,7 @@ pub mod gpu_types;
 pub mod job;
 pub mod metadata;
 pub mod multi;
+pub mod pipeline_cache;
 pub mod renderer;
 pub mod settings;
 pub mod traversal;

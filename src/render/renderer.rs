@@ -51,6 +51,8 @@ pub struct Renderer {
     /// How long the last batch's frames took each.
     seconds_per_frame: Option<f64>,
     rays_traced: f64,
+    /// Seconds that creating the renderer took (BVH, uploads, building the kernel).
+    setup_seconds: f64,
 }
 
 /// Why a render stopped.
@@ -104,6 +106,10 @@ pub struct RenderOutcome {
     pub samples: u32,
     /// Seconds the frames took (the read-back excluded).
     pub seconds: f64,
+    /// Seconds that creating the renderer took before the first frame (BVH, uploads,
+    /// building the kernel; a driver that compiles lazily does part of it in the first
+    /// frame, which `seconds` counts).
+    pub setup_seconds: f64,
     /// The raw state (for a checkpoint or a shard).
     pub state: Accumulation,
     /// Why it stopped.
@@ -165,11 +171,16 @@ impl Renderer {
         settings: RenderSettings,
         kernel: Option<(&[u32], Traversal)>,
     ) -> Result<Renderer> {
+        let started = Instant::now();
         validate(context, scene, &settings)?;
         let commands = CommandRunner::new(context)?;
         let traversal = match kernel {
             Some((_, traversal)) => traversal,
-            None => Traversal::choose(scene.triangles.len(), settings.accel),
+            None => Traversal::choose(
+                scene.triangles.len(),
+                settings.accel,
+                scene.needs_material_kernels(),
+            ),
         };
         let gpu_scene = GpuScene::upload(context, &commands, scene, camera, &settings, traversal)?;
         let mut bindings = gpu_scene.bindings();
@@ -227,6 +238,7 @@ impl Renderer {
             samples_per_dispatch,
             seconds_per_frame: None,
             rays_traced: 0.0,
+            setup_seconds: started.elapsed().as_secs_f64(),
         })
     }
 
@@ -499,6 +511,7 @@ impl Renderer {
             image: state.image(),
             samples: self.samples_done,
             seconds,
+            setup_seconds: self.setup_seconds,
             stop,
             state,
             failure,

@@ -170,11 +170,12 @@ impl LightSampling {
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
 #[cfg_attr(feature = "cli", derive(clap::ValueEnum))]
 pub enum Accel {
-    /// A BVH for scenes of more than `BVH_THRESHOLD` triangles, else the linear loop.
+    /// A BVH for scenes of more than `BVH_THRESHOLD` triangles and for scenes that need the
+    /// glTF-material kernels, else the linear loop (`Traversal::choose`).
     #[default]
     #[cfg_attr(
         feature = "cli",
-        value(help = "A BVH above 64 triangles, else the linear loop")
+        value(help = "A BVH above 64 triangles or with glTF materials, else the linear loop")
     )]
     Auto,
     /// The workshop's loop over all triangles.

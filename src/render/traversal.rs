@@ -24,12 +24,22 @@ pub enum Traversal {
 }
 
 impl Traversal {
-    /// What `accel` asks for, for a scene of `triangle_count` triangles: the loop over all
-    /// triangles is compiled into the kernel whenever they fit.
-    pub fn choose(triangle_count: usize, accel: Accel) -> Traversal {
-        if accel.uses_bvh(triangle_count) {
+    /// What `accel` asks for, for a scene of `triangle_count` triangles traced by the
+    /// workshop's kernels (`materials` false) or the glTF-material kernels (true).
+    ///
+    /// The workshop's kernels compile the loop over all triangles in whenever they fit. The
+    /// material kernels take a BVH under `Accel::Auto` however small the scene: their kernel
+    /// without one holds the unrolled loop at every intersection call site, which llvmpipe
+    /// inlines before it folds the loop away, so building it takes 20-30 times longer (about
+    /// 19 s against 0.5-0.6 s on 2 busy cores, for the constant loop and the texel loop
+    /// alike), on every run since lavapipe keeps no pipeline cache; that costs more than the
+    /// BVH's slower samples save below millions of samples (docs/performance.md, `cargo
+    /// bench --bench startup`). `Accel::None` keeps the loop compiled in there too.
+    pub fn choose(triangle_count: usize, accel: Accel, materials: bool) -> Traversal {
+        let fits = triangle_count <= contract::CONSTANT_TRIANGLE_CAPACITY as usize;
+        if accel.uses_bvh(triangle_count) || (accel == Accel::Auto && materials) {
             Traversal::Bvh
-        } else if triangle_count <= contract::CONSTANT_TRIANGLE_CAPACITY as usize {
+        } else if fits {
             Traversal::ConstantTriangles
         } else {
             Traversal::Linear
@@ -83,4 +93,21 @@ pub(crate) fn constant_triangle_specialization(
         ));
     }
     constants
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn small_scenes_compile_their_triangles_in_only_for_the_workshop_kernels() {
+        let capacity = contract::CONSTANT_TRIANGLE_CAPACITY as usize;
+        let choose = Traversal::choose;
+        assert_eq!(choose(30, Accel::Auto, false), Traversal::ConstantTriangles);
+        assert_eq!(choose(30, Accel::Auto, true), Traversal::Bvh);
+        assert_eq!(choose(30, Accel::None, true), Traversal::ConstantTriangles);
+        assert_eq!(choose(capacity + 1, Accel::None, false), Traversal::Linear);
+        assert_eq!(choose(capacity + 1, Accel::Auto, false), Traversal::Bvh);
+        assert_eq!(choose(12, Accel::Bvh, false), Traversal::Bvh);
+    }
 }

@@ -10,6 +10,7 @@ use ash::vk;
 use gpu_allocator::vulkan::{Allocator, AllocatorCreateDesc};
 
 use super::error::{CallContext, VkError, VkResult};
+use super::pipeline_cache::{PersistentPipelineCache, PipelineCacheKey, PipelineCacheStore};
 use super::validation::{messenger_create_info, ValidationMessages};
 
 const VALIDATION_LAYER: &CStr = c"VK_LAYER_KHRONOS_validation";
@@ -24,6 +25,9 @@ pub struct ContextOptions {
     pub device: Option<String>,
     /// Fail unless the chosen device is a GPU (not a CPU implementation such as lavapipe).
     pub require_gpu: bool,
+    /// Build pipelines through a pipeline cache that this store keeps between processes
+    /// (`None`: no pipeline cache).
+    pub pipeline_cache: Option<Arc<dyn PipelineCacheStore>>,
 }
 
 /// The kind of a physical device, as Vulkan reports it.
@@ -135,6 +139,8 @@ pub struct Context {
     /// Its family index.
     pub queue_family_index: u32,
     allocator: ManuallyDrop<Mutex<Allocator>>,
+    /// The pipeline cache, when `ContextOptions::pipeline_cache` gave a store.
+    pipeline_cache: Option<PersistentPipelineCache>,
 }
 
 /// Environment variable naming the Vulkan loader library to use instead of the system's
@@ -376,7 +382,8 @@ impl Context {
         };
         // SAFETY: the queue family was requested with one queue.
         let queue = unsafe { device.get_device_queue(queue_family_index, 0) };
-        let limits = unsafe { instance.get_physical_device_properties(physical_device) }.limits;
+        let properties = unsafe { instance.get_physical_device_properties(physical_device) };
+        let limits = properties.limits;
         let allocator = Allocator::new(&AllocatorCreateDesc {
             instance: instance.clone(),
             device: device.clone(),
@@ -397,6 +404,25 @@ impl Context {
                 });
             }
         };
+        let pipeline_cache = match &options.pipeline_cache {
+            Some(store) => {
+                let key = PipelineCacheKey::of(&properties);
+                match PersistentPipelineCache::create(&device, store.clone(), key) {
+                    Ok(cache) => Some(cache),
+                    Err(result) => {
+                        // SAFETY: nothing else was created from the device but the allocator.
+                        drop(allocator);
+                        unsafe { device.destroy_device(None) };
+                        destroy_instance(messenger);
+                        return Err(VkError::Call {
+                            what: "creating the pipeline cache",
+                            result,
+                        });
+                    }
+                }
+            }
+            None => None,
+        };
         Ok(Arc::new(Context {
             _entry: entry,
             instance,
@@ -409,6 +435,7 @@ impl Context {
             queue,
             queue_family_index,
             allocator: ManuallyDrop::new(Mutex::new(allocator)),
+            pipeline_cache,
         }))
     }
 
@@ -433,6 +460,36 @@ impl Context {
             .unwrap_or(0)
     }
 
+    /// The pipeline cache to build pipelines with (null when there is none).
+    pub(crate) fn pipeline_cache(&self) -> vk::PipelineCache {
+        self.pipeline_cache
+            .as_ref()
+            .map_or(vk::PipelineCache::null(), |cache| cache.handle)
+    }
+
+    /// The store of the pipeline cache, if there is one (to tell it that a build is slow).
+    pub(crate) fn pipeline_cache_store(&self) -> Option<&dyn PipelineCacheStore> {
+        self.pipeline_cache.as_ref().map(|cache| &*cache.store)
+    }
+
+    /// Saves the pipeline cache through its store if a build changed it (after each
+    /// pipeline, so that an interrupted process keeps what it built).
+    pub(crate) fn pipeline_built(&self) {
+        if let Some(cache) = &self.pipeline_cache {
+            cache.save_if_changed(&self.device);
+        }
+    }
+
+    /// What identifies this device's pipeline cache data.
+    pub fn pipeline_cache_key(&self) -> PipelineCacheKey {
+        // SAFETY: the physical device belongs to the live instance.
+        let properties = unsafe {
+            self.instance
+                .get_physical_device_properties(self.physical_device)
+        };
+        PipelineCacheKey::of(&properties)
+    }
+
     /// Locks the memory allocator.
     pub(crate) fn allocator(&self) -> MutexGuard<'_, Allocator> {
         // A panic while holding the lock cannot leave the allocator half-updated in a way
@@ -449,6 +506,9 @@ impl Drop for Context {
         // allocator is dropped before the device, the device before the instance.
         unsafe {
             let _ = self.device.device_wait_idle();
+            if let Some(cache) = self.pipeline_cache.take() {
+                self.device.destroy_pipeline_cache(cache.handle, None);
+            }
             ManuallyDrop::drop(&mut self.allocator);
             self.device.destroy_device(None);
             if let Some((debug_utils, messenger)) = self.messenger.take() {

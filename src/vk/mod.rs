@@ -9,6 +9,7 @@ pub mod context;
 pub mod error;
 pub mod image;
 pub mod pipeline;
+pub mod pipeline_cache;
 pub mod validation;
 
 pub use buffer::{Buffer, TexelBufferView};
@@ -17,4 +18,5 @@ pub use context::{list_devices, Context, ContextOptions, DeviceInfo, DeviceKind}
 pub use error::{VkError, VkResult};
 pub use image::StorageImage;
 pub use pipeline::{spirv_words, ComputePipeline, DescriptorSet};
+pub use pipeline_cache::{PipelineCacheKey, PipelineCacheStore};
 pub use validation::ValidationMessages;

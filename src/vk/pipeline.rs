@@ -9,6 +9,7 @@ use super::buffer::{Buffer, TexelBufferView};
 use super::context::Context;
 use super::error::{CallContext, VkError, VkResult};
 use super::image::StorageImage;
+use super::pipeline_cache::SLOW_BUILD_NOTICE_AFTER;
 
 /// A compute pipeline and its layouts.
 pub struct ComputePipeline {
@@ -51,6 +52,29 @@ fn declared_workgroup_size(spirv: &[u32]) -> Option<[u32; 3]> {
         index += length;
     }
     None
+}
+
+/// Runs `build`, and calls the pipeline cache store's `building_slowly` from another thread
+/// if it takes longer than `SLOW_BUILD_NOTICE_AFTER` (a driver compiles while `build` runs,
+/// so the notice comes while the wait is on, not after it).
+fn build_telling_when_slow<T>(context: &Context, build: impl FnOnce() -> T) -> T {
+    let Some(store) = context.pipeline_cache_store() else {
+        return build();
+    };
+    let (done, finished) = std::sync::mpsc::channel::<()>();
+    std::thread::scope(|scope| {
+        scope.spawn(move || {
+            if finished.recv_timeout(SLOW_BUILD_NOTICE_AFTER)
+                == Err(std::sync::mpsc::RecvTimeoutError::Timeout)
+            {
+                store.building_slowly();
+            }
+        });
+        let result = build();
+        // Wakes the watcher (a send to a watcher that has given up is fine to lose).
+        let _ = done.send(());
+        result
+    })
 }
 
 impl ComputePipeline {
@@ -137,12 +161,15 @@ impl ComputePipeline {
             let info = [vk::ComputePipelineCreateInfo::default()
                 .stage(stage)
                 .layout(pipeline.layout)];
-            let created = device.create_compute_pipelines(vk::PipelineCache::null(), &info, None);
+            let created = build_telling_when_slow(context, || {
+                device.create_compute_pipelines(context.pipeline_cache(), &info, None)
+            });
             device.destroy_shader_module(module, None);
             pipeline.pipeline = created
                 .map_err(|(_, result)| result)
                 .during("creating a compute pipeline")?[0];
         }
+        context.pipeline_built();
         Ok(pipeline)
     }
 

@@ -35,10 +35,21 @@ pub fn vkpath(dir: &Path, args: &[&str]) -> Output {
     vkpath_with_env(dir, args, &[])
 }
 
-/// Runs the `vkpath` binary with `args` and extra environment variables.
+/// The pipeline cache directory of every `vkpath` the tests run: in the temp directory,
+/// shared by the tests (writes are atomic), so that no test writes to the user's home.
+pub fn test_cache_dir() -> std::path::PathBuf {
+    std::env::temp_dir().join("vkpath-tests-pipeline-cache")
+}
+
+/// Runs the `vkpath` binary with `args` and extra environment variables (which may set
+/// another `VKPATH_CACHE_DIR` than `test_cache_dir()`).
 pub fn vkpath_with_env(dir: &Path, args: &[&str], env: &[(&str, &str)]) -> Output {
     let mut command = Command::new(env!("CARGO_BIN_EXE_vkpath"));
-    command.args(args).current_dir(dir).env_remove("RUST_LOG");
+    command
+        .args(args)
+        .current_dir(dir)
+        .env_remove("RUST_LOG")
+        .env("VKPATH_CACHE_DIR", test_cache_dir());
     for (key, value) in env {
         command.env(key, value);
     }
