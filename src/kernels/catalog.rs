@@ -48,7 +48,8 @@ pub static PATH_TRACER: Kernel = Kernel {
     push_constant_size: size_of::<FramePushConstants>() as u32,
 };
 
-/// The specialization constants of the probes of the workshop's functions.
+/// The specialization constants of the probes of the workshop's functions (and of the
+/// sample display, which includes the same files).
 const SCENE_PROBE_SPEC: [SpecConstants; 4] = [
     SCENE_SPEC[0],
     SCENE_SPEC[1],
@@ -123,7 +124,7 @@ pub static PROBE_BVH: Kernel = Kernel {
 pub static EXERCISE_SAMPLES: Kernel = Kernel {
     source: "exercise_samples.comp",
     bindings: bindings::EXERCISE_SAMPLES,
-    specialization: &[SpecConstants::one(c::SPEC_MAX_PATH_LENGTH)],
+    specialization: &SCENE_PROBE_SPEC,
     push_constant_size: size_of::<SampleDisplayPushConstants>() as u32,
 };
 

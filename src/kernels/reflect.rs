@@ -21,6 +21,11 @@ pub struct DeclaredBinding {
     pub kind: Option<vk::DescriptorType>,
     /// The variable's name (`OpName`; empty without debug information).
     pub name: String,
+    /// Whether the entry point uses it statically: whether a function of its static call
+    /// tree loads, stores, indexes or passes the variable (what Vulkan's validation calls
+    /// "statically used"). glslang keeps functions that nothing calls in unoptimized modules,
+    /// and lists their variables in the entry point's interface too, so that is not enough.
+    pub used: bool,
 }
 
 /// What a module declares.
@@ -34,6 +39,10 @@ pub struct Declarations {
 
 // Opcodes, decorations, storage classes and image dimensions (SPIR-V 1.6, 3.x).
 const OP_NAME: u32 = 5;
+const OP_ENTRY_POINT: u32 = 15;
+const OP_FUNCTION: u32 = 54;
+const OP_FUNCTION_END: u32 = 56;
+const OP_FUNCTION_CALL: u32 = 57;
 const OP_TYPE_IMAGE: u32 = 25;
 const OP_TYPE_SAMPLER: u32 = 26;
 const OP_TYPE_SAMPLED_IMAGE: u32 = 27;
@@ -79,6 +88,10 @@ pub fn declarations(spirv: &[u32]) -> Result<Declarations, String> {
     let mut types: HashMap<u32, Type> = HashMap::new();
     let mut variables: Vec<(u32, u32, u32)> = Vec::new(); // (id, pointer type, storage class)
     let mut spec_ids = Vec::new();
+    let mut entry_point = None;
+    // Per function: the ids its instructions take as pointers, and the functions it calls.
+    let mut functions: HashMap<u32, (Vec<u32>, Vec<u32>)> = HashMap::new();
+    let mut current_function = None;
     let mut index = 5;
     while index < spirv.len() {
         let (length, opcode) = ((spirv[index] >> 16) as usize, spirv[index] & 0xffff);
@@ -99,6 +112,9 @@ pub fn declarations(spirv: &[u32]) -> Result<Declarations, String> {
                     .collect();
                 names.insert(word(0), String::from_utf8_lossy(&bytes).into_owned());
             }
+            OP_ENTRY_POINT => entry_point = Some(word(1)),
+            OP_FUNCTION => current_function = Some(word(1)),
+            OP_FUNCTION_END => current_function = None,
             OP_DECORATE => {
                 if word(1) == DECORATION_SPEC_ID {
                     spec_ids.push(word(2));
@@ -129,8 +145,17 @@ pub fn declarations(spirv: &[u32]) -> Result<Declarations, String> {
             OP_TYPE_POINTER => {
                 types.insert(word(0), Type::Pointer(word(2)));
             }
-            OP_VARIABLE => variables.push((word(1), word(0), word(2))),
+            OP_VARIABLE if current_function.is_none() => {
+                variables.push((word(1), word(0), word(2)))
+            }
             _ => {}
+        }
+        if let Some(function) = current_function {
+            let (pointers, callees) = functions.entry(function).or_default();
+            if opcode == OP_FUNCTION_CALL {
+                callees.push(word(2));
+            }
+            pointers.extend(pointer_operands(opcode, operands));
         }
         index += length;
     }
@@ -145,6 +170,21 @@ pub fn declarations(spirv: &[u32]) -> Result<Declarations, String> {
             .get(&id)
             .is_some_and(|l| l.iter().any(|(d, _)| *d == which))
     };
+    // The ids used by the entry point's static call tree.
+    let mut used_ids: Vec<u32> = Vec::new();
+    let mut reached: Vec<u32> = entry_point.into_iter().collect();
+    let mut next = 0;
+    while let Some(&function) = reached.get(next) {
+        next += 1;
+        if let Some((pointers, callees)) = functions.get(&function) {
+            used_ids.extend(pointers);
+            for callee in callees {
+                if !reached.contains(callee) {
+                    reached.push(*callee);
+                }
+            }
+        }
+    }
     let mut bindings = Vec::new();
     for (id, pointer, storage) in variables {
         let (Some(set), Some(binding)) = (
@@ -176,11 +216,33 @@ pub fn declarations(spirv: &[u32]) -> Result<Declarations, String> {
             binding,
             kind,
             name: names.get(&id).cloned().unwrap_or_default(),
+            used: entry_point.is_none() || used_ids.contains(&id),
         });
     }
     spec_ids.sort_unstable();
     spec_ids.dedup();
     Ok(Declarations { bindings, spec_ids })
+}
+
+/// The operands of an instruction inside a function that are pointers (or, for calls,
+/// arguments), which is how a function uses a global variable: `OpLoad`, `OpStore`,
+/// `OpCopyMemory`, the access chains, `OpArrayLength`, `OpImageTexelPointer`, the atomics and
+/// `OpFunctionCall`'s arguments.
+fn pointer_operands(opcode: u32, operands: &[u32]) -> &[u32] {
+    let range = match opcode {
+        // OpImageTexelPointer, OpLoad, OpAccessChain .. OpPtrAccessChain, OpArrayLength:
+        // result type, result, pointer.
+        60 | 61 | 65..=68 => 2..3,
+        // OpStore, OpCopyMemory: pointer(s) first.
+        62 | 63 => 0..2,
+        // OpFunctionCall: result type, result, function, arguments.
+        OP_FUNCTION_CALL => 3..operands.len(),
+        // OpAtomicStore: pointer first; the other atomics: result type, result, pointer.
+        228 => 0..1,
+        227..=242 => 2..3,
+        _ => 0..0,
+    };
+    operands.get(range).unwrap_or_default()
 }
 
 /// The descriptor type of a `UniformConstant` variable of type `t`.
@@ -220,7 +282,7 @@ mod tests {
     fn mismatches(kernel: &Kernel, build: &Build, declared: &Declarations) -> Vec<String> {
         let rows = kernel.bindings_of(build);
         let mut problems = Vec::new();
-        for binding in &declared.bindings {
+        for binding in declared.bindings.iter().filter(|b| b.used) {
             let row = rows.iter().find(|row| row.binding == binding.binding);
             match row {
                 _ if binding.set != 0 => problems.push(format!(
@@ -246,10 +308,13 @@ mod tests {
                 ));
             }
         }
-        // Optimized SPIR-V (release builds) drops what a build never reads, so that a row or
-        // constant the shader declares but does not use is missing there; the unoptimized
-        // builds of the test profile keep every declaration, so there the table must not
-        // hold more than the kernel declares either.
+        // Every binding the kernel uses must be in the table, as the SPIR-V types it; a row
+        // may name a binding that the build declares but does not use (the layout then has
+        // one more binding than needed, which Vulkan allows). Optimized SPIR-V (release
+        // builds) drops what a build never reads, so that a row or constant the shader
+        // declares but does not use is missing there; the unoptimized builds of the test
+        // profile keep every declaration, so there the table must not name a binding the
+        // build does not declare at all.
         if cfg!(debug_assertions) {
             for row in &rows {
                 if !declared.bindings.iter().any(|b| b.binding == row.binding) {
@@ -316,9 +381,9 @@ mod tests {
 
     #[test]
     fn descriptor_types_are_told_apart() {
-        let declared = declared(&crate::kernels::PATH_TRACER.builds()[0]);
+        let path_tracer = declared(&crate::kernels::PATH_TRACER.builds()[0]);
         let kind = |binding| {
-            declared
+            path_tracer
                 .bindings
                 .iter()
                 .find(|b| b.binding == binding)
@@ -342,7 +407,17 @@ mod tests {
             .bindings
             .iter()
             .any(|b| b.kind == Some(vk::DescriptorType::STORAGE_BUFFER)));
-        assert!(declared.spec_ids.contains(&c::SPEC_SAMPLE_COUNT));
+        // The sample display includes scene.glsl but traces no rays: it declares the
+        // triangles and uniforms and does not use them.
+        let display = declared(&crate::kernels::EXERCISE_SAMPLES.builds()[0]);
+        let triangles = display
+            .bindings
+            .iter()
+            .find(|b| b.binding == c::BINDING_TRIANGLES)
+            .expect("declared");
+        assert!(!triangles.used);
+        assert!(path_tracer.bindings.iter().all(|b| b.used));
+        assert!(path_tracer.spec_ids.contains(&c::SPEC_SAMPLE_COUNT));
     }
 
     fn declared_probe() -> Declarations {
