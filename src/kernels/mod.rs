@@ -10,6 +10,7 @@ pub mod builds;
 pub mod catalog;
 pub mod loops;
 pub mod reflect;
+pub mod scan;
 
 use std::sync::Arc;
 
