@@ -242,3 +242,42 @@ impl KernelPipeline {
         Ok(set)
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::render::traversal::Traversal;
+
+    #[test]
+    fn each_traversal_and_material_choice_has_its_path_tracer_build() {
+        let name = |traversal: Traversal, materials| traversal.build(materials).unwrap().name;
+        assert_eq!(name(Traversal::ConstantTriangles, false), "path_tracer");
+        assert_eq!(name(Traversal::Linear, false), "path_tracer");
+        assert_eq!(name(Traversal::Bvh, false), "path_tracer_bvh");
+        assert_eq!(name(Traversal::Linear, true), "path_tracer_materials");
+        assert_eq!(name(Traversal::Bvh, true), "path_tracer_materials_bvh");
+        for build in PATH_TRACER.builds() {
+            assert!(build.embedded_spirv().is_ok(), "{}", build.name);
+        }
+        assert!(PATH_TRACER.build_with(&["NO_SUCH_MACRO"]).is_err());
+    }
+
+    #[test]
+    fn rows_and_constants_follow_the_build() {
+        let bvh = Traversal::Bvh.build(false).unwrap();
+        let plain = Traversal::Linear.build(false).unwrap();
+        let binds = |build: &Build, resource| {
+            PATH_TRACER
+                .bindings_of(build)
+                .iter()
+                .any(|row| row.resource == resource)
+        };
+        assert!(binds(&bvh, Resource::BvhNodes));
+        assert!(!binds(&plain, Resource::BvhNodes));
+        assert!(!binds(&bvh, Resource::Materials));
+        assert!(binds(&plain, Resource::Accumulation));
+        assert!(PATH_TRACER.declares_spec_constant(crate::contract::SPEC_CONSTANT_TRIANGLES + 575));
+        assert!(!PATH_TRACER.declares_spec_constant(crate::contract::SPEC_CONSTANT_TRIANGLES + 576));
+        assert!(!PROBE_BRDF.declares_spec_constant(crate::contract::SPEC_SAMPLE_COUNT));
+    }
+}
