@@ -9,20 +9,12 @@ use shaderc_link as _;
 #[path = "src/shader_compiler.rs"]
 mod shader_compiler;
 
-/// Kernels compiled more than once with different macros: (source stem, variant stem, macros).
-const VARIANTS: &[(&str, &str, &[(&str, &str)])] = &[
-    ("path_tracer", "path_tracer_bvh", &[("USE_BVH", "1")]),
-    (
-        "path_tracer",
-        "path_tracer_materials",
-        &[("USE_MATERIALS", "1")],
-    ),
-    (
-        "path_tracer",
-        "path_tracer_materials_bvh",
-        &[("USE_BVH", "1"), ("USE_MATERIALS", "1")],
-    ),
-];
+#[path = "src/kernels/builds.rs"]
+#[allow(
+    dead_code,
+    reason = "the library uses the macro names; the build script only the list"
+)]
+mod builds;
 
 fn main() {
     // Read at run time: a build script compiled for one checkout may run for another.
@@ -34,6 +26,7 @@ fn main() {
         .unwrap_or(false);
     println!("cargo:rerun-if-changed=glsl");
     println!("cargo:rerun-if-changed=src/shader_compiler.rs");
+    println!("cargo:rerun-if-changed=src/kernels/builds.rs");
 
     let mut files: Vec<PathBuf> = std::fs::read_dir(&glsl_dir)
         .expect("glsl/ is readable")
@@ -54,6 +47,7 @@ fn main() {
     };
 
     let mut shaders_rs = String::new();
+    let mut build_names = Vec::new();
     let mut failed = false;
     for file in files
         .iter()
@@ -62,13 +56,13 @@ fn main() {
         let stem = file.file_stem().unwrap().to_string_lossy().to_string();
         let file_name = file.file_name().unwrap().to_string_lossy().to_string();
         let source = std::fs::read_to_string(file).expect("shader is readable");
-        let mut builds: Vec<(String, &[(&str, &str)])> = vec![(stem.clone(), &[])];
-        for (source_stem, variant, macros) in VARIANTS {
-            if *source_stem == stem {
-                builds.push((variant.to_string(), macros));
+        let mut kernel_builds: Vec<(String, &[(&str, &str)])> = vec![(stem.clone(), &[])];
+        for build in builds::EXTRA_BUILDS {
+            if build.source == stem {
+                kernel_builds.push((build.name.to_string(), build.macros));
             }
         }
-        for (name, macros) in builds {
+        for (name, macros) in kernel_builds {
             match shader_compiler::compile_compute_shader(
                 &source, &file_name, &resolve, macros, optimize,
             ) {
@@ -83,6 +77,7 @@ fn main() {
                         .flat_map(|w| w.to_le_bytes())
                         .collect();
                     std::fs::write(&spv_path, bytes).expect("OUT_DIR is writable");
+                    build_names.push(name.clone());
                     writeln!(
                     shaders_rs,
                     "/// SPIR-V of `glsl/{file_name}` ({name}).\npub const {}: &[u8] = include_bytes!({:?});",
@@ -104,6 +99,17 @@ fn main() {
     if failed {
         panic!("GLSL compilation failed (messages above name file and line)");
     }
+
+    // Every build by name, for `crate::kernels`.
+    writeln!(
+        shaders_rs,
+        "/// Every build's SPIR-V, by build name.\npub const SPIRV: &[(&str, &[u8])] = &["
+    )
+    .unwrap();
+    for name in &build_names {
+        writeln!(shaders_rs, "    ({name:?}, {}),", name.to_uppercase()).unwrap();
+    }
+    shaders_rs.push_str("];\n");
 
     // Every GLSL file's text, for run-time compilation against the same includes.
     writeln!(

@@ -27,6 +27,12 @@ layout(constant_id = SPEC_SAMPLER) const int SAMPLER = SAMPLER_PCG;
 layout(constant_id = SPEC_LIGHT_SAMPLING) const int LIGHT_SAMPLING = LIGHT_SAMPLING_SOLID_ANGLE;
 // LLVMPIPE_LOOP_LIMIT / LLVMPIPE_SIMD_WIDTH on lavapipe, 0 elsewhere.
 layout(constant_id = SPEC_LOOP_LIMIT) const uint LOOP_LIMIT = 0u;
+// The bound's coefficients, which the host derives from its description of this kernel's
+// loops (src/kernels/loops.rs, whose test fails when a loop is not described there).
+layout(constant_id = SPEC_LOOPS_PER_SAMPLE) const uint LOOPS_PER_SAMPLE = 0u;
+layout(constant_id = SPEC_LOOPS_PER_RAY) const uint LOOPS_PER_RAY = 0u;
+layout(constant_id = SPEC_LIGHT_SEARCHES_PER_RAY) const uint LIGHT_SEARCHES_PER_RAY = 0u;
+layout(constant_id = SPEC_TRIANGLE_LOOPS_PER_RAY) const uint TRIANGLE_LOOPS_PER_RAY = 0u;
 
 #include "integrator.glsl"
 #include "importance_sampling.glsl"
@@ -120,19 +126,16 @@ void main() {
     }
     // llvmpipe ends a loop of a SIMD program after LLVMPIPE_LOOP_LIMIT iterations over its
     // entries, without an error; a program's iterations are at most LLVMPIPE_SIMD_WIDTH times
-    // the largest lane's (see shared.h). An upper bound of this lane's iterations: one per
-    // sample; per ray one of the path loop, one of the light search's (at most the bits of
-    // the light count), and the loop over all triangles (unless unrolled as constants, or a
-    // BVH, counted in bvh.glsl). Reaching LOOP_LIMIT flags the pixel; the host refuses a
-    // flagged image.
+    // the largest lane's (see shared.h). An upper bound of this lane's iterations, with the
+    // coefficients of src/kernels/loops.rs: per sample; per ray (g_ray_count) the path loop's,
+    // the light search's (at most the bits of the light count) and the loops over all
+    // triangles; and what the BVH's traversal counted itself. Reaching LOOP_LIMIT flags the
+    // pixel; the host refuses a flagged image.
     if (LOOP_LIMIT != 0u) {
-        uint per_ray = 1u + uint(findMSB(max(get_light_count(), 1u)) + 1);
-#ifndef USE_BVH
-        if (CONSTANT_TRIANGLE_COUNT == 0u)
-            per_ray += g_resolution_triangle_count_seed.z;
-#endif
+        uint per_ray = LOOPS_PER_RAY + LIGHT_SEARCHES_PER_RAY * uint(findMSB(max(get_light_count(), 1u)) + 1)
+            + TRIANGLE_LOOPS_PER_RAY * g_resolution_triangle_count_seed.z;
         uint samples = min(uint(SAMPLE_COUNT), g_sample_end - min(g_first_sample_index, g_sample_end));
-        uint iterations = samples + g_ray_count * per_ray + g_traversal_iterations;
+        uint iterations = LOOPS_PER_SAMPLE * samples + g_ray_count * per_ray + g_traversal_iterations;
         if (iterations >= LOOP_LIMIT || g_ray_count * per_ray >= LOOP_LIMIT)
             sum_of_squares_flag = 1.0;
     }

@@ -75,6 +75,13 @@
 // lavapipe LLVMPIPE_LOOP_LIMIT / LLVMPIPE_SIMD_WIDTH, 0 (no limit) elsewhere. The path
 // tracer counts (an upper bound of) its iterations and flags the pixel when they reach it.
 #define SPEC_LOOP_LIMIT 8
+// The coefficients of that bound, which the host derives from its description of the
+// kernel's loops (src/kernels/loops.rs): iterations per sample, per ray, light searches per
+// ray (each of the light count's bits) and loops over all triangles per ray.
+#define SPEC_LOOPS_PER_SAMPLE 11
+#define SPEC_LOOPS_PER_RAY 12
+#define SPEC_LIGHT_SEARCHES_PER_RAY 13
+#define SPEC_TRIANGLE_LOOPS_PER_RAY 14
 // Mesa's llvmpipe ends a loop of a shader invocation, with no error, once it has run this
 // many iterations over all its entries in that invocation (LP_MAX_TGSI_LOOP_ITERATIONS).
 // Each loop counts on its own (measured: a second loop still runs in full after the first

@@ -37,10 +37,7 @@ use shaderc_link as _;
 pub mod contract;
 
 #[doc(hidden)]
-pub mod shaders {
-    //! The embedded SPIR-V of every kernel in `glsl/`, and the GLSL sources themselves.
-    include!(concat!(env!("OUT_DIR"), "/shaders.rs"));
-}
+pub mod shaders;
 
 #[doc(hidden)]
 pub mod shader_compiler;
@@ -59,6 +56,8 @@ pub mod error;
 #[doc(hidden)]
 pub mod exercise;
 pub mod image_io;
+#[doc(hidden)]
+pub mod kernels;
 pub mod render;
 pub mod scene;
 #[doc(hidden)]

@@ -8,17 +8,17 @@ use std::sync::Arc;
 use std::time::Instant;
 
 use ash::vk;
-use bytemuck::Zeroable;
 use glam::{UVec2, Vec3};
 use vkpath::bvh::{
     bvh_any_hit, bvh_closest_hit, bvh_inverse_direction, bvh_ray_box_intersection, Bvh,
 };
 use vkpath::contract;
 use vkpath::cpu::workshop::{get_random_numbers, sample_sphere};
-use vkpath::render::gpu_types::{GpuTriangle, RenderUniforms};
+use vkpath::kernels::{self, Bound, Resource};
+use vkpath::probe::{Probe, ProbeScene};
 use vkpath::scene::meshes::scale_test_scene;
 use vkpath::scene::Triangle;
-use vkpath::vk::{Buffer, CommandRunner, ComputePipeline, Context, TexelBufferView};
+use vkpath::vk::{Buffer, Context, TexelBufferView};
 
 /// `bvh_probe_ray_t`: xyz origin, w t_max of the any-hit query; xyz direction.
 type ProbeRay = [[f32; 4]; 2];
@@ -27,7 +27,7 @@ type ProbeRay = [[f32; 4]; 2];
 type ProbeResult = [[u32; 4]; 4];
 
 /// Runs the probe kernel over `rays` with the reordered triangles and the BVH's nodes.
-/// Returns the results and the seconds the submission took.
+/// Returns the results and the seconds the run took.
 fn run_probe(
     context: &Arc<Context>,
     triangles: &[Triangle],
@@ -35,64 +35,34 @@ fn run_probe(
     rays: &[ProbeRay],
     brute_force: bool,
 ) -> (Vec<ProbeResult>, f64) {
-    let storage = vk::DescriptorType::STORAGE_BUFFER;
-    let texel = vk::DescriptorType::UNIFORM_TEXEL_BUFFER;
-    let gpu_triangles: Vec<GpuTriangle> = triangles.iter().map(GpuTriangle::new).collect();
-    let mut uniforms = RenderUniforms::zeroed();
-    uniforms.resolution_triangle_count_seed[2] = triangles.len() as u32;
-    let usage = vk::BufferUsageFlags::STORAGE_BUFFER;
-    let buffer =
-        |name, bytes: &[u8], usage| Buffer::with_data(context, name, bytes, usage).unwrap();
-    let texels = |name, bytes: &[u8]| {
-        let buffer = buffer(name, bytes, vk::BufferUsageFlags::UNIFORM_TEXEL_BUFFER);
-        TexelBufferView::new(context, buffer, vk::Format::R32G32B32A32_UINT).unwrap()
-    };
-    let triangle_texels = texels("triangles", bytemuck::cast_slice(&gpu_triangles));
-    let uniform_buffer = buffer(
-        "uniforms",
-        bytemuck::bytes_of(&uniforms),
-        vk::BufferUsageFlags::UNIFORM_BUFFER,
-    );
-    let node_texels = texels("bvh nodes", bytemuck::cast_slice(&bvh.nodes));
-    let ray_buffer = buffer("rays", bytemuck::cast_slice(rays), usage);
-    let zeros = vec![ProbeResult::zeroed(); rays.len()];
-    let result_buffer = buffer("results", bytemuck::cast_slice(&zeros), usage);
-
-    let spirv = vkpath::vk::spirv_words(vkpath::shaders::PROBE_BVH).unwrap();
-    let bindings = [
-        (contract::BINDING_TRIANGLES, texel),
-        (
-            contract::BINDING_RENDER_UNIFORMS,
-            vk::DescriptorType::UNIFORM_BUFFER,
-        ),
-        (contract::BINDING_BVH_NODES, texel),
-        (contract::BVH_PROBE_BINDING_RAYS, storage),
-        (contract::BVH_PROBE_BINDING_RESULTS, storage),
-    ];
+    let scene = ProbeScene::new(context, triangles).unwrap();
+    let nodes = Buffer::with_data(
+        context,
+        "bvh nodes",
+        bytemuck::cast_slice::<_, u8>(&bvh.nodes),
+        vk::BufferUsageFlags::UNIFORM_TEXEL_BUFFER,
+    )
+    .unwrap();
+    let node_texels = TexelBufferView::new(context, nodes, vk::Format::R32G32B32A32_UINT).unwrap();
     let specialization = [(contract::BVH_PROBE_SPEC_BRUTE_FORCE, u32::from(brute_force))];
-    let pipeline = ComputePipeline::new(context, &spirv, &bindings, 0, &specialization).unwrap();
-    let set = pipeline.allocate_descriptor_set().unwrap();
-    set.write_texel_buffer(contract::BINDING_TRIANGLES, &triangle_texels);
-    set.write_buffer(
-        contract::BINDING_RENDER_UNIFORMS,
-        vk::DescriptorType::UNIFORM_BUFFER,
-        &uniform_buffer,
-    );
-    set.write_texel_buffer(contract::BINDING_BVH_NODES, &node_texels);
-    set.write_buffer(contract::BVH_PROBE_BINDING_RAYS, storage, &ray_buffer);
-    set.write_buffer(contract::BVH_PROBE_BINDING_RESULTS, storage, &result_buffer);
-
-    let runner = CommandRunner::new(context).unwrap();
+    let probe = Probe::embedded(
+        context,
+        &kernels::PROBE_BVH,
+        &specialization,
+        "bvh_closest_hit",
+    )
+    .unwrap();
     let start = Instant::now();
-    runner
-        .run(|recorder| {
-            recorder.bind(&pipeline, &set);
-            recorder.dispatch(&pipeline, [rays.len() as u32, 1, 1]);
-            recorder.host_read_barrier();
-        })
+    let results = probe
+        .run(
+            |resource| match resource {
+                Resource::BvhNodes => Some(Bound::TexelBuffer(&node_texels)),
+                other => scene.resource(other),
+            },
+            rays,
+        )
         .unwrap();
-    let seconds = start.elapsed().as_secs_f64();
-    (result_buffer.read(), seconds)
+    (results, start.elapsed().as_secs_f64())
 }
 
 /// Rays of a path tracer in the Cornell box: half from the workshop camera's pinhole towards

@@ -84,20 +84,6 @@ pub fn relative_mse(image: &RenderedImage, reference: &RenderedImage) -> f64 {
     total / (3 * image.mean.len().max(1)) as f64
 }
 
-/// The `--integrator` spelling of an integrator.
-pub fn integrator_name(integrator: Integrator) -> &'static str {
-    match integrator {
-        Integrator::PathTracing => "workshop",
-        Integrator::Cosine => "cosine",
-        Integrator::Nee => "nee",
-        Integrator::Mis => "mis",
-        Integrator::DirectIllumination => "direct-illumination",
-        Integrator::RayTracing => "ray-tracing",
-        Integrator::Normal => "normal",
-        Integrator::Depth => "depth",
-    }
-}
-
 /// A render with timings: (image, cold-start seconds, steady-state seconds for all `spp`
 /// samples, rays traced). The cold start is creating the renderer plus its first frame
 /// (drivers may compile the pipeline lazily, at the first dispatch); the steady-state time is
@@ -183,7 +169,7 @@ pub fn run_bench(
     let (reference, _, _, _) = timed_render(context, scene, camera, reference_settings)?;
     let mut results = Vec::new();
     for &integrator in &setup.integrators {
-        let name = integrator_name(integrator);
+        let name = integrator.name();
         progress(name);
         let settings = RenderSettings {
             integrator,

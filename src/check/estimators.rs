@@ -22,6 +22,7 @@ use crate::check::report::FunctionReport;
 use crate::check::Session;
 use crate::error::{Error, Result};
 use crate::image_io::data::RenderedImage;
+use crate::kernels::PATH_TRACER;
 use crate::render::settings::{Integrator, PixelFilter, RenderSettings};
 use crate::render::{Renderer, Traversal};
 use crate::stats::ztest::{two_sided_p_value, z_score, z_test_images, MeanImage};
@@ -327,11 +328,20 @@ fn render(
             Some(user.code(&active))
         }
     };
-    let macros: &[(&str, &str)] = match variant {
-        Variant::AsYourFileRuns => &[],
-        _ => &[("IGNORE_START_SURFACE", "1")],
+    // The user's ray_triangle_intersection may read any member of the triangle, which the
+    // constant triangles do not carry.
+    let traversal = if variant == Variant::AsYourFileRuns {
+        Traversal::Linear
+    } else {
+        Traversal::ConstantTriangles
     };
-    let compiled = compile_kernel("path_tracer.comp", code.as_ref(), macros)
+    // The path tracer's build for the traversal (crate::kernels), with check's own macros.
+    let build = traversal.build(false)?;
+    let mut macros = build.macros.to_vec();
+    if variant != Variant::AsYourFileRuns {
+        macros.push(("IGNORE_START_SURFACE", "1"));
+    }
+    let compiled = compile_kernel(PATH_TRACER.source, code.as_ref(), &macros)
         .map_err(Error::ShaderCompilation)?;
     let size = session.options.image_size;
     let settings = RenderSettings {
@@ -348,13 +358,6 @@ fn render(
         integrator,
         samples_per_frame: 8,
         ..RenderSettings::default()
-    };
-    // The user's ray_triangle_intersection may read any member of the triangle, which the
-    // constant triangles do not carry.
-    let traversal = if variant == Variant::AsYourFileRuns {
-        Traversal::Linear
-    } else {
-        Traversal::ConstantTriangles
     };
     let mut renderer = Renderer::with_kernel(
         &session.context,

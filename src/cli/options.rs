@@ -273,7 +273,6 @@ impl SaveArgs {
 mod tests {
     use clap::ValueEnum;
 
-    use crate::bench::integrator_name;
     use crate::image_io::tonemap::ToneMap;
     use crate::render::settings::{Integrator, LightSampling};
 
@@ -283,7 +282,7 @@ mod tests {
     fn library_names_are_the_command_line_names() {
         for integrator in Integrator::value_variants() {
             let value = integrator.to_possible_value().unwrap();
-            assert_eq!(value.get_name(), integrator_name(*integrator));
+            assert_eq!(value.get_name(), integrator.name());
         }
         for light_sampling in LightSampling::value_variants() {
             let value = light_sampling.to_possible_value().unwrap();

@@ -249,7 +249,7 @@ pub fn run(args: &RenderArgs) -> anyhow::Result<()> {
         eprintln!(
             "vkpath: warning: the scene's {} punctual lights are invisible to --integrator {}: only nee and mis sample them",
             scene.punctual_lights.len(),
-            crate::bench::integrator_name(settings.integrator)
+            settings.integrator.name()
         );
     }
     let camera = args.camera(&scene)?;

@@ -6,13 +6,13 @@ use ash::vk;
 use gpu_allocator::MemoryLocation;
 
 use super::view::{BrdfDisplaySetup, ExerciseSampler, SampleDisplayPushConstants};
-use crate::contract;
 use crate::error::{Error, Result};
 use crate::image_io::data::RenderedImage;
+use crate::kernels::{self, Bound, Resource};
 use crate::render::settings::MAX_IMAGE_SIDE;
 use crate::shaders;
 use crate::vk::spirv_words;
-use crate::vk::{Buffer, CommandRunner, ComputePipeline, Context};
+use crate::vk::{Buffer, CommandRunner, Context};
 
 /// Bytes per pixel of the output buffer (one `vec4`).
 const BYTES_PER_PIXEL: u64 = 16;
@@ -90,27 +90,18 @@ fn draw_sample_display(
         vk::BufferUsageFlags::STORAGE_BUFFER,
         MemoryLocation::GpuToCpu,
     )?;
-    let pipeline = ComputePipeline::new(
-        context,
-        spirv,
-        &[(
-            contract::BINDING_EXERCISE_PIXELS,
-            vk::DescriptorType::STORAGE_BUFFER,
-        )],
-        std::mem::size_of::<SampleDisplayPushConstants>() as u32,
-        &[],
-    )?;
-    let descriptors = pipeline.allocate_descriptor_set()?;
-    descriptors.write_buffer(
-        contract::BINDING_EXERCISE_PIXELS,
-        vk::DescriptorType::STORAGE_BUFFER,
-        &pixels,
-    );
+    let build = kernels::EXERCISE_SAMPLES.builds()[0];
+    let pipeline = kernels::EXERCISE_SAMPLES.pipeline(context, &build, spirv, &[])?;
+    let descriptors = pipeline.descriptor_set(|resource| match resource {
+        Resource::ExercisePixels => Some(Bound::Buffer(&pixels)),
+        _ => None,
+    })?;
+    let pipeline = &pipeline.pipeline;
     let commands = CommandRunner::new(context)?;
     commands.run(|recorder| {
-        recorder.bind(&pipeline, &descriptors);
-        recorder.push_constants(&pipeline, constants);
-        recorder.dispatch(&pipeline, [width, height, 1]);
+        recorder.bind(pipeline, &descriptors);
+        recorder.push_constants(pipeline, constants);
+        recorder.dispatch(pipeline, [width, height, 1]);
         recorder.host_read_barrier();
     })?;
     let colors: Vec<[f32; 4]> = pixels.read();

@@ -1,30 +1,21 @@
 //! The BRDF probe (`glsl/probe_brdf.comp`): runs the glTF BRDF of `glsl/brdf.glsl` and its
 //! sampling on a buffer of inputs, so that tests can compare them with their Rust twins
-//! (`crate::cpu::brdf`). It binds only its inputs and outputs (no scene), so it has its own
-//! small runner beside `ProbeRunner`; `BrdfProbeOutput::cpu` is the kernel's `main` on the
-//! CPU.
+//! (`crate::cpu::brdf`). It binds only its inputs and outputs (no scene);
+//! `BrdfProbeOutput::cpu` is the kernel's `main` on the CPU.
 
 use std::sync::Arc;
 
-use ash::vk;
 use bytemuck::{Pod, Zeroable};
 use glam::{Vec2, Vec3, Vec4};
-use gpu_allocator::MemoryLocation;
 
-use crate::contract;
 use crate::cpu::brdf::{
     get_brdf, get_brdf_density, get_ggx_alpha, get_specular_probability, sample_brdf,
     sample_ggx_visible_normal, MaterialSample,
 };
 use crate::error::Result;
-use crate::probe::layout::ProbePushConstants;
-use crate::probe::runner::record_probe_dispatches;
-use crate::shaders;
-use crate::vk::{spirv_words, Buffer, CommandRunner, ComputePipeline, Context};
-
-/// Most inputs uploaded at once: 96 MiB of inputs and 48 MiB of outputs, below every
-/// device's `maxStorageBufferRange` of at least 2^27 bytes; larger runs go in chunks.
-const MAX_INPUTS_PER_CHUNK: usize = 1 << 20;
+use crate::kernels;
+use crate::probe::runner::Probe;
+use crate::vk::Context;
 
 /// `probe_input_t` of `glsl/probe_brdf.comp` (96 bytes): one material, frame and pair of
 /// random numbers.
@@ -178,77 +169,22 @@ impl BrdfProbeOutput {
     }
 }
 
-/// The descriptor bindings of `glsl/probe_brdf.comp`.
-fn brdf_probe_bindings() -> [(u32, vk::DescriptorType); 2] {
-    let storage = vk::DescriptorType::STORAGE_BUFFER;
-    [
-        (contract::PROBE_BINDING_INPUTS, storage),
-        (contract::PROBE_BINDING_OUTPUTS, storage),
-    ]
-}
-
 /// Runs the BRDF probe.
 pub struct BrdfProbeRunner {
-    context: Arc<Context>,
-    commands: CommandRunner,
-    pipeline: ComputePipeline,
+    probe: Probe,
 }
 
 impl BrdfProbeRunner {
     /// Creates the kernel's pipeline.
     pub fn new(context: &Arc<Context>) -> Result<BrdfProbeRunner> {
-        let pipeline = ComputePipeline::new(
-            context,
-            &spirv_words(shaders::PROBE_BRDF)?,
-            &brdf_probe_bindings(),
-            std::mem::size_of::<ProbePushConstants>() as u32,
-            &[],
-        )?;
         Ok(BrdfProbeRunner {
-            context: context.clone(),
-            commands: CommandRunner::new(context)?,
-            pipeline,
+            probe: Probe::embedded(context, &kernels::PROBE_BRDF, &[], "the glTF BRDF")?,
         })
     }
 
     /// Evaluates the BRDF functions on every input and returns the outputs in order.
     pub fn run(&self, inputs: &[BrdfProbeInput]) -> Result<Vec<BrdfProbeOutput>> {
-        let mut outputs = Vec::with_capacity(inputs.len());
-        for chunk in inputs.chunks(MAX_INPUTS_PER_CHUNK) {
-            outputs.extend(self.run_chunk(chunk)?);
-        }
-        Ok(outputs)
-    }
-
-    /// One upload, as many dispatches as the workgroup-count limit needs, one read-back.
-    fn run_chunk(&self, inputs: &[BrdfProbeInput]) -> Result<Vec<BrdfProbeOutput>> {
-        let count = inputs.len();
-        let storage = vk::DescriptorType::STORAGE_BUFFER;
-        let input_buffer = Buffer::with_data(
-            &self.context,
-            "BRDF probe inputs",
-            inputs,
-            vk::BufferUsageFlags::STORAGE_BUFFER,
-        )?;
-        let output_buffer = Buffer::new(
-            &self.context,
-            "BRDF probe outputs",
-            (count * std::mem::size_of::<BrdfProbeOutput>()) as u64,
-            vk::BufferUsageFlags::STORAGE_BUFFER,
-            MemoryLocation::GpuToCpu,
-        )?;
-        let descriptors = self.pipeline.allocate_descriptor_set()?;
-        descriptors.write_buffer(contract::PROBE_BINDING_INPUTS, storage, &input_buffer);
-        descriptors.write_buffer(contract::PROBE_BINDING_OUTPUTS, storage, &output_buffer);
-
-        let pipeline = &self.pipeline;
-        let max_groups = self.context.limits.max_compute_work_group_count[0] as usize;
-        self.commands.run(|recorder| {
-            record_probe_dispatches(recorder, pipeline, &descriptors, count, max_groups)
-        })?;
-        let mut outputs: Vec<BrdfProbeOutput> = output_buffer.read();
-        outputs.truncate(count);
-        Ok(outputs)
+        self.probe.run(|_| None, inputs)
     }
 }
 
@@ -271,11 +207,6 @@ mod tests {
         assert_eq!(size_of::<BrdfProbeOutput>(), 48);
         assert_eq!(offset_of!(BrdfProbeOutput, sampled), 16);
         assert_eq!(offset_of!(BrdfProbeOutput, visible_normal), 32);
-    }
-
-    #[test]
-    fn the_kernel_is_embedded() {
-        assert!(spirv_words(shaders::PROBE_BRDF).is_ok());
     }
 
     #[test]

@@ -1,21 +1,20 @@
-//! The probe kernels: which workshop function each evaluates, its GLSL file, its embedded
-//! SPIR-V and the sizes of its input and output structs, and the compute pipeline that runs
+//! The probe kernels: which workshop function each evaluates, its GLSL file, its kernel
+//! declaration (`crate::kernels`) and the sizes of its input and output structs, and the compute pipeline that runs
 //! one (the embedded reference or SPIR-V compiled at run time, e.g. with a user's functions).
 
 use std::sync::Arc;
 
-use ash::vk;
-
 use crate::contract;
 use crate::error::Result;
+use crate::kernels::{self, Kernel};
 use crate::probe::layout::{
     DirectIlluminationInput, DirectionOutput, IntersectionOutput, MeshIntersectionOutput,
-    PrimaryRayInput, ProbePushConstants, RadianceOutput, RandomNumbersInput, RandomNumbersOutput,
-    RayInput, RayRadianceInput, RayTriangleInput, SamplerInput,
+    PrimaryRayInput, RadianceOutput, RandomNumbersInput, RandomNumbersOutput, RayInput,
+    RayRadianceInput, RayTriangleInput, SamplerInput,
 };
+use crate::probe::runner::Probe;
 use crate::shaders;
-use crate::vk::spirv_words;
-use crate::vk::{ComputePipeline, Context};
+use crate::vk::Context;
 
 /// One probe kernel, `glsl/probe_<function>.comp`.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
@@ -85,20 +84,20 @@ impl ProbeKind {
             .map(|(_, text)| *text)
     }
 
-    /// The kernel compiled at build time with the reference functions.
-    pub fn embedded_spirv(self) -> &'static [u8] {
+    /// The kernel's declaration (`crate::kernels`).
+    pub fn kernel(self) -> &'static Kernel {
         match self {
-            ProbeKind::GetRandomNumbers => shaders::PROBE_GET_RANDOM_NUMBERS,
-            ProbeKind::SampleSphere => shaders::PROBE_SAMPLE_SPHERE,
-            ProbeKind::SampleHemisphere => shaders::PROBE_SAMPLE_HEMISPHERE,
+            ProbeKind::GetRandomNumbers => &kernels::PROBE_GET_RANDOM_NUMBERS,
+            ProbeKind::SampleSphere => &kernels::PROBE_SAMPLE_SPHERE,
+            ProbeKind::SampleHemisphere => &kernels::PROBE_SAMPLE_HEMISPHERE,
             ProbeKind::SampleSphereSphericalCoordinates => {
-                shaders::PROBE_SAMPLE_SPHERE_SPHERICAL_COORDINATES
+                &kernels::PROBE_SAMPLE_SPHERE_SPHERICAL_COORDINATES
             }
-            ProbeKind::RayTriangleIntersection => shaders::PROBE_RAY_TRIANGLE_INTERSECTION,
-            ProbeKind::RayMeshIntersection => shaders::PROBE_RAY_MESH_INTERSECTION,
-            ProbeKind::GetPrimaryRayDirection => shaders::PROBE_GET_PRIMARY_RAY_DIRECTION,
-            ProbeKind::ComputeDirectIllumination => shaders::PROBE_COMPUTE_DIRECT_ILLUMINATION,
-            ProbeKind::GetRayRadiance => shaders::PROBE_GET_RAY_RADIANCE,
+            ProbeKind::RayTriangleIntersection => &kernels::PROBE_RAY_TRIANGLE_INTERSECTION,
+            ProbeKind::RayMeshIntersection => &kernels::PROBE_RAY_MESH_INTERSECTION,
+            ProbeKind::GetPrimaryRayDirection => &kernels::PROBE_GET_PRIMARY_RAY_DIRECTION,
+            ProbeKind::ComputeDirectIllumination => &kernels::PROBE_COMPUTE_DIRECT_ILLUMINATION,
+            ProbeKind::GetRayRadiance => &kernels::PROBE_GET_RAY_RADIANCE,
         }
     }
 
@@ -136,36 +135,10 @@ impl ProbeKind {
     }
 }
 
-/// The descriptor bindings of every probe kernel (`glsl/probe_common.glsl`).
-pub(crate) fn probe_bindings() -> [(u32, vk::DescriptorType); 5] {
-    [
-        (
-            contract::BINDING_TRIANGLES,
-            vk::DescriptorType::UNIFORM_TEXEL_BUFFER,
-        ),
-        (
-            contract::BINDING_RENDER_UNIFORMS,
-            vk::DescriptorType::UNIFORM_BUFFER,
-        ),
-        (
-            contract::PROBE_BINDING_INPUTS,
-            vk::DescriptorType::STORAGE_BUFFER,
-        ),
-        (
-            contract::PROBE_BINDING_OUTPUTS,
-            vk::DescriptorType::STORAGE_BUFFER,
-        ),
-        (
-            contract::PROBE_BINDING_FLAGS,
-            vk::DescriptorType::STORAGE_BUFFER,
-        ),
-    ]
-}
-
-/// A probe kernel ready to run: its compute pipeline and what it evaluates.
+/// A probe kernel ready to run: its pipeline and what it evaluates.
 pub struct ProbePipeline {
     kind: ProbeKind,
-    pub(crate) pipeline: ComputePipeline,
+    pub(crate) probe: Probe,
 }
 
 impl ProbePipeline {
@@ -177,12 +150,8 @@ impl ProbePipeline {
         kind: ProbeKind,
         max_path_length: u32,
     ) -> Result<ProbePipeline> {
-        ProbePipeline::from_spirv(
-            context,
-            kind,
-            &spirv_words(kind.embedded_spirv())?,
-            max_path_length,
-        )
+        let spirv = kind.kernel().builds()[0].embedded_spirv()?;
+        ProbePipeline::from_spirv(context, kind, &spirv, max_path_length)
     }
 
     /// The kernel from SPIR-V compiled elsewhere (e.g. at run time with a user's functions,
@@ -193,14 +162,14 @@ impl ProbePipeline {
         spirv: &[u32],
         max_path_length: u32,
     ) -> Result<ProbePipeline> {
-        let pipeline = ComputePipeline::new(
+        let probe = Probe::new(
             context,
+            kind.kernel(),
             spirv,
-            &probe_bindings(),
-            std::mem::size_of::<ProbePushConstants>() as u32,
             &[(contract::SPEC_MAX_PATH_LENGTH, max_path_length)],
+            kind.function_name(),
         )?;
-        Ok(ProbePipeline { kind, pipeline })
+        Ok(ProbePipeline { kind, probe })
     }
 
     /// What the kernel evaluates.
@@ -225,7 +194,11 @@ mod tests {
                 source.contains("#include \"user_functions.glsl\""),
                 "{kind:?} must include the user's functions"
             );
-            assert!(spirv_words(kind.embedded_spirv()).is_ok(), "{kind:?}");
+            assert!(
+                kind.kernel().builds()[0].embedded_spirv().is_ok(),
+                "{kind:?}"
+            );
+            assert_eq!(kind.kernel().source, kind.source_file());
             assert_eq!(kind.input_size() % 16, 0);
             assert_eq!(kind.output_size() % 16, 0);
         }

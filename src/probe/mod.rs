@@ -5,12 +5,13 @@
 //!
 //! - `kernel`: which kernels exist (`ProbeKind`) and their pipelines (`ProbePipeline`);
 //! - `layout`: the input and output structs, byte for byte as the kernels declare them;
-//! - `runner`: `ProbeRunner`, which runs a kernel on a `Vec` of inputs;
+//! - `runner`: `Probe`, which runs any probe kernel on a `Vec` of inputs (the one runner),
+//!   and `ProbeRunner`, which runs the workshop functions' probes against a scene;
 //! - `inputs`: deterministic random inputs shared by the tests and `vkpath check`;
 //! - `brdf_probe`: the glTF BRDF's probe (`glsl/probe_brdf.comp`), which binds only its
-//!   inputs and outputs and so has a small runner of its own;
+//!   inputs and outputs;
 //! - `texture_probe`: the texture functions' probe (`glsl/probe_sample_texture.comp`),
-//!   which binds textures instead of a scene and so has a runner of its own;
+//!   which binds textures instead of a scene;
 //! - `compare`: error measures (ulps, relative errors) and the near-degenerate
 //!   ray-triangle configurations where two correct algorithms may disagree.
 
@@ -24,4 +25,4 @@ pub mod texture_probe;
 
 pub use kernel::{ProbeKind, ProbePipeline};
 pub use layout::*;
-pub use runner::ProbeRunner;
+pub use runner::{Probe, ProbeRunner, ProbeScene};

@@ -1,27 +1,19 @@
 //! The texture probe (`glsl/probe_sample_texture.comp`): runs the functions of
 //! `glsl/textures.glsl` on a buffer of inputs against an atlas and its slots, so that tests
 //! can compare them with their Rust twins (`crate::cpu::textures`). It has bindings of its
-//! own (an RGBA8 texel buffer and the slots, no scene), so it has its own runner beside
-//! `ProbeRunner`.
+//! own (an RGBA8 texel buffer and the slots, no scene), which it gives `Probe`.
 
 use std::sync::Arc;
 
 use ash::vk;
 use bytemuck::{Pod, Zeroable};
 use glam::{IVec2, Vec2, Vec4};
-use gpu_allocator::MemoryLocation;
 
-use crate::contract;
 use crate::error::{Error, Result};
-use crate::probe::layout::ProbePushConstants;
-use crate::probe::runner::record_probe_dispatches;
+use crate::kernels::{self, Bound, Resource};
+use crate::probe::runner::Probe;
 use crate::render::gpu_textures::{GpuTextureSlot, TextureAtlas};
-use crate::shaders;
-use crate::vk::{spirv_words, Buffer, CommandRunner, ComputePipeline, Context, TexelBufferView};
-
-/// Most inputs of one run: bounds the input and output buffers (64 MiB of outputs) below
-/// every device's `maxStorageBufferRange` of at least 2^27 bytes.
-pub const MAX_TEXTURE_PROBE_INPUTS: usize = 1 << 20;
+use crate::vk::{Buffer, Context, TexelBufferView};
 
 /// `probe_input_t` of `glsl/probe_sample_texture.comp` (48 bytes).
 #[repr(C)]
@@ -99,25 +91,9 @@ impl TextureProbeOutput {
     }
 }
 
-/// The descriptor bindings of `glsl/probe_sample_texture.comp`.
-fn texture_probe_bindings() -> [(u32, vk::DescriptorType); 4] {
-    let storage = vk::DescriptorType::STORAGE_BUFFER;
-    [
-        (
-            contract::BINDING_TEXTURE_TEXELS,
-            vk::DescriptorType::UNIFORM_TEXEL_BUFFER,
-        ),
-        (contract::PROBE_BINDING_TEXTURE_SLOTS, storage),
-        (contract::PROBE_BINDING_INPUTS, storage),
-        (contract::PROBE_BINDING_OUTPUTS, storage),
-    ]
-}
-
 /// Runs the texture probe against one atlas and its slots.
 pub struct TextureProbeRunner {
-    context: Arc<Context>,
-    commands: CommandRunner,
-    pipeline: ComputePipeline,
+    probe: Probe,
     texels: TexelBufferView,
     slots: Buffer,
 }
@@ -150,62 +126,26 @@ impl TextureProbeRunner {
             slots,
             vk::BufferUsageFlags::STORAGE_BUFFER,
         )?;
-        let pipeline = ComputePipeline::new(
-            context,
-            &spirv_words(shaders::PROBE_SAMPLE_TEXTURE)?,
-            &texture_probe_bindings(),
-            std::mem::size_of::<ProbePushConstants>() as u32,
-            &[],
-        )?;
         Ok(TextureProbeRunner {
-            context: context.clone(),
-            commands: CommandRunner::new(context)?,
-            pipeline,
+            probe: Probe::embedded(
+                context,
+                &kernels::PROBE_SAMPLE_TEXTURE,
+                &[],
+                "the texture functions",
+            )?,
             texels,
             slots,
         })
     }
 
-    /// Evaluates the texture functions on every input (at most
-    /// `MAX_TEXTURE_PROBE_INPUTS`) and returns the outputs in order.
+    /// Evaluates the texture functions on every input and returns the outputs in order.
     pub fn run(&self, inputs: &[TextureProbeInput]) -> Result<Vec<TextureProbeOutput>> {
-        let count = inputs.len();
-        if count > MAX_TEXTURE_PROBE_INPUTS {
-            return Err(Error::InvalidSettings(format!(
-                "the texture probe takes at most {MAX_TEXTURE_PROBE_INPUTS} inputs at once, not {count}"
-            )));
-        }
-        if count == 0 {
-            return Ok(Vec::new());
-        }
-        let storage = vk::DescriptorType::STORAGE_BUFFER;
-        let input_buffer = Buffer::with_data(
-            &self.context,
-            "texture probe inputs",
-            inputs,
-            vk::BufferUsageFlags::STORAGE_BUFFER,
-        )?;
-        let output_buffer = Buffer::new(
-            &self.context,
-            "texture probe outputs",
-            (count * std::mem::size_of::<TextureProbeOutput>()) as u64,
-            vk::BufferUsageFlags::STORAGE_BUFFER,
-            MemoryLocation::GpuToCpu,
-        )?;
-        let descriptors = self.pipeline.allocate_descriptor_set()?;
-        descriptors.write_texel_buffer(contract::BINDING_TEXTURE_TEXELS, &self.texels);
-        descriptors.write_buffer(contract::PROBE_BINDING_TEXTURE_SLOTS, storage, &self.slots);
-        descriptors.write_buffer(contract::PROBE_BINDING_INPUTS, storage, &input_buffer);
-        descriptors.write_buffer(contract::PROBE_BINDING_OUTPUTS, storage, &output_buffer);
-
-        let pipeline = &self.pipeline;
-        let max_groups = self.context.limits.max_compute_work_group_count[0] as usize;
-        self.commands.run(|recorder| {
-            record_probe_dispatches(recorder, pipeline, &descriptors, count, max_groups)
-        })?;
-        let mut outputs: Vec<TextureProbeOutput> = output_buffer.read();
-        outputs.truncate(count);
-        Ok(outputs)
+        let resource = |resource| match resource {
+            Resource::TextureTexels => Some(Bound::TexelBuffer(&self.texels)),
+            Resource::TextureSlots => Some(Bound::Buffer(&self.slots)),
+            _ => None,
+        };
+        self.probe.run(resource, inputs)
     }
 }
 
@@ -225,10 +165,5 @@ mod tests {
         assert_eq!(offset_of!(TextureProbeOutput, texel), 16);
         assert_eq!(offset_of!(TextureProbeOutput, transformed_and_linear), 32);
         assert_eq!(offset_of!(TextureProbeOutput, wrapped), 48);
-    }
-
-    #[test]
-    fn the_kernel_is_embedded() {
-        assert!(spirv_words(shaders::PROBE_SAMPLE_TEXTURE).is_ok());
     }
 }

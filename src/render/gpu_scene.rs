@@ -1,6 +1,7 @@
 //! The scene as the path-tracing kernel reads it: triangles (in BVH leaf order when a BVH
 //! is used), the light table, the BVH nodes and the render uniforms, uploaded to the device,
-//! and the descriptor bindings and specialization constants that go with them.
+//! with the specialization constants that go with them; the kernel's binding table
+//! (`crate::kernels::bindings`) says where each is bound.
 
 use std::sync::Arc;
 
@@ -10,6 +11,7 @@ use crate::bvh::Bvh;
 use crate::camera::Camera;
 use crate::contract;
 use crate::error::{Error, Result};
+use crate::kernels::{Bound, Resource};
 use crate::render::gpu_lights::{gpu_environment_words, gpu_punctual_light_words};
 use crate::render::gpu_materials::{GpuMaterial, GpuTriangleShading};
 use crate::render::gpu_textures::TextureAtlas;
@@ -20,7 +22,7 @@ use crate::render::settings::RenderSettings;
 use crate::render::traversal::{constant_triangle_specialization, Traversal};
 use crate::scene::lights::LightTable;
 use crate::scene::Scene;
-use crate::vk::{Buffer, CommandRunner, Context, DescriptorSet, TexelBufferView};
+use crate::vk::{Buffer, CommandRunner, Context, TexelBufferView};
 
 /// The buffers of `glsl/materials.glsl`.
 struct MaterialBuffers {
@@ -182,51 +184,23 @@ impl GpuScene {
         })
     }
 
-    /// The descriptor bindings of the path tracer's set 0 that the scene fills.
-    pub fn bindings(&self) -> Vec<(u32, vk::DescriptorType)> {
-        let texel = vk::DescriptorType::UNIFORM_TEXEL_BUFFER;
-        let mut bindings = vec![
-            (contract::BINDING_TRIANGLES, texel),
-            (
-                contract::BINDING_RENDER_UNIFORMS,
-                vk::DescriptorType::UNIFORM_BUFFER,
-            ),
-            (contract::BINDING_LIGHTS, texel),
-        ];
-        if self.bvh_nodes.is_some() {
-            bindings.push((contract::BINDING_BVH_NODES, texel));
-        }
-        if self.materials.is_some() {
-            bindings.push((contract::BINDING_SHADING, texel));
-            bindings.push((contract::BINDING_MATERIALS, texel));
-            bindings.push((contract::BINDING_TEXTURE_TEXELS, texel));
-            bindings.push((contract::BINDING_ENVIRONMENT, texel));
-            bindings.push((contract::BINDING_PUNCTUAL_LIGHTS, texel));
-        }
-        bindings
-    }
-
-    /// Writes the scene's resources into `set`.
-    pub fn write(&self, set: &DescriptorSet) {
-        set.write_texel_buffer(contract::BINDING_TRIANGLES, &self.triangles);
-        set.write_buffer(
-            contract::BINDING_RENDER_UNIFORMS,
-            vk::DescriptorType::UNIFORM_BUFFER,
-            &self.uniforms,
-        );
-        if let Some(nodes) = &self.bvh_nodes {
-            set.write_texel_buffer(contract::BINDING_BVH_NODES, nodes);
-        }
-        set.write_texel_buffer(contract::BINDING_LIGHTS, &self.lights);
-        if let Some(materials) = &self.materials {
-            set.write_texel_buffer(contract::BINDING_SHADING, &materials.shading);
-            set.write_texel_buffer(contract::BINDING_MATERIALS, &materials.materials);
-            set.write_texel_buffer(contract::BINDING_TEXTURE_TEXELS, &materials.texture_texels);
-            set.write_texel_buffer(contract::BINDING_ENVIRONMENT, &materials.environment);
-            set.write_texel_buffer(
-                contract::BINDING_PUNCTUAL_LIGHTS,
-                &materials.punctual_lights,
-            );
-        }
+    /// The scene's resource for a binding of the path tracer's table
+    /// (`crate::kernels::bindings::PATH_TRACER`); `None` for one it does not hold (the
+    /// accumulation image, the BVH without a BVH, materials without materials).
+    pub fn resource(&self, resource: Resource) -> Option<Bound<'_>> {
+        let materials = self.materials.as_ref();
+        let texel = match resource {
+            Resource::Triangles => &self.triangles,
+            Resource::RenderUniforms => return Some(Bound::Buffer(&self.uniforms)),
+            Resource::Lights => &self.lights,
+            Resource::BvhNodes => self.bvh_nodes.as_ref()?,
+            Resource::Shading => &materials?.shading,
+            Resource::Materials => &materials?.materials,
+            Resource::TextureTexels => &materials?.texture_texels,
+            Resource::Environment => &materials?.environment,
+            Resource::PunctualLights => &materials?.punctual_lights,
+            _ => return None,
+        };
+        Some(Bound::TexelBuffer(texel))
     }
 }

@@ -12,15 +12,15 @@ use crate::camera::Camera;
 use crate::contract;
 use crate::error::{Error, Result};
 use crate::image_io::data::RenderedImage;
+use crate::kernels::loops::LoopCoefficients;
+use crate::kernels::{Bound, KernelPipeline, Resource, PATH_TRACER};
 use crate::render::accumulation::Accumulation;
 use crate::render::gpu_scene::GpuScene;
 use crate::render::gpu_types::FramePushConstants;
 use crate::render::settings::RenderSettings;
 use crate::render::traversal::Traversal;
 use crate::scene::Scene;
-use crate::vk::{
-    spirv_words, Buffer, CommandRunner, ComputePipeline, Context, DescriptorSet, StorageImage,
-};
+use crate::vk::{Buffer, CommandRunner, Context, DescriptorSet, StorageImage};
 
 /// How long one submission of frames should take: long enough to hide submission overhead,
 /// short enough for a responsive progress bar. Each frame is its own dispatch, so a GPU
@@ -34,7 +34,7 @@ pub struct Renderer {
     context: Arc<Context>,
     settings: RenderSettings,
     commands: CommandRunner,
-    pipeline: ComputePipeline,
+    pipeline: KernelPipeline,
     descriptors: DescriptorSet,
     accumulation: StorageImage,
     readback: Buffer,
@@ -183,28 +183,20 @@ impl Renderer {
             ),
         };
         let gpu_scene = GpuScene::upload(context, &commands, scene, camera, &settings, traversal)?;
-        let mut bindings = gpu_scene.bindings();
-        bindings.push((
-            contract::BINDING_ACCUMULATION,
-            vk::DescriptorType::STORAGE_IMAGE,
-        ));
+        let build = traversal.build(scene.needs_material_kernels())?;
+        let loops = LoopCoefficients::path_tracer(traversal);
         let loop_limit = LoopLimit::of(context);
         let samples_per_dispatch =
-            loop_limit.samples_per_dispatch(&settings, traversal, scene.triangles.len())?;
+            loop_limit.samples_per_dispatch(&settings, &loops, scene.triangles.len())?;
         let mut specialization = settings.specialization();
         specialization.extend_from_slice(&gpu_scene.specialization);
         specialization.push((contract::SPEC_LOOP_LIMIT, loop_limit.0));
+        specialization.extend_from_slice(&loops.specialization());
         let spirv = match kernel {
             Some((spirv, _)) => spirv.to_vec(),
-            None => spirv_words(traversal.kernel(scene.needs_material_kernels()))?,
+            None => build.embedded_spirv()?,
         };
-        let pipeline = ComputePipeline::new(
-            context,
-            &spirv,
-            &bindings,
-            std::mem::size_of::<FramePushConstants>() as u32,
-            &specialization,
-        )?;
+        let pipeline = PATH_TRACER.pipeline(context, &build, &spirv, &specialization)?;
         let accumulation = StorageImage::new(
             context,
             "accumulation",
@@ -219,9 +211,10 @@ impl Renderer {
             vk::BufferUsageFlags::TRANSFER_DST,
             MemoryLocation::GpuToCpu,
         )?;
-        let descriptors = pipeline.allocate_descriptor_set()?;
-        gpu_scene.write(&descriptors);
-        descriptors.write_storage_image(contract::BINDING_ACCUMULATION, &accumulation);
+        let descriptors = pipeline.descriptor_set(|resource| match resource {
+            Resource::Accumulation => Some(Bound::StorageImage(&accumulation)),
+            other => gpu_scene.resource(other),
+        })?;
         commands.run(|recorder| recorder.clear_storage_image(&accumulation))?;
         Ok(Renderer {
             context: context.clone(),
@@ -406,7 +399,7 @@ impl Renderer {
         let first = self.first_sample + self.samples_done;
         let end = self.first_sample + self.settings.spp;
         let extent = [self.settings.width, self.settings.height, 1];
-        let (pipeline, descriptors) = (&self.pipeline, &self.descriptors);
+        let (pipeline, descriptors) = (&self.pipeline.pipeline, &self.descriptors);
         self.commands.run(|recorder| {
             recorder.bind(pipeline, descriptors);
             for frame in 0..frames {
@@ -556,28 +549,22 @@ impl LoopLimit {
     fn samples_per_dispatch(
         &self,
         settings: &RenderSettings,
-        traversal: Traversal,
+        loops: &LoopCoefficients,
         triangle_count: usize,
     ) -> Result<u32> {
         if self.0 == 0 {
             return Ok(settings.samples_per_frame);
         }
-        // Estimated iterations per ray: the path loop's, the light search's, and the
-        // traversal's (none for the unrolled constant triangles, all triangles for the
-        // loop, a typical BVH visit otherwise; the kernel counts the BVH exactly).
-        let traversal_iterations = match traversal {
-            Traversal::ConstantTriangles => 0,
-            Traversal::Linear => triangle_count as u64,
-            Traversal::Bvh => 128,
-        };
+        // Rays per sample: one per path vertex, and a shadow ray beside it for the
+        // importance-sampled integrators; the kernel's bound of their loops (src/kernels/loops.rs)
+        // with the light search at its longest and a typical BVH traversal.
         let rays_per_vertex = if settings.integrator.is_importance_sampled() {
             2
         } else {
             1
         };
-        let per_sample = 1 + u64::from(settings.max_path_length)
-            * rays_per_vertex
-            * (2 + 32 + traversal_iterations);
+        let rays = u64::from(settings.max_path_length) * rays_per_vertex;
+        let per_sample = loops.iterations_per_sample(rays, triangle_count as u64);
         // Keep a margin of 10% for the estimate.
         let budget = u64::from(self.0) * 9 / 10;
         if per_sample > budget {

@@ -91,6 +91,21 @@ impl Integrator {
         }
     }
 
+    /// The name the CLI (`--integrator`), `vkpath bench` and reports use: "workshop",
+    /// "cosine", "nee" or "mis" (the others are not on the command line).
+    pub fn name(self) -> &'static str {
+        match self {
+            Integrator::PathTracing => "workshop",
+            Integrator::Cosine => "cosine",
+            Integrator::Nee => "nee",
+            Integrator::Mis => "mis",
+            Integrator::DirectIllumination => "direct-illumination",
+            Integrator::RayTracing => "ray-tracing",
+            Integrator::Normal => "normal",
+            Integrator::Depth => "depth",
+        }
+    }
+
     /// Whether this is a path tracer with importance sampling (and Russian roulette).
     pub fn is_importance_sampled(self) -> bool {
         matches!(self, Integrator::Cosine | Integrator::Nee | Integrator::Mis)

@@ -2,9 +2,11 @@
 //! kernel (small scenes), the loop over the triangle buffer, or a BVH.
 
 use crate::contract;
+use crate::error::Result;
+use crate::kernels::builds::{USE_BVH, USE_MATERIALS};
+use crate::kernels::{Build, PATH_TRACER};
 use crate::render::settings::Accel;
 use crate::scene::Triangle;
-use crate::shaders;
 
 /// How the kernel finds the triangle a ray hits. The triangles' data are read from a texel
 /// buffer (RGBA32_UINT, `TRIANGLE_TEXEL_COUNT` texels per triangle): on lavapipe a texel fetch
@@ -55,17 +57,18 @@ impl Traversal {
         }
     }
 
-    /// The embedded SPIR-V of the path tracer for this traversal, with glTF materials
-    /// (`glsl/material_integrators.glsl`) or the workshop's diffuse triangles.
-    pub(crate) fn kernel(self, materials: bool) -> &'static [u8] {
-        match (self, materials) {
-            (Traversal::ConstantTriangles | Traversal::Linear, false) => shaders::PATH_TRACER,
-            (Traversal::Bvh, false) => shaders::PATH_TRACER_BVH,
-            (Traversal::ConstantTriangles | Traversal::Linear, true) => {
-                shaders::PATH_TRACER_MATERIALS
-            }
-            (Traversal::Bvh, true) => shaders::PATH_TRACER_MATERIALS_BVH,
+    /// The build of the path tracer (`crate::kernels::PATH_TRACER`) for this traversal,
+    /// with glTF materials (`glsl/material_integrators.glsl`) or the workshop's diffuse
+    /// triangles.
+    pub fn build(self, materials: bool) -> Result<Build> {
+        let mut macros = Vec::new();
+        if self == Traversal::Bvh {
+            macros.push(USE_BVH);
         }
+        if materials {
+            macros.push(USE_MATERIALS);
+        }
+        PATH_TRACER.build_with(&macros)
     }
 }
 

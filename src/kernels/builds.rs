@@ -1,0 +1,40 @@
+//! The builds of the kernels that are compiled more than once, with different macros. Read
+//! by `build.rs` (which compiles every `glsl/*.comp` once without macros and once more for
+//! each build listed here) and by `crate::kernels` (which picks a build at run time, and
+//! whose `vkpath check` compiles the same macros again): this file is the one place that
+//! says how a kernel is built. It uses nothing but `core`, so that `build.rs` can include it.
+
+/// One extra build of a kernel: the GLSL file's stem, the build's name (its SPIR-V is
+/// `crate::shaders::<NAME>`, upper-cased) and the macros `#define`d for it.
+pub struct KernelBuild {
+    /// The kernel's file in `glsl/`, without `.comp`.
+    pub source: &'static str,
+    /// The build's name.
+    pub name: &'static str,
+    /// `(name, value)` of each macro defined before the source is read.
+    pub macros: &'static [(&'static str, &'static str)],
+}
+
+/// The macro that makes the path tracer traverse a BVH (`glsl/bvh.glsl`).
+pub const USE_BVH: &str = "USE_BVH";
+/// The macro that gives the path tracer glTF materials (`glsl/material_integrators.glsl`).
+pub const USE_MATERIALS: &str = "USE_MATERIALS";
+
+/// Every build beyond the plain one of each kernel.
+pub const EXTRA_BUILDS: &[KernelBuild] = &[
+    KernelBuild {
+        source: "path_tracer",
+        name: "path_tracer_bvh",
+        macros: &[(USE_BVH, "1")],
+    },
+    KernelBuild {
+        source: "path_tracer",
+        name: "path_tracer_materials",
+        macros: &[(USE_MATERIALS, "1")],
+    },
+    KernelBuild {
+        source: "path_tracer",
+        name: "path_tracer_materials_bvh",
+        macros: &[(USE_BVH, "1"), (USE_MATERIALS, "1")],
+    },
+];

@@ -1,0 +1,147 @@
+//! Every kernel of `glsl/`, declared once: source, binding table, specialization constants
+//! and push constants. Its builds are those of `builds`; the tests check each declaration
+//! against the SPIR-V of every build (`reflect`) and that every `glsl/*.comp` is declared.
+
+use std::mem::size_of;
+
+use crate::contract as c;
+use crate::exercise::view::SampleDisplayPushConstants;
+use crate::kernels::bindings;
+use crate::kernels::{Kernel, SpecConstants};
+use crate::probe::layout::ProbePushConstants;
+use crate::render::gpu_types::FramePushConstants;
+
+/// The specialization constants of `glsl/scene.glsl` and `glsl/constant_triangles.glsl`,
+/// which every kernel that traces rays declares.
+const SCENE_SPEC: [SpecConstants; 3] = [
+    SpecConstants::one(c::SPEC_CONSTANT_TRIANGLE_COUNT),
+    SpecConstants {
+        first_id: c::SPEC_CONSTANT_TRIANGLES,
+        count: 9 * c::CONSTANT_TRIANGLE_CAPACITY,
+    },
+    SpecConstants::one(c::SPEC_SCENE_HAS_ALPHA),
+];
+
+/// The progressive path tracer (`crate::render::Renderer`), in four builds: with or without
+/// a BVH, with or without glTF materials.
+pub static PATH_TRACER: Kernel = Kernel {
+    source: "path_tracer.comp",
+    bindings: bindings::PATH_TRACER,
+    specialization: &[
+        SCENE_SPEC[0],
+        SCENE_SPEC[1],
+        SCENE_SPEC[2],
+        SpecConstants::one(c::SPEC_SAMPLE_COUNT),
+        SpecConstants::one(c::SPEC_MAX_PATH_LENGTH),
+        SpecConstants::one(c::SPEC_PIXEL_FILTER),
+        SpecConstants::one(c::SPEC_INTEGRATOR),
+        SpecConstants::one(c::SPEC_RUSSIAN_ROULETTE_START),
+        SpecConstants::one(c::SPEC_SAMPLER),
+        SpecConstants::one(c::SPEC_LIGHT_SAMPLING),
+        SpecConstants::one(c::SPEC_LOOP_LIMIT),
+        SpecConstants::one(c::SPEC_LOOPS_PER_SAMPLE),
+        SpecConstants::one(c::SPEC_LOOPS_PER_RAY),
+        SpecConstants::one(c::SPEC_LIGHT_SEARCHES_PER_RAY),
+        SpecConstants::one(c::SPEC_TRIANGLE_LOOPS_PER_RAY),
+        SpecConstants::one(c::SPEC_SCENE_HAS_TEXTURES),
+    ],
+    push_constant_size: size_of::<FramePushConstants>() as u32,
+};
+
+/// The specialization constants of the probes of the workshop's functions (and of the
+/// sample display, which includes the same files).
+const SCENE_PROBE_SPEC: [SpecConstants; 4] = [
+    SCENE_SPEC[0],
+    SCENE_SPEC[1],
+    SCENE_SPEC[2],
+    SpecConstants::one(c::SPEC_MAX_PATH_LENGTH),
+];
+
+/// A probe of one workshop function (`crate::probe::ProbeKind`, `glsl/probe_common.glsl`).
+const fn scene_probe(source: &'static str) -> Kernel {
+    Kernel {
+        source,
+        bindings: bindings::SCENE_PROBE,
+        specialization: &SCENE_PROBE_SPEC,
+        push_constant_size: size_of::<ProbePushConstants>() as u32,
+    }
+}
+
+/// `glsl/probe_get_random_numbers.comp`.
+pub static PROBE_GET_RANDOM_NUMBERS: Kernel = scene_probe("probe_get_random_numbers.comp");
+/// `glsl/probe_sample_sphere.comp`.
+pub static PROBE_SAMPLE_SPHERE: Kernel = scene_probe("probe_sample_sphere.comp");
+/// `glsl/probe_sample_hemisphere.comp`.
+pub static PROBE_SAMPLE_HEMISPHERE: Kernel = scene_probe("probe_sample_hemisphere.comp");
+/// `glsl/probe_sample_sphere_spherical_coordinates.comp`.
+pub static PROBE_SAMPLE_SPHERE_SPHERICAL_COORDINATES: Kernel =
+    scene_probe("probe_sample_sphere_spherical_coordinates.comp");
+/// `glsl/probe_ray_triangle_intersection.comp`.
+pub static PROBE_RAY_TRIANGLE_INTERSECTION: Kernel =
+    scene_probe("probe_ray_triangle_intersection.comp");
+/// `glsl/probe_ray_mesh_intersection.comp`.
+pub static PROBE_RAY_MESH_INTERSECTION: Kernel = scene_probe("probe_ray_mesh_intersection.comp");
+/// `glsl/probe_get_primary_ray_direction.comp`.
+pub static PROBE_GET_PRIMARY_RAY_DIRECTION: Kernel =
+    scene_probe("probe_get_primary_ray_direction.comp");
+/// `glsl/probe_compute_direct_illumination.comp`.
+pub static PROBE_COMPUTE_DIRECT_ILLUMINATION: Kernel =
+    scene_probe("probe_compute_direct_illumination.comp");
+/// `glsl/probe_get_ray_radiance.comp`.
+pub static PROBE_GET_RAY_RADIANCE: Kernel = scene_probe("probe_get_ray_radiance.comp");
+
+/// The glTF BRDF's probe (`crate::probe::brdf_probe`).
+pub static PROBE_BRDF: Kernel = Kernel {
+    source: "probe_brdf.comp",
+    bindings: bindings::BRDF_PROBE,
+    specialization: &[],
+    push_constant_size: size_of::<ProbePushConstants>() as u32,
+};
+
+/// The texture functions' probe (`crate::probe::texture_probe`).
+pub static PROBE_SAMPLE_TEXTURE: Kernel = Kernel {
+    source: "probe_sample_texture.comp",
+    bindings: bindings::TEXTURE_PROBE,
+    specialization: &[],
+    push_constant_size: size_of::<ProbePushConstants>() as u32,
+};
+
+/// The BVH traversal's probe (`tests/bvh_gpu.rs`). It reads no push constants: every
+/// dispatch starts at its first ray (`crate::probe::Probe` runs it one dispatch per chunk).
+pub static PROBE_BVH: Kernel = Kernel {
+    source: "probe_bvh.comp",
+    bindings: bindings::BVH_PROBE,
+    specialization: &[
+        SCENE_SPEC[0],
+        SCENE_SPEC[1],
+        SCENE_SPEC[2],
+        SpecConstants::one(c::BVH_PROBE_SPEC_BRUTE_FORCE),
+    ],
+    push_constant_size: 0,
+};
+
+/// `vkpath exercise`'s sample display (`crate::exercise::display`).
+pub static EXERCISE_SAMPLES: Kernel = Kernel {
+    source: "exercise_samples.comp",
+    bindings: bindings::EXERCISE_SAMPLES,
+    specialization: &SCENE_PROBE_SPEC,
+    push_constant_size: size_of::<SampleDisplayPushConstants>() as u32,
+};
+
+/// Every kernel.
+pub static ALL_KERNELS: [&Kernel; 14] = [
+    &PATH_TRACER,
+    &PROBE_GET_RANDOM_NUMBERS,
+    &PROBE_SAMPLE_SPHERE,
+    &PROBE_SAMPLE_HEMISPHERE,
+    &PROBE_SAMPLE_SPHERE_SPHERICAL_COORDINATES,
+    &PROBE_RAY_TRIANGLE_INTERSECTION,
+    &PROBE_RAY_MESH_INTERSECTION,
+    &PROBE_GET_PRIMARY_RAY_DIRECTION,
+    &PROBE_COMPUTE_DIRECT_ILLUMINATION,
+    &PROBE_GET_RAY_RADIANCE,
+    &PROBE_BRDF,
+    &PROBE_SAMPLE_TEXTURE,
+    &PROBE_BVH,
+    &EXERCISE_SAMPLES,
+];

@@ -1,0 +1,260 @@
+//! The path tracer's loops, described once, and the bound of an invocation's loop iterations
+//! derived from that description for both sides: the kernel counts an upper bound of its
+//! iterations with the coefficients the host passes as specialization constants
+//! (`SPEC_LOOPS_PER_SAMPLE` ... in `glsl/path_tracer.comp`) and flags a pixel that may have
+//! reached llvmpipe's silent loop limit, and the host sizes each dispatch so that none does
+//! (`crate::render::renderer`). A test scans the kernel's GLSL (the `.comp` and every file it
+//! includes, `crate::kernels::scan`) for loops and fails when one is not described here.
+
+use crate::contract;
+use crate::render::traversal::Traversal;
+
+/// How many times one loop may iterate, in what the kernel counts.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum LoopBound {
+    /// At most once per sample that the invocation takes.
+    PerSample,
+    /// At most once per ray traced (`g_ray_count`): each iteration traces a ray.
+    PerRay,
+    /// A binary search over the lights, at most once per ray: at most the bits of the light
+    /// count (`findMSB(count) + 1`), never more than `LIGHT_SEARCH_MAX_ITERATIONS`.
+    LightSearchPerRay,
+    /// Over all triangles, at most once per ray, in `Traversal::Linear` only (unrolled over
+    /// the constant triangles, replaced by the BVH's traversal in the BVH builds).
+    TrianglesPerRay,
+    /// Counted by the kernel itself, exactly, in `g_traversal_iterations` (the BVH).
+    CountedByKernel,
+}
+
+/// One loop of the kernel's GLSL.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct KernelLoop {
+    /// The file in `glsl/`.
+    pub file: &'static str,
+    /// The function it is in.
+    pub function: &'static str,
+    /// How often it may iterate.
+    pub bound: LoopBound,
+    /// Loops of one group are alternatives: for the same sample or ray at most one of them
+    /// runs (one integrator's path loop, the closest-hit or the any-hit query's triangle
+    /// loop), so a group counts once.
+    pub group: &'static str,
+}
+
+const fn described(
+    file: &'static str,
+    function: &'static str,
+    bound: LoopBound,
+    group: &'static str,
+) -> KernelLoop {
+    KernelLoop {
+        file,
+        function,
+        bound,
+        group,
+    }
+}
+
+use LoopBound::*;
+
+/// Every loop of `glsl/path_tracer.comp` and the files it includes, in the order of each
+/// function's source. A loop added to the kernel must be added here (the test below fails
+/// until it is), and if it fits none of the `LoopBound`s, the bound needs a new term.
+pub const PATH_TRACER_LOOPS: &[KernelLoop] = &[
+    described("path_tracer.comp", "main", PerSample, "sample loop"),
+    described("integrator.glsl", "get_ray_radiance", PerRay, "path loop"),
+    described(
+        "importance_sampling.glsl",
+        "get_ray_radiance_importance_sampled",
+        PerRay,
+        "path loop",
+    ),
+    described(
+        "material_integrators.glsl",
+        "get_ray_radiance_with_materials",
+        PerRay,
+        "path loop",
+    ),
+    described(
+        "importance_sampling.glsl",
+        "sample_light_index",
+        LightSearchPerRay,
+        "light search",
+    ),
+    described(
+        "scene.glsl",
+        "ray_mesh_intersection",
+        TrianglesPerRay,
+        "triangle loop",
+    ),
+    described(
+        "scene.glsl",
+        "ray_mesh_any_hit",
+        TrianglesPerRay,
+        "triangle loop",
+    ),
+    described("bvh.glsl", "bvh_closest_hit", CountedByKernel, "BVH"),
+    described("bvh.glsl", "bvh_closest_hit", CountedByKernel, "BVH"),
+    described("bvh.glsl", "bvh_closest_hit", CountedByKernel, "BVH"),
+    described("bvh.glsl", "bvh_any_hit", CountedByKernel, "BVH"),
+    described("bvh.glsl", "bvh_any_hit", CountedByKernel, "BVH"),
+];
+
+/// Most iterations of a `LightSearchPerRay` loop (`sample_light_index`: 32 halvings bound a
+/// search over any `uint` count).
+pub const LIGHT_SEARCH_MAX_ITERATIONS: u64 = 32;
+/// The host's estimate of a BVH traversal's iterations per ray, for sizing dispatches (the
+/// kernel counts them exactly and flags what exceeds the limit).
+pub const TYPICAL_BVH_ITERATIONS_PER_RAY: u64 = 128;
+
+/// The coefficients of the bound, as the kernel receives them.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct LoopCoefficients {
+    /// Iterations per sample (`SPEC_LOOPS_PER_SAMPLE`).
+    pub per_sample: u32,
+    /// Iterations per ray (`SPEC_LOOPS_PER_RAY`).
+    pub per_ray: u32,
+    /// Light searches per ray, each of the light count's bits (`SPEC_LIGHT_SEARCHES_PER_RAY`).
+    pub light_searches_per_ray: u32,
+    /// Loops over all triangles per ray (`SPEC_TRIANGLE_LOOPS_PER_RAY`).
+    pub triangle_loops_per_ray: u32,
+    /// Whether the kernel counts a traversal's iterations itself (the BVH builds).
+    pub counted_by_kernel: bool,
+}
+
+/// Groups of `loops` with this bound: each group runs once per unit.
+fn groups(loops: &[KernelLoop], bound: LoopBound) -> u32 {
+    let mut seen: Vec<&str> = Vec::new();
+    for kernel_loop in loops.iter().filter(|l| l.bound == bound) {
+        if !seen.contains(&kernel_loop.group) {
+            seen.push(kernel_loop.group);
+        }
+    }
+    seen.len() as u32
+}
+
+impl LoopCoefficients {
+    /// The coefficients of `loops` for a kernel built for `traversal`.
+    pub fn of(loops: &[KernelLoop], traversal: Traversal) -> LoopCoefficients {
+        LoopCoefficients {
+            per_sample: groups(loops, PerSample),
+            per_ray: groups(loops, PerRay),
+            light_searches_per_ray: groups(loops, LightSearchPerRay),
+            triangle_loops_per_ray: match traversal {
+                Traversal::Linear => groups(loops, TrianglesPerRay),
+                Traversal::ConstantTriangles | Traversal::Bvh => 0,
+            },
+            counted_by_kernel: traversal == Traversal::Bvh && groups(loops, CountedByKernel) > 0,
+        }
+    }
+
+    /// The path tracer's.
+    pub fn path_tracer(traversal: Traversal) -> LoopCoefficients {
+        LoopCoefficients::of(PATH_TRACER_LOOPS, traversal)
+    }
+
+    /// The specialization constants that pass them to the kernel.
+    pub fn specialization(&self) -> [(u32, u32); 4] {
+        [
+            (contract::SPEC_LOOPS_PER_SAMPLE, self.per_sample),
+            (contract::SPEC_LOOPS_PER_RAY, self.per_ray),
+            (
+                contract::SPEC_LIGHT_SEARCHES_PER_RAY,
+                self.light_searches_per_ray,
+            ),
+            (
+                contract::SPEC_TRIANGLE_LOOPS_PER_RAY,
+                self.triangle_loops_per_ray,
+            ),
+        ]
+    }
+
+    /// The host's upper estimate of one sample's iterations with `rays` rays over
+    /// `triangle_count` triangles: the kernel's bound with the light search at its most and
+    /// a BVH traversal at its typical length.
+    pub fn iterations_per_sample(&self, rays: u64, triangle_count: u64) -> u64 {
+        let traversal = if self.counted_by_kernel {
+            TYPICAL_BVH_ITERATIONS_PER_RAY
+        } else {
+            0
+        };
+        let per_ray = u64::from(self.per_ray)
+            + u64::from(self.light_searches_per_ray) * LIGHT_SEARCH_MAX_ITERATIONS
+            + u64::from(self.triangle_loops_per_ray) * triangle_count
+            + traversal;
+        u64::from(self.per_sample) + rays * per_ray
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::kernels::scan::{find_loops, kernel_files, FoundLoop};
+
+    /// (file, function, number of loops) of `loops`, sorted.
+    fn tally<'a>(loops: impl Iterator<Item = (&'a str, &'a str)>) -> Vec<(String, String, usize)> {
+        let mut counts: Vec<(String, String, usize)> = Vec::new();
+        for (file, function) in loops {
+            match counts
+                .iter_mut()
+                .find(|(f, g, _)| f == file && g == function)
+            {
+                Some(entry) => entry.2 += 1,
+                None => counts.push((file.to_string(), function.to_string(), 1)),
+            }
+        }
+        counts.sort();
+        counts
+    }
+
+    #[test]
+    fn every_loop_of_the_path_tracer_is_described() {
+        let found: Vec<FoundLoop> = kernel_files(crate::kernels::PATH_TRACER.source)
+            .into_iter()
+            .flat_map(|file| {
+                let text = crate::shaders::GLSL_SOURCES
+                    .iter()
+                    .find(|(name, _)| *name == file)
+                    .map(|(_, text)| *text)
+                    .unwrap_or_default();
+                find_loops(file, text)
+            })
+            .collect();
+        assert!(
+            found.len() >= 10,
+            "the scan finds the kernel's loops: {found:?}"
+        );
+        let found = tally(found.iter().map(|l| (l.file.as_str(), l.function.as_str())));
+        let described = tally(PATH_TRACER_LOOPS.iter().map(|l| (l.file, l.function)));
+        assert_eq!(
+            found, described,
+            "(file, function, loops) found in the kernel's GLSL, then as described in \
+             PATH_TRACER_LOOPS: describe every loop there"
+        );
+    }
+
+    #[test]
+    fn coefficients_count_each_group_once() {
+        let linear = LoopCoefficients::path_tracer(Traversal::Linear);
+        // One sample loop; three path loops of which one runs; one light search; the
+        // closest-hit or the any-hit query's loop over the triangles.
+        assert_eq!(
+            (
+                linear.per_sample,
+                linear.per_ray,
+                linear.light_searches_per_ray,
+                linear.triangle_loops_per_ray
+            ),
+            (1, 1, 1, 1)
+        );
+        assert!(!linear.counted_by_kernel);
+        let bvh = LoopCoefficients::path_tracer(Traversal::Bvh);
+        assert_eq!(bvh.triangle_loops_per_ray, 0);
+        assert!(bvh.counted_by_kernel);
+        let constant = LoopCoefficients::path_tracer(Traversal::ConstantTriangles);
+        assert_eq!(constant.triangle_loops_per_ray, 0);
+        // 1 + 10 rays * (1 + 32 + 100 triangles)
+        assert_eq!(linear.iterations_per_sample(10, 100), 1 + 10 * 133);
+        assert_eq!(bvh.iterations_per_sample(10, 100), 1 + 10 * (33 + 128));
+    }
+}
