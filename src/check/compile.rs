@@ -1,5 +1,5 @@
 //! Compiling the embedded kernels at run time with a user's functions: `#include
-//! "user_functions.glsl"` resolves to the user's prepared file (`crate::check::source`),
+//! "user_functions.glsl"` resolves to the user's prepared file (`crate::glsl_intake`),
 //! the other includes to the embedded `glsl/` sources, and `USER_FUNCTIONS` plus
 //! `USER_DEFINES_<NAME>` for each function taken from the user make the kernels use the
 //! user's versions (the reference versions of the others stay).
@@ -12,12 +12,24 @@ use std::collections::BTreeSet;
 use std::ops::Range;
 
 use crate::check::detect::{find_functions, Definition, FoundFunction, WorkshopFunction};
-use crate::check::source::{prepare, PreparedSource};
+use crate::glsl_intake::{prepare_with, IntakeOptions, PreparedSource};
 use crate::shader_compiler::{compile_compute_shader, CompiledShader};
 use crate::shaders::GLSL_SOURCES;
 
-/// The file name under which the kernels include the user's functions.
-pub const USER_FUNCTIONS_FILE: &str = "user_functions.glsl";
+pub use crate::glsl_intake::USER_FUNCTIONS_FILE;
+
+/// The intake options of `check`: the user's code goes into vkpath's kernels, its entry
+/// points are dropped, and the workshop functions keep their signatures (a definition with
+/// other parameters is renamed `user_<name>` and listed as not judged).
+pub fn check_intake_options() -> IntakeOptions {
+    IntakeOptions {
+        protected_functions: WorkshopFunction::ALL
+            .iter()
+            .filter_map(|f| Some((f.name().to_string(), f.signature()?)))
+            .collect(),
+        ..IntakeOptions::default()
+    }
+}
 
 /// How many rounds of dropping functions that do not compile are tried before the whole
 /// file is reported as not compiling.
@@ -83,10 +95,13 @@ pub struct UserCode {
 impl UserFunctions {
     /// Reads `text`: prepares it and finds the workshop functions it defines.
     pub fn new(display_name: &str, text: String) -> UserFunctions {
-        let prepared = prepare(&text);
+        let prepared = prepare_with(&text, &check_intake_options());
         let mut definitions = Vec::new();
         let mut not_judged = Vec::new();
-        for (function, line, signature) in &prepared.renamed_workshop_functions {
+        for (name, line, signature) in &prepared.renamed_functions {
+            let Some(function) = WorkshopFunction::from_name(name) else {
+                continue;
+            };
             not_judged.push(NotJudged {
                 function: function.name().to_string(),
                 line: *line,

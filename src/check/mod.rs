@@ -1,7 +1,7 @@
 //! `vkpath check FILE.glsl`: judges a workshop attendee's versions of workshop functions.
 //!
 //! The file may be anything an attendee has: a whole ShaderToy tab, a WebGL page shader, or
-//! just the functions. `source` prepares it (drops entry points, `#version`, uniforms …,
+//! just the functions. `crate::glsl_intake` prepares it (drops entry points, `#version`, uniforms …,
 //! supplies ShaderToy's inputs, renames what clashes with vkpath's own names), `detect`
 //! finds the workshop functions it defines with the workshop's signatures (the prototypes of
 //! `glsl/workshop.glsl`; other uses of those names are listed as not judged), and `compile`
@@ -23,10 +23,13 @@ pub mod compile;
 pub mod detect;
 pub mod deterministic;
 pub mod estimators;
-pub mod glsl_syntax;
 pub mod report;
 pub mod samplers;
-pub mod source;
+
+/// The intake's preparation, under its old name (see `crate::glsl_intake`).
+pub use crate::glsl_intake::prepare as source;
+/// The intake's syntax reader, under its old name (see `crate::glsl_intake`).
+pub use crate::glsl_intake::syntax as glsl_syntax;
 
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
@@ -108,14 +111,11 @@ pub enum LoadError {
 /// Reads a user's file, finds the workshop functions it defines and compiles it once (the
 /// functions that do not compile are set aside, see `UserFunctions::find_broken_functions`).
 pub fn load_user_functions(path: &Path) -> std::result::Result<UserFunctions, LoadError> {
-    let bytes = std::fs::read(path).map_err(|source| LoadError::Unreadable {
-        path: path.to_owned(),
-        source,
-    })?;
-    // Published files come with a byte-order mark or Windows line ends now and then.
-    let text = String::from_utf8_lossy(&bytes)
-        .trim_start_matches('\u{feff}')
-        .replace("\r\n", "\n");
+    let text =
+        crate::glsl_intake::read_source_file(path).map_err(|source| LoadError::Unreadable {
+            path: path.to_owned(),
+            source,
+        })?;
     let mut user = UserFunctions::new(&path.display().to_string(), text);
     if user.definitions.is_empty() {
         if user.not_judged.is_empty() {

@@ -19,11 +19,11 @@ use std::collections::{BTreeMap, BTreeSet};
 use std::fmt::Write as _;
 use std::sync::OnceLock;
 
-use crate::check::detect::{find_functions, WorkshopFunction};
-use crate::check::glsl_syntax::{
-    matching, structural_tokens, tokenize, top_level_items, ItemKind, Token,
-};
 use crate::contract::USER_OPAQUE_BINDING_FIRST;
+use crate::glsl_intake::functions::{find_functions, Signature};
+use crate::glsl_intake::syntax::{
+    matching, structural_tokens, tokenize, top_level_items, Item, ItemKind, Token,
+};
 use crate::shaders::GLSL_SOURCES;
 
 /// Loop iterations the user's functions may run in one kernel invocation (all their loops
@@ -100,9 +100,10 @@ pub struct PreparedSource {
     pub epilogue: String,
     /// The user's `MAX_PATH_LENGTH` (a `#define` or an integer constant), if any.
     pub max_path_length: Option<u32>,
-    /// Workshop functions that the file defines with other parameters, renamed
-    /// `user_<name>`: (function, line, the signature as written).
-    pub renamed_workshop_functions: Vec<(WorkshopFunction, usize, String)>,
+    /// Protected functions (`IntakeOptions::protected_functions`) that the file defines
+    /// only with other parameters, renamed `user_<name>`: (name, line, the signature as
+    /// written).
+    pub renamed_functions: Vec<(String, usize, String)>,
     /// Whether the file's `triangle_t` differs from the workshop's (it is renamed
     /// `user_triangle_t`; functions taking it cannot be judged).
     pub other_triangle_struct: Option<usize>,
@@ -123,7 +124,7 @@ fn kernel_names() -> &'static KernelNames {
         let mut macros = BTreeMap::new();
         let mut triangle_members = Vec::new();
         for (file, text) in GLSL_SOURCES {
-            if *file == crate::check::compile::USER_FUNCTIONS_FILE {
+            if *file == crate::glsl_intake::USER_FUNCTIONS_FILE {
                 continue;
             }
             let tokens = tokenize(text);
@@ -177,7 +178,7 @@ fn directives(tokens: &[Token]) -> Vec<Vec<Token>> {
 
 /// The names that a top-level item declares: a function's name, a struct's name, the
 /// declarators of a variable declaration.
-fn declared_names(tokens: &[Token], item: &crate::check::glsl_syntax::Item) -> Vec<String> {
+fn declared_names(tokens: &[Token], item: &Item) -> Vec<String> {
     if let Some(name) = item.name {
         return vec![tokens[name].text.clone()];
     }
@@ -225,11 +226,7 @@ fn is_type_keyword(word: &str) -> bool {
 
 /// The members of `struct <name> { ... };` as normalized lines ("vec3 positions [ 3 ]"), if
 /// the item is that struct.
-fn struct_members(
-    tokens: &[Token],
-    item: &crate::check::glsl_syntax::Item,
-    name: &str,
-) -> Option<Vec<String>> {
+fn struct_members(tokens: &[Token], item: &Item, name: &str) -> Option<Vec<String>> {
     let items = &tokens[item.first..=item.last];
     let position = items.iter().position(|t| t.text == "struct")?;
     if items.get(position + 1)?.text != name || items.get(position + 2)?.text != "{" {
@@ -284,8 +281,48 @@ fn apply(text: &str, mut edits: Vec<Edit>) -> String {
     result
 }
 
-/// Prepares a user's file (see the module documentation).
+/// What `prepare_with` keeps, supplies and protects.
+#[derive(Clone, Debug, PartialEq)]
+pub struct IntakeOptions {
+    /// Keep the entry points (`mainImage`, `main`, …) instead of dropping them: a program
+    /// that runs the user's passes needs them, `check` calls the functions itself.
+    pub keep_entry_points: bool,
+    /// Supply ShaderToy's inputs (`iResolution`, `iFrame`, `iChannel0`–`3`, …) and
+    /// `gl_FragCoord`/`gl_FragColor` in the prelude when the kept code reads them (as
+    /// `check` does: frame 0 of a 512 x 512 image). Without it the caller declares them.
+    pub supply_inputs: bool,
+    /// Guard every loop of the user's functions with `vkpath_loop_guard()` (see
+    /// `USER_LOOP_LIMIT`); the guard's globals are declared in the prelude.
+    pub guard_loops: bool,
+    /// Rename the user's global names that vkpath's embedded kernels also declare
+    /// `user_<name>` (needed when the user's code is included into vkpath's kernels).
+    pub avoid_kernel_names: bool,
+    /// Functions with a fixed signature (the workshop's): a file that defines one only with
+    /// other parameters has it renamed `user_<name>` (listed in `renamed_functions`).
+    pub protected_functions: Vec<(String, Signature)>,
+}
+
+impl Default for IntakeOptions {
+    /// What `check` does (`prepare`), without protected functions.
+    fn default() -> IntakeOptions {
+        IntakeOptions {
+            keep_entry_points: false,
+            supply_inputs: true,
+            guard_loops: true,
+            avoid_kernel_names: true,
+            protected_functions: Vec::new(),
+        }
+    }
+}
+
+/// Prepares a user's file with `IntakeOptions::default()` (what `check` does, except that
+/// `check` also protects the workshop functions; see the module documentation).
 pub fn prepare(source: &str) -> PreparedSource {
+    prepare_with(source, &IntakeOptions::default())
+}
+
+/// Prepares a user's file (see the module documentation and `IntakeOptions`).
+pub fn prepare_with(source: &str, options: &IntakeOptions) -> PreparedSource {
     let ours = kernel_names();
     let tokens = tokenize(source);
     let mut prepared = PreparedSource::default();
@@ -341,7 +378,7 @@ pub fn prepare(source: &str) -> PreparedSource {
         let range = first.start..structure[item.last].end;
         if let Some(name) = item.name {
             let name_text = &structure[name].text;
-            if ENTRY_POINTS.contains(&name_text.as_str()) {
+            if ENTRY_POINTS.contains(&name_text.as_str()) && !options.keep_entry_points {
                 if item.kind == ItemKind::FunctionDefinition {
                     prepared.notes.push(format!(
                         "line {}: dropped {name_text}() (the entry point; vkpath's kernels call your functions)",
@@ -448,26 +485,21 @@ pub fn prepare(source: &str) -> PreparedSource {
     // Names that clash with vkpath's: workshop functions with other parameters, a
     // different triangle_t, and any other global name the kernels declare too.
     let mut renames: BTreeMap<String, String> = BTreeMap::new();
-    for function in WorkshopFunction::ALL {
+    for (function, signature) in &options.protected_functions {
         let definitions: Vec<_> = found
             .iter()
-            .filter(|f| f.has_body && f.name == function.name())
+            .filter(|f| f.has_body && f.name == *function)
             .collect();
-        let any_workshop = definitions
-            .iter()
-            .any(|f| function.signature().as_ref() == Some(&f.signature));
-        if !definitions.is_empty() && !any_workshop {
+        let any_protected = definitions.iter().any(|f| f.signature == *signature);
+        if !definitions.is_empty() && !any_protected {
             for definition in &definitions {
-                prepared.renamed_workshop_functions.push((
-                    function,
+                prepared.renamed_functions.push((
+                    function.clone(),
                     definition.line,
                     definition.signature.to_string(),
                 ));
             }
-            renames.insert(
-                function.name().to_string(),
-                format!("user_{}", function.name()),
-            );
+            renames.insert(function.clone(), format!("user_{function}"));
         }
     }
     if let Some(line) = prepared.other_triangle_struct {
@@ -477,8 +509,9 @@ pub fn prepare(source: &str) -> PreparedSource {
         renames.insert("triangle_t".into(), "user_triangle_t".into());
     }
     for (name, line) in &declared {
-        let is_workshop = WorkshopFunction::from_name(name).is_some();
-        if !is_workshop
+        let is_protected = options.protected_functions.iter().any(|(f, _)| f == name);
+        if options.avoid_kernel_names
+            && !is_protected
             && name != "triangle_t"
             && ours.identifiers.contains(name)
             && !user_macros.contains(name)
@@ -518,7 +551,7 @@ pub fn prepare(source: &str) -> PreparedSource {
     // silently after 65535 and return whatever the function had).
     for item in items
         .iter()
-        .filter(|i| i.kind == ItemKind::FunctionDefinition)
+        .filter(|i| i.kind == ItemKind::FunctionDefinition && options.guard_loops)
     {
         if blanked
             .iter()
@@ -577,18 +610,22 @@ pub fn prepare(source: &str) -> PreparedSource {
 
     // The prelude: undefine the user's macros, supply what the kept code reads, and the
     // guard of the user's loops.
-    let mut prelude = format!(
-        "uint g_user_loop_iterations = 0u;\nbool g_user_loop_limit_hit = false;\n\
-         bool vkpath_loop_guard() {{ if (++g_user_loop_iterations > {USER_LOOP_LIMIT}u) {{ \
-         g_user_loop_limit_hit = true; return false; }} return true; }}\n"
-    );
+    let mut prelude = String::new();
+    if options.guard_loops {
+        prelude = format!(
+            "uint g_user_loop_iterations = 0u;\nbool g_user_loop_limit_hit = false;\n\
+             bool vkpath_loop_guard() {{ if (++g_user_loop_iterations > {USER_LOOP_LIMIT}u) {{ \
+             g_user_loop_limit_hit = true; return false; }} return true; }}\n"
+        );
+    }
     let unique_macros: BTreeSet<&String> = user_macros.iter().collect();
     for name in &unique_macros {
         let _ = writeln!(prelude, "#undef {name}");
     }
     let mut supplied = Vec::new();
     for (name, declaration) in SHADERTOY_INPUTS {
-        if referenced.contains(name)
+        if options.supply_inputs
+            && referenced.contains(name)
             && !declared.contains_key(name)
             && !unique_macros.contains(&name.to_string())
         {
@@ -598,7 +635,7 @@ pub fn prepare(source: &str) -> PreparedSource {
     }
     for channel in 0..4u32 {
         let name = format!("iChannel{channel}");
-        if referenced.contains(&name) && !declared.contains_key(&name) {
+        if options.supply_inputs && referenced.contains(&name) && !declared.contains_key(&name) {
             let _ = writeln!(
                 prelude,
                 "layout(set = 0, binding = {}) uniform sampler2D {name};",
@@ -613,7 +650,7 @@ pub fn prepare(source: &str) -> PreparedSource {
         }
     }
     for (name, _, declaration) in FRAGMENT_BUILTINS {
-        if referenced.contains(name) {
+        if options.supply_inputs && referenced.contains(name) {
             let _ = writeln!(prelude, "{declaration}");
             supplied.push(name);
         }
@@ -677,7 +714,17 @@ mod tests {
 
     #[test]
     fn a_shadertoy_tab_keeps_its_lines_and_drops_what_cannot_take_part() {
-        let prepared = prepare(TAB);
+        let options = IntakeOptions {
+            protected_functions: vec![(
+                "get_ray_radiance".into(),
+                Signature {
+                    return_type: "vec3".into(),
+                    parameters: vec!["vec3".into(), "vec3".into(), "inout uvec2".into()],
+                },
+            )],
+            ..IntakeOptions::default()
+        };
+        let prepared = prepare_with(TAB, &options);
         assert_eq!(prepared.text.lines().count(), TAB.lines().count());
         let lines: Vec<&str> = prepared.text.lines().collect();
         assert!(lines[0].trim().is_empty(), "#version dropped");
@@ -705,7 +752,7 @@ mod tests {
             "mainImage dropped"
         );
         assert_eq!(prepared.max_path_length, Some(4));
-        assert_eq!(prepared.renamed_workshop_functions.len(), 1);
+        assert_eq!(prepared.renamed_functions.len(), 1);
         assert!(prepared.prelude.contains("#undef M_PI"));
         assert!(
             !prepared.prelude.contains("iChannel0"),
