@@ -8,7 +8,9 @@ use crate::shaders::GLSL_SOURCES;
 
 /// The workshop functions that a user may replace (each has a prototype in
 /// `glsl/workshop.glsl` and a `USER_DEFINES_<NAME>` guard around its reference definition).
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
+#[derive(
+    Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord, serde::Serialize, serde::Deserialize,
+)]
 pub enum WorkshopFunction {
     /// `vec2 get_random_numbers(inout uvec2 seed)`
     GetRandomNumbers,
@@ -83,7 +85,7 @@ impl WorkshopFunction {
 }
 
 /// A workshop function that the user's file defines.
-#[derive(Clone, Debug, PartialEq, Eq)]
+#[derive(Clone, Debug, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
 pub struct Definition {
     /// Which function.
     pub function: WorkshopFunction,

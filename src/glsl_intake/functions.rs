@@ -8,7 +8,7 @@ use crate::glsl_intake::syntax::{
 /// A function's return type and parameter types, normalized: `in`, `const` and precision
 /// qualifiers dropped (they do not change what GLSL calls the function's signature),
 /// `out` and `inout` kept, parameter names dropped.
-#[derive(Clone, Debug, PartialEq, Eq)]
+#[derive(Clone, Debug, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
 pub struct Signature {
     /// The return type, e.g. `vec3`.
     pub return_type: String,

@@ -19,7 +19,10 @@ pub mod syntax;
 use std::path::Path;
 
 pub use functions::{find_functions, FoundFunction, Signature};
-pub use prepare::{prepare, prepare_with, IntakeOptions, PreparedSource, USER_LOOP_LIMIT};
+pub use prepare::{
+    declared_globals, prepare, prepare_with, IntakeOptions, PreparedSource, Unavailable,
+    UniformValue, USER_LOOP_LIMIT,
+};
 
 /// The file name under which vkpath's kernels `#include` a user's prepared code.
 pub const USER_FUNCTIONS_FILE: &str = "user_functions.glsl";

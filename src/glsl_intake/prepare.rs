@@ -86,8 +86,33 @@ const FRAGMENT_BUILTINS: [(&str, &str, &str); 2] = [
     ),
 ];
 
+/// A name the user's code reads that the intake cannot supply (a sampler or image uniform
+/// whose data only the user's program has, ShaderToy's `iChannel0`–`3`, ray queries): the
+/// code that reads it can be compiled only without it.
+#[derive(Clone, Debug, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
+pub struct Unavailable {
+    /// The identifier.
+    pub name: String,
+    /// Where it is declared or first used (from 1).
+    pub line: usize,
+    /// What it is, in words ("uniform sampler2D u_scene").
+    pub what: String,
+}
+
+/// A global `uniform` that plays the role of a workshop or ShaderToy constant and is given
+/// its value (a plain global would be 0).
+#[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
+pub struct UniformValue {
+    /// The uniform's name.
+    pub name: String,
+    /// Its line (from 1).
+    pub line: usize,
+    /// The GLSL expression it is initialized with (e.g. `MAX_PATH_LENGTH`).
+    pub value: String,
+}
+
 /// The user's file made ready to be included by vkpath's kernels.
-#[derive(Clone, Debug, Default, PartialEq)]
+#[derive(Clone, Debug, Default, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct PreparedSource {
     /// The file with what cannot take part blanked and clashing names renamed; every line
     /// where it was in the user's file.
@@ -107,6 +132,12 @@ pub struct PreparedSource {
     /// Whether the file's `triangle_t` differs from the workshop's (it is renamed
     /// `user_triangle_t`; functions taking it cannot be judged).
     pub other_triangle_struct: Option<usize>,
+    /// What the kept code reads that cannot be supplied (only without
+    /// `IntakeOptions::bind_opaque`): the declarations are dropped, and the caller leaves out
+    /// the functions that read these names.
+    pub unavailable: Vec<Unavailable>,
+    /// Uniforms given the value of the constant they stand for (`IntakeOptions::uniform_values`).
+    pub uniform_values: Vec<UniformValue>,
 }
 
 /// The global names that vkpath's own GLSL declares (functions, variables, constants,
@@ -300,6 +331,17 @@ pub struct IntakeOptions {
     /// Functions with a fixed signature (the workshop's): a file that defines one only with
     /// other parameters has it renamed `user_<name>` (listed in `renamed_functions`).
     pub protected_functions: Vec<(String, Signature)>,
+    /// Keep the user's sampler and image uniforms, with bindings from
+    /// `USER_OPAQUE_BINDING_FIRST + 4` on (the caller binds them). Without it (`check`) they
+    /// are dropped and listed in `PreparedSource::unavailable`, with `iChannel0`–`3` and ray
+    /// queries, for the caller to leave out the code that reads them.
+    pub bind_opaque: bool,
+    /// Give uniforms that stand for a constant its value (`PreparedSource::uniform_values`):
+    /// an `int`/`uint` that bounds a loop or is named like a path length gets
+    /// `MAX_PATH_LENGTH` (which the including code defines), a `vec2`/`vec3` resolution
+    /// `iResolution`'s value, a frame counter 0 and a time 0.0, as `check` supplies
+    /// ShaderToy's inputs.
+    pub uniform_values: bool,
 }
 
 impl Default for IntakeOptions {
@@ -311,6 +353,8 @@ impl Default for IntakeOptions {
             guard_loops: true,
             avoid_kernel_names: true,
             protected_functions: Vec::new(),
+            bind_opaque: false,
+            uniform_values: true,
         }
     }
 }
@@ -373,6 +417,8 @@ pub fn prepare_with(source: &str, options: &IntakeOptions) -> PreparedSource {
     let mut declared: BTreeMap<String, usize> = BTreeMap::new();
     let mut opaque_bindings = 0u32;
     let found = find_functions(source);
+    let loop_bounds = loop_condition_names(&structure, &items, &ENTRY_POINTS);
+
     for item in &items {
         let first = &structure[item.first];
         let range = first.start..structure[item.last].end;
@@ -445,7 +491,69 @@ pub fn prepare_with(source: &str, options: &IntakeOptions) -> PreparedSource {
                 continue;
             }
             let qualifiers = first.start..tokens_of_item[position].start;
-            if is_opaque {
+            let declarators = declared_names(&structure, item);
+            let written = tokens_of_item
+                .iter()
+                .take_while(|t| t.text != ";" && t.text != "=")
+                .map(|t| t.text.as_str())
+                .collect::<Vec<_>>()
+                .join(" ");
+            if is_opaque && !options.bind_opaque {
+                let what = tokens_of_item[position - 1..]
+                    .iter()
+                    .take_while(|t| t.text != ";")
+                    .map(|t| t.text.as_str())
+                    .collect::<Vec<_>>()
+                    .join(" ");
+                prepared.notes.push(format!(
+                    "line {}: dropped '{written}' (check has no data for it): functions that read it are not judged",
+                    first.line
+                ));
+                for name in &declarators {
+                    prepared.unavailable.push(Unavailable {
+                        name: name.clone(),
+                        line: first.line,
+                        what: what.replace(" ,", ","),
+                    });
+                }
+                blanked.push(range.clone());
+                edits.push(blank(source, range));
+                continue;
+            }
+            let type_text = type_token.map_or("", |t| t.text.as_str());
+            let role = (options.uniform_values && qualifier == "uniform" && declarators.len() == 1)
+                .then(|| {
+                    uniform_role(
+                        type_text,
+                        &declarators[0],
+                        &loop_bounds,
+                        options.supply_inputs,
+                    )
+                })
+                .flatten();
+            if let Some(value) = role {
+                let name = &declarators[0];
+                let end = tokens_of_item.last().map_or(range.end, |t| t.start);
+                edits.push(Edit {
+                    range: qualifiers.clone(),
+                    replacement: "const ".into(),
+                });
+                edits.push(Edit {
+                    range: end..end,
+                    replacement: format!(" = {value}"),
+                });
+                prepared.notes.push(format!(
+                    "line {}: 'uniform {type_text} {name}' is {} here ({})",
+                    first.line,
+                    value_in_words(&value, prepared.max_path_length),
+                    role_in_words(&value)
+                ));
+                prepared.uniform_values.push(UniformValue {
+                    name: name.clone(),
+                    line: first.line,
+                    value,
+                });
+            } else if is_opaque {
                 let binding = USER_OPAQUE_BINDING_FIRST + 4 + opaque_bindings;
                 opaque_bindings += 1;
                 edits.push(Edit {
@@ -454,14 +562,19 @@ pub fn prepare_with(source: &str, options: &IntakeOptions) -> PreparedSource {
                 });
             } else {
                 prepared.notes.push(format!(
-                    "line {}: '{}' is a plain global here (no {qualifier} in a compute kernel)",
+                    "line {}: '{}' is a plain global here (no {qualifier} in a compute kernel{})",
                     first.line,
                     tokens_of_item[position..]
                         .iter()
                         .take_while(|t| t.text != ";" && t.text != "=")
                         .map(|t| t.text.as_str())
                         .collect::<Vec<_>>()
-                        .join(" ")
+                        .join(" "),
+                    if qualifier == "uniform" {
+                        "; it is 0"
+                    } else {
+                        ""
+                    }
                 ));
                 edits.push(blank(source, qualifiers));
             }
@@ -607,6 +720,31 @@ pub fn prepare_with(source: &str, options: &IntakeOptions) -> PreparedSource {
         }
     }
     prepared.text = apply(source, edits);
+    if !options.bind_opaque {
+        let mut seen = BTreeSet::new();
+        for token in tokens
+            .iter()
+            .filter(|t| t.is_identifier() && !is_blanked(t))
+        {
+            let what = if token.text.starts_with("rayQuery") {
+                "ray queries (GL_EXT_ray_query), which check cannot run".to_string()
+            } else if token.text.len() == 9
+                && token.text.starts_with("iChannel")
+                && !declared.contains_key(&token.text)
+            {
+                format!("ShaderToy's {}, whose data check does not have", token.text)
+            } else {
+                continue;
+            };
+            if seen.insert(token.text.clone()) {
+                prepared.unavailable.push(Unavailable {
+                    name: token.text.clone(),
+                    line: token.line,
+                    what,
+                });
+            }
+        }
+    }
 
     // The prelude: undefine the user's macros, supply what the kept code reads, and the
     // guard of the user's loops.
@@ -635,7 +773,11 @@ pub fn prepare_with(source: &str, options: &IntakeOptions) -> PreparedSource {
     }
     for channel in 0..4u32 {
         let name = format!("iChannel{channel}");
-        if options.supply_inputs && referenced.contains(&name) && !declared.contains_key(&name) {
+        if options.supply_inputs
+            && options.bind_opaque
+            && referenced.contains(&name)
+            && !declared.contains_key(&name)
+        {
             let _ = writeln!(
                 prelude,
                 "layout(set = 0, binding = {}) uniform sampler2D {name};",
@@ -680,6 +822,115 @@ pub fn prepare_with(source: &str, options: &IntakeOptions) -> PreparedSource {
     prepared
 }
 
+/// The identifiers that stand in the loop conditions (`for (…; condition; …)`, `while
+/// (condition)`) of the functions other than `excluded` (the entry points, which are not
+/// kept).
+fn loop_condition_names(tokens: &[Token], items: &[Item], excluded: &[&str]) -> BTreeSet<String> {
+    let mut names = BTreeSet::new();
+    for item in items
+        .iter()
+        .filter(|i| i.kind == ItemKind::FunctionDefinition)
+    {
+        if item
+            .name
+            .is_some_and(|n| excluded.contains(&tokens[n].text.as_str()))
+        {
+            continue;
+        }
+        for index in item.first..item.last {
+            let keyword = tokens[index].text.as_str();
+            if !(keyword == "for" || keyword == "while")
+                || tokens.get(index + 1).is_none_or(|t| t.text != "(")
+            {
+                continue;
+            }
+            let Some(close) = matching(tokens, index + 1, "(", ")") else {
+                continue;
+            };
+            let inside = &tokens[index + 2..close];
+            let condition: &[Token] = if keyword == "for" {
+                let parts: Vec<&[Token]> = inside.split(|t| t.text == ";").collect();
+                parts.get(1).copied().unwrap_or(&[])
+            } else {
+                inside
+            };
+            names.extend(
+                condition
+                    .iter()
+                    .filter(|t| t.is_identifier())
+                    .map(|t| t.text.clone()),
+            );
+        }
+    }
+    names
+}
+
+/// The value of a uniform that stands for a constant, by its type and name: an integer that
+/// bounds a loop or is named like a path length is `MAX_PATH_LENGTH`; with `inputs` (the
+/// intake supplies ShaderToy's inputs) a `vec2`/`vec3` resolution is `iResolution`'s value
+/// (512 x 512), a frame counter `iFrame`'s (0), a time `iTime`'s (0.0). Constant
+/// expressions, as a global's initializer must be.
+fn uniform_role(
+    type_name: &str,
+    name: &str,
+    loop_bounds: &BTreeSet<String>,
+    inputs: bool,
+) -> Option<String> {
+    let lower = name.to_lowercase();
+    let named = |words: &[&str]| words.iter().any(|w| lower.contains(w));
+    let value = match type_name {
+        "int" | "uint" if named(&["frame"]) => format!("{type_name}(0)"),
+        "int" | "uint"
+            if loop_bounds.contains(name)
+                || named(&["pathlength", "path_length", "bounce", "depth", "maxpath"]) =>
+        {
+            return Some(format!("{type_name}(MAX_PATH_LENGTH)"));
+        }
+        "vec2" if named(&["resolution"]) => "vec2(512.0, 512.0)".into(),
+        "vec3" if named(&["resolution"]) => "vec3(512.0, 512.0, 1.0)".into(),
+        "float" if named(&["frame"]) || named(&["time"]) => "0.0".into(),
+        _ => return None,
+    };
+    inputs.then_some(value)
+}
+
+/// A uniform's value in words, for its note.
+fn value_in_words(value: &str, max_path_length: Option<u32>) -> String {
+    if value.contains("MAX_PATH_LENGTH") {
+        let length = max_path_length.unwrap_or(crate::contract::DEFAULT_MAX_PATH_LENGTH);
+        format!("MAX_PATH_LENGTH = {length}")
+    } else if value.contains("512.0") {
+        format!("{value} (ShaderToy's iResolution here)")
+    } else {
+        format!("{value} (frame 0, time 0, as ShaderToy's inputs here)")
+    }
+}
+
+/// What the uniform was taken for, for its note.
+fn role_in_words(value: &str) -> &'static str {
+    if value.contains("MAX_PATH_LENGTH") {
+        "an integer uniform that bounds a loop or is named like a path length plays the workshop's MAX_PATH_LENGTH; a plain global would be 0"
+    } else {
+        "its name says what it holds; a plain global would be 0"
+    }
+}
+
+/// Every global name that `source` declares: functions, structs, variables and constants,
+/// and its macros.
+pub fn declared_globals(source: &str) -> BTreeSet<String> {
+    let tokens = tokenize(source);
+    let mut names: BTreeSet<String> = directives(&tokens)
+        .into_iter()
+        .filter(|d| d.len() >= 3 && d[1].text == "define")
+        .map(|d| d[2].text.clone())
+        .collect();
+    let structure = structural_tokens(&tokens);
+    for item in top_level_items(&structure) {
+        names.extend(declared_names(&structure, &item));
+    }
+    names
+}
+
 /// Whether a GLSL type is opaque (a sampler, image or the like), which only a uniform with
 /// a binding can hold.
 fn is_opaque_type(word: &str) -> bool {
@@ -695,6 +946,8 @@ fn is_opaque_type(word: &str) -> bool {
         "utexture",
         "subpassInput",
         "atomic_uint",
+        "accelerationStructure",
+        "rayQuery",
     ]
     .iter()
     .any(|prefix| word.starts_with(prefix))
