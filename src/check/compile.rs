@@ -888,6 +888,82 @@ mod tests {
     }
 
     #[test]
+    fn a_missing_inout_is_judged_through_an_adapter() {
+        let user = UserFunctions::new(
+            "tab.glsl",
+            "vec2 get_random_numbers(uvec2 seed) {\n    seed += 1u;\n    return vec2(seed);\n}\n"
+                .into(),
+        );
+        assert_eq!(user.functions(), [WorkshopFunction::GetRandomNumbers]);
+        assert!(user.not_judged.is_empty(), "{:?}", user.not_judged);
+        let explanation = user.qualifier_mismatches[0].explanation();
+        assert!(
+            explanation.contains("'uvec2' where the workshop's is 'inout uvec2'"),
+            "{explanation}"
+        );
+        let code = user.code(&[WorkshopFunction::GetRandomNumbers]);
+        assert!(code
+            .include
+            .contains("return user_get_random_numbers(vkpath_a0);"));
+        assert!(compile_kernel("probe_get_random_numbers.comp", Some(&code), &[]).is_ok());
+        // Where another function is judged, the user's calls go to the reference.
+        let other = user.code(&[]);
+        assert!(other
+            .include
+            .contains("#define user_get_random_numbers get_random_numbers"));
+        // Other types than the workshop's are not a qualifier mismatch.
+        let signature = Signature {
+            return_type: "vec2".into(),
+            parameters: vec!["uvec3".into()],
+        };
+        assert!(QualifierMismatch::of(WorkshopFunction::GetRandomNumbers, 1, &signature).is_none());
+    }
+
+    #[test]
+    fn stubs_places_and_undefined_names_are_found() {
+        let mut user = UserFunctions::new(
+            "tab.glsl",
+            "bool ray_triangle_intersection(out float out_t, vec3 o, vec3 d, triangle_t tri) {\n    return false;\n}\n\
+             vec3 sample_sphere(vec2 u) {\n    return vec3(0.0, 0.0, 1.0);\n}\n\
+             vec3 sample_hemisphere(vec2 u, vec3 n) {\n    return n;\n}\n"
+                .into(),
+        );
+        let stubs: Vec<WorkshopFunction> = user.stubs.iter().map(|(f, _)| *f).collect();
+        assert_eq!(
+            stubs,
+            [
+                WorkshopFunction::RayTriangleIntersection,
+                WorkshopFunction::SampleSphere
+            ]
+        );
+        assert_eq!(user.stubs[0].1, "return false;");
+        user.display_name = "a.glsl + b.glsl".into();
+        user.sources = vec![
+            SourceFile {
+                name: "a.glsl".into(),
+                first_line: 1,
+            },
+            SourceFile {
+                name: "b.glsl".into(),
+                first_line: 4,
+            },
+        ];
+        assert_eq!(user.locate(5), ("b.glsl".into(), 2));
+        assert_eq!(
+            user.localize("line 2: x; a.glsl + b.glsl:7: error: 'f' : undeclared identifier"),
+            "a.glsl:2: x; b.glsl:4: error: 'f' : undeclared identifier"
+        );
+        // sample_sphere is declared in the text, helper is not.
+        assert_eq!(
+            user.undefined_names(
+                "b.glsl:4: error: 'helper' : no matching overloaded function found\n\
+                 b.glsl:5: error: 'sample_sphere' : undeclared identifier"
+            ),
+            Some("'helper' is".into())
+        );
+    }
+
+    #[test]
     fn reference_kernels_compile_without_a_user() {
         assert!(compile_kernel("probe_get_random_numbers.comp", None, &[]).is_ok());
         assert!(compile_kernel("no_such.comp", None, &[]).is_err());

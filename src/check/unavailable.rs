@@ -109,6 +109,11 @@ pub fn leave_out_unavailable(
             || unavailable.what.starts_with("ShaderToy's")
         {
             format!("it uses {}{through}", unavailable.what)
+        } else if unavailable.what.contains("accelerationStructure") {
+            format!(
+                "it uses ray queries (GL_EXT_ray_query) on '{}' (line {}){through}, which check cannot run",
+                unavailable.what, unavailable.line
+            )
         } else {
             format!(
                 "it reads '{}' (line {}){through}, data that only your program has; check cannot judge it without that data",

@@ -127,6 +127,15 @@ pub fn run(args: &CheckArgs) -> anyhow::Result<()> {
         print_now(&describe_header(&report));
     }
     let outcome = judge_all(args, &user, &options, &mut report);
+    // The verdicts came as they were known; the report lists them in the workshop's order.
+    report.functions.sort_by_key(|f| {
+        WorkshopFunction::from_name(&f.function).map_or(usize::MAX, |function| {
+            WorkshopFunction::ALL
+                .iter()
+                .position(|&f| f == function)
+                .unwrap_or(usize::MAX)
+        })
+    });
     report.passed = report.compile_errors.is_none()
         && report.functions.iter().all(|f| f.passed)
         && report.lost.is_empty();
@@ -233,6 +242,7 @@ pub fn run_worker(args: &CheckWorkerArgs) -> anyhow::Result<()> {
     };
     let fault = std::env::var(isolation::FAULT_VARIABLE).ok();
     let mut failure = None;
+    let mut stopped = false;
     let judged = judge_functions(
         &context,
         &user,
@@ -254,7 +264,8 @@ pub fn run_worker(args: &CheckWorkerArgs) -> anyhow::Result<()> {
                 failure = Some(error);
             }
             // After an error the device may be lost: a new worker judges the rest.
-            if stop || failure.is_some() {
+            stopped |= stop || failure.is_some();
+            if stopped {
                 return Err(crate::Error::InvalidSettings("stopped".into()));
             }
             Ok(())
@@ -269,9 +280,11 @@ pub fn run_worker(args: &CheckWorkerArgs) -> anyhow::Result<()> {
     if let Some(error) = failure {
         return Err(error);
     }
-    if judged.is_err() {
-        // An error was reported as an event; the parent goes on with a new worker.
-        return Ok(());
+    match judged {
+        // An error reported as an event: the parent goes on with a new worker.
+        Err(_) if stopped => return Ok(()),
+        Err(error) => return Err(error.into()),
+        Ok(()) => {}
     }
     let (errors, warnings) = context
         .validation_messages()

@@ -8,6 +8,17 @@
 //! - `functions`: the functions a file defines, with normalized signatures;
 //! - `prepare`: what is dropped, renamed and supplied (`prepare_with` and its options).
 //!
+//! Why a hand-written reader and not a GLSL parser such as the `glsl-lang` crate (GLSL 4.6
+//! with a preprocessor): what the intake must do is edit the user's text in place — blank an
+//! item, rename a token, insert a loop guard — keeping every byte and line where it was, so
+//! that the compiler's messages name the user's lines; and it must read files that are not
+//! valid GLSL 4.6 (GLSL ES 1.0/3.0 page shaders, ShaderToy tabs that use `iTime` undeclared,
+//! macros used before they are expanded, a stray line that does not compile), where a
+//! parser fails on the first error and says nothing about the rest. The statement-level
+//! work needs only the top-level items with their byte ranges, the identifiers each function
+//! references, and the compiler (glslang, through shaderc) to say which item is wrong; the
+//! tokenizer and item reader give exactly that, and glslang stays the judge of validity.
+//!
 //! `read_source_file` reads a file as published (byte-order mark, Windows line ends), and
 //! `find_entry_point` tells a ShaderToy pass (`mainImage`) from a page shader (`main`) from
 //! a file of functions (a Common tab, notes).

@@ -480,7 +480,9 @@ pub fn prepare_with(source: &str, options: &IntakeOptions) -> PreparedSource {
             let type_token = tokens_of_item.get(position);
             let is_block = tokens_of_item.iter().any(|t| t.text == "{");
             let is_opaque = type_token.is_some_and(|t| is_opaque_type(&t.text));
-            if is_block || position >= tokens_of_item.len() || is_opaque && qualifier != "uniform" {
+            // `layout(local_size_x = 8) in;` declares no variable.
+            let no_variable = type_token.is_none_or(|t| t.text == ";");
+            if is_block || no_variable || is_opaque && qualifier != "uniform" {
                 prepared.notes.push(format!(
                     "line {}: dropped the {qualifier} declaration{}",
                     first.line,
@@ -492,7 +494,11 @@ pub fn prepare_with(source: &str, options: &IntakeOptions) -> PreparedSource {
             }
             let qualifiers = first.start..tokens_of_item[position].start;
             let declarators = declared_names(&structure, item);
-            let written = tokens_of_item
+            let interface_at = tokens_of_item
+                .iter()
+                .position(|t| INTERFACE_QUALIFIERS.contains(&t.text.as_str()))
+                .unwrap_or(0);
+            let written = tokens_of_item[interface_at..]
                 .iter()
                 .take_while(|t| t.text != ";" && t.text != "=")
                 .map(|t| t.text.as_str())
