@@ -632,9 +632,9 @@ impl UserFunctions {
             return false;
         };
         let range = tokens[item.first].start..tokens[item.last].end;
-        let written: Vec<&str> = tokens[item.first..=item.last]
-            .iter()
-            .map(|t| t.text.as_str())
+        // The declaration as the user wrote it, on one line.
+        let written: Vec<&str> = self.prepared.text[range.clone()]
+            .split_whitespace()
             .collect();
         let reason = message
             .split(": error:")
@@ -644,7 +644,7 @@ impl UserFunctions {
         self.prepared.notes.push(format!(
             "line {}: dropped '{}' (it does not compile here: {reason}); a function that needs it fails to compile",
             tokens[item.first].line,
-            shorten(&written.join(" ").replace(" ;", ";"), 60)
+            shorten(&written.join(" "), 60)
         ));
         let blank: String = self.prepared.text[range.clone()]
             .chars()

@@ -228,12 +228,16 @@ pub fn indent_compiler_output(messages: &str, indent: &str) -> String {
 /// not judged, the compiler's messages.
 pub fn describe_header(report: &CheckReport) -> String {
     let mut text = String::new();
+    let device = if report.device.is_empty() {
+        String::new()
+    } else {
+        format!(" ({})", report.device)
+    };
     let _ = writeln!(
         text,
-        "vkpath check {}: {} ({})",
+        "vkpath check {}: {}{device}",
         report.file,
-        report.defined_functions.join(", "),
-        report.device
+        report.defined_functions.join(", ")
     );
     for note in &report.notes {
         let _ = writeln!(text, "note: {note}");

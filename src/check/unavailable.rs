@@ -139,7 +139,8 @@ pub fn leave_out_unavailable(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::glsl_intake::{prepare_with, IntakeOptions};
+    use crate::check::compile::check_intake_options;
+    use crate::glsl_intake::prepare_with;
 
     #[test]
     fn what_reads_a_texture_is_left_out_and_the_rest_stays() {
@@ -148,7 +149,7 @@ mod tests {
             vec3 scene_normal(int i) { return fetch(i).xyz; }\n\
             vec3 sample_sphere(vec2 u) { return vec3(u, 1.0); }\n\
             bool ray_mesh_intersection(out float t, out triangle_t tri, vec3 o, vec3 d) { t = scene_normal(0).x; return false; }\n";
-        let mut prepared = prepare_with(source, &IntakeOptions::default());
+        let mut prepared = prepare_with(source, &check_intake_options());
         assert_eq!(prepared.unavailable.len(), 1, "{:?}", prepared.unavailable);
         let left_out = leave_out_unavailable(&mut prepared, WorkshopFunction::from_name);
         let names: Vec<&str> = left_out.iter().map(|l| l.name.as_str()).collect();

@@ -886,8 +886,11 @@ fn uniform_role(
     let named = |words: &[&str]| words.iter().any(|w| lower.contains(w));
     let value = match type_name {
         "int" | "uint" if named(&["frame"]) => format!("{type_name}(0)"),
+        // A loop bound that is named like a count of things (triangles, samples, lights) is
+        // not a path length.
         "int" | "uint"
             if loop_bounds.contains(name)
+                && !named(&["count", "num", "sample", "spp", "triangle", "light", "size"])
                 || named(&["pathlength", "path_length", "bounce", "depth", "maxpath"]) =>
         {
             return Some(format!("{type_name}(MAX_PATH_LENGTH)"));
@@ -906,9 +909,9 @@ fn value_in_words(value: &str, max_path_length: Option<u32>) -> String {
         let length = max_path_length.unwrap_or(crate::contract::DEFAULT_MAX_PATH_LENGTH);
         format!("MAX_PATH_LENGTH = {length}")
     } else if value.contains("512.0") {
-        format!("{value} (ShaderToy's iResolution here)")
+        format!("{value}, the iResolution that check supplies,")
     } else {
-        format!("{value} (frame 0, time 0, as ShaderToy's inputs here)")
+        format!("{value}, as at frame 0 and time 0,")
     }
 }
 
@@ -992,8 +995,13 @@ mod tests {
             lines[2], "#define M_PI 3.141592653589793238462643",
             "macros stay"
         );
-        assert_eq!(lines[4].trim(), "vec2 u_resolution;");
-        assert!(lines[5].contains("uniform sampler2D u_texture;") && lines[5].contains("binding"));
+        assert_eq!(
+            lines[4].trim(),
+            "const vec2 u_resolution = vec2(512.0, 512.0);",
+            "a resolution uniform gets check's iResolution"
+        );
+        assert!(lines[5].trim().is_empty(), "the sampler is dropped");
+        assert_eq!(prepared.unavailable[0].name, "u_texture");
         assert_eq!(lines[6].trim(), "vec4 fragColor;");
         assert!(
             lines[7..13].iter().all(|l| l.trim().is_empty()),
@@ -1028,7 +1036,7 @@ mod tests {
         let prepared = prepare(
             "float vignette(vec2 uv) { return texture(iChannel1, uv).r * iResolution.x + gl_FragCoord.x + float(iFrame); }\n",
         );
-        for expected in ["iResolution", "iFrame", "iChannel1", "vkpath_FragCoord"] {
+        for expected in ["iResolution", "iFrame", "vkpath_FragCoord"] {
             assert!(
                 prepared.prelude.contains(expected),
                 "{expected}: {}",
@@ -1036,7 +1044,24 @@ mod tests {
             );
         }
         assert!(prepared.text.contains("vkpath_FragCoord.x"));
-        assert!(!prepared.prelude.contains("iChannel0"));
+        // Check has no channel data: iChannel1 is not supplied but listed, for the caller
+        // to leave out what reads it; with bind_opaque it gets its binding.
+        assert!(!prepared.prelude.contains("iChannel"));
+        let names: Vec<&str> = prepared
+            .unavailable
+            .iter()
+            .map(|u| u.name.as_str())
+            .collect();
+        assert_eq!(names, ["iChannel1"]);
+        let bound = prepare_with(
+            "float f(vec2 uv) { return texture(iChannel1, uv).r; }\n",
+            &IntakeOptions {
+                bind_opaque: true,
+                ..IntakeOptions::default()
+            },
+        );
+        assert!(bound.prelude.contains("uniform sampler2D iChannel1;"));
+        assert!(bound.unavailable.is_empty());
     }
 
     #[test]
