@@ -62,6 +62,8 @@ pub mod image_io;
 pub mod render;
 pub mod scene;
 #[doc(hidden)]
+pub mod shadertoy;
+#[doc(hidden)]
 pub mod vk;
 
 pub use camera::Camera;

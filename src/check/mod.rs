@@ -24,6 +24,7 @@ pub mod detect;
 pub mod deterministic;
 pub mod estimators;
 pub mod glsl_syntax;
+pub mod program;
 pub mod report;
 pub mod samplers;
 pub mod source;

@@ -16,6 +16,7 @@ pub mod merge;
 pub mod options;
 pub mod output;
 pub mod render;
+pub mod shadertoy;
 pub mod signals;
 pub mod summary;
 
@@ -47,6 +48,8 @@ pub enum Command {
     Export(export::ExportArgs),
     /// Combine shards (`render --sample-range/--shard`) into one image (EXR or PNG).
     Merge(merge::MergeArgs),
+    /// Run a whole ShaderToy program (Common, Buffers A-D, Image) headless for N frames.
+    Shadertoy(shadertoy::ShadertoyArgs),
 }
 
 /// Options that choose and check the Vulkan device.
@@ -144,6 +147,7 @@ pub fn run(cli: Cli) -> anyhow::Result<()> {
         Command::Check(args) => check::run(&args),
         Command::Export(args) => export::run(&args),
         Command::Merge(args) => merge::run(&args),
+        Command::Shadertoy(args) => shadertoy::run(&args),
     }
 }
 

@@ -1,5 +1,5 @@
 //! A thin Vulkan layer over `ash` that knows nothing of path tracing: context (instance,
-//! device, queue, allocator), buffers, storage images, compute pipelines, command
+//! device, queue, allocator), buffers, storage images, samplers, compute pipelines, command
 //! submission, validation messages and errors. Each resource frees itself on drop and holds
 //! an `Arc<Context>`, so the device outlives it.
 
@@ -9,6 +9,7 @@ pub mod context;
 pub mod error;
 pub mod image;
 pub mod pipeline;
+pub mod sampler;
 pub mod validation;
 
 pub use buffer::{Buffer, TexelBufferView};
@@ -17,4 +18,5 @@ pub use context::{list_devices, Context, ContextOptions, DeviceInfo, DeviceKind}
 pub use error::{VkError, VkResult};
 pub use image::StorageImage;
 pub use pipeline::{spirv_words, ComputePipeline, DescriptorSet};
+pub use sampler::Sampler;
 pub use validation::ValidationMessages;

@@ -9,6 +9,7 @@ use super::buffer::{Buffer, TexelBufferView};
 use super::context::Context;
 use super::error::{CallContext, VkError, VkResult};
 use super::image::StorageImage;
+use super::sampler::Sampler;
 
 /// A compute pipeline and its layouts.
 pub struct ComputePipeline {
@@ -263,6 +264,24 @@ impl DescriptorSet {
             .descriptor_type(vk::DescriptorType::STORAGE_IMAGE)
             .image_info(&info);
         // SAFETY: the image is alive; the set is not in use by pending work.
+        unsafe { self.context.device.update_descriptor_sets(&[write], &[]) };
+    }
+}
+
+impl DescriptorSet {
+    /// Points `binding` at a combined image sampler: `image` (made with
+    /// `StorageImage::sampled_2d`) in GENERAL layout, read through `sampler`.
+    pub fn write_sampled_image(&self, binding: u32, image: &StorageImage, sampler: &Sampler) {
+        let info = [vk::DescriptorImageInfo::default()
+            .sampler(sampler.handle)
+            .image_view(image.view)
+            .image_layout(vk::ImageLayout::GENERAL)];
+        let write = vk::WriteDescriptorSet::default()
+            .dst_set(self.set)
+            .dst_binding(binding)
+            .descriptor_type(vk::DescriptorType::COMBINED_IMAGE_SAMPLER)
+            .image_info(&info);
+        // SAFETY: the image and sampler are alive; the set is not in use by pending work.
         unsafe { self.context.device.update_descriptor_sets(&[write], &[]) };
     }
 }
