@@ -81,7 +81,8 @@ pub fn compile_pass(common: Option<&UserTab>, tab: &UserTab) -> Result<CompiledS
 fn rewrite_messages(messages: &str, common: Option<&UserTab>, tab: &UserTab) -> String {
     messages
         .lines()
-        .filter(|line| !line.trim().is_empty())
+        // shaderc's first line ("3 compilation errors:") says nothing the caller does not.
+        .filter(|line| !line.trim().is_empty() && !line.trim_end().ends_with("compilation error:") && !line.trim_end().ends_with("compilation errors:"))
         .map(|line| {
             if let Some(rest) = line.strip_prefix(&format!("{PASS_INCLUDE}:")) {
                 format!("{}:{rest}", tab.display_name)
@@ -123,7 +124,7 @@ mod tests {
             "void mainImage(out vec4 c, in vec2 p) { c = vec4(shade(p / iResolution.xy), 1.0) + texture(iChannel0, p); }\n",
         );
         assert!(compile_pass(Some(&common), &image).is_ok());
-        let message = compile_pass(None, &image).unwrap_err();
+        let message = compile_pass(None, &image).err().expect("an error");
         assert!(message.starts_with("image.glsl:1:"), "{message}");
     }
 
@@ -137,16 +138,18 @@ mod tests {
             "image.glsl",
             "void mainImage(out vec4 c, in vec2 p) { c = vec4(1.0); }\n",
         );
-        let message = compile_pass(Some(&common), &image).unwrap_err();
+        let message = compile_pass(Some(&common), &image).err().expect("an error");
         assert!(message.contains("my/common.glsl:3:"), "{message}");
-        let message =
-            compile_pass(None, &tab("notes.glsl", "float f() { return 1.0; }\n")).unwrap_err();
+        let message = compile_pass(None, &tab("notes.glsl", "float f() { return 1.0; }\n"))
+            .err()
+            .expect("an error");
         assert!(
             message.contains("notes.glsl: defines no mainImage"),
             "{message}"
         );
-        let message =
-            compile_pass(None, &tab("bad.glsl", "void mainImage(vec2 p) { }\n")).unwrap_err();
+        let message = compile_pass(None, &tab("bad.glsl", "void mainImage(vec2 p) { }\n"))
+            .err()
+            .expect("an error");
         assert!(
             message.starts_with("bad.glsl: in vkpath's code"),
             "{message}"
