@@ -316,3 +316,78 @@ fn sigint_and_the_time_limit_stop_after_a_frame_and_keep_it() {
         "the Image pass of the last frame reached"
     );
 }
+
+/// `vkpath check --json` on a program fixture (32 x 32 renders, as tests/check_cli.rs);
+/// returns the exit code, the `program` entry and stderr.
+fn check_program(name: &str) -> (Option<i32>, serde_json::Value, serde_json::Value) {
+    let dir = tempfile::tempdir().unwrap();
+    let file = program(name);
+    let args = [
+        "check",
+        &file,
+        "--validate",
+        "--json",
+        "--size",
+        "32",
+        "--spp",
+        "256",
+        "--output-dir",
+        "out",
+    ];
+    let output = common::vkpath(dir.path(), &args);
+    let stdout = String::from_utf8_lossy(&output.stdout);
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    assert!(!stderr.contains("panicked"), "{stderr}");
+    let report: serde_json::Value = serde_json::from_str(&stdout)
+        .unwrap_or_else(|e| panic!("not JSON ({e}): {stdout}\n{stderr}"));
+    let entry = report["functions"]
+        .as_array()
+        .and_then(|f| f.iter().find(|f| f["function"] == "program").cloned())
+        .unwrap_or_else(|| panic!("{name}: no program verdict: {stdout}"));
+    (output.status.code(), entry, report)
+}
+
+#[test]
+fn check_passes_the_exercise_7_tab_with_a_correct_intersection() {
+    let (_, program, report) = check_program("exercise7_tab.glsl");
+    assert_eq!(program["passed"], true, "{program:#}");
+    assert_eq!(program["method"], "render");
+    // Every other function of the tab passes too.
+    for function in report["functions"].as_array().unwrap() {
+        assert_eq!(function["passed"], true, "{function:#}");
+    }
+}
+
+#[test]
+fn check_fails_the_slides_tab_and_names_self_intersection() {
+    let (code, program, _) = check_program("exercise7_tab_self_intersection.glsl");
+    assert_eq!(code, Some(1));
+    assert_eq!(program["passed"], false, "{program:#}");
+    let hint = program["hint"].as_str().unwrap_or_default();
+    assert!(hint.starts_with("self-intersection"), "{program:#}");
+    assert!(
+        program["measurements"]["your_average"].as_f64()
+            < program["measurements"]["reference_average"].as_f64()
+    );
+}
+
+#[test]
+fn check_fails_the_tab_with_a_missing_factor_2() {
+    let (code, program, report) = check_program("exercise7_tab_missing_factor_2.glsl");
+    assert_eq!(code, Some(1));
+    assert_eq!(program["passed"], false, "{program:#}");
+    let radiance = report["functions"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .find(|f| f["function"] == "get_ray_radiance")
+        .unwrap();
+    assert_eq!(radiance["passed"], false);
+    assert!(
+        program["hint"]
+            .as_str()
+            .unwrap_or_default()
+            .contains("get_ray_radiance fails on its own"),
+        "{program:#}"
+    );
+}

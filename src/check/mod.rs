@@ -248,7 +248,8 @@ pub fn check(
     let statistical_tests: usize = functions
         .iter()
         .map(|&f| samplers::test_count(f) + usize::from(estimators::integrator_for(f).is_some()))
-        .sum();
+        .sum::<usize>()
+        + usize::from(program::is_workshop_program(&user.text));
     let test_alpha = if statistical_tests > 0 {
         sidak_alpha(options.alpha, statistical_tests)
             .map_err(|e| Error::InvalidSettings(e.to_string()))?
@@ -272,6 +273,9 @@ pub fn check(
                 verdict => verdict?,
             },
         };
+        report.functions.push(verdict);
+    }
+    if let Some(verdict) = program::judge_file_as_program(&session, &report.functions)? {
         report.functions.push(verdict);
     }
     report.passed = report.functions.iter().all(|f| f.passed);

@@ -34,16 +34,16 @@ use crate::shadertoy::{ChannelSource, Pass, PassKind, Program, ShadertoyRunner};
 use crate::stats::ztest::{z_test_images, MeanImage};
 use crate::vk::Context;
 
-/// Frames run when the options give none: at the workshop's 8 samples per frame, 2048
-/// samples per pixel, so that a block of 8 x 8 pixels pools 131072 paths and the z-tests
-/// resolve a bias of about 2% of a block's radiance on the Cornell box.
-pub const DEFAULT_FRAMES: u32 = 256;
+/// Frames run: at the workshop's 8 samples per frame, 1024 samples per pixel, so that a
+/// block of 8 x 8 pixels pools 65536 paths; self-intersection (about 40% darker) and a
+/// missing factor 2 are many standard deviations away.
+pub const DEFAULT_FRAMES: u32 = 128;
 /// Fewest frames the variance can be estimated from (the sample variance of each pixel's
 /// frame estimates, pooled over a block, has 64 (N - 1) degrees of freedom).
 pub const MIN_FRAMES: u32 = 8;
 /// Samples per pixel of the reference render: more than the program's, so that the
 /// comparison's noise is mostly the program's.
-const REFERENCE_SPP: u32 = 4096;
+const REFERENCE_SPP: u32 = 2048;
 /// Seed of the reference: not 0, whose samples are the workshop's own sequence, so that it
 /// is independent of the program's (the z-test assumes independent estimates).
 const REFERENCE_SEED: u32 = 11;
@@ -119,6 +119,41 @@ pub fn program_of_tabs(
     }
     Some((Program { common, passes }, PassKind::BufferA))
 }
+
+/// The `program` verdict on the session's file when it is a runnable program of the
+/// workshop's scene (`is_workshop_program`): run as a Buffer A shown by vkpath's Image pass,
+/// at the session's image size up to `MAX_PROGRAM_SIZE`, for `DEFAULT_FRAMES` frames.
+/// `None` for other files.
+pub fn judge_file_as_program(
+    session: &crate::check::Session,
+    functions: &[FunctionReport],
+) -> Result<Option<FunctionReport>> {
+    let user = session.user;
+    if !is_workshop_program(&user.text) {
+        return Ok(None);
+    }
+    let tab = (PathBuf::from(&user.display_name), user.text.clone());
+    let Some((program, accumulated)) = program_of_tabs(None, &[tab]) else {
+        return Ok(None);
+    };
+    let options = ProgramOptions {
+        size: session.options.image_size.min(MAX_PROGRAM_SIZE),
+        frames: DEFAULT_FRAMES,
+        alpha: session.test_alpha,
+        max_path_length: user
+            .prepared
+            .max_path_length
+            .filter(|l| (1..=64).contains(l))
+            .unwrap_or(crate::render::settings::DEFAULT_MAX_PATH_LENGTH),
+        output_dir: session.options.output_dir.clone(),
+    };
+    judge_program(&session.context, &program, accumulated, functions, &options).map(Some)
+}
+
+/// Largest side of the program's image: the user's code runs once per pixel and frame
+/// (about 0.5 M paths/s on lavapipe for the workshop's tab), so 64 x 64 at 128 frames is
+/// 4.2 M paths, under 10 s there.
+pub const MAX_PROGRAM_SIZE: u32 = 64;
 
 /// Per-pixel statistics of the frame estimates recovered from a running mean.
 #[derive(Clone, Debug, Default, PartialEq)]
