@@ -84,6 +84,8 @@ pub mod check;
 #[doc(hidden)]
 pub mod cpu;
 #[doc(hidden)]
+pub mod glsl_intake;
+#[doc(hidden)]
 pub mod probe;
 #[doc(hidden)]
 pub mod stats;

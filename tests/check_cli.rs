@@ -331,8 +331,11 @@ const ALL_FUNCTIONS: [&str; 8] = [
 
 #[test]
 fn a_whole_shadertoy_tab_is_judged_function_by_function() {
-    let verdicts: Vec<(&str, bool)> = ALL_FUNCTIONS.iter().map(|&f| (f, true)).collect();
-    let report = expect_verdicts("shadertoy_tab_all_solved.glsl", 0, &verdicts);
+    // Every function passes; the tab as a program (its mainImage accumulating Buffer A)
+    // self-intersects with its t >= 0 intersections and fails (tests/shadertoy_cli.rs).
+    let mut verdicts: Vec<(&str, bool)> = ALL_FUNCTIONS.iter().map(|&f| (f, true)).collect();
+    verdicts.push(("program", false));
+    let report = expect_verdicts("shadertoy_tab_all_solved.glsl", 1, &verdicts);
     let notes = report["notes"].to_string();
     assert!(notes.contains("dropped mainImage()"), "{notes}");
     assert!(notes.contains("triangle_t is the workshop's"), "{notes}");
@@ -349,10 +352,12 @@ fn a_whole_shadertoy_tab_is_judged_function_by_function() {
 
 #[test]
 fn one_mistake_in_a_tab_fails_only_that_function() {
-    let verdicts: Vec<(&str, bool)> = ALL_FUNCTIONS
+    let mut verdicts: Vec<(&str, bool)> = ALL_FUNCTIONS
         .iter()
         .map(|&f| (f, f != "sample_sphere"))
         .collect();
+    // The tab as a program is biased (its sampler, and self-intersection).
+    verdicts.push(("program", false));
     let report = expect_verdicts("shadertoy_tab_theta_pi_u.glsl", 1, &verdicts);
     let sphere = &report["functions"][1];
     assert!(
@@ -514,4 +519,236 @@ fn an_endless_loop_fails_instead_of_being_cut_silently() {
         .as_str()
         .expect("text")
         .contains("endless loop"));
+}
+
+/// Runs `vkpath check` on several solutions (tabs) at once, with small renders.
+fn check_tabs(dir: &Path, names: &[&str], extra: &[&str], env: &[(&str, &str)]) -> Outcome {
+    let files: Vec<String> = names.iter().map(|name| solution(name)).collect();
+    let mut args: Vec<&str> = vec!["check"];
+    args.extend(files.iter().map(String::as_str));
+    args.extend_from_slice(&[
+        "--validate",
+        "--size",
+        "32",
+        "--spp",
+        "256",
+        "--output-dir",
+        "out",
+    ]);
+    args.extend_from_slice(extra);
+    let output = common::vkpath_with_env(dir, &args, env);
+    let outcome = Outcome {
+        code: output.status.code(),
+        stdout: String::from_utf8_lossy(&output.stdout).into(),
+        stderr: String::from_utf8_lossy(&output.stderr).into(),
+    };
+    assert!(
+        !outcome.stderr.contains("panicked"),
+        "{names:?} panicked: {}",
+        outcome.stderr
+    );
+    outcome
+}
+
+/// The report's not-judged entry for `function`, as text ("" when there is none).
+fn not_judged(report: &Value, function: &str) -> String {
+    report["not_judged"]
+        .as_array()
+        .expect("not_judged")
+        .iter()
+        .find(|n| n["function"] == function)
+        .map(|n| n["reason"].to_string())
+        .unwrap_or_default()
+}
+
+#[test]
+fn a_scene_in_a_texture_leaves_only_the_functions_that_read_it_unjudged() {
+    let report = expect_verdicts(
+        "page_shader_scene_in_texture.glsl",
+        0,
+        &[("sample_sphere", true), ("sample_hemisphere", true)],
+    );
+    let reason = not_judged(&report, "ray_mesh_intersection");
+    assert!(
+        reason.contains("u_scene") && reason.contains("fetch_triangle"),
+        "{report}"
+    );
+    let notes = report["notes"].to_string();
+    assert!(
+        notes.contains("dropped 'uniform sampler2D u_scene'"),
+        "{notes}"
+    );
+}
+
+#[test]
+fn a_loop_bounded_by_a_uniform_gets_the_workshops_path_length() {
+    let report = expect_verdicts("uniform_path_length.glsl", 0, &[("get_ray_radiance", true)]);
+    let notes = report["notes"].to_string();
+    assert!(
+        notes.contains("'uniform int maxPathLength' is MAX_PATH_LENGTH = 5 here"),
+        "{notes}"
+    );
+}
+
+#[test]
+fn a_stray_seed_line_at_file_scope_is_dropped_and_everything_judged() {
+    let report = expect_verdicts(
+        "seed_line_at_file_scope.glsl",
+        1,
+        &[
+            ("get_random_numbers", true),
+            ("sample_sphere", false),
+            ("sample_hemisphere", true),
+            ("get_primary_ray_direction", true),
+        ],
+    );
+    let notes = report["notes"].to_string();
+    assert!(
+        notes.contains("seed_line_at_file_scope.glsl:7: dropped 'uvec2 seed = uvec2"),
+        "{notes}"
+    );
+}
+
+#[test]
+fn a_ray_query_shader_has_its_pcg2d_judged() {
+    let report = expect_verdicts("ray_query_vulkan.glsl", 0, &[("get_random_numbers", true)]);
+    let reason = not_judged(&report, "ray_mesh_intersection");
+    assert!(reason.contains("ray queries"), "{report}");
+}
+
+#[test]
+fn a_seed_without_inout_is_judged_and_fails_named() {
+    let report = expect_verdicts(
+        "pcg2d_without_inout.glsl",
+        1,
+        &[("get_random_numbers", false)],
+    );
+    let hint = report["functions"][0]["hint"].to_string();
+    assert!(
+        hint.contains("'uvec2' where the workshop's is 'inout uvec2'")
+            && hint.contains("never advances"),
+        "{hint}"
+    );
+}
+
+#[test]
+fn a_stub_is_named_as_the_exercises_stub() {
+    let report = expect_verdicts(
+        "ray_triangle_stub.glsl",
+        1,
+        &[
+            ("sample_sphere", true),
+            ("ray_triangle_intersection", false),
+        ],
+    );
+    let hint = report["functions"][1]["hint"].to_string();
+    assert!(
+        hint.contains("still the exercise's stub") && hint.contains("return false;"),
+        "{hint}"
+    );
+}
+
+#[test]
+fn a_common_tab_and_an_image_tab_are_one_program() {
+    let dir = tempfile::tempdir().expect("temporary directory");
+    // Given in the wrong order on purpose: the Common tab (no entry point) goes first anyway.
+    let outcome = check_tabs(
+        dir.path(),
+        &["image_tab_needs_common.glsl", "common_tab.glsl"],
+        &["--json"],
+        &[],
+    );
+    assert_eq!(
+        outcome.code,
+        Some(0),
+        "{}\n{}",
+        outcome.stdout,
+        outcome.stderr
+    );
+    let report = outcome.json();
+    let functions = report["functions"].as_array().expect("functions");
+    let verdicts: Vec<(&str, &str, bool)> = functions
+        .iter()
+        .map(|f| {
+            (
+                f["function"].as_str().expect("name"),
+                f["file"].as_str().expect("file"),
+                f["passed"] == true,
+            )
+        })
+        .collect();
+    let common = solution("common_tab.glsl");
+    let image = solution("image_tab_needs_common.glsl");
+    assert_eq!(
+        verdicts,
+        [
+            ("get_random_numbers", common.as_str(), true),
+            ("sample_sphere", image.as_str(), true)
+        ]
+    );
+    assert_eq!(functions[1]["line"], 4, "the Image tab's own line");
+
+    let alone = check_tabs(dir.path(), &["image_tab_needs_common.glsl"], &[], &[]);
+    assert_eq!(alone.code, Some(1), "{}", alone.stdout);
+    assert!(
+        alone.stdout.contains(
+            "'spherical_direction' is not defined in any of your files; if your program has a Common tab, pass it first"
+        ),
+        "{}",
+        alone.stdout
+    );
+}
+
+#[test]
+fn a_crash_while_judging_one_function_loses_only_its_verdict() {
+    let dir = tempfile::tempdir().expect("temporary directory");
+    // The test-only fault switch aborts the checking process, as a driver crash would.
+    let crash = [("VKPATH_CHECK_FAULT", "sample_sphere")];
+    let file = "seed_line_at_file_scope.glsl";
+    let text = check_tabs(dir.path(), &[file], &[], &crash);
+    assert_eq!(text.code, Some(1), "{}\n{}", text.stdout, text.stderr);
+    assert!(
+        text.stdout.contains("NOT JUDGED sample_sphere")
+            && text
+                .stdout
+                .contains("the Vulkan driver crashed running your function"),
+        "{}",
+        text.stdout
+    );
+    // Verdicts before and after the crash are printed.
+    for function in [
+        "get_random_numbers",
+        "sample_hemisphere",
+        "get_primary_ray_direction",
+    ] {
+        assert!(
+            text.stdout.contains(&format!("PASS {function}")),
+            "{function}: {}",
+            text.stdout
+        );
+    }
+    let json = check_tabs(dir.path(), &[file], &["--json"], &crash);
+    assert_eq!(json.code, Some(1));
+    let report = json.json();
+    assert_eq!(report["lost"][0]["function"], "sample_sphere", "{report}");
+    assert_eq!(
+        report["functions"].as_array().map(Vec::len),
+        Some(3),
+        "{report}"
+    );
+}
+
+#[test]
+fn an_unusable_file_still_gets_a_json_report() {
+    let dir = tempfile::tempdir().expect("temporary directory");
+    let outcome = check(dir.path(), "no_workshop_function.glsl", &["--json"]);
+    assert_eq!(outcome.code, Some(2));
+    let report = outcome.json();
+    assert!(
+        report["error"]
+            .as_str()
+            .expect("error text")
+            .contains("defines none of the workshop functions"),
+        "{report}"
+    );
 }

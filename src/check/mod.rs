@@ -1,7 +1,7 @@
 //! `vkpath check FILE.glsl`: judges a workshop attendee's versions of workshop functions.
 //!
 //! The file may be anything an attendee has: a whole ShaderToy tab, a WebGL page shader, or
-//! just the functions. `source` prepares it (drops entry points, `#version`, uniforms …,
+//! just the functions. `crate::glsl_intake` prepares it (drops entry points, `#version`, uniforms …,
 //! supplies ShaderToy's inputs, renames what clashes with vkpath's own names), `detect`
 //! finds the workshop functions it defines with the workshop's signatures (the prototypes of
 //! `glsl/workshop.glsl`; other uses of those names are listed as not judged), and `compile`
@@ -23,13 +23,18 @@ pub mod compile;
 pub mod detect;
 pub mod deterministic;
 pub mod estimators;
-pub mod glsl_syntax;
+pub mod isolation;
 pub mod program;
 pub mod report;
 pub mod samplers;
-pub mod source;
+pub mod unavailable;
 
-use std::path::{Path, PathBuf};
+/// The intake's preparation, under its old name (see `crate::glsl_intake`).
+pub use crate::glsl_intake::prepare as source;
+/// The intake's syntax reader, under its old name (see `crate::glsl_intake`).
+pub use crate::glsl_intake::syntax as glsl_syntax;
+
+use std::path::PathBuf;
 use std::sync::Arc;
 
 use crate::error::{Error, Result};
@@ -39,7 +44,7 @@ use crate::probe::{ProbeKind, ProbePipeline, ProbeRunner};
 use crate::scene::Scene;
 use crate::stats::sidak_alpha;
 use crate::vk::Context;
-pub use compile::UserFunctions;
+pub use compile::{NotJudged, UserFunctions};
 pub use detect::WorkshopFunction;
 pub use report::{CheckReport, FunctionReport};
 
@@ -106,18 +111,46 @@ pub enum LoadError {
     },
 }
 
-/// Reads a user's file, finds the workshop functions it defines and compiles it once (the
-/// functions that do not compile are set aside, see `UserFunctions::find_broken_functions`).
-pub fn load_user_functions(path: &Path) -> std::result::Result<UserFunctions, LoadError> {
-    let bytes = std::fs::read(path).map_err(|source| LoadError::Unreadable {
-        path: path.to_owned(),
-        source,
-    })?;
-    // Published files come with a byte-order mark or Windows line ends now and then.
-    let text = String::from_utf8_lossy(&bytes)
-        .trim_start_matches('\u{feff}')
-        .replace("\r\n", "\n");
-    let mut user = UserFunctions::new(&path.display().to_string(), text);
+/// Reads a user's files, finds the workshop functions they define and compiles them once
+/// (the functions that do not compile are set aside, see
+/// `UserFunctions::find_broken_functions`). Several files are the tabs of one ShaderToy
+/// program, in ShaderToy's order: the files without an entry point (the Common tab) come
+/// first, then the others in the order given, as one text whose lines are mapped back to
+/// each file's (`UserFunctions::sources`).
+pub fn load_user_functions(paths: &[PathBuf]) -> std::result::Result<UserFunctions, LoadError> {
+    let mut files = Vec::new();
+    for path in paths {
+        let text =
+            crate::glsl_intake::read_source_file(path).map_err(|source| LoadError::Unreadable {
+                path: path.to_owned(),
+                source,
+            })?;
+        files.push((path.display().to_string(), text));
+    }
+    let path = paths.first().cloned().unwrap_or_default();
+    let (commons, passes): (Vec<_>, Vec<_>) = files
+        .into_iter()
+        .partition(|(_, text)| crate::glsl_intake::find_entry_point(text).is_none());
+    let files: Vec<(String, String)> = commons.into_iter().chain(passes).collect();
+    let display_name = files
+        .iter()
+        .map(|(name, _)| name.as_str())
+        .collect::<Vec<_>>()
+        .join(" + ");
+    let mut text = String::new();
+    let mut sources = Vec::new();
+    for (name, file_text) in &files {
+        sources.push(compile::SourceFile {
+            name: name.clone(),
+            first_line: text.matches('\n').count() + 1,
+        });
+        text.push_str(file_text);
+        if !text.ends_with('\n') {
+            text.push('\n');
+        }
+    }
+    let mut user = UserFunctions::new(&display_name, text);
+    user.sources = sources;
     if user.definitions.is_empty() {
         if user.not_judged.is_empty() {
             return Err(LoadError::NoWorkshopFunction {
@@ -206,56 +239,93 @@ impl Session<'_> {
     }
 }
 
-/// Checks every workshop function that `user` defines with the workshop's signature and
-/// returns the verdicts: one per function, those that do not compile failed with the
-/// compiler's messages. Other uses of workshop names are listed as not judged. A file that
-/// does not compile outside its functions is reported (the compiler's messages name the
-/// user's file and lines) and nothing is judged.
-pub fn check(
-    context: &Arc<Context>,
-    user: &UserFunctions,
-    options: &CheckOptions,
-) -> Result<CheckReport> {
-    let functions = user.judged_functions();
+/// The report before any function is judged: the file, the functions it defines, the
+/// notes, the functions not judged and the compiler's messages (`device` is filled in when
+/// known).
+pub fn report_header(user: &UserFunctions, device: &str) -> CheckReport {
     let mut report = CheckReport {
         file: user.display_name.clone(),
-        device: context.info.name.clone(),
+        error: None,
+        device: device.to_string(),
         defined_functions: user
             .functions()
             .iter()
             .map(|f| f.name().to_string())
             .collect(),
         passed: false,
-        not_judged: user.not_judged.clone(),
-        notes: user.prepared.notes.clone(),
-        compile_errors: user.compile_errors.clone(),
-        compile_warnings: user.compile_warnings.clone(),
+        not_judged: user
+            .not_judged
+            .iter()
+            .map(|n| NotJudged {
+                function: n.function.clone(),
+                line: user.locate(n.line).1,
+                reason: user.localize(&n.reason),
+                file: user.locate(n.line).0,
+            })
+            .collect(),
+        lost: Vec::new(),
+        notes: user
+            .prepared
+            .notes
+            .iter()
+            .map(|note| user.localize(note))
+            .collect(),
+        compile_errors: user.compile_errors.as_deref().map(|e| user.localize(e)),
+        compile_warnings: user.localize(&user.compile_warnings),
         functions: Vec::new(),
     };
-    if report.compile_errors.is_some() {
-        return Ok(report);
-    }
     for broken in &user.broken {
         if WorkshopFunction::from_name(&broken.name).is_none() {
-            report.notes.push(format!(
+            report.notes.push(user.localize(&format!(
                 "line {}: your {} does not compile and is left out: {}",
                 broken.line,
                 broken.name,
                 broken.messages.lines().next().unwrap_or_default()
-            ));
+            )));
         }
     }
-    let statistical_tests: usize = functions
+    report
+}
+
+/// The significance level of each statistical test when `user`'s judged functions are
+/// judged: `options.alpha` Šidák-corrected over all their tests.
+pub fn test_alpha(user: &UserFunctions, options: &CheckOptions) -> Result<f64> {
+    let statistical_tests: usize = user
+        .judged_functions()
         .iter()
         .map(|&f| samplers::test_count(f) + usize::from(estimators::integrator_for(f).is_some()))
         .sum::<usize>()
         + usize::from(program::is_workshop_program(&user.text));
-    let test_alpha = if statistical_tests > 0 {
+    if statistical_tests > 0 {
         sidak_alpha(options.alpha, statistical_tests)
-            .map_err(|e| Error::InvalidSettings(e.to_string()))?
+            .map_err(|e| Error::InvalidSettings(e.to_string()))
     } else {
-        options.alpha
-    };
+        Ok(options.alpha)
+    }
+}
+
+/// The verdict on a function that does not compile (known without a device), if it does not.
+pub fn verdict_without_device(
+    user: &UserFunctions,
+    function: WorkshopFunction,
+) -> Option<FunctionReport> {
+    let broken = user.broken.iter().find(|b| b.name == function.name())?;
+    Some(user.annotate(function, does_not_compile(function, broken)))
+}
+
+/// Judges `functions` of `user` on `context` in this process, one after another, calling
+/// `before` as each begins and `on_verdict` with each verdict as soon as it is known (an
+/// error of `on_verdict` stops). `test_alpha` is `test_alpha(user, options)`, computed over
+/// all judged functions even when only some are given here.
+pub fn judge_functions(
+    context: &Arc<Context>,
+    user: &UserFunctions,
+    options: &CheckOptions,
+    test_alpha: f64,
+    functions: &[WorkshopFunction],
+    mut on_verdict: impl FnMut(WorkshopFunction, Result<FunctionReport>) -> Result<()>,
+    mut before: impl FnMut(WorkshopFunction),
+) -> Result<()> {
     let scene = Scene::builtin_cornell_box()?;
     let session = Session {
         context: context.clone(),
@@ -265,17 +335,53 @@ pub fn check(
         scene,
         test_alpha,
     };
-    for function in user.functions() {
-        let verdict = match user.broken.iter().find(|b| b.name == function.name()) {
-            Some(broken) => does_not_compile(function, broken),
+    for &function in functions {
+        before(function);
+        let verdict = match verdict_without_device(user, function) {
+            Some(verdict) => Ok(verdict),
             None => match judge(&session, function) {
-                Err(Error::LoopLimit(message)) => loops_without_end(function, user, message),
-                verdict => verdict?,
+                Err(Error::LoopLimit(message)) => {
+                    Ok(user.annotate(function, loops_without_end(function, user, message)))
+                }
+                verdict => verdict.map(|v| user.annotate(function, v)),
             },
         };
-        report.functions.push(verdict);
+        on_verdict(function, verdict)?;
     }
-    if let Some(verdict) = program::judge_file_as_program(&session, &report.functions)? {
+    Ok(())
+}
+
+/// Checks every workshop function that `user` defines with the workshop's signature in this
+/// process and returns the verdicts: one per function, those that do not compile failed
+/// with the compiler's messages. Other uses of workshop names are listed as not judged. A
+/// file that does not compile outside its functions is reported (the compiler's messages
+/// name the user's file and lines) and nothing is judged. (`vkpath check` judges in child
+/// processes instead, see `isolation`.)
+pub fn check(
+    context: &Arc<Context>,
+    user: &UserFunctions,
+    options: &CheckOptions,
+) -> Result<CheckReport> {
+    let mut report = report_header(user, &context.info.name);
+    if report.compile_errors.is_some() {
+        return Ok(report);
+    }
+    let alpha = test_alpha(user, options)?;
+    judge_functions(
+        context,
+        user,
+        options,
+        alpha,
+        &user.functions(),
+        |_, verdict| {
+            report.functions.push(verdict?);
+            Ok(())
+        },
+        |_| {},
+    )?;
+    if let Some(verdict) =
+        program::judge_user_program(context, user, options, alpha, &report.functions)?
+    {
         report.functions.push(verdict);
     }
     report.passed = report.functions.iter().all(|f| f.passed);

@@ -120,34 +120,72 @@ pub fn program_of_tabs(
     Some((Program { common, passes }, PassKind::BufferA))
 }
 
-/// The `program` verdict on the session's file when it is a runnable program of the
-/// workshop's scene (`is_workshop_program`): run as a Buffer A shown by vkpath's Image pass,
-/// at the session's image size up to `MAX_PROGRAM_SIZE`, for `DEFAULT_FRAMES` frames.
-/// `None` for other files.
-pub fn judge_file_as_program(
-    session: &crate::check::Session,
+/// The user's files as (name, text), split where each begins.
+fn user_tabs(user: &crate::check::UserFunctions) -> Vec<(PathBuf, String)> {
+    if user.sources.len() < 2 {
+        return vec![(PathBuf::from(&user.display_name), user.text.clone())];
+    }
+    let lines: Vec<&str> = user.text.split_inclusive('\n').collect();
+    user.sources
+        .iter()
+        .enumerate()
+        .map(|(i, source)| {
+            let start = source.first_line.saturating_sub(1).min(lines.len());
+            let end = user
+                .sources
+                .get(i + 1)
+                .map_or(lines.len(), |next| next.first_line.saturating_sub(1))
+                .clamp(start, lines.len());
+            (PathBuf::from(&source.name), lines[start..end].concat())
+        })
+        .collect()
+}
+
+/// The `program` verdict on the user's files when they are a runnable program of the
+/// workshop's scene (`is_workshop_program`): the tabs with `mainImage` as `program_of_tabs`
+/// makes them (a tab without one, first, is the Common tab), at the check's image size up
+/// to `MAX_PROGRAM_SIZE`, for `DEFAULT_FRAMES` frames, at the per-test significance
+/// `test_alpha`. `None` for other files.
+pub fn judge_user_program(
+    context: &Arc<Context>,
+    user: &crate::check::UserFunctions,
+    options: &crate::check::CheckOptions,
+    test_alpha: f64,
     functions: &[FunctionReport],
 ) -> Result<Option<FunctionReport>> {
-    let user = session.user;
     if !is_workshop_program(&user.text) {
         return Ok(None);
     }
-    let tab = (PathBuf::from(&user.display_name), user.text.clone());
-    let Some((program, accumulated)) = program_of_tabs(None, &[tab]) else {
+    let tabs = user_tabs(user);
+    let has_entry = |text: &str| {
+        crate::check::glsl_syntax::tokenize(text)
+            .iter()
+            .any(|t| t.text == "mainImage")
+    };
+    let mut common = None;
+    let mut passes = Vec::new();
+    for (index, (path, text)) in tabs.into_iter().enumerate() {
+        if has_entry(&text) {
+            passes.push((path, text));
+        } else if index == 0 {
+            common = Some((path, text));
+        }
+    }
+    let Some((program, accumulated)) = program_of_tabs(common, &passes) else {
         return Ok(None);
     };
-    let options = ProgramOptions {
-        size: session.options.image_size.min(MAX_PROGRAM_SIZE),
+    let program_options = ProgramOptions {
+        size: options.image_size.min(MAX_PROGRAM_SIZE),
         frames: DEFAULT_FRAMES,
-        alpha: session.test_alpha,
+        alpha: test_alpha,
         max_path_length: user
             .prepared
             .max_path_length
             .filter(|l| (1..=64).contains(l))
             .unwrap_or(crate::render::settings::DEFAULT_MAX_PATH_LENGTH),
-        output_dir: session.options.output_dir.clone(),
+        output_dir: options.output_dir.clone(),
     };
-    judge_program(&session.context, &program, accumulated, functions, &options).map(Some)
+    judge_program(context, &program, accumulated, functions, &program_options).map(Some)
 }
 
 /// Largest side of the program's image: the user's code runs once per pixel and frame
@@ -341,6 +379,23 @@ fn mainimage_line(text: &str) -> usize {
 
 /// The likely cause of a biased program, from the function verdicts and the brightness.
 fn cause(functions: &[FunctionReport], yours: f64, reference: f64) -> String {
+    let others: Vec<&str> = functions
+        .iter()
+        .filter(|f| !f.passed && f.function != "get_ray_radiance")
+        .map(|f| f.function.as_str())
+        .collect();
+    let mut cause = cause_from_radiance(functions, yours, reference);
+    if !others.is_empty() {
+        cause.push_str(&format!(
+            "; the program also uses functions of yours that fail on their own (see above): {}",
+            others.join(", ")
+        ));
+    }
+    cause
+}
+
+/// `cause` from get_ray_radiance's verdict and the brightness alone.
+fn cause_from_radiance(functions: &[FunctionReport], yours: f64, reference: f64) -> String {
     let ratio = yours / reference.max(1e-12);
     let radiance = functions.iter().find(|f| f.function == "get_ray_radiance");
     let darker = 100.0 * (1.0 - ratio);

@@ -5,7 +5,7 @@
 use std::collections::BTreeMap;
 use std::fmt::Write as _;
 
-use serde::Serialize;
+use serde::{Deserialize, Deserializer, Serialize};
 
 pub use crate::check::compile::NotJudged;
 
@@ -13,7 +13,7 @@ pub use crate::check::compile::NotJudged;
 pub const SHOWN_MISMATCHES: usize = 5;
 
 /// One input on which the user's function and the reference disagree.
-#[derive(Clone, Debug, PartialEq, Serialize)]
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct Mismatch {
     /// The input, as GLSL-like text.
     pub input: String,
@@ -24,10 +24,13 @@ pub struct Mismatch {
 }
 
 /// The verdict on one function of the user's file.
-#[derive(Clone, Debug, PartialEq, Serialize)]
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct FunctionReport {
     /// The GLSL name.
     pub function: String,
+    /// The user's file where it is defined (one of several tabs).
+    #[serde(default)]
+    pub file: String,
     /// Line of the user's file where it is defined.
     pub line: usize,
     /// How it was judged: "bit-exact", "tolerance", "chi-square" or "render".
@@ -44,7 +47,9 @@ pub struct FunctionReport {
     pub failures: usize,
     /// Near-degenerate inputs that were not judged (see `crate::probe::compare`).
     pub skipped: usize,
-    /// Measured errors and statistics by name (e.g. "max_t_error_units", "p_value").
+    /// Measured errors and statistics by name (e.g. "max_t_error_units", "p_value"); JSON
+    /// writes a value that is not a number as `null`.
+    #[serde(deserialize_with = "numbers_or_null")]
     pub measurements: BTreeMap<String, f64>,
     /// The first `SHOWN_MISMATCHES` failing inputs.
     pub mismatches: Vec<Mismatch>,
@@ -63,6 +68,7 @@ impl FunctionReport {
     pub fn new(function: &str, line: usize, method: &str, tolerance: String) -> FunctionReport {
         FunctionReport {
             function: function.to_string(),
+            file: String::new(),
             line,
             method: method.to_string(),
             passed: false,
@@ -97,11 +103,25 @@ impl FunctionReport {
     }
 }
 
+/// Measurements as JSON has them: `null` (what serde_json writes for NaN) read as NaN.
+fn numbers_or_null<'de, D: Deserializer<'de>>(
+    deserializer: D,
+) -> Result<BTreeMap<String, f64>, D::Error> {
+    let values: BTreeMap<String, Option<f64>> = BTreeMap::deserialize(deserializer)?;
+    Ok(values
+        .into_iter()
+        .map(|(name, value)| (name, value.unwrap_or(f64::NAN)))
+        .collect())
+}
+
 /// Everything `vkpath check` found about one file.
 #[derive(Clone, Debug, PartialEq, Serialize)]
 pub struct CheckReport {
-    /// The user's file.
+    /// The user's file (the files, comma-separated, for several tabs).
     pub file: String,
+    /// Why the file cannot be checked at all (exit status 2), if so; then nothing else is
+    /// filled in.
+    pub error: Option<String>,
     /// The Vulkan device that ran the checks.
     pub device: String,
     /// The workshop functions the file defines.
@@ -121,6 +141,32 @@ pub struct CheckReport {
     pub compile_warnings: String,
     /// One verdict per defined function.
     pub functions: Vec<FunctionReport>,
+    /// Functions whose judging crashed the driver, hung or failed in vkpath: not judged,
+    /// with the reason; the check fails (exit status 1) when there is one.
+    pub lost: Vec<NotJudged>,
+}
+
+impl CheckReport {
+    /// The report on files that cannot be checked at all, saying why.
+    pub fn unusable(files: &[std::path::PathBuf], error: &str) -> CheckReport {
+        CheckReport {
+            file: files
+                .iter()
+                .map(|f| f.display().to_string())
+                .collect::<Vec<_>>()
+                .join(" + "),
+            error: Some(error.to_string()),
+            device: String::new(),
+            defined_functions: Vec::new(),
+            passed: false,
+            not_judged: Vec::new(),
+            notes: Vec::new(),
+            compile_errors: None,
+            compile_warnings: String::new(),
+            functions: Vec::new(),
+            lost: Vec::new(),
+        }
+    }
 }
 
 /// A measurement as text: whole numbers as such, others with 4 significant digits.
@@ -137,6 +183,50 @@ fn number_text(value: f64) -> String {
 /// The report as text: a line per function with its verdict and summary, its tolerance, its
 /// measurements, the first mismatches and the images written.
 pub fn describe(report: &CheckReport) -> String {
+    let mut text = describe_header(report);
+    for function in &report.functions {
+        text.push_str(&describe_function(function));
+    }
+    text.push_str(&describe_summary(report));
+    text
+}
+
+/// A "NOT JUDGED" line.
+pub fn describe_not_judged(skipped: &NotJudged) -> String {
+    let place = if skipped.file.is_empty() {
+        format!("line {}", skipped.line)
+    } else {
+        format!("{}:{}", skipped.file, skipped.line)
+    };
+    format!(
+        "NOT JUDGED {} ({place}): {}\n",
+        skipped.function, skipped.reason
+    )
+}
+
+/// Compiler output indented under its item: each message on its own line, continuation
+/// lines (those that do not start a message) indented further.
+pub fn indent_compiler_output(messages: &str, indent: &str) -> String {
+    let mut text = String::new();
+    for line in messages.trim_end().lines() {
+        let starts_message = line.contains(": error:")
+            || line.contains(": warning:")
+            || line.contains(": note:")
+            || line.starts_with("ERROR:")
+            || line.starts_with("WARNING:");
+        let _ = writeln!(
+            text,
+            "{indent}{}{}",
+            if starts_message { "" } else { "  " },
+            line.trim_end()
+        );
+    }
+    text
+}
+
+/// What is known before any function is judged: the header line, the notes, the functions
+/// not judged, the compiler's messages.
+pub fn describe_header(report: &CheckReport) -> String {
     let mut text = String::new();
     let _ = writeln!(
         text,
@@ -149,29 +239,32 @@ pub fn describe(report: &CheckReport) -> String {
         let _ = writeln!(text, "note: {note}");
     }
     for skipped in &report.not_judged {
-        let _ = writeln!(
-            text,
-            "NOT JUDGED {} (line {}): {}",
-            skipped.function, skipped.line, skipped.reason
-        );
+        text.push_str(&describe_not_judged(skipped));
     }
     if let Some(errors) = &report.compile_errors {
-        let _ = writeln!(
-            text,
-            "{} does not compile:\n{}",
-            report.file,
-            errors.trim_end()
-        );
+        let _ = writeln!(text, "{} does not compile:", report.file);
+        text.push_str(&indent_compiler_output(errors, "    "));
     }
     if !report.compile_warnings.trim().is_empty() {
-        let _ = writeln!(text, "{}", report.compile_warnings.trim_end());
+        text.push_str(&indent_compiler_output(&report.compile_warnings, ""));
     }
-    for function in &report.functions {
+    text
+}
+
+/// One function's verdict with its details.
+pub fn describe_function(function: &FunctionReport) -> String {
+    let mut text = String::new();
+    {
         let verdict = if function.passed { "PASS" } else { "FAIL" };
+        let place = if function.file.is_empty() {
+            format!("line {}", function.line)
+        } else {
+            format!("{}:{}", function.file, function.line)
+        };
         let _ = writeln!(
             text,
-            "{verdict} {} (line {}, {}): {}",
-            function.function, function.line, function.method, function.summary
+            "{verdict} {} ({place}, {}): {}",
+            function.function, function.method, function.summary
         );
         let _ = writeln!(text, "    judged by: {}", function.tolerance);
         if !function.measurements.is_empty() {
@@ -197,7 +290,20 @@ pub fn describe(report: &CheckReport) -> String {
             );
         }
         if let Some(hint) = &function.hint {
-            let _ = writeln!(text, "    likely cause: {hint}");
+            let mut lines = hint.trim_end().lines();
+            let _ = writeln!(
+                text,
+                "    {}: {}",
+                if function.method == "compile" {
+                    "compiler"
+                } else {
+                    "likely cause"
+                },
+                lines.next().unwrap_or_default()
+            );
+            for line in lines {
+                let _ = writeln!(text, "      {}", line.trim_end());
+            }
         }
         for warning in &function.warnings {
             let _ = writeln!(text, "    warning: {warning}");
@@ -219,6 +325,12 @@ pub fn describe(report: &CheckReport) -> String {
             }
         }
     }
+    text
+}
+
+/// The last line: how many functions passed, failed and were not judged.
+pub fn describe_summary(report: &CheckReport) -> String {
+    let mut text = String::new();
     let judged = report.functions.len();
     let failed = report.functions.iter().filter(|f| !f.passed).count();
     let _ = writeln!(
@@ -226,14 +338,20 @@ pub fn describe(report: &CheckReport) -> String {
         "{}",
         if report.compile_errors.is_some() {
             "nothing judged: the file does not compile".to_string()
-        } else if report.passed {
+        } else if failed == 0 && report.lost.is_empty() {
             format!(
                 "all {judged} judged functions passed ({} not judged)",
                 report.not_judged.len()
             )
-        } else {
+        } else if report.lost.is_empty() {
             format!(
                 "{failed} of {judged} judged functions FAILED ({} not judged)",
+                report.not_judged.len()
+            )
+        } else {
+            format!(
+                "{failed} of {judged} judged functions FAILED, {} could not be judged (vkpath's driver failed running them), {} not judged",
+                report.lost.len(),
                 report.not_judged.len()
             )
         }

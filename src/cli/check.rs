@@ -1,15 +1,26 @@
-//! `vkpath check FILE.glsl`: judges a user's versions of workshop functions (see
+//! `vkpath check FILE.glsl...`: judges a user's versions of workshop functions (see
 //! `crate::check`). Exit status 0 when every judged function passes, 1 when one fails
 //! (including a function or file that does not compile: the compiler's messages name the
-//! file's lines), 2 when the file cannot be checked at all (it cannot be read, or nothing in
-//! it can be judged).
+//! file's lines, and a function whose judging crashed the driver), 2 when the file cannot be
+//! checked at all (it cannot be read, or nothing in it can be judged).
+//!
+//! The functions are judged in child processes (`vkpath check-worker`, see
+//! `crate::check::isolation`), so that a driver crash costs one verdict; each verdict is
+//! printed as soon as it is known, and `--json` prints one report whatever happens.
 
 use std::io::Write as _;
 use std::path::PathBuf;
+use std::time::Duration;
 
-use super::output::fail_on_validation_messages;
 use super::DeviceArgs;
-use crate::check::{check, load_user_functions, report::describe, CheckOptions};
+use crate::check::isolation::{self, Outcome, WorkerEvent, WorkerLauncher};
+use crate::check::report::{
+    describe_function, describe_header, describe_not_judged, describe_summary, CheckReport,
+};
+use crate::check::{
+    judge_functions, load_user_functions, report_header, test_alpha, verdict_without_device,
+    CheckOptions, UserFunctions, WorkshopFunction,
+};
 
 /// Exit status when a check fails.
 pub const EXIT_FAILED: i32 = 1;
@@ -19,9 +30,13 @@ pub const EXIT_USAGE: i32 = 2;
 /// Arguments of `vkpath check`.
 #[derive(Debug, Clone, clap::Args)]
 pub struct CheckArgs {
-    /// A GLSL file with your versions of workshop functions (with the workshop's
+    /// GLSL files with your versions of workshop functions (with the workshop's
     /// signatures): a whole ShaderToy tab, a WebGL page shader, or just the functions.
-    pub file: PathBuf,
+    /// Several files are the tabs of one ShaderToy program in ShaderToy's order: a file
+    /// without an entry point (mainImage or main) is the Common tab, prepended to the
+    /// others, then the Buffer tabs, then the Image tab.
+    #[arg(required = true)]
+    pub files: Vec<PathBuf>,
     /// Where to write the images of the render comparisons (created if needed).
     #[arg(long, default_value = "vkpath-check")]
     pub output_dir: PathBuf,
@@ -34,6 +49,34 @@ pub struct CheckArgs {
     /// Side of the square renders in pixels, a multiple of 8.
     #[arg(long, default_value_t = CheckOptions::default().image_size, value_parser = parse_image_size)]
     pub size: u32,
+    /// Seconds one function's judging may take before it is stopped and reported as not
+    /// judged (a hang in the driver or in the function).
+    #[arg(long, default_value_t = 600, value_parser = clap::value_parser!(u64).range(1..))]
+    pub function_time_limit: u64,
+    /// Device selection and validation.
+    #[command(flatten)]
+    pub device: DeviceArgs,
+}
+
+/// Arguments of the hidden `vkpath check-worker`: judges functions of a prepared file read
+/// as JSON from stdin, printing one JSON event per line (see `crate::check::isolation`).
+#[derive(Debug, Clone, clap::Args)]
+pub struct CheckWorkerArgs {
+    /// The functions to judge, comma-separated.
+    #[arg(long, value_delimiter = ',')]
+    pub functions: Vec<String>,
+    /// Side of the square renders.
+    #[arg(long)]
+    pub size: u32,
+    /// Samples per pixel of each render.
+    #[arg(long)]
+    pub spp: u32,
+    /// The significance level of each statistical test (over all judged functions).
+    #[arg(long)]
+    pub test_alpha: f64,
+    /// Where the images go.
+    #[arg(long)]
+    pub output_dir: PathBuf,
     /// Device selection and validation.
     #[command(flatten)]
     pub device: DeviceArgs,
@@ -50,35 +93,243 @@ fn parse_image_size(text: &str) -> Result<u32, String> {
     Ok(size)
 }
 
+/// Prints text at once (the verdicts appear as they are known, also through a pipe).
+fn print_now(text: &str) {
+    let mut stdout = std::io::stdout().lock();
+    let _ = stdout.write_all(text.as_bytes());
+    let _ = stdout.flush();
+}
+
 /// Runs `vkpath check`. Does not return when a check fails (exit status 1) or the file
 /// cannot be checked (one error line, exit status 2); other errors (no Vulkan, an image that
-/// cannot be written) go to `main` as usual (status 1).
+/// cannot be written) go to `main` as usual (status 1), after `--json` has printed the
+/// report so far.
 pub fn run(args: &CheckArgs) -> anyhow::Result<()> {
-    let user = match load_user_functions(&args.file) {
+    let user = match load_user_functions(&args.files) {
         Ok(user) => user,
         Err(error) => {
+            if args.json {
+                let report = CheckReport::unusable(&args.files, &error.to_string());
+                println!("{}", serde_json::to_string_pretty(&report)?);
+            }
             eprintln!("vkpath: error: {error}");
             std::process::exit(EXIT_USAGE);
         }
     };
-    let context = args.device.create_context()?;
     let options = CheckOptions {
         output_dir: args.output_dir.clone(),
         spp: args.spp,
         image_size: args.size,
         ..CheckOptions::default()
     };
-    let report = check(&context, &user, &options)?;
+    let mut report = report_header(&user, "");
+    if !args.json {
+        print_now(&describe_header(&report));
+    }
+    let outcome = judge_all(args, &user, &options, &mut report);
+    // The verdicts came as they were known; the report lists them in the workshop's order.
+    report.functions.sort_by_key(|f| {
+        WorkshopFunction::from_name(&f.function).map_or(usize::MAX, |function| {
+            WorkshopFunction::ALL
+                .iter()
+                .position(|&f| f == function)
+                .unwrap_or(usize::MAX)
+        })
+    });
+    report.passed = report.compile_errors.is_none()
+        && report.functions.iter().all(|f| f.passed)
+        && report.lost.is_empty();
     if args.json {
         println!("{}", serde_json::to_string_pretty(&report)?);
     } else {
-        print!("{}", describe(&report));
+        print_now(&describe_summary(&report));
     }
-    fail_on_validation_messages(&context)?;
+    let validation = outcome?;
+    if validation.validation_errors + validation.validation_warnings > 0 {
+        anyhow::bail!(
+            "the validation layer reported {} errors and {} warnings (see the log above)",
+            validation.validation_errors,
+            validation.validation_warnings
+        );
+    }
     if !report.passed {
         std::io::stdout().flush()?;
         std::process::exit(EXIT_FAILED);
     }
+    Ok(())
+}
+
+/// Judges every function of `user` into `report`, printing each verdict (without `--json`)
+/// as soon as it is known: those that do not compile at once, the others in workers.
+fn judge_all(
+    args: &CheckArgs,
+    user: &UserFunctions,
+    options: &CheckOptions,
+    report: &mut CheckReport,
+) -> anyhow::Result<isolation::WorkerSummary> {
+    if report.compile_errors.is_some() {
+        return Ok(isolation::WorkerSummary::default());
+    }
+    let mut on_device = Vec::new();
+    for function in user.functions() {
+        match verdict_without_device(user, function) {
+            Some(verdict) => {
+                if !args.json {
+                    print_now(&describe_function(&verdict));
+                }
+                report.functions.push(verdict);
+            }
+            None => on_device.push(function),
+        }
+    }
+    if on_device.is_empty() {
+        return Ok(isolation::WorkerSummary::default());
+    }
+    let launcher = WorkerLauncher {
+        executable: std::env::current_exe()
+            .map_err(|e| anyhow::anyhow!("cannot find the vkpath binary to judge with: {e}"))?,
+        device_arguments: args.device.to_arguments(),
+        function_time_limit: Duration::from_secs(args.function_time_limit),
+    };
+    let alpha = test_alpha(user, options)?;
+    let json = args.json;
+    let summary =
+        isolation::judge_in_workers(&launcher, user, options, alpha, &on_device, |outcome| {
+            match outcome {
+                Outcome::Verdict(verdict) => {
+                    if !json {
+                        print_now(&describe_function(&verdict));
+                    }
+                    report.functions.push(*verdict);
+                }
+                Outcome::Lost(lost) => {
+                    if !json {
+                        print_now(&describe_not_judged(&lost));
+                    }
+                    report.lost.push(lost);
+                }
+            }
+        })?;
+    if let Some(device) = &summary.device {
+        report.device = device.clone();
+    }
+    let mut summary = summary;
+    judge_program(args, user, options, alpha, report, &mut summary)?;
+    Ok(summary)
+}
+
+/// The `program` verdict (`crate::check::program`) when the files are a runnable program of
+/// the workshop's scene: judged in this process after the functions, whose verdicts name
+/// its likely cause; printed as soon as it is known.
+fn judge_program(
+    args: &CheckArgs,
+    user: &UserFunctions,
+    options: &CheckOptions,
+    alpha: f64,
+    report: &mut CheckReport,
+    summary: &mut isolation::WorkerSummary,
+) -> anyhow::Result<()> {
+    if !crate::check::program::is_workshop_program(&user.text) {
+        return Ok(());
+    }
+    let context = args.device.create_context()?;
+    let verdict = crate::check::program::judge_user_program(
+        &context,
+        user,
+        options,
+        alpha,
+        &report.functions,
+    );
+    if let Some(messages) = context.validation_messages() {
+        summary.validation_errors += messages.errors();
+        summary.validation_warnings += messages.warnings();
+    }
+    if let Some(verdict) = verdict? {
+        if !args.json {
+            print_now(&describe_function(&verdict));
+        }
+        report.functions.push(verdict);
+    }
+    Ok(())
+}
+
+/// Runs `vkpath check-worker` (see `CheckWorkerArgs`).
+pub fn run_worker(args: &CheckWorkerArgs) -> anyhow::Result<()> {
+    let mut state = Vec::new();
+    std::io::Read::read_to_end(&mut std::io::stdin(), &mut state)?;
+    let user: UserFunctions = serde_json::from_slice(&state)
+        .map_err(|e| anyhow::anyhow!("the check worker's input is not a prepared file: {e}"))?;
+    let functions: Vec<WorkshopFunction> = args
+        .functions
+        .iter()
+        .map(|name| {
+            WorkshopFunction::from_name(name)
+                .ok_or_else(|| anyhow::anyhow!("{name} is not a workshop function"))
+        })
+        .collect::<anyhow::Result<_>>()?;
+    let context = args.device.create_context()?;
+    isolation::emit(&WorkerEvent::Started {
+        device: context.info.name.clone(),
+    })?;
+    let options = CheckOptions {
+        output_dir: args.output_dir.clone(),
+        spp: args.spp,
+        image_size: args.size,
+        ..CheckOptions::default()
+    };
+    let fault = std::env::var(isolation::FAULT_VARIABLE).ok();
+    let mut failure = None;
+    let mut stopped = false;
+    let judged = judge_functions(
+        &context,
+        &user,
+        &options,
+        args.test_alpha,
+        &functions,
+        |function, verdict| {
+            let event = match verdict {
+                Ok(report) => WorkerEvent::Verdict {
+                    report: Box::new(report),
+                },
+                Err(error) => WorkerEvent::Error {
+                    function: function.name().to_string(),
+                    message: error.to_string(),
+                },
+            };
+            let stop = matches!(event, WorkerEvent::Error { .. });
+            if let Err(error) = isolation::emit(&event) {
+                failure = Some(error);
+            }
+            // After an error the device may be lost: a new worker judges the rest.
+            stopped |= stop || failure.is_some();
+            if stopped {
+                return Err(crate::Error::InvalidSettings("stopped".into()));
+            }
+            Ok(())
+        },
+        |function| {
+            if fault.as_deref() == Some(function.name()) {
+                // Test-only: end the process as a driver crash would.
+                std::process::abort();
+            }
+        },
+    );
+    if let Some(error) = failure {
+        return Err(error);
+    }
+    match judged {
+        // An error reported as an event: the parent goes on with a new worker.
+        Err(_) if stopped => return Ok(()),
+        Err(error) => return Err(error.into()),
+        Ok(()) => {}
+    }
+    let (errors, warnings) = context
+        .validation_messages()
+        .map_or((0, 0), |m| (m.errors(), m.warnings()));
+    isolation::emit(&WorkerEvent::Finished {
+        validation_errors: errors as u32,
+        validation_warnings: warnings as u32,
+    })?;
     Ok(())
 }
 

@@ -48,6 +48,9 @@ pub enum Command {
     Export(export::ExportArgs),
     /// Combine shards (`render --sample-range/--shard`) into one image (EXR or PNG).
     Merge(merge::MergeArgs),
+    /// (internal) Judge functions for `vkpath check` in a child process.
+    #[command(hide = true)]
+    CheckWorker(check::CheckWorkerArgs),
     /// Run a whole ShaderToy program (Common, Buffers A-D, Image) headless for N frames.
     Shadertoy(shadertoy::ShadertoyArgs),
 }
@@ -104,6 +107,21 @@ impl DeviceArgs {
             .collect()
     }
 
+    /// These options as command-line arguments (for a child process).
+    pub fn to_arguments(&self) -> Vec<String> {
+        let mut arguments = Vec::new();
+        if let Some(device) = &self.device {
+            arguments.extend(["--device".to_string(), device.clone()]);
+        }
+        if self.require_gpu {
+            arguments.push("--require-gpu".into());
+        }
+        if self.validate {
+            arguments.push("--validate".into());
+        }
+        arguments
+    }
+
     /// Creates the Vulkan context these options describe and prints which device it uses.
     pub fn create_context(&self) -> crate::Result<std::sync::Arc<crate::vk::Context>> {
         let context = crate::vk::Context::new(&crate::vk::ContextOptions {
@@ -147,6 +165,7 @@ pub fn run(cli: Cli) -> anyhow::Result<()> {
         Command::Check(args) => check::run(&args),
         Command::Export(args) => export::run(&args),
         Command::Merge(args) => merge::run(&args),
+        Command::CheckWorker(args) => check::run_worker(&args),
         Command::Shadertoy(args) => shadertoy::run(&args),
     }
 }

@@ -19,11 +19,11 @@ use std::collections::{BTreeMap, BTreeSet};
 use std::fmt::Write as _;
 use std::sync::OnceLock;
 
-use crate::check::detect::{find_functions, WorkshopFunction};
-use crate::check::glsl_syntax::{
-    matching, structural_tokens, tokenize, top_level_items, ItemKind, Token,
-};
 use crate::contract::USER_OPAQUE_BINDING_FIRST;
+use crate::glsl_intake::functions::{find_functions, Signature};
+use crate::glsl_intake::syntax::{
+    matching, structural_tokens, tokenize, top_level_items, Item, ItemKind, Token,
+};
 use crate::shaders::GLSL_SOURCES;
 
 /// Loop iterations the user's functions may run in one kernel invocation (all their loops
@@ -86,8 +86,33 @@ const FRAGMENT_BUILTINS: [(&str, &str, &str); 2] = [
     ),
 ];
 
+/// A name the user's code reads that the intake cannot supply (a sampler or image uniform
+/// whose data only the user's program has, ShaderToy's `iChannel0`–`3`, ray queries): the
+/// code that reads it can be compiled only without it.
+#[derive(Clone, Debug, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
+pub struct Unavailable {
+    /// The identifier.
+    pub name: String,
+    /// Where it is declared or first used (from 1).
+    pub line: usize,
+    /// What it is, in words ("uniform sampler2D u_scene").
+    pub what: String,
+}
+
+/// A global `uniform` that plays the role of a workshop or ShaderToy constant and is given
+/// its value (a plain global would be 0).
+#[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
+pub struct UniformValue {
+    /// The uniform's name.
+    pub name: String,
+    /// Its line (from 1).
+    pub line: usize,
+    /// The GLSL expression it is initialized with (e.g. `MAX_PATH_LENGTH`).
+    pub value: String,
+}
+
 /// The user's file made ready to be included by vkpath's kernels.
-#[derive(Clone, Debug, Default, PartialEq)]
+#[derive(Clone, Debug, Default, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct PreparedSource {
     /// The file with what cannot take part blanked and clashing names renamed; every line
     /// where it was in the user's file.
@@ -100,12 +125,19 @@ pub struct PreparedSource {
     pub epilogue: String,
     /// The user's `MAX_PATH_LENGTH` (a `#define` or an integer constant), if any.
     pub max_path_length: Option<u32>,
-    /// Workshop functions that the file defines with other parameters, renamed
-    /// `user_<name>`: (function, line, the signature as written).
-    pub renamed_workshop_functions: Vec<(WorkshopFunction, usize, String)>,
+    /// Protected functions (`IntakeOptions::protected_functions`) that the file defines
+    /// only with other parameters, renamed `user_<name>`: (name, line, the signature as
+    /// written).
+    pub renamed_functions: Vec<(String, usize, String)>,
     /// Whether the file's `triangle_t` differs from the workshop's (it is renamed
     /// `user_triangle_t`; functions taking it cannot be judged).
     pub other_triangle_struct: Option<usize>,
+    /// What the kept code reads that cannot be supplied (only without
+    /// `IntakeOptions::bind_opaque`): the declarations are dropped, and the caller leaves out
+    /// the functions that read these names.
+    pub unavailable: Vec<Unavailable>,
+    /// Uniforms given the value of the constant they stand for (`IntakeOptions::uniform_values`).
+    pub uniform_values: Vec<UniformValue>,
 }
 
 /// The global names that vkpath's own GLSL declares (functions, variables, constants,
@@ -123,7 +155,7 @@ fn kernel_names() -> &'static KernelNames {
         let mut macros = BTreeMap::new();
         let mut triangle_members = Vec::new();
         for (file, text) in GLSL_SOURCES {
-            if *file == crate::check::compile::USER_FUNCTIONS_FILE {
+            if *file == crate::glsl_intake::USER_FUNCTIONS_FILE {
                 continue;
             }
             let tokens = tokenize(text);
@@ -177,7 +209,7 @@ fn directives(tokens: &[Token]) -> Vec<Vec<Token>> {
 
 /// The names that a top-level item declares: a function's name, a struct's name, the
 /// declarators of a variable declaration.
-fn declared_names(tokens: &[Token], item: &crate::check::glsl_syntax::Item) -> Vec<String> {
+fn declared_names(tokens: &[Token], item: &Item) -> Vec<String> {
     if let Some(name) = item.name {
         return vec![tokens[name].text.clone()];
     }
@@ -225,11 +257,7 @@ fn is_type_keyword(word: &str) -> bool {
 
 /// The members of `struct <name> { ... };` as normalized lines ("vec3 positions [ 3 ]"), if
 /// the item is that struct.
-fn struct_members(
-    tokens: &[Token],
-    item: &crate::check::glsl_syntax::Item,
-    name: &str,
-) -> Option<Vec<String>> {
+fn struct_members(tokens: &[Token], item: &Item, name: &str) -> Option<Vec<String>> {
     let items = &tokens[item.first..=item.last];
     let position = items.iter().position(|t| t.text == "struct")?;
     if items.get(position + 1)?.text != name || items.get(position + 2)?.text != "{" {
@@ -284,8 +312,61 @@ fn apply(text: &str, mut edits: Vec<Edit>) -> String {
     result
 }
 
-/// Prepares a user's file (see the module documentation).
+/// What `prepare_with` keeps, supplies and protects.
+#[derive(Clone, Debug, PartialEq)]
+pub struct IntakeOptions {
+    /// Keep the entry points (`mainImage`, `main`, …) instead of dropping them: a program
+    /// that runs the user's passes needs them, `check` calls the functions itself.
+    pub keep_entry_points: bool,
+    /// Supply ShaderToy's inputs (`iResolution`, `iFrame`, `iChannel0`–`3`, …) and
+    /// `gl_FragCoord`/`gl_FragColor` in the prelude when the kept code reads them (as
+    /// `check` does: frame 0 of a 512 x 512 image). Without it the caller declares them.
+    pub supply_inputs: bool,
+    /// Guard every loop of the user's functions with `vkpath_loop_guard()` (see
+    /// `USER_LOOP_LIMIT`); the guard's globals are declared in the prelude.
+    pub guard_loops: bool,
+    /// Rename the user's global names that vkpath's embedded kernels also declare
+    /// `user_<name>` (needed when the user's code is included into vkpath's kernels).
+    pub avoid_kernel_names: bool,
+    /// Functions with a fixed signature (the workshop's): a file that defines one only with
+    /// other parameters has it renamed `user_<name>` (listed in `renamed_functions`).
+    pub protected_functions: Vec<(String, Signature)>,
+    /// Keep the user's sampler and image uniforms, with bindings from
+    /// `USER_OPAQUE_BINDING_FIRST + 4` on (the caller binds them). Without it (`check`) they
+    /// are dropped and listed in `PreparedSource::unavailable`, with `iChannel0`–`3` and ray
+    /// queries, for the caller to leave out the code that reads them.
+    pub bind_opaque: bool,
+    /// Give uniforms that stand for a constant its value (`PreparedSource::uniform_values`):
+    /// an `int`/`uint` that bounds a loop or is named like a path length gets
+    /// `MAX_PATH_LENGTH` (which the including code defines), a `vec2`/`vec3` resolution
+    /// `iResolution`'s value, a frame counter 0 and a time 0.0, as `check` supplies
+    /// ShaderToy's inputs.
+    pub uniform_values: bool,
+}
+
+impl Default for IntakeOptions {
+    /// What `check` does (`prepare`), without protected functions.
+    fn default() -> IntakeOptions {
+        IntakeOptions {
+            keep_entry_points: false,
+            supply_inputs: true,
+            guard_loops: true,
+            avoid_kernel_names: true,
+            protected_functions: Vec::new(),
+            bind_opaque: false,
+            uniform_values: true,
+        }
+    }
+}
+
+/// Prepares a user's file with `IntakeOptions::default()` (what `check` does, except that
+/// `check` also protects the workshop functions; see the module documentation).
 pub fn prepare(source: &str) -> PreparedSource {
+    prepare_with(source, &IntakeOptions::default())
+}
+
+/// Prepares a user's file (see the module documentation and `IntakeOptions`).
+pub fn prepare_with(source: &str, options: &IntakeOptions) -> PreparedSource {
     let ours = kernel_names();
     let tokens = tokenize(source);
     let mut prepared = PreparedSource::default();
@@ -336,12 +417,14 @@ pub fn prepare(source: &str) -> PreparedSource {
     let mut declared: BTreeMap<String, usize> = BTreeMap::new();
     let mut opaque_bindings = 0u32;
     let found = find_functions(source);
+    let loop_bounds = loop_condition_names(&structure, &items, &ENTRY_POINTS);
+
     for item in &items {
         let first = &structure[item.first];
         let range = first.start..structure[item.last].end;
         if let Some(name) = item.name {
             let name_text = &structure[name].text;
-            if ENTRY_POINTS.contains(&name_text.as_str()) {
+            if ENTRY_POINTS.contains(&name_text.as_str()) && !options.keep_entry_points {
                 if item.kind == ItemKind::FunctionDefinition {
                     prepared.notes.push(format!(
                         "line {}: dropped {name_text}() (the entry point; vkpath's kernels call your functions)",
@@ -397,7 +480,9 @@ pub fn prepare(source: &str) -> PreparedSource {
             let type_token = tokens_of_item.get(position);
             let is_block = tokens_of_item.iter().any(|t| t.text == "{");
             let is_opaque = type_token.is_some_and(|t| is_opaque_type(&t.text));
-            if is_block || position >= tokens_of_item.len() || is_opaque && qualifier != "uniform" {
+            // `layout(local_size_x = 8) in;` declares no variable.
+            let no_variable = type_token.is_none_or(|t| t.text == ";");
+            if is_block || no_variable || is_opaque && qualifier != "uniform" {
                 prepared.notes.push(format!(
                     "line {}: dropped the {qualifier} declaration{}",
                     first.line,
@@ -408,7 +493,73 @@ pub fn prepare(source: &str) -> PreparedSource {
                 continue;
             }
             let qualifiers = first.start..tokens_of_item[position].start;
-            if is_opaque {
+            let declarators = declared_names(&structure, item);
+            let interface_at = tokens_of_item
+                .iter()
+                .position(|t| INTERFACE_QUALIFIERS.contains(&t.text.as_str()))
+                .unwrap_or(0);
+            let written = tokens_of_item[interface_at..]
+                .iter()
+                .take_while(|t| t.text != ";" && t.text != "=")
+                .map(|t| t.text.as_str())
+                .collect::<Vec<_>>()
+                .join(" ");
+            if is_opaque && !options.bind_opaque {
+                let what = tokens_of_item[position - 1..]
+                    .iter()
+                    .take_while(|t| t.text != ";")
+                    .map(|t| t.text.as_str())
+                    .collect::<Vec<_>>()
+                    .join(" ");
+                prepared.notes.push(format!(
+                    "line {}: dropped '{written}' (check has no data for it): functions that read it are not judged",
+                    first.line
+                ));
+                for name in &declarators {
+                    prepared.unavailable.push(Unavailable {
+                        name: name.clone(),
+                        line: first.line,
+                        what: what.replace(" ,", ","),
+                    });
+                }
+                blanked.push(range.clone());
+                edits.push(blank(source, range));
+                continue;
+            }
+            let type_text = type_token.map_or("", |t| t.text.as_str());
+            let role = (options.uniform_values && qualifier == "uniform" && declarators.len() == 1)
+                .then(|| {
+                    uniform_role(
+                        type_text,
+                        &declarators[0],
+                        &loop_bounds,
+                        options.supply_inputs,
+                    )
+                })
+                .flatten();
+            if let Some(value) = role {
+                let name = &declarators[0];
+                let end = tokens_of_item.last().map_or(range.end, |t| t.start);
+                edits.push(Edit {
+                    range: qualifiers.clone(),
+                    replacement: "const ".into(),
+                });
+                edits.push(Edit {
+                    range: end..end,
+                    replacement: format!(" = {value}"),
+                });
+                prepared.notes.push(format!(
+                    "line {}: 'uniform {type_text} {name}' is {} here ({})",
+                    first.line,
+                    value_in_words(&value, prepared.max_path_length),
+                    role_in_words(&value)
+                ));
+                prepared.uniform_values.push(UniformValue {
+                    name: name.clone(),
+                    line: first.line,
+                    value,
+                });
+            } else if is_opaque {
                 let binding = USER_OPAQUE_BINDING_FIRST + 4 + opaque_bindings;
                 opaque_bindings += 1;
                 edits.push(Edit {
@@ -417,14 +568,19 @@ pub fn prepare(source: &str) -> PreparedSource {
                 });
             } else {
                 prepared.notes.push(format!(
-                    "line {}: '{}' is a plain global here (no {qualifier} in a compute kernel)",
+                    "line {}: '{}' is a plain global here (no {qualifier} in a compute kernel{})",
                     first.line,
                     tokens_of_item[position..]
                         .iter()
                         .take_while(|t| t.text != ";" && t.text != "=")
                         .map(|t| t.text.as_str())
                         .collect::<Vec<_>>()
-                        .join(" ")
+                        .join(" "),
+                    if qualifier == "uniform" {
+                        "; it is 0"
+                    } else {
+                        ""
+                    }
                 ));
                 edits.push(blank(source, qualifiers));
             }
@@ -448,26 +604,21 @@ pub fn prepare(source: &str) -> PreparedSource {
     // Names that clash with vkpath's: workshop functions with other parameters, a
     // different triangle_t, and any other global name the kernels declare too.
     let mut renames: BTreeMap<String, String> = BTreeMap::new();
-    for function in WorkshopFunction::ALL {
+    for (function, signature) in &options.protected_functions {
         let definitions: Vec<_> = found
             .iter()
-            .filter(|f| f.has_body && f.name == function.name())
+            .filter(|f| f.has_body && f.name == *function)
             .collect();
-        let any_workshop = definitions
-            .iter()
-            .any(|f| function.signature().as_ref() == Some(&f.signature));
-        if !definitions.is_empty() && !any_workshop {
+        let any_protected = definitions.iter().any(|f| f.signature == *signature);
+        if !definitions.is_empty() && !any_protected {
             for definition in &definitions {
-                prepared.renamed_workshop_functions.push((
-                    function,
+                prepared.renamed_functions.push((
+                    function.clone(),
                     definition.line,
                     definition.signature.to_string(),
                 ));
             }
-            renames.insert(
-                function.name().to_string(),
-                format!("user_{}", function.name()),
-            );
+            renames.insert(function.clone(), format!("user_{function}"));
         }
     }
     if let Some(line) = prepared.other_triangle_struct {
@@ -477,8 +628,9 @@ pub fn prepare(source: &str) -> PreparedSource {
         renames.insert("triangle_t".into(), "user_triangle_t".into());
     }
     for (name, line) in &declared {
-        let is_workshop = WorkshopFunction::from_name(name).is_some();
-        if !is_workshop
+        let is_protected = options.protected_functions.iter().any(|(f, _)| f == name);
+        if options.avoid_kernel_names
+            && !is_protected
             && name != "triangle_t"
             && ours.identifiers.contains(name)
             && !user_macros.contains(name)
@@ -518,7 +670,7 @@ pub fn prepare(source: &str) -> PreparedSource {
     // silently after 65535 and return whatever the function had).
     for item in items
         .iter()
-        .filter(|i| i.kind == ItemKind::FunctionDefinition)
+        .filter(|i| i.kind == ItemKind::FunctionDefinition && options.guard_loops)
     {
         if blanked
             .iter()
@@ -574,21 +726,50 @@ pub fn prepare(source: &str) -> PreparedSource {
         }
     }
     prepared.text = apply(source, edits);
+    if !options.bind_opaque {
+        let mut seen = BTreeSet::new();
+        for token in tokens
+            .iter()
+            .filter(|t| t.is_identifier() && !is_blanked(t))
+        {
+            let what = if token.text.starts_with("rayQuery") {
+                "ray queries (GL_EXT_ray_query), which check cannot run".to_string()
+            } else if token.text.len() == 9
+                && token.text.starts_with("iChannel")
+                && !declared.contains_key(&token.text)
+            {
+                format!("ShaderToy's {}, whose data check does not have", token.text)
+            } else {
+                continue;
+            };
+            if seen.insert(token.text.clone()) {
+                prepared.unavailable.push(Unavailable {
+                    name: token.text.clone(),
+                    line: token.line,
+                    what,
+                });
+            }
+        }
+    }
 
     // The prelude: undefine the user's macros, supply what the kept code reads, and the
     // guard of the user's loops.
-    let mut prelude = format!(
-        "uint g_user_loop_iterations = 0u;\nbool g_user_loop_limit_hit = false;\n\
-         bool vkpath_loop_guard() {{ if (++g_user_loop_iterations > {USER_LOOP_LIMIT}u) {{ \
-         g_user_loop_limit_hit = true; return false; }} return true; }}\n"
-    );
+    let mut prelude = String::new();
+    if options.guard_loops {
+        prelude = format!(
+            "uint g_user_loop_iterations = 0u;\nbool g_user_loop_limit_hit = false;\n\
+             bool vkpath_loop_guard() {{ if (++g_user_loop_iterations > {USER_LOOP_LIMIT}u) {{ \
+             g_user_loop_limit_hit = true; return false; }} return true; }}\n"
+        );
+    }
     let unique_macros: BTreeSet<&String> = user_macros.iter().collect();
     for name in &unique_macros {
         let _ = writeln!(prelude, "#undef {name}");
     }
     let mut supplied = Vec::new();
     for (name, declaration) in SHADERTOY_INPUTS {
-        if referenced.contains(name)
+        if options.supply_inputs
+            && referenced.contains(name)
             && !declared.contains_key(name)
             && !unique_macros.contains(&name.to_string())
         {
@@ -598,7 +779,11 @@ pub fn prepare(source: &str) -> PreparedSource {
     }
     for channel in 0..4u32 {
         let name = format!("iChannel{channel}");
-        if referenced.contains(&name) && !declared.contains_key(&name) {
+        if options.supply_inputs
+            && options.bind_opaque
+            && referenced.contains(&name)
+            && !declared.contains_key(&name)
+        {
             let _ = writeln!(
                 prelude,
                 "layout(set = 0, binding = {}) uniform sampler2D {name};",
@@ -613,7 +798,7 @@ pub fn prepare(source: &str) -> PreparedSource {
         }
     }
     for (name, _, declaration) in FRAGMENT_BUILTINS {
-        if referenced.contains(name) {
+        if options.supply_inputs && referenced.contains(name) {
             let _ = writeln!(prelude, "{declaration}");
             supplied.push(name);
         }
@@ -643,6 +828,115 @@ pub fn prepare(source: &str) -> PreparedSource {
     prepared
 }
 
+/// The identifiers that stand in the loop conditions (`for (…; condition; …)`, `while
+/// (condition)`) of the functions other than `excluded` (the entry points, which are not
+/// kept).
+fn loop_condition_names(tokens: &[Token], items: &[Item], excluded: &[&str]) -> BTreeSet<String> {
+    let mut names = BTreeSet::new();
+    for item in items
+        .iter()
+        .filter(|i| i.kind == ItemKind::FunctionDefinition)
+    {
+        if item
+            .name
+            .is_some_and(|n| excluded.contains(&tokens[n].text.as_str()))
+        {
+            continue;
+        }
+        for index in item.first..item.last {
+            let keyword = tokens[index].text.as_str();
+            if !(keyword == "for" || keyword == "while")
+                || tokens.get(index + 1).is_none_or(|t| t.text != "(")
+            {
+                continue;
+            }
+            let Some(close) = matching(tokens, index + 1, "(", ")") else {
+                continue;
+            };
+            let inside = &tokens[index + 2..close];
+            let condition: &[Token] = if keyword == "for" {
+                let parts: Vec<&[Token]> = inside.split(|t| t.text == ";").collect();
+                parts.get(1).copied().unwrap_or(&[])
+            } else {
+                inside
+            };
+            names.extend(
+                condition
+                    .iter()
+                    .filter(|t| t.is_identifier())
+                    .map(|t| t.text.clone()),
+            );
+        }
+    }
+    names
+}
+
+/// The value of a uniform that stands for a constant, by its type and name: an integer that
+/// bounds a loop or is named like a path length is `MAX_PATH_LENGTH`; with `inputs` (the
+/// intake supplies ShaderToy's inputs) a `vec2`/`vec3` resolution is `iResolution`'s value
+/// (512 x 512), a frame counter `iFrame`'s (0), a time `iTime`'s (0.0). Constant
+/// expressions, as a global's initializer must be.
+fn uniform_role(
+    type_name: &str,
+    name: &str,
+    loop_bounds: &BTreeSet<String>,
+    inputs: bool,
+) -> Option<String> {
+    let lower = name.to_lowercase();
+    let named = |words: &[&str]| words.iter().any(|w| lower.contains(w));
+    let value = match type_name {
+        "int" | "uint" if named(&["frame"]) => format!("{type_name}(0)"),
+        "int" | "uint"
+            if loop_bounds.contains(name)
+                || named(&["pathlength", "path_length", "bounce", "depth", "maxpath"]) =>
+        {
+            return Some(format!("{type_name}(MAX_PATH_LENGTH)"));
+        }
+        "vec2" if named(&["resolution"]) => "vec2(512.0, 512.0)".into(),
+        "vec3" if named(&["resolution"]) => "vec3(512.0, 512.0, 1.0)".into(),
+        "float" if named(&["frame"]) || named(&["time"]) => "0.0".into(),
+        _ => return None,
+    };
+    inputs.then_some(value)
+}
+
+/// A uniform's value in words, for its note.
+fn value_in_words(value: &str, max_path_length: Option<u32>) -> String {
+    if value.contains("MAX_PATH_LENGTH") {
+        let length = max_path_length.unwrap_or(crate::contract::DEFAULT_MAX_PATH_LENGTH);
+        format!("MAX_PATH_LENGTH = {length}")
+    } else if value.contains("512.0") {
+        format!("{value} (ShaderToy's iResolution here)")
+    } else {
+        format!("{value} (frame 0, time 0, as ShaderToy's inputs here)")
+    }
+}
+
+/// What the uniform was taken for, for its note.
+fn role_in_words(value: &str) -> &'static str {
+    if value.contains("MAX_PATH_LENGTH") {
+        "an integer uniform that bounds a loop or is named like a path length plays the workshop's MAX_PATH_LENGTH; a plain global would be 0"
+    } else {
+        "its name says what it holds; a plain global would be 0"
+    }
+}
+
+/// Every global name that `source` declares: functions, structs, variables and constants,
+/// and its macros.
+pub fn declared_globals(source: &str) -> BTreeSet<String> {
+    let tokens = tokenize(source);
+    let mut names: BTreeSet<String> = directives(&tokens)
+        .into_iter()
+        .filter(|d| d.len() >= 3 && d[1].text == "define")
+        .map(|d| d[2].text.clone())
+        .collect();
+    let structure = structural_tokens(&tokens);
+    for item in top_level_items(&structure) {
+        names.extend(declared_names(&structure, &item));
+    }
+    names
+}
+
 /// Whether a GLSL type is opaque (a sampler, image or the like), which only a uniform with
 /// a binding can hold.
 fn is_opaque_type(word: &str) -> bool {
@@ -658,6 +952,8 @@ fn is_opaque_type(word: &str) -> bool {
         "utexture",
         "subpassInput",
         "atomic_uint",
+        "accelerationStructure",
+        "rayQuery",
     ]
     .iter()
     .any(|prefix| word.starts_with(prefix))
@@ -677,7 +973,17 @@ mod tests {
 
     #[test]
     fn a_shadertoy_tab_keeps_its_lines_and_drops_what_cannot_take_part() {
-        let prepared = prepare(TAB);
+        let options = IntakeOptions {
+            protected_functions: vec![(
+                "get_ray_radiance".into(),
+                Signature {
+                    return_type: "vec3".into(),
+                    parameters: vec!["vec3".into(), "vec3".into(), "inout uvec2".into()],
+                },
+            )],
+            ..IntakeOptions::default()
+        };
+        let prepared = prepare_with(TAB, &options);
         assert_eq!(prepared.text.lines().count(), TAB.lines().count());
         let lines: Vec<&str> = prepared.text.lines().collect();
         assert!(lines[0].trim().is_empty(), "#version dropped");
@@ -705,7 +1011,7 @@ mod tests {
             "mainImage dropped"
         );
         assert_eq!(prepared.max_path_length, Some(4));
-        assert_eq!(prepared.renamed_workshop_functions.len(), 1);
+        assert_eq!(prepared.renamed_functions.len(), 1);
         assert!(prepared.prelude.contains("#undef M_PI"));
         assert!(
             !prepared.prelude.contains("iChannel0"),

@@ -1,0 +1,271 @@
+//! Judging each function in a child process, so that a driver crash, a hang or a lost device
+//! while one function runs costs only that function's verdict.
+//!
+//! The parent (`vkpath check`) never touches Vulkan: it prepares the user's file and starts
+//! `vkpath check-worker` (a hidden subcommand of the same binary) with the functions to
+//! judge, writing the prepared file as JSON to the worker's stdin. The worker creates the device and prints one
+//! JSON line per event on its stdout: `started` (the device), one `verdict` per function as
+//! soon as it is known, and `finished` (what the validation layer reported). When the
+//! worker ends before a function's verdict (a crash: llvmpipe's segfaults end the process)
+//! or runs past the time limit (then it is killed), that function is NOT JUDGED with the
+//! reason, and a new worker judges the functions that remain.
+//!
+//! `VKPATH_CHECK_FAULT=<function>` (for tests only) makes the worker abort, as a driver
+//! crash would, just before it judges that function.
+
+use std::io::{BufRead, BufReader, Write as _};
+use std::path::PathBuf;
+use std::process::{Child, Command, Stdio};
+use std::sync::mpsc;
+use std::time::Duration;
+
+use serde::{Deserialize, Serialize};
+
+use crate::check::compile::{NotJudged, UserFunctions};
+use crate::check::detect::WorkshopFunction;
+use crate::check::report::FunctionReport;
+use crate::check::CheckOptions;
+
+/// The test-only fault switch (see the module documentation).
+pub const FAULT_VARIABLE: &str = "VKPATH_CHECK_FAULT";
+
+/// What a worker reports, one JSON object per line of its stdout.
+#[derive(Clone, Debug, Serialize, Deserialize)]
+#[serde(tag = "event", rename_all = "snake_case")]
+pub enum WorkerEvent {
+    /// The device is ready.
+    Started {
+        /// Its name.
+        device: String,
+    },
+    /// One function's verdict.
+    Verdict {
+        /// The verdict.
+        report: Box<FunctionReport>,
+    },
+    /// Judging one function failed with an error that is vkpath's, not the user's code's
+    /// (an image that cannot be written, a Vulkan error).
+    Error {
+        /// The function.
+        function: String,
+        /// The error, in one line.
+        message: String,
+    },
+    /// Every function given was judged.
+    Finished {
+        /// Errors the validation layer reported (0 without `--validate`).
+        validation_errors: u32,
+        /// Warnings the validation layer reported.
+        validation_warnings: u32,
+    },
+}
+
+/// How the parent starts workers.
+#[derive(Clone, Debug)]
+pub struct WorkerLauncher {
+    /// The vkpath binary.
+    pub executable: PathBuf,
+    /// Device arguments passed on (`--device`, `--validate`, `--require-gpu`).
+    pub device_arguments: Vec<String>,
+    /// How long one function may take before its worker is killed.
+    pub function_time_limit: Duration,
+}
+
+/// What became of one function judged in a worker.
+#[derive(Clone, Debug)]
+pub enum Outcome {
+    /// Its verdict.
+    Verdict(Box<FunctionReport>),
+    /// Its worker crashed or hung: not judged, with the reason.
+    Lost(NotJudged),
+}
+
+/// What the workers found besides the verdicts.
+#[derive(Clone, Debug, Default)]
+pub struct WorkerSummary {
+    /// The device the workers ran on.
+    pub device: Option<String>,
+    /// Errors the validation layer reported, over all workers.
+    pub validation_errors: u32,
+    /// Warnings the validation layer reported.
+    pub validation_warnings: u32,
+}
+
+/// Judges `functions` of `user` in workers, calling `on_outcome` as each verdict is known.
+/// Fails only when no worker can start (no Vulkan device, say: the worker's error is
+/// returned) or vkpath itself fails judging a function.
+pub fn judge_in_workers(
+    launcher: &WorkerLauncher,
+    user: &UserFunctions,
+    options: &CheckOptions,
+    test_alpha: f64,
+    functions: &[WorkshopFunction],
+    mut on_outcome: impl FnMut(Outcome),
+) -> anyhow::Result<WorkerSummary> {
+    let state = serde_json::to_vec(user)?;
+    let mut summary = WorkerSummary::default();
+    let mut remaining: Vec<WorkshopFunction> = functions.to_vec();
+    while !remaining.is_empty() {
+        let mut child = launcher.spawn(options, test_alpha, &remaining)?;
+        if let Some(mut stdin) = child.stdin.take() {
+            // A worker that dies at once closes the pipe; that is reported below.
+            let _ = stdin.write_all(&state);
+        }
+        let stdout = child
+            .stdout
+            .take()
+            .ok_or_else(|| anyhow::anyhow!("the check worker has no output"))?;
+        let (sender, receiver) = mpsc::channel::<String>();
+        std::thread::spawn(move || {
+            for line in BufReader::new(stdout).lines() {
+                let Ok(line) = line else { break };
+                if sender.send(line).is_err() {
+                    break;
+                }
+            }
+        });
+        let mut started = false;
+        let lost_reason = loop {
+            let line = match receiver.recv_timeout(launcher.function_time_limit) {
+                Ok(line) => line,
+                Err(mpsc::RecvTimeoutError::Timeout) => {
+                    let _ = child.kill();
+                    let _ = child.wait();
+                    break Some(format!(
+                        "judging it did not finish within {} s (a hang in the driver or your code); the other functions are judged without it",
+                        launcher.function_time_limit.as_secs()
+                    ));
+                }
+                Err(mpsc::RecvTimeoutError::Disconnected) => {
+                    let status = child.wait()?;
+                    if !started {
+                        anyhow::bail!(
+                            "the check worker could not start ({}); see the messages above",
+                            describe_status(&status)
+                        );
+                    }
+                    break Some(format!(
+                        "the Vulkan driver crashed running your function (the checking process ended: {}); the other functions are judged without it",
+                        describe_status(&status)
+                    ));
+                }
+            };
+            let Ok(event) = serde_json::from_str::<WorkerEvent>(&line) else {
+                continue; // not an event (a driver printing to stdout)
+            };
+            match event {
+                WorkerEvent::Started { device } => {
+                    started = true;
+                    summary.device = Some(device);
+                }
+                WorkerEvent::Verdict { report } => {
+                    remaining.retain(|f| f.name() != report.function);
+                    on_outcome(Outcome::Verdict(report));
+                }
+                WorkerEvent::Error { function, message } => {
+                    let _ = child.kill();
+                    let _ = child.wait();
+                    break Some(format!(
+                        "judging {function} failed in vkpath: {message}; the other functions are judged without it"
+                    ));
+                }
+                WorkerEvent::Finished {
+                    validation_errors,
+                    validation_warnings,
+                } => {
+                    summary.validation_errors += validation_errors;
+                    summary.validation_warnings += validation_warnings;
+                    let _ = child.wait();
+                    break None;
+                }
+            }
+        };
+        if let Some(reason) = lost_reason {
+            let lost = remaining.remove(0);
+            on_outcome(Outcome::Lost(NotJudged {
+                function: lost.name().to_string(),
+                line: user.locate(user.line_of(lost)).1,
+                reason,
+                file: user.locate(user.line_of(lost)).0,
+            }));
+        } else if !remaining.is_empty() {
+            anyhow::bail!(
+                "the check worker finished without judging {}",
+                remaining
+                    .iter()
+                    .map(|f| f.name())
+                    .collect::<Vec<_>>()
+                    .join(", ")
+            );
+        }
+    }
+    Ok(summary)
+}
+
+impl WorkerLauncher {
+    /// Starts a worker for `functions` (the prepared file goes to its stdin).
+    fn spawn(
+        &self,
+        options: &CheckOptions,
+        test_alpha: f64,
+        functions: &[WorkshopFunction],
+    ) -> anyhow::Result<Child> {
+        let names: Vec<&str> = functions.iter().map(|f| f.name()).collect();
+        Command::new(&self.executable)
+            .arg("check-worker")
+            .arg("--functions")
+            .arg(names.join(","))
+            .arg("--size")
+            .arg(options.image_size.to_string())
+            .arg("--spp")
+            .arg(options.spp.to_string())
+            .arg("--test-alpha")
+            .arg(format!("{test_alpha:e}"))
+            .arg("--output-dir")
+            .arg(&options.output_dir)
+            .args(&self.device_arguments)
+            .stdin(Stdio::piped())
+            .stdout(Stdio::piped())
+            .stderr(Stdio::inherit())
+            .spawn()
+            .map_err(|e| {
+                anyhow::anyhow!(
+                    "cannot start the check worker '{}': {e}",
+                    self.executable.display()
+                )
+            })
+    }
+}
+
+/// An exit status in words ("killed by signal 11 (SIGSEGV)", "exit status 1").
+fn describe_status(status: &std::process::ExitStatus) -> String {
+    #[cfg(unix)]
+    {
+        use std::os::unix::process::ExitStatusExt as _;
+        if let Some(signal) = status.signal() {
+            let name = match signal {
+                4 => " (SIGILL)",
+                6 => " (SIGABRT)",
+                7 => " (SIGBUS)",
+                8 => " (SIGFPE)",
+                9 => " (SIGKILL)",
+                11 => " (SIGSEGV)",
+                _ => "",
+            };
+            return format!("killed by signal {signal}{name}");
+        }
+    }
+    match status.code() {
+        Some(code) => format!("exit status {code}"),
+        None => "no exit status".into(),
+    }
+}
+
+/// Prints one event as a JSON line on stdout, at once (the parent reads them as they come).
+pub fn emit(event: &WorkerEvent) -> anyhow::Result<()> {
+    let mut stdout = std::io::stdout().lock();
+    serde_json::to_writer(&mut stdout, event)?;
+    stdout.write_all(b"\n")?;
+    stdout.flush()?;
+    Ok(())
+}
