@@ -61,6 +61,8 @@ pub mod kernels;
 pub mod render;
 pub mod scene;
 #[doc(hidden)]
+pub mod shadertoy;
+#[doc(hidden)]
 pub mod vk;
 
 pub use camera::Camera;

@@ -24,6 +24,7 @@ pub mod detect;
 pub mod deterministic;
 pub mod estimators;
 pub mod isolation;
+pub mod program;
 pub mod report;
 pub mod samplers;
 pub mod unavailable;
@@ -293,7 +294,8 @@ pub fn test_alpha(user: &UserFunctions, options: &CheckOptions) -> Result<f64> {
         .judged_functions()
         .iter()
         .map(|&f| samplers::test_count(f) + usize::from(estimators::integrator_for(f).is_some()))
-        .sum();
+        .sum::<usize>()
+        + usize::from(program::is_workshop_program(&user.text));
     if statistical_tests > 0 {
         sidak_alpha(options.alpha, statistical_tests)
             .map_err(|e| Error::InvalidSettings(e.to_string()))
@@ -377,6 +379,11 @@ pub fn check(
         },
         |_| {},
     )?;
+    if let Some(verdict) =
+        program::judge_user_program(context, user, options, alpha, &report.functions)?
+    {
+        report.functions.push(verdict);
+    }
     report.passed = report.functions.iter().all(|f| f.passed);
     Ok(report)
 }

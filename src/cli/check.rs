@@ -213,7 +213,44 @@ fn judge_all(
     if let Some(device) = &summary.device {
         report.device = device.clone();
     }
+    let mut summary = summary;
+    judge_program(args, user, options, alpha, report, &mut summary)?;
     Ok(summary)
+}
+
+/// The `program` verdict (`crate::check::program`) when the files are a runnable program of
+/// the workshop's scene: judged in this process after the functions, whose verdicts name
+/// its likely cause; printed as soon as it is known.
+fn judge_program(
+    args: &CheckArgs,
+    user: &UserFunctions,
+    options: &CheckOptions,
+    alpha: f64,
+    report: &mut CheckReport,
+    summary: &mut isolation::WorkerSummary,
+) -> anyhow::Result<()> {
+    if !crate::check::program::is_workshop_program(&user.text) {
+        return Ok(());
+    }
+    let context = args.device.create_context()?;
+    let verdict = crate::check::program::judge_user_program(
+        &context,
+        user,
+        options,
+        alpha,
+        &report.functions,
+    );
+    if let Some(messages) = context.validation_messages() {
+        summary.validation_errors += messages.errors();
+        summary.validation_warnings += messages.warnings();
+    }
+    if let Some(verdict) = verdict? {
+        if !args.json {
+            print_now(&describe_function(&verdict));
+        }
+        report.functions.push(verdict);
+    }
+    Ok(())
 }
 
 /// Runs `vkpath check-worker` (see `CheckWorkerArgs`).

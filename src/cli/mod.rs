@@ -16,6 +16,7 @@ pub mod merge;
 pub mod options;
 pub mod output;
 pub mod render;
+pub mod shadertoy;
 pub mod signals;
 pub mod summary;
 
@@ -50,6 +51,8 @@ pub enum Command {
     /// (internal) Judge functions for `vkpath check` in a child process.
     #[command(hide = true)]
     CheckWorker(check::CheckWorkerArgs),
+    /// Run a whole ShaderToy program (Common, Buffers A-D, Image) headless for N frames.
+    Shadertoy(shadertoy::ShadertoyArgs),
 }
 
 /// Options that choose and check the Vulkan device.
@@ -172,6 +175,7 @@ pub fn run(cli: Cli) -> anyhow::Result<()> {
         Command::Export(args) => export::run(&args),
         Command::Merge(args) => merge::run(&args),
         Command::CheckWorker(args) => check::run_worker(&args),
+        Command::Shadertoy(args) => shadertoy::run(&args),
     }
 }
 

@@ -72,6 +72,9 @@ pub enum VkError {
     /// Data beyond one of the device's limits (the message names the data and the limit).
     #[error("{0}")]
     TooLarge(String),
+    /// The device lacks an optional feature that the work needs (the message names both).
+    #[error("{0}")]
+    Unsupported(String),
 }
 
 /// Result of the Vulkan layer.

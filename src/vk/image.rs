@@ -1,4 +1,5 @@
-//! A 2D array storage image of rgba32f texels with its view and memory, freed on drop.
+//! A 2D array storage image of rgba32f texels with its view and memory, freed on drop; or,
+//! made with `StorageImage::sampled_2d`, a 2D one that shaders also sample.
 
 use std::sync::Arc;
 
@@ -17,7 +18,8 @@ pub struct StorageImage {
     context: Arc<Context>,
     /// The image handle.
     pub handle: vk::Image,
-    /// A view of all its layers (`image2DArray` in GLSL).
+    /// A view of all its layers (`image2DArray` in GLSL; `image2D` and `sampler2D` for an
+    /// image made with `sampled_2d`).
     pub view: vk::ImageView,
     allocation: Option<Allocation>,
     /// Width in texels.
@@ -37,6 +39,40 @@ impl StorageImage {
         height: u32,
         layers: u32,
     ) -> VkResult<StorageImage> {
+        Self::create(
+            context,
+            name,
+            (width, height, layers),
+            vk::ImageUsageFlags::empty(),
+            vk::ImageViewType::TYPE_2D_ARRAY,
+        )
+    }
+
+    /// Creates a one-layer image that shaders can also sample (`sampler2D`, through a
+    /// combined image sampler in GENERAL layout), with a 2D view, in layout UNDEFINED.
+    pub fn sampled_2d(
+        context: &Arc<Context>,
+        name: &str,
+        width: u32,
+        height: u32,
+    ) -> VkResult<StorageImage> {
+        Self::create(
+            context,
+            name,
+            (width, height, 1),
+            vk::ImageUsageFlags::SAMPLED,
+            vk::ImageViewType::TYPE_2D,
+        )
+    }
+
+    /// The image of `new` and `sampled_2d`, with `extra_usage` and a view of `view_type`.
+    fn create(
+        context: &Arc<Context>,
+        name: &str,
+        (width, height, layers): (u32, u32, u32),
+        extra_usage: vk::ImageUsageFlags,
+        view_type: vk::ImageViewType,
+    ) -> VkResult<StorageImage> {
         let device = &context.device;
         let info = vk::ImageCreateInfo::default()
             .image_type(vk::ImageType::TYPE_2D)
@@ -53,7 +89,8 @@ impl StorageImage {
             .usage(
                 vk::ImageUsageFlags::STORAGE
                     | vk::ImageUsageFlags::TRANSFER_SRC
-                    | vk::ImageUsageFlags::TRANSFER_DST,
+                    | vk::ImageUsageFlags::TRANSFER_DST
+                    | extra_usage,
             )
             .sharing_mode(vk::SharingMode::EXCLUSIVE)
             .initial_layout(vk::ImageLayout::UNDEFINED);
@@ -85,7 +122,7 @@ impl StorageImage {
                     device.create_image_view(
                         &vk::ImageViewCreateInfo::default()
                             .image(handle)
-                            .view_type(vk::ImageViewType::TYPE_2D_ARRAY)
+                            .view_type(view_type)
                             .format(STORAGE_IMAGE_FORMAT)
                             .subresource_range(Self::all_layers(layers)),
                         None,

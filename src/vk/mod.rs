@@ -1,5 +1,5 @@
 //! A thin Vulkan layer over `ash` that knows nothing of path tracing: context (instance,
-//! device, queue, allocator), buffers, storage images, compute pipelines, command
+//! device, queue, allocator), buffers, storage images, samplers, compute pipelines, command
 //! submission, validation messages and errors. Each resource frees itself on drop and holds
 //! an `Arc<Context>`, so the device outlives it.
 
@@ -10,6 +10,7 @@ pub mod error;
 pub mod image;
 pub mod pipeline;
 pub mod pipeline_cache;
+pub mod sampler;
 pub mod validation;
 
 pub use buffer::{Buffer, TexelBufferView};
@@ -19,4 +20,5 @@ pub use error::{VkError, VkResult};
 pub use image::StorageImage;
 pub use pipeline::{spirv_words, ComputePipeline, DescriptorSet};
 pub use pipeline_cache::{PipelineCacheKey, PipelineCacheStore};
+pub use sampler::Sampler;
 pub use validation::ValidationMessages;

@@ -10,6 +10,7 @@ use super::context::Context;
 use super::error::{CallContext, VkError, VkResult};
 use super::image::StorageImage;
 use super::pipeline_cache::SLOW_BUILD_NOTICE_AFTER;
+use super::sampler::Sampler;
 
 /// A compute pipeline and its layouts.
 pub struct ComputePipeline {
@@ -290,6 +291,24 @@ impl DescriptorSet {
             .descriptor_type(vk::DescriptorType::STORAGE_IMAGE)
             .image_info(&info);
         // SAFETY: the image is alive; the set is not in use by pending work.
+        unsafe { self.context.device.update_descriptor_sets(&[write], &[]) };
+    }
+}
+
+impl DescriptorSet {
+    /// Points `binding` at a combined image sampler: `image` (made with
+    /// `StorageImage::sampled_2d`) in GENERAL layout, read through `sampler`.
+    pub fn write_sampled_image(&self, binding: u32, image: &StorageImage, sampler: &Sampler) {
+        let info = [vk::DescriptorImageInfo::default()
+            .sampler(sampler.handle)
+            .image_view(image.view)
+            .image_layout(vk::ImageLayout::GENERAL)];
+        let write = vk::WriteDescriptorSet::default()
+            .dst_set(self.set)
+            .dst_binding(binding)
+            .descriptor_type(vk::DescriptorType::COMBINED_IMAGE_SAMPLER)
+            .image_info(&info);
+        // SAFETY: the image and sampler are alive; the set is not in use by pending work.
         unsafe { self.context.device.update_descriptor_sets(&[write], &[]) };
     }
 }

@@ -1,0 +1,528 @@
+//! The `program` verdict: a runnable ShaderToy program that accumulates the workshop's scene
+//! (its Buffer A, or its Image pass when it has no buffer) is run for N frames with `vkpath
+//! shadertoy`'s runner, and the image it accumulates is compared with vkpath's reference
+//! render of the same camera (the workshop's Cornell box), pixel filter (the pixel centres,
+//! as the workshop's `pixel_coord / iResolution.xy`), path length (the file's
+//! MAX_PATH_LENGTH, else 5) and integrator, by block z-tests as the estimators are judged
+//! (`crate::check::estimators`).
+//!
+//! Variances: the reference's come from its per-pixel second moments. The program's come
+//! from its frames: the workshop's mainImage keeps the running mean of its frames,
+//! A_f = mix(A_{f-1}, X_f, 1/(f+1)), so each frame's own estimate is recovered exactly as
+//! X_f = (f+1) A_f - f A_{f-1}; the frames are independent estimates (each frame seeds its
+//! random numbers with iFrame), so the variance of the final mean is the frames' sample
+//! variance over N. A program that does not keep a running mean is caught: its recovered
+//! frame estimates go negative, which no radiance estimate does, and it is not judged.
+//!
+//! A program that fails and renders darker is told the cause when the function verdicts
+//! point to it: a get_ray_radiance that passes on its own (judged with intersections that
+//! ignore the surface a ray starts on) but renders darker with the file's own intersections
+//! is self-intersection; a get_ray_radiance that fails on its own is the program's bias.
+
+use std::path::{Path, PathBuf};
+use std::sync::Arc;
+
+use crate::check::estimators::{block_size, difference_image};
+use crate::check::report::FunctionReport;
+use crate::error::{Error, Result};
+use crate::image_io::data::RenderedImage;
+use crate::image_io::output::{save_image, SaveOptions};
+use crate::render::settings::{Integrator, PixelFilter, RenderSettings};
+use crate::render::Renderer;
+use crate::scene::Scene;
+use crate::shadertoy::{ChannelSource, Pass, PassKind, Program, ShadertoyRunner};
+use crate::stats::ztest::{z_test_images, MeanImage};
+use crate::vk::Context;
+
+/// Frames run: at the workshop's 8 samples per frame, 1024 samples per pixel, so that a
+/// block of 8 x 8 pixels pools 65536 paths; self-intersection (about 40% darker) and a
+/// missing factor 2 are many standard deviations away.
+pub const DEFAULT_FRAMES: u32 = 128;
+/// Fewest frames the variance can be estimated from (the sample variance of each pixel's
+/// frame estimates, pooled over a block, has 64 (N - 1) degrees of freedom).
+pub const MIN_FRAMES: u32 = 8;
+/// Samples per pixel of the reference render: more than the program's, so that the
+/// comparison's noise is mostly the program's.
+const REFERENCE_SPP: u32 = 2048;
+/// Seed of the reference: not 0, whose samples are the workshop's own sequence, so that it
+/// is independent of the program's (the z-test assumes independent estimates).
+const REFERENCE_SEED: u32 = 11;
+/// A recovered frame estimate below -NEGATIVE_TOLERANCE x the image's largest value is not
+/// rounding: (f+1) A_f - f A_{f-1} in float loses about f ulps of A, 2^-23 x 256 = 3e-5
+/// relative at 256 frames; 1e-3 leaves 30 times that.
+const NEGATIVE_TOLERANCE: f64 = 1e-3;
+
+/// How the program is judged.
+#[derive(Clone, Debug, PartialEq)]
+pub struct ProgramOptions {
+    /// Side of the square image, in pixels.
+    pub size: u32,
+    /// Frames to run.
+    pub frames: u32,
+    /// Significance level of the test (Šidák-corrected again over blocks and channels).
+    pub alpha: f64,
+    /// The render's path length (the file's MAX_PATH_LENGTH).
+    pub max_path_length: u32,
+    /// Where the images go.
+    pub output_dir: PathBuf,
+}
+
+/// The Image pass of a program whose only tab is a buffer: shows Buffer A.
+const SHOW_BUFFER_A: &str = "void mainImage(out vec4 fragColor, in vec2 fragCoord) {\n    fragColor = texelFetch(iChannel0, ivec2(fragCoord), 0);\n}\n";
+
+/// Whether a tab is a runnable program of the workshop's scene: it has `mainImage` and
+/// calls `get_ray_radiance`.
+pub fn is_workshop_program(text: &str) -> bool {
+    let tokens = crate::check::glsl_syntax::tokenize(text);
+    tokens.iter().any(|t| t.text == "mainImage")
+        && tokens.iter().any(|t| t.text == "get_ray_radiance")
+}
+
+/// The program of a user's tabs with entry points (`tabs`, in ShaderToy's order) after
+/// their Common tab, and the pass that accumulates: one tab is a Buffer A whose iChannel0
+/// is its own previous frame (the workshop's tab), shown by an Image pass of vkpath's;
+/// several are Buffers A, B, … and the Image pass last, with `vkpath shadertoy`'s default
+/// channels. Buffer A accumulates.
+pub fn program_of_tabs(
+    common: Option<(PathBuf, String)>,
+    tabs: &[(PathBuf, String)],
+) -> Option<(Program, PassKind)> {
+    let (last, buffers) = tabs.split_last()?;
+    if buffers.len() > 4 {
+        return None;
+    }
+    // A pass whose iChannel0 reads `channel0`.
+    let pass = |kind: PassKind, path: &Path, text: &str, channel0: PassKind| {
+        let mut channels: [Option<ChannelSource>; 4] = Default::default();
+        channels[0] = Some(ChannelSource::Buffer(channel0));
+        Pass {
+            kind,
+            path: path.to_path_buf(),
+            text: text.to_string(),
+            channels,
+        }
+    };
+    let mut passes = Vec::new();
+    if buffers.is_empty() {
+        passes.push(pass(PassKind::BufferA, &last.0, &last.1, PassKind::BufferA));
+        passes.push(pass(
+            PassKind::Image,
+            Path::new("(vkpath's Image pass showing Buffer A)"),
+            SHOW_BUFFER_A,
+            PassKind::BufferA,
+        ));
+    } else {
+        for ((path, text), kind) in buffers.iter().zip(PassKind::BUFFERS) {
+            passes.push(pass(kind, path, text, kind));
+        }
+        passes.push(pass(PassKind::Image, &last.0, &last.1, PassKind::BufferA));
+    }
+    Some((Program { common, passes }, PassKind::BufferA))
+}
+
+/// The user's files as (name, text), split where each begins.
+fn user_tabs(user: &crate::check::UserFunctions) -> Vec<(PathBuf, String)> {
+    if user.sources.len() < 2 {
+        return vec![(PathBuf::from(&user.display_name), user.text.clone())];
+    }
+    let lines: Vec<&str> = user.text.split_inclusive('\n').collect();
+    user.sources
+        .iter()
+        .enumerate()
+        .map(|(i, source)| {
+            let start = source.first_line.saturating_sub(1).min(lines.len());
+            let end = user
+                .sources
+                .get(i + 1)
+                .map_or(lines.len(), |next| next.first_line.saturating_sub(1))
+                .clamp(start, lines.len());
+            (PathBuf::from(&source.name), lines[start..end].concat())
+        })
+        .collect()
+}
+
+/// The `program` verdict on the user's files when they are a runnable program of the
+/// workshop's scene (`is_workshop_program`): the tabs with `mainImage` as `program_of_tabs`
+/// makes them (a tab without one, first, is the Common tab), at the check's image size up
+/// to `MAX_PROGRAM_SIZE`, for `DEFAULT_FRAMES` frames, at the per-test significance
+/// `test_alpha`. `None` for other files.
+pub fn judge_user_program(
+    context: &Arc<Context>,
+    user: &crate::check::UserFunctions,
+    options: &crate::check::CheckOptions,
+    test_alpha: f64,
+    functions: &[FunctionReport],
+) -> Result<Option<FunctionReport>> {
+    if !is_workshop_program(&user.text) {
+        return Ok(None);
+    }
+    let tabs = user_tabs(user);
+    let has_entry = |text: &str| {
+        crate::check::glsl_syntax::tokenize(text)
+            .iter()
+            .any(|t| t.text == "mainImage")
+    };
+    let mut common = None;
+    let mut passes = Vec::new();
+    for (index, (path, text)) in tabs.into_iter().enumerate() {
+        if has_entry(&text) {
+            passes.push((path, text));
+        } else if index == 0 {
+            common = Some((path, text));
+        }
+    }
+    let Some((program, accumulated)) = program_of_tabs(common, &passes) else {
+        return Ok(None);
+    };
+    let program_options = ProgramOptions {
+        size: options.image_size.min(MAX_PROGRAM_SIZE),
+        frames: DEFAULT_FRAMES,
+        alpha: test_alpha,
+        max_path_length: user
+            .prepared
+            .max_path_length
+            .filter(|l| (1..=64).contains(l))
+            .unwrap_or(crate::render::settings::DEFAULT_MAX_PATH_LENGTH),
+        output_dir: options.output_dir.clone(),
+    };
+    judge_program(context, &program, accumulated, functions, &program_options).map(Some)
+}
+
+/// Largest side of the program's image: the user's code runs once per pixel and frame
+/// (about 0.5 M paths/s on lavapipe for the workshop's tab), so 64 x 64 at 128 frames is
+/// 4.2 M paths, under 10 s there.
+pub const MAX_PROGRAM_SIZE: u32 = 64;
+
+/// Per-pixel statistics of the frame estimates recovered from a running mean.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct FrameStatistics {
+    /// Frames seen.
+    pub frames: u32,
+    /// Per pixel and channel (RGB): sum of the recovered frame estimates.
+    sums: Vec<[f64; 3]>,
+    /// Per pixel and channel: sum of their squares.
+    sums_of_squares: Vec<[f64; 3]>,
+    /// The running mean after the last frame.
+    last: Vec<[f32; 4]>,
+    /// Recovered estimates below -NEGATIVE_TOLERANCE x the largest value.
+    pub negative: usize,
+    /// Largest value of any running mean seen.
+    largest: f64,
+}
+
+impl FrameStatistics {
+    /// Adds the running mean after the next frame: its frame estimate is
+    /// X_f = (f+1) A_f - f A_{f-1}.
+    pub fn add(&mut self, running_mean: &[[f32; 4]]) {
+        let f = f64::from(self.frames);
+        if self.last.is_empty() {
+            self.last = vec![[0.0; 4]; running_mean.len()];
+            self.sums = vec![[0.0; 3]; running_mean.len()];
+            self.sums_of_squares = vec![[0.0; 3]; running_mean.len()];
+        }
+        for (i, current) in running_mean.iter().enumerate() {
+            for c in 0..3 {
+                let value = f64::from(current[c]);
+                self.largest = self.largest.max(value.abs());
+                let estimate = (f + 1.0) * value - f * f64::from(self.last[i][c]);
+                if estimate < -NEGATIVE_TOLERANCE * self.largest {
+                    self.negative += 1;
+                }
+                self.sums[i][c] += estimate;
+                self.sums_of_squares[i][c] += estimate * estimate;
+            }
+        }
+        self.last = running_mean.to_vec();
+        self.frames += 1;
+    }
+
+    /// The final running mean with the variance of each pixel's mean: the sample variance
+    /// of its frame estimates over the number of frames.
+    pub fn mean_image(&self, width: usize, height: usize) -> Result<MeanImage> {
+        let n = f64::from(self.frames);
+        let variances: Vec<[f64; 3]> = self
+            .sums
+            .iter()
+            .zip(&self.sums_of_squares)
+            .map(|(sum, square)| {
+                [0, 1, 2].map(|c| {
+                    let mean = sum[c] / n;
+                    ((square[c] - n * mean * mean) / (n - 1.0)).max(0.0) / n
+                })
+            })
+            .collect();
+        MeanImage::from_rgb(width, height, &self.last, &variances)
+            .map_err(|e| Error::InvalidSettings(e.to_string()))
+    }
+}
+
+/// Runs `program` and judges the image that `accumulated` holds (see the module
+/// documentation). `functions` are the verdicts on the file's functions, for the cause.
+pub fn judge_program(
+    context: &Arc<Context>,
+    program: &Program,
+    accumulated: PassKind,
+    functions: &[FunctionReport],
+    options: &ProgramOptions,
+) -> Result<FunctionReport> {
+    let size = options.size;
+    let frames = options.frames.max(MIN_FRAMES);
+    let block = block_size(size);
+    let line = program
+        .pass(accumulated)
+        .map_or(0, |pass| mainimage_line(&pass.text));
+    let mut report = FunctionReport::new(
+        "program",
+        line,
+        "render",
+        format!(
+            "your program's {} after {frames} frames ({size}x{size}) and vkpath's reference \
+             render of the Cornell box (pixel centres, MAX_PATH_LENGTH {}, {REFERENCE_SPP} spp, \
+             an independent seed): the means of every {block}x{block} block and colour channel \
+             must agree within their noise (z-tests, the program's variance from its frames, \
+             the reference's from its second moments, Šidák-corrected over all blocks at {:.2e} \
+             family-wise)",
+            match accumulated {
+                PassKind::Image => "Image pass",
+                _ => "Buffer A",
+            },
+            options.max_path_length,
+            options.alpha
+        ),
+    );
+    let mut runner = match ShadertoyRunner::new(context, program, size, size) {
+        Ok(runner) => runner,
+        Err(Error::ShaderCompilation(messages)) => {
+            report.summary = "does not compile as a ShaderToy program".into();
+            report.hint = Some(messages);
+            return Ok(report);
+        }
+        Err(error) => return Err(error),
+    };
+    let mut statistics = FrameStatistics::default();
+    let mut image = None;
+    for _ in 0..frames {
+        runner.run_frame()?;
+        let frame = runner.read(accumulated)?.ok_or_else(|| {
+            Error::MissingInput(format!("the program has no {}", accumulated.name()))
+        })?;
+        statistics.add(&frame.mean);
+        image = Some(frame);
+    }
+    let Some(yours) = image else {
+        return Err(Error::InvalidSettings("no frame ran".into()));
+    };
+    report.measure("frames", f64::from(frames));
+    if statistics.negative > 0 {
+        report.summary = format!(
+            "not judged: {} recovered frame estimates are negative, so your program does not keep \
+             the running mean of its frames (the workshop's mix(previous, color, 1.0 / float(iFrame + 1)))",
+            statistics.negative
+        );
+        report.hint = Some(
+            "check accumulates the image your Buffer A holds: keep the average of all frames there"
+                .into(),
+        );
+        return Ok(report);
+    }
+    let your_blocks = statistics
+        .mean_image(size as usize, size as usize)?
+        .block_average(block)
+        .map_err(|e| Error::InvalidSettings(e.to_string()))?;
+    let reference = render_reference(context, options)?;
+    let reference_variances: Vec<[f64; 3]> = reference
+        .variance_of_mean()
+        .iter()
+        .map(|v| v.map(f64::from))
+        .collect();
+    let reference_blocks = MeanImage::from_rgb(
+        size as usize,
+        size as usize,
+        &reference.mean,
+        &reference_variances,
+    )
+    .and_then(|m| m.block_average(block))
+    .map_err(|e| Error::InvalidSettings(e.to_string()))?;
+    let z = z_test_images(&your_blocks, &reference_blocks, options.alpha)
+        .map_err(|e| Error::InvalidSettings(e.to_string()))?;
+    let (your_average, reference_average) = (average(&yours), average(&reference));
+    report.cases = z.test_count;
+    report.failures = z.rejected_count;
+    report.passed = z.passed;
+    report.measure("min_p_value", z.min_p_value);
+    report.measure("worst_z", z.worst_z);
+    report.measure("your_average", your_average);
+    report.measure("reference_average", reference_average);
+    report.summary = if z.passed {
+        format!(
+            "consistent with the reference: all {} block tests pass (average radiance {your_average:.4} vs {reference_average:.4})",
+            z.test_count
+        )
+    } else {
+        report.hint = Some(cause(functions, your_average, reference_average));
+        format!(
+            "biased: {} of {} block tests reject (average radiance {your_average:.4}, reference {reference_average:.4}; worst z = {:.1})",
+            z.rejected_count, z.test_count, z.worst_z
+        )
+    };
+    report.images = save_images(&options.output_dir, &reference, &yours)?;
+    Ok(report)
+}
+
+/// The line of `mainImage` in a tab (0 if none).
+fn mainimage_line(text: &str) -> usize {
+    crate::check::glsl_syntax::tokenize(text)
+        .iter()
+        .find(|t| t.text == "mainImage")
+        .map_or(0, |t| t.line)
+}
+
+/// The likely cause of a biased program, from the function verdicts and the brightness.
+fn cause(functions: &[FunctionReport], yours: f64, reference: f64) -> String {
+    let others: Vec<&str> = functions
+        .iter()
+        .filter(|f| !f.passed && f.function != "get_ray_radiance")
+        .map(|f| f.function.as_str())
+        .collect();
+    let mut cause = cause_from_radiance(functions, yours, reference);
+    if !others.is_empty() {
+        cause.push_str(&format!(
+            "; the program also uses functions of yours that fail on their own (see above): {}",
+            others.join(", ")
+        ));
+    }
+    cause
+}
+
+/// `cause` from get_ray_radiance's verdict and the brightness alone.
+fn cause_from_radiance(functions: &[FunctionReport], yours: f64, reference: f64) -> String {
+    let ratio = yours / reference.max(1e-12);
+    let radiance = functions.iter().find(|f| f.function == "get_ray_radiance");
+    let darker = 100.0 * (1.0 - ratio);
+    match radiance {
+        Some(f) if !f.passed => format!(
+            "your program's image is {ratio:.2} times as bright as the reference, and your get_ray_radiance fails on its own (see its verdict): fix it first"
+        ),
+        Some(f) if ratio < 1.0 && f.warnings.iter().any(|w| w.contains("self-intersection")) => format!(
+            "self-intersection: your program renders {darker:.0}% darker than the reference. Your \
+             get_ray_radiance is correct on its own (judged with intersections that ignore the \
+             surface a ray starts on), but with your ray_triangle_intersection a ray that leaves \
+             a surface at x + t·ω hits that same surface again at t ≈ 0 through rounding. Accept \
+             only hits with t > 1e-4 in ray_triangle_intersection, or start the next ray a little \
+             off the surface (origin += 1e-4 * normal)"
+        ),
+        _ if ratio < 1.0 => format!(
+            "your program renders {darker:.0}% darker than the reference: if your functions pass, look at mainImage (the camera, the seed, the averaging) and at rays that hit the surface they leave (self-intersection)"
+        ),
+        _ => format!(
+            "your program renders {ratio:.2} times as bright as the reference: look at mainImage (the camera, the averaging over frames) and at the factors of the path weight"
+        ),
+    }
+}
+
+/// The average over all pixels and RGB channels.
+fn average(image: &RenderedImage) -> f64 {
+    image.average().iter().sum::<f64>() / 3.0
+}
+
+/// vkpath's reference render with the program's camera (the workshop's), pixel centres and
+/// path length.
+fn render_reference(context: &Arc<Context>, options: &ProgramOptions) -> Result<RenderedImage> {
+    let scene = Scene::builtin_cornell_box()?;
+    let camera = scene
+        .camera
+        .ok_or_else(|| Error::MissingInput("the Cornell box has no camera".into()))?;
+    let settings = RenderSettings {
+        width: options.size,
+        height: options.size,
+        spp: REFERENCE_SPP,
+        max_path_length: options.max_path_length,
+        seed: REFERENCE_SEED,
+        pixel_filter: PixelFilter::Center,
+        integrator: Integrator::PathTracing,
+        ..RenderSettings::default()
+    };
+    Renderer::new(context, &scene, &camera, settings)?.render_all()
+}
+
+/// Writes program-reference.png, program-yours.png and program-difference.png.
+fn save_images(
+    directory: &Path,
+    reference: &RenderedImage,
+    yours: &RenderedImage,
+) -> Result<Vec<String>> {
+    std::fs::create_dir_all(directory).map_err(|e| {
+        Error::Image(format!(
+            "cannot create the output directory '{}': {e}",
+            directory.display()
+        ))
+    })?;
+    let mut written = Vec::new();
+    let mut yours = yours.clone();
+    for pixel in &mut yours.mean {
+        pixel[3] = 1.0;
+    }
+    for (name, image) in [
+        ("program-reference", reference.clone()),
+        ("program-difference", difference_image(reference, &yours)),
+        ("program-yours", yours),
+    ] {
+        let path = directory.join(format!("{name}.png"));
+        save_image(&path, &image, &SaveOptions::default())?;
+        written.push(path.display().to_string());
+    }
+    Ok(written)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn frame_estimates_come_back_from_a_running_mean() {
+        // Frame estimates 1, 3, 2, 6 of one pixel, kept as the workshop's running mean.
+        let estimates = [1.0f32, 3.0, 2.0, 6.0];
+        let mut statistics = FrameStatistics::default();
+        let mut mean = 0.0f32;
+        for (f, x) in estimates.iter().enumerate() {
+            mean += (x - mean) / (f as f32 + 1.0);
+            statistics.add(&[[mean, 2.0 * mean, 0.0, 1.0]]);
+        }
+        let image = statistics.mean_image(1, 1).unwrap();
+        assert!((image.means[0] - 3.0).abs() < 1e-6);
+        // Sample variance of 1, 3, 2, 6: 14 / 3; of the mean: 14 / 12.
+        assert!(
+            (image.variances_of_mean[0] - 14.0 / 12.0).abs() < 1e-5,
+            "{:?}",
+            image.variances_of_mean
+        );
+        assert!((image.variances_of_mean[1] - 4.0 * 14.0 / 12.0).abs() < 1e-4);
+        assert_eq!(image.variances_of_mean[2], 0.0);
+        assert_eq!(statistics.negative, 0);
+    }
+
+    #[test]
+    fn a_buffer_that_keeps_no_running_mean_is_recognised() {
+        // Each frame overwrites the buffer with its own estimate: 5, 1, 5, 1 ...
+        let mut statistics = FrameStatistics::default();
+        for f in 0..8 {
+            let value = if f % 2 == 0 { 5.0 } else { 1.0 };
+            statistics.add(&[[value, value, value, 1.0]]);
+        }
+        assert!(statistics.negative > 0);
+    }
+
+    #[test]
+    fn one_tab_is_a_buffer_shown_by_vkpaths_image_pass() {
+        let tab = (
+            PathBuf::from("tab.glsl"),
+            "void mainImage(out vec4 c, in vec2 p) { c = vec4(get_ray_radiance()); }".to_string(),
+        );
+        assert!(is_workshop_program(&tab.1));
+        let (program, accumulated) = program_of_tabs(None, std::slice::from_ref(&tab)).unwrap();
+        assert_eq!(accumulated, PassKind::BufferA);
+        assert_eq!(program.passes.len(), 2);
+        assert_eq!(program.passes[0].path, PathBuf::from("tab.glsl"));
+        assert_eq!(program.passes[1].kind, PassKind::Image);
+    }
+}

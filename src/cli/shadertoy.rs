@@ -1,0 +1,290 @@
+//! `vkpath shadertoy IMAGE.glsl [--common F] [--buffer-a F] … --frames N -o OUT`: runs a
+//! whole ShaderToy program headless (see `crate::shadertoy`) and writes the Image pass's
+//! last frame and, on request, buffers' final contents. SIGINT, SIGTERM, SIGHUP and
+//! `--time-limit` stop after the current frame, and what was reached is written. Exit
+//! status: 0 done (or time limit), 1 a tab does not compile or the device fails, 2 unusable
+//! arguments or files, 128 + the signal's number when a signal stopped it.
+
+use std::path::PathBuf;
+use std::sync::atomic::Ordering;
+use std::time::{Duration, Instant};
+
+use anyhow::Context as _;
+use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
+
+use super::output::fail_on_validation_messages;
+use super::{signals, DeviceArgs};
+use crate::image_io::output::{check_writable, ImageFormat};
+use crate::shadertoy::display::save_pass_image;
+use crate::shadertoy::{ChannelBinding, PassKind, Program, ShadertoyRunner};
+
+/// Exit status when a tab does not compile.
+const EXIT_FAILED: i32 = 1;
+/// Exit status of unusable arguments or files (clap's status for usage errors).
+const EXIT_USAGE: i32 = 2;
+
+/// Arguments of `vkpath shadertoy`.
+#[derive(Debug, Clone, clap::Args)]
+pub struct ShadertoyArgs {
+    /// The Image tab (mainImage), or a page shader (main() with gl_FragCoord).
+    pub image: PathBuf,
+    /// The Common tab, prepended to every pass.
+    #[arg(long)]
+    pub common: Option<PathBuf>,
+    /// The Buffer A tab.
+    #[arg(long)]
+    pub buffer_a: Option<PathBuf>,
+    /// The Buffer B tab.
+    #[arg(long)]
+    pub buffer_b: Option<PathBuf>,
+    /// The Buffer C tab.
+    #[arg(long)]
+    pub buffer_c: Option<PathBuf>,
+    /// The Buffer D tab.
+    #[arg(long)]
+    pub buffer_d: Option<PathBuf>,
+    /// What a channel reads, PASS.N=SOURCE (e.g. image.1=buffer-b, buffer-a.2=noise.png);
+    /// by default a buffer's iChannel0 is its own previous frame and the Image pass's
+    /// iChannel0 is Buffer A.
+    #[arg(long = "channel")]
+    pub channels: Vec<ChannelBinding>,
+    /// Frames to run (iFrame 0 .. N-1, iTime in steps of 1/60 s).
+    #[arg(long, value_parser = clap::value_parser!(u32).range(1..=10_000_000))]
+    pub frames: u32,
+    /// Width in pixels.
+    #[arg(long, default_value_t = 640, value_parser = clap::value_parser!(u32).range(1..=8192))]
+    pub width: u32,
+    /// Height in pixels.
+    #[arg(long, default_value_t = 360, value_parser = clap::value_parser!(u32).range(1..=8192))]
+    pub height: u32,
+    /// The Image pass's last frame: .png as ShaderToy displays it (clamped, alpha
+    /// ignored) or .exr (the floats the shader wrote, RGBA).
+    #[arg(short, long)]
+    pub output: PathBuf,
+    /// Also write a buffer's final contents as EXR, BUFFER=FILE.exr (e.g. a=A.exr).
+    #[arg(long, value_parser = parse_save_buffer)]
+    pub save_buffer: Vec<(PassKind, PathBuf)>,
+    /// Stop after the frame during which this many seconds have passed, and write what
+    /// was reached.
+    #[arg(long, value_parser = parse_seconds)]
+    pub time_limit: Option<f64>,
+    /// Print only warnings and errors.
+    #[arg(long)]
+    pub quiet: bool,
+    /// Device selection and validation.
+    #[command(flatten)]
+    pub device: DeviceArgs,
+}
+
+/// `a=A.exr` or `buffer-b=B.exr`.
+fn parse_save_buffer(text: &str) -> Result<(PassKind, PathBuf), String> {
+    let (name, path) = text
+        .split_once('=')
+        .ok_or_else(|| format!("'{text}': expected BUFFER=FILE.exr, e.g. a=A.exr"))?;
+    let kind = PassKind::from_name(name)
+        .filter(|k| k.buffer_index().is_some())
+        .ok_or_else(|| {
+            format!("'{text}': '{name}' is not a buffer (a, b, c, d or buffer-a … buffer-d)")
+        })?;
+    let path = PathBuf::from(path);
+    if ImageFormat::from_path(&path).ok() != Some(ImageFormat::Exr) {
+        return Err(format!("'{text}': buffers are saved as .exr"));
+    }
+    Ok((kind, path))
+}
+
+/// A positive number of seconds.
+fn parse_seconds(text: &str) -> Result<f64, String> {
+    let seconds: f64 = text
+        .parse()
+        .map_err(|_| format!("'{text}' is not a number of seconds"))?;
+    if !(seconds > 0.0 && seconds < 1e9) {
+        return Err(format!("{text} is not a positive number of seconds"));
+    }
+    Ok(seconds)
+}
+
+/// Prints one error line and exits with the usage status.
+fn usage_error(message: impl std::fmt::Display) -> ! {
+    eprintln!("vkpath: error: {message}");
+    std::process::exit(EXIT_USAGE);
+}
+
+/// Why the run ended.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Stop {
+    Done,
+    TimeLimit,
+    Signal,
+}
+
+/// Runs `vkpath shadertoy`.
+pub fn run(args: &ShadertoyArgs) -> anyhow::Result<()> {
+    let buffers: Vec<(PassKind, PathBuf)> = [
+        (PassKind::BufferA, &args.buffer_a),
+        (PassKind::BufferB, &args.buffer_b),
+        (PassKind::BufferC, &args.buffer_c),
+        (PassKind::BufferD, &args.buffer_d),
+    ]
+    .into_iter()
+    .filter_map(|(kind, path)| path.clone().map(|p| (kind, p)))
+    .collect();
+    let program = Program::from_files(
+        &args.image,
+        args.common.as_deref(),
+        &buffers,
+        &args.channels,
+    )
+    .unwrap_or_else(|message| usage_error(message));
+    for (kind, path) in &args.save_buffer {
+        if program.pass(*kind).is_none() {
+            usage_error(format!(
+                "--save-buffer {}: the program has no {} (give it with --{})",
+                path.display(),
+                kind.name(),
+                kind.name()
+            ));
+        }
+    }
+    if let Err(error) = check_writable(&args.output) {
+        usage_error(error);
+    }
+    for (_, path) in &args.save_buffer {
+        if let Err(error) = check_writable(path) {
+            usage_error(error);
+        }
+    }
+    let context = args.device.create_context()?;
+    let mut runner = match ShadertoyRunner::new(&context, &program, args.width, args.height) {
+        Ok(runner) => runner,
+        Err(crate::Error::ShaderCompilation(messages)) => {
+            eprintln!("vkpath: error: the program does not compile:\n{messages}");
+            std::process::exit(EXIT_FAILED);
+        }
+        Err(crate::Error::Image(message)) => usage_error(message),
+        Err(error) => return Err(error).context("setting up the program"),
+    };
+    if !args.quiet {
+        for note in &runner.notes {
+            eprintln!("note: {note}");
+        }
+    }
+    if !runner.warnings.trim().is_empty() {
+        eprintln!("{}", runner.warnings.trim_end());
+    }
+    signals::install()?;
+    if !args.quiet {
+        eprintln!(
+            "vkpath: running {} pass(es) for {} frames at {}x{}",
+            runner.pass_kinds().len(),
+            args.frames,
+            args.width,
+            args.height
+        );
+    }
+
+    let bar =
+        ProgressBar::with_draw_target(Some(u64::from(args.frames)), ProgressDrawTarget::hidden());
+    if let Ok(style) =
+        ProgressStyle::with_template("{elapsed_precise} [{bar:40}] {pos}/{len} frames, eta {eta}")
+    {
+        bar.set_style(style.progress_chars("=> "));
+    }
+    let started = Instant::now();
+    let limit = args.time_limit.map(Duration::from_secs_f64);
+    let mut stop = Stop::Done;
+    let mut failure = None;
+    while runner.frames() < args.frames {
+        if signals::STOP_REQUESTED.load(Ordering::SeqCst) {
+            stop = Stop::Signal;
+            break;
+        }
+        if limit.is_some_and(|l| started.elapsed() >= l) {
+            stop = Stop::TimeLimit;
+            break;
+        }
+        if let Err(error) = runner.run_frame() {
+            failure = Some(error);
+            break;
+        }
+        if !args.quiet && started.elapsed() > Duration::from_secs(1) && bar.is_hidden() {
+            bar.set_draw_target(ProgressDrawTarget::stderr());
+        }
+        bar.set_position(u64::from(runner.frames()));
+    }
+    bar.finish_and_clear();
+    let seconds = started.elapsed().as_secs_f64();
+
+    // Write what was reached, also after a failure (when the device still answers).
+    let written = write_outputs(&runner, args);
+    if let Some(error) = failure {
+        let kept = match &written {
+            Ok(()) => format!(
+                "; the outputs hold the {} frames before it",
+                runner.frames()
+            ),
+            Err(_) => String::new(),
+        };
+        anyhow::bail!("frame {} failed: {error}{kept}", runner.frames());
+    }
+    written?;
+    if !args.quiet {
+        eprintln!(
+            "vkpath: {} of {} frames, {}x{}, {} pass(es), {seconds:.2} s ({:.1} frames/s){}",
+            runner.frames(),
+            args.frames,
+            args.width,
+            args.height,
+            runner.pass_kinds().len(),
+            f64::from(runner.frames()) / seconds.max(1e-9),
+            match stop {
+                Stop::Done => "",
+                Stop::TimeLimit => ", stopped by --time-limit",
+                Stop::Signal => ", stopped by a signal",
+            }
+        );
+    }
+    fail_on_validation_messages(&context)?;
+    if stop == Stop::Signal {
+        if let Some((name, status)) = signals::received() {
+            eprintln!(
+                "vkpath: stopped by {name} after {} frames; the outputs hold them",
+                runner.frames()
+            );
+            std::process::exit(status);
+        }
+    }
+    Ok(())
+}
+
+/// Writes the Image pass's last frame and the buffers asked for.
+fn write_outputs(runner: &ShadertoyRunner, args: &ShadertoyArgs) -> anyhow::Result<()> {
+    let mut outputs = vec![(PassKind::Image, args.output.clone())];
+    outputs.extend(args.save_buffer.iter().cloned());
+    for (kind, path) in outputs {
+        let image = runner
+            .read(kind)?
+            .with_context(|| format!("the program has no {}", kind.name()))?;
+        save_pass_image(&path, &image)?;
+        if !args.quiet {
+            eprintln!("wrote {}", path.display());
+        }
+    }
+    Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn save_buffer_takes_a_buffer_and_an_exr() {
+        assert_eq!(
+            parse_save_buffer("a=A.exr"),
+            Ok((PassKind::BufferA, PathBuf::from("A.exr")))
+        );
+        assert!(parse_save_buffer("image=I.exr").is_err());
+        assert!(parse_save_buffer("b=B.png").is_err());
+        assert!(parse_save_buffer("B.exr").is_err());
+    }
+}

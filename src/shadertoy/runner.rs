@@ -1,0 +1,378 @@
+//! Running a ShaderToy program on a device: one compute pipeline per pass, two `rgba32f`
+//! images per buffer (ping-ponged: a pass writes this frame's and reads the previous
+//! frame's), a target for the Image pass, and one descriptor set per pass and frame parity,
+//! so that a frame is five dispatches with barriers between them and no descriptor updates.
+
+use std::sync::Arc;
+
+use ash::vk;
+
+use crate::error::{Error, Result};
+use crate::image_io::data::RenderedImage;
+use crate::shadertoy::inputs::{FramePushConstants, PassConstants};
+use crate::shadertoy::kernel::{compile_pass, UserTab};
+use crate::shadertoy::program::{reads_previous_frame, ChannelSource, PassKind, Program};
+use crate::vk::{
+    Buffer, CommandRunner, ComputePipeline, Context, DescriptorSet, Sampler, StorageImage,
+};
+
+/// Binding of the pass's target.
+const BINDING_TARGET: u32 = 0;
+/// Binding of `iChannel0`; the others follow.
+const BINDING_CHANNEL_FIRST: u32 = 1;
+/// Binding of the uniform block of ShaderToy's constant inputs.
+const BINDING_CONSTANTS: u32 = 5;
+/// Largest image side accepted (ShaderToy's canvases are far smaller).
+pub const MAX_SIDE: u32 = 8192;
+
+/// A pass on the device.
+struct GpuPass {
+    kind: PassKind,
+    pipeline: ComputePipeline,
+    /// Descriptor sets for even and odd frames.
+    sets: [DescriptorSet; 2],
+    /// The uniform buffer the sets point at (kept alive with them).
+    _constants: Buffer,
+}
+
+/// A ShaderToy program ready to run frame after frame.
+pub struct ShadertoyRunner {
+    context: Arc<Context>,
+    commands: CommandRunner,
+    width: u32,
+    height: u32,
+    /// Pipelines and descriptor sets, in the order the passes run.
+    passes: Vec<GpuPass>,
+    /// Two images per buffer of the program (index: frame parity).
+    buffers: [Option<[StorageImage; 2]>; 4],
+    /// The Image pass's target.
+    image_target: StorageImage,
+    /// Images of channel files and the black texture of unbound channels (kept alive for
+    /// the descriptor sets).
+    _textures: Vec<StorageImage>,
+    _sampler: Sampler,
+    /// Frames run so far.
+    frames: u32,
+    /// Compiler warnings, naming the user's files.
+    pub warnings: String,
+    /// What the intake changed in each tab, one line each, naming the file.
+    pub notes: Vec<String>,
+}
+
+/// Compiles every pass of `program`; the first failure is the compiler's messages (naming
+/// the user's file and line).
+pub fn compile_program(
+    program: &Program,
+) -> std::result::Result<(Vec<Vec<u32>>, String, Vec<String>), String> {
+    let common = program
+        .common
+        .as_ref()
+        .map(|(path, text)| UserTab::new(path, text));
+    let mut notes = Vec::new();
+    if let Some(common) = &common {
+        notes.extend(
+            common
+                .prepared
+                .notes
+                .iter()
+                .map(|n| format!("{}: {n}", common.display_name)),
+        );
+    }
+    let mut spirv = Vec::new();
+    let mut warnings = String::new();
+    for pass in &program.passes {
+        let tab = UserTab::new(&pass.path, &pass.text);
+        notes.extend(
+            tab.prepared
+                .notes
+                .iter()
+                .map(|n| format!("{}: {n}", tab.display_name)),
+        );
+        if pass.kind != PassKind::Image && tab.prepared.page_shader_output.is_some() {
+            return Err(format!(
+                "{}: a buffer needs mainImage(out vec4 fragColor, in vec2 fragCoord); a page shader's main() runs only as the Image pass",
+                tab.display_name
+            ));
+        }
+        let compiled = compile_pass(common.as_ref(), &tab)?;
+        if !compiled.warnings.trim().is_empty() && !warnings.contains(&compiled.warnings) {
+            warnings.push_str(&compiled.warnings);
+            warnings.push('\n');
+        }
+        spirv.push(compiled.spirv);
+    }
+    Ok((spirv, warnings, notes))
+}
+
+/// Reads an image file for a channel as `rgba32f` texels, rows bottom-up (ShaderToy flips
+/// textures so that (0, 0) is the bottom-left corner): PNG and JPEG as their 8-bit (or
+/// 16-bit) values scaled to [0, 1], EXR as its floats (alpha 1).
+fn read_channel_file(path: &std::path::Path) -> Result<(u32, u32, Vec<[f32; 4]>)> {
+    let is_exr = path
+        .extension()
+        .is_some_and(|e| e.eq_ignore_ascii_case("exr"));
+    let (width, height, top_down): (u32, u32, Vec<[f32; 4]>) = if is_exr {
+        let image = crate::image_io::exr_input::read_exr(path)?.image;
+        (image.width, image.height, image.mean)
+    } else {
+        let image = image::open(path)
+            .map_err(|e| {
+                Error::Image(format!(
+                    "cannot read the channel image '{}': {e}",
+                    path.display()
+                ))
+            })?
+            .to_rgba32f();
+        let (width, height) = image.dimensions();
+        (width, height, image.pixels().map(|p| p.0).collect())
+    };
+    if width == 0 || height == 0 || width > MAX_SIDE || height > MAX_SIDE {
+        return Err(Error::Image(format!(
+            "the channel image '{}' is {width}x{height}; channels take 1..={MAX_SIDE} texels a side",
+            path.display()
+        )));
+    }
+    Ok((width, height, flip_rows(&top_down, width, height)))
+}
+
+/// The rows of a `width` x `height` image in the opposite order.
+fn flip_rows(texels: &[[f32; 4]], width: u32, height: u32) -> Vec<[f32; 4]> {
+    let width = width as usize;
+    (0..height as usize)
+        .rev()
+        .flat_map(|row| texels[row * width..(row + 1) * width].iter().copied())
+        .collect()
+}
+
+impl ShadertoyRunner {
+    /// Compiles the program's passes (see `compile_program`; a failure is
+    /// `Error::ShaderCompilation` with the compiler's messages) and creates everything it
+    /// needs for `width` x `height` pixels; every buffer starts at zero.
+    pub fn new(
+        context: &Arc<Context>,
+        program: &Program,
+        width: u32,
+        height: u32,
+    ) -> Result<ShadertoyRunner> {
+        if width == 0 || height == 0 || width > MAX_SIDE || height > MAX_SIDE {
+            return Err(Error::InvalidSettings(format!(
+                "{width}x{height} pixels: width and height must be 1..={MAX_SIDE}"
+            )));
+        }
+        let (spirv, warnings, notes) =
+            compile_program(program).map_err(Error::ShaderCompilation)?;
+        let commands = CommandRunner::new(context)?;
+        let sampler = Sampler::linear_clamp(context)?;
+        let mut textures = Vec::new();
+        let black = StorageImage::sampled_2d(context, "black channel", 1, 1)?;
+        commands.run(|r| r.clear_storage_image(&black))?;
+        textures.push(black);
+        let mut buffers: [Option<[StorageImage; 2]>; 4] = Default::default();
+        for pass in &program.passes {
+            if let Some(index) = pass.kind.buffer_index() {
+                let name = pass.kind.name();
+                let pair = [
+                    StorageImage::sampled_2d(context, name, width, height)?,
+                    StorageImage::sampled_2d(context, name, width, height)?,
+                ];
+                commands.run(|r| {
+                    r.clear_storage_image(&pair[0]);
+                    r.clear_storage_image(&pair[1]);
+                })?;
+                buffers[index] = Some(pair);
+            }
+        }
+        let image_target = StorageImage::sampled_2d(context, "image", width, height)?;
+        commands.run(|r| r.clear_storage_image(&image_target))?;
+
+        // Channel files, each loaded once.
+        let mut files: Vec<(std::path::PathBuf, usize, (u32, u32))> = Vec::new();
+        for pass in &program.passes {
+            for source in pass.channels.iter().flatten() {
+                let ChannelSource::File(path) = source else {
+                    continue;
+                };
+                if files.iter().any(|(p, _, _)| p == path) {
+                    continue;
+                }
+                let (w, h, texels) = read_channel_file(path)?;
+                let texture = StorageImage::sampled_2d(context, "channel image", w, h)?;
+                let staging = Buffer::with_data(
+                    context,
+                    "channel staging",
+                    &texels,
+                    vk::BufferUsageFlags::TRANSFER_SRC,
+                )?;
+                commands.run(|r| {
+                    r.clear_storage_image(&texture);
+                    r.copy_buffer_to_image(&staging, &texture);
+                    r.compute_barrier();
+                })?;
+                files.push((path.clone(), textures.len(), (w, h)));
+                textures.push(texture);
+            }
+        }
+
+        let bindings = [
+            (BINDING_TARGET, vk::DescriptorType::STORAGE_IMAGE),
+            (
+                BINDING_CHANNEL_FIRST,
+                vk::DescriptorType::COMBINED_IMAGE_SAMPLER,
+            ),
+            (
+                BINDING_CHANNEL_FIRST + 1,
+                vk::DescriptorType::COMBINED_IMAGE_SAMPLER,
+            ),
+            (
+                BINDING_CHANNEL_FIRST + 2,
+                vk::DescriptorType::COMBINED_IMAGE_SAMPLER,
+            ),
+            (
+                BINDING_CHANNEL_FIRST + 3,
+                vk::DescriptorType::COMBINED_IMAGE_SAMPLER,
+            ),
+            (BINDING_CONSTANTS, vk::DescriptorType::UNIFORM_BUFFER),
+        ];
+        let push_size = std::mem::size_of::<FramePushConstants>() as u32;
+        let mut passes = Vec::new();
+        for (pass, spirv) in program.passes.iter().zip(&spirv) {
+            let pipeline = ComputePipeline::new(context, spirv, &bindings, push_size, &[])?;
+            // What each channel reads at frame parity p: its image and its size.
+            let channel = |c: usize, parity: usize| -> (&StorageImage, (u32, u32)) {
+                match &pass.channels[c] {
+                    None => (&textures[0], (1, 1)),
+                    Some(ChannelSource::File(path)) => {
+                        let (_, index, size) = files
+                            .iter()
+                            .find(|(p, _, _)| p == path)
+                            .expect("loaded above");
+                        (&textures[*index], *size)
+                    }
+                    Some(ChannelSource::Buffer(source)) => {
+                        let pair = source
+                            .buffer_index()
+                            .and_then(|i| buffers[i].as_ref())
+                            .expect("Program::bind checks that the buffer exists");
+                        let previous = reads_previous_frame(pass.kind, *source);
+                        (
+                            &pair[if previous { 1 - parity } else { parity }],
+                            (width, height),
+                        )
+                    }
+                }
+            };
+            let sizes = [0, 1, 2, 3].map(|c| channel(c, 0).1);
+            let constants = Buffer::with_data(
+                context,
+                "shadertoy constants",
+                &[PassConstants::new(width, height, sizes)],
+                vk::BufferUsageFlags::UNIFORM_BUFFER,
+            )?;
+            let sets = [
+                pipeline.allocate_descriptor_set()?,
+                pipeline.allocate_descriptor_set()?,
+            ];
+            for (parity, set) in sets.iter().enumerate() {
+                let target = match pass.kind.buffer_index() {
+                    Some(i) => &buffers[i].as_ref().expect("created above")[parity],
+                    None => &image_target,
+                };
+                set.write_storage_image(BINDING_TARGET, target);
+                for c in 0..4 {
+                    set.write_sampled_image(
+                        BINDING_CHANNEL_FIRST + c as u32,
+                        channel(c, parity).0,
+                        &sampler,
+                    );
+                }
+                set.write_buffer(
+                    BINDING_CONSTANTS,
+                    vk::DescriptorType::UNIFORM_BUFFER,
+                    &constants,
+                );
+            }
+            passes.push(GpuPass {
+                kind: pass.kind,
+                pipeline,
+                sets,
+                _constants: constants,
+            });
+        }
+        Ok(ShadertoyRunner {
+            context: context.clone(),
+            commands,
+            width,
+            height,
+            passes,
+            buffers,
+            image_target,
+            _textures: textures,
+            _sampler: sampler,
+            frames: 0,
+            warnings,
+            notes,
+        })
+    }
+
+    /// Frames run so far.
+    pub fn frames(&self) -> u32 {
+        self.frames
+    }
+
+    /// Runs the next frame: every pass in order, each seeing what the passes before it
+    /// wrote this frame. Returns when the device has finished it.
+    pub fn run_frame(&mut self) -> Result<()> {
+        let frame = self.frames;
+        let parity = (frame % 2) as usize;
+        let constants = FramePushConstants::for_frame(frame);
+        let size = [self.width, self.height, 1];
+        let passes = &self.passes;
+        self.commands.run(|r| {
+            for pass in passes {
+                r.bind(&pass.pipeline, &pass.sets[parity]);
+                r.push_constants(&pass.pipeline, &constants);
+                r.dispatch(&pass.pipeline, size);
+                r.compute_barrier();
+            }
+        })?;
+        self.frames += 1;
+        Ok(())
+    }
+
+    /// The latest contents of a pass's target as an image (rows top-down, RGBA as the
+    /// shader wrote them; zero before the first frame). `None` when the program lacks it.
+    pub fn read(&self, kind: PassKind) -> Result<Option<RenderedImage>> {
+        let target = match kind.buffer_index() {
+            None => &self.image_target,
+            Some(index) => match &self.buffers[index] {
+                None => return Ok(None),
+                // The last frame wrote the image of its parity.
+                Some(pair) => &pair[(self.frames.max(1) as usize - 1) % 2],
+            },
+        };
+        let host = Buffer::new(
+            &self.context,
+            "shadertoy readback",
+            target.byte_size(),
+            vk::BufferUsageFlags::TRANSFER_DST,
+            gpu_allocator::MemoryLocation::GpuToCpu,
+        )?;
+        self.commands
+            .run(|r| r.copy_image_to_buffer(target, &host))?;
+        let bottom_up: Vec<[f32; 4]> = host.read();
+        let mean = flip_rows(&bottom_up, self.width, self.height);
+        let count = mean.len();
+        Ok(Some(RenderedImage {
+            width: self.width,
+            height: self.height,
+            mean,
+            second_moment: vec![[0.0; 3]; count],
+            sample_count: vec![1.0; count],
+        }))
+    }
+
+    /// The passes, in the order they run.
+    pub fn pass_kinds(&self) -> Vec<PassKind> {
+        self.passes.iter().map(|p| p.kind).collect()
+    }
+}

@@ -1,0 +1,393 @@
+//! `vkpath shadertoy` through the binary on the programs of tests/solutions/programs/:
+//! analytic buffers whose contents after N frames are known exactly (accumulation through a
+//! buffer's own previous frame, the same-frame and previous-frame semantics between passes,
+//! a Common tab, channel overrides), a page shader, compile errors naming the user's file and
+//! line, and stops by signal and time limit that keep what was reached. Every run has the
+//! validation layer on (the binary fails if it reports anything). Images are tiny.
+
+mod common;
+
+use std::path::Path;
+use std::process::{Command, Stdio};
+use std::time::{Duration, Instant};
+
+use vkpath::image_io::exr_input::read_exr;
+use vkpath::RenderedImage;
+
+fn program(name: &str) -> String {
+    format!(
+        "{}/tests/solutions/programs/{name}",
+        env!("CARGO_MANIFEST_DIR")
+    )
+}
+
+/// Runs `vkpath shadertoy` with `--validate`; returns (exit code, stderr).
+fn shadertoy(dir: &Path, args: &[&str]) -> (Option<i32>, String) {
+    let mut all = vec!["shadertoy", "--validate"];
+    all.extend_from_slice(args);
+    let output = common::vkpath(dir, &all);
+    let stderr = String::from_utf8_lossy(&output.stderr).into_owned();
+    assert!(!stderr.contains("panicked"), "{stderr}");
+    (output.status.code(), stderr)
+}
+
+/// The EXR's pixel at column x and row y counted from the bottom (as fragCoord counts),
+/// with alpha: read_exr gives R, G, B, so alpha is read separately.
+fn rgba(path: &Path) -> (RenderedImage, Vec<f32>) {
+    let image = read_exr(path)
+        .unwrap_or_else(|e| panic!("{}: {e}", path.display()))
+        .image;
+    let layer = exr::prelude::read_first_flat_layer_from_file(path).expect("EXR");
+    let alpha = layer
+        .layer_data
+        .channel_data
+        .list
+        .iter()
+        .find(|c| c.name.eq("A"))
+        .map(|c| c.sample_data.values_as_f32().collect())
+        .expect("an alpha channel");
+    (image, alpha)
+}
+
+fn at(image: &(RenderedImage, Vec<f32>), x: u32, y_from_bottom: u32) -> [f32; 4] {
+    let (image, alpha) = image;
+    let row = image.height - 1 - y_from_bottom;
+    let p = image.pixel(x, row);
+    [p[0], p[1], p[2], alpha[(row * image.width + x) as usize]]
+}
+
+#[test]
+fn a_buffer_accumulating_through_its_own_previous_frame_is_exact() {
+    let dir = tempfile::tempdir().unwrap();
+    let frames = 7u32;
+    let (code, stderr) = shadertoy(
+        dir.path(),
+        &[
+            &program("count_image.glsl"),
+            "--buffer-a",
+            &program("count_buffer_a.glsl"),
+            "--frames",
+            "7",
+            "--width",
+            "12",
+            "--height",
+            "5",
+            "-o",
+            "image.exr",
+            "--save-buffer",
+            "a=a.exr",
+        ],
+    );
+    assert_eq!(code, Some(0), "{stderr}");
+    assert!(
+        stderr.contains("wrote image.exr") && stderr.contains("wrote a.exr"),
+        "{stderr}"
+    );
+    let n = frames as f32;
+    let buffer = rgba(&dir.path().join("a.exr"));
+    let image = rgba(&dir.path().join("image.exr"));
+    for (x, y) in [(0, 0), (11, 0), (0, 4), (5, 2), (11, 4)] {
+        let (fx, fy) = (x as f32 + 0.5, y as f32 + 0.5);
+        // Sums of N terms, each exact in float: the buffer is exactly N x (1, x, y) plus
+        // the frame indices 0 + ... + (N - 1).
+        assert_eq!(
+            at(&buffer, x, y),
+            [n, n * fx, n * fy, n * (n - 1.0) / 2.0],
+            "A at ({x}, {y})"
+        );
+        // The Image pass sees this frame's A (red exactly 1, not (N - 1) / N).
+        assert_eq!(
+            at(&image, x, y),
+            [1.0, fx, fy, (n - 1.0) / 2.0],
+            "Image at ({x}, {y})"
+        );
+    }
+}
+
+#[test]
+fn two_buffers_see_this_frame_of_earlier_passes_and_the_previous_of_later_ones() {
+    let dir = tempfile::tempdir().unwrap();
+    let (code, stderr) = shadertoy(
+        dir.path(),
+        &[
+            &program("chain_image.glsl"),
+            "--common",
+            &program("chain_common.glsl"),
+            "--buffer-a",
+            &program("chain_buffer_a.glsl"),
+            "--buffer-b",
+            &program("chain_buffer_b.glsl"),
+            "--channel",
+            "buffer-a.1=buffer-b",
+            "--channel",
+            "buffer-b.1=buffer-a",
+            "--channel",
+            "image.1=buffer-b",
+            "--frames",
+            "5",
+            "--width",
+            "8",
+            "--height",
+            "8",
+            "-o",
+            "image.exr",
+        ],
+    );
+    assert_eq!(code, Some(0), "{stderr}");
+    // After N = 5 frames: A's red 5, A's green B's red after frame 3 (1+2+3+4 = 10), B's red
+    // 1+...+5 = 15.
+    let image = rgba(&dir.path().join("image.exr"));
+    for (x, y) in [(0, 0), (7, 7), (3, 5)] {
+        assert_eq!(at(&image, x, y), [5.0, 10.0, 15.0, 1.0], "({x}, {y})");
+    }
+}
+
+#[test]
+fn a_page_shader_runs_as_the_image_pass_and_pngs_are_clamped_not_encoded() {
+    let dir = tempfile::tempdir().unwrap();
+    let (code, stderr) = shadertoy(
+        dir.path(),
+        &[
+            &program("page_shader_gradient.glsl"),
+            "--frames",
+            "1",
+            "--width",
+            "4",
+            "--height",
+            "2",
+            "-o",
+            "page.png",
+        ],
+    );
+    assert_eq!(code, Some(0), "{stderr}");
+    let png = image::open(dir.path().join("page.png")).unwrap().to_rgb8();
+    assert_eq!(png.dimensions(), (4, 2));
+    // x / 4 at centres 0.5 .. 3.5 times 255, rounded; 0.5 -> 128 (no sRGB curve); 2 -> 255.
+    let reds: Vec<u8> = (0..4).map(|x| png.get_pixel(x, 0).0[0]).collect();
+    assert_eq!(reds, [32, 96, 159, 223]);
+    assert_eq!(png.get_pixel(1, 1).0[1..], [128, 255]);
+}
+
+#[test]
+fn compile_errors_name_the_file_and_line_and_bad_arguments_are_usage_errors() {
+    let dir = tempfile::tempdir().unwrap();
+    let file = program("image_compile_error.glsl");
+    let (code, stderr) = shadertoy(dir.path(), &[&file, "--frames", "1", "-o", "x.png"]);
+    assert_eq!(code, Some(1), "{stderr}");
+    assert!(stderr.contains(&format!("{file}:4:")), "{stderr}");
+    assert!(stderr.contains("undefined_alpha"), "{stderr}");
+    assert!(!dir.path().join("x.png").exists());
+
+    let image = program("count_image.glsl");
+    for (args, expected) in [
+        (
+            vec![image.as_str(), "--frames", "1", "-o", "x.jpg"],
+            "unsupported image format",
+        ),
+        (
+            vec![
+                image.as_str(),
+                "--frames",
+                "1",
+                "-o",
+                "x.png",
+                "--channel",
+                "image.0=buffer-c",
+            ],
+            "has no buffer-c",
+        ),
+        (
+            vec![
+                image.as_str(),
+                "--frames",
+                "1",
+                "-o",
+                "x.png",
+                "--save-buffer",
+                "a=a.exr",
+            ],
+            "has no buffer-a",
+        ),
+        (
+            vec!["missing.glsl", "--frames", "1", "-o", "x.png"],
+            "cannot read 'missing.glsl'",
+        ),
+        (
+            vec![image.as_str(), "--frames", "0", "-o", "x.png"],
+            "--frames",
+        ),
+    ] {
+        let (code, stderr) = shadertoy(dir.path(), &args);
+        assert_eq!(code, Some(2), "{args:?}: {stderr}");
+        assert!(stderr.contains(expected), "{args:?}: {stderr}");
+    }
+}
+
+#[test]
+fn sigint_and_the_time_limit_stop_after_a_frame_and_keep_it() {
+    let dir = tempfile::tempdir().unwrap();
+    let (a, image) = (program("count_buffer_a.glsl"), program("count_image.glsl"));
+    let args = |limit: Option<&'static str>| {
+        let mut args = vec![
+            "shadertoy".to_string(),
+            "--validate".into(),
+            image.clone(),
+            "--buffer-a".into(),
+            a.clone(),
+            "--frames".into(),
+            "10000000".into(),
+            "--width".into(),
+            "8".into(),
+            "--height".into(),
+            "8".into(),
+            "-o".into(),
+            "image.exr".into(),
+            "--save-buffer".into(),
+            "a=a.exr".into(),
+        ];
+        if let Some(limit) = limit {
+            args.extend(["--time-limit".to_string(), limit.to_string()]);
+        }
+        args
+    };
+    let mut child = Command::new(env!("CARGO_BIN_EXE_vkpath"))
+        .args(args(None))
+        .current_dir(dir.path())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    // Read stderr on a thread; once the run says it started its frames, let it run some.
+    let pipe = child.stderr.take().unwrap();
+    let (sender, receiver) = std::sync::mpsc::channel::<String>();
+    let reader = std::thread::spawn(move || {
+        use std::io::BufRead;
+        let mut all = String::new();
+        for line in std::io::BufReader::new(pipe).lines().map_while(Result::ok) {
+            let _ = sender.send(line.clone());
+            all.push_str(&line);
+            all.push('\n');
+        }
+        all
+    });
+    let started = Instant::now();
+    while !receiver
+        .recv_timeout(Duration::from_secs(60))
+        .is_ok_and(|line| line.contains("running"))
+    {
+        assert!(
+            started.elapsed() < Duration::from_secs(60),
+            "the run never started"
+        );
+    }
+    std::thread::sleep(Duration::from_millis(500));
+    let killed = Command::new("kill")
+        .args(["-INT", &child.id().to_string()])
+        .status()
+        .unwrap();
+    assert!(killed.success());
+    let status = child.wait().unwrap();
+    let stderr = reader.join().unwrap();
+    assert_eq!(status.code(), Some(130), "128 + SIGINT: {stderr}");
+    let frames: f32 = stderr
+        .split("stopped by SIGINT after ")
+        .nth(1)
+        .and_then(|rest| rest.split(' ').next())
+        .and_then(|n| n.parse().ok())
+        .unwrap_or_else(|| panic!("no frame count: {stderr}"));
+    assert!(frames >= 1.0, "{stderr}");
+    // The buffer holds exactly the frames reached.
+    assert_eq!(at(&rgba(&dir.path().join("a.exr")), 3, 3)[0], frames);
+
+    let started = Instant::now();
+    let output = Command::new(env!("CARGO_BIN_EXE_vkpath"))
+        .args(args(Some("1")))
+        .current_dir(dir.path())
+        .output()
+        .unwrap();
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    assert_eq!(output.status.code(), Some(0), "{stderr}");
+    assert!(stderr.contains("stopped by --time-limit"), "{stderr}");
+    // Start-up (device, compiling) comes on top of the limit; the frames are short.
+    assert!(started.elapsed() < Duration::from_secs(30));
+    let image = rgba(&dir.path().join("image.exr"));
+    assert_eq!(
+        at(&image, 0, 0)[0],
+        1.0,
+        "the Image pass of the last frame reached"
+    );
+}
+
+/// `vkpath check --json` on a program fixture (32 x 32 renders, as tests/check_cli.rs);
+/// returns the exit code, the `program` entry and stderr.
+fn check_program(name: &str) -> (Option<i32>, serde_json::Value, serde_json::Value) {
+    let dir = tempfile::tempdir().unwrap();
+    let file = program(name);
+    let args = [
+        "check",
+        &file,
+        "--validate",
+        "--json",
+        "--size",
+        "32",
+        "--spp",
+        "256",
+        "--output-dir",
+        "out",
+    ];
+    let output = common::vkpath(dir.path(), &args);
+    let stdout = String::from_utf8_lossy(&output.stdout);
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    assert!(!stderr.contains("panicked"), "{stderr}");
+    let report: serde_json::Value = serde_json::from_str(&stdout)
+        .unwrap_or_else(|e| panic!("not JSON ({e}): {stdout}\n{stderr}"));
+    let entry = report["functions"]
+        .as_array()
+        .and_then(|f| f.iter().find(|f| f["function"] == "program").cloned())
+        .unwrap_or_else(|| panic!("{name}: no program verdict: {stdout}"));
+    (output.status.code(), entry, report)
+}
+
+#[test]
+fn check_passes_the_exercise_7_tab_with_a_correct_intersection() {
+    let (_, program, report) = check_program("exercise7_tab.glsl");
+    assert_eq!(program["passed"], true, "{program:#}");
+    assert_eq!(program["method"], "render");
+    // Every other function of the tab passes too.
+    for function in report["functions"].as_array().unwrap() {
+        assert_eq!(function["passed"], true, "{function:#}");
+    }
+}
+
+#[test]
+fn check_fails_the_slides_tab_and_names_self_intersection() {
+    let (code, program, _) = check_program("exercise7_tab_self_intersection.glsl");
+    assert_eq!(code, Some(1));
+    assert_eq!(program["passed"], false, "{program:#}");
+    let hint = program["hint"].as_str().unwrap_or_default();
+    assert!(hint.starts_with("self-intersection"), "{program:#}");
+    assert!(
+        program["measurements"]["your_average"].as_f64()
+            < program["measurements"]["reference_average"].as_f64()
+    );
+}
+
+#[test]
+fn check_fails_the_tab_with_a_missing_factor_2() {
+    let (code, program, report) = check_program("exercise7_tab_missing_factor_2.glsl");
+    assert_eq!(code, Some(1));
+    assert_eq!(program["passed"], false, "{program:#}");
+    let radiance = report["functions"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .find(|f| f["function"] == "get_ray_radiance")
+        .unwrap();
+    assert_eq!(radiance["passed"], false);
+    assert!(
+        program["hint"]
+            .as_str()
+            .unwrap_or_default()
+            .contains("get_ray_radiance fails on its own"),
+        "{program:#}"
+    );
+}
