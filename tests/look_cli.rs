@@ -154,6 +154,8 @@ fn a_preview_is_written_while_the_render_runs_and_at_the_end() {
     let mut child = std::process::Command::new(env!("CARGO_BIN_EXE_vkpath"))
         .args([
             "render",
+            "--integrator",
+            "workshop",
             "-o",
             "out.exr",
             "--width",

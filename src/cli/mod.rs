@@ -84,10 +84,11 @@ impl DeviceArgs {
         }
     }
 
-    /// A context on each device of `selectors` (as `create_context` does for one).
+    /// A context on each device of `selectors` (as `create_context_reporting` does for one).
     pub fn create_contexts(
         &self,
         selectors: &[String],
+        announce: bool,
     ) -> crate::Result<Vec<std::sync::Arc<crate::vk::Context>>> {
         selectors
             .iter()
@@ -96,19 +97,30 @@ impl DeviceArgs {
                     device: Some(selector.clone()),
                     ..self.clone()
                 }
-                .create_context()
+                .create_context_reporting(announce)
             })
             .collect()
     }
 
     /// Creates the Vulkan context these options describe and prints which device it uses.
     pub fn create_context(&self) -> crate::Result<std::sync::Arc<crate::vk::Context>> {
+        self.create_context_reporting(true)
+    }
+
+    /// `create_context`, printing the device only when `announce` is set (not with
+    /// `--quiet`).
+    pub fn create_context_reporting(
+        &self,
+        announce: bool,
+    ) -> crate::Result<std::sync::Arc<crate::vk::Context>> {
         let context = crate::vk::Context::new(&crate::vk::ContextOptions {
             validate: self.validate,
             device: self.device.clone(),
             require_gpu: self.require_gpu,
         })?;
-        eprintln!("vkpath: device {}", context.info);
+        if announce {
+            eprintln!("vkpath: device {}", context.info);
+        }
         Ok(context)
     }
 }

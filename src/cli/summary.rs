@@ -43,19 +43,54 @@ impl RenderProgress {
     }
 }
 
-/// "device NAME [KIND], WxH, N spp, S s, M M samples/s".
-pub fn summary_line(
-    device: &crate::vk::DeviceInfo,
-    width: u32,
-    height: u32,
-    spp: u32,
-    seconds: f64,
-) -> String {
-    let samples = f64::from(width) * f64::from(height) * f64::from(spp);
-    format!(
-        "device {} [{}], {width}x{height}, {spp} spp, {seconds:.2} s, {:.3} M samples/s",
-        device.name,
-        device.kind,
-        samples / seconds.max(1e-9) / 1e6
-    )
+/// The numbers of a render's summary line.
+pub struct Summary<'a> {
+    /// The devices, and the samples per pixel each took in this run.
+    pub devices: &'a [(crate::vk::DeviceInfo, u32)],
+    /// Image width in pixels.
+    pub width: u32,
+    /// Image height in pixels.
+    pub height: u32,
+    /// Samples per pixel the image holds (resumed ones included).
+    pub spp: u32,
+    /// Samples per pixel this run took (the rate counts these only: samples resumed from a
+    /// checkpoint took no time here).
+    pub new_spp: u32,
+    /// Seconds from the command's start to the first sample.
+    pub setup_seconds: f64,
+    /// Seconds of rendering.
+    pub seconds: f64,
+}
+
+/// "device NAME [KIND], WxH, N spp, setup T s, S s, M M samples/s" for one device; for
+/// several, "K devices, WxH, ... M M samples/s (NAME: N1 spp, ...)".
+pub fn summary_line(summary: &Summary) -> String {
+    let Summary {
+        devices,
+        width,
+        height,
+        spp,
+        new_spp,
+        setup_seconds,
+        seconds,
+    } = *summary;
+    let samples = f64::from(width) * f64::from(height) * f64::from(new_spp);
+    let rate = samples / seconds.max(1e-9) / 1e6;
+    let common = format!(
+        "{width}x{height}, {spp} spp, setup {setup_seconds:.2} s, {seconds:.2} s, {rate:.3} M samples/s"
+    );
+    match devices {
+        [(device, _)] => format!("device {} [{}], {common}", device.name, device.kind),
+        _ => {
+            let shares: Vec<String> = devices
+                .iter()
+                .map(|(device, spp)| format!("{}: {spp} spp", device.name))
+                .collect();
+            format!(
+                "{} devices, {common} ({})",
+                devices.len(),
+                shares.join(", ")
+            )
+        }
+    }
 }
