@@ -130,8 +130,9 @@ def ensure_vkpath(path, build):
 def run_vkpath(vkpath, output, args, spp, integrator, moments=True, seed=None, sampler="pcg"):
     cmd = [vkpath, "render", "-o", output, "--width", str(args.width), "--height", str(args.height),
            "--spp", str(spp), "--integrator", integrator, "--russian-roulette-start", "0",
-           "--max-path-length", str(args.max_path_length), "--pixel-filter", "box",
-           "--sampler", sampler]
+           "--max-path-length", str(args.max_path_length), "--pixel-filter", "box"]
+    if integrator != "workshop":  # the workshop's integrator has PCG2D only
+        cmd += ["--sampler", sampler]
     if args.generated is not None:
         cmd += ["--generated", str(args.generated)]
     if moments:

@@ -221,7 +221,7 @@ def build_mitsuba_scene(mi, args, spp, env_path):
 def run_vkpath(args, scene, env, output):
     cmd = [args.vkpath, "render", scene, "-o", output, "--width", str(args.width),
            "--height", str(args.height), "--spp", str(args.vkpath_spp), "--integrator", "mis",
-           "--russian-roulette-start", "0", "--max-path-length", str(args.max_path_length),
+           "--sampler", "pcg", "--russian-roulette-start", "0", "--max-path-length", str(args.max_path_length),
            "--pixel-filter", "box", "--moments", "--seed", str(args.seed),
            "--environment", env, "--environment-strength", str(args.strength),
            "--environment-rotation", str(args.rotation)]

@@ -208,7 +208,7 @@ def build_mitsuba_scene(mi, args, spp, png_path):
 def run_vkpath(args, scene, output):
     cmd = [args.vkpath, "render", scene, "-o", output, "--width", str(args.width),
            "--height", str(args.height), "--spp", str(args.vkpath_spp), "--integrator", "mis",
-           "--russian-roulette-start", "0", "--max-path-length", str(args.max_path_length),
+           "--sampler", "pcg", "--russian-roulette-start", "0", "--max-path-length", str(args.max_path_length),
            "--pixel-filter", "box", "--moments", "--seed", str(args.seed)]
     print("  $ " + " ".join(cmd), flush=True)
     result = subprocess.run(cmd, capture_output=True, text=True)

@@ -7,3 +7,9 @@ bash scripts/install-deps.sh
 cargo test --all-targets "$@"
 # The doc tests (the crate documentation renders a few samples); --all-targets leaves them out.
 cargo test --doc "$@"
+# The crate packages: `cargo package --list` succeeds and ships the licence.
+packaged=$(cargo package --list --allow-dirty)
+if ! grep -qx LICENSE <<<"$packaged"; then
+  echo "cargo package --list does not list LICENSE" >&2
+  exit 1
+fi

@@ -17,7 +17,17 @@ const SIZE: &str = "64";
 /// Renders the Cornell box with `extra` options into `dir/name`.
 fn render(dir: &Path, name: &str, spp: &str, extra: &[&str]) {
     let mut args = vec![
-        "render", "-o", name, "--width", SIZE, "--height", SIZE, "--spp", spp,
+        "render",
+        "--integrator",
+        "workshop",
+        "-o",
+        name,
+        "--width",
+        SIZE,
+        "--height",
+        SIZE,
+        "--spp",
+        spp,
     ];
     args.extend_from_slice(extra);
     let output = common::vkpath(dir, &args);
@@ -189,7 +199,17 @@ fn bad_inputs_exit_with_status_2() {
         let output = common::vkpath(
             dir,
             &[
-                "render", "-o", name, "--width", size, "--height", "8", "--spp", "2",
+                "render",
+                "--integrator",
+                "workshop",
+                "-o",
+                name,
+                "--width",
+                size,
+                "--height",
+                "8",
+                "--spp",
+                "2",
             ],
         );
         assert!(output.status.success());

@@ -13,6 +13,8 @@ fn exr_is_bit_identical_whatever_the_samples_per_frame() {
             dir.path(),
             &[
                 "render",
+                "--integrator",
+                "workshop",
                 "-o",
                 &name,
                 "--width",
@@ -49,6 +51,8 @@ fn different_seeds_give_different_images() {
             dir.path(),
             &[
                 "render",
+                "--integrator",
+                "workshop",
                 "-o",
                 &format!("seed{seed}.exr"),
                 "--width",

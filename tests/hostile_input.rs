@@ -42,6 +42,8 @@ fn render(dir: &Path, text: &str, extra: &[&str]) -> (Option<i32>, String) {
     std::fs::write(dir.join("scene.gltf"), text).unwrap();
     let mut args = vec![
         "render",
+        "--integrator",
+        "workshop",
         "scene.gltf",
         "-o",
         "out.png",

@@ -155,6 +155,8 @@ fn a_preview_is_written_while_the_render_runs_and_at_the_end() {
         .env("VKPATH_CACHE_DIR", common::test_cache_dir())
         .args([
             "render",
+            "--integrator",
+            "workshop",
             "-o",
             "out.exr",
             "--width",

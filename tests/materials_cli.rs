@@ -93,6 +93,8 @@ fn render(dir: &Path, scene: &str) -> std::process::Output {
         dir,
         &[
             "render",
+            "--integrator",
+            "workshop",
             scene,
             "-o",
             "out.exr",
@@ -226,6 +228,8 @@ fn aovs_and_denoising_are_written_as_layers() {
         dir.path(),
         &[
             "render",
+            "--integrator",
+            "workshop",
             "-o",
             "out.exr",
             "--width",

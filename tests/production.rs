@@ -23,7 +23,14 @@ fn vkpath_ok(dir: &Path, args: &[&str]) -> String {
 }
 
 fn render_args<'a>(output: &'a str, extra: &[&'a str]) -> Vec<&'a str> {
-    let mut args = vec!["render", "-o", output, "--quiet"];
+    let mut args = vec![
+        "render",
+        "--integrator",
+        "workshop",
+        "-o",
+        output,
+        "--quiet",
+    ];
     args.extend_from_slice(&RENDER);
     args.extend_from_slice(extra);
     args
@@ -107,6 +114,8 @@ fn a_checkpoint_of_another_render_is_refused_naming_the_difference() {
         path,
         &[
             "render",
+            "--integrator",
+            "workshop",
             "-o",
             "a.exr",
             "--quiet",
@@ -123,8 +132,21 @@ fn a_checkpoint_of_another_render_is_refused_naming_the_difference() {
     let output = common::vkpath(
         path,
         &[
-            "render", "-o", "b.exr", "--width", "16", "--height", "16", "--spp", "8", "--seed",
-            "7", "--resume", "ck.exr",
+            "render",
+            "--integrator",
+            "workshop",
+            "-o",
+            "b.exr",
+            "--width",
+            "16",
+            "--height",
+            "16",
+            "--spp",
+            "8",
+            "--seed",
+            "7",
+            "--resume",
+            "ck.exr",
         ],
     );
     let stderr = String::from_utf8_lossy(&output.stderr);
@@ -139,6 +161,8 @@ fn a_time_limit_is_kept_within_a_second() {
         dir.path(),
         &[
             "render",
+            "--integrator",
+            "workshop",
             "-o",
             "out.png",
             "--width",
@@ -154,9 +178,9 @@ fn a_time_limit_is_kept_within_a_second() {
     );
     let report: serde_json::Value = serde_json::from_str(stdout.trim()).unwrap();
     assert_eq!(report["stop"], "time-limit", "{report}");
-    let seconds = report["seconds"].as_f64().unwrap();
+    let seconds = report["render_seconds"].as_f64().unwrap();
     assert!((seconds - 3.0).abs() <= 1.0, "stopped after {seconds} s");
-    assert!(report["spp"].as_u64().unwrap() < 65536);
+    assert!(report["spp_taken"].as_u64().unwrap() < 65536);
 }
 
 /// The difference of two floats in units in the last place.
@@ -169,12 +193,28 @@ fn four_shards_merge_into_the_single_render() {
     let dir = tempfile::tempdir().unwrap();
     let path = dir.path();
     let small = ["--width", "48", "--height", "32", "--spp", "64", "--quiet"];
-    let mut args = vec!["render", "-o", "single.exr", "--sample-range", "0..64"];
+    let mut args = vec![
+        "render",
+        "--integrator",
+        "workshop",
+        "-o",
+        "single.exr",
+        "--sample-range",
+        "0..64",
+    ];
     args.extend_from_slice(&small);
     vkpath_ok(path, &args);
     for index in 0..4 {
         let (output, shard) = (format!("shard{index}.exr"), format!("{index}/4"));
-        let mut args = vec!["render", "-o", &output, "--shard", &shard];
+        let mut args = vec![
+            "render",
+            "--integrator",
+            "workshop",
+            "-o",
+            &output,
+            "--shard",
+            &shard,
+        ];
         args.extend_from_slice(&small);
         vkpath_ok(path, &args);
     }
@@ -211,7 +251,17 @@ fn four_shards_merge_into_the_single_render() {
         assert_eq!(output.status.code(), Some(1), "{files:?}: {stderr}");
         assert!(stderr.contains(expected), "{files:?}: {stderr}");
     }
-    let mut args = vec!["render", "-o", "other.exr", "--shard", "1/4", "--seed", "5"];
+    let mut args = vec![
+        "render",
+        "--integrator",
+        "workshop",
+        "-o",
+        "other.exr",
+        "--shard",
+        "1/4",
+        "--seed",
+        "5",
+    ];
     args.extend_from_slice(&small);
     vkpath_ok(path, &args);
     let output = common::vkpath(path, &["merge", "-o", "bad.exr", "shard0.exr", "other.exr"]);
@@ -236,6 +286,8 @@ fn identical_renders_are_identical_files() {
             dir.path(),
             &[
                 "render",
+                "--integrator",
+                "workshop",
                 "-o",
                 name,
                 "--quiet",
@@ -271,11 +323,20 @@ fn two_devices_render_the_single_image() {
         "--sample-range",
         "0..64",
     ];
-    let mut args = vec!["render", "-o", "single.exr", "--quiet"];
+    let mut args = vec![
+        "render",
+        "--integrator",
+        "workshop",
+        "-o",
+        "single.exr",
+        "--quiet",
+    ];
     args.extend_from_slice(&small);
     vkpath_ok(path, &args);
     let mut args = vec![
         "render",
+        "--integrator",
+        "workshop",
         "-o",
         "two.exr",
         "--device",
@@ -314,6 +375,8 @@ fn device_faults_name_the_device_and_keep_the_checkpoint() {
         let path = dir.path();
         let args = [
             "render",
+            "--integrator",
+            "workshop",
             "-o",
             "out.exr",
             "--width",
@@ -349,7 +412,7 @@ fn device_faults_name_the_device_and_keep_the_checkpoint() {
             !state.samples.is_empty(),
             "{fault}: the checkpoint holds the samples taken"
         );
-        let mut resume: Vec<&str> = args[..11].to_vec();
+        let mut resume: Vec<&str> = args[..13].to_vec();
         resume.extend_from_slice(&["--resume", "ck.exr", "--quiet"]);
         vkpath_ok(path, &resume);
     }
@@ -359,7 +422,16 @@ fn device_faults_name_the_device_and_keep_the_checkpoint() {
 fn same_image_however_split(args: &[&str], spfs: [&str; 2]) {
     let dir = tempfile::tempdir().unwrap();
     for (name, spf) in [("a.exr", spfs[0]), ("b.exr", spfs[1])] {
-        let mut full = vec!["render", "-o", name, "--quiet", "--samples-per-frame", spf];
+        let mut full = vec![
+            "render",
+            "--integrator",
+            "workshop",
+            "-o",
+            name,
+            "--quiet",
+            "--samples-per-frame",
+            spf,
+        ];
         full.extend_from_slice(args);
         vkpath_ok(dir.path(), &full);
     }
@@ -407,6 +479,8 @@ fn llvmpipes_loop_limit_never_changes_an_image_silently() {
         dir.path(),
         &[
             "render",
+            "--integrator",
+            "workshop",
             "-o",
             "out.png",
             "--generated",

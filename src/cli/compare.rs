@@ -128,6 +128,7 @@ fn compare_files(args: &CompareArgs) -> anyhow::Result<CompareReport> {
     if let Some(path) = &args.heatmap {
         let map = heat_map(&report, a.image.width, a.image.height);
         save_image(path, &map, &SaveOptions::default())?;
+        eprintln!("vkpath: wrote {} (heat map)", path.display());
     }
     Ok(report)
 }

@@ -51,15 +51,16 @@ pub struct ExerciseArgs {
     /// Where samples look inside a pixel; the workshop uses the centre.
     #[arg(long, value_enum, default_value_t = workshop_frame_settings().pixel_filter)]
     pub pixel_filter: PixelFilter,
-    /// The material and view of `brdf-samples`.
-    #[command(flatten)]
-    pub brdf: BrdfArgs,
     /// How the image is written.
     #[command(flatten)]
     pub save: SaveArgs,
     /// Device selection and validation.
     #[command(flatten)]
     pub device: DeviceArgs,
+    /// The material and view of `brdf-samples` (last: its help heading applies to what
+    /// follows it, so the general options above stay under "Options").
+    #[command(flatten)]
+    pub brdf: BrdfArgs,
 }
 
 /// The material (glTF's metallic-roughness parameters) and view angle whose `sample_brdf`
@@ -152,6 +153,8 @@ fn parse_color(text: &str) -> Result<Vec3, String> {
 pub fn run(args: &ExerciseArgs) -> anyhow::Result<()> {
     // The workshop's display: exposure, then clip (PNGs byte for byte as they always were).
     let save = args.save.options(ToneMap::Clamp);
+    args.save
+        .warn_unused(std::slice::from_ref(&args.output), false);
     match args.name.kind() {
         ExerciseKind::Render(integrator) => {
             if args.brdf.any_given() {
@@ -201,6 +204,7 @@ pub fn run(args: &ExerciseArgs) -> anyhow::Result<()> {
                 _ => render_sample_display(&context, sampler, args.width, args.height, args.seed)?,
             };
             save_image(&args.output, &image, &save)?;
+            eprintln!("vkpath: wrote {}", args.output.display());
             fail_on_validation_messages(&context)
         }
     }

@@ -19,11 +19,15 @@ pub struct ExportArgs {
 /// Runs `vkpath export`.
 pub fn run(args: &ExportArgs) -> anyhow::Result<()> {
     let scene = args.scene.load("vkpath export")?;
-    let manifest = export_scene(&scene, scene.camera.as_ref(), &args.output_dir)?;
+    let exported = export_scene(&scene, scene.camera.as_ref(), &args.output_dir)?;
+    for file in exported.meshes.iter().chain([&exported.manifest]) {
+        eprintln!("vkpath: wrote {}", file.display());
+    }
     eprintln!(
-        "vkpath export: {} triangles -> {}",
+        "vkpath export: {} triangles in {} meshes, {} punctual lights",
         scene.triangles.len(),
-        manifest.display()
+        exported.meshes.len(),
+        scene.punctual_lights.len()
     );
     Ok(())
 }

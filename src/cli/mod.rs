@@ -94,10 +94,11 @@ impl DeviceArgs {
         }
     }
 
-    /// A context on each device of `selectors` (as `create_context` does for one).
+    /// A context on each device of `selectors` (as `create_context_reporting` does for one).
     pub fn create_contexts(
         &self,
         selectors: &[String],
+        announce: bool,
     ) -> crate::Result<Vec<std::sync::Arc<crate::vk::Context>>> {
         selectors
             .iter()
@@ -106,7 +107,7 @@ impl DeviceArgs {
                     device: Some(selector.clone()),
                     ..self.clone()
                 }
-                .create_context()
+                .create_context_reporting(announce)
             })
             .collect()
     }
@@ -128,6 +129,15 @@ impl DeviceArgs {
 
     /// Creates the Vulkan context these options describe and prints which device it uses.
     pub fn create_context(&self) -> crate::Result<std::sync::Arc<crate::vk::Context>> {
+        self.create_context_reporting(true)
+    }
+
+    /// `create_context`, printing the device only when `announce` is set (not with
+    /// `--quiet`).
+    pub fn create_context_reporting(
+        &self,
+        announce: bool,
+    ) -> crate::Result<std::sync::Arc<crate::vk::Context>> {
         let context = crate::vk::Context::new(&crate::vk::ContextOptions {
             validate: self.validate,
             device: self.device.clone(),
@@ -135,10 +145,12 @@ impl DeviceArgs {
             pipeline_cache: if self.no_cache {
                 None
             } else {
-                summary::pipeline_cache_store()
+                summary::pipeline_cache_store(announce)
             },
         })?;
-        eprintln!("vkpath: device {}", context.info);
+        if announce {
+            eprintln!("vkpath: device {}", context.info);
+        }
         Ok(context)
     }
 }

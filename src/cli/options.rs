@@ -11,7 +11,7 @@ use crate::render::job::{
 };
 use crate::render::metadata::parse_range;
 
-use crate::image_io::output::SaveOptions;
+use crate::image_io::output::{ImageFormat, SaveOptions};
 use crate::image_io::tonemap::{Exposure, ToneMap};
 use crate::render::settings::{Accel, LightSampling, RenderSettings, SamplerKind};
 use crate::scene::files::LoadOptions;
@@ -38,15 +38,29 @@ impl SceneArgs {
         SceneSource::new(self.scene.as_deref(), self.generated)
     }
 
+    /// How reports name the scene: its file, `builtin:cornell-box` or `generated:N`.
+    pub fn name(&self) -> String {
+        match self.source() {
+            SceneSource::File(path) => path.display().to_string(),
+            SceneSource::CornellBox => "builtin:cornell-box".into(),
+            SceneSource::Generated(triangles) => format!("generated:{triangles}"),
+        }
+    }
+
     /// Loads the scene; prints the loader's warnings, and how long generating took (after
     /// `command`, e.g. "vkpath render").
     pub fn load(&self, command: &str) -> anyhow::Result<Scene> {
+        self.load_reporting(command, true)
+    }
+
+    /// `load`, saying how long generating took only when `talk` is set (warnings always).
+    pub fn load_reporting(&self, command: &str, talk: bool) -> anyhow::Result<Scene> {
         let source = self.source();
         let started = Instant::now();
         let scene = source.load_with(&LoadOptions {
             allow_external_paths: self.allow_external_paths,
         })?;
-        if let SceneSource::Generated(_) = source {
+        if let (SceneSource::Generated(_), true) = (source, talk) {
             eprintln!(
                 "{command}: generated {} triangles in {:.2} s",
                 scene.triangles.len(),
@@ -80,9 +94,10 @@ pub struct RenderOptions {
     #[arg(long, value_enum, default_value_t = RenderSettings::default().accel)]
     pub accel: Accel,
     /// Random numbers of cosine, nee and mis: the workshop's PCG2D (pcg) or Owen-scrambled
-    /// Sobol points (sobol). The workshop integrator always uses PCG2D.
-    #[arg(long, value_enum, default_value_t = RenderSettings::default().sampler)]
-    pub sampler: SamplerKind,
+    /// Sobol points (sobol). The workshop integrator always uses PCG2D
+    /// [default: render: sobol; bench: pcg].
+    #[arg(long, value_enum)]
+    pub sampler: Option<SamplerKind>,
     /// How nee and mis sample a point on the chosen light: uniformly in the solid angle it
     /// subtends (solid-angle) or uniformly on its area (area).
     #[arg(long, value_enum, default_value_t = RenderSettings::default().light_sampling)]
@@ -90,14 +105,15 @@ pub struct RenderOptions {
 }
 
 impl RenderOptions {
-    /// `settings` with these options in place of its own.
+    /// `settings` with these options in place of its own (its sampler stays when --sampler
+    /// is not given: the subcommand's default).
     pub fn apply(&self, settings: RenderSettings) -> RenderSettings {
         RenderSettings {
             max_path_length: self.max_path_length,
             samples_per_frame: self.samples_per_frame,
             russian_roulette_start: self.russian_roulette_start,
             accel: self.accel,
-            sampler: self.sampler,
+            sampler: self.sampler.unwrap_or(settings.sampler),
             light_sampling: self.light_sampling,
             ..settings
         }
@@ -139,11 +155,12 @@ pub struct JobArgs {
     #[arg(long, value_parser = parse_seconds, default_value_t = DEFAULT_PREVIEW_INTERVAL.as_secs_f64(),
         allow_negative_numbers = true, requires = "preview")]
     pub preview_interval: f64,
-    /// Print one JSON object at the end (output, spp, seconds, samples/s, devices, stop
-    /// reason) on stdout instead of the progress bar and summary.
+    /// Print one JSON object at the end on stdout (outputs, scene, size, integrator,
+    /// sampler, samples requested and taken, set-up and render seconds, samples/s, devices,
+    /// stop reason, checkpoint; schema in the README) instead of the progress bar and summary.
     #[arg(long)]
     pub json: bool,
-    /// Print only warnings and errors.
+    /// Print only warnings and errors: nothing at all on success.
     #[arg(long)]
     pub quiet: bool,
 }
@@ -179,6 +196,7 @@ impl JobArgs {
                     ..save
                 },
             }),
+            started: None,
         })
     }
 
@@ -245,9 +263,9 @@ fn parse_exposure(text: &str) -> Result<Exposure, String> {
 #[derive(Debug, Clone, clap::Args)]
 pub struct SaveArgs {
     /// PNG (and --preview) only: multiply radiance by 2^EXPOSURE before the tone map; `auto`
-    /// maps the image's log-average luminance to middle grey 0.18.
-    #[arg(long, default_value = "0", allow_negative_numbers = true, value_parser = parse_exposure)]
-    pub exposure: Exposure,
+    /// maps the image's log-average luminance to middle grey 0.18 [default: 0].
+    #[arg(long, allow_negative_numbers = true, value_parser = parse_exposure)]
+    pub exposure: Option<Exposure>,
     /// PNG (and --preview) only: how exposed radiance becomes display values
     /// [default: agx; for `exercise`, clamp].
     #[arg(long, value_enum)]
@@ -262,9 +280,46 @@ impl SaveArgs {
     /// --tonemap is not given.
     pub fn options(&self, default_tone_map: ToneMap) -> SaveOptions {
         SaveOptions {
-            exposure: self.exposure,
+            exposure: self.exposure.unwrap_or_default(),
             tone_map: self.tonemap.unwrap_or(default_tone_map),
             moments: self.moments,
+        }
+    }
+
+    /// Warns about the options that none of `outputs` uses (with `preview`, a PNG that
+    /// takes the PNG options too): --exposure and --tonemap without a PNG, --moments without
+    /// an EXR.
+    pub fn warn_unused(&self, outputs: &[PathBuf], preview: bool) {
+        let has = |format: ImageFormat| {
+            outputs
+                .iter()
+                .any(|p| ImageFormat::from_path(p).ok() == Some(format))
+        };
+        let names = || {
+            outputs
+                .iter()
+                .map(|p| format!("'{}'", p.display()))
+                .collect::<Vec<_>>()
+                .join(", ")
+        };
+        if !has(ImageFormat::Png) && !preview {
+            for (given, flag) in [
+                (self.exposure.is_some(), "--exposure"),
+                (self.tonemap.is_some(), "--tonemap"),
+            ] {
+                if given {
+                    eprintln!(
+                        "vkpath: warning: {flag} has no effect: it shapes PNG pictures, and {} holds linear radiance",
+                        names()
+                    );
+                }
+            }
+        }
+        if self.moments && !has(ImageFormat::Exr) {
+            eprintln!(
+                "vkpath: warning: --moments has no effect: it adds EXR channels, and {} is not an EXR",
+                names()
+            );
         }
     }
 }

@@ -3,27 +3,29 @@
 //! cannot be written), print the summary line (or one JSON object), and fail when the
 //! validation layer complained.
 
-use std::path::Path;
+use std::path::{Path, PathBuf};
 use std::sync::Arc;
+use std::time::Instant;
 
 use anyhow::bail;
 use serde::Serialize;
 
 use super::signals;
-use super::summary::{summary_line, RenderProgress};
+use super::summary::{summary_line, RenderProgress, Summary};
 use crate::camera::Camera;
 use crate::image_io::output::{
     save_image_with_attributes, save_image_with_layers, ImageLayer, SaveOptions,
 };
 use crate::image_io::state_exr::write_state;
+use crate::render::accumulation::Accumulation;
 use crate::render::aov::{render_aov, Aov};
-use crate::render::job::{run_job, JobOptions, DEFAULT_CHECKPOINT_INTERVAL};
-use crate::render::metadata::RenderMetadata;
+use crate::render::job::{run_job, JobOptions};
+use crate::render::metadata::{sampler_name, RenderMetadata};
 use crate::render::multi::run_on_devices;
-use crate::render::settings::RenderSettings;
+use crate::render::settings::{RenderSettings, SamplerKind};
 use crate::render::StopReason;
 use crate::scene::Scene;
-use crate::vk::Context;
+use crate::vk::{Context, DeviceInfo, DeviceKind};
 use crate::RenderedImage;
 
 /// How a command reports.
@@ -31,23 +33,140 @@ use crate::RenderedImage;
 pub struct Reporting {
     /// One JSON object on stdout at the end instead of the summary line.
     pub json: bool,
-    /// No progress bar, summary or `wrote` lines (warnings and errors still print).
+    /// No device line, progress bar, summary or `wrote` lines (warnings and errors still
+    /// print).
     pub quiet: bool,
 }
 
-/// The JSON object `render --json` prints.
+impl Reporting {
+    /// Whether the human-readable lines (device, `wrote`, summary) are printed.
+    pub fn talks(self) -> bool {
+        !self.json && !self.quiet
+    }
+}
+
+/// What a render command asks for, besides the device(s): the scene, how to render it, the
+/// job's controls, where the image goes and how the command reports.
+pub struct RenderRequest<'a> {
+    /// The scene as loaded.
+    pub scene: &'a Scene,
+    /// How the command line named it (`SceneArgs::name`), for the JSON report.
+    pub scene_name: String,
+    /// The camera.
+    pub camera: &'a Camera,
+    /// The render settings (`spp` is the job's sample range's length).
+    pub settings: &'a RenderSettings,
+    /// Sample range, time limit, checkpoints, resuming, preview.
+    pub job: JobOptions<'a>,
+    /// The images to write, each in the format its extension names, all from one render.
+    pub outputs: &'a [PathBuf],
+    /// How they are written.
+    pub save: SaveOptions,
+    /// How the command reports.
+    pub reporting: Reporting,
+    /// Whether the outputs hold the render state (a shard, for `vkpath merge`).
+    pub shard: bool,
+    /// What happens to the finished image before it is saved.
+    pub post: PostProcess,
+    /// When the command began: set-up time (loading, device, kernels) counts from here.
+    pub command_started: Instant,
+}
+
+/// The version of `RenderReport`'s schema: it changes only when a key is removed or changes
+/// meaning (added keys keep it).
+pub const RENDER_REPORT_SCHEMA_VERSION: u32 = 1;
+
+/// The JSON object `render --json` prints on stdout, the same whatever the devices (the
+/// README documents every key).
 #[derive(Serialize)]
-struct RenderReport<'a> {
-    output: String,
-    spp: u32,
-    sample_range: [u32; 2],
-    seconds: f64,
-    /// Seconds before the first frame (building the kernels, the BVH, uploads).
-    setup_seconds: f64,
-    samples_per_second: f64,
-    devices: Vec<String>,
-    stop: &'a str,
-    checkpoint: Option<String>,
+pub struct RenderReport {
+    /// `RENDER_REPORT_SCHEMA_VERSION`.
+    pub schema_version: u32,
+    /// The files written, in the order given by `-o`.
+    pub outputs: Vec<String>,
+    /// The scene: its file, `builtin:cornell-box` or `generated:N`.
+    pub scene: String,
+    /// Image width in pixels.
+    pub width: u32,
+    /// Image height in pixels.
+    pub height: u32,
+    /// The command-line name of the integrator.
+    pub integrator: &'static str,
+    /// The sampler the integrator used (`pcg` for the workshop's, which has no other).
+    pub sampler: &'static str,
+    /// Samples per pixel asked for (the sample range's length).
+    pub spp_requested: u32,
+    /// Samples per pixel the outputs hold (resumed ones included).
+    pub spp_taken: u32,
+    /// The samples of every pixel's sequence the outputs hold, [start, end).
+    pub sample_range: [u32; 2],
+    /// Of `spp_taken`, those that came from `--resume`'s checkpoint.
+    pub resumed_spp: u32,
+    /// Seconds from the command's start to the first sample: loading the scene, opening the
+    /// device(s), building the kernels, uploading.
+    pub setup_seconds: f64,
+    /// Seconds of rendering, from the first sample to the last.
+    pub render_seconds: f64,
+    /// Samples (pixels x spp) this run took per second of rendering: resumed samples do not
+    /// count.
+    pub samples_per_second: f64,
+    /// Every device, with the samples per pixel it took in this run.
+    pub devices: Vec<DeviceReport>,
+    /// Why the render stopped: `done`, `time-limit`, `signal` or `failed`.
+    pub stop: &'static str,
+    /// The checkpoint written, if any.
+    pub checkpoint: Option<String>,
+    /// The preview written, if any.
+    pub preview: Option<String>,
+}
+
+/// One device of a `RenderReport`.
+#[derive(Serialize)]
+pub struct DeviceReport {
+    /// Its index, as `vkpath devices` lists it.
+    pub index: usize,
+    /// The driver's name for it.
+    pub name: String,
+    /// `discrete-gpu`, `integrated-gpu`, `virtual-gpu`, `cpu` or `other`.
+    #[serde(rename = "type")]
+    pub kind: &'static str,
+    /// Samples per pixel it took in this run.
+    pub spp: u32,
+}
+
+impl DeviceReport {
+    /// The report of `device`, which took `spp` samples per pixel.
+    fn new(device: &DeviceInfo, spp: u32) -> DeviceReport {
+        DeviceReport {
+            index: device.index,
+            name: device.name.clone(),
+            kind: match device.kind {
+                DeviceKind::DiscreteGpu => "discrete-gpu",
+                DeviceKind::IntegratedGpu => "integrated-gpu",
+                DeviceKind::VirtualGpu => "virtual-gpu",
+                DeviceKind::Cpu => "cpu",
+                DeviceKind::Other => "other",
+            },
+            spp,
+        }
+    }
+}
+
+/// A finished render of one device or several, before it is saved.
+struct Finished {
+    /// The render state (written into shards).
+    state: Accumulation,
+    /// What the outputs hold.
+    metadata: RenderMetadata,
+    stop: StopReason,
+    /// A failure after some samples were taken (they are saved all the same).
+    failure: Option<String>,
+    resumed_samples: u32,
+    rendering_started: Instant,
+    render_seconds: f64,
+    devices: Vec<DeviceReport>,
+    /// Why the final preview could not be written, if it could not.
+    preview_failure: Option<String>,
 }
 
 /// Renders all samples with a progress bar, saves the image and prints the summary line.
@@ -60,26 +179,25 @@ pub fn render_and_save(
     output: &Path,
     save: &SaveOptions,
 ) -> anyhow::Result<()> {
-    let job = JobOptions {
-        samples: 0..settings.spp,
-        time_limit: None,
-        cancel: None,
-        checkpoint: None,
-        checkpoint_interval: DEFAULT_CHECKPOINT_INTERVAL,
-        resume: None,
-        preview: None,
-    };
+    let outputs = [output.to_path_buf()];
     render_job_and_save(
         context,
-        scene,
-        camera,
-        &settings,
-        job,
-        output,
-        save,
-        Reporting::default(),
-        false,
-        &PostProcess::default(),
+        RenderRequest {
+            scene,
+            scene_name: "builtin:cornell-box".into(),
+            camera,
+            settings: &settings,
+            job: JobOptions {
+                samples: 0..settings.spp,
+                ..JobOptions::default()
+            },
+            outputs: &outputs,
+            save: *save,
+            reporting: Reporting::default(),
+            shard: false,
+            post: PostProcess::default(),
+            command_started: Instant::now(),
+        },
     )
 }
 
@@ -156,39 +274,133 @@ impl PostProcess {
     }
 }
 
-/// Runs a production render (`job`) and saves it; `shard` writes the render state into the
-/// EXR too (for `vkpath merge`). Exits with 128 + the signal's number when a signal stopped
-/// it, after everything is written.
-#[allow(clippy::too_many_arguments)]
-pub fn render_job_and_save(
-    context: &Arc<Context>,
-    scene: &Scene,
-    camera: &Camera,
-    settings: &RenderSettings,
-    mut job: JobOptions,
-    output: &Path,
-    save: &SaveOptions,
-    reporting: Reporting,
-    shard: bool,
-    post: &PostProcess,
-) -> anyhow::Result<()> {
-    signals::install()?;
+/// Runs a production render (`request.job`) on one device and saves it; a shard writes the
+/// render state into the EXRs too (for `vkpath merge`). A stop before the first sample
+/// writes nothing. Exits with 128 + the signal's number when a signal stopped it, after
+/// everything is written.
+pub fn render_job_and_save(context: &Arc<Context>, request: RenderRequest) -> anyhow::Result<()> {
+    install_signals(&request)?;
+    let mut job = request.job.clone();
     job.cancel = Some(&signals::STOP_REQUESTED);
+    job.started = Some(&signals::RENDERING);
     let total = job.samples.len() as u32;
-    let mut progress = (!reporting.quiet && !reporting.json).then(|| RenderProgress::new(total));
-    let outcome = run_job(context, scene, camera, settings, &job, |done| {
-        if let Some(progress) = progress.as_mut() {
-            progress.update(done);
-        }
-    })?;
+    let mut progress = request
+        .reporting
+        .talks()
+        .then(|| RenderProgress::new(total));
+    let outcome = run_job(
+        context,
+        request.scene,
+        request.camera,
+        request.settings,
+        &job,
+        |done| {
+            if let Some(progress) = progress.as_mut() {
+                progress.update(done);
+            }
+        },
+    )?;
     if let Some(progress) = progress {
         progress.finish();
     }
-    let metadata = &outcome.metadata;
-    let result = &outcome.outcome;
-    let done = result.samples;
-    let non_finite = result
-        .image
+    let result = outcome.outcome;
+    let new_samples = result.samples - outcome.resumed_samples;
+    let finished = Finished {
+        metadata: outcome.metadata,
+        stop: result.stop,
+        failure: result.failure.map(|e| e.to_string()),
+        resumed_samples: outcome.resumed_samples,
+        rendering_started: outcome.rendering_started,
+        render_seconds: result.seconds,
+        devices: vec![DeviceReport::new(&context.info, new_samples)],
+        preview_failure: outcome.preview_failure.map(|e| e.to_string()),
+        state: result.state,
+    };
+    finish(&request, std::slice::from_ref(context), finished)
+}
+
+/// `render_job_and_save` on several devices at once (each an equal share; no checkpoints,
+/// previews or post-processing). The summary gives each device's share.
+pub fn render_on_devices_and_save(
+    contexts: &[Arc<Context>],
+    request: RenderRequest,
+) -> anyhow::Result<()> {
+    install_signals(&request)?;
+    let job = &request.job;
+    let outcome = run_on_devices(
+        contexts,
+        request.scene,
+        request.camera,
+        request.settings,
+        job.samples.clone(),
+        job.time_limit,
+        Some(&signals::STOP_REQUESTED),
+        Some(&signals::RENDERING),
+    )?;
+    let render_seconds = outcome.rendering_started.elapsed().as_secs_f64();
+    let spp_settings = RenderSettings {
+        spp: job.samples.len() as u32,
+        ..request.settings.clone()
+    };
+    let metadata = RenderMetadata::new(
+        &spp_settings,
+        request.scene,
+        request.camera,
+        outcome.state.samples.clone(),
+    );
+    let devices = contexts
+        .iter()
+        .zip(&outcome.shares)
+        .map(|(context, (_, spp))| DeviceReport::new(&context.info, *spp))
+        .collect();
+    let finished = Finished {
+        state: outcome.state,
+        metadata,
+        stop: outcome.stop,
+        failure: None,
+        resumed_samples: 0,
+        rendering_started: outcome.rendering_started,
+        render_seconds,
+        devices,
+        preview_failure: None,
+    };
+    finish(&request, contexts, finished)
+}
+
+/// Installs the signal handlers, naming the request's outputs for a stop before the first
+/// sample.
+fn install_signals(request: &RenderRequest) -> anyhow::Result<()> {
+    let mut files: Vec<&Path> = request.outputs.iter().map(PathBuf::as_path).collect();
+    files.extend(request.job.checkpoint.as_deref());
+    files.extend(request.job.preview.as_ref().map(|p| p.path.as_path()));
+    signals::install(&files)
+}
+
+/// Saves a finished render to every output, reports it and ends the command as its stop
+/// says.
+fn finish(
+    request: &RenderRequest,
+    contexts: &[Arc<Context>],
+    finished: Finished,
+) -> anyhow::Result<()> {
+    let settings = request.settings;
+    let total = request.job.samples.len() as u32;
+    let done = finished.state.samples.len() as u32;
+    let new_samples = done - finished.resumed_samples;
+    if finished.stop != StopReason::Done && new_samples == 0 {
+        match (&finished.failure, finished.stop) {
+            (Some(error), _) => {
+                bail!("rendering failed before its first sample, so nothing was written: {error}")
+            }
+            (None, StopReason::Cancelled) => signals::exit_with_nothing_written(),
+            _ => bail!(
+                "the render stopped ({}) before its first sample: nothing was written",
+                finished.stop.name()
+            ),
+        }
+    }
+    let image = finished.state.image();
+    let non_finite = image
         .mean
         .iter()
         .filter(|p| !(p[0].is_finite() && p[1].is_finite() && p[2].is_finite()))
@@ -198,158 +410,151 @@ pub fn render_job_and_save(
             "vkpath: warning: {non_finite} pixels are not finite (NaN or infinite); the scene's values overflow 32-bit floats"
         );
     }
-    if shard {
-        write_state(output, &result.state, metadata)?;
-    } else if post.is_empty() {
-        save_or_rescue(output, &result.image, save, metadata, &[])?;
-    } else if result.stop != StopReason::Done {
-        eprintln!("vkpath: warning: the render stopped early: saved without --aov/--denoise");
-        save_or_rescue(output, &result.image, save, metadata, &[])?;
-    } else {
-        // Saved as rendered first, so that nothing is lost if post-processing fails.
-        save_or_rescue(output, &result.image, save, metadata, &[])?;
-        let (image, layers) = post.apply(context, scene, camera, settings, &result.image)?;
-        save_or_rescue(output, &image, save, metadata, &layers)?;
-    }
-    if let Some(error) = &outcome.preview_failure {
+    save_outputs(request, contexts, &finished, &image)?;
+    if let Some(error) = &finished.preview_failure {
         eprintln!("vkpath: warning: {error} (the preview)");
     }
-    let quiet = reporting.quiet || reporting.json;
-    if !quiet {
-        eprintln!("vkpath: wrote {}", output.display());
-        if let Some(checkpoint) = &job.checkpoint {
+    let setup_seconds = finished
+        .rendering_started
+        .saturating_duration_since(request.command_started)
+        .as_secs_f64();
+    let checkpoint = request.job.checkpoint.as_ref();
+    let preview = request
+        .job
+        .preview
+        .as_ref()
+        .filter(|_| finished.preview_failure.is_none())
+        .map(|p| &p.path);
+    if request.reporting.talks() {
+        for output in request.outputs {
+            eprintln!("vkpath: wrote {}", output.display());
+        }
+        if let Some(checkpoint) = checkpoint {
             eprintln!("vkpath: wrote {} (checkpoint)", checkpoint.display());
         }
-        if let (Some(preview), None) = (&job.preview, &outcome.preview_failure) {
-            eprintln!("vkpath: wrote {} (preview)", preview.path.display());
+        if let Some(preview) = preview {
+            eprintln!("vkpath: wrote {} (preview)", preview.display());
         }
-        let seconds = result.seconds;
+        let devices: Vec<(DeviceInfo, u32)> = contexts
+            .iter()
+            .zip(&finished.devices)
+            .map(|(context, report)| (context.info.clone(), report.spp))
+            .collect();
         eprintln!(
             "{}",
-            summary_line(
-                &context.info,
-                settings.width,
-                settings.height,
-                done,
-                result.setup_seconds,
-                seconds
-            )
+            summary_line(&Summary {
+                devices: &devices,
+                width: settings.width,
+                height: settings.height,
+                spp: done,
+                new_spp: new_samples,
+                setup_seconds,
+                seconds: finished.render_seconds,
+            })
         );
     }
-    let stop = result.stop.name();
-    if reporting.json {
+    if request.reporting.json {
         let pixels = f64::from(settings.width) * f64::from(settings.height);
-        let new_samples = f64::from(done - outcome.resumed_samples) * pixels;
+        let effective_sampler = if settings.integrator.is_importance_sampled() {
+            settings.sampler
+        } else {
+            SamplerKind::Pcg
+        };
         let report = RenderReport {
-            output: output.display().to_string(),
-            spp: done,
-            sample_range: [result.state.samples.start, result.state.samples.end],
-            seconds: result.seconds,
-            setup_seconds: result.setup_seconds,
-            samples_per_second: new_samples / result.seconds.max(1e-9),
-            devices: vec![context.info.name.clone()],
-            stop,
-            checkpoint: job.checkpoint.as_ref().map(|p| p.display().to_string()),
+            schema_version: RENDER_REPORT_SCHEMA_VERSION,
+            outputs: request
+                .outputs
+                .iter()
+                .map(|p| p.display().to_string())
+                .collect(),
+            scene: request.scene_name.clone(),
+            width: settings.width,
+            height: settings.height,
+            integrator: settings.integrator.name(),
+            sampler: sampler_name(effective_sampler),
+            spp_requested: total,
+            spp_taken: done,
+            sample_range: [finished.state.samples.start, finished.state.samples.end],
+            resumed_spp: finished.resumed_samples,
+            setup_seconds,
+            render_seconds: finished.render_seconds,
+            samples_per_second: f64::from(new_samples) * pixels / finished.render_seconds.max(1e-9),
+            devices: finished.devices,
+            stop: finished.stop.name(),
+            checkpoint: checkpoint.map(|p| p.display().to_string()),
+            preview: preview.map(|p| p.display().to_string()),
         };
         println!("{}", serde_json::to_string(&report)?);
     }
-    if let Some(error) = &result.failure {
+    if let Some(error) = &finished.failure {
         bail!("rendering stopped after {done} of {total} spp: {error}");
     }
-    match result.stop {
+    match finished.stop {
         StopReason::Cancelled => {
             let (name, status) = signals::received().unwrap_or(("a signal", 130));
-            eprintln!(
-                "vkpath: stopped by {name} after {done} of {total} spp; saved to '{}'{}",
-                output.display(),
-                job.checkpoint
-                    .as_ref()
-                    .map(|c| format!(" and '{}'", c.display()))
-                    .unwrap_or_default()
-            );
+            let mut saved: Vec<String> = request
+                .outputs
+                .iter()
+                .chain(checkpoint)
+                .map(|p| format!("'{}'", p.display()))
+                .collect();
+            let last = saved.pop().unwrap_or_default();
+            let saved = match saved.is_empty() {
+                true => last,
+                false => format!("{} and {last}", saved.join(", ")),
+            };
+            eprintln!("vkpath: stopped by {name} after {done} of {total} spp; saved to {saved}");
             std::process::exit(status);
         }
-        StopReason::TimeLimit if !quiet => {
+        StopReason::TimeLimit if !request.reporting.quiet && !request.reporting.json => {
             eprintln!("vkpath: time limit reached after {done} of {total} spp");
         }
         _ => {}
     }
-    fail_on_validation_messages(context)
-}
-
-/// `render_job_and_save` on several devices at once (each an equal share; no checkpoints).
-/// The summary gives each device's share.
-#[allow(clippy::too_many_arguments)]
-pub fn render_on_devices_and_save(
-    contexts: &[Arc<Context>],
-    scene: &Scene,
-    camera: &Camera,
-    settings: &RenderSettings,
-    job: JobOptions,
-    output: &Path,
-    save: &SaveOptions,
-    reporting: Reporting,
-    shard: bool,
-) -> anyhow::Result<()> {
-    signals::install()?;
-    let outcome = run_on_devices(
-        contexts,
-        scene,
-        camera,
-        settings,
-        job.samples.clone(),
-        job.time_limit,
-        Some(&signals::STOP_REQUESTED),
-    )?;
-    let spp_settings = RenderSettings {
-        spp: job.samples.len() as u32,
-        ..settings.clone()
-    };
-    let metadata = RenderMetadata::new(&spp_settings, scene, camera, outcome.state.samples.clone());
-    if shard {
-        write_state(output, &outcome.state, &metadata)?;
-    } else {
-        save_or_rescue(output, &outcome.state.image(), save, &metadata, &[])?;
-    }
-    let done = outcome.state.samples.len() as u32;
-    let shares: Vec<String> = outcome
-        .shares
-        .iter()
-        .map(|(name, spp)| format!("{name}: {spp} spp"))
-        .collect();
-    if reporting.json {
-        let pixels = f64::from(settings.width) * f64::from(settings.height);
-        let report = serde_json::json!({
-            "output": output.display().to_string(),
-            "spp": done,
-            "sample_range": [outcome.state.samples.start, outcome.state.samples.end],
-            "seconds": outcome.seconds,
-            "samples_per_second": f64::from(done) * pixels / outcome.seconds.max(1e-9),
-            "devices": outcome.shares.iter().map(|(name, spp)| serde_json::json!({"name": name, "spp": spp})).collect::<Vec<_>>(),
-            "stop": outcome.stop.name(),
-        });
-        println!("{report}");
-    } else if !reporting.quiet {
-        eprintln!("vkpath: wrote {}", output.display());
-        eprintln!(
-            "{} devices, {}x{}, {done} spp, {:.2} s ({})",
-            contexts.len(),
-            settings.width,
-            settings.height,
-            outcome.seconds,
-            shares.join(", ")
-        );
-    }
-    if outcome.stop == StopReason::Cancelled {
-        let (name, status) = signals::received().unwrap_or(("a signal", 130));
-        eprintln!(
-            "vkpath: stopped by {name} after {done} spp; saved to '{}'",
-            output.display()
-        );
-        std::process::exit(status);
-    }
     for context in contexts {
         fail_on_validation_messages(context)?;
+    }
+    Ok(())
+}
+
+/// Writes the finished render to every output: the render state for a shard; otherwise the
+/// image as rendered, then (for a complete render) again after `request.post`, so that
+/// nothing is lost if post-processing fails.
+fn save_outputs(
+    request: &RenderRequest,
+    contexts: &[Arc<Context>],
+    finished: &Finished,
+    image: &RenderedImage,
+) -> anyhow::Result<()> {
+    let metadata = &finished.metadata;
+    if request.shard {
+        for output in request.outputs {
+            write_state(output, &finished.state, metadata)?;
+        }
+        return Ok(());
+    }
+    for output in request.outputs {
+        save_or_rescue(output, image, &request.save, metadata, &[])?;
+    }
+    if request.post.is_empty() {
+        return Ok(());
+    }
+    if finished.stop != StopReason::Done {
+        eprintln!("vkpath: warning: the render stopped early: saved without --aov/--denoise");
+        return Ok(());
+    }
+    let Some(context) = contexts.first() else {
+        return Ok(());
+    };
+    let (processed, layers) = request.post.apply(
+        context,
+        request.scene,
+        request.camera,
+        request.settings,
+        image,
+    )?;
+    for output in request.outputs {
+        save_or_rescue(output, &processed, &request.save, metadata, &layers)?;
     }
     Ok(())
 }

@@ -1,17 +1,20 @@
 //! `vkpath render`: loads a scene, renders it progressively and writes the image.
 
 use std::path::PathBuf;
+use std::time::Instant;
 
 use anyhow::bail;
 use glam::Vec3;
 
 use super::options::{JobArgs, RenderOptions, SaveArgs, SceneArgs};
-use super::output::{render_job_and_save, render_on_devices_and_save, PostProcess};
-use super::{parse_vec3, DeviceArgs};
+use super::output::{render_job_and_save, render_on_devices_and_save, PostProcess, RenderRequest};
+use super::{parse_vec3, signals, DeviceArgs};
 use crate::camera::{Camera, DEFAULT_VERTICAL_FOV_DEGREES};
 use crate::image_io::output::{check_writable, ImageFormat};
 use crate::image_io::tonemap::RENDER_PNG_TONE_MAP;
-use crate::render::settings::{Integrator, PixelFilter, RenderSettings};
+use crate::render::job::{production_settings, JobOptions, DEFAULT_CHECKPOINT_INTERVAL};
+use crate::render::metadata::sampler_name;
+use crate::render::settings::{Integrator, PixelFilter, RenderSettings, SamplerKind};
 use crate::scene::environment::{load_environment_map, Environment};
 use crate::scene::Scene;
 
@@ -21,9 +24,10 @@ pub struct RenderArgs {
     /// The scene.
     #[command(flatten)]
     pub scene: SceneArgs,
-    /// Output image: .exr (linear radiance, 32-bit float) or .png (sRGB).
-    #[arg(short, long)]
-    pub output: PathBuf,
+    /// Output image: .exr (linear radiance, 32-bit float) or .png (sRGB); give it more than
+    /// once (-o a.exr -o a.png) to write several files from one render.
+    #[arg(short, long = "output", required = true)]
+    pub outputs: Vec<PathBuf>,
     /// Image width in pixels.
     #[arg(long, default_value_t = RenderSettings::default().width)]
     pub width: u32,
@@ -40,8 +44,9 @@ pub struct RenderArgs {
     #[arg(long, default_value_t = RenderSettings::default().seed)]
     pub seed: u32,
     /// Sampling strategy: the workshop's uniform hemisphere sampling, cosine-weighted
-    /// sampling, next event estimation, or multiple importance sampling.
-    #[arg(long, value_enum, default_value_t = RenderSettings::default().integrator)]
+    /// sampling, next event estimation, or multiple importance sampling (the default: it
+    /// sees every light and has the least noise).
+    #[arg(long, value_enum, default_value_t = production_settings().integrator)]
     pub integrator: Integrator,
     /// Where samples look inside a pixel.
     #[arg(long, value_enum, default_value_t = RenderSettings::default().pixel_filter)]
@@ -144,21 +149,145 @@ pub struct CameraArgs {
 }
 
 impl RenderArgs {
-    /// The render settings these arguments describe.
+    /// The render settings these arguments describe: `production_settings()` where they say
+    /// nothing. The workshop's integrator has only PCG2D: it gets `pcg` (a --sampler given with
+    /// it is warned about, `warn_unused_options`).
     pub fn settings(&self) -> RenderSettings {
-        self.render.apply(RenderSettings {
+        let settings = self.render.apply(RenderSettings {
             width: self.width,
             height: self.height,
             spp: self.spp,
             seed: self.seed,
             pixel_filter: self.pixel_filter,
             integrator: self.integrator,
-            ..RenderSettings::default()
-        })
+            ..production_settings()
+        });
+        if settings.integrator.is_importance_sampled() {
+            settings
+        } else {
+            RenderSettings {
+                sampler: SamplerKind::Pcg,
+                ..settings
+            }
+        }
     }
 
-    /// The camera from the command line, else the scene's.
-    pub fn camera(&self, scene: &Scene) -> anyhow::Result<Camera> {
+    /// Warns about every option given that has no effect with the others (one line each).
+    pub fn warn_unused_options(&self) {
+        let warn = |line: String| eprintln!("vkpath: warning: {line}");
+        self.save
+            .warn_unused(&self.outputs, self.job.preview.is_some());
+        let exr = self
+            .outputs
+            .iter()
+            .any(|p| ImageFormat::from_path(p).ok() == Some(ImageFormat::Exr));
+        if !self.aov.is_empty() && !exr {
+            warn(
+                "--aov has no effect: its layers go into EXR files, and no output is an EXR".into(),
+            );
+        }
+        let integrator = self.integrator.name();
+        let defaults = RenderSettings::default();
+        if !self.integrator.is_importance_sampled() {
+            if let Some(sampler) = self.render.sampler {
+                warn(format!(
+                    "--sampler {} has no effect with --integrator {integrator}: it always uses the workshop's PCG2D",
+                    sampler_name(sampler)
+                ));
+            }
+            if self.render.russian_roulette_start != defaults.russian_roulette_start {
+                warn(format!(
+                    "--russian-roulette-start has no effect with --integrator {integrator}: it has no Russian roulette"
+                ));
+            }
+        }
+        if !matches!(self.integrator, Integrator::Nee | Integrator::Mis)
+            && self.render.light_sampling != defaults.light_sampling
+        {
+            warn(format!(
+                "--light-sampling has no effect with --integrator {integrator}: only nee and mis sample lights"
+            ));
+        }
+        if self.lights.environment.is_none() {
+            if self.lights.environment_strength != 1.0 {
+                warn("--environment-strength has no effect without --environment".into());
+            }
+            if self.lights.environment_rotation != 0.0 {
+                warn("--environment-rotation has no effect without --environment".into());
+            }
+        }
+        if self.camera.camera_position.is_none() {
+            if self.camera.fov != DEFAULT_VERTICAL_FOV_DEGREES {
+                warn("--fov has no effect without --camera-position and --look-at".into());
+            }
+            if self.camera.up != Vec3::Y {
+                warn("--up has no effect without --camera-position and --look-at".into());
+            }
+        }
+        if self.job.sample_range.is_some() && self.spp != defaults.spp {
+            warn("--spp has no effect with --sample-range: the range decides the samples".into());
+        }
+        if self.job.checkpoint.is_none()
+            && self.job.checkpoint_interval != DEFAULT_CHECKPOINT_INTERVAL.as_secs_f64()
+        {
+            warn("--checkpoint-interval has no effect without --checkpoint".into());
+        }
+    }
+
+    /// Checks every file the render would write before anything is rendered: each output
+    /// (`check_writable`: a known format, a regular file or a new name, never a device,
+    /// FIFO, socket or directory), no output named twice, an EXR checkpoint and a PNG
+    /// preview, EXR outputs for a shard.
+    fn check_files(&self, job: &JobOptions) -> anyhow::Result<()> {
+        for (index, output) in self.outputs.iter().enumerate() {
+            check_writable(output)?;
+            if self.outputs[..index].contains(output) {
+                bail!("-o '{}' is given twice", output.display());
+            }
+        }
+        if self.job.is_shard()
+            && self
+                .outputs
+                .iter()
+                .any(|p| ImageFormat::from_path(p).ok() != Some(ImageFormat::Exr))
+        {
+            bail!("a shard (--sample-range or --shard) is written as EXR, for `vkpath merge`: use .exr outputs");
+        }
+        if let Some(checkpoint) = &job.checkpoint {
+            if ImageFormat::from_path(checkpoint).ok() != Some(ImageFormat::Exr) {
+                bail!(
+                    "--checkpoint '{}': a checkpoint is an EXR of the render state: use a .exr name",
+                    checkpoint.display()
+                );
+            }
+            check_writable(checkpoint)?;
+            if self.outputs.contains(checkpoint) {
+                bail!(
+                    "--checkpoint '{}' is also an output: give it a name of its own",
+                    checkpoint.display()
+                );
+            }
+        }
+        if let Some(preview) = &job.preview {
+            if check_writable(&preview.path)? != ImageFormat::Png {
+                bail!(
+                    "the preview '{}' is a tone-mapped picture: use a .png",
+                    preview.path.display()
+                );
+            }
+            if self.outputs.contains(&preview.path) {
+                bail!(
+                    "--preview '{}' is also an output: give it a name of its own",
+                    preview.path.display()
+                );
+            }
+        }
+        Ok(())
+    }
+
+    /// The camera from the command line, else the scene's, else one that frames the scene
+    /// (which one line says when `talk` is set).
+    pub fn camera(&self, scene: &Scene, talk: bool) -> anyhow::Result<Camera> {
         let CameraArgs {
             camera_position,
             look_at,
@@ -188,10 +317,12 @@ impl RenderArgs {
                     let Some((camera, centre, radius)) = scene.framing_camera(aspect) else {
                         bail!("the scene has no camera and nothing to frame");
                     };
-                    eprintln!(
+                    if talk {
+                        eprintln!(
                         "vkpath: the scene has no camera: framing its bounding sphere (centre {:.3},{:.3},{:.3}, radius {radius:.3}) from +Z, 20 degrees above, vertical field of view {DEFAULT_VERTICAL_FOV_DEGREES} degrees",
                         centre.x, centre.y, centre.z
                     );
+                    }
                     Ok(camera)
                 }
             },
@@ -201,31 +332,18 @@ impl RenderArgs {
 
 /// Runs `vkpath render`.
 pub fn run(args: &RenderArgs) -> anyhow::Result<()> {
+    let command_started = Instant::now();
+    let reporting = args.job.reporting();
     let settings = args.settings();
     settings.validate()?;
     let save = args.save.options(RENDER_PNG_TONE_MAP);
     let job = args.job.options(settings.spp, save)?;
-    check_writable(&args.output)?;
+    args.check_files(&job)?;
+    // From here a signal ends the command at once, writing nothing, until the first sample.
+    let files: Vec<&std::path::Path> = args.outputs.iter().map(PathBuf::as_path).collect();
+    signals::install(&files)?;
+    args.warn_unused_options();
     let shard = args.job.is_shard();
-    if shard
-        && !args
-            .output
-            .extension()
-            .is_some_and(|e| e.eq_ignore_ascii_case("exr"))
-    {
-        bail!("a shard (--sample-range or --shard) is written as EXR, for `vkpath merge`: use an .exr output");
-    }
-    if let Some(checkpoint) = &job.checkpoint {
-        check_writable(checkpoint)?;
-    }
-    if let Some(preview) = &job.preview {
-        if check_writable(&preview.path)? != ImageFormat::Png {
-            bail!(
-                "the preview '{}' is a tone-mapped picture: use a .png",
-                preview.path.display()
-            );
-        }
-    }
     let post = PostProcess {
         aovs: args.aov.clone(),
         denoise: args.denoise,
@@ -236,7 +354,9 @@ pub fn run(args: &RenderArgs) -> anyhow::Result<()> {
     if args.denoise {
         crate::denoise::available()?;
     }
-    let mut scene = args.scene.load("vkpath render")?;
+    let mut scene = args
+        .scene
+        .load_reporting("vkpath render", reporting.talks())?;
     scene.environment = args.lights.environment()?;
     if !scene.emits_light() {
         eprintln!(
@@ -252,38 +372,37 @@ pub fn run(args: &RenderArgs) -> anyhow::Result<()> {
             settings.integrator.name()
         );
     }
-    let camera = args.camera(&scene)?;
-    if let Some(selectors) = args.device.several()? {
+    let camera = args.camera(&scene, reporting.talks())?;
+    let several = args.device.several()?;
+    if several.is_some() {
         if job.checkpoint.is_some() || job.resume.is_some() || job.preview.is_some() {
             bail!("--checkpoint, --resume and --preview work with one device; render on several with shards instead");
         }
         if !post.is_empty() {
             bail!("--aov and --denoise work with one device");
         }
-        let contexts = args.device.create_contexts(&selectors)?;
-        return render_on_devices_and_save(
-            &contexts,
-            &scene,
-            &camera,
-            &settings,
-            job,
-            &args.output,
-            &save,
-            args.job.reporting(),
-            shard,
-        );
     }
-    let context = args.device.create_context()?;
-    render_job_and_save(
-        &context,
-        &scene,
-        &camera,
-        &settings,
+    let request = RenderRequest {
+        scene: &scene,
+        scene_name: args.scene.name(),
+        camera: &camera,
+        settings: &settings,
         job,
-        &args.output,
-        &save,
-        args.job.reporting(),
+        outputs: &args.outputs,
+        save,
+        reporting,
         shard,
-        &post,
-    )
+        post,
+        command_started,
+    };
+    match several {
+        Some(selectors) => {
+            let contexts = args.device.create_contexts(&selectors, reporting.talks())?;
+            render_on_devices_and_save(&contexts, request)
+        }
+        None => {
+            let context = args.device.create_context_reporting(reporting.talks())?;
+            render_job_and_save(&context, request)
+        }
+    }
 }

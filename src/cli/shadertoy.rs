@@ -172,7 +172,9 @@ pub fn run(args: &ShadertoyArgs) -> anyhow::Result<()> {
     if !runner.warnings.trim().is_empty() {
         eprintln!("{}", runner.warnings.trim_end());
     }
-    signals::install()?;
+    signals::install(&[args.output.as_path()])?;
+    // The passes are built: from here a first signal stops after the frame in flight.
+    signals::RENDERING.store(true, Ordering::SeqCst);
     if !args.quiet {
         eprintln!(
             "vkpath: running {} pass(es) for {} frames at {}x{}",

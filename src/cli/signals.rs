@@ -1,20 +1,40 @@
 //! SIGINT, SIGTERM and SIGHUP (what Ctrl-C, `timeout`, schedulers and a closed terminal
-//! send) stop a render after the current batch: the command then writes what it rendered
-//! (and its checkpoint) and exits with 128 + the signal's number. Further signals while it
-//! writes are ignored until the (atomic) write is complete.
+//! send), in three cases:
+//! - before the render's first sample (loading the scene, opening the device, building the
+//!   kernels, which on lavapipe takes seconds): the command ends at once and writes nothing;
+//!   one line says so and every existing output stays as it was;
+//! - while it renders: the render stops after the current batch, the command writes what it
+//!   rendered (and its checkpoint) and exits with 128 + the signal's number;
+//! - a second signal, at any time: the command aborts at once. The temporary files of the
+//!   writes in progress are removed, so every output is either as it was or completely
+//!   written (outputs are only ever replaced by renaming a finished file over them).
 
 use std::sync::atomic::{AtomicBool, AtomicI32, Ordering};
-use std::sync::Once;
+use std::sync::{Mutex, Once};
 
 use signal_hook::consts::{SIGHUP, SIGINT, SIGTERM};
 
+use crate::image_io::output::abort_pending_writes;
+
 /// Set when a signal asks the render to stop.
 pub static STOP_REQUESTED: AtomicBool = AtomicBool::new(false);
+/// Set (by `run_job`, through `JobOptions::started`) once the renderer is built and the
+/// first sample is about to be taken: from then on a first signal stops the render after
+/// the batch instead of ending the command.
+pub static RENDERING: AtomicBool = AtomicBool::new(false);
 /// The first signal received (0 while none was).
 static SIGNAL: AtomicI32 = AtomicI32::new(0);
+/// What a stop before the first sample leaves alone, for its line (e.g. "'out.png'").
+static OUTPUTS: Mutex<String> = Mutex::new(String::new());
 
-/// Installs the handlers (once per process).
-pub fn install() -> anyhow::Result<()> {
+/// Installs the handlers (once per process); `outputs` names the files the command would
+/// write, for the line a stop before the first sample prints.
+pub fn install(outputs: &[&std::path::Path]) -> anyhow::Result<()> {
+    let names: Vec<String> = outputs
+        .iter()
+        .map(|p| format!("'{}'", p.display()))
+        .collect();
+    *OUTPUTS.lock().unwrap_or_else(|e| e.into_inner()) = names.join(", ");
     static INSTALLED: Once = Once::new();
     let mut result = Ok(());
     INSTALLED.call_once(|| {
@@ -22,15 +42,58 @@ pub fn install() -> anyhow::Result<()> {
             .map(|mut signals| {
                 std::thread::spawn(move || {
                     for signal in signals.forever() {
-                        let _ =
-                            SIGNAL.compare_exchange(0, signal, Ordering::SeqCst, Ordering::SeqCst);
-                        STOP_REQUESTED.store(true, Ordering::SeqCst);
+                        handle(signal);
                     }
                 });
             })
             .map_err(|e| anyhow::anyhow!("cannot install the signal handlers: {e}"));
     });
     result
+}
+
+/// What a signal does (on the handlers' thread, not in a signal handler: it may print).
+fn handle(signal: i32) {
+    let first = SIGNAL
+        .compare_exchange(0, signal, Ordering::SeqCst, Ordering::SeqCst)
+        .is_ok();
+    if !first {
+        let _stopped = abort_pending_writes();
+        eprintln!(
+            "vkpath: aborted by a second signal ({}): files being written were discarded, finished ones are complete",
+            name(signal)
+        );
+        signal_hook::low_level::exit(128 + signal);
+    }
+    if !RENDERING.load(Ordering::SeqCst) {
+        let _stopped = abort_pending_writes();
+        eprintln!("{}", nothing_written_line(signal));
+        signal_hook::low_level::exit(128 + signal);
+    }
+    STOP_REQUESTED.store(true, Ordering::SeqCst);
+}
+
+/// The line of a stop before the first sample: nothing written, the outputs as they were.
+fn nothing_written_line(signal: i32) -> String {
+    let outputs = OUTPUTS.lock().unwrap_or_else(|e| e.into_inner()).clone();
+    format!(
+        "vkpath: stopped by {} before the first sample: nothing written ({} left as it was)",
+        name(signal),
+        if outputs.is_empty() {
+            "every file"
+        } else {
+            &outputs
+        }
+    )
+}
+
+/// Ends the command after a stop that came before the render's first sample (the signal
+/// arrived between building the renderer and its first batch): prints the same line as a
+/// stop during set-up and exits with 128 + the signal's number, having written nothing.
+pub fn exit_with_nothing_written() -> ! {
+    let signal = SIGNAL.load(Ordering::SeqCst);
+    let signal = if signal == 0 { SIGINT } else { signal };
+    eprintln!("{}", nothing_written_line(signal));
+    std::process::exit(128 + signal);
 }
 
 /// The signal that stopped the render, if one did: (its name, the exit status 128 + number).

@@ -46,8 +46,11 @@ impl RenderProgress {
 
 /// The pipeline cache of the user's cache directory (`render::pipeline_cache`), printing
 /// its warnings and, once per process, a line when building kernels takes over a second;
-/// `None` (with a warning) when no cache directory can be found.
-pub fn pipeline_cache_store() -> Option<std::sync::Arc<dyn crate::vk::PipelineCacheStore>> {
+/// `None` (with a warning) when no cache directory can be found. The line about building
+/// kernels is printed only when `announce` is set (not with `--quiet`).
+pub fn pipeline_cache_store(
+    announce: bool,
+) -> Option<std::sync::Arc<dyn crate::vk::PipelineCacheStore>> {
     use crate::render::pipeline_cache::{default_cache_dir, PipelineCacheDir, CACHE_DIR_VARIABLE};
     static NOTICE: std::sync::Once = std::sync::Once::new();
     let Some(dir) = default_cache_dir() else {
@@ -59,7 +62,10 @@ pub fn pipeline_cache_store() -> Option<std::sync::Arc<dyn crate::vk::PipelineCa
     Some(std::sync::Arc::new(PipelineCacheDir::new(
         dir,
         |warning| eprintln!("vkpath: warning: {warning}"),
-        || {
+        move || {
+            if !announce {
+                return;
+            }
             NOTICE.call_once(|| {
                 eprintln!("vkpath: building kernels for this scene (first run on this device)…")
             })
@@ -67,21 +73,54 @@ pub fn pipeline_cache_store() -> Option<std::sync::Arc<dyn crate::vk::PipelineCa
     )))
 }
 
-/// "device NAME [KIND], WxH, N spp, setup T s, render S s, M M samples/s": `setup_seconds` to
-/// build the renderer (kernels, BVH, uploads), `seconds` to render.
-pub fn summary_line(
-    device: &crate::vk::DeviceInfo,
-    width: u32,
-    height: u32,
-    spp: u32,
-    setup_seconds: f64,
-    seconds: f64,
-) -> String {
-    let samples = f64::from(width) * f64::from(height) * f64::from(spp);
-    format!(
-        "device {} [{}], {width}x{height}, {spp} spp, setup {setup_seconds:.2} s, render {seconds:.2} s, {:.3} M samples/s",
-        device.name,
-        device.kind,
-        samples / seconds.max(1e-9) / 1e6
-    )
+/// The numbers of a render's summary line.
+pub struct Summary<'a> {
+    /// The devices, and the samples per pixel each took in this run.
+    pub devices: &'a [(crate::vk::DeviceInfo, u32)],
+    /// Image width in pixels.
+    pub width: u32,
+    /// Image height in pixels.
+    pub height: u32,
+    /// Samples per pixel the image holds (resumed ones included).
+    pub spp: u32,
+    /// Samples per pixel this run took (the rate counts these only: samples resumed from a
+    /// checkpoint took no time here).
+    pub new_spp: u32,
+    /// Seconds from the command's start to the first sample.
+    pub setup_seconds: f64,
+    /// Seconds of rendering.
+    pub seconds: f64,
+}
+
+/// "device NAME [KIND], WxH, N spp, setup T s, render S s, M M samples/s" for one device; for
+/// several, "K devices, WxH, ... M M samples/s (NAME: N1 spp, ...)".
+pub fn summary_line(summary: &Summary) -> String {
+    let Summary {
+        devices,
+        width,
+        height,
+        spp,
+        new_spp,
+        setup_seconds,
+        seconds,
+    } = *summary;
+    let samples = f64::from(width) * f64::from(height) * f64::from(new_spp);
+    let rate = samples / seconds.max(1e-9) / 1e6;
+    let common = format!(
+        "{width}x{height}, {spp} spp, setup {setup_seconds:.2} s, render {seconds:.2} s, {rate:.3} M samples/s"
+    );
+    match devices {
+        [(device, _)] => format!("device {} [{}], {common}", device.name, device.kind),
+        _ => {
+            let shares: Vec<String> = devices
+                .iter()
+                .map(|(device, spp)| format!("{}: {spp} spp", device.name))
+                .collect();
+            format!(
+                "{} devices, {common} ({})",
+                devices.len(),
+                shares.join(", ")
+            )
+        }
+    }
 }

@@ -2,9 +2,11 @@
 //! per-pixel second moment and sample count), or PNG, sRGB-encoded after exposure and a
 //! tone map (`tonemap`).
 //! Files are written to a temporary name in the same directory and renamed into place, so a
-//! failed write never leaves a partial file behind.
+//! failed write never leaves a partial file behind; only regular files (or new names) are
+//! written, never a device, FIFO, socket or directory, even through a symbolic link.
 
 use std::path::{Path, PathBuf};
+use std::sync::Mutex;
 
 use exr::prelude::{
     AnyChannel, AnyChannels, AttributeValue, FlatSamples, Image, Text, WritableImage,
@@ -62,23 +64,25 @@ impl ImageFormat {
     }
 }
 
-/// Checks, before rendering, that an image can be written to `path`: a known extension and
-/// a directory that exists and accepts a new file. Returns the format.
+/// Checks, before rendering, that an image can be written to `path`: a known extension, and a
+/// path that is (or links to) a regular file the owner may write or a new name in a folder
+/// that accepts a new file (`resolve_output`). Returns the format.
 pub fn check_writable(path: &Path) -> Result<ImageFormat> {
     let format = ImageFormat::from_path(path)?;
-    if path.is_dir() {
-        return Err(Error::Image(format!(
-            "cannot write '{}': it is a directory",
-            path.display()
-        )));
-    }
+    check_writable_file(path)?;
+    Ok(format)
+}
+
+/// `check_writable` for a file of any format (a checkpoint, a manifest): the path and its
+/// folder, not the extension.
+pub fn check_writable_file(path: &Path) -> Result<()> {
     let target = resolve_output(path)
         .map_err(|message| Error::Image(format!("cannot write '{}': {message}", path.display())))?;
     let probe = temporary_path(&target);
+    let _pending = PendingTemporary::register(&probe);
     std::fs::write(&probe, b"")
         .and_then(|()| std::fs::remove_file(&probe))
-        .map_err(|e| Error::Image(format!("cannot write '{}': {e}", path.display())))?;
-    Ok(format)
+        .map_err(|e| Error::Image(format!("cannot write '{}': {e}", path.display())))
 }
 
 /// A hidden sibling of `path` to write into before renaming.
@@ -173,6 +177,7 @@ pub(crate) fn write_atomically(
         |message: String| Error::Image(format!("cannot write '{}': {message}", path.display()));
     let target = resolve_output(path).map_err(fail)?;
     let temporary = temporary_path(&target);
+    let _pending = PendingTemporary::register(&temporary);
     let written = write(&temporary).and_then(|()| {
         std::fs::rename(&temporary, &target).map_err(|e| format!("renaming into place: {e}"))
     });
@@ -182,25 +187,135 @@ pub(crate) fn write_atomically(
     })
 }
 
-/// The file that writing to `path` replaces: the target of a symbolic link (followed as
-/// `cp` does), else `path`. An existing read-only file is refused, as `cp` refuses it.
+/// Most symbolic links followed to find what an output replaces (Linux's own limit).
+const MAX_SYMLINK_HOPS: usize = 40;
+
+/// The file that writing to `path` replaces: `path`, or where its symbolic links lead
+/// (followed as `cp` follows them). It must be a regular file that its mode lets the owner
+/// write, or a name that does not exist yet in an existing folder. Anything else is refused:
+/// a directory, a device, a FIFO or a socket (renaming a new file over it would destroy it,
+/// and writing into it makes no image), and a read-only file, as `cp` refuses it.
 fn resolve_output(path: &Path) -> std::result::Result<PathBuf, String> {
-    let target = match std::fs::symlink_metadata(path) {
-        Ok(metadata) if metadata.file_type().is_symlink() => {
-            let link = std::fs::read_link(path).map_err(|e| e.to_string())?;
-            match path.parent() {
+    let mut target = path.to_path_buf();
+    for _ in 0..=MAX_SYMLINK_HOPS {
+        let metadata = match std::fs::symlink_metadata(&target) {
+            Ok(metadata) => metadata,
+            Err(error) if error.kind() == std::io::ErrorKind::NotFound => {
+                return new_name_in_a_folder(path, target);
+            }
+            Err(error) => return Err(error.to_string()),
+        };
+        let file_type = metadata.file_type();
+        if file_type.is_symlink() {
+            let link = std::fs::read_link(&target).map_err(|e| e.to_string())?;
+            target = match target.parent() {
                 Some(parent) if link.is_relative() => parent.join(link),
                 _ => link,
-            }
+            };
+            continue;
         }
-        _ => path.to_path_buf(),
-    };
-    if let Ok(metadata) = std::fs::metadata(&target) {
+        if !file_type.is_file() {
+            let what = file_type_name(file_type);
+            return Err(if target == path {
+                format!("it is {what}, not a regular file")
+            } else {
+                format!(
+                    "it is a symbolic link to '{}', {what}, not a regular file",
+                    target.display()
+                )
+            });
+        }
         if metadata.permissions().readonly() {
             return Err("the file exists and is read-only".into());
         }
+        return Ok(target);
     }
-    Ok(target)
+    Err(format!(
+        "more than {MAX_SYMLINK_HOPS} symbolic links (a loop?)"
+    ))
+}
+
+/// `target` (what `path` names, after its links), which does not exist yet: it must be a new
+/// name in an existing folder.
+fn new_name_in_a_folder(path: &Path, target: PathBuf) -> std::result::Result<PathBuf, String> {
+    let folder = match target.parent() {
+        Some(parent) if !parent.as_os_str().is_empty() => parent,
+        _ => Path::new("."),
+    };
+    match std::fs::metadata(folder) {
+        Ok(metadata) if metadata.is_dir() => Ok(target),
+        Ok(_) => Err(format!("'{}' is not a folder", folder.display())),
+        Err(_) if target != path => Err(format!(
+            "it is a symbolic link to '{}', in a folder that does not exist",
+            target.display()
+        )),
+        Err(_) => Err(format!("the folder '{}' does not exist", folder.display())),
+    }
+}
+
+/// What a file that is not a regular file is, in words ("a directory", "a FIFO", ...).
+fn file_type_name(file_type: std::fs::FileType) -> &'static str {
+    use std::os::unix::fs::FileTypeExt;
+    if file_type.is_dir() {
+        "a directory"
+    } else if file_type.is_char_device() {
+        "a character device"
+    } else if file_type.is_block_device() {
+        "a block device"
+    } else if file_type.is_fifo() {
+        "a FIFO (named pipe)"
+    } else if file_type.is_socket() {
+        "a socket"
+    } else {
+        "a special file"
+    }
+}
+
+/// The temporary files that writes are filling right now (`write_atomically`), so that an
+/// abort that ends the process at once (a second Ctrl-C) can remove them first.
+static PENDING_TEMPORARIES: Mutex<Vec<PathBuf>> = Mutex::new(Vec::new());
+
+/// A temporary file listed in `PENDING_TEMPORARIES` while it lives.
+struct PendingTemporary(PathBuf);
+
+impl PendingTemporary {
+    /// Lists `path` (before it is created, so that no moment exists where it is unlisted).
+    fn register(path: &Path) -> PendingTemporary {
+        pending_temporaries().push(path.to_path_buf());
+        PendingTemporary(path.to_path_buf())
+    }
+}
+
+impl Drop for PendingTemporary {
+    fn drop(&mut self) {
+        let mut pending = pending_temporaries();
+        if let Some(index) = pending.iter().position(|p| *p == self.0) {
+            pending.swap_remove(index);
+        }
+    }
+}
+
+/// The list, even if a thread panicked while holding it (a list of paths stays valid).
+fn pending_temporaries() -> std::sync::MutexGuard<'static, Vec<PathBuf>> {
+    PENDING_TEMPORARIES
+        .lock()
+        .unwrap_or_else(std::sync::PoisonError::into_inner)
+}
+
+/// Writes stopped for good (`abort_pending_writes`): while this lives, no write starts or
+/// ends. Meant to be held until the process exits.
+pub struct AbortedWrites(#[allow(dead_code)] std::sync::MutexGuard<'static, Vec<PathBuf>>);
+
+/// Removes the temporary files of the writes in progress and keeps every other write from
+/// starting or finishing while the result lives: for an abort that then ends the process at
+/// once (a second Ctrl-C), leaving no temporary file behind. Every target stays intact: a
+/// write replaces its target only by renaming a finished file over it.
+pub fn abort_pending_writes() -> AbortedWrites {
+    let pending = pending_temporaries();
+    for path in pending.iter() {
+        let _ = std::fs::remove_file(path);
+    }
+    AbortedWrites(pending)
 }
 
 /// The channels of an image: R, G, B, A (the mean), with `moments` the second moment and
@@ -393,6 +508,51 @@ mod tests {
         // (As root the file could still be opened; vkpath refuses by its mode all the same.)
         let leftovers = std::fs::read_dir(dir.path()).unwrap().count();
         assert_eq!(leftovers, 2, "no temporary file is left behind");
+    }
+
+    #[test]
+    fn devices_fifos_and_directories_are_refused_even_through_links() {
+        use std::os::unix::fs::{symlink, FileTypeExt};
+        let dir = tempfile::tempdir().unwrap();
+        let path = |name: &str| dir.path().join(name);
+        let fifo = path("fifo");
+        let made = std::process::Command::new("mkfifo").arg(&fifo).status();
+        assert!(made.unwrap().success(), "mkfifo (coreutils) makes a FIFO");
+        symlink(&fifo, path("to-fifo.exr")).unwrap();
+        symlink("/dev/null", path("null.png")).unwrap();
+        symlink(dir.path(), path("folder.png")).unwrap();
+        symlink("to-fifo.exr", path("chain.exr")).unwrap();
+        std::fs::create_dir(path("dir.exr")).unwrap();
+        let image = RenderedImage::from_accumulation(2, 1, &[[1.0, 2.0, 3.0, 1.0]; 6]);
+        for (name, expected) in [
+            ("to-fifo.exr", "a FIFO"),
+            ("chain.exr", "a FIFO"),
+            (
+                "null.png",
+                "symbolic link to '/dev/null', a character device",
+            ),
+            ("folder.png", "a directory"),
+            ("dir.exr", "it is a directory"),
+        ] {
+            let message = check_writable(&path(name)).unwrap_err().to_string();
+            assert!(message.contains(expected), "{name}: {message}");
+            let message = save_image(&path(name), &image, &SaveOptions::default())
+                .unwrap_err()
+                .to_string();
+            assert!(message.contains(expected), "{name}: {message}");
+        }
+        let fifo_type = std::fs::symlink_metadata(&fifo).unwrap().file_type();
+        assert!(fifo_type.is_fifo(), "the FIFO survives");
+        let null_type = std::fs::metadata("/dev/null").unwrap().file_type();
+        assert!(null_type.is_char_device(), "/dev/null survives");
+        // A link to a name that does not exist yet is a new file there.
+        symlink("new.exr", path("dangling.exr")).unwrap();
+        save_image(&path("dangling.exr"), &image, &SaveOptions::default()).unwrap();
+        assert!(std::fs::metadata(path("new.exr")).unwrap().is_file());
+        let message = check_writable(&path("nowhere/x.exr"))
+            .unwrap_err()
+            .to_string();
+        assert!(message.contains("does not exist"), "{message}");
     }
 
     #[test]

@@ -38,12 +38,26 @@ pub enum ToneMap {
         value(help = "AgX: highlights roll off and desaturate to white (Blender 4's default)")
     )]
     Agx,
+    /// AgX with the "Punchy" look (Blender 4 ships it as `AgX - Punchy`): after the sigmoid,
+    /// each display-encoded channel to the power 1.35 (deeper shadows and mid-tones, the
+    /// highlights' roll-off kept) and saturation 1.4 about the luminance, clipped to [0, 1].
+    #[cfg_attr(
+        feature = "cli",
+        value(
+            name = "agx-punchy",
+            help = "AgX with Blender's Punchy look: more contrast and colour (render's default)"
+        )
+    )]
+    AgxPunchy,
 }
 
 /// The tone map `vkpath render` and `vkpath merge` write PNG files with: AgX, whose highlights
 /// roll off and desaturate gracefully where `Clamp` clips (31% of the Cornell box's pixels
-/// at 0 EV: its ceiling and upper walls) and ACES skews hues. `exercise` keeps `Clamp`, the workshop's display.
-pub const RENDER_PNG_TONE_MAP: ToneMap = ToneMap::Agx;
+/// at 0 EV: its ceiling and upper walls) and ACES skews hues, with the Punchy look: AgX's
+/// base transform alone looks hazy and grey next to what people expect of a first picture
+/// (the look's power curve restores contrast, its saturation the walls' colours; README,
+/// "Output", has the measurements). `exercise` keeps `Clamp`, the workshop's display.
+pub const RENDER_PNG_TONE_MAP: ToneMap = ToneMap::AgxPunchy;
 
 impl ToneMap {
     /// How the command line spells it.
@@ -52,6 +66,7 @@ impl ToneMap {
             ToneMap::Clamp => "clamp",
             ToneMap::Aces => "aces",
             ToneMap::Agx => "agx",
+            ToneMap::AgxPunchy => "agx-punchy",
         }
     }
 }
@@ -123,7 +138,8 @@ pub fn tone_map(rgb_linear: [f32; 3], exposure_scale: f32, map: ToneMap) -> [f32
     match map {
         ToneMap::Clamp => exposed.map(|c| c.min(1.0)),
         ToneMap::Aces => aces_hill(exposed),
-        ToneMap::Agx => agx(exposed),
+        ToneMap::Agx => agx(exposed, AgxLook::Base),
+        ToneMap::AgxPunchy => agx(exposed, AgxLook::Punchy),
     }
 }
 
@@ -204,10 +220,39 @@ fn agx_default_contrast(x: f32) -> f32 {
         - 0.00232
 }
 
-/// Troy Sobotka's AgX base transform (no look), the steps of Blender 4's OCIO config as
+/// A look applied to AgX's display-encoded values, between the sigmoid and the outset.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum AgxLook {
+    /// None: the base transform.
+    Base,
+    /// Blender's "Punchy": an ASC CDL with power 1.35 and saturation 1.4 (the parameters of
+    /// Benjamin Wrensch's minimal AgX, which reproduce Blender's look).
+    Punchy,
+}
+
+/// The Punchy look's power on each display-encoded channel.
+const PUNCHY_POWER: f32 = 1.35;
+/// The Punchy look's saturation about the (Rec. 709 weighted) luminance.
+const PUNCHY_SATURATION: f32 = 1.4;
+
+/// `look` on display-encoded AgX values in [0, 1] (ASC CDL: power, then saturation about
+/// the luminance), clipped back to [0, 1].
+fn agx_look(encoded: [f32; 3], look: AgxLook) -> [f32; 3] {
+    match look {
+        AgxLook::Base => encoded,
+        AgxLook::Punchy => {
+            let powered = encoded.map(|c| c.max(0.0).powf(PUNCHY_POWER));
+            let luma = luminance(powered);
+            powered.map(|c| (luma + PUNCHY_SATURATION * (c - luma)).clamp(0.0, 1.0))
+        }
+    }
+}
+
+/// Troy Sobotka's AgX base transform with a `look`, the steps of Blender 4's OCIO config as
 /// three.js r160 writes them: sRGB -> Rec. 2020, inset, log2 encoding over
-/// [AGX_MIN_EV, AGX_MAX_EV], sigmoid, outset, gamma 2.2 back to linear, Rec. 2020 -> sRGB.
-fn agx(rgb: [f32; 3]) -> [f32; 3] {
+/// [AGX_MIN_EV, AGX_MAX_EV], sigmoid, the look, outset, gamma 2.2 back to linear, Rec. 2020
+/// -> sRGB.
+fn agx(rgb: [f32; 3], look: AgxLook) -> [f32; 3] {
     let inset = multiply(&AGX_INSET, multiply(&SRGB_TO_REC2020, rgb));
     let encoded = inset.map(|c| {
         // 1e-10 keeps log2 finite for black; +inf lands on the top of the range.
@@ -215,6 +260,7 @@ fn agx(rgb: [f32; 3]) -> [f32; 3] {
         let normalized = (stops - AGX_MIN_EV) / (AGX_MAX_EV - AGX_MIN_EV);
         agx_default_contrast(normalized.clamp(0.0, 1.0))
     });
+    let encoded = agx_look(encoded, look);
     let display = multiply(&AGX_OUTSET, encoded).map(|c| c.max(0.0).powf(2.2));
     multiply(&REC2020_TO_SRGB, display).map(|c| c.clamp(0.0, 1.0))
 }
@@ -223,7 +269,12 @@ fn agx(rgb: [f32; 3]) -> [f32; 3] {
 mod tests {
     use super::*;
 
-    const ALL: [ToneMap; 3] = [ToneMap::Clamp, ToneMap::Aces, ToneMap::Agx];
+    const ALL: [ToneMap; 4] = [
+        ToneMap::Clamp,
+        ToneMap::Aces,
+        ToneMap::Agx,
+        ToneMap::AgxPunchy,
+    ];
 
     fn grey(value: f32, map: ToneMap) -> f32 {
         tone_map([value; 3], 1.0, map)[1]
@@ -320,6 +371,44 @@ mod tests {
         assert!(
             bright[0] >= bright[1] && bright[0] >= bright[2],
             "{bright:?}"
+        );
+    }
+
+    #[test]
+    fn the_punchy_look_deepens_mid_tones_and_saturates_keeping_greys_and_white() {
+        // Power 1.35 on the display-encoded mid grey (about 0.5): 0.5^1.35 = 0.39, so the
+        // grey comes out markedly darker, shadows deeper still.
+        let (base, punchy) = (
+            grey(MIDDLE_GREY, ToneMap::Agx),
+            grey(MIDDLE_GREY, ToneMap::AgxPunchy),
+        );
+        assert!(
+            punchy < 0.9 * base && punchy > 0.5 * base,
+            "{base} -> {punchy}"
+        );
+        assert!(grey(f32::INFINITY, ToneMap::AgxPunchy) > 0.99);
+        // Greys stay grey: the saturation pivots about the luminance.
+        let g = tone_map([0.3; 3], 1.0, ToneMap::AgxPunchy);
+        assert!(
+            (g[0] - g[2]).abs() < 1e-5 && (g[0] - g[1]).abs() < 1e-5,
+            "{g:?}"
+        );
+        // A muted red gets more saturated (max - min relative to max).
+        let saturation = |rgb: [f32; 3]| {
+            let (max, min) = (
+                rgb[0].max(rgb[1]).max(rgb[2]),
+                rgb[0].min(rgb[1]).min(rgb[2]),
+            );
+            (max - min) / max
+        };
+        let red = [0.4, 0.1, 0.1];
+        let (plain, punchy) = (
+            tone_map(red, 1.0, ToneMap::Agx),
+            tone_map(red, 1.0, ToneMap::AgxPunchy),
+        );
+        assert!(
+            saturation(punchy) > saturation(plain),
+            "{plain:?} -> {punchy:?}"
         );
     }
 

@@ -5,7 +5,7 @@
 
 use std::ops::Range;
 use std::path::PathBuf;
-use std::sync::atomic::AtomicBool;
+use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::Arc;
 use std::time::{Duration, Instant};
 
@@ -15,10 +15,25 @@ use crate::image_io::output::{save_image, SaveOptions};
 use crate::image_io::state_exr::{read_state, write_state};
 use crate::render::accumulation::Accumulation;
 use crate::render::metadata::RenderMetadata;
-use crate::render::renderer::{RenderControl, RenderOutcome, Renderer};
-use crate::render::settings::RenderSettings;
+use crate::render::renderer::{RenderControl, RenderOutcome, Renderer, StopReason};
+use crate::render::settings::{Integrator, RenderSettings, SamplerKind};
 use crate::scene::Scene;
 use crate::vk::Context;
+
+/// The settings of a production render where nothing says otherwise, what `vkpath render`
+/// starts from: the library's defaults with the best estimator the scenes support, `mis`
+/// (light and BRDF samples weighted by the power heuristic: it sees every kind of light,
+/// punctual ones included, and measured 3.7x the workshop's efficiency on the Cornell box)
+/// with Owen-scrambled Sobol points (8.7x; see the README's Benchmarks). The workshop's
+/// integrator (`RenderSettings::default()`) stays what `exercise`, `check` and parity work
+/// use.
+pub fn production_settings() -> RenderSettings {
+    RenderSettings {
+        integrator: Integrator::Mis,
+        sampler: SamplerKind::Sobol,
+        ..RenderSettings::default()
+    }
+}
 
 /// The default interval between checkpoints.
 pub const DEFAULT_CHECKPOINT_INTERVAL: Duration = Duration::from_secs(60);
@@ -54,6 +69,26 @@ pub struct JobOptions<'a> {
     pub resume: Option<PathBuf>,
     /// Rewrite a preview image every so often and when the render stops.
     pub preview: Option<PreviewOptions>,
+    /// Set once the renderer is built (kernels, scene upload, resumed state) and the first
+    /// sample is about to be taken: what a caller's signal handling needs to know, since a
+    /// stop before then has nothing to save.
+    pub started: Option<&'a AtomicBool>,
+}
+
+impl Default for JobOptions<'_> {
+    /// A whole render of 0 samples with nothing else: set `samples`.
+    fn default() -> Self {
+        JobOptions {
+            samples: 0..0,
+            time_limit: None,
+            cancel: None,
+            checkpoint: None,
+            checkpoint_interval: DEFAULT_CHECKPOINT_INTERVAL,
+            resume: None,
+            preview: None,
+            started: None,
+        }
+    }
 }
 
 /// What a production render did.
@@ -64,6 +99,8 @@ pub struct JobOutcome {
     pub metadata: RenderMetadata,
     /// The samples that came from the resumed checkpoint.
     pub resumed_samples: u32,
+    /// When the renderer was ready and the first batch began (the end of set-up).
+    pub rendering_started: Instant,
     /// Why the preview could not be written when the render stopped, if it could not. A
     /// preview that fails never stops the render; failures on the way are logged.
     pub preview_failure: Option<Error>,
@@ -153,13 +190,21 @@ pub fn run_job(
             )
         }),
     };
+    if let Some(started) = options.started {
+        started.store(true, Ordering::SeqCst);
+    }
+    let rendering_started = Instant::now();
     let outcome = renderer.render_with(progress, control)?;
+    // A stop before this run's first sample has nothing new: it writes nothing, so that an
+    // existing checkpoint or preview stays as it was.
+    let took_samples = !stopped_before_first_sample(&outcome, resumed_samples);
     let preview_failure = options
         .preview
         .as_ref()
+        .filter(|_| took_samples)
         .and_then(|preview| save_image(&preview.path, &outcome.image, &preview.save).err());
-    // Every stop writes the checkpoint, so that nothing rendered is lost.
-    if let Some(path) = &options.checkpoint {
+    // Every other stop writes the checkpoint, so that nothing rendered is lost.
+    if let (Some(path), true) = (&options.checkpoint, took_samples) {
         write_state(
             path,
             &outcome.state,
@@ -170,8 +215,16 @@ pub fn run_job(
         metadata: metadata_of(outcome.state.samples.clone()),
         outcome,
         resumed_samples,
+        rendering_started,
         preview_failure,
     })
+}
+
+/// Whether a render stopped (by a signal, a time limit or a failure) before taking any
+/// sample beyond the `resumed` ones: then it has nothing to write. A resumed render that was
+/// already complete is done, not stopped.
+pub fn stopped_before_first_sample(outcome: &RenderOutcome, resumed: u32) -> bool {
+    outcome.stop != StopReason::Done && outcome.samples <= resumed
 }
 
 #[cfg(test)]

@@ -11,7 +11,7 @@ use std::ops::Range;
 use sha2::{Digest, Sha256};
 
 use crate::camera::Camera;
-use crate::render::settings::RenderSettings;
+use crate::render::settings::{PixelFilter, RenderSettings, SamplerKind};
 use crate::scene::Scene;
 
 /// The name of vkpath's EXR header attribute.
@@ -55,15 +55,18 @@ impl RenderMetadata {
         let entries: [(&str, String); 10] = [
             ("version", env!("CARGO_PKG_VERSION").to_string()),
             ("seed", settings.seed.to_string()),
-            ("integrator", format!("{:?}", settings.integrator)),
-            ("sampler", format!("{:?}", settings.sampler)),
-            ("light_sampling", format!("{:?}", settings.light_sampling)),
+            ("integrator", settings.integrator.name().to_string()),
+            ("sampler", sampler_name(settings.sampler).to_string()),
+            ("light_sampling", settings.light_sampling.name().to_string()),
             ("max_path_length", settings.max_path_length.to_string()),
             (
                 "russian_roulette_start",
                 settings.russian_roulette_start.to_string(),
             ),
-            ("pixel_filter", format!("{:?}", settings.pixel_filter)),
+            (
+                "pixel_filter",
+                pixel_filter_name(settings.pixel_filter).to_string(),
+            ),
             (
                 "resolution",
                 format!("{}x{}", settings.width, settings.height),
@@ -124,7 +127,7 @@ impl RenderMetadata {
             let value = fields
                 .get(name)
                 .ok_or_else(|| format!("its vkpath attribute has no {name}"))?;
-            settings.push((name.to_string(), value.to_string()));
+            settings.push((name.to_string(), current_name(value).to_string()));
         }
         Ok(RenderMetadata { settings, samples })
     }
@@ -136,6 +139,44 @@ impl RenderMetadata {
             .zip(&other.settings)
             .find(|(a, b)| a != b)
             .map(|((name, a), (_, b))| format!("{name}: {a} vs {b}"))
+    }
+}
+
+/// How the command line spells a sampler ("pcg", "sobol"), as the metadata records it.
+pub fn sampler_name(sampler: SamplerKind) -> &'static str {
+    match sampler {
+        SamplerKind::Pcg => "pcg",
+        SamplerKind::Sobol => "sobol",
+    }
+}
+
+/// How the command line spells a pixel filter ("box", "center").
+pub fn pixel_filter_name(filter: PixelFilter) -> &'static str {
+    match filter {
+        PixelFilter::Box => "box",
+        PixelFilter::Center => "center",
+    }
+}
+
+/// The command-line name of a value that files written before vkpath 0.1's metadata used
+/// the command line's names spelled as Rust names (`PathTracing`, `SolidAngle`, ...), so that
+/// their checkpoints and shards still resume and merge; other values are returned as they
+/// are.
+fn current_name(value: &str) -> &str {
+    match value {
+        "PathTracing" => "workshop",
+        "DirectIllumination" => "direct-illumination",
+        "RayTracing" => "ray-tracing",
+        "Cosine" => "cosine",
+        "Nee" => "nee",
+        "Mis" => "mis",
+        "Pcg" => "pcg",
+        "Sobol" => "sobol",
+        "SolidAngle" => "solid-angle",
+        "Area" => "area",
+        "Box" => "box",
+        "Center" => "center",
+        other => other,
     }
 }
 
@@ -241,6 +282,23 @@ mod tests {
         let mut moved = scene.clone();
         moved.triangles[0].emission.x += 1.0;
         assert_ne!(scene_hash(&scene, &camera), scene_hash(&moved, &camera));
+        // The command line's names, and the old Rust-spelled ones read as those.
+        let text = &attributes["vkpath"];
+        for field in [
+            "integrator=workshop",
+            "sampler=pcg",
+            "light_sampling=solid-angle",
+            "pixel_filter=box",
+        ] {
+            assert!(text.contains(field), "{text} lacks {field}");
+        }
+        let old: BTreeMap<String, String> = [(
+            ATTRIBUTE_NAME.to_string(),
+            text.replace("=workshop", "=PathTracing")
+                .replace("=solid-angle", "=SolidAngle"),
+        )]
+        .into();
+        assert_eq!(RenderMetadata::from_attributes(&old), Ok(metadata.clone()));
         assert_eq!(parse_range("3..9"), Some(3..9));
         assert_eq!(parse_range("9..3"), None);
         assert_eq!(parse_range("x"), None);

@@ -27,6 +27,8 @@ pub struct MultiOutcome {
     pub shares: Vec<(String, u32)>,
     /// Seconds from start to the last device's end.
     pub seconds: f64,
+    /// When the first device began rendering (the end of its set-up).
+    pub rendering_started: Instant,
     /// Why it stopped: `Done` only when every device finished its share.
     pub stop: StopReason,
 }
@@ -34,7 +36,8 @@ pub struct MultiOutcome {
 /// Renders `samples` of `scene` on every context at once and merges the shares. A time
 /// limit or the cancel flag stops every device; the merged state then holds what each took
 /// (the shares' ranges then leave gaps, so the state is returned only when all finished or
-/// the stop is reported with the samples each took).
+/// the stop is reported with the samples each took). `rendering` is set when the first
+/// device begins rendering (as `JobOptions::started`).
 pub fn run_on_devices(
     contexts: &[Arc<Context>],
     scene: &Scene,
@@ -43,6 +46,7 @@ pub fn run_on_devices(
     samples: Range<u32>,
     time_limit: Option<Duration>,
     cancel: Option<&AtomicBool>,
+    rendering: Option<&AtomicBool>,
 ) -> Result<MultiOutcome> {
     let count = contexts.len() as u32;
     if count == 0 {
@@ -50,47 +54,53 @@ pub fn run_on_devices(
     }
     let started = Instant::now();
     let (first, total) = (samples.start, samples.len() as u32);
-    let results: Vec<Result<(Accumulation, StopReason, Option<Error>)>> =
-        std::thread::scope(|scope| {
-            let handles: Vec<_> = contexts
-                .iter()
-                .enumerate()
-                .map(|(index, context)| {
-                    scope.spawn(
-                        move || -> Result<(Accumulation, StopReason, Option<Error>)> {
-                            let share = shard_range(index as u32, count, total)?;
-                            let job = JobOptions {
-                                samples: first + share.start..first + share.end,
-                                time_limit,
-                                cancel,
-                                checkpoint: None,
-                                checkpoint_interval: DEFAULT_CHECKPOINT_INTERVAL,
-                                resume: None,
-                                preview: None,
-                            };
-                            let outcome =
-                                run_job(context, scene, camera, settings, &job, |_| {})?.outcome;
-                            Ok((outcome.state, outcome.stop, outcome.failure))
-                        },
-                    )
+    type DeviceResult = (Accumulation, StopReason, Option<Error>, Instant);
+    let results: Vec<Result<DeviceResult>> = std::thread::scope(|scope| {
+        let handles: Vec<_> = contexts
+            .iter()
+            .enumerate()
+            .map(|(index, context)| {
+                scope.spawn(move || -> Result<DeviceResult> {
+                    let share = shard_range(index as u32, count, total)?;
+                    let job = JobOptions {
+                        samples: first + share.start..first + share.end,
+                        time_limit,
+                        cancel,
+                        checkpoint: None,
+                        checkpoint_interval: DEFAULT_CHECKPOINT_INTERVAL,
+                        resume: None,
+                        preview: None,
+                        started: rendering,
+                    };
+                    let job = run_job(context, scene, camera, settings, &job, |_| {})?;
+                    let outcome = job.outcome;
+                    Ok((
+                        outcome.state,
+                        outcome.stop,
+                        outcome.failure,
+                        job.rendering_started,
+                    ))
                 })
-                .collect();
-            handles
-                .into_iter()
-                .map(|handle| {
-                    handle.join().unwrap_or_else(|_| {
-                        Err(Error::InvalidSettings(
-                            "a device's render thread panicked".into(),
-                        ))
-                    })
+            })
+            .collect();
+        handles
+            .into_iter()
+            .map(|handle| {
+                handle.join().unwrap_or_else(|_| {
+                    Err(Error::InvalidSettings(
+                        "a device's render thread panicked".into(),
+                    ))
                 })
-                .collect()
-        });
+            })
+            .collect()
+    });
     let mut states = Vec::new();
     let mut shares = Vec::new();
     let mut stop = StopReason::Done;
+    let mut rendering_started = Instant::now();
     for (context, result) in contexts.iter().zip(results) {
-        let (state, device_stop, failure) = result?;
+        let (state, device_stop, failure, device_started) = result?;
+        rendering_started = rendering_started.min(device_started);
         if let Some(error) = failure {
             return Err(Error::InvalidSettings(format!(
                 "device '{}' failed after {} samples: {error}",
@@ -119,6 +129,7 @@ pub fn run_on_devices(
         state,
         shares,
         seconds: started.elapsed().as_secs_f64(),
+        rendering_started,
         stop,
     })
 }

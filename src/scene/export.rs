@@ -1,5 +1,6 @@
 //! Writes a scene for another renderer: one binary PLY mesh per material (albedo, emission,
-//! double-sidedness) and a JSON manifest with the materials and the camera. Used by
+//! double-sidedness and, for glTF scenes, the metallic-roughness material) and a JSON
+//! manifest with the materials, the punctual lights and the camera. Used by
 //! `benches/mitsuba_compare.py --generated N` to give Mitsuba 3 exactly the triangles vkpath
 //! renders; `vkpath export` is the command line.
 //!
@@ -9,13 +10,27 @@
 //! { "camera": { "position": [x, y, z], "target": [x, y, z], "up": [x, y, z],
 //!               "fov_y_degrees": 38.6 },
 //!   "meshes": [ { "file": "mesh_0.ply", "triangles": 10, "color": [r, g, b],
-//!                 "emission": [r, g, b], "double_sided": false } ] }
+//!                 "emission": [r, g, b], "double_sided": false,
+//!                 "material": { "base_color": [r, g, b, a], "metallic": 1, "roughness": 0.3,
+//!                               "specular": 1, "specular_color": [r, g, b], "ior": 1.5,
+//!                               "alpha_mode": "opaque", "alpha_cutoff": null,
+//!                               "textures_not_exported": ["baseColorTexture"] } } ],
+//!   "lights": [ { "type": "spot", "position": [x, y, z], "direction": [x, y, z],
+//!                 "intensity": [r, g, b], "inner_cone_angle": 0, "outer_cone_angle": 0.785 } ] }
 //! ```
 //!
 //! `camera` is `null` when the scene has none; `target` is the centre of the image plane and
-//! `fov_y_degrees` the full vertical field of view. Each PLY holds its triangles as a soup (3
-//! vertices each, `float x, y, z`), counter-clockwise seen from the side their normal points
-//! to: the side one-sided emitters shine towards.
+//! `fov_y_degrees` the full vertical field of view. `material` is `null` for scenes of plain
+//! Lambertian materials (the built-in box, OBJ files): `color` and `emission` say all; else
+//! it holds the glTF factors (`color` is then the base colour's RGB). Textures, vertex normals and texture
+//! coordinates are not exported (the PLY files hold positions only): `textures_not_exported`
+//! names the textures a material loses. `lights` lists KHR_lights_punctual lights in world
+//! space, in the units of the README (`type` point, spot or directional; `position` is
+//! unused for directional lights, `direction` for point lights; cone angles in radians, spot
+//! lights only). Each PLY holds its triangles as a soup (3 vertices each, `float x, y, z`),
+//! counter-clockwise seen from the side their normal points to: the side one-sided emitters
+//! shine towards. Every file is written as the images are (`image_io::output`): through a
+//! temporary file renamed into place, never into a device, FIFO or directory.
 
 use std::collections::BTreeMap;
 use std::fs;
@@ -26,6 +41,9 @@ use glam::Vec3;
 use serde::Serialize;
 
 use crate::camera::Camera;
+use crate::image_io::output::write_atomically;
+use crate::scene::materials::{AlphaMode, PbrMaterial};
+use crate::scene::punctual::{PunctualKind, PunctualLight};
 use crate::scene::{Scene, Triangle};
 
 /// What went wrong while exporting.
@@ -39,6 +57,18 @@ pub enum ExportError {
         /// Why.
         source: std::io::Error,
     },
+    /// A file was refused or failed while written (`write_atomically`'s message names it).
+    #[error("{0}")]
+    Refused(String),
+}
+
+/// The files an export wrote.
+#[derive(Debug)]
+pub struct ExportedFiles {
+    /// `scene.json`.
+    pub manifest: PathBuf,
+    /// The `mesh_<k>.ply` files, in mesh order.
+    pub meshes: Vec<PathBuf>,
 }
 
 /// The camera as the manifest stores it.
@@ -50,6 +80,54 @@ struct ManifestCamera {
     fov_y_degrees: f64,
 }
 
+/// A glTF material's factors, as the manifest stores them.
+#[derive(Debug, Serialize)]
+struct ManifestMaterial {
+    base_color: [f32; 4],
+    metallic: f32,
+    roughness: f32,
+    specular: f32,
+    specular_color: [f32; 3],
+    ior: f32,
+    alpha_mode: &'static str,
+    alpha_cutoff: Option<f32>,
+    textures_not_exported: Vec<&'static str>,
+}
+
+impl ManifestMaterial {
+    fn new(material: &PbrMaterial) -> ManifestMaterial {
+        let (alpha_mode, alpha_cutoff) = match material.alpha_mode {
+            AlphaMode::Opaque => ("opaque", None),
+            AlphaMode::Mask { cutoff } => ("mask", Some(cutoff)),
+            AlphaMode::Blend => ("blend", None),
+        };
+        let textures = [
+            ("baseColorTexture", material.base_color_texture.is_some()),
+            (
+                "metallicRoughnessTexture",
+                material.metallic_roughness_texture.is_some(),
+            ),
+            ("normalTexture", material.normal_texture.is_some()),
+            ("emissiveTexture", material.emissive_texture.is_some()),
+        ];
+        ManifestMaterial {
+            base_color: material.base_color.to_array(),
+            metallic: material.metallic,
+            roughness: material.roughness,
+            specular: material.specular,
+            specular_color: material.specular_color.to_array(),
+            ior: material.ior,
+            alpha_mode,
+            alpha_cutoff,
+            textures_not_exported: textures
+                .iter()
+                .filter(|(_, used)| *used)
+                .map(|(name, _)| *name)
+                .collect(),
+        }
+    }
+}
+
 /// One mesh of the manifest: all triangles of one material.
 #[derive(Debug, Serialize)]
 struct ManifestMesh {
@@ -58,6 +136,40 @@ struct ManifestMesh {
     color: [f32; 3],
     emission: [f32; 3],
     double_sided: bool,
+    material: Option<ManifestMaterial>,
+}
+
+/// A punctual light of the manifest.
+#[derive(Debug, Serialize)]
+struct ManifestLight {
+    #[serde(rename = "type")]
+    kind: &'static str,
+    position: [f32; 3],
+    direction: [f32; 3],
+    intensity: [f32; 3],
+    inner_cone_angle: Option<f32>,
+    outer_cone_angle: Option<f32>,
+}
+
+impl ManifestLight {
+    fn new(light: &PunctualLight) -> ManifestLight {
+        let (kind, inner, outer) = match light.kind {
+            PunctualKind::Point => ("point", None, None),
+            PunctualKind::Spot {
+                inner_cone_angle,
+                outer_cone_angle,
+            } => ("spot", Some(inner_cone_angle), Some(outer_cone_angle)),
+            PunctualKind::Directional => ("directional", None, None),
+        };
+        ManifestLight {
+            kind,
+            position: light.position.to_array(),
+            direction: light.direction.to_array(),
+            intensity: light.intensity.to_array(),
+            inner_cone_angle: inner,
+            outer_cone_angle: outer,
+        }
+    }
 }
 
 /// `scene.json`.
@@ -65,55 +177,78 @@ struct ManifestMesh {
 struct Manifest {
     camera: Option<ManifestCamera>,
     meshes: Vec<ManifestMesh>,
+    lights: Vec<ManifestLight>,
 }
 
-/// A material, bit-exact, as the key that groups triangles into meshes.
-type MaterialKey = ([u32; 3], [u32; 3], bool);
+/// A material, bit-exact, as the key that groups triangles into meshes: colour, emission,
+/// sidedness and the glTF material's index (if the scene has glTF materials).
+type MaterialKey = ([u32; 3], [u32; 3], bool, Option<u32>);
 
-fn material_key(triangle: &Triangle) -> MaterialKey {
+fn material_key(triangle: &Triangle, material: Option<u32>) -> MaterialKey {
     let bits = |v: Vec3| v.to_array().map(f32::to_bits);
     (
         bits(triangle.color),
         bits(triangle.emission),
         triangle.double_sided,
+        material,
     )
 }
 
 /// Writes `scene` into `directory` (created if missing) as `scene.json` and `mesh_<k>.ply`,
-/// with `camera` (the scene's own, or the one the user chose). Returns the manifest's path.
+/// with `camera` (the scene's own, or the one the user chose). Returns the files written.
 pub fn export_scene(
     scene: &Scene,
     camera: Option<&Camera>,
     directory: &Path,
-) -> Result<PathBuf, ExportError> {
-    let write_error = |path: &Path| {
-        let path = path.to_path_buf();
-        move |source| ExportError::Write { path, source }
+) -> Result<ExportedFiles, ExportError> {
+    fs::create_dir_all(directory).map_err(|source| ExportError::Write {
+        path: directory.to_path_buf(),
+        source,
+    })?;
+    // glTF materials, where the scene has them and they say more than colour and emission.
+    let materials = scene.materials.as_ref().filter(|m| {
+        m.materials
+            .iter()
+            .any(|material| !material.is_plain_lambertian())
+    });
+    let material_of = |index: usize| {
+        materials.and_then(|m| m.triangles.get(index).map(|shading| shading.material))
     };
-    fs::create_dir_all(directory).map_err(write_error(directory))?;
     // Group in first-appearance order, so that mesh numbers are stable for a given scene.
-    let mut groups: Vec<Vec<&Triangle>> = Vec::new();
+    let mut groups: Vec<(Option<u32>, Vec<&Triangle>)> = Vec::new();
     let mut group_of: BTreeMap<MaterialKey, usize> = BTreeMap::new();
-    for triangle in &scene.triangles {
+    for (index, triangle) in scene.triangles.iter().enumerate() {
+        let material = material_of(index);
         let next = groups.len();
-        let group = *group_of.entry(material_key(triangle)).or_insert(next);
+        let group = *group_of
+            .entry(material_key(triangle, material))
+            .or_insert(next);
         if group == next {
-            groups.push(Vec::new());
+            groups.push((material, Vec::new()));
         }
-        groups[group].push(triangle);
+        groups[group].1.push(triangle);
     }
     let mut meshes = Vec::with_capacity(groups.len());
-    for (index, triangles) in groups.iter().enumerate() {
+    let mut files = Vec::with_capacity(groups.len());
+    for (index, (material, triangles)) in groups.iter().enumerate() {
         let file = format!("mesh_{index}.ply");
         let path = directory.join(&file);
-        write_ply(&path, triangles).map_err(write_error(&path))?;
+        write_atomically(&path, |temporary| {
+            write_ply(temporary, triangles).map_err(|e| e.to_string())
+        })
+        .map_err(|e| ExportError::Refused(e.to_string()))?;
+        files.push(path);
         let first = triangles[0];
+        let material = material
+            .and_then(|m| materials.and_then(|all| all.materials.get(m as usize)))
+            .map(ManifestMaterial::new);
         meshes.push(ManifestMesh {
             file,
             triangles: triangles.len(),
             color: first.color.to_array(),
             emission: first.emission.to_array(),
             double_sided: first.double_sided,
+            material,
         });
     }
     let manifest = Manifest {
@@ -128,11 +263,23 @@ pub fn export_scene(
             .to_degrees(),
         }),
         meshes,
+        lights: scene
+            .punctual_lights
+            .iter()
+            .map(ManifestLight::new)
+            .collect(),
     };
     let path = directory.join("scene.json");
-    let json = serde_json::to_string_pretty(&manifest).expect("the manifest serializes");
-    fs::write(&path, json).map_err(write_error(&path))?;
-    Ok(path)
+    let json = serde_json::to_string_pretty(&manifest)
+        .map_err(|e| ExportError::Refused(format!("cannot describe the scene as JSON: {e}")))?;
+    write_atomically(&path, |temporary| {
+        fs::write(temporary, &json).map_err(|e| e.to_string())
+    })
+    .map_err(|e| ExportError::Refused(e.to_string()))?;
+    Ok(ExportedFiles {
+        manifest: path,
+        meshes: files,
+    })
 }
 
 /// Writes `triangles` as a binary little-endian PLY triangle soup.
@@ -205,7 +352,8 @@ mod tests {
     fn cornell_box_exports_by_material_with_its_camera() {
         let scene = Scene::builtin_cornell_box().unwrap();
         let directory = std::env::temp_dir().join(format!("vkpath-export-{}", std::process::id()));
-        let manifest_path = export_scene(&scene, scene.camera.as_ref(), &directory).unwrap();
+        let exported = export_scene(&scene, scene.camera.as_ref(), &directory).unwrap();
+        let manifest_path = exported.manifest;
         let manifest: serde_json::Value =
             serde_json::from_str(&fs::read_to_string(&manifest_path).unwrap()).unwrap();
         let meshes = manifest["meshes"].as_array().unwrap();

@@ -52,7 +52,20 @@ fn injected_fault(device: &str) -> Option<VkError> {
     }
 }
 
-/// A command pool with one reusable command buffer and a fence.
+/// A command pool with one reusable command buffer and a fence. `Send` but not `Sync`:
+/// Vulkan requires a command pool to be externally synchronized, so one thread at a time
+/// records into it (`run` takes `&self`, and the `Cell` keeps the type from being shared):
+///
+/// ```compile_fail
+/// fn shared<T: Sync>() {}
+/// shared::<vkpath::vk::CommandRunner>();
+/// ```
+///
+/// ```
+/// fn movable<T: Send>() {}
+/// movable::<vkpath::vk::CommandRunner>();
+/// movable::<vkpath::Renderer>();
+/// ```
 pub struct CommandRunner {
     context: Arc<Context>,
     pool: vk::CommandPool,
@@ -135,9 +148,7 @@ impl CommandRunner {
                     result,
                 },
             };
-            device
-                .queue_submit(self.context.queue, &submit, self.fence)
-                .map_err(lost)?;
+            self.context.submit(&submit, self.fence).map_err(lost)?;
             let waited =
                 device.wait_for_fences(&[self.fence], true, SUBMIT_TIMEOUT_SECONDS * 1_000_000_000);
             SUBMISSIONS.fetch_add(1, std::sync::atomic::Ordering::SeqCst);

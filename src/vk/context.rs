@@ -1,5 +1,11 @@
 //! The Vulkan instance, the chosen device with one compute queue, and the memory allocator.
 //! Everything else in `vk` holds an `Arc<Context>`, so the context is destroyed last.
+//!
+//! Threads: a `Context` is `Send + Sync` and may be shared by any number of threads (an
+//! `Arc<Context>`). What Vulkan requires to be externally synchronized is locked inside it:
+//! submissions to its one queue (`Context::submit`) and the allocator. Objects that record
+//! commands (`CommandRunner`, hence `Renderer`) are `Send` but not `Sync`: move one to a
+//! thread, or give each thread its own; sharing one between threads does not compile.
 
 use std::ffi::{c_char, CStr};
 use std::fmt;
@@ -134,8 +140,9 @@ pub struct Context {
     pub limits: vk::PhysicalDeviceLimits,
     /// The logical device.
     pub device: ash::Device,
-    /// The compute queue.
-    pub queue: vk::Queue,
+    /// The compute queue, locked: Vulkan requires every submission to a queue to be
+    /// externally synchronized (`submit`).
+    queue: Mutex<vk::Queue>,
     /// Its family index.
     pub queue_family_index: u32,
     allocator: ManuallyDrop<Mutex<Allocator>>,
@@ -432,7 +439,7 @@ impl Context {
             info,
             limits,
             device,
-            queue,
+            queue: Mutex::new(queue),
             queue_family_index,
             allocator: ManuallyDrop::new(Mutex::new(allocator)),
             pipeline_cache,
@@ -490,6 +497,25 @@ impl Context {
         PipelineCacheKey::of(&properties)
     }
 
+    /// Submits `submits` to the compute queue, signalling `fence`, holding the queue's lock
+    /// for the call (so threads sharing the context may submit at once).
+    ///
+    /// # Safety
+    /// As `vkQueueSubmit`: the command buffers are recorded and not pending elsewhere, and
+    /// `fence` (if not null) is unsignalled and belongs to this context's device.
+    pub unsafe fn submit(
+        &self,
+        submits: &[vk::SubmitInfo],
+        fence: vk::Fence,
+    ) -> ash::prelude::VkResult<()> {
+        let queue = self
+            .queue
+            .lock()
+            .unwrap_or_else(|poisoned| poisoned.into_inner());
+        // SAFETY: the caller's promises, and the lock serializes access to the queue.
+        unsafe { self.device.queue_submit(*queue, submits, fence) }
+    }
+
     /// Locks the memory allocator.
     pub(crate) fn allocator(&self) -> MutexGuard<'_, Allocator> {
         // A panic while holding the lock cannot leave the allocator half-updated in a way
@@ -537,6 +563,13 @@ mod tests {
             compute_queue_family: compute.then_some(0),
         };
         (vk::PhysicalDevice::null(), info)
+    }
+
+    #[test]
+    fn contexts_may_be_shared_between_threads() {
+        fn shared<T: Send + Sync>() {}
+        shared::<Context>();
+        shared::<Arc<Context>>();
     }
 
     #[test]
