@@ -13,8 +13,9 @@
 
 // Texel 0: uvec4(width, height, ENVIRONMENT_*, 0); texel 1: (strength, cos rotation,
 // sin rotation, 0) as float bits; texel 2: (background rgb, 0); then per map texel i (rows
-// top-down) texel 3 + 2 i: (radiance rgb times strength, probability of choosing it) and
-// texel 4 + 2 i: (alias threshold, alias index, 0, 0). GpuEnvironment on the host.
+// top-down) texel 3 + 2 i: (radiance rgb times strength, the density of sample_environment()
+// w.r.t. solid angle over the texel) and texel 4 + 2 i: (alias threshold, alias index, 0, 0).
+// gpu_environment_words() on the host.
 layout(set = 0, binding = BINDING_ENVIRONMENT) uniform usamplerBuffer g_environment_texels;
 
 // ENVIRONMENT_NONE (black: nothing to sample), ENVIRONMENT_CONSTANT or ENVIRONMENT_MAP.
@@ -50,46 +51,46 @@ vec3 get_environment_radiance(vec3 direction) {
     return uintBitsToFloat(texelFetch(g_environment_texels, 2).rgb);
 }
 
-// A direction with density get_environment_density(): a texel from the alias table (u_0
-// picks a bucket and, by its fraction, the bucket's texel or its alias; that fraction,
-// stretched back to [0, 1), and u_1 place the point uniformly in the texel's (u, v)
-// rectangle), turned into world space; uniform on the sphere for a constant colour.
-vec3 sample_environment(vec2 random_numbers) {
+// A direction with density get_environment_density(): a texel from the alias table, then a
+// point uniformly distributed in solid angle over the texel's patch (phi uniform, cos theta
+// uniform between the row's edges), turned into world space; uniform on the sphere for a
+// constant colour.
+// Issue 18: this used to take the texel and the point from one pair, the texel's own-or-alias
+// choice from the bucket's fraction of u_0, which with 2^17 texels keeps 7 of its bits: the
+// choice was off by up to 1/128 per bucket (texels with aliases were chosen too often, their
+// aliases, the bright ones, too rarely) and the point sat on the texel's left edge in 1 of
+// 128 samples, where the lookup can round into the neighbour. Each draw now has its own 24
+// bits, and the density is constant over a texel, so it is the sampled texel's wherever
+// the direction lands inside it.
+// \param texel_randoms Uniform (u_0, u_1): u_0 picks an alias bucket, u_1 the bucket's texel
+//        or its alias; for a constant colour, the direction on the sphere
+// \param point_randoms Uniform (u_2, u_3): the point in the texel (phi, cos theta); unused
+//        for a constant colour
+vec3 sample_environment(vec2 texel_randoms, vec2 point_randoms) {
     uvec4 header = texelFetch(g_environment_texels, 0);
     if (header.z != ENVIRONMENT_MAP)
-        return sample_sphere(random_numbers);
+        return sample_sphere(texel_randoms);
     uint count = header.x * header.y;
-    float scaled = random_numbers[0] * float(count);
-    uint bucket = min(uint(scaled), count - 1u);
-    float fraction = scaled - float(bucket);
+    uint bucket = min(uint(texel_randoms[0] * float(count)), count - 1u);
     uvec4 alias = texelFetch(g_environment_texels, 4 + 2 * int(bucket));
-    float threshold = uintBitsToFloat(alias.x);
-    uint texel = bucket;
-    if (fraction < threshold) {
-        fraction = fraction / threshold;
-    } else {
-        texel = alias.y;
-        fraction = (fraction - threshold) / (1.0 - threshold);
-    }
-    float u = (float(texel % header.x) + min(fraction, 0.99999994)) / float(header.x);
-    float v = (float(texel / header.x) + random_numbers[1]) / float(header.y);
-    float theta = v * M_PI;
-    float phi = (u - 0.5) * 2.0 * M_PI;
-    vec3 map_direction = vec3(sin(theta) * sin(phi), cos(theta), -sin(theta) * cos(phi));
+    uint texel = (texel_randoms[1] < uintBitsToFloat(alias.x)) ? bucket : alias.y;
+    float row = float(texel / header.x);
+    float phi = ((float(texel % header.x) + point_randoms[0]) / float(header.x) - 0.5) * 2.0 * M_PI;
+    float cos_top = cos(M_PI * row / float(header.y));
+    float cos_bottom = cos(M_PI * (row + 1.0) / float(header.y));
+    float cos_theta = cos_top + point_randoms[1] * (cos_bottom - cos_top);
+    float sin_theta = sqrt(max(0.0, (1.0 - cos_theta) * (1.0 + cos_theta)));
+    vec3 map_direction = vec3(sin_theta * sin(phi), cos_theta, -sin_theta * cos(phi));
     vec4 rotation = uintBitsToFloat(texelFetch(g_environment_texels, 1));
     return rotate_about_y(map_direction, rotation.y, rotation.z);
 }
 
-// Density of sample_environment() w.r.t. solid angle: the texel's probability times its
-// texel count, over the (u, v) -> sphere Jacobian 2 pi^2 sin theta; 1 / (4 pi) for a
-// constant colour.
+// Density of sample_environment() w.r.t. solid angle: the texel's probability over its solid
+// angle, constant over the texel (the host stores it); 1 / (4 pi) for a constant colour.
 float get_environment_density(vec3 direction) {
-    uvec4 header = texelFetch(g_environment_texels, 0);
-    if (header.z != ENVIRONMENT_MAP)
+    if (get_environment_kind() != ENVIRONMENT_MAP)
         return 1.0 / (4.0 * M_PI);
-    float probability = uintBitsToFloat(texelFetch(g_environment_texels, 3 + 2 * int(get_environment_texel_index(direction))).w);
-    float sin_theta = sqrt(max(0.0, 1.0 - direction.y * direction.y));
-    return (sin_theta > 0.0) ? probability * float(header.x * header.y) / (2.0 * M_PI * M_PI * sin_theta) : 0.0;
+    return uintBitsToFloat(texelFetch(g_environment_texels, 3 + 2 * int(get_environment_texel_index(direction))).w);
 }
 
 #endif

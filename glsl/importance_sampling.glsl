@@ -254,6 +254,13 @@ vec3 sample_direct_light(vec3 shading_position, triangle_t triangle, inout uvec2
 // and MIS; and Russian roulette after RUSSIAN_ROULETTE_START vertices. MAX_PATH_LENGTH
 // bounds the number of surface hits as in the workshop: a light sample at vertex j stands
 // for a hit j + 1, so it is taken only while j < MAX_PATH_LENGTH.
+//
+// Random numbers, in the order drawn (each a pair from get_path_random_numbers(); the order
+// decides every output bit, with PCG2D and with Sobol's dimension pairs alike, so keep it):
+// the pixel jitter (main(), box filter only); then at each vertex that is not the last:
+// nee and mis: the light's selection pair and its point pair (sample_direct_light(), drawn
+// even without lights); all three: the cosine direction; past RUSSIAN_ROULETTE_START: the
+// survival pair (its first number).
 vec3 get_ray_radiance_importance_sampled(vec3 ray_origin, vec3 ray_direction, inout uvec2 seed) {
     vec3 radiance = vec3(0.0);
     vec3 throughput_weight = vec3(1.0);

@@ -25,12 +25,18 @@ bool is_visible(vec3 origin, vec3 direction, float distance) {
 }
 
 // One sample of the environment's light at a surface point, MIS-weighted against BRDF
-// sampling for INTEGRATOR_MIS: f (n_s . l) L_env(l) / p_env(l) * w. Nothing for a black
-// environment (no random numbers are drawn then either).
+// sampling for INTEGRATOR_MIS: f (n_s . l) L_env(l) / p_env(l) * w. Random numbers: none for
+// a black environment, one pair for a constant colour, two for a map (the texel, then the
+// point in it).
 vec3 sample_environment_light(vec3 shading_position, surface_t surface, vec3 view, inout uvec2 seed) {
-    if (get_environment_kind() == ENVIRONMENT_NONE)
+    uint kind = get_environment_kind();
+    if (kind == ENVIRONMENT_NONE)
         return vec3(0.0);
-    vec3 direction = sample_environment(get_path_random_numbers(seed));
+    vec2 texel_randoms = get_path_random_numbers(seed);
+    vec2 point_randoms = vec2(0.0);
+    if (kind == ENVIRONMENT_MAP)
+        point_randoms = get_path_random_numbers(seed);
+    vec3 direction = sample_environment(texel_randoms, point_randoms);
     float density = get_environment_density(direction);
     vec3 reflection = get_surface_reflection(surface, view, direction);
     if (reflection == vec3(0.0) || !(density > 0.0))
@@ -90,6 +96,18 @@ vec3 sample_direct_light_with_material(vec3 shading_position, surface_t surface,
 // A path on glTF materials with the chosen integrator (see the file's comment): the
 // workshop's loop of get_ray_radiance() and get_ray_radiance_importance_sampled(), with
 // get_surface() at each hit.
+//
+// Random numbers, in the order drawn (the order decides every output bit; keep it): the
+// pixel jitter (main(): a get_path_random_numbers() pair for cosine, nee and mis with the
+// box filter, else the workshop's get_sample_tex_coord()); then at each vertex that is not
+// the last: nee and mis: the emissive triangle's selection pair and point pair (drawn even
+// without emissive triangles), the environment's pairs (none when black, one for a constant
+// colour, two for a map: texel, then point), the punctual light's pair (only when there
+// are punctual lights); the direction: workshop and direct illumination one
+// get_random_numbers() pair (PCG2D even with SAMPLER_SOBOL), cosine, nee and mis one
+// get_path_random_numbers() pair; cosine, nee and mis past RUSSIAN_ROULETTE_START: the
+// survival pair. Alpha coverage (ALPHA_MODE_BLEND) hashes g_alpha_seed instead and draws
+// nothing.
 vec3 get_ray_radiance_with_materials(vec3 ray_origin, vec3 ray_direction, inout uvec2 seed) {
     vec3 radiance = vec3(0.0);
     vec3 throughput_weight = vec3(1.0);

@@ -7,7 +7,13 @@
 # Usage: scripts/same-images.sh OLD_VKPATH NEW_VKPATH [WORK_DIR]
 # Matrix: the built-in Cornell box and tests/data/emissive_quad.gltf; every integrator; both
 # samplers (for the importance-sampled integrators); both traversals (bvh and none); both
-# pixel filters; and the workshop's exercise pictures. Small images, few samples.
+# pixel filters; and the workshop's exercise pictures. Then the material kernels (built
+# with USE_MATERIALS): the showcase scenes/materials.gltf with every integrator and both
+# samplers, and the scenes of scripts/make_same_images_scenes.py (glossy, textured,
+# alpha-masked and blended, environment-map-lit, background-lit, punctual-lit), each with
+# every integrator and, between them, both samplers for each (a material kernel takes
+# seconds to build on lavapipe, so not every pair for every scene). Small images, few
+# samples; the two binaries render each case at once, one per core.
 set -euo pipefail
 old=$(realpath "$1")
 new=$(realpath "$2")
@@ -31,21 +37,27 @@ for scene in builtin gltf; do
 done
 compared=0
 differ=0
-for case in "${cases[@]}"; do
-  read -r scene integrator sampler accel filter <<<"$case"
-  name="$scene-$integrator-$sampler-$accel-$filter.exr"
-  args=(render --width 24 --height 16 --spp 8 --integrator "$integrator" --accel "$accel" --pixel-filter "$filter" --seed 3)
-  [ "$integrator" = workshop ] || args+=(--sampler "$sampler")
-  [ "$scene" = gltf ] && args+=("$gltf")
-  for side in old new; do
-    binary=$old; [ $side = new ] && binary=$new
-    "$binary" "${args[@]}" -o "$work/$side/$name" >/dev/null 2>&1
-  done
+# Renders one case with both binaries (at once) and compares the EXRs' pixels bit for bit.
+# Usage: render_both NAME ARGS...
+render_both() {
+  local name=$1
+  shift
+  "$old" "$@" -o "$work/old/$name" >"$work/old/$name.log" 2>&1 &
+  local old_job=$!
+  "$new" "$@" -o "$work/new/$name" >"$work/new/$name.log" 2>&1 || true
+  wait "$old_job" || true
   compared=$((compared + 1))
   if ! "$new" compare --exact "$work/old/$name" "$work/new/$name" >/dev/null 2>&1; then
     echo "DIFFERENT: $name"
     differ=$((differ + 1))
   fi
+}
+for case in "${cases[@]}"; do
+  read -r scene integrator sampler accel filter <<<"$case"
+  args=(render --width 24 --height 16 --spp 8 --integrator "$integrator" --accel "$accel" --pixel-filter "$filter" --seed 3)
+  [ "$integrator" = workshop ] || args+=(--sampler "$sampler")
+  [ "$scene" = gltf ] && args+=("$gltf")
+  render_both "$scene-$integrator-$sampler-$accel-$filter.exr" "${args[@]}"
 done
 for exercise in ray-tracing sample-sphere sample-hemisphere spherical-coords direct-illumination path-tracing; do
   name="exercise-$exercise.png"
@@ -58,6 +70,37 @@ for exercise in ray-tracing sample-sphere sample-hemisphere spherical-coords dir
     echo "DIFFERENT: $name"
     differ=$((differ + 1))
   fi
+done
+# The material kernels.
+python3 "$top/scripts/make_same_images_scenes.py" "$work/scenes"
+# An environment map with a sharp peak (the Cornell box's ceiling light), rendered once.
+"$old" render --width 32 --height 16 --spp 4 --seed 5 -o "$work/scenes/environment.exr" >/dev/null 2>&1
+environment=(--environment "$work/scenes/environment.exr" --environment-strength 3 --environment-rotation 30)
+material_cases=(
+  "showcase workshop pcg" "showcase cosine pcg" "showcase cosine sobol" "showcase nee pcg"
+  "showcase nee sobol" "showcase mis pcg" "showcase mis sobol"
+)
+for scene in glossy textured alpha environment punctual; do
+  material_cases+=("$scene workshop pcg" "$scene mis pcg" "$scene mis sobol")
+  case $scene in
+    glossy | alpha | punctual) material_cases+=("$scene cosine pcg" "$scene nee sobol") ;;
+    *) material_cases+=("$scene cosine sobol" "$scene nee pcg") ;;
+  esac
+done
+material_cases+=("background nee pcg" "background mis sobol")
+for case in "${material_cases[@]}"; do
+  read -r scene integrator sampler <<<"$case"
+  size=(--width 24 --height 16)
+  [ "$scene" = showcase ] && size=(--width 32 --height 24)
+  args=(render "${size[@]}" --spp 4 --moments --integrator "$integrator" --seed 7)
+  [ "$integrator" = workshop ] || args+=(--sampler "$sampler")
+  case $scene in
+    showcase) args+=("$top/scenes/materials.gltf") ;;
+    environment) args+=("$work/scenes/open.gltf" "${environment[@]}") ;;
+    background) args+=("$work/scenes/open.gltf" --background 0.4,0.5,0.7) ;;
+    *) args+=("$work/scenes/$scene.gltf") ;;
+  esac
+  render_both "material-$scene-$integrator-$sampler.exr" "${args[@]}"
 done
 echo "$compared images compared bit for bit in $work: $((compared - differ)) identical, $differ different"
 [ "$differ" -eq 0 ]

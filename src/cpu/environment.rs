@@ -70,52 +70,46 @@ pub fn get_environment_radiance(texels: &EnvironmentTexels, direction: Vec3) -> 
     Vec3::from_slice(&texels.float_texel(2)[..3])
 }
 
-/// Twin of `sample_environment`.
-pub fn sample_environment(texels: &EnvironmentTexels, random_numbers: Vec2) -> Vec3 {
+/// Twin of `sample_environment`: a texel from the alias table (`texel_randoms`: the bucket,
+/// then the bucket's texel or its alias), a point uniform in solid angle over it
+/// (`point_randoms`: phi, cos theta); uniform on the sphere (`texel_randoms`) for a constant
+/// colour.
+pub fn sample_environment(
+    texels: &EnvironmentTexels,
+    texel_randoms: Vec2,
+    point_randoms: Vec2,
+) -> Vec3 {
     let header = texels.texel(0);
     if header[2] != ENVIRONMENT_MAP {
-        return sample_sphere(random_numbers);
+        return sample_sphere(texel_randoms);
     }
     let count = header[0] * header[1];
-    let scaled = random_numbers[0] * count as f32;
-    let bucket = (scaled as u32).min(count - 1);
-    let mut fraction = scaled - bucket as f32;
+    let bucket = ((texel_randoms[0] * count as f32) as u32).min(count - 1);
     let alias = texels.texel(4 + 2 * bucket as usize);
-    let threshold = f32::from_bits(alias[0]);
-    let mut texel = bucket;
-    if fraction < threshold {
-        fraction /= threshold;
+    let texel = if texel_randoms[1] < f32::from_bits(alias[0]) {
+        bucket
     } else {
-        texel = alias[1];
-        fraction = (fraction - threshold) / (1.0 - threshold);
-    }
-    let u = ((texel % header[0]) as f32 + fraction.min(0.99999994)) / header[0] as f32;
-    let v = ((texel / header[0]) as f32 + random_numbers[1]) / header[1] as f32;
-    let theta = v * M_PI;
-    let phi = (u - 0.5) * 2.0 * M_PI;
-    let map_direction = Vec3::new(
-        theta.sin() * phi.sin(),
-        theta.cos(),
-        -theta.sin() * phi.cos(),
-    );
+        alias[1]
+    };
+    let row = (texel / header[0]) as f32;
+    let phi =
+        (((texel % header[0]) as f32 + point_randoms[0]) / header[0] as f32 - 0.5) * 2.0 * M_PI;
+    let cos_top = (M_PI * row / header[1] as f32).cos();
+    let cos_bottom = (M_PI * (row + 1.0) / header[1] as f32).cos();
+    let cos_theta = cos_top + point_randoms[1] * (cos_bottom - cos_top);
+    let sin_theta = ((1.0 - cos_theta) * (1.0 + cos_theta)).max(0.0).sqrt();
+    let map_direction = Vec3::new(sin_theta * phi.sin(), cos_theta, -sin_theta * phi.cos());
     let rotation = texels.float_texel(1);
     rotate_about_y(map_direction, rotation[1], rotation[2])
 }
 
 /// Twin of `get_environment_density`.
 pub fn get_environment_density(texels: &EnvironmentTexels, direction: Vec3) -> f32 {
-    let header = texels.texel(0);
-    if header[2] != ENVIRONMENT_MAP {
+    if get_environment_kind(texels) != ENVIRONMENT_MAP {
         return 1.0 / (4.0 * M_PI);
     }
     let index = 3 + 2 * get_environment_texel_index(texels, direction) as usize;
-    let probability = texels.float_texel(index)[3];
-    let sin_theta = (1.0 - direction.y * direction.y).max(0.0).sqrt();
-    if sin_theta > 0.0 {
-        probability * (header[0] * header[1]) as f32 / (2.0 * M_PI * M_PI * sin_theta)
-    } else {
-        0.0
-    }
+    texels.float_texel(index)[3]
 }
 
 /// Whether the environment is black (nothing to sample).
@@ -160,7 +154,10 @@ mod tests {
         let texels = EnvironmentTexels { words: &words };
         let mut seed = UVec2::new(5, 77);
         let samples: Vec<Vec3> = (0..1_000_000)
-            .map(|_| sample_environment(&texels, get_random_numbers(&mut seed)))
+            .map(|_| {
+                let texel_randoms = get_random_numbers(&mut seed);
+                sample_environment(&texels, texel_randoms, get_random_numbers(&mut seed))
+            })
             .collect();
         let density = |d: Vec3| f64::from(get_environment_density(&texels, d));
         // The density is piecewise constant with jumps at texel edges, which Simpson's rule
@@ -199,5 +196,148 @@ mod tests {
         // Unrotated, -Z looks up the centre texel (8, 4); turned by 90 degrees, -X does.
         let centre = get_environment_radiance(&texels, Vec3::NEG_X);
         assert_eq!(centre, map.map.unwrap().texels[4 * 16 + 8]);
+    }
+}
+
+#[cfg(test)]
+mod sun_tests {
+    //! Issue 18: nee and mis were 0.2-0.3 % dark under a large map with a sharp sun. These
+    //! tests run the twins' light estimator on such a map, against the closed form.
+    use super::*;
+    use crate::cpu::importance_sampling::{
+        get_hemisphere_cosine_density, get_power_heuristic_weight, sample_hemisphere_cosine,
+    };
+    use crate::cpu::sobol::get_sobol_sample_2d;
+    use crate::cpu::workshop::get_random_numbers;
+    use crate::render::gpu_lights::gpu_environment_words;
+    use crate::scene::environment::{Environment, EnvironmentMap};
+    use glam::{DVec3, UVec2};
+    use std::f64::consts::{PI, TAU};
+
+    /// A 512 x 256 sky (0.2, 0.3, 0.5) with a Gaussian sun (sigma 1.5 degrees, 40 degrees
+    /// up, peak ~1000x the sky's luminance), black below the horizon, turned by 30 degrees.
+    fn sun_sky() -> Environment {
+        let (width, height) = (512u32, 256u32);
+        let sun = DVec3::new(0.3, 0.64, -0.7).normalize();
+        let sigma = 1.5f64.to_radians();
+        let mut texels = Vec::new();
+        for y in 0..height {
+            let theta = PI * (f64::from(y) + 0.5) / f64::from(height);
+            for x in 0..width {
+                let phi = ((f64::from(x) + 0.5) / f64::from(width) - 0.5) * TAU;
+                let d = DVec3::new(
+                    theta.sin() * phi.sin(),
+                    theta.cos(),
+                    -theta.sin() * phi.cos(),
+                );
+                let angle = d.dot(sun).clamp(-1.0, 1.0).acos();
+                let falloff = (-0.5 * (angle / sigma).powi(2)).exp() as f32;
+                let radiance =
+                    Vec3::new(0.2, 0.3, 0.5) + Vec3::new(1.0, 0.9, 0.7) * 300.0 * falloff;
+                texels.push(if 2 * y < height { radiance } else { Vec3::ZERO });
+            }
+        }
+        Environment {
+            map: Some(EnvironmentMap {
+                width,
+                height,
+                texels,
+            }),
+            background: Vec3::ZERO,
+            strength: 1.0,
+            rotation_degrees: 30.0,
+        }
+    }
+
+    /// The irradiance on a surface facing +Y, divided by pi: per texel row [theta_0, theta_1]
+    /// of the upper hemisphere, L delta_phi (sin^2 theta_1 - sin^2 theta_0) / 2 exactly (a
+    /// turn about +Y changes nothing).
+    fn exact(environment: &Environment) -> DVec3 {
+        let map = environment.map.as_ref().unwrap();
+        let theta = |row: u32| PI * f64::from(row) / f64::from(map.height);
+        let mut total = DVec3::ZERO;
+        for y in 0..map.height / 2 {
+            let band = 0.5 * TAU / f64::from(map.width)
+                * (theta(y + 1).sin().powi(2) - theta(y).sin().powi(2));
+            for x in 0..map.width {
+                total += map.texels[(y * map.width + x) as usize].as_dvec3() * band;
+            }
+        }
+        total / PI
+    }
+
+    #[test]
+    fn light_samples_of_a_sharp_sun_in_a_large_map_are_unbiased_to_a_few_hundredths_of_a_percent() {
+        let environment = sun_sky();
+        let words = gpu_environment_words(Some(&environment));
+        let texels = EnvironmentTexels { words: &words };
+        let normal = Vec3::Y;
+        let reference = exact(&environment);
+        // 2^22 samples: the light estimator's relative standard deviation is ~0.5 per sample
+        // (L / p is constant in luminance; the cosine and the colour vary), so ~0.025 % for
+        // the mean (measured: 0.024-0.030 %). Before the fix the kernels were 0.27 % dark in
+        // red with PCG on this map (tests/lights_render.rs, measured on lavapipe).
+        let count = 1u32 << 22;
+        for sobol in [false, true] {
+            let mut seed = UVec2::new(3, 9);
+            let (mut nee, mut nee_squares, mut mis, mut mis_squares) =
+                (DVec3::ZERO, DVec3::ZERO, DVec3::ZERO, DVec3::ZERO);
+            for s in 0..count {
+                // Three pairs per sample, drawn as the kernels draw them: the texel, the point
+                // in it, then the cosine direction that MIS weighs against it.
+                let mut draw = |pair: u32| {
+                    if sobol {
+                        get_sobol_sample_2d(s & 4095, pair, s >> 12)
+                    } else {
+                        get_random_numbers(&mut seed)
+                    }
+                };
+                let (texel_randoms, point_randoms, cosine_randoms) = (draw(0), draw(1), draw(2));
+                let light = sample_environment(&texels, texel_randoms, point_randoms);
+                let density = get_environment_density(&texels, light);
+                let mut light_estimate = Vec3::ZERO;
+                if density > 0.0 && light.y > 0.0 {
+                    light_estimate =
+                        get_environment_radiance(&texels, light) * light.y / M_PI / density;
+                }
+                let cosine_density = get_hemisphere_cosine_density(normal, light);
+                let mut mis_estimate =
+                    light_estimate * get_power_heuristic_weight(density, cosine_density);
+                let bounce = sample_hemisphere_cosine(cosine_randoms, normal);
+                let bounce_density = get_hemisphere_cosine_density(normal, bounce);
+                if bounce_density > 0.0 {
+                    let weight = get_power_heuristic_weight(
+                        bounce_density,
+                        get_environment_density(&texels, bounce),
+                    );
+                    mis_estimate += get_environment_radiance(&texels, bounce) * bounce.y
+                        / M_PI
+                        / bounce_density
+                        * weight;
+                }
+                let (l, m) = (light_estimate.as_dvec3(), mis_estimate.as_dvec3());
+                nee += l;
+                nee_squares += l * l;
+                mis += m;
+                mis_squares += m * m;
+            }
+            let n = f64::from(count);
+            for (name, sum, squares) in [("nee", nee, nee_squares), ("mis", mis, mis_squares)] {
+                let mean = sum / n;
+                let sigma = ((squares / n - mean * mean) / (n - 1.0))
+                    .max(DVec3::ZERO)
+                    .powf(0.5);
+                let z = (mean - reference) / sigma;
+                println!(
+                    "sobol {sobol} {name}: mean / exact - 1 = {:+.5?} %, z {z:.2?}",
+                    (mean / reference - DVec3::ONE) * 100.0
+                );
+                // |z| < 4 in each channel (a false alarm in 6e-5 of them); sigma below 0.05 %
+                // so that the 0.27 % of issue 18 is more than 5 sigma. (For Sobol the
+                // sample variance overstates the error, which only makes the test stricter.)
+                assert!(z.abs().max_element() < 4.0, "sobol {sobol} {name}: z {z:?}");
+                assert!((sigma / reference).max_element() < 5e-4, "{sigma:?}");
+            }
+        }
     }
 }

@@ -9,7 +9,8 @@ use crate::scene::environment::{AliasTable, Environment};
 use crate::scene::punctual::{PunctualKind, PunctualLight};
 
 /// The words of `g_environment_texels`: the header, rotation, background, then per map texel
-/// (radiance times strength, probability) and (alias threshold, alias index, 0, 0).
+/// (radiance times strength, the sampler's density over the texel w.r.t. solid angle) and
+/// (alias threshold, alias index, 0, 0).
 pub fn gpu_environment_words(environment: Option<&Environment>) -> Vec<u32> {
     let f = f32::to_bits;
     let Some(environment) = environment.filter(|e| e.emits_light()) else {
@@ -57,7 +58,7 @@ pub fn gpu_environment_words(environment: Option<&Environment>) -> Vec<u32> {
                 f(scaled.x),
                 f(scaled.y),
                 f(scaled.z),
-                f(table.probabilities[i]),
+                f(table.densities[i]),
             ]);
             words.extend_from_slice(&[f(table.thresholds[i]), table.aliases[i], 0, 0]);
         }

@@ -116,14 +116,29 @@ pub fn load_environment_map(path: &Path) -> Result<EnvironmentMap, String> {
     })
 }
 
-/// Vose's alias table over a map's texels, weighted by luminance times sin theta (the solid
-/// angle of a texel's patch is proportional to sin theta at its centre): `sample_environment`
-/// picks texel i with probability `probabilities[i]` in O(1).
+/// Solid angle (sr) of the patch of the sphere that texel row `row` of a `width` x `height`
+/// map covers, one texel of it: 2 pi / width (cos theta_top - cos theta_bottom), as
+/// 2 sin(pi (row + 1/2) / height) sin(pi / (2 height)) without cancellation.
+pub fn texel_solid_angle(row: u32, width: u32, height: u32) -> f64 {
+    use std::f64::consts::PI;
+    let height = f64::from(height);
+    2.0 * PI / f64::from(width)
+        * 2.0
+        * (PI * (f64::from(row) + 0.5) / height).sin()
+        * (PI / (2.0 * height)).sin()
+}
+
+/// Vose's alias table over a map's texels, weighted by luminance times the texel's solid
+/// angle: `sample_environment` picks texel i with probability `probabilities[i]` in O(1) and
+/// a point uniformly in solid angle over it, so its density there is `densities[i]`.
 #[derive(Clone, Debug, PartialEq)]
 pub struct AliasTable {
     /// The probability of choosing each texel (sums to 1; uniform when the map is black).
     pub probabilities: Vec<f32>,
-    /// For bucket i: keep i when the bucket's uniform fraction is below this, else take
+    /// The sampler's density w.r.t. solid angle over each texel: its probability over its
+    /// solid angle (`texel_solid_angle`).
+    pub densities: Vec<f32>,
+    /// For bucket i: keep i when the bucket's second random number is below this, else take
     /// `aliases[i]`.
     pub thresholds: Vec<f32>,
     /// For bucket i: the texel taken otherwise.
@@ -134,11 +149,14 @@ impl AliasTable {
     /// The table for `map`.
     pub fn new(map: &EnvironmentMap) -> AliasTable {
         let (width, height) = (map.width as usize, map.height as usize);
+        let solid_angles: Vec<f64> = (0..map.height)
+            .map(|row| texel_solid_angle(row, map.width, map.height))
+            .collect();
         let mut weights: Vec<f64> = Vec::with_capacity(width * height);
-        for y in 0..height {
-            let sin_theta = (std::f64::consts::PI * (y as f64 + 0.5) / height as f64).sin();
+        for (y, solid_angle) in solid_angles.iter().enumerate() {
             for x in 0..width {
-                weights.push(f64::from(luminance(map.texels[y * width + x]).max(0.0)) * sin_theta);
+                weights
+                    .push(f64::from(luminance(map.texels[y * width + x]).max(0.0)) * solid_angle);
             }
         }
         let total: f64 = weights.iter().sum();
@@ -165,6 +183,11 @@ impl AliasTable {
         }
         // What remains is 1 up to rounding: kept with certainty.
         AliasTable {
+            densities: probabilities
+                .iter()
+                .enumerate()
+                .map(|(i, &p)| (p / solid_angles[i / width]) as f32)
+                .collect(),
             probabilities: probabilities.iter().map(|&p| p as f32).collect(),
             thresholds,
             aliases,
