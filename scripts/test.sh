@@ -1,9 +1,11 @@
 #!/usr/bin/env bash
 # Runs the whole test suite (unit, GPU-vs-CPU, statistical and CLI tests on lavapipe),
-# installing what it needs first.
+# installing what it needs first; then the Python package's tests (python/test.sh).
 set -euo pipefail
 cd "$(dirname "$0")/.."
-bash scripts/install-deps.sh
+bash scripts/install-deps.sh --python
 cargo test --all-targets "$@"
 # The doc tests (the crate documentation renders a few samples); --all-targets leaves them out.
 cargo test --doc "$@"
+# The Python package (python/): `pip install ./python` into a fresh venv, then its pytest tests.
+bash python/test.sh
