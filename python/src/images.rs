@@ -37,9 +37,8 @@ fn floats(name: &str, bytes: &[u8], pixels: usize, per_pixel: usize) -> PyResult
 /// `read_exr` makes of a file without moments: the squared mean, one sample.
 fn image_of(pixels: &Bound<'_, PyDict>) -> PyResult<ExrImage> {
     let item = |key: &str| pixels.get_item(key);
-    let required = |key: &str| {
-        item(key)?.ok_or_else(|| message(format!("the image has no '{key}'")))
-    };
+    let required =
+        |key: &str| item(key)?.ok_or_else(|| message(format!("the image has no '{key}'")));
     let width: u32 = required("width")?.extract()?;
     let height: u32 = required("height")?.extract()?;
     let count = width as usize * height as usize;

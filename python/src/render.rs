@@ -225,7 +225,10 @@ pub fn render<'py>(
         let outcome = run_job(&context, &world, &camera, &settings, &job, |done| {
             after_batch(&stop, &mut raised, progress, done, total)
         })?;
-        let validation = context.validation_messages().map(|m| m.total()).unwrap_or(0);
+        let validation = context
+            .validation_messages()
+            .map(|m| m.total())
+            .unwrap_or(0);
         Ok::<_, vkpath::Error>((outcome, context.info.name.clone(), validation))
     });
     // An exception from the callback or Ctrl-C wins over everything else: the render has
@@ -248,7 +251,10 @@ pub fn render<'py>(
     }
     let image = &outcome.image;
     let dict = PyDict::new(py);
-    dict.set_item("mean", PyByteArray::new(py, bytemuck::cast_slice(&image.mean)))?;
+    dict.set_item(
+        "mean",
+        PyByteArray::new(py, bytemuck::cast_slice(&image.mean)),
+    )?;
     dict.set_item(
         "second_moment",
         PyByteArray::new(py, bytemuck::cast_slice(&image.second_moment)),
