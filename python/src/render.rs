@@ -1,21 +1,22 @@
 //! `vkpath.render`: the command line's `vkpath render` as a function. The settings a call
-//! leaves out are `RenderSettings::default()`'s, the defaults the command line takes too
-//! (`src/cli/options.rs` writes none of its own), and the render runs through the library's
-//! `run_job` as `vkpath render` does, so the same settings give the same pixels bit for bit.
+//! leaves out are the library's `production_settings()`, which `vkpath render` starts from
+//! too, and the render runs through the library's `Renderer` as `vkpath render`'s `run_job`
+//! does, so the same settings give the same pixels bit for bit.
 //! The GIL is released while rendering; a progress callback and Ctrl-C stop it after the
 //! current batch (about 250 ms).
 
 use std::path::PathBuf;
 use std::sync::atomic::{AtomicBool, Ordering};
-use std::time::Duration;
+use std::time::{Duration, Instant};
 
 use glam::Vec3;
 use pyo3::prelude::*;
 use pyo3::types::{PyBool, PyByteArray, PyDict};
-use vkpath::render::job::{run_job, JobOptions, DEFAULT_CHECKPOINT_INTERVAL};
+use vkpath::render::job::production_settings;
 use vkpath::render::StopReason;
+use vkpath::render::{RenderControl, Renderer};
 use vkpath::scene::environment::{load_environment_map, Environment};
-use vkpath::{Context, ContextOptions, Integrator, RenderSettings};
+use vkpath::{Context, ContextOptions, Integrator, RenderSettings, SamplerKind};
 
 use crate::errors::{message, to_py};
 use crate::names::{name_of, parse_optional};
@@ -39,10 +40,11 @@ struct Choices<'a> {
 }
 
 impl Choices<'_> {
-    /// The settings: each choice made, else the library's default (the command line's).
-    fn settings(&self) -> PyResult<RenderSettings> {
-        let default = RenderSettings::default();
-        let settings = RenderSettings {
+    /// The settings: each choice made, else `production_settings()`'s (what `vkpath render`
+    /// starts from), and the warnings about choices that have no effect.
+    fn settings(&self) -> PyResult<(RenderSettings, Vec<String>)> {
+        let default = production_settings();
+        let mut settings = RenderSettings {
             width: self.width.unwrap_or(default.width),
             height: self.height.unwrap_or(default.height),
             spp: self.spp.unwrap_or(default.spp),
@@ -62,7 +64,20 @@ impl Choices<'_> {
                 .unwrap_or(default.russian_roulette_start),
         };
         settings.validate().map_err(to_py)?;
-        Ok(settings)
+        let mut warnings = Vec::new();
+        // As `vkpath render` does: the workshop's integrators always use PCG2D, so a render
+        // with one of them records (and reports) "pcg", and a sampler chosen for it is
+        // ignored with a warning.
+        if !settings.integrator.is_importance_sampled() {
+            if let Some(sampler) = self.sampler.filter(|s| *s != "pcg") {
+                warnings.push(format!(
+                    "sampler='{sampler}' has no effect with integrator '{}': it always uses pcg",
+                    name_of(&settings.integrator)
+                ));
+            }
+            settings.sampler = SamplerKind::Pcg;
+        }
+        Ok((settings, warnings))
     }
 }
 
@@ -168,7 +183,7 @@ pub fn render<'py>(
     device: Option<String>,
     validate: bool,
 ) -> PyResult<Bound<'py, PyDict>> {
-    let settings = Choices {
+    let (settings, mut warnings) = Choices {
         width,
         height,
         spp,
@@ -202,7 +217,7 @@ pub fn render<'py>(
         background,
     )?;
     let camera = scene.render_camera(settings.aspect())?;
-    let warnings = lighting_warnings(&world, settings.integrator);
+    warnings.extend(lighting_warnings(&world, settings.integrator));
     let stop = AtomicBool::new(false);
     let mut raised: Option<PyErr> = None;
     let total = settings.spp;
@@ -213,18 +228,18 @@ pub fn render<'py>(
             device,
             require_gpu: false,
         })?;
-        let job = JobOptions {
-            samples: 0..settings.spp,
-            time_limit,
+        // What `run_job` does for a whole render without checkpoints, previews or resuming
+        // (the Renderer itself, so that Python needs none of the command line's job options).
+        let mut renderer = Renderer::new(&context, &world, &camera, settings.clone())?;
+        let control = RenderControl {
             cancel: Some(&stop),
-            checkpoint: None,
-            checkpoint_interval: DEFAULT_CHECKPOINT_INTERVAL,
-            resume: None,
-            preview: None,
+            deadline: time_limit.map(|limit| Instant::now() + limit),
+            ..RenderControl::default()
         };
-        let outcome = run_job(&context, &world, &camera, &settings, &job, |done| {
-            after_batch(&stop, &mut raised, progress, done, total)
-        })?;
+        let outcome = renderer.render_with(
+            |done| after_batch(&stop, &mut raised, progress, done, total),
+            control,
+        )?;
         let validation = context
             .validation_messages()
             .map(|m| m.total())
@@ -236,8 +251,7 @@ pub fn render<'py>(
     if let Some(error) = raised.take() {
         return Err(error);
     }
-    let (job, device_name, validation_messages) = result.map_err(to_py)?;
-    let outcome = job.outcome;
+    let (outcome, device_name, validation_messages) = result.map_err(to_py)?;
     if let Some(error) = &outcome.failure {
         return Err(message(format!(
             "rendering stopped after {} of {total} spp: {error:#}",
@@ -316,9 +330,10 @@ fn settings_dict<'py>(py: Python<'py>, settings: &RenderSettings) -> PyResult<Bo
     Ok(dict)
 }
 
-/// The settings a render takes where a call says nothing: `RenderSettings::default()`,
-/// which are the command line's defaults too, with the command line's names.
+/// The settings a render takes where a call says nothing (`production_settings()`, what
+/// `vkpath render` starts from), with the command line's names.
 #[pyfunction]
 pub fn default_settings(py: Python<'_>) -> PyResult<Bound<'_, PyDict>> {
-    settings_dict(py, &RenderSettings::default())
+    let (settings, _) = Choices::default().settings()?;
+    settings_dict(py, &settings)
 }

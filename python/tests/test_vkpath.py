@@ -198,13 +198,26 @@ def test_bad_settings_raise_with_the_names_to_use():
         vkpath.render(width=8, height=8, spp=0)
     with pytest.raises(vkpath.VkpathError, match="fov"):
         vkpath.Camera((0, 0, 0), (0, 0, -1), fov=180)
+    with pytest.raises(vkpath.VkpathError, match="background"):
+        vkpath.render(width=8, height=8, spp=1, background=(-1, 0, 0))
+    with pytest.raises(vkpath.VkpathError, match="environment"):
+        vkpath.render(width=8, height=8, spp=1, environment=REPO / "missing.hdr")
+
+
+def test_a_sampler_the_integrator_ignores_is_a_warning():
+    with pytest.warns(UserWarning, match="no effect"):
+        result = vkpath.render_result(width=8, height=8, spp=1, integrator="workshop",
+                                      sampler="sobol")
+    assert result.settings["sampler"] == "pcg"
 
 
 def test_defaults_are_the_command_lines(cli):
     # The help text shows clap's defaults, which are RenderSettings::default()'s.
     help_text = run_cli(cli, "render", "--help").stdout
     defaults = vkpath.default_settings()
-    for option in ("width", "height", "spp", "seed", "integrator", "sampler",
+    # (Not --sampler: its default may depend on the integrator; the bit-for-bit test above
+    # covers it.)
+    for option in ("width", "height", "spp", "seed", "integrator",
                    "max_path_length", "light_sampling", "pixel_filter", "accel"):
         flag = "--" + option.replace("_", "-")
         block = help_text[help_text.index(flag):]

@@ -20,6 +20,14 @@ use crate::render::settings::RenderSettings;
 use crate::scene::Scene;
 use crate::vk::Context;
 
+/// The settings of a production render where nothing says otherwise: what `vkpath render`
+/// starts from and what the Python package's `vkpath.render` takes for every setting a call
+/// leaves out, so that the two cannot drift apart. Today the library's defaults
+/// (`RenderSettings::default()`), which the command line's options default to.
+pub fn production_settings() -> RenderSettings {
+    RenderSettings::default()
+}
+
 /// The default interval between checkpoints.
 pub const DEFAULT_CHECKPOINT_INTERVAL: Duration = Duration::from_secs(60);
 
