@@ -200,7 +200,7 @@ def test_bad_settings_raise_with_the_names_to_use():
         vkpath.Camera((0, 0, 0), (0, 0, -1), fov=180)
     with pytest.raises(vkpath.VkpathError, match="background"):
         vkpath.render(width=8, height=8, spp=1, background=(-1, 0, 0))
-    with pytest.raises(vkpath.VkpathError, match="environment"):
+    with pytest.raises(vkpath.VkpathError, match="missing.hdr"):
         vkpath.render(width=8, height=8, spp=1, environment=REPO / "missing.hdr")
 
 
