@@ -221,13 +221,16 @@ pub fn check(
             options.image_size
         )));
     }
-    let report = py.detach(|| -> anyhow::Result<_> {
-        let user = load_user_functions(&path)?;
+    let report = py.detach(|| {
+        // Worded as `vkpath check` words it: the load error's own line (its message already
+        // names the cause), the others with their chain of causes.
+        let user = load_user_functions(&path).map_err(|error| message(error.to_string()))?;
         let context = Context::new(&ContextOptions {
             device,
             ..ContextOptions::default()
-        })?;
-        Ok(check_file(&context, &user, &options)?)
-    });
-    serde_json::to_string(&report.map_err(to_py)?).map_err(to_py)
+        })
+        .map_err(to_py)?;
+        check_file(&context, &user, &options).map_err(to_py)
+    })?;
+    serde_json::to_string(&report).map_err(to_py)
 }

@@ -266,3 +266,12 @@ def test_check_returns_the_command_lines_json_report(cli, tmp_path):
     assert report["passed"] is False
     verdicts = {f["function"]: f["passed"] for f in report["functions"]}
     assert verdicts["get_random_numbers"] is False
+
+
+def test_check_of_a_missing_file_raises_the_command_lines_message(cli, tmp_path):
+    missing = tmp_path / "missing.glsl"
+    done = run_cli(cli, "check", str(missing), expect=2)
+    line = done.stderr.strip().splitlines()[-1]
+    with pytest.raises(vkpath.VkpathError) as raised:
+        vkpath.check(missing)
+    assert str(raised.value) == line[len("vkpath: error: "):]
