@@ -73,7 +73,7 @@ class RenderResult:
 
 def default_settings() -> Dict[str, Any]:
     """The settings a render takes where a call says nothing: the command line's defaults
-    (the library's ``RenderSettings::default()``), by the command line's names."""
+    (the library's ``production_settings()``), by the command line's names."""
     return dict(_vkpath.default_settings())
 
 
