@@ -2,9 +2,16 @@
 # Installs the Debian 12 packages vkpath needs, when they are missing (run as root):
 # the Vulkan loader, lavapipe (Mesa's CPU Vulkan driver), the validation layers, and the
 # shaderc / glslang / SPIRV-Tools static libraries that build.rs links; then Intel Open Image
-# Denoise for `--denoise` (scripts/install-oidn.sh: not a Debian package).
+# Denoise for `--denoise` (scripts/install-oidn.sh: not a Debian package). With --python,
+# also what the Python package's tests need.
 set -euo pipefail
 packages=(libvulkan1 mesa-vulkan-drivers vulkan-validationlayers libshaderc-dev glslang-dev spirv-tools)
+# --python (scripts/test.sh): also Python 3 with venv, to build and test python/ in a
+# virtual environment (pip brings maturin and numpy from PyPI; no python3-dev is needed:
+# PyO3 declares the C API itself and an extension module links no libpython).
+if [ "${1:-}" = "--python" ]; then
+  packages+=(python3 python3-venv)
+fi
 missing=()
 for package in "${packages[@]}"; do
   dpkg-query -W -f='${Status}' "$package" 2>/dev/null | grep -q "install ok installed" || missing+=("$package")

@@ -1,9 +1,9 @@
 #!/usr/bin/env bash
 # Runs the whole test suite (unit, GPU-vs-CPU, statistical and CLI tests on lavapipe),
-# installing what it needs first.
+# installing what it needs first; then the Python package's tests (python/test.sh).
 set -euo pipefail
 cd "$(dirname "$0")/.."
-bash scripts/install-deps.sh
+bash scripts/install-deps.sh --python
 cargo test --all-targets "$@"
 # The doc tests (the crate documentation renders a few samples); --all-targets leaves them out.
 cargo test --doc "$@"
@@ -13,3 +13,5 @@ if ! grep -qx LICENSE <<<"$packaged"; then
   echo "cargo package --list does not list LICENSE" >&2
   exit 1
 fi
+# The Python package (python/): `pip install ./python` into a fresh venv, then its pytest tests.
+bash python/test.sh

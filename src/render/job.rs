@@ -21,7 +21,8 @@ use crate::scene::Scene;
 use crate::vk::Context;
 
 /// The settings of a production render where nothing says otherwise, what `vkpath render`
-/// starts from: the library's defaults with the best estimator the scenes support, `mis`
+/// starts from and what the Python package's `vkpath.render` takes for every setting a call
+/// leaves out (so the two cannot drift apart): the library's defaults with the best estimator the scenes support, `mis`
 /// (light and BRDF samples weighted by the power heuristic: it sees every kind of light,
 /// punctual ones included, and measured 3.7x the workshop's efficiency on the Cornell box)
 /// with Owen-scrambled Sobol points (8.7x; see the README's Benchmarks). The workshop's

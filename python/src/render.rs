@@ -1,0 +1,339 @@
+//! `vkpath.render`: the command line's `vkpath render` as a function. The settings a call
+//! leaves out are the library's `production_settings()`, which `vkpath render` starts from
+//! too, and the render runs through the library's `Renderer` as `vkpath render`'s `run_job`
+//! does, so the same settings give the same pixels bit for bit.
+//! The GIL is released while rendering; a progress callback and Ctrl-C stop it after the
+//! current batch (about 250 ms).
+
+use std::path::PathBuf;
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::time::{Duration, Instant};
+
+use glam::Vec3;
+use pyo3::prelude::*;
+use pyo3::types::{PyBool, PyByteArray, PyDict};
+use vkpath::render::job::production_settings;
+use vkpath::render::StopReason;
+use vkpath::render::{RenderControl, Renderer};
+use vkpath::scene::environment::{load_environment_map, Environment};
+use vkpath::{Context, ContextOptions, Integrator, RenderSettings, SamplerKind};
+
+use crate::errors::{message, to_py};
+use crate::names::{name_of, parse_optional};
+use crate::scene::Scene;
+
+/// What a render may be told; `None` takes the default.
+#[derive(Default)]
+struct Choices<'a> {
+    width: Option<u32>,
+    height: Option<u32>,
+    spp: Option<u32>,
+    seed: Option<u32>,
+    integrator: Option<&'a str>,
+    sampler: Option<&'a str>,
+    light_sampling: Option<&'a str>,
+    pixel_filter: Option<&'a str>,
+    accel: Option<&'a str>,
+    max_path_length: Option<u32>,
+    samples_per_frame: Option<u32>,
+    russian_roulette_start: Option<u32>,
+}
+
+impl Choices<'_> {
+    /// The settings: each choice made, else `production_settings()`'s (what `vkpath render`
+    /// starts from), and the warnings about choices that have no effect.
+    fn settings(&self) -> PyResult<(RenderSettings, Vec<String>)> {
+        let default = production_settings();
+        let mut settings = RenderSettings {
+            width: self.width.unwrap_or(default.width),
+            height: self.height.unwrap_or(default.height),
+            spp: self.spp.unwrap_or(default.spp),
+            seed: self.seed.unwrap_or(default.seed),
+            integrator: parse_optional("integrator", self.integrator)?
+                .unwrap_or(default.integrator),
+            sampler: parse_optional("sampler", self.sampler)?.unwrap_or(default.sampler),
+            light_sampling: parse_optional("light_sampling", self.light_sampling)?
+                .unwrap_or(default.light_sampling),
+            pixel_filter: parse_optional("pixel_filter", self.pixel_filter)?
+                .unwrap_or(default.pixel_filter),
+            accel: parse_optional("accel", self.accel)?.unwrap_or(default.accel),
+            max_path_length: self.max_path_length.unwrap_or(default.max_path_length),
+            samples_per_frame: self.samples_per_frame.unwrap_or(default.samples_per_frame),
+            russian_roulette_start: self
+                .russian_roulette_start
+                .unwrap_or(default.russian_roulette_start),
+        };
+        settings.validate().map_err(to_py)?;
+        let mut warnings = Vec::new();
+        // As `vkpath render` does: the workshop's integrators always use PCG2D, so a render
+        // with one of them records (and reports) "pcg", and a sampler chosen for it is
+        // ignored with a warning.
+        if !settings.integrator.is_importance_sampled() {
+            if let Some(sampler) = self.sampler.filter(|s| *s != "pcg") {
+                warnings.push(format!(
+                    "sampler='{sampler}' has no effect with integrator '{}': it always uses pcg",
+                    name_of(&settings.integrator)
+                ));
+            }
+            settings.sampler = SamplerKind::Pcg;
+        }
+        Ok((settings, warnings))
+    }
+}
+
+/// The light around the scene: a map, a constant colour, or nothing (`None`).
+fn environment(
+    map: Option<PathBuf>,
+    strength: f32,
+    rotation: f32,
+    background: Option<(f32, f32, f32)>,
+) -> PyResult<Option<Environment>> {
+    if !(strength >= 0.0 && strength.is_finite()) {
+        return Err(message(format!(
+            "environment_strength must be a finite number >= 0, not {strength}"
+        )));
+    }
+    if !rotation.is_finite() {
+        return Err(message("environment_rotation must be finite"));
+    }
+    match (map, background) {
+        (Some(_), Some(_)) => Err(message(
+            "environment and background exclude each other: give one",
+        )),
+        (None, Some(background)) => {
+            let background = Vec3::from(background);
+            if !(background.is_finite() && background.min_element() >= 0.0) {
+                return Err(message("background must be three finite numbers >= 0"));
+            }
+            Ok(Some(Environment::constant(background)))
+        }
+        (Some(path), None) => Ok(Some(Environment {
+            map: Some(load_environment_map(&path).map_err(message)?),
+            background: Vec3::ZERO,
+            strength,
+            rotation_degrees: rotation,
+        })),
+        (None, None) => Ok(None),
+    }
+}
+
+/// After each batch: lets Python run its signal handlers (Ctrl-C raises KeyboardInterrupt
+/// there) and calls `progress(done, total)`. Either's exception (kept in `error`, to raise
+/// once the render has stopped), or the callback returning `False`, sets `stop`, the job's
+/// cancel flag, which ends the render after this batch.
+fn after_batch(
+    stop: &AtomicBool,
+    error: &mut Option<PyErr>,
+    progress: Option<&Py<PyAny>>,
+    done: u32,
+    total: u32,
+) {
+    Python::attach(|py| {
+        let result = py.check_signals().and_then(|()| match progress {
+            Some(callback) => callback.call1(py, (done, total)).map(|value| {
+                // Only False stops: a callback that returns nothing (None) goes on.
+                let value = value.bind(py);
+                value.is_instance_of::<PyBool>() && !value.is_truthy().unwrap_or(true)
+            }),
+            None => Ok(false),
+        });
+        match result {
+            Ok(false) => {}
+            Ok(true) => stop.store(true, Ordering::SeqCst),
+            Err(raised) => {
+                error.get_or_insert(raised);
+                stop.store(true, Ordering::SeqCst);
+            }
+        }
+    });
+}
+
+/// Renders `scene` and returns a dict: `mean` (bytearray of height x width x 4 float32,
+/// rows top-down), `second_moment` (x 3), `sample_count` (x 1), `width`, `height`, `spp`
+/// (samples per pixel taken), `spp_requested`, `stop`, `seconds`, `device`, `settings` and
+/// `warnings`. See `vkpath.render` for the parameters.
+#[pyfunction]
+#[pyo3(signature = (scene, *, width=None, height=None, spp=None, seed=None, integrator=None,
+    sampler=None, light_sampling=None, pixel_filter=None, accel=None, max_path_length=None,
+    samples_per_frame=None, russian_roulette_start=None, environment_map=None,
+    environment_strength=1.0, environment_rotation=0.0, background=None, time_limit=None,
+    progress=None, device=None, validate=false))]
+#[allow(clippy::too_many_arguments)]
+pub fn render<'py>(
+    py: Python<'py>,
+    scene: PyRef<'py, Scene>,
+    width: Option<u32>,
+    height: Option<u32>,
+    spp: Option<u32>,
+    seed: Option<u32>,
+    integrator: Option<&str>,
+    sampler: Option<&str>,
+    light_sampling: Option<&str>,
+    pixel_filter: Option<&str>,
+    accel: Option<&str>,
+    max_path_length: Option<u32>,
+    samples_per_frame: Option<u32>,
+    russian_roulette_start: Option<u32>,
+    environment_map: Option<PathBuf>,
+    environment_strength: f32,
+    environment_rotation: f32,
+    background: Option<(f32, f32, f32)>,
+    time_limit: Option<f64>,
+    progress: Option<Py<PyAny>>,
+    device: Option<String>,
+    validate: bool,
+) -> PyResult<Bound<'py, PyDict>> {
+    let (settings, mut warnings) = Choices {
+        width,
+        height,
+        spp,
+        seed,
+        integrator,
+        sampler,
+        light_sampling,
+        pixel_filter,
+        accel,
+        max_path_length,
+        samples_per_frame,
+        russian_roulette_start,
+    }
+    .settings()?;
+    let time_limit = time_limit
+        .map(|seconds| {
+            if seconds > 0.0 && seconds < 1e9 {
+                Ok(Duration::from_secs_f64(seconds))
+            } else {
+                Err(message(format!(
+                    "time_limit={seconds} is not a positive number of seconds"
+                )))
+            }
+        })
+        .transpose()?;
+    let mut world = scene.inner.clone();
+    world.environment = environment(
+        environment_map,
+        environment_strength,
+        environment_rotation,
+        background,
+    )?;
+    let camera = scene.render_camera(settings.aspect())?;
+    warnings.extend(lighting_warnings(&world, settings.integrator));
+    let stop = AtomicBool::new(false);
+    let mut raised: Option<PyErr> = None;
+    let total = settings.spp;
+    let progress = progress.as_ref();
+    let result = py.detach(|| {
+        let context = Context::new(&ContextOptions {
+            validate,
+            device,
+            require_gpu: false,
+        })?;
+        // What `run_job` does for a whole render without checkpoints, previews or resuming
+        // (the Renderer itself, so that Python needs none of the command line's job options).
+        let mut renderer = Renderer::new(&context, &world, &camera, settings.clone())?;
+        let control = RenderControl {
+            cancel: Some(&stop),
+            deadline: time_limit.map(|limit| Instant::now() + limit),
+            ..RenderControl::default()
+        };
+        let outcome = renderer.render_with(
+            |done| after_batch(&stop, &mut raised, progress, done, total),
+            control,
+        )?;
+        let validation = context
+            .validation_messages()
+            .map(|m| m.total())
+            .unwrap_or(0);
+        Ok::<_, vkpath::Error>((outcome, context.info.name.clone(), validation))
+    });
+    // An exception from the callback or Ctrl-C wins over everything else: the render has
+    // stopped and freed its device by now.
+    if let Some(error) = raised.take() {
+        return Err(error);
+    }
+    let (outcome, device_name, validation_messages) = result.map_err(to_py)?;
+    if let Some(error) = &outcome.failure {
+        return Err(message(format!(
+            "rendering stopped after {} of {total} spp: {error:#}",
+            outcome.samples
+        )));
+    }
+    if validation_messages > 0 {
+        return Err(message(format!(
+            "the validation layer reported {validation_messages} messages (see the log)"
+        )));
+    }
+    let image = &outcome.image;
+    let dict = PyDict::new(py);
+    dict.set_item(
+        "mean",
+        PyByteArray::new(py, bytemuck::cast_slice(&image.mean)),
+    )?;
+    dict.set_item(
+        "second_moment",
+        PyByteArray::new(py, bytemuck::cast_slice(&image.second_moment)),
+    )?;
+    dict.set_item(
+        "sample_count",
+        PyByteArray::new(py, bytemuck::cast_slice(&image.sample_count)),
+    )?;
+    dict.set_item("width", image.width)?;
+    dict.set_item("height", image.height)?;
+    dict.set_item("spp", outcome.samples)?;
+    dict.set_item("spp_requested", total)?;
+    dict.set_item(
+        "stop",
+        match outcome.stop {
+            StopReason::Cancelled => "stopped",
+            other => other.name(),
+        },
+    )?;
+    dict.set_item("seconds", outcome.seconds)?;
+    dict.set_item("device", device_name)?;
+    dict.set_item("settings", settings_dict(py, &settings)?)?;
+    dict.set_item("warnings", warnings)?;
+    Ok(dict)
+}
+
+/// What the command line warns about the lights before rendering.
+fn lighting_warnings(scene: &vkpath::Scene, integrator: Integrator) -> Vec<String> {
+    let mut warnings = Vec::new();
+    if !scene.emits_light() {
+        warnings.push("nothing lights the scene (no emissive surface, punctual light, environment or background): the image is black".to_owned());
+    }
+    if !scene.punctual_lights.is_empty() && !matches!(integrator, Integrator::Nee | Integrator::Mis)
+    {
+        warnings.push(format!(
+            "the scene's {} punctual lights are invisible to integrator '{}': only nee and mis sample them",
+            scene.punctual_lights.len(),
+            name_of(&integrator)
+        ));
+    }
+    warnings
+}
+
+/// `settings` with the command line's names.
+fn settings_dict<'py>(py: Python<'py>, settings: &RenderSettings) -> PyResult<Bound<'py, PyDict>> {
+    let dict = PyDict::new(py);
+    dict.set_item("width", settings.width)?;
+    dict.set_item("height", settings.height)?;
+    dict.set_item("spp", settings.spp)?;
+    dict.set_item("seed", settings.seed)?;
+    dict.set_item("integrator", name_of(&settings.integrator))?;
+    dict.set_item("sampler", name_of(&settings.sampler))?;
+    dict.set_item("light_sampling", name_of(&settings.light_sampling))?;
+    dict.set_item("pixel_filter", name_of(&settings.pixel_filter))?;
+    dict.set_item("accel", name_of(&settings.accel))?;
+    dict.set_item("max_path_length", settings.max_path_length)?;
+    dict.set_item("samples_per_frame", settings.samples_per_frame)?;
+    dict.set_item("russian_roulette_start", settings.russian_roulette_start)?;
+    Ok(dict)
+}
+
+/// The settings a render takes where a call says nothing (`production_settings()`, what
+/// `vkpath render` starts from), with the command line's names.
+#[pyfunction]
+pub fn default_settings(py: Python<'_>) -> PyResult<Bound<'_, PyDict>> {
+    let (settings, _) = Choices::default().settings()?;
+    settings_dict(py, &settings)
+}

@@ -1,0 +1,278 @@
+"""Tests of the vkpath Python package against the command line (lavapipe, tiny images).
+
+The command line is the reference: ``VKPATH_CLI`` names its binary (scripts/test.sh sets it
+to the one ``cargo test`` built); the test fails, never skips, without it. Its EXRs are read
+with the OpenEXR package, not with vkpath, so that a mistake in vkpath's own EXR code cannot
+hide one in the bindings.
+"""
+
+from __future__ import annotations
+
+import json
+import os
+import signal
+import subprocess
+import sys
+import threading
+import time
+from pathlib import Path
+
+import numpy as np
+import OpenEXR
+import pytest
+
+import vkpath
+
+REPO = Path(__file__).resolve().parents[2]
+
+
+@pytest.fixture(scope="session")
+def cli() -> str:
+    binary = os.environ.get("VKPATH_CLI")
+    assert binary and os.access(binary, os.X_OK), (
+        "set VKPATH_CLI to the vkpath binary (scripts/test.sh uses target/debug/vkpath)"
+    )
+    return binary
+
+
+def run_cli(cli: str, *args: str, expect: int = 0) -> subprocess.CompletedProcess:
+    done = subprocess.run([cli, *args], capture_output=True, text=True, timeout=600)
+    assert done.returncode == expect, done.stderr
+    return done
+
+
+def read_exr_rgba(path: Path) -> np.ndarray:
+    """The R, G, B, A channels of an EXR as an (H, W, 4) float32 array (OpenEXR's reader)."""
+    with OpenEXR.File(str(path), separate_channels=True) as exr:
+        channels = exr.channels()
+        planes = [channels[name].pixels for name in ("R", "G", "B", "A")]
+    image = np.stack(planes, axis=-1)
+    assert image.dtype == np.float32
+    return image
+
+
+def bits(image: np.ndarray) -> np.ndarray:
+    return np.ascontiguousarray(image, dtype=np.float32).view(np.uint32)
+
+
+def test_default_render_equals_the_command_lines_exr_bit_for_bit(cli, tmp_path):
+    output = tmp_path / "cli.exr"
+    run_cli(cli, "render", "--width", "32", "--height", "32", "--spp", "4", "--seed", "1",
+            "-o", str(output))
+    expected = read_exr_rgba(output)
+    image = vkpath.render(width=32, height=32, spp=4, seed=1)
+    assert image.shape == (32, 32, 4) and image.dtype == np.float32
+    # Not trivially equal: the box is lit, so most pixels are not black.
+    assert np.count_nonzero(image[..., :3].sum(axis=-1)) > 0.5 * 32 * 32
+    assert np.array_equal(bits(image), bits(expected))
+
+
+def test_a_scene_file_and_a_look_at_camera_equal_the_command_line(cli, tmp_path):
+    scene_file = REPO / "scenes" / "materials.gltf"
+    output = tmp_path / "cli.exr"
+    position, target = (0.5, 1.5, 4.0), (0.0, 0.5, 0.0)
+    run_cli(cli, "render", str(scene_file), "--width", "24", "--height", "16", "--spp", "2",
+            "--integrator", "mis", "--camera-position", "0.5,1.5,4", "--look-at", "0,0.5,0",
+            "--fov", "50", "-o", str(output))
+    scene = vkpath.Scene.load(scene_file)
+    own = vkpath.render(scene, width=24, height=16, spp=2, integrator="mis")
+    scene.look_at(position, target, fov=50.0)
+    moved = vkpath.render(scene, width=24, height=16, spp=2, integrator="mis")
+    assert moved.shape == (16, 24, 4)
+    assert np.array_equal(bits(moved), bits(read_exr_rgba(output)))
+    # The camera did change what is seen.
+    assert not np.array_equal(own, moved)
+    scene.camera = None
+    assert scene.camera is not None  # back to the file's own camera
+    assert np.array_equal(bits(vkpath.render(scene, width=24, height=16, spp=2,
+                                             integrator="mis")), bits(own))
+
+
+def test_progress_is_called_and_false_stops_without_losing_samples():
+    calls = []
+
+    def progress(done: int, total: int) -> bool:
+        calls.append((done, total))
+        return False
+
+    result = vkpath.render_result(width=16, height=16, spp=4096, seed=3, progress=progress)
+    assert calls and calls[0][1] == 4096
+    assert result.stop == "stopped"
+    assert 0 < result.spp < 4096 and result.spp == calls[-1][0]
+    assert np.all(result.sample_count == result.spp)
+    # What was rendered before the stop is exactly the render of that many samples.
+    whole = vkpath.render(width=16, height=16, spp=result.spp, seed=3)
+    assert np.array_equal(bits(result.image), bits(whole))
+
+
+def test_progress_that_returns_nothing_goes_on_to_the_end():
+    calls = []
+    result = vkpath.render_result(width=8, height=8, spp=32,
+                                  progress=lambda done, total: calls.append(done))
+    assert result.stop == "done" and result.spp == 32
+    assert calls == sorted(calls) and calls[-1] == 32
+
+
+def test_an_exception_in_progress_stops_the_render_and_propagates():
+    class Enough(Exception):
+        pass
+
+    def progress(done: int, total: int) -> None:
+        raise Enough(done)
+
+    with pytest.raises(Enough):
+        vkpath.render(width=16, height=16, spp=4096, progress=progress)
+
+
+def test_ctrl_c_stops_the_render_with_keyboard_interrupt(tmp_path):
+    script = tmp_path / "interrupted.py"
+    script.write_text(
+        "import sys, vkpath\n"
+        "def progress(done, total):\n"
+        "    print('progress', done, flush=True)\n"
+        "try:\n"
+        "    vkpath.render(width=32, height=32, spp=1 << 20, progress=progress)\n"
+        "except KeyboardInterrupt:\n"
+        "    print('KeyboardInterrupt', flush=True)\n"
+        "    sys.exit(3)\n"
+    )
+    child = subprocess.Popen([sys.executable, str(script)], stdout=subprocess.PIPE, text=True)
+    try:
+        assert child.stdout.readline().startswith("progress")
+        sent = time.monotonic()
+        child.send_signal(signal.SIGINT)
+        # A batch lasts about 250 ms; 60 s only bounds a hang on a loaded 2-core machine.
+        status = child.wait(timeout=60)
+        waited = time.monotonic() - sent
+    finally:
+        child.kill()
+    assert status == 3, f"exit status {status}"
+    assert "KeyboardInterrupt" in child.stdout.read()
+    # Stopping waits for the current batch, not for the 2^20 samples (hours on lavapipe).
+    assert waited < 30
+
+
+def test_the_gil_is_released_while_rendering():
+    ticks = []
+    running = threading.Event()
+
+    def count() -> None:
+        running.set()
+        while running.is_set():
+            ticks.append(time.monotonic())
+            time.sleep(0.001)
+
+    thread = threading.Thread(target=count)
+    thread.start()
+    running.wait()
+    started = time.monotonic()
+    # A time limit makes the call last at least a second however fast the device is.
+    vkpath.render(width=32, height=32, spp=1 << 20, time_limit=1.0)
+    ended = time.monotonic()
+    running.clear()
+    thread.join()
+    # Without releasing the GIL the other thread could not run at all inside the call; a
+    # margin of 0.1 s (20 of Python's 5 ms switch intervals) on each side excludes the
+    # switches just before and after it.
+    inside = [t for t in ticks if started + 0.1 < t < ended - 0.1]
+    assert ended - started > 1.0
+    assert len(inside) > 10
+
+
+def test_a_bad_path_raises_the_command_lines_one_line_message(cli, tmp_path):
+    missing = tmp_path / "missing.gltf"
+    done = run_cli(cli, "render", str(missing), "-o", str(tmp_path / "out.exr"), expect=1)
+    line = done.stderr.strip().splitlines()[-1]
+    assert line.startswith("vkpath: error: ")
+    with pytest.raises(vkpath.VkpathError) as raised:
+        vkpath.render(str(missing))
+    assert str(raised.value) == line[len("vkpath: error: "):]
+    assert "\n" not in str(raised.value)
+    with pytest.raises(vkpath.VkpathError, match="missing.gltf"):
+        vkpath.Scene.load(missing)
+
+
+def test_bad_settings_raise_with_the_names_to_use():
+    with pytest.raises(vkpath.VkpathError, match="workshop, cosine, nee, mis"):
+        vkpath.render(width=8, height=8, spp=1, integrator="bdpt")
+    with pytest.raises(vkpath.VkpathError, match="--spp 0"):
+        vkpath.render(width=8, height=8, spp=0)
+    with pytest.raises(vkpath.VkpathError, match="fov"):
+        vkpath.Camera((0, 0, 0), (0, 0, -1), fov=180)
+    with pytest.raises(vkpath.VkpathError, match="background"):
+        vkpath.render(width=8, height=8, spp=1, background=(-1, 0, 0))
+    with pytest.raises(vkpath.VkpathError, match="missing.hdr"):
+        vkpath.render(width=8, height=8, spp=1, environment=REPO / "missing.hdr")
+
+
+def test_a_sampler_the_integrator_ignores_is_a_warning():
+    with pytest.warns(UserWarning, match="no effect"):
+        result = vkpath.render_result(width=8, height=8, spp=1, integrator="workshop",
+                                      sampler="sobol")
+    assert result.settings["sampler"] == "pcg"
+
+
+def test_defaults_are_the_command_lines(cli):
+    # The help text shows clap's defaults, which are RenderSettings::default()'s.
+    help_text = run_cli(cli, "render", "--help").stdout
+    defaults = vkpath.default_settings()
+    # (Not --sampler: its default may depend on the integrator; the bit-for-bit test above
+    # covers it.)
+    for option in ("width", "height", "spp", "seed", "integrator",
+                   "max_path_length", "light_sampling", "pixel_filter", "accel"):
+        flag = "--" + option.replace("_", "-")
+        block = help_text[help_text.index(flag):]
+        block = block[:block.index("\n  -", 1) if "\n  -" in block[1:] else len(block)]
+        assert f"[default: {defaults[option]}]" in block, (option, block)
+
+
+def test_save_writes_what_the_command_line_writes(cli, tmp_path):
+    result = vkpath.render_result(width=16, height=16, spp=8, seed=2)
+    exr = tmp_path / "py.exr"
+    vkpath.save(result, exr, moments=True)
+    assert np.array_equal(bits(read_exr_rgba(exr)), bits(result.image))
+    # The same pixels as the command line's PNG, tone-mapped the command line's way.
+    png, cli_png = tmp_path / "py.png", tmp_path / "cli.png"
+    vkpath.save(result.image, png)
+    run_cli(cli, "render", "--width", "16", "--height", "16", "--spp", "8", "--seed", "2",
+            "-o", str(cli_png))
+    assert png.read_bytes() == cli_png.read_bytes()
+    vkpath.save(result.image[..., :3], tmp_path / "clamped.png", tonemap="clamp", exposure=1)
+    assert (tmp_path / "clamped.png").read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+    with pytest.raises(vkpath.VkpathError, match="agx"):
+        vkpath.save(result.image, png, tonemap="filmic")
+    assert np.array_equal(bits(vkpath.read_exr(exr)), bits(result.image))
+
+
+def test_compare_tells_consistent_from_biased(tmp_path):
+    a = vkpath.render_result(width=32, height=32, spp=64, seed=1)
+    b = vkpath.render_result(width=32, height=32, spp=64, seed=2)
+    report = vkpath.compare(a, b)
+    assert report["consistent"], report["worst"]
+    assert report["variance_source"] == "both_moments"
+    # 20% brighter is far outside the noise of 64 spp per pixel in 8x8 blocks.
+    biased = a.image * np.float32(1.2)
+    report = vkpath.compare(biased, b)
+    assert report["variance_source"] == "moments_of_b" and not report["consistent"]
+    vkpath.save(b, tmp_path / "b.exr", moments=True)
+    assert vkpath.compare(a, tmp_path / "b.exr")["consistent"]
+
+
+def test_check_returns_the_command_lines_json_report(cli, tmp_path):
+    solution = REPO / "tests" / "solutions" / "pcg2d_typo.glsl"
+    report = vkpath.check(solution, output_dir=tmp_path / "py")
+    done = run_cli(cli, "check", str(solution), "--json", "--output-dir", str(tmp_path / "cli"),
+                   expect=1)
+    assert report == json.loads(done.stdout)
+    assert report["passed"] is False
+    verdicts = {f["function"]: f["passed"] for f in report["functions"]}
+    assert verdicts["get_random_numbers"] is False
+
+
+def test_check_of_a_missing_file_raises_the_command_lines_message(cli, tmp_path):
+    missing = tmp_path / "missing.glsl"
+    done = run_cli(cli, "check", str(missing), expect=2)
+    line = done.stderr.strip().splitlines()[-1]
+    with pytest.raises(vkpath.VkpathError) as raised:
+        vkpath.check(missing)
+    assert str(raised.value) == line[len("vkpath: error: "):]

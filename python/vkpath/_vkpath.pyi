@@ -1,0 +1,124 @@
+"""Type stubs of vkpath's native module (``vkpath._vkpath``). ``Camera``, ``Scene`` and
+``VkpathError`` are re-exported by ``vkpath``; the functions here take and return the raw
+dicts that ``vkpath/__init__.py`` turns into numpy arrays and reports."""
+
+from typing import Any, Callable, Dict, List, Optional, Tuple, Union
+import os
+
+__version__: str
+
+_Vec3 = Tuple[float, float, float]
+_Path = Union[str, "os.PathLike[str]"]
+
+class VkpathError(RuntimeError):
+    """What went wrong in vkpath, in the one line the command line prints after
+    ``vkpath: error: ``."""
+
+class Camera:
+    """A pinhole camera (world space)."""
+
+    def __init__(
+        self, position: _Vec3, look_at: _Vec3, up: _Vec3 = (0.0, 1.0, 0.0), fov: float = 45.0
+    ) -> None:
+        """A camera at ``position`` looking at ``look_at``; ``up`` is the image's up direction
+        (not parallel to the view), ``fov`` the vertical field of view in degrees, in (0, 180).
+        Raises VkpathError for a field of view out of range or no view direction."""
+    @property
+    def position(self) -> _Vec3:
+        """The pinhole."""
+    @property
+    def direction(self) -> _Vec3:
+        """The unit direction to the image's centre."""
+    @property
+    def up(self) -> _Vec3:
+        """The unit direction that is up in the image."""
+    @property
+    def fov(self) -> float:
+        """The vertical field of view in degrees."""
+
+class Scene:
+    """A scene ready to render: triangles, materials, lights and the camera renders use."""
+
+    @staticmethod
+    def load(path: _Path, allow_external_paths: bool = False) -> "Scene":
+        """Loads a .gltf, .glb or .obj file; a glTF may read buffers outside its folder only
+        with ``allow_external_paths``. Raises VkpathError with the command line's message."""
+    @staticmethod
+    def cornell_box() -> "Scene":
+        """The workshop's Cornell box (the command line's scene when none is given)."""
+    @staticmethod
+    def generated(triangles: int) -> "Scene":
+        """The scale-test scene of about ``triangles`` triangles (``--generated``)."""
+    @property
+    def camera(self) -> Optional[Camera]:
+        """The camera renders use: the one set here, else the scene's; ``None`` when the
+        scene has none (a render then frames the scene, as the command line does)."""
+    @camera.setter
+    def camera(self, camera: Optional[Camera]) -> None: ...
+    @property
+    def cameras(self) -> List[Camera]:
+        """The file's perspective cameras, in node order (``--camera N``)."""
+    def use_camera(self, index: int) -> None:
+        """Renders through the file's ``index``-th camera (from 0)."""
+    def look_at(
+        self, position: _Vec3, look_at: _Vec3, up: _Vec3 = (0.0, 1.0, 0.0), fov: float = 45.0
+    ) -> None:
+        """Renders from ``position`` looking at ``look_at`` (see :class:`Camera`)."""
+    @property
+    def triangle_count(self) -> int:
+        """Number of triangles."""
+    @property
+    def punctual_light_count(self) -> int:
+        """Number of glTF punctual lights (only "nee" and "mis" see them)."""
+    @property
+    def warnings(self) -> List[str]:
+        """What the loader ignored that you should know about."""
+    @property
+    def description(self) -> str:
+        """Its path, or "workshop Cornell box"."""
+
+def default_settings() -> Dict[str, Any]: ...
+def render(
+    scene: Scene,
+    *,
+    width: Optional[int] = None,
+    height: Optional[int] = None,
+    spp: Optional[int] = None,
+    seed: Optional[int] = None,
+    integrator: Optional[str] = None,
+    sampler: Optional[str] = None,
+    light_sampling: Optional[str] = None,
+    pixel_filter: Optional[str] = None,
+    accel: Optional[str] = None,
+    max_path_length: Optional[int] = None,
+    samples_per_frame: Optional[int] = None,
+    russian_roulette_start: Optional[int] = None,
+    environment_map: Optional[str] = None,
+    environment_strength: float = 1.0,
+    environment_rotation: float = 0.0,
+    background: Optional[_Vec3] = None,
+    time_limit: Optional[float] = None,
+    progress: Optional[Callable[[int, int], Optional[bool]]] = None,
+    device: Optional[str] = None,
+    validate: bool = False,
+) -> Dict[str, Any]: ...
+def save(
+    pixels: Dict[str, Any],
+    path: str,
+    *,
+    tonemap: Optional[str] = None,
+    exposure: Union[None, float, str] = None,
+    moments: bool = False,
+) -> None: ...
+def read_exr(path: str) -> Dict[str, Any]: ...
+def compare(
+    a: Union[str, Dict[str, Any]], b: Union[str, Dict[str, Any]], *, alpha: float = ..., block_size: int = ...
+) -> str: ...
+def check(
+    path: str,
+    *,
+    output_dir: Optional[str] = None,
+    spp: Optional[int] = None,
+    size: Optional[int] = None,
+    device: Optional[str] = None,
+) -> str: ...
