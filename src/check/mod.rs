@@ -64,6 +64,10 @@ pub struct CheckOptions {
     pub image_size: u32,
     /// Samples per pixel of each render of the estimator checks.
     pub spp: u32,
+    /// Frames a whole ShaderToy program runs for its `program` verdict
+    /// (`program::DEFAULT_FRAMES` unless `check --frames` says otherwise; at least
+    /// `program::MIN_FRAMES`).
+    pub program_frames: u32,
 }
 
 impl Default for CheckOptions {
@@ -76,6 +80,7 @@ impl Default for CheckOptions {
             alpha: 0.01,
             image_size: 128,
             spp: 64,
+            program_frames: program::DEFAULT_FRAMES,
         }
     }
 }

@@ -176,7 +176,7 @@ pub fn judge_user_program(
     };
     let program_options = ProgramOptions {
         size: options.image_size.min(MAX_PROGRAM_SIZE),
-        frames: DEFAULT_FRAMES,
+        frames: options.program_frames,
         alpha: test_alpha,
         max_path_length: user
             .prepared

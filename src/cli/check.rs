@@ -49,6 +49,10 @@ pub struct CheckArgs {
     /// Side of the square renders in pixels, a multiple of 8.
     #[arg(long, default_value_t = CheckOptions::default().image_size, value_parser = parse_image_size)]
     pub size: u32,
+    /// Frames to run a whole ShaderToy program (a tab with mainImage that accumulates the
+    /// workshop's scene) for its `program` verdict; more frames resolve smaller biases.
+    #[arg(long, default_value_t = crate::check::program::DEFAULT_FRAMES, value_parser = clap::value_parser!(u32).range(i64::from(crate::check::program::MIN_FRAMES)..=65536))]
+    pub frames: u32,
     /// Seconds one function's judging may take before it is stopped and reported as not
     /// judged (a hang in the driver or in the function).
     #[arg(long, default_value_t = 600, value_parser = clap::value_parser!(u64).range(1..))]
@@ -120,6 +124,7 @@ pub fn run(args: &CheckArgs) -> anyhow::Result<()> {
         output_dir: args.output_dir.clone(),
         spp: args.spp,
         image_size: args.size,
+        program_frames: args.frames,
         ..CheckOptions::default()
     };
     let mut report = report_header(&user, "");
