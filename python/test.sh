@@ -10,6 +10,8 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 venv=target/python-venv
+# Kernel pipelines are cached in a temporary folder, never in the home directory.
+export VKPATH_CACHE_DIR="${TMPDIR:-/tmp}/vkpath-tests-pipeline-cache"
 rm -rf "$venv"
 python3 -m venv "$venv"
 MATURIN_PEP517_ARGS="--profile dev" "$venv/bin/pip" install --quiet "./python[test]"

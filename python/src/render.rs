@@ -227,6 +227,7 @@ pub fn render<'py>(
             validate,
             device,
             require_gpu: false,
+            pipeline_cache: user_pipeline_cache(),
         })?;
         // What `run_job` does for a whole render without checkpoints, previews or resuming
         // (the Renderer itself, so that Python needs none of the command line's job options).
@@ -336,4 +337,16 @@ fn settings_dict<'py>(py: Python<'py>, settings: &RenderSettings) -> PyResult<Bo
 pub fn default_settings(py: Python<'_>) -> PyResult<Bound<'_, PyDict>> {
     let (settings, _) = Choices::default().settings()?;
     settings_dict(py, &settings)
+}
+
+/// The pipeline cache of the user's cache directory, as `vkpath render` keeps it (its
+/// warnings on stderr); none when no cache directory can be found.
+fn user_pipeline_cache() -> Option<std::sync::Arc<dyn vkpath::vk::PipelineCacheStore>> {
+    use vkpath::render::pipeline_cache::{default_cache_dir, PipelineCacheDir};
+    let dir = default_cache_dir()?;
+    Some(std::sync::Arc::new(PipelineCacheDir::new(
+        dir,
+        |warning| eprintln!("vkpath: warning: {warning}"),
+        || {},
+    )))
 }
