@@ -224,7 +224,8 @@ pub fn check(
     let report = py.detach(|| {
         // Worded as `vkpath check` words it: the load error's own line (its message already
         // names the cause), the others with their chain of causes.
-        let user = load_user_functions(std::slice::from_ref(&path)).map_err(|error| message(error.to_string()))?;
+        let user = load_user_functions(std::slice::from_ref(&path))
+            .map_err(|error| message(error.to_string()))?;
         let context = Context::new(&ContextOptions {
             device,
             ..ContextOptions::default()
