@@ -89,8 +89,8 @@ pub struct RenderOptions {
     /// it off. --max-path-length stays a hard limit.
     #[arg(long, default_value_t = RenderSettings::default().russian_roulette_start)]
     pub russian_roulette_start: u32,
-    /// Ray traversal: a BVH for scenes above 64 triangles (auto), the workshop's loop over
-    /// all triangles (none), or always a BVH (bvh).
+    /// Ray traversal: a BVH for scenes above 64 triangles or with glTF materials (auto), the
+    /// workshop's loop over all triangles (none), or always a BVH (bvh).
     #[arg(long, value_enum, default_value_t = RenderSettings::default().accel)]
     pub accel: Accel,
     /// Random numbers of cosine, nee and mis: the workshop's PCG2D (pcg) or Owen-scrambled
