@@ -16,7 +16,7 @@ use vkpath::render::job::production_settings;
 use vkpath::render::StopReason;
 use vkpath::render::{RenderControl, Renderer};
 use vkpath::scene::environment::{load_environment_map, Environment};
-use vkpath::{Context, ContextOptions, Integrator, RenderSettings, SamplerKind};
+use vkpath::{Context, ContextOptions, Integrator, RenderSettings};
 
 use crate::errors::{message, to_py};
 use crate::names::{name_of, parse_optional};
@@ -44,7 +44,7 @@ impl Choices<'_> {
     /// starts from), and the warnings about choices that have no effect.
     fn settings(&self) -> PyResult<(RenderSettings, Vec<String>)> {
         let default = production_settings();
-        let mut settings = RenderSettings {
+        let settings = RenderSettings {
             width: self.width.unwrap_or(default.width),
             height: self.height.unwrap_or(default.height),
             spp: self.spp.unwrap_or(default.spp),
@@ -75,9 +75,8 @@ impl Choices<'_> {
                     name_of(&settings.integrator)
                 ));
             }
-            settings.sampler = SamplerKind::Pcg;
         }
-        Ok((settings, warnings))
+        Ok((settings.with_effective_sampler(), warnings))
     }
 }
 

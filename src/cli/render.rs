@@ -14,7 +14,7 @@ use crate::image_io::output::{check_writable, ImageFormat};
 use crate::image_io::tonemap::RENDER_PNG_TONE_MAP;
 use crate::render::job::{production_settings, JobOptions, DEFAULT_CHECKPOINT_INTERVAL};
 use crate::render::metadata::sampler_name;
-use crate::render::settings::{Integrator, PixelFilter, RenderSettings, SamplerKind};
+use crate::render::settings::{Integrator, PixelFilter, RenderSettings};
 use crate::scene::environment::{load_environment_map, Environment};
 use crate::scene::Scene;
 
@@ -162,14 +162,7 @@ impl RenderArgs {
             integrator: self.integrator,
             ..production_settings()
         });
-        if settings.integrator.is_importance_sampled() {
-            settings
-        } else {
-            RenderSettings {
-                sampler: SamplerKind::Pcg,
-                ..settings
-            }
-        }
+        settings.with_effective_sampler()
     }
 
     /// Warns about every option given that has no effect with the others (one line each).

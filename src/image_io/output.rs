@@ -417,11 +417,22 @@ fn write_png(
     map: ToneMap,
 ) -> std::result::Result<(), String> {
     let bytes = tone_mapped_srgb8(image, exposure, map);
+    write_rgb8_png(path, image.width, image.height, &bytes)
+}
+
+/// Writes 8-bit RGB pixels (rows top-down) as a PNG at `path` (no atomic rename: callers
+/// write to a temporary file through `write_atomically`).
+pub fn write_rgb8_png(
+    path: &Path,
+    width: u32,
+    height: u32,
+    bytes: &[u8],
+) -> std::result::Result<(), String> {
     image::save_buffer_with_format(
         path,
-        &bytes,
-        image.width,
-        image.height,
+        bytes,
+        width,
+        height,
         image::ColorType::Rgb8,
         image::ImageFormat::Png,
     )

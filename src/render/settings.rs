@@ -285,6 +285,21 @@ impl Default for RenderSettings {
 }
 
 impl RenderSettings {
+    /// These settings with the sampler the integrator really uses: the workshop's
+    /// integrators always draw PCG2D, so a render with one of them records and reports
+    /// `pcg` whatever sampler was asked for (`vkpath render` and the Python package both
+    /// call this).
+    pub fn with_effective_sampler(self) -> RenderSettings {
+        if self.integrator.is_importance_sampled() {
+            self
+        } else {
+            RenderSettings {
+                sampler: SamplerKind::Pcg,
+                ..self
+            }
+        }
+    }
+
     /// Checks every value's range; the error names the offending option.
     pub fn validate(&self) -> Result<()> {
         let bad = |message: String| Err(Error::InvalidSettings(message));

@@ -7,7 +7,9 @@ use std::path::Path;
 
 use crate::error::Result;
 use crate::image_io::data::RenderedImage;
-use crate::image_io::output::{save_image, write_atomically, ImageFormat, SaveOptions};
+use crate::image_io::output::{
+    save_image, write_atomically, write_rgb8_png, ImageFormat, SaveOptions,
+};
 
 /// The 8-bit value ShaderToy's canvas shows for a shader's output `value`: clamped to
 /// [0, 1] (NaN as 0), times 255, rounded.
@@ -31,15 +33,7 @@ pub fn save_pass_image(path: &Path, image: &RenderedImage) -> Result<()> {
                 .flat_map(|p| [display_byte(p[0]), display_byte(p[1]), display_byte(p[2])])
                 .collect();
             write_atomically(path, |temporary| {
-                image::save_buffer_with_format(
-                    temporary,
-                    &bytes,
-                    image.width,
-                    image.height,
-                    image::ColorType::Rgb8,
-                    image::ImageFormat::Png,
-                )
-                .map_err(|e| e.to_string())
+                write_rgb8_png(temporary, image.width, image.height, &bytes)
             })
         }
     }
