@@ -10,20 +10,7 @@ use std::path::Path;
 
 use serde_json::Value;
 
-/// The outcome of one `vkpath check`.
-struct Outcome {
-    code: Option<i32>,
-    stdout: String,
-    stderr: String,
-}
-
-impl Outcome {
-    /// The JSON report (runs with `--json`).
-    fn json(&self) -> Value {
-        serde_json::from_str(&self.stdout)
-            .unwrap_or_else(|e| panic!("not JSON ({e}): {}\n{}", self.stdout, self.stderr))
-    }
-}
+use common::runs::Run as Outcome;
 
 fn solution(name: &str) -> String {
     format!("{}/tests/solutions/{name}", env!("CARGO_MANIFEST_DIR"))
@@ -31,31 +18,7 @@ fn solution(name: &str) -> String {
 
 /// Runs `vkpath check` on a solution in a temporary directory, with small renders.
 fn check(dir: &Path, name: &str, extra: &[&str]) -> Outcome {
-    let file = solution(name);
-    let mut args = vec![
-        "check",
-        &file,
-        "--validate",
-        "--size",
-        "32",
-        "--spp",
-        "256",
-        "--output-dir",
-        "out",
-    ];
-    args.extend_from_slice(extra);
-    let output = common::vkpath(dir, &args);
-    let outcome = Outcome {
-        code: output.status.code(),
-        stdout: String::from_utf8_lossy(&output.stdout).into(),
-        stderr: String::from_utf8_lossy(&output.stderr).into(),
-    };
-    assert!(
-        !outcome.stderr.contains("panicked"),
-        "{name} panicked: {}",
-        outcome.stderr
-    );
-    outcome
+    check_tabs(dir, &[name], extra, &[])
 }
 
 /// Checks `name` with `--json`, expects `exit` and the verdict `passed` for each function,
@@ -458,7 +421,7 @@ fn a_file_that_includes_itself_is_read_once() {
              return vec3(r * cos(2.0 * M_PI * u.x), r * sin(2.0 * M_PI * u.x), z);\n}\n",
     )
     .expect("writable");
-    let output = common::vkpath(
+    let run = common::runs::run(
         dir.path(),
         &[
             "check",
@@ -466,13 +429,14 @@ fn a_file_that_includes_itself_is_read_once() {
             "--validate",
             "--json",
         ],
+        &[],
     );
-    let stdout = String::from_utf8_lossy(&output.stdout);
-    assert_eq!(output.status.code(), Some(0), "{stdout}");
-    let report: Value = serde_json::from_str(&stdout).expect("JSON");
+    assert_eq!(run.code, Some(0), "{}", run.stdout);
+    let report = run.json();
     assert!(
         report["notes"].to_string().contains("dropped #include"),
-        "{stdout}"
+        "{}",
+        run.stdout
     );
 }
 
@@ -524,30 +488,7 @@ fn an_endless_loop_fails_instead_of_being_cut_silently() {
 /// Runs `vkpath check` on several solutions (tabs) at once, with small renders.
 fn check_tabs(dir: &Path, names: &[&str], extra: &[&str], env: &[(&str, &str)]) -> Outcome {
     let files: Vec<String> = names.iter().map(|name| solution(name)).collect();
-    let mut args: Vec<&str> = vec!["check"];
-    args.extend(files.iter().map(String::as_str));
-    args.extend_from_slice(&[
-        "--validate",
-        "--size",
-        "32",
-        "--spp",
-        "256",
-        "--output-dir",
-        "out",
-    ]);
-    args.extend_from_slice(extra);
-    let output = common::vkpath_with_env(dir, &args, env);
-    let outcome = Outcome {
-        code: output.status.code(),
-        stdout: String::from_utf8_lossy(&output.stdout).into(),
-        stderr: String::from_utf8_lossy(&output.stderr).into(),
-    };
-    assert!(
-        !outcome.stderr.contains("panicked"),
-        "{names:?} panicked: {}",
-        outcome.stderr
-    );
-    outcome
+    common::runs::check(dir, &files, extra, env)
 }
 
 /// The report's not-judged entry for `function`, as text ("" when there is none).
@@ -751,4 +692,60 @@ fn an_unusable_file_still_gets_a_json_report() {
             .contains("defines none of the workshop functions"),
         "{report}"
     );
+}
+
+#[test]
+fn each_pass_is_compiled_on_its_own_after_the_common_tab() {
+    // Buffer A and the Image tab both define sample_sphere, as ShaderToy allows (each pass is
+    // one compilation of the Common tab and that pass): read as one text they would be a
+    // redefinition and nothing would compile. Each is judged, naming its own tab and line;
+    // the Common tab's get_random_numbers is judged once.
+    let dir = tempfile::tempdir().expect("temporary directory");
+    let outcome = check_tabs(
+        dir.path(),
+        &[
+            "buffer_a_tab_same_names.glsl",
+            "image_tab_needs_common.glsl",
+            "common_tab.glsl",
+        ],
+        &["--json"],
+        &[],
+    );
+    assert_eq!(
+        outcome.code,
+        Some(0),
+        "{}\n{}",
+        outcome.stdout,
+        outcome.stderr
+    );
+    let report = outcome.json();
+    let verdicts: Vec<(String, String, u64, bool)> = report["functions"]
+        .as_array()
+        .expect("functions")
+        .iter()
+        .map(|f| {
+            (
+                f["function"].as_str().expect("name").to_string(),
+                f["file"].as_str().expect("file").to_string(),
+                f["line"].as_u64().expect("line"),
+                f["passed"] == true,
+            )
+        })
+        .collect();
+    let (common, buffer, image) = (
+        solution("common_tab.glsl"),
+        solution("buffer_a_tab_same_names.glsl"),
+        solution("image_tab_needs_common.glsl"),
+    );
+    assert_eq!(
+        verdicts,
+        [
+            ("get_random_numbers".into(), common, 6, true),
+            ("sample_sphere".into(), buffer.clone(), 7, true),
+            ("sample_sphere".into(), image, 4, true),
+            ("sample_hemisphere".into(), buffer, 11, true),
+        ],
+        "{report:#}"
+    );
+    assert!(report["compile_errors"].is_null(), "{report:#}");
 }

@@ -25,10 +25,8 @@ fn program(name: &str) -> String {
 fn shadertoy(dir: &Path, args: &[&str]) -> (Option<i32>, String) {
     let mut all = vec!["shadertoy", "--validate"];
     all.extend_from_slice(args);
-    let output = common::vkpath(dir, &all);
-    let stderr = String::from_utf8_lossy(&output.stderr).into_owned();
-    assert!(!stderr.contains("panicked"), "{stderr}");
-    (output.status.code(), stderr)
+    let run = common::runs::run(dir, &all, &[]);
+    (run.code, run.stderr)
 }
 
 /// The EXR's pixel at column x and row y counted from the bottom (as fragCoord counts),
@@ -328,32 +326,28 @@ fn check_program_with(
     name: &str,
     extra: &[&str],
 ) -> (Option<i32>, serde_json::Value, serde_json::Value) {
+    check_program_env(name, extra, &[])
+}
+
+/// `check_program_with` with extra environment variables.
+fn check_program_env(
+    name: &str,
+    extra: &[&str],
+    env: &[(&str, &str)],
+) -> (Option<i32>, serde_json::Value, serde_json::Value) {
     let dir = tempfile::tempdir().unwrap();
-    let file = program(name);
-    let mut args = vec![
-        "check",
-        &file,
-        "--validate",
-        "--json",
-        "--size",
-        "32",
-        "--spp",
-        "256",
-        "--output-dir",
-        "out",
-    ];
+    let mut args = vec!["--json"];
     args.extend_from_slice(extra);
-    let output = common::vkpath(dir.path(), &args);
-    let stdout = String::from_utf8_lossy(&output.stdout);
-    let stderr = String::from_utf8_lossy(&output.stderr);
-    assert!(!stderr.contains("panicked"), "{stderr}");
-    let report: serde_json::Value = serde_json::from_str(&stdout)
-        .unwrap_or_else(|e| panic!("not JSON ({e}): {stdout}\n{stderr}"));
-    let entry = report["functions"]
-        .as_array()
-        .and_then(|f| f.iter().find(|f| f["function"] == "program").cloned())
-        .unwrap_or_else(|| panic!("{name}: no program verdict: {stdout}"));
-    (output.status.code(), entry, report)
+    let run = common::runs::check(dir.path(), &[program(name)], &args, env);
+    let report = run.json();
+    let entry = common::runs::verdict(&report, "program")
+        .or_else(|| {
+            report["lost"]
+                .as_array()
+                .and_then(|lost| lost.iter().find(|l| l["function"] == "program").cloned())
+        })
+        .unwrap_or_else(|| panic!("{name}: no program verdict: {}", run.stdout));
+    (run.code, entry, report)
 }
 
 #[test]
@@ -403,5 +397,160 @@ fn check_fails_the_tab_with_a_missing_factor_2() {
             .unwrap_or_default()
             .contains("get_ray_radiance fails on its own"),
         "{program:#}"
+    );
+}
+
+#[test]
+fn i_resolution_and_i_channel_resolution_are_the_renders_size() {
+    // 6 x 3, not square: fragCoord / iResolution.xy is ((x + 0.5) / 6, (y + 0.5) / 3), and
+    // iChannelResolution[0] is Buffer A's size; each value is one float division, the same
+    // one the test makes.
+    let dir = tempfile::tempdir().unwrap();
+    let (code, stderr) = shadertoy(
+        dir.path(),
+        &[
+            &program("resolution_image.glsl"),
+            "--buffer-a",
+            &program("count_buffer_a.glsl"),
+            "--frames",
+            "2",
+            "--width",
+            "6",
+            "--height",
+            "3",
+            "-o",
+            "image.exr",
+        ],
+    );
+    assert_eq!(code, Some(0), "{stderr}");
+    let image = rgba(&dir.path().join("image.exr"));
+    for (x, y) in [(0, 0), (5, 0), (0, 2), (3, 1), (5, 2)] {
+        let expected = [(x as f32 + 0.5) / 6.0, (y as f32 + 0.5) / 3.0, 6.0, 3.0];
+        assert_eq!(at(&image, x, y), expected, "({x}, {y})");
+    }
+}
+
+#[test]
+fn a_page_shaders_resolution_uniform_is_the_renders_size() {
+    // The shared intake gives `uniform vec2 u_resolution` the render's size and drops the
+    // page shader's own `uniform float iTime` for vkpath's.
+    let dir = tempfile::tempdir().unwrap();
+    let file = program("resolution_page_shader.glsl");
+    let (code, stderr) = shadertoy(
+        dir.path(),
+        &[
+            &file, "--frames", "1", "--width", "6", "--height", "3", "-o", "page.exr",
+        ],
+    );
+    assert_eq!(code, Some(0), "{stderr}");
+    assert!(
+        stderr.contains(&format!(
+            "note: {file}:6: 'uniform vec2 u_resolution' is vec2(6.0, 3.0)"
+        )),
+        "{stderr}"
+    );
+    assert!(
+        stderr.contains(&format!(
+            "note: {file}:7: dropped your declaration of iTime"
+        )),
+        "{stderr}"
+    );
+    let image = rgba(&dir.path().join("page.exr"));
+    for (x, y) in [(0, 0), (5, 2), (2, 1)] {
+        let expected = [(x as f32 + 0.5) / 6.0, (y as f32 + 0.5) / 3.0, 6.0, 3.0];
+        assert_eq!(at(&image, x, y), expected, "({x}, {y})");
+    }
+}
+
+#[test]
+fn two_passes_may_define_the_same_helper_after_one_common_tab() {
+    // Buffer A and the Image pass each define `shade` (with other parameters and bodies) and
+    // both call the Common tab's base_value(): one compilation per pass, Common first, as
+    // ShaderToy does. Buffer A writes 3, the Image pass 3 + 10.
+    let dir = tempfile::tempdir().unwrap();
+    let (code, stderr) = shadertoy(
+        dir.path(),
+        &[
+            &program("helper_image.glsl"),
+            "--common",
+            &program("helper_common.glsl"),
+            "--buffer-a",
+            &program("helper_buffer_a.glsl"),
+            "--frames",
+            "1",
+            "--width",
+            "4",
+            "--height",
+            "4",
+            "-o",
+            "image.exr",
+        ],
+    );
+    assert_eq!(code, Some(0), "{stderr}");
+    let image = rgba(&dir.path().join("image.exr"));
+    assert_eq!(at(&image, 2, 1), [13.0, 1.0, 0.0, 1.0]);
+}
+
+#[test]
+fn a_loop_without_end_is_one_error_line_naming_the_pass_and_writes_nothing() {
+    let dir = tempfile::tempdir().unwrap();
+    let buffer = program("endless_loop_buffer_a.glsl");
+    let started = Instant::now();
+    let (code, stderr) = shadertoy(
+        dir.path(),
+        &[
+            &program("show_buffer_a.glsl"),
+            "--buffer-a",
+            &buffer,
+            "--frames",
+            "3",
+            "--width",
+            "8",
+            "--height",
+            "8",
+            "-o",
+            "image.png",
+        ],
+    );
+    assert_eq!(code, Some(1), "{stderr}");
+    let errors: Vec<&str> = stderr.lines().filter(|l| l.contains("error")).collect();
+    assert_eq!(errors.len(), 1, "one error line: {stderr}");
+    assert!(
+        errors[0].contains(&format!(
+            "frame 0: the loops of {buffer} (buffer-a) ran past"
+        )) && errors[0].contains("nothing was written"),
+        "{stderr}"
+    );
+    assert!(!dir.path().join("image.png").exists());
+    // The guard ends the loop after a few thousand iterations per pixel: no hang.
+    assert!(started.elapsed() < Duration::from_secs(60));
+}
+
+#[test]
+fn a_crash_while_the_program_runs_loses_only_the_program_verdict() {
+    // The test-only fault switch aborts the worker that runs the program, as a driver crash
+    // would: every function verdict is still there, the program is listed as lost with the
+    // reason, and the check fails. 8 frames: the program never runs past its start.
+    let (code, lost, report) = check_program_env(
+        "exercise7_tab.glsl",
+        &["--frames", "8"],
+        &[("VKPATH_CHECK_FAULT", "program")],
+    );
+    assert_eq!(code, Some(1), "{report:#}");
+    assert!(
+        lost["reason"]
+            .as_str()
+            .unwrap_or_default()
+            .contains("the Vulkan driver crashed running your program"),
+        "{report:#}"
+    );
+    assert_eq!(lost["file"], program("exercise7_tab.glsl"), "{lost:#}");
+    let functions = report["functions"].as_array().unwrap();
+    assert!(functions.len() >= 7, "{report:#}");
+    assert!(
+        functions
+            .iter()
+            .all(|f| f["passed"] == true && f["function"] != "program"),
+        "{report:#}"
     );
 }

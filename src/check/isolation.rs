@@ -10,8 +10,13 @@
 //! or runs past the time limit (then it is killed), that function is NOT JUDGED with the
 //! reason, and a new worker judges the functions that remain.
 //!
+//! The `program` verdict (`crate::check::program`) is judged the same way, by a worker of
+//! its own once the functions' verdicts are known (they name its likely cause): a crash
+//! while the user's program runs costs only that verdict.
+//!
 //! `VKPATH_CHECK_FAULT=<function>` (for tests only) makes the worker abort, as a driver
-//! crash would, just before it judges that function.
+//! crash would, just before it judges that function; `VKPATH_CHECK_FAULT=program` just
+//! before it runs the program.
 
 use std::io::{BufRead, BufReader, Write as _};
 use std::path::PathBuf;
@@ -28,6 +33,33 @@ use crate::check::CheckOptions;
 
 /// The test-only fault switch (see the module documentation).
 pub const FAULT_VARIABLE: &str = "VKPATH_CHECK_FAULT";
+/// The name that stands for the `program` verdict among the functions a worker judges.
+pub const PROGRAM: &str = "program";
+
+/// What a worker reads on its stdin (JSON): the prepared file, and for the `program`
+/// verdict the user's tabs and the verdicts on the functions.
+#[derive(Clone, Debug, Serialize, Deserialize)]
+pub struct WorkerJob {
+    /// The user's functions: one unit of the program (`crate::check::load_user_passes`).
+    pub user: UserFunctions,
+    /// The user's files in ShaderToy's order, (name, text), for the `program` verdict.
+    #[serde(default)]
+    pub tabs: Vec<(PathBuf, String)>,
+    /// The verdicts on the functions, for the `program` verdict's likely cause.
+    #[serde(default)]
+    pub verdicts: Vec<FunctionReport>,
+}
+
+impl WorkerJob {
+    /// The file and line of what `name` judges: a workshop function's definition, or the
+    /// program's `mainImage`.
+    fn place(&self, name: &str) -> (String, usize) {
+        match WorkshopFunction::from_name(name) {
+            Some(function) => self.user.locate(self.user.line_of(function)),
+            None => crate::check::program::program_place(&self.tabs),
+        }
+    }
+}
 
 /// What a worker reports, one JSON object per line of its stdout.
 #[derive(Clone, Debug, Serialize, Deserialize)]
@@ -91,20 +123,29 @@ pub struct WorkerSummary {
     pub validation_warnings: u32,
 }
 
-/// Judges `functions` of `user` in workers, calling `on_outcome` as each verdict is known.
-/// Fails only when no worker can start (no Vulkan device, say: the worker's error is
-/// returned) or vkpath itself fails judging a function.
+impl WorkerSummary {
+    /// Adds what other workers found.
+    pub fn add(&mut self, other: WorkerSummary) {
+        self.device = self.device.take().or(other.device);
+        self.validation_errors += other.validation_errors;
+        self.validation_warnings += other.validation_warnings;
+    }
+}
+
+/// Judges `names` (workshop functions, or `PROGRAM`) of `job` in workers, calling
+/// `on_outcome` as each verdict is known. Fails only when no worker can start (no Vulkan
+/// device, say: the worker's error is returned) or vkpath itself fails judging a function.
 pub fn judge_in_workers(
     launcher: &WorkerLauncher,
-    user: &UserFunctions,
+    job: &WorkerJob,
     options: &CheckOptions,
     test_alpha: f64,
-    functions: &[WorkshopFunction],
+    names: &[&str],
     mut on_outcome: impl FnMut(Outcome),
 ) -> anyhow::Result<WorkerSummary> {
-    let state = serde_json::to_vec(user)?;
+    let state = serde_json::to_vec(job)?;
     let mut summary = WorkerSummary::default();
-    let mut remaining: Vec<WorkshopFunction> = functions.to_vec();
+    let mut remaining: Vec<String> = names.iter().map(|n| n.to_string()).collect();
     while !remaining.is_empty() {
         let mut child = launcher.spawn(options, test_alpha, &remaining)?;
         if let Some(mut stdin) = child.stdin.take() {
@@ -159,7 +200,7 @@ pub fn judge_in_workers(
                     summary.device = Some(device);
                 }
                 WorkerEvent::Verdict { report } => {
-                    remaining.retain(|f| f.name() != report.function);
+                    remaining.retain(|f| *f != report.function);
                     on_outcome(Outcome::Verdict(report));
                 }
                 WorkerEvent::Error { function, message } => {
@@ -182,20 +223,22 @@ pub fn judge_in_workers(
         };
         if let Some(reason) = lost_reason {
             let lost = remaining.remove(0);
+            let (file, line) = job.place(&lost);
+            let reason = if lost == PROGRAM {
+                reason.replace("running your function", "running your program")
+            } else {
+                reason
+            };
             on_outcome(Outcome::Lost(NotJudged {
-                function: lost.name().to_string(),
-                line: user.locate(user.line_of(lost)).1,
+                function: lost,
+                line,
                 reason,
-                file: user.locate(user.line_of(lost)).0,
+                file,
             }));
         } else if !remaining.is_empty() {
             anyhow::bail!(
                 "the check worker finished without judging {}",
-                remaining
-                    .iter()
-                    .map(|f| f.name())
-                    .collect::<Vec<_>>()
-                    .join(", ")
+                remaining.join(", ")
             );
         }
     }
@@ -203,14 +246,13 @@ pub fn judge_in_workers(
 }
 
 impl WorkerLauncher {
-    /// Starts a worker for `functions` (the prepared file goes to its stdin).
+    /// Starts a worker for `names` (the job goes to its stdin).
     fn spawn(
         &self,
         options: &CheckOptions,
         test_alpha: f64,
-        functions: &[WorkshopFunction],
+        names: &[String],
     ) -> anyhow::Result<Child> {
-        let names: Vec<&str> = functions.iter().map(|f| f.name()).collect();
         Command::new(&self.executable)
             .arg("check-worker")
             .arg("--functions")
@@ -219,6 +261,8 @@ impl WorkerLauncher {
             .arg(options.image_size.to_string())
             .arg("--spp")
             .arg(options.spp.to_string())
+            .arg("--frames")
+            .arg(options.program_frames.to_string())
             .arg("--test-alpha")
             .arg(format!("{test_alpha:e}"))
             .arg("--output-dir")

@@ -116,13 +116,10 @@ pub enum LoadError {
     },
 }
 
-/// Reads a user's files, finds the workshop functions they define and compiles them once
-/// (the functions that do not compile are set aside, see
-/// `UserFunctions::find_broken_functions`). Several files are the tabs of one ShaderToy
-/// program, in ShaderToy's order: the files without an entry point (the Common tab) come
-/// first, then the others in the order given, as one text whose lines are mapped back to
-/// each file's (`UserFunctions::sources`).
-pub fn load_user_functions(paths: &[PathBuf]) -> std::result::Result<UserFunctions, LoadError> {
+/// Reads the user's files as the tabs of one ShaderToy program, in ShaderToy's order: the
+/// files without an entry point (the Common tab) first, then the others in the order given;
+/// each (file name, text).
+pub fn read_tabs(paths: &[PathBuf]) -> std::result::Result<Vec<(String, String)>, LoadError> {
     let mut files = Vec::new();
     for path in paths {
         let text =
@@ -132,11 +129,15 @@ pub fn load_user_functions(paths: &[PathBuf]) -> std::result::Result<UserFunctio
             })?;
         files.push((path.display().to_string(), text));
     }
-    let path = paths.first().cloned().unwrap_or_default();
     let (commons, passes): (Vec<_>, Vec<_>) = files
         .into_iter()
         .partition(|(_, text)| crate::glsl_intake::find_entry_point(text).is_none());
-    let files: Vec<(String, String)> = commons.into_iter().chain(passes).collect();
+    Ok(commons.into_iter().chain(passes).collect())
+}
+
+/// The user's functions in `files` read as one text, whose lines are mapped back to each
+/// file's (`UserFunctions::sources`); not compiled yet.
+fn read_unit(files: &[(String, String)]) -> UserFunctions {
     let display_name = files
         .iter()
         .map(|(name, _)| name.as_str())
@@ -144,7 +145,7 @@ pub fn load_user_functions(paths: &[PathBuf]) -> std::result::Result<UserFunctio
         .join(" + ");
     let mut text = String::new();
     let mut sources = Vec::new();
-    for (name, file_text) in &files {
+    for (name, file_text) in files {
         sources.push(compile::SourceFile {
             name: name.clone(),
             first_line: text.matches('\n').count() + 1,
@@ -156,27 +157,111 @@ pub fn load_user_functions(paths: &[PathBuf]) -> std::result::Result<UserFunctio
     }
     let mut user = UserFunctions::new(&display_name, text);
     user.sources = sources;
-    if user.definitions.is_empty() {
-        if user.not_judged.is_empty() {
-            return Err(LoadError::NoWorkshopFunction {
-                path: path.to_owned(),
-            });
-        }
-        return Err(LoadError::NothingToJudge {
-            path: path.to_owned(),
-            reasons: user
-                .not_judged
+    user
+}
+
+/// The usage error of files that define nothing check can judge (`units` all empty).
+fn nothing_to_judge(paths: &[PathBuf], units: &[UserFunctions]) -> Option<LoadError> {
+    if units.iter().any(|u| !u.definitions.is_empty()) {
+        return None;
+    }
+    let path = paths.first().cloned().unwrap_or_default();
+    let reasons: Vec<String> = units
+        .iter()
+        .flat_map(|u| {
+            u.not_judged
                 .iter()
                 .map(|n| format!("{} (line {}): {}", n.function, n.line, n.reason))
-                .collect::<Vec<_>>()
-                .join("; "),
-        });
-    }
+        })
+        .collect();
+    Some(if reasons.is_empty() {
+        LoadError::NoWorkshopFunction { path }
+    } else {
+        LoadError::NothingToJudge {
+            path,
+            reasons: reasons.join("; "),
+        }
+    })
+}
+
+/// Compiles a unit once, setting aside the functions that do not compile.
+fn compile_unit(user: &mut UserFunctions) {
     match user.find_broken_functions() {
         Ok(warnings) => user.compile_warnings = warnings,
         Err(messages) => user.compile_errors = Some(messages),
     }
+}
+
+/// Reads a user's files, finds the workshop functions they define and compiles them once
+/// (the functions that do not compile are set aside, see
+/// `UserFunctions::find_broken_functions`). Several files are the tabs of one ShaderToy
+/// program (`read_tabs`), read here as one text, Common first; `vkpath check` compiles each
+/// pass on its own instead (`load_user_passes`).
+pub fn load_user_functions(paths: &[PathBuf]) -> std::result::Result<UserFunctions, LoadError> {
+    let files = read_tabs(paths)?;
+    let mut user = read_unit(&files);
+    if let Some(error) = nothing_to_judge(paths, std::slice::from_ref(&user)) {
+        return Err(error);
+    }
+    compile_unit(&mut user);
     Ok(user)
+}
+
+/// Reads a user's files as ShaderToy compiles a program: one unit per pass (a file with an
+/// entry point), each the Common tab followed by that pass, compiled on its own, so that
+/// two passes may define the same helper as ShaderToy allows and every message names the
+/// tab and its own line. A function of the Common tab is judged once, in the first unit;
+/// the others judge only their pass's functions. Files without a second pass are one unit,
+/// as `load_user_functions` reads them.
+pub fn load_user_passes(paths: &[PathBuf]) -> std::result::Result<Vec<UserFunctions>, LoadError> {
+    let files = read_tabs(paths)?;
+    let commons: Vec<(String, String)> = files
+        .iter()
+        .filter(|(_, text)| crate::glsl_intake::find_entry_point(text).is_none())
+        .cloned()
+        .collect();
+    let passes = &files[commons.len()..];
+    let mut units: Vec<UserFunctions> = if passes.len() < 2 {
+        vec![read_unit(&files)]
+    } else {
+        passes
+            .iter()
+            .enumerate()
+            .map(|(index, pass)| {
+                let mut tabs = commons.clone();
+                tabs.push(pass.clone());
+                let mut unit = read_unit(&tabs);
+                if index > 0 {
+                    // The Common tab's functions are judged in the first unit.
+                    let pass_name = pass.0.clone();
+                    let in_pass =
+                        |unit: &UserFunctions, line: usize| unit.locate(line).0 == pass_name;
+                    let keep: Vec<bool> = unit
+                        .definitions
+                        .iter()
+                        .map(|d| in_pass(&unit, d.line))
+                        .collect();
+                    let mut keep = keep.into_iter();
+                    unit.definitions.retain(|_| keep.next().unwrap_or(false));
+                    let keep: Vec<bool> = unit
+                        .not_judged
+                        .iter()
+                        .map(|n| in_pass(&unit, n.line))
+                        .collect();
+                    let mut keep = keep.into_iter();
+                    unit.not_judged.retain(|_| keep.next().unwrap_or(false));
+                }
+                unit
+            })
+            .collect()
+    };
+    if let Some(error) = nothing_to_judge(paths, &units) {
+        return Err(error);
+    }
+    for unit in &mut units {
+        compile_unit(unit);
+    }
+    Ok(units)
 }
 
 /// What every check needs: the device, the user's functions, the options, the Cornell box
@@ -307,6 +392,67 @@ pub fn test_alpha(user: &UserFunctions, options: &CheckOptions) -> Result<f64> {
     } else {
         Ok(options.alpha)
     }
+}
+
+/// `test_alpha` over several units of one program (`load_user_passes`): `options.alpha`
+/// Šidák-corrected over the statistical tests of all their judged functions and the
+/// program's, counted once.
+pub fn test_alpha_of_units(units: &[UserFunctions], options: &CheckOptions) -> Result<f64> {
+    let statistical_tests: usize = units
+        .iter()
+        .flat_map(|user| user.judged_functions())
+        .map(|f| samplers::test_count(f) + usize::from(estimators::integrator_for(f).is_some()))
+        .sum::<usize>()
+        + usize::from(units.iter().any(|u| program::is_workshop_program(&u.text)));
+    if statistical_tests > 0 {
+        sidak_alpha(options.alpha, statistical_tests)
+            .map_err(|e| Error::InvalidSettings(e.to_string()))
+    } else {
+        Ok(options.alpha)
+    }
+}
+
+/// `report_header` over several units of one program: the files once each, every note,
+/// function not judged and compiler message once (a Common tab's appear in every unit).
+pub fn units_header(units: &[UserFunctions], device: &str) -> CheckReport {
+    let mut headers = units.iter().map(|unit| report_header(unit, device));
+    let Some(mut report) = headers.next() else {
+        return report_header(&UserFunctions::new("", String::new()), device);
+    };
+    let mut files: Vec<String> = units
+        .iter()
+        .flat_map(|u| u.sources.iter().map(|s| s.name.clone()))
+        .collect();
+    let mut seen = std::collections::BTreeSet::new();
+    files.retain(|f| seen.insert(f.clone()));
+    report.file = files.join(" + ");
+    for header in headers {
+        for function in header.defined_functions {
+            if !report.defined_functions.contains(&function) {
+                report.defined_functions.push(function);
+            }
+        }
+        for entry in header.not_judged {
+            if !report.not_judged.contains(&entry) {
+                report.not_judged.push(entry);
+            }
+        }
+        for note in header.notes {
+            if !report.notes.contains(&note) {
+                report.notes.push(note);
+            }
+        }
+        report.compile_errors = match (report.compile_errors.take(), header.compile_errors) {
+            (Some(a), Some(b)) if a != b => Some(format!("{a}\n{b}")),
+            (a, b) => a.or(b),
+        };
+        if !header.compile_warnings.trim().is_empty()
+            && !report.compile_warnings.contains(&header.compile_warnings)
+        {
+            report.compile_warnings.push_str(&header.compile_warnings);
+        }
+    }
+    report
 }
 
 /// The verdict on a function that does not compile (known without a device), if it does not.

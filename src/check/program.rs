@@ -121,7 +121,7 @@ pub fn program_of_tabs(
 }
 
 /// The user's files as (name, text), split where each begins.
-fn user_tabs(user: &crate::check::UserFunctions) -> Vec<(PathBuf, String)> {
+pub fn user_tabs(user: &crate::check::UserFunctions) -> Vec<(PathBuf, String)> {
     if user.sources.len() < 2 {
         return vec![(PathBuf::from(&user.display_name), user.text.clone())];
     }
@@ -142,10 +142,8 @@ fn user_tabs(user: &crate::check::UserFunctions) -> Vec<(PathBuf, String)> {
 }
 
 /// The `program` verdict on the user's files when they are a runnable program of the
-/// workshop's scene (`is_workshop_program`): the tabs with `mainImage` as `program_of_tabs`
-/// makes them (a tab without one, first, is the Common tab), at the check's image size up
-/// to `MAX_PROGRAM_SIZE`, for `DEFAULT_FRAMES` frames, at the per-test significance
-/// `test_alpha`. `None` for other files.
+/// workshop's scene (`is_workshop_program`): `judge_tabs_program` on the files of `user`
+/// with its `MAX_PATH_LENGTH`. `None` for other files.
 pub fn judge_user_program(
     context: &Arc<Context>,
     user: &crate::check::UserFunctions,
@@ -153,10 +151,33 @@ pub fn judge_user_program(
     test_alpha: f64,
     functions: &[FunctionReport],
 ) -> Result<Option<FunctionReport>> {
-    if !is_workshop_program(&user.text) {
+    judge_tabs_program(
+        context,
+        &user_tabs(user),
+        user.prepared.max_path_length,
+        options,
+        test_alpha,
+        functions,
+    )
+}
+
+/// The `program` verdict on `tabs` (the user's files in ShaderToy's order, each (name,
+/// text)) when they are a runnable program of the workshop's scene: the tabs with
+/// `mainImage` as `program_of_tabs` makes them (a tab without one, first, is the Common
+/// tab), at the check's image size up to `MAX_PROGRAM_SIZE`, for `options.program_frames`
+/// frames, at the per-test significance `test_alpha`, with the file's `max_path_length`
+/// (else 5). `None` for other files.
+pub fn judge_tabs_program(
+    context: &Arc<Context>,
+    tabs: &[(PathBuf, String)],
+    max_path_length: Option<u32>,
+    options: &crate::check::CheckOptions,
+    test_alpha: f64,
+    functions: &[FunctionReport],
+) -> Result<Option<FunctionReport>> {
+    if !tabs.iter().any(|(_, text)| is_workshop_program(text)) {
         return Ok(None);
     }
-    let tabs = user_tabs(user);
     let has_entry = |text: &str| {
         crate::check::glsl_syntax::tokenize(text)
             .iter()
@@ -164,11 +185,11 @@ pub fn judge_user_program(
     };
     let mut common = None;
     let mut passes = Vec::new();
-    for (index, (path, text)) in tabs.into_iter().enumerate() {
-        if has_entry(&text) {
-            passes.push((path, text));
+    for (index, (path, text)) in tabs.iter().enumerate() {
+        if has_entry(text) {
+            passes.push((path.clone(), text.clone()));
         } else if index == 0 {
-            common = Some((path, text));
+            common = Some((path.clone(), text.clone()));
         }
     }
     let Some((program, accumulated)) = program_of_tabs(common, &passes) else {
@@ -178,9 +199,7 @@ pub fn judge_user_program(
         size: options.image_size.min(MAX_PROGRAM_SIZE),
         frames: options.program_frames,
         alpha: test_alpha,
-        max_path_length: user
-            .prepared
-            .max_path_length
+        max_path_length: max_path_length
             .filter(|l| (1..=64).contains(l))
             .unwrap_or(crate::render::settings::DEFAULT_MAX_PATH_LENGTH),
         output_dir: options.output_dir.clone(),
@@ -271,6 +290,9 @@ pub fn judge_program(
     let line = program
         .pass(accumulated)
         .map_or(0, |pass| mainimage_line(&pass.text));
+    let file = program
+        .pass(accumulated)
+        .map_or_else(String::new, |pass| pass.path.display().to_string());
     let mut report = FunctionReport::new(
         "program",
         line,
@@ -290,6 +312,7 @@ pub fn judge_program(
             options.alpha
         ),
     );
+    report.file = file;
     let mut runner = match ShadertoyRunner::new(context, program, size, size) {
         Ok(runner) => runner,
         Err(Error::ShaderCompilation(messages)) => {
@@ -302,7 +325,16 @@ pub fn judge_program(
     let mut statistics = FrameStatistics::default();
     let mut image = None;
     for _ in 0..frames {
-        runner.run_frame()?;
+        match runner.run_frame() {
+            Ok(()) => {}
+            Err(Error::LoopLimit(message)) => {
+                report.method = "loop limit".into();
+                report.summary = "loops without end: a pixel's loops ran past their limit".into();
+                report.hint = Some(message);
+                return Ok(report);
+            }
+            Err(error) => return Err(error),
+        }
         let frame = runner.read(accumulated)?.ok_or_else(|| {
             Error::MissingInput(format!("the program has no {}", accumulated.name()))
         })?;
@@ -367,6 +399,17 @@ pub fn judge_program(
     };
     report.images = save_images(&options.output_dir, &reference, &yours)?;
     Ok(report)
+}
+
+/// The file and line of the program that `judge_tabs_program` judges: the `mainImage` of
+/// the first tab that calls `get_ray_radiance` (the pass that accumulates).
+pub fn program_place(tabs: &[(PathBuf, String)]) -> (String, usize) {
+    tabs.iter()
+        .find(|(_, text)| is_workshop_program(text))
+        .map_or_else(
+            || (String::new(), 0),
+            |(path, text)| (path.display().to_string(), mainimage_line(text)),
+        )
 }
 
 /// The line of `mainImage` in a tab (0 if none).

@@ -4,22 +4,26 @@
 //! file's lines, and a function whose judging crashed the driver), 2 when the file cannot be
 //! checked at all (it cannot be read, or nothing in it can be judged).
 //!
-//! The functions are judged in child processes (`vkpath check-worker`, see
-//! `crate::check::isolation`), so that a driver crash costs one verdict; each verdict is
-//! printed as soon as it is known, and `--json` prints one report whatever happens.
+//! Several files are one ShaderToy program: each pass (a file with an entry point) is
+//! compiled on its own after the Common tab (`crate::check::load_user_passes`). The
+//! functions and then the `program` verdict are judged in child processes (`vkpath
+//! check-worker`, see `crate::check::isolation`), so that a driver crash costs one verdict;
+//! each verdict is printed as soon as it is known, and `--json` prints one report whatever
+//! happens.
 
 use std::io::Write as _;
 use std::path::PathBuf;
 use std::time::Duration;
 
 use super::DeviceArgs;
-use crate::check::isolation::{self, Outcome, WorkerEvent, WorkerLauncher};
+use crate::check::isolation::{self, Outcome, WorkerEvent, WorkerJob, WorkerLauncher};
+use crate::check::program::{is_workshop_program, judge_tabs_program};
 use crate::check::report::{
     describe_function, describe_header, describe_not_judged, describe_summary, CheckReport,
 };
 use crate::check::{
-    judge_functions, load_user_functions, report_header, test_alpha, verdict_without_device,
-    CheckOptions, UserFunctions, WorkshopFunction,
+    judge_functions, load_user_passes, read_tabs, test_alpha_of_units, units_header,
+    verdict_without_device, CheckOptions, UserFunctions, WorkshopFunction,
 };
 
 /// Exit status when a check fails.
@@ -66,9 +70,12 @@ pub struct CheckArgs {
 /// as JSON from stdin, printing one JSON event per line (see `crate::check::isolation`).
 #[derive(Debug, Clone, clap::Args)]
 pub struct CheckWorkerArgs {
-    /// The functions to judge, comma-separated.
+    /// The functions to judge, comma-separated (`program`: the program verdict).
     #[arg(long, value_delimiter = ',')]
     pub functions: Vec<String>,
+    /// Frames the program runs for its verdict.
+    #[arg(long, default_value_t = crate::check::program::DEFAULT_FRAMES)]
+    pub frames: u32,
     /// Side of the square renders.
     #[arg(long)]
     pub size: u32,
@@ -109,8 +116,10 @@ fn print_now(text: &str) {
 /// cannot be written) go to `main` as usual (status 1), after `--json` has printed the
 /// report so far.
 pub fn run(args: &CheckArgs) -> anyhow::Result<()> {
-    let user = match load_user_functions(&args.files) {
-        Ok(user) => user,
+    let loaded =
+        load_user_passes(&args.files).and_then(|units| Ok((units, read_tabs(&args.files)?)));
+    let (units, tabs) = match loaded {
+        Ok(loaded) => loaded,
         Err(error) => {
             if args.json {
                 let report = CheckReport::unusable(&args.files, &error.to_string());
@@ -127,11 +136,15 @@ pub fn run(args: &CheckArgs) -> anyhow::Result<()> {
         program_frames: args.frames,
         ..CheckOptions::default()
     };
-    let mut report = report_header(&user, "");
+    let tabs: Vec<(PathBuf, String)> = tabs
+        .into_iter()
+        .map(|(name, text)| (PathBuf::from(name), text))
+        .collect();
+    let mut report = units_header(&units, "");
     if !args.json {
         print_now(&describe_header(&report));
     }
-    let outcome = judge_all(args, &user, &options, &mut report);
+    let outcome = judge_all(args, &units, &tabs, &options, &mut report);
     // The verdicts came as they were known; the report lists them in the workshop's order.
     report.functions.sort_by_key(|f| {
         WorkshopFunction::from_name(&f.function).map_or(usize::MAX, |function| {
@@ -164,109 +177,98 @@ pub fn run(args: &CheckArgs) -> anyhow::Result<()> {
     Ok(())
 }
 
-/// Judges every function of `user` into `report`, printing each verdict (without `--json`)
-/// as soon as it is known: those that do not compile at once, the others in workers.
+/// Judges every function of every unit (pass) into `report`, printing each verdict
+/// (without `--json`) as soon as it is known: those that do not compile at once, the others
+/// in workers; then the `program` verdict when the tabs are a runnable program of the
+/// workshop's scene, in a worker of its own. A unit that does not compile outside its
+/// functions is judged no further, and then neither is the program.
 fn judge_all(
     args: &CheckArgs,
-    user: &UserFunctions,
+    units: &[UserFunctions],
+    tabs: &[(PathBuf, String)],
     options: &CheckOptions,
     report: &mut CheckReport,
 ) -> anyhow::Result<isolation::WorkerSummary> {
-    if report.compile_errors.is_some() {
-        return Ok(isolation::WorkerSummary::default());
-    }
-    let mut on_device = Vec::new();
-    for function in user.functions() {
-        match verdict_without_device(user, function) {
-            Some(verdict) => {
-                if !args.json {
-                    print_now(&describe_function(&verdict));
-                }
-                report.functions.push(verdict);
-            }
-            None => on_device.push(function),
-        }
-    }
-    if on_device.is_empty() {
-        return Ok(isolation::WorkerSummary::default());
-    }
+    let mut summary = isolation::WorkerSummary::default();
     let launcher = WorkerLauncher {
         executable: std::env::current_exe()
             .map_err(|e| anyhow::anyhow!("cannot find the vkpath binary to judge with: {e}"))?,
         device_arguments: args.device.to_arguments(),
         function_time_limit: Duration::from_secs(args.function_time_limit),
     };
-    let alpha = test_alpha(user, options)?;
+    let alpha = test_alpha_of_units(units, options)?;
     let json = args.json;
-    let summary =
-        isolation::judge_in_workers(&launcher, user, options, alpha, &on_device, |outcome| {
-            match outcome {
-                Outcome::Verdict(verdict) => {
-                    if !json {
-                        print_now(&describe_function(&verdict));
-                    }
-                    report.functions.push(*verdict);
-                }
-                Outcome::Lost(lost) => {
-                    if !json {
-                        print_now(&describe_not_judged(&lost));
-                    }
-                    report.lost.push(lost);
-                }
+    let record = |report: &mut CheckReport, outcome: Outcome| match outcome {
+        Outcome::Verdict(verdict) => {
+            if !json {
+                print_now(&describe_function(&verdict));
             }
-        })?;
+            report.functions.push(*verdict);
+        }
+        Outcome::Lost(lost) => {
+            if !json {
+                print_now(&describe_not_judged(&lost));
+            }
+            report.lost.push(lost);
+        }
+    };
+    for unit in units.iter().filter(|u| u.compile_errors.is_none()) {
+        let mut on_device = Vec::new();
+        for function in unit.functions() {
+            match verdict_without_device(unit, function) {
+                Some(verdict) => record(report, Outcome::Verdict(Box::new(verdict))),
+                None => on_device.push(function.name()),
+            }
+        }
+        if on_device.is_empty() {
+            continue;
+        }
+        let job = WorkerJob {
+            user: unit.clone(),
+            tabs: Vec::new(),
+            verdicts: Vec::new(),
+        };
+        let judged =
+            isolation::judge_in_workers(&launcher, &job, options, alpha, &on_device, |outcome| {
+                record(report, outcome)
+            })?;
+        summary.add(judged);
+    }
+    let program_unit = units.iter().find(|u| is_workshop_program(&u.text));
+    if let (Some(unit), None) = (program_unit, &report.compile_errors) {
+        let job = WorkerJob {
+            user: unit.clone(),
+            tabs: tabs.to_vec(),
+            verdicts: report.functions.clone(),
+        };
+        let judged = isolation::judge_in_workers(
+            &launcher,
+            &job,
+            options,
+            alpha,
+            &[isolation::PROGRAM],
+            |outcome| record(report, outcome),
+        )?;
+        summary.add(judged);
+    }
     if let Some(device) = &summary.device {
         report.device = device.clone();
     }
-    let mut summary = summary;
-    judge_program(args, user, options, alpha, report, &mut summary)?;
     Ok(summary)
-}
-
-/// The `program` verdict (`crate::check::program`) when the files are a runnable program of
-/// the workshop's scene: judged in this process after the functions, whose verdicts name
-/// its likely cause; printed as soon as it is known.
-fn judge_program(
-    args: &CheckArgs,
-    user: &UserFunctions,
-    options: &CheckOptions,
-    alpha: f64,
-    report: &mut CheckReport,
-    summary: &mut isolation::WorkerSummary,
-) -> anyhow::Result<()> {
-    if !crate::check::program::is_workshop_program(&user.text) {
-        return Ok(());
-    }
-    let context = args.device.create_context()?;
-    let verdict = crate::check::program::judge_user_program(
-        &context,
-        user,
-        options,
-        alpha,
-        &report.functions,
-    );
-    if let Some(messages) = context.validation_messages() {
-        summary.validation_errors += messages.errors();
-        summary.validation_warnings += messages.warnings();
-    }
-    if let Some(verdict) = verdict? {
-        if !args.json {
-            print_now(&describe_function(&verdict));
-        }
-        report.functions.push(verdict);
-    }
-    Ok(())
 }
 
 /// Runs `vkpath check-worker` (see `CheckWorkerArgs`).
 pub fn run_worker(args: &CheckWorkerArgs) -> anyhow::Result<()> {
     let mut state = Vec::new();
     std::io::Read::read_to_end(&mut std::io::stdin(), &mut state)?;
-    let user: UserFunctions = serde_json::from_slice(&state)
+    let job: WorkerJob = serde_json::from_slice(&state)
         .map_err(|e| anyhow::anyhow!("the check worker's input is not a prepared file: {e}"))?;
+    let user = &job.user;
+    let program = args.functions.iter().any(|name| name == isolation::PROGRAM);
     let functions: Vec<WorkshopFunction> = args
         .functions
         .iter()
+        .filter(|name| *name != isolation::PROGRAM)
         .map(|name| {
             WorkshopFunction::from_name(name)
                 .ok_or_else(|| anyhow::anyhow!("{name} is not a workshop function"))
@@ -280,6 +282,7 @@ pub fn run_worker(args: &CheckWorkerArgs) -> anyhow::Result<()> {
         output_dir: args.output_dir.clone(),
         spp: args.spp,
         image_size: args.size,
+        program_frames: args.frames,
         ..CheckOptions::default()
     };
     let fault = std::env::var(isolation::FAULT_VARIABLE).ok();
@@ -287,7 +290,7 @@ pub fn run_worker(args: &CheckWorkerArgs) -> anyhow::Result<()> {
     let mut stopped = false;
     let judged = judge_functions(
         &context,
-        &user,
+        user,
         &options,
         args.test_alpha,
         &functions,
@@ -327,6 +330,38 @@ pub fn run_worker(args: &CheckWorkerArgs) -> anyhow::Result<()> {
         Err(_) if stopped => return Ok(()),
         Err(error) => return Err(error.into()),
         Ok(()) => {}
+    }
+    if program {
+        if fault.as_deref() == Some(isolation::PROGRAM) {
+            // Test-only: end the process as a driver crash while the program runs would.
+            std::process::abort();
+        }
+        let verdict = judge_tabs_program(
+            &context,
+            &job.tabs,
+            user.prepared.max_path_length,
+            &options,
+            args.test_alpha,
+            &job.verdicts,
+        );
+        let event = match verdict {
+            Ok(Some(report)) => WorkerEvent::Verdict {
+                report: Box::new(report),
+            },
+            Ok(None) => WorkerEvent::Error {
+                function: isolation::PROGRAM.into(),
+                message: "the files are not a runnable program of the workshop's scene".into(),
+            },
+            Err(error) => WorkerEvent::Error {
+                function: isolation::PROGRAM.into(),
+                message: error.to_string(),
+            },
+        };
+        let stop = matches!(event, WorkerEvent::Error { .. });
+        isolation::emit(&event)?;
+        if stop {
+            return Ok(());
+        }
     }
     let (errors, warnings) = context
         .validation_messages()

@@ -2,8 +2,9 @@
 //! whole ShaderToy program headless (see `crate::shadertoy`) and writes the Image pass's
 //! last frame and, on request, buffers' final contents. SIGINT, SIGTERM, SIGHUP and
 //! `--time-limit` stop after the current frame, and what was reached is written. Exit
-//! status: 0 done (or time limit), 1 a tab does not compile or the device fails, 2 unusable
-//! arguments or files, 128 + the signal's number when a signal stopped it.
+//! status: 0 done (or time limit), 1 a tab does not compile, its loops run past the limit
+//! (nothing is written then: the frame's image would be wrong) or the device fails, 2
+//! unusable arguments or files, 128 + the signal's number when a signal stopped it.
 
 use std::path::PathBuf;
 use std::sync::atomic::Ordering;
@@ -217,6 +218,10 @@ pub fn run(args: &ShadertoyArgs) -> anyhow::Result<()> {
     bar.finish_and_clear();
     let seconds = started.elapsed().as_secs_f64();
 
+    if let Some(crate::Error::LoopLimit(message)) = &failure {
+        // The frame's images hold loops that were cut short: a wrong image is not written.
+        anyhow::bail!("{message}; nothing was written");
+    }
     // Write what was reached, also after a failure (when the device still answers).
     let written = write_outputs(&runner, args);
     if let Some(error) = failure {

@@ -31,8 +31,8 @@ use std::path::Path;
 
 pub use functions::{find_functions, FoundFunction, Signature};
 pub use prepare::{
-    declared_globals, prepare, prepare_with, IntakeOptions, PreparedSource, Unavailable,
-    UniformValue, USER_LOOP_LIMIT,
+    declared_globals, loop_guard_declarations, prepare, prepare_with, IntakeOptions,
+    PreparedSource, Unavailable, UniformValue, LOOP_GUARD_NAMES, USER_LOOP_LIMIT,
 };
 
 /// The file name under which vkpath's kernels `#include` a user's prepared code.

@@ -50,11 +50,12 @@ const OTHER_QUALIFIERS: [&str; 9] = [
     "precise",
 ];
 
-/// ShaderToy's inputs with the declarations that supply them: a 512 x 512 image at frame 0
-/// (the judged functions should not depend on them). `iChannel0`–`3` are declared
+/// ShaderToy's inputs with the declarations that supply them at frame 0 (the judged
+/// functions should not depend on them); `iResolution`'s comes from
+/// `IntakeOptions::resolution` (`resolution_declaration`). `iChannel0`–`3` are declared
 /// separately (they need bindings).
 const SHADERTOY_INPUTS: [(&str, &str); 10] = [
-    ("iResolution", "vec3 iResolution = vec3(512.0, 512.0, 1.0);"),
+    ("iResolution", ""),
     ("iTime", "float iTime = 0.0;"),
     ("iTimeDelta", "float iTimeDelta = 1.0 / 60.0;"),
     ("iFrameRate", "float iFrameRate = 60.0;"),
@@ -138,6 +139,10 @@ pub struct PreparedSource {
     pub unavailable: Vec<Unavailable>,
     /// Uniforms given the value of the constant they stand for (`IntakeOptions::uniform_values`).
     pub uniform_values: Vec<UniformValue>,
+    /// The global `out` variables (type, name), made plain globals, in order: a page
+    /// shader's colour output (`out vec4 fragColor;`).
+    #[serde(default)]
+    pub outputs: Vec<(String, String)>,
 }
 
 /// The global names that vkpath's own GLSL declares (functions, variables, constants,
@@ -342,6 +347,22 @@ pub struct IntakeOptions {
     /// `iResolution`'s value, a frame counter 0 and a time 0.0, as `check` supplies
     /// ShaderToy's inputs.
     pub uniform_values: bool,
+    /// The image size (width, height) in pixels that `iResolution` and the uniforms that
+    /// stand for a resolution get: 512 x 512 for `check`'s functions, the render's size for a
+    /// program that runs (`vkpath shadertoy`, check's `program` verdict).
+    pub resolution: (u32, u32),
+    /// Names that the including code declares itself (`vkpath shadertoy`'s pass kernel
+    /// declares ShaderToy's inputs and `iChannel0`–`3`): the file's own declarations of them
+    /// are dropped with a note (a page shader's `uniform vec3 iResolution;`), and they are
+    /// neither supplied nor listed as unavailable.
+    pub caller_declares: Vec<String>,
+    /// Identifiers renamed throughout the file, (old, new): a page shader's `main` becomes a
+    /// function that `vkpath shadertoy`'s kernel calls once per pixel.
+    pub renames: Vec<(String, String)>,
+    /// The including code declares the loop guard (`vkpath_loop_guard()` and its globals,
+    /// see `LOOP_GUARD_NAMES`) once for several prepared files (a Common tab and a pass), so
+    /// the prelude leaves it out.
+    pub caller_declares_loop_guard: bool,
 }
 
 impl Default for IntakeOptions {
@@ -355,8 +376,36 @@ impl Default for IntakeOptions {
             protected_functions: Vec::new(),
             bind_opaque: false,
             uniform_values: true,
+            resolution: (512, 512),
+            caller_declares: Vec::new(),
+            renames: Vec::new(),
+            caller_declares_loop_guard: false,
         }
     }
+}
+
+/// The globals the loop guard uses: its counter, its flag and the guard function that every
+/// loop condition of the user's code calls (`IntakeOptions::guard_loops`).
+pub const LOOP_GUARD_NAMES: [&str; 3] = [
+    "g_user_loop_iterations",
+    "g_user_loop_limit_hit",
+    "vkpath_loop_guard",
+];
+
+/// The declarations of the loop guard with `limit` as the GLSL expression of the most
+/// iterations one invocation's loops may run together (a `uint`; 0 is no limit): past it
+/// every guarded loop ends and `g_user_loop_limit_hit` is set, for the kernel to report.
+pub fn loop_guard_declarations(limit: &str) -> String {
+    format!(
+        "uint g_user_loop_iterations = 0u;\nbool g_user_loop_limit_hit = false;\n\
+         bool vkpath_loop_guard() {{ if ({limit} != 0u && ++g_user_loop_iterations > {limit}) {{ \
+         g_user_loop_limit_hit = true; return false; }} return true; }}\n"
+    )
+}
+
+/// The declaration that supplies `iResolution` for an image of `(width, height)` pixels.
+fn resolution_declaration((width, height): (u32, u32)) -> String {
+    format!("vec3 iResolution = vec3({width}.0, {height}.0, 1.0);")
 }
 
 /// Prepares a user's file with `IntakeOptions::default()` (what `check` does, except that
@@ -457,6 +506,19 @@ pub fn prepare_with(source: &str, options: &IntakeOptions) -> PreparedSource {
             }
             prepared.other_triangle_struct = Some(first.line);
         }
+        let names_declared = declared_names(&structure, item);
+        if let Some(name) = names_declared
+            .iter()
+            .find(|n| options.caller_declares.contains(n))
+        {
+            prepared.notes.push(format!(
+                "line {}: dropped your declaration of {name} (vkpath supplies it, as ShaderToy does)",
+                first.line
+            ));
+            blanked.push(range.clone());
+            edits.push(blank(source, range));
+            continue;
+        }
         let tokens_of_item = &structure[item.first..=item.last];
         let mut position = 0;
         let mut interface = None;
@@ -528,14 +590,7 @@ pub fn prepare_with(source: &str, options: &IntakeOptions) -> PreparedSource {
             }
             let type_text = type_token.map_or("", |t| t.text.as_str());
             let role = (options.uniform_values && qualifier == "uniform" && declarators.len() == 1)
-                .then(|| {
-                    uniform_role(
-                        type_text,
-                        &declarators[0],
-                        &loop_bounds,
-                        options.supply_inputs,
-                    )
-                })
+                .then(|| uniform_role(type_text, &declarators[0], &loop_bounds, options))
                 .flatten();
             if let Some(value) = role {
                 let name = &declarators[0];
@@ -551,7 +606,7 @@ pub fn prepare_with(source: &str, options: &IntakeOptions) -> PreparedSource {
                 prepared.notes.push(format!(
                     "line {}: 'uniform {type_text} {name}' is {} here ({})",
                     first.line,
-                    value_in_words(&value, prepared.max_path_length),
+                    value_in_words(&value, prepared.max_path_length, name),
                     role_in_words(&value)
                 ));
                 prepared.uniform_values.push(UniformValue {
@@ -567,6 +622,11 @@ pub fn prepare_with(source: &str, options: &IntakeOptions) -> PreparedSource {
                     replacement: format!("layout(set = 0, binding = {binding}) uniform "),
                 });
             } else {
+                if qualifier == "out" && declarators.len() == 1 {
+                    prepared
+                        .outputs
+                        .push((type_text.to_string(), declarators[0].clone()));
+                }
                 prepared.notes.push(format!(
                     "line {}: '{}' is a plain global here (no {qualifier} in a compute kernel{})",
                     first.line,
@@ -603,7 +663,7 @@ pub fn prepare_with(source: &str, options: &IntakeOptions) -> PreparedSource {
 
     // Names that clash with vkpath's: workshop functions with other parameters, a
     // different triangle_t, and any other global name the kernels declare too.
-    let mut renames: BTreeMap<String, String> = BTreeMap::new();
+    let mut renames: BTreeMap<String, String> = options.renames.iter().cloned().collect();
     for (function, signature) in &options.protected_functions {
         let definitions: Vec<_> = found
             .iter()
@@ -733,10 +793,11 @@ pub fn prepare_with(source: &str, options: &IntakeOptions) -> PreparedSource {
             .filter(|t| t.is_identifier() && !is_blanked(t))
         {
             let what = if token.text.starts_with("rayQuery") {
-                "ray queries (GL_EXT_ray_query), which check cannot run".to_string()
+                "ray queries (GL_EXT_ray_query), which vkpath cannot run".to_string()
             } else if token.text.len() == 9
                 && token.text.starts_with("iChannel")
                 && !declared.contains_key(&token.text)
+                && !options.caller_declares.contains(&token.text)
             {
                 format!("ShaderToy's {}, whose data check does not have", token.text)
             } else {
@@ -755,12 +816,8 @@ pub fn prepare_with(source: &str, options: &IntakeOptions) -> PreparedSource {
     // The prelude: undefine the user's macros, supply what the kept code reads, and the
     // guard of the user's loops.
     let mut prelude = String::new();
-    if options.guard_loops {
-        prelude = format!(
-            "uint g_user_loop_iterations = 0u;\nbool g_user_loop_limit_hit = false;\n\
-             bool vkpath_loop_guard() {{ if (++g_user_loop_iterations > {USER_LOOP_LIMIT}u) {{ \
-             g_user_loop_limit_hit = true; return false; }} return true; }}\n"
-        );
+    if options.guard_loops && !options.caller_declares_loop_guard {
+        prelude = loop_guard_declarations(&format!("{USER_LOOP_LIMIT}u"));
     }
     let unique_macros: BTreeSet<&String> = user_macros.iter().collect();
     for name in &unique_macros {
@@ -772,8 +829,13 @@ pub fn prepare_with(source: &str, options: &IntakeOptions) -> PreparedSource {
             && referenced.contains(name)
             && !declared.contains_key(name)
             && !unique_macros.contains(&name.to_string())
+            && !options.caller_declares.iter().any(|n| n == name)
         {
-            let _ = writeln!(prelude, "{declaration}");
+            if name == "iResolution" {
+                let _ = writeln!(prelude, "{}", resolution_declaration(options.resolution));
+            } else {
+                let _ = writeln!(prelude, "{declaration}");
+            }
             supplied.push(name);
         }
     }
@@ -808,8 +870,9 @@ pub fn prepare_with(source: &str, options: &IntakeOptions) -> PreparedSource {
         user_macros.push("texture2D".into());
     }
     if !supplied.is_empty() {
+        let (width, height) = options.resolution;
         prepared.notes.push(format!(
-            "supplied for your code: {} (ShaderToy's inputs at frame 0 of a 512 x 512 image)",
+            "supplied for your code: {} (ShaderToy's inputs at frame 0 of a {width} x {height} image)",
             supplied.join(", ")
         ));
     }
@@ -872,16 +935,22 @@ fn loop_condition_names(tokens: &[Token], items: &[Item], excluded: &[&str]) -> 
 }
 
 /// The value of a uniform that stands for a constant, by its type and name: an integer that
-/// bounds a loop or is named like a path length is `MAX_PATH_LENGTH`; with `inputs` (the
-/// intake supplies ShaderToy's inputs) a `vec2`/`vec3` resolution is `iResolution`'s value
-/// (512 x 512), a frame counter `iFrame`'s (0), a time `iTime`'s (0.0). Constant
-/// expressions, as a global's initializer must be.
+/// bounds a loop or is named like a path length is `MAX_PATH_LENGTH`; a `vec2`/`vec3`
+/// resolution is `options.resolution` where the image's size is known; where the intake
+/// supplies ShaderToy's inputs (check) a frame counter is `iFrame`'s 0 and a time `iTime`'s
+/// 0.0. Constant expressions, as a global's initializer must be.
 fn uniform_role(
     type_name: &str,
     name: &str,
     loop_bounds: &BTreeSet<String>,
-    inputs: bool,
+    options: &IntakeOptions,
 ) -> Option<String> {
+    let (width, height) = options.resolution;
+    // The image's size is known where the intake supplies ShaderToy's inputs or the
+    // including code declares iResolution (a program that runs); the frame and the time
+    // only where they are constants (check's frame 0).
+    let inputs = options.supply_inputs;
+    let resolution_known = inputs || options.caller_declares.iter().any(|n| n == "iResolution");
     let lower = name.to_lowercase();
     let named = |words: &[&str]| words.iter().any(|w| lower.contains(w));
     let value = match type_name {
@@ -895,8 +964,12 @@ fn uniform_role(
         {
             return Some(format!("{type_name}(MAX_PATH_LENGTH)"));
         }
-        "vec2" if named(&["resolution"]) => "vec2(512.0, 512.0)".into(),
-        "vec3" if named(&["resolution"]) => "vec3(512.0, 512.0, 1.0)".into(),
+        "vec2" if named(&["resolution"]) && resolution_known => {
+            return Some(format!("vec2({width}.0, {height}.0)"));
+        }
+        "vec3" if named(&["resolution"]) && resolution_known => {
+            return Some(format!("vec3({width}.0, {height}.0, 1.0)"));
+        }
         "float" if named(&["frame"]) || named(&["time"]) => "0.0".into(),
         _ => return None,
     };
@@ -904,12 +977,12 @@ fn uniform_role(
 }
 
 /// A uniform's value in words, for its note.
-fn value_in_words(value: &str, max_path_length: Option<u32>) -> String {
+fn value_in_words(value: &str, max_path_length: Option<u32>, name: &str) -> String {
     if value.contains("MAX_PATH_LENGTH") {
         let length = max_path_length.unwrap_or(crate::contract::DEFAULT_MAX_PATH_LENGTH);
         format!("MAX_PATH_LENGTH = {length}")
-    } else if value.contains("512.0") {
-        format!("{value}, the iResolution that check supplies,")
+    } else if name.to_lowercase().contains("resolution") {
+        format!("{value} (the image's size, as iResolution)")
     } else {
         format!("{value}, as at frame 0 and time 0,")
     }

@@ -1,11 +1,15 @@
 //! Compiling one pass: `src/shadertoy/pass.comp` with its includes resolved to the user's
-//! Common tab and pass (each prepared by `intake`), so that the compiler's messages name the
-//! user's files and lines.
+//! Common tab and pass, each prepared on its own by the intake that `vkpath check` uses too
+//! (`crate::glsl_intake::prepare_with`, `shadertoy_intake_options`), so that every pass is
+//! one compilation of the Common tab followed by that pass, as in ShaderToy, and the
+//! compiler's messages name the user's files and lines.
 
 use std::path::Path;
 
+use crate::glsl_intake::{
+    find_entry_point, prepare_with, EntryPoint, IntakeOptions, PreparedSource, LOOP_GUARD_NAMES,
+};
 use crate::shader_compiler::{compile_compute_shader, CompiledShader};
-use crate::shadertoy::intake::{prepare_tab, PreparedTab};
 
 /// The pass kernel's source.
 const PASS_KERNEL: &str = include_str!("pass.comp");
@@ -17,6 +21,60 @@ const COMMON_INCLUDE: &str = "shadertoy_common.glsl";
 const PASS_INCLUDE: &str = "shadertoy_pass.glsl";
 /// The kernel's workgroup size (`local_size_x/y` in pass.comp).
 pub const SHADERTOY_WORKGROUP_SIZE: u32 = 8;
+/// What a page shader's `main()` is renamed, for the kernel to call it once per pixel.
+const PAGE_SHADER_MAIN: &str = "vkpath_user_main";
+/// The colour a page shader writes when it declares no `out vec4` (its `gl_FragColor`,
+/// which the intake renames).
+const PAGE_SHADER_FRAG_COLOR: &str = "vkpath_FragColor";
+
+/// ShaderToy's inputs, which the pass kernel declares (a tab that declares them itself, as
+/// exported or page-shader files do, has its declarations dropped).
+pub const SUPPLIED_INPUTS: [&str; 14] = [
+    "iResolution",
+    "iTime",
+    "iTimeDelta",
+    "iFrameRate",
+    "iFrame",
+    "iMouse",
+    "iDate",
+    "iSampleRate",
+    "iChannelResolution",
+    "iChannelTime",
+    "iChannel0",
+    "iChannel1",
+    "iChannel2",
+    "iChannel3",
+];
+
+/// The intake options of a tab that runs in the pass kernel of a `width` x `height`
+/// program: entry points kept (a page shader's `main` renamed `vkpath_user_main`),
+/// ShaderToy's inputs and the loop guard declared by the kernel (once for the Common tab and
+/// the pass), a uniform that stands for the resolution given the program's size, the
+/// workshop's path length to an integer uniform that bounds the path loop; no renaming
+/// against vkpath's path-tracing kernels, which a pass does not include.
+pub fn shadertoy_intake_options(page_shader: bool, (width, height): (u32, u32)) -> IntakeOptions {
+    IntakeOptions {
+        keep_entry_points: true,
+        supply_inputs: false,
+        guard_loops: true,
+        avoid_kernel_names: false,
+        protected_functions: Vec::new(),
+        bind_opaque: false,
+        uniform_values: true,
+        resolution: (width, height),
+        caller_declares: SUPPLIED_INPUTS
+            .iter()
+            .chain(LOOP_GUARD_NAMES.iter())
+            .map(|n| n.to_string())
+            .collect(),
+        renames: if page_shader {
+            vec![("main".to_string(), PAGE_SHADER_MAIN.to_string())]
+        } else {
+            Vec::new()
+        },
+        caller_declares_loop_guard: true,
+    }
+}
 
 /// A tab of the user's: its file and its prepared text.
 #[derive(Clone, Debug)]
@@ -24,16 +82,72 @@ pub struct UserTab {
     /// The file as the user named it, for messages.
     pub display_name: String,
     /// The tab made ready for the kernel.
-    pub prepared: PreparedTab,
+    pub prepared: PreparedSource,
+    /// Whether the tab defines `mainImage`.
+    pub has_main_image: bool,
+    /// For a page shader (`main()` and no `mainImage`): the expression of its colour, its
+    /// `out vec4` variable or `vkpath_FragColor` (its `gl_FragColor`).
+    pub page_shader_output: Option<String>,
 }
 
 impl UserTab {
-    /// Prepares the text of `path`.
-    pub fn new(path: &Path, text: &str) -> UserTab {
-        UserTab {
+    /// Prepares the text of `path` for a program of `resolution` (width, height) pixels.
+    pub fn new(path: &Path, text: &str, resolution: (u32, u32)) -> UserTab {
+        let entry = find_entry_point(text);
+        let page_shader = entry == Some(EntryPoint::Main);
+        let prepared = prepare_with(text, &shadertoy_intake_options(page_shader, resolution));
+        let page_shader_output = page_shader.then(|| {
+            prepared
+                .outputs
+                .iter()
+                .find(|(kind, _)| kind == "vec4")
+                .map_or_else(
+                    || PAGE_SHADER_FRAG_COLOR.to_string(),
+                    |(_, name)| name.clone(),
+                )
+        });
+        let mut tab = UserTab {
             display_name: path.display().to_string(),
-            prepared: prepare_tab(text),
+            prepared,
+            has_main_image: entry == Some(EntryPoint::MainImage),
+            page_shader_output,
+        };
+        if page_shader {
+            tab.prepared.notes.push(
+                "your main() runs once per pixel as the Image pass (gl_FragCoord at pixel centres)"
+                    .into(),
+            );
         }
+        tab
+    }
+
+    /// The notes of the intake, each naming the file ("tab.glsl:3: dropped …").
+    pub fn notes(&self) -> Vec<String> {
+        self.prepared
+            .notes
+            .iter()
+            .map(|note| match note.strip_prefix("line ") {
+                Some(rest) => format!("{}:{rest}", self.display_name),
+                None => format!("{}: {note}", self.display_name),
+            })
+            .collect()
+    }
+
+    /// What the user's code reads that a pass cannot supply (a sampler uniform of a page
+    /// shader, ray queries), as one error line per name, naming the file and line.
+    fn unavailable(&self) -> Option<String> {
+        let lines: Vec<String> = self
+            .prepared
+            .unavailable
+            .iter()
+            .map(|u| {
+                format!(
+                    "{}:{}: '{}' cannot be supplied by vkpath shadertoy (a pass reads textures through iChannel0-3, set with --channel)",
+                    self.display_name, u.line, u.what
+                )
+            })
+            .collect();
+        (!lines.is_empty()).then(|| lines.join("\n"))
     }
 
     /// What the kernel includes for this tab: the prelude, then the text from line 1.
@@ -42,24 +156,38 @@ impl UserTab {
     }
 }
 
-/// Compiles a pass: `tab` (with `mainImage`, or a page shader's `main`) after `common`.
-/// On failure the error is the compiler's messages, naming the user's files and lines.
+/// Compiles a pass: `tab` (with `mainImage`, or a page shader's `main`) after `common`, the
+/// two prepared on their own and compiled as one, as ShaderToy prepends its Common tab to
+/// every pass. The user's macros end after both (their epilogues), so that they cannot
+/// change the kernel's own code. On failure the error is the compiler's messages, naming the
+/// user's files and lines.
 pub fn compile_pass(common: Option<&UserTab>, tab: &UserTab) -> Result<CompiledShader, String> {
-    if !tab.prepared.has_main_image && tab.prepared.page_shader_output.is_none() {
+    if !tab.has_main_image && tab.page_shader_output.is_none() {
         return Err(format!(
             "{}: defines no mainImage(out vec4 fragColor, in vec2 fragCoord) (nor a page shader's main()); \
              if it is your Common tab, pass it with --common",
             tab.display_name
         ));
     }
+    if let Some(message) = common
+        .and_then(UserTab::unavailable)
+        .or_else(|| tab.unavailable())
+    {
+        return Err(message);
+    }
+    let epilogues = format!(
+        "{}{}",
+        common.map_or("", |c| c.prepared.epilogue.as_str()),
+        tab.prepared.epilogue
+    );
     let resolve = |name: &str| -> Option<String> {
         match name {
             COMMON_INCLUDE => Some(common.map(UserTab::include).unwrap_or_default()),
-            PASS_INCLUDE => Some(tab.include()),
+            PASS_INCLUDE => Some(format!("{}{epilogues}", tab.include())),
             _ => None,
         }
     };
-    let output = tab.prepared.page_shader_output.clone();
+    let output = tab.page_shader_output.clone();
     let mut macros: Vec<(&str, &str)> = Vec::new();
     if let Some(output) = &output {
         macros.push(("VKPATH_PAGE_SHADER", "1"));
@@ -110,7 +238,7 @@ mod tests {
     use super::*;
 
     fn tab(name: &str, text: &str) -> UserTab {
-        UserTab::new(Path::new(name), text)
+        UserTab::new(Path::new(name), text, (16, 8))
     }
 
     #[test]

@@ -8,16 +8,15 @@
 //! ShaderToy's inputs advance in fixed steps of 1/60 s from 0, so a run is deterministic.
 //!
 //! - `program`: the passes, their files and their channels (`--channel`);
-//! - `intake`: a pasted tab made ready for the pass kernel (page shaders included);
-//! - `kernel`: the pass kernel (`pass.comp`) compiled with the user's tabs, messages naming
-//!   their files and lines;
+//! - `kernel`: the pass kernel (`pass.comp`) compiled with the user's tabs, each prepared by
+//!   the intake `vkpath check` uses too (`crate::glsl_intake`, page shaders included), one
+//!   compilation per pass with the Common tab first, messages naming their files and lines;
 //! - `inputs`: ShaderToy's inputs as the kernel receives them;
 //! - `runner`: the pipelines, images and frames on a device;
 //! - `display`: PNG as ShaderToy shows it, EXR as the floats.
 
 pub mod display;
 pub mod inputs;
-pub mod intake;
 pub mod kernel;
 pub mod program;
 pub mod runner;

@@ -50,6 +50,36 @@ layout(push_constant) uniform vkpath_frame_constants {
     float iChannelTime[4];
 };
 
+// Where a pass reports that its loops ran past the limit (binding 6): each pass ORs its
+// bit, VKPATH_PASS_BIT, into vkpath_loop_limit_passes. Mirrors BINDING_LOOP_REPORT in
+// src/shadertoy/runner.rs.
+layout(set = 0, binding = 6, std430) buffer vkpath_loop_report {
+    uint vkpath_loop_limit_passes;
+};
+// This pass's bit (specialization constant 0): 1 << its index in the frame.
+layout(constant_id = 0) const uint VKPATH_PASS_BIT = 1u;
+// Loop iterations one invocation's loops may run together (specialization constant 1; 0: no
+// limit): every loop of the user's code calls vkpath_loop_guard() in its condition, which
+// ends the loops past the limit and sets g_user_loop_limit_hit. On lavapipe the limit keeps
+// an invocation below llvmpipe's own, which would end a loop silently (see
+// LLVMPIPE_LOOP_LIMIT in glsl/shared.h); elsewhere it stops an endless loop before a GPU
+// watchdog does. Mirrors `crate::glsl_intake::loop_guard_declarations`.
+layout(constant_id = 1) const uint VKPATH_LOOP_LIMIT = 8191u;
+uint g_user_loop_iterations = 0u;
+bool g_user_loop_limit_hit = false;
+bool vkpath_loop_guard() {
+    if (VKPATH_LOOP_LIMIT != 0u && ++g_user_loop_iterations > VKPATH_LOOP_LIMIT) {
+        g_user_loop_limit_hit = true;
+        return false;
+    }
+    return true;
+}
+
+// gl_FragCoord and gl_FragColor, which a compute kernel lacks: the intake renames them in
+// the user's code (fragCoord at the pixel's centre).
+vec4 vkpath_FragCoord = vec4(0.0);
+vec4 vkpath_FragColor = vec4(0.0);
+
 #include "shadertoy_common.glsl"
 #include "shadertoy_pass.glsl"
 
@@ -59,13 +89,15 @@ void main() {
         return;
     vec2 frag_coord = vec2(pixel) + vec2(0.5);
     vec4 color = vec4(0.0);
+    vkpath_FragCoord = vec4(frag_coord, 0.5, 1.0);
 #ifdef VKPATH_PAGE_SHADER
     // A page shader's main() reads gl_FragCoord and writes its output variable.
-    vkpath_FragCoord = vec4(frag_coord, 0.5, 1.0);
     vkpath_user_main();
     color = VKPATH_PAGE_SHADER_OUTPUT;
 #else
     mainImage(color, frag_coord);
 #endif
+    if (g_user_loop_limit_hit)
+        atomicOr(vkpath_loop_limit_passes, VKPATH_PASS_BIT);
     imageStore(vkpath_pass_target, pixel, color);
 }

@@ -2,6 +2,11 @@
 //! images per buffer (ping-ponged: a pass writes this frame's and reads the previous
 //! frame's), a target for the Image pass, and one descriptor set per pass and frame parity,
 //! so that a frame is five dispatches with barriers between them and no descriptor updates.
+//!
+//! Every loop of the user's code is guarded (`pass.comp`): past `loop_limit` iterations in
+//! one invocation its loops end and the pass sets its bit in a small report buffer, which
+//! the host reads after every frame, so that a loop without end is an error naming the
+//! pass, never a hang or (on lavapipe, which ends long loops silently) a wrong image.
 
 use std::sync::Arc;
 
@@ -22,12 +27,35 @@ const BINDING_TARGET: u32 = 0;
 const BINDING_CHANNEL_FIRST: u32 = 1;
 /// Binding of the uniform block of ShaderToy's constant inputs.
 const BINDING_CONSTANTS: u32 = 5;
+/// Binding of the buffer where passes report that their loops ran past the limit.
+const BINDING_LOOP_REPORT: u32 = 6;
+/// Specialization constant of a pass's bit in the loop report.
+const SPEC_PASS_BIT: u32 = 0;
+/// Specialization constant of the loop limit.
+const SPEC_LOOP_LIMIT: u32 = 1;
+/// Loop iterations one invocation may run on a GPU before its loops are ended (an endless
+/// loop is stopped before a watchdog resets the device; a million iterations per pixel is
+/// far beyond what a ShaderToy program runs).
+const GPU_LOOP_LIMIT: u32 = 1 << 20;
+
+/// Loop iterations one invocation of a pass may run on `context`'s device: on CPU devices
+/// (lavapipe) llvmpipe's limit per SIMD program divided by its width, so that the driver
+/// never ends a loop silently (glsl/shared.h), `GPU_LOOP_LIMIT` elsewhere.
+pub fn loop_limit(context: &Context) -> u32 {
+    if context.info.kind.is_gpu() {
+        GPU_LOOP_LIMIT
+    } else {
+        crate::contract::LLVMPIPE_LOOP_LIMIT / crate::contract::LLVMPIPE_SIMD_WIDTH
+    }
+}
 /// Largest image side accepted (ShaderToy's canvases are far smaller).
 pub const MAX_SIDE: u32 = 8192;
 
 /// A pass on the device.
 struct GpuPass {
     kind: PassKind,
+    /// The user's file, for messages.
+    file: String,
     pipeline: ComputePipeline,
     /// Descriptor sets for even and odd frames.
     sets: [DescriptorSet; 2],
@@ -53,42 +81,38 @@ pub struct ShadertoyRunner {
     _sampler: Sampler,
     /// Frames run so far.
     frames: u32,
+    /// Where the passes report loops past the limit (one bit per pass; host-visible).
+    loop_report: Buffer,
+    /// Loop iterations one invocation may run (see `loop_limit`).
+    loop_limit: u32,
     /// Compiler warnings, naming the user's files.
     pub warnings: String,
     /// What the intake changed in each tab, one line each, naming the file.
     pub notes: Vec<String>,
 }
 
-/// Compiles every pass of `program`; the first failure is the compiler's messages (naming
-/// the user's file and line).
+/// Compiles every pass of `program` for `resolution` (width, height) pixels, each pass on
+/// its own after the Common tab; the first failure is the compiler's messages (naming the
+/// user's file and line). Returns the SPIR-V of each pass, the warnings and the intake's
+/// notes.
 pub fn compile_program(
     program: &Program,
+    resolution: (u32, u32),
 ) -> std::result::Result<(Vec<Vec<u32>>, String, Vec<String>), String> {
     let common = program
         .common
         .as_ref()
-        .map(|(path, text)| UserTab::new(path, text));
+        .map(|(path, text)| UserTab::new(path, text, resolution));
     let mut notes = Vec::new();
     if let Some(common) = &common {
-        notes.extend(
-            common
-                .prepared
-                .notes
-                .iter()
-                .map(|n| format!("{}: {n}", common.display_name)),
-        );
+        notes.extend(common.notes());
     }
     let mut spirv = Vec::new();
     let mut warnings = String::new();
     for pass in &program.passes {
-        let tab = UserTab::new(&pass.path, &pass.text);
-        notes.extend(
-            tab.prepared
-                .notes
-                .iter()
-                .map(|n| format!("{}: {n}", tab.display_name)),
-        );
-        if pass.kind != PassKind::Image && tab.prepared.page_shader_output.is_some() {
+        let tab = UserTab::new(&pass.path, &pass.text, resolution);
+        notes.extend(tab.notes());
+        if pass.kind != PassKind::Image && tab.page_shader_output.is_some() {
             return Err(format!(
                 "{}: a buffer needs mainImage(out vec4 fragColor, in vec2 fragCoord); a page shader's main() runs only as the Image pass",
                 tab.display_name
@@ -160,7 +184,14 @@ impl ShadertoyRunner {
             )));
         }
         let (spirv, warnings, notes) =
-            compile_program(program).map_err(Error::ShaderCompilation)?;
+            compile_program(program, (width, height)).map_err(Error::ShaderCompilation)?;
+        let loop_limit = loop_limit(context);
+        let loop_report = Buffer::with_data(
+            context,
+            "shadertoy loop report",
+            &[0u32],
+            vk::BufferUsageFlags::STORAGE_BUFFER,
+        )?;
         let commands = CommandRunner::new(context)?;
         let sampler = Sampler::linear_clamp(context)?;
         let mut textures = Vec::new();
@@ -232,11 +263,17 @@ impl ShadertoyRunner {
                 vk::DescriptorType::COMBINED_IMAGE_SAMPLER,
             ),
             (BINDING_CONSTANTS, vk::DescriptorType::UNIFORM_BUFFER),
+            (BINDING_LOOP_REPORT, vk::DescriptorType::STORAGE_BUFFER),
         ];
         let push_size = std::mem::size_of::<FramePushConstants>() as u32;
         let mut passes = Vec::new();
-        for (pass, spirv) in program.passes.iter().zip(&spirv) {
-            let pipeline = ComputePipeline::new(context, spirv, &bindings, push_size, &[])?;
+        for (index, (pass, spirv)) in program.passes.iter().zip(&spirv).enumerate() {
+            let specialization = [
+                (SPEC_PASS_BIT, 1u32 << index),
+                (SPEC_LOOP_LIMIT, loop_limit),
+            ];
+            let pipeline =
+                ComputePipeline::new(context, spirv, &bindings, push_size, &specialization)?;
             // What each channel reads at frame parity p: its image and its size.
             let channel = |c: usize, parity: usize| -> (&StorageImage, (u32, u32)) {
                 match &pass.channels[c] {
@@ -290,9 +327,15 @@ impl ShadertoyRunner {
                     vk::DescriptorType::UNIFORM_BUFFER,
                     &constants,
                 );
+                set.write_buffer(
+                    BINDING_LOOP_REPORT,
+                    vk::DescriptorType::STORAGE_BUFFER,
+                    &loop_report,
+                );
             }
             passes.push(GpuPass {
                 kind: pass.kind,
+                file: pass.path.display().to_string(),
                 pipeline,
                 sets,
                 _constants: constants,
@@ -309,6 +352,8 @@ impl ShadertoyRunner {
             _textures: textures,
             _sampler: sampler,
             frames: 0,
+            loop_report,
+            loop_limit,
             warnings,
             notes,
         })
@@ -320,7 +365,9 @@ impl ShadertoyRunner {
     }
 
     /// Runs the next frame: every pass in order, each seeing what the passes before it
-    /// wrote this frame. Returns when the device has finished it.
+    /// wrote this frame. Returns when the device has finished it. A pass whose loops ran
+    /// past the limit in some pixel is `Error::LoopLimit` naming it (the frame does not
+    /// count: its images hold loops that were cut short).
     pub fn run_frame(&mut self) -> Result<()> {
         let frame = self.frames;
         let parity = (frame % 2) as usize;
@@ -334,7 +381,29 @@ impl ShadertoyRunner {
                 r.dispatch(&pass.pipeline, size);
                 r.compute_barrier();
             }
+            r.host_read_barrier();
         })?;
+        let report = self.loop_report.read::<u32>().first().copied().unwrap_or(0);
+        if report != 0 {
+            let passes: Vec<String> = self
+                .passes
+                .iter()
+                .enumerate()
+                .filter(|(index, _)| report & (1 << index) != 0)
+                .map(|(_, pass)| format!("{} ({})", pass.file, pass.kind.name()))
+                .collect();
+            return Err(Error::LoopLimit(format!(
+                "frame {frame}: the loops of {} ran past {} iterations in one pixel (all loops of one call \
+                 together): an endless loop, or more work per pixel than vkpath runs on this device{}",
+                passes.join(" and "),
+                self.loop_limit,
+                if self.context.info.kind.is_gpu() {
+                    ""
+                } else {
+                    " (on a CPU device llvmpipe would end such loops silently and the image would be wrong)"
+                }
+            )));
+        }
         self.frames += 1;
         Ok(())
     }

@@ -2,6 +2,8 @@
 //! (never skips) when Vulkan is missing, and running the `vkpath` binary.
 #![allow(dead_code)]
 
+pub mod runs;
+
 use std::path::Path;
 use std::process::{Command, Output};
 use std::sync::Arc;

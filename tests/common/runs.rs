@@ -1,0 +1,70 @@
+//! Running the `vkpath` binary and reading what it printed, for the tests of `check` and
+//! `shadertoy` (tests/check_cli.rs, tests/shadertoy_cli.rs): the exit code, stdout, stderr,
+//! the JSON report of `--json`, and `check` with the small renders those tests use.
+
+use std::path::Path;
+
+use serde_json::Value;
+
+/// What one run of the binary printed and how it ended.
+pub struct Run {
+    /// The exit code (`None` when a signal ended it).
+    pub code: Option<i32>,
+    /// Standard output.
+    pub stdout: String,
+    /// Standard error.
+    pub stderr: String,
+}
+
+impl Run {
+    /// Standard output as JSON (runs with `--json`); panics with both outputs when it is not.
+    pub fn json(&self) -> Value {
+        serde_json::from_str(&self.stdout)
+            .unwrap_or_else(|e| panic!("not JSON ({e}): {}\n{}", self.stdout, self.stderr))
+    }
+}
+
+/// Runs `vkpath ARGS` in `dir` with extra environment variables; fails the test if it
+/// panicked (bad input must be one error line, never a panic).
+pub fn run(dir: &Path, args: &[&str], env: &[(&str, &str)]) -> Run {
+    let output = super::vkpath_with_env(dir, args, env);
+    let run = Run {
+        code: output.status.code(),
+        stdout: String::from_utf8_lossy(&output.stdout).into(),
+        stderr: String::from_utf8_lossy(&output.stderr).into(),
+    };
+    assert!(
+        !run.stderr.contains("panicked"),
+        "vkpath {args:?} panicked: {}",
+        run.stderr
+    );
+    run
+}
+
+/// Runs `vkpath check FILES… --validate EXTRA…` with the small renders of the tests (32 x 32
+/// at 256 spp, images into `out/`) in `dir`.
+pub fn check(dir: &Path, files: &[String], extra: &[&str], env: &[(&str, &str)]) -> Run {
+    let mut args: Vec<&str> = vec!["check"];
+    args.extend(files.iter().map(String::as_str));
+    args.extend_from_slice(&[
+        "--validate",
+        "--size",
+        "32",
+        "--spp",
+        "256",
+        "--output-dir",
+        "out",
+    ]);
+    args.extend_from_slice(extra);
+    run(dir, &args, env)
+}
+
+/// The entry of `function` in a `check --json` report's verdicts, if any.
+pub fn verdict(report: &Value, function: &str) -> Option<Value> {
+    report["functions"].as_array().and_then(|functions| {
+        functions
+            .iter()
+            .find(|f| f["function"] == function)
+            .cloned()
+    })
+}
