@@ -494,7 +494,11 @@ pub fn prepare_with(source: &str, options: &IntakeOptions) -> PreparedSource {
             edits.push(blank(source, range));
             continue;
         }
-        if let Some(members) = struct_members(&structure, item, "triangle_t") {
+        // vkpath's kernels declare their own triangle_t; a program that runs on its own
+        // (`avoid_kernel_names` off) keeps the user's.
+        let triangle =
+            struct_members(&structure, item, "triangle_t").filter(|_| options.avoid_kernel_names);
+        if let Some(members) = triangle {
             if members == ours.triangle_members {
                 prepared.notes.push(format!(
                     "line {}: your struct triangle_t is the workshop's; vkpath's declaration is used",

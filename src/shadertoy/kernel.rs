@@ -285,6 +285,18 @@ mod tests {
     }
 
     #[test]
+    fn a_tab_keeps_its_own_triangle_struct() {
+        // check replaces the workshop's struct with vkpath's; a pass has no other to use.
+        let image = tab(
+            "tab.glsl",
+            "struct triangle_t {\n    vec3 positions[3];\n    vec3 normal;\n    vec3 color;\n    vec3 emission;\n};\n\
+             void mainImage(out vec4 c, in vec2 p) { triangle_t t; t.color = vec3(1.0); c = vec4(t.color, 1.0); }\n",
+        );
+        let compiled = compile_pass(None, &image);
+        assert!(compiled.is_ok(), "{:?}", compiled.err());
+    }
+
+    #[test]
     fn a_page_shader_compiles() {
         let page = tab(
             "page.glsl",
