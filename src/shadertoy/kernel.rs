@@ -134,12 +134,20 @@ impl UserTab {
     }
 
     /// What the user's code reads that a pass cannot supply (a sampler uniform of a page
-    /// shader, ray queries), as one error line per name, naming the file and line.
+    /// shader, ray queries), as one error line per name, naming the file and line; a
+    /// declaration that nothing reads is only dropped.
     fn unavailable(&self) -> Option<String> {
+        let read: std::collections::BTreeSet<String> =
+            crate::glsl_intake::syntax::tokenize(&self.prepared.text)
+                .into_iter()
+                .filter(|t| t.is_identifier())
+                .map(|t| t.text)
+                .collect();
         let lines: Vec<String> = self
             .prepared
             .unavailable
             .iter()
+            .filter(|u| read.contains(&u.name))
             .map(|u| {
                 format!(
                     "{}:{}: '{}' cannot be supplied by vkpath shadertoy (a pass reads textures through iChannel0-3, set with --channel)",
@@ -294,6 +302,24 @@ mod tests {
         );
         let compiled = compile_pass(None, &image);
         assert!(compiled.is_ok(), "{:?}", compiled.err());
+    }
+
+    #[test]
+    fn a_sampler_without_data_is_an_error_only_where_it_is_read() {
+        let unused = tab(
+            "page.glsl",
+            "uniform sampler2D u_unused;\nout vec4 color;\nvoid main() { color = vec4(1.0); }\n",
+        );
+        assert!(compile_pass(None, &unused).is_ok());
+        let read = tab(
+            "page.glsl",
+            "uniform sampler2D u_scene;\nout vec4 color;\nvoid main() { color = texture(u_scene, vec2(0.5)); }\n",
+        );
+        let message = compile_pass(None, &read).err().expect("an error");
+        assert!(
+            message.starts_with("page.glsl:1: 'uniform sampler2D u_scene' cannot be supplied"),
+            "{message}"
+        );
     }
 
     #[test]
