@@ -918,6 +918,10 @@ pub fn prepare_with(source: &str, options: &IntakeOptions) -> PreparedSource {
     prepared
 }
 
+/// Most iterations of a loop that `is_counted_loop` leaves unguarded: the workshop's loops
+/// over triangles (30), path vertices and samples, far below llvmpipe's limit even nested.
+const COUNTED_LOOP_MAX: i64 = 256;
+
 /// An integer literal's value (`30`, `8u`, `0x10`), if the text is one.
 fn integer_value(text: &str) -> Option<i64> {
     let digits = text.trim_end_matches(['u', 'U']);
@@ -941,10 +945,10 @@ struct Constants<'a> {
 /// Whether the `for` loop whose parentheses are `tokens[open]`..`tokens[close]` (with its two
 /// semicolons at `first` and `second`) is a counted loop, which ends after a number of
 /// iterations fixed by constants: `for ([int|uint] i = A; i < B; i++)` with `<`/`<=` and an
-/// increment (`i++`, `++i`, `i += k`) or `>` and a decrement, A, B and k integer literals or
-/// constants; or `i != B` with a step of one towards B from A, both known integers (the
-/// workshop's `for (int i = 0; i != TRIANGLE_COUNT; ++i)`); and `i` not written in the loop's
-/// body.
+/// increment (`i++`, `++i`, `i += k`) or `>` and a decrement, or `i != B` with a step of one
+/// towards B (the workshop's `for (int i = 0; i != TRIANGLE_COUNT; ++i)`); A, B and k integer
+/// literals or macros with such values, at most `COUNTED_LOOP_MAX` iterations; and `i` not
+/// written in the loop's body.
 fn is_counted_loop(
     tokens: &[Token],
     open: usize,
@@ -998,6 +1002,19 @@ fn is_counted_loop(
         _ => return false,
     };
     if name != *counter || upwards != step_upwards || !constant(start) || !constant(bound) {
+        return false;
+    }
+    // Few iterations, known from the values: an unguarded loop is not counted towards the
+    // guard's limit, so a long one could still reach llvmpipe's.
+    let value = |word: &str| (constants.value_of)(word);
+    let step_size = match step[..] {
+        [_, "+=" | "-=", k] => value(k),
+        _ => Some(1),
+    };
+    let (Some(a), Some(b), Some(k)) = (value(start), value(bound), step_size) else {
+        return false;
+    };
+    if k <= 0 || (b - a).abs() / k > COUNTED_LOOP_MAX {
         return false;
     }
     // The body: a block, or one statement.
@@ -1281,13 +1298,14 @@ mod tests {
              for (int p = 0; p != COUNT; ++p) x += 1.0;\n\
              for (int q = 40; q != COUNT; ++q) x += 1.0;\n\
              for (int m = 0; m < int(x); m++) x -= 1.0;\n\
+             for (int r = 0; r < 100000; r++) x += 1.0;\n\
              while (x > 0.0) x -= 1.0;\n    return x;\n}\n",
         );
         let lines: Vec<&str> = prepared.text.lines().collect();
         assert_eq!(lines[2], "for (int i = 0; i < COUNT; i++) x += 1.0;");
         assert_eq!(lines[3], "for (uint j = 2u; j > 0u; j -= 1u) { x += 2.0; }");
         assert_eq!(lines[6], "for (int p = 0; p != COUNT; ++p) x += 1.0;");
-        for line in [lines[4], lines[5], lines[7], lines[8], lines[9]] {
+        for line in [lines[4], lines[5], lines[7], lines[8], lines[9], lines[10]] {
             assert!(line.contains("vkpath_loop_guard() && ("), "{line}");
         }
     }
