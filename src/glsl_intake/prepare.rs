@@ -958,11 +958,10 @@ fn is_counted_loop(
     constants: &Constants,
 ) -> bool {
     let is_constant = constants.is_constant;
-    let texts = |range: std::ops::Range<usize>| -> Vec<&str> {
-        tokens[range].iter().map(|t| t.text.as_str()).collect()
-    };
+    let texts = |range: std::ops::Range<usize>| operator_texts(&tokens[range]);
     let constant = |word: &str| word.starts_with(|c: char| c.is_ascii_digit()) || is_constant(word);
     let init = texts(open + 1..first);
+    let init: Vec<&str> = init.iter().map(String::as_str).collect();
     let init: &[&str] = match init.first() {
         Some(&"int" | &"uint") => &init[1..],
         _ => &init,
@@ -971,12 +970,14 @@ fn is_counted_loop(
         return false;
     };
     let condition = texts(first + 1..second);
+    let condition: Vec<&str> = condition.iter().map(String::as_str).collect();
     let [name, comparison, bound] = condition[..] else {
         return false;
     };
     // Not `>=`: an unsigned counter is always >= 0, and `for (uint i = n; i >= 0u; i--)` has
     // no end.
     let step = texts(second + 1..close);
+    let step: Vec<&str> = step.iter().map(String::as_str).collect();
     let (step_upwards, unit_step) = match step[..] {
         [n, "++"] | ["++", n] if n == *counter => (true, true),
         [n, "--"] | ["--", n] if n == *counter => (false, true),
@@ -1028,17 +1029,36 @@ fn is_counted_loop(
     let Some(body_end) = body_end else {
         return false;
     };
-    const WRITES: [&str; 12] = [
-        "=", "+=", "-=", "*=", "/=", "%=", "++", "--", "<<=", ">>=", "&=", "|=",
+    const WRITES: [&str; 13] = [
+        "=", "+=", "-=", "*=", "/=", "%=", "++", "--", "<<=", ">>=", "&=", "|=", "^=",
     ];
-    !(close + 1..=body_end).any(|i| {
-        tokens[i].text == *counter
-            && (tokens
+    let body = texts(close + 1..body_end + 1);
+    !(0..body.len()).any(|i| {
+        body[i] == *counter
+            && (body
                 .get(i + 1)
-                .is_some_and(|t| WRITES.contains(&t.text.as_str()))
-                || tokens[i - 1].text == "++"
-                || tokens[i - 1].text == "--")
+                .is_some_and(|t| WRITES.contains(&t.as_str()))
+                || i > 0 && (body[i - 1] == "++" || body[i - 1] == "--"))
     })
+}
+
+/// The texts of `tokens` with adjacent operator characters joined (the tokenizer gives one
+/// token per punctuation character: `+`, `+` become `++`, `!`, `=` become `!=`).
+fn operator_texts(tokens: &[Token]) -> Vec<String> {
+    const OPERATOR: &str = "+-*/%<>=!&|^";
+    let is_operator = |t: &Token| t.text.len() == 1 && OPERATOR.contains(t.text.as_str());
+    let mut texts: Vec<String> = Vec::new();
+    for (index, token) in tokens.iter().enumerate() {
+        let joins = index > 0
+            && is_operator(token)
+            && is_operator(&tokens[index - 1])
+            && tokens[index - 1].end == token.start;
+        match texts.last_mut() {
+            Some(last) if joins => last.push_str(&token.text),
+            _ => texts.push(token.text.clone()),
+        }
+    }
+    texts
 }
 
 /// The identifiers that stand in the loop conditions (`for (…; condition; …)`, `while
