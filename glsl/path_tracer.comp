@@ -35,14 +35,12 @@ layout(constant_id = SPEC_LIGHT_SEARCHES_PER_RAY) const uint LIGHT_SEARCHES_PER_
 layout(constant_id = SPEC_TRIANGLE_LOOPS_PER_RAY) const uint TRIANGLE_LOOPS_PER_RAY = 0u;
 
 #include "integrator.glsl"
-#include "importance_sampling.glsl"
+#include "integrators.glsl"
 #ifdef USE_BVH
 #include "bvh.glsl"
 #endif
 #include "camera.glsl"
-#ifdef USE_MATERIALS
-#include "material_integrators.glsl"
-#endif
+#include "path_loop.glsl"
 #ifdef USER_FUNCTIONS
 #include "user_functions.glsl"
 #endif
@@ -61,26 +59,25 @@ layout(push_constant) uniform frame_push_constants {
 vec3 get_sample_radiance(vec3 ray_direction, inout uvec2 seed) {
     vec3 camera_position = g_camera_position.xyz;
 #ifdef USE_MATERIALS
-    // Glossy, textured, alpha-tested glTF materials (glsl/material_integrators.glsl)
+    // The sample's alpha coverage (glsl/materials.glsl)
     g_alpha_seed = seed;
-    return get_ray_radiance_with_materials(camera_position, ray_direction, seed);
-#endif
+#else
+    // On the workshop's diffuse triangles, its own estimators, as its exercises write them
+    // (glsl/integrator.glsl); on glTF materials the path loop runs them.
     if (INTEGRATOR == INTEGRATOR_PATH_TRACING)
         return get_ray_radiance(camera_position, ray_direction, seed);
-    if (INTEGRATOR == INTEGRATOR_COSINE || INTEGRATOR == INTEGRATOR_NEE || INTEGRATOR == INTEGRATOR_MIS)
-        return get_ray_radiance_importance_sampled(camera_position, ray_direction, seed);
-    float t;
-    triangle_t triangle;
-    if (!ray_mesh_intersection(t, triangle, camera_position, ray_direction))
-        return vec3(0.0);
-    if (INTEGRATOR == INTEGRATOR_RAY_TRACING)
-        return triangle.color;
-    if (INTEGRATOR == INTEGRATOR_DEPTH)
-        return vec3(t);
-    orient_towards_ray(triangle, ray_direction, is_double_sided(g_hit_triangle_index));
-    if (INTEGRATOR == INTEGRATOR_NORMAL)
-        return triangle.normal;
-    return compute_direct_illumination(camera_position + t * ray_direction, triangle, seed);
+    if (INTEGRATOR == INTEGRATOR_DIRECT_ILLUMINATION) {
+        float t;
+        triangle_t triangle;
+        if (!ray_mesh_intersection(t, triangle, camera_position, ray_direction))
+            return vec3(0.0);
+        orient_towards_ray(triangle, ray_direction, is_double_sided(g_hit_triangle_index));
+        return compute_direct_illumination(camera_position + t * ray_direction, triangle, seed);
+    }
+#endif
+    if (shows_first_hit())
+        return get_first_hit_view(camera_position, ray_direction);
+    return get_path_radiance(camera_position, ray_direction, seed);
 }
 
 void main() {
@@ -109,8 +106,7 @@ void main() {
         g_dimension_pair = 0u;
         // The importance-sampled integrators draw their jitter through get_path_random_numbers()
         // (the first dimension pair with SAMPLER_SOBOL); the workshop's stay on PCG2D, exactly.
-        bool importance_sampled = INTEGRATOR == INTEGRATOR_COSINE || INTEGRATOR == INTEGRATOR_NEE || INTEGRATOR == INTEGRATOR_MIS;
-        vec2 tex_coord = (importance_sampled && PIXEL_FILTER == PIXEL_FILTER_BOX)
+        vec2 tex_coord = (is_importance_sampled() && PIXEL_FILTER == PIXEL_FILTER_BOX)
             ? (vec2(pixel) + get_path_random_numbers(seed)) / vec2(resolution)
             : get_sample_tex_coord(pixel, resolution, seed);
         vec3 ray_direction = get_primary_ray_direction(tex_coord.x, tex_coord.y, g_camera_position.xyz, g_left_bottom.xyz, g_right.xyz, g_up.xyz);

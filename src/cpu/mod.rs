@@ -8,9 +8,13 @@ pub mod environment;
 pub mod image;
 pub mod importance_sampling;
 pub mod integrator;
+pub mod integrators;
+pub mod lights;
 pub mod materials;
+pub mod path_loop;
 pub mod renderer;
 pub mod sobol;
+pub mod surface;
 pub mod textures;
 pub mod workshop;
 

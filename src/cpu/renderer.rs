@@ -7,11 +7,12 @@ use glam::UVec2;
 use rayon::prelude::*;
 
 use crate::camera::ImagePlane;
-use crate::contract::{INTEGRATOR_COSINE, INTEGRATOR_MIS, INTEGRATOR_NEE};
 use crate::cpu::camera::{get_sample_seed, get_sample_tex_coord};
 use crate::cpu::image::{CpuImage, PixelAccumulator};
-use crate::cpu::importance_sampling::get_ray_radiance_importance_sampled;
 use crate::cpu::integrator::get_sample_radiance;
+use crate::cpu::integrators::is_importance_sampled;
+use crate::cpu::lights::LightScene;
+use crate::cpu::path_loop::get_path_radiance;
 use crate::cpu::workshop::get_primary_ray_direction;
 use crate::scene::lights::LightTable;
 use crate::scene::Triangle;
@@ -128,11 +129,14 @@ fn add_pixel_samples(
             plane.up,
         );
         let radiance = if is_importance_sampled(settings.integrator) {
-            get_ray_radiance_importance_sampled(
+            let scene = LightScene {
                 scene_triangles,
                 lights,
-                settings.integrator,
-                settings.light_sampling,
+                integrator: settings.integrator,
+                light_sampling: settings.light_sampling,
+            };
+            get_path_radiance(
+                &scene,
                 plane.camera_position,
                 ray_direction,
                 &mut seed,
@@ -151,13 +155,4 @@ fn add_pixel_samples(
         };
         accumulator.add_sample(radiance);
     }
-}
-
-/// Whether `integrator` is one of the importance-sampled path tracers (cosine, NEE, MIS),
-/// which `path_tracer.comp` runs through `get_ray_radiance_importance_sampled`.
-fn is_importance_sampled(integrator: u32) -> bool {
-    matches!(
-        integrator,
-        INTEGRATOR_COSINE | INTEGRATOR_NEE | INTEGRATOR_MIS
-    )
 }

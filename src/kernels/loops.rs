@@ -63,20 +63,9 @@ use LoopBound::*;
 pub const PATH_TRACER_LOOPS: &[KernelLoop] = &[
     described("path_tracer.comp", "main", PerSample, "sample loop"),
     described("integrator.glsl", "get_ray_radiance", PerRay, "path loop"),
+    described("path_loop.glsl", "get_path_radiance", PerRay, "path loop"),
     described(
-        "importance_sampling.glsl",
-        "get_ray_radiance_importance_sampled",
-        PerRay,
-        "path loop",
-    ),
-    described(
-        "material_integrators.glsl",
-        "get_ray_radiance_with_materials",
-        PerRay,
-        "path loop",
-    ),
-    described(
-        "importance_sampling.glsl",
+        "lights.glsl",
         "sample_light_index",
         LightSearchPerRay,
         "light search",
