@@ -93,7 +93,7 @@ bool bvh_closest_hit(out float out_t, out uint out_triangle_index, vec3 ray_orig
         uint first_index = floatBitsToUint(node.lower.w);
         uint triangle_count = floatBitsToUint(node.upper.w);
         // This iteration and the leaf loop's (an upper bound when it stops early)
-        g_traversal_iterations += 1u + triangle_count;
+        g_path.traversal_iterations += 1u + triangle_count;
         bool descend = false;
         if (triangle_count != 0u) {
             // A leaf: the brute-force loop over its triangles
@@ -130,7 +130,7 @@ bool bvh_closest_hit(out float out_t, out uint out_triangle_index, vec3 ray_orig
         // Pop the next node that the ray enters before the closest hit so far (the stack
         // shrinks in every iteration, so this loop is bounded by BVH_STACK_SIZE)
         while (!descend && stack_size != 0u) {
-            ++g_traversal_iterations;
+            ++g_path.traversal_iterations;
             --stack_size;
             if (stack_entries[stack_size] <= out_t) {
                 node_index = stack_nodes[stack_size];
@@ -164,7 +164,7 @@ bool bvh_any_hit(vec3 ray_origin, vec3 ray_direction, float t_max) {
         uint first_index = floatBitsToUint(node.lower.w);
         uint triangle_count = floatBitsToUint(node.upper.w);
         // This iteration and the leaf loop's (an upper bound when it stops early)
-        g_traversal_iterations += 1u + triangle_count;
+        g_path.traversal_iterations += 1u + triangle_count;
         if (triangle_count != 0u) {
             uint end = first_index + triangle_count;
             for (uint i = first_index; i < end; ++i) {

@@ -13,9 +13,6 @@
 layout(set = 0, binding = BINDING_SHADING) uniform usamplerBuffer g_shading_texels;
 layout(set = 0, binding = BINDING_MATERIALS) uniform usamplerBuffer g_material_texels;
 
-// Random state for stochastic alpha (ALPHA_MODE_BLEND), set once per sample by the kernel:
-// a hit's coverage decision hashes it with the ray count and the triangle index.
-uvec2 g_alpha_seed = uvec2(0u);
 
 // Barycentric coordinates (b_0, b_1, b_2) of a point in a triangle's plane.
 vec3 get_barycentrics(vec3 position, triangle_t triangle) {
@@ -117,7 +114,7 @@ bool is_opaque_hit(uint triangle_index, vec3 ray_origin, vec3 ray_direction, flo
     float alpha = get_base_color(material_index, get_tex_coord(triangle_index, barycentrics)).a;
     if (alpha_mode == ALPHA_MODE_MASK)
         return alpha >= get_material_alpha_cutoff(material_index);
-    uvec2 hash_state = g_alpha_seed ^ uvec2(g_ray_count * 2654435769u, triangle_index);
+    uvec2 hash_state = g_path.alpha_seed ^ uvec2(g_path.ray_count * 2654435769u, triangle_index);
     return get_random_numbers(hash_state)[0] < alpha;
 }
 

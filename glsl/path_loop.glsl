@@ -22,7 +22,7 @@
 // get_random_numbers() pair for Exercises 6 and 7 (PCG2D even with SAMPLER_SOBOL), one
 // get_path_random_numbers() pair for cosine, nee and mis; cosine, nee and mis past
 // RUSSIAN_ROULETTE_START: the survival pair (its first number). Alpha coverage
-// (ALPHA_MODE_BLEND) hashes g_alpha_seed with the ray count instead and draws nothing, so
+// (ALPHA_MODE_BLEND) hashes g_path.alpha_seed with the ray count instead and draws nothing, so
 // the rays traced, and their order, must stay as they are too.
 //
 // Rust twin: src/cpu/path_loop.rs (Lambert). Needs MAX_PATH_LENGTH, INTEGRATOR,
@@ -93,7 +93,7 @@ vec3 get_path_radiance(vec3 ray_origin, vec3 ray_direction, inout uvec2 seed) {
 #endif
             break;
         }
-        uint triangle_index = g_hit_triangle_index;
+        uint triangle_index = g_path.hit_triangle_index;
         ray_origin += t * ray_direction;
         surface_t surface = get_surface(triangle_index, triangle, ray_origin, ray_direction);
         vec3 view = -ray_direction;
@@ -132,7 +132,7 @@ vec3 get_first_hit_view(vec3 ray_origin, vec3 ray_direction) {
     triangle_t triangle;
     if (!ray_mesh_intersection(t, triangle, ray_origin, ray_direction))
         return vec3(0.0);
-    surface_t surface = get_surface(g_hit_triangle_index, triangle, ray_origin + t * ray_direction, ray_direction);
+    surface_t surface = get_surface(g_path.hit_triangle_index, triangle, ray_origin + t * ray_direction, ray_direction);
     if (INTEGRATOR == INTEGRATOR_RAY_TRACING)
         return surface.material.base_color;
     if (INTEGRATOR == INTEGRATOR_NORMAL)

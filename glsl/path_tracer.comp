@@ -60,7 +60,7 @@ vec3 get_sample_radiance(vec3 ray_direction, inout uvec2 seed) {
     vec3 camera_position = g_camera_position.xyz;
 #ifdef USE_MATERIALS
     // The sample's alpha coverage (glsl/materials.glsl)
-    g_alpha_seed = seed;
+    g_path.alpha_seed = seed;
 #else
     // On the workshop's diffuse triangles, its own estimators, as its exercises write them
     // (glsl/integrator.glsl); on glTF materials the path loop runs them.
@@ -101,9 +101,9 @@ void main() {
             break;
         uvec2 seed = get_sample_seed(pixel, sample_index, g_resolution_triangle_count_seed.w);
         // The Sobol state of this sample (glsl/sobol.glsl); unused with SAMPLER_PCG.
-        g_sample_index = sample_index;
-        g_pixel_seed = get_sobol_pixel_seed(pixel, g_resolution_triangle_count_seed.w);
-        g_dimension_pair = 0u;
+        g_path.sample_index = sample_index;
+        g_path.pixel_seed = get_sobol_pixel_seed(pixel, g_resolution_triangle_count_seed.w);
+        g_path.dimension_pair = 0u;
         // The importance-sampled integrators draw their jitter through get_path_random_numbers()
         // (the first dimension pair with SAMPLER_SOBOL); the workshop's stay on PCG2D, exactly.
         vec2 tex_coord = (is_importance_sampled() && PIXEL_FILTER == PIXEL_FILTER_BOX)
@@ -123,7 +123,7 @@ void main() {
     // llvmpipe ends a loop of a SIMD program after LLVMPIPE_LOOP_LIMIT iterations over its
     // entries, without an error; a program's iterations are at most LLVMPIPE_SIMD_WIDTH times
     // the largest lane's (see shared.h). An upper bound of this lane's iterations, with the
-    // coefficients of src/kernels/loops.rs: per sample; per ray (g_ray_count) the path loop's,
+    // coefficients of src/kernels/loops.rs: per sample; per ray (g_path.ray_count) the path loop's,
     // the light search's (at most the bits of the light count) and the loops over all
     // triangles; and what the BVH's traversal counted itself. Reaching LOOP_LIMIT flags the
     // pixel; the host refuses a flagged image.
@@ -131,8 +131,8 @@ void main() {
         uint per_ray = LOOPS_PER_RAY + LIGHT_SEARCHES_PER_RAY * uint(findMSB(max(get_light_count(), 1u)) + 1)
             + TRIANGLE_LOOPS_PER_RAY * g_resolution_triangle_count_seed.z;
         uint samples = min(uint(SAMPLE_COUNT), g_sample_end - min(g_first_sample_index, g_sample_end));
-        uint iterations = LOOPS_PER_SAMPLE * samples + g_ray_count * per_ray + g_traversal_iterations;
-        if (iterations >= LOOP_LIMIT || g_ray_count * per_ray >= LOOP_LIMIT)
+        uint iterations = LOOPS_PER_SAMPLE * samples + g_path.ray_count * per_ray + g_path.traversal_iterations;
+        if (iterations >= LOOP_LIMIT || g_path.ray_count * per_ray >= LOOP_LIMIT)
             sum_of_squares_flag = 1.0;
     }
 #ifdef USER_FUNCTIONS
@@ -142,6 +142,6 @@ void main() {
 #endif
     imageStore(g_accumulation, ivec3(texel, LAYER_SUM), sum);
     // Ray counts are exact in a float up to 2^24 per pixel, far beyond what a benchmark takes.
-    imageStore(g_accumulation, ivec3(texel, LAYER_COMPENSATION), vec4(compensation, compensation_and_rays.a + float(g_ray_count)));
+    imageStore(g_accumulation, ivec3(texel, LAYER_COMPENSATION), vec4(compensation, compensation_and_rays.a + float(g_path.ray_count)));
     imageStore(g_accumulation, ivec3(texel, LAYER_SUM_OF_SQUARES), vec4(sum_of_squares, sum_of_squares_flag));
 }
