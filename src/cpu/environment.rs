@@ -1,6 +1,6 @@
 //! Rust twins of `glsl/environment.glsl`: the environment's lookup, its alias-table sampler
 //! and the sampler's density, reading the same words the GPU reads
-//! (`vkpath::render::gpu_lights::gpu_environment_words`).
+//! (`vkpath::lights::gpu_environment::gpu_environment_words`).
 
 use glam::{Vec2, Vec3};
 
@@ -121,8 +121,8 @@ pub fn is_black(texels: &EnvironmentTexels) -> bool {
 mod tests {
     use super::*;
     use crate::cpu::workshop::get_random_numbers;
-    use crate::render::gpu_lights::gpu_environment_words;
-    use crate::scene::environment::{Environment, EnvironmentMap};
+    use crate::lights::gpu_environment::gpu_environment_words;
+    use crate::lights::{Environment, EnvironmentMap};
     use crate::stats::chi2::{chi2_direction_test, Chi2Config};
     use crate::stats::sphere_histogram::{SphereFrame, TargetDensity};
     use glam::UVec2;
@@ -209,8 +209,8 @@ mod sun_tests {
     };
     use crate::cpu::sobol::get_sobol_sample_2d;
     use crate::cpu::workshop::get_random_numbers;
-    use crate::render::gpu_lights::gpu_environment_words;
-    use crate::scene::environment::{Environment, EnvironmentMap};
+    use crate::lights::gpu_environment::gpu_environment_words;
+    use crate::lights::{Environment, EnvironmentMap};
     use glam::{DVec3, UVec2};
     use std::f64::consts::{PI, TAU};
 

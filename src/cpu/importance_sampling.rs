@@ -13,7 +13,7 @@ use crate::cpu::integrator::{
     is_double_sided, offset_ray_origin, orient_towards_ray, ray_mesh_intersection,
 };
 use crate::cpu::workshop::{get_random_numbers, ray_triangle_intersection, M_PI};
-use crate::scene::lights::LightTable;
+use crate::lights::EmissiveTriangles;
 use crate::scene::Triangle;
 
 /// Twin of `sample_hemisphere_cosine`: Malley's method in the Duff et al. (2017) basis.
@@ -124,7 +124,7 @@ pub fn sample_spherical_triangle(random_numbers: Vec2, spherical: &SphericalTria
 }
 
 /// Twin of `sample_light_index`: binary search for the first CDF entry above the number.
-pub fn sample_light_index(lights: &LightTable, random_number: f32) -> usize {
+pub fn sample_light_index(lights: &EmissiveTriangles, random_number: f32) -> usize {
     let (mut low, mut high) = (0usize, lights.cdf.len().saturating_sub(1));
     for _ in 0..32 {
         if low >= high {
@@ -224,7 +224,7 @@ pub fn sample_light_direction(
 #[allow(clippy::too_many_arguments)]
 pub fn sample_direct_light(
     scene_triangles: &[Triangle],
-    lights: &LightTable,
+    lights: &EmissiveTriangles,
     integrator: u32,
     light_sampling: u32,
     shading_position: Vec3,
@@ -277,7 +277,7 @@ pub fn sample_direct_light(
 #[allow(clippy::too_many_arguments)]
 pub fn get_ray_radiance_importance_sampled(
     scene_triangles: &[Triangle],
-    lights: &LightTable,
+    lights: &EmissiveTriangles,
     integrator: u32,
     light_sampling: u32,
     mut ray_origin: Vec3,
