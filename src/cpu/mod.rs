@@ -9,6 +9,7 @@ pub mod image;
 pub mod importance_sampling;
 pub mod integrator;
 pub mod materials;
+pub mod punctual_lights;
 pub mod renderer;
 pub mod sobol;
 pub mod textures;

@@ -137,6 +137,13 @@ pub const TEXTURE_PROBE: &[Binding] = &[
     row(c::PROBE_BINDING_OUTPUTS, STORAGE, R::ProbeOutputs),
 ];
 
+/// `glsl/probe_punctual_lights.comp`.
+pub const PUNCTUAL_LIGHTS_PROBE: &[Binding] = &[
+    row(c::BINDING_PUNCTUAL_LIGHTS, TEXEL, R::PunctualLights),
+    row(c::PROBE_BINDING_INPUTS, STORAGE, R::ProbeInputs),
+    row(c::PROBE_BINDING_OUTPUTS, STORAGE, R::ProbeOutputs),
+];
+
 /// `glsl/probe_bvh.comp`: the BVH path tracer's scene, rays in, results out.
 pub const BVH_PROBE: &[Binding] = &[
     row(c::BINDING_TRIANGLES, TEXEL, R::Triangles),
