@@ -12,6 +12,7 @@ pub mod materials;
 pub mod punctual_lights;
 pub mod renderer;
 pub mod sobol;
+pub mod surface;
 pub mod textures;
 pub mod workshop;
 

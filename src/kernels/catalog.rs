@@ -114,6 +114,19 @@ pub static PROBE_PUNCTUAL_LIGHTS: Kernel = Kernel {
     push_constant_size: size_of::<ProbePushConstants>() as u32,
 };
 
+/// The surface functions' probe (`crate::probe::surface_probe`).
+pub static PROBE_SURFACE: Kernel = Kernel {
+    source: "probe_surface.comp",
+    bindings: bindings::SURFACE_PROBE,
+    specialization: &[
+        SCENE_SPEC[0],
+        SCENE_SPEC[1],
+        SCENE_SPEC[2],
+        SpecConstants::one(c::SPEC_SCENE_HAS_TEXTURES),
+    ],
+    push_constant_size: size_of::<ProbePushConstants>() as u32,
+};
+
 /// The BVH traversal's probe (`tests/bvh_gpu.rs`). It reads no push constants: every
 /// dispatch starts at its first ray (`crate::probe::Probe` runs it one dispatch per chunk).
 pub static PROBE_BVH: Kernel = Kernel {
@@ -137,7 +150,7 @@ pub static EXERCISE_SAMPLES: Kernel = Kernel {
 };
 
 /// Every kernel.
-pub static ALL_KERNELS: [&Kernel; 15] = [
+pub static ALL_KERNELS: [&Kernel; 16] = [
     &PATH_TRACER,
     &PROBE_GET_RANDOM_NUMBERS,
     &PROBE_SAMPLE_SPHERE,
@@ -151,6 +164,7 @@ pub static ALL_KERNELS: [&Kernel; 15] = [
     &PROBE_BRDF,
     &PROBE_SAMPLE_TEXTURE,
     &PROBE_PUNCTUAL_LIGHTS,
+    &PROBE_SURFACE,
     &PROBE_BVH,
     &EXERCISE_SAMPLES,
 ];

@@ -12,6 +12,8 @@
 //!   inputs and outputs;
 //! - `punctual_probe`: the punctual lights' probe (`glsl/probe_punctual_lights.comp`),
 //!   which binds the lights' words instead of a scene;
+//! - `surface_probe`: the surface functions' probe (`glsl/probe_surface.comp`), which
+//!   binds a scene with its materials;
 //! - `texture_probe`: the texture functions' probe (`glsl/probe_sample_texture.comp`),
 //!   which binds textures instead of a scene;
 //! - `compare`: error measures (ulps, relative errors) and the near-degenerate
@@ -24,6 +26,7 @@ pub mod kernel;
 pub mod layout;
 pub mod punctual_probe;
 pub mod runner;
+pub mod surface_probe;
 pub mod texture_probe;
 
 pub use kernel::{ProbeKind, ProbePipeline};
