@@ -5,6 +5,7 @@
 use glam::{Vec2, Vec3};
 
 use crate::contract::{ENVIRONMENT_MAP, ENVIRONMENT_NONE};
+use crate::cpu::texels::{fetch_float_texel, fetch_texel};
 use crate::cpu::workshop::{sample_sphere, M_PI};
 
 /// The words of `g_environment_texels` as the twins read them.
@@ -15,17 +16,11 @@ pub struct EnvironmentTexels<'a> {
 
 impl EnvironmentTexels<'_> {
     fn texel(&self, index: usize) -> [u32; 4] {
-        let start = 4 * index;
-        [
-            self.words[start],
-            self.words[start + 1],
-            self.words[start + 2],
-            self.words[start + 3],
-        ]
+        fetch_texel(self.words, index).to_array()
     }
 
     fn float_texel(&self, index: usize) -> [f32; 4] {
-        self.texel(index).map(f32::from_bits)
+        fetch_float_texel(self.words, index).to_array()
     }
 }
 

@@ -13,6 +13,7 @@ pub mod punctual_lights;
 pub mod renderer;
 pub mod sobol;
 pub mod surface;
+pub mod texels;
 pub mod textures;
 pub mod workshop;
 

@@ -7,6 +7,7 @@ use glam::Vec3;
 use crate::contract::{
     NO_HIT_T, PUNCTUAL_LIGHT_DIRECTIONAL, PUNCTUAL_LIGHT_SPOT, PUNCTUAL_LIGHT_TEXEL_COUNT,
 };
+use crate::cpu::texels::{fetch_float_texel, fetch_texel};
 
 /// The words of `g_punctual_light_texels` as the twins read them.
 pub struct PunctualLightTexels<'a> {
@@ -15,20 +16,14 @@ pub struct PunctualLightTexels<'a> {
 }
 
 impl PunctualLightTexels<'_> {
-    /// Twin of `texelFetch(g_punctual_light_texels, index)`: texel `index`'s four words.
+    /// Twin of `texelFetch(g_punctual_light_texels, index)`.
     fn texel(&self, index: usize) -> [u32; 4] {
-        let start = 4 * index;
-        [
-            self.words[start],
-            self.words[start + 1],
-            self.words[start + 2],
-            self.words[start + 3],
-        ]
+        fetch_texel(self.words, index).to_array()
     }
 
     /// Texel `index` as `uintBitsToFloat` reads it.
     fn float_texel(&self, index: usize) -> [f32; 4] {
-        self.texel(index).map(f32::from_bits)
+        fetch_float_texel(self.words, index).to_array()
     }
 }
 

@@ -14,6 +14,7 @@ use crate::contract::{
 };
 use crate::cpu::brdf::{get_brdf, MaterialSample};
 use crate::cpu::materials::{apply_normal_map, get_barycentrics};
+use crate::cpu::texels::{fetch_float_texel, fetch_texel, uint_bits_to_float};
 use crate::cpu::textures::{sample_texture, unpack_texture_slot};
 use crate::cpu::workshop::get_random_numbers;
 use crate::scene::Triangle;
@@ -33,21 +34,11 @@ pub struct SurfaceTexels<'a> {
     pub scene_has_textures: bool,
 }
 
-/// Texel `index` of an RGBA32_UINT buffer of `words`.
-fn texel(words: &[u32], index: usize) -> UVec4 {
-    UVec4::from_slice(&words[4 * index..4 * index + 4])
-}
-
-/// `uintBitsToFloat` of a texel.
-fn to_float(texel: UVec4) -> Vec4 {
-    Vec4::from_array(texel.to_array().map(f32::from_bits))
-}
-
 /// Twin of `get_triangle` (`glsl/scene.glsl`): triangle `index` as the workshop's struct
 /// (the albedo, emission and double-sidedness of the packed triangle, its stored normal).
 pub fn get_triangle(texels: &SurfaceTexels, index: u32) -> Triangle {
     let first = (TRIANGLE_TEXEL_COUNT * index) as usize;
-    let xyz = |j: usize| to_float(texel(texels.triangles, first + j)).truncate();
+    let xyz = |j: usize| fetch_float_texel(texels.triangles, first + j).truncate();
     Triangle {
         positions: [xyz(0), xyz(1), xyz(2)],
         normal: xyz(3),
@@ -59,7 +50,7 @@ pub fn get_triangle(texels: &SurfaceTexels, index: u32) -> Triangle {
 
 /// Twin of `is_double_sided` (`glsl/scene.glsl`).
 pub fn is_double_sided(texels: &SurfaceTexels, index: u32) -> bool {
-    let emission = texel(
+    let emission = fetch_texel(
         texels.triangles,
         (TRIANGLE_TEXEL_COUNT * index) as usize + 5,
     );
@@ -68,7 +59,7 @@ pub fn is_double_sided(texels: &SurfaceTexels, index: u32) -> bool {
 
 /// Twin of `get_shading_texel`: texel `j` of triangle `i`'s shading data.
 pub fn get_shading_texel(texels: &SurfaceTexels, triangle_index: u32, j: u32) -> UVec4 {
-    texel(
+    fetch_texel(
         texels.shading,
         (SHADING_TEXEL_COUNT * triangle_index + j) as usize,
     )
@@ -76,7 +67,7 @@ pub fn get_shading_texel(texels: &SurfaceTexels, triangle_index: u32, j: u32) ->
 
 /// Twin of `get_material_texel`: texel `j` of material `i`.
 pub fn get_material_texel(texels: &SurfaceTexels, material_index: u32, j: u32) -> UVec4 {
-    texel(
+    fetch_texel(
         texels.materials,
         (MATERIAL_TEXEL_COUNT * material_index + j) as usize,
     )
@@ -89,8 +80,8 @@ pub fn get_material_index(texels: &SurfaceTexels, triangle_index: u32) -> u32 {
 
 /// Twin of `get_tex_coord`: TEXCOORD_0 at a point with the given barycentrics.
 pub fn get_tex_coord(texels: &SurfaceTexels, triangle_index: u32, barycentrics: Vec3) -> Vec2 {
-    let first = to_float(get_shading_texel(texels, triangle_index, 3));
-    let second = to_float(get_shading_texel(texels, triangle_index, 4));
+    let first = uint_bits_to_float(get_shading_texel(texels, triangle_index, 3));
+    let second = uint_bits_to_float(get_shading_texel(texels, triangle_index, 4));
     barycentrics[0] * Vec2::new(first.x, first.y)
         + barycentrics[1] * Vec2::new(first.z, first.w)
         + barycentrics[2] * Vec2::new(second.x, second.y)
@@ -123,7 +114,7 @@ pub fn sample_material_texture(
 
 /// Twin of `get_base_color`: base colour and alpha, factor times texture.
 pub fn get_base_color(texels: &SurfaceTexels, material_index: u32, tex_coord: Vec2) -> Vec4 {
-    to_float(get_material_texel(texels, material_index, 0))
+    uint_bits_to_float(get_material_texel(texels, material_index, 0))
         * sample_material_texture(
             texels,
             material_index,
@@ -134,7 +125,7 @@ pub fn get_base_color(texels: &SurfaceTexels, material_index: u32, tex_coord: Ve
 
 /// Twin of `get_material_emission`: emitted radiance (front side), factor times texture.
 pub fn get_material_emission(texels: &SurfaceTexels, material_index: u32, tex_coord: Vec2) -> Vec3 {
-    to_float(get_material_texel(texels, material_index, 1)).truncate()
+    uint_bits_to_float(get_material_texel(texels, material_index, 1)).truncate()
         * sample_material_texture(texels, material_index, MATERIAL_TEXTURE_EMISSIVE, tex_coord)
             .truncate()
 }
@@ -185,7 +176,8 @@ pub fn get_front_shading_normal(
     tex_coord: Vec2,
     face_normal: Vec3,
 ) -> Vec3 {
-    let vertex_normal = |j: u32| to_float(get_shading_texel(texels, triangle_index, j)).truncate();
+    let vertex_normal =
+        |j: u32| uint_bits_to_float(get_shading_texel(texels, triangle_index, j)).truncate();
     let mut normal = barycentrics[0] * vertex_normal(0)
         + barycentrics[1] * vertex_normal(1)
         + barycentrics[2] * vertex_normal(2);
@@ -196,11 +188,13 @@ pub fn get_front_shading_normal(
     if texels.scene_has_textures
         && has_material_texture(texels, material_index, MATERIAL_TEXTURE_NORMAL)
     {
-        let tangent_0 = to_float(get_shading_texel(texels, triangle_index, 5));
+        let tangent_0 = uint_bits_to_float(get_shading_texel(texels, triangle_index, 5));
         let tangent = barycentrics[0] * tangent_0.truncate()
-            + barycentrics[1] * to_float(get_shading_texel(texels, triangle_index, 6)).truncate()
-            + barycentrics[2] * to_float(get_shading_texel(texels, triangle_index, 7)).truncate();
-        let scale = to_float(get_material_texel(texels, material_index, 2)).w;
+            + barycentrics[1]
+                * uint_bits_to_float(get_shading_texel(texels, triangle_index, 6)).truncate()
+            + barycentrics[2]
+                * uint_bits_to_float(get_shading_texel(texels, triangle_index, 7)).truncate();
+        let scale = uint_bits_to_float(get_material_texel(texels, material_index, 2)).w;
         let texel =
             sample_material_texture(texels, material_index, MATERIAL_TEXTURE_NORMAL, tex_coord)
                 .truncate();
@@ -260,7 +254,7 @@ pub fn get_surface(
         geometric_normal
     };
     let base_color = get_base_color(texels, material_index, tex_coord);
-    let factors = to_float(get_material_texel(texels, material_index, 2));
+    let factors = uint_bits_to_float(get_material_texel(texels, material_index, 2));
     // glTF: roughness in G, metallic in B of the metallic-roughness texture
     let metallic_roughness = sample_material_texture(
         texels,
@@ -270,11 +264,13 @@ pub fn get_surface(
     );
     let material = MaterialSample {
         base_color: base_color.truncate(),
-        metallic: to_float(get_material_texel(texels, material_index, 1)).w * metallic_roughness.z,
+        metallic: uint_bits_to_float(get_material_texel(texels, material_index, 1)).w
+            * metallic_roughness.z,
         roughness: factors.x * metallic_roughness.y,
         specular: factors.y,
         ior: factors.z,
-        specular_color: to_float(get_material_texel(texels, material_index, 3)).truncate(),
+        specular_color: uint_bits_to_float(get_material_texel(texels, material_index, 3))
+            .truncate(),
     };
     let double_sided = is_double_sided(texels, triangle_index);
     let emission = if front || double_sided {

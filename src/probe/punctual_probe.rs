@@ -106,11 +106,9 @@ impl PunctualProbeRunner {
     /// Evaluates the punctual light functions on every input and returns the outputs in
     /// order; each input's light must be one of the uploaded lights.
     pub fn run(&self, inputs: &[PunctualProbeInput]) -> Result<Vec<PunctualProbeOutput>> {
-        let resource = |resource| match resource {
-            Resource::PunctualLights => Some(Bound::TexelBuffer(&self.lights)),
-            _ => None,
-        };
-        self.probe.run(resource, inputs)
+        let lights = Bound::TexelBuffer(&self.lights);
+        self.probe
+            .run_with(&[(Resource::PunctualLights, lights)], inputs)
     }
 }
 

@@ -180,15 +180,17 @@ impl SurfaceProbeRunner {
     /// Evaluates the surface functions on every input and returns the outputs in order;
     /// each input's triangle must be one of the scene's.
     pub fn run(&self, inputs: &[SurfaceProbeInput]) -> Result<Vec<SurfaceProbeOutput>> {
-        let resource = |resource| match resource {
-            Resource::Triangles => Some(Bound::TexelBuffer(&self.triangles)),
-            Resource::RenderUniforms => Some(Bound::Buffer(&self.uniforms)),
-            Resource::TextureTexels => Some(Bound::TexelBuffer(&self.texture_texels)),
-            Resource::Shading => Some(Bound::TexelBuffer(&self.shading)),
-            Resource::Materials => Some(Bound::TexelBuffer(&self.materials)),
-            _ => None,
-        };
-        self.probe.run(resource, inputs)
+        let bound = [
+            (Resource::Triangles, Bound::TexelBuffer(&self.triangles)),
+            (Resource::RenderUniforms, Bound::Buffer(&self.uniforms)),
+            (
+                Resource::TextureTexels,
+                Bound::TexelBuffer(&self.texture_texels),
+            ),
+            (Resource::Shading, Bound::TexelBuffer(&self.shading)),
+            (Resource::Materials, Bound::TexelBuffer(&self.materials)),
+        ];
+        self.probe.run_with(&bound, inputs)
     }
 }
 
