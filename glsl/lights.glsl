@@ -33,11 +33,11 @@
 #endif
 
 // Emissive triangles, a texel buffer of RGBA32_UINT (16 bytes a texel). Texel 0 is the header,
-// `vkpath::render::gpu_types::GpuLightHeader`: x = number of lights, yzw = 0. Texel 1 + i is
-// light i, `vkpath::render::gpu_types::GpuLight`: x = its scene triangle index, y = the
+// `vkpath::lights::gpu_emissive::GpuLightHeader`: x = number of lights, yzw = 0. Texel 1 + i is
+// light i, `vkpath::lights::gpu_emissive::GpuLight`: x = its scene triangle index, y = the
 // cumulative probability (float bits) of choosing this light or an earlier one
 // (power-proportional; the last is 1), zw = 0. Written by
-// `vkpath::render::gpu_types::gpu_light_bytes`, whose layout tests check these offsets. The
+// `vkpath::lights::gpu_emissive::gpu_light_bytes`, whose layout tests check these offsets. The
 // selection probability of each triangle (0 for non-emitters) is stored in its packed
 // normal.w, for MIS.
 layout(set = 0, binding = BINDING_LIGHTS) uniform usamplerBuffer g_light_texels;

@@ -49,12 +49,12 @@
 // USE_MATERIALS: the materials, a texel buffer of MATERIAL_TEXEL_COUNT RGBA32_UINT texels
 // per material (GpuMaterial on the host, glsl/materials.glsl says what each holds).
 #define BINDING_MATERIALS 7
-// USE_MATERIALS: the environment, a texel buffer of RGBA32_UINT (GpuEnvironment on the
-// host, glsl/environment.glsl says what each texel holds).
+// USE_MATERIALS: the environment, a texel buffer of RGBA32_UINT (gpu_environment_words() of
+// src/lights/gpu_environment.rs; glsl/environment.glsl says what each texel holds).
 #define BINDING_ENVIRONMENT 16
 // USE_MATERIALS: KHR_lights_punctual's lights, a texel buffer of RGBA32_UINT: a header texel
-// (x = count) then PUNCTUAL_LIGHT_TEXEL_COUNT texels per light (GpuPunctualLight on the
-// host).
+// (x = count) then PUNCTUAL_LIGHT_TEXEL_COUNT texels per light (gpu_punctual_light_words()
+// of src/lights/gpu_punctual.rs).
 #define BINDING_PUNCTUAL_LIGHTS 17
 
 // ---- Layers of the accumulation image ----

@@ -19,8 +19,9 @@
 // normal. Rays leave (and light samples start) just off the surface on the geometric
 // normal's side (offset_ray_origin()).
 //
-// Rust twins: src/cpu/surface.rs (the Lambert model; the glTF model's maths in
-// src/cpu/brdf.rs and src/cpu/materials.rs). Needs the integrator's constants (INTEGRATOR).
+// Rust twins: src/cpu/surface.rs (the Lambert model), src/cpu/gltf_surface.rs (the glTF
+// model's get_surface() and get_bsdf(), reading the same words), src/cpu/brdf.rs. Needs
+// MAX_PATH_LENGTH and LIGHT_SAMPLING (of the files it includes) defined by the includer.
 #ifndef VKPATH_SURFACE_GLSL
 #define VKPATH_SURFACE_GLSL
 

@@ -12,10 +12,10 @@ use std::time::{Duration, Instant};
 use glam::Vec3;
 use pyo3::prelude::*;
 use pyo3::types::{PyBool, PyByteArray, PyDict};
+use vkpath::lights::environment_source::{EnvironmentOptionNames, EnvironmentSource};
 use vkpath::render::job::production_settings;
 use vkpath::render::StopReason;
 use vkpath::render::{RenderControl, Renderer};
-use vkpath::scene::environment::{load_environment_map, Environment};
 use vkpath::{Context, ContextOptions, Integrator, RenderSettings};
 
 use crate::errors::{message, to_py};
@@ -80,41 +80,13 @@ impl Choices<'_> {
     }
 }
 
-/// The light around the scene: a map, a constant colour, or nothing (`None`).
-fn environment(
-    map: Option<PathBuf>,
-    strength: f32,
-    rotation: f32,
-    background: Option<(f32, f32, f32)>,
-) -> PyResult<Option<Environment>> {
-    if !(strength >= 0.0 && strength.is_finite()) {
-        return Err(message(format!(
-            "environment_strength must be a finite number >= 0, not {strength}"
-        )));
-    }
-    if !rotation.is_finite() {
-        return Err(message("environment_rotation must be finite"));
-    }
-    match (map, background) {
-        (Some(_), Some(_)) => Err(message(
-            "environment and background exclude each other: give one",
-        )),
-        (None, Some(background)) => {
-            let background = Vec3::from(background);
-            if !(background.is_finite() && background.min_element() >= 0.0) {
-                return Err(message("background must be three finite numbers >= 0"));
-            }
-            Ok(Some(Environment::constant(background)))
-        }
-        (Some(path), None) => Ok(Some(Environment {
-            map: Some(load_environment_map(&path).map_err(message)?),
-            background: Vec3::ZERO,
-            strength,
-            rotation_degrees: rotation,
-        })),
-        (None, None) => Ok(None),
-    }
-}
+/// Python's names for the environment's parameters, for `EnvironmentSource::from_options`.
+const PYTHON_NAMES: EnvironmentOptionNames = EnvironmentOptionNames {
+    map: "environment",
+    strength: "environment_strength",
+    rotation: "environment_rotation",
+    background: "background",
+};
 
 /// After each batch: lets Python run its signal handlers (Ctrl-C raises KeyboardInterrupt
 /// there) and calls `progress(done, total)`. Either's exception (kept in `error`, to raise
@@ -208,13 +180,19 @@ pub fn render<'py>(
             }
         })
         .transpose()?;
-    let mut world = scene.inner.clone();
-    world.environment = environment(
-        environment_map,
+    let environment = EnvironmentSource::from_options(
+        environment_map.as_deref(),
         environment_strength,
         environment_rotation,
-        background,
-    )?;
+        background.map(Vec3::from),
+        &PYTHON_NAMES,
+    )
+    .map_err(message)?;
+    let world = scene
+        .inner
+        .clone()
+        .with_environment(environment.as_ref())
+        .map_err(|e| message(e.to_string()))?;
     let camera = scene.render_camera(settings.aspect())?;
     warnings.extend(lighting_warnings(&world, settings.integrator));
     let stop = AtomicBool::new(false);

@@ -12,10 +12,10 @@ use super::{parse_vec3, signals, DeviceArgs};
 use crate::camera::{Camera, DEFAULT_VERTICAL_FOV_DEGREES};
 use crate::image_io::output::{check_writable, ImageFormat};
 use crate::image_io::tonemap::RENDER_PNG_TONE_MAP;
+use crate::lights::environment_source::{EnvironmentSource, COMMAND_LINE_NAMES};
 use crate::render::job::{production_settings, JobOptions, DEFAULT_CHECKPOINT_INTERVAL};
 use crate::render::metadata::sampler_name;
 use crate::render::settings::{Integrator, PixelFilter, RenderSettings};
-use crate::scene::environment::{load_environment_map, Environment};
 use crate::scene::Scene;
 
 /// Arguments of `vkpath render`.
@@ -98,33 +98,17 @@ pub struct LightArgs {
 }
 
 impl LightArgs {
-    /// The environment these options describe, if any.
-    pub fn environment(&self) -> anyhow::Result<Option<Environment>> {
-        if !(self.environment_strength >= 0.0 && self.environment_strength.is_finite()) {
-            bail!(
-                "--environment-strength must be a finite number >= 0, not {}",
-                self.environment_strength
-            );
-        }
-        if !self.environment_rotation.is_finite() {
-            bail!("--environment-rotation must be finite");
-        }
-        if let Some(background) = self.background {
-            if !(background.is_finite() && background.min_element() >= 0.0) {
-                bail!("--background must be three finite numbers >= 0");
-            }
-            return Ok(Some(Environment::constant(background)));
-        }
-        let Some(path) = &self.environment else {
-            return Ok(None);
-        };
-        let map = load_environment_map(path).map_err(anyhow::Error::msg)?;
-        Ok(Some(Environment {
-            map: Some(map),
-            background: Vec3::ZERO,
-            strength: self.environment_strength,
-            rotation_degrees: self.environment_rotation,
-        }))
+    /// The environment these options ask for, if any, checked
+    /// (`EnvironmentSource::from_options`).
+    pub fn source(&self) -> anyhow::Result<Option<EnvironmentSource>> {
+        EnvironmentSource::from_options(
+            self.environment.as_deref(),
+            self.environment_strength,
+            self.environment_rotation,
+            self.background,
+            &COMMAND_LINE_NAMES,
+        )
+        .map_err(anyhow::Error::msg)
     }
 }
 
@@ -347,10 +331,10 @@ pub fn run(args: &RenderArgs) -> anyhow::Result<()> {
     if args.denoise {
         crate::denoise::available()?;
     }
-    let mut scene = args
+    let scene = args
         .scene
-        .load_reporting("vkpath render", reporting.talks())?;
-    scene.environment = args.lights.environment()?;
+        .load_reporting("vkpath render", reporting.talks())?
+        .with_environment(args.lights.source()?.as_ref())?;
     if !scene.emits_light() {
         eprintln!(
             "vkpath: warning: nothing lights the scene (no emissive surface, punctual light, --environment or --background): the image will be black"

@@ -18,7 +18,7 @@ use crate::cpu::surface::{
     get_reflected_radiance, Surface,
 };
 use crate::cpu::workshop::{get_random_numbers, ray_triangle_intersection};
-use crate::scene::lights::LightTable;
+use crate::lights::EmissiveTriangles;
 use crate::scene::Triangle;
 
 /// What the light estimators read of a scene: its triangles, its emissive triangles and the
@@ -28,7 +28,7 @@ pub struct LightScene<'a> {
     /// All triangles of the scene.
     pub scene_triangles: &'a [Triangle],
     /// The emissive triangles and their selection distribution.
-    pub lights: &'a LightTable,
+    pub lights: &'a EmissiveTriangles,
     /// The kernel's `INTEGRATOR`.
     pub integrator: u32,
     /// The kernel's `LIGHT_SAMPLING`.
@@ -36,7 +36,7 @@ pub struct LightScene<'a> {
 }
 
 /// Twin of `sample_light_index`: binary search for the first CDF entry above the number.
-pub fn sample_light_index(lights: &LightTable, random_number: f32) -> usize {
+pub fn sample_light_index(lights: &EmissiveTriangles, random_number: f32) -> usize {
     let (mut low, mut high) = (0usize, lights.cdf.len().saturating_sub(1));
     for _ in 0..32 {
         if low >= high {

@@ -14,7 +14,7 @@ use crate::cpu::integrators::is_importance_sampled;
 use crate::cpu::lights::LightScene;
 use crate::cpu::path_loop::get_path_radiance;
 use crate::cpu::workshop::get_primary_ray_direction;
-use crate::scene::lights::LightTable;
+use crate::lights::EmissiveTriangles;
 use crate::scene::Triangle;
 
 /// What a CPU render does: the shader's specialization constants and uniforms.
@@ -81,7 +81,7 @@ pub fn add_cpu_samples(
         return;
     }
     // The light table of the renderer's light_buffer, for the importance-sampled integrators.
-    let lights = LightTable::new(scene_triangles);
+    let lights = EmissiveTriangles::new(scene_triangles);
     image
         .pixels
         .par_chunks_mut(width as usize)
@@ -109,7 +109,7 @@ pub fn add_cpu_samples(
 #[allow(clippy::too_many_arguments)]
 fn add_pixel_samples(
     scene_triangles: &[Triangle],
-    lights: &LightTable,
+    lights: &EmissiveTriangles,
     plane: &ImagePlane,
     settings: &CpuRenderSettings,
     pixel: UVec2,

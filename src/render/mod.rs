@@ -5,7 +5,6 @@
 
 pub mod accumulation;
 pub mod aov;
-pub mod gpu_lights;
 pub mod gpu_materials;
 pub mod gpu_scene;
 pub mod gpu_textures;
