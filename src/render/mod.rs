@@ -4,6 +4,7 @@
 //! (`pipeline_cache`), and the renderer itself.
 
 pub mod accumulation;
+pub mod adaptive;
 pub mod aov;
 pub mod gpu_lights;
 pub mod gpu_materials;
@@ -14,6 +15,7 @@ pub mod job;
 pub mod metadata;
 pub mod multi;
 pub mod pipeline_cache;
+pub mod region;
 pub mod renderer;
 pub mod settings;
 pub mod traversal;
