@@ -90,13 +90,6 @@ pub struct RenderReport {
     pub width: u32,
     /// Image height in pixels.
     pub height: u32,
-    /// The part of the image rendered, [x0, y0, x1, y1] (`--region`), or `null`: all of it.
-    pub region: Option<[u32; 4]>,
-    /// `--noise-threshold`, or `null`.
-    pub noise_threshold: Option<f32>,
-    /// The mean over the pixels of the samples each holds: `spp_taken` unless
-    /// `--noise-threshold` stopped some pixels early.
-    pub spp_mean: f64,
     /// The command-line name of the integrator.
     pub integrator: &'static str,
     /// The sampler the integrator used (`pcg` for the workshop's, which has no other).
@@ -125,6 +118,13 @@ pub struct RenderReport {
     pub checkpoint: Option<String>,
     /// The preview written, if any.
     pub preview: Option<String>,
+    /// The part of the image rendered, [x0, y0, x1, y1] (`--region`), or `null`: all of it.
+    pub region: Option<[u32; 4]>,
+    /// `--noise-threshold`, or `null`.
+    pub noise_threshold: Option<f32>,
+    /// The mean over the pixels of the samples each holds: `spp_taken` unless
+    /// `--noise-threshold` stopped some pixels early.
+    pub spp_mean: f64,
 }
 
 /// One device of a `RenderReport`.
