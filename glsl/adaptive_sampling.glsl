@@ -12,6 +12,15 @@
 //   converged  <=>  max_c s_c^2 / count <= (threshold max_c mean_c)^2.
 // A pixel whose samples were all equal (black background: all 0) has s = 0 and is
 // converged. Needs count >= 2.
+// Whether a pixel that holds `count` samples is judged now: every `min_samples` samples
+// (at min_samples, 2 min_samples, ...). Judging after every sample would stop pixels at
+// every chance dip of their noise estimate (each look is another chance to stop early, the
+// bias of optional stopping), and the counts it stops at keep Sobol points' strata whole.
+bool is_noise_check_due(float count, uint min_samples) {
+    uint n = uint(count);
+    return n >= min_samples && n % min_samples == 0u;
+}
+
 bool is_pixel_converged(vec3 sum, float count, vec3 sum_of_squares, float threshold) {
     // `precise` keeps the compiler from fusing or reordering, as the twin computes.
     precise vec3 mean = sum / count;

@@ -117,7 +117,7 @@ void main() {
             break;
         // Adaptive sampling decides from the pixel's state alone, before each sample, so the
         // image does not depend on how samples are split into frames.
-        if (g_noise_threshold > 0.0 && sum.a >= float(g_noise_min_samples)
+        if (g_noise_threshold > 0.0 && is_noise_check_due(sum.a, g_noise_min_samples)
             && is_pixel_converged(sum.rgb - compensation, sum.a, sum_of_squares, g_noise_threshold))
             break;
         uvec2 seed = get_sample_seed(pixel, sample_index, g_resolution_triangle_count_seed.w);

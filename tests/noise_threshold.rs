@@ -10,7 +10,7 @@ use std::path::Path;
 
 use vkpath::image_io::exr_input::read_exr;
 use vkpath::image_io::state_exr::read_state;
-use vkpath::render::adaptive::is_pixel_converged;
+use vkpath::render::adaptive::{is_noise_check_due, is_pixel_converged};
 
 /// Runs vkpath, expects success, returns stderr.
 fn vkpath_ok(dir: &Path, args: &[&str]) -> String {
@@ -56,7 +56,7 @@ fn converged_pixels_stop_with_fewer_samples_and_stay_consistent_with_a_reference
     );
     let total: f64 = counts.iter().map(|&n| f64::from(n)).sum();
     let uniform_total = 256.0 * counts.len() as f64;
-    // Measured: 67% of the uniform render's samples at this threshold (the dark and the
+    // Measured: 69% of the uniform render's samples at this threshold (the dark and the
     // smooth pixels stop early, the noisy ones near the light and in the corners go on);
     // 85% leaves room for other drivers' rounding while still saying "fewer".
     assert!(
@@ -80,8 +80,8 @@ fn converged_pixels_stop_with_fewer_samples_and_stay_consistent_with_a_reference
         if count < 256.0 {
             let sum = [s0 - c0, s1 - c1, s2 - c2];
             assert!(
-                is_pixel_converged(sum, count, [q0, q1, q2], threshold),
-                "pixel {pixel} stopped at {count} samples, but the twin says it has not converged"
+                is_noise_check_due(count, 16) && is_pixel_converged(sum, count, [q0, q1, q2], threshold),
+                "pixel {pixel} stopped at {count} samples, but the twins say it was not due or has not converged"
             );
         }
     }

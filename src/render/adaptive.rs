@@ -44,6 +44,16 @@ impl NoiseThreshold {
     }
 }
 
+/// Twin of GLSL `is_noise_check_due` (`glsl/adaptive_sampling.glsl`): whether a pixel that
+/// holds `count` samples is judged now, every `min_samples` samples (at `min_samples`,
+/// 2 `min_samples`, ...). Judging after every sample would stop pixels at every chance dip
+/// of their noise estimate (each look is another chance to stop early, the bias of optional
+/// stopping), and the counts it stops at keep Sobol points' strata whole.
+pub fn is_noise_check_due(count: f32, min_samples: u32) -> bool {
+    let n = count as u32;
+    n >= min_samples && n % min_samples == 0
+}
+
 /// Twin of GLSL `is_pixel_converged` (`glsl/adaptive_sampling.glsl`), the same operations
 /// in the same order: whether, for every channel, the estimated variance of the mean of
 /// `count` samples with sum `sum` and sum of squares `sum_of_squares` is at most
@@ -104,6 +114,14 @@ mod tests {
         let squares = [400.0, 0.0, 8.0]; // blue: samples 0, 2, 0, 2
         assert!(is_pixel_converged(sum, 4.0, squares, 0.06));
         assert!(!is_pixel_converged(sum, 4.0, squares, 0.05));
+    }
+
+    #[test]
+    fn pixels_are_judged_every_min_samples() {
+        let due: Vec<u32> = (0..70)
+            .filter(|&n| is_noise_check_due(n as f32, 16))
+            .collect();
+        assert_eq!(due, [16, 32, 48, 64]);
     }
 
     #[test]
