@@ -64,14 +64,15 @@ pub struct RenderArgs {
     /// only when the image would not fit the device's memory or image size.
     #[arg(long, value_name = "PIXELS")]
     pub tile_size: Option<u32>,
-    /// Adaptive sampling: after --noise-min-spp samples, a pixel takes no more once the
-    /// relative standard error of its mean (each channel's, estimated from its samples,
-    /// against the brightest channel's mean) is below T, e.g. 0.02; --spp is the cap. The
+    /// Adaptive sampling: a pixel takes no more samples once the relative standard error of
+    /// its mean (each channel's, estimated from its samples, against the brightest channel's
+    /// mean) is at most T, e.g. 0.05, judged every --noise-min-spp samples; --spp is the cap. The
     /// EXR keeps each pixel's sample count (with --moments' channels). Slightly biased, as
     /// adaptive sampling is: a pixel whose first samples agree by chance stops early.
     #[arg(long, value_name = "T")]
     pub noise_threshold: Option<f32>,
-    /// With --noise-threshold: samples every pixel takes before it may stop (at least 2).
+    /// With --noise-threshold: samples every pixel takes before it may stop, and how often
+    /// (in samples) it is judged after that (at least 2).
     #[arg(long, value_name = "N", default_value_t = DEFAULT_MIN_SPP)]
     pub noise_min_spp: u32,
     /// How the image is written.

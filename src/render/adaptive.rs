@@ -1,9 +1,10 @@
-//! Adaptive sampling (`--noise-threshold T`): after a minimum number of samples, a pixel
-//! stops taking samples once the relative standard error of its mean, estimated from the
-//! accumulation's sum and sum of squares, is below `T`; `--spp` stays the cap. The kernel
-//! decides before each sample from the pixel's state alone (`is_pixel_converged`, twin of
-//! `glsl/adaptive_sampling.glsl`), so the image does not depend on how samples are split
-//! into frames, batches or tiles, and a resumed checkpoint goes on bit for bit.
+//! Adaptive sampling (`--noise-threshold T`): a pixel stops taking samples once the
+//! relative standard error of its mean, estimated from the accumulation's sum and sum of
+//! squares, is at most `T`, judged every `min_spp` samples; `--spp` stays the cap. The
+//! kernel decides before each sample from the pixel's state alone (`is_noise_check_due` and
+//! `is_pixel_converged`, twins of `glsl/adaptive_sampling.glsl`), so the image does not
+//! depend on how samples are split into frames, batches or tiles, and a resumed checkpoint
+//! goes on bit for bit.
 //!
 //! It is slightly biased, as every adaptive sampler that stops on its own noise estimate
 //! is: a pixel whose first samples happen to agree (a rare bright path not found yet)
@@ -21,7 +22,8 @@ pub const DEFAULT_MIN_SPP: u32 = 16;
 pub struct NoiseThreshold {
     /// The relative standard error at which a pixel stops (> 0, finite).
     pub threshold: f32,
-    /// Samples a pixel takes before it may stop (>= 2: a variance needs two).
+    /// Samples a pixel takes before it may stop, and the interval (in samples) at which it
+    /// is judged after that (>= 2: a variance needs two).
     pub min_spp: u32,
 }
 
