@@ -196,3 +196,62 @@ fn bad_regions_and_tiles_are_one_line_errors() {
     assert_eq!(output.status.code(), Some(2), "a usage error: {stderr}");
     assert!(stderr.contains("is not X0,Y0,X1,Y1"), "{stderr}");
 }
+
+#[test]
+fn a_tiled_render_stopped_by_a_fault_resumes_bit_for_bit() {
+    // 12x12 tiles: four per frame, each its own submission; submission 10 (in the second
+    // batch, after its first tiles took their samples) fails. The checkpoint must hold only
+    // the samples of whole batches, so that resuming it gives the uninterrupted render.
+    for adaptive in [false, true] {
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path();
+        let mut args = vec![
+            "render",
+            "--width",
+            "24",
+            "--height",
+            "16",
+            "--spp",
+            "32",
+            "--samples-per-frame",
+            "1",
+            "--moments",
+            "--tile-size",
+            "12",
+            "--checkpoint",
+            "ck.exr",
+            "--checkpoint-interval",
+            "0.001",
+            "-o",
+            "resumed.exr",
+        ];
+        if adaptive {
+            args.extend_from_slice(&["--noise-threshold", "0.2", "--noise-min-spp", "4"]);
+        }
+        let output =
+            common::vkpath_with_env(path, &args, &[("VKPATH_INJECT_FAULT", "device-lost:10")]);
+        let stderr = String::from_utf8_lossy(&output.stderr);
+        assert_eq!(output.status.code(), Some(1), "{stderr}");
+        let (state, _) = vkpath::image_io::state_exr::read_state(&path.join("ck.exr")).unwrap();
+        let taken = state.samples.len();
+        assert!((1..32).contains(&taken), "the checkpoint holds {taken} spp");
+        let mut resume = args.clone();
+        resume.extend_from_slice(&["--resume", "ck.exr"]);
+        vkpath_ok(path, &resume);
+        // The uninterrupted render, untiled.
+        let mut whole: Vec<&str> = args[..10].to_vec();
+        whole.extend_from_slice(&args[16..]);
+        let output_index = whole.iter().position(|a| *a == "resumed.exr").unwrap();
+        whole[output_index] = "whole.exr";
+        vkpath_ok(path, &whole);
+        let (resumed, whole) = (
+            read(&path.join("resumed.exr")),
+            read(&path.join("whole.exr")),
+        );
+        assert_part_of(
+            &resumed,
+            &whole,
+            if adaptive { "adaptive" } else { "uniform" },
+        );
+    }
+}

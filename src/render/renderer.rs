@@ -482,6 +482,9 @@ impl Renderer {
                 let (image, readback) = (&self.accumulation, &self.readback);
                 let image_width = image.width as usize;
                 let image_pixels = image_width * image.height as usize;
+                // The batch's new state, taken only once every tile has its samples: a
+                // failure halfway leaves the state as the samples taken so far say.
+                let mut next = tiles.state.clone();
                 for &tile in &tiles.list {
                     // The tile's state into the upload buffer, laid out as the image is.
                     let mut texels = vec![[0.0f32; 4]; image_pixels * layer_count()];
@@ -501,15 +504,9 @@ impl Renderer {
                         recorder.copy_image_to_buffer(image, readback);
                     })?;
                     let texels: Vec<[f32; 4]> = readback.read();
-                    copy_tile(
-                        &texels,
-                        self.area,
-                        &mut tiles.state,
-                        image_width,
-                        tile,
-                        false,
-                    );
+                    copy_tile(&texels, self.area, &mut next, image_width, tile, false);
                 }
+                tiles.state = next;
             }
         }
         self.samples_done = (first + frames * step).min(end) - self.first_sample;
