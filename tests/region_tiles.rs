@@ -50,7 +50,8 @@ fn vkpath_ok(dir: &Path, args: &[&str]) {
 }
 
 /// A 24x16 render of the built-in box at 8 spp with moments (so that the sums of squares
-/// and counts are compared too), `extra` appended. 3 samples per frame: frames end at
+/// and counts are compared too) and the validation layer (which must stay silent: vkpath
+/// fails otherwise), `extra` appended. 3 samples per frame: frames end at
 /// other samples than the tiles' batches do.
 fn render(dir: &Path, output: &str, extra: &[&str]) {
     let mut args = vec![
@@ -64,6 +65,7 @@ fn render(dir: &Path, output: &str, extra: &[&str]) {
         "--samples-per-frame",
         "3",
         "--moments",
+        "--validate",
         "-o",
         output,
     ];
