@@ -53,7 +53,7 @@ impl NoiseThreshold {
 /// stopping), and the counts it stops at keep Sobol points' strata whole.
 pub fn is_noise_check_due(count: f32, min_samples: u32) -> bool {
     let n = count as u32;
-    n >= min_samples && n % min_samples == 0
+    n >= min_samples && n.is_multiple_of(min_samples)
 }
 
 /// Twin of GLSL `is_pixel_converged` (`glsl/adaptive_sampling.glsl`), the same operations
