@@ -18,6 +18,7 @@ pub mod pipeline_cache;
 pub mod region;
 pub mod renderer;
 pub mod settings;
+pub mod tiles;
 pub mod traversal;
 
 pub use renderer::{RenderControl, RenderOutcome, Renderer, StopReason};
