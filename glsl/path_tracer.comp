@@ -61,8 +61,9 @@ layout(push_constant) uniform frame_push_constants {
     uvec2 g_pixel_offset;
     // Width and height of that region or tile; texels beyond are not touched.
     uvec2 g_pixel_extent;
-    // --noise-threshold: a pixel takes no more samples once is_pixel_converged() says so
-    // (after g_noise_min_samples); 0 turns adaptive sampling off.
+    // --noise-threshold: a pixel takes no more samples once is_pixel_converged() says so,
+    // judged every g_noise_min_samples samples (is_noise_check_due()); 0 turns adaptive
+    // sampling off.
     float g_noise_threshold;
     uint g_noise_min_samples;
 };

@@ -84,7 +84,8 @@ pub struct FramePushConstants {
     /// `--noise-threshold`: a pixel takes no more samples once `is_pixel_converged` says so;
     /// 0 turns adaptive sampling off.
     pub noise_threshold: f32,
-    /// Samples a pixel takes before adaptive sampling may stop it.
+    /// Samples a pixel takes before adaptive sampling may stop it, and how often (in
+    /// samples) it is judged after that.
     pub noise_min_samples: u32,
 }
 
