@@ -40,6 +40,7 @@ layout(constant_id = SPEC_TRIANGLE_LOOPS_PER_RAY) const uint TRIANGLE_LOOPS_PER_
 #include "bvh.glsl"
 #endif
 #include "camera.glsl"
+#include "adaptive_sampling.glsl"
 #include "path_loop.glsl"
 #ifdef USER_FUNCTIONS
 #include "user_functions.glsl"
@@ -53,6 +54,16 @@ layout(push_constant) uniform frame_push_constants {
     uint g_first_sample_index;
     // Samples with an index at or past this are not taken (the render's total spp).
     uint g_sample_end;
+    // The full image's pixel (column, row from the top) of the accumulation image's texel
+    // (0, 0): the corner of the region (--region) or tile this dispatch renders.
+    uvec2 g_pixel_offset;
+    // Width and height of that region or tile; texels beyond are not touched.
+    uvec2 g_pixel_extent;
+    // --noise-threshold: a pixel takes no more samples once is_pixel_converged() says so,
+    // judged every g_noise_min_samples samples (is_noise_check_due()); 0 turns adaptive
+    // sampling off.
+    float g_noise_threshold;
+    uint g_noise_min_samples;
 };
 
 // One sample of the radiance through a pixel with the chosen integrator.
@@ -82,11 +93,14 @@ vec3 get_sample_radiance(vec3 ray_direction, inout uvec2 seed) {
 
 void main() {
     uvec2 resolution = g_resolution_triangle_count_seed.xy;
+    // The accumulation image holds a region or tile of the image: its texel `texel` is the
+    // full image's pixel `image_texel`, which alone decides the samples (seeds, jitter).
     uvec2 texel = gl_GlobalInvocationID.xy;
-    if (texel.x >= resolution.x || texel.y >= resolution.y)
+    uvec2 image_texel = texel + g_pixel_offset;
+    if (texel.x >= g_pixel_extent.x || texel.y >= g_pixel_extent.y || image_texel.x >= resolution.x || image_texel.y >= resolution.y)
         return;
     // Image rows run top-down; ShaderToy counts pixels from the bottom-left.
-    uvec2 pixel = uvec2(texel.x, resolution.y - 1u - texel.y);
+    uvec2 pixel = uvec2(image_texel.x, resolution.y - 1u - image_texel.y);
 
     vec4 sum = imageLoad(g_accumulation, ivec3(texel, LAYER_SUM));
     vec4 compensation_and_rays = imageLoad(g_accumulation, ivec3(texel, LAYER_COMPENSATION));
@@ -98,6 +112,11 @@ void main() {
     [[dont_unroll]] for (int i = 0; i != SAMPLE_COUNT; ++i) {
         uint sample_index = g_first_sample_index + uint(i);
         if (sample_index >= g_sample_end)
+            break;
+        // Adaptive sampling decides from the pixel's state alone, before each sample, so the
+        // image does not depend on how samples are split into frames.
+        if (g_noise_threshold > 0.0 && is_noise_check_due(sum.a, g_noise_min_samples)
+            && is_pixel_converged(sum.rgb - compensation, sum.a, sum_of_squares, g_noise_threshold))
             break;
         uvec2 seed = get_sample_seed(pixel, sample_index, g_resolution_triangle_count_seed.w);
         // The Sobol state of this sample (glsl/sobol.glsl); unused with SAMPLER_PCG.

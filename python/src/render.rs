@@ -14,6 +14,7 @@ use pyo3::prelude::*;
 use pyo3::types::{PyBool, PyByteArray, PyDict};
 use vkpath::lights::environment_source::{EnvironmentOptionNames, EnvironmentSource};
 use vkpath::render::job::production_settings;
+use vkpath::render::region::PixelRegion;
 use vkpath::render::StopReason;
 use vkpath::render::{RenderControl, Renderer};
 use vkpath::{Context, ContextOptions, Integrator, RenderSettings};
@@ -37,6 +38,7 @@ struct Choices<'a> {
     max_path_length: Option<u32>,
     samples_per_frame: Option<u32>,
     russian_roulette_start: Option<u32>,
+    region: Option<(u32, u32, u32, u32)>,
 }
 
 impl Choices<'_> {
@@ -62,6 +64,10 @@ impl Choices<'_> {
             russian_roulette_start: self
                 .russian_roulette_start
                 .unwrap_or(default.russian_roulette_start),
+            region: self
+                .region
+                .map(|(x0, y0, x1, y1)| PixelRegion { x0, y0, x1, y1 }),
+            ..default
         };
         settings.validate().map_err(to_py)?;
         let mut warnings = Vec::new();
@@ -128,7 +134,7 @@ fn after_batch(
     sampler=None, light_sampling=None, pixel_filter=None, accel=None, max_path_length=None,
     samples_per_frame=None, russian_roulette_start=None, environment_map=None,
     environment_strength=1.0, environment_rotation=0.0, background=None, time_limit=None,
-    progress=None, device=None, validate=false))]
+    progress=None, device=None, validate=false, region=None))]
 #[allow(clippy::too_many_arguments)]
 pub fn render<'py>(
     py: Python<'py>,
@@ -153,6 +159,7 @@ pub fn render<'py>(
     progress: Option<Py<PyAny>>,
     device: Option<String>,
     validate: bool,
+    region: Option<(u32, u32, u32, u32)>,
 ) -> PyResult<Bound<'py, PyDict>> {
     let (settings, mut warnings) = Choices {
         width,
@@ -167,6 +174,7 @@ pub fn render<'py>(
         max_path_length,
         samples_per_frame,
         russian_roulette_start,
+        region,
     }
     .settings()?;
     let time_limit = time_limit
@@ -305,6 +313,7 @@ fn settings_dict<'py>(py: Python<'py>, settings: &RenderSettings) -> PyResult<Bo
     dict.set_item("max_path_length", settings.max_path_length)?;
     dict.set_item("samples_per_frame", settings.samples_per_frame)?;
     dict.set_item("russian_roulette_start", settings.russian_roulette_start)?;
+    dict.set_item("region", settings.region.map(|r| (r.x0, r.y0, r.x1, r.y1)))?;
     Ok(dict)
 }
 

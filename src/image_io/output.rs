@@ -43,6 +43,19 @@ pub struct SaveOptions {
     pub tone_map: ToneMap,
     /// EXR only: also store the second moment and sample count of each pixel.
     pub moments: bool,
+    /// EXR only: where the image lies in a larger one (a `--region` of it); `None`: it is
+    /// the whole image.
+    pub window: Option<ImageWindow>,
+}
+
+/// Where an image that is a part of a larger one (a `--region`) lies in it: its EXR's data
+/// window is the part, at `origin` in a display window of `full_size` from (0, 0).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct ImageWindow {
+    /// The part's top-left pixel in the full image (column, row from the top).
+    pub origin: [u32; 2],
+    /// The full image's width and height.
+    pub full_size: [u32; 2],
 }
 
 impl ImageFormat {
@@ -114,6 +127,7 @@ pub fn save_image_with_attributes(
                 image.height,
                 image_channels(image, options.moments),
                 attributes,
+                options.window,
             )
         }),
         ImageFormat::Png => write_atomically(path, |temporary| {
@@ -161,7 +175,14 @@ pub fn save_image_with_layers(
         }
     }
     write_atomically(path, |temporary| {
-        write_exr_channels(temporary, image.width, image.height, channels, attributes)
+        write_exr_channels(
+            temporary,
+            image.width,
+            image.height,
+            channels,
+            attributes,
+            options.window,
+        )
     })
 }
 
@@ -339,14 +360,16 @@ fn image_channels(image: &RenderedImage, moments: bool) -> Vec<(String, Vec<f32>
     channels
 }
 
-/// Writes float channels (rows top-down) and text attributes as one EXR layer. Blocks are
-/// written in order on one thread, so identical images make identical files.
+/// Writes float channels (rows top-down) and text attributes as one EXR layer, placed in a
+/// larger display window when `window` says so. Blocks are written in order on one thread,
+/// so identical images make identical files.
 pub(crate) fn write_exr_channels(
     path: &Path,
     width: u32,
     height: u32,
     channels: Vec<(String, Vec<f32>)>,
     attributes: &[(String, String)],
+    window: Option<ImageWindow>,
 ) -> std::result::Result<(), String> {
     let channels: Vec<AnyChannel<FlatSamples>> = channels
         .into_iter()
@@ -356,6 +379,13 @@ pub(crate) fn write_exr_channels(
         (width as usize, height as usize),
         AnyChannels::sort(channels.into()),
     );
+    if let Some(window) = window {
+        let [x, y] = window.origin.map(|v| v as i32);
+        let [full_width, full_height] = window.full_size.map(|v| v as usize);
+        exr_image.attributes.display_window =
+            exr::meta::attribute::IntegerBounds::new((0, 0), (full_width, full_height));
+        exr_image.layer_data.attributes.layer_position = exr::math::Vec2(x, y);
+    }
     for (name, value) in attributes {
         let (Some(name), Some(value)) = (Text::new_or_none(name), Text::new_or_none(value)) else {
             return Err(format!(

@@ -74,6 +74,7 @@ pub fn write_state(path: &Path, state: &Accumulation, metadata: &RenderMetadata)
             state.height,
             channels,
             &metadata.attributes(),
+            metadata.window(),
         )
     })
 }

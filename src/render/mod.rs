@@ -4,6 +4,7 @@
 //! (`pipeline_cache`), and the renderer itself.
 
 pub mod accumulation;
+pub mod adaptive;
 pub mod aov;
 pub mod gpu_materials;
 pub mod gpu_scene;
@@ -13,8 +14,10 @@ pub mod job;
 pub mod metadata;
 pub mod multi;
 pub mod pipeline_cache;
+pub mod region;
 pub mod renderer;
 pub mod settings;
+pub mod tiles;
 pub mod traversal;
 
 pub use renderer::{RenderControl, RenderOutcome, Renderer, StopReason};
