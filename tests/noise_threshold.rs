@@ -9,8 +9,8 @@ mod common;
 use std::path::Path;
 
 use vkpath::image_io::exr_input::read_exr;
-use vkpath::image_io::state_exr::read_state;
 use vkpath::render::adaptive::{is_noise_check_due, is_pixel_converged};
+use vkpath::render::state_exr::read_state;
 
 /// Runs vkpath, expects success, returns stderr.
 fn vkpath_ok(dir: &Path, args: &[&str]) -> String {

@@ -234,7 +234,7 @@ fn a_tiled_render_stopped_by_a_fault_resumes_bit_for_bit() {
             common::vkpath_with_env(path, &args, &[("VKPATH_INJECT_FAULT", "device-lost:10")]);
         let stderr = String::from_utf8_lossy(&output.stderr);
         assert_eq!(output.status.code(), Some(1), "{stderr}");
-        let (state, _) = vkpath::image_io::state_exr::read_state(&path.join("ck.exr")).unwrap();
+        let (state, _) = vkpath::render::state_exr::read_state(&path.join("ck.exr")).unwrap();
         let taken = state.samples.len();
         assert!((1..32).contains(&taken), "the checkpoint holds {taken} spp");
         let mut resume = args.clone();

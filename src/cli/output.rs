@@ -16,13 +16,13 @@ use crate::camera::Camera;
 use crate::image_io::output::{
     save_image_with_attributes, save_image_with_layers, ImageLayer, SaveOptions,
 };
-use crate::image_io::state_exr::write_state;
 use crate::render::accumulation::Accumulation;
 use crate::render::aov::{render_aov, Aov};
 use crate::render::job::{run_job, JobOptions};
 use crate::render::metadata::{sampler_name, RenderMetadata};
 use crate::render::multi::run_on_devices;
 use crate::render::settings::{RenderSettings, SamplerKind};
+use crate::render::state_exr::write_state;
 use crate::render::StopReason;
 use crate::scene::Scene;
 use crate::vk::{Context, DeviceInfo, DeviceKind};

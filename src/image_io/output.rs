@@ -12,8 +12,8 @@ use exr::prelude::{
     AnyChannel, AnyChannels, AttributeValue, FlatSamples, Image, Text, WritableImage,
 };
 
-use crate::error::{Error, Result};
 use crate::image_io::data::RenderedImage;
+use crate::image_io::error::{ImageError, ImageResult as Result};
 use crate::image_io::tonemap::{tone_map, Exposure, ToneMap};
 
 /// The file formats vkpath writes.
@@ -69,10 +69,10 @@ impl ImageFormat {
         {
             Some("exr") => Ok(ImageFormat::Exr),
             Some("png") => Ok(ImageFormat::Png),
-            _ => Err(Error::Image(format!(
-                "cannot write '{}': unsupported image format (use .exr or .png)",
-                path.display()
-            ))),
+            _ => Err(ImageError::write(
+                path,
+                "unsupported image format (use .exr or .png)",
+            )),
         }
     }
 }
@@ -89,13 +89,12 @@ pub fn check_writable(path: &Path) -> Result<ImageFormat> {
 /// `check_writable` for a file of any format (a checkpoint, a manifest): the path and its
 /// folder, not the extension.
 pub fn check_writable_file(path: &Path) -> Result<()> {
-    let target = resolve_output(path)
-        .map_err(|message| Error::Image(format!("cannot write '{}': {message}", path.display())))?;
+    let target = resolve_output(path).map_err(|message| ImageError::write(path, message))?;
     let probe = temporary_path(&target);
     let _pending = PendingTemporary::register(&probe);
     std::fs::write(&probe, b"")
         .and_then(|()| std::fs::remove_file(&probe))
-        .map_err(|e| Error::Image(format!("cannot write '{}': {e}", path.display())))
+        .map_err(|e| ImageError::write(path, e))
 }
 
 /// A hidden sibling of `path` to write into before renaming.
@@ -194,8 +193,7 @@ pub(crate) fn write_atomically(
     path: &Path,
     write: impl FnOnce(&Path) -> std::result::Result<(), String>,
 ) -> Result<()> {
-    let fail =
-        |message: String| Error::Image(format!("cannot write '{}': {message}", path.display()));
+    let fail = |message: String| ImageError::write(path, message);
     let target = resolve_output(path).map_err(fail)?;
     let temporary = temporary_path(&target);
     let _pending = PendingTemporary::register(&temporary);

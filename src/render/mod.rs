@@ -17,6 +17,7 @@ pub mod pipeline_cache;
 pub mod region;
 pub mod renderer;
 pub mod settings;
+pub mod state_exr;
 pub mod tiles;
 pub mod traversal;
 
