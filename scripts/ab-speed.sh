@@ -12,7 +12,7 @@ rounds=${3:-3}
 top=$(cd "$(dirname "$0")/.." && pwd)
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
-scenes=("cornell::--width 128 --height 128 --spp 64" "materials:$top/scenes/materials.gltf:--width 96 --height 72 --spp 16")
+scenes=("cornell::--width 256 --height 256 --spp 64" "materials:$top/scenes/materials.gltf:--width 128 --height 96 --spp 16")
 for entry in "${scenes[@]}"; do
   IFS=: read -r name scene args <<<"$entry"
   for round in $(seq "$rounds"); do
