@@ -13,8 +13,8 @@ use std::path::Path;
 use std::time::Instant;
 
 use glam::Vec3;
+use vkpath::lights::EnvironmentSource;
 use vkpath::render::Traversal;
-use vkpath::scene::environment::Environment;
 use vkpath::{Context, ContextOptions, Integrator, RenderSettings, Renderer, Scene};
 
 /// One traversal's timings on one scene.
@@ -115,13 +115,12 @@ fn report(name: &str, scene: &Scene) -> Result<(), Box<dyn std::error::Error>> {
 fn main() -> Result<(), Box<dyn std::error::Error>> {
     // Read by Mesa when a device is created; this program is single-threaded here.
     std::env::set_var("MESA_SHADER_CACHE_DISABLE", "true");
-    let mut white_sky = Scene::builtin_cornell_box()?;
-    white_sky.environment = Some(Environment::constant(Vec3::ONE));
+    let white = EnvironmentSource::Background(Vec3::ONE);
+    let white_sky = Scene::builtin_cornell_box()?.with_environment(Some(&white))?;
     report("Cornell box, --background 1,1,1", &white_sky)?;
     report("Cornell box", &Scene::builtin_cornell_box()?)?;
     if let Some(path) = std::env::args().skip(1).find(|a| !a.starts_with('-')) {
-        let mut scene = Scene::load(Path::new(&path))?;
-        scene.environment = Some(Environment::constant(Vec3::ONE));
+        let scene = Scene::load(Path::new(&path))?.with_environment(Some(&white))?;
         report(&format!("{path}, --background 1,1,1"), &scene)?;
     }
     Ok(())

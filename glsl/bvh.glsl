@@ -66,6 +66,36 @@ bool bvh_ray_box_intersection(out float out_t_entry, vec3 ray_origin, vec3 inver
     return t_entry <= min(t_exit, t_max);
 }
 
+// Whether the ray enters the root's box before t_max; out_node_count: the tree's nodes (0 for
+// an empty tree, which nothing enters).
+bool bvh_enters_root(out uint out_node_count, vec3 ray_origin, vec3 inverse_direction, float t_max) {
+    out_node_count = get_bvh_node_count();
+    float t_entry;
+    return out_node_count != 0u && bvh_ray_box_intersection(t_entry, ray_origin, inverse_direction, get_bvh_node(0).lower.xyz, get_bvh_node(0).upper.xyz, t_max);
+}
+
+// A node's range: its first triangle (a leaf) or its first child (an interior node, the
+// second child follows it), and its triangle count (0 for interior nodes).
+void get_bvh_node_range(uint node_index, out uint out_first_index, out uint out_triangle_count) {
+    bvh_node_t node = get_bvh_node(node_index);
+    out_first_index = floatBitsToUint(node.lower.w);
+    out_triangle_count = floatBitsToUint(node.upper.w);
+}
+
+// The children of an interior node (first_index and first_index + 1) whose boxes the ray
+// enters before t_max, nearer first: how many (0, 1 or 2); out_near is the one to visit
+// next, out_far (entered at out_far_entry) the one to push when both are entered.
+uint bvh_enter_children(uint first_index, vec3 ray_origin, vec3 inverse_direction, float t_max, out uint out_near, out uint out_far, out float out_far_entry) {
+    float t_left, t_right;
+    bool hit_left = bvh_ray_box_intersection(t_left, ray_origin, inverse_direction, get_bvh_node(first_index).lower.xyz, get_bvh_node(first_index).upper.xyz, t_max);
+    bool hit_right = bvh_ray_box_intersection(t_right, ray_origin, inverse_direction, get_bvh_node(first_index + 1u).lower.xyz, get_bvh_node(first_index + 1u).upper.xyz, t_max);
+    bool left_first = !hit_right || (hit_left && t_left <= t_right);
+    out_near = left_first ? first_index : first_index + 1u;
+    out_far = left_first ? first_index + 1u : first_index;
+    out_far_entry = left_first ? t_right : t_left;
+    return (hit_left ? 1u : 0u) + (hit_right ? 1u : 0u);
+}
+
 // Finds the closest triangle that a ray hits, traversing the BVH: the brute-force
 // ray_mesh_intersection() with the same triangle tests, nearer child first, and subtrees
 // skipped once they start beyond the closest hit so far.
@@ -77,10 +107,9 @@ bool bvh_closest_hit(out float out_t, out uint out_triangle_index, vec3 ray_orig
     out_t = NO_HIT_T;
     out_triangle_index = 0u;
     bool hit = false;
-    uint node_count = get_bvh_node_count();
     vec3 inverse_direction = bvh_inverse_direction(ray_direction);
-    float t_entry;
-    if (node_count == 0u || !bvh_ray_box_intersection(t_entry, ray_origin, inverse_direction, get_bvh_node(0).lower.xyz, get_bvh_node(0).upper.xyz, out_t))
+    uint node_count;
+    if (!bvh_enters_root(node_count, ray_origin, inverse_direction, out_t))
         return false;
     // Nodes still to visit, with the parameter where the ray enters them
     uint stack_nodes[BVH_STACK_SIZE];
@@ -89,11 +118,10 @@ bool bvh_closest_hit(out float out_t, out uint out_triangle_index, vec3 ray_orig
     uint node_index = 0u;
     // Each iteration visits one node and no node is visited twice, so node_count bounds it.
     for (uint iteration = 0u; iteration != node_count; ++iteration) {
-        bvh_node_t node = get_bvh_node(node_index);
-        uint first_index = floatBitsToUint(node.lower.w);
-        uint triangle_count = floatBitsToUint(node.upper.w);
+        uint first_index, triangle_count;
+        get_bvh_node_range(node_index, first_index, triangle_count);
         // This iteration and the leaf loop's (an upper bound when it stops early)
-        g_traversal_iterations += 1u + triangle_count;
+        g_path.traversal_iterations += 1u + triangle_count;
         bool descend = false;
         if (triangle_count != 0u) {
             // A leaf: the brute-force loop over its triangles
@@ -108,29 +136,22 @@ bool bvh_closest_hit(out float out_t, out uint out_triangle_index, vec3 ray_orig
             }
         } else {
             // An interior node: test both children, go to the nearer, push the farther
-            float t_left, t_right;
-            bool hit_left = bvh_ray_box_intersection(t_left, ray_origin, inverse_direction, get_bvh_node(first_index).lower.xyz, get_bvh_node(first_index).upper.xyz, out_t);
-            bool hit_right = bvh_ray_box_intersection(t_right, ray_origin, inverse_direction, get_bvh_node(first_index + 1u).lower.xyz, get_bvh_node(first_index + 1u).upper.xyz, out_t);
-            if (hit_left && hit_right) {
-                bool left_first = t_left <= t_right;
-                node_index = left_first ? first_index : first_index + 1u;
-                // The builder keeps leaves at depth <= BVH_STACK_SIZE, so the stack never
-                // overflows; the test only keeps a malformed tree from writing out of bounds.
-                if (stack_size < BVH_STACK_SIZE) {
-                    stack_nodes[stack_size] = left_first ? first_index + 1u : first_index;
-                    stack_entries[stack_size] = left_first ? t_right : t_left;
-                    ++stack_size;
-                }
-                descend = true;
-            } else if (hit_left || hit_right) {
-                node_index = hit_left ? first_index : first_index + 1u;
-                descend = true;
+            uint far_child;
+            float far_entry;
+            uint entered = bvh_enter_children(first_index, ray_origin, inverse_direction, out_t, node_index, far_child, far_entry);
+            // The builder keeps leaves at depth <= BVH_STACK_SIZE, so the stack never
+            // overflows; the test only keeps a malformed tree from writing out of bounds.
+            if (entered == 2u && stack_size < BVH_STACK_SIZE) {
+                stack_nodes[stack_size] = far_child;
+                stack_entries[stack_size] = far_entry;
+                ++stack_size;
             }
+            descend = entered != 0u;
         }
         // Pop the next node that the ray enters before the closest hit so far (the stack
         // shrinks in every iteration, so this loop is bounded by BVH_STACK_SIZE)
         while (!descend && stack_size != 0u) {
-            ++g_traversal_iterations;
+            ++g_path.traversal_iterations;
             --stack_size;
             if (stack_entries[stack_size] <= out_t) {
                 node_index = stack_nodes[stack_size];
@@ -149,10 +170,9 @@ bool bvh_closest_hit(out float out_t, out uint out_triangle_index, vec3 ray_orig
 // \param t_max Hits at or beyond this ray parameter do not count
 // \return true iff some triangle is hit at 0 <= t < t_max
 bool bvh_any_hit(vec3 ray_origin, vec3 ray_direction, float t_max) {
-    uint node_count = get_bvh_node_count();
     vec3 inverse_direction = bvh_inverse_direction(ray_direction);
-    float t_entry;
-    if (node_count == 0u || !bvh_ray_box_intersection(t_entry, ray_origin, inverse_direction, get_bvh_node(0).lower.xyz, get_bvh_node(0).upper.xyz, t_max))
+    uint node_count;
+    if (!bvh_enters_root(node_count, ray_origin, inverse_direction, t_max))
         return false;
     // Entry parameters need no stack here: t_max never shrinks, so popped nodes need no test.
     uint stack_nodes[BVH_STACK_SIZE];
@@ -160,11 +180,10 @@ bool bvh_any_hit(vec3 ray_origin, vec3 ray_direction, float t_max) {
     uint node_index = 0u;
     // Each iteration visits one node and no node is visited twice, so node_count bounds it.
     for (uint iteration = 0u; iteration != node_count; ++iteration) {
-        bvh_node_t node = get_bvh_node(node_index);
-        uint first_index = floatBitsToUint(node.lower.w);
-        uint triangle_count = floatBitsToUint(node.upper.w);
+        uint first_index, triangle_count;
+        get_bvh_node_range(node_index, first_index, triangle_count);
         // This iteration and the leaf loop's (an upper bound when it stops early)
-        g_traversal_iterations += 1u + triangle_count;
+        g_path.traversal_iterations += 1u + triangle_count;
         if (triangle_count != 0u) {
             uint end = first_index + triangle_count;
             for (uint i = first_index; i < end; ++i) {
@@ -173,20 +192,17 @@ bool bvh_any_hit(vec3 ray_origin, vec3 ray_direction, float t_max) {
                     return true;
             }
         } else {
-            float t_left, t_right;
-            bool hit_left = bvh_ray_box_intersection(t_left, ray_origin, inverse_direction, get_bvh_node(first_index).lower.xyz, get_bvh_node(first_index).upper.xyz, t_max);
-            bool hit_right = bvh_ray_box_intersection(t_right, ray_origin, inverse_direction, get_bvh_node(first_index + 1u).lower.xyz, get_bvh_node(first_index + 1u).upper.xyz, t_max);
-            if (hit_left && hit_right) {
-                // Nearer first: an occluder near the origin ends the search sooner
-                bool left_first = t_left <= t_right;
-                node_index = left_first ? first_index : first_index + 1u;
-                if (stack_size < BVH_STACK_SIZE) {
-                    stack_nodes[stack_size] = left_first ? first_index + 1u : first_index;
-                    ++stack_size;
-                }
-                continue;
-            } else if (hit_left || hit_right) {
-                node_index = hit_left ? first_index : first_index + 1u;
+            // Nearer first: an occluder near the origin ends the search sooner
+            uint far_child;
+            float far_entry;
+            uint next_node;
+            uint entered = bvh_enter_children(first_index, ray_origin, inverse_direction, t_max, next_node, far_child, far_entry);
+            if (entered == 2u && stack_size < BVH_STACK_SIZE) {
+                stack_nodes[stack_size] = far_child;
+                ++stack_size;
+            }
+            if (entered != 0u) {
+                node_index = next_node;
                 continue;
             }
         }

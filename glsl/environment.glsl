@@ -1,6 +1,6 @@
 // Light from infinitely far away (kernels built with USE_MATERIALS): an equirectangular
 // environment map, importance-sampled with an alias table, or a constant background.
-// Convention (src/scene/environment.rs): +Y is up; direction d looks up
+// Convention (src/lights/environment.rs): +Y is up; direction d looks up
 // u = 0.5 + atan2(x, -z) / (2 pi), v = acos(y) / pi, (0, 0) the image's top-left, so the
 // image's centre is -Z; the map turns about +Y by the rotation (90 degrees: what was seen
 // down -Z is seen down -X). Texels are constant over their patch (no filtering), which the

@@ -1,39 +1,14 @@
-// What the workshop's closing slide names next: BRDF importance sampling (cosine-weighted
-// directions), light sampling (next event estimation), multiple importance sampling and
-// Russian roulette. Samplers come in pairs sample_x / get_x_density, as in Peters' renderers.
-// Rust twins: src/cpu/importance_sampling.rs. Needs MAX_PATH_LENGTH, INTEGRATOR,
-// RUSSIAN_ROULETTE_START, SAMPLER and LIGHT_SAMPLING defined by the includer. Random numbers come from
-// get_path_random_numbers() (glsl/sobol.glsl): PCG2D or scrambled Sobol.
+// What the workshop's closing slide names next, as sampling maths: cosine-weighted
+// directions (BRDF importance sampling for Lambert), points and directions on light
+// triangles (by area, or by solid angle with Arvo's spherical triangles) and the power
+// heuristic of multiple importance sampling. Samplers come in pairs sample_x /
+// get_x_density, as in Peters' renderers. Their users: the surface seam (glsl/surface.glsl),
+// the lights room (glsl/lights.glsl) and the path loop (glsl/path_loop.glsl).
+// Rust twins: src/cpu/importance_sampling.rs. Needs LIGHT_SAMPLING defined by the includer.
 #ifndef VKPATH_IMPORTANCE_SAMPLING_GLSL
 #define VKPATH_IMPORTANCE_SAMPLING_GLSL
 
 #include "integrator.glsl"
-#include "sobol.glsl"
-
-// Emissive triangles, a texel buffer of RGBA32_UINT (16 bytes a texel). Texel 0 is the header,
-// `vkpath::render::gpu_types::GpuLightHeader`: x = number of lights, yzw = 0. Texel 1 + i is
-// light i, `vkpath::render::gpu_types::GpuLight`: x = its scene triangle index, y = the
-// cumulative probability (float bits) of choosing this light or an earlier one
-// (power-proportional; the last is 1), zw = 0. Written by
-// `vkpath::render::gpu_types::gpu_light_bytes`, whose layout tests check these offsets. The
-// selection probability of each triangle (0 for non-emitters) is stored in its packed
-// normal.w, for MIS.
-layout(set = 0, binding = BINDING_LIGHTS) uniform usamplerBuffer g_light_texels;
-
-// Number of emissive triangles.
-uint get_light_count() {
-    return texelFetch(g_light_texels, 0).x;
-}
-
-// Scene triangle index of light i.
-uint get_light_triangle_index(uint light_index) {
-    return texelFetch(g_light_texels, int(light_index) + 1).x;
-}
-
-// Probability of choosing light i or an earlier one.
-float get_light_cumulative_probability(uint light_index) {
-    return uintBitsToFloat(texelFetch(g_light_texels, int(light_index) + 1).y);
-}
 
 // Maps two uniform random numbers to a cosine-distributed direction around a normal
 // (Malley's method: a uniform point on the unit disk, projected up to the hemisphere).
@@ -105,8 +80,9 @@ spherical_triangle_t get_spherical_triangle(vec3 origin, triangle_t triangle) {
     return spherical;
 }
 
-// Whether sample_direct_light() samples a light by solid angle (sample_spherical_triangle())
-// rather than by area (sample_triangle_point()). Both the sampler and get_light_density() ask,
+// Whether a light sample (sample_light_direction() of glsl/lights.glsl) is taken by solid
+// angle (sample_spherical_triangle()) rather than by area (sample_triangle_point()). Both the
+// sampler and get_light_density() ask,
 // so that they agree on the density. Lights that subtend less than
 // MIN_SPHERICAL_SAMPLING_SOLID_ANGLE or more than MAX_SPHERICAL_SAMPLING_SOLID_ANGLE
 // (glsl/shared.h says why) are sampled by area.
@@ -154,158 +130,12 @@ vec3 sample_spherical_triangle(vec2 random_numbers, spherical_triangle_t spheric
     return (1.0 - one_minus_z) * b + sqrt(one_minus_z * (2.0 - one_minus_z)) * normalize(c_sub - dot(c_sub, b) * b);
 }
 
-// Chooses an emissive triangle in proportion to its power by binary search in the CDF.
-// \param random_number Uniform in [0,1)
-// \return Index of a light; only valid when get_light_count() > 0
-uint sample_light_index(float random_number) {
-    uint low = 0u;
-    uint high = get_light_count() - 1u;
-    // At most 32 halvings for any uint count.
-    for (int i = 0; i != 32 && low < high; ++i) {
-        uint middle = (low + high) / 2u;
-        if (random_number < get_light_cumulative_probability(middle))
-            high = middle;
-        else
-            low = middle + 1u;
-    }
-    return low;
-}
-
-// Probability that sample_light_index() picks the given scene triangle (0 for non-emitters).
-float get_light_selection_probability(uint triangle_index) {
-    return get_packed_triangle(triangle_index).normal.w;
-}
-
-// Density w.r.t. solid angle, at the origin of `spherical` (the light as seen from there), of
-// a light sample that lands on the emitter at `distance` along `direction`: p_select / solid
-// angle for lights sampled by solid angle, else p_select / area * distance^2 / |n_light.omega|.
-float get_light_density(float selection_probability, triangle_t light, spherical_triangle_t spherical, vec3 direction, float distance) {
-    if (use_spherical_sampling(spherical))
-        return selection_probability / spherical.solid_angle;
-    float cosine = abs(dot(light.normal, direction));
-    return selection_probability * distance * distance / (get_triangle_area(light) * max(cosine, MIN_LIGHT_COSINE));
-}
-
-// Whether anything blocks the segment from `origin` to distance `distance` along `direction`
-// (the emitter at its end excluded by a relative margin of SHADOW_RAY_MARGIN = 2^-14).
-bool is_occluded(vec3 origin, vec3 direction, float distance) {
-    return ray_mesh_any_hit(origin, direction, distance * (1.0 - SHADOW_RAY_MARGIN));
-}
-
 // The power heuristic with exponent 2 (Veach 1997): weight of a sample from the strategy
 // with density `density` against one other strategy with density `other_density`.
 float get_power_heuristic_weight(float density, float other_density) {
     float squared = density * density;
     float other_squared = other_density * other_density;
     return (squared + other_squared > 0.0) ? squared / (squared + other_squared) : 0.0;
-}
-
-// A direction from `origin` towards a point of a light triangle and the distance to it
-// along that direction: by solid angle or by area, as use_spherical_sampling() says.
-// \param spherical The light as seen from `origin` (get_spherical_triangle())
-void sample_light_direction(vec2 point_randoms, triangle_t light, vec3 origin, spherical_triangle_t spherical, out vec3 out_direction, out float out_distance) {
-    if (use_spherical_sampling(spherical)) {
-        out_direction = sample_spherical_triangle(point_randoms, spherical);
-        // The distance from the triangle test that shadow rays run, so that is_occluded()'s
-        // margin excludes exactly this triangle; where rounding put the direction just
-        // outside the triangle, the distance to its plane.
-        if (!ray_triangle_intersection(out_distance, origin, out_direction, light))
-            out_distance = dot(light.normal, light.positions[0] - origin) / dot(light.normal, out_direction);
-    } else {
-        vec3 to_light = sample_triangle_point(point_randoms, light) - origin;
-        out_distance = length(to_light);
-        out_direction = to_light / out_distance;
-    }
-}
-
-// One light sample at a diffuse surface point (next event estimation), MIS-weighted
-// against cosine sampling when INTEGRATOR == INTEGRATOR_MIS:
-// a(x)/pi * L_e(y) * (n.omega) / p_light(omega) * w_light
-// \param shading_position Point x, world space
-// \param triangle The triangle at x, oriented towards the incoming ray
-// \param seed The pixel's PCG2D random state (see get_path_random_numbers())
-vec3 sample_direct_light(vec3 shading_position, triangle_t triangle, inout uvec2 seed) {
-    vec2 selection = get_path_random_numbers(seed);
-    vec2 point_randoms = get_path_random_numbers(seed);
-    if (get_light_count() == 0u)
-        return vec3(0.0);
-    uint light_triangle_index = get_light_triangle_index(sample_light_index(selection[0]));
-    triangle_t light = get_triangle(light_triangle_index);
-    vec3 origin = offset_ray_origin(shading_position, triangle.normal);
-    vec3 direction;
-    float distance;
-    spherical_triangle_t spherical = get_spherical_triangle(origin, light);
-    sample_light_direction(point_randoms, light, origin, spherical, direction, distance);
-    float cosine = dot(triangle.normal, direction);
-    // One-sided emitters shine only towards their normal.
-    bool front = dot(light.normal, direction) < 0.0;
-    if (cosine <= 0.0 || !(distance > 0.0) || (!front && !is_double_sided(light_triangle_index)))
-        return vec3(0.0);
-    if (is_occluded(origin, direction, distance))
-        return vec3(0.0);
-    float light_density = get_light_density(get_light_selection_probability(light_triangle_index), light, spherical, direction, distance);
-    float weight = (INTEGRATOR == INTEGRATOR_MIS) ? get_power_heuristic_weight(light_density, get_hemisphere_cosine_density(triangle.normal, direction)) : 1.0;
-    return triangle.color / M_PI * light.emission * cosine / light_density * weight;
-}
-
-// Path tracing with importance sampling (INTEGRATOR_COSINE, _NEE or _MIS): the workshop's
-// loop of get_ray_radiance() with cosine-weighted directions, so the throughput update
-// a 2 (n.omega) becomes a (n.omega) / pi / p(omega) = a; light samples at each vertex for NEE
-// and MIS; and Russian roulette after RUSSIAN_ROULETTE_START vertices. MAX_PATH_LENGTH
-// bounds the number of surface hits as in the workshop: a light sample at vertex j stands
-// for a hit j + 1, so it is taken only while j < MAX_PATH_LENGTH.
-//
-// Random numbers, in the order drawn (each a pair from get_path_random_numbers(); the order
-// decides every output bit, with PCG2D and with Sobol's dimension pairs alike, so keep it):
-// the pixel jitter (main(), box filter only); then at each vertex that is not the last:
-// nee and mis: the light's selection pair and its point pair (sample_direct_light(), drawn
-// even without lights); all three: the cosine direction; past RUSSIAN_ROULETTE_START: the
-// survival pair (its first number).
-vec3 get_ray_radiance_importance_sampled(vec3 ray_origin, vec3 ray_direction, inout uvec2 seed) {
-    vec3 radiance = vec3(0.0);
-    vec3 throughput_weight = vec3(1.0);
-    // Density of the cosine sample that produced ray_direction (0: the camera ray).
-    float direction_density = 0.0;
-    // Origin of the current ray: where MIS weights see a light found by it (get_light_density()).
-    vec3 previous_position = ray_origin;
-    for (int i = 0; i != MAX_PATH_LENGTH; ++i) {
-        float t;
-        triangle_t triangle;
-        if (!ray_mesh_intersection(t, triangle, ray_origin, ray_direction))
-            break;
-        uint triangle_index = g_hit_triangle_index;
-        orient_towards_ray(triangle, ray_direction, is_double_sided(triangle_index));
-        ray_origin += t * ray_direction;
-        // Emission found by following the path: all of it for cosine sampling and for the
-        // camera ray; none for NEE (light samples account for it); MIS-weighted for MIS.
-        if (i == 0 || INTEGRATOR == INTEGRATOR_COSINE) {
-            radiance += throughput_weight * triangle.emission;
-        } else if (INTEGRATOR == INTEGRATOR_MIS && triangle.emission != vec3(0.0)) {
-            float light_density = get_light_density(get_light_selection_probability(triangle_index), triangle, get_spherical_triangle(previous_position, triangle), ray_direction, t);
-            radiance += throughput_weight * triangle.emission * get_power_heuristic_weight(direction_density, light_density);
-        }
-        if (i + 1 == MAX_PATH_LENGTH)
-            break;
-        if (INTEGRATOR != INTEGRATOR_COSINE)
-            radiance += throughput_weight * sample_direct_light(ray_origin, triangle, seed);
-        // Continue with a cosine sample: weight a(x) (n.omega) / pi / p(omega) = a(x).
-        ray_direction = sample_hemisphere_cosine(get_path_random_numbers(seed), triangle.normal);
-        direction_density = get_hemisphere_cosine_density(triangle.normal, ray_direction);
-        if (direction_density <= 0.0)
-            break;
-        throughput_weight *= triangle.color;
-        ray_origin = offset_ray_origin(ray_origin, triangle.normal);
-        previous_position = ray_origin;
-        // Russian roulette: continue with probability q = min(1, max throughput component)
-        // and divide by q, which keeps the estimate unbiased.
-        if (RUSSIAN_ROULETTE_START > 0 && i + 1 >= RUSSIAN_ROULETTE_START) {
-            float survival = min(1.0, max(throughput_weight.r, max(throughput_weight.g, throughput_weight.b)));
-            if (get_path_random_numbers(seed)[0] >= survival)
-                break;
-            throughput_weight /= survival;
-        }
-    }
-    return radiance;
 }
 
 #endif

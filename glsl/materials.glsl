@@ -1,14 +1,8 @@
-// Materials, textures and shading normals at a ray's hit (kernels built with USE_MATERIALS):
-// what turns a hit triangle of a glTF asset into a material_t for glsl/brdf.glsl.
+// Materials, textures and shading normals of glTF assets (kernels built with USE_MATERIALS):
+// the packed words a hit triangle's material and shading data are read from, and what they
+// unpack to (material_t of glsl/brdf.glsl, the shading normal, emission, alpha coverage).
+// The surface seam (glsl/surface.glsl) builds its glTF surface_t from these.
 // Host side: src/render/gpu_materials.rs; Rust twins of the functions: src/cpu/materials.rs.
-//
-// Shading-normal convention: the BRDF is evaluated with the shading normal (interpolated
-// vertex normals, perturbed by the normal map), but light never crosses the geometric
-// surface: a direction counts only where it leaves on the side the ray came from
-// (geometric normal n_g . l > 0); get_surface_reflection() is 0 elsewhere. The shading
-// normal is flipped with the geometric one when a ray hits the back, and where the view
-// lies below it (a vertex normal bent away from the viewer) the geometric normal is used
-// instead, so that get_brdf() always sees the view above its normal.
 #ifndef VKPATH_MATERIALS_GLSL
 #define VKPATH_MATERIALS_GLSL
 
@@ -19,21 +13,6 @@
 layout(set = 0, binding = BINDING_SHADING) uniform usamplerBuffer g_shading_texels;
 layout(set = 0, binding = BINDING_MATERIALS) uniform usamplerBuffer g_material_texels;
 
-// Random state for stochastic alpha (ALPHA_MODE_BLEND), set once per sample by the kernel:
-// a hit's coverage decision hashes it with the ray count and the triangle index.
-uvec2 g_alpha_seed = uvec2(0u);
-
-// A hit point as the integrators shade it.
-struct surface_t {
-    // Unit geometric normal, on the side the ray came from
-    vec3 geometric_normal;
-    // Unit shading normal, on the same side, with the view direction above it
-    vec3 shading_normal;
-    // The material after texture lookups
-    material_t material;
-    // Emitted radiance towards the ray's origin (0 from the back of one-sided emitters)
-    vec3 emission;
-};
 
 // Barycentric coordinates (b_0, b_1, b_2) of a point in a triangle's plane.
 vec3 get_barycentrics(vec3 position, triangle_t triangle) {
@@ -57,6 +36,32 @@ uvec4 get_material_texel(uint material_index, int texel) {
     return texelFetch(g_material_texels, int(uint(MATERIAL_TEXEL_COUNT) * material_index) + texel);
 }
 
+// The material's words (MATERIAL_TEXEL_COUNT texels, `GpuMaterial` on the host): texel 0 the
+// base colour factor; 1 the emissive factor (rgb) and metallic factor (a); 2 roughness,
+// specular, ior and the normal texture's scale; 3 the specular colour (rgb) and alpha cutoff
+// (a); 4 the alpha mode (x) and the mask of texture slots present (y); then three texels per
+// texture slot (texture_slot_t).
+#define MATERIAL_TEXEL_BASE_COLOR 0
+#define MATERIAL_TEXEL_EMISSIVE_METALLIC 1
+#define MATERIAL_TEXEL_ROUGHNESS_SPECULAR_IOR_NORMAL_SCALE 2
+#define MATERIAL_TEXEL_SPECULAR_COLOR_ALPHA_CUTOFF 3
+#define MATERIAL_TEXEL_ALPHA_MODE_TEXTURE_MASK 4
+
+// ALPHA_MODE_OPAQUE, _MASK or _BLEND of material i.
+uint get_material_alpha_mode(uint material_index) {
+    return get_material_texel(material_index, MATERIAL_TEXEL_ALPHA_MODE_TEXTURE_MASK).x;
+}
+
+// alphaCutoff of material i (ALPHA_MODE_MASK).
+float get_material_alpha_cutoff(uint material_index) {
+    return uintBitsToFloat(get_material_texel(material_index, MATERIAL_TEXEL_SPECULAR_COLOR_ALPHA_CUTOFF).w);
+}
+
+// normalTexture.scale of material i.
+float get_material_normal_scale(uint material_index) {
+    return uintBitsToFloat(get_material_texel(material_index, MATERIAL_TEXEL_ROUGHNESS_SPECULAR_IOR_NORMAL_SCALE).w);
+}
+
 // Index of triangle i's material.
 uint get_material_index(uint triangle_index) {
     return get_shading_texel(triangle_index, 0).w;
@@ -71,7 +76,7 @@ vec2 get_tex_coord(uint triangle_index, vec3 barycentrics) {
 
 // Whether material i has a texture in slot MATERIAL_TEXTURE_*.
 bool has_material_texture(uint material_index, uint slot) {
-    return (get_material_texel(material_index, 4).y & (1u << slot)) != 0u;
+    return (get_material_texel(material_index, MATERIAL_TEXEL_ALPHA_MODE_TEXTURE_MASK).y & (1u << slot)) != 0u;
 }
 
 // Whether the scene has any texture (the host specializes it; false compiles lookups out).
@@ -88,12 +93,12 @@ vec4 sample_material_texture(uint material_index, uint slot, vec2 tex_coord) {
 
 // Base colour and alpha: factor times texture.
 vec4 get_base_color(uint material_index, vec2 tex_coord) {
-    return uintBitsToFloat(get_material_texel(material_index, 0)) * sample_material_texture(material_index, MATERIAL_TEXTURE_BASE_COLOR, tex_coord);
+    return uintBitsToFloat(get_material_texel(material_index, MATERIAL_TEXEL_BASE_COLOR)) * sample_material_texture(material_index, MATERIAL_TEXTURE_BASE_COLOR, tex_coord);
 }
 
 // Emitted radiance (front side): factor times texture.
 vec3 get_material_emission(uint material_index, vec2 tex_coord) {
-    return uintBitsToFloat(get_material_texel(material_index, 1).rgb) * sample_material_texture(material_index, MATERIAL_TEXTURE_EMISSIVE, tex_coord).rgb;
+    return uintBitsToFloat(get_material_texel(material_index, MATERIAL_TEXEL_EMISSIVE_METALLIC).rgb) * sample_material_texture(material_index, MATERIAL_TEXTURE_EMISSIVE, tex_coord).rgb;
 }
 
 // Whether a candidate hit at ray parameter t on triangle i counts: always for opaque
@@ -102,14 +107,14 @@ vec3 get_material_emission(uint material_index, vec2 tex_coord) {
 // ray and the triangle, so that a ray sees the same coverage in every test of it).
 bool is_opaque_hit(uint triangle_index, vec3 ray_origin, vec3 ray_direction, float t) {
     uint material_index = get_material_index(triangle_index);
-    uint alpha_mode = get_material_texel(material_index, 4).x;
+    uint alpha_mode = get_material_alpha_mode(material_index);
     if (alpha_mode == ALPHA_MODE_OPAQUE)
         return true;
     vec3 barycentrics = get_barycentrics(ray_origin + t * ray_direction, get_triangle(triangle_index));
     float alpha = get_base_color(material_index, get_tex_coord(triangle_index, barycentrics)).a;
     if (alpha_mode == ALPHA_MODE_MASK)
-        return alpha >= uintBitsToFloat(get_material_texel(material_index, 3).w);
-    uvec2 hash_state = g_alpha_seed ^ uvec2(g_ray_count * 2654435769u, triangle_index);
+        return alpha >= get_material_alpha_cutoff(material_index);
+    uvec2 hash_state = g_path.alpha_seed ^ uvec2(g_path.ray_count * 2654435769u, triangle_index);
     return get_random_numbers(hash_state)[0] < alpha;
 }
 
@@ -142,50 +147,27 @@ vec3 get_front_shading_normal(uint triangle_index, uint material_index, vec3 bar
     if (SCENE_HAS_TEXTURES && has_material_texture(material_index, MATERIAL_TEXTURE_NORMAL)) {
         vec4 tangent_0 = uintBitsToFloat(get_shading_texel(triangle_index, 5));
         vec3 tangent = barycentrics[0] * tangent_0.xyz + barycentrics[1] * uintBitsToFloat(get_shading_texel(triangle_index, 6).xyz) + barycentrics[2] * uintBitsToFloat(get_shading_texel(triangle_index, 7).xyz);
-        float scale = uintBitsToFloat(get_material_texel(material_index, 2).w);
+        float scale = get_material_normal_scale(material_index);
         vec3 texel = sample_material_texture(material_index, MATERIAL_TEXTURE_NORMAL, tex_coord).rgb;
         normal = apply_normal_map(normal, vec4(tangent, tangent_0.w), texel, scale);
     }
     return normal;
 }
 
-// Everything the integrators need at a hit: normals, the material after textures, emission.
-// \param triangle_index The hit triangle (g_hit_triangle_index)
-// \param triangle The hit triangle as ray_mesh_intersection() returned it (not oriented)
-// \param position The hit point, world space
-// \param ray_direction Direction of the ray that hit it
-surface_t get_surface(uint triangle_index, triangle_t triangle, vec3 position, vec3 ray_direction) {
-    surface_t surface;
-    uint material_index = get_material_index(triangle_index);
-    vec3 barycentrics = get_barycentrics(position, triangle);
-    vec2 tex_coord = get_tex_coord(triangle_index, barycentrics);
-    bool front = dot(triangle.normal, ray_direction) <= 0.0;
-    vec3 view = -ray_direction;
-    surface.geometric_normal = front ? triangle.normal : -triangle.normal;
-    vec3 shading_normal = get_front_shading_normal(triangle_index, material_index, barycentrics, tex_coord, triangle.normal);
-    shading_normal = front ? shading_normal : -shading_normal;
-    surface.shading_normal = (dot(shading_normal, view) > 0.0) ? shading_normal : surface.geometric_normal;
-    vec4 base_color = get_base_color(material_index, tex_coord);
-    vec4 factors = uintBitsToFloat(get_material_texel(material_index, 2));
-    // glTF: roughness in G, metallic in B of the metallic-roughness texture
+// Material i at a point with TEXCOORD_0 tex_coord, after texture lookups: the factors times
+// their textures (glTF: roughness in G, metallic in B of the metallic-roughness texture).
+// \param base_color get_base_color() at the point (alpha tests read it too)
+material_t get_material(uint material_index, vec2 tex_coord, vec4 base_color) {
+    vec4 factors = uintBitsToFloat(get_material_texel(material_index, MATERIAL_TEXEL_ROUGHNESS_SPECULAR_IOR_NORMAL_SCALE));
     vec4 metallic_roughness = sample_material_texture(material_index, MATERIAL_TEXTURE_METALLIC_ROUGHNESS, tex_coord);
-    surface.material.base_color = base_color.rgb;
-    surface.material.metallic = uintBitsToFloat(get_material_texel(material_index, 1).w) * metallic_roughness.b;
-    surface.material.roughness = factors.x * metallic_roughness.g;
-    surface.material.specular = factors.y;
-    surface.material.ior = factors.z;
-    surface.material.specular_color = uintBitsToFloat(get_material_texel(material_index, 3).rgb);
-    bool double_sided = is_double_sided(triangle_index);
-    surface.emission = (front || double_sided) ? get_material_emission(material_index, tex_coord) : vec3(0.0);
-    return surface;
-}
-
-// The reflected part of the rendering equation's integrand without the incoming radiance:
-// f(view, light) max(0, n_s . light), and 0 for light from below the geometric surface.
-vec3 get_surface_reflection(surface_t surface, vec3 view, vec3 light) {
-    if (dot(surface.geometric_normal, light) <= 0.0)
-        return vec3(0.0);
-    return get_brdf(surface.material, surface.shading_normal, view, light) * max(0.0, dot(surface.shading_normal, light));
+    material_t material;
+    material.base_color = base_color.rgb;
+    material.metallic = uintBitsToFloat(get_material_texel(material_index, MATERIAL_TEXEL_EMISSIVE_METALLIC).w) * metallic_roughness.b;
+    material.roughness = factors.x * metallic_roughness.g;
+    material.specular = factors.y;
+    material.ior = factors.z;
+    material.specular_color = uintBitsToFloat(get_material_texel(material_index, MATERIAL_TEXEL_SPECULAR_COLOR_ALPHA_CUTOFF).rgb);
+    return material;
 }
 
 #endif

@@ -35,14 +35,13 @@ layout(constant_id = SPEC_LIGHT_SEARCHES_PER_RAY) const uint LIGHT_SEARCHES_PER_
 layout(constant_id = SPEC_TRIANGLE_LOOPS_PER_RAY) const uint TRIANGLE_LOOPS_PER_RAY = 0u;
 
 #include "integrator.glsl"
-#include "importance_sampling.glsl"
+#include "integrators.glsl"
 #ifdef USE_BVH
 #include "bvh.glsl"
 #endif
 #include "camera.glsl"
-#ifdef USE_MATERIALS
-#include "material_integrators.glsl"
-#endif
+#include "adaptive_sampling.glsl"
+#include "path_loop.glsl"
 #ifdef USER_FUNCTIONS
 #include "user_functions.glsl"
 #endif
@@ -55,41 +54,53 @@ layout(push_constant) uniform frame_push_constants {
     uint g_first_sample_index;
     // Samples with an index at or past this are not taken (the render's total spp).
     uint g_sample_end;
+    // The full image's pixel (column, row from the top) of the accumulation image's texel
+    // (0, 0): the corner of the region (--region) or tile this dispatch renders.
+    uvec2 g_pixel_offset;
+    // Width and height of that region or tile; texels beyond are not touched.
+    uvec2 g_pixel_extent;
+    // --noise-threshold: a pixel takes no more samples once is_pixel_converged() says so,
+    // judged every g_noise_min_samples samples (is_noise_check_due()); 0 turns adaptive
+    // sampling off.
+    float g_noise_threshold;
+    uint g_noise_min_samples;
 };
 
 // One sample of the radiance through a pixel with the chosen integrator.
 vec3 get_sample_radiance(vec3 ray_direction, inout uvec2 seed) {
     vec3 camera_position = g_camera_position.xyz;
 #ifdef USE_MATERIALS
-    // Glossy, textured, alpha-tested glTF materials (glsl/material_integrators.glsl)
-    g_alpha_seed = seed;
-    return get_ray_radiance_with_materials(camera_position, ray_direction, seed);
-#endif
+    // The sample's alpha coverage (glsl/materials.glsl)
+    g_path.alpha_seed = seed;
+#else
+    // On the workshop's diffuse triangles, its own estimators, as its exercises write them
+    // (glsl/integrator.glsl); on glTF materials the path loop runs them.
     if (INTEGRATOR == INTEGRATOR_PATH_TRACING)
         return get_ray_radiance(camera_position, ray_direction, seed);
-    if (INTEGRATOR == INTEGRATOR_COSINE || INTEGRATOR == INTEGRATOR_NEE || INTEGRATOR == INTEGRATOR_MIS)
-        return get_ray_radiance_importance_sampled(camera_position, ray_direction, seed);
-    float t;
-    triangle_t triangle;
-    if (!ray_mesh_intersection(t, triangle, camera_position, ray_direction))
-        return vec3(0.0);
-    if (INTEGRATOR == INTEGRATOR_RAY_TRACING)
-        return triangle.color;
-    if (INTEGRATOR == INTEGRATOR_DEPTH)
-        return vec3(t);
-    orient_towards_ray(triangle, ray_direction, is_double_sided(g_hit_triangle_index));
-    if (INTEGRATOR == INTEGRATOR_NORMAL)
-        return triangle.normal;
-    return compute_direct_illumination(camera_position + t * ray_direction, triangle, seed);
+    if (INTEGRATOR == INTEGRATOR_DIRECT_ILLUMINATION) {
+        float t;
+        triangle_t triangle;
+        if (!ray_mesh_intersection(t, triangle, camera_position, ray_direction))
+            return vec3(0.0);
+        orient_towards_ray(triangle, ray_direction, is_double_sided(g_hit_triangle_index));
+        return compute_direct_illumination(camera_position + t * ray_direction, triangle, seed);
+    }
+#endif
+    if (shows_first_hit())
+        return get_first_hit_view(camera_position, ray_direction);
+    return get_path_radiance(camera_position, ray_direction, seed);
 }
 
 void main() {
     uvec2 resolution = g_resolution_triangle_count_seed.xy;
+    // The accumulation image holds a region or tile of the image: its texel `texel` is the
+    // full image's pixel `image_texel`, which alone decides the samples (seeds, jitter).
     uvec2 texel = gl_GlobalInvocationID.xy;
-    if (texel.x >= resolution.x || texel.y >= resolution.y)
+    uvec2 image_texel = texel + g_pixel_offset;
+    if (texel.x >= g_pixel_extent.x || texel.y >= g_pixel_extent.y || image_texel.x >= resolution.x || image_texel.y >= resolution.y)
         return;
     // Image rows run top-down; ShaderToy counts pixels from the bottom-left.
-    uvec2 pixel = uvec2(texel.x, resolution.y - 1u - texel.y);
+    uvec2 pixel = uvec2(image_texel.x, resolution.y - 1u - image_texel.y);
 
     vec4 sum = imageLoad(g_accumulation, ivec3(texel, LAYER_SUM));
     vec4 compensation_and_rays = imageLoad(g_accumulation, ivec3(texel, LAYER_COMPENSATION));
@@ -102,15 +113,19 @@ void main() {
         uint sample_index = g_first_sample_index + uint(i);
         if (sample_index >= g_sample_end)
             break;
+        // Adaptive sampling decides from the pixel's state alone, before each sample, so the
+        // image does not depend on how samples are split into frames.
+        if (g_noise_threshold > 0.0 && is_noise_check_due(sum.a, g_noise_min_samples)
+            && is_pixel_converged(sum.rgb - compensation, sum.a, sum_of_squares, g_noise_threshold))
+            break;
         uvec2 seed = get_sample_seed(pixel, sample_index, g_resolution_triangle_count_seed.w);
         // The Sobol state of this sample (glsl/sobol.glsl); unused with SAMPLER_PCG.
-        g_sample_index = sample_index;
-        g_pixel_seed = get_sobol_pixel_seed(pixel, g_resolution_triangle_count_seed.w);
-        g_dimension_pair = 0u;
+        g_path.sample_index = sample_index;
+        g_path.pixel_seed = get_sobol_pixel_seed(pixel, g_resolution_triangle_count_seed.w);
+        g_path.dimension_pair = 0u;
         // The importance-sampled integrators draw their jitter through get_path_random_numbers()
         // (the first dimension pair with SAMPLER_SOBOL); the workshop's stay on PCG2D, exactly.
-        bool importance_sampled = INTEGRATOR == INTEGRATOR_COSINE || INTEGRATOR == INTEGRATOR_NEE || INTEGRATOR == INTEGRATOR_MIS;
-        vec2 tex_coord = (importance_sampled && PIXEL_FILTER == PIXEL_FILTER_BOX)
+        vec2 tex_coord = (is_importance_sampled() && PIXEL_FILTER == PIXEL_FILTER_BOX)
             ? (vec2(pixel) + get_path_random_numbers(seed)) / vec2(resolution)
             : get_sample_tex_coord(pixel, resolution, seed);
         vec3 ray_direction = get_primary_ray_direction(tex_coord.x, tex_coord.y, g_camera_position.xyz, g_left_bottom.xyz, g_right.xyz, g_up.xyz);
@@ -127,7 +142,7 @@ void main() {
     // llvmpipe ends a loop of a SIMD program after LLVMPIPE_LOOP_LIMIT iterations over its
     // entries, without an error; a program's iterations are at most LLVMPIPE_SIMD_WIDTH times
     // the largest lane's (see shared.h). An upper bound of this lane's iterations, with the
-    // coefficients of src/kernels/loops.rs: per sample; per ray (g_ray_count) the path loop's,
+    // coefficients of src/kernels/loops.rs: per sample; per ray (g_path.ray_count) the path loop's,
     // the light search's (at most the bits of the light count) and the loops over all
     // triangles; and what the BVH's traversal counted itself. Reaching LOOP_LIMIT flags the
     // pixel; the host refuses a flagged image.
@@ -135,8 +150,8 @@ void main() {
         uint per_ray = LOOPS_PER_RAY + LIGHT_SEARCHES_PER_RAY * uint(findMSB(max(get_light_count(), 1u)) + 1)
             + TRIANGLE_LOOPS_PER_RAY * g_resolution_triangle_count_seed.z;
         uint samples = min(uint(SAMPLE_COUNT), g_sample_end - min(g_first_sample_index, g_sample_end));
-        uint iterations = LOOPS_PER_SAMPLE * samples + g_ray_count * per_ray + g_traversal_iterations;
-        if (iterations >= LOOP_LIMIT || g_ray_count * per_ray >= LOOP_LIMIT)
+        uint iterations = LOOPS_PER_SAMPLE * samples + g_path.ray_count * per_ray + g_path.traversal_iterations;
+        if (iterations >= LOOP_LIMIT || g_path.ray_count * per_ray >= LOOP_LIMIT)
             sum_of_squares_flag = 1.0;
     }
 #ifdef USER_FUNCTIONS
@@ -146,6 +161,6 @@ void main() {
 #endif
     imageStore(g_accumulation, ivec3(texel, LAYER_SUM), sum);
     // Ray counts are exact in a float up to 2^24 per pixel, far beyond what a benchmark takes.
-    imageStore(g_accumulation, ivec3(texel, LAYER_COMPENSATION), vec4(compensation, compensation_and_rays.a + float(g_ray_count)));
+    imageStore(g_accumulation, ivec3(texel, LAYER_COMPENSATION), vec4(compensation, compensation_and_rays.a + float(g_path.ray_count)));
     imageStore(g_accumulation, ivec3(texel, LAYER_SUM_OF_SQUARES), vec4(sum_of_squares, sum_of_squares_flag));
 }

@@ -11,7 +11,8 @@
 
 // Texel 0: uvec4(count, 0, 0, 0); light i at texel 1 + PUNCTUAL_LIGHT_TEXEL_COUNT i:
 // (position xyz, PUNCTUAL_LIGHT_* bits), (the direction it shines xyz, 0),
-// (intensity rgb, 0), (cos outer cone, cone scale, cone offset, 0). GpuPunctualLight on the host.
+// (intensity rgb, 0), (0, cone scale, cone offset, 0). gpu_punctual_light_words() of
+// src/lights/gpu_punctual.rs on the host.
 layout(set = 0, binding = BINDING_PUNCTUAL_LIGHTS) uniform usamplerBuffer g_punctual_light_texels;
 
 // A punctual light as the integrators use it.

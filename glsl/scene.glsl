@@ -77,17 +77,8 @@ bool is_double_sided(uint index) {
     return (floatBitsToUint(get_packed_triangle(index).emission.a) & TRIANGLE_FLAG_DOUBLE_SIDED) != 0u;
 }
 
-// Index in g_triangles of the triangle that the last successful ray_mesh_intersection() hit.
-// vkpath's addition: it carries per-triangle flags (is_double_sided()) without changing the
-// workshop's signature. Private to each invocation.
-uint g_hit_triangle_index = 0u;
-
-// Number of rays this invocation traced (vkpath's addition, for `vkpath bench`'s rays/s).
-uint g_ray_count = 0u;
-
-// Iterations of the BVH traversal loops this invocation ran (vkpath's addition: llvmpipe
-// ends all loops of an invocation after LLVMPIPE_LOOP_LIMIT iterations, see path_tracer.comp).
-uint g_traversal_iterations = 0u;
+// The hit triangle's index, the ray count and the traversal's iterations
+#include "path_state.glsl"
 
 #include "constant_triangles.glsl"
 
@@ -142,7 +133,7 @@ bool bvh_any_hit(vec3 ray_origin, vec3 ray_direction, float t_max);
 // \param ray_origin, ray_direction The ray, world space
 // \return true iff any triangle was hit; then g_hit_triangle_index names the triangle
 bool ray_mesh_intersection(out float out_t, out triangle_t out_triangle, vec3 ray_origin, vec3 ray_direction) {
-    ++g_ray_count;
+    ++g_path.ray_count;
 #ifdef USE_BVH
     uint hit_index;
     bool hit = bvh_closest_hit(out_t, hit_index, ray_origin, ray_direction);
@@ -177,7 +168,7 @@ bool ray_mesh_intersection(out float out_t, out triangle_t out_triangle, vec3 ra
 #endif
     if (hit) {
         out_triangle = get_triangle(hit_index);
-        g_hit_triangle_index = hit_index;
+        g_path.hit_triangle_index = hit_index;
     }
     return hit;
 }
@@ -186,7 +177,7 @@ bool ray_mesh_intersection(out float out_t, out triangle_t out_triangle, vec3 ra
 // Whether a ray hits any triangle at a ray parameter t < t_max (vkpath's addition, for
 // shadow rays): it may stop at the first such hit instead of finding the closest.
 bool ray_mesh_any_hit(vec3 ray_origin, vec3 ray_direction, float t_max) {
-    ++g_ray_count;
+    ++g_path.ray_count;
 #ifdef USE_BVH
     return bvh_any_hit(ray_origin, ray_direction, t_max);
 #else

@@ -21,8 +21,9 @@
 // Workgroup size of the 1D probe kernels that evaluate one function on a buffer of inputs.
 #define PROBE_WORKGROUP_SIZE 64
 
-// ---- Descriptor set 0 of the path tracer (glsl/path_tracer.comp, host side src/render/) ----
-// Binding 3 is the BVH's, BINDING_BVH_NODES (below).
+// ---- Descriptor set 0 of the path tracer (glsl/path_tracer.comp), all its bindings ----
+// The host's layouts and descriptor writes come from one table, src/kernels/bindings.rs,
+// which a test checks against each build's SPIR-V.
 
 // The scene's triangles: a texel buffer of packed_triangle_t (glsl/scene.glsl), GpuTriangle
 // on the host.
@@ -32,8 +33,29 @@
 // The accumulation image (an rgba32f 2D array image with the LAYER_* layers).
 #define BINDING_ACCUMULATION 2
 // Emissive triangles and their power CDF, for light sampling (nee, mis): a texel buffer of
-// GpuLightHeader then one GpuLight per light (glsl/importance_sampling.glsl).
+// GpuLightHeader then one GpuLight per light (glsl/lights.glsl).
 #define BINDING_LIGHTS 4
+// Builds with USE_BVH: the BVH's nodes, a texel buffer of bvh_node_t (32 bytes each,
+// glsl/bvh.glsl).
+#define BINDING_BVH_NODES 3
+// The texels of every texture, concatenated (TextureAtlas on the host): a uniform texel
+// buffer of R8G8B8A8_UINT texels (usamplerBuffer), rows top-down as in the image files.
+#define BINDING_TEXTURE_TEXELS 5
+// Builds with USE_MATERIALS: per-triangle shading data, a texel buffer of
+// SHADING_TEXEL_COUNT RGBA32_UINT texels per triangle (GpuTriangleShading on the host):
+// vertex normals (xyz; texel 0's w: the material index), texture coordinates (texel 3: uv_0,
+// uv_1; texel 4: uv_2), tangents (xyzw).
+#define BINDING_SHADING 6
+// USE_MATERIALS: the materials, a texel buffer of MATERIAL_TEXEL_COUNT RGBA32_UINT texels
+// per material (GpuMaterial on the host, glsl/materials.glsl says what each holds).
+#define BINDING_MATERIALS 7
+// USE_MATERIALS: the environment, a texel buffer of RGBA32_UINT (gpu_environment_words() of
+// src/lights/gpu_environment.rs; glsl/environment.glsl says what each texel holds).
+#define BINDING_ENVIRONMENT 16
+// USE_MATERIALS: KHR_lights_punctual's lights, a texel buffer of RGBA32_UINT: a header texel
+// (x = count) then PUNCTUAL_LIGHT_TEXEL_COUNT texels per light (gpu_punctual_light_words()
+// of src/lights/gpu_punctual.rs).
+#define BINDING_PUNCTUAL_LIGHTS 17
 
 // ---- Layers of the accumulation image ----
 
@@ -185,14 +207,6 @@
 // (MIS weights) stays far below float's 3.4e38.
 #define MIN_GGX_ALPHA 1.0e-4
 
-// Descriptor set 0 of the path tracer with materials (kernels built with USE_MATERIALS):
-// per-triangle shading data, a texel buffer of SHADING_TEXEL_COUNT RGBA32_UINT texels per
-// triangle (GpuTriangleShading on the host): vertex normals (xyz; texel 0's w: the material
-// index), texture coordinates (texel 3: uv_0, uv_1; texel 4: uv_2), tangents (xyzw).
-#define BINDING_SHADING 6
-// The materials, a texel buffer of MATERIAL_TEXEL_COUNT RGBA32_UINT texels per material
-// (GpuMaterial on the host, glsl/materials.glsl says what each holds).
-#define BINDING_MATERIALS 7
 #define SHADING_TEXEL_COUNT 8
 #define MATERIAL_TEXEL_COUNT 17
 // A material's texture slots, in the order of their texture_slot_t (3 texels each) after the
@@ -210,12 +224,6 @@
 
 // ======== Lights beyond emissive triangles (glsl/environment.glsl, glsl/punctual_lights.glsl) ========
 
-// The environment (kernels built with USE_MATERIALS): a texel buffer of RGBA32_UINT,
-// GpuEnvironment on the host (glsl/environment.glsl says what each texel holds).
-#define BINDING_ENVIRONMENT 16
-// KHR_lights_punctual's lights: a texel buffer of RGBA32_UINT, a header texel (x = count)
-// then PUNCTUAL_LIGHT_TEXEL_COUNT texels per light (GpuPunctualLight on the host).
-#define BINDING_PUNCTUAL_LIGHTS 17
 #define PUNCTUAL_LIGHT_TEXEL_COUNT 4
 // What the environment is: black (nothing to sample), a constant colour, a map.
 #define ENVIRONMENT_NONE 0
@@ -265,9 +273,6 @@
 
 // ======== The bounding volume hierarchy (glsl/bvh.glsl, host side src/bvh/) and its probe ========
 
-// A texel buffer of bvh_node_t, 32 bytes each, in the path tracer's descriptor set 0 beside
-// the triangles it indexes.
-#define BINDING_BVH_NODES 3
 // Entries of the traversal stack of bvh_closest_hit() and bvh_any_hit(). The builder makes no
 // leaf deeper than this (root: depth 0), which is what the stack needs: at most one entry is
 // pushed per interior node on the path from the root.
@@ -297,10 +302,6 @@
 
 // ======== Textures (glsl/textures.glsl, host side src/render/gpu_textures.rs) ========
 
-// The texels of every texture, concatenated (TextureAtlas on the host): a uniform texel
-// buffer of R8G8B8A8_UINT texels (usamplerBuffer), rows top-down as in the image files, in
-// the path tracer's descriptor set 0.
-#define BINDING_TEXTURE_TEXELS 5
 // RGBA32_UINT texels (uvec4) per texture_slot_t as packed (GpuTextureSlot, 48 bytes).
 #define TEXTURE_SLOT_TEXEL_COUNT 3
 

@@ -108,11 +108,8 @@ vec2 get_sobol_sample_2d(uint sample_index, uint dimension_pair, uint pixel_seed
     return vec2(sobol_to_float(x), sobol_to_float(y));
 }
 
-// The state of the current sample's Sobol sequences, set by the kernel's main() before each
-// sample: its index, the pixel's seed, and the next dimension pair to draw (from 0).
-uint g_sample_index;
-uint g_pixel_seed;
-uint g_dimension_pair;
+// The current sample's Sobol state: g_path.sample_index, .pixel_seed, .dimension_pair
+#include "path_state.glsl"
 
 // The random numbers of the importance-sampled integrators: the next dimension pair of the
 // sample's scrambled Sobol sequence with SAMPLER_SOBOL, the workshop's PCG2D otherwise.
@@ -120,7 +117,7 @@ uint g_dimension_pair;
 // \return Two uniform numbers in [0,1)
 vec2 get_path_random_numbers(inout uvec2 seed) {
     if (SAMPLER == SAMPLER_SOBOL)
-        return get_sobol_sample_2d(g_sample_index, g_dimension_pair++, g_pixel_seed);
+        return get_sobol_sample_2d(g_path.sample_index, g_path.dimension_pair++, g_path.pixel_seed);
     return get_random_numbers(seed);
 }
 

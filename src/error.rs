@@ -1,5 +1,6 @@
 //! The library's error type: what we were doing and what went wrong, in one line.
 
+use crate::image_io::ImageError;
 use crate::scene::SceneError;
 use crate::vk::VkError;
 
@@ -19,7 +20,10 @@ pub enum Error {
     /// The scene lacks something the render needs.
     #[error("{0}")]
     MissingInput(String),
-    /// An image could not be written or read.
+    /// An image file could not be written or read.
+    #[error(transparent)]
+    ImageFile(#[from] ImageError),
+    /// An image could not be made (a shader program's output, a render's pixels).
     #[error("{0}")]
     Image(String),
     /// A shader could not be compiled.

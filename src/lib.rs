@@ -58,6 +58,7 @@ pub mod exercise;
 pub mod image_io;
 #[doc(hidden)]
 pub mod kernels;
+pub mod lights;
 pub mod render;
 pub mod scene;
 #[doc(hidden)]

@@ -119,10 +119,12 @@ fn zero_and_absurd_sizes_and_sample_counts() {
     render_error(&["--spp", "4000000000"], "--spp");
     render_error(&["--max-path-length", "0"], "--max-path-length");
     render_error(&["--generated", "100000000000"], "--generated");
-    // Checked against the device's memory before anything is allocated, with the sizes.
+    // Too large for the device, so in tiles; their state on the host (240 bytes a pixel
+    // at most, 60 GiB here) is checked against the host's memory before anything is
+    // allocated, with the sizes (on a machine with less than 60 GiB available).
     render_error(
         &["--width", "16384", "--height", "16384"],
-        "MB for a 16384x16384 image",
+        "MB of host memory for the state of 16384x16384 pixels of the 16384x16384 image",
     );
 }
 

@@ -6,9 +6,9 @@ mod common;
 
 use glam::{Mat4, Vec3};
 use vkpath::camera::Camera;
-use vkpath::scene::environment::{Environment, EnvironmentMap};
+use vkpath::lights::{Environment, EnvironmentMap};
+use vkpath::lights::{PunctualKind, PunctualLight};
 use vkpath::scene::procedural::inward_cube;
-use vkpath::scene::punctual::{PunctualKind, PunctualLight};
 use vkpath::scene::Triangle;
 use vkpath::stats::ztest::{z_test_images, MeanImage};
 use vkpath::{

@@ -236,7 +236,7 @@ fn a_second_sigint_aborts_at_once_leaving_only_whole_files() {
         left.iter().all(|n| n == "ck.exr" || n == "out.exr"),
         "only whole files: {left:?}"
     );
-    vkpath::image_io::state_exr::read_state(&path.join("ck.exr")).expect("a whole checkpoint");
+    vkpath::render::state_exr::read_state(&path.join("ck.exr")).expect("a whole checkpoint");
     if path.join("out.exr").exists() {
         vkpath::image_io::exr_input::read_exr(&path.join("out.exr")).expect("a whole image");
     }

@@ -9,7 +9,7 @@ use std::path::Path;
 use std::process::{Command, Stdio};
 use std::time::{Duration, Instant};
 
-use vkpath::image_io::state_exr::read_state;
+use vkpath::render::state_exr::read_state;
 
 /// The render every test shares: the built-in box, small but long enough to interrupt
 /// (about 3 s on lavapipe with 2 cores).

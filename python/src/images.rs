@@ -153,6 +153,7 @@ pub fn save(
         exposure: exposure_of(exposure)?,
         tone_map: parse_optional("tonemap", tonemap)?.unwrap_or(RENDER_PNG_TONE_MAP),
         moments,
+        window: None,
     };
     py.detach(|| vkpath::save_image(&path, &image.image, &options))
         .map_err(to_py)

@@ -12,10 +12,11 @@ use std::time::{Duration, Instant};
 use glam::Vec3;
 use pyo3::prelude::*;
 use pyo3::types::{PyBool, PyByteArray, PyDict};
+use vkpath::lights::environment_source::{EnvironmentOptionNames, EnvironmentSource};
 use vkpath::render::job::production_settings;
+use vkpath::render::region::PixelRegion;
 use vkpath::render::StopReason;
 use vkpath::render::{RenderControl, Renderer};
-use vkpath::scene::environment::{load_environment_map, Environment};
 use vkpath::{Context, ContextOptions, Integrator, RenderSettings};
 
 use crate::errors::{message, to_py};
@@ -37,6 +38,7 @@ struct Choices<'a> {
     max_path_length: Option<u32>,
     samples_per_frame: Option<u32>,
     russian_roulette_start: Option<u32>,
+    region: Option<(u32, u32, u32, u32)>,
 }
 
 impl Choices<'_> {
@@ -62,6 +64,10 @@ impl Choices<'_> {
             russian_roulette_start: self
                 .russian_roulette_start
                 .unwrap_or(default.russian_roulette_start),
+            region: self
+                .region
+                .map(|(x0, y0, x1, y1)| PixelRegion { x0, y0, x1, y1 }),
+            ..default
         };
         settings.validate().map_err(to_py)?;
         let mut warnings = Vec::new();
@@ -80,41 +86,13 @@ impl Choices<'_> {
     }
 }
 
-/// The light around the scene: a map, a constant colour, or nothing (`None`).
-fn environment(
-    map: Option<PathBuf>,
-    strength: f32,
-    rotation: f32,
-    background: Option<(f32, f32, f32)>,
-) -> PyResult<Option<Environment>> {
-    if !(strength >= 0.0 && strength.is_finite()) {
-        return Err(message(format!(
-            "environment_strength must be a finite number >= 0, not {strength}"
-        )));
-    }
-    if !rotation.is_finite() {
-        return Err(message("environment_rotation must be finite"));
-    }
-    match (map, background) {
-        (Some(_), Some(_)) => Err(message(
-            "environment and background exclude each other: give one",
-        )),
-        (None, Some(background)) => {
-            let background = Vec3::from(background);
-            if !(background.is_finite() && background.min_element() >= 0.0) {
-                return Err(message("background must be three finite numbers >= 0"));
-            }
-            Ok(Some(Environment::constant(background)))
-        }
-        (Some(path), None) => Ok(Some(Environment {
-            map: Some(load_environment_map(&path).map_err(message)?),
-            background: Vec3::ZERO,
-            strength,
-            rotation_degrees: rotation,
-        })),
-        (None, None) => Ok(None),
-    }
-}
+/// Python's names for the environment's parameters, for `EnvironmentSource::from_options`.
+const PYTHON_NAMES: EnvironmentOptionNames = EnvironmentOptionNames {
+    map: "environment",
+    strength: "environment_strength",
+    rotation: "environment_rotation",
+    background: "background",
+};
 
 /// After each batch: lets Python run its signal handlers (Ctrl-C raises KeyboardInterrupt
 /// there) and calls `progress(done, total)`. Either's exception (kept in `error`, to raise
@@ -156,7 +134,7 @@ fn after_batch(
     sampler=None, light_sampling=None, pixel_filter=None, accel=None, max_path_length=None,
     samples_per_frame=None, russian_roulette_start=None, environment_map=None,
     environment_strength=1.0, environment_rotation=0.0, background=None, time_limit=None,
-    progress=None, device=None, validate=false))]
+    progress=None, device=None, validate=false, region=None))]
 #[allow(clippy::too_many_arguments)]
 pub fn render<'py>(
     py: Python<'py>,
@@ -181,6 +159,7 @@ pub fn render<'py>(
     progress: Option<Py<PyAny>>,
     device: Option<String>,
     validate: bool,
+    region: Option<(u32, u32, u32, u32)>,
 ) -> PyResult<Bound<'py, PyDict>> {
     let (settings, mut warnings) = Choices {
         width,
@@ -195,6 +174,7 @@ pub fn render<'py>(
         max_path_length,
         samples_per_frame,
         russian_roulette_start,
+        region,
     }
     .settings()?;
     let time_limit = time_limit
@@ -208,13 +188,19 @@ pub fn render<'py>(
             }
         })
         .transpose()?;
-    let mut world = scene.inner.clone();
-    world.environment = environment(
-        environment_map,
+    let environment = EnvironmentSource::from_options(
+        environment_map.as_deref(),
         environment_strength,
         environment_rotation,
-        background,
-    )?;
+        background.map(Vec3::from),
+        &PYTHON_NAMES,
+    )
+    .map_err(message)?;
+    let world = scene
+        .inner
+        .clone()
+        .with_environment(environment.as_ref())
+        .map_err(|e| message(e.to_string()))?;
     let camera = scene.render_camera(settings.aspect())?;
     warnings.extend(lighting_warnings(&world, settings.integrator));
     let stop = AtomicBool::new(false);
@@ -327,6 +313,7 @@ fn settings_dict<'py>(py: Python<'py>, settings: &RenderSettings) -> PyResult<Bo
     dict.set_item("max_path_length", settings.max_path_length)?;
     dict.set_item("samples_per_frame", settings.samples_per_frame)?;
     dict.set_item("russian_roulette_start", settings.russian_roulette_start)?;
+    dict.set_item("region", settings.region.map(|r| (r.x0, r.y0, r.x1, r.y1)))?;
     Ok(dict)
 }
 

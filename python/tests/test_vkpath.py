@@ -67,6 +67,17 @@ def test_default_render_equals_the_command_lines_exr_bit_for_bit(cli, tmp_path):
     assert np.array_equal(bits(image), bits(expected))
 
 
+def test_a_region_is_the_full_renders_pixels_bit_for_bit():
+    full = vkpath.render(width=16, height=12, spp=4, seed=1)
+    part = vkpath.render(width=16, height=12, spp=4, seed=1, region=(3, 2, 11, 9))
+    assert part.shape == (7, 8, 4)
+    assert np.array_equal(bits(part), bits(full[2:9, 3:11]))
+    with pytest.raises(vkpath.VkpathError, match="reaches outside the 16x12 image"):
+        vkpath.render(width=16, height=12, spp=1, region=(0, 0, 17, 12))
+    with pytest.raises(vkpath.VkpathError, match="is not"):
+        vkpath.render(width=16, height=12, spp=1, region=(0, 0, 4))
+
+
 def test_a_scene_file_and_a_look_at_camera_equal_the_command_line(cli, tmp_path):
     scene_file = REPO / "scenes" / "materials.gltf"
     output = tmp_path / "cli.exr"

@@ -77,6 +77,16 @@ def default_settings() -> Dict[str, Any]:
     return dict(_vkpath.default_settings())
 
 
+def _region_of(region: Sequence[int]) -> Tuple[int, int, int, int]:
+    """``region`` as the four ints (x0, y0, x1, y1) the extension takes."""
+    values = tuple(int(v) for v in region)
+    if len(values) != 4 or min(values) < 0:
+        raise VkpathError(
+            f"region={tuple(region)!r} is not (x0, y0, x1, y1): four whole numbers >= 0"
+        )
+    return values  # type: ignore[return-value]
+
+
 def _scene_of(scene: Union[None, PathLike, Scene]) -> Scene:
     if scene is None:
         return Scene.cornell_box()
@@ -116,6 +126,7 @@ def render_result(
     progress: Optional[ProgressCallback] = None,
     device: Optional[Union[int, str]] = None,
     validate: bool = False,
+    region: Optional[Sequence[int]] = None,
 ) -> RenderResult:
     """:func:`render`, returning the image with its moments, the samples taken and why the
     render stopped."""
@@ -142,6 +153,7 @@ def render_result(
         progress=progress,
         device=None if device is None else str(device),
         validate=validate,
+        region=None if region is None else _region_of(region),
     )
     for warning in raw["warnings"]:
         warnings.warn(warning, stacklevel=2)
@@ -182,6 +194,7 @@ def render(
     progress: Optional[ProgressCallback] = None,
     device: Optional[Union[int, str]] = None,
     validate: bool = False,
+    region: Optional[Sequence[int]] = None,
 ) -> np.ndarray:
     """Renders a scene and returns its linear RGBA image, float32, shape (height, width, 4),
     rows top-down: what ``vkpath render ... -o out.exr`` writes, bit for bit.
@@ -200,6 +213,10 @@ def render(
     samples taken so far, raising stops it and re-raises. Ctrl-C stops it after the current
     batch and raises KeyboardInterrupt. ``time_limit`` (seconds) stops it and returns what it
     has. ``device`` is an index or part of a name, as ``vkpath devices`` lists them.
+
+    ``region=(x0, y0, x1, y1)`` renders only columns x0..x1 and rows y0..y1 of the image
+    (x1 and y1 excluded, from the top-left), as ``--region`` does: the array is
+    (y1 - y0, x1 - x0, 4), each pixel bit for bit the full render's.
     """
     return render_result(
         scene,
@@ -223,6 +240,7 @@ def render(
         progress=progress,
         device=device,
         validate=validate,
+        region=region,
     ).image
 
 

@@ -101,6 +101,7 @@ def render(
     progress: Optional[Callable[[int, int], Optional[bool]]] = None,
     device: Optional[str] = None,
     validate: bool = False,
+    region: Optional[Tuple[int, int, int, int]] = None,
 ) -> Dict[str, Any]: ...
 def save(
     pixels: Dict[str, Any],

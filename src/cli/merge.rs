@@ -4,8 +4,8 @@ use std::path::PathBuf;
 
 use super::options::SaveArgs;
 use crate::image_io::output::{check_writable, save_image, ImageFormat};
-use crate::image_io::state_exr::{merge_state_files, write_state};
 use crate::image_io::tonemap::RENDER_PNG_TONE_MAP;
+use crate::render::state_exr::{merge_state_files, write_state};
 
 /// Arguments of `vkpath merge`.
 #[derive(Debug, Clone, clap::Args)]

@@ -283,6 +283,7 @@ impl SaveArgs {
             exposure: self.exposure.unwrap_or_default(),
             tone_map: self.tonemap.unwrap_or(default_tone_map),
             moments: self.moments,
+            window: None,
         }
     }
 

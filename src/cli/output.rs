@@ -16,13 +16,13 @@ use crate::camera::Camera;
 use crate::image_io::output::{
     save_image_with_attributes, save_image_with_layers, ImageLayer, SaveOptions,
 };
-use crate::image_io::state_exr::write_state;
 use crate::render::accumulation::Accumulation;
 use crate::render::aov::{render_aov, Aov};
 use crate::render::job::{run_job, JobOptions};
 use crate::render::metadata::{sampler_name, RenderMetadata};
 use crate::render::multi::run_on_devices;
 use crate::render::settings::{RenderSettings, SamplerKind};
+use crate::render::state_exr::write_state;
 use crate::render::StopReason;
 use crate::scene::Scene;
 use crate::vk::{Context, DeviceInfo, DeviceKind};
@@ -118,6 +118,13 @@ pub struct RenderReport {
     pub checkpoint: Option<String>,
     /// The preview written, if any.
     pub preview: Option<String>,
+    /// The part of the image rendered, [x0, y0, x1, y1] (`--region`), or `null`: all of it.
+    pub region: Option<[u32; 4]>,
+    /// `--noise-threshold`, or `null`.
+    pub noise_threshold: Option<f32>,
+    /// The mean over the pixels of the samples each holds: `spp_taken` unless
+    /// `--noise-threshold` stopped some pixels early.
+    pub spp_mean: f64,
 }
 
 /// One device of a `RenderReport`.
@@ -435,6 +442,7 @@ fn finish(
         if let Some(preview) = preview {
             eprintln!("vkpath: wrote {} (preview)", preview.display());
         }
+        let area = settings.area();
         let devices: Vec<(DeviceInfo, u32)> = contexts
             .iter()
             .zip(&finished.devices)
@@ -444,8 +452,8 @@ fn finish(
             "{}",
             summary_line(&Summary {
                 devices: &devices,
-                width: settings.width,
-                height: settings.height,
+                width: area.width(),
+                height: area.height(),
                 spp: done,
                 new_spp: new_samples,
                 setup_seconds,
@@ -454,7 +462,13 @@ fn finish(
         );
     }
     if request.reporting.json {
-        let pixels = f64::from(settings.width) * f64::from(settings.height);
+        let area = settings.area();
+        let pixels = f64::from(area.width()) * f64::from(area.height());
+        let samples_held: f64 = image.sample_count.iter().map(|&n| f64::from(n)).sum();
+        // Samples this run took: all those held but the resumed ones (`resumed_spp` per
+        // pixel, exact unless an adaptive checkpoint had stopped some pixels before).
+        let new_samples_taken =
+            (samples_held - f64::from(finished.resumed_samples) * pixels).max(0.0);
         let effective_sampler = if settings.integrator.is_importance_sampled() {
             settings.sampler
         } else {
@@ -470,6 +484,9 @@ fn finish(
             scene: request.scene_name.clone(),
             width: settings.width,
             height: settings.height,
+            region: settings.region.map(|r| [r.x0, r.y0, r.x1, r.y1]),
+            noise_threshold: settings.noise_threshold.map(|n| n.threshold),
+            spp_mean: samples_held / pixels.max(1.0),
             integrator: settings.integrator.name(),
             sampler: sampler_name(effective_sampler),
             spp_requested: total,
@@ -478,7 +495,7 @@ fn finish(
             resumed_spp: finished.resumed_samples,
             setup_seconds,
             render_seconds: finished.render_seconds,
-            samples_per_second: f64::from(new_samples) * pixels / finished.render_seconds.max(1e-9),
+            samples_per_second: new_samples_taken / finished.render_seconds.max(1e-9),
             devices: finished.devices,
             stop: finished.stop.name(),
             checkpoint: checkpoint.map(|p| p.display().to_string()),
@@ -570,6 +587,13 @@ pub fn save_or_rescue(
     layers: &[ImageLayer],
 ) -> anyhow::Result<()> {
     let attributes = metadata.attributes();
+    // A region's EXR is placed in the full image; an adaptive render's keeps every pixel's
+    // sample count (and the second moments beside it, for `compare`).
+    let save = &SaveOptions {
+        window: metadata.window(),
+        moments: save.moments || metadata.setting("noise_threshold").is_some(),
+        ..*save
+    };
     let Err(error) = save_image_with_layers(output, image, save, &attributes, layers) else {
         return Ok(());
     };

@@ -12,10 +12,12 @@ use super::{parse_vec3, signals, DeviceArgs};
 use crate::camera::{Camera, DEFAULT_VERTICAL_FOV_DEGREES};
 use crate::image_io::output::{check_writable, ImageFormat};
 use crate::image_io::tonemap::RENDER_PNG_TONE_MAP;
+use crate::lights::environment_source::{EnvironmentSource, COMMAND_LINE_NAMES};
+use crate::render::adaptive::{NoiseThreshold, DEFAULT_MIN_SPP};
 use crate::render::job::{production_settings, JobOptions, DEFAULT_CHECKPOINT_INTERVAL};
 use crate::render::metadata::sampler_name;
+use crate::render::region::PixelRegion;
 use crate::render::settings::{Integrator, PixelFilter, RenderSettings};
-use crate::scene::environment::{load_environment_map, Environment};
 use crate::scene::Scene;
 
 /// Arguments of `vkpath render`.
@@ -51,6 +53,28 @@ pub struct RenderArgs {
     /// Where samples look inside a pixel.
     #[arg(long, value_enum, default_value_t = RenderSettings::default().pixel_filter)]
     pub pixel_filter: PixelFilter,
+    /// Render only these pixels of the --width x --height image: columns X0..X1 and rows
+    /// Y0..Y1 (X1 and Y1 excluded), counted from the top-left. Each gets exactly the value
+    /// the full render gives it. An EXR holds the region as its data window, inside a
+    /// display window of the full image's size; a PNG holds the region's pixels.
+    #[arg(long, value_name = "X0,Y0,X1,Y1", value_parser = PixelRegion::parse)]
+    pub region: Option<PixelRegion>,
+    /// Put the image on the device in square tiles of this many pixels a side, one at a
+    /// time, and stitch them (the image is the same bit for bit). Without it, tiles are used
+    /// only when the image would not fit the device's memory or image size.
+    #[arg(long, value_name = "PIXELS")]
+    pub tile_size: Option<u32>,
+    /// Adaptive sampling: a pixel takes no more samples once the relative standard error of
+    /// its mean (each channel's, estimated from its samples, against the brightest channel's
+    /// mean) is at most T, e.g. 0.05, judged every --noise-min-spp samples; --spp is the cap. The
+    /// EXR keeps each pixel's sample count (with --moments' channels). Slightly biased, as
+    /// adaptive sampling is: a pixel whose first samples agree by chance stops early.
+    #[arg(long, value_name = "T")]
+    pub noise_threshold: Option<f32>,
+    /// With --noise-threshold: samples every pixel takes before it may stop, and how often
+    /// (in samples) it is judged after that (at least 2).
+    #[arg(long, value_name = "N", default_value_t = DEFAULT_MIN_SPP)]
+    pub noise_min_spp: u32,
     /// How the image is written.
     #[command(flatten)]
     pub save: SaveArgs,
@@ -98,33 +122,17 @@ pub struct LightArgs {
 }
 
 impl LightArgs {
-    /// The environment these options describe, if any.
-    pub fn environment(&self) -> anyhow::Result<Option<Environment>> {
-        if !(self.environment_strength >= 0.0 && self.environment_strength.is_finite()) {
-            bail!(
-                "--environment-strength must be a finite number >= 0, not {}",
-                self.environment_strength
-            );
-        }
-        if !self.environment_rotation.is_finite() {
-            bail!("--environment-rotation must be finite");
-        }
-        if let Some(background) = self.background {
-            if !(background.is_finite() && background.min_element() >= 0.0) {
-                bail!("--background must be three finite numbers >= 0");
-            }
-            return Ok(Some(Environment::constant(background)));
-        }
-        let Some(path) = &self.environment else {
-            return Ok(None);
-        };
-        let map = load_environment_map(path).map_err(anyhow::Error::msg)?;
-        Ok(Some(Environment {
-            map: Some(map),
-            background: Vec3::ZERO,
-            strength: self.environment_strength,
-            rotation_degrees: self.environment_rotation,
-        }))
+    /// The environment these options ask for, if any, checked
+    /// (`EnvironmentSource::from_options`).
+    pub fn source(&self) -> anyhow::Result<Option<EnvironmentSource>> {
+        EnvironmentSource::from_options(
+            self.environment.as_deref(),
+            self.environment_strength,
+            self.environment_rotation,
+            self.background,
+            &COMMAND_LINE_NAMES,
+        )
+        .map_err(anyhow::Error::msg)
     }
 }
 
@@ -160,6 +168,12 @@ impl RenderArgs {
             seed: self.seed,
             pixel_filter: self.pixel_filter,
             integrator: self.integrator,
+            region: self.region,
+            tile_size: self.tile_size,
+            noise_threshold: self.noise_threshold.map(|threshold| NoiseThreshold {
+                threshold,
+                min_spp: self.noise_min_spp,
+            }),
             ..production_settings()
         });
         settings.with_effective_sampler()
@@ -224,6 +238,18 @@ impl RenderArgs {
             && self.job.checkpoint_interval != DEFAULT_CHECKPOINT_INTERVAL.as_secs_f64()
         {
             warn("--checkpoint-interval has no effect without --checkpoint".into());
+        }
+        match self.noise_threshold {
+            None if self.noise_min_spp != DEFAULT_MIN_SPP => {
+                warn("--noise-min-spp has no effect without --noise-threshold".into());
+            }
+            Some(_) if self.noise_min_spp >= self.spp && self.job.sample_range.is_none() => {
+                warn(format!(
+                    "--noise-threshold has no effect: --noise-min-spp {} is not below --spp {}",
+                    self.noise_min_spp, self.spp
+                ));
+            }
+            _ => {}
         }
     }
 
@@ -344,13 +370,16 @@ pub fn run(args: &RenderArgs) -> anyhow::Result<()> {
     if !post.is_empty() && shard {
         bail!("--aov and --denoise work on whole renders: merge the shards first");
     }
+    if settings.noise_threshold.is_some() && (shard || args.device.several()?.is_some()) {
+        bail!("--noise-threshold decides per pixel how many of all the samples it takes: it cannot be split into shards or over several devices");
+    }
     if args.denoise {
         crate::denoise::available()?;
     }
-    let mut scene = args
+    let scene = args
         .scene
-        .load_reporting("vkpath render", reporting.talks())?;
-    scene.environment = args.lights.environment()?;
+        .load_reporting("vkpath render", reporting.talks())?
+        .with_environment(args.lights.source()?.as_ref())?;
     if !scene.emits_light() {
         eprintln!(
             "vkpath: warning: nothing lights the scene (no emissive surface, punctual light, --environment or --background): the image will be black"

@@ -1,10 +1,11 @@
 //! Rust twins of `glsl/environment.glsl`: the environment's lookup, its alias-table sampler
 //! and the sampler's density, reading the same words the GPU reads
-//! (`vkpath::render::gpu_lights::gpu_environment_words`).
+//! (`vkpath::lights::gpu_environment::gpu_environment_words`).
 
 use glam::{Vec2, Vec3};
 
 use crate::contract::{ENVIRONMENT_MAP, ENVIRONMENT_NONE};
+use crate::cpu::texels::{fetch_float_texel, fetch_texel};
 use crate::cpu::workshop::{sample_sphere, M_PI};
 
 /// The words of `g_environment_texels` as the twins read them.
@@ -15,17 +16,11 @@ pub struct EnvironmentTexels<'a> {
 
 impl EnvironmentTexels<'_> {
     fn texel(&self, index: usize) -> [u32; 4] {
-        let start = 4 * index;
-        [
-            self.words[start],
-            self.words[start + 1],
-            self.words[start + 2],
-            self.words[start + 3],
-        ]
+        fetch_texel(self.words, index).to_array()
     }
 
     fn float_texel(&self, index: usize) -> [f32; 4] {
-        self.texel(index).map(f32::from_bits)
+        fetch_float_texel(self.words, index).to_array()
     }
 }
 
@@ -121,8 +116,8 @@ pub fn is_black(texels: &EnvironmentTexels) -> bool {
 mod tests {
     use super::*;
     use crate::cpu::workshop::get_random_numbers;
-    use crate::render::gpu_lights::gpu_environment_words;
-    use crate::scene::environment::{Environment, EnvironmentMap};
+    use crate::lights::gpu_environment::gpu_environment_words;
+    use crate::lights::{Environment, EnvironmentMap};
     use crate::stats::chi2::{chi2_direction_test, Chi2Config};
     use crate::stats::sphere_histogram::{SphereFrame, TargetDensity};
     use glam::UVec2;
@@ -209,8 +204,8 @@ mod sun_tests {
     };
     use crate::cpu::sobol::get_sobol_sample_2d;
     use crate::cpu::workshop::get_random_numbers;
-    use crate::render::gpu_lights::gpu_environment_words;
-    use crate::scene::environment::{Environment, EnvironmentMap};
+    use crate::lights::gpu_environment::gpu_environment_words;
+    use crate::lights::{Environment, EnvironmentMap};
     use glam::{DVec3, UVec2};
     use std::f64::consts::{PI, TAU};
 

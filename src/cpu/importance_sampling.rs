@@ -1,19 +1,14 @@
-//! Rust twins of `glsl/importance_sampling.glsl`: cosine-weighted hemisphere sampling, light
-//! sampling (next event estimation), the power heuristic, Russian roulette, and the
-//! importance-sampled path loop. Same names, same maths, same random-number consumption.
+//! Rust twins of `glsl/importance_sampling.glsl`: cosine-weighted hemisphere sampling,
+//! points and directions on light triangles (by area, or by solid angle on spherical
+//! triangles) and the power heuristic. Same names, same maths.
 
-use glam::{UVec2, Vec2, Vec3};
+use glam::{Vec2, Vec3};
 
 use crate::contract::{
-    INTEGRATOR_COSINE, INTEGRATOR_MIS, LIGHT_SAMPLING_SOLID_ANGLE,
-    MAX_SPHERICAL_SAMPLING_SOLID_ANGLE, MIN_LIGHT_COSINE, MIN_SPHERICAL_SAMPLING_SOLID_ANGLE,
-    SHADOW_RAY_MARGIN,
+    LIGHT_SAMPLING_SOLID_ANGLE, MAX_SPHERICAL_SAMPLING_SOLID_ANGLE,
+    MIN_SPHERICAL_SAMPLING_SOLID_ANGLE,
 };
-use crate::cpu::integrator::{
-    is_double_sided, offset_ray_origin, orient_towards_ray, ray_mesh_intersection,
-};
-use crate::cpu::workshop::{get_random_numbers, ray_triangle_intersection, M_PI};
-use crate::scene::lights::LightTable;
+use crate::cpu::workshop::M_PI;
 use crate::scene::Triangle;
 
 /// Twin of `sample_hemisphere_cosine`: Malley's method in the Duff et al. (2017) basis.
@@ -123,70 +118,6 @@ pub fn sample_spherical_triangle(random_numbers: Vec2, spherical: &SphericalTria
         + (one_minus_z * (2.0 - one_minus_z)).sqrt() * (c_sub - c_sub.dot(b) * b).normalize()
 }
 
-/// Twin of `sample_light_index`: binary search for the first CDF entry above the number.
-pub fn sample_light_index(lights: &LightTable, random_number: f32) -> usize {
-    let (mut low, mut high) = (0usize, lights.cdf.len().saturating_sub(1));
-    for _ in 0..32 {
-        if low >= high {
-            break;
-        }
-        let middle = (low + high) / 2;
-        if random_number < lights.cdf[middle] {
-            high = middle;
-        } else {
-            low = middle + 1;
-        }
-    }
-    low
-}
-
-/// Twin of `get_light_density`: at the origin of `spherical` (the light as seen from there),
-/// p_select / solid angle for lights sampled by solid angle, else
-/// p_select / area * distance^2 / |n_light.omega|.
-pub fn get_light_density(
-    light_sampling: u32,
-    selection_probability: f32,
-    light: &Triangle,
-    spherical: &SphericalTriangle,
-    direction: Vec3,
-    distance: f32,
-) -> f32 {
-    if use_spherical_sampling(light_sampling, spherical) {
-        return selection_probability / spherical.solid_angle;
-    }
-    let cosine = light.normal.dot(direction).abs();
-    selection_probability * distance * distance
-        / (get_triangle_area(light) * cosine.max(MIN_LIGHT_COSINE))
-}
-
-/// Twin of `ray_mesh_any_hit` (brute force, the kernels without USE_BVH): whether any
-/// triangle is hit at a ray parameter t < t_max.
-pub fn ray_mesh_any_hit(
-    scene_triangles: &[Triangle],
-    ray_origin: Vec3,
-    ray_direction: Vec3,
-    t_max: f32,
-) -> bool {
-    scene_triangles.iter().any(|triangle| {
-        ray_triangle_intersection(ray_origin, ray_direction, triangle).is_some_and(|t| t < t_max)
-    })
-}
-
-/// Twin of `is_occluded`: the segment ends `SHADOW_RAY_MARGIN` (2^-14) short of the light.
-pub fn is_occluded(
-    scene_triangles: &[Triangle],
-    origin: Vec3,
-    direction: Vec3,
-    distance: f32,
-) -> bool {
-    ray_mesh_any_hit(
-        scene_triangles,
-        origin,
-        direction,
-        distance * (1.0 - SHADOW_RAY_MARGIN),
-    )
-}
-
 /// Twin of `get_power_heuristic_weight`.
 pub fn get_power_heuristic_weight(density: f32, other_density: f32) -> f32 {
     let squared = density * density;
@@ -198,166 +129,14 @@ pub fn get_power_heuristic_weight(density: f32, other_density: f32) -> f32 {
     }
 }
 
-/// Twin of `sample_light_direction`: a direction from `origin` towards a point of `light`
-/// (by solid angle or by area, as `use_spherical_sampling` says) and the distance along it.
-pub fn sample_light_direction(
-    light_sampling: u32,
-    point_randoms: Vec2,
-    light: &Triangle,
-    origin: Vec3,
-    spherical: &SphericalTriangle,
-) -> (Vec3, f32) {
-    if use_spherical_sampling(light_sampling, spherical) {
-        let direction = sample_spherical_triangle(point_randoms, spherical);
-        let distance = ray_triangle_intersection(origin, direction, light).unwrap_or_else(|| {
-            light.normal.dot(light.positions[0] - origin) / light.normal.dot(direction)
-        });
-        (direction, distance)
-    } else {
-        let to_light = sample_triangle_point(point_randoms, light) - origin;
-        let distance = to_light.length();
-        (to_light / distance, distance)
-    }
-}
-
-/// Twin of `sample_direct_light`; `light_sampling` is the kernel's `LIGHT_SAMPLING`.
-#[allow(clippy::too_many_arguments)]
-pub fn sample_direct_light(
-    scene_triangles: &[Triangle],
-    lights: &LightTable,
-    integrator: u32,
-    light_sampling: u32,
-    shading_position: Vec3,
-    triangle: &Triangle,
-    seed: &mut UVec2,
-) -> Vec3 {
-    let selection = get_random_numbers(seed);
-    let point_randoms = get_random_numbers(seed);
-    if lights.triangle_indices.is_empty() {
-        return Vec3::ZERO;
-    }
-    let light_index = lights.triangle_indices[sample_light_index(lights, selection[0])] as usize;
-    let light = &scene_triangles[light_index];
-    let origin = offset_ray_origin(shading_position, triangle.normal);
-    let spherical = get_spherical_triangle(origin, light);
-    let (direction, distance) =
-        sample_light_direction(light_sampling, point_randoms, light, origin, &spherical);
-    let cosine = triangle.normal.dot(direction);
-    let front = light.normal.dot(direction) < 0.0;
-    if cosine <= 0.0
-        || !(distance > 0.0)
-        || (!front && !is_double_sided(scene_triangles, light_index))
-    {
-        return Vec3::ZERO;
-    }
-    if is_occluded(scene_triangles, origin, direction, distance) {
-        return Vec3::ZERO;
-    }
-    let light_density = get_light_density(
-        light_sampling,
-        lights.selection_probability[light_index],
-        light,
-        &spherical,
-        direction,
-        distance,
-    );
-    let weight = if integrator == INTEGRATOR_MIS {
-        get_power_heuristic_weight(
-            light_density,
-            get_hemisphere_cosine_density(triangle.normal, direction),
-        )
-    } else {
-        1.0
-    };
-    triangle.color / M_PI * light.emission * cosine / light_density * weight
-}
-
-/// Twin of `get_ray_radiance_importance_sampled` (INTEGRATOR_COSINE, _NEE or _MIS);
-/// `light_sampling` is the kernel's `LIGHT_SAMPLING`.
-#[allow(clippy::too_many_arguments)]
-pub fn get_ray_radiance_importance_sampled(
-    scene_triangles: &[Triangle],
-    lights: &LightTable,
-    integrator: u32,
-    light_sampling: u32,
-    mut ray_origin: Vec3,
-    mut ray_direction: Vec3,
-    seed: &mut UVec2,
-    max_path_length: u32,
-    russian_roulette_start: u32,
-) -> Vec3 {
-    let mut radiance = Vec3::ZERO;
-    let mut throughput_weight = Vec3::ONE;
-    let mut direction_density = 0.0f32;
-    // Origin of the current ray: where MIS weights see a light found by it.
-    let mut previous_position = ray_origin;
-    for i in 0..max_path_length {
-        let Some(hit) = ray_mesh_intersection(scene_triangles, ray_origin, ray_direction) else {
-            break;
-        };
-        let mut triangle = scene_triangles[hit.triangle_index];
-        orient_towards_ray(
-            &mut triangle,
-            ray_direction,
-            is_double_sided(scene_triangles, hit.triangle_index),
-        );
-        ray_origin += hit.t * ray_direction;
-        if i == 0 || integrator == INTEGRATOR_COSINE {
-            radiance += throughput_weight * triangle.emission;
-        } else if integrator == INTEGRATOR_MIS && triangle.emission != Vec3::ZERO {
-            let light_density = get_light_density(
-                light_sampling,
-                lights.selection_probability[hit.triangle_index],
-                &triangle,
-                &get_spherical_triangle(previous_position, &triangle),
-                ray_direction,
-                hit.t,
-            );
-            radiance += throughput_weight
-                * triangle.emission
-                * get_power_heuristic_weight(direction_density, light_density);
-        }
-        if i + 1 == max_path_length {
-            break;
-        }
-        if integrator != INTEGRATOR_COSINE {
-            radiance += throughput_weight
-                * sample_direct_light(
-                    scene_triangles,
-                    lights,
-                    integrator,
-                    light_sampling,
-                    ray_origin,
-                    &triangle,
-                    seed,
-                );
-        }
-        ray_direction = sample_hemisphere_cosine(get_random_numbers(seed), triangle.normal);
-        direction_density = get_hemisphere_cosine_density(triangle.normal, ray_direction);
-        if direction_density <= 0.0 {
-            break;
-        }
-        throughput_weight *= triangle.color;
-        ray_origin = offset_ray_origin(ray_origin, triangle.normal);
-        previous_position = ray_origin;
-        if russian_roulette_start > 0 && i + 1 >= russian_roulette_start {
-            let survival = throughput_weight.max_element().min(1.0);
-            if get_random_numbers(seed)[0] >= survival {
-                break;
-            }
-            throughput_weight /= survival;
-        }
-    }
-    radiance
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::contract::LIGHT_SAMPLING_AREA;
+    use crate::cpu::workshop::get_random_numbers;
     use crate::stats::chi2::{chi2_direction_test, chi2_test, Chi2Config};
     use crate::stats::sphere_histogram::{SphereFrame, TargetDensity};
     use glam::DVec3;
+    use glam::UVec2;
 
     #[test]
     fn cosine_sampler_passes_chi2_against_its_density() {
@@ -565,52 +344,6 @@ mod tests {
             println!("case {case}, solid angle {total:.4}: {result:?}");
             assert!(result.passed, "case {case}: {result:?}");
         }
-    }
-
-    #[test]
-    fn light_density_switches_to_area_outside_the_solid_angle_range() {
-        let light = Triangle::new(
-            [
-                Vec3::new(0.0, 0.0, 1.0),
-                Vec3::new(0.01, 0.0, 1.0),
-                Vec3::new(0.0, 0.01, 1.0),
-            ],
-            Vec3::ONE,
-            Vec3::ONE,
-            false,
-        )
-        .unwrap();
-        let direction = Vec3::new(0.003, 0.003, 1.0).normalize();
-        let distance = 1.0 / direction.z;
-        // 5e-5 sr: too small for spherical sampling, so both settings give the area density.
-        let area = get_light_density(
-            LIGHT_SAMPLING_AREA,
-            0.5,
-            &light,
-            &get_spherical_triangle(Vec3::ZERO, &light),
-            direction,
-            distance,
-        );
-        let solid_angle = get_light_density(
-            LIGHT_SAMPLING_SOLID_ANGLE,
-            0.5,
-            &light,
-            &get_spherical_triangle(Vec3::ZERO, &light),
-            direction,
-            distance,
-        );
-        assert_eq!(area, solid_angle);
-        // From closer, 1/solid angle: it differs from the area density, whose 1/r^2 varies.
-        let spherical = get_spherical_triangle(Vec3::new(0.0, 0.0, 0.99), &light);
-        let near = get_light_density(
-            LIGHT_SAMPLING_SOLID_ANGLE,
-            0.5,
-            &light,
-            &spherical,
-            direction,
-            0.01 / direction.z,
-        );
-        assert_eq!(near, 0.5 / spherical.solid_angle);
     }
 
     #[test]

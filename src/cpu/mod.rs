@@ -5,12 +5,19 @@
 pub mod brdf;
 pub mod camera;
 pub mod environment;
+pub mod gltf_surface;
 pub mod image;
 pub mod importance_sampling;
 pub mod integrator;
+pub mod integrators;
+pub mod lights;
 pub mod materials;
+pub mod path_loop;
+pub mod punctual_lights;
 pub mod renderer;
 pub mod sobol;
+pub mod surface;
+pub mod texels;
 pub mod textures;
 pub mod workshop;
 

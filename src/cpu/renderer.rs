@@ -7,13 +7,14 @@ use glam::UVec2;
 use rayon::prelude::*;
 
 use crate::camera::ImagePlane;
-use crate::contract::{INTEGRATOR_COSINE, INTEGRATOR_MIS, INTEGRATOR_NEE};
 use crate::cpu::camera::{get_sample_seed, get_sample_tex_coord};
 use crate::cpu::image::{CpuImage, PixelAccumulator};
-use crate::cpu::importance_sampling::get_ray_radiance_importance_sampled;
 use crate::cpu::integrator::get_sample_radiance;
+use crate::cpu::integrators::is_importance_sampled;
+use crate::cpu::lights::LightScene;
+use crate::cpu::path_loop::get_path_radiance;
 use crate::cpu::workshop::get_primary_ray_direction;
-use crate::scene::lights::LightTable;
+use crate::lights::EmissiveTriangles;
 use crate::scene::Triangle;
 
 /// What a CPU render does: the shader's specialization constants and uniforms.
@@ -80,7 +81,7 @@ pub fn add_cpu_samples(
         return;
     }
     // The light table of the renderer's light_buffer, for the importance-sampled integrators.
-    let lights = LightTable::new(scene_triangles);
+    let lights = EmissiveTriangles::new(scene_triangles);
     image
         .pixels
         .par_chunks_mut(width as usize)
@@ -108,7 +109,7 @@ pub fn add_cpu_samples(
 #[allow(clippy::too_many_arguments)]
 fn add_pixel_samples(
     scene_triangles: &[Triangle],
-    lights: &LightTable,
+    lights: &EmissiveTriangles,
     plane: &ImagePlane,
     settings: &CpuRenderSettings,
     pixel: UVec2,
@@ -128,11 +129,14 @@ fn add_pixel_samples(
             plane.up,
         );
         let radiance = if is_importance_sampled(settings.integrator) {
-            get_ray_radiance_importance_sampled(
+            let scene = LightScene {
                 scene_triangles,
                 lights,
-                settings.integrator,
-                settings.light_sampling,
+                integrator: settings.integrator,
+                light_sampling: settings.light_sampling,
+            };
+            get_path_radiance(
+                &scene,
                 plane.camera_position,
                 ray_direction,
                 &mut seed,
@@ -151,13 +155,4 @@ fn add_pixel_samples(
         };
         accumulator.add_sample(radiance);
     }
-}
-
-/// Whether `integrator` is one of the importance-sampled path tracers (cosine, NEE, MIS),
-/// which `path_tracer.comp` runs through `get_ray_radiance_importance_sampled`.
-fn is_importance_sampled(integrator: u32) -> bool {
-    matches!(
-        integrator,
-        INTEGRATOR_COSINE | INTEGRATOR_NEE | INTEGRATOR_MIS
-    )
 }

@@ -701,7 +701,7 @@ pub fn prepare_with(source: &str, options: &IntakeOptions) -> PreparedSource {
         if options.avoid_kernel_names
             && !is_protected
             && name != "triangle_t"
-            && ours.identifiers.contains(name)
+            && (ours.identifiers.contains(name) || ours.macros.contains_key(name))
             && !user_macros.contains(name)
         {
             prepared.notes.push(format!(
@@ -1347,11 +1347,16 @@ mod tests {
             "get_triangle",
             "offset_ray_origin",
             "MAX_PATH_LENGTH",
-            "g_hit_triangle_index",
             "packed_triangle_t",
+            "g_path",
         ] {
             assert!(names.identifiers.contains(name), "{name}");
         }
+        // The workshop-facing alias of g_path.hit_triangle_index (glsl/path_state.glsl).
+        assert_eq!(
+            names.macros.get("g_hit_triangle_index").map(String::as_str),
+            Some("g_path . hit_triangle_index")
+        );
         assert_eq!(
             names.macros.get("M_PI").map(String::as_str),
             Some("3.141592653589793")

@@ -6,8 +6,8 @@ use std::path::Path;
 
 use exr::prelude::{read_first_flat_layer_from_file, AnyChannel, FlatSamples};
 
-use crate::error::{Error, Result};
 use crate::image_io::data::RenderedImage;
+use crate::image_io::error::{ImageError, ImageResult as Result};
 use crate::image_io::output::{SAMPLE_COUNT_CHANNEL, SECOND_MOMENT_CHANNELS};
 
 /// An EXR image as read back.
@@ -25,13 +25,12 @@ pub struct ExrImage {
 /// only when all four (`SECOND_MOMENT_CHANNELS` and `SAMPLE_COUNT_CHANNEL`) are present; a
 /// file with only some of them is an error, since it cannot have come from vkpath intact.
 pub fn read_exr(path: &Path) -> Result<ExrImage> {
-    let fail =
-        |message: String| Error::Image(format!("cannot read '{}': {message}", path.display()));
+    let fail = |message: String| ImageError::read(path, message);
     if !path.is_file() {
         return Err(fail("no such file".into()));
     }
     // A header may claim any size: refuse a hostile one before a pixel is read.
-    crate::image_io::state_exr::check_exr_size(path).map_err(&fail)?;
+    check_exr_size(path).map_err(&fail)?;
     let file = read_first_flat_layer_from_file(path).map_err(|e| fail(e.to_string()))?;
     let layer = &file.layer_data;
     let (width, height) = (layer.size.width(), layer.size.height());
@@ -113,6 +112,28 @@ pub fn read_exr(path: &Path) -> Result<ExrImage> {
         },
         has_moments,
     })
+}
+
+/// Most pixels an EXR that vkpath reads may claim (the check happens on the header, before
+/// any pixel is read): 2^28, a 16384 x 16384 image.
+pub const MAX_EXR_PIXELS: usize = 1 << 28;
+
+/// Refuses an EXR whose header claims more than `MAX_EXR_PIXELS` (read before any pixel,
+/// so that a hostile header cannot make vkpath allocate terabytes).
+pub fn check_exr_size(path: &Path) -> std::result::Result<(), String> {
+    let meta = exr::meta::MetaData::read_from_file(path, false).map_err(|e| e.to_string())?;
+    for header in meta.headers.iter() {
+        let (width, height) = (header.layer_size.width(), header.layer_size.height());
+        if width
+            .checked_mul(height)
+            .is_none_or(|pixels| pixels > MAX_EXR_PIXELS)
+        {
+            return Err(format!(
+                "its header claims {width}x{height} pixels, more than the {MAX_EXR_PIXELS} vkpath reads"
+            ));
+        }
+    }
+    Ok(())
 }
 
 #[cfg(test)]

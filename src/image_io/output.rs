@@ -12,8 +12,8 @@ use exr::prelude::{
     AnyChannel, AnyChannels, AttributeValue, FlatSamples, Image, Text, WritableImage,
 };
 
-use crate::error::{Error, Result};
 use crate::image_io::data::RenderedImage;
+use crate::image_io::error::{ImageError, ImageResult as Result};
 use crate::image_io::tonemap::{tone_map, Exposure, ToneMap};
 
 /// The file formats vkpath writes.
@@ -43,6 +43,19 @@ pub struct SaveOptions {
     pub tone_map: ToneMap,
     /// EXR only: also store the second moment and sample count of each pixel.
     pub moments: bool,
+    /// EXR only: where the image lies in a larger one (a `--region` of it); `None`: it is
+    /// the whole image.
+    pub window: Option<ImageWindow>,
+}
+
+/// Where an image that is a part of a larger one (a `--region`) lies in it: its EXR's data
+/// window is the part, at `origin` in a display window of `full_size` from (0, 0).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct ImageWindow {
+    /// The part's top-left pixel in the full image (column, row from the top).
+    pub origin: [u32; 2],
+    /// The full image's width and height.
+    pub full_size: [u32; 2],
 }
 
 impl ImageFormat {
@@ -56,10 +69,10 @@ impl ImageFormat {
         {
             Some("exr") => Ok(ImageFormat::Exr),
             Some("png") => Ok(ImageFormat::Png),
-            _ => Err(Error::Image(format!(
-                "cannot write '{}': unsupported image format (use .exr or .png)",
-                path.display()
-            ))),
+            _ => Err(ImageError::write(
+                path,
+                "unsupported image format (use .exr or .png)",
+            )),
         }
     }
 }
@@ -76,13 +89,12 @@ pub fn check_writable(path: &Path) -> Result<ImageFormat> {
 /// `check_writable` for a file of any format (a checkpoint, a manifest): the path and its
 /// folder, not the extension.
 pub fn check_writable_file(path: &Path) -> Result<()> {
-    let target = resolve_output(path)
-        .map_err(|message| Error::Image(format!("cannot write '{}': {message}", path.display())))?;
+    let target = resolve_output(path).map_err(|message| ImageError::write(path, message))?;
     let probe = temporary_path(&target);
     let _pending = PendingTemporary::register(&probe);
     std::fs::write(&probe, b"")
         .and_then(|()| std::fs::remove_file(&probe))
-        .map_err(|e| Error::Image(format!("cannot write '{}': {e}", path.display())))
+        .map_err(|e| ImageError::write(path, e))
 }
 
 /// A hidden sibling of `path` to write into before renaming.
@@ -114,6 +126,7 @@ pub fn save_image_with_attributes(
                 image.height,
                 image_channels(image, options.moments),
                 attributes,
+                options.window,
             )
         }),
         ImageFormat::Png => write_atomically(path, |temporary| {
@@ -161,7 +174,14 @@ pub fn save_image_with_layers(
         }
     }
     write_atomically(path, |temporary| {
-        write_exr_channels(temporary, image.width, image.height, channels, attributes)
+        write_exr_channels(
+            temporary,
+            image.width,
+            image.height,
+            channels,
+            attributes,
+            options.window,
+        )
     })
 }
 
@@ -173,8 +193,7 @@ pub(crate) fn write_atomically(
     path: &Path,
     write: impl FnOnce(&Path) -> std::result::Result<(), String>,
 ) -> Result<()> {
-    let fail =
-        |message: String| Error::Image(format!("cannot write '{}': {message}", path.display()));
+    let fail = |message: String| ImageError::write(path, message);
     let target = resolve_output(path).map_err(fail)?;
     let temporary = temporary_path(&target);
     let _pending = PendingTemporary::register(&temporary);
@@ -339,14 +358,16 @@ fn image_channels(image: &RenderedImage, moments: bool) -> Vec<(String, Vec<f32>
     channels
 }
 
-/// Writes float channels (rows top-down) and text attributes as one EXR layer. Blocks are
-/// written in order on one thread, so identical images make identical files.
+/// Writes float channels (rows top-down) and text attributes as one EXR layer, placed in a
+/// larger display window when `window` says so. Blocks are written in order on one thread,
+/// so identical images make identical files.
 pub(crate) fn write_exr_channels(
     path: &Path,
     width: u32,
     height: u32,
     channels: Vec<(String, Vec<f32>)>,
     attributes: &[(String, String)],
+    window: Option<ImageWindow>,
 ) -> std::result::Result<(), String> {
     let channels: Vec<AnyChannel<FlatSamples>> = channels
         .into_iter()
@@ -356,6 +377,13 @@ pub(crate) fn write_exr_channels(
         (width as usize, height as usize),
         AnyChannels::sort(channels.into()),
     );
+    if let Some(window) = window {
+        let [x, y] = window.origin.map(|v| v as i32);
+        let [full_width, full_height] = window.full_size.map(|v| v as usize);
+        exr_image.attributes.display_window =
+            exr::meta::attribute::IntegerBounds::new((0, 0), (full_width, full_height));
+        exr_image.layer_data.attributes.layer_position = exr::math::Vec2(x, y);
+    }
     for (name, value) in attributes {
         let (Some(name), Some(value)) = (Text::new_or_none(name), Text::new_or_none(value)) else {
             return Err(format!(

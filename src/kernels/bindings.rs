@@ -137,6 +137,24 @@ pub const TEXTURE_PROBE: &[Binding] = &[
     row(c::PROBE_BINDING_OUTPUTS, STORAGE, R::ProbeOutputs),
 ];
 
+/// `glsl/probe_punctual_lights.comp`.
+pub const PUNCTUAL_LIGHTS_PROBE: &[Binding] = &[
+    row(c::BINDING_PUNCTUAL_LIGHTS, TEXEL, R::PunctualLights),
+    row(c::PROBE_BINDING_INPUTS, STORAGE, R::ProbeInputs),
+    row(c::PROBE_BINDING_OUTPUTS, STORAGE, R::ProbeOutputs),
+];
+
+/// `glsl/probe_surface.comp`: the scene and its materials as the path tracer binds them.
+pub const SURFACE_PROBE: &[Binding] = &[
+    row(c::BINDING_TRIANGLES, TEXEL, R::Triangles),
+    row(c::BINDING_RENDER_UNIFORMS, UNIFORM, R::RenderUniforms),
+    row(c::BINDING_TEXTURE_TEXELS, TEXEL, R::TextureTexels),
+    row(c::BINDING_SHADING, TEXEL, R::Shading),
+    row(c::BINDING_MATERIALS, TEXEL, R::Materials),
+    row(c::PROBE_BINDING_INPUTS, STORAGE, R::ProbeInputs),
+    row(c::PROBE_BINDING_OUTPUTS, STORAGE, R::ProbeOutputs),
+];
+
 /// `glsl/probe_bvh.comp`: the BVH path tracer's scene, rays in, results out.
 pub const BVH_PROBE: &[Binding] = &[
     row(c::BINDING_TRIANGLES, TEXEL, R::Triangles),

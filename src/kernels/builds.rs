@@ -17,7 +17,8 @@ pub struct KernelBuild {
 
 /// The macro that makes the path tracer traverse a BVH (`glsl/bvh.glsl`).
 pub const USE_BVH: &str = "USE_BVH";
-/// The macro that gives the path tracer glTF materials (`glsl/material_integrators.glsl`).
+/// The macro that gives the path tracer glTF materials (the glTF model of `glsl/surface.glsl`,
+/// the environment and punctual lights of `glsl/lights.glsl`).
 pub const USE_MATERIALS: &str = "USE_MATERIALS";
 
 /// Every build beyond the plain one of each kernel.

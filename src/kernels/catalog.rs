@@ -106,6 +106,27 @@ pub static PROBE_SAMPLE_TEXTURE: Kernel = Kernel {
     push_constant_size: size_of::<ProbePushConstants>() as u32,
 };
 
+/// The punctual lights' probe (`crate::probe::punctual_probe`).
+pub static PROBE_PUNCTUAL_LIGHTS: Kernel = Kernel {
+    source: "probe_punctual_lights.comp",
+    bindings: bindings::PUNCTUAL_LIGHTS_PROBE,
+    specialization: &[],
+    push_constant_size: size_of::<ProbePushConstants>() as u32,
+};
+
+/// The surface functions' probe (`crate::probe::surface_probe`).
+pub static PROBE_SURFACE: Kernel = Kernel {
+    source: "probe_surface.comp",
+    bindings: bindings::SURFACE_PROBE,
+    specialization: &[
+        SCENE_SPEC[0],
+        SCENE_SPEC[1],
+        SCENE_SPEC[2],
+        SpecConstants::one(c::SPEC_SCENE_HAS_TEXTURES),
+    ],
+    push_constant_size: size_of::<ProbePushConstants>() as u32,
+};
+
 /// The BVH traversal's probe (`tests/bvh_gpu.rs`). It reads no push constants: every
 /// dispatch starts at its first ray (`crate::probe::Probe` runs it one dispatch per chunk).
 pub static PROBE_BVH: Kernel = Kernel {
@@ -129,7 +150,7 @@ pub static EXERCISE_SAMPLES: Kernel = Kernel {
 };
 
 /// Every kernel.
-pub static ALL_KERNELS: [&Kernel; 14] = [
+pub static ALL_KERNELS: [&Kernel; 16] = [
     &PATH_TRACER,
     &PROBE_GET_RANDOM_NUMBERS,
     &PROBE_SAMPLE_SPHERE,
@@ -142,6 +163,8 @@ pub static ALL_KERNELS: [&Kernel; 14] = [
     &PROBE_GET_RAY_RADIANCE,
     &PROBE_BRDF,
     &PROBE_SAMPLE_TEXTURE,
+    &PROBE_PUNCTUAL_LIGHTS,
+    &PROBE_SURFACE,
     &PROBE_BVH,
     &EXERCISE_SAMPLES,
 ];

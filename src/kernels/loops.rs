@@ -14,7 +14,7 @@ use crate::render::traversal::Traversal;
 pub enum LoopBound {
     /// At most once per sample that the invocation takes.
     PerSample,
-    /// At most once per ray traced (`g_ray_count`): each iteration traces a ray.
+    /// At most once per ray traced (`g_path.ray_count`): each iteration traces a ray.
     PerRay,
     /// A binary search over the lights, at most once per ray: at most the bits of the light
     /// count (`findMSB(count) + 1`), never more than `LIGHT_SEARCH_MAX_ITERATIONS`.
@@ -22,7 +22,7 @@ pub enum LoopBound {
     /// Over all triangles, at most once per ray, in `Traversal::Linear` only (unrolled over
     /// the constant triangles, replaced by the BVH's traversal in the BVH builds).
     TrianglesPerRay,
-    /// Counted by the kernel itself, exactly, in `g_traversal_iterations` (the BVH).
+    /// Counted by the kernel itself, exactly, in `g_path.traversal_iterations` (the BVH).
     CountedByKernel,
 }
 
@@ -63,20 +63,9 @@ use LoopBound::*;
 pub const PATH_TRACER_LOOPS: &[KernelLoop] = &[
     described("path_tracer.comp", "main", PerSample, "sample loop"),
     described("integrator.glsl", "get_ray_radiance", PerRay, "path loop"),
+    described("path_loop.glsl", "get_path_radiance", PerRay, "path loop"),
     described(
-        "importance_sampling.glsl",
-        "get_ray_radiance_importance_sampled",
-        PerRay,
-        "path loop",
-    ),
-    described(
-        "material_integrators.glsl",
-        "get_ray_radiance_with_materials",
-        PerRay,
-        "path loop",
-    ),
-    described(
-        "importance_sampling.glsl",
+        "lights.glsl",
         "sample_light_index",
         LightSearchPerRay,
         "light search",

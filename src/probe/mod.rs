@@ -10,6 +10,10 @@
 //! - `inputs`: deterministic random inputs shared by the tests and `vkpath check`;
 //! - `brdf_probe`: the glTF BRDF's probe (`glsl/probe_brdf.comp`), which binds only its
 //!   inputs and outputs;
+//! - `punctual_probe`: the punctual lights' probe (`glsl/probe_punctual_lights.comp`),
+//!   which binds the lights' words instead of a scene;
+//! - `surface_probe`: the surface functions' probe (`glsl/probe_surface.comp`), which
+//!   binds a scene with its materials;
 //! - `texture_probe`: the texture functions' probe (`glsl/probe_sample_texture.comp`),
 //!   which binds textures instead of a scene;
 //! - `compare`: error measures (ulps, relative errors) and the near-degenerate
@@ -20,7 +24,9 @@ pub mod compare;
 pub mod inputs;
 pub mod kernel;
 pub mod layout;
+pub mod punctual_probe;
 pub mod runner;
+pub mod surface_probe;
 pub mod texture_probe;
 
 pub use kernel::{ProbeKind, ProbePipeline};

@@ -90,6 +90,16 @@ impl Probe {
         Ok(outputs)
     }
 
+    /// `run` with the kernel's other resources as a table of (resource, what is bound).
+    pub fn run_with<I: bytemuck::Pod, O: bytemuck::Pod>(
+        &self,
+        bound: &[(Resource, Bound<'_>)],
+        inputs: &[I],
+    ) -> Result<Vec<O>> {
+        let find = |resource| bound.iter().find(|(r, _)| *r == resource).map(|(_, b)| *b);
+        self.run(find, inputs)
+    }
+
     /// One upload, as many dispatches as the workgroup-count limit needs, one read-back.
     fn run_chunk<'a, I: bytemuck::Pod, O: bytemuck::Pod>(
         &self,

@@ -56,6 +56,8 @@ pub fn render_aov(
 ) -> Result<Vec<[f32; 3]>> {
     let settings = RenderSettings {
         integrator: aov.integrator(),
+        // Every pixel of an AOV takes every sample (its noise is not the colour's).
+        noise_threshold: None,
         ..settings.clone()
     };
     let mut renderer = Renderer::new(context, scene, camera, settings)?;

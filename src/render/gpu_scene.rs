@@ -1,5 +1,5 @@
 //! The scene as the path-tracing kernel reads it: triangles (in BVH leaf order when a BVH
-//! is used), the light table, the BVH nodes and the render uniforms, uploaded to the device,
+//! is used), its lights (`crate::lights::SceneLights`), the BVH nodes and the render uniforms, uploaded to the device,
 //! with the specialization constants that go with them; the kernel's binding table
 //! (`crate::kernels::bindings`) says where each is bound.
 
@@ -12,15 +12,12 @@ use crate::camera::Camera;
 use crate::contract;
 use crate::error::{Error, Result};
 use crate::kernels::{Bound, Resource};
-use crate::render::gpu_lights::{gpu_environment_words, gpu_punctual_light_words};
+use crate::lights::SceneLights;
 use crate::render::gpu_materials::{GpuMaterial, GpuTriangleShading};
 use crate::render::gpu_textures::TextureAtlas;
-use crate::render::gpu_types::{
-    annotate_selection_probabilities, gpu_light_bytes, GpuTriangle, RenderUniforms,
-};
+use crate::render::gpu_types::{GpuTriangle, RenderUniforms};
 use crate::render::settings::RenderSettings;
 use crate::render::traversal::{constant_triangle_specialization, Traversal};
-use crate::scene::lights::LightTable;
 use crate::scene::Scene;
 use crate::vk::{Buffer, CommandRunner, Context, TexelBufferView};
 
@@ -65,8 +62,8 @@ impl GpuScene {
         };
         let mut gpu_triangles: Vec<GpuTriangle> =
             ordered_triangles.iter().map(GpuTriangle::new).collect();
-        let lights = LightTable::new(&ordered_triangles);
-        annotate_selection_probabilities(&lights, &mut gpu_triangles);
+        let scene_lights = SceneLights::new(scene, &ordered_triangles);
+        scene_lights.annotate(&mut gpu_triangles);
         let texels = |name: &str, bytes: &[u8]| -> Result<TexelBufferView> {
             let buffer = Buffer::device_local_with_data(
                 context,
@@ -98,7 +95,7 @@ impl GpuScene {
             Some(bvh) => Some(texels("BVH nodes", bytemuck::cast_slice(&bvh.nodes))?),
             None => None,
         };
-        let lights = texels("lights", &gpu_light_bytes(&lights))?;
+        let lights = texels("lights", &scene_lights.emissive_bytes())?;
         let plain_materials;
         let scene_materials = match &scene.materials {
             Some(materials) => Some(materials),
@@ -154,11 +151,11 @@ impl GpuScene {
                     )?,
                     environment: texels(
                         "environment",
-                        bytemuck::cast_slice(&gpu_environment_words(scene.environment.as_ref())),
+                        bytemuck::cast_slice(&scene_lights.environment_words()),
                     )?,
                     punctual_lights: texels(
                         "punctual lights",
-                        bytemuck::cast_slice(&gpu_punctual_light_words(&scene.punctual_lights)),
+                        bytemuck::cast_slice(&scene_lights.punctual_words()),
                     )?,
                 })
             }

@@ -2,13 +2,13 @@
 //! 16-byte members only (or members that fill one 16-byte texel), so that std430, std140
 //! and RGBA32 texel fetches lay them out exactly as Rust does. The tests below check sizes
 //! and offsets against the GLSL declarations. Also the conversions from the scene's types
-//! (`crate::scene`, which knows nothing of the GPU) into these structs.
+//! (`crate::scene`, which knows nothing of the GPU) into these structs. The lights' structs
+//! are in `crate::lights` (`gpu_emissive`, `gpu_environment`, `gpu_punctual`).
 
 use bytemuck::{Pod, Zeroable};
 
 use crate::camera::ImagePlane;
 use crate::contract::TRIANGLE_FLAG_DOUBLE_SIDED;
-use crate::scene::lights::LightTable;
 use crate::scene::Triangle;
 
 /// `packed_triangle_t` of `glsl/scene.glsl` (std430, 96 bytes; `TRIANGLE_TEXEL_COUNT` texels
@@ -21,35 +21,12 @@ pub struct GpuTriangle {
     /// xyz: unit normal (world space, the side the vertices are counter-clockwise from);
     /// w: the probability that light sampling chooses this triangle (power-proportional, 0
     /// for non-emitters; GLSL `get_light_selection_probability`, for MIS), written by
-    /// `annotate_selection_probabilities`, 0 until then.
+    /// `crate::lights::gpu_emissive::annotate_selection_probabilities`, 0 until then.
     pub normal: [f32; 4],
     /// rgb: albedo, linear RGB in [0, 1]; a: unused, 0.
     pub color: [f32; 4],
     /// rgb: emitted radiance, linear RGB; a: `TRIANGLE_FLAG_*` bits stored as the float's bits.
     pub emission: [f32; 4],
-}
-
-/// Texel 0 of the lights' texel buffer (`g_light_texels` of `glsl/importance_sampling.glsl`,
-/// RGBA32_UINT, 16 bytes): the number of lights. `GpuLight`s follow it.
-#[repr(C)]
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Pod, Zeroable)]
-pub struct GpuLightHeader {
-    /// Number of lights, the `GpuLight`s after the header (GLSL `get_light_count`).
-    pub light_count: u32,
-    padding: [u32; 3],
-}
-
-/// Texel 1 + i of the lights' texel buffer (16 bytes): light i.
-#[repr(C)]
-#[derive(Clone, Copy, Debug, PartialEq, Pod, Zeroable)]
-pub struct GpuLight {
-    /// Index of the emissive triangle in the scene's (uploaded) triangles (GLSL
-    /// `get_light_triangle_index`).
-    pub triangle_index: u32,
-    /// Probability of choosing this light or an earlier one, power-proportional; the last
-    /// light's is exactly 1 (GLSL `get_light_cumulative_probability`, which reads the bits).
-    pub cdf: f32,
-    padding: [u32; 2],
 }
 
 /// `render_uniforms` of `glsl/scene.glsl` (std140, 80 bytes): what stays fixed in a render.
@@ -68,14 +45,25 @@ pub struct RenderUniforms {
     pub resolution_triangle_count_seed: [u32; 4],
 }
 
-/// `frame_push_constants` of `glsl/path_tracer.comp` (8 bytes): what changes per frame.
+/// `frame_push_constants` of `glsl/path_tracer.comp` (32 bytes): what changes per frame.
 #[repr(C)]
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Pod, Zeroable)]
+#[derive(Clone, Copy, Debug, PartialEq, Pod, Zeroable)]
 pub struct FramePushConstants {
     /// Index of the first sample this frame adds to each pixel.
     pub first_sample_index: u32,
     /// Samples at or past this index are not taken (the render's total spp).
     pub sample_end: u32,
+    /// The full image's pixel (column, row from the top) of the accumulation image's texel
+    /// (0, 0): the corner of the region or tile this dispatch renders.
+    pub pixel_offset: [u32; 2],
+    /// Width and height of that region or tile: texels beyond are not touched.
+    pub pixel_extent: [u32; 2],
+    /// `--noise-threshold`: a pixel takes no more samples once `is_pixel_converged` says so;
+    /// 0 turns adaptive sampling off.
+    pub noise_threshold: f32,
+    /// Samples a pixel takes before adaptive sampling may stop it, and how often (in
+    /// samples) it is judged after that.
+    pub noise_min_samples: u32,
 }
 
 fn extend(v: glam::Vec3, w: f32) -> [f32; 4] {
@@ -96,51 +84,6 @@ impl GpuTriangle {
             color: extend(triangle.color, 0.0),
             emission: extend(triangle.emission, f32::from_bits(flags)),
         }
-    }
-}
-
-impl GpuLightHeader {
-    /// The header of a buffer of `light_count` lights.
-    pub fn new(light_count: u32) -> GpuLightHeader {
-        GpuLightHeader {
-            light_count,
-            padding: [0; 3],
-        }
-    }
-}
-
-impl GpuLight {
-    /// Light entry for scene triangle `triangle_index` with cumulative probability `cdf`.
-    pub fn new(triangle_index: u32, cdf: f32) -> GpuLight {
-        GpuLight {
-            triangle_index,
-            cdf,
-            padding: [0; 2],
-        }
-    }
-}
-
-/// The bytes of the lights' texel buffer (`g_light_texels`): a `GpuLightHeader`, then one
-/// `GpuLight` per light of the table, in the table's order.
-pub fn gpu_light_bytes(lights: &LightTable) -> Vec<u8> {
-    let header = GpuLightHeader::new(lights.triangle_indices.len() as u32);
-    let entries: Vec<GpuLight> = lights
-        .triangle_indices
-        .iter()
-        .zip(&lights.cdf)
-        .map(|(&index, &cdf)| GpuLight::new(index, cdf))
-        .collect();
-    let mut bytes = bytemuck::bytes_of(&header).to_vec();
-    bytes.extend_from_slice(bytemuck::cast_slice(&entries));
-    bytes
-}
-
-/// Writes each triangle's light-selection probability into its packed normal.w, where MIS
-/// reads it (`get_light_selection_probability`). `triangles` must be the packed triangles
-/// the table was built from, in the same order.
-pub fn annotate_selection_probabilities(lights: &LightTable, triangles: &mut [GpuTriangle]) {
-    for (triangle, &probability) in triangles.iter_mut().zip(&lights.selection_probability) {
-        triangle.normal[3] = probability;
     }
 }
 
@@ -193,57 +136,14 @@ mod tests {
 
     #[test]
     fn push_constants_match_frame_push_constants() {
-        assert_eq!(size_of::<FramePushConstants>(), 8);
+        assert_eq!(size_of::<FramePushConstants>(), 32);
         assert_eq!(offset_of!(FramePushConstants, first_sample_index), 0);
+        // uvec2 members are 8-byte aligned in a push-constant block (std430).
+        assert_eq!(offset_of!(FramePushConstants, pixel_offset), 8);
+        assert_eq!(offset_of!(FramePushConstants, pixel_extent), 16);
+        assert_eq!(offset_of!(FramePushConstants, noise_threshold), 24);
+        assert_eq!(offset_of!(FramePushConstants, noise_min_samples), 28);
         assert_eq!(offset_of!(FramePushConstants, sample_end), 4);
-    }
-
-    #[test]
-    fn lights_match_the_light_texels() {
-        // Texel 0: uvec4(count, 0, 0, 0); texel 1 + i: uvec4(triangle index, cdf bits, 0, 0).
-        assert_eq!(size_of::<GpuLightHeader>(), 16);
-        assert_eq!(offset_of!(GpuLightHeader, light_count), 0);
-        assert_eq!(offset_of!(GpuLightHeader, padding), 4);
-        assert_eq!(size_of::<GpuLight>(), 16);
-        assert_eq!(offset_of!(GpuLight, triangle_index), 0);
-        assert_eq!(offset_of!(GpuLight, cdf), 4);
-        assert_eq!(offset_of!(GpuLight, padding), 8);
-    }
-
-    #[test]
-    fn light_bytes_are_the_texels_word_for_word() {
-        let emitter = |emission: f32, scale: f32| {
-            Triangle::new(
-                [
-                    glam::Vec3::ZERO,
-                    glam::Vec3::X * scale,
-                    glam::Vec3::Y * scale,
-                ],
-                glam::Vec3::ONE,
-                glam::Vec3::splat(emission),
-                false,
-            )
-            .unwrap()
-        };
-        let triangles = [emitter(1.0, 1.0), emitter(0.0, 1.0), emitter(3.0, 2.0)];
-        let table = LightTable::new(&triangles);
-        // The layout spelled out as u32 words, as the shader reads them.
-        let mut words: Vec<u32> = vec![2, 0, 0, 0];
-        for (&index, &cdf) in table.triangle_indices.iter().zip(&table.cdf) {
-            words.extend_from_slice(&[index, cdf.to_bits(), 0, 0]);
-        }
-        assert_eq!(
-            gpu_light_bytes(&table),
-            bytemuck::cast_slice::<u32, u8>(&words)
-        );
-        let empty = LightTable::new(&triangles[1..2]);
-        assert_eq!(gpu_light_bytes(&empty), vec![0u8; 16]);
-
-        let mut packed: Vec<GpuTriangle> = triangles.iter().map(GpuTriangle::new).collect();
-        annotate_selection_probabilities(&table, &mut packed);
-        let read: Vec<f32> = packed.iter().map(|t| t.normal[3]).collect();
-        assert_eq!(read, table.selection_probability);
-        assert_eq!(read[1], 0.0);
     }
 
     #[test]

@@ -12,11 +12,11 @@ use std::time::{Duration, Instant};
 use crate::camera::Camera;
 use crate::error::{Error, Result};
 use crate::image_io::output::{save_image, SaveOptions};
-use crate::image_io::state_exr::{read_state, write_state};
 use crate::render::accumulation::Accumulation;
 use crate::render::metadata::RenderMetadata;
 use crate::render::renderer::{RenderControl, RenderOutcome, Renderer, StopReason};
 use crate::render::settings::{Integrator, RenderSettings, SamplerKind};
+use crate::render::state_exr::{read_state, write_state};
 use crate::scene::Scene;
 use crate::vk::Context;
 
@@ -203,7 +203,8 @@ pub fn run_job(
         .preview
         .as_ref()
         .filter(|_| took_samples)
-        .and_then(|preview| save_image(&preview.path, &outcome.image, &preview.save).err());
+        .and_then(|preview| save_image(&preview.path, &outcome.image, &preview.save).err())
+        .map(Error::from);
     // Every other stop writes the checkpoint, so that nothing rendered is lost.
     if let (Some(path), true) = (&options.checkpoint, took_samples) {
         write_state(

@@ -11,6 +11,8 @@ use std::ops::Range;
 use sha2::{Digest, Sha256};
 
 use crate::camera::Camera;
+use crate::image_io::output::ImageWindow;
+use crate::render::region::PixelRegion;
 use crate::render::settings::{PixelFilter, RenderSettings, SamplerKind};
 use crate::scene::Scene;
 
@@ -31,13 +33,17 @@ const SETTING_NAMES: [&str; 10] = [
     "resolution",
     "scene_hash",
 ];
+/// The settings recorded after those only when a render has them (files without them had
+/// none), in order: `--region`, `--noise-threshold` and its minimum spp.
+const OPTIONAL_SETTING_NAMES: [&str; 3] = ["region", "noise_threshold", "noise_min_spp"];
 
 /// What a render was.
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub struct RenderMetadata {
     /// (name, value) of everything that decides the samples, in a fixed order: vkpath
     /// version, seed, integrator, sampler, light sampling, max path length, Russian-roulette
-    /// start, pixel filter, resolution and the scene hash.
+    /// start, pixel filter, resolution and the scene hash; then, when set, the region and
+    /// the noise threshold with its minimum spp.
     pub settings: Vec<(String, String)>,
     /// The samples of every pixel's sequence that the image holds.
     pub samples: Range<u32>,
@@ -73,13 +79,40 @@ impl RenderMetadata {
             ),
             ("scene_hash", scene_hash(scene, camera)),
         ];
+        let mut settings_list: Vec<(String, String)> = entries
+            .into_iter()
+            .map(|(name, value)| (name.to_string(), value))
+            .collect();
+        if let Some(region) = settings.region {
+            settings_list.push(("region".into(), region.to_string()));
+        }
+        if let Some(noise) = settings.noise_threshold {
+            settings_list.push(("noise_threshold".into(), noise.threshold.to_string()));
+            settings_list.push(("noise_min_spp".into(), noise.min_spp.to_string()));
+        }
         RenderMetadata {
-            settings: entries
-                .into_iter()
-                .map(|(name, value)| (name.to_string(), value))
-                .collect(),
+            settings: settings_list,
             samples,
         }
+    }
+
+    /// The value of setting `name`, if recorded.
+    pub fn setting(&self, name: &str) -> Option<&str> {
+        self.settings
+            .iter()
+            .find(|(n, _)| n == name)
+            .map(|(_, v)| v.as_str())
+    }
+
+    /// Where the image lies in the full one when it is a `--region` of it (from the
+    /// recorded region and resolution), for the EXR's data and display windows.
+    pub fn window(&self) -> Option<ImageWindow> {
+        let region = PixelRegion::parse(self.setting("region")?).ok()?;
+        let (width, height) = self.setting("resolution")?.split_once('x')?;
+        Some(ImageWindow {
+            origin: [region.x0, region.y0],
+            full_size: [width.parse().ok()?, height.parse().ok()?],
+        })
     }
 
     /// The fields: `spp` (samples per pixel taken), `sample_range` ("start..end") and the
@@ -129,16 +162,24 @@ impl RenderMetadata {
                 .ok_or_else(|| format!("its vkpath attribute has no {name}"))?;
             settings.push((name.to_string(), current_name(value).to_string()));
         }
+        for name in OPTIONAL_SETTING_NAMES {
+            if let Some(value) = fields.get(name) {
+                settings.push((name.to_string(), value.to_string()));
+            }
+        }
         Ok(RenderMetadata { settings, samples })
     }
 
     /// The first setting in which `other` differs, as "name: this vs other".
     pub fn first_difference(&self, other: &RenderMetadata) -> Option<String> {
-        self.settings
-            .iter()
-            .zip(&other.settings)
-            .find(|(a, b)| a != b)
-            .map(|((name, a), (_, b))| format!("{name}: {a} vs {b}"))
+        let names = SETTING_NAMES.iter().chain(&OPTIONAL_SETTING_NAMES);
+        names
+            .map(|name| (name, self.setting(name), other.setting(name)))
+            .find(|(_, a, b)| a != b)
+            .map(|(name, a, b)| {
+                let value = |v: Option<&str>| v.unwrap_or("none").to_string();
+                format!("{name}: {} vs {}", value(a), value(b))
+            })
     }
 }
 
@@ -299,6 +340,28 @@ mod tests {
         )]
         .into();
         assert_eq!(RenderMetadata::from_attributes(&old), Ok(metadata.clone()));
+        // A region and a noise threshold are recorded, read back and told apart.
+        let mut region_settings = settings.clone();
+        region_settings.region = Some(PixelRegion::parse("1,2,30,40").unwrap());
+        region_settings.noise_threshold = Some(crate::render::adaptive::NoiseThreshold {
+            threshold: 0.05,
+            min_spp: 16,
+        });
+        let region = RenderMetadata::new(&region_settings, &scene, &camera, 0..4);
+        let region_attributes: BTreeMap<String, String> = region.attributes().into_iter().collect();
+        assert!(region_attributes["vkpath"]
+            .ends_with("region=1,2,30,40; noise_threshold=0.05; noise_min_spp=16"));
+        assert_eq!(
+            RenderMetadata::from_attributes(&region_attributes),
+            Ok(region.clone())
+        );
+        assert_eq!(
+            metadata.first_difference(&region).as_deref(),
+            Some("region: none vs 1,2,30,40")
+        );
+        let window = region.window().unwrap();
+        assert_eq!((window.origin, window.full_size), ([1, 2], [512, 512]));
+        assert_eq!(metadata.window(), None);
         assert_eq!(parse_range("3..9"), Some(3..9));
         assert_eq!(parse_range("9..3"), None);
         assert_eq!(parse_range("x"), None);

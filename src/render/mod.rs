@@ -4,8 +4,8 @@
 //! (`pipeline_cache`), and the renderer itself.
 
 pub mod accumulation;
+pub mod adaptive;
 pub mod aov;
-pub mod gpu_lights;
 pub mod gpu_materials;
 pub mod gpu_scene;
 pub mod gpu_textures;
@@ -14,8 +14,11 @@ pub mod job;
 pub mod metadata;
 pub mod multi;
 pub mod pipeline_cache;
+pub mod region;
 pub mod renderer;
 pub mod settings;
+pub mod state_exr;
+pub mod tiles;
 pub mod traversal;
 
 pub use renderer::{RenderControl, RenderOutcome, Renderer, StopReason};

@@ -17,7 +17,12 @@ use crate::kernels::{Bound, KernelPipeline, Resource, PATH_TRACER};
 use crate::render::accumulation::Accumulation;
 use crate::render::gpu_scene::GpuScene;
 use crate::render::gpu_types::FramePushConstants;
+use crate::render::region::{PixelRegion, ACCUMULATION_BYTES_PER_PIXEL, ACCUMULATION_COPIES};
 use crate::render::settings::RenderSettings;
+use crate::render::tiles::{
+    area_texel_count, copy_tile, host_available_memory, layer_count, scene_bytes, tile_layout,
+    validate_host_memory,
+};
 use crate::render::traversal::Traversal;
 use crate::scene::Scene;
 use crate::vk::{Buffer, CommandRunner, Context, DescriptorSet, StorageImage};
@@ -36,6 +41,11 @@ pub struct Renderer {
     commands: CommandRunner,
     pipeline: KernelPipeline,
     descriptors: DescriptorSet,
+    /// The part of the image rendered (`settings.area()`): the accumulation's pixels.
+    area: PixelRegion,
+    /// The tiles of `area` the device holds one at a time, or `None` when the accumulation
+    /// image holds all of `area`.
+    tiles: Option<Tiles>,
     accumulation: StorageImage,
     readback: Buffer,
     // Bound through the descriptor set; kept alive as long as it.
@@ -53,6 +63,18 @@ pub struct Renderer {
     rays_traced: f64,
     /// Seconds that creating the renderer took (BVH, uploads, building the kernel).
     setup_seconds: f64,
+}
+
+/// A render in tiles: the state of the whole area lives on the host, and each frame uploads
+/// every tile's state in turn into the (tile-sized) accumulation image, adds its samples and
+/// reads it back, so the image is bit for bit the untiled one's.
+struct Tiles {
+    /// The tiles, row by row; the accumulation image is as large as the first.
+    list: Vec<PixelRegion>,
+    /// The state of the whole area, as `Accumulation::texels` lays it out.
+    state: Vec<[f32; 4]>,
+    /// A host-visible buffer of the accumulation image's size, to upload a tile's state.
+    upload: Buffer,
 }
 
 /// Why a render stopped.
@@ -172,7 +194,16 @@ impl Renderer {
         kernel: Option<(&[u32], Traversal)>,
     ) -> Result<Renderer> {
         let started = Instant::now();
-        validate(context, scene, &settings)?;
+        settings.validate()?;
+        let area = settings.area();
+        let tile_list = tile_layout(context, scene, &settings, area);
+        let (image_width, image_height) = tile_list
+            .first()
+            .map_or((area.width(), area.height()), |t| (t.width(), t.height()));
+        validate(context, scene, &settings, image_width, image_height)?;
+        if !tile_list.is_empty() {
+            validate_host_memory(&settings, area, host_available_memory())?;
+        }
         let commands = CommandRunner::new(context)?;
         let traversal = match kernel {
             Some((_, traversal)) => traversal,
@@ -200,8 +231,8 @@ impl Renderer {
         let accumulation = StorageImage::new(
             context,
             "accumulation",
-            settings.width,
-            settings.height,
+            image_width,
+            image_height,
             contract::ACCUMULATION_LAYER_COUNT,
         )?;
         let readback = Buffer::new(
@@ -216,12 +247,28 @@ impl Renderer {
             other => gpu_scene.resource(other),
         })?;
         commands.run(|recorder| recorder.clear_storage_image(&accumulation))?;
+        let tiles = match tile_list.len() {
+            0 => None,
+            _ => Some(Tiles {
+                list: tile_list,
+                state: vec![[0.0; 4]; area_texel_count(area)],
+                upload: Buffer::new(
+                    context,
+                    "tile upload",
+                    accumulation.byte_size(),
+                    vk::BufferUsageFlags::TRANSFER_SRC,
+                    MemoryLocation::CpuToGpu,
+                )?,
+            }),
+        };
         Ok(Renderer {
             context: context.clone(),
             settings,
             commands,
             pipeline,
             descriptors,
+            area,
+            tiles,
             accumulation,
             readback,
             _scene: gpu_scene,
@@ -274,8 +321,11 @@ impl Renderer {
     /// Reads the raw accumulation state back (for a checkpoint or a shard), and updates
     /// `rays_traced`.
     pub fn accumulation(&mut self) -> Result<Accumulation> {
-        let texels = self.read_texels()?;
-        let pixels = (self.settings.width * self.settings.height) as usize;
+        let texels = match &self.tiles {
+            Some(tiles) => tiles.state.clone(),
+            None => self.read_texels()?,
+        };
+        let pixels = self.area.width() as usize * self.area.height() as usize;
         let squares = contract::LAYER_SUM_OF_SQUARES as usize * pixels;
         let flagged = texels[squares..squares + pixels]
             .iter()
@@ -291,8 +341,8 @@ impl Renderer {
             )));
         }
         let state = Accumulation {
-            width: self.settings.width,
-            height: self.settings.height,
+            width: self.area.width(),
+            height: self.area.height(),
             texels,
             samples: self.samples_taken(),
         };
@@ -304,10 +354,13 @@ impl Renderer {
     /// sample, so that the result is bit for bit what an uninterrupted render gives. The
     /// state must be of this render's size and start where this render starts.
     pub fn resume(&mut self, state: &Accumulation) -> Result<()> {
-        if (state.width, state.height) != (self.settings.width, self.settings.height) {
+        let (width, height) = (self.area.width(), self.area.height());
+        if (state.width, state.height) != (width, height)
+            || state.texels.len() != area_texel_count(self.area)
+        {
             return Err(Error::InvalidSettings(format!(
-                "the saved state is {}x{}, the render {}x{}",
-                state.width, state.height, self.settings.width, self.settings.height
+                "the saved state is {}x{}, the render {width}x{height}",
+                state.width, state.height
             )));
         }
         if state.samples.start != self.first_sample
@@ -321,15 +374,19 @@ impl Renderer {
                 self.first_sample + self.settings.spp
             )));
         }
-        let upload = Buffer::with_data(
-            &self.context,
-            "saved state",
-            &state.texels,
-            vk::BufferUsageFlags::TRANSFER_SRC,
-        )?;
-        let image = &self.accumulation;
-        self.commands
-            .run(|recorder| recorder.copy_buffer_to_image(&upload, image))?;
+        if let Some(tiles) = self.tiles.as_mut() {
+            tiles.state.copy_from_slice(&state.texels);
+        } else {
+            let upload = Buffer::with_data(
+                &self.context,
+                "saved state",
+                &state.texels,
+                vk::BufferUsageFlags::TRANSFER_SRC,
+            )?;
+            let image = &self.accumulation;
+            self.commands
+                .run(|recorder| recorder.copy_buffer_to_image(&upload, image))?;
+        }
         self.samples_done = state.samples.len() as u32;
         Ok(())
     }
@@ -398,22 +455,65 @@ impl Renderer {
         }
         let first = self.first_sample + self.samples_done;
         let end = self.first_sample + self.settings.spp;
-        let extent = [self.settings.width, self.settings.height, 1];
+        let (noise_threshold, noise_min_samples) = self
+            .settings
+            .noise_threshold
+            .map_or((0.0, 0), |noise| (noise.threshold, noise.min_spp));
         let (pipeline, descriptors) = (&self.pipeline.pipeline, &self.descriptors);
-        self.commands.run(|recorder| {
+        // The frames over one rectangle (the area, or a tile of it).
+        let record_frames = |recorder: &mut crate::vk::Recorder, part: PixelRegion| {
             recorder.bind(pipeline, descriptors);
             for frame in 0..frames {
                 let frame_first = first + frame * step;
                 let constants = FramePushConstants {
                     first_sample_index: frame_first,
                     sample_end: (frame_first + step).min(end),
+                    pixel_offset: [part.x0, part.y0],
+                    pixel_extent: [part.width(), part.height()],
+                    noise_threshold,
+                    noise_min_samples,
                 };
                 recorder.push_constants(pipeline, &constants);
-                recorder.dispatch(pipeline, extent);
+                recorder.dispatch(pipeline, [part.width(), part.height(), 1]);
                 // Each frame reads what the previous one wrote.
                 recorder.compute_barrier();
             }
-        })?;
+        };
+        match self.tiles.as_mut() {
+            None => self
+                .commands
+                .run(|recorder| record_frames(recorder, self.area))?,
+            Some(tiles) => {
+                let (image, readback) = (&self.accumulation, &self.readback);
+                let image_width = image.width as usize;
+                let image_pixels = image_width * image.height as usize;
+                // The batch's new state, taken only once every tile has its samples: a
+                // failure halfway leaves the state as the samples taken so far say.
+                let mut next = tiles.state.clone();
+                for &tile in &tiles.list {
+                    // The tile's state into the upload buffer, laid out as the image is.
+                    let mut texels = vec![[0.0f32; 4]; image_pixels * layer_count()];
+                    copy_tile(
+                        &tiles.state,
+                        self.area,
+                        &mut texels,
+                        image_width,
+                        tile,
+                        true,
+                    );
+                    tiles.upload.write(bytemuck::cast_slice(&texels));
+                    let upload = &tiles.upload;
+                    self.commands.run(|recorder| {
+                        recorder.copy_buffer_to_image(upload, image);
+                        record_frames(recorder, tile);
+                        recorder.copy_image_to_buffer(image, readback);
+                    })?;
+                    let texels: Vec<[f32; 4]> = readback.read();
+                    copy_tile(&texels, self.area, &mut next, image_width, tile, false);
+                }
+                tiles.state = next;
+            }
+        }
         self.samples_done = (first + frames * step).min(end) - self.first_sample;
         Ok(frames)
     }
@@ -585,13 +685,18 @@ impl LoopLimit {
 
 /// Checks what a render needs before anything is allocated: valid settings, an image
 /// within the device's limits, a scene with triangles.
-fn validate(context: &Context, scene: &Scene, settings: &RenderSettings) -> Result<()> {
-    settings.validate()?;
+fn validate(
+    context: &Context,
+    scene: &Scene,
+    settings: &RenderSettings,
+    image_width: u32,
+    image_height: u32,
+) -> Result<()> {
     let device_limit = context.limits.max_image_dimension2_d;
-    if settings.width > device_limit || settings.height > device_limit {
+    if image_width > device_limit || image_height > device_limit {
         return Err(Error::InvalidSettings(format!(
-            "image size {}x{} exceeds the device's limit of {device_limit} pixels per side",
-            settings.width, settings.height
+            "a tile of {image_width}x{image_height} pixels exceeds the device's limit of \
+             {device_limit} pixels per side: use a smaller --tile-size"
         )));
     }
     if scene.triangles.is_empty() {
@@ -599,19 +704,20 @@ fn validate(context: &Context, scene: &Scene, settings: &RenderSettings) -> Resu
     }
     // What the render allocates on the device: the triangles (96 bytes each), a BVH of at
     // most 2 nodes per triangle (32 bytes each), the lights (16 bytes each and a header),
-    // the accumulation image and its read-back buffer (48 bytes per pixel each).
+    // the accumulation image (of the area or of a tile) and its read-back and upload
+    // buffers (48 bytes per pixel each).
     let triangles = scene.triangles.len() as u64;
-    let scene_bytes = triangles * (96 + 64 + 16) + 16;
-    let image_bytes = 2
-        * u64::from(settings.width)
-        * u64::from(settings.height)
-        * 16
-        * u64::from(contract::ACCUMULATION_LAYER_COUNT);
+    let scene_bytes = scene_bytes(scene);
+    let image_bytes = u64::from(image_width)
+        * u64::from(image_height)
+        * ACCUMULATION_COPIES
+        * ACCUMULATION_BYTES_PER_PIXEL;
     let available = context.device_memory_bytes();
     if available > 0 && scene_bytes + image_bytes > available {
         return Err(Error::InvalidSettings(format!(
-            "the render needs about {} MB on '{}' ({} MB for {triangles} triangles, {} MB for a \
-             {}x{} image), more than its {} MB: use a smaller image or scene",
+            "the render needs about {} MB on '{}' ({} MB for {triangles} triangles, {} MB for \
+             {image_width}x{image_height} pixels of the {}x{} image at once), more than its {} MB: \
+             use a smaller --tile-size or scene",
             (scene_bytes + image_bytes) >> 20,
             context.info.name,
             scene_bytes >> 20,

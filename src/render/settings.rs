@@ -2,6 +2,8 @@
 
 use crate::contract;
 use crate::error::{Error, Result};
+use crate::render::adaptive::NoiseThreshold;
+use crate::render::region::PixelRegion;
 
 /// Where in a pixel the samples look.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
@@ -263,6 +265,16 @@ pub struct RenderSettings {
     pub sampler: SamplerKind,
     /// How nee and mis sample their lights.
     pub light_sampling: LightSampling,
+    /// The part of the `width` x `height` image to render (`--region`); `None`: all of it.
+    /// Its pixels get exactly the values the full render gives them.
+    pub region: Option<PixelRegion>,
+    /// Side of the square tiles in which the render's part is put on the device one at a
+    /// time (`--tile-size`); `None`: in one piece unless it would not fit the device
+    /// (`region::automatic_tile_side`). Tiles never change the image.
+    pub tile_size: Option<u32>,
+    /// Adaptive sampling (`--noise-threshold`): pixels stop taking samples once their
+    /// estimate is good enough, `spp` being the cap; `None`: every pixel takes every sample.
+    pub noise_threshold: Option<NoiseThreshold>,
 }
 
 impl Default for RenderSettings {
@@ -280,6 +292,9 @@ impl Default for RenderSettings {
             accel: Accel::Auto,
             sampler: SamplerKind::Pcg,
             light_sampling: LightSampling::SolidAngle,
+            region: None,
+            tile_size: None,
+            noise_threshold: None,
         }
     }
 }
@@ -330,7 +345,22 @@ impl RenderSettings {
                 self.samples_per_frame
             ));
         }
+        if let Some(region) = self.region {
+            region.validate(self.width, self.height)?;
+        }
+        if self.tile_size == Some(0) {
+            return bad("--tile-size 0: a tile needs at least one pixel a side".into());
+        }
+        if let Some(noise) = self.noise_threshold {
+            noise.validate()?;
+        }
         Ok(())
+    }
+
+    /// The part of the image rendered: `region`, or the whole image.
+    pub fn area(&self) -> PixelRegion {
+        self.region
+            .unwrap_or(PixelRegion::whole(self.width, self.height))
     }
 
     /// Width / height.

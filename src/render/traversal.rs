@@ -58,7 +58,7 @@ impl Traversal {
     }
 
     /// The build of the path tracer (`crate::kernels::PATH_TRACER`) for this traversal,
-    /// with glTF materials (`glsl/material_integrators.glsl`) or the workshop's diffuse
+    /// with glTF materials (the glTF model of `glsl/surface.glsl`) or the workshop's diffuse
     /// triangles.
     pub fn build(self, materials: bool) -> Result<Build> {
         let mut macros = Vec::new();

@@ -201,6 +201,10 @@ pub enum SceneError {
         /// What is wrong with it.
         reason: String,
     },
+    /// The environment asked for could not be loaded (`crate::lights::EnvironmentSource`):
+    /// the message names the map's file.
+    #[error("{0}")]
+    Environment(String),
 }
 
 /// Text from a file (a name, a URI), made safe for a one-line message: control characters

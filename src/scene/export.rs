@@ -42,8 +42,8 @@ use serde::Serialize;
 
 use crate::camera::Camera;
 use crate::image_io::output::write_atomically;
+use crate::lights::{PunctualKind, PunctualLight};
 use crate::scene::materials::{AlphaMode, PbrMaterial};
-use crate::scene::punctual::{PunctualKind, PunctualLight};
 use crate::scene::{Scene, Triangle};
 
 /// What went wrong while exporting.

@@ -22,10 +22,10 @@ use super::files::{read_bounded, resolve_reference, LoadOptions, MAX_SCENE_FILE_
 use super::gltf_extensions::unsupported_extension_warnings;
 use super::gltf_materials::MaterialReader;
 use super::materials::TriangleShading;
-use super::punctual::{PunctualKind, PunctualLight};
 use super::tangents::generate_tangents;
 use super::{Material, Scene, SceneBuilder, SceneError};
 use crate::camera::Camera;
+use crate::lights::{PunctualKind, PunctualLight};
 
 pub use super::gltf_extensions::SUPPORTED_EXTENSIONS;
 

@@ -6,22 +6,20 @@ use std::path::{Path, PathBuf};
 use glam::Vec3;
 
 use crate::camera::Camera;
+use crate::lights::{Environment, EnvironmentSource, PunctualLight};
 
 pub mod cornell;
-pub mod environment;
 mod error;
 pub mod export;
 pub mod files;
 mod gltf_extensions;
 pub mod gltf_loader;
 mod gltf_materials;
-pub mod lights;
 pub mod materials;
 pub mod meshes;
 pub mod obj_loader;
 mod obj_materials;
 pub mod procedural;
-pub mod punctual;
 pub mod source;
 pub mod tangents;
 pub mod textures;
@@ -60,9 +58,12 @@ pub struct Scene {
     /// the workshop's kernels, bit for bit as before).
     pub materials: Option<materials::SceneMaterials>,
     /// KHR_lights_punctual's lights (glTF).
-    pub punctual_lights: Vec<punctual::PunctualLight>,
-    /// What rays that leave the scene see (`--environment`, `--background`); `None`: black.
-    pub environment: Option<environment::Environment>,
+    pub punctual_lights: Vec<PunctualLight>,
+    /// What rays that leave the scene see; `None`: black. Part of the scene's description
+    /// though no scene file has one: the front ends (`--environment`, `--background`,
+    /// Python's `environment=`, `background=`) give it as an `EnvironmentSource`, which
+    /// `with_environment` loads into the scene.
+    pub environment: Option<Environment>,
 }
 
 impl Triangle {
@@ -121,6 +122,19 @@ impl Scene {
             .any(|t| t.emission.max_element() > 0.0)
             || self.punctual_lights.iter().any(|l| l.emits_light())
             || self.environment.as_ref().is_some_and(|e| e.emits_light())
+    }
+
+    /// The scene lit by the environment `source` asks for (`None`: none, black), loaded
+    /// here: the one place where a front end's environment enters a scene.
+    pub fn with_environment(
+        mut self,
+        source: Option<&EnvironmentSource>,
+    ) -> Result<Scene, SceneError> {
+        self.environment = source
+            .map(EnvironmentSource::load)
+            .transpose()
+            .map_err(SceneError::Environment)?;
+        Ok(self)
     }
 
     /// A camera that frames the scene's bounding sphere for an image of `aspect` (width /
@@ -324,7 +338,7 @@ impl SceneBuilder {
     }
 
     /// Adds a punctual light (glTF's KHR_lights_punctual).
-    pub fn add_punctual_light(&mut self, light: punctual::PunctualLight) {
+    pub fn add_punctual_light(&mut self, light: PunctualLight) {
         self.scene.punctual_lights.push(light);
     }
 

@@ -25,16 +25,16 @@ pub fn display_byte(value: f32) -> u8 {
 /// Writes `image` to `path`: PNG as ShaderToy displays it, EXR as the floats (RGBA).
 pub fn save_pass_image(path: &Path, image: &RenderedImage) -> Result<()> {
     match ImageFormat::from_path(path)? {
-        ImageFormat::Exr => save_image(path, image, &SaveOptions::default()),
+        ImageFormat::Exr => Ok(save_image(path, image, &SaveOptions::default())?),
         ImageFormat::Png => {
             let bytes: Vec<u8> = image
                 .mean
                 .iter()
                 .flat_map(|p| [display_byte(p[0]), display_byte(p[1]), display_byte(p[2])])
                 .collect();
-            write_atomically(path, |temporary| {
+            Ok(write_atomically(path, |temporary| {
                 write_rgb8_png(temporary, image.width, image.height, &bytes)
-            })
+            })?)
         }
     }
 }

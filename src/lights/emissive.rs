@@ -1,8 +1,7 @@
 //! The emissive triangles of a scene as light sampling needs them: a power-proportional CDF
 //! and each triangle's selection probability, for multiple importance sampling. How the
 //! shaders store them (`g_light_texels` of `glsl/importance_sampling.glsl`, the packed
-//! triangles' normal.w) is the renderer's business: `gpu_light_bytes` and
-//! `annotate_selection_probabilities` in `src/render/gpu_types.rs`.
+//! triangles' normal.w) is `super::gpu_emissive`'s business.
 
 use glam::Vec3;
 
@@ -25,9 +24,10 @@ pub fn triangle_power(triangle: &Triangle) -> f32 {
     area * std::f32::consts::PI * sides * luminance(triangle.emission).max(0.0)
 }
 
-/// The light table of a scene.
+/// The emissive-triangle table of a scene: which triangles emit, and how light sampling
+/// chooses among them.
 #[derive(Clone, Debug, PartialEq)]
-pub struct LightTable {
+pub struct EmissiveTriangles {
     /// Indices of the emissive triangles.
     pub triangle_indices: Vec<u32>,
     /// Cumulative selection probability of each light (the last is exactly 1).
@@ -36,15 +36,15 @@ pub struct LightTable {
     pub selection_probability: Vec<f32>,
 }
 
-impl LightTable {
+impl EmissiveTriangles {
     /// Builds the table; triangles with zero power are not lights.
-    pub fn new(triangles: &[Triangle]) -> LightTable {
+    pub fn new(triangles: &[Triangle]) -> EmissiveTriangles {
         let powers: Vec<f64> = triangles
             .iter()
             .map(|t| f64::from(triangle_power(t)))
             .collect();
         let total: f64 = powers.iter().sum();
-        let mut table = LightTable {
+        let mut table = EmissiveTriangles {
             triangle_indices: Vec::new(),
             cdf: Vec::new(),
             selection_probability: vec![0.0; triangles.len()],
@@ -85,7 +85,7 @@ mod tests {
             .unwrap()
         };
         // Powers 1 : 0 : 4 (same emission, twice the side length) : 2 (twice the emission).
-        let table = LightTable::new(&[
+        let table = EmissiveTriangles::new(&[
             quad(1.0, 1.0),
             quad(0.0, 1.0),
             quad(1.0, 2.0),
@@ -103,7 +103,7 @@ mod tests {
     fn a_scene_without_emitters_has_no_lights() {
         let t =
             Triangle::new([Vec3::ZERO, Vec3::X, Vec3::Y], Vec3::ONE, Vec3::ZERO, false).unwrap();
-        let table = LightTable::new(&[t]);
+        let table = EmissiveTriangles::new(&[t]);
         assert!(table.triangle_indices.is_empty());
         assert!(table.cdf.is_empty() && table.selection_probability == vec![0.0]);
     }

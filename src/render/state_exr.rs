@@ -12,9 +12,11 @@ use exr::prelude::{read_first_flat_layer_from_file, AttributeValue};
 
 use crate::contract;
 use crate::error::{Error, Result};
+use crate::image_io::exr_input::check_exr_size;
 use crate::image_io::output::{
     write_atomically, write_exr_channels, SAMPLE_COUNT_CHANNEL, SECOND_MOMENT_CHANNELS,
 };
+use crate::image_io::ImageError;
 use crate::render::accumulation::Accumulation;
 use crate::render::metadata::RenderMetadata;
 
@@ -40,10 +42,6 @@ pub const STATE_CHANNELS: [[&str; 4]; 3] = [
         "state.loop_limit_flag",
     ],
 ];
-
-/// Most pixels an EXR that vkpath reads may claim (the check happens on the header, before
-/// any pixel is read): 2^28, a 16384 x 16384 image.
-pub const MAX_EXR_PIXELS: usize = 1 << 28;
 
 /// Writes `state` (with `metadata`) to `path` atomically.
 pub fn write_state(path: &Path, state: &Accumulation, metadata: &RenderMetadata) -> Result<()> {
@@ -74,16 +72,17 @@ pub fn write_state(path: &Path, state: &Accumulation, metadata: &RenderMetadata)
             state.height,
             channels,
             &metadata.attributes(),
+            metadata.window(),
         )
-    })
+    })?;
+    Ok(())
 }
 
 /// Reads a file that `write_state` wrote: the state and its metadata. Files without the
 /// state channels or the metadata, or claiming more than `MAX_EXR_PIXELS`, are refused
 /// with a message that says so.
 pub fn read_state(path: &Path) -> Result<(Accumulation, RenderMetadata)> {
-    let fail =
-        |message: String| Error::Image(format!("cannot read '{}': {message}", path.display()));
+    let fail = |message: String| Error::from(ImageError::read(path, message));
     check_exr_size(path).map_err(&fail)?;
     let file = read_first_flat_layer_from_file(path).map_err(|e| fail(e.to_string()))?;
     let mut attributes = BTreeMap::new();
@@ -166,24 +165,6 @@ pub fn merge_state_files(paths: &[std::path::PathBuf]) -> Result<(Accumulation, 
         .ok_or_else(|| Error::InvalidSettings("no shards to merge".into()))?;
     metadata.samples = merged.samples.clone();
     Ok((merged, metadata))
-}
-
-/// Refuses an EXR whose header claims more than `MAX_EXR_PIXELS` (read before any pixel,
-/// so that a hostile header cannot make vkpath allocate terabytes).
-pub fn check_exr_size(path: &Path) -> std::result::Result<(), String> {
-    let meta = exr::meta::MetaData::read_from_file(path, false).map_err(|e| e.to_string())?;
-    for header in meta.headers.iter() {
-        let (width, height) = (header.layer_size.width(), header.layer_size.height());
-        if width
-            .checked_mul(height)
-            .is_none_or(|pixels| pixels > MAX_EXR_PIXELS)
-        {
-            return Err(format!(
-                "its header claims {width}x{height} pixels, more than the {MAX_EXR_PIXELS} vkpath reads"
-            ));
-        }
-    }
-    Ok(())
 }
 
 #[cfg(test)]

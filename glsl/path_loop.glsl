@@ -1,0 +1,143 @@
+// The path loop of every integrator but the workshop's own (which keep their teaching
+// variants, glsl/integrator.glsl): one loop of named steps over the surface seam
+// (glsl/surface.glsl) and the lights room (glsl/lights.glsl), for Lambert and glTF
+// materials alike. At each hit: 1. the emission the path found (get_found_emission()); 2. the
+// light samples (nee, mis: sample_direct_light()); 3. continue the path: a direction
+// (sample_path_direction()), the throughput weight, Russian roulette. Each step asks
+// glsl/integrators.glsl what the integrator does:
+// - cosine: cosine-weighted directions, weight f (n_s . l) / p(l) (the albedo for Lambert);
+//   all emission found is added;
+// - nee and mis: BSDF importance sampling and light samples, MIS-weighted with the power
+//   heuristic for mis (nee adds found emission only for the camera ray);
+// - on glTF materials, also the workshop's Exercises 6 (direct illumination: one bounce) and
+//   7 (path tracing) with uniform hemisphere directions, weight 2 pi f (n_s . l).
+// MAX_PATH_LENGTH bounds the number of surface hits as in the workshop: a light sample at
+// vertex j stands for a hit j + 1, so it is taken only while j < MAX_PATH_LENGTH.
+//
+// Random numbers, in the order drawn (the order decides every output bit, with PCG2D and
+// with Sobol's dimension pairs alike, so keep it): the pixel jitter (main(): a
+// get_path_random_numbers() pair for the importance-sampled integrators with the box filter,
+// else the workshop's get_sample_tex_coord()); then at each vertex that is not the last:
+// nee and mis: the light samples' pairs (glsl/lights.glsl lists them); the direction: one
+// get_random_numbers() pair for Exercises 6 and 7 (PCG2D even with SAMPLER_SOBOL), one
+// get_path_random_numbers() pair for cosine, nee and mis; cosine, nee and mis past
+// RUSSIAN_ROULETTE_START: the survival pair (its first number). Alpha coverage
+// (ALPHA_MODE_BLEND) hashes g_path.alpha_seed with the ray count instead and draws nothing, so
+// the rays traced, and their order, must stay as they are too.
+//
+// Rust twin: src/cpu/path_loop.rs (Lambert). Needs MAX_PATH_LENGTH, INTEGRATOR,
+// RUSSIAN_ROULETTE_START, SAMPLER and LIGHT_SAMPLING defined by the includer.
+#ifndef VKPATH_PATH_LOOP_GLSL
+#define VKPATH_PATH_LOOP_GLSL
+
+#include "integrators.glsl"
+#include "surface.glsl"
+#include "lights.glsl"
+
+// Step 1 at a hit: throughput times the emission the path found, weighted as the integrator
+// says: all of it for the camera ray and integrators without light samples; none for nee
+// (its light samples account for it); MIS-weighted against light sampling for mis.
+// \param vertex Index of the hit on the path (0: the camera ray's)
+// \param previous_position Origin of the ray that found it
+// \param direction_density Density of the direction sample that found it
+vec3 get_found_emission(int vertex, vec3 throughput_weight, surface_t surface, uint triangle_index, triangle_t triangle, vec3 previous_position, vec3 ray_direction, float t, float direction_density) {
+    if (vertex == 0 || !takes_light_samples())
+        return throughput_weight * surface.emission;
+    if (weighs_by_mis() && surface.emission != vec3(0.0)) {
+        float light_density = get_emissive_triangle_density(triangle_index, triangle, previous_position, ray_direction, t);
+        return throughput_weight * surface.emission * get_power_heuristic_weight(direction_density, light_density);
+    }
+    return vec3(0.0);
+}
+
+#ifdef USE_MATERIALS
+// Step 1 where a ray leaves the scene: throughput times the environment's radiance, weighted
+// as get_found_emission() weighs emission.
+vec3 get_found_environment(int vertex, vec3 throughput_weight, vec3 ray_direction, float direction_density) {
+    if (vertex == 0 || !takes_light_samples())
+        return throughput_weight * get_environment_radiance(ray_direction);
+    if (weighs_by_mis() && get_environment_kind() != ENVIRONMENT_NONE)
+        return throughput_weight * get_environment_radiance(ray_direction) * get_power_heuristic_weight(direction_density, get_environment_density(ray_direction));
+    return vec3(0.0);
+}
+#endif
+
+// Step 3: the direction the path continues in, as the integrator samples it.
+bsdf_sample_t sample_path_direction(surface_t surface, vec3 view, inout uvec2 seed) {
+    if (samples_uniform_directions())
+        return sample_uniform_direction(surface, view, get_random_numbers(seed));
+    vec2 random_numbers = get_path_random_numbers(seed);
+    if (samples_cosine_directions())
+        return sample_cosine_direction(surface, view, random_numbers);
+    return sample_bsdf(surface, view, random_numbers);
+}
+
+// A Monte Carlo estimate of the radiance arriving along a ray: the loop of the file's
+// comment. L_{j+1} = L_j + T_j (found emission + light samples), T_{j+1} = T_j weight_j.
+// \param ray_origin, ray_direction The camera ray, world space
+// \param seed The pixel's PCG2D random state (see get_path_random_numbers())
+vec3 get_path_radiance(vec3 ray_origin, vec3 ray_direction, inout uvec2 seed) {
+    vec3 radiance = vec3(0.0);
+    vec3 throughput_weight = vec3(1.0);
+    // Density of the direction sample that produced ray_direction (0: the camera ray).
+    float direction_density = 0.0;
+    // Origin of the current ray: where MIS weights see a light found by it.
+    vec3 previous_position = ray_origin;
+    int vertex_count = is_direct_illumination() ? 2 : MAX_PATH_LENGTH;
+    for (int i = 0; i != vertex_count; ++i) {
+        float t;
+        triangle_t triangle;
+        if (!ray_mesh_intersection(t, triangle, ray_origin, ray_direction)) {
+#ifdef USE_MATERIALS
+            radiance += get_found_environment(i, throughput_weight, ray_direction, direction_density);
+#endif
+            break;
+        }
+        uint triangle_index = g_path.hit_triangle_index;
+        ray_origin += t * ray_direction;
+        surface_t surface = get_surface(triangle_index, triangle, ray_origin, ray_direction);
+        vec3 view = -ray_direction;
+        // 1. The emission found
+        radiance += get_found_emission(i, throughput_weight, surface, triangle_index, triangle, previous_position, ray_direction, t, direction_density);
+        if (i + 1 == vertex_count)
+            break;
+        // 2. Light samples
+        if (takes_light_samples())
+            radiance += throughput_weight * sample_direct_light(ray_origin, surface, view, seed);
+        // 3. Continue the path
+        bsdf_sample_t direction = sample_path_direction(surface, view, seed);
+        if (direction.weight == vec3(0.0))
+            break;
+        ray_direction = direction.direction;
+        direction_density = direction.density;
+        throughput_weight *= direction.weight;
+        ray_origin = get_departure_origin(surface, ray_origin, direction.lobes);
+        previous_position = ray_origin;
+        // Russian roulette: continue with probability q = min(1, max throughput component)
+        // and divide by q, which keeps the estimate unbiased.
+        if (is_importance_sampled() && RUSSIAN_ROULETTE_START > 0 && i + 1 >= RUSSIAN_ROULETTE_START) {
+            float survival = min(1.0, max(throughput_weight.r, max(throughput_weight.g, throughput_weight.b)));
+            if (get_path_random_numbers(seed)[0] >= survival)
+                break;
+            throughput_weight /= survival;
+        }
+    }
+    return radiance;
+}
+
+// What the first hit shows (ray tracing: the base colour; normal: the shading normal; depth:
+// the ray parameter), 0 where the ray hits nothing.
+vec3 get_first_hit_view(vec3 ray_origin, vec3 ray_direction) {
+    float t;
+    triangle_t triangle;
+    if (!ray_mesh_intersection(t, triangle, ray_origin, ray_direction))
+        return vec3(0.0);
+    surface_t surface = get_surface(g_path.hit_triangle_index, triangle, ray_origin + t * ray_direction, ray_direction);
+    if (INTEGRATOR == INTEGRATOR_RAY_TRACING)
+        return surface.material.base_color;
+    if (INTEGRATOR == INTEGRATOR_NORMAL)
+        return surface.shading_normal;
+    return vec3(t);
+}
+
+#endif

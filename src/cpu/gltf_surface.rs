@@ -1,0 +1,297 @@
+//! Rust twins of the functions of the surface seam's glTF model (`glsl/surface.glsl` over `glsl/materials.glsl`) that read the scene's texel buffers:
+//! `get_surface`, `get_bsdf`, `is_opaque_hit` and the lookups they are made
+//! of, reading the same words the GPU reads (the packed triangles, `GpuTriangleShading`,
+//! `GpuMaterial` and the texture atlas of `crate::render`), with the same maths. The pure
+//! functions they call are twins too: `crate::cpu::materials`, `crate::cpu::textures`,
+//! `crate::cpu::brdf`, `crate::cpu::workshop::get_random_numbers`.
+
+use glam::{UVec2, UVec4, Vec2, Vec3, Vec4};
+
+use crate::contract::{
+    ALPHA_MODE_MASK, ALPHA_MODE_OPAQUE, MATERIAL_FACTOR_TEXEL_COUNT, MATERIAL_TEXEL_COUNT,
+    MATERIAL_TEXTURE_BASE_COLOR, MATERIAL_TEXTURE_EMISSIVE, MATERIAL_TEXTURE_METALLIC_ROUGHNESS,
+    MATERIAL_TEXTURE_NORMAL, SHADING_TEXEL_COUNT, TRIANGLE_FLAG_DOUBLE_SIDED, TRIANGLE_TEXEL_COUNT,
+};
+use crate::cpu::brdf::{get_brdf, MaterialSample};
+use crate::cpu::materials::{apply_normal_map, get_barycentrics};
+use crate::cpu::texels::{fetch_float_texel, fetch_texel, uint_bits_to_float};
+use crate::cpu::textures::{sample_texture, unpack_texture_slot};
+use crate::cpu::workshop::get_random_numbers;
+use crate::scene::Triangle;
+
+/// The texel buffers of `glsl/scene.glsl` and `glsl/materials.glsl` as the twins read them:
+/// RGBA32_UINT texels, four words each, and the RGBA8 texture atlas.
+pub struct SurfaceTexels<'a> {
+    /// `g_triangle_texels`: the packed triangles (`GpuTriangle`).
+    pub triangles: &'a [u32],
+    /// `g_shading_texels`: per-triangle shading data (`GpuTriangleShading`).
+    pub shading: &'a [u32],
+    /// `g_material_texels`: the materials (`GpuMaterial`).
+    pub materials: &'a [u32],
+    /// `g_texture_texels`: the atlas (`TextureAtlas::texels`).
+    pub texture_texels: &'a [[u8; 4]],
+    /// The specialization constant `SCENE_HAS_TEXTURES`.
+    pub scene_has_textures: bool,
+}
+
+/// Twin of `get_triangle` (`glsl/scene.glsl`): triangle `index` as the workshop's struct
+/// (the albedo, emission and double-sidedness of the packed triangle, its stored normal).
+pub fn get_triangle(texels: &SurfaceTexels, index: u32) -> Triangle {
+    let first = (TRIANGLE_TEXEL_COUNT * index) as usize;
+    let xyz = |j: usize| fetch_float_texel(texels.triangles, first + j).truncate();
+    Triangle {
+        positions: [xyz(0), xyz(1), xyz(2)],
+        normal: xyz(3),
+        color: xyz(4),
+        emission: xyz(5),
+        double_sided: is_double_sided(texels, index),
+    }
+}
+
+/// Twin of `is_double_sided` (`glsl/scene.glsl`).
+pub fn is_double_sided(texels: &SurfaceTexels, index: u32) -> bool {
+    let emission = fetch_texel(
+        texels.triangles,
+        (TRIANGLE_TEXEL_COUNT * index) as usize + 5,
+    );
+    (emission.w & TRIANGLE_FLAG_DOUBLE_SIDED) != 0
+}
+
+/// Twin of `get_shading_texel`: texel `j` of triangle `i`'s shading data.
+pub fn get_shading_texel(texels: &SurfaceTexels, triangle_index: u32, j: u32) -> UVec4 {
+    fetch_texel(
+        texels.shading,
+        (SHADING_TEXEL_COUNT * triangle_index + j) as usize,
+    )
+}
+
+/// Twin of `get_material_texel`: texel `j` of material `i`.
+pub fn get_material_texel(texels: &SurfaceTexels, material_index: u32, j: u32) -> UVec4 {
+    fetch_texel(
+        texels.materials,
+        (MATERIAL_TEXEL_COUNT * material_index + j) as usize,
+    )
+}
+
+/// Twin of `get_material_index`.
+pub fn get_material_index(texels: &SurfaceTexels, triangle_index: u32) -> u32 {
+    get_shading_texel(texels, triangle_index, 0).w
+}
+
+/// Twin of `get_tex_coord`: TEXCOORD_0 at a point with the given barycentrics.
+pub fn get_tex_coord(texels: &SurfaceTexels, triangle_index: u32, barycentrics: Vec3) -> Vec2 {
+    let first = uint_bits_to_float(get_shading_texel(texels, triangle_index, 3));
+    let second = uint_bits_to_float(get_shading_texel(texels, triangle_index, 4));
+    barycentrics[0] * Vec2::new(first.x, first.y)
+        + barycentrics[1] * Vec2::new(first.z, first.w)
+        + barycentrics[2] * Vec2::new(second.x, second.y)
+}
+
+/// Twin of `has_material_texture`.
+pub fn has_material_texture(texels: &SurfaceTexels, material_index: u32, slot: u32) -> bool {
+    (get_material_texel(texels, material_index, 4).y & (1 << slot)) != 0
+}
+
+/// Twin of `sample_material_texture`: slot `MATERIAL_TEXTURE_*` of material `i` at
+/// `tex_coord`, 1 without a texture.
+pub fn sample_material_texture(
+    texels: &SurfaceTexels,
+    material_index: u32,
+    slot: u32,
+    tex_coord: Vec2,
+) -> Vec4 {
+    if !texels.scene_has_textures || !has_material_texture(texels, material_index, slot) {
+        return Vec4::ONE;
+    }
+    let first = MATERIAL_FACTOR_TEXEL_COUNT + 3 * slot;
+    let texture = unpack_texture_slot(
+        get_material_texel(texels, material_index, first),
+        get_material_texel(texels, material_index, first + 1),
+        get_material_texel(texels, material_index, first + 2),
+    );
+    sample_texture(texels.texture_texels, &texture, tex_coord)
+}
+
+/// Twin of `get_base_color`: base colour and alpha, factor times texture.
+pub fn get_base_color(texels: &SurfaceTexels, material_index: u32, tex_coord: Vec2) -> Vec4 {
+    uint_bits_to_float(get_material_texel(texels, material_index, 0))
+        * sample_material_texture(
+            texels,
+            material_index,
+            MATERIAL_TEXTURE_BASE_COLOR,
+            tex_coord,
+        )
+}
+
+/// Twin of `get_material_emission`: emitted radiance (front side), factor times texture.
+pub fn get_material_emission(texels: &SurfaceTexels, material_index: u32, tex_coord: Vec2) -> Vec3 {
+    uint_bits_to_float(get_material_texel(texels, material_index, 1)).truncate()
+        * sample_material_texture(texels, material_index, MATERIAL_TEXTURE_EMISSIVE, tex_coord)
+            .truncate()
+}
+
+/// Twin of `is_opaque_hit`: whether a candidate hit at ray parameter `t` on triangle `i`
+/// counts. `alpha_seed` and `ray_count` are the GLSL globals `g_alpha_seed` and
+/// `g_ray_count` at the call.
+pub fn is_opaque_hit(
+    texels: &SurfaceTexels,
+    triangle_index: u32,
+    ray_origin: Vec3,
+    ray_direction: Vec3,
+    t: f32,
+    alpha_seed: UVec2,
+    ray_count: u32,
+) -> bool {
+    let material_index = get_material_index(texels, triangle_index);
+    let alpha_mode = get_material_texel(texels, material_index, 4).x;
+    if alpha_mode == ALPHA_MODE_OPAQUE {
+        return true;
+    }
+    let barycentrics = get_barycentrics(
+        ray_origin + t * ray_direction,
+        &get_triangle(texels, triangle_index),
+    );
+    let alpha = get_base_color(
+        texels,
+        material_index,
+        get_tex_coord(texels, triangle_index, barycentrics),
+    )
+    .w;
+    if alpha_mode == ALPHA_MODE_MASK {
+        return alpha >= f32::from_bits(get_material_texel(texels, material_index, 3).w);
+    }
+    let mut hash_state =
+        alpha_seed ^ UVec2::new(ray_count.wrapping_mul(2654435769), triangle_index);
+    get_random_numbers(&mut hash_state)[0] < alpha
+}
+
+/// Twin of `get_front_shading_normal`: the interpolated shading normal of triangle `i`
+/// (front side), perturbed by the material's normal map; the face normal where the
+/// interpolation vanishes.
+pub fn get_front_shading_normal(
+    texels: &SurfaceTexels,
+    triangle_index: u32,
+    material_index: u32,
+    barycentrics: Vec3,
+    tex_coord: Vec2,
+    face_normal: Vec3,
+) -> Vec3 {
+    let vertex_normal =
+        |j: u32| uint_bits_to_float(get_shading_texel(texels, triangle_index, j)).truncate();
+    let mut normal = barycentrics[0] * vertex_normal(0)
+        + barycentrics[1] * vertex_normal(1)
+        + barycentrics[2] * vertex_normal(2);
+    if !(normal.dot(normal) > 1.0e-12) {
+        return face_normal;
+    }
+    normal = normal.normalize();
+    if texels.scene_has_textures
+        && has_material_texture(texels, material_index, MATERIAL_TEXTURE_NORMAL)
+    {
+        let tangent_0 = uint_bits_to_float(get_shading_texel(texels, triangle_index, 5));
+        let tangent = barycentrics[0] * tangent_0.truncate()
+            + barycentrics[1]
+                * uint_bits_to_float(get_shading_texel(texels, triangle_index, 6)).truncate()
+            + barycentrics[2]
+                * uint_bits_to_float(get_shading_texel(texels, triangle_index, 7)).truncate();
+        let scale = uint_bits_to_float(get_material_texel(texels, material_index, 2)).w;
+        let texel =
+            sample_material_texture(texels, material_index, MATERIAL_TEXTURE_NORMAL, tex_coord)
+                .truncate();
+        normal = apply_normal_map(normal, tangent.extend(tangent_0.w), texel, scale);
+    }
+    normal
+}
+
+/// Twin of `surface_t`: a hit point as the integrators shade it.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Surface {
+    /// Unit geometric normal, on the side the ray came from.
+    pub geometric_normal: Vec3,
+    /// Unit shading normal, on the same side, with the view direction above it.
+    pub shading_normal: Vec3,
+    /// The material after texture lookups.
+    pub material: MaterialSample,
+    /// Emitted radiance towards the ray's origin (0 from the back of one-sided emitters).
+    pub emission: Vec3,
+}
+
+/// Twin of `get_surface`: normals, the material after textures and the emission at a hit.
+/// \param triangle The hit triangle as `ray_mesh_intersection` returned it (not oriented)
+pub fn get_surface(
+    texels: &SurfaceTexels,
+    triangle_index: u32,
+    triangle: &Triangle,
+    position: Vec3,
+    ray_direction: Vec3,
+) -> Surface {
+    let material_index = get_material_index(texels, triangle_index);
+    let barycentrics = get_barycentrics(position, triangle);
+    let tex_coord = get_tex_coord(texels, triangle_index, barycentrics);
+    let front = triangle.normal.dot(ray_direction) <= 0.0;
+    let view = -ray_direction;
+    let geometric_normal = if front {
+        triangle.normal
+    } else {
+        -triangle.normal
+    };
+    let shading_normal = get_front_shading_normal(
+        texels,
+        triangle_index,
+        material_index,
+        barycentrics,
+        tex_coord,
+        triangle.normal,
+    );
+    let shading_normal = if front {
+        shading_normal
+    } else {
+        -shading_normal
+    };
+    let shading_normal = if shading_normal.dot(view) > 0.0 {
+        shading_normal
+    } else {
+        geometric_normal
+    };
+    let base_color = get_base_color(texels, material_index, tex_coord);
+    let factors = uint_bits_to_float(get_material_texel(texels, material_index, 2));
+    // glTF: roughness in G, metallic in B of the metallic-roughness texture
+    let metallic_roughness = sample_material_texture(
+        texels,
+        material_index,
+        MATERIAL_TEXTURE_METALLIC_ROUGHNESS,
+        tex_coord,
+    );
+    let material = MaterialSample {
+        base_color: base_color.truncate(),
+        metallic: uint_bits_to_float(get_material_texel(texels, material_index, 1)).w
+            * metallic_roughness.z,
+        roughness: factors.x * metallic_roughness.y,
+        specular: factors.y,
+        ior: factors.z,
+        specular_color: uint_bits_to_float(get_material_texel(texels, material_index, 3))
+            .truncate(),
+    };
+    let double_sided = is_double_sided(texels, triangle_index);
+    let emission = if front || double_sided {
+        get_material_emission(texels, material_index, tex_coord)
+    } else {
+        Vec3::ZERO
+    };
+    Surface {
+        geometric_normal,
+        shading_normal,
+        material,
+        emission,
+    }
+}
+
+/// Twin of `get_bsdf`: f(view, light) max(0, n_s . light), and 0 for light
+/// from below the geometric surface.
+pub fn get_bsdf(surface: &Surface, view: Vec3, light: Vec3) -> Vec3 {
+    if surface.geometric_normal.dot(light) <= 0.0 {
+        return Vec3::ZERO;
+    }
+    get_brdf(&surface.material, surface.shading_normal, view, light)
+        * surface.shading_normal.dot(light).max(0.0)
+}

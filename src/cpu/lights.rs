@@ -1,0 +1,313 @@
+//! Rust twins of `glsl/lights.glsl`, the lights room, for the emissive triangles (the
+//! environment's twins are `crate::cpu::environment`): choosing a light, sampling a point
+//! of it, the density MIS weighs by, and the estimator that turns a light sample into
+//! reflected light through the surface seam (`crate::cpu::surface`). Same names, same maths,
+//! same random-number consumption.
+
+use glam::{UVec2, Vec2, Vec3};
+
+use crate::contract::{MIN_LIGHT_COSINE, NO_HIT_T, SHADOW_RAY_MARGIN};
+use crate::cpu::importance_sampling::{
+    get_power_heuristic_weight, get_spherical_triangle, get_triangle_area,
+    sample_spherical_triangle, sample_triangle_point, use_spherical_sampling, SphericalTriangle,
+};
+use crate::cpu::integrator::is_double_sided;
+use crate::cpu::integrators::weighs_by_mis;
+use crate::cpu::surface::{
+    get_bsdf, get_bsdf_density, get_front_emission, get_light_sample_origin,
+    get_reflected_radiance, Surface,
+};
+use crate::cpu::workshop::{get_random_numbers, ray_triangle_intersection};
+use crate::lights::EmissiveTriangles;
+use crate::scene::Triangle;
+
+/// What the light estimators read of a scene: its triangles, its emissive triangles and the
+/// kernel's `INTEGRATOR` and `LIGHT_SAMPLING`.
+#[derive(Clone, Copy, Debug)]
+pub struct LightScene<'a> {
+    /// All triangles of the scene.
+    pub scene_triangles: &'a [Triangle],
+    /// The emissive triangles and their selection distribution.
+    pub lights: &'a EmissiveTriangles,
+    /// The kernel's `INTEGRATOR`.
+    pub integrator: u32,
+    /// The kernel's `LIGHT_SAMPLING`.
+    pub light_sampling: u32,
+}
+
+/// Twin of `sample_light_index`: binary search for the first CDF entry above the number.
+pub fn sample_light_index(lights: &EmissiveTriangles, random_number: f32) -> usize {
+    let (mut low, mut high) = (0usize, lights.cdf.len().saturating_sub(1));
+    for _ in 0..32 {
+        if low >= high {
+            break;
+        }
+        let middle = (low + high) / 2;
+        if random_number < lights.cdf[middle] {
+            high = middle;
+        } else {
+            low = middle + 1;
+        }
+    }
+    low
+}
+
+/// Twin of `get_light_density`: at the origin of `spherical` (the light as seen from there),
+/// p_select / solid angle for lights sampled by solid angle, else
+/// p_select / area * distance^2 / |n_light.omega|.
+pub fn get_light_density(
+    light_sampling: u32,
+    selection_probability: f32,
+    light: &Triangle,
+    spherical: &SphericalTriangle,
+    direction: Vec3,
+    distance: f32,
+) -> f32 {
+    if use_spherical_sampling(light_sampling, spherical) {
+        return selection_probability / spherical.solid_angle;
+    }
+    let cosine = light.normal.dot(direction).abs();
+    selection_probability * distance * distance
+        / (get_triangle_area(light) * cosine.max(MIN_LIGHT_COSINE))
+}
+
+/// Twin of `ray_mesh_any_hit` (brute force, the kernels without USE_BVH): whether any
+/// triangle is hit at a ray parameter t < t_max.
+pub fn ray_mesh_any_hit(
+    scene_triangles: &[Triangle],
+    ray_origin: Vec3,
+    ray_direction: Vec3,
+    t_max: f32,
+) -> bool {
+    scene_triangles.iter().any(|triangle| {
+        ray_triangle_intersection(ray_origin, ray_direction, triangle).is_some_and(|t| t < t_max)
+    })
+}
+
+/// Twin of `sample_light_direction`: a direction from `origin` towards a point of `light`
+/// (by solid angle or by area, as `use_spherical_sampling` says) and the distance along it.
+pub fn sample_light_direction(
+    light_sampling: u32,
+    point_randoms: Vec2,
+    light: &Triangle,
+    origin: Vec3,
+    spherical: &SphericalTriangle,
+) -> (Vec3, f32) {
+    if use_spherical_sampling(light_sampling, spherical) {
+        let direction = sample_spherical_triangle(point_randoms, spherical);
+        let distance = ray_triangle_intersection(origin, direction, light).unwrap_or_else(|| {
+            light.normal.dot(light.positions[0] - origin) / light.normal.dot(direction)
+        });
+        (direction, distance)
+    } else {
+        let to_light = sample_triangle_point(point_randoms, light) - origin;
+        let distance = to_light.length();
+        (to_light / distance, distance)
+    }
+}
+
+/// Twin of `light_sample_t`: one light sample.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct LightSample {
+    /// Unit direction towards the light.
+    pub direction: Vec3,
+    /// Distance to the light (`NO_HIT_T` for lights at infinity).
+    pub distance: f32,
+    /// Radiance arriving (delta lights: irradiance).
+    pub radiance: Vec3,
+    /// Density w.r.t. solid angle; 0 for delta lights and for no sample.
+    pub density: f32,
+    /// Delta lights only: 1 / the probability of choosing the light; else 0.
+    pub delta_weight: f32,
+}
+
+/// Twin of `get_no_light_sample`.
+pub fn get_no_light_sample() -> LightSample {
+    LightSample {
+        direction: Vec3::Z,
+        distance: 0.0,
+        radiance: Vec3::ZERO,
+        density: 0.0,
+        delta_weight: 0.0,
+    }
+}
+
+/// Twin of `is_visible`: no triangle within the segment, which ends `SHADOW_RAY_MARGIN`
+/// (2^-14) short of a light at a finite distance.
+pub fn is_visible(
+    scene_triangles: &[Triangle],
+    origin: Vec3,
+    direction: Vec3,
+    distance: f32,
+) -> bool {
+    let t_max = if distance >= NO_HIT_T {
+        NO_HIT_T
+    } else {
+        distance * (1.0 - SHADOW_RAY_MARGIN)
+    };
+    !ray_mesh_any_hit(scene_triangles, origin, direction, t_max)
+}
+
+/// Twin of `sample_emissive_triangle_light`.
+pub fn sample_emissive_triangle_light(
+    scene: &LightScene,
+    origin: Vec3,
+    seed: &mut UVec2,
+) -> LightSample {
+    let selection = get_random_numbers(seed);
+    let point_randoms = get_random_numbers(seed);
+    let lights = scene.lights;
+    if lights.triangle_indices.is_empty() {
+        return get_no_light_sample();
+    }
+    let light_index = lights.triangle_indices[sample_light_index(lights, selection[0])] as usize;
+    let light = &scene.scene_triangles[light_index];
+    let spherical = get_spherical_triangle(origin, light);
+    let (direction, distance) = sample_light_direction(
+        scene.light_sampling,
+        point_randoms,
+        light,
+        origin,
+        &spherical,
+    );
+    let front = light.normal.dot(direction) < 0.0;
+    if !(distance > 0.0) || (!front && !is_double_sided(scene.scene_triangles, light_index)) {
+        return get_no_light_sample();
+    }
+    LightSample {
+        direction,
+        distance,
+        radiance: get_front_emission(light),
+        density: get_light_density(
+            scene.light_sampling,
+            lights.selection_probability[light_index],
+            light,
+            &spherical,
+            direction,
+            distance,
+        ),
+        delta_weight: 0.0,
+    }
+}
+
+/// Twin of `get_emissive_triangle_density`.
+pub fn get_emissive_triangle_density(
+    scene: &LightScene,
+    triangle_index: usize,
+    origin: Vec3,
+    direction: Vec3,
+    distance: f32,
+) -> f32 {
+    let triangle = &scene.scene_triangles[triangle_index];
+    get_light_density(
+        scene.light_sampling,
+        scene.lights.selection_probability[triangle_index],
+        triangle,
+        &get_spherical_triangle(origin, triangle),
+        direction,
+        distance,
+    )
+}
+
+/// Twin of `estimate_light_sample`.
+pub fn estimate_light_sample(
+    scene: &LightScene,
+    surface: &Surface,
+    view: Vec3,
+    origin: Vec3,
+    sample: &LightSample,
+) -> Vec3 {
+    let delta = sample.delta_weight > 0.0;
+    if !delta && !(sample.density > 0.0) {
+        return Vec3::ZERO;
+    }
+    let bsdf = get_bsdf(surface, view, sample.direction);
+    if bsdf == Vec3::ZERO
+        || !is_visible(
+            scene.scene_triangles,
+            origin,
+            sample.direction,
+            sample.distance,
+        )
+    {
+        return Vec3::ZERO;
+    }
+    let reflected = get_reflected_radiance(surface, sample.direction, bsdf, sample.radiance);
+    if delta {
+        return reflected * sample.delta_weight;
+    }
+    let weight = if weighs_by_mis(scene.integrator) {
+        get_power_heuristic_weight(
+            sample.density,
+            get_bsdf_density(surface, view, sample.direction),
+        )
+    } else {
+        1.0
+    };
+    reflected / sample.density * weight
+}
+
+/// Twin of `sample_direct_light` (the workshop's scenes: emissive triangles only).
+pub fn sample_direct_light(
+    scene: &LightScene,
+    position: Vec3,
+    surface: &Surface,
+    view: Vec3,
+    seed: &mut UVec2,
+) -> Vec3 {
+    let origin = get_light_sample_origin(surface, position);
+    let sample = sample_emissive_triangle_light(scene, origin, seed);
+    estimate_light_sample(scene, surface, view, origin, &sample)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::contract::{LIGHT_SAMPLING_AREA, LIGHT_SAMPLING_SOLID_ANGLE};
+
+    #[test]
+    fn light_density_switches_to_area_outside_the_solid_angle_range() {
+        let light = Triangle::new(
+            [
+                Vec3::new(0.0, 0.0, 1.0),
+                Vec3::new(0.01, 0.0, 1.0),
+                Vec3::new(0.0, 0.01, 1.0),
+            ],
+            Vec3::ONE,
+            Vec3::ONE,
+            false,
+        )
+        .unwrap();
+        let direction = Vec3::new(0.003, 0.003, 1.0).normalize();
+        let distance = 1.0 / direction.z;
+        // 5e-5 sr: too small for spherical sampling, so both settings give the area density.
+        let area = get_light_density(
+            LIGHT_SAMPLING_AREA,
+            0.5,
+            &light,
+            &get_spherical_triangle(Vec3::ZERO, &light),
+            direction,
+            distance,
+        );
+        let solid_angle = get_light_density(
+            LIGHT_SAMPLING_SOLID_ANGLE,
+            0.5,
+            &light,
+            &get_spherical_triangle(Vec3::ZERO, &light),
+            direction,
+            distance,
+        );
+        assert_eq!(area, solid_angle);
+        // From closer, 1/solid angle: it differs from the area density, whose 1/r^2 varies.
+        let spherical = get_spherical_triangle(Vec3::new(0.0, 0.0, 0.99), &light);
+        let near = get_light_density(
+            LIGHT_SAMPLING_SOLID_ANGLE,
+            0.5,
+            &light,
+            &spherical,
+            direction,
+            0.01 / direction.z,
+        );
+        assert_eq!(near, 0.5 / spherical.solid_angle);
+    }
+}

@@ -1,0 +1,39 @@
+//! The scene's lights on the host, in one room: what each kind of light is, the list of all
+//! of a scene's lights that the renderer uploads (`SceneLights`), and how each kind is packed
+//! into the words the shaders read. One file, one job:
+//!
+//! - `emissive`: the emissive triangles' power-proportional table (`EmissiveTriangles`) and
+//!   the luminance that weights it;
+//! - `environment`: the light from infinitely far away (`Environment`: a map or a constant
+//!   colour) and reading an equirectangular map;
+//! - `alias_table`: the alias table that importance-samples an environment map;
+//! - `environment_source`: the environment a user asks for (`--environment`,
+//!   `--background`, Python's `environment=`), checked in one place and loaded into an
+//!   `Environment` (the scene description's, see `crate::scene::SceneDescription`);
+//! - `punctual`: KHR_lights_punctual's point, spot and directional lights;
+//! - `scene_lights`: `SceneLights`, every light of a scene as the renderer uploads it;
+//! - `gpu_emissive`, `gpu_environment`, `gpu_punctual`: each kind's words as
+//!   `glsl/importance_sampling.glsl`, `glsl/environment.glsl` and
+//!   `glsl/punctual_lights.glsl` read them (the CPU twins in `crate::cpu` read the same
+//!   words).
+//!
+//! A new kind of light is a file for the kind, a file for its words, a field of
+//! `SceneLights` (and of `crate::scene::Scene`, which carries the description), its binding
+//! (`crate::kernels::bindings`, `glsl/shared.h`) and its upload in
+//! `crate::render::gpu_scene`.
+
+pub mod alias_table;
+pub mod emissive;
+pub mod environment;
+pub mod environment_source;
+pub mod gpu_emissive;
+pub mod gpu_environment;
+pub mod gpu_punctual;
+pub mod punctual;
+pub mod scene_lights;
+
+pub use emissive::{luminance, EmissiveTriangles};
+pub use environment::{Environment, EnvironmentMap};
+pub use environment_source::EnvironmentSource;
+pub use punctual::{PunctualKind, PunctualLight};
+pub use scene_lights::SceneLights;

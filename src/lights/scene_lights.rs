@@ -1,0 +1,95 @@
+//! Every light of a scene as the renderer uploads it: the emissive triangles (as a table
+//! over the triangles in the order they are uploaded), the environment and the punctual
+//! lights, with the words of each that the shaders read.
+
+use super::emissive::EmissiveTriangles;
+use super::environment::Environment;
+use super::gpu_emissive::{annotate_selection_probabilities, gpu_light_bytes};
+use super::gpu_environment::gpu_environment_words;
+use super::gpu_punctual::gpu_punctual_light_words;
+use super::punctual::PunctualLight;
+use crate::render::gpu_types::GpuTriangle;
+use crate::scene::{Scene, Triangle};
+
+/// The list of a scene's lights that the renderer uploads.
+#[derive(Clone, Debug, PartialEq)]
+pub struct SceneLights<'a> {
+    /// The emissive triangles, indexed in the order the triangles are uploaded (the BVH's
+    /// leaf order when there is one).
+    pub emissive: EmissiveTriangles,
+    /// What rays that leave the scene see; `None`: black.
+    pub environment: Option<&'a Environment>,
+    /// KHR_lights_punctual's lights.
+    pub punctual: &'a [PunctualLight],
+}
+
+impl<'a> SceneLights<'a> {
+    /// The lights of `scene`, whose triangles are uploaded as `triangles` (the scene's own
+    /// or a reordering of them).
+    pub fn new(scene: &'a Scene, triangles: &[Triangle]) -> SceneLights<'a> {
+        SceneLights {
+            emissive: EmissiveTriangles::new(triangles),
+            environment: scene.environment.as_ref(),
+            punctual: &scene.punctual_lights,
+        }
+    }
+
+    /// Writes each packed triangle's selection probability (where MIS reads it); `triangles`
+    /// must be the ones this list was made with, packed in the same order.
+    pub fn annotate(&self, triangles: &mut [GpuTriangle]) {
+        annotate_selection_probabilities(&self.emissive, triangles);
+    }
+
+    /// The bytes of the emissive triangles' texel buffer (`BINDING_LIGHTS`).
+    pub fn emissive_bytes(&self) -> Vec<u8> {
+        gpu_light_bytes(&self.emissive)
+    }
+
+    /// The words of the environment's texel buffer (`BINDING_ENVIRONMENT`).
+    pub fn environment_words(&self) -> Vec<u32> {
+        gpu_environment_words(self.environment)
+    }
+
+    /// The words of the punctual lights' texel buffer (`BINDING_PUNCTUAL_LIGHTS`).
+    pub fn punctual_words(&self) -> Vec<u32> {
+        gpu_punctual_light_words(self.punctual)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::lights::punctual::PunctualKind;
+    use glam::{Mat4, Vec3};
+
+    #[test]
+    fn the_list_packs_each_kind_as_its_own_module_does() {
+        let mut scene = Scene::builtin_cornell_box().unwrap();
+        scene.environment = Some(Environment::constant(Vec3::splat(0.5)));
+        scene.punctual_lights = vec![PunctualLight::new(
+            PunctualKind::Point,
+            Vec3::ONE,
+            3.0,
+            Mat4::from_translation(Vec3::Z),
+        )
+        .unwrap()];
+        // Reversed, as a BVH might reorder them: the table follows the upload order.
+        let reversed: Vec<Triangle> = scene.triangles.iter().rev().copied().collect();
+        let lights = SceneLights::new(&scene, &reversed);
+        assert_eq!(lights.emissive, EmissiveTriangles::new(&reversed));
+        assert_ne!(lights.emissive, EmissiveTriangles::new(&scene.triangles));
+        assert_eq!(lights.emissive_bytes(), gpu_light_bytes(&lights.emissive));
+        assert_eq!(
+            lights.environment_words(),
+            gpu_environment_words(scene.environment.as_ref())
+        );
+        assert_eq!(
+            lights.punctual_words(),
+            gpu_punctual_light_words(&scene.punctual_lights)
+        );
+        let mut packed: Vec<GpuTriangle> = reversed.iter().map(GpuTriangle::new).collect();
+        lights.annotate(&mut packed);
+        let written: Vec<f32> = packed.iter().map(|t| t.normal[3]).collect();
+        assert_eq!(written, lights.emissive.selection_probability);
+    }
+}

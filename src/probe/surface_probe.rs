@@ -1,0 +1,218 @@
+//! The surface functions' probe (`glsl/probe_surface.comp`): runs `is_opaque_hit`,
+//! `get_surface` and `get_bsdf` of `glsl/surface.glsl` (glTF model) on a buffer of inputs
+//! against a scene with materials, packed as the renderer packs it (`SurfaceWords`), so that
+//! tests can compare them with their Rust twins (`crate::cpu::gltf_surface`) reading the same
+//! words.
+
+use std::sync::Arc;
+
+use ash::vk;
+use bytemuck::{Pod, Zeroable};
+use glam::{UVec2, Vec3};
+
+use crate::contract::SPEC_SCENE_HAS_TEXTURES;
+use crate::cpu::gltf_surface::SurfaceTexels;
+use crate::error::{Error, Result};
+use crate::kernels::{self, Bound, Resource};
+use crate::probe::runner::Probe;
+use crate::render::gpu_materials::{GpuMaterial, GpuTriangleShading};
+use crate::render::gpu_textures::TextureAtlas;
+use crate::render::gpu_types::{GpuTriangle, RenderUniforms};
+use crate::scene::Scene;
+use crate::vk::{Buffer, Context, TexelBufferView};
+
+/// `probe_input_t` of `glsl/probe_surface.comp` (64 bytes).
+#[repr(C)]
+#[derive(Clone, Copy, Debug, PartialEq, Pod, Zeroable)]
+pub struct SurfaceProbeInput {
+    /// xyz: the ray's origin, world space; w: the hit's ray parameter t.
+    pub ray_origin: [f32; 4],
+    /// xyz: the ray's unit direction; w: 0.
+    pub ray_direction: [f32; 4],
+    /// xyz: the unit light direction of `get_bsdf`; w: 0.
+    pub light: [f32; 4],
+    /// x: the hit triangle; yz: `g_alpha_seed`; w: `g_ray_count`.
+    pub triangle_seed: [u32; 4],
+}
+
+impl SurfaceProbeInput {
+    /// The input for a hit at `origin + t direction` on triangle `triangle_index`, lit from
+    /// `light`, with the globals `g_alpha_seed` and `g_ray_count` of the call.
+    pub fn new(
+        triangle_index: u32,
+        origin: Vec3,
+        direction: Vec3,
+        t: f32,
+        light: Vec3,
+        alpha_seed: UVec2,
+        ray_count: u32,
+    ) -> SurfaceProbeInput {
+        SurfaceProbeInput {
+            ray_origin: origin.extend(t).to_array(),
+            ray_direction: direction.extend(0.0).to_array(),
+            light: light.extend(0.0).to_array(),
+            triangle_seed: [triangle_index, alpha_seed.x, alpha_seed.y, ray_count],
+        }
+    }
+}
+
+/// `probe_output_t` of `glsl/probe_surface.comp` (112 bytes).
+#[repr(C)]
+#[derive(Clone, Copy, Debug, PartialEq, Pod, Zeroable)]
+pub struct SurfaceProbeOutput {
+    /// xyz: `surface.geometric_normal`; w: `is_opaque_hit()` as 0 or 1.
+    pub geometric_normal: [f32; 4],
+    /// xyz: `surface.shading_normal`; w: 0.
+    pub shading_normal: [f32; 4],
+    /// rgb: the material's base colour; a: its metallic.
+    pub base_color: [f32; 4],
+    /// The material's roughness, specular, ior; w: 0.
+    pub factors: [f32; 4],
+    /// rgb: the material's specular colour; a: 0.
+    pub specular_color: [f32; 4],
+    /// rgb: `surface.emission`; a: 0.
+    pub emission: [f32; 4],
+    /// rgb: `get_bsdf(surface, -direction, light)`; a: 0.
+    pub reflection: [f32; 4],
+}
+
+/// A scene's triangles, shading data, materials and texture atlas, packed as
+/// `crate::render::gpu_scene` packs them (without a BVH: in the scene's order), in the
+/// words both the probe and the CPU twins read.
+pub struct SurfaceWords {
+    /// The packed triangles (`GpuTriangle`).
+    pub triangles: Vec<u32>,
+    /// The shading data (`GpuTriangleShading`).
+    pub shading: Vec<u32>,
+    /// The materials (`GpuMaterial`).
+    pub materials: Vec<u32>,
+    /// The texture atlas.
+    pub atlas: TextureAtlas,
+    /// Whether the scene has textures (`SCENE_HAS_TEXTURES`).
+    pub has_textures: bool,
+}
+
+impl SurfaceWords {
+    /// Packs `scene`, which must have materials.
+    pub fn new(scene: &Scene) -> Result<SurfaceWords> {
+        let Some(materials) = &scene.materials else {
+            return Err(Error::InvalidSettings(
+                "the surface probe needs a scene with materials".into(),
+            ));
+        };
+        let atlas = TextureAtlas::new(&materials.textures, u64::from(u32::MAX))
+            .map_err(|e| Error::MissingInput(format!("the scene's textures: {e}")))?;
+        let triangles: Vec<GpuTriangle> = scene.triangles.iter().map(GpuTriangle::new).collect();
+        let shading: Vec<GpuTriangleShading> = materials
+            .triangles
+            .iter()
+            .map(GpuTriangleShading::new)
+            .collect();
+        let packed: Vec<GpuMaterial> = materials
+            .materials
+            .iter()
+            .map(|m| GpuMaterial::new(m, materials, &atlas))
+            .collect();
+        Ok(SurfaceWords {
+            triangles: bytemuck::cast_slice(&triangles).to_vec(),
+            shading: bytemuck::cast_slice(&shading).to_vec(),
+            materials: bytemuck::cast_slice(&packed).to_vec(),
+            atlas,
+            has_textures: !materials.textures.is_empty(),
+        })
+    }
+
+    /// The words as the CPU twins read them.
+    pub fn texels(&self) -> SurfaceTexels<'_> {
+        SurfaceTexels {
+            triangles: &self.triangles,
+            shading: &self.shading,
+            materials: &self.materials,
+            texture_texels: &self.atlas.texels,
+            scene_has_textures: self.has_textures,
+        }
+    }
+}
+
+/// Runs the surface probe against one packed scene.
+pub struct SurfaceProbeRunner {
+    probe: Probe,
+    triangles: TexelBufferView,
+    uniforms: Buffer,
+    texture_texels: TexelBufferView,
+    shading: TexelBufferView,
+    materials: TexelBufferView,
+}
+
+impl SurfaceProbeRunner {
+    /// Uploads `words` as the path tracer's texel buffers.
+    pub fn new(context: &Arc<Context>, words: &SurfaceWords) -> Result<SurfaceProbeRunner> {
+        let usage = vk::BufferUsageFlags::UNIFORM_TEXEL_BUFFER;
+        let texels = |name: &str, words: &[u32]| -> Result<TexelBufferView> {
+            let buffer = Buffer::with_data(context, name, words, usage)?;
+            Ok(TexelBufferView::rgba32_uint(context, buffer, name)?)
+        };
+        let mut uniforms: RenderUniforms = Zeroable::zeroed();
+        let triangle_count =
+            (4 * words.triangles.len() / std::mem::size_of::<GpuTriangle>()) as u32;
+        uniforms.resolution_triangle_count_seed = [1, 1, triangle_count, 0];
+        let atlas = Buffer::with_data(context, "probe texture texels", &words.atlas.texels, usage)?;
+        Ok(SurfaceProbeRunner {
+            probe: Probe::embedded(
+                context,
+                &kernels::PROBE_SURFACE,
+                &[(SPEC_SCENE_HAS_TEXTURES, u32::from(words.has_textures))],
+                "the surface functions",
+            )?,
+            triangles: texels("probe triangles", &words.triangles)?,
+            uniforms: Buffer::with_data(
+                context,
+                "probe uniforms",
+                &[uniforms],
+                vk::BufferUsageFlags::UNIFORM_BUFFER,
+            )?,
+            texture_texels: TexelBufferView::rgba8_uint(context, atlas, "probe textures")?,
+            shading: texels("probe shading data", &words.shading)?,
+            materials: texels("probe materials", &words.materials)?,
+        })
+    }
+
+    /// Evaluates the surface functions on every input and returns the outputs in order;
+    /// each input's triangle must be one of the scene's.
+    pub fn run(&self, inputs: &[SurfaceProbeInput]) -> Result<Vec<SurfaceProbeOutput>> {
+        let bound = [
+            (Resource::Triangles, Bound::TexelBuffer(&self.triangles)),
+            (Resource::RenderUniforms, Bound::Buffer(&self.uniforms)),
+            (
+                Resource::TextureTexels,
+                Bound::TexelBuffer(&self.texture_texels),
+            ),
+            (Resource::Shading, Bound::TexelBuffer(&self.shading)),
+            (Resource::Materials, Bound::TexelBuffer(&self.materials)),
+        ];
+        self.probe.run_with(&bound, inputs)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use std::mem::{offset_of, size_of};
+
+    #[test]
+    fn structs_match_the_std430_declarations() {
+        // vec4 ray_origin, ray_direction, light; uvec4 triangle_seed
+        assert_eq!(size_of::<SurfaceProbeInput>(), 64);
+        assert_eq!(offset_of!(SurfaceProbeInput, ray_direction), 16);
+        assert_eq!(offset_of!(SurfaceProbeInput, light), 32);
+        assert_eq!(offset_of!(SurfaceProbeInput, triangle_seed), 48);
+        // seven vec4s
+        assert_eq!(size_of::<SurfaceProbeOutput>(), 112);
+        assert_eq!(offset_of!(SurfaceProbeOutput, shading_normal), 16);
+        assert_eq!(offset_of!(SurfaceProbeOutput, base_color), 32);
+        assert_eq!(offset_of!(SurfaceProbeOutput, factors), 48);
+        assert_eq!(offset_of!(SurfaceProbeOutput, specular_color), 64);
+        assert_eq!(offset_of!(SurfaceProbeOutput, emission), 80);
+        assert_eq!(offset_of!(SurfaceProbeOutput, reflection), 96);
+    }
+}

@@ -1,0 +1,259 @@
+//! `render --region` and tiles through the binary (issue 21): a region's pixels, and a
+//! render put on the device in tiles, are bit for bit what the full untiled render gives;
+//! the region's EXR records the full image as its display window; bad regions are one line.
+
+mod common;
+
+use std::collections::BTreeMap;
+use std::path::Path;
+
+use exr::prelude::read_all_flat_layers_from_file;
+
+/// An EXR as read back: the data window's origin and size, the display window's size, and
+/// every channel's values as bits (rows top-down over the data window).
+struct Exr {
+    origin: (i32, i32),
+    size: (usize, usize),
+    display: (usize, usize),
+    channels: BTreeMap<String, Vec<u32>>,
+}
+
+fn read(path: &Path) -> Exr {
+    let image = read_all_flat_layers_from_file(path).unwrap();
+    let layer = &image.layer_data[0];
+    let channels = layer
+        .channel_data
+        .list
+        .iter()
+        .map(|c| {
+            let bits = c.sample_data.values_as_f32().map(f32::to_bits).collect();
+            (c.name.to_string(), bits)
+        })
+        .collect();
+    let display = image.attributes.display_window;
+    Exr {
+        origin: (
+            layer.attributes.layer_position.x(),
+            layer.attributes.layer_position.y(),
+        ),
+        size: (layer.size.width(), layer.size.height()),
+        display: (display.size.width(), display.size.height()),
+        channels,
+    }
+}
+
+/// Runs vkpath, expects success.
+fn vkpath_ok(dir: &Path, args: &[&str]) {
+    let output = common::vkpath(dir, args);
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    assert!(output.status.success(), "{args:?}: {stderr}");
+}
+
+/// A 24x16 render of the built-in box at 8 spp with moments (so that the sums of squares
+/// and counts are compared too) and the validation layer (which must stay silent: vkpath
+/// fails otherwise), `extra` appended. 3 samples per frame: frames end at
+/// other samples than the tiles' batches do.
+fn render(dir: &Path, output: &str, extra: &[&str]) {
+    let mut args = vec![
+        "render",
+        "--width",
+        "24",
+        "--height",
+        "16",
+        "--spp",
+        "8",
+        "--samples-per-frame",
+        "3",
+        "--moments",
+        "--validate",
+        "-o",
+        output,
+    ];
+    args.extend_from_slice(extra);
+    vkpath_ok(dir, &args);
+}
+
+/// Asserts that every channel of `part` at data-window pixel (x, y) holds the bits of
+/// `full` at (x + x0, y + y0).
+fn assert_part_of(part: &Exr, full: &Exr, what: &str) {
+    let (x0, y0) = (part.origin.0 as usize, part.origin.1 as usize);
+    assert_eq!(
+        part.channels.keys().collect::<Vec<_>>(),
+        full.channels.keys().collect::<Vec<_>>()
+    );
+    for (name, values) in &part.channels {
+        let whole = &full.channels[name];
+        for y in 0..part.size.1 {
+            for x in 0..part.size.0 {
+                let (a, b) = (
+                    values[y * part.size.0 + x],
+                    whole[(y + y0) * full.size.0 + x + x0],
+                );
+                assert_eq!(
+                    a,
+                    b,
+                    "{what}: channel {name}, pixel ({}, {}): {} vs the full render's {}",
+                    x + x0,
+                    y + y0,
+                    f32::from_bits(a),
+                    f32::from_bits(b)
+                );
+            }
+        }
+    }
+}
+
+#[test]
+fn region_pixels_equal_the_full_renders_bit_for_bit() {
+    let dir = tempfile::tempdir().unwrap();
+    render(dir.path(), "full.exr", &[]);
+    let full = read(&dir.path().join("full.exr"));
+    assert_eq!(
+        (full.origin, full.size, full.display),
+        ((0, 0), (24, 16), (24, 16))
+    );
+    // Inside, and along the bottom-right edge (rows run top-down, as in the file).
+    for (region, origin, size) in [
+        ("5,3,19,11", (5, 3), (14, 8)),
+        ("17,9,24,16", (17, 9), (7, 7)),
+    ] {
+        let name = format!("region-{}.exr", region.replace(',', "-"));
+        render(dir.path(), &name, &["--region", region]);
+        let part = read(&dir.path().join(&name));
+        assert_eq!(
+            part.origin, origin,
+            "{region}: the data window starts at X0,Y0"
+        );
+        assert_eq!(part.size, size, "{region}: the data window is the region");
+        assert_eq!(
+            part.display,
+            (24, 16),
+            "{region}: the display window is the full image"
+        );
+        assert_part_of(&part, &full, region);
+    }
+    // A region in tiles (4x4, not dividing it) is the same again.
+    render(
+        dir.path(),
+        "region-tiled.exr",
+        &["--region", "3,2,20,13", "--tile-size", "4"],
+    );
+    let part = read(&dir.path().join("region-tiled.exr"));
+    assert_eq!((part.origin, part.size), ((3, 2), (17, 11)));
+    assert_part_of(&part, &full, "3,2,20,13 in 4x4 tiles");
+}
+
+#[test]
+fn a_forced_tiling_equals_the_untiled_render_bit_for_bit() {
+    let dir = tempfile::tempdir().unwrap();
+    render(dir.path(), "untiled.exr", &[]);
+    // 5x5 tiles: 5 by 4 of them, the last column and row narrower.
+    render(dir.path(), "tiled.exr", &["--tile-size", "5"]);
+    let (untiled, tiled) = (
+        read(&dir.path().join("untiled.exr")),
+        read(&dir.path().join("tiled.exr")),
+    );
+    assert_eq!(
+        (tiled.origin, tiled.size, tiled.display),
+        ((0, 0), (24, 16), (24, 16))
+    );
+    assert_part_of(&tiled, &untiled, "5x5 tiles");
+    // The workshop's integrator (PCG2D, another kernel) in tiles of one row.
+    let workshop = ["--integrator", "workshop", "--tile-size", "24"];
+    render(dir.path(), "workshop-tiled.exr", &workshop);
+    render(dir.path(), "workshop.exr", &workshop[..2]);
+    let (untiled, tiled) = (
+        read(&dir.path().join("workshop.exr")),
+        read(&dir.path().join("workshop-tiled.exr")),
+    );
+    assert_part_of(&tiled, &untiled, "workshop in rows");
+}
+
+#[test]
+fn bad_regions_and_tiles_are_one_line_errors() {
+    let dir = tempfile::tempdir().unwrap();
+    for (args, expected) in [
+        (&["--region", "5,5,5,9"][..], "is empty"),
+        (
+            &["--region", "0,0,25,16"][..],
+            "reaches outside the 24x16 image",
+        ),
+        (
+            &["--region", "0,0,24,17"][..],
+            "reaches outside the 24x16 image",
+        ),
+        (&["--tile-size", "0"][..], "--tile-size 0"),
+    ] {
+        let mut all = vec!["render", "--width", "24", "--height", "16", "-o", "x.exr"];
+        all.extend_from_slice(args);
+        let output = common::vkpath(dir.path(), &all);
+        let stderr = String::from_utf8_lossy(&output.stderr);
+        assert_eq!(output.status.code(), Some(1), "{args:?}: {stderr}");
+        assert_eq!(stderr.lines().count(), 1, "{args:?}: {stderr}");
+        assert!(stderr.contains(expected), "{args:?}: {stderr}");
+        assert!(!dir.path().join("x.exr").exists());
+    }
+    let output = common::vkpath(dir.path(), &["render", "--region", "1,2,3", "-o", "x.exr"]);
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    assert_eq!(output.status.code(), Some(2), "a usage error: {stderr}");
+    assert!(stderr.contains("is not X0,Y0,X1,Y1"), "{stderr}");
+}
+
+#[test]
+fn a_tiled_render_stopped_by_a_fault_resumes_bit_for_bit() {
+    // 12x12 tiles: four per frame, each its own submission; submission 10 (in the second
+    // batch, after its first tiles took their samples) fails. The checkpoint must hold only
+    // the samples of whole batches, so that resuming it gives the uninterrupted render.
+    for adaptive in [false, true] {
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path();
+        let mut args = vec![
+            "render",
+            "--width",
+            "24",
+            "--height",
+            "16",
+            "--spp",
+            "32",
+            "--samples-per-frame",
+            "1",
+            "--moments",
+            "--tile-size",
+            "12",
+            "--checkpoint",
+            "ck.exr",
+            "--checkpoint-interval",
+            "0.001",
+            "-o",
+            "resumed.exr",
+        ];
+        if adaptive {
+            args.extend_from_slice(&["--noise-threshold", "0.2", "--noise-min-spp", "4"]);
+        }
+        let output =
+            common::vkpath_with_env(path, &args, &[("VKPATH_INJECT_FAULT", "device-lost:10")]);
+        let stderr = String::from_utf8_lossy(&output.stderr);
+        assert_eq!(output.status.code(), Some(1), "{stderr}");
+        let (state, _) = vkpath::render::state_exr::read_state(&path.join("ck.exr")).unwrap();
+        let taken = state.samples.len();
+        assert!((1..32).contains(&taken), "the checkpoint holds {taken} spp");
+        let mut resume = args.clone();
+        resume.extend_from_slice(&["--resume", "ck.exr"]);
+        vkpath_ok(path, &resume);
+        // The uninterrupted render, untiled.
+        let mut whole: Vec<&str> = args[..10].to_vec();
+        whole.extend_from_slice(&args[16..]);
+        let output_index = whole.iter().position(|a| *a == "resumed.exr").unwrap();
+        whole[output_index] = "whole.exr";
+        vkpath_ok(path, &whole);
+        let (resumed, whole) = (
+            read(&path.join("resumed.exr")),
+            read(&path.join("whole.exr")),
+        );
+        assert_part_of(
+            &resumed,
+            &whole,
+            if adaptive { "adaptive" } else { "uniform" },
+        );
+    }
+}
