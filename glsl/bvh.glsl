@@ -74,12 +74,15 @@ bool bvh_enters_root(out uint out_node_count, vec3 ray_origin, vec3 inverse_dire
     return out_node_count != 0u && bvh_ray_box_intersection(t_entry, ray_origin, inverse_direction, get_bvh_node(0).lower.xyz, get_bvh_node(0).upper.xyz, t_max);
 }
 
-// A node's range: its first triangle (a leaf) or its first child (an interior node, the
-// second child follows it), and its triangle count (0 for interior nodes).
-void get_bvh_node_range(uint node_index, out uint out_first_index, out uint out_triangle_count) {
+// Visits a node: its range, its first triangle (a leaf) or its first child (an interior
+// node, the second child follows it), and its triangle count (0 for interior nodes); counts
+// the visit and the leaf loop's iterations (an upper bound when that loop stops early) in
+// g_path.traversal_iterations.
+void visit_bvh_node(uint node_index, out uint out_first_index, out uint out_triangle_count) {
     bvh_node_t node = get_bvh_node(node_index);
     out_first_index = floatBitsToUint(node.lower.w);
     out_triangle_count = floatBitsToUint(node.upper.w);
+    g_path.traversal_iterations += 1u + out_triangle_count;
 }
 
 // The children of an interior node (first_index and first_index + 1) whose boxes the ray
@@ -119,9 +122,7 @@ bool bvh_closest_hit(out float out_t, out uint out_triangle_index, vec3 ray_orig
     // Each iteration visits one node and no node is visited twice, so node_count bounds it.
     for (uint iteration = 0u; iteration != node_count; ++iteration) {
         uint first_index, triangle_count;
-        get_bvh_node_range(node_index, first_index, triangle_count);
-        // This iteration and the leaf loop's (an upper bound when it stops early)
-        g_path.traversal_iterations += 1u + triangle_count;
+        visit_bvh_node(node_index, first_index, triangle_count);
         bool descend = false;
         if (triangle_count != 0u) {
             // A leaf: the brute-force loop over its triangles
@@ -181,9 +182,7 @@ bool bvh_any_hit(vec3 ray_origin, vec3 ray_direction, float t_max) {
     // Each iteration visits one node and no node is visited twice, so node_count bounds it.
     for (uint iteration = 0u; iteration != node_count; ++iteration) {
         uint first_index, triangle_count;
-        get_bvh_node_range(node_index, first_index, triangle_count);
-        // This iteration and the leaf loop's (an upper bound when it stops early)
-        g_path.traversal_iterations += 1u + triangle_count;
+        visit_bvh_node(node_index, first_index, triangle_count);
         if (triangle_count != 0u) {
             uint end = first_index + triangle_count;
             for (uint i = first_index; i < end; ++i) {

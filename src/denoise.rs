@@ -41,8 +41,10 @@ const SONAMES: [&str; 3] = [
 const TBB_SONAME: &str = "libtbb.so.12";
 
 /// How to install OIDN, the tail of the not-found messages.
-const INSTALL_HINT: &str = "install it with `bash scripts/install-oidn.sh` (as root) or set \
-     VKPATH_OIDN_LIBRARY to the path of libOpenImageDenoise.so";
+const INSTALL_HINT: &str =
+    "install it with `bash scripts/install-oidn.sh` (as root, from a vkpath \
+     checkout), or download Intel's OIDN 1.x release (github.com/OpenImageDenoise/oidn/releases) \
+     and set VKPATH_OIDN_LIBRARY to its lib/libOpenImageDenoise.so";
 
 /// What can go wrong when denoising. Every message is one line.
 #[derive(Debug, Clone, thiserror::Error)]
