@@ -4,6 +4,8 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 bash scripts/install-deps.sh --python
+# A toolchain that install-deps.sh put there (none was found).
+export PATH="$HOME/.cargo/bin:$PATH"
 cargo test --all-targets "$@"
 # The doc tests (the crate documentation renders a few samples); --all-targets leaves them out.
 cargo test --doc "$@"
