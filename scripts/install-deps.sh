@@ -30,6 +30,10 @@ bash "$(dirname "$0")/install-oidn.sh"
 export PATH="$HOME/.cargo/bin:$PATH"
 if ! command -v cargo >/dev/null; then
   echo "installing a Rust toolchain (rustup, stable, minimal profile) into ~/.cargo" >&2
-  curl --proto '=https' --tlsv1.2 -sSf https://sh.rustup.rs |
-    sh -s -- -y --no-modify-path --profile minimal --default-toolchain stable >/dev/null
+  if ! curl --proto '=https' --tlsv1.2 -sSf https://sh.rustup.rs -o /tmp/rustup-init.sh; then
+    echo "cannot download rustup from sh.rustup.rs: install a Rust toolchain (1.89 or newer) and run this again" >&2
+    exit 1
+  fi
+  sh /tmp/rustup-init.sh -y --no-modify-path --profile minimal --default-toolchain stable >/dev/null
+  rm -f /tmp/rustup-init.sh
 fi

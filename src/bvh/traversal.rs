@@ -71,6 +71,59 @@ fn node_box_test(
     )
 }
 
+/// Twin of GLSL `bvh_enters_root`: whether the ray enters the root's box before `t_max` (an
+/// empty tree is entered by nothing).
+pub fn bvh_enters_root(
+    nodes: &[GpuBvhNode],
+    ray_origin: Vec3,
+    inverse_direction: Vec3,
+    t_max: f32,
+) -> bool {
+    !nodes.is_empty() && node_box_test(nodes, 0, ray_origin, inverse_direction, t_max).is_some()
+}
+
+/// The children of an interior node that a ray enters, nearer first (`bvh_enter_children`).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct EnteredChildren {
+    /// How many of the two boxes the ray enters before `t_max`: 0, 1 or 2.
+    pub count: u32,
+    /// The child to visit next (the nearer one when both are entered).
+    pub near: u32,
+    /// The child to push when both are entered.
+    pub far: u32,
+    /// Where the ray enters `far` (meaningful when both are entered).
+    pub far_entry: f32,
+}
+
+/// Twin of GLSL `bvh_enter_children`: the children `first_index` and `first_index + 1` whose
+/// boxes the ray enters before `t_max`, nearer first.
+pub fn bvh_enter_children(
+    nodes: &[GpuBvhNode],
+    first_index: u32,
+    ray_origin: Vec3,
+    inverse_direction: Vec3,
+    t_max: f32,
+) -> EnteredChildren {
+    let t_left = node_box_test(nodes, first_index, ray_origin, inverse_direction, t_max);
+    let t_right = node_box_test(nodes, first_index + 1, ray_origin, inverse_direction, t_max);
+    let left_first = match (t_left, t_right) {
+        (_, None) => true,
+        (Some(left), Some(right)) => left <= right,
+        (None, Some(_)) => false,
+    };
+    let (near, far, far_entry) = if left_first {
+        (first_index, first_index + 1, t_right)
+    } else {
+        (first_index + 1, first_index, t_left)
+    };
+    EnteredChildren {
+        count: u32::from(t_left.is_some()) + u32::from(t_right.is_some()),
+        near,
+        far,
+        far_entry: far_entry.unwrap_or(0.0),
+    }
+}
+
 /// Finds the closest triangle that a ray hits by traversing the BVH, twin of GLSL
 /// `bvh_closest_hit`: brute force's triangle tests, nearer child first, subtrees skipped
 /// once they start beyond the closest hit so far.
@@ -93,7 +146,7 @@ pub fn bvh_closest_hit(
     let mut hit = false;
     let node_count = nodes.len();
     let inverse_direction = bvh_inverse_direction(ray_direction);
-    if node_count == 0 || node_box_test(nodes, 0, ray_origin, inverse_direction, out_t).is_none() {
+    if !bvh_enters_root(nodes, ray_origin, inverse_direction, out_t) {
         return None;
     }
     let mut stack_nodes = [0u32; STACK_SIZE];
@@ -118,37 +171,16 @@ pub fn bvh_closest_hit(
                 }
             }
         } else {
-            let t_left = node_box_test(nodes, first_index, ray_origin, inverse_direction, out_t);
-            let t_right =
-                node_box_test(nodes, first_index + 1, ray_origin, inverse_direction, out_t);
-            match (t_left, t_right) {
-                (Some(t_left), Some(t_right)) => {
-                    let left_first = t_left <= t_right;
-                    node_index = if left_first {
-                        first_index
-                    } else {
-                        first_index + 1
-                    };
-                    if stack_size < STACK_SIZE {
-                        stack_nodes[stack_size] = if left_first {
-                            first_index + 1
-                        } else {
-                            first_index
-                        };
-                        stack_entries[stack_size] = if left_first { t_right } else { t_left };
-                        stack_size += 1;
-                    }
-                    descend = true;
-                }
-                (Some(_), None) | (None, Some(_)) => {
-                    node_index = if t_left.is_some() {
-                        first_index
-                    } else {
-                        first_index + 1
-                    };
-                    descend = true;
-                }
-                (None, None) => {}
+            let children =
+                bvh_enter_children(nodes, first_index, ray_origin, inverse_direction, out_t);
+            if children.count == 2 && stack_size < STACK_SIZE {
+                stack_nodes[stack_size] = children.far;
+                stack_entries[stack_size] = children.far_entry;
+                stack_size += 1;
+            }
+            if children.count != 0 {
+                node_index = children.near;
+                descend = true;
             }
         }
         while !descend && stack_size != 0 {
@@ -186,7 +218,7 @@ pub fn bvh_any_hit(
 ) -> bool {
     let node_count = nodes.len();
     let inverse_direction = bvh_inverse_direction(ray_direction);
-    if node_count == 0 || node_box_test(nodes, 0, ray_origin, inverse_direction, t_max).is_none() {
+    if !bvh_enters_root(nodes, ray_origin, inverse_direction, t_max) {
         return false;
     }
     let mut stack_nodes = [0u32; STACK_SIZE];
@@ -206,36 +238,16 @@ pub fn bvh_any_hit(
                 }
             }
         } else {
-            let t_left = node_box_test(nodes, first_index, ray_origin, inverse_direction, t_max);
-            let t_right =
-                node_box_test(nodes, first_index + 1, ray_origin, inverse_direction, t_max);
-            match (t_left, t_right) {
-                (Some(t_left), Some(t_right)) => {
-                    let left_first = t_left <= t_right;
-                    node_index = if left_first {
-                        first_index
-                    } else {
-                        first_index + 1
-                    };
-                    if stack_size < STACK_SIZE {
-                        stack_nodes[stack_size] = if left_first {
-                            first_index + 1
-                        } else {
-                            first_index
-                        };
-                        stack_size += 1;
-                    }
-                    continue;
-                }
-                (Some(_), None) | (None, Some(_)) => {
-                    node_index = if t_left.is_some() {
-                        first_index
-                    } else {
-                        first_index + 1
-                    };
-                    continue;
-                }
-                (None, None) => {}
+            // Nearer first: an occluder near the origin ends the search sooner
+            let children =
+                bvh_enter_children(nodes, first_index, ray_origin, inverse_direction, t_max);
+            if children.count == 2 && stack_size < STACK_SIZE {
+                stack_nodes[stack_size] = children.far;
+                stack_size += 1;
+            }
+            if children.count != 0 {
+                node_index = children.near;
+                continue;
             }
         }
         if stack_size == 0 {

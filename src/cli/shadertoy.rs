@@ -13,6 +13,7 @@ use std::time::{Duration, Instant};
 use anyhow::Context as _;
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 
+use super::options::parse_seconds;
 use super::output::fail_on_validation_messages;
 use super::{signals, DeviceArgs};
 use crate::image_io::output::{check_writable, ImageFormat};
@@ -92,17 +93,6 @@ fn parse_save_buffer(text: &str) -> Result<(PassKind, PathBuf), String> {
         return Err(format!("'{text}': buffers are saved as .exr"));
     }
     Ok((kind, path))
-}
-
-/// A positive number of seconds.
-fn parse_seconds(text: &str) -> Result<f64, String> {
-    let seconds: f64 = text
-        .parse()
-        .map_err(|_| format!("'{text}' is not a number of seconds"))?;
-    if !(seconds > 0.0 && seconds < 1e9) {
-        return Err(format!("{text} is not a positive number of seconds"));
-    }
-    Ok(seconds)
 }
 
 /// Prints one error line and exits with the usage status.

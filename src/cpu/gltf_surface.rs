@@ -73,6 +73,52 @@ pub fn get_material_texel(texels: &SurfaceTexels, material_index: u32, j: u32) -
     )
 }
 
+/// `MATERIAL_TEXEL_*` of `glsl/materials.glsl`: which of a material's first texels holds what
+/// (`GpuMaterial` on the host).
+pub const MATERIAL_TEXEL_BASE_COLOR: u32 = 0;
+/// Emissive factor (rgb), metallic factor (a).
+pub const MATERIAL_TEXEL_EMISSIVE_METALLIC: u32 = 1;
+/// Roughness, specular, ior, the normal texture's scale.
+pub const MATERIAL_TEXEL_ROUGHNESS_SPECULAR_IOR_NORMAL_SCALE: u32 = 2;
+/// Specular colour (rgb), alpha cutoff (a).
+pub const MATERIAL_TEXEL_SPECULAR_COLOR_ALPHA_CUTOFF: u32 = 3;
+/// Alpha mode (x), the mask of texture slots present (y).
+pub const MATERIAL_TEXEL_ALPHA_MODE_TEXTURE_MASK: u32 = 4;
+
+/// Twin of `get_material_alpha_mode`.
+pub fn get_material_alpha_mode(texels: &SurfaceTexels, material_index: u32) -> u32 {
+    get_material_texel(
+        texels,
+        material_index,
+        MATERIAL_TEXEL_ALPHA_MODE_TEXTURE_MASK,
+    )
+    .x
+}
+
+/// Twin of `get_material_alpha_cutoff`.
+pub fn get_material_alpha_cutoff(texels: &SurfaceTexels, material_index: u32) -> f32 {
+    f32::from_bits(
+        get_material_texel(
+            texels,
+            material_index,
+            MATERIAL_TEXEL_SPECULAR_COLOR_ALPHA_CUTOFF,
+        )
+        .w,
+    )
+}
+
+/// Twin of `get_material_normal_scale`.
+pub fn get_material_normal_scale(texels: &SurfaceTexels, material_index: u32) -> f32 {
+    f32::from_bits(
+        get_material_texel(
+            texels,
+            material_index,
+            MATERIAL_TEXEL_ROUGHNESS_SPECULAR_IOR_NORMAL_SCALE,
+        )
+        .w,
+    )
+}
+
 /// Twin of `get_material_index`.
 pub fn get_material_index(texels: &SurfaceTexels, triangle_index: u32) -> u32 {
     get_shading_texel(texels, triangle_index, 0).w
@@ -89,7 +135,13 @@ pub fn get_tex_coord(texels: &SurfaceTexels, triangle_index: u32, barycentrics: 
 
 /// Twin of `has_material_texture`.
 pub fn has_material_texture(texels: &SurfaceTexels, material_index: u32, slot: u32) -> bool {
-    (get_material_texel(texels, material_index, 4).y & (1 << slot)) != 0
+    (get_material_texel(
+        texels,
+        material_index,
+        MATERIAL_TEXEL_ALPHA_MODE_TEXTURE_MASK,
+    )
+    .y & (1 << slot))
+        != 0
 }
 
 /// Twin of `sample_material_texture`: slot `MATERIAL_TEXTURE_*` of material `i` at
@@ -114,18 +166,26 @@ pub fn sample_material_texture(
 
 /// Twin of `get_base_color`: base colour and alpha, factor times texture.
 pub fn get_base_color(texels: &SurfaceTexels, material_index: u32, tex_coord: Vec2) -> Vec4 {
-    uint_bits_to_float(get_material_texel(texels, material_index, 0))
-        * sample_material_texture(
-            texels,
-            material_index,
-            MATERIAL_TEXTURE_BASE_COLOR,
-            tex_coord,
-        )
+    uint_bits_to_float(get_material_texel(
+        texels,
+        material_index,
+        MATERIAL_TEXEL_BASE_COLOR,
+    )) * sample_material_texture(
+        texels,
+        material_index,
+        MATERIAL_TEXTURE_BASE_COLOR,
+        tex_coord,
+    )
 }
 
 /// Twin of `get_material_emission`: emitted radiance (front side), factor times texture.
 pub fn get_material_emission(texels: &SurfaceTexels, material_index: u32, tex_coord: Vec2) -> Vec3 {
-    uint_bits_to_float(get_material_texel(texels, material_index, 1)).truncate()
+    uint_bits_to_float(get_material_texel(
+        texels,
+        material_index,
+        MATERIAL_TEXEL_EMISSIVE_METALLIC,
+    ))
+    .truncate()
         * sample_material_texture(texels, material_index, MATERIAL_TEXTURE_EMISSIVE, tex_coord)
             .truncate()
 }
@@ -143,7 +203,7 @@ pub fn is_opaque_hit(
     ray_count: u32,
 ) -> bool {
     let material_index = get_material_index(texels, triangle_index);
-    let alpha_mode = get_material_texel(texels, material_index, 4).x;
+    let alpha_mode = get_material_alpha_mode(texels, material_index);
     if alpha_mode == ALPHA_MODE_OPAQUE {
         return true;
     }
@@ -158,7 +218,7 @@ pub fn is_opaque_hit(
     )
     .w;
     if alpha_mode == ALPHA_MODE_MASK {
-        return alpha >= f32::from_bits(get_material_texel(texels, material_index, 3).w);
+        return alpha >= get_material_alpha_cutoff(texels, material_index);
     }
     let mut hash_state =
         alpha_seed ^ UVec2::new(ray_count.wrapping_mul(2654435769), triangle_index);
@@ -194,7 +254,7 @@ pub fn get_front_shading_normal(
                 * uint_bits_to_float(get_shading_texel(texels, triangle_index, 6)).truncate()
             + barycentrics[2]
                 * uint_bits_to_float(get_shading_texel(texels, triangle_index, 7)).truncate();
-        let scale = uint_bits_to_float(get_material_texel(texels, material_index, 2)).w;
+        let scale = get_material_normal_scale(texels, material_index);
         let texel =
             sample_material_texture(texels, material_index, MATERIAL_TEXTURE_NORMAL, tex_coord)
                 .truncate();
@@ -214,6 +274,45 @@ pub struct Surface {
     pub material: MaterialSample,
     /// Emitted radiance towards the ray's origin (0 from the back of one-sided emitters).
     pub emission: Vec3,
+}
+
+/// Twin of `get_material`: material `i` at `tex_coord` after texture lookups (roughness in G,
+/// metallic in B of the metallic-roughness texture); `base_color` is `get_base_color` there.
+pub fn get_material(
+    texels: &SurfaceTexels,
+    material_index: u32,
+    tex_coord: Vec2,
+    base_color: Vec4,
+) -> MaterialSample {
+    let factors = uint_bits_to_float(get_material_texel(
+        texels,
+        material_index,
+        MATERIAL_TEXEL_ROUGHNESS_SPECULAR_IOR_NORMAL_SCALE,
+    ));
+    let metallic_roughness = sample_material_texture(
+        texels,
+        material_index,
+        MATERIAL_TEXTURE_METALLIC_ROUGHNESS,
+        tex_coord,
+    );
+    MaterialSample {
+        base_color: base_color.truncate(),
+        metallic: uint_bits_to_float(get_material_texel(
+            texels,
+            material_index,
+            MATERIAL_TEXEL_EMISSIVE_METALLIC,
+        ))
+        .w * metallic_roughness.z,
+        roughness: factors.x * metallic_roughness.y,
+        specular: factors.y,
+        ior: factors.z,
+        specular_color: uint_bits_to_float(get_material_texel(
+            texels,
+            material_index,
+            MATERIAL_TEXEL_SPECULAR_COLOR_ALPHA_CUTOFF,
+        ))
+        .truncate(),
+    }
 }
 
 /// Twin of `get_surface`: normals, the material after textures and the emission at a hit.
@@ -253,25 +352,12 @@ pub fn get_surface(
     } else {
         geometric_normal
     };
-    let base_color = get_base_color(texels, material_index, tex_coord);
-    let factors = uint_bits_to_float(get_material_texel(texels, material_index, 2));
-    // glTF: roughness in G, metallic in B of the metallic-roughness texture
-    let metallic_roughness = sample_material_texture(
+    let material = get_material(
         texels,
         material_index,
-        MATERIAL_TEXTURE_METALLIC_ROUGHNESS,
         tex_coord,
+        get_base_color(texels, material_index, tex_coord),
     );
-    let material = MaterialSample {
-        base_color: base_color.truncate(),
-        metallic: uint_bits_to_float(get_material_texel(texels, material_index, 1)).w
-            * metallic_roughness.z,
-        roughness: factors.x * metallic_roughness.y,
-        specular: factors.y,
-        ior: factors.z,
-        specular_color: uint_bits_to_float(get_material_texel(texels, material_index, 3))
-            .truncate(),
-    };
     let double_sided = is_double_sided(texels, triangle_index);
     let emission = if front || double_sided {
         get_material_emission(texels, material_index, tex_coord)
@@ -294,4 +380,43 @@ pub fn get_bsdf(surface: &Surface, view: Vec3, light: Vec3) -> Vec3 {
     }
     get_brdf(&surface.material, surface.shading_normal, view, light)
         * surface.shading_normal.dot(light).max(0.0)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The texel indices are glsl/materials.glsl's, digit for digit.
+    #[test]
+    fn material_texel_indices_are_the_shaders() {
+        let text = crate::shaders::GLSL_SOURCES
+            .iter()
+            .find(|(file, _)| *file == "materials.glsl")
+            .map(|(_, text)| *text)
+            .expect("materials.glsl is embedded");
+        for (name, value) in [
+            ("MATERIAL_TEXEL_BASE_COLOR", MATERIAL_TEXEL_BASE_COLOR),
+            (
+                "MATERIAL_TEXEL_EMISSIVE_METALLIC",
+                MATERIAL_TEXEL_EMISSIVE_METALLIC,
+            ),
+            (
+                "MATERIAL_TEXEL_ROUGHNESS_SPECULAR_IOR_NORMAL_SCALE",
+                MATERIAL_TEXEL_ROUGHNESS_SPECULAR_IOR_NORMAL_SCALE,
+            ),
+            (
+                "MATERIAL_TEXEL_SPECULAR_COLOR_ALPHA_CUTOFF",
+                MATERIAL_TEXEL_SPECULAR_COLOR_ALPHA_CUTOFF,
+            ),
+            (
+                "MATERIAL_TEXEL_ALPHA_MODE_TEXTURE_MASK",
+                MATERIAL_TEXEL_ALPHA_MODE_TEXTURE_MASK,
+            ),
+        ] {
+            assert!(
+                text.contains(&format!("#define {name} {value}\n")),
+                "{name} = {value}"
+            );
+        }
+    }
 }
