@@ -28,6 +28,17 @@ struct material_t {
     vec3 specular_color;
     // KHR_materials_ior's index of refraction (glTF's default 1.5, F0 = 0.04)
     float ior;
+    // The layers of glsl/layered_bsdf.glsl, all 0 for a material without them (and left
+    // unset by the Lambert model):
+    // KHR_materials_transmission's transmission in [0, 1]
+    float transmission;
+    // KHR_materials_volume's thickness: 0 thin-walled, above 0 a refracting volume
+    float thickness;
+    // The volume's absorption coefficient per unit length (Beer-Lambert)
+    vec3 attenuation;
+    // KHR_materials_clearcoat's clearcoat in [0, 1] and its perceptual roughness
+    float clearcoat;
+    float clearcoat_roughness;
 };
 
 // The GGX alpha of a perceptual roughness: roughness^2 as glTF defines it, but at least

@@ -39,13 +39,18 @@ uvec4 get_material_texel(uint material_index, int texel) {
 // The material's words (MATERIAL_TEXEL_COUNT texels, `GpuMaterial` on the host): texel 0 the
 // base colour factor; 1 the emissive factor (rgb) and metallic factor (a); 2 roughness,
 // specular, ior and the normal texture's scale; 3 the specular colour (rgb) and alpha cutoff
-// (a); 4 the alpha mode (x) and the mask of texture slots present (y); then three texels per
-// texture slot (texture_slot_t).
+// (a); 4 the alpha mode (x) and the mask of texture slots present (y); 5 transmission,
+// thickness, clearcoat and clearcoat roughness; 6 the volume's absorption coefficient (rgb)
+// and the clearcoat normal texture's scale (a); 7 the MATERIAL_FLAG_* bits (x); then three
+// texels per texture slot (texture_slot_t).
 #define MATERIAL_TEXEL_BASE_COLOR 0
 #define MATERIAL_TEXEL_EMISSIVE_METALLIC 1
 #define MATERIAL_TEXEL_ROUGHNESS_SPECULAR_IOR_NORMAL_SCALE 2
 #define MATERIAL_TEXEL_SPECULAR_COLOR_ALPHA_CUTOFF 3
 #define MATERIAL_TEXEL_ALPHA_MODE_TEXTURE_MASK 4
+#define MATERIAL_TEXEL_TRANSMISSION_THICKNESS_CLEARCOAT 5
+#define MATERIAL_TEXEL_ATTENUATION_CLEARCOAT_NORMAL_SCALE 6
+#define MATERIAL_TEXEL_FLAGS 7
 
 // ALPHA_MODE_OPAQUE, _MASK or _BLEND of material i.
 uint get_material_alpha_mode(uint material_index) {
@@ -81,6 +86,18 @@ bool has_material_texture(uint material_index, uint slot) {
 
 // Whether the scene has any texture (the host specializes it; false compiles lookups out).
 layout(constant_id = SPEC_SCENE_HAS_TEXTURES) const bool SCENE_HAS_TEXTURES = true;
+// Whether any material has transmission or a clear coat (false compiles their lobes out).
+layout(constant_id = SPEC_SCENE_HAS_LAYERS) const bool SCENE_HAS_LAYERS = true;
+
+// clearcoatNormalTexture.scale of material i.
+float get_material_clearcoat_normal_scale(uint material_index) {
+    return uintBitsToFloat(get_material_texel(material_index, MATERIAL_TEXEL_ATTENUATION_CLEARCOAT_NORMAL_SCALE).w);
+}
+
+// Whether material i is KHR_materials_unlit.
+bool is_unlit_material(uint material_index) {
+    return (get_material_texel(material_index, MATERIAL_TEXEL_FLAGS).x & uint(MATERIAL_FLAG_UNLIT)) != 0u;
+}
 
 // A texture slot MATERIAL_TEXTURE_* of material i, sampled at tex_coord (1 without texture).
 vec4 sample_material_texture(uint material_index, uint slot, vec2 tex_coord) {
@@ -135,23 +152,35 @@ vec3 apply_normal_map(vec3 normal, vec4 tangent, vec3 texel, float scale) {
     return (dot(mapped, mapped) > 1.0e-12) ? normalize(mapped) : normal;
 }
 
-// The interpolated shading normal of triangle i (front side), perturbed by the material's
-// normal map in the interpolated MikkTSpace frame (glTF: n = normalize(T x + B y + N z) with
-// (x, y, z) = (2 rgb - 1) * (scale, scale, 1) and B = cross(N, T) w). The face normal where
-// the interpolation vanishes.
-vec3 get_front_shading_normal(uint triangle_index, uint material_index, vec3 barycentrics, vec2 tex_coord, vec3 face_normal) {
+// The interpolated vertex normal of triangle i (front side), perturbed by the normal map in
+// texture slot `slot` (MATERIAL_TEXTURE_NORMAL or _CLEARCOAT_NORMAL) with `scale`, in the
+// interpolated MikkTSpace frame (glTF: n = normalize(T x + B y + N z) with (x, y, z) =
+// (2 rgb - 1) * (scale, scale, 1) and B = cross(N, T) w). The face normal where the
+// interpolation vanishes.
+vec3 get_front_mapped_normal(uint triangle_index, uint material_index, vec3 barycentrics, vec2 tex_coord, vec3 face_normal, uint slot, float scale) {
     vec3 normal = barycentrics[0] * uintBitsToFloat(get_shading_texel(triangle_index, 0).xyz) + barycentrics[1] * uintBitsToFloat(get_shading_texel(triangle_index, 1).xyz) + barycentrics[2] * uintBitsToFloat(get_shading_texel(triangle_index, 2).xyz);
     if (!(dot(normal, normal) > 1.0e-12))
         return face_normal;
     normal = normalize(normal);
-    if (SCENE_HAS_TEXTURES && has_material_texture(material_index, MATERIAL_TEXTURE_NORMAL)) {
+    if (SCENE_HAS_TEXTURES && has_material_texture(material_index, slot)) {
         vec4 tangent_0 = uintBitsToFloat(get_shading_texel(triangle_index, 5));
         vec3 tangent = barycentrics[0] * tangent_0.xyz + barycentrics[1] * uintBitsToFloat(get_shading_texel(triangle_index, 6).xyz) + barycentrics[2] * uintBitsToFloat(get_shading_texel(triangle_index, 7).xyz);
-        float scale = get_material_normal_scale(material_index);
-        vec3 texel = sample_material_texture(material_index, MATERIAL_TEXTURE_NORMAL, tex_coord).rgb;
+        vec3 texel = sample_material_texture(material_index, slot, tex_coord).rgb;
         normal = apply_normal_map(normal, vec4(tangent, tangent_0.w), texel, scale);
     }
     return normal;
+}
+
+// The shading normal of triangle i (front side): the vertex normals and the material's
+// normalTexture (get_front_mapped_normal()).
+vec3 get_front_shading_normal(uint triangle_index, uint material_index, vec3 barycentrics, vec2 tex_coord, vec3 face_normal) {
+    return get_front_mapped_normal(triangle_index, material_index, barycentrics, tex_coord, face_normal, MATERIAL_TEXTURE_NORMAL, get_material_normal_scale(material_index));
+}
+
+// The clear coat's normal of triangle i (front side): the vertex normals and the material's
+// clearcoatNormalTexture, not its normalTexture (KHR_materials_clearcoat).
+vec3 get_front_clearcoat_normal(uint triangle_index, uint material_index, vec3 barycentrics, vec2 tex_coord, vec3 face_normal) {
+    return get_front_mapped_normal(triangle_index, material_index, barycentrics, tex_coord, face_normal, MATERIAL_TEXTURE_CLEARCOAT_NORMAL, get_material_clearcoat_normal_scale(material_index));
 }
 
 // Material i at a point with TEXCOORD_0 tex_coord, after texture lookups: the factors times
@@ -167,6 +196,22 @@ material_t get_material(uint material_index, vec2 tex_coord, vec4 base_color) {
     material.specular = factors.y;
     material.ior = factors.z;
     material.specular_color = uintBitsToFloat(get_material_texel(material_index, MATERIAL_TEXEL_SPECULAR_COLOR_ALPHA_CUTOFF).rgb);
+    material.transmission = 0.0;
+    material.thickness = 0.0;
+    material.attenuation = vec3(0.0);
+    material.clearcoat = 0.0;
+    material.clearcoat_roughness = 0.0;
+    if (SCENE_HAS_LAYERS) {
+        // KHR_materials_specular's textures (A: specular, RGB sRGB: specular colour)
+        material.specular *= sample_material_texture(material_index, MATERIAL_TEXTURE_SPECULAR, tex_coord).a;
+        material.specular_color *= sample_material_texture(material_index, MATERIAL_TEXTURE_SPECULAR_COLOR, tex_coord).rgb;
+        vec4 layers = uintBitsToFloat(get_material_texel(material_index, MATERIAL_TEXEL_TRANSMISSION_THICKNESS_CLEARCOAT));
+        material.transmission = layers.x * sample_material_texture(material_index, MATERIAL_TEXTURE_TRANSMISSION, tex_coord).r;
+        material.thickness = layers.y * sample_material_texture(material_index, MATERIAL_TEXTURE_THICKNESS, tex_coord).g;
+        material.attenuation = uintBitsToFloat(get_material_texel(material_index, MATERIAL_TEXEL_ATTENUATION_CLEARCOAT_NORMAL_SCALE).rgb);
+        material.clearcoat = layers.z * sample_material_texture(material_index, MATERIAL_TEXTURE_CLEARCOAT, tex_coord).r;
+        material.clearcoat_roughness = layers.w * sample_material_texture(material_index, MATERIAL_TEXTURE_CLEARCOAT_ROUGHNESS, tex_coord).g;
+    }
     return material;
 }
 

@@ -13,6 +13,15 @@
 //   7 (path tracing) with uniform hemisphere directions, weight 2 pi f (n_s . l).
 // MAX_PATH_LENGTH bounds the number of surface hits as in the workshop: a light sample at
 // vertex j stands for a hit j + 1, so it is taken only while j < MAX_PATH_LENGTH.
+// Transmissive materials (glass): shadow rays see glass as opaque, and nee and mis take no
+// light samples at a glass surface (its smooth lobes are Dirac-like peaks that light samples
+// could not find); so the emission that a path finds right after a vertex without light
+// samples counts in full, for nee and mis alike: BSDF sampling is the only estimator of that
+// light, which keeps both unbiased (light behind glass, caustics). Every integrator samples the BSDF at transmissive surfaces (a cosine or
+// uniform hemisphere cannot find a refraction's peak); a ray that leaves a refracting volume
+// loses what the volume absorbed (get_volume_transmittance()); Russian roulette weighs the
+// throughput with the refractions' eta^2 divided out (as pbrt does), so that a path inside
+// glass, whose radiance is scaled by 1 / eta^2, is not killed for it.
 //
 // Random numbers, in the order drawn (the order decides every output bit, with PCG2D and
 // with Sobol's dimension pairs alike, so keep it): the pixel jitter (main(): a
@@ -20,7 +29,9 @@
 // else the workshop's get_sample_tex_coord()); then at each vertex that is not the last:
 // nee and mis: the light samples' pairs (glsl/lights.glsl lists them); the direction: one
 // get_random_numbers() pair for Exercises 6 and 7 (PCG2D even with SAMPLER_SOBOL), one
-// get_path_random_numbers() pair for cosine, nee and mis; cosine, nee and mis past
+// get_path_random_numbers() pair for cosine, nee and mis, and at a layered material's
+// surface (has_layers(), sampled by its BSDF whatever the integrator) a second pair whose
+// first number chooses the lobe; cosine, nee and mis past
 // RUSSIAN_ROULETTE_START: the survival pair (its first number). Alpha coverage
 // (ALPHA_MODE_BLEND) hashes g_path.alpha_seed with the ray count instead and draws nothing, so
 // the rays traced, and their order, must stay as they are too.
@@ -40,8 +51,11 @@
 // \param vertex Index of the hit on the path (0: the camera ray's)
 // \param previous_position Origin of the ray that found it
 // \param direction_density Density of the direction sample that found it
-vec3 get_found_emission(int vertex, vec3 throughput_weight, surface_t surface, uint triangle_index, triangle_t triangle, vec3 previous_position, vec3 ray_direction, float t, float direction_density) {
-    if (vertex == 0 || !takes_light_samples())
+// \param light_sampled Whether the previous vertex took light samples
+vec3 get_found_emission(int vertex, vec3 throughput_weight, surface_t surface, uint triangle_index, triangle_t triangle, vec3 previous_position, vec3 ray_direction, float t, float direction_density, bool light_sampled) {
+    if (vertex == 0)
+        return throughput_weight * get_camera_emission(surface);
+    if (!light_sampled)
         return throughput_weight * surface.emission;
     if (weighs_by_mis() && surface.emission != vec3(0.0)) {
         float light_density = get_emissive_triangle_density(triangle_index, triangle, previous_position, ray_direction, t);
@@ -53,8 +67,8 @@ vec3 get_found_emission(int vertex, vec3 throughput_weight, surface_t surface, u
 #ifdef USE_MATERIALS
 // Step 1 where a ray leaves the scene: throughput times the environment's radiance, weighted
 // as get_found_emission() weighs emission.
-vec3 get_found_environment(int vertex, vec3 throughput_weight, vec3 ray_direction, float direction_density) {
-    if (vertex == 0 || !takes_light_samples())
+vec3 get_found_environment(int vertex, vec3 throughput_weight, vec3 ray_direction, float direction_density, bool light_sampled) {
+    if (vertex == 0 || !light_sampled)
         return throughput_weight * get_environment_radiance(ray_direction);
     if (weighs_by_mis() && get_environment_kind() != ENVIRONMENT_NONE)
         return throughput_weight * get_environment_radiance(ray_direction) * get_power_heuristic_weight(direction_density, get_environment_density(ray_direction));
@@ -62,14 +76,17 @@ vec3 get_found_environment(int vertex, vec3 throughput_weight, vec3 ray_directio
 }
 #endif
 
-// Step 3: the direction the path continues in, as the integrator samples it.
+// Step 3: the direction the path continues in, as the integrator samples it (by the BSDF
+// at transmissive surfaces whatever the integrator).
 bsdf_sample_t sample_path_direction(surface_t surface, vec3 view, inout uvec2 seed) {
-    if (samples_uniform_directions())
+    bool transmissive = is_transmissive(surface);
+    if (samples_uniform_directions() && !transmissive)
         return sample_uniform_direction(surface, view, get_random_numbers(seed));
     vec2 random_numbers = get_path_random_numbers(seed);
-    if (samples_cosine_directions())
+    if (samples_cosine_directions() && !transmissive)
         return sample_cosine_direction(surface, view, random_numbers);
-    return sample_bsdf(surface, view, random_numbers);
+    float lobe_random = has_layers(surface) ? get_path_random_numbers(seed)[0] : 0.0;
+    return sample_bsdf(surface, view, random_numbers, lobe_random);
 }
 
 // A Monte Carlo estimate of the radiance arriving along a ray: the loop of the file's
@@ -79,8 +96,12 @@ bsdf_sample_t sample_path_direction(surface_t surface, vec3 view, inout uvec2 se
 vec3 get_path_radiance(vec3 ray_origin, vec3 ray_direction, inout uvec2 seed) {
     vec3 radiance = vec3(0.0);
     vec3 throughput_weight = vec3(1.0);
-    // Density of the direction sample that produced ray_direction (0: the camera ray).
+    // Density of the direction sample that produced ray_direction (0: the camera ray), and
+    // whether its vertex took light samples.
     float direction_density = 0.0;
+    bool light_sampled = false;
+    // The product of the refractions' eta^2 along the path (Russian roulette's correction).
+    float eta_scale = 1.0;
     // Origin of the current ray: where MIS weights see a light found by it.
     vec3 previous_position = ray_origin;
     int vertex_count = is_direct_illumination() ? 2 : MAX_PATH_LENGTH;
@@ -89,7 +110,7 @@ vec3 get_path_radiance(vec3 ray_origin, vec3 ray_direction, inout uvec2 seed) {
         triangle_t triangle;
         if (!ray_mesh_intersection(t, triangle, ray_origin, ray_direction)) {
 #ifdef USE_MATERIALS
-            radiance += get_found_environment(i, throughput_weight, ray_direction, direction_density);
+            radiance += get_found_environment(i, throughput_weight, ray_direction, direction_density, light_sampled);
 #endif
             break;
         }
@@ -97,12 +118,14 @@ vec3 get_path_radiance(vec3 ray_origin, vec3 ray_direction, inout uvec2 seed) {
         ray_origin += t * ray_direction;
         surface_t surface = get_surface(triangle_index, triangle, ray_origin, ray_direction);
         vec3 view = -ray_direction;
+        throughput_weight *= get_volume_transmittance(surface, t);
         // 1. The emission found
-        radiance += get_found_emission(i, throughput_weight, surface, triangle_index, triangle, previous_position, ray_direction, t, direction_density);
+        radiance += get_found_emission(i, throughput_weight, surface, triangle_index, triangle, previous_position, ray_direction, t, direction_density, light_sampled);
         if (i + 1 == vertex_count)
             break;
-        // 2. Light samples
-        if (takes_light_samples())
+        // 2. Light samples (none at glass)
+        light_sampled = takes_light_samples() && !is_transmissive(surface);
+        if (light_sampled)
             radiance += throughput_weight * sample_direct_light(ray_origin, surface, view, seed);
         // 3. Continue the path
         bsdf_sample_t direction = sample_path_direction(surface, view, seed);
@@ -110,13 +133,14 @@ vec3 get_path_radiance(vec3 ray_origin, vec3 ray_direction, inout uvec2 seed) {
             break;
         ray_direction = direction.direction;
         direction_density = direction.density;
+        eta_scale *= direction.eta * direction.eta;
         throughput_weight *= direction.weight;
         ray_origin = get_departure_origin(surface, ray_origin, direction.lobes);
         previous_position = ray_origin;
-        // Russian roulette: continue with probability q = min(1, max throughput component)
-        // and divide by q, which keeps the estimate unbiased.
+        // Russian roulette: continue with probability q = min(1, max throughput component
+        // times eta_scale) and divide by q, which keeps the estimate unbiased.
         if (is_importance_sampled() && RUSSIAN_ROULETTE_START > 0 && i + 1 >= RUSSIAN_ROULETTE_START) {
-            float survival = min(1.0, max(throughput_weight.r, max(throughput_weight.g, throughput_weight.b)));
+            float survival = min(1.0, max(throughput_weight.r, max(throughput_weight.g, throughput_weight.b)) * eta_scale);
             if (get_path_random_numbers(seed)[0] >= survival)
                 break;
             throughput_weight /= survival;

@@ -91,6 +91,10 @@
 // what a scene does not use is compiled out instead.
 #define SPEC_SCENE_HAS_ALPHA 9
 #define SPEC_SCENE_HAS_TEXTURES 10
+// ... and whether any material has layers beyond metallic-roughness: transmission
+// (KHR_materials_transmission, with KHR_materials_volume) or a clear coat
+// (KHR_materials_clearcoat). 0 compiles their lobes out (glsl/layered_bsdf.glsl).
+#define SPEC_SCENE_HAS_LAYERS 15
 // Number of triangles passed as specialization constants (0: read them from the texel buffer).
 #define SPEC_CONSTANT_TRIANGLE_COUNT 6
 // Loop iterations one invocation may run before the driver may end its loops silently: on
@@ -208,15 +212,33 @@
 #define MIN_GGX_ALPHA 1.0e-4
 
 #define SHADING_TEXEL_COUNT 8
-#define MATERIAL_TEXEL_COUNT 17
+#define MATERIAL_TEXEL_COUNT 41
 // A material's texture slots, in the order of their texture_slot_t (3 texels each) after the
 // material's first MATERIAL_FACTOR_TEXEL_COUNT texels; bit (1 << slot) of the material's
 // texture flags says that the slot holds a texture.
-#define MATERIAL_FACTOR_TEXEL_COUNT 5
+#define MATERIAL_FACTOR_TEXEL_COUNT 8
 #define MATERIAL_TEXTURE_BASE_COLOR 0
 #define MATERIAL_TEXTURE_METALLIC_ROUGHNESS 1
 #define MATERIAL_TEXTURE_NORMAL 2
 #define MATERIAL_TEXTURE_EMISSIVE 3
+// KHR_materials_transmission's transmissionTexture (R) and KHR_materials_volume's
+// thicknessTexture (G)
+#define MATERIAL_TEXTURE_TRANSMISSION 4
+#define MATERIAL_TEXTURE_THICKNESS 5
+// KHR_materials_clearcoat's clearcoatTexture (R), clearcoatRoughnessTexture (G) and
+// clearcoatNormalTexture
+#define MATERIAL_TEXTURE_CLEARCOAT 6
+#define MATERIAL_TEXTURE_CLEARCOAT_ROUGHNESS 7
+#define MATERIAL_TEXTURE_CLEARCOAT_NORMAL 8
+// KHR_materials_specular's specularTexture (A) and specularColorTexture (sRGB RGB)
+#define MATERIAL_TEXTURE_SPECULAR 9
+#define MATERIAL_TEXTURE_SPECULAR_COLOR 10
+#define MATERIAL_TEXTURE_SLOT_COUNT 11
+// The clear coat's index of refraction (KHR_materials_clearcoat: 1.5, F0 = 0.04).
+#define CLEARCOAT_IOR 1.5
+// Bits of a material's flags (material texel MATERIAL_TEXEL_FLAGS .x): KHR_materials_unlit
+// (the base colour is what camera rays see; nothing reflects or emits light).
+#define MATERIAL_FLAG_UNLIT 1
 // Values of a material's alpha mode (glTF alphaMode).
 #define ALPHA_MODE_OPAQUE 0
 #define ALPHA_MODE_MASK 1

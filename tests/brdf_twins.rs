@@ -46,6 +46,11 @@ fn random_material(rng: &mut InputRng) -> MaterialSample {
         specular: specular.unwrap_or_else(|| rng.uniform()),
         specular_color: rng.in_box(Vec3::ZERO, Vec3::splat(2.0)),
         ior: rng.range(1.0, 3.0),
+        transmission: 0.0,
+        thickness: 0.0,
+        attenuation: Vec3::ZERO,
+        clearcoat: 0.0,
+        clearcoat_roughness: 0.0,
     }
 }
 

@@ -23,6 +23,16 @@ pub struct MaterialSample {
     pub specular_color: Vec3,
     /// KHR_materials_ior's index of refraction (glTF's default 1.5).
     pub ior: f32,
+    /// KHR_materials_transmission's transmission in [0, 1] (`crate::cpu::layered_bsdf`).
+    pub transmission: f32,
+    /// KHR_materials_volume's thickness: 0 thin-walled, above 0 a refracting volume.
+    pub thickness: f32,
+    /// The volume's absorption coefficient per unit length.
+    pub attenuation: Vec3,
+    /// KHR_materials_clearcoat's clearcoat in [0, 1].
+    pub clearcoat: f32,
+    /// The clear coat's perceptual roughness.
+    pub clearcoat_roughness: f32,
 }
 
 impl MaterialSample {
@@ -36,6 +46,11 @@ impl MaterialSample {
             specular: 1.0,
             specular_color: Vec3::ONE,
             ior: 1.5,
+            transmission: 0.0,
+            thickness: 0.0,
+            attenuation: Vec3::ZERO,
+            clearcoat: 0.0,
+            clearcoat_roughness: 0.0,
         }
     }
 }
@@ -60,7 +75,7 @@ pub fn get_shading_basis(normal: Vec3) -> Mat3 {
 }
 
 /// GLSL's `vector * matrix`: the vector in the basis's local coordinates.
-fn to_local(basis: Mat3, vector: Vec3) -> Vec3 {
+pub(crate) fn to_local(basis: Mat3, vector: Vec3) -> Vec3 {
     basis.transpose() * vector
 }
 
@@ -169,7 +184,7 @@ pub fn get_ggx_reflection_density(alpha: f32, local_view: Vec3, local_half: Vec3
 }
 
 /// GLSL's `reflect(incident, normal)`: incident - 2 (normal.incident) normal.
-fn reflect(incident: Vec3, normal: Vec3) -> Vec3 {
+pub(crate) fn reflect(incident: Vec3, normal: Vec3) -> Vec3 {
     incident - 2.0 * normal.dot(incident) * normal
 }
 

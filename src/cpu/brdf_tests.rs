@@ -198,6 +198,11 @@ fn brdf_is_reciprocal() {
             specular: next().x,
             specular_color: Vec3::new(next().x, next().y, 1.0),
             ior: 1.0 + 2.0 * next().x,
+            transmission: 0.0,
+            thickness: 0.0,
+            attenuation: Vec3::ZERO,
+            clearcoat: 0.0,
+            clearcoat_roughness: 0.0,
         };
         let view = crate::cpu::workshop::sample_hemisphere(next(), Vec3::Z);
         let light = crate::cpu::workshop::sample_hemisphere(next(), Vec3::Z);

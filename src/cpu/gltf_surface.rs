@@ -1,18 +1,27 @@
 //! Rust twins of the functions of the surface seam's glTF model (`glsl/surface.glsl` over `glsl/materials.glsl`) that read the scene's texel buffers:
-//! `get_surface`, `get_bsdf`, `is_opaque_hit` and the lookups they are made
-//! of, reading the same words the GPU reads (the packed triangles, `GpuTriangleShading`,
+//! `get_surface`, `get_bsdf`, `get_bsdf_density`, `sample_bsdf`, `is_opaque_hit` and the
+//! lookups they are made of, reading the same words the GPU reads (the packed triangles, `GpuTriangleShading`,
 //! `GpuMaterial` and the texture atlas of `crate::render`), with the same maths. The pure
 //! functions they call are twins too: `crate::cpu::materials`, `crate::cpu::textures`,
-//! `crate::cpu::brdf`, `crate::cpu::workshop::get_random_numbers`.
+//! `crate::cpu::brdf`, `crate::cpu::layered_bsdf`, `crate::cpu::workshop::get_random_numbers`.
 
 use glam::{UVec2, UVec4, Vec2, Vec3, Vec4};
 
 use crate::contract::{
-    ALPHA_MODE_MASK, ALPHA_MODE_OPAQUE, MATERIAL_FACTOR_TEXEL_COUNT, MATERIAL_TEXEL_COUNT,
-    MATERIAL_TEXTURE_BASE_COLOR, MATERIAL_TEXTURE_EMISSIVE, MATERIAL_TEXTURE_METALLIC_ROUGHNESS,
-    MATERIAL_TEXTURE_NORMAL, SHADING_TEXEL_COUNT, TRIANGLE_FLAG_DOUBLE_SIDED, TRIANGLE_TEXEL_COUNT,
+    ALPHA_MODE_MASK, ALPHA_MODE_OPAQUE, MATERIAL_FACTOR_TEXEL_COUNT, MATERIAL_FLAG_UNLIT,
+    MATERIAL_TEXEL_COUNT, MATERIAL_TEXTURE_BASE_COLOR, MATERIAL_TEXTURE_CLEARCOAT,
+    MATERIAL_TEXTURE_CLEARCOAT_NORMAL, MATERIAL_TEXTURE_CLEARCOAT_ROUGHNESS,
+    MATERIAL_TEXTURE_EMISSIVE, MATERIAL_TEXTURE_METALLIC_ROUGHNESS, MATERIAL_TEXTURE_NORMAL,
+    MATERIAL_TEXTURE_SPECULAR, MATERIAL_TEXTURE_SPECULAR_COLOR, MATERIAL_TEXTURE_THICKNESS,
+    MATERIAL_TEXTURE_TRANSMISSION, SHADING_TEXEL_COUNT, TRIANGLE_FLAG_DOUBLE_SIDED,
+    TRIANGLE_TEXEL_COUNT,
 };
-use crate::cpu::brdf::{get_brdf, MaterialSample};
+use crate::cpu::brdf::{get_brdf, get_brdf_density, sample_brdf, MaterialSample};
+use crate::cpu::layered_bsdf::{
+    get_absorption, get_layered_bsdf, get_layered_density, is_layered, is_refracting,
+    sample_layered_bsdf,
+};
+use crate::cpu::surface::{BsdfSample, BSDF_LOBE_REFLECT, BSDF_LOBE_TRANSMIT};
 use crate::cpu::materials::{apply_normal_map, get_barycentrics};
 use crate::cpu::texels::{fetch_float_texel, fetch_texel, uint_bits_to_float};
 use crate::cpu::textures::{sample_texture, unpack_texture_slot};
@@ -32,6 +41,8 @@ pub struct SurfaceTexels<'a> {
     pub texture_texels: &'a [[u8; 4]],
     /// The specialization constant `SCENE_HAS_TEXTURES`.
     pub scene_has_textures: bool,
+    /// The specialization constant `SCENE_HAS_LAYERS`.
+    pub scene_has_layers: bool,
 }
 
 /// Twin of `get_triangle` (`glsl/scene.glsl`): triangle `index` as the workshop's struct
@@ -84,6 +95,29 @@ pub const MATERIAL_TEXEL_ROUGHNESS_SPECULAR_IOR_NORMAL_SCALE: u32 = 2;
 pub const MATERIAL_TEXEL_SPECULAR_COLOR_ALPHA_CUTOFF: u32 = 3;
 /// Alpha mode (x), the mask of texture slots present (y).
 pub const MATERIAL_TEXEL_ALPHA_MODE_TEXTURE_MASK: u32 = 4;
+/// Transmission, thickness, clearcoat, clearcoat roughness.
+pub const MATERIAL_TEXEL_TRANSMISSION_THICKNESS_CLEARCOAT: u32 = 5;
+/// The volume's absorption coefficient (rgb), the clearcoat normal texture's scale (a).
+pub const MATERIAL_TEXEL_ATTENUATION_CLEARCOAT_NORMAL_SCALE: u32 = 6;
+/// The `MATERIAL_FLAG_*` bits (x).
+pub const MATERIAL_TEXEL_FLAGS: u32 = 7;
+
+/// Twin of `get_material_clearcoat_normal_scale`.
+pub fn get_material_clearcoat_normal_scale(texels: &SurfaceTexels, material_index: u32) -> f32 {
+    f32::from_bits(
+        get_material_texel(
+            texels,
+            material_index,
+            MATERIAL_TEXEL_ATTENUATION_CLEARCOAT_NORMAL_SCALE,
+        )
+        .w,
+    )
+}
+
+/// Twin of `is_unlit_material`.
+pub fn is_unlit_material(texels: &SurfaceTexels, material_index: u32) -> bool {
+    get_material_texel(texels, material_index, MATERIAL_TEXEL_FLAGS).x & MATERIAL_FLAG_UNLIT != 0
+}
 
 /// Twin of `get_material_alpha_mode`.
 pub fn get_material_alpha_mode(texels: &SurfaceTexels, material_index: u32) -> u32 {
@@ -225,16 +259,19 @@ pub fn is_opaque_hit(
     get_random_numbers(&mut hash_state)[0] < alpha
 }
 
-/// Twin of `get_front_shading_normal`: the interpolated shading normal of triangle `i`
-/// (front side), perturbed by the material's normal map; the face normal where the
-/// interpolation vanishes.
-pub fn get_front_shading_normal(
+/// Twin of `get_front_mapped_normal`: the interpolated vertex normal of triangle `i` (front
+/// side), perturbed by the normal map in texture slot `slot` with `scale`; the face normal
+/// where the interpolation vanishes.
+#[allow(clippy::too_many_arguments)]
+pub fn get_front_mapped_normal(
     texels: &SurfaceTexels,
     triangle_index: u32,
     material_index: u32,
     barycentrics: Vec3,
     tex_coord: Vec2,
     face_normal: Vec3,
+    slot: u32,
+    scale: f32,
 ) -> Vec3 {
     let vertex_normal =
         |j: u32| uint_bits_to_float(get_shading_texel(texels, triangle_index, j)).truncate();
@@ -245,22 +282,59 @@ pub fn get_front_shading_normal(
         return face_normal;
     }
     normal = normal.normalize();
-    if texels.scene_has_textures
-        && has_material_texture(texels, material_index, MATERIAL_TEXTURE_NORMAL)
-    {
+    if texels.scene_has_textures && has_material_texture(texels, material_index, slot) {
         let tangent_0 = uint_bits_to_float(get_shading_texel(texels, triangle_index, 5));
         let tangent = barycentrics[0] * tangent_0.truncate()
             + barycentrics[1]
                 * uint_bits_to_float(get_shading_texel(texels, triangle_index, 6)).truncate()
             + barycentrics[2]
                 * uint_bits_to_float(get_shading_texel(texels, triangle_index, 7)).truncate();
-        let scale = get_material_normal_scale(texels, material_index);
-        let texel =
-            sample_material_texture(texels, material_index, MATERIAL_TEXTURE_NORMAL, tex_coord)
-                .truncate();
+        let texel = sample_material_texture(texels, material_index, slot, tex_coord).truncate();
         normal = apply_normal_map(normal, tangent.extend(tangent_0.w), texel, scale);
     }
     normal
+}
+
+/// Twin of `get_front_shading_normal`: the vertex normals and the material's normalTexture.
+pub fn get_front_shading_normal(
+    texels: &SurfaceTexels,
+    triangle_index: u32,
+    material_index: u32,
+    barycentrics: Vec3,
+    tex_coord: Vec2,
+    face_normal: Vec3,
+) -> Vec3 {
+    get_front_mapped_normal(
+        texels,
+        triangle_index,
+        material_index,
+        barycentrics,
+        tex_coord,
+        face_normal,
+        MATERIAL_TEXTURE_NORMAL,
+        get_material_normal_scale(texels, material_index),
+    )
+}
+
+/// Twin of `get_front_clearcoat_normal`: the vertex normals and the clearcoatNormalTexture.
+pub fn get_front_clearcoat_normal(
+    texels: &SurfaceTexels,
+    triangle_index: u32,
+    material_index: u32,
+    barycentrics: Vec3,
+    tex_coord: Vec2,
+    face_normal: Vec3,
+) -> Vec3 {
+    get_front_mapped_normal(
+        texels,
+        triangle_index,
+        material_index,
+        barycentrics,
+        tex_coord,
+        face_normal,
+        MATERIAL_TEXTURE_CLEARCOAT_NORMAL,
+        get_material_clearcoat_normal_scale(texels, material_index),
+    )
 }
 
 /// Twin of `surface_t`: a hit point as the integrators shade it.
@@ -274,6 +348,14 @@ pub struct Surface {
     pub material: MaterialSample,
     /// Emitted radiance towards the ray's origin (0 from the back of one-sided emitters).
     pub emission: Vec3,
+    /// The clear coat's unit normal on the view's side.
+    pub clearcoat_normal: Vec3,
+    /// The far side's index of refraction over the ray's.
+    pub eta: f32,
+    /// Whether the ray hit the triangle's back.
+    pub back_face: bool,
+    /// KHR_materials_unlit: the base colour camera rays see (0 for lit materials).
+    pub unlit_color: Vec3,
 }
 
 /// Twin of `get_material`: material `i` at `tex_coord` after texture lookups (roughness in G,
@@ -295,7 +377,7 @@ pub fn get_material(
         MATERIAL_TEXTURE_METALLIC_ROUGHNESS,
         tex_coord,
     );
-    MaterialSample {
+    let mut material = MaterialSample {
         base_color: base_color.truncate(),
         metallic: uint_bits_to_float(get_material_texel(
             texels,
@@ -312,7 +394,33 @@ pub fn get_material(
             MATERIAL_TEXEL_SPECULAR_COLOR_ALPHA_CUTOFF,
         ))
         .truncate(),
+        transmission: 0.0,
+        thickness: 0.0,
+        attenuation: Vec3::ZERO,
+        clearcoat: 0.0,
+        clearcoat_roughness: 0.0,
+    };
+    if texels.scene_has_layers {
+        let texture = |slot: u32| sample_material_texture(texels, material_index, slot, tex_coord);
+        material.specular *= texture(MATERIAL_TEXTURE_SPECULAR).w;
+        material.specular_color *= texture(MATERIAL_TEXTURE_SPECULAR_COLOR).truncate();
+        let layers = uint_bits_to_float(get_material_texel(
+            texels,
+            material_index,
+            MATERIAL_TEXEL_TRANSMISSION_THICKNESS_CLEARCOAT,
+        ));
+        material.transmission = layers.x * texture(MATERIAL_TEXTURE_TRANSMISSION).x;
+        material.thickness = layers.y * texture(MATERIAL_TEXTURE_THICKNESS).y;
+        material.attenuation = uint_bits_to_float(get_material_texel(
+            texels,
+            material_index,
+            MATERIAL_TEXEL_ATTENUATION_CLEARCOAT_NORMAL_SCALE,
+        ))
+        .truncate();
+        material.clearcoat = layers.z * texture(MATERIAL_TEXTURE_CLEARCOAT).x;
+        material.clearcoat_roughness = layers.w * texture(MATERIAL_TEXTURE_CLEARCOAT_ROUGHNESS).y;
     }
+    material
 }
 
 /// Twin of `get_surface`: normals, the material after textures and the emission at a hit.
@@ -352,34 +460,165 @@ pub fn get_surface(
     } else {
         geometric_normal
     };
-    let material = get_material(
-        texels,
-        material_index,
-        tex_coord,
-        get_base_color(texels, material_index, tex_coord),
-    );
+    let base_color = get_base_color(texels, material_index, tex_coord);
+    let mut material = get_material(texels, material_index, tex_coord, base_color);
     let double_sided = is_double_sided(texels, triangle_index);
     let emission = if front || double_sided {
         get_material_emission(texels, material_index, tex_coord)
     } else {
         Vec3::ZERO
     };
+    let eta = if front {
+        material.ior
+    } else {
+        1.0 / material.ior
+    };
+    let mut clearcoat_normal = geometric_normal;
+    let mut unlit_color = Vec3::ZERO;
+    if texels.scene_has_layers {
+        if material.clearcoat > 0.0 {
+            let normal = get_front_clearcoat_normal(
+                texels,
+                triangle_index,
+                material_index,
+                barycentrics,
+                tex_coord,
+                triangle.normal,
+            );
+            let normal = if front { normal } else { -normal };
+            if normal.dot(view) > 0.0 {
+                clearcoat_normal = normal;
+            }
+        }
+        if is_unlit_material(texels, material_index) {
+            unlit_color = base_color.truncate();
+            material.base_color = Vec3::ZERO;
+            material.metallic = 0.0;
+            material.specular = 0.0;
+            material.transmission = 0.0;
+            material.clearcoat = 0.0;
+        }
+    }
     Surface {
         geometric_normal,
         shading_normal,
         material,
         emission,
+        clearcoat_normal,
+        eta,
+        back_face: !front,
+        unlit_color,
     }
+}
+
+/// Twin of `has_layers`: the material has transmission or a clear coat (and the scene
+/// `SCENE_HAS_LAYERS`, which `get_material` already applied).
+pub fn has_layers(surface: &Surface) -> bool {
+    is_layered(&surface.material)
+}
+
+/// Twin of `is_transmissive`.
+pub fn is_transmissive(surface: &Surface) -> bool {
+    surface.material.transmission > 0.0
+}
+
+/// Twin of `get_camera_emission`: emission plus an unlit material's colour.
+pub fn get_camera_emission(surface: &Surface) -> Vec3 {
+    surface.emission + surface.unlit_color
+}
+
+/// Twin of `get_volume_transmittance`: absorption inside a refracting volume (rays that hit
+/// its back), 1 elsewhere.
+pub fn get_volume_transmittance(surface: &Surface, distance: f32) -> Vec3 {
+    if is_transmissive(surface) && surface.back_face && is_refracting(&surface.material) {
+        return get_absorption(&surface.material, distance);
+    }
+    Vec3::ONE
 }
 
 /// Twin of `get_bsdf`: f(view, light) max(0, n_s . light), and 0 for light
 /// from below the geometric surface.
 pub fn get_bsdf(surface: &Surface, view: Vec3, light: Vec3) -> Vec3 {
+    if has_layers(surface) {
+        return get_layered_bsdf(
+            &surface.material,
+            surface.eta,
+            surface.geometric_normal,
+            surface.shading_normal,
+            surface.clearcoat_normal,
+            view,
+            light,
+        );
+    }
     if surface.geometric_normal.dot(light) <= 0.0 {
         return Vec3::ZERO;
     }
     get_brdf(&surface.material, surface.shading_normal, view, light)
         * surface.shading_normal.dot(light).max(0.0)
+}
+
+/// Twin of `get_bsdf_density` (glTF).
+pub fn get_bsdf_density(surface: &Surface, view: Vec3, light: Vec3) -> f32 {
+    if has_layers(surface) {
+        return get_layered_density(
+            &surface.material,
+            surface.eta,
+            surface.shading_normal,
+            surface.clearcoat_normal,
+            view,
+            light,
+        );
+    }
+    get_brdf_density(&surface.material, surface.shading_normal, view, light)
+}
+
+/// Twin of `sample_bsdf` (glTF): a direction, its density, weight, lobes and eta.
+pub fn sample_bsdf(
+    surface: &Surface,
+    view: Vec3,
+    random_numbers: Vec2,
+    lobe_random: f32,
+) -> BsdfSample {
+    let mut lobes = BSDF_LOBE_REFLECT;
+    let mut eta = 1.0;
+    let direction = if has_layers(surface) {
+        let direction = sample_layered_bsdf(
+            random_numbers,
+            lobe_random,
+            &surface.material,
+            surface.eta,
+            surface.shading_normal,
+            surface.clearcoat_normal,
+            view,
+        );
+        if surface.geometric_normal.dot(direction) < 0.0 {
+            lobes = BSDF_LOBE_TRANSMIT;
+            if is_refracting(&surface.material) {
+                eta = surface.eta;
+            }
+        }
+        direction
+    } else {
+        sample_brdf(
+            random_numbers,
+            &surface.material,
+            surface.shading_normal,
+            view,
+        )
+    };
+    let density = get_bsdf_density(surface, view, direction);
+    let weight = if density > 0.0 {
+        get_bsdf(surface, view, direction) / density
+    } else {
+        Vec3::ZERO
+    };
+    BsdfSample {
+        direction,
+        density,
+        weight,
+        lobes,
+        eta,
+    }
 }
 
 #[cfg(test)]

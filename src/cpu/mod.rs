@@ -10,6 +10,7 @@ pub mod image;
 pub mod importance_sampling;
 pub mod integrator;
 pub mod integrators;
+pub mod layered_bsdf;
 pub mod lights;
 pub mod materials;
 pub mod path_loop;

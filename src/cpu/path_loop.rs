@@ -13,8 +13,9 @@ use crate::cpu::integrators::{
 };
 use crate::cpu::lights::{get_emissive_triangle_density, sample_direct_light, LightScene};
 use crate::cpu::surface::{
-    get_departure_origin, get_surface, sample_bsdf, sample_cosine_direction,
-    sample_uniform_direction, BsdfSample, Surface,
+    get_camera_emission, get_departure_origin, get_surface, get_volume_transmittance, has_layers,
+    is_transmissive, sample_bsdf, sample_cosine_direction, sample_uniform_direction, BsdfSample,
+    Surface,
 };
 use crate::cpu::workshop::get_random_numbers;
 
@@ -35,6 +36,8 @@ pub struct FoundEmission<'a> {
     pub t: f32,
     /// Density of the direction sample that found it.
     pub direction_density: f32,
+    /// Whether the previous vertex took light samples.
+    pub light_sampled: bool,
 }
 
 /// Twin of `get_found_emission`: throughput times the emission found, weighted as the
@@ -45,7 +48,10 @@ pub fn get_found_emission(
     found: &FoundEmission,
 ) -> Vec3 {
     let emission = found.surface.emission;
-    if found.vertex == 0 || !takes_light_samples(scene.integrator) {
+    if found.vertex == 0 {
+        return throughput_weight * get_camera_emission(found.surface);
+    }
+    if !found.light_sampled {
         return throughput_weight * emission;
     }
     if weighs_by_mis(scene.integrator) && emission != Vec3::ZERO {
@@ -70,14 +76,20 @@ pub fn sample_path_direction(
     view: Vec3,
     seed: &mut UVec2,
 ) -> BsdfSample {
-    if samples_uniform_directions(integrator) {
+    let transmissive = is_transmissive(surface);
+    if samples_uniform_directions(integrator) && !transmissive {
         return sample_uniform_direction(surface, view, get_random_numbers(seed));
     }
     let random_numbers: Vec2 = get_random_numbers(seed);
-    if samples_cosine_directions(integrator) {
+    if samples_cosine_directions(integrator) && !transmissive {
         return sample_cosine_direction(surface, view, random_numbers);
     }
-    sample_bsdf(surface, view, random_numbers)
+    let lobe_random = if has_layers(surface) {
+        get_random_numbers(seed)[0]
+    } else {
+        0.0
+    };
+    sample_bsdf(surface, view, random_numbers, lobe_random)
 }
 
 /// Twin of `get_path_radiance`; `max_path_length` and `russian_roulette_start` are the
@@ -93,6 +105,8 @@ pub fn get_path_radiance(
     let mut radiance = Vec3::ZERO;
     let mut throughput_weight = Vec3::ONE;
     let mut direction_density = 0.0f32;
+    let mut light_sampled = false;
+    let mut eta_scale = 1.0f32;
     let mut previous_position = ray_origin;
     let vertex_count = if is_direct_illumination(scene.integrator) {
         2
@@ -107,6 +121,7 @@ pub fn get_path_radiance(
         ray_origin += hit.t * ray_direction;
         let surface = get_surface(scene.scene_triangles, hit.triangle_index, ray_direction);
         let view = -ray_direction;
+        throughput_weight *= get_volume_transmittance(&surface, hit.t);
         // 1. The emission found
         radiance += get_found_emission(
             scene,
@@ -119,13 +134,15 @@ pub fn get_path_radiance(
                 ray_direction,
                 t: hit.t,
                 direction_density,
+                light_sampled,
             },
         );
         if i + 1 == vertex_count {
             break;
         }
-        // 2. Light samples
-        if takes_light_samples(scene.integrator) {
+        // 2. Light samples (none at glass)
+        light_sampled = takes_light_samples(scene.integrator) && !is_transmissive(&surface);
+        if light_sampled {
             radiance +=
                 throughput_weight * sample_direct_light(scene, ray_origin, &surface, view, seed);
         }
@@ -136,6 +153,7 @@ pub fn get_path_radiance(
         }
         ray_direction = direction.direction;
         direction_density = direction.density;
+        eta_scale *= direction.eta * direction.eta;
         throughput_weight *= direction.weight;
         ray_origin = get_departure_origin(&surface, ray_origin, direction.lobes);
         previous_position = ray_origin;
@@ -143,7 +161,7 @@ pub fn get_path_radiance(
             && russian_roulette_start > 0
             && i + 1 >= russian_roulette_start
         {
-            let survival = throughput_weight.max_element().min(1.0);
+            let survival = (throughput_weight.max_element() * eta_scale).min(1.0);
             if get_random_numbers(seed)[0] >= survival {
                 break;
             }

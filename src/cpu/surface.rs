@@ -40,6 +40,28 @@ pub struct BsdfSample {
     pub weight: Vec3,
     /// `BSDF_LOBE_*` of the lobe sampled.
     pub lobes: u32,
+    /// The relative index of refraction the direction crossed (1: reflections, thin walls).
+    pub eta: f32,
+}
+
+/// Twin of `has_layers` (Lambert: never).
+pub fn has_layers(_surface: &Surface) -> bool {
+    false
+}
+
+/// Twin of `is_transmissive` (Lambert: never).
+pub fn is_transmissive(_surface: &Surface) -> bool {
+    false
+}
+
+/// Twin of `get_camera_emission` (Lambert: the emission).
+pub fn get_camera_emission(surface: &Surface) -> Vec3 {
+    surface.emission
+}
+
+/// Twin of `get_volume_transmittance` (Lambert: no volumes).
+pub fn get_volume_transmittance(_surface: &Surface, _distance: f32) -> Vec3 {
+    Vec3::ONE
 }
 
 /// Twin of `get_surface` (Lambert): the hit triangle, its normal facing the ray.
@@ -86,7 +108,12 @@ pub fn get_bsdf_density(surface: &Surface, _view: Vec3, light: Vec3) -> f32 {
 }
 
 /// Twin of `sample_bsdf` (Lambert): cosine sampling, weight exactly the albedo.
-pub fn sample_bsdf(surface: &Surface, _view: Vec3, random_numbers: Vec2) -> BsdfSample {
+pub fn sample_bsdf(
+    surface: &Surface,
+    _view: Vec3,
+    random_numbers: Vec2,
+    _lobe_random: f32,
+) -> BsdfSample {
     let direction = sample_hemisphere_cosine(random_numbers, surface.geometric_normal);
     let density = get_hemisphere_cosine_density(surface.geometric_normal, direction);
     BsdfSample {
@@ -98,12 +125,13 @@ pub fn sample_bsdf(surface: &Surface, _view: Vec3, random_numbers: Vec2) -> Bsdf
             Vec3::ZERO
         },
         lobes: BSDF_LOBE_REFLECT,
+        eta: 1.0,
     }
 }
 
 /// Twin of `sample_cosine_direction` (Lambert: `sample_bsdf` itself).
 pub fn sample_cosine_direction(surface: &Surface, view: Vec3, random_numbers: Vec2) -> BsdfSample {
-    sample_bsdf(surface, view, random_numbers)
+    sample_bsdf(surface, view, random_numbers, 0.0)
 }
 
 /// Twin of `sample_uniform_direction`: the workshop's uniform hemisphere, weight
@@ -115,6 +143,7 @@ pub fn sample_uniform_direction(surface: &Surface, view: Vec3, random_numbers: V
         density: 0.5 / M_PI,
         weight: get_bsdf(surface, view, direction) * 2.0 * M_PI,
         lobes: BSDF_LOBE_REFLECT,
+        eta: 1.0,
     }
 }
 
@@ -176,7 +205,7 @@ mod tests {
         let view = Vec3::new(0.0, 0.0, 1.0);
         for i in 0..64 {
             let u = Vec2::new((i as f32 + 0.5) / 64.0, ((i * 37) % 64) as f32 / 64.0);
-            let sample = sample_bsdf(&surface, view, u);
+            let sample = sample_bsdf(&surface, view, u, 0.0);
             assert_eq!(
                 sample.density,
                 get_bsdf_density(&surface, view, sample.direction)

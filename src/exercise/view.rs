@@ -254,6 +254,11 @@ mod tests {
                 specular: 0.6,
                 specular_color: Vec3::new(0.7, 0.8, 0.9),
                 ior: 1.7,
+                transmission: 0.0,
+                thickness: 0.0,
+                attenuation: Vec3::ZERO,
+                clearcoat: 0.0,
+                clearcoat_roughness: 0.0,
             },
             30.0,
         );

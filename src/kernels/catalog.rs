@@ -44,6 +44,7 @@ pub static PATH_TRACER: Kernel = Kernel {
         SpecConstants::one(c::SPEC_LIGHT_SEARCHES_PER_RAY),
         SpecConstants::one(c::SPEC_TRIANGLE_LOOPS_PER_RAY),
         SpecConstants::one(c::SPEC_SCENE_HAS_TEXTURES),
+        SpecConstants::one(c::SPEC_SCENE_HAS_LAYERS),
     ],
     push_constant_size: size_of::<FramePushConstants>() as u32,
 };
@@ -123,6 +124,7 @@ pub static PROBE_SURFACE: Kernel = Kernel {
         SCENE_SPEC[1],
         SCENE_SPEC[2],
         SpecConstants::one(c::SPEC_SCENE_HAS_TEXTURES),
+        SpecConstants::one(c::SPEC_SCENE_HAS_LAYERS),
     ],
     push_constant_size: size_of::<ProbePushConstants>() as u32,
 };

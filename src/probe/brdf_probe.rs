@@ -71,6 +71,11 @@ impl BrdfProbeInput {
             specular,
             specular_color: Vec3::new(sr, sg, sb),
             ior: self.roughness_ior_randoms[1],
+            transmission: 0.0,
+            thickness: 0.0,
+            attenuation: Vec3::ZERO,
+            clearcoat: 0.0,
+            clearcoat_roughness: 0.0,
         }
     }
 

@@ -10,7 +10,7 @@ use ash::vk;
 use bytemuck::{Pod, Zeroable};
 use glam::{UVec2, Vec3};
 
-use crate::contract::SPEC_SCENE_HAS_TEXTURES;
+use crate::contract::{SPEC_SCENE_HAS_LAYERS, SPEC_SCENE_HAS_TEXTURES};
 use crate::cpu::gltf_surface::SurfaceTexels;
 use crate::error::{Error, Result};
 use crate::kernels::{self, Bound, Resource};
@@ -90,6 +90,8 @@ pub struct SurfaceWords {
     pub atlas: TextureAtlas,
     /// Whether the scene has textures (`SCENE_HAS_TEXTURES`).
     pub has_textures: bool,
+    /// Whether it needs the layers (`SCENE_HAS_LAYERS`).
+    pub has_layers: bool,
 }
 
 impl SurfaceWords {
@@ -119,6 +121,7 @@ impl SurfaceWords {
             materials: bytemuck::cast_slice(&packed).to_vec(),
             atlas,
             has_textures: !materials.textures.is_empty(),
+            has_layers: materials.uses_layers(),
         })
     }
 
@@ -130,6 +133,7 @@ impl SurfaceWords {
             materials: &self.materials,
             texture_texels: &self.atlas.texels,
             scene_has_textures: self.has_textures,
+            scene_has_layers: self.has_layers,
         }
     }
 }
@@ -161,7 +165,10 @@ impl SurfaceProbeRunner {
             probe: Probe::embedded(
                 context,
                 &kernels::PROBE_SURFACE,
-                &[(SPEC_SCENE_HAS_TEXTURES, u32::from(words.has_textures))],
+                &[
+                    (SPEC_SCENE_HAS_TEXTURES, u32::from(words.has_textures)),
+                    (SPEC_SCENE_HAS_LAYERS, u32::from(words.has_layers)),
+                ],
                 "the surface functions",
             )?,
             triangles: texels("probe triangles", &words.triangles)?,

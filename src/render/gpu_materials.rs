@@ -5,8 +5,12 @@
 use bytemuck::{Pod, Zeroable};
 
 use crate::contract::{
-    ALPHA_MODE_BLEND, ALPHA_MODE_MASK, ALPHA_MODE_OPAQUE, MATERIAL_TEXTURE_BASE_COLOR,
-    MATERIAL_TEXTURE_EMISSIVE, MATERIAL_TEXTURE_METALLIC_ROUGHNESS, MATERIAL_TEXTURE_NORMAL,
+    ALPHA_MODE_BLEND, ALPHA_MODE_MASK, ALPHA_MODE_OPAQUE, MATERIAL_FLAG_UNLIT,
+    MATERIAL_TEXTURE_BASE_COLOR, MATERIAL_TEXTURE_CLEARCOAT, MATERIAL_TEXTURE_CLEARCOAT_NORMAL,
+    MATERIAL_TEXTURE_CLEARCOAT_ROUGHNESS, MATERIAL_TEXTURE_EMISSIVE,
+    MATERIAL_TEXTURE_METALLIC_ROUGHNESS, MATERIAL_TEXTURE_NORMAL, MATERIAL_TEXTURE_SLOT_COUNT,
+    MATERIAL_TEXTURE_SPECULAR, MATERIAL_TEXTURE_SPECULAR_COLOR, MATERIAL_TEXTURE_THICKNESS,
+    MATERIAL_TEXTURE_TRANSMISSION,
 };
 use crate::render::gpu_textures::{GpuTextureSlot, TextureAtlas};
 use crate::scene::materials::{
@@ -27,7 +31,7 @@ pub struct GpuTriangleShading {
     pub tangents: [[f32; 4]; 3],
 }
 
-/// One material as `get_material_texel()` reads it (272 bytes).
+/// One material as `get_material_texel()` reads it (656 bytes).
 #[repr(C)]
 #[derive(Clone, Copy, Debug, PartialEq, Pod, Zeroable)]
 pub struct GpuMaterial {
@@ -41,8 +45,14 @@ pub struct GpuMaterial {
     pub specular_color_alpha_cutoff: [f32; 4],
     /// x: ALPHA_MODE_*; y: bit (1 << MATERIAL_TEXTURE_*) per texture present; zw: 0.
     pub alpha_mode_texture_flags: [u32; 4],
+    /// Transmission factor, thickness factor, clearcoat factor, clearcoat roughness factor.
+    pub transmission_thickness_clearcoat: [f32; 4],
+    /// rgb: the volume's absorption coefficient per unit length; a: clearcoat normal scale.
+    pub attenuation_clearcoat_normal_scale: [f32; 4],
+    /// x: MATERIAL_FLAG_* bits; yzw: 0.
+    pub flags: [u32; 4],
     /// The texture slots in MATERIAL_TEXTURE_* order (zeros where absent).
-    pub textures: [GpuTextureSlot; 4],
+    pub textures: [GpuTextureSlot; MATERIAL_TEXTURE_SLOT_COUNT as usize],
 }
 
 impl GpuTriangleShading {
@@ -76,7 +86,7 @@ impl GpuMaterial {
             AlphaMode::Blend => (ALPHA_MODE_BLEND, 0.0),
         };
         let mut flags = 0;
-        let mut textures = [GpuTextureSlot::zeroed(); 4];
+        let mut textures = [GpuTextureSlot::zeroed(); MATERIAL_TEXTURE_SLOT_COUNT as usize];
         let slots = [
             (
                 MATERIAL_TEXTURE_BASE_COLOR,
@@ -90,6 +100,33 @@ impl GpuMaterial {
             ),
             (MATERIAL_TEXTURE_NORMAL, material.normal_texture, false),
             (MATERIAL_TEXTURE_EMISSIVE, material.emissive_texture, true),
+            (
+                MATERIAL_TEXTURE_TRANSMISSION,
+                material.transmission.texture,
+                false,
+            ),
+            (
+                MATERIAL_TEXTURE_THICKNESS,
+                material.transmission.thickness_texture,
+                false,
+            ),
+            (MATERIAL_TEXTURE_CLEARCOAT, material.clearcoat.texture, false),
+            (
+                MATERIAL_TEXTURE_CLEARCOAT_ROUGHNESS,
+                material.clearcoat.roughness_texture,
+                false,
+            ),
+            (
+                MATERIAL_TEXTURE_CLEARCOAT_NORMAL,
+                material.clearcoat.normal_texture,
+                false,
+            ),
+            (MATERIAL_TEXTURE_SPECULAR, material.specular_texture, false),
+            (
+                MATERIAL_TEXTURE_SPECULAR_COLOR,
+                material.specular_color_texture,
+                true,
+            ),
         ];
         for (slot, binding, srgb) in slots {
             if let Some(TextureBinding { texture, transform }) = binding {
@@ -114,6 +151,23 @@ impl GpuMaterial {
             ],
             specular_color_alpha_cutoff: material.specular_color.extend(cutoff).to_array(),
             alpha_mode_texture_flags: [alpha_mode, flags, 0, 0],
+            transmission_thickness_clearcoat: [
+                material.transmission.factor,
+                material.transmission.thickness,
+                material.clearcoat.factor,
+                material.clearcoat.roughness,
+            ],
+            attenuation_clearcoat_normal_scale: material
+                .transmission
+                .attenuation
+                .extend(material.clearcoat.normal_scale)
+                .to_array(),
+            flags: [
+                if material.unlit { MATERIAL_FLAG_UNLIT } else { 0 },
+                0,
+                0,
+                0,
+            ],
             textures,
         }
     }
@@ -148,6 +202,12 @@ mod tests {
         );
         assert_eq!(offset_of!(GpuMaterial, specular_color_alpha_cutoff), 48);
         assert_eq!(offset_of!(GpuMaterial, alpha_mode_texture_flags), 64);
+        assert_eq!(offset_of!(GpuMaterial, transmission_thickness_clearcoat), 80);
+        assert_eq!(
+            offset_of!(GpuMaterial, attenuation_clearcoat_normal_scale),
+            96
+        );
+        assert_eq!(offset_of!(GpuMaterial, flags), 112);
         assert_eq!(
             offset_of!(GpuMaterial, textures),
             16 * MATERIAL_FACTOR_TEXEL_COUNT as usize

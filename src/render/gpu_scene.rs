@@ -170,6 +170,10 @@ impl GpuScene {
                 contract::SPEC_SCENE_HAS_TEXTURES,
                 u32::from(!scene_materials.textures.is_empty()),
             ));
+            specialization.push((
+                contract::SPEC_SCENE_HAS_LAYERS,
+                u32::from(scene_materials.uses_layers()),
+            ));
         }
         Ok(GpuScene {
             triangles,

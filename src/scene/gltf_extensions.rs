@@ -3,10 +3,14 @@
 
 /// The glTF extensions whose meaning vkpath implements (a file that requires others is
 /// refused with their names).
-pub const SUPPORTED_EXTENSIONS: [&str; 6] = [
+pub const SUPPORTED_EXTENSIONS: [&str; 10] = [
     "KHR_materials_emissive_strength",
     "KHR_materials_specular",
     "KHR_materials_ior",
+    "KHR_materials_transmission",
+    "KHR_materials_volume",
+    "KHR_materials_clearcoat",
+    "KHR_materials_unlit",
     "KHR_texture_transform",
     "KHR_mesh_quantization",
     "KHR_lights_punctual",
@@ -15,18 +19,6 @@ pub const SUPPORTED_EXTENSIONS: [&str; 6] = [
 /// What a render loses when vkpath ignores a known extension: (extension, what is lost).
 /// Extensions not listed here get a generic sentence.
 const WHAT_IS_LOST: &[(&str, &str)] = &[
-    (
-        "KHR_materials_clearcoat",
-        "surfaces render without their clear coat",
-    ),
-    (
-        "KHR_materials_transmission",
-        "transmissive surfaces (glass) render opaque",
-    ),
-    (
-        "KHR_materials_volume",
-        "no absorption or thickness inside volumes",
-    ),
     (
         "KHR_materials_sheen",
         "surfaces render without their sheen (cloth)",
@@ -46,10 +38,6 @@ const WHAT_IS_LOST: &[(&str, &str)] = &[
     (
         "KHR_materials_diffuse_transmission",
         "no light passes diffusely through thin surfaces",
-    ),
-    (
-        "KHR_materials_unlit",
-        "unlit materials are shaded as lit metallic-roughness ones",
     ),
     (
         "KHR_materials_variants",
@@ -116,15 +104,15 @@ mod tests {
     #[test]
     fn every_unsupported_extension_warns_once_and_supported_ones_do_not() {
         let warnings = unsupported_extension_warnings([
-            "KHR_materials_clearcoat",
+            "KHR_materials_sheen",
             "KHR_materials_ior",
-            "KHR_materials_clearcoat",
+            "KHR_materials_sheen",
             "VENDOR_something",
         ]);
         assert_eq!(warnings.len(), 2, "{warnings:?}");
         assert_eq!(
             warnings[0],
-            "glTF extension KHR_materials_clearcoat: ignored, surfaces render without their clear coat"
+            "glTF extension KHR_materials_sheen: ignored, surfaces render without their sheen (cloth)"
         );
         assert!(warnings[1].starts_with("glTF extension VENDOR_something: ignored, "));
     }

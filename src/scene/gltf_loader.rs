@@ -54,7 +54,7 @@ pub fn load_gltf_with(path: &Path, options: &LoadOptions) -> Result<Scene, Scene
         document: &document,
         buffers: &buffers,
         builder: SceneBuilder::new(path),
-        materials: MaterialReader::new(path, &buffers, options),
+        materials: MaterialReader::new(path, &document, &buffers, options),
         orthographic_camera: None,
     };
     for warning in unsupported_extension_warnings(document.extensions_used()) {

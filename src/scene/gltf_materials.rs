@@ -1,6 +1,8 @@
 //! glTF materials as vkpath renders them: the metallic-roughness factors with
-//! KHR_materials_emissive_strength, KHR_materials_specular, KHR_materials_ior and
-//! KHR_texture_transform, and the textures they use, decoded once each.
+//! KHR_materials_emissive_strength, KHR_materials_specular, KHR_materials_ior,
+//! KHR_materials_transmission, KHR_materials_volume, KHR_materials_clearcoat,
+//! KHR_materials_unlit and KHR_texture_transform, and the textures they use, decoded once
+//! each.
 //!
 //! A texture that cannot be used (a missing or unreadable image, a format other than PNG
 //! or JPEG, an image larger than `MAX_TEXTURE_SIZE` per side, a second texture coordinate
@@ -14,12 +16,13 @@ use std::path::Path;
 use glam::{Vec3, Vec4};
 
 use super::files::{resolve_reference, LoadOptions, MAX_SCENE_FILE_BYTES};
-use super::materials::{AlphaMode, PbrMaterial, TextureBinding};
+use super::materials::{AlphaMode, Clearcoat, PbrMaterial, TextureBinding, Transmission};
 use super::textures::{decode_texture, Texture, TextureTransform, WrapMode};
 
 /// Converts materials and loads their textures, each once.
 pub(crate) struct MaterialReader<'a> {
     path: &'a Path,
+    document: &'a gltf::Document,
     buffers: &'a [gltf::buffer::Data],
     options: &'a LoadOptions,
     /// glTF material index (None: the default material) -> index in `materials`.
@@ -38,11 +41,13 @@ impl<'a> MaterialReader<'a> {
     /// A reader for the glTF file at `path` with its loaded `buffers`.
     pub fn new(
         path: &'a Path,
+        document: &'a gltf::Document,
         buffers: &'a [gltf::buffer::Data],
         options: &'a LoadOptions,
     ) -> MaterialReader<'a> {
         MaterialReader {
             path,
+            document,
             buffers,
             options,
             material_indices: HashMap::new(),
@@ -69,22 +74,22 @@ impl<'a> MaterialReader<'a> {
         let name = material_label(material);
         let pbr = material.pbr_metallic_roughness();
         let strength = material.emissive_strength().unwrap_or(1.0);
-        let (specular, specular_color) = match material.specular() {
-            Some(specular) => {
-                if specular.specular_texture().is_some()
-                    || specular.specular_color_texture().is_some()
-                {
-                    self.warnings.push(format!(
-                        "material '{name}': KHR_materials_specular textures are ignored; using its factors"
-                    ));
-                }
-                (
+        let (specular, specular_color, specular_texture, specular_color_texture) =
+            match material.specular() {
+                Some(specular) => (
                     specular.specular_factor(),
                     Vec3::from(specular.specular_color_factor()),
-                )
-            }
-            None => (1.0, Vec3::ONE),
-        };
+                    specular
+                        .specular_texture()
+                        .and_then(|info| self.binding(&name, "specularTexture", &info)),
+                    specular
+                        .specular_color_texture()
+                        .and_then(|info| self.binding(&name, "specularColorTexture", &info)),
+                ),
+                None => (1.0, Vec3::ONE, None, None),
+            };
+        let transmission = self.transmission(&name, material);
+        let clearcoat = self.clearcoat(&name, material);
         let alpha_mode = match material.alpha_mode() {
             gltf::material::AlphaMode::Opaque => AlphaMode::Opaque,
             gltf::material::AlphaMode::Mask => AlphaMode::Mask {
@@ -120,8 +125,100 @@ impl<'a> MaterialReader<'a> {
             metallic_roughness_texture,
             normal_texture,
             emissive_texture,
+            specular_texture,
+            specular_color_texture,
+            transmission,
+            clearcoat,
+            unlit: material.unlit(),
         }
         .sanitized()
+    }
+
+    /// KHR_materials_transmission with KHR_materials_volume (thin-walled without the volume).
+    fn transmission(&mut self, name: &str, material: &gltf::Material) -> Transmission {
+        let Some(transmission) = material.transmission() else {
+            return Transmission::default();
+        };
+        let texture = transmission
+            .transmission_texture()
+            .and_then(|info| self.binding(name, "transmissionTexture", &info));
+        let mut result = Transmission {
+            factor: transmission.transmission_factor(),
+            texture,
+            ..Transmission::default()
+        };
+        if let Some(volume) = material.volume() {
+            result.thickness = volume.thickness_factor();
+            result.thickness_texture = volume
+                .thickness_texture()
+                .and_then(|info| self.binding(name, "thicknessTexture", &info));
+            result.attenuation = Transmission::attenuation_coefficient(
+                Vec3::from(volume.attenuation_color()),
+                volume.attenuation_distance(),
+            );
+        }
+        result
+    }
+
+    /// KHR_materials_clearcoat, read from the JSON (gltf 1.4 has no accessors for it).
+    fn clearcoat(&mut self, name: &str, material: &gltf::Material) -> Clearcoat {
+        let mut clearcoat = Clearcoat {
+            normal_scale: 1.0,
+            ..Clearcoat::default()
+        };
+        let Some(json) = material.extension_value("KHR_materials_clearcoat") else {
+            return clearcoat;
+        };
+        let number = |key: &str, default: f32| {
+            json.get(key)
+                .and_then(serde_json::Value::as_f64)
+                .map_or(default, |v| v as f32)
+        };
+        clearcoat.factor = number("clearcoatFactor", 0.0);
+        clearcoat.roughness = number("clearcoatRoughnessFactor", 0.0);
+        clearcoat.texture = self.json_binding(name, "clearcoatTexture", json.get("clearcoatTexture"));
+        clearcoat.roughness_texture = self.json_binding(
+            name,
+            "clearcoatRoughnessTexture",
+            json.get("clearcoatRoughnessTexture"),
+        );
+        let normal = json.get("clearcoatNormalTexture");
+        clearcoat.normal_texture = self.json_binding(name, "clearcoatNormalTexture", normal);
+        clearcoat.normal_scale = normal
+            .and_then(|n| n.get("scale"))
+            .and_then(serde_json::Value::as_f64)
+            .map_or(1.0, |v| v as f32);
+        clearcoat
+    }
+
+    /// The binding of a texture reference written in an extension's JSON (`{"index": i,
+    /// "texCoord": k, "extensions": {"KHR_texture_transform": ...}}`); a warning and None
+    /// where it names no texture of the file.
+    fn json_binding(
+        &mut self,
+        material: &str,
+        slot: &str,
+        info: Option<&serde_json::Value>,
+    ) -> Option<TextureBinding> {
+        let info = info?;
+        let texture = info
+            .get("index")
+            .and_then(serde_json::Value::as_u64)
+            .and_then(|index| self.document.textures().nth(index as usize));
+        let Some(texture) = texture else {
+            self.warnings.push(format!(
+                "material '{material}': {slot} names no texture of the file, so it is ignored"
+            ));
+            return None;
+        };
+        let transform = info
+            .get("extensions")
+            .and_then(|e| e.get("KHR_texture_transform"));
+        let (transform_matrix, transform_tex_coord) = json_texture_transform(transform);
+        let tex_coord = transform_tex_coord
+            .or_else(|| info.get("texCoord").and_then(serde_json::Value::as_u64).map(|v| v as u32))
+            .unwrap_or(0);
+        self.bind(material, slot, &texture, tex_coord, transform_matrix)
     }
 
     /// The binding of a texture slot, with its KHR_texture_transform.
@@ -149,30 +246,9 @@ impl<'a> MaterialReader<'a> {
         material: &str,
         normal: &gltf::material::NormalTexture,
     ) -> Option<TextureBinding> {
-        let transform = normal.extension_value("KHR_texture_transform");
-        let number = |value: Option<&serde_json::Value>, default: f32| {
-            value.and_then(|v| v.as_f64()).map_or(default, |v| v as f32)
-        };
-        let pair = |key: &str, default: [f32; 2]| {
-            transform
-                .and_then(|t| t.get(key))
-                .and_then(|v| v.as_array())
-                .map_or(default, |a| {
-                    [number(a.first(), default[0]), number(a.get(1), default[1])]
-                })
-        };
-        let transform_matrix = match transform {
-            Some(t) => TextureTransform::from_gltf(
-                pair("offset", [0.0, 0.0]),
-                number(t.get("rotation"), 0.0),
-                pair("scale", [1.0, 1.0]),
-            ),
-            None => TextureTransform::identity(),
-        };
-        let tex_coord = transform
-            .and_then(|t| t.get("texCoord"))
-            .and_then(|v| v.as_u64())
-            .map_or(normal.tex_coord(), |v| v as u32);
+        let (transform_matrix, transform_tex_coord) =
+            json_texture_transform(normal.extension_value("KHR_texture_transform"));
+        let tex_coord = transform_tex_coord.unwrap_or(normal.tex_coord());
         self.bind(
             material,
             "normalTexture",
@@ -293,6 +369,35 @@ impl<'a> MaterialReader<'a> {
             .map_err(|e| format!("cannot read '{shown}': {e}"))?;
         Ok(bytes)
     }
+}
+
+/// A KHR_texture_transform written as JSON: its matrix (identity without one) and its
+/// `texCoord` override.
+fn json_texture_transform(transform: Option<&serde_json::Value>) -> (TextureTransform, Option<u32>) {
+    let number = |value: Option<&serde_json::Value>, default: f32| {
+        value.and_then(|v| v.as_f64()).map_or(default, |v| v as f32)
+    };
+    let pair = |key: &str, default: [f32; 2]| {
+        transform
+            .and_then(|t| t.get(key))
+            .and_then(|v| v.as_array())
+            .map_or(default, |a| {
+                [number(a.first(), default[0]), number(a.get(1), default[1])]
+            })
+    };
+    let matrix = match transform {
+        Some(t) => TextureTransform::from_gltf(
+            pair("offset", [0.0, 0.0]),
+            number(t.get("rotation"), 0.0),
+            pair("scale", [1.0, 1.0]),
+        ),
+        None => TextureTransform::identity(),
+    };
+    let tex_coord = transform
+        .and_then(|t| t.get("texCoord"))
+        .and_then(|v| v.as_u64())
+        .map(|v| v as u32);
+    (matrix, tex_coord)
 }
 
 fn material_label(material: &gltf::Material) -> String {

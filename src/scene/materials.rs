@@ -1,5 +1,7 @@
 //! What real assets carry beyond the workshop's diffuse triangles: glTF metallic-roughness
-//! materials (with KHR_materials_specular, KHR_materials_ior, textures and alpha), and per
+//! materials (with KHR_materials_specular, KHR_materials_ior, textures and alpha, and the
+//! layers of KHR_materials_transmission, KHR_materials_volume and KHR_materials_clearcoat),
+//! and per
 //! vertex normals, texture coordinates and tangents. A scene that has none of it (flat,
 //! untextured, opaque Lambertian triangles) keeps `Scene::materials` at `None` and renders
 //! with the workshop's kernels, bit for bit as before.
@@ -30,6 +32,59 @@ pub struct TextureBinding {
     pub texture: u32,
     /// KHR_texture_transform's matrix (identity without the extension).
     pub transform: TextureTransform,
+}
+
+/// KHR_materials_transmission with KHR_materials_volume: light through the surface (glass).
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Transmission {
+    /// `transmissionFactor` in [0, 1] (0: opaque, the glTF default).
+    pub factor: f32,
+    /// `transmissionTexture` (linear; R multiplies `factor`).
+    pub texture: Option<TextureBinding>,
+    /// KHR_materials_volume `thicknessFactor` (0, or no volume: thin-walled, light passes
+    /// straight through; above 0: the mesh encloses a refracting volume).
+    pub thickness: f32,
+    /// `thicknessTexture` (linear; G multiplies `thickness`).
+    pub thickness_texture: Option<TextureBinding>,
+    /// The volume's absorption coefficient per unit length (Beer-Lambert), from
+    /// `attenuationColor` c and `attenuationDistance` d: -ln(c) / d per channel (0: none, the
+    /// default's infinite distance).
+    pub attenuation: Vec3,
+}
+
+impl Transmission {
+    /// The absorption coefficient of `attenuationColor` and `attenuationDistance`: a ray
+    /// `distance` long inside keeps `color` of its light. Infinite distances, and colours
+    /// of 1, absorb nothing; a colour of 0 absorbs everything within any distance (a large
+    /// finite coefficient, so that exp(-sigma t) stays a number).
+    pub fn attenuation_coefficient(color: Vec3, distance: f32) -> Vec3 {
+        if !(distance > 0.0) || distance.is_infinite() {
+            return Vec3::ZERO;
+        }
+        Vec3::from(
+            color
+                .to_array()
+                .map(|c| (-c.clamp(0.0, 1.0).max(1e-30).ln() / distance).min(1e30)),
+        )
+    }
+}
+
+/// KHR_materials_clearcoat: a clear dielectric coat (ior 1.5) over the material.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Clearcoat {
+    /// `clearcoatFactor` in [0, 1] (0: no coat, the default).
+    pub factor: f32,
+    /// `clearcoatTexture` (linear; R multiplies `factor`).
+    pub texture: Option<TextureBinding>,
+    /// `clearcoatRoughnessFactor` in [0, 1] (perceptual, as `roughness`).
+    pub roughness: f32,
+    /// `clearcoatRoughnessTexture` (linear; G multiplies `roughness`).
+    pub roughness_texture: Option<TextureBinding>,
+    /// `clearcoatNormalTexture` (tangent space; without it the coat follows the
+    /// interpolated vertex normal, not the base's normal map).
+    pub normal_texture: Option<TextureBinding>,
+    /// `clearcoatNormalTexture.scale` (default 1).
+    pub normal_scale: f32,
 }
 
 /// A glTF metallic-roughness material, with glTF's defaults where a file says nothing.
@@ -63,6 +118,17 @@ pub struct PbrMaterial {
     pub normal_texture: Option<TextureBinding>,
     /// `emissiveTexture` (sRGB): multiplies `emission`.
     pub emissive_texture: Option<TextureBinding>,
+    /// KHR_materials_specular `specularTexture` (linear; A multiplies `specular`).
+    pub specular_texture: Option<TextureBinding>,
+    /// KHR_materials_specular `specularColorTexture` (sRGB; multiplies `specular_color`).
+    pub specular_color_texture: Option<TextureBinding>,
+    /// KHR_materials_transmission and KHR_materials_volume.
+    pub transmission: Transmission,
+    /// KHR_materials_clearcoat.
+    pub clearcoat: Clearcoat,
+    /// KHR_materials_unlit: camera rays see the base colour; the surface neither reflects
+    /// nor emits light.
+    pub unlit: bool,
 }
 
 impl PbrMaterial {
@@ -83,7 +149,21 @@ impl PbrMaterial {
             metallic_roughness_texture: None,
             normal_texture: None,
             emissive_texture: None,
+            specular_texture: None,
+            specular_color_texture: None,
+            transmission: Transmission::default(),
+            clearcoat: Clearcoat {
+                normal_scale: 1.0,
+                ..Clearcoat::default()
+            },
+            unlit: false,
         }
+    }
+
+    /// Whether the material has layers beyond metallic-roughness (transmission or a clear
+    /// coat), which the kernels compile in only for scenes that have them.
+    pub fn is_layered(&self) -> bool {
+        self.transmission.factor > 0.0 || self.clearcoat.factor > 0.0
     }
 
     /// Whether the workshop's diffuse material describes this one exactly: metallic 0,
@@ -96,6 +176,8 @@ impl PbrMaterial {
             && self.metallic_roughness_texture.is_none()
             && self.normal_texture.is_none()
             && self.emissive_texture.is_none()
+            && !self.is_layered()
+            && !self.unlit
     }
 
     /// The material made safe for the shaders: factors clamped to their ranges (NaN to
@@ -117,6 +199,17 @@ impl PbrMaterial {
             self.ior.max(1.0).min(1e4)
         };
         self.normal_scale = self.normal_scale.max(-1e4).min(1e4);
+        self.transmission.factor = unit(self.transmission.factor);
+        self.transmission.thickness = self.transmission.thickness.max(0.0).min(f32::MAX);
+        self.transmission.attenuation = Vec3::from(
+            self.transmission
+                .attenuation
+                .to_array()
+                .map(|a| a.max(0.0).min(1e30)),
+        );
+        self.clearcoat.factor = unit(self.clearcoat.factor);
+        self.clearcoat.roughness = unit(self.clearcoat.roughness);
+        self.clearcoat.normal_scale = self.clearcoat.normal_scale.max(-1e4).min(1e4);
         if let AlphaMode::Mask { cutoff } = self.alpha_mode {
             self.alpha_mode = AlphaMode::Mask {
                 cutoff: cutoff.max(0.0).min(1.0),
@@ -209,6 +302,17 @@ impl SceneMaterials {
                 })
     }
 
+    /// Whether any material needs the kernels' layers (`SCENE_HAS_LAYERS`): transmission,
+    /// a clear coat, KHR_materials_specular's textures or KHR_materials_unlit.
+    pub fn uses_layers(&self) -> bool {
+        self.materials.iter().any(|m| {
+            m.is_layered()
+                || m.unlit
+                || m.specular_texture.is_some()
+                || m.specular_color_texture.is_some()
+        })
+    }
+
     /// Whether any material uses alpha (mask or blend).
     pub fn uses_alpha(&self) -> bool {
         self.materials
@@ -263,6 +367,30 @@ mod tests {
         }
         .sanitized();
         assert_eq!(inf.ior, 1e4);
+    }
+
+    #[test]
+    fn attenuation_keeps_the_colour_over_the_distance() {
+        let sigma = Transmission::attenuation_coefficient(Vec3::new(0.5, 1.0, 0.25), 2.0);
+        assert!((sigma.x - std::f32::consts::LN_2 / 2.0).abs() < 1e-7);
+        assert_eq!(sigma.y, 0.0);
+        assert!(((-sigma.z * 2.0).exp() - 0.25).abs() < 1e-7);
+        assert_eq!(
+            Transmission::attenuation_coefficient(Vec3::splat(0.5), f32::INFINITY),
+            Vec3::ZERO
+        );
+        let black = Transmission::attenuation_coefficient(Vec3::ZERO, 1.0);
+        assert!(black.x.is_finite() && (-black.x).exp() == 0.0);
+    }
+
+    #[test]
+    fn layers_are_not_plain() {
+        let mut glass = PbrMaterial::lambertian(Vec3::ONE, Vec3::ZERO, false);
+        glass.transmission.factor = 1.0;
+        assert!(glass.is_layered() && !glass.is_plain_lambertian());
+        let mut coated = PbrMaterial::lambertian(Vec3::ONE, Vec3::ZERO, false);
+        coated.clearcoat.factor = 0.5;
+        assert!(coated.is_layered() && !coated.is_plain_lambertian());
     }
 
     #[test]

@@ -1,0 +1,377 @@
+//! Glass (KHR_materials_transmission, _volume, _ior) rendered on the GPU against closed
+//! forms: a smooth glass sphere in a white furnace stays white (energy conservation, with
+//! mis, nee and cosine at a long path length), rough glass never exceeds it and loses only
+//! what single scattering loses, an absorbing slab seen head-on transmits the series of
+//! Beer-Lambert and exact Fresnel terms, and a thin-walled pane transmits (1 - F) of what is
+//! behind it, tinted by its base colour.
+
+mod common;
+
+use glam::{Vec2, Vec3, Vec4};
+use vkpath::camera::Camera;
+use vkpath::lights::environment_source::EnvironmentSource;
+use vkpath::scene::materials::{PbrMaterial, SceneMaterials, Transmission, TriangleShading};
+use vkpath::scene::Triangle;
+use vkpath::{Integrator, PixelFilter, RenderSettings, RenderedImage, Renderer, Scene};
+
+/// Triangles with flat normals and materials.
+#[derive(Default)]
+struct MeshScene {
+    triangles: Vec<Triangle>,
+    shading: Vec<TriangleShading>,
+    materials: Vec<PbrMaterial>,
+}
+
+impl MeshScene {
+    /// A material's index.
+    fn material(&mut self, material: PbrMaterial) -> u32 {
+        self.materials.push(material);
+        self.materials.len() as u32 - 1
+    }
+
+    /// One triangle, counter-clockwise from its front, with flat normals.
+    fn triangle(&mut self, positions: [Vec3; 3], material: u32) {
+        let pbr = self.materials[material as usize];
+        let triangle = Triangle::new(
+            positions,
+            pbr.base_color.truncate(),
+            pbr.emission,
+            pbr.double_sided,
+        )
+        .unwrap();
+        self.shading.push(TriangleShading {
+            material,
+            normals: [triangle.normal; 3],
+            tex_coords: [Vec2::ZERO; 3],
+            tangents: [Vec4::ZERO; 3],
+        });
+        self.triangles.push(triangle);
+    }
+
+    /// A quad a, b, c, d (counter-clockwise from its front).
+    fn quad(&mut self, corners: [Vec3; 4], material: u32) {
+        self.triangle([corners[0], corners[1], corners[2]], material);
+        self.triangle([corners[0], corners[2], corners[3]], material);
+    }
+
+    /// An outward-facing box between `low` and `high`.
+    fn cuboid(&mut self, low: Vec3, high: Vec3, material: u32) {
+        let corner = |x: usize, y: usize, z: usize| {
+            Vec3::new(
+                [low.x, high.x][x],
+                [low.y, high.y][y],
+                [low.z, high.z][z],
+            )
+        };
+        let faces = [
+            [corner(0, 0, 0), corner(0, 1, 0), corner(1, 1, 0), corner(1, 0, 0)], // -z
+            [corner(0, 0, 1), corner(1, 0, 1), corner(1, 1, 1), corner(0, 1, 1)], // +z
+            [corner(0, 0, 0), corner(1, 0, 0), corner(1, 0, 1), corner(0, 0, 1)], // -y
+            [corner(0, 1, 0), corner(0, 1, 1), corner(1, 1, 1), corner(1, 1, 0)], // +y
+            [corner(0, 0, 0), corner(0, 0, 1), corner(0, 1, 1), corner(0, 1, 0)], // -x
+            [corner(1, 0, 0), corner(1, 1, 0), corner(1, 1, 1), corner(1, 0, 1)], // +x
+        ];
+        for face in faces {
+            self.quad(face, material);
+        }
+    }
+
+    /// A closed, outward-facing UV sphere of flat facets.
+    fn sphere(&mut self, center: Vec3, radius: f32, segments: u32, rings: u32, material: u32) {
+        let point = |ring: u32, segment: u32| {
+            let theta = std::f32::consts::PI * ring as f32 / rings as f32;
+            let phi = std::f32::consts::TAU * segment as f32 / segments as f32;
+            center
+                + radius
+                    * Vec3::new(
+                        theta.sin() * phi.cos(),
+                        theta.cos(),
+                        -theta.sin() * phi.sin(),
+                    )
+        };
+        for ring in 0..rings {
+            for segment in 0..segments {
+                let (a, b) = (point(ring, segment), point(ring, segment + 1));
+                let (c, d) = (point(ring + 1, segment), point(ring + 1, segment + 1));
+                if ring != 0 {
+                    self.triangle([a, c, b], material);
+                }
+                if ring != rings - 1 {
+                    self.triangle([b, c, d], material);
+                }
+            }
+        }
+    }
+
+    fn build(self, camera: Camera, background: Option<Vec3>) -> Scene {
+        Scene {
+            triangles: self.triangles,
+            camera: Some(camera),
+            warnings: Vec::new(),
+            punctual_lights: Vec::new(),
+            environment: None,
+            cameras: Vec::new(),
+            materials: Some(SceneMaterials {
+                materials: self.materials,
+                textures: Vec::new(),
+                triangles: self.shading,
+            }),
+        }
+        .with_environment(background.map(EnvironmentSource::Background).as_ref())
+        .unwrap()
+    }
+}
+
+/// White glass, a refracting volume of `ior` (no absorption unless `attenuation`).
+fn glass(roughness: f32, ior: f32, attenuation: Vec3) -> PbrMaterial {
+    let mut material = PbrMaterial::lambertian(Vec3::ONE, Vec3::ZERO, false);
+    material.roughness = roughness;
+    material.specular = 1.0;
+    material.ior = ior;
+    material.transmission = Transmission {
+        factor: 1.0,
+        thickness: 1.0,
+        attenuation,
+        ..Transmission::default()
+    };
+    material
+}
+
+fn render(scene: &Scene, settings: RenderSettings) -> RenderedImage {
+    let context = common::validated_context();
+    let mut renderer = Renderer::new(&context, scene, &scene.camera.unwrap(), settings).unwrap();
+    let image = renderer.render_all().unwrap();
+    drop(renderer);
+    common::assert_validation_silent(&context);
+    image
+}
+
+/// Mean and largest deviation from 1 of an image's red channel, and its pixels' largest value.
+fn furnace_statistics(image: &RenderedImage) -> (f64, f64, f64) {
+    let values: Vec<f64> = image.mean.iter().map(|p| f64::from(p[0])).collect();
+    let mean = values.iter().sum::<f64>() / values.len() as f64;
+    let worst = values.iter().map(|v| (v - 1.0).abs()).fold(0.0, f64::max);
+    let largest = values.iter().copied().fold(f64::MIN, f64::max);
+    (mean, worst, largest)
+}
+
+/// A faceted glass sphere of radius 1 filling most of a 24 x 24 view.
+fn sphere_in_furnace(roughness: f32) -> Scene {
+    let mut builder = MeshScene::default();
+    let material = builder.material(glass(roughness, 1.5, Vec3::ZERO));
+    builder.sphere(Vec3::ZERO, 1.0, 24, 12, material);
+    let camera = Camera::look_at(Vec3::new(0.0, 0.3, 3.2), Vec3::ZERO, Vec3::Y, 0.75);
+    builder.build(camera, Some(Vec3::ONE))
+}
+
+/// The path length of the furnace renders: refraction in and out and internal reflections.
+const FURNACE_PATH_LENGTH: u32 = 24;
+
+#[test]
+fn smooth_glass_in_a_white_furnace_stays_white() {
+    // Every path that leaves the sphere sees radiance 1, and smooth glass loses nothing:
+    // its weights are G2/G1 = 1 (alpha 10^-4) times the radiance scale 1/eta^2 of each
+    // crossing, which the next crossing undoes, and Russian roulette divides that scale out
+    // (survival 1). What is lost: paths still inside after FURNACE_PATH_LENGTH hits (each
+    // internal hit leaves with probability 1 - F >= 0.9 at a facet seen below the critical
+    // angle), and float rounding; a 24 x 12 faceted sphere totally reflects at some facets,
+    // which the path length covers.
+    let scene = sphere_in_furnace(0.0);
+    for integrator in [Integrator::Mis, Integrator::Nee, Integrator::PathTracing] {
+        let image = render(
+            &scene,
+            RenderSettings {
+                width: 24,
+                height: 24,
+                spp: 16,
+                max_path_length: FURNACE_PATH_LENGTH,
+                integrator,
+                seed: 3,
+                ..Default::default()
+            },
+        );
+        let (mean, worst, largest) = furnace_statistics(&image);
+        println!("smooth glass, {integrator:?}: mean {mean:.6}, worst |L - 1| {worst:.2e}, largest {largest:.6}");
+        assert!((mean - 1.0).abs() < 2e-3, "{integrator:?}: mean {mean}");
+        assert!(worst < 2e-2, "{integrator:?}: a pixel {worst} away from 1");
+    }
+}
+
+#[test]
+fn rough_glass_in_a_white_furnace_never_exceeds_one() {
+    // A single-scattering microfacet BTDF loses the light that would scatter again among the
+    // microfacets (no multiple-scattering compensation): the sphere's pixels stay below 1
+    // (within noise) and lose more as the roughness grows.
+    let mut previous_loss = 0.0;
+    for roughness in [0.3f32, 0.7] {
+        let image = render(
+            &sphere_in_furnace(roughness),
+            RenderSettings {
+                width: 24,
+                height: 24,
+                spp: 64,
+                max_path_length: FURNACE_PATH_LENGTH,
+                integrator: Integrator::Mis,
+                seed: 5,
+                ..Default::default()
+            },
+        );
+        let variance = image.variance_of_mean();
+        let (mean, _, _) = furnace_statistics(&image);
+        let worst_excess = image
+            .mean
+            .iter()
+            .zip(&variance)
+            .map(|(p, v)| (f64::from(p[0]) - 1.0) / f64::from(v[0]).sqrt().max(1e-9))
+            .fold(f64::MIN, f64::max);
+        let loss = 1.0 - mean;
+        println!("rough glass {roughness}: image mean {mean:.4} (loss {loss:.4}), largest (L - 1) / sigma {worst_excess:.2}");
+        // 576 pixels at 1%, Šidák-corrected, one-sided: z < 3.9.
+        assert!(worst_excess < 3.9, "roughness {roughness}: a pixel above 1 by {worst_excess} sigma");
+        assert!(loss > previous_loss, "roughness {roughness}: loss {loss}");
+        previous_loss = loss;
+    }
+}
+
+/// Radiance through a glass slab of `thickness` seen head-on in front of an emitter of
+/// radiance 1 (black elsewhere): the camera's 16 x 16 pixels all look through the slab's
+/// middle within 0.6 degrees of its normal.
+fn slab_render(material: PbrMaterial, thickness: f32, spp: u32) -> RenderedImage {
+    let mut builder = MeshScene::default();
+    let slab = builder.material(material);
+    builder.cuboid(
+        Vec3::new(-2.0, -2.0, -thickness),
+        Vec3::new(2.0, 2.0, 0.0),
+        slab,
+    );
+    let light = builder.material(PbrMaterial::lambertian(Vec3::ZERO, Vec3::ONE, false));
+    let s = 4.0;
+    builder.quad(
+        [
+            Vec3::new(-s, -s, -3.0),
+            Vec3::new(s, -s, -3.0),
+            Vec3::new(s, s, -3.0),
+            Vec3::new(-s, s, -3.0),
+        ],
+        light,
+    );
+    let camera = Camera::look_at(Vec3::new(0.0, 0.0, 2.0), Vec3::ZERO, Vec3::Y, 0.02);
+    render(
+        &builder.build(camera, None),
+        RenderSettings {
+            width: 16,
+            height: 16,
+            spp,
+            max_path_length: FURNACE_PATH_LENGTH,
+            integrator: Integrator::Mis,
+            pixel_filter: PixelFilter::Center,
+            seed: 9,
+            ..Default::default()
+        },
+    )
+}
+
+/// The image's mean and the standard error of that mean (pixels independent).
+fn image_mean(image: &RenderedImage, channel: usize) -> (f64, f64) {
+    let n = image.mean.len() as f64;
+    let mean = image.mean.iter().map(|p| f64::from(p[channel])).sum::<f64>() / n;
+    let variance = image
+        .variance_of_mean()
+        .iter()
+        .map(|v| f64::from(v[channel]))
+        .sum::<f64>()
+        / (n * n);
+    (mean, variance.sqrt())
+}
+
+#[test]
+fn an_absorbing_slab_transmits_beer_lambert_and_fresnel_at_normal_incidence() {
+    // At normal incidence each face reflects F = ((n - 1) / (n + 1))^2 = 0.04 and the slab
+    // keeps tau = exp(-sigma d) per crossing; the light that reaches the camera crosses once,
+    // or three times after two internal reflections, ...: (1 - F)^2 tau / (1 - F^2 tau^2).
+    // The red channel absorbs (sigma d = 0.7), green not at all, blue strongly (2.0).
+    let thickness = 0.5;
+    let sigma = Vec3::new(0.7, 0.0, 2.0) / thickness;
+    let image = slab_render(glass(0.0, 1.5, sigma), thickness, 256);
+    let fresnel = 0.04f64;
+    for (channel, optical_depth) in [(0usize, 0.7f64), (1, 0.0), (2, 2.0)] {
+        let tau = (-optical_depth).exp();
+        let expected = (1.0 - fresnel).powi(2) * tau / (1.0 - fresnel * fresnel * tau * tau);
+        let (mean, error) = image_mean(&image, channel);
+        println!("slab channel {channel}: {mean:.5} +- {error:.5}, closed form {expected:.5}");
+        // 3 channels at 1%: |z| < 3 (and the error is small: a reflection or a
+        // transmission per crossing, 256 x 256 samples).
+        assert!(
+            (mean - expected).abs() < 3.0 * error + 1e-4,
+            "channel {channel}: {mean} vs {expected}"
+        );
+    }
+}
+
+#[test]
+fn a_thin_pane_transmits_one_minus_f_of_what_is_behind_it() {
+    // Thin-walled (no volume): light passes straight through, weighted by (1 - F) and the
+    // base colour; Schlick's F at normal incidence is F0 = 0.04 (ior 1.5). What the front
+    // reflects sees the black background.
+    let mut pane = glass(0.0, 1.5, Vec3::ZERO);
+    pane.transmission.thickness = 0.0;
+    pane.base_color = Vec4::new(0.9, 0.6, 0.3, 1.0);
+    pane.double_sided = true;
+    let mut builder = MeshScene::default();
+    let pane_material = builder.material(pane);
+    let s = 2.0;
+    builder.quad(
+        [
+            Vec3::new(-s, -s, 0.0),
+            Vec3::new(s, -s, 0.0),
+            Vec3::new(s, s, 0.0),
+            Vec3::new(-s, s, 0.0),
+        ],
+        pane_material,
+    );
+    let light = builder.material(PbrMaterial::lambertian(Vec3::ZERO, Vec3::ONE, false));
+    let l = 4.0;
+    builder.quad(
+        [
+            Vec3::new(-l, -l, -3.0),
+            Vec3::new(l, -l, -3.0),
+            Vec3::new(l, l, -3.0),
+            Vec3::new(-l, l, -3.0),
+        ],
+        light,
+    );
+    let camera = Camera::look_at(Vec3::new(0.0, 0.0, 2.0), Vec3::ZERO, Vec3::Y, 0.02);
+    for integrator in [Integrator::Mis, Integrator::Nee, Integrator::PathTracing] {
+        let image = render(
+            &builder_clone(&builder).build(camera, None),
+            RenderSettings {
+                width: 16,
+                height: 16,
+                spp: 64,
+                max_path_length: 4,
+                integrator,
+                pixel_filter: PixelFilter::Center,
+                seed: 2,
+                ..Default::default()
+            },
+        );
+        for (channel, tint) in [(0usize, 0.9f64), (1, 0.6), (2, 0.3)] {
+            let expected = 0.96 * tint;
+            let (mean, error) = image_mean(&image, channel);
+            println!("thin pane, {integrator:?}, channel {channel}: {mean:.5} +- {error:.5}, closed form {expected:.5}");
+            assert!(
+                (mean - expected).abs() < 3.0 * error + 2e-3,
+                "{integrator:?} channel {channel}: {mean} vs {expected}"
+            );
+        }
+    }
+}
+
+/// A copy of a scene under construction (each render consumes one).
+fn builder_clone(builder: &MeshScene) -> MeshScene {
+    MeshScene {
+        triangles: builder.triangles.clone(),
+        shading: builder.shading.clone(),
+        materials: builder.materials.clone(),
+    }
+}
