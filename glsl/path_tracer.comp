@@ -139,8 +139,8 @@ void main() {
         sum.a += 1.0;
         sum_of_squares += radiance * radiance;
     }
-    // llvmpipe ends a loop of a SIMD program after LLVMPIPE_LOOP_LIMIT iterations over its
-    // entries, without an error; a program's iterations are at most LLVMPIPE_SIMD_WIDTH times
+    // llvmpipe ends the loops of a SIMD program once they have run LLVMPIPE_LOOP_LIMIT trips
+    // all together, without an error; a program's iterations are at most LLVMPIPE_SIMD_WIDTH times
     // the largest lane's (see shared.h). An upper bound of this lane's iterations, with the
     // coefficients of src/kernels/loops.rs: per sample; per ray (g_path.ray_count) the path loop's,
     // the light search's (at most the bits of the light count) and the loops over all

@@ -108,10 +108,12 @@
 #define SPEC_LOOPS_PER_RAY 12
 #define SPEC_LIGHT_SEARCHES_PER_RAY 13
 #define SPEC_TRIANGLE_LOOPS_PER_RAY 14
-// Mesa's llvmpipe ends a loop of a shader invocation, with no error, once it has run this
-// many iterations over all its entries in that invocation (LP_MAX_TGSI_LOOP_ITERATIONS).
-// Each loop counts on its own (measured: a second loop still runs in full after the first
-// was cut); the kernel bounds the sum over all its loops, which bounds each of them.
+// Mesa's llvmpipe ends the loops of a shader invocation, with no error, once all its loops
+// together have run this many trips (LP_MAX_TGSI_LOOP_ITERATIONS): one limiter per SIMD
+// program, decremented by every trip of every loop, the trip that leaves a loop included
+// (measured on Mesa 22.3.6 by tests/long_paths.rs: after a first loop of 40000 iterations a
+// second one runs 25534 of its 40000). So the kernel bounds the sum over all its loops; a
+// bound per loop would not do.
 #define LLVMPIPE_LOOP_LIMIT 65535
 // llvmpipe runs this many invocations as one SIMD program (AVX2: 8 lanes); its loops run
 // while any lane is active, so their iterations are at most the sum of the lanes' own,

@@ -5,7 +5,14 @@
 //! reached llvmpipe's silent loop limit, and the host sizes each dispatch so that none does
 //! (`crate::render::renderer`). A test scans the kernel's GLSL (the `.comp` and every file it
 //! includes, `crate::kernels::scan`) for loops and fails when one is not described here.
+//!
+//! The bound is a SUM over all loops, not a maximum per loop: llvmpipe (Mesa 22.3) keeps one
+//! loop limiter per SIMD program, which every trip of every loop of the program decrements,
+//! the trip that leaves a loop included (measured by `tests/long_paths.rs`: after a first
+//! loop of 40 000 iterations a second one runs only 25 534 of its 40 000). A bound per loop
+//! statement would let a program's loops together pass the limit and be cut silently.
 
+use crate::bvh::BvhStats;
 use crate::contract;
 use crate::render::traversal::Traversal;
 
@@ -93,8 +100,39 @@ pub const PATH_TRACER_LOOPS: &[KernelLoop] = &[
 /// search over any `uint` count).
 pub const LIGHT_SEARCH_MAX_ITERATIONS: u64 = 32;
 /// The host's estimate of a BVH traversal's iterations per ray, for sizing dispatches (the
-/// kernel counts them exactly and flags what exceeds the limit).
+/// kernel counts them exactly and flags what exceeds the limit), where the tree's own bound
+/// (`bvh_iterations_per_ray_at_most`) is not smaller.
 pub const TYPICAL_BVH_ITERATIONS_PER_RAY: u64 = 128;
+
+/// Most iterations that one ray's traversal of a BVH of this shape adds to
+/// `g_path.traversal_iterations` (`glsl/bvh.glsl`): no node is visited twice, a visit counts
+/// 1 plus the leaf's triangles, and the pop loop counts at most one pop per push, at most
+/// one push per interior node: `nodes + triangles + interior nodes`.
+pub fn bvh_iterations_per_ray_at_most(stats: &BvhStats) -> u64 {
+    let interior = stats.node_count.saturating_sub(stats.leaf_count);
+    (stats.node_count + stats.triangle_count + interior) as u64
+}
+
+/// Iterations of the light search (`sample_light_index`) over `light_count` lights, as the
+/// kernel bounds them: the bits of the count (`findMSB(max(count, 1)) + 1`).
+pub fn light_search_iterations(light_count: u64) -> u64 {
+    let count = light_count.clamp(1, u64::from(u32::MAX));
+    (u64::from(u64::BITS - count.leading_zeros())).min(LIGHT_SEARCH_MAX_ITERATIONS)
+}
+
+/// What one sample of a render loops over, as far as the host knows before rendering.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct SampleWork {
+    /// Rays one sample traces at most (`g_path.ray_count`): closest-hit and shadow rays.
+    pub rays: u64,
+    /// Triangles of the scene (the linear traversal's loop).
+    pub triangle_count: u64,
+    /// Emissive triangles (the light search's count).
+    pub light_count: u64,
+    /// Most traversal iterations one ray can count in the scene's BVH
+    /// (`bvh_iterations_per_ray_at_most`); `None` without a BVH or bound.
+    pub bvh_iterations_per_ray: Option<u64>,
+}
 
 /// The coefficients of the bound, as the kernel receives them.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -158,20 +196,24 @@ impl LoopCoefficients {
         ]
     }
 
-    /// The host's upper estimate of one sample's iterations with `rays` rays over
-    /// `triangle_count` triangles: the kernel's bound with the light search at its most and
-    /// a BVH traversal at its typical length.
-    pub fn iterations_per_sample(&self, rays: u64, triangle_count: u64) -> u64 {
+    /// The host's upper estimate of one sample's iterations: the kernel's bound (a sum over
+    /// all loops, as llvmpipe counts them) with the light search over `work`'s lights and a
+    /// BVH traversal at its typical length, or at the tree's own bound where that is
+    /// smaller (a small scene's tree cannot be traversed for longer).
+    pub fn iterations_per_sample(&self, work: &SampleWork) -> u64 {
         let traversal = if self.counted_by_kernel {
-            TYPICAL_BVH_ITERATIONS_PER_RAY
+            work.bvh_iterations_per_ray
+                .map_or(TYPICAL_BVH_ITERATIONS_PER_RAY, |bound| {
+                    bound.min(TYPICAL_BVH_ITERATIONS_PER_RAY)
+                })
         } else {
             0
         };
         let per_ray = u64::from(self.per_ray)
-            + u64::from(self.light_searches_per_ray) * LIGHT_SEARCH_MAX_ITERATIONS
-            + u64::from(self.triangle_loops_per_ray) * triangle_count
+            + u64::from(self.light_searches_per_ray) * light_search_iterations(work.light_count)
+            + u64::from(self.triangle_loops_per_ray) * work.triangle_count
             + traversal;
-        u64::from(self.per_sample) + rays * per_ray
+        u64::from(self.per_sample) + work.rays * per_ray
     }
 }
 
@@ -242,8 +284,54 @@ mod tests {
         assert!(bvh.counted_by_kernel);
         let constant = LoopCoefficients::path_tracer(Traversal::ConstantTriangles);
         assert_eq!(constant.triangle_loops_per_ray, 0);
-        // 1 + 10 rays * (1 + 32 + 100 triangles)
-        assert_eq!(linear.iterations_per_sample(10, 100), 1 + 10 * 133);
-        assert_eq!(bvh.iterations_per_sample(10, 100), 1 + 10 * (33 + 128));
+        // 1 + 10 rays * (1 + 32 + 100 triangles), with 2^32 - 1 lights (32 bits)
+        let work = SampleWork {
+            rays: 10,
+            triangle_count: 100,
+            light_count: u64::from(u32::MAX),
+            bvh_iterations_per_ray: None,
+        };
+        assert_eq!(linear.iterations_per_sample(&work), 1 + 10 * 133);
+        assert_eq!(bvh.iterations_per_sample(&work), 1 + 10 * (33 + 128));
+    }
+
+    #[test]
+    fn light_search_counts_the_bits_of_the_light_count() {
+        // findMSB(max(count, 1)) + 1, as glsl/path_tracer.comp
+        let bits: Vec<u64> = [0, 1, 2, 3, 4, 7, 8, 1 << 20, u64::from(u32::MAX)]
+            .into_iter()
+            .map(light_search_iterations)
+            .collect();
+        assert_eq!(bits, [1, 1, 2, 2, 3, 3, 4, 21, 32]);
+    }
+
+    #[test]
+    fn a_small_tree_bounds_the_traversal_estimate() {
+        // A tree of 7 nodes, 4 leaves of 30 triangles in all: a ray visits each node at most
+        // once (7), tests each triangle at most once (30) and pops at most once per interior
+        // node (3): 40 iterations, below the typical 128.
+        let stats = BvhStats {
+            node_count: 7,
+            leaf_count: 4,
+            triangle_count: 30,
+            ..BvhStats::default()
+        };
+        assert_eq!(bvh_iterations_per_ray_at_most(&stats), 40);
+        let bvh = LoopCoefficients::path_tracer(Traversal::Bvh);
+        // mis at 48 vertices over 2 lights: 48 closest-hit rays and 47 shadow rays, each
+        // 1 (path loop) + 2 (light search over 2 lights) + 40 (the tree): 1 + 95 * 43.
+        let work = SampleWork {
+            rays: 95,
+            triangle_count: 30,
+            light_count: 2,
+            bvh_iterations_per_ray: Some(40),
+        };
+        assert_eq!(bvh.iterations_per_sample(&work), 1 + 95 * 43);
+        // A large tree's bound is above the typical traversal, which the estimate keeps.
+        let large = SampleWork {
+            bvh_iterations_per_ray: Some(10_000),
+            ..work
+        };
+        assert_eq!(bvh.iterations_per_sample(&large), 1 + 95 * (1 + 2 + 128));
     }
 }

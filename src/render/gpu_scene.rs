@@ -7,7 +7,7 @@ use std::sync::Arc;
 
 use ash::vk;
 
-use crate::bvh::Bvh;
+use crate::bvh::{Bvh, BvhStats};
 use crate::camera::Camera;
 use crate::contract;
 use crate::error::{Error, Result};
@@ -40,6 +40,11 @@ pub struct GpuScene {
     materials: Option<MaterialBuffers>,
     /// The specialization constants that the traversal needs (the constant triangles).
     pub specialization: Vec<(u32, u32)>,
+    /// Emissive triangles, the count that the kernel's light search halves
+    /// (`get_light_count()`).
+    pub light_count: u64,
+    /// The BVH's shape, for bounding a traversal's loop iterations (`None` without a BVH).
+    pub bvh_stats: Option<BvhStats>,
 }
 
 impl GpuScene {
@@ -182,6 +187,8 @@ impl GpuScene {
             bvh_nodes,
             materials,
             specialization,
+            light_count: scene_lights.emissive.triangle_indices.len() as u64,
+            bvh_stats: bvh.as_ref().map(Bvh::stats),
         })
     }
 

@@ -12,13 +12,13 @@ use crate::camera::Camera;
 use crate::contract;
 use crate::error::{Error, Result};
 use crate::image_io::data::RenderedImage;
-use crate::kernels::loops::LoopCoefficients;
+use crate::kernels::loops::{bvh_iterations_per_ray_at_most, LoopCoefficients, SampleWork};
 use crate::kernels::{Bound, KernelPipeline, Resource, PATH_TRACER};
 use crate::render::accumulation::Accumulation;
 use crate::render::gpu_scene::GpuScene;
 use crate::render::gpu_types::FramePushConstants;
 use crate::render::region::{PixelRegion, ACCUMULATION_BYTES_PER_PIXEL, ACCUMULATION_COPIES};
-use crate::render::settings::RenderSettings;
+use crate::render::settings::{Integrator, RenderSettings};
 use crate::render::tiles::{
     area_texel_count, copy_tile, host_available_memory, layer_count, scene_bytes, tile_layout,
     validate_host_memory,
@@ -63,6 +63,8 @@ pub struct Renderer {
     rays_traced: f64,
     /// Seconds that creating the renderer took (BVH, uploads, building the kernel).
     setup_seconds: f64,
+    /// How the kernel traverses the scene (for advice when the loop limit stops a render).
+    traversal: Traversal,
 }
 
 /// A render in tiles: the state of the whole area lives on the host, and each frame uploads
@@ -217,8 +219,17 @@ impl Renderer {
         let build = traversal.build(scene.needs_material_kernels())?;
         let loops = LoopCoefficients::path_tracer(traversal);
         let loop_limit = LoopLimit::of(context);
+        let work = SampleWork {
+            rays: rays_per_sample(&settings, scene),
+            triangle_count: scene.triangles.len() as u64,
+            light_count: gpu_scene.light_count,
+            bvh_iterations_per_ray: gpu_scene
+                .bvh_stats
+                .as_ref()
+                .map(bvh_iterations_per_ray_at_most),
+        };
         let samples_per_dispatch =
-            loop_limit.samples_per_dispatch(&settings, &loops, scene.triangles.len())?;
+            loop_limit.samples_per_dispatch(&settings, &loops, &work, traversal)?;
         let mut specialization = settings.specialization();
         specialization.extend_from_slice(&gpu_scene.specialization);
         specialization.push((contract::SPEC_LOOP_LIMIT, loop_limit.0));
@@ -279,6 +290,7 @@ impl Renderer {
             seconds_per_frame: None,
             rays_traced: 0.0,
             setup_seconds: started.elapsed().as_secs_f64(),
+            traversal,
         })
     }
 
@@ -335,9 +347,9 @@ impl Renderer {
             return Err(Error::LoopLimit(format!(
                 "the loop limit (llvmpipe's {} loop iterations, after which it ends loops \
                  silently, or the limit of a checked function's loops) may have cut paths short \
-                 in {flagged} pixels, so the image would be wrong: use fewer \
-                 --samples-per-frame, a shorter --max-path-length or --accel bvh",
-                contract::LLVMPIPE_LOOP_LIMIT
+                 in {flagged} pixels, so the image would be wrong: {}",
+                contract::LLVMPIPE_LOOP_LIMIT,
+                loop_limit_advice(self.traversal, true)
             )));
         }
         let state = Accumulation {
@@ -645,41 +657,68 @@ impl LoopLimit {
     /// Samples per dispatch that keep an invocation's loop iterations below the limit by
     /// construction (the kernel still checks, and flags what reaches it): at most
     /// `samples_per_frame`, fewer where a sample loops a lot. A single sample that cannot
-    /// fit (the loop over very many triangles) is refused.
+    /// fit (long paths, the loop over very many triangles) is refused.
     fn samples_per_dispatch(
         &self,
         settings: &RenderSettings,
         loops: &LoopCoefficients,
-        triangle_count: usize,
+        work: &SampleWork,
+        traversal: Traversal,
     ) -> Result<u32> {
         if self.0 == 0 {
             return Ok(settings.samples_per_frame);
         }
-        // Rays per sample: one per path vertex, and a shadow ray beside it for the
-        // importance-sampled integrators; the kernel's bound of their loops (src/kernels/loops.rs)
-        // with the light search at its longest and a typical BVH traversal.
-        let rays_per_vertex = if settings.integrator.is_importance_sampled() {
-            2
-        } else {
-            1
-        };
-        let rays = u64::from(settings.max_path_length) * rays_per_vertex;
-        let per_sample = loops.iterations_per_sample(rays, triangle_count as u64);
+        let per_sample = loops.iterations_per_sample(work);
         // Keep a margin of 10% for the estimate.
         let budget = u64::from(self.0) * 9 / 10;
         if per_sample > budget {
             return Err(Error::InvalidSettings(format!(
-                "one sample of {} path vertices over {triangle_count} triangles loops about \
-                 {per_sample} times, more than llvmpipe safely allows one shader invocation \
-                 ({} of its {} per {} lanes): use --accel bvh (or auto) or a shorter \
-                 --max-path-length",
+                "one sample of {} path vertices over {} triangles loops about {per_sample} \
+                 times, more than llvmpipe safely allows one shader invocation ({} of its {} \
+                 per {} lanes): {}",
                 settings.max_path_length,
+                work.triangle_count,
                 self.0,
                 contract::LLVMPIPE_LOOP_LIMIT,
-                contract::LLVMPIPE_SIMD_WIDTH
+                contract::LLVMPIPE_SIMD_WIDTH,
+                loop_limit_advice(traversal, false)
             )));
         }
         Ok(((budget / per_sample) as u32).clamp(1, settings.samples_per_frame))
+    }
+}
+
+/// What to change when the loop limit stops a render: a shorter `--max-path-length`, and
+/// `--accel bvh` only where the BVH is not in use already; fewer `--samples-per-frame` too
+/// for an image that was rendered (one sample per dispatch can still be too many).
+fn loop_limit_advice(traversal: Traversal, rendered: bool) -> &'static str {
+    match (traversal == Traversal::Bvh, rendered) {
+        (true, false) => "use a shorter --max-path-length",
+        (false, false) => "use --accel bvh (or auto) or a shorter --max-path-length",
+        (true, true) => "use fewer --samples-per-frame or a shorter --max-path-length",
+        (false, true) => {
+            "use fewer --samples-per-frame, a shorter --max-path-length or --accel bvh"
+        }
+    }
+}
+
+/// Rays one sample traces at most, for the loop-limit estimate: one closest-hit ray per path
+/// vertex (two for direct illumination: the camera ray and its one bounce), and for nee and
+/// mis a shadow ray per vertex but the last (the path loop ends there before its light
+/// samples) for each kind of light the scene has (`sample_direct_light` in
+/// `glsl/lights.glsl`: emissive triangles, and in the material kernels the environment and
+/// punctual lights).
+fn rays_per_sample(settings: &RenderSettings, scene: &Scene) -> u64 {
+    let vertices = u64::from(settings.max_path_length);
+    match settings.integrator {
+        Integrator::DirectIllumination => vertices.max(2),
+        Integrator::Nee | Integrator::Mis => {
+            let kinds = 1
+                + u64::from(scene.environment.as_ref().is_some_and(|e| e.emits_light()))
+                + u64::from(!scene.punctual_lights.is_empty());
+            vertices + vertices.saturating_sub(1) * kinds
+        }
+        _ => vertices,
     }
 }
 
