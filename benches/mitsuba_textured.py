@@ -32,12 +32,27 @@ benches/mitsuba_compare.py). Prints CONSISTENT / NOT CONSISTENT, exits 1 when no
 NOT CONSISTENT, which shows that the gate can see texture mistakes): flip-v (v -> 1 - v),
 flip-u, srgb-as-linear (raw True), no-transform (KHR_texture_transform ignored).
 
+--metallic-roughness MODE gives the back wall the glTF metallic-roughness BRDF (Appendix B;
+KHR_materials_specular left at its default 1) instead of Lambert: `constant` with
+metallicFactor and roughnessFactor set to the means of the texture's B and G, `texture` with a
+linear metallicRoughnessTexture (--mr-size texels square, LINEAR, REPEAT; 8: roughness G
+rising along u, metallic B in steps along v; larger: a per-texel checker of roughness 0.15 /
+0.95 and metallic 0 / 1 by column, many texels per pixel as on a 2048^2 texture). Mitsuba
+then gets the plugin of benches/mitsuba_gltf_bsdf.py with the texture as a `bitmap`, raw True
+(glTF: linear). Breaks for it: mr-srgb (raw False: decoded as sRGB), mr-swap (metallic from
+G, roughness from B), mr-averaged (Mitsuba gets the texture box-averaged over --mr-average
+texels, as a mipmapped or prefiltered lookup would see it). The script prints the mean RGB
+over the back wall's pixels in both images and their relative difference.
+
 Usage (from the repository root):
     python3 benches/mitsuba_textured.py                      # 64x64, path length 5; ~1 minute
     python3 benches/mitsuba_textured.py --break flip-v       # must print NOT CONSISTENT (exit 1)
     python3 benches/mitsuba_textured.py --max-path-length 2  # direct light only
+    python3 benches/mitsuba_textured.py --metallic-roughness texture                     # glTF BRDF
+    python3 benches/mitsuba_textured.py --metallic-roughness texture --break mr-srgb     # must fail
+    python3 benches/mitsuba_textured.py --metallic-roughness texture --mr-size 256 --break mr-averaged
 Outputs in --workdir (default target/mitsuba_textured): textured_box.gltf, checker.png,
-mitsuba.exr, vkpath.exr, mitsuba.png, vkpath.png (for looking at), heatmap.png.
+metallic_roughness.png, mitsuba.exr, vkpath.exr, mitsuba.png, vkpath.png (for looking at), heatmap.png.
 """
 
 import argparse
@@ -56,6 +71,7 @@ import make_materials_scene as mms  # noqa: E402  (PNG writer, glTF builder, qua
 
 REPO = mc.REPO
 BREAKS = ("flip-v", "flip-u", "srgb-as-linear", "no-transform")
+MR_BREAKS = ("mr-srgb", "mr-swap", "mr-averaged")  # need --metallic-roughness texture
 # glTF sampler enums
 LINEAR, NEAREST = 9729, 9728
 REPEAT, MIRRORED_REPEAT, CLAMP_TO_EDGE = 10497, 33648, 33071
@@ -82,6 +98,33 @@ def checker_png():
         light, dark = hues[(x // 4, y // 4)]
         return light if (x + y) % 2 == 0 else dark
     return mms.png_bytes(8, 8, 3, pixel)
+
+
+def metallic_roughness_texels(size):
+    """The metallic-roughness texture as rows of (R, G, B) bytes, linear (see the docstring):
+    R (occlusion) 255 everywhere, G roughness, B metallic."""
+    def texel(x, y):
+        if size == 8:
+            rough = 0.2 + 0.1 * x
+            metal = (0.0, 0.35, 0.7, 1.0)[y // 2]
+        else:
+            rough = 0.95 if (x + y) % 2 else 0.15
+            metal = float(x % 2)
+        return (255, round(255 * rough), round(255 * metal))
+    return [[texel(x, y) for x in range(size)] for y in range(size)]
+
+
+def metallic_roughness_png(size):
+    rows = metallic_roughness_texels(size)
+    return mms.png_bytes(size, size, 3, lambda x, y: rows[y][x])
+
+
+def metallic_roughness_means(size):
+    """(mean metallic, mean roughness) of the texture: the constants of `constant`."""
+    rows = metallic_roughness_texels(size)
+    texels = [t for row in rows for t in row]
+    return (sum(t[2] for t in texels) / (255.0 * len(texels)),
+            sum(t[1] for t in texels) / (255.0 * len(texels)))
 
 
 def texture_matrix(offset=(0.0, 0.0), rotation=0.0, scale=(1.0, 1.0)):
@@ -115,7 +158,7 @@ def scene_description():
             for n, q, m in quads]
 
 
-def write_gltf(path, png):
+def write_gltf(path, png, mr_mode="off", mr_png=None, mr_size=8):
     import json
     b = mms.Builder()
     b.gltf["asset"]["generator"] = "vkpath benches/mitsuba_textured.py"
@@ -125,6 +168,16 @@ def write_gltf(path, png):
         b.use_extension(ext)
     for q in scene_description():
         pbr = {"baseColorFactor": list(q["color"]) + [1.0], "metallicFactor": 0.0, "roughnessFactor": 1.0}
+        glossy = q["name"] == "back" and mr_mode != "off"
+        if glossy and mr_mode == "constant":
+            pbr["metallicFactor"], pbr["roughnessFactor"] = metallic_roughness_means(mr_size)
+        elif glossy:
+            pbr["metallicFactor"], pbr["roughnessFactor"] = 1.0, 1.0
+            b.gltf["samplers"].append({"magFilter": LINEAR, "minFilter": LINEAR,
+                                       "wrapS": REPEAT, "wrapT": REPEAT})
+            index = b.image("back_metallic_roughness", mr_png)
+            b.gltf["textures"][index]["sampler"] = len(b.gltf["samplers"]) - 1
+            pbr["metallicRoughnessTexture"] = {"index": index}
         tex = q.get("texture")
         if tex is not None:
             b.gltf["samplers"].append({"magFilter": tex["filter"], "minFilter": tex["filter"],
@@ -135,6 +188,8 @@ def write_gltf(path, png):
                 "offset": list(tex["offset"]), "scale": list(tex["scale"])}}}
         material = {"name": q["name"], "pbrMetallicRoughness": pbr, "doubleSided": "emission" not in q,
                     "extensions": {"KHR_materials_specular": {"specularFactor": 0.0}}}
+        if glossy:
+            del material["extensions"]["KHR_materials_specular"]  # specularFactor 1: glTF's BRDF
         if "emission" in q:
             strength = max(q["emission"])
             material["emissiveFactor"] = [e / strength for e in q["emission"]]
@@ -149,7 +204,7 @@ def write_gltf(path, png):
         json.dump(b.finish(), f)
 
 
-def build_mitsuba_scene(mi, args, spp, png_path):
+def build_mitsuba_scene(mi, args, spp, png_path, mr_path=None):
     """The same scene as a Mitsuba scene dict; --break applies one wrong convention."""
     scene = {"type": "scene"}
     for q in scene_description():
@@ -173,8 +228,11 @@ def build_mitsuba_scene(mi, args, spp, png_path):
         else:
             reflectance = {"type": "rgb", "value": list(q["color"])}
         props = mi.Properties()
-        props["bsdf"] = mi.load_dict({"type": "twosided", "material": {
-            "type": "diffuse", "reflectance": reflectance}})
+        if q["name"] == "back" and args.metallic_roughness != "off":
+            props["bsdf"] = mi.load_dict(glossy_bsdf(args, reflectance, mr_path))
+        else:
+            props["bsdf"] = mi.load_dict({"type": "twosided", "material": {
+                "type": "diffuse", "reflectance": reflectance}})
         if "emission" in q:
             # One-sided towards the counter-clockwise normal (-y), like the glTF light
             # (doubleSided false).
@@ -201,6 +259,44 @@ def build_mitsuba_scene(mi, args, spp, png_path):
     n = args.max_path_length
     scene["integrator"] = {"type": "path", "max_depth": n, "rr_depth": n + 1000, "hide_emitters": False}
     return mi.load_dict(scene)
+
+
+def glossy_bsdf(args, base_color, mr_path):
+    """The back wall's gltf_metallic_roughness BSDF (benches/mitsuba_gltf_bsdf.py); one-sided
+    suffices: nothing sees the wall's back."""
+    if args.metallic_roughness == "constant":
+        metallic, roughness = metallic_roughness_means(args.mr_size)
+        return {"type": "gltf_metallic_roughness", "base_color": base_color,
+                "metallic_factor": metallic, "roughness_factor": roughness}
+    bsdf = {"type": "gltf_metallic_roughness", "base_color": base_color,
+            "metallic_roughness": {"type": "bitmap", "filename": mr_path,
+                                   # glTF: linear; raw False would decode sRGB (--break mr-srgb)
+                                   "raw": args.break_ != "mr-srgb", "format": "variant",
+                                   "filter_type": "bilinear", "wrap_mode": "repeat"}}
+    if args.break_ == "mr-swap":
+        bsdf["metallic_channel"], bsdf["roughness_channel"] = 1, 2
+    return bsdf
+
+
+def write_averaged_texture(mi, path, size, block):
+    """The metallic-roughness texture box-averaged over block x block texels (--break
+    mr-averaged), as a float EXR (no 8-bit rounding of the averages)."""
+    import numpy as np
+    texels = np.array(metallic_roughness_texels(size), dtype=np.float32) / 255.0
+    n = size // block
+    averaged = texels.reshape(n, block, n, block, 3).mean(axis=(1, 3))
+    mi.Bitmap(np.ascontiguousarray(averaged, dtype=np.float32)).write(path)
+
+
+def back_wall_pixels(width, height):
+    """Indices (row-major, rows top-down) of the pixels that lie wholly on the back wall (z = -1,
+    x in [-1, 1], y in [0, 2]; nothing stands between it and the camera)."""
+    d = CAMERA_POSITION[2] + 1.0
+    half = d * math.tan(CAMERA_YFOV / 2.0)
+    left, right = [(1.0 + (x - CAMERA_POSITION[0]) / half) / 2.0 * width for x in (-1.0, 1.0)]
+    top, bottom = [(1.0 - (y - CAMERA_POSITION[1]) / half) / 2.0 * height for y in (2.0, 0.0)]
+    return [j * width + i for j in range(height) for i in range(width)
+            if i >= left and i + 1 <= right and j >= top and j + 1 <= bottom]
 
 
 # --------------------------------------------------------------------------------------------
@@ -242,7 +338,15 @@ def main():
     parser.add_argument("--vkpath-spp", type=int, default=512, help="spp of the vkpath image")
     parser.add_argument("--seed", type=int, default=0,
                         help="vkpath --seed; Mitsuba's seeds are 2 * 10^6 * seed (+ 1000 + b for batch b)")
-    parser.add_argument("--break", dest="break_", choices=BREAKS, default=None,
+    parser.add_argument("--metallic-roughness", choices=("off", "constant", "texture"), default="off",
+                        help="give the back wall glTF's metallic-roughness BRDF: constant factors "
+                             "(the texture's means) or a metallicRoughnessTexture")
+    parser.add_argument("--mr-size", type=int, default=8,
+                        help="texels of the square metallic-roughness texture (8: smooth pattern; "
+                             "larger: per-texel checker)")
+    parser.add_argument("--mr-average", type=int, default=8,
+                        help="block size of --break mr-averaged (must divide --mr-size)")
+    parser.add_argument("--break", dest="break_", choices=BREAKS + MR_BREAKS, default=None,
                         help="render Mitsuba with this wrong convention: the gate must fail")
     parser.add_argument("--threads", type=int, default=2, help="Mitsuba (drjit) CPU threads")
     parser.add_argument("--workdir", default=os.path.join(REPO, "target", "mitsuba_textured"))
@@ -252,6 +356,10 @@ def main():
     args = parser.parse_args()
     if args.batches < 2 or args.spp < args.batches or args.spp % args.batches:
         sys.exit("--spp must be a multiple of --batches, and --batches at least 2")
+    if args.break_ in MR_BREAKS and args.metallic_roughness != "texture":
+        sys.exit(f"--break {args.break_} needs --metallic-roughness texture")
+    if args.mr_size < 1 or args.mr_size % args.mr_average:
+        sys.exit("--mr-average must divide --mr-size")
 
     mc.ensure_setup(not args.no_setup)
     mc.ensure_vkpath(args.vkpath, args.build)
@@ -260,17 +368,29 @@ def main():
     import mitsuba as mi
     mi.set_variant("llvm_ad_rgb")
     dr.set_thread_count(args.threads)
+    import mitsuba_gltf_bsdf
+    mitsuba_gltf_bsdf.register(mi, dr)
     w, h, n = args.width, args.height, args.max_path_length
     print(f"mitsuba {mi.__version__} llvm_ad_rgb, {dr.thread_count()} threads; {w}x{h}, max path "
           f"length {n}, Mitsuba {args.spp} spp ({args.batches} batches), vkpath {args.vkpath_spp} spp"
+          + (f"; back wall metallic-roughness: {args.metallic_roughness}"
+             + (f" ({args.mr_size}x{args.mr_size} texels)" if args.metallic_roughness == "texture" else "")
+             if args.metallic_roughness != "off" else "")
           + (f"; BROKEN on purpose: {args.break_}" if args.break_ else ""))
 
     png = checker_png()
     png_path = os.path.join(args.workdir, "checker.png")
     with open(png_path, "wb") as f:
         f.write(png)
+    mr_png = metallic_roughness_png(args.mr_size)
+    mr_path = os.path.join(args.workdir, "metallic_roughness.png")
+    with open(mr_path, "wb") as f:
+        f.write(mr_png)
+    if args.break_ == "mr-averaged":
+        mr_path = os.path.join(args.workdir, "metallic_roughness_averaged.exr")
+        write_averaged_texture(mi, mr_path, args.mr_size, args.mr_average)
     gltf = os.path.join(args.workdir, "textured_box.gltf")
-    write_gltf(gltf, png)
+    write_gltf(gltf, png, args.metallic_roughness, mr_png, args.mr_size)
 
     print("[1] vkpath", flush=True)
     vk_exr = os.path.join(args.workdir, "vkpath.exr")
@@ -280,7 +400,7 @@ def main():
         print(f"    vkpath: {line}")
 
     print("[2] Mitsuba", flush=True)
-    scene = build_mitsuba_scene(mi, args, args.spp, png_path)
+    scene = build_mitsuba_scene(mi, args, args.spp, png_path, mr_path)
     image, seconds = mc.mitsuba_render(mi, dr, scene, args.spp, seed=2_000_000 * args.seed)
     batch_spp = args.spp // args.batches
     batches = [mc.mitsuba_render(mi, dr, scene, batch_spp, seed=2_000_000 * args.seed + 1000 + b)[0] for b in range(args.batches)]
@@ -302,6 +422,13 @@ def main():
     means = [(mc.scalar(dr.mean(x[c])), mc.scalar(dr.mean(r[c]))) for c in range(3)]
     print("  mean RGB Mitsuba " + " ".join(f"{m:.4f}" for m, _ in means)
           + " | vkpath " + " ".join(f"{v:.4f}" for _, v in means))
+    wall = mi.UInt32(back_wall_pixels(w, h))
+    wall_means = [(mc.scalar(dr.mean(dr.gather(mi.Float, x[c], wall))),
+                   mc.scalar(dr.mean(dr.gather(mi.Float, r[c], wall)))) for c in range(3)]
+    print(f"  back wall ({dr.width(wall)} pixels) mean RGB Mitsuba "
+          + " ".join(f"{m:.4f}" for m, _ in wall_means)
+          + " | vkpath " + " ".join(f"{v:.4f}" for _, v in wall_means)
+          + " | Mitsuba / vkpath - 1: " + " ".join(f"{100 * (m / v - 1):+.2f}%" for m, v in wall_means))
     label = f" (Mitsuba broken on purpose: {args.break_})" if args.break_ else ""
     if result.returncode == 0:
         print(f"GATE{label}: CONSISTENT (Mitsuba and vkpath render the same textured scene)")

@@ -42,9 +42,9 @@ bool is_direct_illumination() {
     return INTEGRATOR == INTEGRATOR_DIRECT_ILLUMINATION;
 }
 
-// ray tracing (the base colour), normal and depth: what the first hit shows, no path.
+// ray tracing (the base colour), normal, depth and material: what the first hit shows, no path.
 bool shows_first_hit() {
-    return INTEGRATOR == INTEGRATOR_RAY_TRACING || INTEGRATOR == INTEGRATOR_NORMAL || INTEGRATOR == INTEGRATOR_DEPTH;
+    return INTEGRATOR == INTEGRATOR_RAY_TRACING || INTEGRATOR == INTEGRATOR_NORMAL || INTEGRATOR == INTEGRATOR_DEPTH || INTEGRATOR == INTEGRATOR_MATERIAL;
 }
 
 #endif

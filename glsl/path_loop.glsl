@@ -150,7 +150,9 @@ vec3 get_path_radiance(vec3 ray_origin, vec3 ray_direction, inout uvec2 seed) {
 }
 
 // What the first hit shows (ray tracing: the base colour; normal: the shading normal; depth:
-// the ray parameter), 0 where the ray hits nothing.
+// the ray parameter; material: (metallic, roughness, 0) after texture lookups, (0, 1, 0) for
+// the Lambertian triangles of kernels without USE_MATERIALS, which leave them unset), 0 where
+// the ray hits nothing.
 vec3 get_first_hit_view(vec3 ray_origin, vec3 ray_direction) {
     float t;
     triangle_t triangle;
@@ -161,6 +163,13 @@ vec3 get_first_hit_view(vec3 ray_origin, vec3 ray_direction) {
         return surface.material.base_color;
     if (INTEGRATOR == INTEGRATOR_NORMAL)
         return surface.shading_normal;
+    if (INTEGRATOR == INTEGRATOR_MATERIAL) {
+#ifdef USE_MATERIALS
+        return vec3(surface.material.metallic, surface.material.roughness, 0.0);
+#else
+        return vec3(0.0, 1.0, 0.0);
+#endif
+    }
     return vec3(t);
 }
 

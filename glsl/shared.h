@@ -172,6 +172,11 @@
 // its distance from the camera (0 where the ray escapes).
 #define INTEGRATOR_NORMAL 6
 #define INTEGRATOR_DEPTH 7
+// --aov material: the first hit's (metallic, roughness, 0) after texture lookups (the
+// material_t of get_material(), glsl/materials.glsl); (0, 1, 0) in kernels without
+// USE_MATERIALS, whose Lambertian triangles are glTF's metallic 0, roughness 1 (0 where the
+// ray escapes).
+#define INTEGRATOR_MATERIAL 8
 
 // ---- Triangles ----
 

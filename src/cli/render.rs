@@ -85,8 +85,9 @@ pub struct RenderArgs {
     #[command(flatten)]
     pub lights: LightArgs,
     /// Outputs beside the colour, as EXR layers: albedo (the first hit's base colour),
-    /// normal (its shading normal, world space), depth (its distance from the camera), each
-    /// averaged over the pixel's samples.
+    /// normal (its shading normal, world space), depth (its distance from the camera),
+    /// material (its metallic and roughness after textures, in R and G), each averaged over
+    /// the pixel's samples.
     #[arg(long, value_enum, value_delimiter = ',')]
     pub aov: Vec<crate::render::aov::Aov>,
     /// Denoise the image with Intel Open Image Denoise (the RT filter, HDR, guided by the

@@ -1,8 +1,9 @@
-//! Outputs for compositing and denoising (`--aov`): the first hit's albedo, shading normal
-//! and camera distance, each averaged over the pixel's samples like the colour. Each is a
-//! render of its own with the same settings (camera rays only: cheap next to the paths),
-//! by the kernels' INTEGRATOR_RAY_TRACING, INTEGRATOR_NORMAL and INTEGRATOR_DEPTH. Where a
-//! ray escapes, all three are 0.
+//! Outputs for compositing, denoising and debugging (`--aov`): the first hit's albedo,
+//! shading normal, camera distance and material (metallic, roughness), each averaged over
+//! the pixel's samples like the colour. Each is a render of its own with the same settings
+//! (camera rays only: cheap next to the paths), by the kernels' INTEGRATOR_RAY_TRACING,
+//! INTEGRATOR_NORMAL, INTEGRATOR_DEPTH and INTEGRATOR_MATERIAL. Where a ray escapes, all
+//! four are 0.
 
 use std::sync::Arc;
 
@@ -23,6 +24,10 @@ pub enum Aov {
     Normal,
     /// The first hit's distance from the camera.
     Depth,
+    /// The first hit's (metallic, roughness, 0) after texture lookups (glTF: the factors
+    /// times the metallic-roughness texture's B and G), as the BRDF gets them; (0, 1, 0) on
+    /// the workshop's Lambertian triangles (scenes rendered without glTF materials).
+    Material,
 }
 
 impl Aov {
@@ -32,6 +37,7 @@ impl Aov {
             Aov::Albedo => "albedo",
             Aov::Normal => "normal",
             Aov::Depth => "depth",
+            Aov::Material => "material",
         }
     }
 
@@ -41,6 +47,7 @@ impl Aov {
             Aov::Albedo => Integrator::RayTracing,
             Aov::Normal => Integrator::Normal,
             Aov::Depth => Integrator::Depth,
+            Aov::Material => Integrator::Material,
         }
     }
 }

@@ -76,6 +76,9 @@ pub enum Integrator {
     /// The first hit's distance from the camera, for `--aov depth`.
     #[cfg_attr(feature = "cli", value(skip))]
     Depth,
+    /// The first hit's (metallic, roughness, 0) after texture lookups, for `--aov material`.
+    #[cfg_attr(feature = "cli", value(skip))]
+    Material,
 }
 
 impl Integrator {
@@ -90,6 +93,7 @@ impl Integrator {
             Integrator::Mis => contract::INTEGRATOR_MIS,
             Integrator::Normal => contract::INTEGRATOR_NORMAL,
             Integrator::Depth => contract::INTEGRATOR_DEPTH,
+            Integrator::Material => contract::INTEGRATOR_MATERIAL,
         }
     }
 
@@ -105,6 +109,7 @@ impl Integrator {
             Integrator::RayTracing => "ray-tracing",
             Integrator::Normal => "normal",
             Integrator::Depth => "depth",
+            Integrator::Material => "material",
         }
     }
 
