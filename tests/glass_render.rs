@@ -157,44 +157,58 @@ fn furnace_statistics(image: &RenderedImage) -> (f64, f64, f64) {
 
 /// A faceted glass sphere of radius 1 filling most of a 24 x 24 view.
 fn sphere_in_furnace(roughness: f32) -> Scene {
+    sphere_in_furnace_with(roughness, 1.5)
+}
+
+fn sphere_in_furnace_with(roughness: f32, ior: f32) -> Scene {
     let mut builder = MeshScene::default();
-    let material = builder.material(glass(roughness, 1.5, Vec3::ZERO));
-    builder.sphere(Vec3::ZERO, 1.0, 24, 12, material);
+    let material = builder.material(glass(roughness, ior, Vec3::ZERO));
+    builder.sphere(Vec3::ZERO, 1.0, SPHERE_SEGMENTS, SPHERE_SEGMENTS / 2, material);
     let camera = Camera::look_at(Vec3::new(0.0, 0.3, 3.2), Vec3::ZERO, Vec3::Y, 0.75);
     builder.build(camera, Some(Vec3::ONE))
 }
 
 /// The path length of the furnace renders: refraction in and out and internal reflections.
-const FURNACE_PATH_LENGTH: u32 = 24;
+const FURNACE_PATH_LENGTH: u32 = 16;
+/// Facets around the furnace sphere's equator.
+const SPHERE_SEGMENTS: u32 = 64;
 
 #[test]
 fn smooth_glass_in_a_white_furnace_stays_white() {
     // Every path that leaves the sphere sees radiance 1, and smooth glass loses nothing:
     // its weights are G2/G1 = 1 (alpha 10^-4) times the radiance scale 1/eta^2 of each
     // crossing, which the next crossing undoes, and Russian roulette divides that scale out
-    // (survival 1). What is lost: paths still inside after FURNACE_PATH_LENGTH hits (each
-    // internal hit leaves with probability 1 - F >= 0.9 at a facet seen below the critical
-    // angle), and float rounding; a 24 x 12 faceted sphere totally reflects at some facets,
-    // which the path length covers.
+    // (survival 1). So no pixel may exceed 1, and what a pixel lacks is the light of paths
+    // still inside the sphere after the last hit: a faceted sphere, unlike a round one,
+    // totally reflects some rays that enter near its rim, which can then circle inside for
+    // many hits (measured with cosine, 64 x 32 facets: the image mean is 0.9907 at path
+    // length 16 and 0.9939 at 40; with ior 1.05, whose critical angle is 72 degrees,
+    // 0.9980 and 0.99967). The loss must therefore shrink as paths grow longer.
     let scene = sphere_in_furnace(0.0);
+    let settings = |integrator, max_path_length| RenderSettings {
+        width: 24,
+        height: 24,
+        spp: 16,
+        max_path_length,
+        integrator,
+        seed: 3,
+        ..Default::default()
+    };
     for integrator in [Integrator::Mis, Integrator::Nee, Integrator::PathTracing] {
-        let image = render(
-            &scene,
-            RenderSettings {
-                width: 24,
-                height: 24,
-                spp: 16,
-                max_path_length: FURNACE_PATH_LENGTH,
-                integrator,
-                seed: 3,
-                ..Default::default()
-            },
-        );
+        let image = render(&scene, settings(integrator, FURNACE_PATH_LENGTH));
         let (mean, worst, largest) = furnace_statistics(&image);
-        println!("smooth glass, {integrator:?}: mean {mean:.6}, worst |L - 1| {worst:.2e}, largest {largest:.6}");
-        assert!((mean - 1.0).abs() < 2e-3, "{integrator:?}: mean {mean}");
-        assert!(worst < 2e-2, "{integrator:?}: a pixel {worst} away from 1");
+        println!("smooth glass, {integrator:?}, path length {FURNACE_PATH_LENGTH}: mean {mean:.6}, worst |L - 1| {worst:.2e}, largest {largest:.7}");
+        // Float rounding only above 1 (G2/G1 and 1/eta^2 eta^2 are 1 within a few ulps).
+        assert!(largest < 1.0 + 1e-4, "{integrator:?}: a pixel at {largest}");
+        assert!(mean > 0.985, "{integrator:?}: mean {mean}");
     }
+    let longer = render(&scene, settings(Integrator::PathTracing, 40));
+    let (longer_mean, _, longer_largest) = furnace_statistics(&longer);
+    let (shorter_mean, _, _) =
+        furnace_statistics(&render(&scene, settings(Integrator::PathTracing, FURNACE_PATH_LENGTH)));
+    println!("smooth glass, cosine: mean {shorter_mean:.6} at path length {FURNACE_PATH_LENGTH}, {longer_mean:.6} at 40");
+    assert!(longer_largest < 1.0 + 1e-4);
+    assert!(longer_mean > shorter_mean, "{longer_mean} <= {shorter_mean}");
 }
 
 #[test]
@@ -375,3 +389,4 @@ fn builder_clone(builder: &MeshScene) -> MeshScene {
         materials: builder.materials.clone(),
     }
 }
+
