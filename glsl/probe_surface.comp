@@ -1,7 +1,8 @@
 #version 460
 // Probe of the surface seam's glTF model (glsl/surface.glsl over glsl/materials.glsl): for
-// each input, is_opaque_hit() of a candidate hit, get_surface() at that hit and get_bsdf()
-// towards a light direction. Host side: vkpath::probe::surface_probe (SurfaceProbeInput, SurfaceProbeOutput),
+// each input, is_opaque_hit() of a candidate hit, get_surface() at that hit, get_bsdf() and
+// get_bsdf_density() towards a light direction, and sample_bsdf() with the input's random
+// numbers (the layers of glsl/layered_bsdf.glsl where SCENE_HAS_LAYERS). Host side: vkpath::probe::surface_probe (SurfaceProbeInput, SurfaceProbeOutput),
 // tests/surface_twins.rs; Rust twins: src/cpu/gltf_surface.rs.
 //
 // Descriptor set 0: the scene's BINDING_TRIANGLES, BINDING_RENDER_UNIFORMS (declared by
@@ -32,6 +33,7 @@ struct probe_input_t {
     vec4 light;          // xyz: the light direction of get_bsdf() (unit);
                          // w: unused
     uvec4 triangle_seed; // x: the hit triangle; yz: g_path.alpha_seed; w: g_path.ray_count
+    vec4 randoms;        // xy: sample_bsdf()'s random_numbers; z: its lobe_random; w: unused
 };
 
 struct probe_output_t {
@@ -41,7 +43,13 @@ struct probe_output_t {
     vec4 factors;          // roughness, specular, ior, 0
     vec4 specular_color;   // rgb: surface.material.specular_color; a: 0
     vec4 emission;         // rgb: surface.emission; a: 0
-    vec4 reflection;       // rgb: get_bsdf(surface, -direction, light); a: 0
+    vec4 reflection;       // rgb: get_bsdf(surface, -direction, light);
+                           // a: get_bsdf_density(surface, -direction, light)
+    vec4 layers;           // the material's transmission, thickness, clearcoat, clearcoat_roughness
+    vec4 clearcoat_normal; // xyz: surface.clearcoat_normal; w: surface.eta
+    vec4 sampled;          // xyz: sample_bsdf()'s direction; w: its density
+    vec4 sample_weight;    // rgb: sample_bsdf()'s weight; a: its lobes (as a float)
+    vec4 extras;           // rgb: surface.unlit_color; a: the sample's eta
 };
 
 layout(std430, set = 0, binding = PROBE_BINDING_INPUTS) readonly buffer probe_inputs {
@@ -71,6 +79,13 @@ void main() {
     result.factors = vec4(surface.material.roughness, surface.material.specular, surface.material.ior, 0.0);
     result.specular_color = vec4(surface.material.specular_color, 0.0);
     result.emission = vec4(surface.emission, 0.0);
-    result.reflection = vec4(get_bsdf(surface, -direction, probe_input.light.xyz), 0.0);
+    vec3 light = probe_input.light.xyz;
+    result.reflection = vec4(get_bsdf(surface, -direction, light), get_bsdf_density(surface, -direction, light));
+    result.layers = vec4(surface.material.transmission, surface.material.thickness, surface.material.clearcoat, surface.material.clearcoat_roughness);
+    result.clearcoat_normal = vec4(surface.clearcoat_normal, surface.eta);
+    bsdf_sample_t bsdf_sample = sample_bsdf(surface, -direction, probe_input.randoms.xy, probe_input.randoms.z);
+    result.sampled = vec4(bsdf_sample.direction, bsdf_sample.density);
+    result.sample_weight = vec4(bsdf_sample.weight, float(bsdf_sample.lobes));
+    result.extras = vec4(surface.unlit_color, bsdf_sample.eta);
     g_outputs[index] = result;
 }

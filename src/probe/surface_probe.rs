@@ -8,7 +8,7 @@ use std::sync::Arc;
 
 use ash::vk;
 use bytemuck::{Pod, Zeroable};
-use glam::{UVec2, Vec3};
+use glam::{UVec2, Vec2, Vec3};
 
 use crate::contract::{SPEC_SCENE_HAS_LAYERS, SPEC_SCENE_HAS_TEXTURES};
 use crate::cpu::gltf_surface::SurfaceTexels;
@@ -21,7 +21,7 @@ use crate::render::gpu_types::{GpuTriangle, RenderUniforms};
 use crate::scene::Scene;
 use crate::vk::{Buffer, Context, TexelBufferView};
 
-/// `probe_input_t` of `glsl/probe_surface.comp` (64 bytes).
+/// `probe_input_t` of `glsl/probe_surface.comp` (80 bytes).
 #[repr(C)]
 #[derive(Clone, Copy, Debug, PartialEq, Pod, Zeroable)]
 pub struct SurfaceProbeInput {
@@ -33,6 +33,8 @@ pub struct SurfaceProbeInput {
     pub light: [f32; 4],
     /// x: the hit triangle; yz: `g_alpha_seed`; w: `g_ray_count`.
     pub triangle_seed: [u32; 4],
+    /// xy: `sample_bsdf`'s random numbers; z: its lobe random number; w: 0.
+    pub randoms: [f32; 4],
 }
 
 impl SurfaceProbeInput {
@@ -52,11 +54,18 @@ impl SurfaceProbeInput {
             ray_direction: direction.extend(0.0).to_array(),
             light: light.extend(0.0).to_array(),
             triangle_seed: [triangle_index, alpha_seed.x, alpha_seed.y, ray_count],
+            randoms: [0.0; 4],
         }
+    }
+
+    /// The same input with `sample_bsdf`'s random numbers.
+    pub fn with_randoms(mut self, random_numbers: Vec2, lobe_random: f32) -> SurfaceProbeInput {
+        self.randoms = [random_numbers.x, random_numbers.y, lobe_random, 0.0];
+        self
     }
 }
 
-/// `probe_output_t` of `glsl/probe_surface.comp` (112 bytes).
+/// `probe_output_t` of `glsl/probe_surface.comp` (192 bytes).
 #[repr(C)]
 #[derive(Clone, Copy, Debug, PartialEq, Pod, Zeroable)]
 pub struct SurfaceProbeOutput {
@@ -72,8 +81,18 @@ pub struct SurfaceProbeOutput {
     pub specular_color: [f32; 4],
     /// rgb: `surface.emission`; a: 0.
     pub emission: [f32; 4],
-    /// rgb: `get_bsdf(surface, -direction, light)`; a: 0.
+    /// rgb: `get_bsdf(surface, -direction, light)`; a: `get_bsdf_density` there.
     pub reflection: [f32; 4],
+    /// The material's transmission, thickness, clearcoat and clearcoat roughness.
+    pub layers: [f32; 4],
+    /// xyz: `surface.clearcoat_normal`; w: `surface.eta`.
+    pub clearcoat_normal: [f32; 4],
+    /// xyz: `sample_bsdf`'s direction; w: its density.
+    pub sampled: [f32; 4],
+    /// rgb: `sample_bsdf`'s weight; a: its lobes as a float.
+    pub sample_weight: [f32; 4],
+    /// rgb: `surface.unlit_color`; a: the sample's eta.
+    pub extras: [f32; 4],
 }
 
 /// A scene's triangles, shading data, materials and texture atlas, packed as
@@ -208,13 +227,19 @@ mod tests {
 
     #[test]
     fn structs_match_the_std430_declarations() {
-        // vec4 ray_origin, ray_direction, light; uvec4 triangle_seed
-        assert_eq!(size_of::<SurfaceProbeInput>(), 64);
+        // vec4 ray_origin, ray_direction, light; uvec4 triangle_seed; vec4 randoms
+        assert_eq!(size_of::<SurfaceProbeInput>(), 80);
+        assert_eq!(offset_of!(SurfaceProbeInput, randoms), 64);
         assert_eq!(offset_of!(SurfaceProbeInput, ray_direction), 16);
         assert_eq!(offset_of!(SurfaceProbeInput, light), 32);
         assert_eq!(offset_of!(SurfaceProbeInput, triangle_seed), 48);
-        // seven vec4s
-        assert_eq!(size_of::<SurfaceProbeOutput>(), 112);
+        // twelve vec4s
+        assert_eq!(size_of::<SurfaceProbeOutput>(), 192);
+        assert_eq!(offset_of!(SurfaceProbeOutput, layers), 112);
+        assert_eq!(offset_of!(SurfaceProbeOutput, clearcoat_normal), 128);
+        assert_eq!(offset_of!(SurfaceProbeOutput, sampled), 144);
+        assert_eq!(offset_of!(SurfaceProbeOutput, sample_weight), 160);
+        assert_eq!(offset_of!(SurfaceProbeOutput, extras), 176);
         assert_eq!(offset_of!(SurfaceProbeOutput, shading_normal), 16);
         assert_eq!(offset_of!(SurfaceProbeOutput, base_color), 32);
         assert_eq!(offset_of!(SurfaceProbeOutput, factors), 48);

@@ -9,6 +9,7 @@ use serde_json::{json, Value};
 
 use super::test_support::{project, write, TestBuffer};
 use super::*;
+use crate::scene::materials::Transmission;
 use crate::scene::Triangle;
 
 /// sin 45° = cos 45°: quaternions of quarter turns.
@@ -412,6 +413,105 @@ fn textures_transforms_and_extensions_are_read() {
         materials.triangles[0].tex_coords,
         [Vec2::ZERO, Vec2::X, Vec2::Y]
     );
+}
+
+#[test]
+fn transmission_volume_clearcoat_unlit_and_specular_textures_are_read() {
+    let directory = tempfile::tempdir().unwrap();
+    let texture = |index: u32| json!({"index": index});
+    let materials = json!([
+        {
+            "pbrMetallicRoughness": {"metallicFactor": 0.0, "roughnessFactor": 0.2},
+            "extensions": {
+                "KHR_materials_transmission": {"transmissionFactor": 0.9, "transmissionTexture": texture(0)},
+                "KHR_materials_volume": {"thicknessFactor": 0.5, "thicknessTexture": texture(0),
+                                         "attenuationColor": [0.5, 1.0, 0.25], "attenuationDistance": 2.0},
+                "KHR_materials_ior": {"ior": 1.45},
+                "KHR_materials_clearcoat": {"clearcoatFactor": 0.75, "clearcoatRoughnessFactor": 0.1,
+                    "clearcoatTexture": texture(0), "clearcoatRoughnessTexture": texture(0),
+                    "clearcoatNormalTexture": {"index": 0, "scale": 0.5,
+                        "extensions": {"KHR_texture_transform": {"scale": [3, 3]}}}},
+                "KHR_materials_specular": {"specularFactor": 0.8, "specularTexture": texture(0),
+                                           "specularColorTexture": texture(0)}
+            }
+        }
+    ]);
+    let uv = [("TEXCOORD_0", json!([0, 0, 1, 0, 0, 1]))];
+    let more = json!({
+        "extensionsUsed": ["KHR_materials_transmission", "KHR_materials_volume", "KHR_materials_ior",
+                           "KHR_materials_clearcoat", "KHR_materials_specular", "KHR_texture_transform"],
+        "textures": [{"source": 0}],
+        "images": [{"uri": two_texel_png_uri()}],
+    });
+    let text = triangle_with(materials[0].clone(), &uv, more);
+    let scene = load_gltf(&write(&directory, "glass.gltf", text)).unwrap();
+    assert!(scene.warnings.is_empty(), "{:?}", scene.warnings);
+    let materials = scene.materials.expect("layered");
+    let material = materials.materials[0];
+    assert!(material.is_layered() && materials.uses_layers());
+    let transmission = material.transmission;
+    assert_eq!((transmission.factor, transmission.thickness), (0.9, 0.5));
+    assert!(transmission.texture.is_some() && transmission.thickness_texture.is_some());
+    let expected = Transmission::attenuation_coefficient(Vec3::new(0.5, 1.0, 0.25), 2.0);
+    assert_eq!(transmission.attenuation, expected);
+    assert_eq!(material.ior, 1.45);
+    let clearcoat = material.clearcoat;
+    assert_eq!(
+        (clearcoat.factor, clearcoat.roughness, clearcoat.normal_scale),
+        (0.75, 0.1, 0.5)
+    );
+    assert!(clearcoat.texture.is_some() && clearcoat.roughness_texture.is_some());
+    let normal = clearcoat.normal_texture.expect("clear coat normal texture");
+    assert_eq!(normal.transform.matrix, [[3.0, 0.0, 0.0], [0.0, 3.0, 0.0]]);
+    assert_eq!(material.specular, 0.8);
+    assert!(material.specular_texture.is_some() && material.specular_color_texture.is_some());
+    // One decoded texture, shared by every slot.
+    assert_eq!(materials.textures.len(), 1);
+}
+
+#[test]
+fn unlit_materials_keep_their_colour_and_lose_their_emission() {
+    let directory = tempfile::tempdir().unwrap();
+    let material = json!({
+        "pbrMetallicRoughness": {"baseColorFactor": [0.2, 0.4, 0.6, 1.0]},
+        "emissiveFactor": [1.0, 1.0, 1.0],
+        "extensions": {"KHR_materials_unlit": {}}
+    });
+    let text = triangle_with(
+        material,
+        &[],
+        json!({"extensionsUsed": ["KHR_materials_unlit"]}),
+    );
+    let scene = load_gltf(&write(&directory, "unlit.gltf", text)).unwrap();
+    let materials = scene.materials.expect("unlit is not plain");
+    let material = materials.materials[0];
+    assert!(material.unlit && materials.uses_layers());
+    assert_eq!(material.emission, Vec3::ZERO);
+    assert_eq!(material.base_color, glam::Vec4::new(0.2, 0.4, 0.6, 1.0));
+}
+
+/// A clear-coat texture reference naming no texture of the file is a warning, not a panic.
+#[test]
+fn a_clearcoat_texture_that_names_no_texture_is_ignored_with_a_warning() {
+    let directory = tempfile::tempdir().unwrap();
+    let material = json!({
+        "pbrMetallicRoughness": {"metallicFactor": 0.0},
+        "extensions": {"KHR_materials_clearcoat": {"clearcoatFactor": 1.0, "clearcoatTexture": {"index": 7}}}
+    });
+    let text = triangle_with(
+        material,
+        &[],
+        json!({"extensionsUsed": ["KHR_materials_clearcoat"]}),
+    );
+    let scene = load_gltf(&write(&directory, "coat.gltf", text)).unwrap();
+    assert!(
+        scene.warnings.iter().any(|w| w.contains("clearcoatTexture names no texture")),
+        "{:?}",
+        scene.warnings
+    );
+    let material = scene.materials.unwrap().materials[0];
+    assert_eq!(material.clearcoat.factor, 1.0);
+    assert!(material.clearcoat.texture.is_none());
 }
 
 /// Loads `text` as a .gltf and returns the error's message.

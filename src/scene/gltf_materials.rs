@@ -112,7 +112,12 @@ impl<'a> MaterialReader<'a> {
         };
         PbrMaterial {
             base_color: Vec4::from(pbr.base_color_factor()),
-            emission: strength * Vec3::from(material.emissive_factor()),
+            // KHR_materials_unlit: the base colour is all there is; nothing emits light.
+            emission: if material.unlit() {
+                Vec3::ZERO
+            } else {
+                strength * Vec3::from(material.emissive_factor())
+            },
             metallic: pbr.metallic_factor(),
             roughness: pbr.roughness_factor(),
             specular,
