@@ -57,19 +57,45 @@ impl MeshScene {
     /// An outward-facing box between `low` and `high`.
     fn cuboid(&mut self, low: Vec3, high: Vec3, material: u32) {
         let corner = |x: usize, y: usize, z: usize| {
-            Vec3::new(
-                [low.x, high.x][x],
-                [low.y, high.y][y],
-                [low.z, high.z][z],
-            )
+            Vec3::new([low.x, high.x][x], [low.y, high.y][y], [low.z, high.z][z])
         };
         let faces = [
-            [corner(0, 0, 0), corner(0, 1, 0), corner(1, 1, 0), corner(1, 0, 0)], // -z
-            [corner(0, 0, 1), corner(1, 0, 1), corner(1, 1, 1), corner(0, 1, 1)], // +z
-            [corner(0, 0, 0), corner(1, 0, 0), corner(1, 0, 1), corner(0, 0, 1)], // -y
-            [corner(0, 1, 0), corner(0, 1, 1), corner(1, 1, 1), corner(1, 1, 0)], // +y
-            [corner(0, 0, 0), corner(0, 0, 1), corner(0, 1, 1), corner(0, 1, 0)], // -x
-            [corner(1, 0, 0), corner(1, 1, 0), corner(1, 1, 1), corner(1, 0, 1)], // +x
+            [
+                corner(0, 0, 0),
+                corner(0, 1, 0),
+                corner(1, 1, 0),
+                corner(1, 0, 0),
+            ], // -z
+            [
+                corner(0, 0, 1),
+                corner(1, 0, 1),
+                corner(1, 1, 1),
+                corner(0, 1, 1),
+            ], // +z
+            [
+                corner(0, 0, 0),
+                corner(1, 0, 0),
+                corner(1, 0, 1),
+                corner(0, 0, 1),
+            ], // -y
+            [
+                corner(0, 1, 0),
+                corner(0, 1, 1),
+                corner(1, 1, 1),
+                corner(1, 1, 0),
+            ], // +y
+            [
+                corner(0, 0, 0),
+                corner(0, 0, 1),
+                corner(0, 1, 1),
+                corner(0, 1, 0),
+            ], // -x
+            [
+                corner(1, 0, 0),
+                corner(1, 1, 0),
+                corner(1, 1, 1),
+                corner(1, 0, 1),
+            ], // +x
         ];
         for face in faces {
             self.quad(face, material);
@@ -163,7 +189,13 @@ fn sphere_in_furnace(roughness: f32) -> Scene {
 fn sphere_in_furnace_with(roughness: f32, ior: f32) -> Scene {
     let mut builder = MeshScene::default();
     let material = builder.material(glass(roughness, ior, Vec3::ZERO));
-    builder.sphere(Vec3::ZERO, 1.0, SPHERE_SEGMENTS, SPHERE_SEGMENTS / 2, material);
+    builder.sphere(
+        Vec3::ZERO,
+        1.0,
+        SPHERE_SEGMENTS,
+        SPHERE_SEGMENTS / 2,
+        material,
+    );
     let camera = Camera::look_at(Vec3::new(0.0, 0.3, 3.2), Vec3::ZERO, Vec3::Y, 0.75);
     builder.build(camera, Some(Vec3::ONE))
 }
@@ -204,11 +236,16 @@ fn smooth_glass_in_a_white_furnace_stays_white() {
     }
     let longer = render(&scene, settings(Integrator::PathTracing, 40));
     let (longer_mean, _, longer_largest) = furnace_statistics(&longer);
-    let (shorter_mean, _, _) =
-        furnace_statistics(&render(&scene, settings(Integrator::PathTracing, FURNACE_PATH_LENGTH)));
+    let (shorter_mean, _, _) = furnace_statistics(&render(
+        &scene,
+        settings(Integrator::PathTracing, FURNACE_PATH_LENGTH),
+    ));
     println!("smooth glass, cosine: mean {shorter_mean:.6} at path length {FURNACE_PATH_LENGTH}, {longer_mean:.6} at 40");
     assert!(longer_largest < 1.0 + 1e-4);
-    assert!(longer_mean > shorter_mean, "{longer_mean} <= {shorter_mean}");
+    assert!(
+        longer_mean > shorter_mean,
+        "{longer_mean} <= {shorter_mean}"
+    );
 }
 
 #[test]
@@ -241,7 +278,10 @@ fn rough_glass_in_a_white_furnace_never_exceeds_one() {
         let loss = 1.0 - mean;
         println!("rough glass {roughness}: image mean {mean:.4} (loss {loss:.4}), largest (L - 1) / sigma {worst_excess:.2}");
         // 576 pixels at 1%, Šidák-corrected, one-sided: z < 3.9.
-        assert!(worst_excess < 3.9, "roughness {roughness}: a pixel above 1 by {worst_excess} sigma");
+        assert!(
+            worst_excess < 3.9,
+            "roughness {roughness}: a pixel above 1 by {worst_excess} sigma"
+        );
         assert!(loss > previous_loss, "roughness {roughness}: loss {loss}");
         previous_loss = loss;
     }
@@ -288,7 +328,12 @@ fn slab_render(material: PbrMaterial, thickness: f32, spp: u32) -> RenderedImage
 /// The image's mean and the standard error of that mean (pixels independent).
 fn image_mean(image: &RenderedImage, channel: usize) -> (f64, f64) {
     let n = image.mean.len() as f64;
-    let mean = image.mean.iter().map(|p| f64::from(p[channel])).sum::<f64>() / n;
+    let mean = image
+        .mean
+        .iter()
+        .map(|p| f64::from(p[channel]))
+        .sum::<f64>()
+        / n;
     let variance = image
         .variance_of_mean()
         .iter()
@@ -389,4 +434,3 @@ fn builder_clone(builder: &MeshScene) -> MeshScene {
         materials: builder.materials.clone(),
     }
 }
-

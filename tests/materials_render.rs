@@ -592,7 +592,15 @@ fn layered_albedo(material: &MaterialSample, view: Vec3, channel: usize) -> f64 
             let phi = std::f64::consts::PI * (j as f64 + 0.5) / n as f64;
             let light =
                 glam::DVec3::new(sin_theta * phi.cos(), sin_theta * phi.sin(), cos_theta).as_vec3();
-            let bsdf = get_layered_bsdf(material, material.ior, Vec3::Z, Vec3::Z, Vec3::Z, view, light);
+            let bsdf = get_layered_bsdf(
+                material,
+                material.ior,
+                Vec3::Z,
+                Vec3::Z,
+                Vec3::Z,
+                view,
+                light,
+            );
             sum += f64::from(bsdf[channel]);
         }
     }
@@ -668,8 +676,8 @@ fn clear_coat_in_a_white_furnace_reflects_its_numerical_albedo() {
                         high_albedo = high_albedo.max(expected);
                     }
                     let mean = f64::from(image.mean[index][channel]);
-                    let z = (mean - expected)
-                        / f64::from(variance[index][channel]).sqrt().max(1e-9);
+                    let z =
+                        (mean - expected) / f64::from(variance[index][channel]).sqrt().max(1e-9);
                     worst_z = worst_z.max(z.abs());
                     sum_z += z;
                 }
@@ -683,10 +691,20 @@ fn clear_coat_in_a_white_furnace_reflects_its_numerical_albedo() {
         // heavy-tailed, so its per-pixel variances are unreliable (measured worst |z| 4.2 to
         // 4.7 with a mean z of 0.05 to 0.09): there the mean of the z values, normal with
         // standard deviation 1 / sqrt(n) where nothing is biased, must stay within 3 of those.
-        let limit = if integrator == Integrator::Nee { 6.0 } else { 4.0 };
-        assert!(worst_z < limit, "clear coat {clearcoat}, {integrator:?}: |z| = {worst_z}");
+        let limit = if integrator == Integrator::Nee {
+            6.0
+        } else {
+            4.0
+        };
+        assert!(
+            worst_z < limit,
+            "clear coat {clearcoat}, {integrator:?}: |z| = {worst_z}"
+        );
         let mean_limit = 3.0 / ((2 * coated_pixels) as f64).sqrt();
-        assert!(mean_z.abs() < mean_limit, "clear coat {clearcoat}, {integrator:?}: mean z {mean_z}");
+        assert!(
+            mean_z.abs() < mean_limit,
+            "clear coat {clearcoat}, {integrator:?}: mean z {mean_z}"
+        );
     }
 }
 

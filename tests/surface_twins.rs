@@ -214,10 +214,9 @@ const LAYERED_TOLERANCE: f32 = 2.0e-2;
 
 #[test]
 fn layered_surfaces_match_their_twins_on_the_gpu() {
-    let scene = Scene::load(
-        &std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/glass.gltf"),
-    )
-    .expect("the glass scene loads");
+    let scene =
+        Scene::load(&std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/glass.gltf"))
+            .expect("the glass scene loads");
     let materials = scene.materials.as_ref().expect("the scene has materials");
     let words = SurfaceWords::new(&scene).expect("the scene packs");
     assert!(words.has_layers, "scenes/glass.gltf has layered materials");
@@ -260,7 +259,8 @@ fn layered_surfaces_match_their_twins_on_the_gpu() {
     let runner = SurfaceProbeRunner::new(&context, &words).expect("the probe runs");
     let outputs: Vec<SurfaceProbeOutput> = runner.run(&inputs).expect("the probe runs");
 
-    let (mut worst_value, mut worst_bsdf, mut worst_angle, mut worst_sample) = (0f32, 0f32, 0f32, 0f32);
+    let (mut worst_value, mut worst_bsdf, mut worst_angle, mut worst_sample) =
+        (0f32, 0f32, 0f32, 0f32);
     let (mut transmitted, mut coated, mut unlit, mut other_lobe) = (0, 0, 0, 0);
     let relative = |gpu: f32, cpu: f32| (gpu - cpu).abs() / gpu.abs().max(cpu.abs()).max(1e-3);
     for (input, gpu) in inputs.iter().zip(&outputs) {
@@ -271,7 +271,13 @@ fn layered_surfaces_match_their_twins_on_the_gpu() {
         let light = Vec3::from_slice(&input.light[..3]);
         let context = format!("triangle {triangle_index}, ray {origin} + t {direction}, t {t}");
         let triangle = get_triangle(&texels, triangle_index);
-        let surface = get_surface(&texels, triangle_index, &triangle, origin + t * direction, direction);
+        let surface = get_surface(
+            &texels,
+            triangle_index,
+            &triangle,
+            origin + t * direction,
+            direction,
+        );
         let material = &surface.material;
         let values = [
             (gpu.layers[0] - material.transmission).abs(),
@@ -292,9 +298,14 @@ fn layered_surfaces_match_their_twins_on_the_gpu() {
         let view = -direction;
         let bsdf = get_bsdf(&surface, view, light);
         let density = get_bsdf_density(&surface, view, light);
-        let bsdf_error = relative(gpu.reflection[0], bsdf.x)
-            .max(relative(gpu.reflection[3], density));
-        assert!(bsdf_error <= LAYERED_TOLERANCE, "{context}: bsdf {:?} density {} vs {bsdf} {density}", gpu.reflection, gpu.reflection[3]);
+        let bsdf_error =
+            relative(gpu.reflection[0], bsdf.x).max(relative(gpu.reflection[3], density));
+        assert!(
+            bsdf_error <= LAYERED_TOLERANCE,
+            "{context}: bsdf {:?} density {} vs {bsdf} {density}",
+            gpu.reflection,
+            gpu.reflection[3]
+        );
         worst_bsdf = worst_bsdf.max(bsdf_error);
 
         let random_numbers = Vec2::new(input.randoms[0], input.randoms[1]);
@@ -323,9 +334,14 @@ fn layered_surfaces_match_their_twins_on_the_gpu() {
             gpu.sampled[3],
             sample.density
         );
-        let sample_error = relative(gpu.sample_weight[0], sample.weight.x)
-            .max((gpu.extras[3] - sample.eta).abs());
-        assert!(sample_error <= LAYERED_TOLERANCE, "{context}: sample {:?} {:?} vs {sample:?}", gpu.sampled, gpu.sample_weight);
+        let sample_error =
+            relative(gpu.sample_weight[0], sample.weight.x).max((gpu.extras[3] - sample.eta).abs());
+        assert!(
+            sample_error <= LAYERED_TOLERANCE,
+            "{context}: sample {:?} {:?} vs {sample:?}",
+            gpu.sampled,
+            gpu.sample_weight
+        );
         worst_sample = worst_sample.max(sample_error);
     }
     println!(
@@ -334,8 +350,15 @@ fn layered_surfaces_match_their_twins_on_the_gpu() {
          {worst_bsdf:.2e}, sampled direction {worst_angle:.2e} rad, sample {worst_sample:.2e}",
         inputs.len()
     );
-    assert!(transmitted >= 100 && coated >= 20 && unlit >= 10, "{transmitted} {coated} {unlit}");
+    assert!(
+        transmitted >= 100 && coated >= 20 && unlit >= 10,
+        "{transmitted} {coated} {unlit}"
+    );
     // Lobe choices that rounding flips: a few per ten thousand.
-    assert!(other_lobe * 200 <= inputs.len(), "{other_lobe} of {} took another lobe", inputs.len());
+    assert!(
+        other_lobe * 200 <= inputs.len(),
+        "{other_lobe} of {} took another lobe",
+        inputs.len()
+    );
     common::assert_validation_silent(&context);
 }

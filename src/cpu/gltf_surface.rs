@@ -21,8 +21,8 @@ use crate::cpu::layered_bsdf::{
     get_absorption, get_layered_bsdf, get_layered_density, is_layered, is_refracting,
     sample_layered_bsdf,
 };
-use crate::cpu::surface::{BsdfSample, BSDF_LOBE_REFLECT, BSDF_LOBE_TRANSMIT};
 use crate::cpu::materials::{apply_normal_map, get_barycentrics};
+use crate::cpu::surface::{BsdfSample, BSDF_LOBE_REFLECT, BSDF_LOBE_TRANSMIT};
 use crate::cpu::texels::{fetch_float_texel, fetch_texel, uint_bits_to_float};
 use crate::cpu::textures::{sample_texture, unpack_texture_slot};
 use crate::cpu::workshop::get_random_numbers;

@@ -305,8 +305,8 @@ pub fn get_transmissive_density(
     light: Vec3,
 ) -> f32 {
     let transmission_probability = get_transmission_probability(material);
-    let mut density = (1.0 - transmission_probability)
-        * get_brdf_density(material, shading_normal, view, light);
+    let mut density =
+        (1.0 - transmission_probability) * get_brdf_density(material, shading_normal, view, light);
     if transmission_probability > 0.0 {
         let basis = get_shading_basis(shading_normal);
         let alpha = get_ggx_alpha(material.roughness);
@@ -339,7 +339,13 @@ pub fn sample_transmissive_bsdf(
         let local_light = if is_refracting(material) {
             sample_rough_dielectric(random_numbers, reflection_random, alpha, eta, local_view)
         } else {
-            sample_thin_wall(random_numbers, reflection_random, material, alpha, local_view)
+            sample_thin_wall(
+                random_numbers,
+                reflection_random,
+                material,
+                alpha,
+                local_view,
+            )
         };
         return (basis * local_light).normalize();
     }
@@ -440,12 +446,8 @@ pub fn get_layered_bsdf(
     let base_cosine = get_layered_base_cosine(geometric_normal, shading_normal, light);
     if base_cosine > 0.0 {
         let basis = get_shading_basis(shading_normal);
-        bsdf = get_transmissive_bsdf(
-            material,
-            eta,
-            to_local(basis, view),
-            to_local(basis, light),
-        ) * base_cosine;
+        bsdf = get_transmissive_bsdf(material, eta, to_local(basis, view), to_local(basis, light))
+            * base_cosine;
     }
     if material.clearcoat > 0.0 {
         let coat_weight = get_clearcoat_weight(material, clearcoat_normal.dot(view));

@@ -76,20 +76,40 @@ fn chi2_cases() -> Vec<(String, MaterialSample, f32, f32)> {
     let mut tinted_thin = glass(0.4, 1.5);
     tinted_thin.thickness = 0.0;
     tinted_thin.base_color = Vec3::new(0.9, 0.4, 0.1);
-    cases.push(("thin wall roughness 0.4, 50 deg".into(), tinted_thin, 1.5, 50.0));
+    cases.push((
+        "thin wall roughness 0.4, 50 deg".into(),
+        tinted_thin,
+        1.5,
+        50.0,
+    ));
     let mut half_glass = glass(0.5, 1.5);
     half_glass.transmission = 0.5;
     half_glass.metallic = 0.3;
     half_glass.base_color = Vec3::new(0.7, 0.8, 0.9);
-    cases.push(("half transmissive, part metal, 30 deg".into(), half_glass, 1.5, 30.0));
+    cases.push((
+        "half transmissive, part metal, 30 deg".into(),
+        half_glass,
+        1.5,
+        30.0,
+    ));
     let mut coated = MaterialSample::gltf(Vec3::new(0.6, 0.1, 0.1), 0.0, 0.8);
     coated.clearcoat = 1.0;
     coated.clearcoat_roughness = 0.3;
-    cases.push(("clear coat 1 over rough red, 60 deg".into(), coated, 1.5, 60.0));
+    cases.push((
+        "clear coat 1 over rough red, 60 deg".into(),
+        coated,
+        1.5,
+        60.0,
+    ));
     let mut coated_glass = glass(0.6, 1.5);
     coated_glass.clearcoat = 0.5;
     coated_glass.clearcoat_roughness = 0.4;
-    cases.push(("clear coat 0.5 over rough glass, 10 deg".into(), coated_glass, 1.5, 10.0));
+    cases.push((
+        "clear coat 0.5 over rough glass, 10 deg".into(),
+        coated_glass,
+        1.5,
+        10.0,
+    ));
     cases
 }
 
@@ -105,7 +125,12 @@ fn sample_layered_bsdf_follows_get_layered_density() {
         let view = view_at(degrees);
         let density = |light: Vec3| {
             f64::from(get_layered_density(
-                &material, eta, Vec3::Z, Vec3::Z, view, light,
+                &material,
+                eta,
+                Vec3::Z,
+                Vec3::Z,
+                view,
+                light,
             ))
         };
         let result = chi2_direction_test(
@@ -166,7 +191,8 @@ fn btdf_is_reciprocal_with_the_eta_squared_factor() {
         let roughness = 0.05 + 0.95 * u.x;
         let eta = [1.33f32, 1.5, 2.4, 1.0 / 1.33, 1.0 / 1.5, 1.0 / 2.4][(u.y * 6.0) as usize % 6];
         let view = crate::cpu::workshop::sample_hemisphere(w, Vec3::Z);
-        let light = -crate::cpu::workshop::sample_hemisphere(get_random_numbers(&mut seed), Vec3::Z);
+        let light =
+            -crate::cpu::workshop::sample_hemisphere(get_random_numbers(&mut seed), Vec3::Z);
         let alpha = get_ggx_alpha(roughness);
         let forward = get_rough_dielectric_bsdf(alpha, eta, view, light).y;
         // Seen from the light's side: both directions mirrored so that the light is above.
@@ -232,7 +258,8 @@ fn a_dielectric_keeps_at_most_all_energy_and_smooth_glass_all_of_it() {
     for (roughness, lower) in [(0.0f32, 0.999), (0.3, 0.85), (0.5, 0.7), (0.7, 0.55)] {
         for eta in [1.5f32, 1.0 / 1.5] {
             for degrees in [0.0f32, 40.0, 75.0] {
-                let (kept, error) = kept_energy(&glass(roughness, 1.5), eta, view_at(degrees), 200_000);
+                let (kept, error) =
+                    kept_energy(&glass(roughness, 1.5), eta, view_at(degrees), 200_000);
                 println!(
                     "glass roughness {roughness}, eta {eta:.3}, {degrees} deg: keeps {kept:.4} +- {error:.4}"
                 );
@@ -287,4 +314,3 @@ fn clear_coat_zero_is_the_base_and_the_coat_weight_follows_n_c_dot_v() {
     let bent = get_layered_bsdf(&coated, 1.5, Vec3::Z, Vec3::Z, tilted, view, light);
     assert_ne!(straight, bent);
 }
-

@@ -110,7 +110,11 @@ impl GpuMaterial {
                 material.transmission.thickness_texture,
                 false,
             ),
-            (MATERIAL_TEXTURE_CLEARCOAT, material.clearcoat.texture, false),
+            (
+                MATERIAL_TEXTURE_CLEARCOAT,
+                material.clearcoat.texture,
+                false,
+            ),
             (
                 MATERIAL_TEXTURE_CLEARCOAT_ROUGHNESS,
                 material.clearcoat.roughness_texture,
@@ -163,7 +167,11 @@ impl GpuMaterial {
                 .extend(material.clearcoat.normal_scale)
                 .to_array(),
             flags: [
-                if material.unlit { MATERIAL_FLAG_UNLIT } else { 0 },
+                if material.unlit {
+                    MATERIAL_FLAG_UNLIT
+                } else {
+                    0
+                },
                 0,
                 0,
                 0,
@@ -202,7 +210,10 @@ mod tests {
         );
         assert_eq!(offset_of!(GpuMaterial, specular_color_alpha_cutoff), 48);
         assert_eq!(offset_of!(GpuMaterial, alpha_mode_texture_flags), 64);
-        assert_eq!(offset_of!(GpuMaterial, transmission_thickness_clearcoat), 80);
+        assert_eq!(
+            offset_of!(GpuMaterial, transmission_thickness_clearcoat),
+            80
+        );
         assert_eq!(
             offset_of!(GpuMaterial, attenuation_clearcoat_normal_scale),
             96

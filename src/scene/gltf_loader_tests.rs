@@ -457,7 +457,11 @@ fn transmission_volume_clearcoat_unlit_and_specular_textures_are_read() {
     assert_eq!(material.ior, 1.45);
     let clearcoat = material.clearcoat;
     assert_eq!(
-        (clearcoat.factor, clearcoat.roughness, clearcoat.normal_scale),
+        (
+            clearcoat.factor,
+            clearcoat.roughness,
+            clearcoat.normal_scale
+        ),
         (0.75, 0.1, 0.5)
     );
     assert!(clearcoat.texture.is_some() && clearcoat.roughness_texture.is_some());
@@ -505,7 +509,10 @@ fn a_clearcoat_texture_that_names_no_texture_is_ignored_with_a_warning() {
     );
     let scene = load_gltf(&write(&directory, "coat.gltf", text)).unwrap();
     assert!(
-        scene.warnings.iter().any(|w| w.contains("clearcoatTexture names no texture")),
+        scene
+            .warnings
+            .iter()
+            .any(|w| w.contains("clearcoatTexture names no texture")),
         "{:?}",
         scene.warnings
     );

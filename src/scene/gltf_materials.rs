@@ -181,7 +181,8 @@ impl<'a> MaterialReader<'a> {
         };
         clearcoat.factor = number("clearcoatFactor", 0.0);
         clearcoat.roughness = number("clearcoatRoughnessFactor", 0.0);
-        clearcoat.texture = self.json_binding(name, "clearcoatTexture", json.get("clearcoatTexture"));
+        clearcoat.texture =
+            self.json_binding(name, "clearcoatTexture", json.get("clearcoatTexture"));
         clearcoat.roughness_texture = self.json_binding(
             name,
             "clearcoatRoughnessTexture",
@@ -221,7 +222,11 @@ impl<'a> MaterialReader<'a> {
             .and_then(|e| e.get("KHR_texture_transform"));
         let (transform_matrix, transform_tex_coord) = json_texture_transform(transform);
         let tex_coord = transform_tex_coord
-            .or_else(|| info.get("texCoord").and_then(serde_json::Value::as_u64).map(|v| v as u32))
+            .or_else(|| {
+                info.get("texCoord")
+                    .and_then(serde_json::Value::as_u64)
+                    .map(|v| v as u32)
+            })
             .unwrap_or(0);
         self.bind(material, slot, &texture, tex_coord, transform_matrix)
     }
@@ -378,7 +383,9 @@ impl<'a> MaterialReader<'a> {
 
 /// A KHR_texture_transform written as JSON: its matrix (identity without one) and its
 /// `texCoord` override.
-fn json_texture_transform(transform: Option<&serde_json::Value>) -> (TextureTransform, Option<u32>) {
+fn json_texture_transform(
+    transform: Option<&serde_json::Value>,
+) -> (TextureTransform, Option<u32>) {
     let number = |value: Option<&serde_json::Value>, default: f32| {
         value.and_then(|v| v.as_f64()).map_or(default, |v| v as f32)
     };
