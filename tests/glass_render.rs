@@ -12,7 +12,7 @@ use vkpath::camera::Camera;
 use vkpath::lights::environment_source::EnvironmentSource;
 use vkpath::scene::materials::{PbrMaterial, SceneMaterials, Transmission, TriangleShading};
 use vkpath::scene::Triangle;
-use vkpath::{Integrator, PixelFilter, RenderSettings, RenderedImage, Renderer, Scene};
+use vkpath::{Integrator, PixelFilter, RenderSettings, RenderedImage, Scene};
 
 /// Triangles with flat normals and materials.
 #[derive(Default)]
@@ -163,14 +163,7 @@ fn glass(roughness: f32, ior: f32, attenuation: Vec3) -> PbrMaterial {
     material
 }
 
-fn render(scene: &Scene, settings: RenderSettings) -> RenderedImage {
-    let context = common::validated_context();
-    let mut renderer = Renderer::new(&context, scene, &scene.camera.unwrap(), settings).unwrap();
-    let image = renderer.render_all().unwrap();
-    drop(renderer);
-    common::assert_validation_silent(&context);
-    image
-}
+use common::render_scene as render;
 
 /// Mean and largest deviation from 1 of an image's red channel, and its pixels' largest value.
 fn furnace_statistics(image: &RenderedImage) -> (f64, f64, f64) {

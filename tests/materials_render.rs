@@ -18,7 +18,10 @@ use vkpath::scene::materials::{
 use vkpath::scene::textures::{Texture, TextureTransform, WrapMode};
 use vkpath::scene::Triangle;
 use vkpath::stats::ztest::{z_test_images, MeanImage};
-use vkpath::{Integrator, PixelFilter, RenderSettings, RenderedImage, Renderer, Scene};
+use vkpath::{Integrator, PixelFilter, RenderSettings, RenderedImage, Scene};
+
+/// Half the side of `QuadScene::plane_in_furnace`'s square.
+const PLANE_HALF_SIZE: f32 = 2.0;
 
 /// Builds a scene of quads (two triangles each) with materials.
 #[derive(Default)]
@@ -79,6 +82,22 @@ impl QuadScene {
         }
     }
 
+    /// The furnace of the white-metal and coat tests: an inward-emitting cube of radiance 1
+    /// (half size 10 m) around a 4 m square at z = 0 facing +z with `material`.
+    fn plane_in_furnace(&mut self, material: PbrMaterial) {
+        self.furnace_walls(10.0, 1.0);
+        let s = PLANE_HALF_SIZE;
+        self.quad(
+            [
+                Vec3::new(-s, -s, 0.0),
+                Vec3::new(s, -s, 0.0),
+                Vec3::new(s, s, 0.0),
+                Vec3::new(-s, s, 0.0),
+            ],
+            material,
+        );
+    }
+
     fn build(self, camera: Camera) -> Scene {
         Scene {
             triangles: self.triangles,
@@ -96,14 +115,7 @@ impl QuadScene {
     }
 }
 
-fn render(scene: &Scene, settings: RenderSettings) -> RenderedImage {
-    let context = common::validated_context();
-    let mut renderer = Renderer::new(&context, scene, &scene.camera.unwrap(), settings).unwrap();
-    let image = renderer.render_all().unwrap();
-    drop(renderer);
-    common::assert_validation_silent(&context);
-    image
-}
+use common::render_scene as render;
 
 /// The camera ray through pixel (x, y) (rows top-down) with the centre pixel filter.
 fn pixel_ray(camera: &Camera, width: u32, height: u32, x: u32, y: u32) -> Vec3 {
@@ -156,17 +168,7 @@ fn white_metal_in_a_white_furnace_reflects_its_numerical_albedo() {
         (0.6, Integrator::PathTracing, 2048),
     ] {
         let mut builder = QuadScene::default();
-        builder.furnace_walls(10.0, 1.0);
-        let s = 2.0;
-        builder.quad(
-            [
-                Vec3::new(-s, -s, 0.0),
-                Vec3::new(s, -s, 0.0),
-                Vec3::new(s, s, 0.0),
-                Vec3::new(-s, s, 0.0),
-            ],
-            white_metal(roughness),
-        );
+        builder.plane_in_furnace(white_metal(roughness));
         let position = Vec3::new(0.0, -3.0, 2.5);
         let camera = Camera::look_at(position, Vec3::ZERO, Vec3::Z, 0.9);
         let scene = builder.build(camera);
@@ -191,12 +193,13 @@ fn white_metal_in_a_white_furnace_reflects_its_numerical_albedo() {
                 let direction = pixel_ray(&camera, width, height, x, y);
                 let t = -position.z / direction.z;
                 let hit = position + t * direction;
-                let expected = if t > 0.0 && hit.x.abs() < s && hit.y.abs() < s {
-                    metal_pixels += 1;
-                    white_metal_albedo(roughness, -direction)
-                } else {
-                    1.0
-                };
+                let expected =
+                    if t > 0.0 && hit.x.abs() < PLANE_HALF_SIZE && hit.y.abs() < PLANE_HALF_SIZE {
+                        metal_pixels += 1;
+                        white_metal_albedo(roughness, -direction)
+                    } else {
+                        1.0
+                    };
                 let index = (y * width + x) as usize;
                 let mean = f64::from(image.mean[index][0]);
                 let z = (mean - expected) / f64::from(variance[index][0]).sqrt().max(1e-9);
@@ -622,17 +625,7 @@ fn clear_coat_in_a_white_furnace_reflects_its_numerical_albedo() {
     ] {
         let pbr = coated_red(clearcoat, clearcoat_roughness);
         let mut builder = QuadScene::default();
-        builder.furnace_walls(10.0, 1.0);
-        let s = 2.0;
-        builder.quad(
-            [
-                Vec3::new(-s, -s, 0.0),
-                Vec3::new(s, -s, 0.0),
-                Vec3::new(s, s, 0.0),
-                Vec3::new(-s, s, 0.0),
-            ],
-            pbr,
-        );
+        builder.plane_in_furnace(pbr);
         let position = Vec3::new(0.0, -3.0, 2.5);
         let camera = Camera::look_at(position, Vec3::ZERO, Vec3::Z, 0.9);
         let scene = builder.build(camera);
@@ -664,7 +657,7 @@ fn clear_coat_in_a_white_furnace_reflects_its_numerical_albedo() {
                 let direction = pixel_ray(&camera, width, height, x, y);
                 let t = -position.z / direction.z;
                 let hit = position + t * direction;
-                if !(t > 0.0 && hit.x.abs() < s && hit.y.abs() < s) {
+                if !(t > 0.0 && hit.x.abs() < PLANE_HALF_SIZE && hit.y.abs() < PLANE_HALF_SIZE) {
                     continue;
                 }
                 coated_pixels += 1;
@@ -730,17 +723,7 @@ fn clear_coat_zero_renders_bit_identical_to_no_coat() {
     let mut images = Vec::new();
     for (material, textures) in [(plain, vec![]), (zero_coat, vec![black])] {
         let mut builder = QuadScene::default();
-        builder.furnace_walls(10.0, 1.0);
-        let s = 2.0;
-        builder.quad(
-            [
-                Vec3::new(-s, -s, 0.0),
-                Vec3::new(s, -s, 0.0),
-                Vec3::new(s, s, 0.0),
-                Vec3::new(-s, s, 0.0),
-            ],
-            material,
-        );
+        builder.plane_in_furnace(material);
         builder.textures = textures;
         let camera = Camera::look_at(Vec3::new(0.0, -3.0, 2.5), Vec3::ZERO, Vec3::Z, 0.9);
         let scene = builder.build(camera);

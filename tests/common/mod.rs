@@ -9,6 +9,7 @@ use std::process::{Command, Output};
 use std::sync::Arc;
 
 use vkpath::vk::{Context, ContextOptions};
+use vkpath::{RenderSettings, RenderedImage, Renderer, Scene};
 
 /// What to install when Vulkan is missing.
 pub const VULKAN_PACKAGES: &str =
@@ -61,4 +62,15 @@ pub fn vkpath_with_env(dir: &Path, args: &[&str], env: &[(&str, &str)]) -> Outpu
 /// Path of a fixture in tests/data.
 pub fn fixture(name: &str) -> String {
     format!("{}/tests/data/{name}", env!("CARGO_MANIFEST_DIR"))
+}
+
+/// Renders `scene` from its camera with `settings` on a validated context, and fails if the
+/// validation layer said anything.
+pub fn render_scene(scene: &Scene, settings: RenderSettings) -> RenderedImage {
+    let context = validated_context();
+    let mut renderer = Renderer::new(&context, scene, &scene.camera.unwrap(), settings).unwrap();
+    let image = renderer.render_all().unwrap();
+    drop(renderer);
+    assert_validation_silent(&context);
+    image
 }
