@@ -39,6 +39,9 @@ struct material_t {
     // KHR_materials_clearcoat's clearcoat in [0, 1] and its perceptual roughness
     float clearcoat;
     float clearcoat_roughness;
+    // KHR_materials_sheen's colour (linear RGB) and perceptual roughness
+    vec3 sheen_color;
+    float sheen_roughness;
 };
 
 // The GGX alpha of a perceptual roughness: roughness^2 as glTF defines it, but at least

@@ -11,6 +11,10 @@
 // - KHR_materials_clearcoat: fresnel_coat(), a GGX coat (ior 1.5, F0 = 0.04) over the rest,
 //   weighted by clearcoat * F(N_c . V) with the coat's own normal, as the extension's text
 //   specifies: f = (1 - clearcoat F_c) f_base + clearcoat F_c D_c V_c.
+// - KHR_materials_sheen, below the coat: the Charlie sheen lobe (the extension's reference,
+//   Estevez & Kulla 2017: their distribution and visibility) over the base, which it scales
+//   by 1 - max(sheen colour) E(n.v) with E the lobe's tabulated directional albedo
+//   (get_sheen_albedo()): f = sheen_color D V + (1 - max(sheen_color) E) f_base.
 // The BSDFs are without the cosine; directions in the shading frame (local_, z the normal,
 // the view above it) unless said otherwise. `eta` is the relative index of refraction
 // across the surface: the other side's over the view's (entering glass: ior; leaving: 1/ior).
@@ -19,6 +23,8 @@
 #define VKPATH_LAYERED_BSDF_GLSL
 
 #include "brdf.glsl"
+// sample_hemisphere_cosine() (glsl/importance_sampling.glsl) and g_material_texels
+// (glsl/materials.glsl) come from the includer (glsl/surface.glsl), which includes them first.
 
 // The exact Fresnel reflectance of a smooth dielectric interface for unpolarised light,
 // the mean of the s- and p-polarised reflectances; 1 under total internal reflection.
@@ -180,10 +186,90 @@ vec3 sample_thin_wall(vec2 random_numbers, float lobe_random, material_t materia
     return mirror_through_surface(reflected);
 }
 
+// Whether the material has sheen (a sheen colour above 0).
+bool has_sheen(material_t material) {
+    return max(material.sheen_color.r, max(material.sheen_color.g, material.sheen_color.b)) > 0.0;
+}
+
+// The Charlie sheen lobe's alpha: sheen roughness^2, at least SHEEN_MIN_ALPHA.
+float get_sheen_alpha(float sheen_roughness) {
+    return max(sheen_roughness * sheen_roughness, SHEEN_MIN_ALPHA);
+}
+
+// The Charlie distribution D(h) = (2 + 1/alpha) sin(theta_h)^(1/alpha) / (2 pi).
+float get_charlie_distribution(float alpha, float normal_dot_half) {
+    float sin_squared = max(0.0, 1.0 - normal_dot_half * normal_dot_half);
+    return (2.0 + 1.0 / alpha) * pow(sin_squared, 0.5 / alpha) / (2.0 * M_PI);
+}
+
+// Estevez & Kulla's fit L(x) of the sheen's Lambda: a / (1 + b x^c) + d x + e, each
+// coefficient between their alpha-1 and alpha-0 values by (1 - alpha)^2.
+float get_sheen_lambda_fit(float x, float alpha) {
+    float t = (1.0 - alpha) * (1.0 - alpha);
+    float a = mix(21.5473, 25.3245, t);
+    float b = mix(3.82987, 3.32435, t);
+    float c = mix(0.19823, 0.16801, t);
+    float d = mix(-1.97760, -1.27393, t);
+    float e = mix(-4.32054, -4.85967, t);
+    return a / (1.0 + b * pow(x, c)) + d * x + e;
+}
+
+// The sheen's Lambda at a cosine: exp(L(c)) below 0.5, exp(2 L(0.5) - L(1 - c)) above.
+float get_sheen_lambda(float cos_theta, float alpha) {
+    float c = abs(cos_theta);
+    return (c < 0.5) ? exp(get_sheen_lambda_fit(c, alpha)) : exp(2.0 * get_sheen_lambda_fit(0.5, alpha) - get_sheen_lambda_fit(1.0 - c, alpha));
+}
+
+// The Charlie visibility 1 / ((1 + Lambda(n.v) + Lambda(n.l)) 4 (n.v)(n.l)), at most 1.
+float get_sheen_visibility(float alpha, float normal_dot_view, float normal_dot_light) {
+    return clamp(1.0 / ((1.0 + get_sheen_lambda(normal_dot_view, alpha) + get_sheen_lambda(normal_dot_light, alpha)) * 4.0 * normal_dot_view * normal_dot_light), 0.0, 1.0);
+}
+
+// The sheen lobe sheen_color D V; 0 where the view or the light is below the normal.
+vec3 get_sheen_brdf(material_t material, vec3 normal, vec3 view, vec3 light) {
+    float normal_dot_view = dot(normal, view);
+    float normal_dot_light = dot(normal, light);
+    if (normal_dot_view <= 0.0 || normal_dot_light <= 0.0)
+        return vec3(0.0);
+    float alpha = get_sheen_alpha(material.sheen_roughness);
+    float normal_dot_half = dot(normal, normalize(view + light));
+    return material.sheen_color * get_charlie_distribution(alpha, normal_dot_half) * get_sheen_visibility(alpha, normal_dot_view, normal_dot_light);
+}
+
+// Entry k of the sheen's albedo table (row-major, SHEEN_ALBEDO_SIZE^2 floats, four to a
+// texel): the last SHEEN_ALBEDO_TEXEL_COUNT texels of g_material_texels, after the materials
+// (host: material_texel_words(); the numbers: src/cpu/sheen_albedo_table.rs). A table in a
+// buffer, not a GLSL constant array: llvmpipe did not finish compiling the 1024-entry array.
+float get_sheen_albedo_entry(int k) {
+    int first = textureSize(g_material_texels) - SHEEN_ALBEDO_TEXEL_COUNT;
+    return uintBitsToFloat(texelFetch(g_material_texels, first + k / 4)[k % 4]);
+}
+
+// The lobe's directional albedo E(n.v, sheen roughness) (sheen colour 1), bilinear in the
+// table.
+float get_sheen_albedo(float normal_dot_view, float sheen_roughness) {
+    float last = float(SHEEN_ALBEDO_SIZE - 1);
+    vec2 position = clamp(vec2(normal_dot_view, sheen_roughness), 0.0, 1.0) * last;
+    ivec2 low = min(ivec2(position), ivec2(SHEEN_ALBEDO_SIZE - 2));
+    vec2 weight = position - vec2(low);
+    int row = low.x * SHEEN_ALBEDO_SIZE + low.y;
+    float below = mix(get_sheen_albedo_entry(row), get_sheen_albedo_entry(row + 1), weight.y);
+    float above = mix(get_sheen_albedo_entry(row + SHEEN_ALBEDO_SIZE), get_sheen_albedo_entry(row + SHEEN_ALBEDO_SIZE + 1), weight.y);
+    return mix(below, above, weight.x);
+}
+
+// The share of the light the sheen takes from the base, max(sheen colour) E(n.v), at most 1
+// (the Charlie lobe's albedo passes 1 at grazing views of smooth sheen): the base is scaled
+// by 1 minus it, and sample_layered_bsdf() samples the sheen with this probability.
+float get_sheen_weight(material_t material, float normal_dot_view) {
+    float strongest = max(material.sheen_color.r, max(material.sheen_color.g, material.sheen_color.b));
+    return clamp(strongest * get_sheen_albedo(normal_dot_view, material.sheen_roughness), 0.0, 1.0);
+}
+
 // Whether the material has layers beyond metallic-roughness (at this point, after its
-// textures): transmission or a clear coat.
+// textures): transmission, a clear coat or sheen.
 bool is_layered(material_t material) {
-    return material.transmission > 0.0 || material.clearcoat > 0.0;
+    return material.transmission > 0.0 || material.clearcoat > 0.0 || has_sheen(material);
 }
 
 // Whether light refracts through the material (a volume of another index) rather than
@@ -311,10 +397,11 @@ float get_layered_base_cosine(vec3 geometric_normal, vec3 shading_normal, vec3 l
     return ((geometric_cosine > 0.0 && shading_cosine > 0.0) || (geometric_cosine < 0.0 && shading_cosine < 0.0)) ? abs(shading_cosine) : 0.0;
 }
 
-// The layered BSDF times the cosine: fresnel_coat over get_transmissive_bsdf(),
-// (1 - w_c) f_base cos_base + w_c f_coat max(0, n_c . l) with w_c = get_clearcoat_weight()
-// and cos_base = get_layered_base_cosine(); the coat, a reflection, is 0 below the
-// geometric surface.
+// The layered BSDF times the cosine: fresnel_coat over the sheen over
+// get_transmissive_bsdf(), (1 - w_c) (f_sheen max(0, n_s . l) + (1 - w_s) f_base cos_base)
+// + w_c f_coat max(0, n_c . l) with w_c = get_clearcoat_weight(), w_s = get_sheen_weight()
+// and cos_base = get_layered_base_cosine(); the coat and the sheen, reflections, are 0 below
+// the geometric surface.
 // \param geometric_normal, shading_normal, clearcoat_normal Unit normals on the view's side
 vec3 get_layered_bsdf(material_t material, float eta, vec3 geometric_normal, vec3 shading_normal, vec3 clearcoat_normal, vec3 view, vec3 light) {
     vec3 bsdf = vec3(0.0);
@@ -322,6 +409,11 @@ vec3 get_layered_bsdf(material_t material, float eta, vec3 geometric_normal, vec
     if (base_cosine > 0.0) {
         mat3 basis = get_shading_basis(shading_normal);
         bsdf = get_transmissive_bsdf(material, eta, view * basis, light * basis) * base_cosine;
+    }
+    if (has_sheen(material)) {
+        bsdf *= 1.0 - get_sheen_weight(material, dot(shading_normal, view));
+        if (dot(geometric_normal, light) > 0.0)
+            bsdf += get_sheen_brdf(material, shading_normal, view, light) * max(0.0, dot(shading_normal, light));
     }
     if (material.clearcoat > 0.0) {
         float coat_weight = get_clearcoat_weight(material, dot(clearcoat_normal, view));
@@ -332,9 +424,15 @@ vec3 get_layered_bsdf(material_t material, float eta, vec3 geometric_normal, vec
     return bsdf;
 }
 
-// Density of sample_layered_bsdf(): the coat with probability w_c, the rest otherwise.
+// Density of sample_layered_bsdf(): the coat with probability w_c, then the sheen (cosine
+// directions around the shading normal) with probability get_sheen_weight(), the rest
+// otherwise.
 float get_layered_density(material_t material, float eta, vec3 shading_normal, vec3 clearcoat_normal, vec3 view, vec3 light) {
     float density = get_transmissive_density(material, eta, shading_normal, view, light);
+    if (has_sheen(material)) {
+        float sheen_weight = get_sheen_weight(material, dot(shading_normal, view));
+        density = (1.0 - sheen_weight) * density + sheen_weight * max(0.0, dot(shading_normal, light)) / M_PI;
+    }
     if (material.clearcoat > 0.0) {
         float coat_weight = get_clearcoat_weight(material, dot(clearcoat_normal, view));
         density = (1.0 - coat_weight) * density + coat_weight * get_clearcoat_density(material, clearcoat_normal, view, light);
@@ -343,13 +441,20 @@ float get_layered_density(material_t material, float eta, vec3 shading_normal, v
 }
 
 // Samples the layered BSDF, its lobes by weight: lobe_random < w_c samples the coat, else
-// (stretched back to [0, 1)) it goes on to sample_transmissive_bsdf().
+// (stretched back to [0, 1)) the sheen by its weight (a cosine direction), else (stretched
+// again) sample_transmissive_bsdf().
 vec3 sample_layered_bsdf(vec2 random_numbers, float lobe_random, material_t material, float eta, vec3 shading_normal, vec3 clearcoat_normal, vec3 view) {
     if (material.clearcoat > 0.0) {
         float coat_weight = get_clearcoat_weight(material, dot(clearcoat_normal, view));
         if (lobe_random < coat_weight)
             return sample_clearcoat(random_numbers, material, clearcoat_normal, view);
         lobe_random = (lobe_random - coat_weight) / (1.0 - coat_weight);
+    }
+    if (has_sheen(material)) {
+        float sheen_weight = get_sheen_weight(material, dot(shading_normal, view));
+        if (lobe_random < sheen_weight)
+            return sample_hemisphere_cosine(random_numbers, shading_normal);
+        lobe_random = (lobe_random - sheen_weight) / (1.0 - sheen_weight);
     }
     return sample_transmissive_bsdf(random_numbers, lobe_random, material, eta, shading_normal, view);
 }

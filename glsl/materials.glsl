@@ -41,8 +41,8 @@ uvec4 get_material_texel(uint material_index, int texel) {
 // specular, ior and the normal texture's scale; 3 the specular colour (rgb) and alpha cutoff
 // (a); 4 the alpha mode (x) and the mask of texture slots present (y); 5 transmission,
 // thickness, clearcoat and clearcoat roughness; 6 the volume's absorption coefficient (rgb)
-// and the clearcoat normal texture's scale (a); 7 the MATERIAL_FLAG_* bits (x); then three
-// texels per texture slot (texture_slot_t).
+// and the clearcoat normal texture's scale (a); 7 the MATERIAL_FLAG_* bits (x); 8 the sheen
+// colour (rgb) and sheen roughness (a); then three texels per texture slot (texture_slot_t).
 #define MATERIAL_TEXEL_BASE_COLOR 0
 #define MATERIAL_TEXEL_EMISSIVE_METALLIC 1
 #define MATERIAL_TEXEL_ROUGHNESS_SPECULAR_IOR_NORMAL_SCALE 2
@@ -51,6 +51,7 @@ uvec4 get_material_texel(uint material_index, int texel) {
 #define MATERIAL_TEXEL_TRANSMISSION_THICKNESS_CLEARCOAT 5
 #define MATERIAL_TEXEL_ATTENUATION_CLEARCOAT_NORMAL_SCALE 6
 #define MATERIAL_TEXEL_FLAGS 7
+#define MATERIAL_TEXEL_SHEEN 8
 
 // ALPHA_MODE_OPAQUE, _MASK or _BLEND of material i.
 uint get_material_alpha_mode(uint material_index) {
@@ -201,6 +202,8 @@ material_t get_material(uint material_index, vec2 tex_coord, vec4 base_color) {
     material.attenuation = vec3(0.0);
     material.clearcoat = 0.0;
     material.clearcoat_roughness = 0.0;
+    material.sheen_color = vec3(0.0);
+    material.sheen_roughness = 0.0;
     if (SCENE_HAS_LAYERS) {
         // KHR_materials_specular's textures (A: specular, RGB sRGB: specular colour)
         material.specular *= sample_material_texture(material_index, MATERIAL_TEXTURE_SPECULAR, tex_coord).a;
@@ -211,6 +214,9 @@ material_t get_material(uint material_index, vec2 tex_coord, vec4 base_color) {
         material.attenuation = uintBitsToFloat(get_material_texel(material_index, MATERIAL_TEXEL_ATTENUATION_CLEARCOAT_NORMAL_SCALE).rgb);
         material.clearcoat = layers.z * sample_material_texture(material_index, MATERIAL_TEXTURE_CLEARCOAT, tex_coord).r;
         material.clearcoat_roughness = layers.w * sample_material_texture(material_index, MATERIAL_TEXTURE_CLEARCOAT_ROUGHNESS, tex_coord).g;
+        vec4 sheen = uintBitsToFloat(get_material_texel(material_index, MATERIAL_TEXEL_SHEEN));
+        material.sheen_color = sheen.rgb * sample_material_texture(material_index, MATERIAL_TEXTURE_SHEEN_COLOR, tex_coord).rgb;
+        material.sheen_roughness = sheen.a * sample_material_texture(material_index, MATERIAL_TEXTURE_SHEEN_ROUGHNESS, tex_coord).a;
     }
     return material;
 }

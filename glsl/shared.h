@@ -92,8 +92,9 @@
 #define SPEC_SCENE_HAS_ALPHA 9
 #define SPEC_SCENE_HAS_TEXTURES 10
 // ... and whether any material has layers beyond metallic-roughness: transmission
-// (KHR_materials_transmission, with KHR_materials_volume) or a clear coat
-// (KHR_materials_clearcoat). 0 compiles their lobes out (glsl/layered_bsdf.glsl).
+// (KHR_materials_transmission, with KHR_materials_volume), a clear coat
+// (KHR_materials_clearcoat) or sheen (KHR_materials_sheen), or KHR_materials_specular's
+// textures or KHR_materials_unlit. 0 compiles their lobes out (glsl/layered_bsdf.glsl).
 #define SPEC_SCENE_HAS_LAYERS 15
 // Number of triangles passed as specialization constants (0: read them from the texel buffer).
 #define SPEC_CONSTANT_TRIANGLE_COUNT 6
@@ -219,11 +220,11 @@
 #define MIN_GGX_ALPHA 1.0e-4
 
 #define SHADING_TEXEL_COUNT 8
-#define MATERIAL_TEXEL_COUNT 41
+#define MATERIAL_TEXEL_COUNT 48
 // A material's texture slots, in the order of their texture_slot_t (3 texels each) after the
 // material's first MATERIAL_FACTOR_TEXEL_COUNT texels; bit (1 << slot) of the material's
 // texture flags says that the slot holds a texture.
-#define MATERIAL_FACTOR_TEXEL_COUNT 8
+#define MATERIAL_FACTOR_TEXEL_COUNT 9
 #define MATERIAL_TEXTURE_BASE_COLOR 0
 #define MATERIAL_TEXTURE_METALLIC_ROUGHNESS 1
 #define MATERIAL_TEXTURE_NORMAL 2
@@ -240,9 +241,18 @@
 // KHR_materials_specular's specularTexture (A) and specularColorTexture (sRGB RGB)
 #define MATERIAL_TEXTURE_SPECULAR 9
 #define MATERIAL_TEXTURE_SPECULAR_COLOR 10
-#define MATERIAL_TEXTURE_SLOT_COUNT 11
+// KHR_materials_sheen's sheenColorTexture (sRGB RGB) and sheenRoughnessTexture (A)
+#define MATERIAL_TEXTURE_SHEEN_COLOR 11
+#define MATERIAL_TEXTURE_SHEEN_ROUGHNESS 12
+#define MATERIAL_TEXTURE_SLOT_COUNT 13
 // The clear coat's index of refraction (KHR_materials_clearcoat: 1.5, F0 = 0.04).
 #define CLEARCOAT_IOR 1.5
+// KHR_materials_sheen: the side of the directional albedo table
+// (src/cpu/sheen_albedo_table.rs), the texels it takes at the end of the material texels
+// (SHEEN_ALBEDO_SIZE^2 / 4) and the smallest alpha (sheen roughness^2) of the Charlie lobe.
+#define SHEEN_ALBEDO_SIZE 32
+#define SHEEN_ALBEDO_TEXEL_COUNT 256
+#define SHEEN_MIN_ALPHA 1.0e-3
 // Bits of a material's flags (material texel MATERIAL_TEXEL_FLAGS .x): KHR_materials_unlit
 // (the base colour is what camera rays see; nothing reflects or emits light).
 #define MATERIAL_FLAG_UNLIT 1

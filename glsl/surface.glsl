@@ -143,6 +143,7 @@ surface_t get_surface(uint triangle_index, triangle_t triangle, vec3 position, v
             surface.material.specular = 0.0;
             surface.material.transmission = 0.0;
             surface.material.clearcoat = 0.0;
+            surface.material.sheen_color = vec3(0.0);
         }
     }
 #else

@@ -10,7 +10,9 @@ checkerboard floor, a brick-coloured panel on the back wall) holding:
   * a thin-walled pane: transmission 1, no volume (light passes straight through);
   * a clear-coated panel: a rough red dielectric under KHR_materials_clearcoat
     (clearcoat 1, clearcoat roughness 0.03);
-  * a small KHR_materials_unlit tile (its base colour as camera rays see it).
+  * a small KHR_materials_unlit tile (its base colour as camera rays see it);
+  * a velvet ball: a dark red base under KHR_materials_sheen (sheen colour pink, roughness
+    0.5).
 
 Standard library only; reuses the builders of make_materials_scene.py.
 
@@ -34,7 +36,7 @@ def build():
     b.gltf["scenes"][0]["name"] = "glass"
     for name in ("KHR_materials_specular", "KHR_materials_emissive_strength", "KHR_texture_transform",
                  "KHR_materials_transmission", "KHR_materials_volume", "KHR_materials_ior",
-                 "KHR_materials_clearcoat", "KHR_materials_unlit"):
+                 "KHR_materials_clearcoat", "KHR_materials_unlit", "KHR_materials_sheen"):
         b.use_extension(name)
 
     def add_quad(name, material, center, right, up, hw, hh, uv_scale=(1.0, 1.0)):
@@ -114,6 +116,16 @@ def build():
         "pbrMetallicRoughness": {"baseColorFactor": [0.2, 0.4, 0.9, 1.0]},
         "extensions": {"KHR_materials_unlit": {}}})
     add_quad("unlit tile", unlit, [ROOM - 0.01, 1.6, -0.9], Z, Y, 0.25, 0.25)
+
+    velvet = b.material({
+        "name": "velvet",
+        "pbrMetallicRoughness": {"baseColorFactor": [0.25, 0.02, 0.04, 1.0], "metallicFactor": 0.0,
+                                 "roughnessFactor": 0.9},
+        "extensions": {"KHR_materials_sheen": {"sheenColorFactor": [1.0, 0.55, 0.65],
+                                               "sheenRoughnessFactor": 0.5}}})
+    velvet_mesh = b.mesh("velvet ball", sphere_attributes, sphere_indices, velvet)
+    b.node({"name": "velvet ball", "mesh": velvet_mesh,
+            "translation": [-1.25, 0.3, 0.35], "scale": [0.3] * 3})
 
     eye = [0.0, 1.3, 1.95]
     pitch = math.radians(-12.0)

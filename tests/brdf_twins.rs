@@ -51,6 +51,8 @@ fn random_material(rng: &mut InputRng) -> MaterialSample {
         attenuation: Vec3::ZERO,
         clearcoat: 0.0,
         clearcoat_roughness: 0.0,
+        sheen_color: Vec3::ZERO,
+        sheen_roughness: 0.0,
     }
 }
 

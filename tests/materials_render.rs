@@ -611,19 +611,24 @@ fn layered_albedo(material: &MaterialSample, view: Vec3, channel: usize) -> f64 
 }
 
 #[test]
-fn clear_coat_in_a_white_furnace_reflects_its_numerical_albedo() {
+fn clear_coat_and_sheen_in_a_white_furnace_reflect_their_numerical_albedo() {
     // As the white metal's furnace: at path length 2 each pixel on the square sees the
     // layered material's directional albedo at its view angle, which the extension's
     // formulas give: (1 - c F_c(N_c.V)) base + c F_c(N_c.V) coat, integrated numerically
     // (coat roughness >= 0.2: the quadrature resolves the lobe; narrower ones are covered
     // by the χ² tests of the sampler and the twins).
     let (width, height) = (16, 16);
-    for (clearcoat, clearcoat_roughness, integrator) in [
-        (1.0f32, 0.2f32, Integrator::Mis),
-        (0.6, 0.35, Integrator::Mis),
-        (0.6, 0.6, Integrator::Nee),
+    for (clearcoat, clearcoat_roughness, sheen, integrator) in [
+        (1.0f32, 0.2f32, 0.0f32, Integrator::Mis),
+        (0.6, 0.35, 0.0, Integrator::Mis),
+        (0.6, 0.6, 0.0, Integrator::Nee),
+        // KHR_materials_sheen: a white sheen of roughness 0.5, alone and under a coat.
+        (0.0, 0.0, 0.5, Integrator::Mis),
+        (0.8, 0.3, 0.7, Integrator::Mis),
     ] {
-        let pbr = coated_red(clearcoat, clearcoat_roughness);
+        let mut pbr = coated_red(clearcoat, clearcoat_roughness);
+        pbr.sheen.color = Vec3::new(1.0, 0.9, 0.8) * f32::from(sheen > 0.0);
+        pbr.sheen.roughness = sheen;
         let mut builder = QuadScene::default();
         builder.plane_in_furnace(pbr);
         let position = Vec3::new(0.0, -3.0, 2.5);
@@ -646,6 +651,8 @@ fn clear_coat_in_a_white_furnace_reflects_its_numerical_albedo() {
         let material = MaterialSample {
             clearcoat,
             clearcoat_roughness,
+            sheen_color: pbr.sheen.color,
+            sheen_roughness: sheen,
             specular: 1.0,
             ..MaterialSample::gltf(pbr.base_color.truncate(), 0.0, 0.5)
         };
@@ -677,7 +684,7 @@ fn clear_coat_in_a_white_furnace_reflects_its_numerical_albedo() {
             }
         }
         let mean_z = sum_z / (2 * coated_pixels) as f64;
-        println!("clear coat {clearcoat} (roughness {clearcoat_roughness}), {integrator:?}: {coated_pixels} pixels, green albedo {low_albedo:.4}..{high_albedo:.4}, worst |z| {worst_z:.2}, mean z {mean_z:.3}");
+        println!("clear coat {clearcoat} (roughness {clearcoat_roughness}), sheen roughness {sheen}, {integrator:?}: {coated_pixels} pixels, green albedo {low_albedo:.4}..{high_albedo:.4}, worst |z| {worst_z:.2}, mean z {mean_z:.3}");
         assert!(coated_pixels > 64);
         // 2 x 186 pixel channels at 1%, Šidák-corrected: |z| < 4.0 for mis. nee estimates
         // the coat's lobe by light samples alone, whose weights f / p_light are
@@ -702,9 +709,9 @@ fn clear_coat_in_a_white_furnace_reflects_its_numerical_albedo() {
 }
 
 #[test]
-fn clear_coat_zero_renders_bit_identical_to_no_coat() {
-    // A clear coat whose texture is 0 everywhere (so the scene is built with the layers, and
-    // the coat's factor 1 is multiplied away at every point) must render exactly as the
+fn clear_coat_zero_and_sheen_zero_render_bit_identical_to_neither() {
+    // A clear coat, or a sheen, whose texture is 0 everywhere (so the scene is built with the
+    // layers, and the factor 1 is multiplied away at every point) must render exactly as the
     // material without one: the layered code runs only where a layer is there.
     let plain = coated_red(0.0, 0.0);
     let mut zero_coat = coated_red(1.0, 0.3);
@@ -712,6 +719,10 @@ fn clear_coat_zero_renders_bit_identical_to_no_coat() {
         texture: 0,
         transform: TextureTransform::identity(),
     });
+    let mut zero_sheen = coated_red(0.0, 0.0);
+    zero_sheen.sheen.color = Vec3::ONE;
+    zero_sheen.sheen.roughness = 0.5;
+    zero_sheen.sheen.color_texture = zero_coat.clearcoat.texture;
     let black = Texture {
         width: 1,
         height: 1,
@@ -721,7 +732,11 @@ fn clear_coat_zero_renders_bit_identical_to_no_coat() {
         nearest: true,
     };
     let mut images = Vec::new();
-    for (material, textures) in [(plain, vec![]), (zero_coat, vec![black])] {
+    for (material, textures) in [
+        (plain, vec![]),
+        (zero_coat, vec![black.clone()]),
+        (zero_sheen, vec![black]),
+    ] {
         let mut builder = QuadScene::default();
         builder.plane_in_furnace(material);
         builder.textures = textures;
@@ -748,4 +763,5 @@ fn clear_coat_zero_renders_bit_identical_to_no_coat() {
         image.mean.iter().flatten().map(|v| v.to_bits()).collect()
     };
     assert_eq!(bits(&images[0]), bits(&images[1]));
+    assert_eq!(bits(&images[0]), bits(&images[2]));
 }

@@ -261,7 +261,7 @@ fn layered_surfaces_match_their_twins_on_the_gpu() {
 
     let (mut worst_value, mut worst_bsdf, mut worst_angle, mut worst_sample) =
         (0f32, 0f32, 0f32, 0f32);
-    let (mut transmitted, mut coated, mut unlit, mut other_lobe) = (0, 0, 0, 0);
+    let (mut transmitted, mut coated, mut sheened, mut unlit, mut other_lobe) = (0, 0, 0, 0, 0);
     let relative = |gpu: f32, cpu: f32| (gpu - cpu).abs() / gpu.abs().max(cpu.abs()).max(1e-3);
     for (input, gpu) in inputs.iter().zip(&outputs) {
         let triangle_index = input.triangle_seed[0];
@@ -293,6 +293,8 @@ fn layered_surfaces_match_their_twins_on_the_gpu() {
         assert!(value <= VALUE_TOLERANCE, "{context}: {values:?}");
         worst_value = worst_value.max(value);
         coated += usize::from(material.clearcoat > 0.0);
+        // The velvet ball: its sheen shows in the BSDF and its density compared below.
+        sheened += usize::from(material.sheen_color != Vec3::ZERO);
         unlit += usize::from(surface.unlit_color != Vec3::ZERO);
 
         let view = -direction;
@@ -345,14 +347,15 @@ fn layered_surfaces_match_their_twins_on_the_gpu() {
         worst_sample = worst_sample.max(sample_error);
     }
     println!(
-        "{} inputs ({transmitted} transmitted samples, {coated} coated, {unlit} unlit, {other_lobe} \
+        "{} inputs ({transmitted} transmitted samples, {coated} coated, {sheened} with sheen, {unlit} \
+         unlit, {other_lobe} \
          other lobe); largest GPU-CPU differences: values {worst_value:.2e}, bsdf and density \
          {worst_bsdf:.2e}, sampled direction {worst_angle:.2e} rad, sample {worst_sample:.2e}",
         inputs.len()
     );
     assert!(
-        transmitted >= 100 && coated >= 20 && unlit >= 10,
-        "{transmitted} {coated} {unlit}"
+        transmitted >= 100 && coated >= 20 && sheened >= 20 && unlit >= 10,
+        "{transmitted} {coated} {sheened} {unlit}"
     );
     // Lobe choices that rounding flips: a few per ten thousand.
     assert!(

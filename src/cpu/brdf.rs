@@ -33,6 +33,10 @@ pub struct MaterialSample {
     pub clearcoat: f32,
     /// The clear coat's perceptual roughness.
     pub clearcoat_roughness: f32,
+    /// KHR_materials_sheen's colour, linear RGB.
+    pub sheen_color: Vec3,
+    /// The sheen's perceptual roughness.
+    pub sheen_roughness: f32,
 }
 
 impl MaterialSample {
@@ -51,6 +55,8 @@ impl MaterialSample {
             attenuation: Vec3::ZERO,
             clearcoat: 0.0,
             clearcoat_roughness: 0.0,
+            sheen_color: Vec3::ZERO,
+            sheen_roughness: 0.0,
         }
     }
 }

@@ -203,6 +203,8 @@ fn brdf_is_reciprocal() {
             attenuation: Vec3::ZERO,
             clearcoat: 0.0,
             clearcoat_roughness: 0.0,
+            sheen_color: Vec3::ZERO,
+            sheen_roughness: 0.0,
         };
         let view = crate::cpu::workshop::sample_hemisphere(next(), Vec3::Z);
         let light = crate::cpu::workshop::sample_hemisphere(next(), Vec3::Z);

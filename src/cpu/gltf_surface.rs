@@ -12,9 +12,9 @@ use crate::contract::{
     MATERIAL_TEXEL_COUNT, MATERIAL_TEXTURE_BASE_COLOR, MATERIAL_TEXTURE_CLEARCOAT,
     MATERIAL_TEXTURE_CLEARCOAT_NORMAL, MATERIAL_TEXTURE_CLEARCOAT_ROUGHNESS,
     MATERIAL_TEXTURE_EMISSIVE, MATERIAL_TEXTURE_METALLIC_ROUGHNESS, MATERIAL_TEXTURE_NORMAL,
-    MATERIAL_TEXTURE_SPECULAR, MATERIAL_TEXTURE_SPECULAR_COLOR, MATERIAL_TEXTURE_THICKNESS,
-    MATERIAL_TEXTURE_TRANSMISSION, SHADING_TEXEL_COUNT, TRIANGLE_FLAG_DOUBLE_SIDED,
-    TRIANGLE_TEXEL_COUNT,
+    MATERIAL_TEXTURE_SHEEN_COLOR, MATERIAL_TEXTURE_SHEEN_ROUGHNESS, MATERIAL_TEXTURE_SPECULAR,
+    MATERIAL_TEXTURE_SPECULAR_COLOR, MATERIAL_TEXTURE_THICKNESS, MATERIAL_TEXTURE_TRANSMISSION,
+    SHADING_TEXEL_COUNT, TRIANGLE_FLAG_DOUBLE_SIDED, TRIANGLE_TEXEL_COUNT,
 };
 use crate::cpu::brdf::{get_brdf, get_brdf_density, sample_brdf, MaterialSample};
 use crate::cpu::layered_bsdf::{
@@ -101,6 +101,8 @@ pub const MATERIAL_TEXEL_TRANSMISSION_THICKNESS_CLEARCOAT: u32 = 5;
 pub const MATERIAL_TEXEL_ATTENUATION_CLEARCOAT_NORMAL_SCALE: u32 = 6;
 /// The `MATERIAL_FLAG_*` bits (x).
 pub const MATERIAL_TEXEL_FLAGS: u32 = 7;
+/// The sheen colour (rgb) and sheen roughness (a).
+pub const MATERIAL_TEXEL_SHEEN: u32 = 8;
 
 /// Twin of `get_material_clearcoat_normal_scale`.
 pub fn get_material_clearcoat_normal_scale(texels: &SurfaceTexels, material_index: u32) -> f32 {
@@ -399,6 +401,8 @@ pub fn get_material(
         attenuation: Vec3::ZERO,
         clearcoat: 0.0,
         clearcoat_roughness: 0.0,
+        sheen_color: Vec3::ZERO,
+        sheen_roughness: 0.0,
     };
     if texels.scene_has_layers {
         let texture = |slot: u32| sample_material_texture(texels, material_index, slot, tex_coord);
@@ -419,6 +423,13 @@ pub fn get_material(
         .truncate();
         material.clearcoat = layers.z * texture(MATERIAL_TEXTURE_CLEARCOAT).x;
         material.clearcoat_roughness = layers.w * texture(MATERIAL_TEXTURE_CLEARCOAT_ROUGHNESS).y;
+        let sheen = uint_bits_to_float(get_material_texel(
+            texels,
+            material_index,
+            MATERIAL_TEXEL_SHEEN,
+        ));
+        material.sheen_color = sheen.truncate() * texture(MATERIAL_TEXTURE_SHEEN_COLOR).truncate();
+        material.sheen_roughness = sheen.w * texture(MATERIAL_TEXTURE_SHEEN_ROUGHNESS).w;
     }
     material
 }
@@ -497,6 +508,7 @@ pub fn get_surface(
             material.specular = 0.0;
             material.transmission = 0.0;
             material.clearcoat = 0.0;
+            material.sheen_color = Vec3::ZERO;
         }
     }
     Surface {

@@ -2,20 +2,24 @@
 //! metallic-roughness. KHR_materials_transmission with KHR_materials_ior and
 //! KHR_materials_volume (a rough dielectric BSDF after Walter et al. 2007 with the exact
 //! Fresnel reflectance, or a thin wall whose GGX lobe is mirrored through the surface), and
-//! KHR_materials_clearcoat (`fresnel_coat`: a GGX coat weighted by clearcoat F(N_c . V)).
+//! KHR_materials_clearcoat (`fresnel_coat`: a GGX coat weighted by clearcoat F(N_c . V)), and
+//! KHR_materials_sheen (the Charlie lobe of Estevez & Kulla 2017 over the base, which it
+//! scales by 1 - max(sheen colour) E(n.v), E tabulated in `cpu::sheen_albedo_table`).
 //! Same names, same maths; directions are unit vectors pointing away from the surface,
 //! `local_` ones in the shading frame (z the normal, the view above it). `eta` is the far
 //! side's index of refraction over the view's side's.
 
 use glam::{Vec2, Vec3};
 
-use crate::contract::CLEARCOAT_IOR;
+use crate::contract::{CLEARCOAT_IOR, SHEEN_ALBEDO_SIZE, SHEEN_MIN_ALPHA};
 use crate::cpu::brdf::{
     get_brdf_density, get_dielectric_f0, get_ggx_alpha, get_ggx_distribution,
     get_ggx_reflection_density, get_luminance, get_schlick_fresnel, get_shading_basis,
     get_smith_visibility, reflect, sample_brdf, sample_ggx_visible_normal, to_local,
     MaterialSample,
 };
+use crate::cpu::importance_sampling::sample_hemisphere_cosine;
+use crate::cpu::sheen_albedo_table::SHEEN_ALBEDO;
 use crate::cpu::workshop::M_PI;
 
 /// Twin of `get_dielectric_fresnel`: the exact unpolarised Fresnel reflectance of a smooth
@@ -244,9 +248,112 @@ pub fn sample_thin_wall(
     mirror_through_surface(reflected)
 }
 
-/// Twin of `is_layered`: transmission or a clear coat.
+/// Twin of `is_layered`: transmission, a clear coat or sheen.
 pub fn is_layered(material: &MaterialSample) -> bool {
-    material.transmission > 0.0 || material.clearcoat > 0.0
+    material.transmission > 0.0 || material.clearcoat > 0.0 || has_sheen(material)
+}
+
+/// Twin of `has_sheen`.
+pub fn has_sheen(material: &MaterialSample) -> bool {
+    material.sheen_color.max_element() > 0.0
+}
+
+/// Twin of `get_sheen_alpha`.
+pub fn get_sheen_alpha(sheen_roughness: f32) -> f32 {
+    (sheen_roughness * sheen_roughness).max(SHEEN_MIN_ALPHA)
+}
+
+/// Twin of `get_charlie_distribution`.
+pub fn get_charlie_distribution(alpha: f32, normal_dot_half: f32) -> f32 {
+    let sin_squared = (1.0 - normal_dot_half * normal_dot_half).max(0.0);
+    (2.0 + 1.0 / alpha) * sin_squared.powf(0.5 / alpha) / (2.0 * M_PI)
+}
+
+/// GLSL's `mix(x, y, t)`.
+fn mix(x: f32, y: f32, t: f32) -> f32 {
+    x * (1.0 - t) + y * t
+}
+
+/// Twin of `get_sheen_lambda_fit`: Estevez & Kulla's L(x).
+pub fn get_sheen_lambda_fit(x: f32, alpha: f32) -> f32 {
+    let t = (1.0 - alpha) * (1.0 - alpha);
+    let a = mix(21.5473, 25.3245, t);
+    let b = mix(3.82987, 3.32435, t);
+    let c = mix(0.19823, 0.16801, t);
+    let d = mix(-1.97760, -1.27393, t);
+    let e = mix(-4.32054, -4.85967, t);
+    a / (1.0 + b * x.powf(c)) + d * x + e
+}
+
+/// Twin of `get_sheen_lambda`.
+pub fn get_sheen_lambda(cos_theta: f32, alpha: f32) -> f32 {
+    let c = cos_theta.abs();
+    if c < 0.5 {
+        get_sheen_lambda_fit(c, alpha).exp()
+    } else {
+        (2.0 * get_sheen_lambda_fit(0.5, alpha) - get_sheen_lambda_fit(1.0 - c, alpha)).exp()
+    }
+}
+
+/// Twin of `get_sheen_visibility`.
+pub fn get_sheen_visibility(alpha: f32, normal_dot_view: f32, normal_dot_light: f32) -> f32 {
+    (1.0 / ((1.0
+        + get_sheen_lambda(normal_dot_view, alpha)
+        + get_sheen_lambda(normal_dot_light, alpha))
+        * 4.0
+        * normal_dot_view
+        * normal_dot_light))
+        .clamp(0.0, 1.0)
+}
+
+/// Twin of `get_sheen_brdf`: sheen_color D V.
+pub fn get_sheen_brdf(material: &MaterialSample, normal: Vec3, view: Vec3, light: Vec3) -> Vec3 {
+    let normal_dot_view = normal.dot(view);
+    let normal_dot_light = normal.dot(light);
+    if normal_dot_view <= 0.0 || normal_dot_light <= 0.0 {
+        return Vec3::ZERO;
+    }
+    let alpha = get_sheen_alpha(material.sheen_roughness);
+    let normal_dot_half = normal.dot((view + light).normalize());
+    material.sheen_color
+        * get_charlie_distribution(alpha, normal_dot_half)
+        * get_sheen_visibility(alpha, normal_dot_view, normal_dot_light)
+}
+
+/// Twin of `get_sheen_albedo_entry`: entry `k` of the table (`SHEEN_ALBEDO`), which the
+/// shaders read from the end of `g_material_texels`.
+pub fn get_sheen_albedo_entry(k: usize) -> f32 {
+    SHEEN_ALBEDO[k]
+}
+
+/// Twin of `get_sheen_albedo`: E(n.v, roughness), bilinear in the table.
+pub fn get_sheen_albedo(normal_dot_view: f32, sheen_roughness: f32) -> f32 {
+    let size = SHEEN_ALBEDO_SIZE as i32;
+    let last = (SHEEN_ALBEDO_SIZE - 1) as f32;
+    let position = Vec2::new(normal_dot_view, sheen_roughness).clamp(Vec2::ZERO, Vec2::ONE) * last;
+    let low = (position.x as i32).min(size - 2);
+    let low_y = (position.y as i32).min(size - 2);
+    let weight = position - Vec2::new(low as f32, low_y as f32);
+    let row = (low * size + low_y) as usize;
+    let size = size as usize;
+    let below = mix(
+        get_sheen_albedo_entry(row),
+        get_sheen_albedo_entry(row + 1),
+        weight.y,
+    );
+    let above = mix(
+        get_sheen_albedo_entry(row + size),
+        get_sheen_albedo_entry(row + size + 1),
+        weight.y,
+    );
+    mix(below, above, weight.x)
+}
+
+/// Twin of `get_sheen_weight`: max(sheen colour) E(n.v), at most 1.
+pub fn get_sheen_weight(material: &MaterialSample, normal_dot_view: f32) -> f32 {
+    (material.sheen_color.max_element()
+        * get_sheen_albedo(normal_dot_view, material.sheen_roughness))
+    .clamp(0.0, 1.0)
 }
 
 /// Twin of `is_refracting`: a volume of another index (not a thin wall).
@@ -449,6 +556,13 @@ pub fn get_layered_bsdf(
         bsdf = get_transmissive_bsdf(material, eta, to_local(basis, view), to_local(basis, light))
             * base_cosine;
     }
+    if has_sheen(material) {
+        bsdf *= 1.0 - get_sheen_weight(material, shading_normal.dot(view));
+        if geometric_normal.dot(light) > 0.0 {
+            bsdf += get_sheen_brdf(material, shading_normal, view, light)
+                * shading_normal.dot(light).max(0.0);
+        }
+    }
     if material.clearcoat > 0.0 {
         let coat_weight = get_clearcoat_weight(material, clearcoat_normal.dot(view));
         bsdf *= 1.0 - coat_weight;
@@ -471,6 +585,11 @@ pub fn get_layered_density(
     light: Vec3,
 ) -> f32 {
     let mut density = get_transmissive_density(material, eta, shading_normal, view, light);
+    if has_sheen(material) {
+        let sheen_weight = get_sheen_weight(material, shading_normal.dot(view));
+        density = (1.0 - sheen_weight) * density
+            + sheen_weight * shading_normal.dot(light).max(0.0) / M_PI;
+    }
     if material.clearcoat > 0.0 {
         let coat_weight = get_clearcoat_weight(material, clearcoat_normal.dot(view));
         density = (1.0 - coat_weight) * density
@@ -496,6 +615,13 @@ pub fn sample_layered_bsdf(
             return sample_clearcoat(random_numbers, material, clearcoat_normal, view);
         }
         lobe_random = (lobe_random - coat_weight) / (1.0 - coat_weight);
+    }
+    if has_sheen(material) {
+        let sheen_weight = get_sheen_weight(material, shading_normal.dot(view));
+        if lobe_random < sheen_weight {
+            return sample_hemisphere_cosine(random_numbers, shading_normal);
+        }
+        lobe_random = (lobe_random - sheen_weight) / (1.0 - sheen_weight);
     }
     sample_transmissive_bsdf(
         random_numbers,

@@ -110,6 +110,20 @@ fn chi2_cases() -> Vec<(String, MaterialSample, f32, f32)> {
         1.5,
         10.0,
     ));
+    let mut sheen = MaterialSample::gltf(Vec3::new(0.3, 0.3, 0.6), 0.0, 0.6);
+    sheen.sheen_color = Vec3::new(1.0, 0.8, 0.6);
+    sheen.sheen_roughness = 0.5;
+    cases.push(("sheen 0.5 over blue, 40 deg".into(), sheen, 1.5, 40.0));
+    let mut coated_sheen = sheen;
+    coated_sheen.sheen_roughness = 0.2;
+    coated_sheen.clearcoat = 0.7;
+    coated_sheen.clearcoat_roughness = 0.4;
+    cases.push((
+        "clear coat over sheen 0.2, 70 deg".into(),
+        coated_sheen,
+        1.5,
+        70.0,
+    ));
     cases
 }
 
@@ -313,4 +327,52 @@ fn clear_coat_zero_is_the_base_and_the_coat_weight_follows_n_c_dot_v() {
     let straight = get_layered_bsdf(&coated, 1.5, Vec3::Z, Vec3::Z, Vec3::Z, view, light);
     let bent = get_layered_bsdf(&coated, 1.5, Vec3::Z, Vec3::Z, tilted, view, light);
     assert_ne!(straight, bent);
+}
+
+#[test]
+fn the_sheen_albedo_table_is_the_lobes_integral() {
+    // Recompute table nodes (n.v = i / 31, roughness j / 31) by the midpoint rule over the
+    // hemisphere with the twins' own lobe, and compare: the table's generator
+    // (scripts/make_sheen_albedo.py, double precision, 512 x 1024 cells) and this f32
+    // quadrature (256 x 512 cells) agree to the quadrature's error, a few 1e-4 where the
+    // lobe is smooth; a stale or mis-indexed table is off by far more.
+    let mut worst = 0.0f32;
+    for (i, j) in [
+        (31u32, 31u32),
+        (31, 8),
+        (20, 16),
+        (10, 25),
+        (5, 12),
+        (16, 31),
+        (25, 4),
+    ] {
+        let mu = (i as f32 / 31.0).max(1e-4);
+        let roughness = j as f32 / 31.0;
+        let material = MaterialSample {
+            sheen_color: Vec3::ONE,
+            sheen_roughness: roughness,
+            ..MaterialSample::gltf(Vec3::ZERO, 0.0, 1.0)
+        };
+        let view = Vec3::new((1.0 - mu * mu).sqrt(), 0.0, mu);
+        let n = 256;
+        let mut sum = 0.0f64;
+        for a in 0..n {
+            let cos_theta = (a as f32 + 0.5) / n as f32;
+            let sin_theta = (1.0 - cos_theta * cos_theta).sqrt();
+            for b in 0..2 * n {
+                let phi = std::f32::consts::PI * (b as f32 + 0.5) / n as f32;
+                let light = Vec3::new(sin_theta * phi.cos(), sin_theta * phi.sin(), cos_theta);
+                sum += f64::from(get_sheen_brdf(&material, Vec3::Z, view, light).x * cos_theta);
+            }
+        }
+        let integral = (sum * std::f64::consts::PI / (n * n) as f64) as f32;
+        let table = get_sheen_albedo_entry((i * SHEEN_ALBEDO_SIZE + j) as usize);
+        println!(
+            "E(n.v {mu:.3}, roughness {roughness:.3}): table {table:.5}, quadrature {integral:.5}"
+        );
+        worst = worst.max((table - integral).abs());
+        // Bilinear lookup at a node returns the node.
+        assert!((get_sheen_albedo(i as f32 / 31.0, roughness) - table).abs() < 1e-6);
+    }
+    assert!(worst < 2e-3, "{worst}");
 }

@@ -16,6 +16,7 @@ pub mod materials;
 pub mod path_loop;
 pub mod punctual_lights;
 pub mod renderer;
+pub mod sheen_albedo_table;
 pub mod sobol;
 pub mod surface;
 pub mod texels;

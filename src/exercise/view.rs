@@ -259,6 +259,8 @@ mod tests {
                 attenuation: Vec3::ZERO,
                 clearcoat: 0.0,
                 clearcoat_roughness: 0.0,
+                sheen_color: Vec3::ZERO,
+                sheen_roughness: 0.0,
             },
             30.0,
         );

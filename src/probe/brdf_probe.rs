@@ -76,6 +76,8 @@ impl BrdfProbeInput {
             attenuation: Vec3::ZERO,
             clearcoat: 0.0,
             clearcoat_roughness: 0.0,
+            sheen_color: Vec3::ZERO,
+            sheen_roughness: 0.0,
         }
     }
 

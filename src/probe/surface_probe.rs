@@ -15,7 +15,7 @@ use crate::cpu::gltf_surface::SurfaceTexels;
 use crate::error::{Error, Result};
 use crate::kernels::{self, Bound, Resource};
 use crate::probe::runner::Probe;
-use crate::render::gpu_materials::{GpuMaterial, GpuTriangleShading};
+use crate::render::gpu_materials::{material_texel_words, GpuMaterial, GpuTriangleShading};
 use crate::render::gpu_textures::TextureAtlas;
 use crate::render::gpu_types::{GpuTriangle, RenderUniforms};
 use crate::scene::Scene;
@@ -137,7 +137,7 @@ impl SurfaceWords {
         Ok(SurfaceWords {
             triangles: bytemuck::cast_slice(&triangles).to_vec(),
             shading: bytemuck::cast_slice(&shading).to_vec(),
-            materials: bytemuck::cast_slice(&packed).to_vec(),
+            materials: material_texel_words(&packed),
             atlas,
             has_textures: !materials.textures.is_empty(),
             has_layers: materials.uses_layers(),

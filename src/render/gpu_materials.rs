@@ -8,10 +8,11 @@ use crate::contract::{
     ALPHA_MODE_BLEND, ALPHA_MODE_MASK, ALPHA_MODE_OPAQUE, MATERIAL_FLAG_UNLIT,
     MATERIAL_TEXTURE_BASE_COLOR, MATERIAL_TEXTURE_CLEARCOAT, MATERIAL_TEXTURE_CLEARCOAT_NORMAL,
     MATERIAL_TEXTURE_CLEARCOAT_ROUGHNESS, MATERIAL_TEXTURE_EMISSIVE,
-    MATERIAL_TEXTURE_METALLIC_ROUGHNESS, MATERIAL_TEXTURE_NORMAL, MATERIAL_TEXTURE_SLOT_COUNT,
-    MATERIAL_TEXTURE_SPECULAR, MATERIAL_TEXTURE_SPECULAR_COLOR, MATERIAL_TEXTURE_THICKNESS,
-    MATERIAL_TEXTURE_TRANSMISSION,
+    MATERIAL_TEXTURE_METALLIC_ROUGHNESS, MATERIAL_TEXTURE_NORMAL, MATERIAL_TEXTURE_SHEEN_COLOR,
+    MATERIAL_TEXTURE_SHEEN_ROUGHNESS, MATERIAL_TEXTURE_SLOT_COUNT, MATERIAL_TEXTURE_SPECULAR,
+    MATERIAL_TEXTURE_SPECULAR_COLOR, MATERIAL_TEXTURE_THICKNESS, MATERIAL_TEXTURE_TRANSMISSION,
 };
+use crate::cpu::sheen_albedo_table::SHEEN_ALBEDO;
 use crate::render::gpu_textures::{GpuTextureSlot, TextureAtlas};
 use crate::scene::materials::{
     AlphaMode, PbrMaterial, SceneMaterials, TextureBinding, TriangleShading,
@@ -31,7 +32,7 @@ pub struct GpuTriangleShading {
     pub tangents: [[f32; 4]; 3],
 }
 
-/// One material as `get_material_texel()` reads it (656 bytes).
+/// One material as `get_material_texel()` reads it (768 bytes).
 #[repr(C)]
 #[derive(Clone, Copy, Debug, PartialEq, Pod, Zeroable)]
 pub struct GpuMaterial {
@@ -51,6 +52,8 @@ pub struct GpuMaterial {
     pub attenuation_clearcoat_normal_scale: [f32; 4],
     /// x: MATERIAL_FLAG_* bits; yzw: 0.
     pub flags: [u32; 4],
+    /// rgb: the sheen colour; a: the sheen roughness.
+    pub sheen: [f32; 4],
     /// The texture slots in MATERIAL_TEXTURE_* order (zeros where absent).
     pub textures: [GpuTextureSlot; MATERIAL_TEXTURE_SLOT_COUNT as usize],
 }
@@ -131,6 +134,16 @@ impl GpuMaterial {
                 material.specular_color_texture,
                 true,
             ),
+            (
+                MATERIAL_TEXTURE_SHEEN_COLOR,
+                material.sheen.color_texture,
+                true,
+            ),
+            (
+                MATERIAL_TEXTURE_SHEEN_ROUGHNESS,
+                material.sheen.roughness_texture,
+                false,
+            ),
         ];
         for (slot, binding, srgb) in slots {
             if let Some(TextureBinding { texture, transform }) = binding {
@@ -176,9 +189,23 @@ impl GpuMaterial {
                 0,
                 0,
             ],
+            sheen: material
+                .sheen
+                .color
+                .extend(material.sheen.roughness)
+                .to_array(),
             textures,
         }
     }
+}
+
+/// The words of `g_material_texels`: the materials, then the sheen's albedo table
+/// (`SHEEN_ALBEDO`, `SHEEN_ALBEDO_TEXEL_COUNT` texels), which `get_sheen_albedo_entry()`
+/// reads from the buffer's end.
+pub fn material_texel_words(materials: &[GpuMaterial]) -> Vec<u32> {
+    let mut words: Vec<u32> = bytemuck::cast_slice(materials).to_vec();
+    words.extend(SHEEN_ALBEDO.iter().map(|entry| entry.to_bits()));
+    words
 }
 
 #[cfg(test)]
@@ -219,10 +246,35 @@ mod tests {
             96
         );
         assert_eq!(offset_of!(GpuMaterial, flags), 112);
+        assert_eq!(offset_of!(GpuMaterial, sheen), 128);
         assert_eq!(
             offset_of!(GpuMaterial, textures),
             16 * MATERIAL_FACTOR_TEXEL_COUNT as usize
         );
         assert_eq!(size_of::<GpuTextureSlot>(), 48);
+    }
+
+    #[test]
+    fn the_sheen_table_ends_the_material_texels() {
+        use crate::contract::{SHEEN_ALBEDO_SIZE, SHEEN_ALBEDO_TEXEL_COUNT};
+        use crate::cpu::layered_bsdf::get_sheen_albedo_entry;
+        assert_eq!(
+            SHEEN_ALBEDO_TEXEL_COUNT * 4,
+            SHEEN_ALBEDO_SIZE * SHEEN_ALBEDO_SIZE
+        );
+        let materials = [GpuMaterial::zeroed(); 2];
+        let words = material_texel_words(&materials);
+        let texels = words.len() / 4;
+        assert_eq!(
+            texels,
+            2 * MATERIAL_TEXEL_COUNT as usize + SHEEN_ALBEDO_TEXEL_COUNT as usize
+        );
+        // get_sheen_albedo_entry(k) reads component k % 4 of texel
+        // textureSize - SHEEN_ALBEDO_TEXEL_COUNT + k / 4.
+        let first = texels - SHEEN_ALBEDO_TEXEL_COUNT as usize;
+        for k in [0usize, 1, 5, 517, 1023] {
+            let word = words[4 * (first + k / 4) + k % 4];
+            assert_eq!(f32::from_bits(word), get_sheen_albedo_entry(k));
+        }
     }
 }

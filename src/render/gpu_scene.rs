@@ -13,7 +13,7 @@ use crate::contract;
 use crate::error::{Error, Result};
 use crate::kernels::{Bound, Resource};
 use crate::lights::SceneLights;
-use crate::render::gpu_materials::{GpuMaterial, GpuTriangleShading};
+use crate::render::gpu_materials::{material_texel_words, GpuMaterial, GpuTriangleShading};
 use crate::render::gpu_textures::TextureAtlas;
 use crate::render::gpu_types::{GpuTriangle, RenderUniforms};
 use crate::render::settings::RenderSettings;
@@ -148,7 +148,10 @@ impl GpuScene {
                 )?;
                 Some(MaterialBuffers {
                     shading: texels("shading data", bytemuck::cast_slice(&shading))?,
-                    materials: texels("materials", bytemuck::cast_slice(&gpu_materials))?,
+                    materials: texels(
+                        "materials",
+                        bytemuck::cast_slice(&material_texel_words(&gpu_materials)),
+                    )?,
                     texture_texels: TexelBufferView::rgba8_uint(
                         context,
                         texture_buffer,

@@ -3,13 +3,14 @@
 
 /// The glTF extensions whose meaning vkpath implements (a file that requires others is
 /// refused with their names).
-pub const SUPPORTED_EXTENSIONS: [&str; 10] = [
+pub const SUPPORTED_EXTENSIONS: [&str; 11] = [
     "KHR_materials_emissive_strength",
     "KHR_materials_specular",
     "KHR_materials_ior",
     "KHR_materials_transmission",
     "KHR_materials_volume",
     "KHR_materials_clearcoat",
+    "KHR_materials_sheen",
     "KHR_materials_unlit",
     "KHR_texture_transform",
     "KHR_mesh_quantization",
@@ -19,10 +20,6 @@ pub const SUPPORTED_EXTENSIONS: [&str; 10] = [
 /// What a render loses when vkpath ignores a known extension: (extension, what is lost).
 /// Extensions not listed here get a generic sentence.
 const WHAT_IS_LOST: &[(&str, &str)] = &[
-    (
-        "KHR_materials_sheen",
-        "surfaces render without their sheen (cloth)",
-    ),
     (
         "KHR_materials_iridescence",
         "surfaces render without thin-film colours",
@@ -104,15 +101,15 @@ mod tests {
     #[test]
     fn every_unsupported_extension_warns_once_and_supported_ones_do_not() {
         let warnings = unsupported_extension_warnings([
-            "KHR_materials_sheen",
+            "KHR_materials_iridescence",
             "KHR_materials_ior",
-            "KHR_materials_sheen",
+            "KHR_materials_iridescence",
             "VENDOR_something",
         ]);
         assert_eq!(warnings.len(), 2, "{warnings:?}");
         assert_eq!(
             warnings[0],
-            "glTF extension KHR_materials_sheen: ignored, surfaces render without their sheen (cloth)"
+            "glTF extension KHR_materials_iridescence: ignored, surfaces render without thin-film colours"
         );
         assert!(warnings[1].starts_with("glTF extension VENDOR_something: ignored, "));
     }

@@ -494,6 +494,30 @@ fn unlit_materials_keep_their_colour_and_lose_their_emission() {
     assert_eq!(material.base_color, glam::Vec4::new(0.2, 0.4, 0.6, 1.0));
 }
 
+#[test]
+fn sheen_is_read_with_its_textures() {
+    let directory = tempfile::tempdir().unwrap();
+    let material = json!({
+        "pbrMetallicRoughness": {"metallicFactor": 0.0},
+        "extensions": {"KHR_materials_sheen": {"sheenColorFactor": [1.0, 0.5, 0.25],
+            "sheenColorTexture": {"index": 0}, "sheenRoughnessFactor": 0.3,
+            "sheenRoughnessTexture": {"index": 0}}}
+    });
+    let text = triangle_with(
+        material,
+        &[("TEXCOORD_0", json!([0, 0, 1, 0, 0, 1]))],
+        json!({"extensionsUsed": ["KHR_materials_sheen"],
+               "textures": [{"source": 0}], "images": [{"uri": two_texel_png_uri()}]}),
+    );
+    let scene = load_gltf(&write(&directory, "sheen.gltf", text)).unwrap();
+    assert!(scene.warnings.is_empty(), "{:?}", scene.warnings);
+    let material = scene.materials.unwrap().materials[0];
+    assert_eq!(material.sheen.color, Vec3::new(1.0, 0.5, 0.25));
+    assert_eq!(material.sheen.roughness, 0.3);
+    assert!(material.sheen.color_texture.is_some() && material.sheen.roughness_texture.is_some());
+    assert!(material.is_layered());
+}
+
 /// A clear-coat texture reference naming no texture of the file is a warning, not a panic.
 #[test]
 fn a_clearcoat_texture_that_names_no_texture_is_ignored_with_a_warning() {

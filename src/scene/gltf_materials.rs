@@ -16,7 +16,7 @@ use std::path::Path;
 use glam::{Vec3, Vec4};
 
 use super::files::{resolve_reference, LoadOptions, MAX_SCENE_FILE_BYTES};
-use super::materials::{AlphaMode, Clearcoat, PbrMaterial, TextureBinding, Transmission};
+use super::materials::{AlphaMode, Clearcoat, PbrMaterial, Sheen, TextureBinding, Transmission};
 use super::textures::{decode_texture, Texture, TextureTransform, WrapMode};
 
 /// Converts materials and loads their textures, each once.
@@ -90,6 +90,7 @@ impl<'a> MaterialReader<'a> {
             };
         let transmission = self.transmission(&name, material);
         let clearcoat = self.clearcoat(&name, material);
+        let sheen = self.sheen(&name, material);
         let alpha_mode = match material.alpha_mode() {
             gltf::material::AlphaMode::Opaque => AlphaMode::Opaque,
             gltf::material::AlphaMode::Mask => AlphaMode::Mask {
@@ -134,6 +135,7 @@ impl<'a> MaterialReader<'a> {
             specular_color_texture,
             transmission,
             clearcoat,
+            sheen,
             unlit: material.unlit(),
         }
         .sanitized()
@@ -195,6 +197,42 @@ impl<'a> MaterialReader<'a> {
             .and_then(serde_json::Value::as_f64)
             .map_or(1.0, |v| v as f32);
         clearcoat
+    }
+
+    /// KHR_materials_sheen, read from the JSON (gltf 1.4 has no accessors for it).
+    fn sheen(&mut self, name: &str, material: &gltf::Material) -> Sheen {
+        let Some(json) = material.extension_value("KHR_materials_sheen") else {
+            return Sheen::default();
+        };
+        let color = json
+            .get("sheenColorFactor")
+            .and_then(serde_json::Value::as_array)
+            .map_or(Vec3::ZERO, |values| {
+                let component = |i: usize| {
+                    values
+                        .get(i)
+                        .and_then(serde_json::Value::as_f64)
+                        .map_or(0.0, |v| v as f32)
+                };
+                Vec3::new(component(0), component(1), component(2))
+            });
+        Sheen {
+            color,
+            color_texture: self.json_binding(
+                name,
+                "sheenColorTexture",
+                json.get("sheenColorTexture"),
+            ),
+            roughness: json
+                .get("sheenRoughnessFactor")
+                .and_then(serde_json::Value::as_f64)
+                .map_or(0.0, |v| v as f32),
+            roughness_texture: self.json_binding(
+                name,
+                "sheenRoughnessTexture",
+                json.get("sheenRoughnessTexture"),
+            ),
+        }
     }
 
     /// The binding of a texture reference written in an extension's JSON (`{"index": i,

@@ -87,6 +87,19 @@ pub struct Clearcoat {
     pub normal_scale: f32,
 }
 
+/// KHR_materials_sheen: a Charlie sheen lobe (cloth) over the material.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Sheen {
+    /// `sheenColorFactor`, linear RGB (0: no sheen, the default).
+    pub color: Vec3,
+    /// `sheenColorTexture` (sRGB; multiplies `color`).
+    pub color_texture: Option<TextureBinding>,
+    /// `sheenRoughnessFactor` in [0, 1].
+    pub roughness: f32,
+    /// `sheenRoughnessTexture` (linear; A multiplies `roughness`).
+    pub roughness_texture: Option<TextureBinding>,
+}
+
 /// A glTF metallic-roughness material, with glTF's defaults where a file says nothing.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct PbrMaterial {
@@ -126,6 +139,8 @@ pub struct PbrMaterial {
     pub transmission: Transmission,
     /// KHR_materials_clearcoat.
     pub clearcoat: Clearcoat,
+    /// KHR_materials_sheen.
+    pub sheen: Sheen,
     /// KHR_materials_unlit: camera rays see the base colour; the surface neither reflects
     /// nor emits light.
     pub unlit: bool,
@@ -156,14 +171,17 @@ impl PbrMaterial {
                 normal_scale: 1.0,
                 ..Clearcoat::default()
             },
+            sheen: Sheen::default(),
             unlit: false,
         }
     }
 
-    /// Whether the material has layers beyond metallic-roughness (transmission or a clear
-    /// coat), which the kernels compile in only for scenes that have them.
+    /// Whether the material has layers beyond metallic-roughness (transmission, a clear
+    /// coat, sheen), which the kernels compile in only for scenes that have them.
     pub fn is_layered(&self) -> bool {
-        self.transmission.factor > 0.0 || self.clearcoat.factor > 0.0
+        self.transmission.factor > 0.0
+            || self.clearcoat.factor > 0.0
+            || self.sheen.color.max_element() > 0.0
     }
 
     /// Whether the workshop's diffuse material describes this one exactly: metallic 0,
@@ -210,6 +228,8 @@ impl PbrMaterial {
         self.clearcoat.factor = unit(self.clearcoat.factor);
         self.clearcoat.roughness = unit(self.clearcoat.roughness);
         self.clearcoat.normal_scale = self.clearcoat.normal_scale.max(-1e4).min(1e4);
+        self.sheen.color = Vec3::from(self.sheen.color.to_array().map(unit));
+        self.sheen.roughness = unit(self.sheen.roughness);
         if let AlphaMode::Mask { cutoff } = self.alpha_mode {
             self.alpha_mode = AlphaMode::Mask {
                 cutoff: cutoff.max(0.0).min(1.0),
