@@ -11,7 +11,11 @@ A closed 4 m room (y up, x and z in [-2, 2], y in [0, 4]) with Lambertian walls
   * a brick panel with a tangent-space normalTexture and no TANGENT attribute (the
     renderer generates MikkTSpace tangents);
   * an alpha-MASK leaf (alphaCutoff 0.5) and an alpha-BLEND gradient pane;
-  * a small panel with an emissiveTexture.
+  * a small panel with an emissiveTexture;
+  * in front, the second round's layers: a smooth glass sphere (KHR_materials_transmission,
+    KHR_materials_volume with a faint blue attenuation, KHR_materials_ior 1.5), a clear-coated
+    red car-paint panel (KHR_materials_clearcoat over a rough metallic base) and a velvet
+    cushion (KHR_materials_sheen over a dark blue base).
 
 Standard library only. The buffer and the PNG textures are embedded as base64 data URIs.
 
@@ -511,12 +515,49 @@ def build():
         "alphaMode": "BLEND", "doubleSided": True})
     add_quad("alpha-blend pane", pane_material, [-1.0, 0.5, -1.6], X, Y, 0.7, 0.45)
 
+    # --- the layered materials, in front of the spheres
+    for name in ("KHR_materials_transmission", "KHR_materials_volume", "KHR_materials_ior",
+                 "KHR_materials_clearcoat", "KHR_materials_sheen"):
+        b.use_extension(name)
+    glass = b.material({
+        "name": "glass",
+        "pbrMetallicRoughness": {"baseColorFactor": [1.0, 1.0, 1.0, 1.0], "metallicFactor": 0.0,
+                                 "roughnessFactor": 0.0},
+        "extensions": {"KHR_materials_transmission": {"transmissionFactor": 1.0},
+                       "KHR_materials_volume": {"thicknessFactor": 0.5,
+                                                "attenuationColor": [0.8, 0.9, 1.0],
+                                                "attenuationDistance": 0.5},
+                       "KHR_materials_ior": {"ior": 1.5}}})
+    glass_radius = 0.22
+    b.node({"name": "glass sphere", "mesh": b.mesh("glass sphere", sphere_attributes,
+                                                   sphere_indices, glass),
+            "translation": [-0.7, glass_radius, 0.3], "scale": [glass_radius] * 3})
+    velvet = b.material({
+        "name": "velvet",
+        "pbrMetallicRoughness": {"baseColorFactor": [0.05, 0.06, 0.25, 1.0], "metallicFactor": 0.0,
+                                 "roughnessFactor": 0.9},
+        "extensions": {"KHR_materials_sheen": {"sheenColorFactor": [0.9, 0.85, 1.0],
+                                               "sheenRoughnessFactor": 0.4}}})
+    b.node({"name": "velvet cushion", "mesh": b.mesh("velvet cushion", sphere_attributes,
+                                                     sphere_indices, velvet),
+            "translation": [0.0, 0.09, 0.3], "scale": [0.28, 0.09, 0.2]})
+    paint = b.material({
+        "name": "clear-coated car paint",
+        "pbrMetallicRoughness": {"baseColorFactor": [0.7, 0.04, 0.03, 1.0], "metallicFactor": 0.6,
+                                 "roughnessFactor": 0.5},
+        "extensions": {"KHR_materials_clearcoat": {"clearcoatFactor": 1.0,
+                                                   "clearcoatRoughnessFactor": 0.05}}})
+    tilt = math.radians(-25.0)
+    panel_normal = [math.sin(tilt), 0.0, math.cos(tilt)]
+    add_quad("clear-coated panel", paint, [0.7, 0.25, 0.3], normalize(cross(Y, panel_normal)), Y,
+             0.22, 0.25)
+
     # --- camera
     eye = [0.0, 1.5, 1.95]
-    pitch = math.radians(-8.0)
+    pitch = math.radians(-12.0)
     target = add(eye, [0.0, math.sin(pitch), -math.cos(pitch)])
     b.gltf["cameras"].append({"name": "camera", "type": "perspective", "perspective": {
-        "yfov": math.radians(60.0), "aspectRatio": 4.0 / 3.0, "znear": 0.05, "zfar": 20.0}})
+        "yfov": math.radians(70.0), "aspectRatio": 4.0 / 3.0, "znear": 0.05, "zfar": 20.0}})
     b.node({"name": "camera", "camera": 0, "translation": eye,
             "rotation": look_at_rotation(eye, target)})
     return b.finish()

@@ -5,6 +5,8 @@
 # `vkpath compare --exact` (headers carry each render's metadata, which may change), PNG
 # files byte for byte.
 # Usage: scripts/same-images.sh OLD_VKPATH NEW_VKPATH [WORK_DIR]
+# SAME_IMAGES_SHOWCASE=FILE renders FILE in place of scenes/materials.gltf (e.g. the showcase
+# as it was before a change that adds objects to it, to prove the rest unchanged).
 # Matrix: the built-in Cornell box and tests/data/emissive_quad.gltf; every integrator; both
 # samplers (for the importance-sampled integrators); both traversals (bvh and none); both
 # pixel filters; and the workshop's exercise pictures. Then the material kernels (built
@@ -95,7 +97,7 @@ for case in "${material_cases[@]}"; do
   args=(render "${size[@]}" --spp 4 --moments --integrator "$integrator" --seed 7)
   [ "$integrator" = workshop ] || args+=(--sampler "$sampler")
   case $scene in
-    showcase) args+=("$top/scenes/materials.gltf") ;;
+    showcase) args+=("${SAME_IMAGES_SHOWCASE:-$top/scenes/materials.gltf}") ;;
     environment) args+=("$work/scenes/open.gltf" "${environment[@]}") ;;
     background) args+=("$work/scenes/open.gltf" --background 0.4,0.5,0.7) ;;
     *) args+=("$work/scenes/$scene.gltf") ;;
