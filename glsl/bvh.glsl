@@ -61,11 +61,6 @@ bvh_node_t get_bvh_node(uint index) {
     return node;
 }
 
-// A node's range: (first_index, triangle_count), from the w components' bits.
-uvec2 bvh_node_range(bvh_node_t node) {
-    return uvec2(floatBitsToUint(node.lower.w), floatBitsToUint(node.upper.w));
-}
-
 // Number of nodes in the BVH.
 uint get_bvh_node_count() {
     return uint(textureSize(g_bvh_node_texels)) / 2u;
@@ -102,40 +97,34 @@ bool bvh_ray_box_intersection(out float out_t_entry, vec3 ray_origin, vec3 inver
 }
 
 // Whether the ray enters the root's box before t_max; out_node_count: the tree's nodes (0 for
-// an empty tree, which nothing enters); out_root_range: the root's bvh_node_range().
-bool bvh_enters_root(out uint out_node_count, out uvec2 out_root_range, vec3 ray_origin, vec3 inverse_direction, float t_max) {
+// an empty tree, which nothing enters).
+bool bvh_enters_root(out uint out_node_count, vec3 ray_origin, vec3 inverse_direction, float t_max) {
     out_node_count = get_bvh_node_count();
-    out_root_range = uvec2(0u);
-    if (out_node_count == 0u)
-        return false;
-    bvh_node_t root = get_bvh_node(0u);
-    out_root_range = bvh_node_range(root);
     float t_entry;
-    return bvh_ray_box_intersection(t_entry, ray_origin, inverse_direction, root.lower.xyz, root.upper.xyz, t_max);
+    return out_node_count != 0u && bvh_ray_box_intersection(t_entry, ray_origin, inverse_direction, get_bvh_node(0).lower.xyz, get_bvh_node(0).upper.xyz, t_max);
 }
 
-// Counts a node's visit and its leaf loop's iterations (triangle_count, 0 for interior nodes;
-// an upper bound when that loop stops early) in g_path.traversal_iterations.
-void count_bvh_visit(uint triangle_count) {
-    g_path.traversal_iterations += 1u + triangle_count;
+// Visits a node: its range, its first triangle (a leaf) or its first child (an interior
+// node, the second child follows it), and its triangle count (0 for interior nodes); counts
+// the visit and the leaf loop's iterations (an upper bound when that loop stops early) in
+// g_path.traversal_iterations.
+void visit_bvh_node(uint node_index, out uint out_first_index, out uint out_triangle_count) {
+    bvh_node_t node = get_bvh_node(node_index);
+    out_first_index = floatBitsToUint(node.lower.w);
+    out_triangle_count = floatBitsToUint(node.upper.w);
+    g_path.traversal_iterations += 1u + out_triangle_count;
 }
 
 // The children of an interior node (first_index and first_index + 1) whose boxes the ray
-// enters before t_max, nearer first: how many (0, 1 or 2); out_near is the range
-// (bvh_node_range()) of the one to visit next, out_far (entered at out_far_entry) that of the
-// one to push when both are entered. The traversal visits a node through the range that its
-// parent read here, so no node is read twice.
-uint bvh_enter_children(uint first_index, vec3 ray_origin, vec3 inverse_direction, float t_max, out uvec2 out_near, out uvec2 out_far, out float out_far_entry) {
-    bvh_node_t left = get_bvh_node(first_index);
-    bvh_node_t right = get_bvh_node(first_index + 1u);
+// enters before t_max, nearer first: how many (0, 1 or 2); out_near is the one to visit
+// next, out_far (entered at out_far_entry) the one to push when both are entered.
+uint bvh_enter_children(uint first_index, vec3 ray_origin, vec3 inverse_direction, float t_max, out uint out_near, out uint out_far, out float out_far_entry) {
     float t_left, t_right;
-    bool hit_left = bvh_ray_box_intersection(t_left, ray_origin, inverse_direction, left.lower.xyz, left.upper.xyz, t_max);
-    bool hit_right = bvh_ray_box_intersection(t_right, ray_origin, inverse_direction, right.lower.xyz, right.upper.xyz, t_max);
+    bool hit_left = bvh_ray_box_intersection(t_left, ray_origin, inverse_direction, get_bvh_node(first_index).lower.xyz, get_bvh_node(first_index).upper.xyz, t_max);
+    bool hit_right = bvh_ray_box_intersection(t_right, ray_origin, inverse_direction, get_bvh_node(first_index + 1u).lower.xyz, get_bvh_node(first_index + 1u).upper.xyz, t_max);
     bool left_first = !hit_right || (hit_left && t_left <= t_right);
-    uvec2 left_range = bvh_node_range(left);
-    uvec2 right_range = bvh_node_range(right);
-    out_near = left_first ? left_range : right_range;
-    out_far = left_first ? right_range : left_range;
+    out_near = left_first ? first_index : first_index + 1u;
+    out_far = left_first ? first_index + 1u : first_index;
     out_far_entry = left_first ? t_right : t_left;
     return (hit_left ? 1u : 0u) + (hit_right ? 1u : 0u);
 }
@@ -153,19 +142,17 @@ bool bvh_closest_hit(out float out_t, out uint out_triangle_index, vec3 ray_orig
     bool hit = false;
     vec3 inverse_direction = bvh_inverse_direction(ray_direction);
     uint node_count;
-    // The range (bvh_node_range()) of the node to visit
-    uvec2 node_range;
-    if (!bvh_enters_root(node_count, node_range, ray_origin, inverse_direction, out_t))
+    if (!bvh_enters_root(node_count, ray_origin, inverse_direction, out_t))
         return false;
-    // The ranges of nodes still to visit, with the parameter where the ray enters them
-    uvec2 stack_ranges[BVH_STACK_SIZE];
+    // Nodes still to visit, with the parameter where the ray enters them
+    uint stack_nodes[BVH_STACK_SIZE];
     float stack_entries[BVH_STACK_SIZE];
     uint stack_size = 0u;
+    uint node_index = 0u;
     // Each iteration visits one node and no node is visited twice, so node_count bounds it.
     for (uint iteration = 0u; iteration != node_count; ++iteration) {
-        uint first_index = node_range.x;
-        uint triangle_count = node_range.y;
-        count_bvh_visit(triangle_count);
+        uint first_index, triangle_count;
+        visit_bvh_node(node_index, first_index, triangle_count);
         bool descend = false;
         if (triangle_count != 0u) {
             // A leaf: the brute-force loop over its triangles
@@ -180,13 +167,13 @@ bool bvh_closest_hit(out float out_t, out uint out_triangle_index, vec3 ray_orig
             }
         } else {
             // An interior node: test both children, go to the nearer, push the farther
-            uvec2 far_range;
+            uint far_child;
             float far_entry;
-            uint entered = bvh_enter_children(first_index, ray_origin, inverse_direction, out_t, node_range, far_range, far_entry);
+            uint entered = bvh_enter_children(first_index, ray_origin, inverse_direction, out_t, node_index, far_child, far_entry);
             // The builder keeps leaves at depth <= BVH_STACK_SIZE, so the stack never
             // overflows; the test only keeps a malformed tree from writing out of bounds.
             if (entered == 2u && stack_size < BVH_STACK_SIZE) {
-                stack_ranges[stack_size] = far_range;
+                stack_nodes[stack_size] = far_child;
                 stack_entries[stack_size] = far_entry;
                 ++stack_size;
             }
@@ -198,7 +185,7 @@ bool bvh_closest_hit(out float out_t, out uint out_triangle_index, vec3 ray_orig
             ++g_path.traversal_iterations;
             --stack_size;
             if (stack_entries[stack_size] <= out_t) {
-                node_range = stack_ranges[stack_size];
+                node_index = stack_nodes[stack_size];
                 descend = true;
             }
         }
@@ -216,17 +203,16 @@ bool bvh_closest_hit(out float out_t, out uint out_triangle_index, vec3 ray_orig
 bool bvh_any_hit(vec3 ray_origin, vec3 ray_direction, float t_max) {
     vec3 inverse_direction = bvh_inverse_direction(ray_direction);
     uint node_count;
-    uvec2 node_range;
-    if (!bvh_enters_root(node_count, node_range, ray_origin, inverse_direction, t_max))
+    if (!bvh_enters_root(node_count, ray_origin, inverse_direction, t_max))
         return false;
     // Entry parameters need no stack here: t_max never shrinks, so popped nodes need no test.
-    uvec2 stack_ranges[BVH_STACK_SIZE];
+    uint stack_nodes[BVH_STACK_SIZE];
     uint stack_size = 0u;
+    uint node_index = 0u;
     // Each iteration visits one node and no node is visited twice, so node_count bounds it.
     for (uint iteration = 0u; iteration != node_count; ++iteration) {
-        uint first_index = node_range.x;
-        uint triangle_count = node_range.y;
-        count_bvh_visit(triangle_count);
+        uint first_index, triangle_count;
+        visit_bvh_node(node_index, first_index, triangle_count);
         if (triangle_count != 0u) {
             uint end = first_index + triangle_count;
             for (uint i = first_index; i < end; ++i) {
@@ -236,23 +222,23 @@ bool bvh_any_hit(vec3 ray_origin, vec3 ray_direction, float t_max) {
             }
         } else {
             // Nearer first: an occluder near the origin ends the search sooner
-            uvec2 far_range;
+            uint far_child;
             float far_entry;
-            uvec2 next_range;
-            uint entered = bvh_enter_children(first_index, ray_origin, inverse_direction, t_max, next_range, far_range, far_entry);
+            uint next_node;
+            uint entered = bvh_enter_children(first_index, ray_origin, inverse_direction, t_max, next_node, far_child, far_entry);
             if (entered == 2u && stack_size < BVH_STACK_SIZE) {
-                stack_ranges[stack_size] = far_range;
+                stack_nodes[stack_size] = far_child;
                 ++stack_size;
             }
             if (entered != 0u) {
-                node_range = next_range;
+                node_index = next_node;
                 continue;
             }
         }
         if (stack_size == 0u)
             break;
         --stack_size;
-        node_range = stack_ranges[stack_size];
+        node_index = stack_nodes[stack_size];
     }
     return false;
 }

@@ -89,35 +89,26 @@ fn node_box_test(
     )
 }
 
-/// A node's range, twin of GLSL `bvh_node_range`: (first index, triangle count), what the
-/// traversal needs to visit it.
-pub fn bvh_node_range(node: &GpuBvhNode) -> [u32; 2] {
-    [node.first_index(), node.triangle_count()]
-}
-
-/// Twin of GLSL `bvh_enters_root`: the root's range (`bvh_node_range`) iff the ray enters the
-/// root's box before `t_max` (an empty tree is entered by nothing).
+/// Twin of GLSL `bvh_enters_root`: whether the ray enters the root's box before `t_max` (an
+/// empty tree is entered by nothing).
 pub fn bvh_enters_root(
     nodes: &[GpuBvhNode],
     ray_origin: Vec3,
     inverse_direction: Vec3,
     t_max: f32,
-) -> Option<[u32; 2]> {
-    let root = nodes.first()?;
-    node_box_test(nodes, 0, ray_origin, inverse_direction, t_max).map(|_| bvh_node_range(root))
+) -> bool {
+    !nodes.is_empty() && node_box_test(nodes, 0, ray_origin, inverse_direction, t_max).is_some()
 }
 
-/// The children of an interior node that a ray enters, nearer first (`bvh_enter_children`),
-/// by their ranges (`bvh_node_range`): the traversal visits a node through the range its
-/// parent read, so no node is read twice.
+/// The children of an interior node that a ray enters, nearer first (`bvh_enter_children`).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct EnteredChildren {
     /// How many of the two boxes the ray enters before `t_max`: 0, 1 or 2.
     pub count: u32,
-    /// The range of the child to visit next (the nearer one when both are entered).
-    pub near: [u32; 2],
-    /// The range of the child to push when both are entered.
-    pub far: [u32; 2],
+    /// The child to visit next (the nearer one when both are entered).
+    pub near: u32,
+    /// The child to push when both are entered.
+    pub far: u32,
     /// Where the ray enters `far` (meaningful when both are entered).
     pub far_entry: f32,
 }
@@ -138,12 +129,10 @@ pub fn bvh_enter_children(
         (Some(left), Some(right)) => left <= right,
         (None, Some(_)) => false,
     };
-    let left_range = bvh_node_range(&nodes[first_index as usize]);
-    let right_range = bvh_node_range(&nodes[first_index as usize + 1]);
     let (near, far, far_entry) = if left_first {
-        (left_range, right_range, t_right)
+        (first_index, first_index + 1, t_right)
     } else {
-        (right_range, left_range, t_left)
+        (first_index + 1, first_index, t_left)
     };
     EnteredChildren {
         count: u32::from(t_left.is_some()) + u32::from(t_right.is_some()),
@@ -176,13 +165,18 @@ pub fn bvh_closest_hit(
     let mut hit = false;
     let node_count = nodes.len();
     let inverse_direction = bvh_inverse_direction(ray_direction);
-    let mut node_range = bvh_enters_root(nodes, ray_origin, inverse_direction, out_t)?;
-    let mut stack_ranges = [[0u32; 2]; STACK_SIZE];
+    if !bvh_enters_root(nodes, ray_origin, inverse_direction, out_t) {
+        return None;
+    }
+    let mut stack_nodes = [0u32; STACK_SIZE];
     let mut stack_entries = [0f32; STACK_SIZE];
     let mut stack_size = 0usize;
+    let mut node_index = 0u32;
     // Each iteration visits one node and no node is visited twice.
     for _ in 0..node_count {
-        let [first_index, triangle_count] = node_range;
+        let node = nodes[node_index as usize];
+        let first_index = node.first_index();
+        let triangle_count = node.triangle_count();
         let mut descend = false;
         if triangle_count != 0 {
             for i in first_index..first_index + triangle_count {
@@ -199,19 +193,19 @@ pub fn bvh_closest_hit(
             let children =
                 bvh_enter_children(nodes, first_index, ray_origin, inverse_direction, out_t);
             if children.count == 2 && stack_size < STACK_SIZE {
-                stack_ranges[stack_size] = children.far;
+                stack_nodes[stack_size] = children.far;
                 stack_entries[stack_size] = children.far_entry;
                 stack_size += 1;
             }
             if children.count != 0 {
-                node_range = children.near;
+                node_index = children.near;
                 descend = true;
             }
         }
         while !descend && stack_size != 0 {
             stack_size -= 1;
             if stack_entries[stack_size] <= out_t {
-                node_range = stack_ranges[stack_size];
+                node_index = stack_nodes[stack_size];
                 descend = true;
             }
         }
@@ -244,13 +238,16 @@ pub fn bvh_any_hit(
 ) -> bool {
     let node_count = nodes.len();
     let inverse_direction = bvh_inverse_direction(ray_direction);
-    let Some(mut node_range) = bvh_enters_root(nodes, ray_origin, inverse_direction, t_max) else {
+    if !bvh_enters_root(nodes, ray_origin, inverse_direction, t_max) {
         return false;
-    };
-    let mut stack_ranges = [[0u32; 2]; STACK_SIZE];
+    }
+    let mut stack_nodes = [0u32; STACK_SIZE];
     let mut stack_size = 0usize;
+    let mut node_index = 0u32;
     for _ in 0..node_count {
-        let [first_index, triangle_count] = node_range;
+        let node = nodes[node_index as usize];
+        let first_index = node.first_index();
+        let triangle_count = node.triangle_count();
         if triangle_count != 0 {
             for i in first_index..first_index + triangle_count {
                 let triangle = get_traversal_triangle(scene_triangles, i);
@@ -265,11 +262,11 @@ pub fn bvh_any_hit(
             let children =
                 bvh_enter_children(nodes, first_index, ray_origin, inverse_direction, t_max);
             if children.count == 2 && stack_size < STACK_SIZE {
-                stack_ranges[stack_size] = children.far;
+                stack_nodes[stack_size] = children.far;
                 stack_size += 1;
             }
             if children.count != 0 {
-                node_range = children.near;
+                node_index = children.near;
                 continue;
             }
         }
@@ -277,7 +274,7 @@ pub fn bvh_any_hit(
             break;
         }
         stack_size -= 1;
-        node_range = stack_ranges[stack_size];
+        node_index = stack_nodes[stack_size];
     }
     false
 }
