@@ -1,5 +1,7 @@
 // Ray traversal of a bounding volume hierarchy over g_triangles (scene.glsl): the closest hit
 // and the any-hit query of shadow rays, testing O(log n) triangles instead of all of them.
+// The triangle tests read the positions from their own compact buffer
+// (g_traversal_triangle_texels); the rest of a triangle is read for the closest hit only.
 // The triangle tests are the workshop's ray_triangle_intersection(), so the hits are those of
 // the brute-force ray_mesh_intersection() (up to ties at equal t). The nodes are built on the
 // CPU (src/bvh/), which also reorders g_triangles so that each leaf holds a contiguous range.
@@ -22,6 +24,34 @@ struct bvh_node_t {
 // The nodes as a texel buffer of RGBA32_UINT, two texels per node: on lavapipe a texel fetch
 // is a vector gather, where a storage-buffer load is a per-lane loop.
 layout(set = 0, binding = BINDING_BVH_NODES) uniform usamplerBuffer g_bvh_node_texels;
+
+// The triangles' vertex positions alone, in the leaf order of g_triangle_texels: a texel
+// buffer of RGBA32_UINT, TRAVERSAL_TRIANGLE_TEXEL_COUNT texels per triangle (v_0, v_1, v_2 in
+// xyz, w unused). Mirrors `vkpath::bvh::GpuTraversalTriangle`. The traversal's triangle
+// tests read only these 48 bytes per triangle, so a leaf's triangles lie in contiguous
+// 48-byte records instead of 96-byte ones whose second half (normal, albedo, emission) only
+// the closest hit needs.
+layout(set = 0, binding = BINDING_TRAVERSAL_TRIANGLES) uniform usamplerBuffer g_traversal_triangle_texels;
+
+// Triangle i as the traversal's triangle test sees it: its vertex positions, and zeros for
+// the members that ray_triangle_intersection() does not read (get_triangle(i) reads all of
+// them). A user's own ray_triangle_intersection() may read any member, so kernels built with
+// one get get_triangle(i) instead.
+triangle_t get_traversal_triangle(uint index) {
+#ifdef USER_DEFINES_RAY_TRIANGLE_INTERSECTION
+    return get_triangle(index);
+#else
+    int first = int(uint(TRAVERSAL_TRIANGLE_TEXEL_COUNT) * index);
+    triangle_t triangle;
+    triangle.positions[0] = uintBitsToFloat(texelFetch(g_traversal_triangle_texels, first).xyz);
+    triangle.positions[1] = uintBitsToFloat(texelFetch(g_traversal_triangle_texels, first + 1).xyz);
+    triangle.positions[2] = uintBitsToFloat(texelFetch(g_traversal_triangle_texels, first + 2).xyz);
+    triangle.normal = vec3(0.0);
+    triangle.color = vec3(0.0);
+    triangle.emission = vec3(0.0);
+    return triangle;
+#endif
+}
 
 // Node i of the BVH.
 bvh_node_t get_bvh_node(uint index) {
@@ -129,7 +159,7 @@ bool bvh_closest_hit(out float out_t, out uint out_triangle_index, vec3 ray_orig
             uint end = first_index + triangle_count;
             for (uint i = first_index; i < end; ++i) {
                 float t;
-                if (ray_triangle_intersection(t, ray_origin, ray_direction, get_triangle(i)) && t < out_t AND_HIT_IS_OPAQUE(i, ray_origin, ray_direction, t)) {
+                if (ray_triangle_intersection(t, ray_origin, ray_direction, get_traversal_triangle(i)) && t < out_t AND_HIT_IS_OPAQUE(i, ray_origin, ray_direction, t)) {
                     out_t = t;
                     out_triangle_index = i;
                     hit = true;
@@ -187,7 +217,7 @@ bool bvh_any_hit(vec3 ray_origin, vec3 ray_direction, float t_max) {
             uint end = first_index + triangle_count;
             for (uint i = first_index; i < end; ++i) {
                 float t;
-                if (ray_triangle_intersection(t, ray_origin, ray_direction, get_triangle(i)) && t < t_max AND_HIT_IS_OPAQUE(i, ray_origin, ray_direction, t))
+                if (ray_triangle_intersection(t, ray_origin, ray_direction, get_traversal_triangle(i)) && t < t_max AND_HIT_IS_OPAQUE(i, ray_origin, ray_direction, t))
                     return true;
             }
         } else {

@@ -6,7 +6,8 @@
 //
 // Descriptor set 0, as the BVH path tracer binds it: BINDING_TRIANGLES (texel buffer,
 // reordered by the BVH builder), BINDING_RENDER_UNIFORMS (.z: triangle count, for the brute
-// force), BINDING_BVH_NODES (texel buffer), then BVH_PROBE_BINDING_RAYS and
+// force), BINDING_BVH_NODES and BINDING_TRAVERSAL_TRIANGLES (texel buffers, the latter in the
+// same order as the triangles), then BVH_PROBE_BINDING_RAYS and
 // BVH_PROBE_BINDING_RESULTS (storage buffers).
 
 #include "shared.h"

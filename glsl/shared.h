@@ -38,6 +38,11 @@
 // Builds with USE_BVH: the BVH's nodes, a texel buffer of bvh_node_t (32 bytes each,
 // glsl/bvh.glsl).
 #define BINDING_BVH_NODES 3
+// Builds with USE_BVH: the triangles' vertex positions alone, for the traversal's triangle
+// tests, a texel buffer of TRAVERSAL_TRIANGLE_TEXEL_COUNT RGBA32_UINT texels per triangle in
+// the same (leaf) order as BINDING_TRIANGLES (get_traversal_triangle() of glsl/bvh.glsl,
+// GpuTraversalTriangle on the host).
+#define BINDING_TRAVERSAL_TRIANGLES 15
 // The texels of every texture, concatenated (TextureAtlas on the host): a uniform texel
 // buffer of R8G8B8A8_UINT texels (usamplerBuffer), rows top-down as in the image files.
 #define BINDING_TEXTURE_TEXELS 5
@@ -185,6 +190,9 @@
 #define TRIANGLE_FLAG_DOUBLE_SIDED 1
 // Texels (RGBA32_UINT) per triangle in the texel-buffer layout: the vec4s of packed_triangle_t.
 #define TRIANGLE_TEXEL_COUNT 6
+// Texels (RGBA32_UINT) per triangle in the traversal-only layout (BINDING_TRAVERSAL_TRIANGLES):
+// v_0, v_1, v_2, xyz each.
+#define TRAVERSAL_TRIANGLE_TEXEL_COUNT 3
 
 // ---- Numbers of the GLSL functions and their Rust twins (src/cpu/, src/bvh/) ----
 

@@ -10,7 +10,8 @@ use std::time::Instant;
 use ash::vk;
 use glam::{UVec2, Vec3};
 use vkpath::bvh::{
-    bvh_any_hit, bvh_closest_hit, bvh_inverse_direction, bvh_ray_box_intersection, Bvh,
+    bvh_any_hit, bvh_closest_hit, bvh_inverse_direction, bvh_ray_box_intersection,
+    traversal_triangles, Bvh,
 };
 use vkpath::contract;
 use vkpath::cpu::workshop::{get_random_numbers, sample_sphere};
@@ -26,7 +27,8 @@ type ProbeRay = [[f32; 4]; 2];
 /// index, hit, 0), the inverse direction and root entry t (float bits), the root box hit.
 type ProbeResult = [[u32; 4]; 4];
 
-/// Runs the probe kernel over `rays` with the reordered triangles and the BVH's nodes.
+/// Runs the probe kernel over `rays` with the reordered triangles (in full, and their
+/// traversal-only positions) and the BVH's nodes.
 /// Returns the results and the seconds the run took.
 fn run_probe(
     context: &Arc<Context>,
@@ -44,6 +46,15 @@ fn run_probe(
     )
     .unwrap();
     let node_texels = TexelBufferView::new(context, nodes, vk::Format::R32G32B32A32_UINT).unwrap();
+    let positions = Buffer::with_data(
+        context,
+        "traversal triangles",
+        bytemuck::cast_slice::<_, u8>(&traversal_triangles(triangles)),
+        vk::BufferUsageFlags::UNIFORM_TEXEL_BUFFER,
+    )
+    .unwrap();
+    let position_texels =
+        TexelBufferView::new(context, positions, vk::Format::R32G32B32A32_UINT).unwrap();
     let specialization = [(contract::BVH_PROBE_SPEC_BRUTE_FORCE, u32::from(brute_force))];
     let probe = Probe::embedded(
         context,
@@ -57,6 +68,7 @@ fn run_probe(
         .run(
             |resource| match resource {
                 Resource::BvhNodes => Some(Bound::TexelBuffer(&node_texels)),
+                Resource::TraversalTriangles => Some(Bound::TexelBuffer(&position_texels)),
                 other => scene.resource(other),
             },
             rays,
@@ -71,6 +83,7 @@ fn run_probe(
 /// `BVH_MIN_DIRECTION` path). `t_max` of the any-hit query is the closest hit's t (Rust twin)
 /// times a factor in [0.5, 1.5), or 1e30.
 fn test_rays(count: usize, triangles: &[Triangle], bvh: &Bvh) -> Vec<ProbeRay> {
+    let traversal = traversal_triangles(triangles);
     let mut seed = UVec2::new(2024, 7);
     let camera = Vec3::new(0.278, 0.8, 0.2744);
     (0..count)
@@ -90,7 +103,7 @@ fn test_rays(count: usize, triangles: &[Triangle], bvh: &Bvh) -> Vec<ProbeRay> {
                     (origin, sample_sphere(random))
                 }
             };
-            let hit = bvh_closest_hit(&bvh.nodes, triangles, origin, direction);
+            let hit = bvh_closest_hit(&bvh.nodes, &traversal, origin, direction);
             let t_max = hit.map_or(1e30, |h| h.t * (0.5 + b.y));
             [
                 origin.extend(t_max).to_array(),
@@ -154,6 +167,7 @@ fn check(
     results: &[ProbeResult],
     brute_force: bool,
 ) {
+    let traversal = traversal_triangles(triangles);
     let mut twin = Tally::default();
     let mut gpu_brute_force = Tally::default();
     let mut any_hit_disagreements = 0;
@@ -178,13 +192,13 @@ fn check(
             (e, g) => e == g,
         };
         box_test_disagreements += usize::from(!agrees);
-        let expected = bvh_closest_hit(&bvh.nodes, triangles, origin, direction)
+        let expected = bvh_closest_hit(&bvh.nodes, &traversal, origin, direction)
             .map(|h| (h.triangle_index as u32, h.t));
         twin.add(expected, hit(result[0]));
         if brute_force {
             gpu_brute_force.add(hit(result[1]), hit(result[0]));
         }
-        let expected_any = bvh_any_hit(&bvh.nodes, triangles, origin, direction, ray[0][3]);
+        let expected_any = bvh_any_hit(&bvh.nodes, &traversal, origin, direction, ray[0][3]);
         any_hit_disagreements += usize::from(expected_any != (result[0][3] != 0));
     }
     twin.assert_agrees(

@@ -5,7 +5,8 @@
 //!
 //! Usage: `let bvh = Bvh::build(&scene.triangles);` then upload
 //! `bvh.reorder(&scene.triangles)` as the triangle buffer (leaves reference contiguous
-//! ranges of the reordered triangles) and `bvh.nodes` at `BINDING_BVH_NODES`. Triangle
+//! ranges of the reordered triangles), `traversal_triangles` of the reordered triangles at
+//! `BINDING_TRAVERSAL_TRIANGLES` and `bvh.nodes` at `BINDING_BVH_NODES`. Triangle
 //! indices that the traversal reports refer to the reordered triangles;
 //! `bvh.triangle_order[i]` is the original index of triangle i.
 
@@ -27,6 +28,7 @@ pub use build::{
 pub use stats::BvhStats;
 pub use traversal::{
     bvh_any_hit, bvh_closest_hit, bvh_inverse_direction, bvh_ray_box_intersection,
+    get_traversal_triangle,
 };
 
 use crate::scene::Triangle;
@@ -92,6 +94,33 @@ impl GpuBvhNode {
             upper: Vec3::new(self.upper[0], self.upper[1], self.upper[2]),
         }
     }
+}
+
+/// One texel-buffer record of `g_traversal_triangle_texels` (`glsl/bvh.glsl`, read by
+/// `get_traversal_triangle`; 48 bytes, `TRAVERSAL_TRIANGLE_TEXEL_COUNT` RGBA32 texels): one
+/// triangle's vertex positions alone, all that the traversal's triangle tests read. Uploaded at `BINDING_TRAVERSAL_TRIANGLES` in the same leaf order as the full
+/// triangles (`traversal_triangles(&bvh.reorder(&triangles))`), so a leaf's triangles are
+/// contiguous 48-byte records.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
+pub struct GpuTraversalTriangle {
+    /// xyz: v_0, v_1, v_2 (world space), bit for bit; w: unused (0).
+    pub positions: [[f32; 4]; 3],
+}
+
+impl GpuTraversalTriangle {
+    /// The positions of `triangle`, exactly.
+    pub fn new(triangle: &Triangle) -> GpuTraversalTriangle {
+        GpuTraversalTriangle {
+            positions: triangle.positions.map(|p| p.extend(0.0).to_array()),
+        }
+    }
+}
+
+/// The traversal-only triangles (`GpuTraversalTriangle`) of `triangles`, in their order (pass
+/// the triangles reordered by `Bvh::reorder`).
+pub fn traversal_triangles(triangles: &[Triangle]) -> Vec<GpuTraversalTriangle> {
+    triangles.iter().map(GpuTraversalTriangle::new).collect()
 }
 
 /// A BVH over a list of triangles, ready for the GPU.

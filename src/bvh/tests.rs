@@ -35,6 +35,47 @@ fn node_matches_std430_bvh_node_t() {
 }
 
 #[test]
+fn traversal_triangle_matches_traversal_triangle_texels() {
+    // TRAVERSAL_TRIANGLE_TEXEL_COUNT texels: v_0, v_1, v_2 in xyz, w unused
+    assert_eq!(
+        size_of::<GpuTraversalTriangle>(),
+        16 * crate::contract::TRAVERSAL_TRIANGLE_TEXEL_COUNT as usize
+    );
+    assert_eq!(offset_of!(GpuTraversalTriangle, positions), 0);
+    let triangle = Triangle {
+        positions: [
+            Vec3::new(1.0, -2.5, 3.0e-38),
+            Vec3::new(f32::MIN_POSITIVE / 4.0, 5.0, -0.0),
+            Vec3::new(0.1, 0.2, 0.3),
+        ],
+        normal: Vec3::Z,
+        color: Vec3::ONE,
+        emission: Vec3::splat(2.0),
+        double_sided: true,
+    };
+    let packed = GpuTraversalTriangle::new(&triangle);
+    let words: &[u32] = bytemuck::cast_slice(std::slice::from_ref(&packed));
+    for (vertex, position) in triangle.positions.iter().enumerate() {
+        for (axis, value) in position.to_array().iter().enumerate() {
+            assert_eq!(words[4 * vertex + axis], value.to_bits());
+        }
+        assert_eq!(words[4 * vertex + 3], 0);
+    }
+    // The twin of get_traversal_triangle() gives the positions bit for bit, zeros elsewhere.
+    let unpacked = get_traversal_triangle(&[packed], 0);
+    for (a, b) in unpacked.positions.iter().zip(&triangle.positions) {
+        assert_eq!(
+            a.to_array().map(f32::to_bits),
+            b.to_array().map(f32::to_bits)
+        );
+    }
+    assert_eq!(
+        (unpacked.normal, unpacked.color, unpacked.emission),
+        (Vec3::ZERO, Vec3::ZERO, Vec3::ZERO)
+    );
+}
+
+#[test]
 fn slab_test_handles_axis_parallel_rays_and_flat_boxes() {
     let lower = Vec3::new(0.0, 0.0, 0.0);
     let upper = Vec3::new(1.0, 1.0, 0.0); // flat, like a Cornell box wall's triangle
@@ -182,7 +223,7 @@ struct Agreement {
 fn compare_with_brute_force(triangles: &[Triangle], rays: &[(Vec3, Vec3)]) -> Agreement {
     let bvh = Bvh::build(triangles);
     check_structure(&bvh, triangles);
-    let reordered = bvh.reorder(triangles);
+    let reordered = traversal_triangles(&bvh.reorder(triangles));
     let mut agreement = Agreement::default();
     let mut state = UVec2::new(7, 11);
     for &(origin, direction) in rays {
@@ -297,7 +338,7 @@ fn the_depth_limit_makes_leaves_and_traversal_still_matches() {
     assert_eq!(stats.max_depth, 5, "{stats}");
     assert!(stats.max_leaf_size as usize > MAX_LEAF_SIZE, "{stats}");
     check_structure(&bvh, &triangles);
-    let reordered = bvh.reorder(&triangles);
+    let reordered = traversal_triangles(&bvh.reorder(&triangles));
     // Rays along the x axis cross all but the smallest triangles, and random rays.
     let near_axis = |i: usize| Vec3::new(0.0, 1e-9 * (1 + i) as f32, 1e-9);
     let mut rays: Vec<(Vec3, Vec3)> = (0..200)
@@ -350,7 +391,7 @@ fn build_time_per_million_triangles() {
     let node_bytes_per_triangle = bvh.node_bytes() as f64 / n as f64;
     println!(
         "BVH over {n} triangles: {:.3} s ({:.3} s per million triangles, {} rayon threads); {stats}; \
-         GPU bytes per triangle: 96 (triangle) + {node_bytes_per_triangle:.1} (nodes)",
+         GPU bytes per triangle: 96 (triangle) + 48 (traversal positions) + {node_bytes_per_triangle:.1} (nodes)",
         seconds,
         seconds * 1e6 / n as f64,
         rayon::current_num_threads()

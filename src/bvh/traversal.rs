@@ -1,18 +1,36 @@
 //! Rust twins of `glsl/bvh.glsl`: the inverse direction, the slab test and the two
 //! traversals, operation for operation and in the same order, so that they visit the same
 //! nodes and test the same triangles as the shader. Where the shader reads the global
-//! `g_bvh_nodes` and `g_triangles`, the twins take them as their first parameters (the
-//! triangles reordered by `Bvh::reorder`). Change both together.
+//! `g_bvh_node_texels` and `g_traversal_triangle_texels`, the twins take them as their first
+//! parameters (the traversal-only triangles of the triangles reordered by `Bvh::reorder`).
+//! Change both together.
 
 use glam::Vec3;
 
-use super::GpuBvhNode;
+use super::{GpuBvhNode, GpuTraversalTriangle};
 use crate::contract::{BVH_MIN_DIRECTION, BVH_SLAB_PADDING, BVH_STACK_SIZE, NO_HIT_T};
 use crate::cpu::integrator::MeshHit;
 use crate::cpu::workshop::ray_triangle_intersection;
 use crate::scene::Triangle;
 
 const STACK_SIZE: usize = BVH_STACK_SIZE as usize;
+
+/// Triangle `index` as the traversal's triangle test sees it, twin of GLSL
+/// `get_traversal_triangle`: its vertex positions, and zeros for the members that
+/// `ray_triangle_intersection` does not read.
+///
+/// # Panics
+/// If `index` is out of range.
+pub fn get_traversal_triangle(triangles: &[GpuTraversalTriangle], index: u32) -> Triangle {
+    let packed = &triangles[index as usize];
+    Triangle {
+        positions: packed.positions.map(|p| Vec3::new(p[0], p[1], p[2])),
+        normal: Vec3::ZERO,
+        color: Vec3::ZERO,
+        emission: Vec3::ZERO,
+        double_sided: false,
+    }
+}
 
 /// The per-component inverse of a ray direction for slab tests, twin of GLSL
 /// `bvh_inverse_direction`.
@@ -128,7 +146,8 @@ pub fn bvh_enter_children(
 /// `bvh_closest_hit`: brute force's triangle tests, nearer child first, subtrees skipped
 /// once they start beyond the closest hit so far.
 /// \param nodes The BVH's nodes (the shader's `g_bvh_nodes`)
-/// \param scene_triangles The reordered triangles (the shader's `g_triangles`)
+/// \param scene_triangles The traversal-only triangles in leaf order (the shader's
+///        `g_traversal_triangle_texels`)
 /// \param ray_origin, ray_direction The ray, world space
 /// \return The closest hit (t, index into `scene_triangles`), `None` iff no triangle is hit
 ///         at t < `NO_HIT_T` (1e38)
@@ -137,7 +156,7 @@ pub fn bvh_enter_children(
 /// If the nodes index past `nodes` or `scene_triangles` (a BVH built for other triangles).
 pub fn bvh_closest_hit(
     nodes: &[GpuBvhNode],
-    scene_triangles: &[Triangle],
+    scene_triangles: &[GpuTraversalTriangle],
     ray_origin: Vec3,
     ray_direction: Vec3,
 ) -> Option<MeshHit> {
@@ -161,8 +180,8 @@ pub fn bvh_closest_hit(
         let mut descend = false;
         if triangle_count != 0 {
             for i in first_index..first_index + triangle_count {
-                let triangle = &scene_triangles[i as usize];
-                if let Some(t) = ray_triangle_intersection(ray_origin, ray_direction, triangle) {
+                let triangle = get_traversal_triangle(scene_triangles, i);
+                if let Some(t) = ray_triangle_intersection(ray_origin, ray_direction, &triangle) {
                     if t < out_t {
                         out_t = t;
                         out_triangle_index = i;
@@ -203,7 +222,8 @@ pub fn bvh_closest_hit(
 /// Whether a ray hits any triangle at t < `t_max` (shadow rays), twin of GLSL `bvh_any_hit`:
 /// the traversal of `bvh_closest_hit` with a fixed `t_max`, ending at the first hit found.
 /// \param nodes The BVH's nodes (the shader's `g_bvh_nodes`)
-/// \param scene_triangles The reordered triangles (the shader's `g_triangles`)
+/// \param scene_triangles The traversal-only triangles in leaf order (the shader's
+///        `g_traversal_triangle_texels`)
 /// \param ray_origin, ray_direction The ray, world space
 /// \param t_max Hits at or beyond this ray parameter do not count
 ///
@@ -211,7 +231,7 @@ pub fn bvh_closest_hit(
 /// If the nodes index past `nodes` or `scene_triangles` (a BVH built for other triangles).
 pub fn bvh_any_hit(
     nodes: &[GpuBvhNode],
-    scene_triangles: &[Triangle],
+    scene_triangles: &[GpuTraversalTriangle],
     ray_origin: Vec3,
     ray_direction: Vec3,
     t_max: f32,
@@ -230,8 +250,8 @@ pub fn bvh_any_hit(
         let triangle_count = node.triangle_count();
         if triangle_count != 0 {
             for i in first_index..first_index + triangle_count {
-                let triangle = &scene_triangles[i as usize];
-                if let Some(t) = ray_triangle_intersection(ray_origin, ray_direction, triangle) {
+                let triangle = get_traversal_triangle(scene_triangles, i);
+                if let Some(t) = ray_triangle_intersection(ray_origin, ray_direction, &triangle) {
                     if t < t_max {
                         return true;
                     }

@@ -20,6 +20,9 @@ pub enum Resource {
     Accumulation,
     /// The BVH's nodes (texel buffer).
     BvhNodes,
+    /// The triangles' vertex positions alone, in BVH leaf order, for the traversal's
+    /// triangle tests (`GpuTraversalTriangle`, texel buffer).
+    TraversalTriangles,
     /// The emissive triangles and their power CDF (`gpu_light_bytes`, texel buffer).
     Lights,
     /// The texels of every texture (`TextureAtlas`, RGBA8 texel buffer).
@@ -97,6 +100,12 @@ pub const PATH_TRACER: &[Binding] = &[
     row(c::BINDING_LIGHTS, TEXEL, R::Lights),
     with(USE_BVH, c::BINDING_BVH_NODES, TEXEL, R::BvhNodes),
     with(
+        USE_BVH,
+        c::BINDING_TRAVERSAL_TRIANGLES,
+        TEXEL,
+        R::TraversalTriangles,
+    ),
+    with(
         USE_MATERIALS,
         c::BINDING_TEXTURE_TEXELS,
         TEXEL,
@@ -160,6 +169,7 @@ pub const BVH_PROBE: &[Binding] = &[
     row(c::BINDING_TRIANGLES, TEXEL, R::Triangles),
     row(c::BINDING_RENDER_UNIFORMS, UNIFORM, R::RenderUniforms),
     row(c::BINDING_BVH_NODES, TEXEL, R::BvhNodes),
+    row(c::BINDING_TRAVERSAL_TRIANGLES, TEXEL, R::TraversalTriangles),
     row(c::BVH_PROBE_BINDING_RAYS, STORAGE, R::ProbeInputs),
     row(c::BVH_PROBE_BINDING_RESULTS, STORAGE, R::ProbeOutputs),
 ];

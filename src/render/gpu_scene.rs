@@ -1,13 +1,14 @@
 //! The scene as the path-tracing kernel reads it: triangles (in BVH leaf order when a BVH
-//! is used), its lights (`crate::lights::SceneLights`), the BVH nodes and the render uniforms, uploaded to the device,
-//! with the specialization constants that go with them; the kernel's binding table
+//! is used, with their positions also apart for the traversal's triangle tests), its lights
+//! (`crate::lights::SceneLights`), the BVH nodes and the render uniforms, uploaded to the
+//! device, with the specialization constants that go with them; the kernel's binding table
 //! (`crate::kernels::bindings`) says where each is bound.
 
 use std::sync::Arc;
 
 use ash::vk;
 
-use crate::bvh::{Bvh, BvhStats};
+use crate::bvh::{traversal_triangles, Bvh, BvhStats};
 use crate::camera::Camera;
 use crate::contract;
 use crate::error::{Error, Result};
@@ -36,6 +37,8 @@ pub struct GpuScene {
     uniforms: Buffer,
     lights: TexelBufferView,
     bvh_nodes: Option<TexelBufferView>,
+    /// The vertex positions alone, in leaf order, for the traversal (with a BVH only).
+    traversal_triangles: Option<TexelBufferView>,
     /// Shading data, materials and texture texels (scenes with materials only).
     materials: Option<MaterialBuffers>,
     /// The specialization constants that the traversal needs (the constant triangles).
@@ -98,6 +101,13 @@ impl GpuScene {
         )?;
         let bvh_nodes = match &bvh {
             Some(bvh) => Some(texels("BVH nodes", bytemuck::cast_slice(&bvh.nodes))?),
+            None => None,
+        };
+        let traversal_triangles = match &bvh {
+            Some(_) => Some(texels(
+                "traversal triangles",
+                bytemuck::cast_slice(&traversal_triangles(&ordered_triangles)),
+            )?),
             None => None,
         };
         let lights = texels("lights", &scene_lights.emissive_bytes())?;
@@ -188,6 +198,7 @@ impl GpuScene {
             uniforms,
             lights,
             bvh_nodes,
+            traversal_triangles,
             materials,
             specialization,
             light_count: scene_lights.emissive.triangle_indices.len() as u64,
@@ -205,6 +216,7 @@ impl GpuScene {
             Resource::RenderUniforms => return Some(Bound::Buffer(&self.uniforms)),
             Resource::Lights => &self.lights,
             Resource::BvhNodes => self.bvh_nodes.as_ref()?,
+            Resource::TraversalTriangles => self.traversal_triangles.as_ref()?,
             Resource::Shading => &materials?.shading,
             Resource::Materials => &materials?.materials,
             Resource::TextureTexels => &materials?.texture_texels,

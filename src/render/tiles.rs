@@ -11,10 +11,11 @@ use crate::render::settings::RenderSettings;
 use crate::scene::Scene;
 use crate::vk::Context;
 
-/// Device bytes of the scene's buffers: the triangles (96 bytes each), a BVH of at most 2
-/// nodes per triangle (32 bytes each), the lights (16 bytes each and a header).
+/// Device bytes of the scene's buffers: the triangles (96 bytes each), with a BVH their
+/// positions again for the traversal (48 bytes each) and at most 2 nodes per triangle (32
+/// bytes each), the lights (16 bytes each and a header).
 pub(crate) fn scene_bytes(scene: &Scene) -> u64 {
-    scene.triangles.len() as u64 * (96 + 64 + 16) + 16
+    scene.triangles.len() as u64 * (96 + 48 + 64 + 16) + 16
 }
 
 /// Layers of the accumulation.
