@@ -96,8 +96,9 @@ float sin_sub_clamped(float sin_a, float cos_a, float sin_b, float cos_b) {
 // lights' normals and any direction from the box to the point: the angle to the cone's axis
 // theta_w, minus theta_o, minus the angle theta_b of the box's bounding sphere seen from the
 // point; 0 beyond theta_e (no light can leave towards the point). With a `normal`, also
-// times the largest cosine between it and a direction into the box, 0 where the whole box
-// lies below the surface (no light reaches its front); normal = 0 leaves that out.
+// times the largest cosine between it and a direction into the box's bounding sphere, and 0
+// where the whole box lies below the surface's plane (no light reaches its front); normal =
+// 0 leaves that out.
 // \param position The shading point, world space
 // \param normal Unit normal of the side that receives light there, or 0
 float get_light_bounds_importance(light_tree_node_t node, vec3 position, vec3 normal) {
@@ -128,6 +129,12 @@ float get_light_bounds_importance(light_tree_node_t node, vec3 position, vec3 no
         return 0.0;
     float importance = node.phi * cos_theta_p / d2;
     if (normal != vec3(0.0)) {
+        // The whole box below the surface's plane (its support along the normal, the
+        // largest n . (corner - position) of its corners, at most 0): no light reaches the
+        // front. Tighter than the bounding sphere's angle for the flat boxes of lights
+        // along a floor or ceiling.
+        if (dot(normal, center - position) + dot(abs(normal), 0.5 * diagonal) <= 0.0)
+            return 0.0;
         // The angle between the normal and the direction towards the box, less theta_b
         float cos_theta_i = -dot(wi, normal);
         float sin_theta_i = sqrt(max(0.0, 1.0 - cos_theta_i * cos_theta_i));
