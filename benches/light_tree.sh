@@ -3,10 +3,10 @@
 # along a corridor, none in view; scripts/make_many_lights_scene.py), in one `vkpath bench`
 # run: nee with --light-selection power and tree against the same high-spp reference (mis
 # with the tree), efficiency 1 / (relMSE * seconds) of each, and their ratio.
-# Usage: bash benches/light_tree.sh [VKPATH] [extra vkpath bench options]
-#   VKPATH defaults to target/release/vkpath (build it with `cargo build --release`).
-# Defaults: 64x48, 64 spp, reference 4096 spp; e.g. `--width 32 --height 24
-# --reference-spp 1024` for a quick look.
+# Usage: [WIDTH=64 HEIGHT=48 SPP=64 REFERENCE_SPP=4096] bash benches/light_tree.sh [VKPATH]
+#        [extra vkpath bench options, e.g. --sampler sobol --repeats 1]
+#   VKPATH defaults to target/release/vkpath (build it with `cargo build --release`);
+#   e.g. WIDTH=32 HEIGHT=24 REFERENCE_SPP=1024 for a quick look.
 set -euo pipefail
 top=$(cd "$(dirname "$0")/.." && pwd)
 bin=${1:-$top/target/release/vkpath}
@@ -14,7 +14,8 @@ shift || true
 scene="$top/scenes/many_lights.gltf"
 json=$(mktemp)
 "$bin" bench "$scene" --integrators nee --light-selections power,tree --light-selection tree \
-    --width 64 --height 48 --spp 64 --reference-spp 4096 "$@" --json >"$json"
+    --width "${WIDTH:-64}" --height "${HEIGHT:-48}" --spp "${SPP:-64}" \
+    --reference-spp "${REFERENCE_SPP:-4096}" "$@" --json >"$json"
 python3 - "$json" <<'PY'
 import json, sys
 report = json.load(open(sys.argv[1]))

@@ -124,9 +124,9 @@
 // vertex positions of those triangles: constant SPEC_CONSTANT_TRIANGLES + 9 i + 3 j + k is
 // coordinate k of vertex j of triangle i.
 #define SPEC_CONSTANT_TRIANGLES 16
-// How nee and mis choose the emissive triangle they sample: LIGHT_SELECTION_* (after the
-// constant triangles' ids).
-#define SPEC_LIGHT_SELECTION 592
+// How nee and mis choose the emissive triangle they sample: LIGHT_SELECTION_* (an id past
+// the constant triangles' 16 + 9 * CONSTANT_TRIANGLE_CAPACITY).
+#define SPEC_LIGHT_SELECTION 600
 // Most triangles that can be passed as specialization constants.
 #define CONSTANT_TRIANGLE_CAPACITY 64
 

@@ -7,7 +7,7 @@ The corridor is 4 m wide, 3 m high and 42 m long (z from 2 down to -40, y up), L
 (glTF metallic 0, KHR_materials_specular specularFactor 0, so vkpath renders it with its
 plain kernels). Under its ceiling hang 1000 one-sided triangles facing down, 0.08 to 0.25 m
 a side, at random places along the whole corridor, with emissive strengths of 8 levels
-spaced by a factor of 10^(4/7) from 0.3 to 3000 (a power range of about 10^5 with the
+spaced by a factor of 10^(4/7) from 0.003 to 30 (a power range of about 10^5 with the
 sizes). The camera stands near one end looking down the corridor and at the floor, so that
 it sees no light directly (its view's upper edge points below the horizontal): what it sees
 is lit by next-event estimation alone, where the power CDF spends most samples on lights
@@ -84,7 +84,7 @@ def main():
     gltf["meshes"].append({"name": "corridor", "primitives": room})
     light_primitives = []
     for level, triangles in enumerate(lights):
-        strength = 0.3 * 10 ** (4.0 * level / (LEVELS - 1))
+        strength = 0.003 * 10 ** (4.0 * level / (LEVELS - 1))
         gltf["materials"].append({
             "name": f"light {level}", "emissiveFactor": [1.0, 0.9, 0.8],
             "pbrMetallicRoughness": {"baseColorFactor": [0, 0, 0, 1], "metallicFactor": 0.0},
