@@ -96,9 +96,18 @@ fn gpu_and_cpu_choose_the_same_light_with_the_probability_the_walk_recomputes() 
     let mut inputs = Vec::new();
     for _ in 0..40 {
         let position = rng.in_box(Vec3::new(-3.0, -3.0, -6.0), Vec3::new(9.0, 4.0, 3.0));
-        let normal = if rng.uniform() < 0.2 { Vec3::ZERO } else { rng.unit_vector() };
+        let normal = if rng.uniform() < 0.2 {
+            Vec3::ZERO
+        } else {
+            rng.unit_vector()
+        };
         for light in 0..light_count {
-            inputs.push(LightTreeProbeInput::new(position, normal, rng.uniform(), light));
+            inputs.push(LightTreeProbeInput::new(
+                position,
+                normal,
+                rng.uniform(),
+                light,
+            ));
         }
     }
     let context = common::validated_context();
@@ -113,7 +122,10 @@ fn gpu_and_cpu_choose_the_same_light_with_the_probability_the_walk_recomputes() 
     {
         let position = Vec3::from_slice(&point_inputs[0].position_random[..3]);
         let normal = Vec3::from_slice(&point_inputs[0].normal[..3]);
-        let gpu_sum: f64 = point_outputs.iter().map(|o| f64::from(o.probabilities[2])).sum();
+        let gpu_sum: f64 = point_outputs
+            .iter()
+            .map(|o| f64::from(o.probabilities[2]))
+            .sum();
         let cpu_sum: f64 = (0..light_count)
             .map(|i| f64::from(get_light_tree_probability(texels, i, position, normal)))
             .sum();
@@ -150,7 +162,10 @@ fn gpu_and_cpu_choose_the_same_light_with_the_probability_the_walk_recomputes() 
                 let walked = output.probabilities[1];
                 let error = (gpu_p - walked).abs() / walked;
                 worst = worst.max(error);
-                assert!(error <= PROBABILITY_TOLERANCE, "sampled {gpu_p} vs walked {walked}");
+                assert!(
+                    error <= PROBABILITY_TOLERANCE,
+                    "sampled {gpu_p} vs walked {walked}"
+                );
             }
             if cpu_light == gpu_light {
                 same_light += 1;
@@ -197,7 +212,11 @@ fn far_from_a_cluster_the_choice_follows_power() {
             let p = rng.in_box(Vec3::splat(-0.5), Vec3::splat(0.5));
             let size = rng.range(0.02, 0.2);
             Triangle::new(
-                [p, p + Vec3::new(0.0, 0.0, size), p + Vec3::new(size, 0.0, 0.0)],
+                [
+                    p,
+                    p + Vec3::new(0.0, 0.0, size),
+                    p + Vec3::new(size, 0.0, 0.0),
+                ],
                 Vec3::ONE,
                 Vec3::splat(10f32.powf(rng.range(-1.0, 1.0))),
                 false,
@@ -222,7 +241,10 @@ fn far_from_a_cluster_the_choice_follows_power() {
         let expected = powers[light as usize] / total;
         // The returned probability is power's to 1% (the lights' cosines and distances
         // differ by at most ~1e-3 at this distance).
-        assert!((f64::from(p) - expected).abs() < 0.01 * expected, "{p} vs {expected}");
+        assert!(
+            (f64::from(p) - expected).abs() < 0.01 * expected,
+            "{p} vs {expected}"
+        );
         counts[light as usize] += 1;
     }
     // Pearson's chi^2 against power-proportional frequencies. Lights expected fewer than 5
@@ -265,8 +287,13 @@ fn lights_behind_the_surface_are_never_chosen_on_the_gpu() {
                 } else {
                     (Vec3::new(s, 0.0, 0.0), Vec3::new(0.0, 0.0, s))
                 };
-                Triangle::new([p, p + b, p + c], Vec3::ONE, Vec3::splat(rng.range(0.1, 10.0)), false)
-                    .unwrap()
+                Triangle::new(
+                    [p, p + b, p + c],
+                    Vec3::ONE,
+                    Vec3::splat(rng.range(0.1, 10.0)),
+                    false,
+                )
+                .unwrap()
             })
             .collect()
     };
@@ -280,7 +307,12 @@ fn lights_behind_the_surface_are_never_chosen_on_the_gpu() {
     for i in 0..400 {
         let position = Vec3::new(rng.range(-1.0, 1.0), 0.0, rng.range(-1.0, 1.0));
         let normal = if i % 2 == 0 { Vec3::Y } else { -Vec3::Y };
-        inputs.push(LightTreeProbeInput::new(position, normal, rng.uniform(), i % light_count));
+        inputs.push(LightTreeProbeInput::new(
+            position,
+            normal,
+            rng.uniform(),
+            i % light_count,
+        ));
     }
     let context = common::validated_context();
     let runner = LightTreeProbeRunner::new(&context, &bytes).expect("the probe runs");
@@ -301,13 +333,22 @@ fn lights_behind_the_surface_are_never_chosen_on_the_gpu() {
         if below(given) == up {
             // Behind the surface: probability 0 on both sides.
             assert_eq!(output.probabilities[2], 0.0);
-            assert_eq!(get_light_tree_probability(texels, given, position, normal), 0.0);
+            assert_eq!(
+                get_light_tree_probability(texels, given, position, normal),
+                0.0
+            );
         } else {
             assert!(output.probabilities[2] > 0.0);
         }
     }
-    println!("lights found: {} of 200 with the normal down, {} of 200 up", found[0], found[1]);
-    assert!(found[0] > 150 && found[1] > 150, "too many dead ends: {found:?}");
+    println!(
+        "lights found: {} of 200 with the normal down, {} of 200 up",
+        found[0], found[1]
+    );
+    assert!(
+        found[0] > 150 && found[1] > 150,
+        "too many dead ends: {found:?}"
+    );
     common::assert_validation_silent(&context);
 }
 
@@ -326,9 +367,23 @@ fn a_thousand_lights_render_consistently_with_the_power_cdf() {
             let output = common::vkpath(
                 dir.path(),
                 &[
-                    "render", &scene, "--integrator", integrator, "--light-selection", selection,
-                    "--width", "32", "--height", "24", "--spp", "64", "--moments", "--validate",
-                    "--quiet", "-o", &name,
+                    "render",
+                    &scene,
+                    "--integrator",
+                    integrator,
+                    "--light-selection",
+                    selection,
+                    "--width",
+                    "32",
+                    "--height",
+                    "24",
+                    "--spp",
+                    "64",
+                    "--moments",
+                    "--validate",
+                    "--quiet",
+                    "-o",
+                    &name,
                 ],
             );
             assert!(

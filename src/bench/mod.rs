@@ -186,7 +186,10 @@ pub fn run_bench(
     for (integrator, light_selection) in runs {
         let name = integrator.name();
         if selections.len() > 1 {
-            progress(&format!("{name}, --light-selection {}", light_selection.name()));
+            progress(&format!(
+                "{name}, --light-selection {}",
+                light_selection.name()
+            ));
         } else {
             progress(name);
         }

@@ -255,7 +255,11 @@ mod tests {
                 let size = rng.range(0.02, 0.1);
                 let emission = 10f32.powf(rng.range(-2.0, 2.0));
                 Triangle::new(
-                    [p, p + Vec3::new(0.0, 0.0, size), p + Vec3::new(size, 0.0, 0.0)],
+                    [
+                        p,
+                        p + Vec3::new(0.0, 0.0, size),
+                        p + Vec3::new(size, 0.0, 0.0),
+                    ],
                     Vec3::ONE,
                     Vec3::splat(emission),
                     i % 3 == 0,
@@ -313,9 +317,15 @@ mod tests {
             let position = Vec3::new(rng.range(-0.5, 0.5), 1.0, rng.range(-0.5, 0.5));
             let (light, p) = sample_light_tree(texels, rng.uniform(), position, -Vec3::Y);
             // No light (a dead end) is allowed; one of the lights above never.
-            assert!(light == NO_LIGHT || (light < below_count && p > 0.0), "light {light}");
+            assert!(
+                light == NO_LIGHT || (light < below_count && p > 0.0),
+                "light {light}"
+            );
             for i in below_count..2 * below_count {
-                assert_eq!(get_light_tree_probability(texels, i, position, -Vec3::Y), 0.0);
+                assert_eq!(
+                    get_light_tree_probability(texels, i, position, -Vec3::Y),
+                    0.0
+                );
             }
         }
     }

@@ -187,7 +187,12 @@ mod tests {
         // With a tree: the header points past the lights, the trails in z, the nodes after.
         let tree = LightTree::build(&triangles, &table);
         let mut words: Vec<u32> = vec![2, 3, tree.depth, 0];
-        for ((&index, &cdf), &trail) in table.triangle_indices.iter().zip(&table.cdf).zip(&tree.bit_trails) {
+        for ((&index, &cdf), &trail) in table
+            .triangle_indices
+            .iter()
+            .zip(&table.cdf)
+            .zip(&tree.bit_trails)
+        {
             words.extend_from_slice(&[index, cdf.to_bits(), trail, 0]);
         }
         words.extend_from_slice(bytemuck::cast_slice(&tree.nodes));

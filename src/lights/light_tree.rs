@@ -101,7 +101,8 @@ impl LightBounds {
         let sin_theta_o = (1.0 - self.cos_theta_o * self.cos_theta_o).max(0.0).sqrt();
         let m_omega = 2.0 * PI * (1.0 - self.cos_theta_o)
             + PI / 2.0
-                * (2.0 * theta_w * sin_theta_o - (theta_o - 2.0 * theta_w).cos()
+                * (2.0 * theta_w * sin_theta_o
+                    - (theta_o - 2.0 * theta_w).cos()
                     - 2.0 * theta_o * sin_theta_o
                     + self.cos_theta_o);
         let extent = centroid_extent[axis];
@@ -285,9 +286,12 @@ fn split(lights: &mut [BuildLight], depth: u32) -> usize {
             }
             for split_after in 0..SPLIT_BUCKETS - 1 {
                 let union_of = |range: &[Option<LightBounds>]| {
-                    range.iter().flatten().fold(None, |acc: Option<LightBounds>, b| {
-                        Some(acc.map_or(*b, |a| a.union(b)))
-                    })
+                    range
+                        .iter()
+                        .flatten()
+                        .fold(None, |acc: Option<LightBounds>, b| {
+                            Some(acc.map_or(*b, |a| a.union(b)))
+                        })
                 };
                 let (Some(below), Some(above)) = (
                     union_of(&buckets[..=split_after]),
@@ -325,7 +329,6 @@ fn split(lights: &mut [BuildLight], depth: u32) -> usize {
     });
     count / 2
 }
-
 
 #[cfg(test)]
 mod tests {
@@ -380,7 +383,8 @@ mod tests {
         let table = EmissiveTriangles::new(&triangles);
         let tree = LightTree::build(&triangles, &table);
         assert_eq!(tree.nodes.len(), 2 * 37 - 1);
-        let leaf = |n: &GpuLightTreeNode| n.cos_theta_e_flags[1].to_bits() & LIGHT_TREE_FLAG_LEAF != 0;
+        let leaf =
+            |n: &GpuLightTreeNode| n.cos_theta_e_flags[1].to_bits() & LIGHT_TREE_FLAG_LEAF != 0;
         let mut seen = vec![false; 37];
         for (light, &trail) in tree.bit_trails.iter().enumerate() {
             let mut node = 0usize;
@@ -397,7 +401,10 @@ mod tests {
                 bits >>= 1;
             }
             assert!(leaf(&tree.nodes[node]));
-            assert_eq!(tree.nodes[node].bounds_max_index[3].to_bits() as usize, light);
+            assert_eq!(
+                tree.nodes[node].bounds_max_index[3].to_bits() as usize,
+                light
+            );
             seen[light] = true;
         }
         assert!(seen.iter().all(|&s| s));
@@ -421,6 +428,9 @@ mod tests {
         assert_eq!(tree.nodes.len(), 1999);
         assert_eq!(tree.depth, 10);
         let single = LightTree::build(&triangles[..1], &EmissiveTriangles::new(&triangles[..1]));
-        assert_eq!((single.nodes.len(), single.depth, single.bit_trails.clone()), (1, 0, vec![0]));
+        assert_eq!(
+            (single.nodes.len(), single.depth, single.bit_trails.clone()),
+            (1, 0, vec![0])
+        );
     }
 }

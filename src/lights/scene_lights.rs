@@ -8,9 +8,9 @@ use super::gpu_emissive::{
     annotate_light_indices, annotate_selection_probabilities, gpu_light_bytes,
     gpu_light_bytes_with_tree,
 };
-use super::light_tree::LightTree;
 use super::gpu_environment::gpu_environment_words;
 use super::gpu_punctual::gpu_punctual_light_words;
+use super::light_tree::LightTree;
 use super::punctual::PunctualLight;
 use crate::render::gpu_types::GpuTriangle;
 use crate::scene::{Scene, Triangle};

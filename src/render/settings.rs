@@ -459,6 +459,18 @@ mod tests {
     use super::*;
 
     #[test]
+    fn light_selection_is_the_tree_only_above_the_threshold() {
+        let auto = LightSelection::Auto;
+        assert!(!auto.uses_tree(LIGHT_TREE_THRESHOLD) && auto.uses_tree(LIGHT_TREE_THRESHOLD + 1));
+        assert!(!LightSelection::Power.uses_tree(1_000_000));
+        assert!(LightSelection::Tree.uses_tree(1) && !LightSelection::Tree.uses_tree(0));
+        // The built-in box keeps its power CDF (and so its images) by default.
+        let scene = crate::scene::Scene::builtin_cornell_box().unwrap();
+        let count = crate::lights::emissive::emissive_triangle_count(&scene.triangles);
+        assert!(!RenderSettings::default().light_selection.uses_tree(count));
+    }
+
+    #[test]
     fn rejects_out_of_range_values() {
         let ok = RenderSettings::default();
         assert!(ok.validate().is_ok());
