@@ -367,23 +367,9 @@ fn a_thousand_lights_render_consistently_with_the_power_cdf() {
             let output = common::vkpath(
                 dir.path(),
                 &[
-                    "render",
-                    &scene,
-                    "--integrator",
-                    integrator,
-                    "--light-selection",
-                    selection,
-                    "--width",
-                    "32",
-                    "--height",
-                    "24",
-                    "--spp",
-                    "64",
-                    "--moments",
-                    "--validate",
-                    "--quiet",
-                    "-o",
-                    &name,
+                    "render", &scene, "--integrator", integrator, "--light-selection", selection,
+                    "--width", "32", "--height", "24", "--spp", "64", "--moments", "--validate",
+                    "--json", "-o", &name,
                 ],
             );
             assert!(
@@ -391,6 +377,8 @@ fn a_thousand_lights_render_consistently_with_the_power_cdf() {
                 "render {name}: {}",
                 String::from_utf8_lossy(&output.stderr)
             );
+            let report: serde_json::Value = serde_json::from_slice(&output.stdout).unwrap();
+            assert_eq!(report["light_selection"], selection);
             images.push(name);
         }
         let output = common::vkpath(dir.path(), &["compare", &images[0], &images[1]]);
@@ -401,4 +389,27 @@ fn a_thousand_lights_render_consistently_with_the_power_cdf() {
             String::from_utf8_lossy(&output.stderr)
         );
     }
+}
+
+#[test]
+fn the_default_is_the_tree_only_for_many_lights_and_bad_names_are_one_line() {
+    let dir = tempfile::tempdir().unwrap();
+    let many = format!("{}/scenes/many_lights.gltf", env!("CARGO_MANIFEST_DIR"));
+    let few = common::fixture("emissive_quad.gltf");
+    for (scene, expected) in [(&many, "tree"), (&few, "power")] {
+        let output = common::vkpath(
+            dir.path(),
+            &[
+                "render", scene, "--integrator", "mis", "--width", "8", "--height", "8", "--spp",
+                "1", "--json", "-o", "a.exr",
+            ],
+        );
+        assert!(output.status.success(), "{}", String::from_utf8_lossy(&output.stderr));
+        let report: serde_json::Value = serde_json::from_slice(&output.stdout).unwrap();
+        assert_eq!(report["light_selection"], expected, "{scene}");
+    }
+    let output = common::vkpath(dir.path(), &["render", "--light-selection", "cdf", "-o", "a.exr"]);
+    assert!(!output.status.success());
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    assert!(stderr.contains("invalid value 'cdf' for '--light-selection"), "{stderr}");
 }
