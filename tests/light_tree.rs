@@ -66,7 +66,7 @@ fn dead_end_probability(texels: LightTexels, node_index: u32, position: Vec3, no
     let node = get_light_tree_node(texels, node_index);
     if node.is_leaf {
         let unreachable =
-            node_index == 0 && !(get_light_bounds_importance(&node, position, normal) > 0.0);
+            node_index == 0 && get_light_bounds_importance(&node, position, normal) <= 0.0;
         return if unreachable { 1.0 } else { 0.0 };
     }
     let first = get_light_tree_first_child_probability(texels, &node, node_index, position, normal);
@@ -367,9 +367,23 @@ fn a_thousand_lights_render_consistently_with_the_power_cdf() {
             let output = common::vkpath(
                 dir.path(),
                 &[
-                    "render", &scene, "--integrator", integrator, "--light-selection", selection,
-                    "--width", "32", "--height", "24", "--spp", "64", "--moments", "--validate",
-                    "--json", "-o", &name,
+                    "render",
+                    &scene,
+                    "--integrator",
+                    integrator,
+                    "--light-selection",
+                    selection,
+                    "--width",
+                    "32",
+                    "--height",
+                    "24",
+                    "--spp",
+                    "64",
+                    "--moments",
+                    "--validate",
+                    "--json",
+                    "-o",
+                    &name,
                 ],
             );
             assert!(
@@ -400,16 +414,37 @@ fn the_default_is_the_tree_only_for_many_lights_and_bad_names_are_one_line() {
         let output = common::vkpath(
             dir.path(),
             &[
-                "render", scene, "--integrator", "mis", "--width", "8", "--height", "8", "--spp",
-                "1", "--json", "-o", "a.exr",
+                "render",
+                scene,
+                "--integrator",
+                "mis",
+                "--width",
+                "8",
+                "--height",
+                "8",
+                "--spp",
+                "1",
+                "--json",
+                "-o",
+                "a.exr",
             ],
         );
-        assert!(output.status.success(), "{}", String::from_utf8_lossy(&output.stderr));
+        assert!(
+            output.status.success(),
+            "{}",
+            String::from_utf8_lossy(&output.stderr)
+        );
         let report: serde_json::Value = serde_json::from_slice(&output.stdout).unwrap();
         assert_eq!(report["light_selection"], expected, "{scene}");
     }
-    let output = common::vkpath(dir.path(), &["render", "--light-selection", "cdf", "-o", "a.exr"]);
+    let output = common::vkpath(
+        dir.path(),
+        &["render", "--light-selection", "cdf", "-o", "a.exr"],
+    );
     assert!(!output.status.success());
     let stderr = String::from_utf8_lossy(&output.stderr);
-    assert!(stderr.contains("invalid value 'cdf' for '--light-selection"), "{stderr}");
+    assert!(
+        stderr.contains("invalid value 'cdf' for '--light-selection"),
+        "{stderr}"
+    );
 }

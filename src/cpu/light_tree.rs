@@ -140,6 +140,8 @@ pub fn get_light_bounds_importance(node: &LightTreeNodeT, position: Vec3, normal
 }
 
 /// Twin of `get_light_tree_first_child_probability`.
+// `!(a > 0.0)` as the GLSL has it: true for NaN too.
+#[allow(clippy::neg_cmp_op_on_partial_ord)]
 pub fn get_light_tree_first_child_probability(
     texels: LightTexels,
     node: &LightTreeNodeT,

@@ -53,7 +53,8 @@ impl LightBounds {
     /// The bounds of an emissive triangle; `None` for one with no power.
     pub fn of_triangle(triangle: &Triangle) -> Option<LightBounds> {
         let phi = f64::from(triangle_power(triangle));
-        if !(phi > 0.0) {
+        // (NaN, from a degenerate triangle, is no light either.)
+        if phi.is_nan() || phi <= 0.0 {
             return None;
         }
         let p = triangle.positions.map(|p| p.as_dvec3());
@@ -272,7 +273,7 @@ fn split(lights: &mut [BuildLight], depth: u32) -> usize {
     let mut best: Option<(f64, usize, usize)> = None;
     if !balanced_only {
         for axis in 0..3 {
-            if !(extent[axis] > 0.0) {
+            if extent[axis] <= 0.0 {
                 continue;
             }
             let bucket_of = |light: &BuildLight| {
@@ -385,7 +386,7 @@ mod tests {
         assert_eq!(tree.nodes.len(), 2 * 37 - 1);
         let leaf =
             |n: &GpuLightTreeNode| n.cos_theta_e_flags[1].to_bits() & LIGHT_TREE_FLAG_LEAF != 0;
-        let mut seen = vec![false; 37];
+        let mut seen = [false; 37];
         for (light, &trail) in tree.bit_trails.iter().enumerate() {
             let mut node = 0usize;
             let mut bits = trail;
