@@ -1,6 +1,8 @@
 // The lights room: every light of the scene in one list, sampled by one estimator for the
 // path loop (glsl/path_loop.glsl). The list:
-// - emissive triangles (every kernel), chosen in proportion to their power from a CDF;
+// - emissive triangles (every kernel), chosen in proportion to their power from a CDF, or
+//   with LIGHT_SELECTION_TREE by the light tree's importance to the shading point
+//   (glsl/light_tree.glsl);
 // - the environment, a constant colour or an equirectangular map (glsl/environment.glsl);
 // - KHR_lights_punctual's point, spot and directional lights (glsl/punctual_lights.glsl);
 // the last two in kernels built with USE_MATERIALS, whose scenes may have them.
@@ -18,8 +20,9 @@
 // point); the punctual light's pair (only when there are punctual lights). The order decides
 // every output bit, with PCG2D and with Sobol's dimension pairs alike, so keep it.
 //
-// Rust twins: src/cpu/importance_sampling.rs (emissive triangles), src/cpu/environment.rs.
-// Needs INTEGRATOR, SAMPLER and LIGHT_SAMPLING defined by the includer.
+// Rust twins: src/cpu/importance_sampling.rs (emissive triangles), src/cpu/environment.rs,
+// src/cpu/light_tree.rs. Needs INTEGRATOR, SAMPLER, LIGHT_SAMPLING and LIGHT_SELECTION
+// defined by the includer.
 #ifndef VKPATH_LIGHTS_GLSL
 #define VKPATH_LIGHTS_GLSL
 
@@ -39,8 +42,12 @@
 // (power-proportional; the last is 1), zw = 0. Written by
 // `vkpath::lights::gpu_emissive::gpu_light_bytes`, whose layout tests check these offsets. The
 // selection probability of each triangle (0 for non-emitters) is stored in its packed
-// normal.w, for MIS.
+// normal.w, for MIS. With the light tree, header.yz and each light's z say where the tree is
+// (glsl/light_tree.glsl), and normal.w holds the triangle's index in the light list (-1 for
+// non-emitters) instead.
 layout(set = 0, binding = BINDING_LIGHTS) uniform usamplerBuffer g_light_texels;
+
+#include "light_tree.glsl"
 
 // Number of emissive triangles.
 uint get_light_count() {
@@ -77,6 +84,36 @@ uint sample_light_index(float random_number) {
 // Probability that sample_light_index() picks the given scene triangle (0 for non-emitters).
 float get_light_selection_probability(uint triangle_index) {
     return get_packed_triangle(triangle_index).normal.w;
+}
+
+// Probability that the light selection (sample_light_index() or sample_light_tree()) at a
+// shading point picks the given scene triangle (0 for non-emitters); the tree's depends on
+// the point (get_light_selection_point()).
+// \param selection_position, selection_normal Where the light sample was taken and the
+//        normal of its receiving side (get_light_selection_normal())
+float get_light_selection_probability(uint triangle_index, vec3 selection_position, vec3 selection_normal) {
+    if (LIGHT_SELECTION != LIGHT_SELECTION_TREE)
+        return get_light_selection_probability(triangle_index);
+    float light_index = get_packed_triangle(triangle_index).normal.w;
+    if (light_index < 0.0)
+        return 0.0;
+    return get_light_tree_probability(uint(light_index), selection_position, selection_normal);
+}
+
+// The normal with which the light tree bounds what a surface receives: the geometric
+// normal on the ray's side (get_bsdf() is 0 below it); 0 (no bound) for layered materials.
+vec3 get_light_selection_normal(surface_t surface) {
+    return has_layers(surface) ? vec3(0.0) : surface.geometric_normal;
+}
+
+// Iterations of the light search per ray, as path_tracer.comp's loop bound counts them: the
+// bits of the light count (sample_light_index()), or with the tree its two walks
+// (sample_light_tree() for a light sample, get_light_tree_probability() for an MIS weight)
+// of at most depth + 1 trips each.
+uint get_light_search_iterations() {
+    if (LIGHT_SELECTION == LIGHT_SELECTION_TREE)
+        return 2u * (get_light_tree_depth() + 1u);
+    return uint(findMSB(max(get_light_count(), 1u)) + 1);
 }
 
 // Density w.r.t. solid angle, at the origin of `spherical` (the light as seen from there), of
@@ -143,17 +180,27 @@ bool is_visible(vec3 origin, vec3 direction, float distance) {
     return !ray_mesh_any_hit(origin, direction, t_max);
 }
 
-// An emissive triangle chosen by power, and a point of it by solid angle or area
-// (use_spherical_sampling()): its direction, distance, emitted radiance (glTF: the emissive
-// texture at that point) and density. No sample from the back of a one-sided emitter.
+// An emissive triangle chosen by power (or by the light tree), and a point of it by solid
+// angle or area (use_spherical_sampling()): its direction, distance, emitted radiance (glTF:
+// the emissive texture at that point) and density. No sample from the back of a one-sided
+// emitter.
 // \param origin Where the shadow ray starts (get_light_sample_origin())
-light_sample_t sample_emissive_triangle_light(vec3 origin, inout uvec2 seed) {
+// \param normal The light tree's bound at origin (get_light_selection_normal())
+light_sample_t sample_emissive_triangle_light(vec3 origin, vec3 normal, inout uvec2 seed) {
     vec2 selection = get_path_random_numbers(seed);
     vec2 point_randoms = get_path_random_numbers(seed);
     light_sample_t light_sample = get_no_light_sample();
     if (get_light_count() == 0u)
         return light_sample;
-    uint light_triangle_index = get_light_triangle_index(sample_light_index(selection[0]));
+    uint light_index;
+    float tree_probability = 0.0;
+    if (LIGHT_SELECTION == LIGHT_SELECTION_TREE) {
+        light_index = sample_light_tree(selection[0], origin, normal, tree_probability);
+        if (light_index == NO_LIGHT)
+            return light_sample;
+    } else
+        light_index = sample_light_index(selection[0]);
+    uint light_triangle_index = get_light_triangle_index(light_index);
     triangle_t light = get_triangle(light_triangle_index);
     spherical_triangle_t spherical = get_spherical_triangle(origin, light);
     vec3 direction;
@@ -166,14 +213,17 @@ light_sample_t sample_emissive_triangle_light(vec3 origin, inout uvec2 seed) {
     light_sample.direction = direction;
     light_sample.distance = distance;
     light_sample.radiance = get_front_emission(light_triangle_index, light, origin + distance * direction);
-    light_sample.density = get_light_density(get_light_selection_probability(light_triangle_index), light, spherical, direction, distance);
+    float selection_probability = (LIGHT_SELECTION == LIGHT_SELECTION_TREE) ? tree_probability : get_light_selection_probability(light_triangle_index);
+    light_sample.density = get_light_density(selection_probability, light, spherical, direction, distance);
     return light_sample;
 }
 
 // Density w.r.t. solid angle with which sample_emissive_triangle_light() from `origin` finds
 // the point of triangle i at `distance` along `direction` (MIS of emission a path found).
-float get_emissive_triangle_density(uint triangle_index, triangle_t triangle, vec3 origin, vec3 direction, float distance) {
-    return get_light_density(get_light_selection_probability(triangle_index), triangle, get_spherical_triangle(origin, triangle), direction, distance);
+// \param selection_position, selection_normal The light sample's origin and normal at the
+//        vertex that found it (the light tree's probability depends on them)
+float get_emissive_triangle_density(uint triangle_index, triangle_t triangle, vec3 origin, vec3 direction, float distance, vec3 selection_position, vec3 selection_normal) {
+    return get_light_density(get_light_selection_probability(triangle_index, selection_position, selection_normal), triangle, get_spherical_triangle(origin, triangle), direction, distance);
 }
 
 #ifdef USE_MATERIALS
@@ -235,7 +285,7 @@ vec3 estimate_light_sample(surface_t surface, vec3 view, vec3 origin, light_samp
 // \param seed The pixel's PCG2D random state (see get_path_random_numbers())
 vec3 sample_direct_light(vec3 position, surface_t surface, vec3 view, inout uvec2 seed) {
     vec3 origin = get_light_sample_origin(surface, position);
-    vec3 direct = estimate_light_sample(surface, view, origin, sample_emissive_triangle_light(origin, seed));
+    vec3 direct = estimate_light_sample(surface, view, origin, sample_emissive_triangle_light(origin, get_light_selection_normal(surface), seed));
 #ifdef USE_MATERIALS
     direct += estimate_light_sample(surface, view, origin, sample_environment_light(seed));
     direct += estimate_light_sample(surface, view, origin, sample_punctual_light(origin, seed));

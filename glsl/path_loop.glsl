@@ -52,13 +52,14 @@
 // \param previous_position Origin of the ray that found it
 // \param direction_density Density of the direction sample that found it
 // \param light_sampled Whether the previous vertex took light samples
-vec3 get_found_emission(int vertex, vec3 throughput_weight, surface_t surface, uint triangle_index, triangle_t triangle, vec3 previous_position, vec3 ray_direction, float t, float direction_density, bool light_sampled) {
+// \param light_origin, light_normal Its light sample's origin and the light tree's normal
+vec3 get_found_emission(int vertex, vec3 throughput_weight, surface_t surface, uint triangle_index, triangle_t triangle, vec3 previous_position, vec3 ray_direction, float t, float direction_density, bool light_sampled, vec3 light_origin, vec3 light_normal) {
     if (vertex == 0)
         return throughput_weight * get_camera_emission(surface);
     if (!light_sampled)
         return throughput_weight * surface.emission;
     if (weighs_by_mis() && surface.emission != vec3(0.0)) {
-        float light_density = get_emissive_triangle_density(triangle_index, triangle, previous_position, ray_direction, t);
+        float light_density = get_emissive_triangle_density(triangle_index, triangle, previous_position, ray_direction, t, light_origin, light_normal);
         return throughput_weight * surface.emission * get_power_heuristic_weight(direction_density, light_density);
     }
     return vec3(0.0);
@@ -104,6 +105,9 @@ vec3 get_path_radiance(vec3 ray_origin, vec3 ray_direction, inout uvec2 seed) {
     float eta_scale = 1.0;
     // Origin of the current ray: where MIS weights see a light found by it.
     vec3 previous_position = ray_origin;
+    // Where the previous vertex took its light sample, and the light tree's normal there.
+    vec3 light_origin = vec3(0.0);
+    vec3 light_normal = vec3(0.0);
     int vertex_count = is_direct_illumination() ? 2 : MAX_PATH_LENGTH;
     for (int i = 0; i != vertex_count; ++i) {
         float t;
@@ -120,13 +124,16 @@ vec3 get_path_radiance(vec3 ray_origin, vec3 ray_direction, inout uvec2 seed) {
         vec3 view = -ray_direction;
         throughput_weight *= get_volume_transmittance(surface, t);
         // 1. The emission found
-        radiance += get_found_emission(i, throughput_weight, surface, triangle_index, triangle, previous_position, ray_direction, t, direction_density, light_sampled);
+        radiance += get_found_emission(i, throughput_weight, surface, triangle_index, triangle, previous_position, ray_direction, t, direction_density, light_sampled, light_origin, light_normal);
         if (i + 1 == vertex_count)
             break;
         // 2. Light samples (none at glass)
         light_sampled = takes_light_samples() && !is_transmissive(surface);
-        if (light_sampled)
+        if (light_sampled) {
+            light_origin = get_light_sample_origin(surface, ray_origin);
+            light_normal = get_light_selection_normal(surface);
             radiance += throughput_weight * sample_direct_light(ray_origin, surface, view, seed);
+        }
         // 3. Continue the path
         bsdf_sample_t direction = sample_path_direction(surface, view, seed);
         if (direction.weight == vec3(0.0))

@@ -25,6 +25,9 @@ layout(constant_id = SPEC_RUSSIAN_ROULETTE_START) const int RUSSIAN_ROULETTE_STA
 layout(constant_id = SPEC_SAMPLER) const int SAMPLER = SAMPLER_PCG;
 // LIGHT_SAMPLING_AREA or LIGHT_SAMPLING_SOLID_ANGLE: how nee and mis sample their lights.
 layout(constant_id = SPEC_LIGHT_SAMPLING) const int LIGHT_SAMPLING = LIGHT_SAMPLING_SOLID_ANGLE;
+// LIGHT_SELECTION_POWER or LIGHT_SELECTION_TREE: how nee and mis choose the emissive
+// triangle they sample (the tree's code is compiled out of power kernels).
+layout(constant_id = SPEC_LIGHT_SELECTION) const int LIGHT_SELECTION = LIGHT_SELECTION_POWER;
 // LLVMPIPE_LOOP_LIMIT / LLVMPIPE_SIMD_WIDTH on lavapipe, 0 elsewhere.
 layout(constant_id = SPEC_LOOP_LIMIT) const uint LOOP_LIMIT = 0u;
 // The bound's coefficients, which the host derives from its description of this kernel's
@@ -143,11 +146,11 @@ void main() {
     // all together, without an error; a program's iterations are at most LLVMPIPE_SIMD_WIDTH times
     // the largest lane's (see shared.h). An upper bound of this lane's iterations, with the
     // coefficients of src/kernels/loops.rs: per sample; per ray (g_path.ray_count) the path loop's,
-    // the light search's (at most the bits of the light count) and the loops over all
+    // the light search's (get_light_search_iterations()) and the loops over all
     // triangles; and what the BVH's traversal counted itself. Reaching LOOP_LIMIT flags the
     // pixel; the host refuses a flagged image.
     if (LOOP_LIMIT != 0u) {
-        uint per_ray = LOOPS_PER_RAY + LIGHT_SEARCHES_PER_RAY * uint(findMSB(max(get_light_count(), 1u)) + 1)
+        uint per_ray = LOOPS_PER_RAY + LIGHT_SEARCHES_PER_RAY * get_light_search_iterations()
             + TRIANGLE_LOOPS_PER_RAY * g_resolution_triangle_count_seed.z;
         uint samples = min(uint(SAMPLE_COUNT), g_sample_end - min(g_first_sample_index, g_sample_end));
         uint iterations = LOOPS_PER_SAMPLE * samples + g_path.ray_count * per_ray + g_path.traversal_iterations;

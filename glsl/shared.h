@@ -130,6 +130,9 @@
 // vertex positions of those triangles: constant SPEC_CONSTANT_TRIANGLES + 9 i + 3 j + k is
 // coordinate k of vertex j of triangle i.
 #define SPEC_CONSTANT_TRIANGLES 16
+// How nee and mis choose the emissive triangle they sample: LIGHT_SELECTION_* (an id past
+// the constant triangles' 16 + 9 * CONSTANT_TRIANGLE_CAPACITY).
+#define SPEC_LIGHT_SELECTION 600
 // Most triangles that can be passed as specialization constants.
 #define CONSTANT_TRIANGLE_CAPACITY 64
 
@@ -158,6 +161,12 @@
 // A direction uniformly distributed in the solid angle the triangle subtends (Arvo 1995);
 // by area where that solid angle is tiny or nearly 2 pi (use_spherical_sampling()).
 #define LIGHT_SAMPLING_SOLID_ANGLE 1
+
+// Values of SPEC_LIGHT_SELECTION (glsl/lights.glsl).
+// In proportion to power, from the lights' CDF (sample_light_index()).
+#define LIGHT_SELECTION_POWER 0
+// By the light tree's importance to the shading point (glsl/light_tree.glsl).
+#define LIGHT_SELECTION_TREE 1
 
 // Values of SPEC_INTEGRATOR.
 // Exercise 7: the path-tracing loop of get_ray_radiance().
@@ -219,6 +228,15 @@
 // Lower bound of |n_light.omega| in get_light_density()'s area density, so that a light seen
 // exactly edge-on gives a huge density rather than a division by zero.
 #define MIN_LIGHT_COSINE 1.0e-20
+// The light tree (glsl/light_tree.glsl, vkpath::lights::light_tree): flags of a node's
+// cos_theta_e_flags.y: a leaf (one light); some light below emits from both sides.
+#define LIGHT_TREE_FLAG_LEAF 1
+#define LIGHT_TREE_FLAG_TWO_SIDED 2
+// Deepest leaf the tree may have: the bits of a light's leaf trail (a uint).
+#define LIGHT_TREE_MAX_DEPTH 32
+// The largest float below 1 (1 - 2^-24): where sample_light_tree() clamps its rescaled
+// random number, which rounding could otherwise bring to 1.
+#define LIGHT_TREE_ONE_MINUS_EPSILON 0.99999994
 
 // ======== Materials (glsl/brdf.glsl, glsl/materials.glsl; Rust twins src/cpu/brdf.rs) ========
 

@@ -73,7 +73,7 @@ pub use image_io::data::RenderedImage;
 pub use image_io::output::{save_image, SaveOptions};
 pub use image_io::tonemap::{Exposure, ToneMap};
 pub use render::settings::{
-    Accel, Integrator, LightSampling, PixelFilter, RenderSettings, SamplerKind,
+    Accel, Integrator, LightSampling, LightSelection, PixelFilter, RenderSettings, SamplerKind,
 };
 pub use render::RenderOutcome;
 pub use render::Renderer;

@@ -33,6 +33,7 @@ struct Choices<'a> {
     integrator: Option<&'a str>,
     sampler: Option<&'a str>,
     light_sampling: Option<&'a str>,
+    light_selection: Option<&'a str>,
     pixel_filter: Option<&'a str>,
     accel: Option<&'a str>,
     max_path_length: Option<u32>,
@@ -56,6 +57,8 @@ impl Choices<'_> {
             sampler: parse_optional("sampler", self.sampler)?.unwrap_or(default.sampler),
             light_sampling: parse_optional("light_sampling", self.light_sampling)?
                 .unwrap_or(default.light_sampling),
+            light_selection: parse_optional("light_selection", self.light_selection)?
+                .unwrap_or(default.light_selection),
             pixel_filter: parse_optional("pixel_filter", self.pixel_filter)?
                 .unwrap_or(default.pixel_filter),
             accel: parse_optional("accel", self.accel)?.unwrap_or(default.accel),
@@ -131,7 +134,7 @@ fn after_batch(
 /// `warnings`. See `vkpath.render` for the parameters.
 #[pyfunction]
 #[pyo3(signature = (scene, *, width=None, height=None, spp=None, seed=None, integrator=None,
-    sampler=None, light_sampling=None, pixel_filter=None, accel=None, max_path_length=None,
+    sampler=None, light_sampling=None, light_selection=None, pixel_filter=None, accel=None, max_path_length=None,
     samples_per_frame=None, russian_roulette_start=None, environment_map=None,
     environment_strength=1.0, environment_rotation=0.0, background=None, time_limit=None,
     progress=None, device=None, validate=false, region=None))]
@@ -146,6 +149,7 @@ pub fn render<'py>(
     integrator: Option<&str>,
     sampler: Option<&str>,
     light_sampling: Option<&str>,
+    light_selection: Option<&str>,
     pixel_filter: Option<&str>,
     accel: Option<&str>,
     max_path_length: Option<u32>,
@@ -169,6 +173,7 @@ pub fn render<'py>(
         integrator,
         sampler,
         light_sampling,
+        light_selection,
         pixel_filter,
         accel,
         max_path_length,
@@ -308,6 +313,7 @@ fn settings_dict<'py>(py: Python<'py>, settings: &RenderSettings) -> PyResult<Bo
     dict.set_item("integrator", name_of(&settings.integrator))?;
     dict.set_item("sampler", name_of(&settings.sampler))?;
     dict.set_item("light_sampling", name_of(&settings.light_sampling))?;
+    dict.set_item("light_selection", name_of(&settings.light_selection))?;
     dict.set_item("pixel_filter", name_of(&settings.pixel_filter))?;
     dict.set_item("accel", name_of(&settings.accel))?;
     dict.set_item("max_path_length", settings.max_path_length)?;

@@ -113,6 +113,7 @@ def render_result(
     seed: Optional[int] = None,
     sampler: Optional[str] = None,
     light_sampling: Optional[str] = None,
+    light_selection: Optional[str] = None,
     pixel_filter: Optional[str] = None,
     accel: Optional[str] = None,
     max_path_length: Optional[int] = None,
@@ -140,6 +141,7 @@ def render_result(
         integrator=integrator,
         sampler=sampler,
         light_sampling=light_sampling,
+        light_selection=light_selection,
         pixel_filter=pixel_filter,
         accel=accel,
         max_path_length=max_path_length,
@@ -181,6 +183,7 @@ def render(
     seed: Optional[int] = None,
     sampler: Optional[str] = None,
     light_sampling: Optional[str] = None,
+    light_selection: Optional[str] = None,
     pixel_filter: Optional[str] = None,
     accel: Optional[str] = None,
     max_path_length: Optional[int] = None,
@@ -203,7 +206,8 @@ def render(
     :class:`Scene` (whose camera you may change). Each setting left as ``None`` takes the
     command line's default (``default_settings()``); names are the command line's:
     ``integrator`` "workshop", "cosine", "nee" or "mis"; ``sampler`` "pcg" or "sobol";
-    ``light_sampling`` "solid-angle" or "area"; ``pixel_filter`` "box" or "center";
+    ``light_sampling`` "solid-angle" or "area"; ``light_selection`` "auto", "power" or
+    "tree"; ``pixel_filter`` "box" or "center";
     ``accel`` "auto", "none" or "bvh". ``environment`` is an equirectangular .exr/.hdr map
     (``environment_strength``, ``environment_rotation`` in degrees about +Y), ``background``
     a constant R, G, B radiance instead.
@@ -227,6 +231,7 @@ def render(
         seed=seed,
         sampler=sampler,
         light_sampling=light_sampling,
+        light_selection=light_selection,
         pixel_filter=pixel_filter,
         accel=accel,
         max_path_length=max_path_length,

@@ -13,7 +13,7 @@ use serde::Serialize;
 use crate::camera::Camera;
 use crate::error::Result;
 use crate::image_io::data::RenderedImage;
-use crate::render::settings::{Integrator, RenderSettings, SamplerKind};
+use crate::render::settings::{Integrator, LightSelection, RenderSettings, SamplerKind};
 use crate::render::{Renderer, Traversal};
 use crate::scene::{Scene, SceneSource};
 use crate::vk::Context;
@@ -26,6 +26,8 @@ pub const TARGET_RELATIVE_MSE: f64 = 0.005;
 pub struct BenchResult {
     /// Integrator name as `--integrator` spells it.
     pub integrator: String,
+    /// How nee and mis chose their lights, as `--light-selection` spells it.
+    pub light_selection: String,
     /// Seconds to create the renderer (pipeline compilation, uploads).
     pub cold_start_seconds: f64,
     /// Steady-state seconds for all samples (measured after the first frame, scaled).
@@ -119,6 +121,9 @@ pub struct BenchSetup {
     pub reference_spp: u32,
     /// Integrators to measure.
     pub integrators: Vec<Integrator>,
+    /// Light selections to measure each integrator with (`--light-selections`), against
+    /// the same reference; empty: only `settings.light_selection`.
+    pub light_selections: Vec<LightSelection>,
     /// Scene description for the report.
     pub scene_name: String,
     /// Timed renders per integrator; the fastest counts (the image is the same each time,
@@ -144,6 +149,7 @@ impl Default for BenchSetup {
                 Integrator::Nee,
                 Integrator::Mis,
             ],
+            light_selections: Vec::new(),
             scene_name: SceneSource::CornellBox.description(),
             repeats: 3,
         }
@@ -168,11 +174,28 @@ pub fn run_bench(
     };
     let (reference, _, _, _) = timed_render(context, scene, camera, reference_settings)?;
     let mut results = Vec::new();
-    for &integrator in &setup.integrators {
+    let selections = if setup.light_selections.is_empty() {
+        vec![setup.settings.light_selection]
+    } else {
+        setup.light_selections.clone()
+    };
+    let runs = setup
+        .integrators
+        .iter()
+        .flat_map(|&i| selections.iter().map(move |&s| (i, s)));
+    for (integrator, light_selection) in runs {
         let name = integrator.name();
-        progress(name);
+        if selections.len() > 1 {
+            progress(&format!(
+                "{name}, --light-selection {}",
+                light_selection.name()
+            ));
+        } else {
+            progress(name);
+        }
         let settings = RenderSettings {
             integrator,
+            light_selection,
             seed: 1,
             ..setup.settings.clone()
         };
@@ -184,6 +207,7 @@ pub fn run_bench(
         let seconds = render_seconds.max(1e-9);
         results.push(BenchResult {
             integrator: name.to_string(),
+            light_selection: light_selection.name().to_string(),
             cold_start_seconds,
             render_seconds,
             samples_per_second: samples / seconds,
@@ -248,10 +272,20 @@ pub fn format_table(report: &BenchReport) -> String {
         "s to 0.005"
     );
     let baseline = report.results.first().map(|r| r.efficiency).unwrap_or(1.0);
+    // With several light selections (`--light-selections`), each row names its own.
+    let several = report
+        .results
+        .iter()
+        .any(|r| r.light_selection != report.results[0].light_selection);
     for r in &report.results {
+        let name = if several {
+            format!("{}/{}", r.integrator, r.light_selection)
+        } else {
+            r.integrator.clone()
+        };
         text += &format!(
             "{:<10} {:>9.3} {:>9.3} {:>11.3} {:>11.3} {:>10.5} {:>11.2} {:>8.2}x {:>12.2}\n",
-            r.integrator,
+            name,
             r.cold_start_seconds,
             r.render_seconds,
             r.samples_per_second / 1e6,

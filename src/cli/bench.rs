@@ -8,7 +8,7 @@ use clap::ValueEnum;
 use super::options::{RenderOptions, SceneArgs};
 use super::DeviceArgs;
 use crate::bench::{format_table, run_bench, BenchSetup};
-use crate::render::settings::{Integrator, RenderSettings};
+use crate::render::settings::{Integrator, LightSelection, RenderSettings};
 
 /// Arguments of `vkpath bench`. Its defaults are `BenchSetup::default()`'s: a smaller image
 /// than `render`'s, and a list of integrators instead of one.
@@ -41,6 +41,10 @@ pub struct BenchArgs {
         default_value = DEFAULT_INTEGRATORS.as_str()
     )]
     pub integrators: Vec<Integrator>,
+    /// Light selections to measure each integrator with, in order, against the same
+    /// reference (e.g. `power,tree`); without it, `--light-selection`'s alone.
+    #[arg(long, value_enum, value_delimiter = ',')]
+    pub light_selections: Option<Vec<LightSelection>>,
     /// Timed renders per integrator; the fastest counts.
     #[arg(long, default_value_t = BenchSetup::default().repeats)]
     pub repeats: u32,
@@ -166,6 +170,7 @@ pub fn run(args: &BenchArgs) -> anyhow::Result<()> {
         settings,
         reference_spp: args.reference_spp,
         integrators: args.integrators.clone(),
+        light_selections: args.light_selections.clone().unwrap_or_default(),
         scene_name: source.description(),
     };
     let report = run_bench(&context, &scene, &camera, &setup, |what| {

@@ -13,7 +13,7 @@ use crate::render::metadata::parse_range;
 
 use crate::image_io::output::{ImageFormat, SaveOptions};
 use crate::image_io::tonemap::{Exposure, ToneMap};
-use crate::render::settings::{Accel, LightSampling, RenderSettings, SamplerKind};
+use crate::render::settings::{Accel, LightSampling, LightSelection, RenderSettings, SamplerKind};
 use crate::scene::files::LoadOptions;
 use crate::scene::{Scene, SceneSource};
 
@@ -102,6 +102,11 @@ pub struct RenderOptions {
     /// subtends (solid-angle) or uniformly on its area (area).
     #[arg(long, value_enum, default_value_t = RenderSettings::default().light_sampling)]
     pub light_sampling: LightSampling,
+    /// How nee and mis choose the emissive triangle they sample: the light tree above 16
+    /// emissive triangles, else power (auto); in proportion to power (power); by a light
+    /// tree's importance to the shading point (tree).
+    #[arg(long, value_enum, default_value_t = RenderSettings::default().light_selection)]
+    pub light_selection: LightSelection,
 }
 
 impl RenderOptions {
@@ -115,6 +120,7 @@ impl RenderOptions {
             accel: self.accel,
             sampler: self.sampler.unwrap_or(settings.sampler),
             light_sampling: self.light_sampling,
+            light_selection: self.light_selection,
             ..settings
         }
     }
@@ -330,7 +336,7 @@ mod tests {
     use clap::ValueEnum;
 
     use crate::image_io::tonemap::ToneMap;
-    use crate::render::settings::{Integrator, LightSampling};
+    use crate::render::settings::{Integrator, LightSampling, LightSelection};
 
     /// The library spells some names itself (in reports, without clap); they must be the
     /// command line's.
@@ -343,6 +349,10 @@ mod tests {
         for light_sampling in LightSampling::value_variants() {
             let value = light_sampling.to_possible_value().unwrap();
             assert_eq!(value.get_name(), light_sampling.name());
+        }
+        for selection in LightSelection::value_variants() {
+            let value = selection.to_possible_value().unwrap();
+            assert_eq!(value.get_name(), selection.name());
         }
         for tone_map in ToneMap::value_variants() {
             let value = tone_map.to_possible_value().unwrap();

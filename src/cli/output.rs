@@ -125,6 +125,9 @@ pub struct RenderReport {
     /// The mean over the pixels of the samples each holds: `spp_taken` unless
     /// `--noise-threshold` stopped some pixels early.
     pub spp_mean: f64,
+    /// How nee and mis chose their lights: `power` or `tree` (`--light-selection`, `auto`
+    /// resolved for the scene).
+    pub light_selection: &'static str,
 }
 
 /// One device of a `RenderReport`.
@@ -500,6 +503,10 @@ fn finish(
             stop: finished.stop.name(),
             checkpoint: checkpoint.map(|p| p.display().to_string()),
             preview: preview.map(|p| p.display().to_string()),
+            light_selection: match finished.metadata.setting("light_selection") {
+                Some("tree") => "tree",
+                _ => "power",
+            },
         };
         println!("{}", serde_json::to_string(&report)?);
     }

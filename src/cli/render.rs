@@ -216,6 +216,13 @@ impl RenderArgs {
                 "--light-sampling has no effect with --integrator {integrator}: only nee and mis sample lights"
             ));
         }
+        if !matches!(self.integrator, Integrator::Nee | Integrator::Mis)
+            && self.render.light_selection != defaults.light_selection
+        {
+            warn(format!(
+                "--light-selection has no effect with --integrator {integrator}: only nee and mis sample lights"
+            ));
+        }
         if self.lights.environment.is_none() {
             if self.lights.environment_strength != 1.0 {
                 warn("--environment-strength has no effect without --environment".into());

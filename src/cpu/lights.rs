@@ -148,7 +148,9 @@ pub fn is_visible(
     !ray_mesh_any_hit(scene_triangles, origin, direction, t_max)
 }
 
-/// Twin of `sample_emissive_triangle_light`.
+/// Twin of `sample_emissive_triangle_light` with `LIGHT_SELECTION_POWER` (the CPU renderer
+/// has no light tree; the tree's twins are `crate::cpu::light_tree`'s, and the GLSL's
+/// `normal` parameter, which only the tree reads, is left out).
 pub fn sample_emissive_triangle_light(
     scene: &LightScene,
     origin: Vec3,
@@ -190,7 +192,8 @@ pub fn sample_emissive_triangle_light(
     }
 }
 
-/// Twin of `get_emissive_triangle_density`.
+/// Twin of `get_emissive_triangle_density` with `LIGHT_SELECTION_POWER` (without the
+/// tree's `selection_position` and `selection_normal`).
 pub fn get_emissive_triangle_density(
     scene: &LightScene,
     triangle_index: usize,

@@ -11,6 +11,7 @@ pub mod importance_sampling;
 pub mod integrator;
 pub mod integrators;
 pub mod layered_bsdf;
+pub mod light_tree;
 pub mod lights;
 pub mod materials;
 pub mod path_loop;

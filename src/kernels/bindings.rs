@@ -153,6 +153,13 @@ pub const PUNCTUAL_LIGHTS_PROBE: &[Binding] = &[
     row(c::PROBE_BINDING_OUTPUTS, STORAGE, R::ProbeOutputs),
 ];
 
+/// `glsl/probe_light_tree.comp`.
+pub const LIGHT_TREE_PROBE: &[Binding] = &[
+    row(c::BINDING_LIGHTS, TEXEL, R::Lights),
+    row(c::PROBE_BINDING_INPUTS, STORAGE, R::ProbeInputs),
+    row(c::PROBE_BINDING_OUTPUTS, STORAGE, R::ProbeOutputs),
+];
+
 /// `glsl/probe_surface.comp`: the scene and its materials as the path tracer binds them.
 pub const SURFACE_PROBE: &[Binding] = &[
     row(c::BINDING_TRIANGLES, TEXEL, R::Triangles),

@@ -38,6 +38,7 @@ pub static PATH_TRACER: Kernel = Kernel {
         SpecConstants::one(c::SPEC_RUSSIAN_ROULETTE_START),
         SpecConstants::one(c::SPEC_SAMPLER),
         SpecConstants::one(c::SPEC_LIGHT_SAMPLING),
+        SpecConstants::one(c::SPEC_LIGHT_SELECTION),
         SpecConstants::one(c::SPEC_LOOP_LIMIT),
         SpecConstants::one(c::SPEC_LOOPS_PER_SAMPLE),
         SpecConstants::one(c::SPEC_LOOPS_PER_RAY),
@@ -115,6 +116,14 @@ pub static PROBE_PUNCTUAL_LIGHTS: Kernel = Kernel {
     push_constant_size: size_of::<ProbePushConstants>() as u32,
 };
 
+/// The light tree's probe (`crate::probe::light_tree_probe`).
+pub static PROBE_LIGHT_TREE: Kernel = Kernel {
+    source: "probe_light_tree.comp",
+    bindings: bindings::LIGHT_TREE_PROBE,
+    specialization: &[],
+    push_constant_size: size_of::<ProbePushConstants>() as u32,
+};
+
 /// The surface functions' probe (`crate::probe::surface_probe`).
 pub static PROBE_SURFACE: Kernel = Kernel {
     source: "probe_surface.comp",
@@ -152,7 +161,7 @@ pub static EXERCISE_SAMPLES: Kernel = Kernel {
 };
 
 /// Every kernel.
-pub static ALL_KERNELS: [&Kernel; 16] = [
+pub static ALL_KERNELS: [&Kernel; 17] = [
     &PATH_TRACER,
     &PROBE_GET_RANDOM_NUMBERS,
     &PROBE_SAMPLE_SPHERE,
@@ -166,6 +175,7 @@ pub static ALL_KERNELS: [&Kernel; 16] = [
     &PROBE_BRDF,
     &PROBE_SAMPLE_TEXTURE,
     &PROBE_PUNCTUAL_LIGHTS,
+    &PROBE_LIGHT_TREE,
     &PROBE_SURFACE,
     &PROBE_BVH,
     &EXERCISE_SAMPLES,

@@ -71,6 +71,20 @@ pub const PATH_TRACER_LOOPS: &[KernelLoop] = &[
     described("path_tracer.comp", "main", PerSample, "sample loop"),
     described("integrator.glsl", "get_ray_radiance", PerRay, "path loop"),
     described("path_loop.glsl", "get_path_radiance", PerRay, "path loop"),
+    // The light tree's two walks are the tree builds' light search, which the kernel counts
+    // as both of them together (`get_light_search_iterations()`).
+    described(
+        "light_tree.glsl",
+        "sample_light_tree",
+        LightSearchPerRay,
+        "light search",
+    ),
+    described(
+        "light_tree.glsl",
+        "get_light_tree_probability",
+        LightSearchPerRay,
+        "light search",
+    ),
     described(
         "lights.glsl",
         "sample_light_index",
@@ -129,6 +143,10 @@ pub struct SampleWork {
     pub triangle_count: u64,
     /// Emissive triangles (the light search's count).
     pub light_count: u64,
+    /// With a light tree, its light searches' iterations per ray
+    /// (`crate::lights::SceneLights::light_search_iterations`), which replace the binary
+    /// search's over `light_count`; `None`: the power CDF's search.
+    pub light_tree_iterations: Option<u64>,
     /// Most traversal iterations one ray can count in the scene's BVH
     /// (`bvh_iterations_per_ray_at_most`); `None` without a BVH or bound.
     pub bvh_iterations_per_ray: Option<u64>,
@@ -210,7 +228,10 @@ impl LoopCoefficients {
             0
         };
         let per_ray = u64::from(self.per_ray)
-            + u64::from(self.light_searches_per_ray) * light_search_iterations(work.light_count)
+            + u64::from(self.light_searches_per_ray)
+                * work
+                    .light_tree_iterations
+                    .unwrap_or(light_search_iterations(work.light_count))
             + u64::from(self.triangle_loops_per_ray) * work.triangle_count
             + traversal;
         u64::from(self.per_sample) + work.rays * per_ray
@@ -289,6 +310,7 @@ mod tests {
             rays: 10,
             triangle_count: 100,
             light_count: u64::from(u32::MAX),
+            light_tree_iterations: None,
             bvh_iterations_per_ray: None,
         };
         assert_eq!(linear.iterations_per_sample(&work), 1 + 10 * 133);
@@ -324,6 +346,7 @@ mod tests {
             rays: 95,
             triangle_count: 30,
             light_count: 2,
+            light_tree_iterations: None,
             bvh_iterations_per_ray: Some(40),
         };
         assert_eq!(bvh.iterations_per_sample(&work), 1 + 95 * 43);

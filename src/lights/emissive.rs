@@ -24,6 +24,12 @@ pub fn triangle_power(triangle: &Triangle) -> f32 {
     area * std::f32::consts::PI * sides * luminance(triangle.emission).max(0.0)
 }
 
+/// The number of lights among `triangles`: those with power (as `EmissiveTriangles` counts
+/// them).
+pub fn emissive_triangle_count(triangles: &[Triangle]) -> usize {
+    triangles.iter().filter(|t| triangle_power(t) > 0.0).count()
+}
+
 /// The emissive-triangle table of a scene: which triangles emit, and how light sampling
 /// chooses among them.
 #[derive(Clone, Debug, PartialEq)]

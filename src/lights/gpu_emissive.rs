@@ -1,21 +1,32 @@
 //! The emissive triangles as the shaders read them: the lights' texel buffer
 //! (`g_light_texels` of `glsl/importance_sampling.glsl`, RGBA32_UINT: a header, then one
 //! entry per emissive triangle with its cumulative probability) and each packed triangle's
-//! selection probability in normal.w (`get_light_selection_probability`, for MIS).
+//! selection probability in normal.w (`get_light_selection_probability`, for MIS). With a
+//! light tree (`--light-selection tree`, `glsl/light_tree.glsl`), the header also says where
+//! the tree's nodes start (they follow the lights) and how deep it is, each light's entry
+//! holds its leaf's bit trail, and normal.w holds the triangle's index in the light list
+//! (-1 for non-emitters) instead of a probability.
 
 use bytemuck::{Pod, Zeroable};
 
 use super::emissive::EmissiveTriangles;
+use super::light_tree::LightTree;
 use crate::render::gpu_types::GpuTriangle;
 
 /// Texel 0 of the lights' texel buffer (`g_light_texels` of `glsl/importance_sampling.glsl`,
-/// RGBA32_UINT, 16 bytes): the number of lights. `GpuLight`s follow it.
+/// RGBA32_UINT, 16 bytes): the number of lights and where the light tree is. `GpuLight`s
+/// follow it, then the tree's nodes.
 #[repr(C)]
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Pod, Zeroable)]
 pub struct GpuLightHeader {
     /// Number of lights, the `GpuLight`s after the header (GLSL `get_light_count`).
     pub light_count: u32,
-    padding: [u32; 3],
+    /// Texel of the light tree's first node; 0: no tree (GLSL
+    /// `get_light_tree_first_texel`).
+    pub tree_first_texel: u32,
+    /// Depth of the tree's deepest leaf (GLSL `get_light_tree_depth`).
+    pub tree_depth: u32,
+    padding: u32,
 }
 
 /// Texel 1 + i of the lights' texel buffer (16 bytes): light i.
@@ -28,7 +39,10 @@ pub struct GpuLight {
     /// Probability of choosing this light or an earlier one, power-proportional; the last
     /// light's is exactly 1 (GLSL `get_light_cumulative_probability`, which reads the bits).
     pub cdf: f32,
-    padding: [u32; 2],
+    /// With a light tree, the bit trail of the light's leaf (GLSL `get_light_bit_trail`);
+    /// else 0.
+    pub bit_trail: u32,
+    padding: u32,
 }
 
 impl GpuLightHeader {
@@ -36,7 +50,9 @@ impl GpuLightHeader {
     pub fn new(light_count: u32) -> GpuLightHeader {
         GpuLightHeader {
             light_count,
-            padding: [0; 3],
+            tree_first_texel: 0,
+            tree_depth: 0,
+            padding: 0,
         }
     }
 }
@@ -47,7 +63,8 @@ impl GpuLight {
         GpuLight {
             triangle_index,
             cdf,
-            padding: [0; 2],
+            bit_trail: 0,
+            padding: 0,
         }
     }
 }
@@ -67,6 +84,40 @@ pub fn gpu_light_bytes(lights: &EmissiveTriangles) -> Vec<u8> {
     bytes
 }
 
+/// The bytes of the lights' texel buffer with `tree` (built over `lights`): the header with
+/// the tree's place and depth, the `GpuLight`s with their bit trails, then the tree's nodes.
+/// Without lights, the same bytes as `gpu_light_bytes`.
+pub fn gpu_light_bytes_with_tree(lights: &EmissiveTriangles, tree: &LightTree) -> Vec<u8> {
+    let mut bytes = gpu_light_bytes(lights);
+    if tree.nodes.is_empty() {
+        return bytes;
+    }
+    let header = GpuLightHeader {
+        tree_first_texel: 1 + lights.triangle_indices.len() as u32,
+        tree_depth: tree.depth,
+        ..GpuLightHeader::new(lights.triangle_indices.len() as u32)
+    };
+    bytes[..16].copy_from_slice(bytemuck::bytes_of(&header));
+    for (light, &trail) in tree.bit_trails.iter().enumerate() {
+        let at = 16 * (1 + light) + 8;
+        bytes[at..at + 4].copy_from_slice(&trail.to_le_bytes());
+    }
+    bytes.extend_from_slice(bytemuck::cast_slice(&tree.nodes));
+    bytes
+}
+
+/// With a light tree: writes each triangle's index in the light list into its packed
+/// normal.w as a float (exact below 2^24 lights), -1 for non-emitters, where MIS finds the
+/// light's bit trail (`get_emissive_triangle_density`).
+pub fn annotate_light_indices(lights: &EmissiveTriangles, triangles: &mut [GpuTriangle]) {
+    for triangle in triangles.iter_mut() {
+        triangle.normal[3] = -1.0;
+    }
+    for (light, &index) in lights.triangle_indices.iter().enumerate() {
+        triangles[index as usize].normal[3] = light as f32;
+    }
+}
+
 /// Writes each triangle's light-selection probability into its packed normal.w, where MIS
 /// reads it (`get_light_selection_probability`). `triangles` must be the packed triangles
 /// the table was built from, in the same order.
@@ -84,14 +135,18 @@ mod tests {
 
     #[test]
     fn lights_match_the_light_texels() {
-        // Texel 0: uvec4(count, 0, 0, 0); texel 1 + i: uvec4(triangle index, cdf bits, 0, 0).
+        // Texel 0: uvec4(count, tree's first texel, tree depth, 0); texel 1 + i:
+        // uvec4(triangle index, cdf bits, bit trail, 0).
         assert_eq!(size_of::<GpuLightHeader>(), 16);
         assert_eq!(offset_of!(GpuLightHeader, light_count), 0);
-        assert_eq!(offset_of!(GpuLightHeader, padding), 4);
+        assert_eq!(offset_of!(GpuLightHeader, tree_first_texel), 4);
+        assert_eq!(offset_of!(GpuLightHeader, tree_depth), 8);
+        assert_eq!(offset_of!(GpuLightHeader, padding), 12);
         assert_eq!(size_of::<GpuLight>(), 16);
         assert_eq!(offset_of!(GpuLight, triangle_index), 0);
         assert_eq!(offset_of!(GpuLight, cdf), 4);
-        assert_eq!(offset_of!(GpuLight, padding), 8);
+        assert_eq!(offset_of!(GpuLight, bit_trail), 8);
+        assert_eq!(offset_of!(GpuLight, padding), 12);
     }
 
     #[test]
@@ -128,5 +183,26 @@ mod tests {
         let read: Vec<f32> = packed.iter().map(|t| t.normal[3]).collect();
         assert_eq!(read, table.selection_probability);
         assert_eq!(read[1], 0.0);
+
+        // With a tree: the header points past the lights, the trails in z, the nodes after.
+        let tree = LightTree::build(&triangles, &table);
+        let mut words: Vec<u32> = vec![2, 3, tree.depth, 0];
+        for ((&index, &cdf), &trail) in table
+            .triangle_indices
+            .iter()
+            .zip(&table.cdf)
+            .zip(&tree.bit_trails)
+        {
+            words.extend_from_slice(&[index, cdf.to_bits(), trail, 0]);
+        }
+        words.extend_from_slice(bytemuck::cast_slice(&tree.nodes));
+        assert_eq!(tree.bit_trails, vec![0, 1]);
+        assert_eq!(
+            gpu_light_bytes_with_tree(&table, &tree),
+            bytemuck::cast_slice::<u32, u8>(&words)
+        );
+        annotate_light_indices(&table, &mut packed);
+        let read: Vec<f32> = packed.iter().map(|t| t.normal[3]).collect();
+        assert_eq!(read, vec![0.0, -1.0, 1.0]);
     }
 }

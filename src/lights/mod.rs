@@ -6,6 +6,8 @@
 //!   the luminance that weights it;
 //! - `environment`: the light from infinitely far away (`Environment`: a map or a constant
 //!   colour) and reading an equirectangular map;
+//! - `light_tree`: the light tree over the emissive triangles (`--light-selection tree`),
+//!   built here and traversed by `glsl/light_tree.glsl`;
 //! - `alias_table`: the alias table that importance-samples an environment map;
 //! - `environment_source`: the environment a user asks for (`--environment`,
 //!   `--background`, Python's `environment=`), checked in one place and loaded into an
@@ -29,6 +31,7 @@ pub mod environment_source;
 pub mod gpu_emissive;
 pub mod gpu_environment;
 pub mod gpu_punctual;
+pub mod light_tree;
 pub mod punctual;
 pub mod scene_lights;
 

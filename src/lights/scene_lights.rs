@@ -4,9 +4,13 @@
 
 use super::emissive::EmissiveTriangles;
 use super::environment::Environment;
-use super::gpu_emissive::{annotate_selection_probabilities, gpu_light_bytes};
+use super::gpu_emissive::{
+    annotate_light_indices, annotate_selection_probabilities, gpu_light_bytes,
+    gpu_light_bytes_with_tree,
+};
 use super::gpu_environment::gpu_environment_words;
 use super::gpu_punctual::gpu_punctual_light_words;
+use super::light_tree::LightTree;
 use super::punctual::PunctualLight;
 use crate::render::gpu_types::GpuTriangle;
 use crate::scene::{Scene, Triangle};
@@ -17,6 +21,8 @@ pub struct SceneLights<'a> {
     /// The emissive triangles, indexed in the order the triangles are uploaded (the BVH's
     /// leaf order when there is one).
     pub emissive: EmissiveTriangles,
+    /// The light tree over them (`--light-selection tree`); `None`: the power CDF.
+    pub tree: Option<LightTree>,
     /// What rays that leave the scene see; `None`: black.
     pub environment: Option<&'a Environment>,
     /// KHR_lights_punctual's lights.
@@ -29,20 +35,50 @@ impl<'a> SceneLights<'a> {
     pub fn new(scene: &'a Scene, triangles: &[Triangle]) -> SceneLights<'a> {
         SceneLights {
             emissive: EmissiveTriangles::new(triangles),
+            tree: None,
             environment: scene.environment.as_ref(),
             punctual: &scene.punctual_lights,
         }
     }
 
-    /// Writes each packed triangle's selection probability (where MIS reads it); `triangles`
-    /// must be the ones this list was made with, packed in the same order.
-    pub fn annotate(&self, triangles: &mut [GpuTriangle]) {
-        annotate_selection_probabilities(&self.emissive, triangles);
+    /// These lights with a light tree over the emissive triangles (none without them);
+    /// `triangles` must be the ones this list was made with.
+    pub fn with_light_tree(self, triangles: &[Triangle]) -> SceneLights<'a> {
+        let tree = (!self.emissive.triangle_indices.is_empty())
+            .then(|| LightTree::build(triangles, &self.emissive));
+        SceneLights { tree, ..self }
     }
 
-    /// The bytes of the emissive triangles' texel buffer (`BINDING_LIGHTS`).
+    /// Writes what MIS reads in each packed triangle's normal.w: its selection probability,
+    /// or with a light tree its index in the light list; `triangles` must be the ones this
+    /// list was made with, packed in the same order.
+    pub fn annotate(&self, triangles: &mut [GpuTriangle]) {
+        match &self.tree {
+            None => annotate_selection_probabilities(&self.emissive, triangles),
+            Some(_) => annotate_light_indices(&self.emissive, triangles),
+        }
+    }
+
+    /// The bytes of the emissive triangles' texel buffer (`BINDING_LIGHTS`), with the tree's
+    /// nodes where there is one.
     pub fn emissive_bytes(&self) -> Vec<u8> {
-        gpu_light_bytes(&self.emissive)
+        match &self.tree {
+            None => gpu_light_bytes(&self.emissive),
+            Some(tree) => gpu_light_bytes_with_tree(&self.emissive, tree),
+        }
+    }
+
+    /// The light searches' iterations per ray that the kernel counts (the loop bound,
+    /// `get_light_search_iterations()` of `glsl/lights.glsl`): the power CDF's binary search
+    /// (`crate::kernels::loops::light_search_iterations`), or with a tree two walks (a light
+    /// sample's and an MIS weight's) of at most depth + 1 trips each.
+    pub fn light_search_iterations(&self) -> u64 {
+        match &self.tree {
+            None => crate::kernels::loops::light_search_iterations(
+                self.emissive.triangle_indices.len() as u64,
+            ),
+            Some(tree) => 2 * (u64::from(tree.depth) + 1),
+        }
     }
 
     /// The words of the environment's texel buffer (`BINDING_ENVIRONMENT`).

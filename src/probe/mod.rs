@@ -10,6 +10,7 @@
 //! - `inputs`: deterministic random inputs shared by the tests and `vkpath check`;
 //! - `brdf_probe`: the glTF BRDF's probe (`glsl/probe_brdf.comp`), which binds only its
 //!   inputs and outputs;
+//! - `light_tree_probe`: the light tree's probe (`glsl/probe_light_tree.comp`);
 //! - `punctual_probe`: the punctual lights' probe (`glsl/probe_punctual_lights.comp`),
 //!   which binds the lights' words instead of a scene;
 //! - `surface_probe`: the surface functions' probe (`glsl/probe_surface.comp`), which
@@ -24,6 +25,7 @@ pub mod compare;
 pub mod inputs;
 pub mod kernel;
 pub mod layout;
+pub mod light_tree_probe;
 pub mod punctual_probe;
 pub mod runner;
 pub mod surface_probe;

@@ -46,6 +46,9 @@ pub struct GpuScene {
     /// Emissive triangles, the count that the kernel's light search halves
     /// (`get_light_count()`).
     pub light_count: u64,
+    /// With a light tree, the light searches' iterations per ray
+    /// (`SceneLights::light_search_iterations`); `None`: the power CDF's.
+    pub light_tree_iterations: Option<u64>,
     /// The BVH's shape, for bounding a traversal's loop iterations (`None` without a BVH).
     pub bvh_stats: Option<BvhStats>,
 }
@@ -70,7 +73,13 @@ impl GpuScene {
         };
         let mut gpu_triangles: Vec<GpuTriangle> =
             ordered_triangles.iter().map(GpuTriangle::new).collect();
-        let scene_lights = SceneLights::new(scene, &ordered_triangles);
+        let mut scene_lights = SceneLights::new(scene, &ordered_triangles);
+        let uses_tree = settings
+            .light_selection
+            .uses_tree(scene_lights.emissive.triangle_indices.len());
+        if uses_tree {
+            scene_lights = scene_lights.with_light_tree(&ordered_triangles);
+        }
         scene_lights.annotate(&mut gpu_triangles);
         let texels = |name: &str, bytes: &[u8]| -> Result<TexelBufferView> {
             let buffer = Buffer::device_local_with_data(
@@ -179,6 +188,14 @@ impl GpuScene {
             }
         };
         let mut specialization = constant_triangle_specialization(traversal, &ordered_triangles);
+        specialization.push((
+            contract::SPEC_LIGHT_SELECTION,
+            if uses_tree {
+                contract::LIGHT_SELECTION_TREE
+            } else {
+                contract::LIGHT_SELECTION_POWER
+            },
+        ));
         if let Some(scene_materials) = scene_materials {
             specialization.push((
                 contract::SPEC_SCENE_HAS_ALPHA,
@@ -202,6 +219,10 @@ impl GpuScene {
             materials,
             specialization,
             light_count: scene_lights.emissive.triangle_indices.len() as u64,
+            light_tree_iterations: scene_lights
+                .tree
+                .as_ref()
+                .map(|_| scene_lights.light_search_iterations()),
             bvh_stats: bvh.as_ref().map(Bvh::stats),
         })
     }

@@ -34,8 +34,15 @@ const SETTING_NAMES: [&str; 10] = [
     "scene_hash",
 ];
 /// The settings recorded after those only when a render has them (files without them had
-/// none), in order: `--region`, `--noise-threshold` and its minimum spp.
-const OPTIONAL_SETTING_NAMES: [&str; 3] = ["region", "noise_threshold", "noise_min_spp"];
+/// none), in order: `--region`, `--noise-threshold` and its minimum spp, and
+/// `light_selection=tree` where the light tree chose the lights (power, the selection of
+/// every render before the tree, is not recorded, so those files' metadata stays as it was).
+const OPTIONAL_SETTING_NAMES: [&str; 4] = [
+    "region",
+    "noise_threshold",
+    "noise_min_spp",
+    "light_selection",
+];
 
 /// What a render was.
 #[derive(Clone, Debug, PartialEq, Eq)]
@@ -89,6 +96,10 @@ impl RenderMetadata {
         if let Some(noise) = settings.noise_threshold {
             settings_list.push(("noise_threshold".into(), noise.threshold.to_string()));
             settings_list.push(("noise_min_spp".into(), noise.min_spp.to_string()));
+        }
+        let light_count = crate::lights::emissive::emissive_triangle_count(&scene.triangles);
+        if settings.light_selection.uses_tree(light_count) {
+            settings_list.push(("light_selection".into(), "tree".into()));
         }
         RenderMetadata {
             settings: settings_list,

@@ -223,6 +223,7 @@ impl Renderer {
             rays: rays_per_sample(&settings, scene),
             triangle_count: scene.triangles.len() as u64,
             light_count: gpu_scene.light_count,
+            light_tree_iterations: gpu_scene.light_tree_iterations,
             bvh_iterations_per_ray: gpu_scene
                 .bvh_stats
                 .as_ref()
