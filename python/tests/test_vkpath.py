@@ -216,6 +216,23 @@ def test_bad_settings_raise_with_the_names_to_use():
         vkpath.render(width=8, height=8, spp=1, environment=REPO / "missing.hdr")
 
 
+def test_light_selection_by_name_and_a_bad_name_raises():
+    # Each light of emissive_quad.gltf is two triangles with one box, so the tree's choice
+    # there is the power CDF's 0.5/0.5: the same bits either way.
+    scene = vkpath.Scene.load(REPO / "tests" / "data" / "emissive_quad.gltf")
+    images = [vkpath.render(scene, width=12, height=8, spp=2, integrator="nee",
+                            light_selection=name) for name in ("power", "tree")]
+    assert np.array_equal(bits(images[0]), bits(images[1]))
+    # The thousand-light corridor renders with the tree, finite and not black.
+    corridor = vkpath.Scene.load(REPO / "scenes" / "many_lights.gltf")
+    result = vkpath.render_result(corridor, width=8, height=6, spp=2, integrator="nee",
+                                  light_selection="tree")
+    assert result.settings["light_selection"] == "tree"
+    assert np.isfinite(result.image).all() and result.image[..., :3].max() > 0
+    with pytest.raises(vkpath.VkpathError, match="power"):
+        vkpath.render(width=8, height=8, spp=1, light_selection="cdf")
+
+
 def test_a_sampler_the_integrator_ignores_is_a_warning():
     with pytest.warns(UserWarning, match="no effect"):
         result = vkpath.render_result(width=8, height=8, spp=1, integrator="workshop",
@@ -230,7 +247,8 @@ def test_defaults_are_the_command_lines(cli):
     # (Not --sampler: its default may depend on the integrator; the bit-for-bit test above
     # covers it.)
     for option in ("width", "height", "spp", "seed", "integrator",
-                   "max_path_length", "light_sampling", "pixel_filter", "accel"):
+                   "max_path_length", "light_sampling", "light_selection", "pixel_filter",
+                   "accel"):
         flag = "--" + option.replace("_", "-")
         block = help_text[help_text.index(flag):]
         block = block[:block.index("\n  -", 1) if "\n  -" in block[1:] else len(block)]
