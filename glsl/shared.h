@@ -238,6 +238,36 @@
 // random number, which rounding could otherwise bring to 1.
 #define LIGHT_TREE_ONE_MINUS_EPSILON 0.99999994
 
+// ======== Path guiding (glsl/guiding.glsl, host side src/guiding/; Rust twins src/cpu/guiding.rs) ========
+
+// The guide's texel buffer (RGBA32_UINT): GUIDE_HEADER_TEXEL_COUNT header texels (the grid's
+// resolution and cell count; its lower corner; its cells per unit length), then
+// GUIDE_CELL_TEXEL_COUNT texels per cell: the cumulative probabilities of its
+// GUIDE_BIN_COUNT directional bins (floats, 1 at the last bin; all 0 where the cell is not
+// guided). Bound by glsl/probe_guiding.comp.
+#define BINDING_GUIDE 18
+#define GUIDE_HEADER_TEXEL_COUNT 3
+// Bins per axis of a cell's directional histogram over the sphere's equal-area cylindrical
+// map (cos theta, phi): GUIDE_DIRECTION_RESOLUTION^2 bins of equal solid angle.
+#define GUIDE_DIRECTION_RESOLUTION 16
+#define GUIDE_BIN_COUNT 256
+#define GUIDE_CELL_TEXEL_COUNT 64
+// The share of BSDF sampling in a guided vertex's one-sample mixture: the mixture's density
+// is at least this times the BSDF's, so it never vanishes where the BSDF does not.
+#define GUIDE_BSDF_FRACTION 0.5
+// The share of a uniform distribution over the bins in each guided cell (host side): no
+// bin's probability falls below GUIDE_UNIFORM_FRACTION / GUIDE_BIN_COUNT, which keeps a
+// cell's density bounded away from 0 where few training paths went.
+#define GUIDE_UNIFORM_FRACTION 0.1
+// Training splats a cell needs before it is guided (host side): fewer give a histogram that
+// is mostly noise.
+#define GUIDE_MIN_SPLATS 64
+// The largest float below 1 (1 - 2^-24): where sample_guide_direction() clamps its rescaled
+// random number.
+#define GUIDE_ONE_MINUS_EPSILON 0.99999994
+// Descriptor set 0 of glsl/probe_guiding.comp: BINDING_GUIDE, then PROBE_BINDING_INPUTS and
+// PROBE_BINDING_OUTPUTS.
+
 // ======== Materials (glsl/brdf.glsl, glsl/materials.glsl; Rust twins src/cpu/brdf.rs) ========
 
 // Smallest GGX alpha (get_ggx_alpha()): roughness 0 (a perfect mirror) becomes alpha 10^-4,

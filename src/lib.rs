@@ -55,6 +55,8 @@ pub mod denoise;
 pub mod error;
 #[doc(hidden)]
 pub mod exercise;
+#[doc(hidden)]
+pub mod guiding;
 pub mod image_io;
 #[doc(hidden)]
 pub mod kernels;

@@ -6,6 +6,7 @@ pub mod brdf;
 pub mod camera;
 pub mod environment;
 pub mod gltf_surface;
+pub mod guiding;
 pub mod image;
 pub mod importance_sampling;
 pub mod integrator;

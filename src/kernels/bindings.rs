@@ -35,6 +35,8 @@ pub enum Resource {
     Environment,
     /// KHR_lights_punctual's lights (`gpu_punctual_light_words`, texel buffer).
     PunctualLights,
+    /// Path guiding's guide (`crate::guiding::Guide::words`, texel buffer).
+    Guide,
     /// A probe's input structs, one per invocation.
     ProbeInputs,
     /// A probe's output structs, one per invocation.
@@ -156,6 +158,13 @@ pub const PUNCTUAL_LIGHTS_PROBE: &[Binding] = &[
 /// `glsl/probe_light_tree.comp`.
 pub const LIGHT_TREE_PROBE: &[Binding] = &[
     row(c::BINDING_LIGHTS, TEXEL, R::Lights),
+    row(c::PROBE_BINDING_INPUTS, STORAGE, R::ProbeInputs),
+    row(c::PROBE_BINDING_OUTPUTS, STORAGE, R::ProbeOutputs),
+];
+
+/// `glsl/probe_guiding.comp`.
+pub const GUIDING_PROBE: &[Binding] = &[
+    row(c::BINDING_GUIDE, TEXEL, R::Guide),
     row(c::PROBE_BINDING_INPUTS, STORAGE, R::ProbeInputs),
     row(c::PROBE_BINDING_OUTPUTS, STORAGE, R::ProbeOutputs),
 ];

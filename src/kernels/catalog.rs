@@ -124,6 +124,14 @@ pub static PROBE_LIGHT_TREE: Kernel = Kernel {
     push_constant_size: size_of::<ProbePushConstants>() as u32,
 };
 
+/// The guide's probe (`crate::probe::guiding_probe`).
+pub static PROBE_GUIDING: Kernel = Kernel {
+    source: "probe_guiding.comp",
+    bindings: bindings::GUIDING_PROBE,
+    specialization: &[],
+    push_constant_size: size_of::<ProbePushConstants>() as u32,
+};
+
 /// The surface functions' probe (`crate::probe::surface_probe`).
 pub static PROBE_SURFACE: Kernel = Kernel {
     source: "probe_surface.comp",
@@ -161,7 +169,7 @@ pub static EXERCISE_SAMPLES: Kernel = Kernel {
 };
 
 /// Every kernel.
-pub static ALL_KERNELS: [&Kernel; 17] = [
+pub static ALL_KERNELS: [&Kernel; 18] = [
     &PATH_TRACER,
     &PROBE_GET_RANDOM_NUMBERS,
     &PROBE_SAMPLE_SPHERE,
@@ -176,6 +184,7 @@ pub static ALL_KERNELS: [&Kernel; 17] = [
     &PROBE_SAMPLE_TEXTURE,
     &PROBE_PUNCTUAL_LIGHTS,
     &PROBE_LIGHT_TREE,
+    &PROBE_GUIDING,
     &PROBE_SURFACE,
     &PROBE_BVH,
     &EXERCISE_SAMPLES,

@@ -10,6 +10,7 @@
 //! - `inputs`: deterministic random inputs shared by the tests and `vkpath check`;
 //! - `brdf_probe`: the glTF BRDF's probe (`glsl/probe_brdf.comp`), which binds only its
 //!   inputs and outputs;
+//! - `guiding_probe`: path guiding's guide (`glsl/probe_guiding.comp`);
 //! - `light_tree_probe`: the light tree's probe (`glsl/probe_light_tree.comp`);
 //! - `punctual_probe`: the punctual lights' probe (`glsl/probe_punctual_lights.comp`),
 //!   which binds the lights' words instead of a scene;
@@ -22,6 +23,7 @@
 
 pub mod brdf_probe;
 pub mod compare;
+pub mod guiding_probe;
 pub mod inputs;
 pub mod kernel;
 pub mod layout;

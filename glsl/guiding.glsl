@@ -1,0 +1,105 @@
+// Path guiding's guide: where light arrives from, learned per region of the scene, as a
+// distribution of directions to sample (--guiding, after Mueller et al. 2017's "practical
+// path guiding", simplified for a compute shader). Space is a uniform grid of cells over
+// the scene's box; each cell holds a histogram over GUIDE_BIN_COUNT bins of equal solid
+// angle (the equal-area map z = cos theta, phi, cut GUIDE_DIRECTION_RESOLUTION ways each),
+// stored as cumulative probabilities. A fixed layout with no pointers: one texel fetch
+// finds a cell, a binary search of eight fetches samples a bin, one fetch gives a density,
+// and the memory is cells x 1 KB, known before training. A cell that training did not
+// reach often enough holds zeros and is not guided.
+//
+// Sampling is a one-sample mixture with the BSDF: with probability GUIDE_BSDF_FRACTION the
+// BSDF's sampler, else the guide's, and the density of either outcome is the mixture's
+// (get_guided_mixture_density()), so the estimator stays unbiased whatever the guide learned.
+//
+// The words are built by vkpath::guiding (GuideSplats::build()). Rust twins:
+// src/cpu/guiding.rs. Needs g_guide_texels (usamplerBuffer) and M_PI declared by the
+// includer.
+#ifndef VKPATH_GUIDING_GLSL
+#define VKPATH_GUIDING_GLSL
+
+// What get_guide_cell_index() returns outside the grid (and for an empty guide).
+#define GUIDE_NO_CELL 0xffffffffu
+
+// The cell of the grid that holds `position` (x fastest, then y, then z), GUIDE_NO_CELL
+// outside the grid.
+uint get_guide_cell_index(vec3 position) {
+    uvec4 header = texelFetch(g_guide_texels, 0);
+    if (header.w == 0u)
+        return GUIDE_NO_CELL;
+    vec3 bounds_min = uintBitsToFloat(texelFetch(g_guide_texels, 1).xyz);
+    vec3 cells_per_unit = uintBitsToFloat(texelFetch(g_guide_texels, 2).xyz);
+    vec3 cell = floor((position - bounds_min) * cells_per_unit);
+    if (!(all(greaterThanEqual(cell, vec3(0.0))) && all(lessThan(cell, vec3(header.xyz)))))
+        return GUIDE_NO_CELL;
+    uvec3 coordinates = uvec3(cell);
+    return (coordinates.z * header.y + coordinates.y) * header.x + coordinates.x;
+}
+
+// The directional bin of a unit world-space direction: row (cos theta + 1) / 2, column
+// phi / (2 pi), each cut into GUIDE_DIRECTION_RESOLUTION; bin = row * resolution + column.
+uint get_guide_bin_index(vec3 direction) {
+    float resolution = float(GUIDE_DIRECTION_RESOLUTION);
+    float z = clamp(direction.z, -1.0, 1.0);
+    // GLSL leaves atan(0, 0) undefined: the poles take phi = 0, as Rust's atan2 gives.
+    float phi = (direction.x == 0.0 && direction.y == 0.0) ? 0.0 : atan(direction.y, direction.x);
+    if (phi < 0.0)
+        phi += 2.0 * M_PI;
+    uint row = min(uint((z + 1.0) * 0.5 * resolution), uint(GUIDE_DIRECTION_RESOLUTION - 1));
+    uint column = min(uint(phi * (resolution / (2.0 * M_PI))), uint(GUIDE_DIRECTION_RESOLUTION - 1));
+    return row * uint(GUIDE_DIRECTION_RESOLUTION) + column;
+}
+
+// The cell's cumulative probability up to and including `bin`.
+float get_guide_cumulative(uint cell_index, uint bin) {
+    uint texel = GUIDE_HEADER_TEXEL_COUNT + cell_index * GUIDE_CELL_TEXEL_COUNT + bin / 4u;
+    return uintBitsToFloat(texelFetch(g_guide_texels, int(texel))[bin % 4u]);
+}
+
+// Whether the cell holds a learned distribution (its last cumulative probability is 1).
+bool is_guided_cell(uint cell_index) {
+    return cell_index != GUIDE_NO_CELL && get_guide_cumulative(cell_index, GUIDE_BIN_COUNT - 1u) > 0.0;
+}
+
+// The probability of one bin of a guided cell.
+float get_guide_bin_probability(uint cell_index, uint bin) {
+    float before = (bin == 0u) ? 0.0 : get_guide_cumulative(cell_index, bin - 1u);
+    return get_guide_cumulative(cell_index, bin) - before;
+}
+
+// The guide's density w.r.t. solid angle of a unit direction in a guided cell: the bin's
+// probability over its solid angle 4 pi / GUIDE_BIN_COUNT.
+float get_guide_density(uint cell_index, vec3 direction) {
+    return get_guide_bin_probability(cell_index, get_guide_bin_index(direction)) * (float(GUIDE_BIN_COUNT) / (4.0 * M_PI));
+}
+
+// A unit direction distributed as get_guide_density() in a guided cell: the bin by binary
+// search of the cumulative probabilities with random_numbers[0], which is then rescaled
+// within the bin to place cos theta; random_numbers[1] places phi.
+vec3 sample_guide_direction(uint cell_index, vec2 random_numbers) {
+    float u = random_numbers[0];
+    // The first bin whose cumulative probability exceeds u: all bins before `first` end at
+    // or below u.
+    uint first = 0u;
+    for (uint step = GUIDE_BIN_COUNT / 2u; step != 0u; step /= 2u) {
+        if (get_guide_cumulative(cell_index, first + step - 1u) <= u)
+            first += step;
+    }
+    float before = (first == 0u) ? 0.0 : get_guide_cumulative(cell_index, first - 1u);
+    float probability = get_guide_cumulative(cell_index, first) - before;
+    float within = min((u - before) / probability, GUIDE_ONE_MINUS_EPSILON);
+    float resolution = float(GUIDE_DIRECTION_RESOLUTION);
+    float row = float(first / uint(GUIDE_DIRECTION_RESOLUTION));
+    float column = float(first % uint(GUIDE_DIRECTION_RESOLUTION));
+    float z = -1.0 + 2.0 * (row + within) / resolution;
+    float phi = 2.0 * M_PI * (column + random_numbers[1]) / resolution;
+    float radius = sqrt(max(0.0, 1.0 - z * z));
+    return vec3(radius * cos(phi), radius * sin(phi), z);
+}
+
+// The density of the one-sample mixture of BSDF and guide sampling at a guided vertex.
+float get_guided_mixture_density(float bsdf_density, float guide_density) {
+    return GUIDE_BSDF_FRACTION * bsdf_density + (1.0 - GUIDE_BSDF_FRACTION) * guide_density;
+}
+
+#endif

@@ -1,0 +1,116 @@
+//! Rust twins of `glsl/guiding.glsl`: finding a point's cell in the guide, a direction's
+//! bin, the guide's density and its sampler, read from the same words of the guide's texel
+//! buffer that the GPU reads (`crate::guiding::Guide::words`), with the same maths.
+
+use glam::{UVec3, Vec2, Vec3};
+
+use crate::contract::{
+    GUIDE_BIN_COUNT, GUIDE_BSDF_FRACTION, GUIDE_CELL_TEXEL_COUNT, GUIDE_DIRECTION_RESOLUTION,
+    GUIDE_HEADER_TEXEL_COUNT, GUIDE_ONE_MINUS_EPSILON,
+};
+use crate::cpu::texels::{fetch_float_texel, fetch_texel};
+use crate::cpu::workshop::M_PI;
+
+/// Twin of `GUIDE_NO_CELL`: what `get_guide_cell_index` returns outside the grid.
+pub const GUIDE_NO_CELL: u32 = u32::MAX;
+
+/// The words of `g_guide_texels` (header, then the cells) as the twins read them.
+#[derive(Clone, Copy, Debug)]
+pub struct GuideTexels<'a> {
+    /// RGBA32_UINT texels, four words each.
+    pub words: &'a [u32],
+}
+
+/// Twin of `get_guide_cell_index`.
+pub fn get_guide_cell_index(texels: GuideTexels, position: Vec3) -> u32 {
+    let header = fetch_texel(texels.words, 0);
+    if header.w == 0 {
+        return GUIDE_NO_CELL;
+    }
+    let bounds_min = fetch_float_texel(texels.words, 1).truncate();
+    let cells_per_unit = fetch_float_texel(texels.words, 2).truncate();
+    let cell = ((position - bounds_min) * cells_per_unit).floor();
+    let resolution = header.truncate().as_vec3();
+    if !(cell.cmpge(Vec3::ZERO).all() && cell.cmplt(resolution).all()) {
+        return GUIDE_NO_CELL;
+    }
+    let coordinates: UVec3 = cell.as_uvec3();
+    (coordinates.z * header.y + coordinates.y) * header.x + coordinates.x
+}
+
+/// Twin of `get_guide_bin_index`.
+pub fn get_guide_bin_index(direction: Vec3) -> u32 {
+    let resolution = GUIDE_DIRECTION_RESOLUTION as f32;
+    let z = direction.z.clamp(-1.0, 1.0);
+    let mut phi = if direction.x == 0.0 && direction.y == 0.0 {
+        0.0
+    } else {
+        direction.y.atan2(direction.x)
+    };
+    if phi < 0.0 {
+        phi += 2.0 * M_PI;
+    }
+    let row = (((z + 1.0) * 0.5 * resolution) as u32).min(GUIDE_DIRECTION_RESOLUTION - 1);
+    let column = ((phi * (resolution / (2.0 * M_PI))) as u32).min(GUIDE_DIRECTION_RESOLUTION - 1);
+    row * GUIDE_DIRECTION_RESOLUTION + column
+}
+
+/// Twin of `get_guide_cumulative`.
+pub fn get_guide_cumulative(texels: GuideTexels, cell_index: u32, bin: u32) -> f32 {
+    let texel = GUIDE_HEADER_TEXEL_COUNT + cell_index * GUIDE_CELL_TEXEL_COUNT + bin / 4;
+    fetch_float_texel(texels.words, texel as usize)[(bin % 4) as usize]
+}
+
+/// Twin of `is_guided_cell`.
+pub fn is_guided_cell(texels: GuideTexels, cell_index: u32) -> bool {
+    cell_index != GUIDE_NO_CELL
+        && get_guide_cumulative(texels, cell_index, GUIDE_BIN_COUNT - 1) > 0.0
+}
+
+/// Twin of `get_guide_bin_probability`.
+pub fn get_guide_bin_probability(texels: GuideTexels, cell_index: u32, bin: u32) -> f32 {
+    let before = if bin == 0 {
+        0.0
+    } else {
+        get_guide_cumulative(texels, cell_index, bin - 1)
+    };
+    get_guide_cumulative(texels, cell_index, bin) - before
+}
+
+/// Twin of `get_guide_density`.
+pub fn get_guide_density(texels: GuideTexels, cell_index: u32, direction: Vec3) -> f32 {
+    get_guide_bin_probability(texels, cell_index, get_guide_bin_index(direction))
+        * (GUIDE_BIN_COUNT as f32 / (4.0 * M_PI))
+}
+
+/// Twin of `sample_guide_direction`.
+pub fn sample_guide_direction(texels: GuideTexels, cell_index: u32, random_numbers: Vec2) -> Vec3 {
+    let u = random_numbers[0];
+    let mut first = 0u32;
+    let mut step = GUIDE_BIN_COUNT / 2;
+    while step != 0 {
+        if get_guide_cumulative(texels, cell_index, first + step - 1) <= u {
+            first += step;
+        }
+        step /= 2;
+    }
+    let before = if first == 0 {
+        0.0
+    } else {
+        get_guide_cumulative(texels, cell_index, first - 1)
+    };
+    let probability = get_guide_cumulative(texels, cell_index, first) - before;
+    let within = ((u - before) / probability).min(GUIDE_ONE_MINUS_EPSILON);
+    let resolution = GUIDE_DIRECTION_RESOLUTION as f32;
+    let row = (first / GUIDE_DIRECTION_RESOLUTION) as f32;
+    let column = (first % GUIDE_DIRECTION_RESOLUTION) as f32;
+    let z = -1.0 + 2.0 * (row + within) / resolution;
+    let phi = 2.0 * M_PI * (column + random_numbers[1]) / resolution;
+    let radius = (1.0 - z * z).max(0.0).sqrt();
+    Vec3::new(radius * phi.cos(), radius * phi.sin(), z)
+}
+
+/// Twin of `get_guided_mixture_density`.
+pub fn get_guided_mixture_density(bsdf_density: f32, guide_density: f32) -> f32 {
+    GUIDE_BSDF_FRACTION * bsdf_density + (1.0 - GUIDE_BSDF_FRACTION) * guide_density
+}
