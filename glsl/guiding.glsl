@@ -87,7 +87,7 @@ vec3 sample_guide_direction(uint cell_index, vec2 random_numbers) {
     }
     float before = (first == 0u) ? 0.0 : get_guide_cumulative(cell_index, first - 1u);
     float probability = get_guide_cumulative(cell_index, first) - before;
-    float within = min((u - before) / probability, GUIDE_ONE_MINUS_EPSILON);
+    float within = min((u - before) / probability, ONE_MINUS_EPSILON);
     float resolution = float(GUIDE_DIRECTION_RESOLUTION);
     float row = float(first / uint(GUIDE_DIRECTION_RESOLUTION));
     float column = float(first % uint(GUIDE_DIRECTION_RESOLUTION));

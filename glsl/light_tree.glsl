@@ -181,11 +181,11 @@ uint sample_light_tree(float random_number, vec3 position, vec3 normal, out floa
         if (first < 0.0)
             return NO_LIGHT;
         if (u < first) {
-            u = min(u / first, LIGHT_TREE_ONE_MINUS_EPSILON);
+            u = min(u / first, ONE_MINUS_EPSILON);
             probability *= first;
             node_index += 1u;
         } else {
-            u = min((u - first) / (1.0 - first), LIGHT_TREE_ONE_MINUS_EPSILON);
+            u = min((u - first) / (1.0 - first), ONE_MINUS_EPSILON);
             probability *= 1.0 - first;
             node_index = node.index;
         }

@@ -234,9 +234,10 @@
 #define LIGHT_TREE_FLAG_TWO_SIDED 2
 // Deepest leaf the tree may have: the bits of a light's leaf trail (a uint).
 #define LIGHT_TREE_MAX_DEPTH 32
-// The largest float below 1 (1 - 2^-24): where sample_light_tree() clamps its rescaled
-// random number, which rounding could otherwise bring to 1.
-#define LIGHT_TREE_ONE_MINUS_EPSILON 0.99999994
+// The largest float below 1 (1 - 2^-24): where sample_light_tree() and
+// sample_guide_direction() clamp their rescaled random numbers, which rounding could
+// otherwise bring to 1.
+#define ONE_MINUS_EPSILON 0.99999994
 
 // ======== Path guiding (glsl/guiding.glsl, host side src/guiding/; Rust twins src/cpu/guiding.rs) ========
 
@@ -262,9 +263,6 @@
 // Training splats a cell needs before it is guided (host side): fewer give a histogram that
 // is mostly noise.
 #define GUIDE_MIN_SPLATS 64
-// The largest float below 1 (1 - 2^-24): where sample_guide_direction() clamps its rescaled
-// random number.
-#define GUIDE_ONE_MINUS_EPSILON 0.99999994
 // Descriptor set 0 of glsl/probe_guiding.comp: BINDING_GUIDE, then PROBE_BINDING_INPUTS and
 // PROBE_BINDING_OUTPUTS.
 

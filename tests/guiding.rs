@@ -63,7 +63,7 @@ fn gpu_and_cpu_find_the_same_cells_bins_densities_and_samples() {
         };
         let random_numbers = match index % 50 {
             0 => Vec2::ZERO,
-            25 => Vec2::splat(0.99999994),
+            25 => Vec2::splat(vkpath::contract::ONE_MINUS_EPSILON),
             _ => Vec2::new(rng.uniform(), rng.uniform()),
         };
         inputs.push(GuidingProbeInput::new(position, direction, random_numbers));

@@ -6,7 +6,7 @@ use glam::{UVec3, Vec2, Vec3};
 
 use crate::contract::{
     GUIDE_BIN_COUNT, GUIDE_BSDF_FRACTION, GUIDE_CELL_TEXEL_COUNT, GUIDE_DIRECTION_RESOLUTION,
-    GUIDE_HEADER_TEXEL_COUNT, GUIDE_ONE_MINUS_EPSILON,
+    GUIDE_HEADER_TEXEL_COUNT, ONE_MINUS_EPSILON,
 };
 use crate::cpu::texels::{fetch_float_texel, fetch_texel};
 use crate::cpu::workshop::M_PI;
@@ -100,7 +100,7 @@ pub fn sample_guide_direction(texels: GuideTexels, cell_index: u32, random_numbe
         get_guide_cumulative(texels, cell_index, first - 1)
     };
     let probability = get_guide_cumulative(texels, cell_index, first) - before;
-    let within = ((u - before) / probability).min(GUIDE_ONE_MINUS_EPSILON);
+    let within = ((u - before) / probability).min(ONE_MINUS_EPSILON);
     let resolution = GUIDE_DIRECTION_RESOLUTION as f32;
     let row = (first / GUIDE_DIRECTION_RESOLUTION) as f32;
     let column = (first % GUIDE_DIRECTION_RESOLUTION) as f32;

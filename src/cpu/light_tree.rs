@@ -6,8 +6,7 @@
 use glam::Vec3;
 
 use crate::contract::{
-    LIGHT_TREE_FLAG_LEAF, LIGHT_TREE_FLAG_TWO_SIDED, LIGHT_TREE_MAX_DEPTH,
-    LIGHT_TREE_ONE_MINUS_EPSILON,
+    LIGHT_TREE_FLAG_LEAF, LIGHT_TREE_FLAG_TWO_SIDED, LIGHT_TREE_MAX_DEPTH, ONE_MINUS_EPSILON,
 };
 use crate::cpu::texels::{fetch_float_texel, fetch_texel};
 
@@ -189,11 +188,11 @@ pub fn sample_light_tree(
             return (NO_LIGHT, 0.0);
         }
         if u < first {
-            u = (u / first).min(LIGHT_TREE_ONE_MINUS_EPSILON);
+            u = (u / first).min(ONE_MINUS_EPSILON);
             probability *= first;
             node_index += 1;
         } else {
-            u = ((u - first) / (1.0 - first)).min(LIGHT_TREE_ONE_MINUS_EPSILON);
+            u = ((u - first) / (1.0 - first)).min(ONE_MINUS_EPSILON);
             probability *= 1.0 - first;
             node_index = node.index;
         }

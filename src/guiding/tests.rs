@@ -6,7 +6,8 @@ use glam::{Vec2, Vec3};
 
 use super::*;
 use crate::cpu::guiding::{
-    get_guide_density, get_guided_mixture_density, is_guided_cell, sample_guide_direction,
+    get_guide_bin_probability, get_guide_density, get_guided_mixture_density, is_guided_cell,
+    sample_guide_direction,
 };
 use crate::cpu::importance_sampling::{get_hemisphere_cosine_density, sample_hemisphere_cosine};
 use crate::probe::inputs::InputRng;
@@ -110,6 +111,23 @@ fn chi2_config() -> Chi2Config {
     }
 }
 
+/// Runs the χ² test of `samples` against `density` (w.r.t. solid angle) with
+/// `chi2_config()`, prints its figures under `name` and fails unless it passed.
+fn assert_follows_density(name: &str, samples: Vec<Vec3>, density: &dyn Fn(Vec3) -> f64) {
+    let result = chi2_direction_test(
+        samples,
+        TargetDensity::SolidAngle(density),
+        &SphereFrame::WORLD,
+        &chi2_config(),
+    )
+    .unwrap();
+    println!(
+        "{name}: p = {:.4}, chi2 = {:.1}, dof {}",
+        result.p_value, result.statistic, result.degrees_of_freedom
+    );
+    assert!(result.passed, "{result:?}");
+}
+
 #[test]
 fn sample_guide_direction_follows_get_guide_density() {
     let guide = lobe_splats(Vec3::new(0.3, -0.5, 0.81).normalize(), 20_000, 3).build();
@@ -119,18 +137,7 @@ fn sample_guide_direction_follows_get_guide_density() {
         .map(|_| sample_guide_direction(texels, 0, Vec2::new(rng.uniform(), rng.uniform())))
         .collect();
     let density = |direction: Vec3| f64::from(get_guide_density(texels, 0, direction));
-    let result = chi2_direction_test(
-        samples,
-        TargetDensity::SolidAngle(&density),
-        &SphereFrame::WORLD,
-        &chi2_config(),
-    )
-    .unwrap();
-    println!(
-        "guide alone: p = {:.4}, chi2 = {:.1}, dof {}",
-        result.p_value, result.statistic, result.degrees_of_freedom
-    );
-    assert!(result.passed, "{result:?}");
+    assert_follows_density("guide alone", samples, &density);
 }
 
 #[test]
@@ -158,18 +165,7 @@ fn the_mixture_with_a_bsdf_follows_its_density() {
             get_guide_density(texels, 0, direction),
         ))
     };
-    let result = chi2_direction_test(
-        samples,
-        TargetDensity::SolidAngle(&density),
-        &SphereFrame::WORLD,
-        &chi2_config(),
-    )
-    .unwrap();
-    println!(
-        "guide mixed with a cosine lobe: p = {:.4}, chi2 = {:.1}, dof {}",
-        result.p_value, result.statistic, result.degrees_of_freedom
-    );
-    assert!(result.passed, "{result:?}");
+    assert_follows_density("guide mixed with a cosine lobe", samples, &density);
 }
 
 #[test]
@@ -222,20 +218,12 @@ fn sparse_cells_stay_unguided_and_bad_values_do_not_count() {
     let guide = splats.build();
     assert!(is_guided_cell(guide.texels(), 1));
     let floor = GUIDE_UNIFORM_FRACTION / GUIDE_BIN_COUNT as f32;
-    let peak = crate::cpu::guiding::get_guide_bin_probability(
-        guide.texels(),
-        1,
-        crate::cpu::guiding::get_guide_bin_index(Vec3::Z),
-    );
+    let peak = get_guide_bin_probability(guide.texels(), 1, get_guide_bin_index(Vec3::Z));
     assert!(
         (peak - (1.0 - GUIDE_UNIFORM_FRACTION + floor)).abs() < 1e-5,
         "{peak}"
     );
-    let other = crate::cpu::guiding::get_guide_bin_probability(
-        guide.texels(),
-        1,
-        crate::cpu::guiding::get_guide_bin_index(-Vec3::Z),
-    );
+    let other = get_guide_bin_probability(guide.texels(), 1, get_guide_bin_index(-Vec3::Z));
     assert!((other - floor).abs() < 1e-6, "{other}");
     // 3 header texels and 64 per cell.
     assert_eq!(guide.memory_bytes(), 16 * (3 + 2 * 64));
