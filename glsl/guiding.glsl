@@ -75,8 +75,10 @@ float get_guide_density(uint cell_index, vec3 direction) {
 
 // A unit direction distributed as get_guide_density() in a guided cell: the bin by binary
 // search of the cumulative probabilities with random_numbers[0], which is then rescaled
-// within the bin to place cos theta; random_numbers[1] places phi.
-vec3 sample_guide_direction(uint cell_index, vec2 random_numbers) {
+// within the bin to place cos theta; random_numbers[1] places phi. `out_bin` is the bin
+// chosen: its density is the sample's, whereas get_guide_bin_index() of the direction may
+// put a sample within the arctangent's error of a bin edge in the neighbouring bin.
+vec3 sample_guide_direction(uint cell_index, vec2 random_numbers, out uint out_bin) {
     float u = random_numbers[0];
     // The first bin whose cumulative probability exceeds u: all bins before `first` end at
     // or below u.
@@ -94,6 +96,7 @@ vec3 sample_guide_direction(uint cell_index, vec2 random_numbers) {
     float z = -1.0 + 2.0 * (row + within) / resolution;
     float phi = 2.0 * M_PI * (column + random_numbers[1]) / resolution;
     float radius = sqrt(max(0.0, 1.0 - z * z));
+    out_bin = first;
     return vec3(radius * cos(phi), radius * sin(phi), z);
 }
 

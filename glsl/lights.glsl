@@ -30,6 +30,7 @@
 #include "importance_sampling.glsl"
 #include "sobol.glsl"
 #include "surface.glsl"
+#include "path_guiding.glsl"
 #ifdef USE_MATERIALS
 #include "environment.glsl"
 #include "punctual_lights.glsl"
@@ -275,7 +276,7 @@ vec3 estimate_light_sample(surface_t surface, vec3 view, vec3 origin, light_samp
     vec3 reflected = get_reflected_radiance(surface, light_sample.direction, bsdf, light_sample.radiance);
     if (delta)
         return reflected * light_sample.delta_weight;
-    float weight = weighs_by_mis() ? get_power_heuristic_weight(light_sample.density, get_bsdf_density(surface, view, light_sample.direction)) : 1.0;
+    float weight = weighs_by_mis() ? get_power_heuristic_weight(light_sample.density, get_path_direction_density(surface, view, light_sample.direction)) : 1.0;
     return reflected / light_sample.density * weight;
 }
 

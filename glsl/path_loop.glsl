@@ -29,7 +29,8 @@
 // else the workshop's get_sample_tex_coord()); then at each vertex that is not the last:
 // nee and mis: the light samples' pairs (glsl/lights.glsl lists them); the direction: one
 // get_random_numbers() pair for Exercises 6 and 7 (PCG2D even with SAMPLER_SOBOL), one
-// get_path_random_numbers() pair for cosine, nee and mis, and at a layered material's
+// get_path_random_numbers() pair for cosine, nee and mis (with --guiding, at a guided vertex,
+// the pairs glsl/path_guiding.glsl lists instead), and at a layered material's
 // surface (has_layers(), sampled by its BSDF whatever the integrator) a second pair whose
 // first number chooses the lobe; cosine, nee and mis past
 // RUSSIAN_ROULETTE_START: the survival pair (its first number). Alpha coverage
@@ -43,6 +44,7 @@
 
 #include "integrators.glsl"
 #include "surface.glsl"
+#include "path_guiding.glsl"
 #include "lights.glsl"
 
 // Step 1 at a hit: throughput times the emission the path found, weighted as the integrator
@@ -90,6 +92,19 @@ bsdf_sample_t sample_path_direction(surface_t surface, vec3 view, inout uvec2 se
     return sample_bsdf(surface, view, random_numbers, lobe_random);
 }
 
+// Step 3 at a vertex that path guiding guides (cell `guide_cell`, glsl/path_guiding.glsl):
+// one number chooses between sample_path_direction() and the guide.
+bsdf_sample_t sample_guided_path_direction(surface_t surface, vec3 view, uint guide_cell, inout uvec2 seed) {
+    bool bsdf_chosen = get_path_random_numbers(seed)[0] < GUIDE_BSDF_FRACTION;
+    bsdf_sample_t bsdf_sample;
+    vec2 guide_random_numbers = vec2(0.0);
+    if (bsdf_chosen)
+        bsdf_sample = sample_path_direction(surface, view, seed);
+    else
+        guide_random_numbers = get_path_random_numbers(seed);
+    return get_guided_direction(surface, view, guide_cell, bsdf_sample, bsdf_chosen, guide_random_numbers);
+}
+
 // A Monte Carlo estimate of the radiance arriving along a ray: the loop of the file's
 // comment. L_{j+1} = L_j + T_j (found emission + light samples), T_{j+1} = T_j weight_j.
 // \param ray_origin, ray_direction The camera ray, world space
@@ -127,15 +142,20 @@ vec3 get_path_radiance(vec3 ray_origin, vec3 ray_direction, inout uvec2 seed) {
         radiance += get_found_emission(i, throughput_weight, surface, triangle_index, triangle, previous_position, ray_direction, t, direction_density, light_sampled, light_origin, light_normal);
         if (i + 1 == vertex_count)
             break;
-        // 2. Light samples (none at glass)
+        // 2. Light samples (none at glass), weighed by MIS against the direction sampling of
+        // step 3, guided where the guide knows the vertex's cell
         light_sampled = takes_light_samples() && !is_transmissive(surface);
+        uint guide_grid_cell = get_path_guide_grid_cell(ray_origin, light_sampled);
+        g_path.guide_cell = get_path_guide_cell(guide_grid_cell);
         if (light_sampled) {
             light_origin = get_light_sample_origin(surface, ray_origin);
             light_normal = get_light_selection_normal(surface);
             radiance += throughput_weight * sample_direct_light(ray_origin, surface, view, seed);
         }
         // 3. Continue the path
-        bsdf_sample_t direction = sample_path_direction(surface, view, seed);
+        bsdf_sample_t direction = (g_path.guide_cell != GUIDE_NO_CELL)
+            ? sample_guided_path_direction(surface, view, g_path.guide_cell, seed)
+            : sample_path_direction(surface, view, seed);
         if (direction.weight == vec3(0.0))
             break;
         ray_direction = direction.direction;
@@ -152,7 +172,11 @@ vec3 get_path_radiance(vec3 ray_origin, vec3 ray_direction, inout uvec2 seed) {
                 break;
             throughput_weight /= survival;
         }
+        // Training frames: where this vertex's light came from (glsl/path_guiding.glsl)
+        record_guide_vertex(guide_grid_cell, ray_direction, direction_density, throughput_weight, radiance);
     }
+    if (is_guide_training())
+        splat_guide_records(radiance);
     return radiance;
 }
 

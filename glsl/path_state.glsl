@@ -27,9 +27,13 @@ struct path_state_t {
     // set by the kernel once per sample: a hit's coverage hashes it with ray_count and the
     // triangle's index.
     uvec2 alpha_seed;
+    // Path guiding: the guided cell of the current vertex (GUIDE_NO_CELL, 0xffffffff, where
+    // the BSDF samples alone), set by the path loop before its light samples, read by
+    // get_path_direction_density() (glsl/path_guiding.glsl).
+    uint guide_cell;
 };
 
-path_state_t g_path = path_state_t(0u, 0u, 0u, 0u, 0u, 0u, uvec2(0u));
+path_state_t g_path = path_state_t(0u, 0u, 0u, 0u, 0u, 0u, uvec2(0u), 0xffffffffu);
 
 // The hit triangle's index under the name the workshop's estimators and exercise files use:
 // is_double_sided(g_hit_triangle_index).

@@ -36,20 +36,8 @@ layout(constant_id = SPEC_LOOPS_PER_SAMPLE) const uint LOOPS_PER_SAMPLE = 0u;
 layout(constant_id = SPEC_LOOPS_PER_RAY) const uint LOOPS_PER_RAY = 0u;
 layout(constant_id = SPEC_LIGHT_SEARCHES_PER_RAY) const uint LIGHT_SEARCHES_PER_RAY = 0u;
 layout(constant_id = SPEC_TRIANGLE_LOOPS_PER_RAY) const uint TRIANGLE_LOOPS_PER_RAY = 0u;
-
-#include "integrator.glsl"
-#include "integrators.glsl"
-#ifdef USE_BVH
-#include "bvh.glsl"
-#endif
-#include "camera.glsl"
-#include "adaptive_sampling.glsl"
-#include "path_loop.glsl"
-#ifdef USER_FUNCTIONS
-#include "user_functions.glsl"
-#endif
-
-layout(set = 0, binding = BINDING_ACCUMULATION, rgba32f) uniform image2DArray g_accumulation;
+// GUIDING_OFF or GUIDING_ON: path guiding (glsl/path_guiding.glsl), compiled out when off.
+layout(constant_id = SPEC_GUIDING) const int GUIDING = GUIDING_OFF;
 
 // What changes per frame. Mirrors `vkpath::render::gpu_types::FramePushConstants`.
 layout(push_constant) uniform frame_push_constants {
@@ -67,7 +55,25 @@ layout(push_constant) uniform frame_push_constants {
     // sampling off.
     float g_noise_threshold;
     uint g_noise_min_samples;
+    // Nonzero in path guiding's training frames: the path loop splats what it learns
+    // (glsl/path_guiding.glsl).
+    uint g_guide_training;
 };
+
+#include "integrator.glsl"
+#include "integrators.glsl"
+#ifdef USE_BVH
+#include "bvh.glsl"
+#endif
+#include "camera.glsl"
+#include "adaptive_sampling.glsl"
+#include "path_loop.glsl"
+#ifdef USER_FUNCTIONS
+#include "user_functions.glsl"
+#endif
+
+layout(set = 0, binding = BINDING_ACCUMULATION, rgba32f) uniform image2DArray g_accumulation;
+
 
 // One sample of the radiance through a pixel with the chosen integrator.
 vec3 get_sample_radiance(vec3 ray_direction, inout uvec2 seed) {
@@ -122,6 +128,13 @@ void main() {
             && is_pixel_converged(sum.rgb - compensation, sum.a, sum_of_squares, g_noise_threshold))
             break;
         uvec2 seed = get_sample_seed(pixel, sample_index, g_resolution_triangle_count_seed.w);
+        // Path guiding's training samples must not share a render sample's random numbers
+        // (the guide would be correlated with what it guides, a bias): get_sample_seed()
+        // keeps only the low 16 bits of the index, so training's own indices (from 2^31) do
+        // not part them; flipping the top bit of one half does, for every pixel and index
+        // (the other half would have to differ by the index in that bit too).
+        if (is_guide_training())
+            seed.y ^= 1u << GUIDE_TRAINING_SEED_BIT_INDEX;
         // The Sobol state of this sample (glsl/sobol.glsl); unused with SAMPLER_PCG.
         g_path.sample_index = sample_index;
         g_path.pixel_seed = get_sobol_pixel_seed(pixel, g_resolution_triangle_count_seed.w);

@@ -32,7 +32,7 @@ struct probe_input_t {
 };
 
 struct probe_output_t {
-    uvec4 cell_bin;       // x: get_guide_cell_index(); y: is_guided_cell(); z: get_guide_bin_index() of the direction; w: 0
+    uvec4 cell_bin;       // x: get_guide_cell_index(); y: is_guided_cell(); z: get_guide_bin_index() of the direction; w: the bin sample_guide_direction() chose
     vec4 sampled_density; // xyz: sample_guide_direction() (0 where the cell is not guided); w: get_guide_density() of the input's direction (0 likewise)
 };
 
@@ -54,7 +54,10 @@ void main() {
     probe_output_t result;
     result.cell_bin = uvec4(cell, guided ? 1u : 0u, get_guide_bin_index(direction), 0u);
     result.sampled_density = vec4(0.0);
-    if (guided)
-        result.sampled_density = vec4(sample_guide_direction(cell, probe_input.random_numbers.xy), get_guide_density(cell, direction));
+    if (guided) {
+        uint sampled_bin;
+        result.sampled_density = vec4(sample_guide_direction(cell, probe_input.random_numbers.xy, sampled_bin), get_guide_density(cell, direction));
+        result.cell_bin.w = sampled_bin;
+    }
     g_outputs[index] = result;
 }

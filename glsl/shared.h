@@ -133,6 +133,10 @@
 // How nee and mis choose the emissive triangle they sample: LIGHT_SELECTION_* (an id past
 // the constant triangles' 16 + 9 * CONSTANT_TRIANGLE_CAPACITY).
 #define SPEC_LIGHT_SELECTION 600
+// Path guiding (--guiding): GUIDING_OFF, or GUIDING_ON, which samples directions from the
+// guide bound at BINDING_GUIDE and, in training frames, splats into BINDING_GUIDE_SPLATS
+// (glsl/path_guiding.glsl).
+#define SPEC_GUIDING 601
 // Most triangles that can be passed as specialization constants.
 #define CONSTANT_TRIANGLE_CAPACITY 64
 
@@ -167,6 +171,12 @@
 #define LIGHT_SELECTION_POWER 0
 // By the light tree's importance to the shading point (glsl/light_tree.glsl).
 #define LIGHT_SELECTION_TREE 1
+
+// Values of SPEC_GUIDING (glsl/path_guiding.glsl).
+// No guide: the path tracer's code for it is compiled out, its bindings unread.
+#define GUIDING_OFF 0
+// Guided directions at nee and mis vertices, and training splats in training frames.
+#define GUIDING_ON 1
 
 // Values of SPEC_INTEGRATOR.
 // Exercise 7: the path-tracing loop of get_ray_radiance().
@@ -265,6 +275,22 @@
 #define GUIDE_MIN_SPLATS 64
 // Descriptor set 0 of glsl/probe_guiding.comp: BINDING_GUIDE, then PROBE_BINDING_INPUTS and
 // PROBE_BINDING_OUTPUTS.
+// The path tracer's training splats (storage buffer of uints): for cell c and bin b, the
+// low and high words of a 64-bit fixed-point sum at 2 (c GUIDE_BIN_COUNT + b) and + 1, added
+// with carry so that the sum does not depend on the order of the atomics; then, after every
+// cell's sums, one splat count per cell. Bound, with BINDING_GUIDE, by every build of
+// glsl/path_tracer.comp (unread unless GUIDING_ON).
+#define BINDING_GUIDE_SPLATS 19
+// A splat's fixed-point units per unit of value (2^20), and the most one splat adds (2^40
+// units): the host's GUIDE_FIXED_POINT_SCALE and GUIDE_MAX_SPLAT_UNITS.
+#define GUIDE_FIXED_POINT_SCALE 1048576.0
+#define GUIDE_MAX_SPLAT_UNITS 1099511627776.0
+// Path vertices per sample whose incident radiance a training frame splats (the first ones
+// of each path): the per-invocation record of glsl/path_guiding.glsl.
+#define GUIDE_TRAINING_VERTEX_COUNT 8
+// The bit flipped in the second half of a training sample's PCG2D seed
+// (glsl/path_tracer.comp), so that no training sample has a render sample's random numbers.
+#define GUIDE_TRAINING_SEED_BIT_INDEX 31
 
 // ======== Materials (glsl/brdf.glsl, glsl/materials.glsl; Rust twins src/cpu/brdf.rs) ========
 

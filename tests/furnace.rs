@@ -1,8 +1,11 @@
 //! The furnace test on the GPU: a camera inside a closed box whose walls all have albedo a
-//! and emission Le sees Le (1 - a^n) / (1 - a) in every pixel for maximum path length n.
+//! and emission Le sees Le (1 - a^n) / (1 - a) in every pixel for maximum path length n,
+//! with every integrator, both traversals, both samplers, both light samplings, and with
+//! path guiding (nee and mis, `--guiding`).
 
 mod common;
 
+use vkpath::guiding::training::GuideTraining;
 use vkpath::scene::procedural::{furnace, furnace_radiance};
 use vkpath::{Accel, Integrator, LightSampling, RenderSettings, Renderer, SamplerKind};
 
@@ -22,6 +25,7 @@ fn check_furnace(albedo: f32, emission: f32, max_path_length: u32) {
                 albedo,
                 emission,
                 max_path_length,
+                None,
             );
         }
     }
@@ -35,6 +39,7 @@ fn check_furnace(albedo: f32, emission: f32, max_path_length: u32) {
         albedo,
         emission,
         max_path_length,
+        None,
     );
     // The light sampling, uniform on the light's area, for both light-sampling
     // integrators.
@@ -47,6 +52,22 @@ fn check_furnace(albedo: f32, emission: f32, max_path_length: u32) {
             albedo,
             emission,
             max_path_length,
+            None,
+        );
+    }
+    // Path guiding: a guide trained on 16 spp (its cells taught, its mixture with the BSDF
+    // in every direction sample and MIS weight) keeps both light-sampling integrators
+    // unbiased.
+    for integrator in [Integrator::Nee, Integrator::Mis] {
+        check_furnace_with(
+            integrator,
+            Accel::None,
+            SamplerKind::Pcg,
+            LightSampling::SolidAngle,
+            albedo,
+            emission,
+            max_path_length,
+            Some(GuideTraining { samples: 16 }),
         );
     }
 }
@@ -59,6 +80,7 @@ fn check_furnace_with(
     albedo: f32,
     emission: f32,
     max_path_length: u32,
+    guiding: Option<GuideTraining>,
 ) {
     let context = common::validated_context();
     let scene = furnace(albedo, emission);
@@ -74,11 +96,21 @@ fn check_furnace_with(
         light_sampling,
         // Russian roulette on from the second vertex, so the tests see it at work.
         russian_roulette_start: 2,
+        guiding,
         ..Default::default()
     };
     let mut renderer =
         Renderer::new(&context, &scene, &scene.camera.unwrap(), settings.clone()).unwrap();
     let image = renderer.render_all().unwrap();
+    if guiding.is_some() {
+        let guide = renderer
+            .guide_report()
+            .expect("a guided render trains its guide");
+        assert!(
+            guide.guided_cell_count > 0,
+            "training taught no cell: {guide:?}"
+        );
+    }
     let expected = furnace_radiance(f64::from(albedo), f64::from(emission), max_path_length);
     // Every sample is independent (distinct per-pixel, per-sample seeds), so the image mean
     // is a mean of N = W*H*spp samples with standard error sqrt(var / N), where var is the
@@ -99,7 +131,7 @@ fn check_furnace_with(
         // 5 standard errors: a false failure has probability ~6e-7 for a normal mean, while
         // a bias of a few percent (e.g. a lost or extra bounce) is many standard errors.
         let tolerance = 5.0 * standard_error;
-        println!("{integrator:?} {accel:?} {sampler:?} {light_sampling:?} a={albedo} n={max_path_length}: mean {mean:.5}, expected {expected:.5}, SE {standard_error:.2e}");
+        println!("{integrator:?} {accel:?} {sampler:?} {light_sampling:?} guiding {guiding:?} a={albedo} n={max_path_length}: mean {mean:.5}, expected {expected:.5}, SE {standard_error:.2e}");
         assert!(
             variance > 0.0,
             "the estimator should be noisy, got zero variance"

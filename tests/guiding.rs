@@ -111,7 +111,11 @@ fn gpu_and_cpu_find_the_same_cells_bins_densities_and_samples() {
             worst_density =
                 worst_density.max((output.sampled_density[3] - density).abs() / density);
         }
-        let sampled = sample_guide_direction(texels, cell, random_numbers);
+        let (sampled, sampled_bin) = sample_guide_direction(texels, cell, random_numbers);
+        assert_eq!(
+            output.cell_bin[3], sampled_bin,
+            "bin sampled with {random_numbers}"
+        );
         let gpu_sampled = Vec3::from_slice(&output.sampled_density[..3]);
         assert!(
             (gpu_sampled.length() - 1.0).abs() < 1e-5,
@@ -141,5 +145,53 @@ fn gpu_and_cpu_find_the_same_cells_bins_densities_and_samples() {
         bin_mismatches * 100 <= inputs.len(),
         "{bin_mismatches} bin mismatches"
     );
+    common::assert_validation_silent(&context);
+}
+
+#[test]
+fn gpu_samples_fall_in_the_bin_they_were_sampled_from() {
+    // The density of a guided sample is that of the bin sample_guide_direction() chose; MIS
+    // and the mixture evaluate it again through get_guide_bin_index() (an arctangent), so a
+    // sample that the GPU's lookup puts in a neighbouring bin gets the wrong density. Feed
+    // the GPU's samples back through the GPU's lookup and count how often that happens.
+    let mut rng = InputRng::new(2203);
+    let guide = trained_guide(&mut rng);
+    let texels = GuideTexels {
+        words: guide.words(),
+    };
+    let position = Vec3::new(1.5, 1.0, 1.5);
+    let cell = get_guide_cell_index(texels, position);
+    assert!(is_guided_cell(texels, cell));
+    let random: Vec<Vec2> = (0..50_000)
+        .map(|_| Vec2::new(rng.uniform(), rng.uniform()))
+        .collect();
+    let context = common::validated_context();
+    let runner = GuidingProbeRunner::new(&context, guide.words()).expect("the probe runs");
+    let first: Vec<GuidingProbeInput> = random
+        .iter()
+        .map(|&r| GuidingProbeInput::new(position, Vec3::Z, r))
+        .collect();
+    let sampled = runner.run(&first).expect("the probe runs");
+    let again: Vec<GuidingProbeInput> = sampled
+        .iter()
+        .map(|s| {
+            GuidingProbeInput::new(
+                position,
+                Vec3::from_slice(&s.sampled_density[..3]),
+                Vec2::ZERO,
+            )
+        })
+        .collect();
+    let looked_up = runner.run(&again).expect("the probe runs");
+    let mut mismatches = 0;
+    for (r, output) in random.iter().zip(&looked_up) {
+        let (_, bin) = sample_guide_direction(texels, cell, *r);
+        mismatches += usize::from(output.cell_bin[2] != bin);
+    }
+    println!(
+        "{mismatches} of {} GPU samples looked up in another bin",
+        random.len()
+    );
+    assert_eq!(mismatches, 0);
     common::assert_validation_silent(&context);
 }

@@ -12,6 +12,7 @@ use serde::Serialize;
 
 use crate::camera::Camera;
 use crate::error::Result;
+use crate::guiding::training::GuideTraining;
 use crate::image_io::data::RenderedImage;
 use crate::render::settings::{Integrator, LightSelection, RenderSettings, SamplerKind};
 use crate::render::{Renderer, Traversal};
@@ -42,6 +43,17 @@ pub struct BenchResult {
     pub efficiency: f64,
     /// Seconds to reach relMSE 0.005, assuming relMSE falls as 1 / time (unbiased MC).
     pub seconds_to_target: f64,
+    /// Whether the render was guided (`--guiding`).
+    pub guiding: bool,
+    /// Seconds that training the guide took (0 unguided; part of `cold_start_seconds`,
+    /// not of `render_seconds`).
+    pub training_seconds: f64,
+    /// The process's CPU time (user + system, every thread: lavapipe's too) for the whole
+    /// render: creating the renderer, training, every frame.
+    pub cpu_seconds: f64,
+    /// 1 / (relMSE * cpu_seconds): what a render costs in all, start-up and training
+    /// included (on a CPU device, the fairest measure).
+    pub cpu_efficiency: f64,
 }
 
 /// The benchmark's setup and results.
@@ -86,22 +98,51 @@ pub fn relative_mse(image: &RenderedImage, reference: &RenderedImage) -> f64 {
     total / (3 * image.mean.len().max(1)) as f64
 }
 
-/// A render with timings: (image, cold-start seconds, steady-state seconds for all `spp`
-/// samples, rays traced). The cold start is creating the renderer plus its first frame
-/// (drivers may compile the pipeline lazily, at the first dispatch); the steady-state time is
-/// measured over the remaining frames and scaled to the whole sample count.
+/// A timed render's image and times.
+struct TimedRender {
+    image: RenderedImage,
+    /// Creating the renderer plus its first frame (training a guide included).
+    cold_start: f64,
+    /// The steady-state frames, scaled to all `spp` samples.
+    seconds: f64,
+    rays: f64,
+    /// Training the guide (part of `cold_start`).
+    training: f64,
+    /// The process's CPU time over all of it.
+    cpu: f64,
+}
+
+/// The process's CPU time so far, user and system, in seconds (every thread's).
+pub fn process_cpu_seconds() -> f64 {
+    // SAFETY: getrusage writes the struct it is given; RUSAGE_SELF is always valid.
+    let usage = unsafe {
+        let mut usage: libc::rusage = std::mem::zeroed();
+        libc::getrusage(libc::RUSAGE_SELF, &mut usage);
+        usage
+    };
+    let seconds = |t: libc::timeval| t.tv_sec as f64 + t.tv_usec as f64 * 1e-6;
+    seconds(usage.ru_utime) + seconds(usage.ru_stime)
+}
+
+/// A render with timings. The cold start is creating the renderer plus its first frame
+/// (drivers may compile the pipeline lazily, at the first dispatch; a guided render trains
+/// its guide there); the steady-state time is measured over the remaining frames and scaled
+/// to the whole sample count.
 fn timed_render(
     context: &Arc<Context>,
     scene: &Scene,
     camera: &Camera,
     settings: RenderSettings,
-) -> Result<(RenderedImage, f64, f64, f64)> {
+) -> Result<TimedRender> {
     let spp = settings.spp;
+    let cpu_started = process_cpu_seconds();
     let started = Instant::now();
     let mut renderer = Renderer::new(context, scene, camera, settings)?;
     let first_frame_samples = renderer.render_frame()?;
     let cold_start = started.elapsed().as_secs_f64();
     let outcome = renderer.render_to_end(|_| {}, None)?.finished()?;
+    let cpu = process_cpu_seconds() - cpu_started;
+    let training = outcome.guide.as_ref().map_or(0.0, |guide| guide.seconds);
     let (image, steady) = (outcome.image, outcome.seconds);
     let steady_samples = spp - first_frame_samples;
     let seconds = if steady_samples > 0 {
@@ -109,7 +150,14 @@ fn timed_render(
     } else {
         cold_start
     };
-    Ok((image, cold_start, seconds, renderer.rays_traced()))
+    Ok(TimedRender {
+        image,
+        cold_start,
+        seconds,
+        rays: renderer.rays_traced(),
+        training,
+        cpu,
+    })
 }
 
 /// What to benchmark.
@@ -124,6 +172,11 @@ pub struct BenchSetup {
     /// Light selections to measure each integrator with (`--light-selections`), against
     /// the same reference; empty: only `settings.light_selection`.
     pub light_selections: Vec<LightSelection>,
+    /// Whether to measure nee and mis guided too (`--guiding`): each of them then once
+    /// without and once with the guide of `guide_training`.
+    pub compare_guiding: bool,
+    /// The guided runs' training (`--guide-training-spp`, else a quarter of `spp`).
+    pub guide_training: Option<GuideTraining>,
     /// Scene description for the report.
     pub scene_name: String,
     /// Timed renders per integrator; the fastest counts (the image is the same each time,
@@ -150,6 +203,8 @@ impl Default for BenchSetup {
                 Integrator::Mis,
             ],
             light_selections: Vec::new(),
+            compare_guiding: false,
+            guide_training: None,
             scene_name: SceneSource::CornellBox.description(),
             repeats: 3,
         }
@@ -170,51 +225,70 @@ pub fn run_bench(
         integrator: Integrator::Mis,
         // A seed no measured render uses, so the reference's noise is independent.
         seed: 0x5eed,
+        guiding: None,
         ..setup.settings.clone()
     };
-    let (reference, _, _, _) = timed_render(context, scene, camera, reference_settings)?;
+    let reference = timed_render(context, scene, camera, reference_settings)?.image;
     let mut results = Vec::new();
     let selections = if setup.light_selections.is_empty() {
         vec![setup.settings.light_selection]
     } else {
         setup.light_selections.clone()
     };
-    let runs = setup
-        .integrators
-        .iter()
-        .flat_map(|&i| selections.iter().map(move |&s| (i, s)));
-    for (integrator, light_selection) in runs {
+    let guidings: &[bool] = if setup.compare_guiding {
+        &[false, true]
+    } else {
+        &[false]
+    };
+    let runs = setup.integrators.iter().flat_map(|&i| {
+        selections.iter().flat_map(move |&s| {
+            guidings
+                .iter()
+                .filter(move |&&g| !g || i.takes_light_samples())
+                .map(move |&g| (i, s, g))
+        })
+    });
+    for (integrator, light_selection, guided) in runs {
         let name = integrator.name();
+        let mut what = name.to_string();
         if selections.len() > 1 {
-            progress(&format!(
-                "{name}, --light-selection {}",
-                light_selection.name()
-            ));
-        } else {
-            progress(name);
+            what += &format!(", --light-selection {}", light_selection.name());
         }
+        if guided {
+            what += ", --guiding";
+        }
+        progress(&what);
+        let guiding = guided.then(|| {
+            setup
+                .guide_training
+                .unwrap_or(GuideTraining::for_spp(setup.settings.spp))
+        });
         let settings = RenderSettings {
             integrator,
             light_selection,
             seed: 1,
+            guiding,
             ..setup.settings.clone()
         };
         let samples =
             f64::from(settings.width) * f64::from(settings.height) * f64::from(settings.spp);
-        let (image, cold_start_seconds, render_seconds, rays) =
-            timed_render(context, scene, camera, settings)?;
-        let relative_mse = relative_mse(&image, &reference);
-        let seconds = render_seconds.max(1e-9);
+        let timed = timed_render(context, scene, camera, settings)?;
+        let relative_mse = relative_mse(&timed.image, &reference);
+        let seconds = timed.seconds.max(1e-9);
         results.push(BenchResult {
             integrator: name.to_string(),
             light_selection: light_selection.name().to_string(),
-            cold_start_seconds,
-            render_seconds,
+            cold_start_seconds: timed.cold_start,
+            render_seconds: timed.seconds,
             samples_per_second: samples / seconds,
-            rays_per_second: rays / seconds,
+            rays_per_second: timed.rays / seconds,
             relative_mse,
             efficiency: 1.0 / (relative_mse * seconds),
             seconds_to_target: seconds * relative_mse / TARGET_RELATIVE_MSE,
+            guiding: guided,
+            training_seconds: timed.training,
+            cpu_seconds: timed.cpu,
+            cpu_efficiency: 1.0 / (relative_mse * timed.cpu.max(1e-9)),
         });
     }
     Ok(BenchReport {
@@ -260,7 +334,7 @@ pub fn format_table(report: &BenchReport) -> String {
         report.max_path_length
     );
     text += &format!(
-        "{:<10} {:>9} {:>9} {:>11} {:>11} {:>10} {:>11} {:>9} {:>12}\n",
+        "{:<16} {:>9} {:>9} {:>11} {:>11} {:>10} {:>11} {:>9} {:>12} {:>8} {:>8} {:>9}\n",
         "integrator",
         "cold s",
         "render s",
@@ -269,22 +343,33 @@ pub fn format_table(report: &BenchReport) -> String {
         "relMSE",
         "efficiency",
         "vs first",
-        "s to 0.005"
+        "s to 0.005",
+        "train s",
+        "cpu s",
+        "cpu vs 1st"
     );
     let baseline = report.results.first().map(|r| r.efficiency).unwrap_or(1.0);
+    let cpu_baseline = report
+        .results
+        .first()
+        .map(|r| r.cpu_efficiency)
+        .unwrap_or(1.0);
     // With several light selections (`--light-selections`), each row names its own.
     let several = report
         .results
         .iter()
         .any(|r| r.light_selection != report.results[0].light_selection);
     for r in &report.results {
-        let name = if several {
+        let mut name = if several {
             format!("{}/{}", r.integrator, r.light_selection)
         } else {
             r.integrator.clone()
         };
+        if r.guiding {
+            name += "+guiding";
+        }
         text += &format!(
-            "{:<10} {:>9.3} {:>9.3} {:>11.3} {:>11.3} {:>10.5} {:>11.2} {:>8.2}x {:>12.2}\n",
+            "{:<16} {:>9.3} {:>9.3} {:>11.3} {:>11.3} {:>10.5} {:>11.2} {:>8.2}x {:>12.2} {:>8.2} {:>8.2} {:>8.2}x\n",
             name,
             r.cold_start_seconds,
             r.render_seconds,
@@ -293,7 +378,10 @@ pub fn format_table(report: &BenchReport) -> String {
             r.relative_mse,
             r.efficiency,
             r.efficiency / baseline,
-            r.seconds_to_target
+            r.seconds_to_target,
+            r.training_seconds,
+            r.cpu_seconds,
+            r.cpu_efficiency / cpu_baseline
         );
     }
     text

@@ -153,9 +153,15 @@ pub fn run(args: &BenchArgs) -> anyhow::Result<()> {
         spp: args.spp,
         ..RenderSettings::default()
     });
-    settings.validate()?;
+    // --guiding measures nee and mis with and without a guide (each run sets its own).
+    RenderSettings {
+        guiding: None,
+        ..settings.clone()
+    }
+    .validate()?;
     RenderSettings {
         spp: args.reference_spp,
+        guiding: None,
         ..settings.clone()
     }
     .validate()?;
@@ -165,12 +171,15 @@ pub fn run(args: &BenchArgs) -> anyhow::Result<()> {
         bail!("the scene has no camera; bench needs a scene with its own camera (glTF or the built-in one)");
     };
     let context = args.device.create_context()?;
+    let guiding = settings.guiding;
     let setup = BenchSetup {
         repeats: args.repeats,
         settings,
         reference_spp: args.reference_spp,
         integrators: args.integrators.clone(),
         light_selections: args.light_selections.clone().unwrap_or_default(),
+        compare_guiding: guiding.is_some(),
+        guide_training: guiding,
         scene_name: source.description(),
     };
     let report = run_bench(&context, &scene, &camera, &setup, |what| {

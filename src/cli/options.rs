@@ -11,6 +11,7 @@ use crate::render::job::{
 };
 use crate::render::metadata::parse_range;
 
+use crate::guiding::training::GuideTraining;
 use crate::image_io::output::{ImageFormat, SaveOptions};
 use crate::image_io::tonemap::{Exposure, ToneMap};
 use crate::render::settings::{Accel, LightSampling, LightSelection, RenderSettings, SamplerKind};
@@ -107,6 +108,16 @@ pub struct RenderOptions {
     /// tree's importance to the shading point (tree).
     #[arg(long, value_enum, default_value_t = RenderSettings::default().light_selection)]
     pub light_selection: LightSelection,
+    /// Path guiding (nee, mis): first learn where light arrives from in each region of the
+    /// scene (training iterations of 1, 2, 4, ... samples per pixel, thrown away), then
+    /// sample directions from that mixed with the BSDF. For light that arrives through
+    /// openings or from far away; --spp counts the render's samples, not the training's.
+    #[arg(long)]
+    pub guiding: bool,
+    /// With --guiding: samples per pixel that train the guide, all iterations together
+    /// [default: a quarter of --spp].
+    #[arg(long, value_name = "N")]
+    pub guide_training_spp: Option<u32>,
 }
 
 impl RenderOptions {
@@ -121,6 +132,12 @@ impl RenderOptions {
             sampler: self.sampler.unwrap_or(settings.sampler),
             light_sampling: self.light_sampling,
             light_selection: self.light_selection,
+            guiding: self.guiding.then(|| {
+                self.guide_training_spp
+                    .map_or(GuideTraining::for_spp(settings.spp), |samples| {
+                        GuideTraining { samples }
+                    })
+            }),
             ..settings
         }
     }

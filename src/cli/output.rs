@@ -21,6 +21,7 @@ use crate::render::aov::{render_aov, Aov};
 use crate::render::job::{run_job, JobOptions};
 use crate::render::metadata::{sampler_name, RenderMetadata};
 use crate::render::multi::run_on_devices;
+use crate::render::renderer::GuideReport;
 use crate::render::settings::{RenderSettings, SamplerKind};
 use crate::render::state_exr::write_state;
 use crate::render::StopReason;
@@ -128,6 +129,54 @@ pub struct RenderReport {
     /// How nee and mis chose their lights: `power` or `tree` (`--light-selection`, `auto`
     /// resolved for the scene).
     pub light_selection: &'static str,
+    /// What training the guide did (`--guiding`), or `null`.
+    pub guide: Option<GuideSummary>,
+}
+
+/// `--guiding`'s guide in a `RenderReport`.
+#[derive(Serialize)]
+pub struct GuideSummary {
+    /// Cells of its grid along x, y and z.
+    pub grid: [u32; 3],
+    /// Cells that training taught.
+    pub guided_cells: u32,
+    /// Bytes it takes on the device.
+    pub memory_bytes: usize,
+    /// Samples per pixel of each training iteration.
+    pub training_iterations: Vec<u32>,
+    /// Seconds training took (part of `render_seconds`).
+    pub training_seconds: f64,
+}
+
+impl GuideSummary {
+    /// The summary of a render's guide report.
+    fn new(report: &GuideReport) -> GuideSummary {
+        GuideSummary {
+            grid: report.grid_resolution,
+            guided_cells: report.guided_cell_count,
+            memory_bytes: report.memory_bytes,
+            training_iterations: report.iterations.clone(),
+            training_seconds: report.seconds,
+        }
+    }
+
+    /// "guide: XxYxZ cells, G taught, M MB; trained on N spp (1+2+...) in S s".
+    fn line(&self) -> String {
+        let [x, y, z] = self.grid;
+        let total: u32 = self.training_iterations.iter().sum();
+        let parts: Vec<String> = self
+            .training_iterations
+            .iter()
+            .map(u32::to_string)
+            .collect();
+        format!(
+            "guide: {x}x{y}x{z} cells, {} taught, {:.2} MB; trained on {total} spp ({}) in {:.2} s",
+            self.guided_cells,
+            self.memory_bytes as f64 / 1e6,
+            parts.join("+"),
+            self.training_seconds
+        )
+    }
 }
 
 /// One device of a `RenderReport`.
@@ -175,6 +224,8 @@ struct Finished {
     rendering_started: Instant,
     render_seconds: f64,
     devices: Vec<DeviceReport>,
+    /// What training the guide did (`--guiding`; the first device's).
+    guide: Option<GuideReport>,
     /// Why the final preview could not be written, if it could not.
     preview_failure: Option<String>,
 }
@@ -324,6 +375,7 @@ pub fn render_job_and_save(context: &Arc<Context>, request: RenderRequest) -> an
         render_seconds: result.seconds,
         devices: vec![DeviceReport::new(&context.info, new_samples)],
         preview_failure: outcome.preview_failure.map(|e| e.to_string()),
+        guide: result.guide,
         state: result.state,
     };
     finish(&request, std::slice::from_ref(context), finished)
@@ -372,6 +424,7 @@ pub fn render_on_devices_and_save(
         rendering_started: outcome.rendering_started,
         render_seconds,
         devices,
+        guide: outcome.guide,
         preview_failure: None,
     };
     finish(&request, contexts, finished)
@@ -463,6 +516,9 @@ fn finish(
                 seconds: finished.render_seconds,
             })
         );
+        if let Some(guide) = &finished.guide {
+            eprintln!("{}", GuideSummary::new(guide).line());
+        }
     }
     if request.reporting.json {
         let area = settings.area();
@@ -507,6 +563,7 @@ fn finish(
                 Some("tree") => "tree",
                 _ => "power",
             },
+            guide: finished.guide.as_ref().map(GuideSummary::new),
         };
         println!("{}", serde_json::to_string(&report)?);
     }

@@ -381,6 +381,9 @@ pub fn run(args: &RenderArgs) -> anyhow::Result<()> {
     if settings.noise_threshold.is_some() && (shard || args.device.several()?.is_some()) {
         bail!("--noise-threshold decides per pixel how many of all the samples it takes: it cannot be split into shards or over several devices");
     }
+    if settings.guiding.is_some() && shard && args.render.guide_training_spp.is_none() {
+        bail!("--guiding with shards needs --guide-training-spp: every shard must train the same guide as the whole render (its default, a quarter of --spp, differs per shard)");
+    }
     if args.denoise {
         crate::denoise::available()?;
     }

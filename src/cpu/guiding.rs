@@ -6,7 +6,7 @@ use glam::{UVec3, Vec2, Vec3};
 
 use crate::contract::{
     GUIDE_BIN_COUNT, GUIDE_BSDF_FRACTION, GUIDE_CELL_TEXEL_COUNT, GUIDE_DIRECTION_RESOLUTION,
-    GUIDE_HEADER_TEXEL_COUNT, ONE_MINUS_EPSILON,
+    GUIDE_FIXED_POINT_SCALE, GUIDE_HEADER_TEXEL_COUNT, GUIDE_MAX_SPLAT_UNITS, ONE_MINUS_EPSILON,
 };
 use crate::cpu::texels::{fetch_float_texel, fetch_texel};
 use crate::cpu::workshop::M_PI;
@@ -83,8 +83,12 @@ pub fn get_guide_density(texels: GuideTexels, cell_index: u32, direction: Vec3) 
         * (GUIDE_BIN_COUNT as f32 / (4.0 * M_PI))
 }
 
-/// Twin of `sample_guide_direction`.
-pub fn sample_guide_direction(texels: GuideTexels, cell_index: u32, random_numbers: Vec2) -> Vec3 {
+/// Twin of `sample_guide_direction`: the direction and the bin chosen (`out_bin`).
+pub fn sample_guide_direction(
+    texels: GuideTexels,
+    cell_index: u32,
+    random_numbers: Vec2,
+) -> (Vec3, u32) {
     let u = random_numbers[0];
     let mut first = 0u32;
     let mut step = GUIDE_BIN_COUNT / 2;
@@ -107,10 +111,21 @@ pub fn sample_guide_direction(texels: GuideTexels, cell_index: u32, random_numbe
     let z = -1.0 + 2.0 * (row + within) / resolution;
     let phi = 2.0 * M_PI * (column + random_numbers[1]) / resolution;
     let radius = (1.0 - z * z).max(0.0).sqrt();
-    Vec3::new(radius * phi.cos(), radius * phi.sin(), z)
+    (Vec3::new(radius * phi.cos(), radius * phi.sin(), z), first)
 }
 
 /// Twin of `get_guided_mixture_density`.
 pub fn get_guided_mixture_density(bsdf_density: f32, guide_density: f32) -> f32 {
     GUIDE_BSDF_FRACTION * bsdf_density + (1.0 - GUIDE_BSDF_FRACTION) * guide_density
+}
+
+/// Twin of `get_guide_splat_units`: a splat's value in fixed point as (low, high) words of
+/// floor(min(value GUIDE_FIXED_POINT_SCALE, GUIDE_MAX_SPLAT_UNITS)), in f32 as the GPU
+/// computes it (exact: an f32 at or above 2^32 is a multiple of 2^9).
+pub fn get_guide_splat_units(value: f32) -> (u32, u32) {
+    let units = (value * GUIDE_FIXED_POINT_SCALE)
+        .min(GUIDE_MAX_SPLAT_UNITS)
+        .floor();
+    let high = (units / 4_294_967_296.0).floor();
+    ((units - high * 4_294_967_296.0) as u32, high as u32)
 }

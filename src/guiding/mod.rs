@@ -4,9 +4,11 @@
 //! Rust twins (`crate::cpu::guiding`) read too.
 //!
 //! Deterministic by construction: a splat is a fixed-point integer (`GUIDE_FIXED_POINT_SCALE`
-//! units of its value), so that sums do not depend on the order in which they were added —
-//! the GPU's integer atomics and a CPU loop give the same bits — and the build turns the
-//! integer sums into probabilities in one fixed order.
+//! units of its value, `get_guide_splat_units`), so that sums do not depend on the order in
+//! which they were added — the GPU's integer atomics and a CPU loop give the same bits — and
+//! the build turns the integer sums into probabilities in one fixed order.
+//!
+//! How a render trains one: `training` (the schedule) and `crate::render::guide_buffers`.
 
 use glam::{UVec3, Vec3};
 
@@ -14,22 +16,18 @@ use crate::contract::{
     GUIDE_BIN_COUNT, GUIDE_CELL_TEXEL_COUNT, GUIDE_HEADER_TEXEL_COUNT, GUIDE_MIN_SPLATS,
     GUIDE_UNIFORM_FRACTION,
 };
-use crate::cpu::guiding::{get_guide_bin_index, get_guide_cell_index, GuideTexels, GUIDE_NO_CELL};
+use crate::cpu::guiding::{
+    get_guide_bin_index, get_guide_cell_index, get_guide_splat_units, GuideTexels, GUIDE_NO_CELL,
+};
+use crate::error::{Error, Result};
 
 #[cfg(test)]
 mod tests;
+pub mod training;
 
 /// Cells along the longest axis of the scene's box (the other axes get as many as keep the
 /// cells near cubes): 16^3 cells at most, 4 MB of guide.
 pub const GUIDE_MAX_CELLS_PER_AXIS: u32 = 16;
-
-/// Units of a splat's value in its fixed-point sum: 2^20, so that a value of 10^-6 still
-/// counts and a cell's sum reaches u64's limit only past 10^13 in total.
-pub const GUIDE_FIXED_POINT_SCALE: f64 = 1_048_576.0;
-
-/// The largest fixed-point value one splat may add (2^40 units, a value of 10^6): a firefly
-/// cannot swamp a cell's histogram, nor overflow it.
-pub const GUIDE_MAX_SPLAT_UNITS: u64 = 1 << 40;
 
 /// The guide's uniform grid of cells over a box.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -62,9 +60,30 @@ impl GuideGrid {
         }
     }
 
+    /// The grid over the box of every vertex of `positions` (a scene's triangles), as
+    /// `around` with `GUIDE_MAX_CELLS_PER_AXIS`.
+    pub fn around_points(positions: impl IntoIterator<Item = Vec3>) -> GuideGrid {
+        let (low, high) = positions.into_iter().fold(
+            (Vec3::splat(f32::INFINITY), Vec3::splat(f32::NEG_INFINITY)),
+            |(low, high), p| (low.min(p), high.max(p)),
+        );
+        let (low, high) = if low.cmple(high).all() {
+            (low, high)
+        } else {
+            (Vec3::ZERO, Vec3::ZERO)
+        };
+        GuideGrid::around(low, high, GUIDE_MAX_CELLS_PER_AXIS)
+    }
+
     /// Number of cells.
     pub fn cell_count(&self) -> u32 {
         self.resolution.x * self.resolution.y * self.resolution.z
+    }
+
+    /// Words of the path tracer's training buffer (`BINDING_GUIDE_SPLATS`) for this grid:
+    /// two per cell and bin (a 64-bit sum), then one count per cell.
+    pub fn splat_word_count(&self) -> usize {
+        self.cell_count() as usize * (2 * GUIDE_BIN_COUNT as usize + 1)
     }
 
     /// The header texels' words (`GUIDE_HEADER_TEXEL_COUNT` texels).
@@ -83,6 +102,17 @@ impl GuideGrid {
         words
     }
 }
+
+/// A cell and its six face neighbours, as (dx, dy, dz).
+const FACE_NEIGHBOURHOOD: [(i64, i64, i64); 7] = [
+    (0, 0, 0),
+    (-1, 0, 0),
+    (1, 0, 0),
+    (0, -1, 0),
+    (0, 1, 0),
+    (0, 0, -1),
+    (0, 0, 1),
+];
 
 /// Training data: per cell and directional bin, the fixed-point sum of the splatted
 /// estimates of the radiance arriving there divided by the density of the direction that
@@ -130,13 +160,37 @@ impl GuideSplats {
         if cell == GUIDE_NO_CELL {
             return false;
         }
-        let units = ((f64::from(value) * GUIDE_FIXED_POINT_SCALE).round() as u64)
-            .min(GUIDE_MAX_SPLAT_UNITS);
+        let (low, high) = get_guide_splat_units(value);
+        let units = u64::from(low) | (u64::from(high) << 32);
         let bin = get_guide_bin_index(direction);
         let slot = cell as usize * GUIDE_BIN_COUNT as usize + bin as usize;
         self.sums[slot] = self.sums[slot].saturating_add(units);
         self.counts[cell as usize] = self.counts[cell as usize].saturating_add(1);
         true
+    }
+
+    /// The splats that the path tracer's training frames added up in `words` (its
+    /// `BINDING_GUIDE_SPLATS` buffer, `GuideGrid::splat_word_count` words) on `grid`.
+    pub fn from_device_words(grid: GuideGrid, words: &[u32]) -> Result<GuideSplats> {
+        let cells = grid.cell_count() as usize;
+        let bins = GUIDE_BIN_COUNT as usize;
+        if words.len() < grid.splat_word_count() {
+            return Err(Error::InvalidSettings(format!(
+                "a guide's training buffer of {} words is too short for {cells} cells",
+                words.len()
+            )));
+        }
+        let sums = words[..2 * cells * bins]
+            .chunks_exact(2)
+            .map(|pair| u64::from(pair[0]) | (u64::from(pair[1]) << 32))
+            .collect();
+        let counts = words[2 * cells * bins..2 * cells * bins + cells].to_vec();
+        Ok(GuideSplats {
+            grid,
+            header: grid.header_words(),
+            sums,
+            counts,
+        })
     }
 
     /// Adds another set of splats on the same grid (a shard's, an iteration's): integer sums,
@@ -149,6 +203,36 @@ impl GuideSplats {
         for (count, more) in self.counts.iter_mut().zip(&other.counts) {
             *count = count.saturating_add(*more);
         }
+    }
+
+    /// These splats with each cell's sums and counts pooled with its face neighbours' (a
+    /// spatial box filter: a guide learns from 7 cells' paths instead of one, so it is
+    /// smoother where training paths are few). Integer sums: still order-independent.
+    pub fn pooled_with_neighbours(&self) -> GuideSplats {
+        let [nx, ny, nz] = self.grid.resolution.to_array().map(|n| n as i64);
+        let bins = GUIDE_BIN_COUNT as usize;
+        let mut pooled = GuideSplats::new(self.grid);
+        for z in 0..nz {
+            for y in 0..ny {
+                for x in 0..nx {
+                    let cell = ((z * ny + y) * nx + x) as usize;
+                    for (dx, dy, dz) in FACE_NEIGHBOURHOOD {
+                        let (a, b, c) = (x + dx, y + dy, z + dz);
+                        if a < 0 || b < 0 || c < 0 || a >= nx || b >= ny || c >= nz {
+                            continue;
+                        }
+                        let other = ((c * ny + b) * nx + a) as usize;
+                        for bin in 0..bins {
+                            let sum = &mut pooled.sums[cell * bins + bin];
+                            *sum = sum.saturating_add(self.sums[other * bins + bin]);
+                        }
+                        pooled.counts[cell] =
+                            pooled.counts[cell].saturating_add(self.counts[other]);
+                    }
+                }
+            }
+        }
+        pooled
     }
 
     /// Number of splats that fell in `cell`.

@@ -134,7 +134,7 @@ fn sample_guide_direction_follows_get_guide_density() {
     let texels = guide.texels();
     let mut rng = InputRng::new(4);
     let samples: Vec<Vec3> = (0..1_000_000)
-        .map(|_| sample_guide_direction(texels, 0, Vec2::new(rng.uniform(), rng.uniform())))
+        .map(|_| sample_guide_direction(texels, 0, Vec2::new(rng.uniform(), rng.uniform())).0)
         .collect();
     let density = |direction: Vec3| f64::from(get_guide_density(texels, 0, direction));
     assert_follows_density("guide alone", samples, &density);
@@ -155,7 +155,7 @@ fn the_mixture_with_a_bsdf_follows_its_density() {
             if choice < crate::contract::GUIDE_BSDF_FRACTION {
                 sample_hemisphere_cosine(random_numbers, normal)
             } else {
-                sample_guide_direction(texels, 0, random_numbers)
+                sample_guide_direction(texels, 0, random_numbers).0
             }
         })
         .collect();
@@ -227,4 +227,73 @@ fn sparse_cells_stay_unguided_and_bad_values_do_not_count() {
     assert!((other - floor).abs() < 1e-6, "{other}");
     // 3 header texels and 64 per cell.
     assert_eq!(guide.memory_bytes(), 16 * (3 + 2 * 64));
+}
+
+#[test]
+fn splat_units_are_the_floor_of_the_scaled_value_split_into_words() {
+    use crate::cpu::guiding::get_guide_splat_units;
+    // 2^20 units per unit of value, floored; exact across the 2^32 boundary of the words.
+    assert_eq!(get_guide_splat_units(0.0), (0, 0));
+    assert_eq!(get_guide_splat_units(1.0), (1 << 20, 0));
+    assert_eq!(get_guide_splat_units(1.5e-6), (1, 0));
+    assert_eq!(get_guide_splat_units(9e-7), (0, 0));
+    assert_eq!(get_guide_splat_units(4096.0), (0, 1));
+    assert_eq!(get_guide_splat_units(6144.0), (1 << 31, 1));
+    // Clamped at 2^40 units (a value of 2^20), however large.
+    assert_eq!(get_guide_splat_units(1e30), (0, 256));
+    assert_eq!(get_guide_splat_units(f32::INFINITY), (0, 256));
+    let mut rng = InputRng::new(12);
+    for _ in 0..10_000 {
+        let value = 10f32.powf(rng.range(-6.0, 6.0));
+        let (low, high) = get_guide_splat_units(value);
+        let units = u64::from(low) | (u64::from(high) << 32);
+        let exact = (f64::from(value) * 1_048_576.0).floor() as u64;
+        assert_eq!(units, exact, "{value}");
+    }
+}
+
+#[test]
+fn device_words_read_back_as_the_same_splats() {
+    // The training buffer's layout (BINDING_GUIDE_SPLATS): a 64-bit sum per cell and bin as
+    // (low, high) words, then a count per cell.
+    let splats = lobe_splats(Vec3::Y, 5_000, 13);
+    let grid = *splats.grid();
+    let bins = GUIDE_BIN_COUNT as usize;
+    let mut words = vec![0u32; grid.splat_word_count()];
+    for cell in 0..grid.cell_count() as usize {
+        for bin in 0..bins {
+            let sum = splats.sums[cell * bins + bin];
+            words[2 * (cell * bins + bin)] = sum as u32;
+            words[2 * (cell * bins + bin) + 1] = (sum >> 32) as u32;
+        }
+        words[2 * grid.cell_count() as usize * bins + cell] = splats.counts[cell];
+    }
+    assert_eq!(
+        GuideSplats::from_device_words(grid, &words).unwrap(),
+        splats
+    );
+    assert!(GuideSplats::from_device_words(grid, &words[1..]).is_err());
+}
+
+#[test]
+fn pooling_adds_each_cells_face_neighbours() {
+    // A 3 x 3 x 1 grid with one splat of value 1 in each cell: a corner cell pools 3 cells,
+    // an edge cell 4, the centre 5, and the sums pool alike.
+    let grid = GuideGrid::around(Vec3::ZERO, Vec3::new(3.0, 3.0, 0.1), 3);
+    assert_eq!(grid.resolution, UVec3::new(3, 3, 1));
+    let mut splats = GuideSplats::new(grid);
+    for y in 0..3 {
+        for x in 0..3 {
+            let position = Vec3::new(x as f32 + 0.5, y as f32 + 0.5, 0.05);
+            assert!(splats.splat(position, Vec3::Z, 1.0));
+        }
+    }
+    let pooled = splats.pooled_with_neighbours();
+    let counts: Vec<u32> = (0..9).map(|cell| pooled.splat_count(cell)).collect();
+    assert_eq!(counts, [3, 4, 3, 4, 5, 4, 3, 4, 3]);
+    let bin = get_guide_bin_index(Vec3::Z) as usize;
+    let bins = GUIDE_BIN_COUNT as usize;
+    for (cell, &count) in counts.iter().enumerate() {
+        assert_eq!(pooled.sums[cell * bins + bin], u64::from(count) << 20);
+    }
 }

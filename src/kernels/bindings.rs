@@ -37,6 +37,9 @@ pub enum Resource {
     PunctualLights,
     /// Path guiding's guide (`crate::guiding::Guide::words`, texel buffer).
     Guide,
+    /// Path guiding's training splats (`crate::guiding::GuideSplats::from_device_words`,
+    /// storage buffer).
+    GuideSplats,
     /// A probe's input structs, one per invocation.
     ProbeInputs,
     /// A probe's output structs, one per invocation.
@@ -100,6 +103,8 @@ pub const PATH_TRACER: &[Binding] = &[
     row(c::BINDING_RENDER_UNIFORMS, UNIFORM, R::RenderUniforms),
     row(c::BINDING_ACCUMULATION, IMAGE, R::Accumulation),
     row(c::BINDING_LIGHTS, TEXEL, R::Lights),
+    row(c::BINDING_GUIDE, TEXEL, R::Guide),
+    row(c::BINDING_GUIDE_SPLATS, STORAGE, R::GuideSplats),
     with(USE_BVH, c::BINDING_BVH_NODES, TEXEL, R::BvhNodes),
     with(
         USE_BVH,

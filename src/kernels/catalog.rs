@@ -39,6 +39,7 @@ pub static PATH_TRACER: Kernel = Kernel {
         SpecConstants::one(c::SPEC_SAMPLER),
         SpecConstants::one(c::SPEC_LIGHT_SAMPLING),
         SpecConstants::one(c::SPEC_LIGHT_SELECTION),
+        SpecConstants::one(c::SPEC_GUIDING),
         SpecConstants::one(c::SPEC_LOOP_LIMIT),
         SpecConstants::one(c::SPEC_LOOPS_PER_SAMPLE),
         SpecConstants::one(c::SPEC_LOOPS_PER_RAY),

@@ -31,7 +31,14 @@ pub enum LoopBound {
     TrianglesPerRay,
     /// Counted by the kernel itself, exactly, in `g_path.traversal_iterations` (the BVH).
     CountedByKernel,
+    /// The guide's binary search over a cell's bins (`sample_guide_direction`), at most once
+    /// per ray (once per guided vertex, each of which traced a ray):
+    /// `GUIDE_SEARCH_ITERATIONS` iterations.
+    GuideSearchPerRay,
 }
+
+/// Iterations of the guide's binary search: log2 of `GUIDE_BIN_COUNT`.
+pub const GUIDE_SEARCH_ITERATIONS: u32 = contract::GUIDE_BIN_COUNT.trailing_zeros();
 
 /// One loop of the kernel's GLSL.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -46,6 +53,9 @@ pub struct KernelLoop {
     /// runs (one integrator's path loop, the closest-hit or the any-hit query's triangle
     /// loop), so a group counts once.
     pub group: &'static str,
+    /// Whether it runs only with path guiding on (`GUIDING_ON`): the bound of an unguided
+    /// kernel leaves it out.
+    pub guiding_only: bool,
 }
 
 const fn described(
@@ -59,6 +69,20 @@ const fn described(
         function,
         bound,
         group,
+        guiding_only: false,
+    }
+}
+
+/// A loop that runs only with path guiding on.
+const fn guiding_loop(
+    file: &'static str,
+    function: &'static str,
+    bound: LoopBound,
+    group: &'static str,
+) -> KernelLoop {
+    KernelLoop {
+        guiding_only: true,
+        ..described(file, function, bound, group)
     }
 }
 
@@ -108,6 +132,19 @@ pub const PATH_TRACER_LOOPS: &[KernelLoop] = &[
     described("bvh.glsl", "bvh_closest_hit", CountedByKernel, "BVH"),
     described("bvh.glsl", "bvh_any_hit", CountedByKernel, "BVH"),
     described("bvh.glsl", "bvh_any_hit", CountedByKernel, "BVH"),
+    guiding_loop(
+        "guiding.glsl",
+        "sample_guide_direction",
+        GuideSearchPerRay,
+        "guide search",
+    ),
+    // One iteration per recorded vertex, each of which traced a ray.
+    guiding_loop(
+        "path_guiding.glsl",
+        "splat_guide_records",
+        PerRay,
+        "guide splats",
+    ),
 ];
 
 /// Most iterations of a `LightSearchPerRay` loop (`sample_light_index`: 32 halvings bound a
@@ -167,10 +204,14 @@ pub struct LoopCoefficients {
     pub counted_by_kernel: bool,
 }
 
-/// Groups of `loops` with this bound: each group runs once per unit.
-fn groups(loops: &[KernelLoop], bound: LoopBound) -> u32 {
+/// Groups of `loops` with this bound (those of guiding only with `guiding`): each group
+/// runs once per unit.
+fn groups(loops: &[KernelLoop], bound: LoopBound, guiding: bool) -> u32 {
     let mut seen: Vec<&str> = Vec::new();
-    for kernel_loop in loops.iter().filter(|l| l.bound == bound) {
+    for kernel_loop in loops
+        .iter()
+        .filter(|l| l.bound == bound && (guiding || !l.guiding_only))
+    {
         if !seen.contains(&kernel_loop.group) {
             seen.push(kernel_loop.group);
         }
@@ -179,23 +220,25 @@ fn groups(loops: &[KernelLoop], bound: LoopBound) -> u32 {
 }
 
 impl LoopCoefficients {
-    /// The coefficients of `loops` for a kernel built for `traversal`.
-    pub fn of(loops: &[KernelLoop], traversal: Traversal) -> LoopCoefficients {
+    /// The coefficients of `loops` for a kernel built for `traversal`, specialized with
+    /// path guiding on or off.
+    pub fn of(loops: &[KernelLoop], traversal: Traversal, guiding: bool) -> LoopCoefficients {
+        let count = |bound| groups(loops, bound, guiding);
         LoopCoefficients {
-            per_sample: groups(loops, PerSample),
-            per_ray: groups(loops, PerRay),
-            light_searches_per_ray: groups(loops, LightSearchPerRay),
+            per_sample: count(PerSample),
+            per_ray: count(PerRay) + GUIDE_SEARCH_ITERATIONS * count(GuideSearchPerRay),
+            light_searches_per_ray: count(LightSearchPerRay),
             triangle_loops_per_ray: match traversal {
-                Traversal::Linear => groups(loops, TrianglesPerRay),
+                Traversal::Linear => count(TrianglesPerRay),
                 Traversal::ConstantTriangles | Traversal::Bvh => 0,
             },
-            counted_by_kernel: traversal == Traversal::Bvh && groups(loops, CountedByKernel) > 0,
+            counted_by_kernel: traversal == Traversal::Bvh && count(CountedByKernel) > 0,
         }
     }
 
-    /// The path tracer's.
-    pub fn path_tracer(traversal: Traversal) -> LoopCoefficients {
-        LoopCoefficients::of(PATH_TRACER_LOOPS, traversal)
+    /// The path tracer's, with path guiding on or off.
+    pub fn path_tracer(traversal: Traversal, guiding: bool) -> LoopCoefficients {
+        LoopCoefficients::of(PATH_TRACER_LOOPS, traversal, guiding)
     }
 
     /// The specialization constants that pass them to the kernel.
@@ -287,7 +330,7 @@ mod tests {
 
     #[test]
     fn coefficients_count_each_group_once() {
-        let linear = LoopCoefficients::path_tracer(Traversal::Linear);
+        let linear = LoopCoefficients::path_tracer(Traversal::Linear, false);
         // One sample loop; three path loops of which one runs; one light search; the
         // closest-hit or the any-hit query's loop over the triangles.
         assert_eq!(
@@ -300,11 +343,15 @@ mod tests {
             (1, 1, 1, 1)
         );
         assert!(!linear.counted_by_kernel);
-        let bvh = LoopCoefficients::path_tracer(Traversal::Bvh);
+        let bvh = LoopCoefficients::path_tracer(Traversal::Bvh, false);
         assert_eq!(bvh.triangle_loops_per_ray, 0);
         assert!(bvh.counted_by_kernel);
-        let constant = LoopCoefficients::path_tracer(Traversal::ConstantTriangles);
+        let constant = LoopCoefficients::path_tracer(Traversal::ConstantTriangles, false);
         assert_eq!(constant.triangle_loops_per_ray, 0);
+        // With guiding, per ray: the path loop, the splat loop and the guide's 8-step search.
+        let guided = LoopCoefficients::path_tracer(Traversal::Linear, true);
+        assert_eq!(guided.per_ray, 1 + 1 + 8);
+        assert_eq!(guided.per_sample, 1);
         // 1 + 10 rays * (1 + 32 + 100 triangles), with 2^32 - 1 lights (32 bits)
         let work = SampleWork {
             rays: 10,
@@ -339,7 +386,7 @@ mod tests {
             ..BvhStats::default()
         };
         assert_eq!(bvh_iterations_per_ray_at_most(&stats), 40);
-        let bvh = LoopCoefficients::path_tracer(Traversal::Bvh);
+        let bvh = LoopCoefficients::path_tracer(Traversal::Bvh, false);
         // mis at 48 vertices over 2 lights: 48 closest-hit rays and 47 shadow rays, each
         // 1 (path loop) + 2 (light search over 2 lights) + 40 (the tree): 1 + 95 * 43.
         let work = SampleWork {

@@ -43,7 +43,8 @@ impl GuidingProbeInput {
 #[derive(Clone, Copy, Debug, PartialEq, Pod, Zeroable)]
 pub struct GuidingProbeOutput {
     /// x: `get_guide_cell_index`; y: `is_guided_cell` (1 or 0); z: `get_guide_bin_index`
-    /// of the direction; w: 0.
+    /// of the direction; w: the bin `sample_guide_direction` chose (0 where the cell is not
+    /// guided).
     pub cell_bin: [u32; 4],
     /// xyz: `sample_guide_direction`; w: `get_guide_density` of the input's direction (all
     /// 0 where the cell is not guided).

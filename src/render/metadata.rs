@@ -36,12 +36,14 @@ const SETTING_NAMES: [&str; 10] = [
 /// The settings recorded after those only when a render has them (files without them had
 /// none), in order: `--region`, `--noise-threshold` and its minimum spp, and
 /// `light_selection=tree` where the light tree chose the lights (power, the selection of
-/// every render before the tree, is not recorded, so those files' metadata stays as it was).
-const OPTIONAL_SETTING_NAMES: [&str; 4] = [
+/// every render before the tree, is not recorded, so those files' metadata stays as it was),
+/// and `--guiding`'s training samples per pixel (which, with the rest, decide the guide).
+const OPTIONAL_SETTING_NAMES: [&str; 5] = [
     "region",
     "noise_threshold",
     "noise_min_spp",
     "light_selection",
+    "guide_training_spp",
 ];
 
 /// What a render was.
@@ -100,6 +102,9 @@ impl RenderMetadata {
         let light_count = crate::lights::emissive::emissive_triangle_count(&scene.triangles);
         if settings.light_selection.uses_tree(light_count) {
             settings_list.push(("light_selection".into(), "tree".into()));
+        }
+        if let Some(training) = settings.guiding {
+            settings_list.push(("guide_training_spp".into(), training.samples.to_string()));
         }
         RenderMetadata {
             settings: settings_list,

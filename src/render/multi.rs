@@ -14,7 +14,7 @@ use crate::camera::Camera;
 use crate::error::{Error, Result};
 use crate::render::accumulation::Accumulation;
 use crate::render::job::{run_job, shard_range, JobOptions, DEFAULT_CHECKPOINT_INTERVAL};
-use crate::render::renderer::StopReason;
+use crate::render::renderer::{GuideReport, StopReason};
 use crate::render::settings::RenderSettings;
 use crate::scene::Scene;
 use crate::vk::Context;
@@ -31,6 +31,9 @@ pub struct MultiOutcome {
     pub rendering_started: Instant,
     /// Why it stopped: `Done` only when every device finished its share.
     pub stop: StopReason,
+    /// What training the first device's guide did (`--guiding`; each device trains its
+    /// own, the same on devices of one kind).
+    pub guide: Option<GuideReport>,
 }
 
 /// Renders `samples` of `scene` on every context at once and merges the shares. A time
@@ -54,7 +57,13 @@ pub fn run_on_devices(
     }
     let started = Instant::now();
     let (first, total) = (samples.start, samples.len() as u32);
-    type DeviceResult = (Accumulation, StopReason, Option<Error>, Instant);
+    type DeviceResult = (
+        Accumulation,
+        StopReason,
+        Option<Error>,
+        Instant,
+        Option<GuideReport>,
+    );
     let results: Vec<Result<DeviceResult>> = std::thread::scope(|scope| {
         let handles: Vec<_> = contexts
             .iter()
@@ -79,6 +88,7 @@ pub fn run_on_devices(
                         outcome.stop,
                         outcome.failure,
                         job.rendering_started,
+                        outcome.guide,
                     ))
                 })
             })
@@ -98,8 +108,10 @@ pub fn run_on_devices(
     let mut shares = Vec::new();
     let mut stop = StopReason::Done;
     let mut rendering_started = Instant::now();
+    let mut guide = None;
     for (context, result) in contexts.iter().zip(results) {
-        let (state, device_stop, failure, device_started) = result?;
+        let (state, device_stop, failure, device_started, device_guide) = result?;
+        guide = guide.or(device_guide);
         rendering_started = rendering_started.min(device_started);
         if let Some(error) = failure {
             return Err(Error::InvalidSettings(format!(
@@ -131,5 +143,6 @@ pub fn run_on_devices(
         seconds: started.elapsed().as_secs_f64(),
         rendering_started,
         stop,
+        guide,
     })
 }

@@ -2,6 +2,7 @@
 
 use crate::contract;
 use crate::error::{Error, Result};
+use crate::guiding::training::GuideTraining;
 use crate::render::adaptive::NoiseThreshold;
 use crate::render::region::PixelRegion;
 
@@ -111,6 +112,12 @@ impl Integrator {
             Integrator::Depth => "depth",
             Integrator::Material => "material",
         }
+    }
+
+    /// Whether this integrator takes light samples (nee and mis): the ones path guiding
+    /// guides.
+    pub fn takes_light_samples(self) -> bool {
+        matches!(self, Integrator::Nee | Integrator::Mis)
     }
 
     /// Whether this is a path tracer with importance sampling (and Russian roulette).
@@ -336,6 +343,9 @@ pub struct RenderSettings {
     /// Adaptive sampling (`--noise-threshold`): pixels stop taking samples once their
     /// estimate is good enough, `spp` being the cap; `None`: every pixel takes every sample.
     pub noise_threshold: Option<NoiseThreshold>,
+    /// Path guiding (`--guiding`, nee and mis only): a guide trained with this budget before
+    /// the render's `spp` samples (`crate::guiding::training`); `None`: BSDF sampling alone.
+    pub guiding: Option<GuideTraining>,
 }
 
 impl Default for RenderSettings {
@@ -357,6 +367,7 @@ impl Default for RenderSettings {
             region: None,
             tile_size: None,
             noise_threshold: None,
+            guiding: None,
         }
     }
 }
@@ -415,6 +426,20 @@ impl RenderSettings {
         }
         if let Some(noise) = self.noise_threshold {
             noise.validate()?;
+        }
+        if let Some(training) = self.guiding {
+            if !self.integrator.takes_light_samples() {
+                return bad(format!(
+                    "--guiding guides nee and mis, not --integrator {}",
+                    self.integrator.name()
+                ));
+            }
+            if training.samples == 0 || training.samples > MAX_SPP {
+                return bad(format!(
+                    "--guide-training-spp {} is outside 1..={MAX_SPP}",
+                    training.samples
+                ));
+            }
         }
         Ok(())
     }

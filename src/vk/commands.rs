@@ -291,6 +291,22 @@ impl Recorder<'_> {
         self.compute_barrier();
     }
 
+    /// Fills all of `buffer` (created with `TRANSFER_DST` usage) with the word `value`, then
+    /// a compute barrier.
+    pub fn fill_buffer(&mut self, buffer: &Buffer, value: u32) {
+        // SAFETY: the buffer is alive; WHOLE_SIZE fills it to its last whole word.
+        unsafe {
+            self.device.cmd_fill_buffer(
+                self.command_buffer,
+                buffer.handle,
+                0,
+                vk::WHOLE_SIZE,
+                value,
+            );
+        }
+        self.compute_barrier();
+    }
+
     /// Moves a new image from UNDEFINED to GENERAL and clears every layer to zero, then a
     /// compute barrier.
     pub fn clear_storage_image(&mut self, image: &StorageImage) {

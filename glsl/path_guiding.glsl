@@ -1,0 +1,159 @@
+// Path guiding in the path loop (--guiding; glsl/guiding.glsl is the guide itself): at
+// every vertex where nee and mis take light samples and the guide has learned its cell,
+// the direction comes from the one-sample mixture of BSDF and guide sampling, and every
+// density that MIS weighs against (the found emission's, the light samples') is the
+// mixture's. In training frames (g_guide_training) the loop also records its first
+// GUIDE_TRAINING_VERTEX_COUNT such vertices, guided or not, and at the end of the path
+// splats each one's estimate of the radiance that arrived along its direction, divided by
+// the direction's density (Mueller et al. 2017), into the training buffer with integer
+// atomics: the host builds the next guide from those sums (vkpath::guiding).
+//
+// With GUIDING_OFF all of it is compiled out: get_path_direction_density() is
+// get_bsdf_density(), no random number is drawn, nothing is recorded, and images keep
+// every bit.
+//
+// Random numbers, in the order drawn, at a guided vertex (in place of the direction's pair
+// of glsl/path_loop.glsl): one get_path_random_numbers() pair whose first number chooses
+// BSDF (below GUIDE_BSDF_FRACTION) or guide; then the BSDF's pairs as sample_path_direction()
+// draws them, or one pair for sample_guide_direction().
+//
+// Needs GUIDING (SPEC_GUIDING) and g_guide_training (a push constant) declared by the
+// includer, and glsl/surface.glsl's and glsl/sobol.glsl's functions.
+#ifndef VKPATH_PATH_GUIDING_GLSL
+#define VKPATH_PATH_GUIDING_GLSL
+
+#include "surface.glsl"
+#include "sobol.glsl"
+
+layout(set = 0, binding = BINDING_GUIDE) uniform usamplerBuffer g_guide_texels;
+layout(set = 0, binding = BINDING_GUIDE_SPLATS, std430) buffer guide_splats {
+    uint g_guide_splat_words[];
+};
+
+#include "guiding.glsl"
+
+// Whether this frame records training splats.
+bool is_guide_training() {
+    return GUIDING == GUIDING_ON && g_guide_training != 0u;
+}
+
+// The grid cell of a vertex that takes light samples (what guides and what trains),
+// GUIDE_NO_CELL without guiding, outside the grid or where no light samples are taken.
+uint get_path_guide_grid_cell(vec3 position, bool light_sampled) {
+    if (GUIDING == GUIDING_OFF || !light_sampled)
+        return GUIDE_NO_CELL;
+    return get_guide_cell_index(position);
+}
+
+// The cell that guides a vertex in grid cell `grid_cell`: itself where the guide learned it,
+// else GUIDE_NO_CELL (the BSDF samples alone).
+uint get_path_guide_cell(uint grid_cell) {
+    if (GUIDING == GUIDING_OFF)
+        return GUIDE_NO_CELL;
+    return is_guided_cell(grid_cell) ? grid_cell : GUIDE_NO_CELL;
+}
+
+// Density w.r.t. solid angle with which the path loop samples `direction` at the current
+// vertex (g_path.guide_cell): the BSDF's, or in a guided cell the mixture's. What MIS
+// weighs light samples and found emission against.
+float get_path_direction_density(surface_t surface, vec3 view, vec3 direction) {
+    float bsdf_density = get_bsdf_density(surface, view, direction);
+    if (GUIDING == GUIDING_OFF || g_path.guide_cell == GUIDE_NO_CELL)
+        return bsdf_density;
+    return get_guided_mixture_density(bsdf_density, get_guide_density(g_path.guide_cell, direction));
+}
+
+// A direction from the one-sample mixture at a guided vertex (cell `guide_cell`): with
+// probability GUIDE_BSDF_FRACTION the BSDF's sample (`bsdf_sample`, drawn by the caller
+// only when chosen), else the guide's. Its density (for MIS) is the mixture's as
+// get_path_direction_density() evaluates it, p~ = c p_bsdf + (1 - c) p~_guide, with the
+// guide's density looked up by the direction's bin; its weight is get_bsdf() / p~, and for
+// a guide sample also p~_guide / p_guide, p_guide the density of the bin the sampler chose.
+// That is the one-sample balance heuristic over the two techniques, whose weights sum to 1
+// whatever p~_guide is: unbiased even where the GPU's arctangent (Vulkan allows it 4096
+// ulps) puts a sample near a bin edge in the neighbouring bin, which a plain
+// get_bsdf() / p~ would not be (tests/guiding.rs counts those samples).
+bsdf_sample_t get_guided_direction(surface_t surface, vec3 view, uint guide_cell, bsdf_sample_t bsdf_sample, bool bsdf_chosen, vec2 guide_random_numbers) {
+    bsdf_sample_t guided = bsdf_sample;
+    if (bsdf_chosen) {
+        // get_bsdf() / p~ from the BSDF sample's own weight get_bsdf() / p_bsdf (0 where
+        // p_bsdf is), without evaluating the BSDF again.
+        guided.density = get_guided_mixture_density(bsdf_sample.density, get_guide_density(guide_cell, bsdf_sample.direction));
+        guided.weight = (guided.density > 0.0) ? bsdf_sample.weight * (bsdf_sample.density / guided.density) : vec3(0.0);
+        return guided;
+    }
+    uint bin;
+    guided.direction = sample_guide_direction(guide_cell, guide_random_numbers, bin);
+    guided.lobes = BSDF_LOBE_REFLECT;
+    guided.eta = 1.0;
+    float looked_up = get_guide_density(guide_cell, guided.direction);
+    float sampled = get_guide_bin_probability(guide_cell, bin) * (float(GUIDE_BIN_COUNT) / (4.0 * M_PI));
+    guided.density = get_guided_mixture_density(get_bsdf_density(surface, view, guided.direction), looked_up);
+    guided.weight = (guided.density > 0.0) ? get_bsdf(surface, view, guided.direction) * (looked_up / (sampled * guided.density)) : vec3(0.0);
+    return guided;
+}
+
+// ---- Training ----
+
+// The vertices this path recorded (the first GUIDE_TRAINING_VERTEX_COUNT that take light
+// samples inside the grid): cell, directional bin, the path's radiance after the vertex's
+// light samples, and 1 / (throughput after the vertex times the direction's density).
+uint g_guide_record_count = 0u;
+uint g_guide_record_cells[GUIDE_TRAINING_VERTEX_COUNT];
+uint g_guide_record_bins[GUIDE_TRAINING_VERTEX_COUNT];
+vec3 g_guide_record_radiance[GUIDE_TRAINING_VERTEX_COUNT];
+vec3 g_guide_record_scale[GUIDE_TRAINING_VERTEX_COUNT];
+
+// Records a vertex in grid cell `grid_cell` whose path went on along `direction`, sampled
+// with `density`, with `throughput_weight` after it, `radiance` having been gathered up to
+// and including its light samples. Only in training frames.
+void record_guide_vertex(uint grid_cell, vec3 direction, float density, vec3 throughput_weight, vec3 radiance) {
+    if (!is_guide_training() || grid_cell == GUIDE_NO_CELL || g_guide_record_count >= uint(GUIDE_TRAINING_VERTEX_COUNT) || !(density > 0.0))
+        return;
+    uint k = g_guide_record_count++;
+    g_guide_record_cells[k] = grid_cell;
+    g_guide_record_bins[k] = get_guide_bin_index(direction);
+    g_guide_record_radiance[k] = radiance;
+    g_guide_record_scale[k] = vec3(throughput_weight.r > 0.0 ? 1.0 / (throughput_weight.r * density) : 0.0,
+                                   throughput_weight.g > 0.0 ? 1.0 / (throughput_weight.g * density) : 0.0,
+                                   throughput_weight.b > 0.0 ? 1.0 / (throughput_weight.b * density) : 0.0);
+}
+
+// A splat's value in fixed point, as (low, high) words of the integer floor(min(value
+// GUIDE_FIXED_POINT_SCALE, GUIDE_MAX_SPLAT_UNITS)) (exact: a float at or above 2^32 is a
+// multiple of 2^9). Rust twin: vkpath::cpu::guiding::get_guide_splat_units.
+uvec2 get_guide_splat_units(float value) {
+    float units = floor(min(value * GUIDE_FIXED_POINT_SCALE, GUIDE_MAX_SPLAT_UNITS));
+    float high = floor(units / 4294967296.0);
+    return uvec2(uint(units - high * 4294967296.0), uint(high));
+}
+
+// Adds one splat of `value` (>= 0 and finite, else nothing) to the bin's 64-bit sum, with
+// the carry of its low word, and counts it for the cell.
+void add_guide_splat(uint cell, uint bin, float value) {
+    if (!(value >= 0.0) || isinf(value))
+        return;
+    uvec2 units = get_guide_splat_units(value);
+    uint slot = 2u * (cell * uint(GUIDE_BIN_COUNT) + bin);
+    if (units.x != 0u) {
+        uint before = atomicAdd(g_guide_splat_words[slot], units.x);
+        units.y += (before + units.x < before) ? 1u : 0u;
+    }
+    if (units.y != 0u)
+        atomicAdd(g_guide_splat_words[slot + 1u], units.y);
+    uint cell_count = texelFetch(g_guide_texels, 0).w;
+    atomicAdd(g_guide_splat_words[2u * cell_count * uint(GUIDE_BIN_COUNT) + cell], 1u);
+}
+
+// At the end of a training path with total `radiance`: each recorded vertex's estimate of
+// the radiance that arrived along its direction, (radiance - its radiance) / its
+// throughput, as luminance over the direction's density.
+void splat_guide_records(vec3 radiance) {
+    for (uint k = 0u; k < g_guide_record_count; ++k) {
+        vec3 incident = (radiance - g_guide_record_radiance[k]) * g_guide_record_scale[k];
+        add_guide_splat(g_guide_record_cells[k], g_guide_record_bins[k], get_luminance(incident));
+    }
+    g_guide_record_count = 0u;
+}
+
+#endif

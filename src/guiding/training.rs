@@ -1,0 +1,82 @@
+//! How a render trains its guide (`--guiding`): iterations over the whole image that double
+//! their samples (1, 2, 4, ... per pixel, the last taking what is left of the training
+//! budget), each rendered with the guide the iterations before it built and splatting into
+//! the next one; then the render proper takes its `--spp` samples with the final guide.
+//! Training images are thrown away, so `--spp` counts the render's samples only.
+//!
+//! Training samples are samples `GUIDE_TRAINING_FIRST_SAMPLE..` of every pixel's sequence,
+//! which no render takes, with the top bit of their PCG2D seed's second word flipped
+//! (`GUIDE_TRAINING_SEED_BIT_INDEX`: the workshop's seeding keeps only 16 bits of the sample
+//! index, so the index alone would not part them), so the guide is independent of the
+//! samples it guides: the same random numbers for both would correlate them, a bias the
+//! furnace test measured at -0.6 % before this. Training is deterministic, so every shard
+//! and resumed render of one image trains the same guide.
+
+/// The first sample index of the training iterations: 2^31, past every render's samples
+/// (`RenderSettings::validate` keeps guided renders below it).
+pub const GUIDE_TRAINING_FIRST_SAMPLE: u32 = 1 << 31;
+
+/// A guided render's training budget.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct GuideTraining {
+    /// Samples per pixel that train the guide, in all iterations together (at least 1).
+    pub samples: u32,
+}
+
+impl GuideTraining {
+    /// The default budget for a render of `spp` samples: a quarter of them (at least 1).
+    pub fn for_spp(spp: u32) -> GuideTraining {
+        GuideTraining {
+            samples: (spp / 4).max(1),
+        }
+    }
+
+    /// Samples per pixel of each iteration: 1, 2, 4, ... while the budget allows, the last
+    /// taking the rest; they sum to `samples`.
+    pub fn iterations(&self) -> Vec<u32> {
+        let mut iterations = Vec::new();
+        let mut left = self.samples.max(1);
+        let mut next = 1u32;
+        while left > 0 {
+            // The last iteration takes the rest when the one after it would not fit.
+            let take = if left < next.saturating_mul(3) {
+                left
+            } else {
+                next
+            };
+            iterations.push(take);
+            left -= take;
+            next = next.saturating_mul(2);
+        }
+        iterations
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn iterations_double_and_sum_to_the_budget() {
+        assert_eq!(GuideTraining { samples: 1 }.iterations(), [1]);
+        assert_eq!(GuideTraining { samples: 2 }.iterations(), [2]);
+        assert_eq!(GuideTraining { samples: 3 }.iterations(), [1, 2]);
+        assert_eq!(GuideTraining { samples: 7 }.iterations(), [1, 2, 4]);
+        assert_eq!(GuideTraining { samples: 10 }.iterations(), [1, 2, 7]);
+        assert_eq!(
+            GuideTraining { samples: 256 }.iterations(),
+            [1, 2, 4, 8, 16, 32, 64, 129]
+        );
+        for samples in 1..300 {
+            let iterations = GuideTraining { samples }.iterations();
+            assert_eq!(iterations.iter().sum::<u32>(), samples);
+            // Each iteration takes at least as many samples as the one before.
+            assert!(
+                iterations.windows(2).all(|w| w[1] >= w[0]),
+                "{iterations:?}"
+            );
+        }
+        assert_eq!(GuideTraining::for_spp(1024).samples, 256);
+        assert_eq!(GuideTraining::for_spp(2).samples, 1);
+    }
+}

@@ -1,0 +1,301 @@
+//! Path guiding in renders (`--guiding`): guided images agree with unguided ones by `vkpath
+//! compare` (block z-tests with both images' moments) on the Cornell box, the opening scene
+//! and the glossy showcase; the same seed gives the same bits however frames are split;
+//! resumed and sharded guided renders equal the single render; a guided render reports its
+//! guide; and the options that cannot work say so in one line. The validation layer stays
+//! silent throughout (`--validate`, `assert_validation_silent`).
+
+mod common;
+
+use std::path::Path;
+
+use vkpath::guiding::training::GuideTraining;
+use vkpath::render::accumulation::Accumulation;
+use vkpath::scene::Scene;
+use vkpath::{Integrator, RenderSettings, Renderer};
+
+/// `vkpath render` in `dir` with `args`, checked for success; its `--json` report.
+fn render(dir: &Path, args: &[&str]) -> serde_json::Value {
+    let mut all = vec!["render", "--validate", "--json"];
+    all.extend_from_slice(args);
+    let output = common::vkpath(dir, &all);
+    assert!(
+        output.status.success(),
+        "vkpath {all:?}: {}",
+        String::from_utf8_lossy(&output.stderr)
+    );
+    serde_json::from_slice(&output.stdout).unwrap()
+}
+
+#[test]
+fn guided_renders_agree_with_unguided_ones() {
+    // Each case renders unguided (seed 1) and guided (seed 2, its default training: a quarter
+    // of --spp) with moments; `vkpath compare` (8x8 blocks, family-wise alpha 0.01, so a
+    // false failure has probability 0.01 per case) must find them consistent. A guide that
+    // biased the estimate (a density that is not the sampler's, a mixture weight lost in an
+    // MIS weight) moves the brightest blocks by many standard errors at these sample counts.
+    let opening = format!("{}/scenes/opening.gltf", env!("CARGO_MANIFEST_DIR"));
+    let materials = format!("{}/scenes/materials.gltf", env!("CARGO_MANIFEST_DIR"));
+    let cases: [(&str, &[&str]); 4] = [
+        (
+            "cornell-mis",
+            &[
+                "--integrator",
+                "mis",
+                "--width",
+                "32",
+                "--height",
+                "32",
+                "--spp",
+                "128",
+            ],
+        ),
+        (
+            "cornell-nee",
+            &[
+                "--integrator",
+                "nee",
+                "--width",
+                "32",
+                "--height",
+                "32",
+                "--spp",
+                "128",
+            ],
+        ),
+        (
+            "opening-mis",
+            &[
+                &opening,
+                "--integrator",
+                "mis",
+                "--max-path-length",
+                "8",
+                "--width",
+                "40",
+                "--height",
+                "30",
+                "--spp",
+                "128",
+            ],
+        ),
+        (
+            "materials-mis",
+            &[
+                &materials,
+                "--integrator",
+                "mis",
+                "--width",
+                "32",
+                "--height",
+                "24",
+                "--spp",
+                "64",
+            ],
+        ),
+    ];
+    let dir = tempfile::tempdir().unwrap();
+    for (name, args) in cases {
+        let plain = format!("{name}.exr");
+        let guided = format!("{name}-guided.exr");
+        let mut unguided_args = args.to_vec();
+        unguided_args.extend_from_slice(&["--seed", "1", "--moments", "-o", &plain]);
+        let report = render(dir.path(), &unguided_args);
+        assert!(report["guide"].is_null(), "{name}: {report}");
+        let mut guided_args = args.to_vec();
+        guided_args.extend_from_slice(&["--guiding", "--seed", "2", "--moments", "-o", &guided]);
+        let report = render(dir.path(), &guided_args);
+        let guide = &report["guide"];
+        assert!(
+            guide["guided_cells"].as_u64().unwrap() > 0,
+            "{name}: {report}"
+        );
+        assert!(
+            guide["memory_bytes"].as_u64().unwrap() > 0,
+            "{name}: {report}"
+        );
+        let output = common::vkpath(dir.path(), &["compare", &guided, &plain]);
+        assert!(
+            output.status.success(),
+            "{name}: guided and unguided renders differ: {}{}",
+            String::from_utf8_lossy(&output.stdout),
+            String::from_utf8_lossy(&output.stderr)
+        );
+    }
+}
+
+#[test]
+fn same_seed_same_bits_with_guiding_whatever_the_frames() {
+    // The training splats are integer sums (order-independent), the build is sequential and
+    // the render adds samples in sample order: two guided renders with the same seed, one
+    // sample per frame and seven, write identical files.
+    let dir = tempfile::tempdir().unwrap();
+    let mut files = Vec::new();
+    for samples_per_frame in ["1", "7"] {
+        let name = format!("spf{samples_per_frame}.exr");
+        render(
+            dir.path(),
+            &[
+                "--integrator",
+                "mis",
+                "--guiding",
+                "--guide-training-spp",
+                "15",
+                "--width",
+                "24",
+                "--height",
+                "16",
+                "--spp",
+                "9",
+                "--seed",
+                "5",
+                "--samples-per-frame",
+                samples_per_frame,
+                "--moments",
+                "-o",
+                &name,
+            ],
+        );
+        files.push(std::fs::read(dir.path().join(&name)).unwrap());
+    }
+    assert!(
+        files[0] == files[1],
+        "guided renders differ between frame splits"
+    );
+}
+
+/// How many floats lie between `a` and `b` (both >= 0).
+fn ulps(a: f32, b: f32) -> u32 {
+    a.to_bits().abs_diff(b.to_bits())
+}
+
+/// Settings of the resume and shard test: the Cornell box with mis, guided.
+fn guided_settings(spp: u32) -> RenderSettings {
+    RenderSettings {
+        width: 24,
+        height: 20,
+        spp,
+        integrator: Integrator::Mis,
+        seed: 3,
+        guiding: Some(GuideTraining { samples: 12 }),
+        ..RenderSettings::default()
+    }
+}
+
+#[test]
+fn resume_and_merge_equal_the_single_guided_render() {
+    let context = common::validated_context();
+    let scene = Scene::builtin_cornell_box().unwrap();
+    let camera = scene.camera.unwrap();
+    let single = {
+        let mut renderer = Renderer::new(&context, &scene, &camera, guided_settings(16)).unwrap();
+        renderer.render_all().unwrap();
+        assert!(renderer.guide_report().unwrap().guided_cell_count > 0);
+        renderer.accumulation().unwrap()
+    };
+    // Resume: 4 samples, saved, then a new renderer (which trains the same guide) goes on.
+    let partial = {
+        let settings = RenderSettings {
+            samples_per_frame: 1,
+            ..guided_settings(16)
+        };
+        let mut renderer = Renderer::new(&context, &scene, &camera, settings).unwrap();
+        for _ in 0..4 {
+            renderer.render_frame().unwrap();
+        }
+        renderer.accumulation().unwrap()
+    };
+    assert_eq!(partial.samples, 0..4);
+    let resumed = {
+        let mut renderer = Renderer::new(&context, &scene, &camera, guided_settings(16)).unwrap();
+        renderer.resume(&partial).unwrap();
+        renderer.render_all().unwrap();
+        renderer.accumulation().unwrap()
+    };
+    assert_eq!(
+        resumed.texels, single.texels,
+        "resumed guided render differs"
+    );
+    // Shards: samples 0..10 and 10..16, each training the same guide, merged.
+    let shard = |range: std::ops::Range<u32>| {
+        let mut renderer = Renderer::new(
+            &context,
+            &scene,
+            &camera,
+            guided_settings(range.len() as u32),
+        )
+        .unwrap();
+        renderer.start_at_sample(range.start).unwrap();
+        renderer.render_all().unwrap();
+        renderer.accumulation().unwrap()
+    };
+    let merged = Accumulation::merge(&[shard(0..10), shard(10..16)]).unwrap();
+    assert_eq!(merged.samples, 0..16);
+    // Within the 4 ulps that `Accumulation::merge` documents for any merge (its float64 sum
+    // against the single render's float32 Kahan sum); a shard with another guide would
+    // differ by its noise, thousands of ulps.
+    let (a, b) = (merged.image(), single.image());
+    let worst = a
+        .mean
+        .iter()
+        .zip(&b.mean)
+        .flat_map(|(p, q)| (0..3).map(move |c| ulps(p[c], q[c])))
+        .max()
+        .unwrap();
+    assert!(
+        worst <= 4,
+        "merged guided shards are {worst} ulps from the single render"
+    );
+    common::assert_validation_silent(&context);
+}
+
+#[test]
+fn guiding_options_that_cannot_work_are_one_line_errors() {
+    let dir = tempfile::tempdir().unwrap();
+    for (args, expected) in [
+        (
+            &[
+                "render",
+                "--integrator",
+                "cosine",
+                "--guiding",
+                "-o",
+                "a.png",
+            ][..],
+            "--guiding guides nee and mis",
+        ),
+        (
+            &[
+                "render",
+                "--integrator",
+                "mis",
+                "--guiding",
+                "--guide-training-spp",
+                "0",
+                "-o",
+                "a.png",
+            ][..],
+            "--guide-training-spp 0 is outside",
+        ),
+        (
+            &[
+                "render",
+                "--integrator",
+                "mis",
+                "--guiding",
+                "--sample-range",
+                "0..8",
+                "-o",
+                "a.exr",
+            ][..],
+            "needs --guide-training-spp",
+        ),
+    ] {
+        let output = common::vkpath(dir.path(), args);
+        let stderr = String::from_utf8_lossy(&output.stderr);
+        assert_eq!(output.status.code(), Some(1), "{args:?}: {stderr}");
+        assert!(stderr.contains(expected), "{args:?}: {stderr}");
+        assert_eq!(stderr.trim().lines().count(), 1, "{args:?}: {stderr}");
+        assert!(!stderr.contains("panicked"), "{args:?}: {stderr}");
+    }
+}
