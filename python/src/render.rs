@@ -13,6 +13,7 @@ use glam::Vec3;
 use pyo3::prelude::*;
 use pyo3::types::{PyBool, PyByteArray, PyDict};
 use vkpath::lights::environment_source::{EnvironmentOptionNames, EnvironmentSource};
+use vkpath::guiding::training::GuideTraining;
 use vkpath::render::job::production_settings;
 use vkpath::render::region::PixelRegion;
 use vkpath::render::StopReason;
@@ -40,6 +41,8 @@ struct Choices<'a> {
     samples_per_frame: Option<u32>,
     russian_roulette_start: Option<u32>,
     region: Option<(u32, u32, u32, u32)>,
+    guiding: bool,
+    guide_training_spp: Option<u32>,
 }
 
 impl Choices<'_> {
@@ -71,6 +74,15 @@ impl Choices<'_> {
                 .region
                 .map(|(x0, y0, x1, y1)| PixelRegion { x0, y0, x1, y1 }),
             ..default
+        };
+        // As `vkpath render --guiding`: the training budget defaults to a quarter of spp.
+        let settings = RenderSettings {
+            guiding: self.guiding.then(|| GuideTraining {
+                samples: self
+                    .guide_training_spp
+                    .unwrap_or(GuideTraining::for_spp(settings.spp).samples),
+            }),
+            ..settings
         };
         settings.validate().map_err(to_py)?;
         let mut warnings = Vec::new();
@@ -137,7 +149,8 @@ fn after_batch(
     sampler=None, light_sampling=None, light_selection=None, pixel_filter=None, accel=None, max_path_length=None,
     samples_per_frame=None, russian_roulette_start=None, environment_map=None,
     environment_strength=1.0, environment_rotation=0.0, background=None, time_limit=None,
-    progress=None, device=None, validate=false, region=None))]
+    progress=None, device=None, validate=false, region=None, guiding=false,
+    guide_training_spp=None))]
 #[allow(clippy::too_many_arguments)]
 pub fn render<'py>(
     py: Python<'py>,
@@ -164,6 +177,8 @@ pub fn render<'py>(
     device: Option<String>,
     validate: bool,
     region: Option<(u32, u32, u32, u32)>,
+    guiding: bool,
+    guide_training_spp: Option<u32>,
 ) -> PyResult<Bound<'py, PyDict>> {
     let (settings, mut warnings) = Choices {
         width,
@@ -180,6 +195,8 @@ pub fn render<'py>(
         samples_per_frame,
         russian_roulette_start,
         region,
+        guiding,
+        guide_training_spp,
     }
     .settings()?;
     let time_limit = time_limit
@@ -320,6 +337,7 @@ fn settings_dict<'py>(py: Python<'py>, settings: &RenderSettings) -> PyResult<Bo
     dict.set_item("samples_per_frame", settings.samples_per_frame)?;
     dict.set_item("russian_roulette_start", settings.russian_roulette_start)?;
     dict.set_item("region", settings.region.map(|r| (r.x0, r.y0, r.x1, r.y1)))?;
+    dict.set_item("guide_training_spp", settings.guiding.map(|g| g.samples))?;
     Ok(dict)
 }
 

@@ -128,6 +128,8 @@ def render_result(
     device: Optional[Union[int, str]] = None,
     validate: bool = False,
     region: Optional[Sequence[int]] = None,
+    guiding: bool = False,
+    guide_training_spp: Optional[int] = None,
 ) -> RenderResult:
     """:func:`render`, returning the image with its moments, the samples taken and why the
     render stopped."""
@@ -156,6 +158,8 @@ def render_result(
         device=None if device is None else str(device),
         validate=validate,
         region=None if region is None else _region_of(region),
+        guiding=bool(guiding),
+        guide_training_spp=guide_training_spp,
     )
     for warning in raw["warnings"]:
         warnings.warn(warning, stacklevel=2)
@@ -198,6 +202,8 @@ def render(
     device: Optional[Union[int, str]] = None,
     validate: bool = False,
     region: Optional[Sequence[int]] = None,
+    guiding: bool = False,
+    guide_training_spp: Optional[int] = None,
 ) -> np.ndarray:
     """Renders a scene and returns its linear RGBA image, float32, shape (height, width, 4),
     rows top-down: what ``vkpath render ... -o out.exr`` writes, bit for bit.
@@ -221,6 +227,10 @@ def render(
     ``region=(x0, y0, x1, y1)`` renders only columns x0..x1 and rows y0..y1 of the image
     (x1 and y1 excluded, from the top-left), as ``--region`` does: the array is
     (y1 - y0, x1 - x0, 4), each pixel bit for bit the full render's.
+
+    ``guiding=True`` (nee and mis) is ``--guiding``: path guiding, a guide trained on
+    ``guide_training_spp`` samples per pixel (default a quarter of ``spp``) before the
+    render's ``spp``; the same seed gives the same bits as the command line.
     """
     return render_result(
         scene,
@@ -246,6 +256,8 @@ def render(
         device=device,
         validate=validate,
         region=region,
+        guiding=guiding,
+        guide_training_spp=guide_training_spp,
     ).image
 
 

@@ -102,6 +102,8 @@ def render(
     device: Optional[str] = None,
     validate: bool = False,
     region: Optional[Tuple[int, int, int, int]] = None,
+    guiding: bool = False,
+    guide_training_spp: Optional[int] = None,
 ) -> Dict[str, Any]: ...
 def save(
     pixels: Dict[str, Any],
