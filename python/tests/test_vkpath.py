@@ -309,14 +309,16 @@ def test_check_of_a_missing_file_raises_the_command_lines_message(cli, tmp_path)
 
 def test_guiding_equals_the_command_lines_guided_render_bit_for_bit(cli, tmp_path):
     output = tmp_path / "guided.exr"
-    run_cli(cli, "render", "--integrator", "mis", "--guiding", "--guide-training-spp", "6",
-            "--width", "16", "--height", "12", "--spp", "4", "--seed", "3", "-o", str(output))
-    result = vkpath.render_result(width=16, height=12, spp=4, seed=3, integrator="mis",
-                                  guiding=True, guide_training_spp=6)
-    assert result.settings["guide_training_spp"] == 6
+    # 48 training spp at 24 x 16 teach cells of the box (fewer teach none, and the guided
+    # image would be the unguided one).
+    run_cli(cli, "render", "--integrator", "mis", "--guiding", "--guide-training-spp", "48",
+            "--width", "24", "--height", "16", "--spp", "4", "--seed", "3", "-o", str(output))
+    result = vkpath.render_result(width=24, height=16, spp=4, seed=3, integrator="mis",
+                                  guiding=True, guide_training_spp=48)
+    assert result.settings["guide_training_spp"] == 48
     assert np.array_equal(bits(result.image), bits(read_exr_rgba(output)))
     # Not the unguided image: the guide changed the samples.
-    plain = vkpath.render(width=16, height=12, spp=4, seed=3, integrator="mis")
+    plain = vkpath.render(width=24, height=16, spp=4, seed=3, integrator="mis")
     assert not np.array_equal(bits(plain), bits(result.image))
     with pytest.raises(vkpath.VkpathError, match="guides nee and mis"):
         vkpath.render(width=8, height=8, spp=1, integrator="cosine", guiding=True)
