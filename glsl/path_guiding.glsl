@@ -45,12 +45,26 @@ uint get_path_guide_grid_cell(vec3 position, bool light_sampled) {
     return get_guide_cell_index(position);
 }
 
-// The cell that guides a vertex in grid cell `grid_cell`: itself where the guide learned it,
-// else GUIDE_NO_CELL (the BSDF samples alone).
-uint get_path_guide_cell(uint grid_cell) {
+// Whether the guide may sample directions at `surface`: Lambert always; glTF materials unless
+// glossy (a metal smoother than GUIDE_MIN_ROUGHNESS) or layered (a clear coat, sheen):
+// there half of the samples would leave the BSDF's narrow lobe for the guide, which
+// measurably raised the showcase's error (docs/guiding.md). Such vertices still train.
+bool is_guided_surface(surface_t surface) {
+#ifdef USE_MATERIALS
+    if (has_layers(surface))
+        return false;
+    return surface.material.metallic < 0.5 || surface.material.roughness >= GUIDE_MIN_ROUGHNESS;
+#else
+    return true;
+#endif
+}
+
+// The cell that guides a vertex at `surface` in grid cell `grid_cell`: itself where the
+// guide learned it and the surface is guided, else GUIDE_NO_CELL (the BSDF samples alone).
+uint get_path_guide_cell(uint grid_cell, surface_t surface) {
     if (GUIDING == GUIDING_OFF)
         return GUIDE_NO_CELL;
-    return is_guided_cell(grid_cell) ? grid_cell : GUIDE_NO_CELL;
+    return (is_guided_cell(grid_cell) && is_guided_surface(surface)) ? grid_cell : GUIDE_NO_CELL;
 }
 
 // Density w.r.t. solid angle with which the path loop samples `direction` at the current
