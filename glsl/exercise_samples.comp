@@ -30,6 +30,11 @@ layout(std430, set = 0, binding = BINDING_EXERCISE_PIXELS) writeonly buffer exer
     vec4 g_pixels[];
 };
 
+// The directions EXERCISE_SAMPLER_DIRECTIONS draws (xyz, unit length).
+layout(std430, set = 0, binding = BINDING_EXERCISE_DIRECTIONS) readonly buffer exercise_directions {
+    vec4 g_directions[];
+};
+
 // What the display shows. Mirrors `vkpath::exercise::view::SampleDisplayPushConstants`.
 // All but the first member only matter for EXERCISE_SAMPLER_BRDF.
 layout(push_constant) uniform exercise_push_constants {
@@ -164,6 +169,8 @@ void main() {
     uvec2 seed = get_sample_display_seed(g_resolution_sampler_seed.w);
     for (int i = 0; i != EXERCISE_SAMPLE_COUNT; ++i) {
         vec3 sample_direction = get_exercise_sample_direction(sampler_id, get_random_numbers(seed), material, view);
+        if (sampler_id == EXERCISE_SAMPLER_DIRECTIONS)
+            sample_direction = g_directions[i].xyz;
         vec2 offset = project_to_sample_view(sample_direction) - view_point;
         if (dot(offset, offset) <= dot_radius * dot_radius) {
             if (dot(sample_direction, SAMPLE_VIEW_TOWARD_VIEWER) >= 0.0)

@@ -373,6 +373,9 @@
 // Descriptor set 0 of the sample display: a storage buffer of one vec4 colour per pixel.
 // Numbered apart from the path tracer's bindings, which the included scene files declare too.
 #define BINDING_EXERCISE_PIXELS 10
+// ... and a storage buffer of EXERCISE_SAMPLE_COUNT directions (vec4, xyz) that
+// EXERCISE_SAMPLER_DIRECTIONS draws (a one-vec4 buffer for the other samplers).
+#define BINDING_EXERCISE_DIRECTIONS 11
 // Values of the sample display's sampler (its push constant).
 // Exercise 4: sample_sphere().
 #define EXERCISE_SAMPLER_SPHERE 0
@@ -383,6 +386,10 @@
 // glsl/brdf.glsl's sample_brdf() at a surface with normal +z, for the material and view
 // direction of the push constants (`vkpath exercise brdf-samples`).
 #define EXERCISE_SAMPLER_BRDF 3
+// Directions the host sampled (BINDING_EXERCISE_DIRECTIONS), e.g. a path guide's cell and
+// the BSDF next to it (`vkpath exercise guide-cell`); the random numbers are drawn all the
+// same.
+#define EXERCISE_SAMPLER_DIRECTIONS 4
 // Number of sample directions the workshop's framework displays (Exercises 4 and 5).
 #define EXERCISE_SAMPLE_COUNT 512
 // Cosine and sine of the elevation of the display's camera, 30 degrees above the sphere's

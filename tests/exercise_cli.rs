@@ -2,7 +2,8 @@
 //! their dots where the Rust twins of the samplers say, spread over the sphere for
 //! `sample_sphere` and crowded at the top for spherical coordinates, and cluster at the
 //! mirror direction for a smooth metal's `sample_brdf`; the ray tracer shows the Cornell box's
-//! red wall on the left and green wall on the right.
+//! red wall on the left and green wall on the right; `guide-cell` draws a trained guide's
+//! samples and the BSDF's where the twins put them.
 
 mod common;
 
@@ -414,4 +415,77 @@ fn bad_exercise_arguments_fail_with_one_line() {
         0,
         "files left behind"
     );
+}
+
+#[test]
+fn guide_cell_draws_the_guides_samples_left_and_the_bsdfs_right() {
+    // The library's view of the Cornell box's centre pixel: every front-facing sample the
+    // twins drew (the guide's cell on the left, the cosine lobe on the right) is a dot where
+    // the twins project it, in its half; the point lies on the surface the camera sees.
+    let context = common::validated_context();
+    let scene = vkpath::scene::Scene::builtin_cornell_box().unwrap();
+    let setup = vkpath::exercise::GuideCellSetup {
+        width: 64,
+        height: 64,
+        training: vkpath::guiding::training::GuideTraining { samples: 64 },
+        pixel: UVec2::new(32, 32),
+        seed: 0,
+    };
+    let view = vkpath::exercise::render_guide_cell_display(
+        &context,
+        &scene,
+        &scene.camera.unwrap(),
+        &setup,
+        256,
+        256,
+    )
+    .unwrap();
+    assert_eq!((view.image.width, view.image.height), (512, 256));
+    assert!((view.normal.length() - 1.0).abs() < 1e-5);
+    let resolution = UVec2::new(256, 256);
+    for (offset, directions) in [(0, &view.guide_directions), (256, &view.bsdf_directions)] {
+        assert_eq!(directions.len(), 512);
+        for direction in directions.iter() {
+            if direction.dot(SAMPLE_VIEW_TOWARD_VIEWER) < 0.0 {
+                continue;
+            }
+            let texel = sample_view_point_to_texel(project_to_sample_view(*direction), resolution);
+            let index = texel.y as usize * 512 + offset + texel.x as usize;
+            let color = view.image.mean[index];
+            assert!(
+                (color[0] - 1.0).abs() < 1e-6 && (color[1] - 0.45).abs() < 1e-6,
+                "sample {direction} at texel {texel} (+{offset}) shows {color:?}"
+            );
+        }
+    }
+    // The BSDF's samples lie above the surface; the guide's need not.
+    assert!(view
+        .bsdf_directions
+        .iter()
+        .all(|d| d.dot(view.normal) >= 0.0));
+    common::assert_validation_silent(&context);
+    // The command line writes it, and a pixel that sees nothing is a one-line error.
+    let dir = tempfile::tempdir().unwrap();
+    exercise(
+        dir.path(),
+        &[
+            "guide-cell",
+            "-o",
+            "cell.png",
+            "--width",
+            "64",
+            "--height",
+            "64",
+        ],
+    );
+    let image = image::open(dir.path().join("cell.png")).unwrap();
+    assert_eq!((image.width(), image.height()), (128, 64));
+    let output = common::vkpath(
+        dir.path(),
+        &["exercise", "guide-cell", "-o", "bad.png", "--pixel", "64,0"],
+    );
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    assert_eq!(output.status.code(), Some(1), "{stderr}");
+    assert!(stderr.contains("outside the 64x64 view"), "{stderr}");
+    assert_eq!(stderr.trim().lines().count(), 1, "{stderr}");
 }

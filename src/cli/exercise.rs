@@ -3,17 +3,20 @@
 use std::path::PathBuf;
 
 use anyhow::bail;
-use glam::Vec3;
+use glam::{UVec2, Vec3};
 
 use super::options::SaveArgs;
 use super::output::{fail_on_validation_messages, render_and_save};
 use super::{parse_vec3, DeviceArgs};
 use crate::exercise::{
-    render_brdf_sample_display, render_sample_display, workshop_frame_settings, BrdfDisplaySetup,
-    Exercise, ExerciseKind, ExerciseSampler,
+    render_brdf_sample_display, render_guide_cell_display, render_sample_display,
+    workshop_frame_settings, BrdfDisplaySetup, Exercise, ExerciseKind, ExerciseSampler,
+    GuideCellSetup,
 };
+use crate::guiding::training::GuideTraining;
 use crate::image_io::output::{check_writable, save_image};
 use crate::image_io::tonemap::ToneMap;
+use crate::render::settings::MAX_SPP;
 use crate::render::settings::{PixelFilter, RenderSettings};
 use crate::scene::SceneSource;
 
@@ -57,10 +60,46 @@ pub struct ExerciseArgs {
     /// Device selection and validation.
     #[command(flatten)]
     pub device: DeviceArgs,
+    /// The scene, point and training of `guide-cell`.
+    #[command(flatten)]
+    pub guide: GuideCellArgs,
     /// The material and view of `brdf-samples` (last: its help heading applies to what
     /// follows it, so the general options above stay under "Options").
     #[command(flatten)]
     pub brdf: BrdfArgs,
+}
+
+/// What `vkpath exercise guide-cell` shows: the scene, the pixel whose camera ray finds the
+/// point, and the guide's training.
+#[derive(Debug, Clone, clap::Args)]
+#[command(next_help_heading = "guide-cell")]
+pub struct GuideCellArgs {
+    /// The scene (.gltf, .glb, .obj) [default: the built-in Cornell box].
+    #[arg(long)]
+    pub scene: Option<PathBuf>,
+    /// The pixel "X,Y" (from the top-left) of a 64 x 64 view through the scene's camera
+    /// whose ray finds the point [default: the centre, 32,32].
+    #[arg(long, value_parser = parse_pixel)]
+    pub pixel: Option<UVec2>,
+    /// Training samples per pixel of that 64 x 64 view (as `render --guiding` trains).
+    #[arg(long, default_value_t = 64)]
+    pub guide_training_spp: u32,
+}
+
+/// Side of the square view through which `guide-cell` trains and picks its point.
+const GUIDE_CELL_VIEW_SIDE: u32 = 64;
+
+/// Parses "x,y" as a pixel.
+fn parse_pixel(text: &str) -> Result<UVec2, String> {
+    let parts: Vec<&str> = text.split(',').map(str::trim).collect();
+    let [x, y] = parts[..] else {
+        return Err(format!("'{text}' is not X,Y"));
+    };
+    let number = |s: &str| {
+        s.parse::<u32>()
+            .map_err(|_| format!("'{s}' is not a pixel index"))
+    };
+    Ok(UVec2::new(number(x)?, number(y)?))
 }
 
 /// The material (glTF's metallic-roughness parameters) and view angle whose `sample_brdf`
@@ -179,6 +218,59 @@ pub fn run(args: &ExerciseArgs) -> anyhow::Result<()> {
             };
             let context = args.device.create_context()?;
             render_and_save(&context, &scene, &camera, settings, &args.output, &save)
+        }
+        ExerciseKind::GuideCell => {
+            check_writable(&args.output)?;
+            let source = SceneSource::new(args.guide.scene.as_deref(), None);
+            let scene = source.load()?;
+            let Some(camera) = scene.camera else {
+                bail!("the scene has no camera; guide-cell looks through the scene's own camera");
+            };
+            let setup = GuideCellSetup {
+                width: GUIDE_CELL_VIEW_SIDE,
+                height: GUIDE_CELL_VIEW_SIDE,
+                training: GuideTraining {
+                    samples: args.guide.guide_training_spp,
+                },
+                pixel: args
+                    .guide
+                    .pixel
+                    .unwrap_or(UVec2::splat(GUIDE_CELL_VIEW_SIDE / 2)),
+                seed: args.seed,
+            };
+            if !(1..=MAX_SPP).contains(&setup.training.samples) {
+                bail!(
+                    "--guide-training-spp {} is outside 1..={MAX_SPP}",
+                    setup.training.samples
+                );
+            }
+            if setup.pixel.x >= setup.width || setup.pixel.y >= setup.height {
+                bail!(
+                    "--pixel {},{} is outside the {}x{} view",
+                    setup.pixel.x,
+                    setup.pixel.y,
+                    setup.width,
+                    setup.height
+                );
+            }
+            let context = args.device.create_context()?;
+            let view = render_guide_cell_display(
+                &context,
+                &scene,
+                &camera,
+                &setup,
+                args.width,
+                args.height,
+            )?;
+            save_image(&args.output, &view.image, &save)?;
+            eprintln!(
+                "vkpath: wrote {} (cell {} at {}, normal {}: guide left, BSDF right)",
+                args.output.display(),
+                view.cell,
+                view.point,
+                view.normal
+            );
+            fail_on_validation_messages(&context)
         }
         ExerciseKind::Samples(sampler) => {
             if sampler != ExerciseSampler::Brdf && args.brdf.any_given() {

@@ -5,7 +5,10 @@ use std::sync::Arc;
 use ash::vk;
 use gpu_allocator::MemoryLocation;
 
+use glam::Vec3;
+
 use super::view::{BrdfDisplaySetup, ExerciseSampler, SampleDisplayPushConstants};
+use crate::contract::{EXERCISE_SAMPLER_DIRECTIONS, EXERCISE_SAMPLE_COUNT};
 use crate::error::{Error, Result};
 use crate::image_io::data::RenderedImage;
 use crate::kernels::{self, Bound, Resource};
@@ -49,6 +52,46 @@ pub fn render_brdf_sample_display(
     draw_sample_display(context, &spirv, &constants)
 }
 
+/// Draws `directions` (world space, unit length, at most `EXERCISE_SAMPLE_COUNT`) on the
+/// unit sphere as `render_sample_display` draws a sampler's samples
+/// (`EXERCISE_SAMPLER_DIRECTIONS`): e.g. samples of a path guide's cell
+/// (`vkpath exercise guide-cell`).
+/// \return Display colours (linear RGB, alpha 1) as an image of one sample per pixel
+pub fn render_direction_display(
+    context: &Arc<Context>,
+    directions: &[Vec3],
+    width: u32,
+    height: u32,
+) -> Result<RenderedImage> {
+    let count = EXERCISE_SAMPLE_COUNT as usize;
+    if directions.is_empty() || directions.len() > count {
+        return Err(Error::InvalidSettings(format!(
+            "the display draws 1..={count} directions, not {}",
+            directions.len()
+        )));
+    }
+    // The kernel draws all EXERCISE_SAMPLE_COUNT: the rest repeat the first.
+    let words: Vec<[f32; 4]> = (0..count)
+        .map(|i| {
+            directions
+                .get(i)
+                .unwrap_or(&directions[0])
+                .extend(0.0)
+                .to_array()
+        })
+        .collect();
+    let spirv = spirv_words(shaders::EXERCISE_SAMPLES)?;
+    let mut constants = SampleDisplayPushConstants::new(
+        ExerciseSampler::Sphere,
+        width,
+        height,
+        0,
+        &BrdfDisplaySetup::default(),
+    );
+    constants.resolution_sampler_seed[2] = EXERCISE_SAMPLER_DIRECTIONS;
+    draw_sample_display_of(context, &spirv, &constants, &words)
+}
+
 /// `render_sample_display` with `glsl/exercise_samples.comp` compiled elsewhere (e.g. with
 /// a user's sampler, for `vkpath check`).
 pub fn render_sample_display_with(
@@ -70,6 +113,16 @@ fn draw_sample_display(
     spirv: &[u32],
     constants: &SampleDisplayPushConstants,
 ) -> Result<RenderedImage> {
+    draw_sample_display_of(context, spirv, constants, &[[0.0; 4]])
+}
+
+/// `draw_sample_display` with the directions `EXERCISE_SAMPLER_DIRECTIONS` draws.
+fn draw_sample_display_of(
+    context: &Arc<Context>,
+    spirv: &[u32],
+    constants: &SampleDisplayPushConstants,
+    directions: &[[f32; 4]],
+) -> Result<RenderedImage> {
     let [width, height, _, _] = constants.resolution_sampler_seed;
     if width == 0 || height == 0 || width > MAX_IMAGE_SIDE || height > MAX_IMAGE_SIDE {
         return Err(Error::InvalidSettings(format!(
@@ -90,10 +143,17 @@ fn draw_sample_display(
         vk::BufferUsageFlags::STORAGE_BUFFER,
         MemoryLocation::GpuToCpu,
     )?;
+    let direction_buffer = Buffer::with_data(
+        context,
+        "sample display directions",
+        directions,
+        vk::BufferUsageFlags::STORAGE_BUFFER,
+    )?;
     let build = kernels::EXERCISE_SAMPLES.builds()[0];
     let pipeline = kernels::EXERCISE_SAMPLES.pipeline(context, &build, spirv, &[])?;
     let descriptors = pipeline.descriptor_set(|resource| match resource {
         Resource::ExercisePixels => Some(Bound::Buffer(&pixels)),
+        Resource::ExerciseDirections => Some(Bound::Buffer(&direction_buffer)),
         _ => None,
     })?;
     let pipeline = &pipeline.pipeline;

@@ -5,9 +5,14 @@
 //! same display of `sample_brdf` for a glTF material.
 
 pub mod display;
+pub mod guide_cell;
 pub mod view;
 
-pub use display::{render_brdf_sample_display, render_sample_display, render_sample_display_with};
+pub use display::{
+    render_brdf_sample_display, render_direction_display, render_sample_display,
+    render_sample_display_with,
+};
+pub use guide_cell::{render_guide_cell_display, GuideCellSetup, GuideCellView};
 pub use view::{BrdfDisplaySetup, ExerciseSampler};
 
 use crate::render::settings::{Integrator, PixelFilter, RenderSettings};
@@ -83,6 +88,15 @@ pub enum Exercise {
         )
     )]
     BrdfSamples,
+    /// Beyond the workshop: path guiding's learned distribution at one point of a scene
+    /// (512 samples of its cell) next to the BSDF's (512 cosine-weighted samples).
+    #[cfg_attr(
+        feature = "cli",
+        value(
+            help = "Path guiding: 512 samples of the guide's cell at --pixel next to 512 of the BSDF (--scene, --guide-training-spp)"
+        )
+    )]
+    GuideCell,
 }
 
 /// What an exercise draws.
@@ -92,11 +106,13 @@ pub enum ExerciseKind {
     Render(Integrator),
     /// The sample display of this sampler.
     Samples(ExerciseSampler),
+    /// A guide's cell next to the BSDF (`render_guide_cell_display`).
+    GuideCell,
 }
 
 impl Exercise {
     /// Every exercise, in the workshop's order.
-    pub const ALL: [Exercise; 7] = [
+    pub const ALL: [Exercise; 8] = [
         Exercise::RayTracing,
         Exercise::SampleSphere,
         Exercise::SampleHemisphere,
@@ -104,6 +120,7 @@ impl Exercise {
         Exercise::DirectIllumination,
         Exercise::PathTracing,
         Exercise::BrdfSamples,
+        Exercise::GuideCell,
     ];
 
     /// Whether the exercise renders the Cornell box or displays samples, and which.
@@ -118,6 +135,7 @@ impl Exercise {
             Exercise::DirectIllumination => ExerciseKind::Render(Integrator::DirectIllumination),
             Exercise::PathTracing => ExerciseKind::Render(Integrator::PathTracing),
             Exercise::BrdfSamples => ExerciseKind::Samples(ExerciseSampler::Brdf),
+            Exercise::GuideCell => ExerciseKind::GuideCell,
         }
     }
 }

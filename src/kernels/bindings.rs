@@ -50,6 +50,8 @@ pub enum Resource {
     TextureSlots,
     /// The pixels of `vkpath exercise`'s sample display.
     ExercisePixels,
+    /// The directions the sample display draws for `EXERCISE_SAMPLER_DIRECTIONS`.
+    ExerciseDirections,
 }
 
 /// One row of a binding table.
@@ -196,5 +198,11 @@ pub const BVH_PROBE: &[Binding] = &[
 ];
 
 /// `glsl/exercise_samples.comp`.
-pub const EXERCISE_SAMPLES: &[Binding] =
-    &[row(c::BINDING_EXERCISE_PIXELS, STORAGE, R::ExercisePixels)];
+pub const EXERCISE_SAMPLES: &[Binding] = &[
+    row(c::BINDING_EXERCISE_PIXELS, STORAGE, R::ExercisePixels),
+    row(
+        c::BINDING_EXERCISE_DIRECTIONS,
+        STORAGE,
+        R::ExerciseDirections,
+    ),
+];

@@ -12,7 +12,7 @@ use crate::camera::Camera;
 use crate::contract;
 use crate::error::{Error, Result};
 use crate::guiding::training::GUIDE_TRAINING_FIRST_SAMPLE;
-use crate::guiding::{GuideGrid, GuideSplats};
+use crate::guiding::{Guide, GuideGrid, GuideSplats};
 use crate::image_io::data::RenderedImage;
 use crate::kernels::loops::{bvh_iterations_per_ray_at_most, LoopCoefficients, SampleWork};
 use crate::kernels::{Bound, KernelPipeline, Resource, PATH_TRACER};
@@ -74,6 +74,8 @@ pub struct Renderer {
     guide_buffers: GuideBuffers,
     /// What training the guide did, once it has (`--guiding` only).
     guide_report: Option<GuideReport>,
+    /// The trained guide (`--guiding` only, once trained).
+    guide: Option<Guide>,
 }
 
 /// What training a render's guide did (`--guiding`).
@@ -341,6 +343,7 @@ impl Renderer {
             traversal,
             guide_buffers,
             guide_report: None,
+            guide: None,
         })
     }
 
@@ -513,6 +516,11 @@ impl Renderer {
         Ok(self.samples_done)
     }
 
+    /// The trained guide: `None` before training, and without `--guiding`.
+    pub fn guide(&self) -> Option<&Guide> {
+        self.guide.as_ref()
+    }
+
     /// What training the guide did: `None` before it has, and without `--guiding`.
     pub fn guide_report(&self) -> Option<&GuideReport> {
         self.guide_report.as_ref()
@@ -578,6 +586,7 @@ impl Renderer {
             iterations,
             seconds: started.elapsed().as_secs_f64(),
         });
+        self.guide = Some(guide);
         Ok(())
     }
 
