@@ -164,11 +164,6 @@ fn same_seed_same_bits_with_guiding_whatever_the_frames() {
     );
 }
 
-/// How many floats lie between `a` and `b` (both >= 0).
-fn ulps(a: f32, b: f32) -> u32 {
-    a.to_bits().abs_diff(b.to_bits())
-}
-
 /// Settings of the resume and shard test: the Cornell box with mis, guided.
 fn guided_settings(spp: u32) -> RenderSettings {
     RenderSettings {
@@ -235,13 +230,7 @@ fn resume_and_merge_equal_the_single_guided_render() {
     // against the single render's float32 Kahan sum); a shard with another guide would
     // differ by its noise, thousands of ulps.
     let (a, b) = (merged.image(), single.image());
-    let worst = a
-        .mean
-        .iter()
-        .zip(&b.mean)
-        .flat_map(|(p, q)| (0..3).map(move |c| ulps(p[c], q[c])))
-        .max()
-        .unwrap();
+    let worst = common::worst_ulps_apart(&a, &b);
     assert!(
         worst <= 4,
         "merged guided shards are {worst} ulps from the single render"

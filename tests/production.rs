@@ -183,11 +183,6 @@ fn a_time_limit_is_kept_within_a_second() {
     assert!(report["spp_taken"].as_u64().unwrap() < 65536);
 }
 
-/// The difference of two floats in units in the last place.
-fn ulps(a: f32, b: f32) -> u64 {
-    (i64::from(a.to_bits() as i32) - i64::from(b.to_bits() as i32)).unsigned_abs()
-}
-
 #[test]
 fn four_shards_merge_into_the_single_render() {
     let dir = tempfile::tempdir().unwrap();
@@ -228,13 +223,7 @@ fn four_shards_merge_into_the_single_render() {
     let (a, b) = (merged.image(), single.image());
     assert_eq!(a.sample_count, b.sample_count);
     // Accumulation::merge documents why 4 ulps bound the difference.
-    let worst = a
-        .mean
-        .iter()
-        .zip(&b.mean)
-        .flat_map(|(p, q)| (0..3).map(move |c| ulps(p[c], q[c])))
-        .max()
-        .unwrap();
+    let worst = common::worst_ulps_apart(&a, &b);
     println!("merged vs single render: at most {worst} ulps apart");
     assert!(worst <= 4, "{worst} ulps");
 
@@ -356,13 +345,7 @@ fn two_devices_render_the_single_image() {
     let (two, _) = read_state(&path.join("two.exr")).unwrap();
     let (single, _) = read_state(&path.join("single.exr")).unwrap();
     let (a, b) = (two.image(), single.image());
-    let worst = a
-        .mean
-        .iter()
-        .zip(&b.mean)
-        .flat_map(|(p, q)| (0..3).map(move |c| ulps(p[c], q[c])))
-        .max()
-        .unwrap();
+    let worst = common::worst_ulps_apart(&a, &b);
     assert!(worst <= 4, "{worst} ulps");
 }
 

@@ -74,3 +74,19 @@ pub fn render_scene(scene: &Scene, settings: RenderSettings) -> RenderedImage {
     assert_validation_silent(&context);
     image
 }
+
+/// How many floats lie between `a` and `b` (of either sign).
+pub fn ulps(a: f32, b: f32) -> u64 {
+    (i64::from(a.to_bits() as i32) - i64::from(b.to_bits() as i32)).unsigned_abs()
+}
+
+/// The most ulps by which two images' means differ in any pixel and colour channel (the
+/// bound `Accumulation::merge` documents for a merge against the single render is 4).
+pub fn worst_ulps_apart(a: &RenderedImage, b: &RenderedImage) -> u64 {
+    a.mean
+        .iter()
+        .zip(&b.mean)
+        .flat_map(|(p, q)| (0..3).map(move |c| ulps(p[c], q[c])))
+        .max()
+        .unwrap_or(0)
+}
