@@ -1,16 +1,21 @@
 //! Path guiding in renders (`--guiding`): guided images agree with unguided ones by `vkpath
 //! compare` (block z-tests with both images' moments) on the Cornell box, the opening scene
 //! and the glossy showcase; the same seed gives the same bits however frames are split;
-//! resumed and sharded guided renders equal the single render; a guided render reports its
-//! guide; and the options that cannot work say so in one line. The validation layer stays
+//! resumed and sharded guided renders equal the single render; a signal or the time limit
+//! stops training, after which it starts afresh to the same guide; a guided render reports
+//! its guide; and the options that cannot work say so in one line. The validation layer stays
 //! silent throughout (`--validate`, `assert_validation_silent`).
 
 mod common;
 
+use std::cell::Cell;
 use std::path::Path;
+use std::sync::atomic::AtomicBool;
+use std::time::Instant;
 
 use vkpath::guiding::training::GuideTraining;
 use vkpath::render::accumulation::Accumulation;
+use vkpath::render::{RenderControl, StopReason};
 use vkpath::scene::Scene;
 use vkpath::{Integrator, RenderSettings, Renderer};
 
@@ -287,4 +292,52 @@ fn guiding_options_that_cannot_work_are_one_line_errors() {
         assert_eq!(stderr.trim().lines().count(), 1, "{args:?}: {stderr}");
         assert!(!stderr.contains("panicked"), "{args:?}: {stderr}");
     }
+}
+
+#[test]
+fn a_signal_or_the_time_limit_stops_training_and_a_restart_trains_the_same_guide() {
+    let context = common::validated_context();
+    let scene = Scene::builtin_cornell_box().unwrap();
+    let camera = scene.camera.unwrap();
+    let single = {
+        let mut renderer = Renderer::new(&context, &scene, &camera, guided_settings(8)).unwrap();
+        renderer.render_all().unwrap();
+        renderer.accumulation().unwrap()
+    };
+    let settings = RenderSettings {
+        samples_per_frame: 1,
+        ..guided_settings(8)
+    };
+    let mut renderer = Renderer::new(&context, &scene, &camera, settings).unwrap();
+    // A signal before training: the render stops with nothing taken and nothing trained.
+    let flag = AtomicBool::new(true);
+    let control = RenderControl {
+        cancel: Some(&flag),
+        ..RenderControl::default()
+    };
+    let outcome = renderer.render_with(|_| {}, control).unwrap();
+    assert_eq!((outcome.stop, outcome.samples), (StopReason::Cancelled, 0));
+    assert!(outcome.guide.is_none() && renderer.guide_report().is_none());
+    // A time limit already past does the same.
+    let control = RenderControl {
+        deadline: Some(Instant::now()),
+        ..RenderControl::default()
+    };
+    let outcome = renderer.render_with(|_| {}, control).unwrap();
+    assert_eq!((outcome.stop, outcome.samples), (StopReason::TimeLimit, 0));
+    // Abandoned in its last iteration (12 spp train as 1 + 2 + 9, one submission each, so
+    // the third question stops it with the guide of the first two bound), training starts
+    // afresh and the render equals the uninterrupted one bit for bit.
+    let asked = Cell::new(0);
+    let trained = renderer
+        .train_guide_until(&|| {
+            asked.set(asked.get() + 1);
+            asked.get() > 2
+        })
+        .unwrap();
+    assert_eq!(asked.get(), 3);
+    assert!(!trained && renderer.guide_report().is_none());
+    renderer.render_all().unwrap();
+    assert_eq!(renderer.accumulation().unwrap().texels, single.texels);
+    common::assert_validation_silent(&context);
 }

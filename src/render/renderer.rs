@@ -533,12 +533,20 @@ impl Renderer {
     /// is cleared. The first frame (and `resume`) call it; deterministic, so every shard and
     /// resumed render of an image trains the same guide.
     pub fn train_guide(&mut self) -> Result<()> {
+        self.train_guide_until(&|| false).map(|_| ())
+    }
+
+    /// `train_guide`, asking `stop` before each submission of training frames: once it
+    /// says so, training is abandoned (the next call starts it afresh, so the guide is the
+    /// same) and this returns `false`; `true` once the guide is trained (or none is
+    /// needed).
+    pub fn train_guide_until(&mut self, stop: &dyn Fn() -> bool) -> Result<bool> {
         let (Some(training), Some(grid)) = (self.settings.guiding, self.guide_buffers.grid())
         else {
-            return Ok(());
+            return Ok(true);
         };
         if self.guide_report.is_some() {
-            return Ok(());
+            return Ok(true);
         }
         let started = Instant::now();
         let iterations = training.iterations();
@@ -550,13 +558,21 @@ impl Renderer {
         let mut splats = GuideSplats::new(grid);
         let mut guide = splats.build();
         let mut taken = 0u32;
-        let result = (|| -> Result<()> {
+        let result = (|| -> Result<bool> {
+            // The first iteration samples with no guided cell, whatever an abandoned
+            // training left bound.
+            self.guide_buffers.set_guide(&self.context, &guide)?;
+            self.descriptors
+                .write_texel_buffer(contract::BINDING_GUIDE, &self.guide_buffers.guide);
             for &samples in &iterations {
                 self.clear_state()?;
                 self.guide_buffers.clear_splats(&self.commands)?;
                 self.first_sample = GUIDE_TRAINING_FIRST_SAMPLE + taken;
                 self.settings.spp = samples;
                 while self.samples_done < samples {
+                    if stop() {
+                        return Ok(false);
+                    }
                     self.run_frames(TRAINING_FRAMES_PER_SUBMISSION, true)?;
                 }
                 if let Some(more) = self.guide_buffers.read_splats(&self.commands)? {
@@ -571,13 +587,15 @@ impl Renderer {
                     .write_texel_buffer(contract::BINDING_GUIDE, &self.guide_buffers.guide);
                 taken += samples;
             }
-            Ok(())
+            Ok(true)
         })();
         self.first_sample = first_sample;
         self.settings.spp = spp;
         self.settings.noise_threshold = noise;
         self.clear_state()?;
-        result?;
+        if !result? {
+            return Ok(false);
+        }
         self.guide_report = Some(GuideReport {
             grid_resolution: grid.resolution.to_array(),
             cell_count: grid.cell_count(),
@@ -587,7 +605,7 @@ impl Renderer {
             seconds: started.elapsed().as_secs_f64(),
         });
         self.guide = Some(guide);
-        Ok(())
+        Ok(true)
     }
 
     /// Zeroes the accumulation state: no samples taken.
@@ -718,7 +736,23 @@ impl Renderer {
         let mut last_checkpoint = Instant::now();
         let mut last_preview = Instant::now();
         let mut failure = None;
+        // A guided render trains its guide first; a signal or the time limit stops that too
+        // (with no sample taken).
+        let cancelled = || {
+            control
+                .cancel
+                .is_some_and(|flag| flag.load(Ordering::SeqCst))
+        };
+        let late = || control.deadline.is_some_and(|d| Instant::now() >= d);
+        let trained = self.train_guide_until(&|| cancelled() || late())?;
         let stop = loop {
+            if !trained {
+                break if cancelled() {
+                    StopReason::Cancelled
+                } else {
+                    StopReason::TimeLimit
+                };
+            }
             if self.is_complete() {
                 break StopReason::Done;
             }
