@@ -128,13 +128,6 @@ void main() {
             && is_pixel_converged(sum.rgb - compensation, sum.a, sum_of_squares, g_noise_threshold))
             break;
         uvec2 seed = get_sample_seed(pixel, sample_index, g_resolution_triangle_count_seed.w);
-        // Path guiding's training samples must not share a render sample's random numbers
-        // (the guide would be correlated with what it guides, a bias): get_sample_seed()
-        // keeps only the low 16 bits of the index, so training's own indices (from 2^31) do
-        // not part them; flipping the top bit of one half does, for every pixel and index
-        // (the other half would have to differ by the index in that bit too).
-        if (is_guide_training())
-            seed.y ^= 1u << GUIDE_TRAINING_SEED_BIT_INDEX;
         // The Sobol state of this sample (glsl/sobol.glsl); unused with SAMPLER_PCG.
         g_path.sample_index = sample_index;
         g_path.pixel_seed = get_sobol_pixel_seed(pixel, g_resolution_triangle_count_seed.w);

@@ -291,9 +291,6 @@
 // Metals smoother than this perceptual roughness sample their BSDF alone, unguided
 // (is_guided_surface()).
 #define GUIDE_MIN_ROUGHNESS 0.5
-// The bit flipped in the second half of a training sample's PCG2D seed
-// (glsl/path_tracer.comp), so that no training sample has a render sample's random numbers.
-#define GUIDE_TRAINING_SEED_BIT_INDEX 31
 
 // ======== Materials (glsl/brdf.glsl, glsl/materials.glsl; Rust twins src/cpu/brdf.rs) ========
 

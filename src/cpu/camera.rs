@@ -11,14 +11,19 @@ use crate::cpu::workshop::get_random_numbers;
 const USER_SEED_MULTIPLIERS: UVec2 = UVec2::new(2654435769, 2246822507);
 
 /// The random state of sample `sample_index` of a pixel, twin of GLSL `get_sample_seed`:
-/// (pixel ^ (sample_index << 16)) ^ (multipliers * user_seed), wrapping u32 arithmetic. With
-/// user seed 0 this is the workshop's `uvec2(pixel_coord) ^ uvec2(iFrame << 16)`.
+/// (pixel ^ sample bits) ^ (multipliers * user_seed), wrapping u32 arithmetic, where the
+/// sample bits are (s << 16, (s ^ (s >> 16)) << 16). With user seed 0 and s below 2^16 this
+/// is the workshop's `uvec2(pixel_coord) ^ uvec2(iFrame << 16)`; the index's high 16 bits
+/// give samples from 2^16 on seeds of their own instead of repeating earlier samples'.
 /// \param pixel Pixel index, counted from the bottom-left as ShaderToy does
 /// \param sample_index Index of the sample within the pixel, from 0
 /// \param user_seed The `--seed` option
 pub fn get_sample_seed(pixel: UVec2, sample_index: u32, user_seed: u32) -> UVec2 {
-    // Shifting by 16 drops the high bits of sample_index, as GLSL's << does.
-    let sample_bits = UVec2::splat(sample_index << 16);
+    // Shifting by 16 drops the high bits, as GLSL's << does; the second word takes them back.
+    let sample_bits = UVec2::new(
+        sample_index << 16,
+        (sample_index ^ (sample_index >> 16)) << 16,
+    );
     (pixel ^ sample_bits) ^ USER_SEED_MULTIPLIERS.wrapping_mul(UVec2::splat(user_seed))
 }
 
@@ -61,8 +66,47 @@ mod tests {
         let expected_x = (17 ^ (5 << 16)) ^ 2654435769u32.wrapping_mul(3);
         let expected_y = (3 ^ (5 << 16)) ^ 2246822507u32.wrapping_mul(3);
         assert_eq!(seeded, UVec2::new(expected_x, expected_y));
-        // Sample indices past 2^16 lose their high bits without a panic.
-        assert_eq!(get_sample_seed(UVec2::ZERO, 1 << 16, 0), UVec2::ZERO);
+        // Sample indices past 2^16 keep their high bits in the second word's high half.
+        assert_eq!(
+            get_sample_seed(UVec2::ZERO, 1 << 16, 0),
+            UVec2::new(0, 1 << 16)
+        );
+        assert_eq!(
+            get_sample_seed(UVec2::ZERO, u32::MAX, 0),
+            UVec2::new(0xffff_0000, 0)
+        );
+    }
+
+    #[test]
+    fn every_pixel_and_sample_has_its_own_seed() {
+        // Injective over (pixel, sample) for pixels below 2^16: the first word's high half
+        // gives the index's low bits, the second's XOR those its high bits. Checked on pixels
+        // and indices that the old formula mapped together (s and s + 2^16, and pixels that
+        // a high-bit term confined to the low halves would collide with).
+        let mut seen = std::collections::HashMap::new();
+        for pixel in [
+            UVec2::new(0, 0),
+            UVec2::new(0, 1),
+            UVec2::new(1, 0),
+            UVec2::new(65535, 65535),
+        ] {
+            for high in [0u32, 1, 2, 0x7fff, 0x8000, 0xffff] {
+                for low in [0u32, 1, 0x8000, 0xffff] {
+                    let sample = (high << 16) | low;
+                    for user_seed in [0u32, 7] {
+                        let seed = get_sample_seed(pixel, sample, user_seed);
+                        let key = (seed, user_seed);
+                        if let Some(earlier) = seen.insert(key, (pixel, sample)) {
+                            panic!(
+                                "{:?} and {:?} share seed {seed:?}",
+                                earlier,
+                                (pixel, sample)
+                            );
+                        }
+                    }
+                }
+            }
+        }
     }
 
     #[test]

@@ -7,15 +7,16 @@
 use glam::{UVec2, Vec2, Vec3};
 
 use crate::contract::{MIN_LIGHT_COSINE, NO_HIT_T, SHADOW_RAY_MARGIN};
+use crate::cpu::guiding::GuideTexels;
 use crate::cpu::importance_sampling::{
     get_power_heuristic_weight, get_spherical_triangle, get_triangle_area,
     sample_spherical_triangle, sample_triangle_point, use_spherical_sampling, SphericalTriangle,
 };
 use crate::cpu::integrator::is_double_sided;
 use crate::cpu::integrators::weighs_by_mis;
+use crate::cpu::path_guiding::get_path_direction_density;
 use crate::cpu::surface::{
-    get_bsdf, get_bsdf_density, get_front_emission, get_light_sample_origin,
-    get_reflected_radiance, Surface,
+    get_bsdf, get_front_emission, get_light_sample_origin, get_reflected_radiance, Surface,
 };
 use crate::cpu::workshop::{get_random_numbers, ray_triangle_intersection};
 use crate::lights::EmissiveTriangles;
@@ -33,6 +34,8 @@ pub struct LightScene<'a> {
     pub integrator: u32,
     /// The kernel's `LIGHT_SAMPLING`.
     pub light_sampling: u32,
+    /// The guide of a guided render (`--guiding`, `GUIDING_ON`), `None` without guiding.
+    pub guide: Option<GuideTexels<'a>>,
 }
 
 /// Twin of `sample_light_index`: binary search for the first CDF entry above the number.
@@ -212,12 +215,14 @@ pub fn get_emissive_triangle_density(
     )
 }
 
-/// Twin of `estimate_light_sample`.
+/// Twin of `estimate_light_sample`; `guide_cell` is the vertex's guided cell
+/// (`g_path.guide_cell`), whose mixture density MIS weighs against.
 pub fn estimate_light_sample(
     scene: &LightScene,
     surface: &Surface,
     view: Vec3,
     origin: Vec3,
+    guide_cell: u32,
     sample: &LightSample,
 ) -> Vec3 {
     let delta = sample.delta_weight > 0.0;
@@ -242,7 +247,7 @@ pub fn estimate_light_sample(
     let weight = if weighs_by_mis(scene.integrator) {
         get_power_heuristic_weight(
             sample.density,
-            get_bsdf_density(surface, view, sample.direction),
+            get_path_direction_density(scene.guide, guide_cell, surface, view, sample.direction),
         )
     } else {
         1.0
@@ -250,17 +255,19 @@ pub fn estimate_light_sample(
     reflected / sample.density * weight
 }
 
-/// Twin of `sample_direct_light` (the workshop's scenes: emissive triangles only).
+/// Twin of `sample_direct_light` (the workshop's scenes: emissive triangles only);
+/// `guide_cell` as for `estimate_light_sample`.
 pub fn sample_direct_light(
     scene: &LightScene,
     position: Vec3,
     surface: &Surface,
     view: Vec3,
+    guide_cell: u32,
     seed: &mut UVec2,
 ) -> Vec3 {
     let origin = get_light_sample_origin(surface, position);
     let sample = sample_emissive_triangle_light(scene, origin, seed);
-    estimate_light_sample(scene, surface, view, origin, &sample)
+    estimate_light_sample(scene, surface, view, origin, guide_cell, &sample)
 }
 
 #[cfg(test)]

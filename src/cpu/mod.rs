@@ -15,6 +15,7 @@ pub mod layered_bsdf;
 pub mod light_tree;
 pub mod lights;
 pub mod materials;
+pub mod path_guiding;
 pub mod path_loop;
 pub mod punctual_lights;
 pub mod renderer;
@@ -29,4 +30,7 @@ pub mod workshop;
 mod furnace_tests;
 
 pub use image::{CpuImage, PixelAccumulator};
-pub use renderer::{add_cpu_samples, render_cpu, CpuRenderSettings};
+pub use renderer::{
+    add_cpu_guided_samples, add_cpu_samples, render_cpu, train_cpu_guide, CpuGuiding,
+    CpuRenderSettings,
+};

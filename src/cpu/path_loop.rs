@@ -3,7 +3,12 @@
 //! named steps over the surface seam (`crate::cpu::surface`) and the lights room
 //! (`crate::cpu::lights`). Same names, same maths, same random-number consumption (PCG2D).
 
+use std::sync::atomic::AtomicU32;
+
 use glam::{UVec2, Vec2, Vec3};
+
+use crate::contract::GUIDE_BSDF_FRACTION;
+use crate::cpu::guiding::{GuideTexels, GUIDE_NO_CELL};
 
 use crate::cpu::importance_sampling::get_power_heuristic_weight;
 use crate::cpu::integrator::ray_mesh_intersection;
@@ -12,6 +17,9 @@ use crate::cpu::integrators::{
     samples_uniform_directions, takes_light_samples, weighs_by_mis,
 };
 use crate::cpu::lights::{get_emissive_triangle_density, sample_direct_light, LightScene};
+use crate::cpu::path_guiding::{
+    get_guided_direction, get_path_guide_cell, get_path_guide_grid_cell, GuideRecords,
+};
 use crate::cpu::surface::{
     get_camera_emission, get_departure_origin, get_surface, get_volume_transmittance, has_layers,
     is_transmissive, sample_bsdf, sample_cosine_direction, sample_uniform_direction, BsdfSample,
@@ -92,8 +100,48 @@ pub fn sample_path_direction(
     sample_bsdf(surface, view, random_numbers, lobe_random)
 }
 
+/// Twin of `sample_guided_path_direction`: at a vertex that path guiding guides (cell
+/// `guide_cell` of `texels`), one number chooses between `sample_path_direction` and the
+/// guide.
+pub fn sample_guided_path_direction(
+    integrator: u32,
+    texels: GuideTexels,
+    surface: &Surface,
+    view: Vec3,
+    guide_cell: u32,
+    seed: &mut UVec2,
+) -> BsdfSample {
+    let bsdf_chosen = get_random_numbers(seed)[0] < GUIDE_BSDF_FRACTION;
+    // The shader leaves its bsdf_sample unset where the guide samples: every member that
+    // get_guided_direction() returns is then overwritten.
+    let mut bsdf_sample = BsdfSample {
+        direction: Vec3::ZERO,
+        density: 0.0,
+        weight: Vec3::ZERO,
+        lobes: 0,
+        eta: 1.0,
+    };
+    let mut guide_random_numbers = Vec2::ZERO;
+    if bsdf_chosen {
+        bsdf_sample = sample_path_direction(integrator, surface, view, seed);
+    } else {
+        guide_random_numbers = get_random_numbers(seed);
+    }
+    get_guided_direction(
+        texels,
+        surface,
+        view,
+        guide_cell,
+        bsdf_sample,
+        bsdf_chosen,
+        guide_random_numbers,
+    )
+}
+
 /// Twin of `get_path_radiance`; `max_path_length` and `russian_roulette_start` are the
-/// kernel's `MAX_PATH_LENGTH` and `RUSSIAN_ROULETTE_START`.
+/// kernel's `MAX_PATH_LENGTH` and `RUSSIAN_ROULETTE_START`. A training frame of a guided
+/// render (`is_guide_training()`) passes the words its splats go to as `guide_splats`
+/// (`scene.guide` must then be set).
 pub fn get_path_radiance(
     scene: &LightScene,
     mut ray_origin: Vec3,
@@ -101,7 +149,9 @@ pub fn get_path_radiance(
     seed: &mut UVec2,
     max_path_length: u32,
     russian_roulette_start: u32,
+    guide_splats: Option<&[AtomicU32]>,
 ) -> Vec3 {
+    let mut guide_records = GuideRecords::default();
     let mut radiance = Vec3::ZERO;
     let mut throughput_weight = Vec3::ONE;
     let mut direction_density = 0.0f32;
@@ -140,14 +190,27 @@ pub fn get_path_radiance(
         if i + 1 == vertex_count {
             break;
         }
-        // 2. Light samples (none at glass)
+        // 2. Light samples (none at glass), weighed by MIS against the direction sampling of
+        // step 3, guided where the guide knows the vertex's cell
         light_sampled = takes_light_samples(scene.integrator) && !is_transmissive(&surface);
+        let guide_grid_cell = get_path_guide_grid_cell(scene.guide, ray_origin, light_sampled);
+        let guide_cell = get_path_guide_cell(scene.guide, guide_grid_cell, &surface);
         if light_sampled {
-            radiance +=
-                throughput_weight * sample_direct_light(scene, ray_origin, &surface, view, seed);
+            radiance += throughput_weight
+                * sample_direct_light(scene, ray_origin, &surface, view, guide_cell, seed);
         }
         // 3. Continue the path
-        let direction = sample_path_direction(scene.integrator, &surface, view, seed);
+        let direction = match scene.guide {
+            Some(texels) if guide_cell != GUIDE_NO_CELL => sample_guided_path_direction(
+                scene.integrator,
+                texels,
+                &surface,
+                view,
+                guide_cell,
+                seed,
+            ),
+            _ => sample_path_direction(scene.integrator, &surface, view, seed),
+        };
         if direction.weight == Vec3::ZERO {
             break;
         }
@@ -167,6 +230,19 @@ pub fn get_path_radiance(
             }
             throughput_weight /= survival;
         }
+        // Training frames: where this vertex's light came from
+        if guide_splats.is_some() {
+            guide_records.record_guide_vertex(
+                guide_grid_cell,
+                ray_direction,
+                direction_density,
+                throughput_weight,
+                radiance,
+            );
+        }
+    }
+    if let (Some(words), Some(texels)) = (guide_splats, scene.guide) {
+        guide_records.splat_guide_records(texels, words, radiance);
     }
     radiance
 }

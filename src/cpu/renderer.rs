@@ -3,17 +3,23 @@
 //! seeds, integrator and Kahan update as the shader, so that its sums equal the GPU's
 //! wherever every sample does.
 
+use std::sync::atomic::{AtomicU32, Ordering};
+
 use glam::UVec2;
 use rayon::prelude::*;
 
 use crate::camera::ImagePlane;
 use crate::cpu::camera::{get_sample_seed, get_sample_tex_coord};
+use crate::cpu::guiding::GuideTexels;
 use crate::cpu::image::{CpuImage, PixelAccumulator};
 use crate::cpu::integrator::get_sample_radiance;
 use crate::cpu::integrators::is_importance_sampled;
 use crate::cpu::lights::LightScene;
 use crate::cpu::path_loop::get_path_radiance;
 use crate::cpu::workshop::get_primary_ray_direction;
+use crate::error::Result;
+use crate::guiding::training::{GuideTrainer, GuideTraining, GUIDE_TRAINING_FIRST_SAMPLE};
+use crate::guiding::{Guide, GuideGrid, GuideSplats};
 use crate::lights::EmissiveTriangles;
 use crate::scene::Triangle;
 
@@ -75,6 +81,37 @@ pub fn add_cpu_samples(
     sample_end: u32,
     image: &mut CpuImage,
 ) {
+    add_cpu_guided_samples(
+        scene_triangles,
+        plane,
+        settings,
+        CpuGuiding::default(),
+        first_sample_index..sample_end,
+        image,
+    );
+}
+
+/// What a guided CPU render (`--guiding`, the shader's `GUIDING_ON`) reads and writes: the
+/// guide it samples with and, in a training frame, the words its splats go to.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct CpuGuiding<'a> {
+    /// The guide's words (`None`: `GUIDING_OFF`).
+    pub guide: Option<GuideTexels<'a>>,
+    /// A training frame's splat words, `GuideGrid::splat_word_count` of them in the
+    /// device's layout (`None`: not training).
+    pub splats: Option<&'a [AtomicU32]>,
+}
+
+/// `add_cpu_samples` of a guided render: the importance-sampled integrators sample with
+/// `guiding.guide` and, given `guiding.splats`, record and splat as a training frame does.
+pub fn add_cpu_guided_samples(
+    scene_triangles: &[Triangle],
+    plane: &ImagePlane,
+    settings: &CpuRenderSettings,
+    guiding: CpuGuiding,
+    samples: std::ops::Range<u32>,
+    image: &mut CpuImage,
+) {
     let width = image.width;
     let height = image.height;
     if width == 0 {
@@ -98,7 +135,8 @@ pub fn add_cpu_samples(
                     settings,
                     pixel,
                     UVec2::new(width, height),
-                    first_sample_index..sample_end,
+                    guiding,
+                    samples.clone(),
                     accumulator,
                 );
             }
@@ -114,6 +152,7 @@ fn add_pixel_samples(
     settings: &CpuRenderSettings,
     pixel: UVec2,
     resolution: UVec2,
+    guiding: CpuGuiding,
     samples: std::ops::Range<u32>,
     accumulator: &mut PixelAccumulator,
 ) {
@@ -134,6 +173,7 @@ fn add_pixel_samples(
                 lights,
                 integrator: settings.integrator,
                 light_sampling: settings.light_sampling,
+                guide: guiding.guide,
             };
             get_path_radiance(
                 &scene,
@@ -142,6 +182,7 @@ fn add_pixel_samples(
                 &mut seed,
                 settings.max_path_length,
                 settings.russian_roulette_start,
+                guiding.splats,
             )
         } else {
             get_sample_radiance(
@@ -155,4 +196,43 @@ fn add_pixel_samples(
         };
         accumulator.add_sample(radiance);
     }
+}
+
+/// Twin of `Renderer::train_guide` on the CPU: the iterations of `training` over the whole
+/// image, each taking training samples from `GUIDE_TRAINING_FIRST_SAMPLE` on with the guide
+/// built so far, their splats added up by the host's `GuideTrainer` as the GPU's are.
+/// \param grid The guide's grid (the GPU render's: `GuideGrid::around_points` of the
+///        scene's vertices)
+/// \return The final guide
+pub fn train_cpu_guide(
+    scene_triangles: &[Triangle],
+    plane: &ImagePlane,
+    settings: &CpuRenderSettings,
+    grid: GuideGrid,
+    training: GuideTraining,
+) -> Result<Guide> {
+    let mut trainer = GuideTrainer::new(grid);
+    let mut taken = 0u32;
+    for samples in training.iterations() {
+        let words: Vec<AtomicU32> = (0..grid.splat_word_count())
+            .map(|_| AtomicU32::new(0))
+            .collect();
+        let mut image = CpuImage::new(settings.width, settings.height);
+        let first = GUIDE_TRAINING_FIRST_SAMPLE + taken;
+        add_cpu_guided_samples(
+            scene_triangles,
+            plane,
+            settings,
+            CpuGuiding {
+                guide: Some(trainer.guide().texels()),
+                splats: Some(&words),
+            },
+            first..first + samples,
+            &mut image,
+        );
+        let words: Vec<u32> = words.iter().map(|w| w.load(Ordering::Relaxed)).collect();
+        trainer.add_iteration(&GuideSplats::from_device_words(grid, &words)?);
+        taken += samples;
+    }
+    Ok(trainer.into_guide())
 }

@@ -5,12 +5,13 @@
 //! Training images are thrown away, so `--spp` counts the render's samples only.
 //!
 //! Training samples are samples `GUIDE_TRAINING_FIRST_SAMPLE..` of every pixel's sequence,
-//! which no render takes, with the top bit of their PCG2D seed's second word flipped
-//! (`GUIDE_TRAINING_SEED_BIT_INDEX`: the workshop's seeding keeps only 16 bits of the sample
-//! index, so the index alone would not part them), so the guide is independent of the
-//! samples it guides: the same random numbers for both would correlate them, a bias the
-//! furnace test measured at -0.6 % before this. Training is deterministic, so every shard
+//! which no render takes, and `get_sample_seed` gives every sample index its own PCG2D seed,
+//! so the guide is independent of the samples it guides: the same random numbers for both
+//! would correlate them, a bias the furnace test measured at -0.6 % when the seed still kept
+//! only the index's low 16 bits. Training is deterministic, so every shard
 //! and resumed render of one image trains the same guide.
+
+use crate::guiding::{Guide, GuideGrid, GuideSplats};
 
 /// The first sample index of the training iterations: 2^31, past every render's samples
 /// (`RenderSettings::validate` keeps guided renders below it).
@@ -49,6 +50,45 @@ impl GuideTraining {
             next = next.saturating_mul(2);
         }
         iterations
+    }
+}
+
+/// The host's side of training: every iteration's splats so far and the guide built from
+/// them, which the next iteration samples with. The GPU render (`Renderer::train_guide`)
+/// and the CPU twin (`vkpath::cpu::renderer::train_cpu_guide`) both build their guides
+/// through it.
+#[derive(Clone, Debug)]
+pub struct GuideTrainer {
+    splats: GuideSplats,
+    guide: Guide,
+}
+
+impl GuideTrainer {
+    /// No splats yet: the guide has no guided cell.
+    pub fn new(grid: GuideGrid) -> GuideTrainer {
+        let splats = GuideSplats::new(grid);
+        let guide = splats.build();
+        GuideTrainer { splats, guide }
+    }
+
+    /// The guide built from the iterations so far.
+    pub fn guide(&self) -> &Guide {
+        &self.guide
+    }
+
+    /// Adds one iteration's splats and rebuilds the guide from all of them, each cell pooled
+    /// with its face neighbours' paths: measured on scenes/opening.gltf (mis, 3 vertices,
+    /// 80x60, 256 spp), relMSE 2.8e-4 from each cell's own splats, 1.3e-4 pooled
+    /// (unguided: 2.3e-4).
+    pub fn add_iteration(&mut self, splats: &GuideSplats) -> &Guide {
+        self.splats.merge(splats);
+        self.guide = self.splats.pooled_with_neighbours().build();
+        &self.guide
+    }
+
+    /// The guide built from every iteration.
+    pub fn into_guide(self) -> Guide {
+        self.guide
     }
 }
 

@@ -11,8 +11,8 @@ use gpu_allocator::MemoryLocation;
 use crate::camera::Camera;
 use crate::contract;
 use crate::error::{Error, Result};
-use crate::guiding::training::GUIDE_TRAINING_FIRST_SAMPLE;
-use crate::guiding::{Guide, GuideGrid, GuideSplats};
+use crate::guiding::training::{GuideTrainer, GUIDE_TRAINING_FIRST_SAMPLE};
+use crate::guiding::{Guide, GuideGrid};
 use crate::image_io::data::RenderedImage;
 use crate::kernels::loops::{bvh_iterations_per_ray_at_most, LoopCoefficients, SampleWork};
 use crate::kernels::{Bound, KernelPipeline, Resource, PATH_TRACER};
@@ -555,13 +555,13 @@ impl Renderer {
             self.settings.spp,
             self.settings.noise_threshold.take(),
         );
-        let mut splats = GuideSplats::new(grid);
-        let mut guide = splats.build();
+        let mut trainer = GuideTrainer::new(grid);
         let mut taken = 0u32;
         let result = (|| -> Result<bool> {
             // The first iteration samples with no guided cell, whatever an abandoned
             // training left bound.
-            self.guide_buffers.set_guide(&self.context, &guide)?;
+            self.guide_buffers
+                .set_guide(&self.context, trainer.guide())?;
             self.descriptors
                 .write_texel_buffer(contract::BINDING_GUIDE, &self.guide_buffers.guide);
             for &samples in &iterations {
@@ -575,14 +575,11 @@ impl Renderer {
                     }
                     self.run_frames(TRAINING_FRAMES_PER_SUBMISSION, true)?;
                 }
-                if let Some(more) = self.guide_buffers.read_splats(&self.commands)? {
-                    splats.merge(&more);
+                if let Some(splats) = self.guide_buffers.read_splats(&self.commands)? {
+                    trainer.add_iteration(&splats);
                 }
-                // Each cell learns from its neighbours' paths too: measured on
-                // scenes/opening.gltf (mis, 3 vertices, 80x60, 256 spp), relMSE 2.8e-4
-                // from each cell's own splats, 1.3e-4 pooled (unguided: 2.3e-4).
-                guide = splats.pooled_with_neighbours().build();
-                self.guide_buffers.set_guide(&self.context, &guide)?;
+                self.guide_buffers
+                    .set_guide(&self.context, trainer.guide())?;
                 self.descriptors
                     .write_texel_buffer(contract::BINDING_GUIDE, &self.guide_buffers.guide);
                 taken += samples;
@@ -596,6 +593,7 @@ impl Renderer {
         if !result? {
             return Ok(false);
         }
+        let guide = trainer.into_guide();
         self.guide_report = Some(GuideReport {
             grid_resolution: grid.resolution.to_array(),
             cell_count: grid.cell_count(),
