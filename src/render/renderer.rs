@@ -17,6 +17,7 @@ use crate::image_io::data::RenderedImage;
 use crate::kernels::loops::{bvh_iterations_per_ray_at_most, LoopCoefficients, SampleWork};
 use crate::kernels::{Bound, KernelPipeline, Resource, PATH_TRACER};
 use crate::render::accumulation::Accumulation;
+use crate::render::adaptive::NoiseThreshold;
 use crate::render::gpu_scene::GpuScene;
 use crate::render::gpu_types::FramePushConstants;
 use crate::render::guide_buffers::GuideBuffers;
@@ -38,6 +39,19 @@ const TARGET_BATCH_DURATION: Duration = Duration::from_millis(250);
 const MAX_FRAMES_PER_BATCH: u32 = 256;
 /// Frames recorded into one submission while training a guide.
 const TRAINING_FRAMES_PER_SUBMISSION: u32 = 16;
+
+/// The samples that `Renderer::run_frames` takes: the render's (`first_sample`,
+/// `settings.spp`, its noise threshold) or a training iteration's.
+struct FrameSpan {
+    /// The first sample of every pixel's sequence in the span.
+    first_sample: u32,
+    /// Samples per pixel in the span (`samples_done` counts those taken).
+    spp: u32,
+    /// Adaptive sampling, if on.
+    noise_threshold: Option<NoiseThreshold>,
+    /// Whether the frames train the guide (`FramePushConstants::guide_training`).
+    training: bool,
+}
 
 /// A progressive render of one scene on one device.
 pub struct Renderer {
@@ -550,11 +564,6 @@ impl Renderer {
         }
         let started = Instant::now();
         let iterations = training.iterations();
-        let (first_sample, spp, noise) = (
-            self.first_sample,
-            self.settings.spp,
-            self.settings.noise_threshold.take(),
-        );
         let mut trainer = GuideTrainer::new(grid);
         let mut taken = 0u32;
         let result = (|| -> Result<bool> {
@@ -567,13 +576,18 @@ impl Renderer {
             for &samples in &iterations {
                 self.clear_state()?;
                 self.guide_buffers.clear_splats(&self.commands)?;
-                self.first_sample = GUIDE_TRAINING_FIRST_SAMPLE + taken;
-                self.settings.spp = samples;
+                // Adaptive sampling stays off: every pixel trains alike.
+                let span = FrameSpan {
+                    first_sample: GUIDE_TRAINING_FIRST_SAMPLE + taken,
+                    spp: samples,
+                    noise_threshold: None,
+                    training: true,
+                };
                 while self.samples_done < samples {
                     if stop() {
                         return Ok(false);
                     }
-                    self.run_frames(TRAINING_FRAMES_PER_SUBMISSION, true)?;
+                    self.run_frames(TRAINING_FRAMES_PER_SUBMISSION, &span)?;
                 }
                 if let Some(splats) = self.guide_buffers.read_splats(&self.commands)? {
                     trainer.add_iteration(&splats);
@@ -586,9 +600,6 @@ impl Renderer {
             }
             Ok(true)
         })();
-        self.first_sample = first_sample;
-        self.settings.spp = spp;
-        self.settings.noise_threshold = noise;
         self.clear_state()?;
         if !result? {
             return Ok(false);
@@ -622,21 +633,26 @@ impl Renderer {
     /// the guide of a guided render that has not yet); returns how many were recorded.
     fn render_frames(&mut self, frames: u32) -> Result<u32> {
         self.train_guide()?;
-        self.run_frames(frames, false)
+        let span = FrameSpan {
+            first_sample: self.first_sample,
+            spp: self.settings.spp,
+            noise_threshold: self.settings.noise_threshold,
+            training: false,
+        };
+        self.run_frames(frames, &span)
     }
 
     /// `render_frames` without training first; `training` marks them training frames.
-    fn run_frames(&mut self, frames: u32, training: bool) -> Result<u32> {
+    fn run_frames(&mut self, frames: u32, span: &FrameSpan) -> Result<u32> {
         let step = self.samples_per_dispatch;
-        let remaining_frames = (self.settings.spp - self.samples_done).div_ceil(step);
+        let remaining_frames = (span.spp - self.samples_done).div_ceil(step);
         let frames = frames.min(remaining_frames);
         if frames == 0 {
             return Ok(0);
         }
-        let first = self.first_sample + self.samples_done;
-        let end = self.first_sample + self.settings.spp;
-        let (noise_threshold, noise_min_samples) = self
-            .settings
+        let first = span.first_sample + self.samples_done;
+        let end = span.first_sample + span.spp;
+        let (noise_threshold, noise_min_samples) = span
             .noise_threshold
             .map_or((0.0, 0), |noise| (noise.threshold, noise.min_spp));
         let (pipeline, descriptors) = (&self.pipeline.pipeline, &self.descriptors);
@@ -652,7 +668,7 @@ impl Renderer {
                     pixel_extent: [part.width(), part.height()],
                     noise_threshold,
                     noise_min_samples,
-                    guide_training: u32::from(training),
+                    guide_training: u32::from(span.training),
                 };
                 recorder.push_constants(pipeline, &constants);
                 recorder.dispatch(pipeline, [part.width(), part.height(), 1]);
@@ -695,7 +711,7 @@ impl Renderer {
                 tiles.state = next;
             }
         }
-        self.samples_done = (first + frames * step).min(end) - self.first_sample;
+        self.samples_done = (first + frames * step).min(end) - span.first_sample;
         Ok(frames)
     }
 
