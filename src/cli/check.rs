@@ -367,8 +367,8 @@ pub fn run_worker(args: &CheckWorkerArgs) -> anyhow::Result<()> {
         .validation_messages()
         .map_or((0, 0), |m| (m.errors(), m.warnings()));
     isolation::emit(&WorkerEvent::Finished {
-        validation_errors: errors as u32,
-        validation_warnings: warnings as u32,
+        validation_errors: errors,
+        validation_warnings: warnings,
     })?;
     Ok(())
 }

@@ -253,7 +253,7 @@ impl GuideSplats {
             let sums = &self.sums[cell * bins..(cell + 1) * bins];
             let total: u128 = sums.iter().map(|&s| u128::from(s)).sum();
             if count < GUIDE_MIN_SPLATS || total == 0 {
-                words.extend(std::iter::repeat(0).take(bins));
+                words.extend(std::iter::repeat_n(0, bins));
                 continue;
             }
             guided_cell_count += 1;

@@ -61,8 +61,7 @@ impl RenderedImage {
                 if n < 2.0 {
                     return [0.0; 3];
                 }
-                let variance =
-                    |c: usize| ((square[c] - mean[c] * mean[c]).max(0.0) / (n - 1.0)) as f32;
+                let variance = |c: usize| (square[c] - mean[c] * mean[c]).max(0.0) / (n - 1.0);
                 [variance(0), variance(1), variance(2)]
             })
             .collect()
