@@ -14,8 +14,10 @@
 # samplers, and the scenes of scripts/make_same_images_scenes.py (glossy, textured,
 # alpha-masked and blended, environment-map-lit, background-lit, punctual-lit), each with
 # every integrator and, between them, both samplers for each (a material kernel takes
-# seconds to build on lavapipe, so not every pair for every scene). Small images, few
-# samples; the two binaries render each case at once, one per core.
+# seconds to build on lavapipe, so not every pair for every scene). Then guided renders
+# (--guiding: nee and mis on the box, mis on the showcase). Small images, few samples; the
+# two binaries render each case at once, one per core. A render that fails counts as
+# different (its file is removed before each case).
 set -euo pipefail
 old=$(realpath "$1")
 new=$(realpath "$2")
@@ -44,6 +46,8 @@ differ=0
 render_both() {
   local name=$1
   shift
+  # A failed render must not leave an earlier run's file to be compared.
+  rm -f "$work/old/$name" "$work/new/$name"
   "$old" "$@" -o "$work/old/$name" >"$work/old/$name.log" 2>&1 &
   local old_job=$!
   "$new" "$@" -o "$work/new/$name" >"$work/new/$name.log" 2>&1 || true
@@ -63,6 +67,7 @@ for case in "${cases[@]}"; do
 done
 for exercise in ray-tracing sample-sphere sample-hemisphere spherical-coords direct-illumination path-tracing; do
   name="exercise-$exercise.png"
+  rm -f "$work/old/$name" "$work/new/$name"
   for side in old new; do
     binary=$old; [ $side = new ] && binary=$new
     "$binary" exercise "$exercise" -o "$work/$side/$name" >/dev/null 2>&1
@@ -104,5 +109,12 @@ for case in "${material_cases[@]}"; do
   esac
   render_both "material-$scene-$integrator-$sampler.exr" "${args[@]}"
 done
+# Path guiding (--guiding): training and the guided render, on the box and the showcase.
+for integrator in nee mis; do
+  render_both "guided-builtin-$integrator.exr" render --width 24 --height 16 --spp 8 \
+    --guiding --guide-training-spp 4 --integrator "$integrator" --seed 3
+done
+render_both "guided-showcase-mis.exr" render --width 32 --height 24 --spp 4 --guiding \
+  --guide-training-spp 4 --integrator mis --seed 7 "${SAME_IMAGES_SHOWCASE:-$top/scenes/materials.gltf}"
 echo "$compared images compared bit for bit in $work: $((compared - differ)) identical, $differ different"
 [ "$differ" -eq 0 ]

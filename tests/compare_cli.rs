@@ -115,6 +115,9 @@ fn renders_with_moments_are_consistent_across_seeds_and_biased_ones_are_not() {
     let (_, report) = compare_json(dir, "short.exr", "seed2.exr");
     let fraction = report["failing_block_fraction"].as_f64().unwrap();
     assert!(fraction > 0.5, "{report}");
+    // The error beside the verdict, as `vkpath bench` measures it.
+    assert!(report["relative_mse"].as_f64().unwrap() > 0.0, "{report}");
+    assert!(text.contains("relMSE of A against B: "), "{text}");
     let heat = image::open(dir.join("heat.png")).unwrap().to_rgb8();
     assert_eq!(heat.dimensions(), (64, 64));
     let red = heat

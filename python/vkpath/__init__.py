@@ -323,7 +323,8 @@ def compare(
     z-test per block and channel, Šidák-corrected at family-wise level ``alpha``. Each is an
     EXR path, an array or a :class:`RenderResult` (whose moments give the variances;
     without moments the noise is estimated within blocks). Returns the report as a dict;
-    ``report["consistent"]`` is the verdict."""
+    ``report["consistent"]`` is the verdict, ``report["relative_mse"]`` how far ``a`` is
+    from ``b`` (mean of (a - b)^2 / (b^2 + 0.01), as ``vkpath bench`` measures error)."""
 
     def operand(value: Union[ImageLike, PathLike]) -> Any:
         if isinstance(value, (str, os.PathLike)):

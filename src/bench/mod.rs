@@ -85,18 +85,8 @@ pub struct BenchReport {
     pub results: Vec<BenchResult>,
 }
 
-/// Relative MSE of `image` against `reference`: mean of (x - r)^2 / (r^2 + 0.01) over all
-/// pixels and colour channels (the 0.01 keeps dark pixels from dominating).
-pub fn relative_mse(image: &RenderedImage, reference: &RenderedImage) -> f64 {
-    let mut total = 0.0f64;
-    for (x, r) in image.mean.iter().zip(&reference.mean) {
-        for c in 0..3 {
-            let (x, r) = (f64::from(x[c]), f64::from(r[c]));
-            total += (x - r) * (x - r) / (r * r + 0.01);
-        }
-    }
-    total / (3 * image.mean.len().max(1)) as f64
-}
+/// Relative MSE of an image against a reference (`vkpath compare` reports it too).
+pub use crate::compare::relative_mse;
 
 /// A timed render's image and times.
 struct TimedRender {

@@ -171,5 +171,9 @@ pub fn describe(report: &CompareReport, a: &Path, b: &Path) -> String {
         "  worst: block ({}, {}) channel {channel}: A - B = {:.4e}, z = {:.2}, p = {:.3e}\n",
         worst.block_x, worst.block_y, worst.difference, worst.z, worst.p_value
     );
+    text += &format!(
+        "  relMSE of A against B: {:.4e} (mean of (A - B)^2 / (B^2 + 0.01))\n",
+        report.relative_mse
+    );
     text
 }

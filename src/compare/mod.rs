@@ -23,6 +23,7 @@ pub mod heatmap;
 
 use statrs::distribution::{ContinuousCDF, StudentsT};
 
+use crate::image_io::data::RenderedImage;
 use crate::image_io::exr_input::ExrImage;
 use crate::stats::sidak_alpha;
 use crate::stats::ztest::{two_sided_p_value, z_score};
@@ -81,6 +82,19 @@ pub struct WorstTest {
     pub p_value: f64,
 }
 
+/// Relative MSE of `image` against `reference`: mean of (x - r)^2 / (r^2 + 0.01) over all
+/// pixels and colour channels (the 0.01 keeps dark pixels from dominating).
+pub fn relative_mse(image: &RenderedImage, reference: &RenderedImage) -> f64 {
+    let mut total = 0.0f64;
+    for (x, r) in image.mean.iter().zip(&reference.mean) {
+        for c in 0..3 {
+            let (x, r) = (f64::from(x[c]), f64::from(r[c]));
+            total += (x - r) * (x - r) / (r * r + 0.01);
+        }
+    }
+    total / (3 * image.mean.len().max(1)) as f64
+}
+
 /// The outcome of a comparison.
 #[derive(Clone, Debug, PartialEq, serde::Serialize)]
 pub struct CompareReport {
@@ -108,6 +122,9 @@ pub struct CompareReport {
     pub failing_block_fraction: f64,
     /// The test with the smallest p-value.
     pub worst: WorstTest,
+    /// `relative_mse` of A against B: how far A is from B, whatever the test says (with a
+    /// converged reference as B, A's error as `vkpath bench` measures it).
+    pub relative_mse: f64,
     /// Per block (row-major, top-down), the smallest p-value of its channels, for the heat
     /// map.
     #[serde(skip)]
@@ -191,6 +208,7 @@ pub fn compare_images(
             z: 0.0,
             p_value: 1.0,
         },
+        relative_mse: relative_mse(ia, ib),
         block_p_values: Vec::with_capacity(blocks_x * blocks_y),
     };
     for block_y in 0..blocks_y {
@@ -308,7 +326,16 @@ mod tests {
             let report = compare_images(&biased, &b, &options).unwrap();
             assert!(!report.consistent, "{source:?}: {report:?}");
             assert_eq!(report.failing_blocks, 12, "{source:?}");
+            assert_eq!(report.relative_mse, relative_mse(&biased.image, &b.image));
         }
+        // The error beside the verdict: a constant 0.2 too bright against 1 is
+        // 0.2^2 / 1.01 per channel.
+        let flat = |value: f32| noisy((8, 8), value, 0.0, 1, true);
+        let report = compare_images(&flat(1.2), &flat(1.0), &options).unwrap();
+        assert!(
+            (report.relative_mse - 0.04 / 1.01).abs() < 1e-6,
+            "{report:?}"
+        );
     }
 
     #[test]
