@@ -206,16 +206,39 @@ fn resume_and_merge_equal_the_single_guided_render() {
         renderer.accumulation().unwrap()
     };
     assert_eq!(partial.samples, 0..4);
-    let resumed = {
+    // The guide is frozen into the state, and a resumed render samples with it.
+    assert!(partial.guide.is_some());
+    assert_eq!(partial.guide, single.guide);
+    let resume = |state: &Accumulation| {
         let mut renderer = Renderer::new(&context, &scene, &camera, guided_settings(16)).unwrap();
-        renderer.resume(&partial).unwrap();
+        renderer.resume(state).unwrap();
         renderer.render_all().unwrap();
+        assert!(renderer.guide_report().unwrap().from_checkpoint);
         renderer.accumulation().unwrap()
     };
+    let resumed = resume(&partial);
     assert_eq!(
         resumed.texels, single.texels,
         "resumed guided render differs"
     );
+    // With another guide frozen in (one trained on 2 spp), the resumed samples follow that
+    // guide, not one trained anew: the image differs from the single render's.
+    let other_guide = {
+        let settings = RenderSettings {
+            guiding: Some(GuideTraining { samples: 2 }),
+            ..guided_settings(16)
+        };
+        let mut renderer = Renderer::new(&context, &scene, &camera, settings).unwrap();
+        renderer.train_guide().unwrap();
+        renderer.accumulation().unwrap().guide
+    };
+    assert_ne!(other_guide, single.guide);
+    let with_other_guide = resume(&Accumulation {
+        guide: other_guide.clone(),
+        ..partial.clone()
+    });
+    assert_eq!(with_other_guide.guide, other_guide);
+    assert_ne!(with_other_guide.texels, single.texels);
     // Shards: samples 0..10 and 10..16, each training the same guide, merged.
     let shard = |range: std::ops::Range<u32>| {
         let mut renderer = Renderer::new(
@@ -231,6 +254,8 @@ fn resume_and_merge_equal_the_single_guided_render() {
     };
     let merged = Accumulation::merge(&[shard(0..10), shard(10..16)]).unwrap();
     assert_eq!(merged.samples, 0..16);
+    // Both shards trained the single render's guide, which the merge keeps.
+    assert_eq!(merged.guide, single.guide);
     // Within the 4 ulps that `Accumulation::merge` documents for any merge (its float64 sum
     // against the single render's float32 Kahan sum); a shard with another guide would
     // differ by its noise, thousands of ulps.

@@ -146,6 +146,8 @@ pub struct GuideSummary {
     pub training_iterations: Vec<u32>,
     /// Seconds training took (part of `render_seconds`).
     pub training_seconds: f64,
+    /// Whether the guide came frozen in the resumed checkpoint (no training then).
+    pub from_checkpoint: bool,
 }
 
 impl GuideSummary {
@@ -157,12 +159,21 @@ impl GuideSummary {
             memory_bytes: report.memory_bytes,
             training_iterations: report.iterations.clone(),
             training_seconds: report.seconds,
+            from_checkpoint: report.from_checkpoint,
         }
     }
 
-    /// "guide: XxYxZ cells, G taught, M MB; trained on N spp (1+2+...) in S s".
+    /// "guide: XxYxZ cells, G taught, M MB; trained on N spp (1+2+...) in S s" (or "from
+    /// the checkpoint").
     fn line(&self) -> String {
         let [x, y, z] = self.grid;
+        if self.from_checkpoint {
+            return format!(
+                "guide: {x}x{y}x{z} cells, {} taught, {:.2} MB; from the checkpoint",
+                self.guided_cells,
+                self.memory_bytes as f64 / 1e6
+            );
+        }
         let total: u32 = self.training_iterations.iter().sum();
         let parts: Vec<String> = self
             .training_iterations

@@ -297,3 +297,37 @@ fn pooling_adds_each_cells_face_neighbours() {
         assert_eq!(pooled.sums[cell * bins + bin], u64::from(count) << 20);
     }
 }
+
+#[test]
+fn a_guide_survives_its_sparse_words_and_broken_words_are_refused() {
+    let guide = lobe_splats(Vec3::Z, 20_000, 3).build();
+    assert_eq!(guide.guided_cell_count(), 1);
+    let sparse = guide.sparse_words();
+    // The header, then one cell: its index and its bins.
+    let header = 4 * GUIDE_HEADER_TEXEL_COUNT as usize;
+    assert_eq!(sparse.len(), header + 1 + GUIDE_BIN_COUNT as usize);
+    assert_eq!(Guide::from_sparse_words(&sparse).unwrap(), guide);
+    assert_eq!(Guide::from_words(guide.words().to_vec()).unwrap(), guide);
+    // An empty guide has no cells to store.
+    let empty = GuideSplats::new(two_cells()).build();
+    assert_eq!(
+        Guide::from_sparse_words(&empty.sparse_words()).unwrap(),
+        empty
+    );
+    let refused = |words: Vec<u32>| Guide::from_sparse_words(&words).unwrap_err().to_string();
+    // Cut short, a cell out of range, a falling cumulative, a last bin below 1, a header
+    // whose resolution does not give its cell count.
+    assert!(refused(sparse[..sparse.len() - 1].to_vec()).contains("whole cells"));
+    let mut out_of_range = sparse.clone();
+    out_of_range[header] = 2;
+    assert!(refused(out_of_range).contains("out of order or range"));
+    let mut falling = sparse.clone();
+    falling[header + 10] = 0.99f32.to_bits();
+    assert!(refused(falling).contains("no cumulative distribution"));
+    let mut short_of_one = sparse.clone();
+    *short_of_one.last_mut().unwrap() = 0.5f32.to_bits();
+    assert!(refused(short_of_one).contains("no cumulative distribution"));
+    let mut resolution = sparse.clone();
+    resolution[0] = 3;
+    assert!(refused(resolution).contains("not a guide"));
+}

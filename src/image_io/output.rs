@@ -126,6 +126,7 @@ pub fn save_image_with_attributes(
                 image.height,
                 image_channels(image, options.moments),
                 attributes,
+                &[],
                 options.window,
             )
         }),
@@ -180,6 +181,7 @@ pub fn save_image_with_layers(
             image.height,
             channels,
             attributes,
+            &[],
             options.window,
         )
     })
@@ -358,15 +360,27 @@ fn image_channels(image: &RenderedImage, moments: bool) -> Vec<(String, Vec<f32>
     channels
 }
 
-/// Writes float channels (rows top-down) and text attributes as one EXR layer, placed in a
-/// larger display window when `window` says so. Blocks are written in order on one thread,
-/// so identical images make identical files.
+/// An EXR header attribute of bytes (the `bytes` type): a render state's frozen guide.
+pub(crate) struct ByteAttribute {
+    /// The attribute's name.
+    pub name: String,
+    /// What the bytes are, for other readers.
+    pub type_hint: String,
+    /// The contents.
+    pub bytes: Vec<u8>,
+}
+
+/// Writes float channels (rows top-down), text attributes and byte attributes as one EXR
+/// layer, placed in a larger display window when `window` says so. Blocks are written in
+/// order on one thread, so identical images make identical files.
+
 pub(crate) fn write_exr_channels(
     path: &Path,
     width: u32,
     height: u32,
     channels: Vec<(String, Vec<f32>)>,
     attributes: &[(String, String)],
+    byte_attributes: &[ByteAttribute],
     window: Option<ImageWindow>,
 ) -> std::result::Result<(), String> {
     let channels: Vec<AnyChannel<FlatSamples>> = channels
@@ -394,6 +408,26 @@ pub(crate) fn write_exr_channels(
             .attributes
             .other
             .insert(name, AttributeValue::Text(value));
+    }
+    // In the layer's attributes, apart from the text ones: each map is written in hash
+    // order, and one entry per map keeps identical renders identical files.
+    for attribute in byte_attributes {
+        let (Some(name), Some(type_hint)) = (
+            Text::new_or_none(&attribute.name),
+            Text::new_or_none(&attribute.type_hint),
+        ) else {
+            return Err(format!(
+                "attribute {} cannot be stored in EXR",
+                attribute.name
+            ));
+        };
+        exr_image.layer_data.attributes.other.insert(
+            name,
+            AttributeValue::Bytes {
+                type_hint,
+                bytes: attribute.bytes.as_slice().into(),
+            },
+        );
     }
     exr_image
         .write()

@@ -5,8 +5,10 @@
 //! ranges of every pixel's sample sequence) are merged from it.
 
 use std::ops::Range;
+use std::sync::Arc;
 
 use crate::contract;
+use crate::guiding::Guide;
 use crate::image_io::data::RenderedImage;
 
 /// The accumulation image of a render and the samples it holds.
@@ -24,6 +26,10 @@ pub struct Accumulation {
     /// Which samples of every pixel's sequence it holds (sample indices, as the kernel seeds
     /// them).
     pub samples: Range<u32>,
+    /// The guide a guided render (`--guiding`) sampled them with: frozen into its
+    /// checkpoints and shards, so that a resumed render samples with it again instead of
+    /// training anew.
+    pub guide: Option<Arc<Guide>>,
 }
 
 /// Why shards cannot be merged.
@@ -53,6 +59,7 @@ impl Accumulation {
             height,
             texels: vec![[0.0; 4]; texels],
             samples: first..first,
+            guide: None,
         }
     }
 
@@ -70,6 +77,14 @@ impl Accumulation {
             .iter()
             .map(|texel| f64::from(texel[3]))
             .sum()
+    }
+
+    /// Whether all `parts` sampled with the same guide (or none). Shards of one guided
+    /// render train the same guide on devices of one kind; another device's rounding may
+    /// train another, whose samples are unbiased too, so a merge of such shards is an
+    /// unbiased image but not the single render's.
+    pub fn same_guide(parts: &[&Accumulation]) -> bool {
+        parts.windows(2).all(|pair| pair[0].guide == pair[1].guide)
     }
 
     /// Merges shards whose sample ranges tile one range without gaps or overlaps (in any
@@ -114,7 +129,8 @@ impl Accumulation {
 
     /// The sum of parts of the same size, in the order given, labelled as holding
     /// `samples` (`merge` after its checks, in sample order; also the sum of shares that
-    /// stopped early, whose ranges leave gaps).
+    /// stopped early, whose ranges leave gaps). It keeps the parts' guide when they all
+    /// sampled with the same one (`same_guide`), else none.
     pub fn sum(order: &[&Accumulation], samples: Range<u32>) -> Accumulation {
         let first = order[0];
         let pixels = (first.width * first.height) as usize;
@@ -123,6 +139,9 @@ impl Accumulation {
         let squares_layer = contract::LAYER_SUM_OF_SQUARES as usize * pixels;
         let mut merged = Accumulation::empty(first.width, first.height, samples.start);
         merged.samples = samples;
+        if Accumulation::same_guide(order) {
+            merged.guide = first.guide.clone();
+        }
         for pixel in 0..pixels {
             let mut sum = [0.0f64; 3];
             let (mut count, mut rays) = (0.0f64, 0.0f64);

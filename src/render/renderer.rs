@@ -89,7 +89,7 @@ pub struct Renderer {
     /// What training the guide did, once it has (`--guiding` only).
     guide_report: Option<GuideReport>,
     /// The trained guide (`--guiding` only, once trained).
-    guide: Option<Guide>,
+    guide: Option<Arc<Guide>>,
 }
 
 /// What training a render's guide did (`--guiding`).
@@ -107,6 +107,9 @@ pub struct GuideReport {
     pub iterations: Vec<u32>,
     /// Seconds the training took (frames, read-backs and builds).
     pub seconds: f64,
+    /// Whether the guide came frozen in a resumed state (`Renderer::resume`) instead: no
+    /// iterations, no seconds.
+    pub from_checkpoint: bool,
 }
 
 /// A render in tiles: the state of the whole area lives on the host, and each frame uploads
@@ -430,6 +433,7 @@ impl Renderer {
             height: self.area.height(),
             texels,
             samples: self.samples_taken(),
+            guide: self.guide.clone(),
         };
         self.rays_traced = state.rays_traced();
         Ok(state)
@@ -437,9 +441,14 @@ impl Renderer {
 
     /// Continues a render from its saved state: uploads it and goes on with the next
     /// sample, so that the result is bit for bit what an uninterrupted render gives. The
-    /// state must be of this render's size and start where this render starts.
+    /// state must be of this render's size and start where this render starts. A guided
+    /// render samples with the state's frozen guide where it has one (the same guide the
+    /// saved samples were taken with, whatever device resumes), else trains its own.
     pub fn resume(&mut self, state: &Accumulation) -> Result<()> {
-        self.train_guide()?;
+        match &state.guide {
+            Some(guide) => self.use_frozen_guide(guide.clone())?,
+            None => self.train_guide()?,
+        }
         let (width, height) = (self.area.width(), self.area.height());
         if (state.width, state.height) != (width, height)
             || state.texels.len() != area_texel_count(self.area)
@@ -532,7 +541,7 @@ impl Renderer {
 
     /// The trained guide: `None` before training, and without `--guiding`.
     pub fn guide(&self) -> Option<&Guide> {
-        self.guide.as_ref()
+        self.guide.as_deref()
     }
 
     /// What training the guide did: `None` before it has, and without `--guiding`.
@@ -612,9 +621,36 @@ impl Renderer {
             memory_bytes: guide.memory_bytes(),
             iterations,
             seconds: started.elapsed().as_secs_f64(),
+            from_checkpoint: false,
+        });
+        self.guide = Some(Arc::new(guide));
+        Ok(true)
+    }
+
+    /// Samples with `guide` (a guided render's, frozen into a saved state) instead of
+    /// training one: it must cover this render's grid, i.e. come from this scene.
+    fn use_frozen_guide(&mut self, guide: Arc<Guide>) -> Result<()> {
+        let grid = self.guide_buffers.grid();
+        if grid != Some(*guide.grid()) {
+            return Err(Error::InvalidSettings(match grid {
+                None => "the saved state holds a guide, but this render is not guided".into(),
+                Some(_) => "the saved state's guide covers another grid than this scene's".into(),
+            }));
+        }
+        self.guide_buffers.set_guide(&self.context, &guide)?;
+        self.descriptors
+            .write_texel_buffer(contract::BINDING_GUIDE, &self.guide_buffers.guide);
+        self.guide_report = Some(GuideReport {
+            grid_resolution: guide.grid().resolution.to_array(),
+            cell_count: guide.grid().cell_count(),
+            guided_cell_count: guide.guided_cell_count(),
+            memory_bytes: guide.memory_bytes(),
+            iterations: Vec::new(),
+            seconds: 0.0,
+            from_checkpoint: true,
         });
         self.guide = Some(guide);
-        Ok(true)
+        Ok(())
     }
 
     /// Zeroes the accumulation state: no samples taken.

@@ -2,19 +2,23 @@
 //! are ordinary EXR images (R, G, B, A: the mean; the second moment and sample count, as
 //! `render --moments` writes them) with the accumulation layers beside them (`state.*`
 //! channels: the Kahan sums and compensations, the sample and ray counts, the sums of
-//! squares) and the render's metadata as `vkpath.*` header attributes. A resumed render
-//! uploads the state and goes on bit for bit; `vkpath merge` adds shards.
+//! squares) and the render's metadata as `vkpath.*` header attributes; a guided render's
+//! guide is frozen into them too (`GUIDE_ATTRIBUTE`). A resumed render uploads the state
+//! and goes on bit for bit; `vkpath merge` adds shards.
 
 use std::collections::BTreeMap;
 use std::path::Path;
+use std::sync::Arc;
 
 use exr::prelude::{read_first_flat_layer_from_file, AttributeValue};
 
 use crate::contract;
 use crate::error::{Error, Result};
+use crate::guiding::Guide;
 use crate::image_io::exr_input::check_exr_size;
 use crate::image_io::output::{
-    write_atomically, write_exr_channels, SAMPLE_COUNT_CHANNEL, SECOND_MOMENT_CHANNELS,
+    write_atomically, write_exr_channels, ByteAttribute, SAMPLE_COUNT_CHANNEL,
+    SECOND_MOMENT_CHANNELS,
 };
 use crate::image_io::ImageError;
 use crate::render::accumulation::Accumulation;
@@ -43,7 +47,13 @@ pub const STATE_CHANNELS: [[&str; 4]; 3] = [
     ],
 ];
 
-/// Writes `state` (with `metadata`) to `path` atomically.
+/// The header attribute (of the EXR `bytes` type) that holds a guided render's guide: its
+/// guided cells' words (`vkpath::guiding::Guide::sparse_words`), little-endian.
+pub const GUIDE_ATTRIBUTE: &str = "vkpath.guide";
+/// The type hint of `GUIDE_ATTRIBUTE`.
+const GUIDE_TYPE_HINT: &str = "vkpath guide: u32 words of its guided cells, little-endian";
+
+/// Writes `state` (with `metadata`, and its guide if it has one) to `path` atomically.
 pub fn write_state(path: &Path, state: &Accumulation, metadata: &RenderMetadata) -> Result<()> {
     let image = state.image();
     let pixels = (state.width * state.height) as usize;
@@ -65,6 +75,19 @@ pub fn write_state(path: &Path, state: &Accumulation, metadata: &RenderMetadata)
             channels.push((name.to_string(), texels.iter().map(|t| t[c]).collect()));
         }
     }
+    let guide_attribute: Vec<ByteAttribute> = state
+        .guide
+        .iter()
+        .map(|guide| ByteAttribute {
+            name: GUIDE_ATTRIBUTE.to_string(),
+            type_hint: GUIDE_TYPE_HINT.to_string(),
+            bytes: guide
+                .sparse_words()
+                .iter()
+                .flat_map(|w| w.to_le_bytes())
+                .collect(),
+        })
+        .collect();
     write_atomically(path, |temporary| {
         write_exr_channels(
             temporary,
@@ -72,6 +95,7 @@ pub fn write_state(path: &Path, state: &Accumulation, metadata: &RenderMetadata)
             state.height,
             channels,
             &metadata.attributes(),
+            &guide_attribute,
             metadata.window(),
         )
     })?;
@@ -86,14 +110,30 @@ pub fn read_state(path: &Path) -> Result<(Accumulation, RenderMetadata)> {
     check_exr_size(path).map_err(&fail)?;
     let file = read_first_flat_layer_from_file(path).map_err(|e| fail(e.to_string()))?;
     let mut attributes = BTreeMap::new();
+    let mut guide = None;
     for (name, value) in file
         .attributes
         .other
         .iter()
         .chain(file.layer_data.attributes.other.iter())
     {
-        if let AttributeValue::Text(text) = value {
-            attributes.insert(name.to_string(), text.to_string());
+        match value {
+            AttributeValue::Text(text) => {
+                attributes.insert(name.to_string(), text.to_string());
+            }
+            AttributeValue::Bytes { bytes, .. } if name.eq(GUIDE_ATTRIBUTE) => {
+                if bytes.len() % 4 != 0 {
+                    return Err(fail(format!("its {GUIDE_ATTRIBUTE} is not whole words")));
+                }
+                let words: Vec<u32> = bytes
+                    .chunks_exact(4)
+                    .map(|b| u32::from_le_bytes([b[0], b[1], b[2], b[3]]))
+                    .collect();
+                let frozen = Guide::from_sparse_words(&words)
+                    .map_err(|e| fail(format!("its {GUIDE_ATTRIBUTE}: {e}")))?;
+                guide = Some(Arc::new(frozen));
+            }
+            _ => {}
         }
     }
     let metadata = RenderMetadata::from_attributes(&attributes).map_err(&fail)?;
@@ -131,6 +171,7 @@ pub fn read_state(path: &Path) -> Result<(Accumulation, RenderMetadata)> {
         height: height as u32,
         texels,
         samples: metadata.samples.clone(),
+        guide,
     };
     Ok((state, metadata))
 }
@@ -157,6 +198,13 @@ pub fn merge_state_files(paths: &[std::path::PathBuf]) -> Result<(Accumulation, 
             }
         }
         states.push(state);
+    }
+    if !Accumulation::same_guide(&states.iter().collect::<Vec<_>>()) {
+        log::warn!(
+            "the shards sampled with different guides (trained on other devices or drivers?): \
+             the merged image is unbiased, but not bit for bit the single render's, and keeps \
+             no guide"
+        );
     }
     let merged = Accumulation::merge(&states)
         .map_err(|e| Error::InvalidSettings(format!("cannot merge: {e}")))?;
@@ -203,5 +251,36 @@ mod tests {
         crate::image_io::output::save_image(&plain, &state.image(), &Default::default()).unwrap();
         let message = read_state(&plain).unwrap_err().to_string();
         assert!(message.contains("no vkpath attribute"), "{message}");
+    }
+
+    #[test]
+    fn a_guided_state_keeps_its_guide_and_the_same_state_the_same_file() {
+        let dir = tempfile::tempdir().unwrap();
+        let scene = Scene::builtin_cornell_box().unwrap();
+        let metadata = RenderMetadata::new(
+            &RenderSettings::default(),
+            &scene,
+            &scene.camera.unwrap(),
+            0..4,
+        );
+        let mut state = Accumulation::empty(4, 2, 0);
+        state.samples = 0..4;
+        let grid =
+            crate::guiding::GuideGrid::around(glam::Vec3::ZERO, glam::Vec3::new(2.0, 1.0, 1.0), 2);
+        let mut splats = crate::guiding::GuideSplats::new(grid);
+        for i in 0..500 {
+            let direction = glam::Vec3::new((i as f32).sin(), (i as f32).cos(), 0.5).normalize();
+            splats.splat(glam::Vec3::splat(0.5), direction, 1.0 + i as f32);
+        }
+        let guide = splats.build();
+        assert_eq!(guide.guided_cell_count(), 1);
+        state.guide = Some(Arc::new(guide));
+        let (a, b) = (dir.path().join("a.exr"), dir.path().join("b.exr"));
+        write_state(&a, &state, &metadata).unwrap();
+        write_state(&b, &state, &metadata).unwrap();
+        let (read, _) = read_state(&a).unwrap();
+        assert_eq!(read, state);
+        // Text and bytes live in separate attribute maps, so their order is fixed.
+        assert_eq!(std::fs::read(&a).unwrap(), std::fs::read(&b).unwrap());
     }
 }
