@@ -16,7 +16,6 @@ use vkpath::cpu::{
 };
 use vkpath::guiding::training::GuideTraining;
 use vkpath::guiding::GuideGrid;
-use vkpath::stats::ztest::{z_test_images, MeanImage};
 use vkpath::{Integrator, PixelFilter, RenderSettings, Renderer, Scene};
 
 const WIDTH: u32 = 64;
@@ -43,8 +42,6 @@ const CUMULATIVE_TOLERANCE: f32 = 2e-4;
 /// samples' tolerance of `tests/image_parity.rs` (Arvo's sampler amplifies the GPU's few-ulp
 /// sines and cosines), which a guided direction, one lookup and a sine and cosine more, keeps.
 const RELATIVE_TOLERANCE: f32 = 1e-3;
-/// Absolute floor of the tolerance for near-zero means.
-const ABSOLUTE_TOLERANCE: f32 = 1e-6;
 /// Pixels that may diverge. Measured on lavapipe: 1 of 3072 (2 with a 16 spp guide), as
 /// `tests/image_parity.rs` finds for unguided mis (it allows nee and mis 6 without a
 /// near-tie on the workshop's replay). A guided sample also crosses bin edges, where the
@@ -80,6 +77,8 @@ fn cpu_settings(settings: &RenderSettings) -> CpuRenderSettings {
         integrator: settings.integrator.spec_constant(),
         russian_roulette_start: settings.russian_roulette_start,
         light_sampling: settings.light_sampling.spec_constant(),
+        // The box's two lights: `LightSelection::Auto` picks the power CDF.
+        light_selection: vkpath::contract::LIGHT_SELECTION_POWER,
     }
 }
 
@@ -165,30 +164,13 @@ fn gpu_and_cpu_train_the_same_guide_and_render_the_same_guided_image() {
         0..SPP,
         &mut cpu_image,
     );
-    let cpu_mean = cpu_image.mean();
-    let mut divergent = Vec::new();
-    let mut worst_agreeing = 0.0f32;
-    for (index, (g, c)) in gpu_image.mean.iter().zip(&cpu_mean).enumerate() {
-        let relative = (0..3)
-            .map(|i| {
-                (g[i] - c[i]).abs()
-                    / g[i]
-                        .abs()
-                        .max(c[i].abs())
-                        .max(ABSOLUTE_TOLERANCE / RELATIVE_TOLERANCE)
-            })
-            .fold(0.0f32, f32::max);
-        if relative <= RELATIVE_TOLERANCE {
-            worst_agreeing = worst_agreeing.max(relative);
-        } else {
-            divergent.push((index as u32 % WIDTH, index as u32 / WIDTH, *g, *c));
-        }
-    }
+    let agreement = common::twins::compare_twin_images(&gpu_image, &cpu_image, RELATIVE_TOLERANCE);
+    let divergent = &agreement.divergent;
     println!(
-        "image: {} of {} pixels diverge; agreeing pixels differ by at most {worst_agreeing:.2e} \
-         relative",
+        "image: {} of {} pixels diverge; agreeing pixels differ by at most {:.2e} relative",
         divergent.len(),
-        cpu_mean.len()
+        gpu_image.mean.len(),
+        agreement.worst_agreeing
     );
     assert!(
         divergent.len() <= MAX_DIVERGENT_PIXELS,
@@ -197,23 +179,8 @@ fn gpu_and_cpu_train_the_same_guide_and_render_the_same_guided_image() {
         &divergent[..divergent.len().min(5)]
     );
     // Block means, so that the divergent paths cannot hide a bias.
-    let gpu_variance: Vec<[f64; 3]> = gpu_image
-        .variance_of_mean()
-        .iter()
-        .map(|v| v.map(f64::from))
-        .collect();
-    let blocks = |mean: &[[f32; 4]], variance: &[[f64; 3]]| {
-        MeanImage::from_rgb(WIDTH as usize, HEIGHT as usize, mean, variance)
-            .and_then(|image| image.block_average(8))
-            .unwrap()
-    };
-    let report = z_test_images(
-        &blocks(&gpu_image.mean, &gpu_variance),
-        &blocks(&cpu_mean, &cpu_image.variance_of_mean()),
-        0.01,
-    )
-    .unwrap();
-    assert!(report.passed, "block means differ: {report:?}");
+    assert!(agreement.blocks_agree, "block means differ: {agreement:?}");
+    let cpu_mean = cpu_image.mean();
 
     // Guiding changed the paths: the CPU's unguided image differs in most pixels, so the
     // agreement above is the guided loop's and not the plain one's.

@@ -79,6 +79,8 @@ fn cpu_settings(settings: &RenderSettings) -> CpuRenderSettings {
         integrator: settings.integrator.spec_constant(),
         russian_roulette_start: settings.russian_roulette_start,
         light_sampling: settings.light_sampling.spec_constant(),
+        // The box's two lights: `LightSelection::Auto` picks the power CDF.
+        light_selection: vkpath::contract::LIGHT_SELECTION_POWER,
     }
 }
 

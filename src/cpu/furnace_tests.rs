@@ -66,6 +66,7 @@ fn settings(integrator: u32, max_path_length: u32) -> CpuRenderSettings {
         integrator,
         russian_roulette_start: 0,
         light_sampling: LIGHT_SAMPLING_SOLID_ANGLE,
+        light_selection: crate::contract::LIGHT_SELECTION_POWER,
     }
 }
 

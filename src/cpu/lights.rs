@@ -14,6 +14,9 @@ use crate::cpu::importance_sampling::{
 };
 use crate::cpu::integrator::is_double_sided;
 use crate::cpu::integrators::weighs_by_mis;
+use crate::cpu::light_tree::{
+    get_light_tree_probability, sample_light_tree, LightTexels, NO_LIGHT,
+};
 use crate::cpu::path_guiding::get_path_direction_density;
 use crate::cpu::surface::{
     get_bsdf, get_front_emission, get_light_sample_origin, get_reflected_radiance, Surface,
@@ -36,6 +39,43 @@ pub struct LightScene<'a> {
     pub light_sampling: u32,
     /// The guide of a guided render (`--guiding`, `GUIDING_ON`), `None` without guiding.
     pub guide: Option<GuideTexels<'a>>,
+    /// With `LIGHT_SELECTION_TREE`: the lights' texel buffer with its tree
+    /// (`gpu_light_bytes_with_tree` over `lights`) that `crate::cpu::light_tree` walks;
+    /// `None`: `LIGHT_SELECTION_POWER`.
+    pub light_tree: Option<LightTexels<'a>>,
+}
+
+/// Twin of `get_light_selection_normal` (Lambert: the geometric normal on the ray's side).
+pub fn get_light_selection_normal(surface: &Surface) -> Vec3 {
+    surface.geometric_normal
+}
+
+/// Twin of `get_light_selection_probability(triangle_index, selection_position,
+/// selection_normal)`: the power CDF's probability, or the tree's at the selection point.
+/// The GPU finds a triangle's place in the light list in its packed normal's w
+/// (`annotate_light_indices`); here it is searched in the list, which is in triangle order.
+pub fn get_light_selection_probability(
+    scene: &LightScene,
+    triangle_index: usize,
+    selection_position: Vec3,
+    selection_normal: Vec3,
+) -> f32 {
+    let Some(texels) = scene.light_tree else {
+        return scene.lights.selection_probability[triangle_index];
+    };
+    match scene
+        .lights
+        .triangle_indices
+        .binary_search(&(triangle_index as u32))
+    {
+        Ok(light_index) => get_light_tree_probability(
+            texels,
+            light_index as u32,
+            selection_position,
+            selection_normal,
+        ),
+        Err(_) => 0.0,
+    }
 }
 
 /// Twin of `sample_light_index`: binary search for the first CDF entry above the number.
@@ -151,12 +191,13 @@ pub fn is_visible(
     !ray_mesh_any_hit(scene_triangles, origin, direction, t_max)
 }
 
-/// Twin of `sample_emissive_triangle_light` with `LIGHT_SELECTION_POWER` (the CPU renderer
-/// has no light tree; the tree's twins are `crate::cpu::light_tree`'s, and the GLSL's
-/// `normal` parameter, which only the tree reads, is left out).
+/// Twin of `sample_emissive_triangle_light`: a light by the power CDF or, with
+/// `scene.light_tree`, by the tree's importance to `origin` with `normal` (the twins of
+/// `crate::cpu::light_tree`).
 pub fn sample_emissive_triangle_light(
     scene: &LightScene,
     origin: Vec3,
+    normal: Vec3,
     seed: &mut UVec2,
 ) -> LightSample {
     let selection = get_random_numbers(seed);
@@ -165,7 +206,17 @@ pub fn sample_emissive_triangle_light(
     if lights.triangle_indices.is_empty() {
         return get_no_light_sample();
     }
-    let light_index = lights.triangle_indices[sample_light_index(lights, selection[0])] as usize;
+    let (light_list_index, tree_probability) = match scene.light_tree {
+        Some(texels) => {
+            let (index, probability) = sample_light_tree(texels, selection[0], origin, normal);
+            if index == NO_LIGHT {
+                return get_no_light_sample();
+            }
+            (index as usize, probability)
+        }
+        None => (sample_light_index(lights, selection[0]), 0.0),
+    };
+    let light_index = lights.triangle_indices[light_list_index] as usize;
     let light = &scene.scene_triangles[light_index];
     let spherical = get_spherical_triangle(origin, light);
     let (direction, distance) = sample_light_direction(
@@ -185,7 +236,11 @@ pub fn sample_emissive_triangle_light(
         radiance: get_front_emission(light),
         density: get_light_density(
             scene.light_sampling,
-            lights.selection_probability[light_index],
+            if scene.light_tree.is_some() {
+                tree_probability
+            } else {
+                lights.selection_probability[light_index]
+            },
             light,
             &spherical,
             direction,
@@ -195,19 +250,26 @@ pub fn sample_emissive_triangle_light(
     }
 }
 
-/// Twin of `get_emissive_triangle_density` with `LIGHT_SELECTION_POWER` (without the
-/// tree's `selection_position` and `selection_normal`).
+/// Twin of `get_emissive_triangle_density`: the light's selection probability at
+/// `selection_position` with `selection_normal` (the tree's depends on them).
 pub fn get_emissive_triangle_density(
     scene: &LightScene,
     triangle_index: usize,
     origin: Vec3,
     direction: Vec3,
     distance: f32,
+    selection_position: Vec3,
+    selection_normal: Vec3,
 ) -> f32 {
     let triangle = &scene.scene_triangles[triangle_index];
     get_light_density(
         scene.light_sampling,
-        scene.lights.selection_probability[triangle_index],
+        get_light_selection_probability(
+            scene,
+            triangle_index,
+            selection_position,
+            selection_normal,
+        ),
         triangle,
         &get_spherical_triangle(origin, triangle),
         direction,
@@ -266,7 +328,8 @@ pub fn sample_direct_light(
     seed: &mut UVec2,
 ) -> Vec3 {
     let origin = get_light_sample_origin(surface, position);
-    let sample = sample_emissive_triangle_light(scene, origin, seed);
+    let sample =
+        sample_emissive_triangle_light(scene, origin, get_light_selection_normal(surface), seed);
     estimate_light_sample(scene, surface, view, origin, guide_cell, &sample)
 }
 

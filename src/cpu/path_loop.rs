@@ -16,14 +16,16 @@ use crate::cpu::integrators::{
     is_direct_illumination, is_importance_sampled, samples_cosine_directions,
     samples_uniform_directions, takes_light_samples, weighs_by_mis,
 };
-use crate::cpu::lights::{get_emissive_triangle_density, sample_direct_light, LightScene};
+use crate::cpu::lights::{
+    get_emissive_triangle_density, get_light_selection_normal, sample_direct_light, LightScene,
+};
 use crate::cpu::path_guiding::{
     get_guided_direction, get_path_guide_cell, get_path_guide_grid_cell, GuideRecords,
 };
 use crate::cpu::surface::{
-    get_camera_emission, get_departure_origin, get_surface, get_volume_transmittance, has_layers,
-    is_transmissive, sample_bsdf, sample_cosine_direction, sample_uniform_direction, BsdfSample,
-    Surface,
+    get_camera_emission, get_departure_origin, get_light_sample_origin, get_surface,
+    get_volume_transmittance, has_layers, is_transmissive, sample_bsdf, sample_cosine_direction,
+    sample_uniform_direction, BsdfSample, Surface,
 };
 use crate::cpu::workshop::get_random_numbers;
 
@@ -46,6 +48,10 @@ pub struct FoundEmission<'a> {
     pub direction_density: f32,
     /// Whether the previous vertex took light samples.
     pub light_sampled: bool,
+    /// Where that vertex took its light sample, and the light tree's normal there.
+    pub light_origin: Vec3,
+    /// The light tree's normal at `light_origin`.
+    pub light_normal: Vec3,
 }
 
 /// Twin of `get_found_emission`: throughput times the emission found, weighted as the
@@ -69,6 +75,8 @@ pub fn get_found_emission(
             found.previous_position,
             found.ray_direction,
             found.t,
+            found.light_origin,
+            found.light_normal,
         );
         return throughput_weight
             * emission
@@ -158,6 +166,8 @@ pub fn get_path_radiance(
     let mut light_sampled = false;
     let mut eta_scale = 1.0f32;
     let mut previous_position = ray_origin;
+    let mut light_origin = Vec3::ZERO;
+    let mut light_normal = Vec3::ZERO;
     let vertex_count = if is_direct_illumination(scene.integrator) {
         2
     } else {
@@ -185,6 +195,8 @@ pub fn get_path_radiance(
                 t: hit.t,
                 direction_density,
                 light_sampled,
+                light_origin,
+                light_normal,
             },
         );
         if i + 1 == vertex_count {
@@ -196,6 +208,8 @@ pub fn get_path_radiance(
         let guide_grid_cell = get_path_guide_grid_cell(scene.guide, ray_origin, light_sampled);
         let guide_cell = get_path_guide_cell(scene.guide, guide_grid_cell, &surface);
         if light_sampled {
+            light_origin = get_light_sample_origin(&surface, ray_origin);
+            light_normal = get_light_selection_normal(&surface);
             radiance += throughput_weight
                 * sample_direct_light(scene, ray_origin, &surface, view, guide_cell, seed);
         }

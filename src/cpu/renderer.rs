@@ -9,17 +9,21 @@ use glam::UVec2;
 use rayon::prelude::*;
 
 use crate::camera::ImagePlane;
+use crate::contract::LIGHT_SELECTION_TREE;
 use crate::cpu::camera::{get_sample_seed, get_sample_tex_coord};
 use crate::cpu::guiding::GuideTexels;
 use crate::cpu::image::{CpuImage, PixelAccumulator};
 use crate::cpu::integrator::get_sample_radiance;
 use crate::cpu::integrators::is_importance_sampled;
+use crate::cpu::light_tree::LightTexels;
 use crate::cpu::lights::LightScene;
 use crate::cpu::path_loop::get_path_radiance;
 use crate::cpu::workshop::get_primary_ray_direction;
 use crate::error::Result;
 use crate::guiding::training::{GuideTrainer, GuideTraining, GUIDE_TRAINING_FIRST_SAMPLE};
 use crate::guiding::{Guide, GuideGrid, GuideSplats};
+use crate::lights::gpu_emissive::gpu_light_bytes_with_tree;
+use crate::lights::light_tree::LightTree;
 use crate::lights::EmissiveTriangles;
 use crate::scene::Triangle;
 
@@ -44,6 +48,9 @@ pub struct CpuRenderSettings {
     pub russian_roulette_start: u32,
     /// `LIGHT_SAMPLING_*` of `crate::contract` (nee and mis only).
     pub light_sampling: u32,
+    /// `LIGHT_SELECTION_*` of `crate::contract` (nee and mis only): the power CDF, or the
+    /// light tree the GPU renderer builds over the same lights.
+    pub light_selection: u32,
 }
 
 /// Renders `settings.spp` samples per pixel into a new image.
@@ -117,8 +124,17 @@ pub fn add_cpu_guided_samples(
     if width == 0 {
         return;
     }
-    // The light table of the renderer's light_buffer, for the importance-sampled integrators.
+    // The light table of the renderer's light_buffer, for the importance-sampled integrators,
+    // and with LIGHT_SELECTION_TREE its words with the tree (crate::lights::SceneLights').
     let lights = EmissiveTriangles::new(scene_triangles);
+    let light_tree_words: Option<Vec<u32>> = (settings.light_selection == LIGHT_SELECTION_TREE)
+        .then(|| {
+            let tree = LightTree::build(scene_triangles, &lights);
+            bytemuck::pod_collect_to_vec(&gpu_light_bytes_with_tree(&lights, &tree))
+        });
+    let light_tree = light_tree_words
+        .as_deref()
+        .map(|words| LightTexels { words });
     image
         .pixels
         .par_chunks_mut(width as usize)
@@ -135,6 +151,7 @@ pub fn add_cpu_guided_samples(
                     settings,
                     pixel,
                     UVec2::new(width, height),
+                    light_tree,
                     guiding,
                     samples.clone(),
                     accumulator,
@@ -152,6 +169,7 @@ fn add_pixel_samples(
     settings: &CpuRenderSettings,
     pixel: UVec2,
     resolution: UVec2,
+    light_tree: Option<LightTexels>,
     guiding: CpuGuiding,
     samples: std::ops::Range<u32>,
     accumulator: &mut PixelAccumulator,
@@ -174,6 +192,7 @@ fn add_pixel_samples(
                 integrator: settings.integrator,
                 light_sampling: settings.light_sampling,
                 guide: guiding.guide,
+                light_tree,
             };
             get_path_radiance(
                 &scene,

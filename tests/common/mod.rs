@@ -3,6 +3,7 @@
 #![allow(dead_code)]
 
 pub mod runs;
+pub mod twins;
 
 use std::path::Path;
 use std::process::{Command, Output};
