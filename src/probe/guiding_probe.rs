@@ -5,14 +5,13 @@
 
 use std::sync::Arc;
 
-use ash::vk;
 use bytemuck::{Pod, Zeroable};
 use glam::{Vec2, Vec3};
 
 use crate::error::Result;
-use crate::kernels::{self, Bound, Resource};
-use crate::probe::runner::Probe;
-use crate::vk::{Buffer, Context, TexelBufferView};
+use crate::kernels::{self, Resource};
+use crate::probe::runner::TexelBufferProbe;
+use crate::vk::Context;
 
 /// `probe_input_t` of `glsl/probe_guiding.comp` (48 bytes).
 #[repr(C)]
@@ -52,34 +51,23 @@ pub struct GuidingProbeOutput {
 }
 
 /// Runs the guide's probe against one guide.
-pub struct GuidingProbeRunner {
-    probe: Probe,
-    guide: TexelBufferView,
-}
+pub struct GuidingProbeRunner(TexelBufferProbe);
 
 impl GuidingProbeRunner {
     /// Uploads `words` (`Guide::words`) as the RGBA32_UINT texel buffer the kernel reads.
     pub fn new(context: &Arc<Context>, words: &[u32]) -> Result<GuidingProbeRunner> {
-        let guide = TexelBufferView::rgba32_uint(
+        Ok(GuidingProbeRunner(TexelBufferProbe::new(
             context,
-            Buffer::with_data(
-                context,
-                "probe guide",
-                words,
-                vk::BufferUsageFlags::UNIFORM_TEXEL_BUFFER,
-            )?,
-            "probe guide",
-        )?;
-        Ok(GuidingProbeRunner {
-            probe: Probe::embedded(context, &kernels::PROBE_GUIDING, &[], "the guide functions")?,
-            guide,
-        })
+            &kernels::PROBE_GUIDING,
+            "the guide functions",
+            Resource::Guide,
+            words,
+        )?))
     }
 
     /// Evaluates the guide functions on every input and returns the outputs in order.
     pub fn run(&self, inputs: &[GuidingProbeInput]) -> Result<Vec<GuidingProbeOutput>> {
-        let guide = Bound::TexelBuffer(&self.guide);
-        self.probe.run_with(&[(Resource::Guide, guide)], inputs)
+        self.0.run(inputs)
     }
 }
 

@@ -6,14 +6,13 @@
 
 use std::sync::Arc;
 
-use ash::vk;
 use bytemuck::{Pod, Zeroable};
 use glam::Vec3;
 
 use crate::error::Result;
-use crate::kernels::{self, Bound, Resource};
-use crate::probe::runner::Probe;
-use crate::vk::{Buffer, Context, TexelBufferView};
+use crate::kernels::{self, Resource};
+use crate::probe::runner::TexelBufferProbe;
+use crate::vk::Context;
 
 /// `probe_input_t` of `glsl/probe_light_tree.comp` (48 bytes).
 #[repr(C)]
@@ -51,40 +50,24 @@ pub struct LightTreeProbeOutput {
 }
 
 /// Runs the light tree's probe against one lights' texel buffer.
-pub struct LightTreeProbeRunner {
-    probe: Probe,
-    lights: TexelBufferView,
-}
+pub struct LightTreeProbeRunner(TexelBufferProbe);
 
 impl LightTreeProbeRunner {
     /// Uploads `bytes` (`gpu_light_bytes_with_tree`) as the RGBA32_UINT texel buffer the
     /// kernel reads.
     pub fn new(context: &Arc<Context>, bytes: &[u8]) -> Result<LightTreeProbeRunner> {
-        let lights = TexelBufferView::rgba32_uint(
+        Ok(LightTreeProbeRunner(TexelBufferProbe::new(
             context,
-            Buffer::with_data(
-                context,
-                "probe light tree",
-                bytes,
-                vk::BufferUsageFlags::UNIFORM_TEXEL_BUFFER,
-            )?,
-            "probe light tree",
-        )?;
-        Ok(LightTreeProbeRunner {
-            probe: Probe::embedded(
-                context,
-                &kernels::PROBE_LIGHT_TREE,
-                &[],
-                "the light tree functions",
-            )?,
-            lights,
-        })
+            &kernels::PROBE_LIGHT_TREE,
+            "the light tree functions",
+            Resource::Lights,
+            bytes,
+        )?))
     }
 
     /// Evaluates the light tree functions on every input and returns the outputs in order.
     pub fn run(&self, inputs: &[LightTreeProbeInput]) -> Result<Vec<LightTreeProbeOutput>> {
-        let lights = Bound::TexelBuffer(&self.lights);
-        self.probe.run_with(&[(Resource::Lights, lights)], inputs)
+        self.0.run(inputs)
     }
 }
 

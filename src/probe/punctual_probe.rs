@@ -6,14 +6,13 @@
 
 use std::sync::Arc;
 
-use ash::vk;
 use bytemuck::{Pod, Zeroable};
 use glam::Vec3;
 
 use crate::error::Result;
-use crate::kernels::{self, Bound, Resource};
-use crate::probe::runner::Probe;
-use crate::vk::{Buffer, Context, TexelBufferView};
+use crate::kernels::{self, Resource};
+use crate::probe::runner::TexelBufferProbe;
+use crate::vk::Context;
 
 /// `probe_input_t` of `glsl/probe_punctual_lights.comp` (32 bytes).
 #[repr(C)]
@@ -73,42 +72,25 @@ impl PunctualProbeOutput {
 }
 
 /// Runs the punctual lights' probe against one list of lights.
-pub struct PunctualProbeRunner {
-    probe: Probe,
-    lights: TexelBufferView,
-}
+pub struct PunctualProbeRunner(TexelBufferProbe);
 
 impl PunctualProbeRunner {
     /// Uploads `words` (`gpu_punctual_light_words`: the count, then the lights) as the
     /// RGBA32_UINT texel buffer the kernel reads.
     pub fn new(context: &Arc<Context>, words: &[u32]) -> Result<PunctualProbeRunner> {
-        let lights = TexelBufferView::rgba32_uint(
+        Ok(PunctualProbeRunner(TexelBufferProbe::new(
             context,
-            Buffer::with_data(
-                context,
-                "probe punctual lights",
-                words,
-                vk::BufferUsageFlags::UNIFORM_TEXEL_BUFFER,
-            )?,
-            "probe punctual lights",
-        )?;
-        Ok(PunctualProbeRunner {
-            probe: Probe::embedded(
-                context,
-                &kernels::PROBE_PUNCTUAL_LIGHTS,
-                &[],
-                "the punctual light functions",
-            )?,
-            lights,
-        })
+            &kernels::PROBE_PUNCTUAL_LIGHTS,
+            "the punctual light functions",
+            Resource::PunctualLights,
+            words,
+        )?))
     }
 
     /// Evaluates the punctual light functions on every input and returns the outputs in
     /// order; each input's light must be one of the uploaded lights.
     pub fn run(&self, inputs: &[PunctualProbeInput]) -> Result<Vec<PunctualProbeOutput>> {
-        let lights = Bound::TexelBuffer(&self.lights);
-        self.probe
-            .run_with(&[(Resource::PunctualLights, lights)], inputs)
+        self.0.run(inputs)
     }
 }
 

@@ -27,6 +27,46 @@ const MAX_INPUTS_PER_CHUNK: usize = 1 << 20;
 /// check`) is found after a few hundred calls instead of a million.
 const FIRST_CHUNK: usize = 256;
 
+/// A probe kernel that reads one RGBA32_UINT texel buffer besides its inputs (the guide's,
+/// the light tree's or the punctual lights' words): the buffer is uploaded once and bound
+/// as `resource` for every run.
+pub struct TexelBufferProbe {
+    probe: Probe,
+    resource: Resource,
+    texels: TexelBufferView,
+}
+
+impl TexelBufferProbe {
+    /// Uploads `data` (whole texels of four 32-bit words) for `kernel`'s embedded build,
+    /// which evaluates `function` (for messages) and reads them as `resource`.
+    pub fn new<T: bytemuck::Pod>(
+        context: &Arc<Context>,
+        kernel: &'static Kernel,
+        function: &str,
+        resource: Resource,
+        data: &[T],
+    ) -> Result<TexelBufferProbe> {
+        let label = format!("probe texels of {function}");
+        let buffer = Buffer::with_data(
+            context,
+            &label,
+            data,
+            vk::BufferUsageFlags::UNIFORM_TEXEL_BUFFER,
+        )?;
+        Ok(TexelBufferProbe {
+            probe: Probe::embedded(context, kernel, &[], function)?,
+            resource,
+            texels: TexelBufferView::rgba32_uint(context, buffer, &label)?,
+        })
+    }
+
+    /// Evaluates the function on every input and returns the outputs in order.
+    pub fn run<I: bytemuck::Pod, O: bytemuck::Pod>(&self, inputs: &[I]) -> Result<Vec<O>> {
+        let texels = Bound::TexelBuffer(&self.texels);
+        self.probe.run_with(&[(self.resource, texels)], inputs)
+    }
+}
+
 /// A probe kernel's pipeline, ready to evaluate its function on buffers of inputs.
 pub struct Probe {
     context: Arc<Context>,
