@@ -1,10 +1,11 @@
 //! SIGINT, SIGTERM and SIGHUP (what Ctrl-C, `timeout`, schedulers and a closed terminal
 //! send), in three cases:
-//! - before the render's first sample (loading the scene, opening the device, building the
-//!   kernels, which on lavapipe takes seconds): the command ends at once and writes nothing;
-//!   one line says so and every existing output stays as it was;
-//! - while it renders: the render stops after the current batch, the command writes what it
-//!   rendered (and its checkpoint) and exits with 128 + the signal's number;
+//! - before the render's first batch of samples is done (loading the scene, opening the
+//!   device, building the kernels, and the first batch, in which lavapipe compiles them, for
+//!   seconds, and a guided render trains its guide): the command ends at once and writes
+//!   nothing; one line says so and every existing output stays as it was;
+//! - while it renders after that: the render stops after the current batch, the command
+//!   writes what it rendered (and its checkpoint) and exits with 128 + the signal's number;
 //! - a second signal, at any time: the command aborts at once. The temporary files of the
 //!   writes in progress are removed, so every output is either as it was or completely
 //!   written (outputs are only ever replaced by renaming a finished file over them).
@@ -18,9 +19,9 @@ use crate::image_io::output::abort_pending_writes;
 
 /// Set when a signal asks the render to stop.
 pub static STOP_REQUESTED: AtomicBool = AtomicBool::new(false);
-/// Set (by `run_job`, through `JobOptions::started`) once the renderer is built and the
-/// first sample is about to be taken: from then on a first signal stops the render after
-/// the batch instead of ending the command.
+/// Set (by `run_job`, through `JobOptions::started`) once the render's first batch is done:
+/// from then on a first signal stops the render after the batch instead of ending the
+/// command.
 pub static RENDERING: AtomicBool = AtomicBool::new(false);
 /// The first signal received (0 while none was).
 static SIGNAL: AtomicI32 = AtomicI32::new(0);

@@ -70,9 +70,11 @@ pub struct JobOptions<'a> {
     pub resume: Option<PathBuf>,
     /// Rewrite a preview image every so often and when the render stops.
     pub preview: Option<PreviewOptions>,
-    /// Set once the renderer is built (kernels, scene upload, resumed state) and the first
-    /// sample is about to be taken: what a caller's signal handling needs to know, since a
-    /// stop before then has nothing to save.
+    /// Set once the first batch of samples is done (after the renderer is built: kernels,
+    /// scene upload, resumed state; and after the first batch, which on drivers that compile
+    /// at the first dispatch, as lavapipe does, takes the kernels' compile, and with
+    /// `--guiding` the guide's training): what a caller's signal handling needs to know,
+    /// since a stop before then has nothing to save.
     pub started: Option<&'a AtomicBool>,
 }
 
@@ -191,9 +193,13 @@ pub fn run_job(
             )
         }),
     };
-    if let Some(started) = options.started {
-        started.store(true, Ordering::SeqCst);
-    }
+    let mut progress = progress;
+    let progress = |samples: u32| {
+        if let Some(started) = options.started {
+            started.store(true, Ordering::SeqCst);
+        }
+        progress(samples);
+    };
     let rendering_started = Instant::now();
     let outcome = renderer.render_with(progress, control)?;
     // A stop before this run's first sample has nothing new: it writes nothing, so that an
