@@ -334,7 +334,7 @@ impl Guide {
         let invalid = |why: String| Error::InvalidSettings(format!("not a guide: {why}"));
         let header_words = 4 * GUIDE_HEADER_TEXEL_COUNT as usize;
         let bins = GUIDE_BIN_COUNT as usize;
-        if sparse.len() < header_words || (sparse.len() - header_words) % (bins + 1) != 0 {
+        if sparse.len() < header_words || !(sparse.len() - header_words).is_multiple_of(bins + 1) {
             return Err(invalid(format!(
                 "{} words do not make whole cells",
                 sparse.len()

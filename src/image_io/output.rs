@@ -373,7 +373,6 @@ pub(crate) struct ByteAttribute {
 /// Writes float channels (rows top-down), text attributes and byte attributes as one EXR
 /// layer, placed in a larger display window when `window` says so. Blocks are written in
 /// order on one thread, so identical images make identical files.
-
 pub(crate) fn write_exr_channels(
     path: &Path,
     width: u32,
