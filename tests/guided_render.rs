@@ -269,6 +269,47 @@ fn resume_and_merge_equal_the_single_guided_render() {
 }
 
 #[test]
+fn the_command_line_resumes_with_the_checkpoints_guide() {
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path();
+    let common_args = [
+        "--width",
+        "24",
+        "--height",
+        "16",
+        "--integrator",
+        "mis",
+        "--guiding",
+        "--guide-training-spp",
+        "6",
+        "--seed",
+        "5",
+    ];
+    let run = |extra: &[&str]| {
+        let mut args = common_args.to_vec();
+        args.extend_from_slice(extra);
+        render(path, &args)
+    };
+    let single = run(&["--spp", "8", "-o", "single.exr"]);
+    assert_eq!(single["guide"]["from_checkpoint"], false, "{single}");
+    run(&["--spp", "3", "--checkpoint", "ck.exr", "-o", "part.exr"]);
+    let resumed = run(&["--spp", "8", "--resume", "ck.exr", "-o", "resumed.exr"]);
+    // No training: the guide comes from the checkpoint, and with it the single render's bits.
+    assert_eq!(resumed["guide"]["from_checkpoint"], true, "{resumed}");
+    assert_eq!(resumed["guide"]["training_seconds"], 0.0, "{resumed}");
+    assert_eq!(
+        resumed["guide"]["guided_cells"],
+        single["guide"]["guided_cells"]
+    );
+    let same = common::vkpath(path, &["compare", "--exact", "resumed.exr", "single.exr"]);
+    assert!(
+        same.status.success(),
+        "{}",
+        String::from_utf8_lossy(&same.stdout)
+    );
+}
+
+#[test]
 fn guiding_options_that_cannot_work_are_one_line_errors() {
     let dir = tempfile::tempdir().unwrap();
     for (args, expected) in [
