@@ -69,19 +69,8 @@ fn gpu_render(scene: &Scene, settings: &RenderSettings, first_sample: u32) -> Re
 }
 
 fn cpu_settings(settings: &RenderSettings) -> CpuRenderSettings {
-    CpuRenderSettings {
-        width: settings.width,
-        height: settings.height,
-        spp: settings.spp,
-        max_path_length: settings.max_path_length,
-        seed: settings.seed,
-        pixel_filter: settings.pixel_filter.spec_constant(),
-        integrator: settings.integrator.spec_constant(),
-        russian_roulette_start: settings.russian_roulette_start,
-        light_sampling: settings.light_sampling.spec_constant(),
-        // The box's two lights: `LightSelection::Auto` picks the power CDF.
-        light_selection: vkpath::contract::LIGHT_SELECTION_POWER,
-    }
+    // The box's two lights: `LightSelection::Auto` picks the power CDF.
+    common::twins::cpu_settings(settings, vkpath::contract::LIGHT_SELECTION_POWER)
 }
 
 /// The smallest barycentric margin min(u, v, 1 - u - v), in absolute value, of the triangle

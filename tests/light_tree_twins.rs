@@ -41,18 +41,7 @@ fn settings(integrator: Integrator) -> RenderSettings {
 }
 
 fn cpu_settings(settings: &RenderSettings) -> CpuRenderSettings {
-    CpuRenderSettings {
-        width: settings.width,
-        height: settings.height,
-        spp: settings.spp,
-        max_path_length: settings.max_path_length,
-        seed: settings.seed,
-        pixel_filter: settings.pixel_filter.spec_constant(),
-        integrator: settings.integrator.spec_constant(),
-        russian_roulette_start: settings.russian_roulette_start,
-        light_sampling: settings.light_sampling.spec_constant(),
-        light_selection: LIGHT_SELECTION_TREE,
-    }
+    common::twins::cpu_settings(settings, LIGHT_SELECTION_TREE)
 }
 
 fn twins_agree(name: &str, scene: &Scene, tree_differs_from_power: bool) {

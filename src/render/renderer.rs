@@ -112,6 +112,23 @@ pub struct GuideReport {
     pub from_checkpoint: bool,
 }
 
+impl GuideReport {
+    /// The report of `guide`, trained in `iterations` (spp each) in `seconds`, or frozen in
+    /// a resumed state.
+    fn of(guide: &Guide, iterations: Vec<u32>, seconds: f64, from_checkpoint: bool) -> GuideReport {
+        let grid = guide.grid();
+        GuideReport {
+            grid_resolution: grid.resolution.to_array(),
+            cell_count: grid.cell_count(),
+            guided_cell_count: guide.guided_cell_count(),
+            memory_bytes: guide.memory_bytes(),
+            iterations,
+            seconds,
+            from_checkpoint,
+        }
+    }
+}
+
 /// A render in tiles: the state of the whole area lives on the host, and each frame uploads
 /// every tile's state in turn into the (tile-sized) accumulation image, adds its samples and
 /// reads it back, so the image is bit for bit the untiled one's.
@@ -614,15 +631,12 @@ impl Renderer {
             return Ok(false);
         }
         let guide = trainer.into_guide();
-        self.guide_report = Some(GuideReport {
-            grid_resolution: grid.resolution.to_array(),
-            cell_count: grid.cell_count(),
-            guided_cell_count: guide.guided_cell_count(),
-            memory_bytes: guide.memory_bytes(),
+        self.guide_report = Some(GuideReport::of(
+            &guide,
             iterations,
-            seconds: started.elapsed().as_secs_f64(),
-            from_checkpoint: false,
-        });
+            started.elapsed().as_secs_f64(),
+            false,
+        ));
         self.guide = Some(Arc::new(guide));
         Ok(true)
     }
@@ -640,15 +654,7 @@ impl Renderer {
         self.guide_buffers.set_guide(&self.context, &guide)?;
         self.descriptors
             .write_texel_buffer(contract::BINDING_GUIDE, &self.guide_buffers.guide);
-        self.guide_report = Some(GuideReport {
-            grid_resolution: guide.grid().resolution.to_array(),
-            cell_count: guide.grid().cell_count(),
-            guided_cell_count: guide.guided_cell_count(),
-            memory_bytes: guide.memory_bytes(),
-            iterations: Vec::new(),
-            seconds: 0.0,
-            from_checkpoint: true,
-        });
+        self.guide_report = Some(GuideReport::of(&guide, Vec::new(), 0.0, true));
         self.guide = Some(guide);
         Ok(())
     }

@@ -3,9 +3,9 @@
 //! that divergent paths cannot hide a bias (`tests/guided_twins.rs`,
 //! `tests/light_tree_twins.rs`; `tests/image_parity.rs` adds a near-tie replay of its own).
 
-use vkpath::cpu::CpuImage;
+use vkpath::cpu::{CpuImage, CpuRenderSettings};
 use vkpath::stats::ztest::{z_test_images, MeanImage};
-use vkpath::RenderedImage;
+use vkpath::{RenderSettings, RenderedImage};
 
 /// Absolute floor of the tolerance for near-zero means (radiance is O(1) or more).
 const ABSOLUTE_TOLERANCE: f32 = 1e-6;
@@ -69,5 +69,22 @@ pub fn compare_twin_images(
         divergent,
         worst_agreeing,
         blocks_agree: report.passed,
+    }
+}
+
+/// The CPU renderer's settings for the GPU's `settings`, with `light_selection`
+/// (`LIGHT_SELECTION_*`: the GPU's choice, which depends on the scene's light count).
+pub fn cpu_settings(settings: &RenderSettings, light_selection: u32) -> CpuRenderSettings {
+    CpuRenderSettings {
+        width: settings.width,
+        height: settings.height,
+        spp: settings.spp,
+        max_path_length: settings.max_path_length,
+        seed: settings.seed,
+        pixel_filter: settings.pixel_filter.spec_constant(),
+        integrator: settings.integrator.spec_constant(),
+        russian_roulette_start: settings.russian_roulette_start,
+        light_sampling: settings.light_sampling.spec_constant(),
+        light_selection,
     }
 }
