@@ -407,3 +407,54 @@ fn a_signal_or_the_time_limit_stops_training_and_a_restart_trains_the_same_guide
     assert_eq!(renderer.accumulation().unwrap().texels, single.texels);
     common::assert_validation_silent(&context);
 }
+
+#[test]
+fn guided_renders_default_to_no_russian_roulette_and_keep_a_given_start() {
+    // Roulette kills the paths a guide sends towards the light (docs/guiding.md), so
+    // `--guiding` without --russian-roulette-start renders without it; unguided renders
+    // keep the default start of 3, and a start given on the command line is kept.
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path();
+    let roulette_start = |name: &str, extra: &[&str]| {
+        let mut args = vec![
+            "render",
+            "--width",
+            "12",
+            "--height",
+            "8",
+            "--spp",
+            "2",
+            "--integrator",
+            "mis",
+            "--seed",
+            "3",
+            "-o",
+            name,
+        ];
+        args.extend_from_slice(extra);
+        let out = common::vkpath(path, &args);
+        assert!(
+            out.status.success(),
+            "{}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+        // The EXR header's metadata string records the settings as `key=value;`.
+        let bytes = std::fs::read(path.join(name)).unwrap();
+        let key = b"russian_roulette_start=";
+        let at = bytes
+            .windows(key.len())
+            .position(|w| w == key)
+            .expect("the header records russian_roulette_start")
+            + key.len();
+        let digits = bytes[at..]
+            .iter()
+            .take_while(|b| b.is_ascii_digit())
+            .count();
+        String::from_utf8(bytes[at..at + digits].to_vec()).unwrap()
+    };
+    let guided = ["--guiding", "--guide-training-spp", "2"];
+    assert_eq!(roulette_start("plain.exr", &[]), "3");
+    assert_eq!(roulette_start("guided.exr", &guided), "0");
+    let given = [&guided[..], &["--russian-roulette-start", "4"]].concat();
+    assert_eq!(roulette_start("given.exr", &given), "4");
+}

@@ -16,6 +16,7 @@ use vkpath::guiding::training::GuideTraining;
 use vkpath::lights::environment_source::{EnvironmentOptionNames, EnvironmentSource};
 use vkpath::render::job::production_settings;
 use vkpath::render::region::PixelRegion;
+use vkpath::render::settings::default_russian_roulette_start;
 use vkpath::render::StopReason;
 use vkpath::render::{RenderControl, Renderer};
 use vkpath::{Context, ContextOptions, Integrator, RenderSettings};
@@ -69,7 +70,7 @@ impl Choices<'_> {
             samples_per_frame: self.samples_per_frame.unwrap_or(default.samples_per_frame),
             russian_roulette_start: self
                 .russian_roulette_start
-                .unwrap_or(default.russian_roulette_start),
+                .unwrap_or(default_russian_roulette_start(self.guiding)),
             region: self
                 .region
                 .map(|(x0, y0, x1, y1)| PixelRegion { x0, y0, x1, y1 }),

@@ -14,7 +14,9 @@ use crate::camera::Camera;
 use crate::error::Result;
 use crate::guiding::training::GuideTraining;
 use crate::image_io::data::RenderedImage;
-use crate::render::settings::{Integrator, LightSelection, RenderSettings, SamplerKind};
+use crate::render::settings::{
+    default_russian_roulette_start, Integrator, LightSelection, RenderSettings, SamplerKind,
+};
 use crate::render::{Renderer, Traversal};
 use crate::scene::{Scene, SceneSource};
 use crate::vk::Context;
@@ -167,6 +169,8 @@ pub struct BenchSetup {
     pub compare_guiding: bool,
     /// The guided runs' training (`--guide-training-spp`, else a quarter of `spp`).
     pub guide_training: Option<GuideTraining>,
+    /// The guided runs' Russian roulette start (the unguided ones take `settings`').
+    pub guided_russian_roulette_start: u32,
     /// Scene description for the report.
     pub scene_name: String,
     /// Timed renders per integrator; the fastest counts (the image is the same each time,
@@ -195,6 +199,7 @@ impl Default for BenchSetup {
             light_selections: Vec::new(),
             compare_guiding: false,
             guide_training: None,
+            guided_russian_roulette_start: default_russian_roulette_start(true),
             scene_name: SceneSource::CornellBox.description(),
             repeats: 3,
         }
@@ -258,6 +263,11 @@ pub fn run_bench(
             light_selection,
             seed: 1,
             guiding,
+            russian_roulette_start: if guided {
+                setup.guided_russian_roulette_start
+            } else {
+                setup.settings.russian_roulette_start
+            },
             ..setup.settings.clone()
         };
         let samples =

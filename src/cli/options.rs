@@ -14,7 +14,10 @@ use crate::render::metadata::parse_range;
 use crate::guiding::training::GuideTraining;
 use crate::image_io::output::{ImageFormat, SaveOptions};
 use crate::image_io::tonemap::{Exposure, ToneMap};
-use crate::render::settings::{Accel, LightSampling, LightSelection, RenderSettings, SamplerKind};
+use crate::render::settings::{
+    default_russian_roulette_start, Accel, LightSampling, LightSelection, RenderSettings,
+    SamplerKind,
+};
 use crate::scene::files::LoadOptions;
 use crate::scene::{Scene, SceneSource};
 
@@ -87,9 +90,10 @@ pub struct RenderOptions {
     #[arg(long, default_value_t = RenderSettings::default().samples_per_frame)]
     pub samples_per_frame: u32,
     /// Path vertex after which Russian roulette may end a path (cosine, nee, mis); 0 turns
-    /// it off. --max-path-length stays a hard limit.
-    #[arg(long, default_value_t = RenderSettings::default().russian_roulette_start)]
-    pub russian_roulette_start: u32,
+    /// it off. --max-path-length stays a hard limit [default: 3; 0 with --guiding, where
+    /// roulette kills the paths the guide sends towards the light].
+    #[arg(long, value_name = "N")]
+    pub russian_roulette_start: Option<u32>,
     /// Ray traversal: a BVH for scenes above 64 triangles or with glTF materials (auto), the
     /// workshop's loop over all triangles (none), or always a BVH (bvh).
     #[arg(long, value_enum, default_value_t = RenderSettings::default().accel)]
@@ -127,7 +131,9 @@ impl RenderOptions {
         RenderSettings {
             max_path_length: self.max_path_length,
             samples_per_frame: self.samples_per_frame,
-            russian_roulette_start: self.russian_roulette_start,
+            russian_roulette_start: self
+                .russian_roulette_start
+                .unwrap_or(default_russian_roulette_start(self.guiding)),
             accel: self.accel,
             sampler: self.sampler.unwrap_or(settings.sampler),
             light_sampling: self.light_sampling,

@@ -203,7 +203,7 @@ impl RenderArgs {
                     sampler_name(sampler)
                 ));
             }
-            if self.render.russian_roulette_start != defaults.russian_roulette_start {
+            if self.render.russian_roulette_start.is_some() {
                 warn(format!(
                     "--russian-roulette-start has no effect with --integrator {integrator}: it has no Russian roulette"
                 ));
