@@ -4,7 +4,7 @@
 // the scene's box; each cell holds a histogram over GUIDE_BIN_COUNT bins of equal solid
 // angle (the equal-area map z = cos theta, phi, cut GUIDE_DIRECTION_RESOLUTION ways each),
 // stored as cumulative probabilities. A fixed layout with no pointers: one texel fetch
-// finds a cell, a binary search of eight fetches samples a bin, one fetch gives a density,
+// finds a cell, a binary search of seven fetches samples a bin, two give a density,
 // and the memory is cells x 1 KB, known before training. A cell that training did not
 // reach often enough holds zeros and is not guided.
 //
@@ -73,22 +73,41 @@ float get_guide_density(uint cell_index, vec3 direction) {
     return get_guide_bin_probability(cell_index, get_guide_bin_index(direction)) * (float(GUIDE_BIN_COUNT) / (4.0 * M_PI));
 }
 
+// The cell's cumulative probabilities of bins 4 texel .. 4 texel + 3 (one texel of its words).
+vec4 get_guide_cumulative_texel(uint cell_index, uint texel) {
+    return uintBitsToFloat(texelFetch(g_guide_texels, int(GUIDE_HEADER_TEXEL_COUNT + cell_index * GUIDE_CELL_TEXEL_COUNT + texel)));
+}
+
 // A unit direction distributed as get_guide_density() in a guided cell: the bin by binary
 // search of the cumulative probabilities with random_numbers[0], which is then rescaled
 // within the bin to place cos theta; random_numbers[1] places phi. `out_bin` is the bin
-// chosen: its density is the sample's, whereas get_guide_bin_index() of the direction may
-// put a sample within the arctangent's error of a bin edge in the neighbouring bin.
-vec3 sample_guide_direction(uint cell_index, vec2 random_numbers, out uint out_bin) {
+// chosen and `out_bin_probability` its probability: the sample's density is that bin's,
+// whereas get_guide_bin_index() of the direction may put a sample within the arctangent's
+// error of a bin edge in the neighbouring bin.
+// The search runs over the cell's texels of four bins each (GUIDE_CELL_TEXEL_COUNT of
+// them), then among the four bins of the texel found: seven fetches, where a search over
+// single bins takes ten, with the same bin, the same probabilities and so the same bits.
+vec3 sample_guide_direction(uint cell_index, vec2 random_numbers, out uint out_bin, out float out_bin_probability) {
     float u = random_numbers[0];
-    // The first bin whose cumulative probability exceeds u: all bins before `first` end at
-    // or below u.
-    uint first = 0u;
-    for (uint step = GUIDE_BIN_COUNT / 2u; step != 0u; step /= 2u) {
-        if (get_guide_cumulative(cell_index, first + step - 1u) <= u)
-            first += step;
+    // The first texel whose last cumulative probability exceeds u (or the last texel): every
+    // texel before `texel` ends at or below u, and `before` is where the one before it ends.
+    uint texel = 0u;
+    float before = 0.0;
+    for (uint step = GUIDE_CELL_TEXEL_COUNT / 2u; step != 0u; step /= 2u) {
+        float end = get_guide_cumulative_texel(cell_index, texel + step - 1u).w;
+        if (end <= u) {
+            texel += step;
+            before = end;
+        }
     }
-    float before = (first == 0u) ? 0.0 : get_guide_cumulative(cell_index, first - 1u);
-    float probability = get_guide_cumulative(cell_index, first) - before;
+    vec4 cumulative = get_guide_cumulative_texel(cell_index, texel);
+    // The first of its bins whose cumulative probability exceeds u (or its last): those at
+    // or below u are a prefix, the probabilities being non-decreasing.
+    uint within_texel = uint(cumulative.x <= u) + uint(cumulative.y <= u) + uint(cumulative.z <= u);
+    if (within_texel != 0u)
+        before = cumulative[within_texel - 1u];
+    uint first = 4u * texel + within_texel;
+    float probability = cumulative[within_texel] - before;
     float within = min((u - before) / probability, ONE_MINUS_EPSILON);
     float resolution = float(GUIDE_DIRECTION_RESOLUTION);
     float row = float(first / uint(GUIDE_DIRECTION_RESOLUTION));
@@ -97,6 +116,7 @@ vec3 sample_guide_direction(uint cell_index, vec2 random_numbers, out uint out_b
     float phi = 2.0 * M_PI * (column + random_numbers[1]) / resolution;
     float radius = sqrt(max(0.0, 1.0 - z * z));
     out_bin = first;
+    out_bin_probability = probability;
     return vec3(radius * cos(phi), radius * sin(phi), z);
 }
 

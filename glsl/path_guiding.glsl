@@ -89,19 +89,25 @@ float get_path_direction_density(surface_t surface, vec3 view, vec3 direction) {
 // get_bsdf() / p~ would not be (tests/guiding.rs counts those samples).
 bsdf_sample_t get_guided_direction(surface_t surface, vec3 view, uint guide_cell, bsdf_sample_t bsdf_sample, bool bsdf_chosen, vec2 guide_random_numbers) {
     bsdf_sample_t guided = bsdf_sample;
+    // The guide's density of the bin its sampler chose (p_guide; only for a guide sample).
+    float sampled = 0.0;
+    if (!bsdf_chosen) {
+        uint bin;
+        float bin_probability;
+        guided.direction = sample_guide_direction(guide_cell, guide_random_numbers, bin, bin_probability);
+        guided.lobes = BSDF_LOBE_REFLECT;
+        guided.eta = 1.0;
+        sampled = bin_probability * (float(GUIDE_BIN_COUNT) / (4.0 * M_PI));
+    }
+    // One lookup for either technique's direction (on lavapipe both sides of an `if` run).
+    float looked_up = get_guide_density(guide_cell, guided.direction);
     if (bsdf_chosen) {
         // get_bsdf() / p~ from the BSDF sample's own weight get_bsdf() / p_bsdf (0 where
         // p_bsdf is), without evaluating the BSDF again.
-        guided.density = get_guided_mixture_density(bsdf_sample.density, get_guide_density(guide_cell, bsdf_sample.direction));
+        guided.density = get_guided_mixture_density(bsdf_sample.density, looked_up);
         guided.weight = (guided.density > 0.0) ? bsdf_sample.weight * (bsdf_sample.density / guided.density) : vec3(0.0);
         return guided;
     }
-    uint bin;
-    guided.direction = sample_guide_direction(guide_cell, guide_random_numbers, bin);
-    guided.lobes = BSDF_LOBE_REFLECT;
-    guided.eta = 1.0;
-    float looked_up = get_guide_density(guide_cell, guided.direction);
-    float sampled = get_guide_bin_probability(guide_cell, bin) * (float(GUIDE_BIN_COUNT) / (4.0 * M_PI));
     guided.density = get_guided_mixture_density(get_bsdf_density(surface, view, guided.direction), looked_up);
     guided.weight = (guided.density > 0.0) ? get_bsdf(surface, view, guided.direction) * (looked_up / (sampled * guided.density)) : vec3(0.0);
     return guided;

@@ -56,7 +56,8 @@ void main() {
     result.sampled_density = vec4(0.0);
     if (guided) {
         uint sampled_bin;
-        result.sampled_density = vec4(sample_guide_direction(cell, probe_input.random_numbers.xy, sampled_bin), get_guide_density(cell, direction));
+        float sampled_probability;
+        result.sampled_density = vec4(sample_guide_direction(cell, probe_input.random_numbers.xy, sampled_bin, sampled_probability), get_guide_density(cell, direction));
         result.cell_bin.w = sampled_bin;
     }
     g_outputs[index] = result;

@@ -2,7 +2,7 @@
 //! bin, the guide's density and its sampler, read from the same words of the guide's texel
 //! buffer that the GPU reads (`crate::guiding::Guide::words`), with the same maths.
 
-use glam::{UVec3, Vec2, Vec3};
+use glam::{UVec3, Vec2, Vec3, Vec4};
 
 use crate::contract::{
     GUIDE_BIN_COUNT, GUIDE_BSDF_FRACTION, GUIDE_CELL_TEXEL_COUNT, GUIDE_DIRECTION_RESOLUTION,
@@ -83,27 +83,51 @@ pub fn get_guide_density(texels: GuideTexels, cell_index: u32, direction: Vec3) 
         * (GUIDE_BIN_COUNT as f32 / (4.0 * M_PI))
 }
 
-/// Twin of `sample_guide_direction`: the direction and the bin chosen (`out_bin`).
+/// What `sample_guide_direction` returns: the direction and its `out` parameters.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct GuideDirectionSample {
+    /// The unit direction.
+    pub direction: Vec3,
+    /// The bin chosen (`out_bin`).
+    pub bin: u32,
+    /// That bin's probability (`out_bin_probability`).
+    pub bin_probability: f32,
+}
+
+/// Twin of `get_guide_cumulative_texel`.
+pub fn get_guide_cumulative_texel(texels: GuideTexels, cell_index: u32, texel: u32) -> Vec4 {
+    fetch_float_texel(
+        texels.words,
+        (GUIDE_HEADER_TEXEL_COUNT + cell_index * GUIDE_CELL_TEXEL_COUNT + texel) as usize,
+    )
+}
+
+/// Twin of `sample_guide_direction`: the search over texels of four bins, then within one.
 pub fn sample_guide_direction(
     texels: GuideTexels,
     cell_index: u32,
     random_numbers: Vec2,
-) -> (Vec3, u32) {
+) -> GuideDirectionSample {
     let u = random_numbers[0];
-    let mut first = 0u32;
-    let mut step = GUIDE_BIN_COUNT / 2;
+    let mut texel = 0u32;
+    let mut before = 0.0;
+    let mut step = GUIDE_CELL_TEXEL_COUNT / 2;
     while step != 0 {
-        if get_guide_cumulative(texels, cell_index, first + step - 1) <= u {
-            first += step;
+        let end = get_guide_cumulative_texel(texels, cell_index, texel + step - 1).w;
+        if end <= u {
+            texel += step;
+            before = end;
         }
         step /= 2;
     }
-    let before = if first == 0 {
-        0.0
-    } else {
-        get_guide_cumulative(texels, cell_index, first - 1)
-    };
-    let probability = get_guide_cumulative(texels, cell_index, first) - before;
+    let cumulative = get_guide_cumulative_texel(texels, cell_index, texel);
+    let within_texel =
+        u32::from(cumulative.x <= u) + u32::from(cumulative.y <= u) + u32::from(cumulative.z <= u);
+    if within_texel != 0 {
+        before = cumulative[(within_texel - 1) as usize];
+    }
+    let first = 4 * texel + within_texel;
+    let probability = cumulative[within_texel as usize] - before;
     let within = ((u - before) / probability).min(ONE_MINUS_EPSILON);
     let resolution = GUIDE_DIRECTION_RESOLUTION as f32;
     let row = (first / GUIDE_DIRECTION_RESOLUTION) as f32;
@@ -111,7 +135,11 @@ pub fn sample_guide_direction(
     let z = -1.0 + 2.0 * (row + within) / resolution;
     let phi = 2.0 * M_PI * (column + random_numbers[1]) / resolution;
     let radius = (1.0 - z * z).max(0.0).sqrt();
-    (Vec3::new(radius * phi.cos(), radius * phi.sin(), z), first)
+    GuideDirectionSample {
+        direction: Vec3::new(radius * phi.cos(), radius * phi.sin(), z),
+        bin: first,
+        bin_probability: probability,
+    }
 }
 
 /// Twin of `get_guided_mixture_density`.

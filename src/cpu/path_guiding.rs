@@ -13,9 +13,8 @@ use glam::{Vec2, Vec3};
 use crate::contract::{GUIDE_BIN_COUNT, GUIDE_TRAINING_VERTEX_COUNT};
 use crate::cpu::brdf::get_luminance;
 use crate::cpu::guiding::{
-    get_guide_bin_index, get_guide_bin_probability, get_guide_cell_index, get_guide_density,
-    get_guide_splat_units, get_guided_mixture_density, is_guided_cell, sample_guide_direction,
-    GuideTexels, GUIDE_NO_CELL,
+    get_guide_bin_index, get_guide_cell_index, get_guide_density, get_guide_splat_units,
+    get_guided_mixture_density, is_guided_cell, sample_guide_direction, GuideTexels, GUIDE_NO_CELL,
 };
 use crate::cpu::surface::{get_bsdf, get_bsdf_density, BsdfSample, Surface, BSDF_LOBE_REFLECT};
 use crate::cpu::texels::fetch_texel;
@@ -83,11 +82,17 @@ pub fn get_guided_direction(
     guide_random_numbers: Vec2,
 ) -> BsdfSample {
     let mut guided = bsdf_sample;
+    let mut sampled = 0.0;
+    if !bsdf_chosen {
+        let sample = sample_guide_direction(texels, guide_cell, guide_random_numbers);
+        guided.direction = sample.direction;
+        guided.lobes = BSDF_LOBE_REFLECT;
+        guided.eta = 1.0;
+        sampled = sample.bin_probability * (GUIDE_BIN_COUNT as f32 / (4.0 * M_PI));
+    }
+    let looked_up = get_guide_density(texels, guide_cell, guided.direction);
     if bsdf_chosen {
-        guided.density = get_guided_mixture_density(
-            bsdf_sample.density,
-            get_guide_density(texels, guide_cell, bsdf_sample.direction),
-        );
+        guided.density = get_guided_mixture_density(bsdf_sample.density, looked_up);
         guided.weight = if guided.density > 0.0 {
             bsdf_sample.weight * (bsdf_sample.density / guided.density)
         } else {
@@ -95,17 +100,10 @@ pub fn get_guided_direction(
         };
         return guided;
     }
-    let (direction, bin) = sample_guide_direction(texels, guide_cell, guide_random_numbers);
-    guided.direction = direction;
-    guided.lobes = BSDF_LOBE_REFLECT;
-    guided.eta = 1.0;
-    let looked_up = get_guide_density(texels, guide_cell, direction);
-    let sampled = get_guide_bin_probability(texels, guide_cell, bin)
-        * (GUIDE_BIN_COUNT as f32 / (4.0 * M_PI));
     guided.density =
-        get_guided_mixture_density(get_bsdf_density(surface, view, direction), looked_up);
+        get_guided_mixture_density(get_bsdf_density(surface, view, guided.direction), looked_up);
     guided.weight = if guided.density > 0.0 {
-        get_bsdf(surface, view, direction) * (looked_up / (sampled * guided.density))
+        get_bsdf(surface, view, guided.direction) * (looked_up / (sampled * guided.density))
     } else {
         Vec3::ZERO
     };

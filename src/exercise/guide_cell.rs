@@ -126,7 +126,7 @@ pub fn render_guide_cell_display(
     let count = EXERCISE_SAMPLE_COUNT as usize;
     let mut draw = || -> Vec2 { get_random_numbers(&mut seed) };
     let guide_directions: Vec<Vec3> = (0..count)
-        .map(|_| sample_guide_direction(texels, cell, draw()).0)
+        .map(|_| sample_guide_direction(texels, cell, draw()).direction)
         .collect();
     let bsdf_directions: Vec<Vec3> = (0..count)
         .map(|_| sample_hemisphere_cosine(draw(), normal))

@@ -128,13 +128,60 @@ fn assert_follows_density(name: &str, samples: Vec<Vec3>, density: &dyn Fn(Vec3)
     assert!(result.passed, "{result:?}");
 }
 
+/// The sampler's bin as a binary search over single bins finds it (the kernels' search until
+/// it went over texels of four bins): the first bin whose cumulative probability exceeds u,
+/// or the last.
+fn first_bin_above(texels: GuideTexels, cell: u32, u: f32) -> (u32, f32) {
+    let mut first = 0u32;
+    let mut step = GUIDE_BIN_COUNT / 2;
+    while step != 0 {
+        if crate::cpu::guiding::get_guide_cumulative(texels, cell, first + step - 1) <= u {
+            first += step;
+        }
+        step /= 2;
+    }
+    (first, get_guide_bin_probability(texels, cell, first))
+}
+
+#[test]
+fn the_search_over_texels_finds_the_bin_and_probability_of_the_search_over_bins() {
+    // Every u at and beside each cumulative probability of a peaked cell (so the ties, the
+    // empty tail's equal sums and the last bin's 1), plus random ones: the same bin and the
+    // same probability bit for bit, hence the same direction and image as the old search.
+    let guide = lobe_splats(Vec3::new(0.3, -0.5, 0.81).normalize(), 20_000, 7).build();
+    let texels = guide.texels();
+    let mut us: Vec<f32> = vec![0.0, crate::contract::ONE_MINUS_EPSILON];
+    for bin in 0..GUIDE_BIN_COUNT {
+        let c = crate::cpu::guiding::get_guide_cumulative(texels, 0, bin);
+        us.extend(
+            [c, c.next_down(), c.next_up()]
+                .into_iter()
+                .filter(|u| (0.0..1.0).contains(u)),
+        );
+    }
+    let mut rng = InputRng::new(8);
+    us.extend((0..20_000).map(|_| rng.uniform()));
+    for u in us {
+        let sample = sample_guide_direction(texels, 0, Vec2::new(u, 0.5));
+        let (bin, probability) = first_bin_above(texels, 0, u);
+        assert_eq!(sample.bin, bin, "u = {u}");
+        assert_eq!(
+            sample.bin_probability.to_bits(),
+            probability.to_bits(),
+            "u = {u}"
+        );
+    }
+}
+
 #[test]
 fn sample_guide_direction_follows_get_guide_density() {
     let guide = lobe_splats(Vec3::new(0.3, -0.5, 0.81).normalize(), 20_000, 3).build();
     let texels = guide.texels();
     let mut rng = InputRng::new(4);
     let samples: Vec<Vec3> = (0..1_000_000)
-        .map(|_| sample_guide_direction(texels, 0, Vec2::new(rng.uniform(), rng.uniform())).0)
+        .map(|_| {
+            sample_guide_direction(texels, 0, Vec2::new(rng.uniform(), rng.uniform())).direction
+        })
         .collect();
     let density = |direction: Vec3| f64::from(get_guide_density(texels, 0, direction));
     assert_follows_density("guide alone", samples, &density);
@@ -155,7 +202,7 @@ fn the_mixture_with_a_bsdf_follows_its_density() {
             if choice < crate::contract::GUIDE_BSDF_FRACTION {
                 sample_hemisphere_cosine(random_numbers, normal)
             } else {
-                sample_guide_direction(texels, 0, random_numbers).0
+                sample_guide_direction(texels, 0, random_numbers).direction
             }
         })
         .collect();

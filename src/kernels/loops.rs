@@ -31,14 +31,15 @@ pub enum LoopBound {
     TrianglesPerRay,
     /// Counted by the kernel itself, exactly, in `g_path.traversal_iterations` (the BVH).
     CountedByKernel,
-    /// The guide's binary search over a cell's bins (`sample_guide_direction`), at most once
+    /// The guide's binary search over a cell's texels (`sample_guide_direction`), at most once
     /// per ray (once per guided vertex, each of which traced a ray):
     /// `GUIDE_SEARCH_ITERATIONS` iterations.
     GuideSearchPerRay,
 }
 
-/// Iterations of the guide's binary search: log2 of `GUIDE_BIN_COUNT`.
-pub const GUIDE_SEARCH_ITERATIONS: u32 = contract::GUIDE_BIN_COUNT.trailing_zeros();
+/// Iterations of the guide's binary search: log2 of `GUIDE_CELL_TEXEL_COUNT` (texels of four
+/// bins each).
+pub const GUIDE_SEARCH_ITERATIONS: u32 = contract::GUIDE_CELL_TEXEL_COUNT.trailing_zeros();
 
 /// One loop of the kernel's GLSL.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -348,9 +349,9 @@ mod tests {
         assert!(bvh.counted_by_kernel);
         let constant = LoopCoefficients::path_tracer(Traversal::ConstantTriangles, false);
         assert_eq!(constant.triangle_loops_per_ray, 0);
-        // With guiding, per ray: the path loop, the splat loop and the guide's 8-step search.
+        // With guiding, per ray: the path loop, the splat loop and the guide's 6-step search.
         let guided = LoopCoefficients::path_tracer(Traversal::Linear, true);
-        assert_eq!(guided.per_ray, 1 + 1 + 8);
+        assert_eq!(guided.per_ray, 1 + 1 + 6);
         assert_eq!(guided.per_sample, 1);
         // 1 + 10 rays * (1 + 32 + 100 triangles), with 2^32 - 1 lights (32 bits)
         let work = SampleWork {
