@@ -438,19 +438,11 @@ fn guided_renders_default_to_no_russian_roulette_and_keep_a_given_start() {
             "{}",
             String::from_utf8_lossy(&out.stderr)
         );
-        // The EXR header's metadata string records the settings as `key=value;`.
-        let bytes = std::fs::read(path.join(name)).unwrap();
-        let key = b"russian_roulette_start=";
-        let at = bytes
-            .windows(key.len())
-            .position(|w| w == key)
-            .expect("the header records russian_roulette_start")
-            + key.len();
-        let digits = bytes[at..]
-            .iter()
-            .take_while(|b| b.is_ascii_digit())
-            .count();
-        String::from_utf8(bytes[at..at + digits].to_vec()).unwrap()
+        vkpath::render::state_exr::read_metadata(&path.join(name))
+            .expect("the EXR records its settings")
+            .setting("russian_roulette_start")
+            .expect("the settings hold russian_roulette_start")
+            .to_string()
     };
     let guided = ["--guiding", "--guide-training-spp", "2"];
     assert_eq!(roulette_start("plain.exr", &[]), "3");

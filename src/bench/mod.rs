@@ -169,13 +169,24 @@ pub struct BenchSetup {
     pub compare_guiding: bool,
     /// The guided runs' training (`--guide-training-spp`, else a quarter of `spp`).
     pub guide_training: Option<GuideTraining>,
-    /// The guided runs' Russian roulette start (the unguided ones take `settings`').
-    pub guided_russian_roulette_start: u32,
+    /// `--russian-roulette-start` as given: every render, the reference's included, resolves
+    /// it as `vkpath render` does, `default_russian_roulette_start(guided)` where none was
+    /// given (`settings.russian_roulette_start` is not read).
+    pub russian_roulette_start: Option<u32>,
     /// Scene description for the report.
     pub scene_name: String,
     /// Timed renders per integrator; the fastest counts (the image is the same each time,
     /// so only the timing varies, and the minimum is the least disturbed by other load).
     pub repeats: u32,
+}
+
+impl BenchSetup {
+    /// The Russian roulette start of a guided or unguided render: the one given, else
+    /// `default_russian_roulette_start(guided)`, the rule of `vkpath render`.
+    pub fn russian_roulette_start(&self, guided: bool) -> u32 {
+        self.russian_roulette_start
+            .unwrap_or(default_russian_roulette_start(guided))
+    }
 }
 
 impl Default for BenchSetup {
@@ -199,7 +210,7 @@ impl Default for BenchSetup {
             light_selections: Vec::new(),
             compare_guiding: false,
             guide_training: None,
-            guided_russian_roulette_start: default_russian_roulette_start(true),
+            russian_roulette_start: None,
             scene_name: SceneSource::CornellBox.description(),
             repeats: 3,
         }
@@ -221,6 +232,7 @@ pub fn run_bench(
         // A seed no measured render uses, so the reference's noise is independent.
         seed: 0x5eed,
         guiding: None,
+        russian_roulette_start: setup.russian_roulette_start(false),
         ..setup.settings.clone()
     };
     let reference = timed_render(context, scene, camera, reference_settings)?.image;
@@ -263,11 +275,7 @@ pub fn run_bench(
             light_selection,
             seed: 1,
             guiding,
-            russian_roulette_start: if guided {
-                setup.guided_russian_roulette_start
-            } else {
-                setup.settings.russian_roulette_start
-            },
+            russian_roulette_start: setup.russian_roulette_start(guided),
             ..setup.settings.clone()
         };
         let samples =
@@ -399,6 +407,20 @@ mod tests {
             second_moment: vec![[0.0; 3]; values.len()],
             sample_count: vec![1.0; values.len()],
         }
+    }
+
+    #[test]
+    fn each_render_resolves_the_roulette_start_as_vkpath_render_does() {
+        // None given: guided renders none, unguided from vertex 3; a given start for both.
+        let setup = BenchSetup::default();
+        assert_eq!(setup.russian_roulette_start(false), 3);
+        assert_eq!(setup.russian_roulette_start(true), 0);
+        let given = BenchSetup {
+            russian_roulette_start: Some(4),
+            ..BenchSetup::default()
+        };
+        assert_eq!(given.russian_roulette_start(false), 4);
+        assert_eq!(given.russian_roulette_start(true), 4);
     }
 
     #[test]

@@ -8,9 +8,7 @@ use clap::ValueEnum;
 use super::options::{RenderOptions, SceneArgs};
 use super::DeviceArgs;
 use crate::bench::{format_table, run_bench, BenchSetup};
-use crate::render::settings::{
-    default_russian_roulette_start, Integrator, LightSelection, RenderSettings,
-};
+use crate::render::settings::{Integrator, LightSelection, RenderSettings};
 
 /// Arguments of `vkpath bench`. Its defaults are `BenchSetup::default()`'s: a smaller image
 /// than `render`'s, and a list of integrators instead of one.
@@ -174,17 +172,11 @@ pub fn run(args: &BenchArgs) -> anyhow::Result<()> {
     };
     let context = args.device.create_context()?;
     let guiding = settings.guiding;
-    // Each run takes its own roulette default: guided runs none, unguided from vertex 3.
-    let given_roulette_start = args.render.russian_roulette_start;
     let setup = BenchSetup {
         repeats: args.repeats,
-        settings: RenderSettings {
-            russian_roulette_start: given_roulette_start
-                .unwrap_or(default_russian_roulette_start(false)),
-            ..settings
-        },
-        guided_russian_roulette_start: given_roulette_start
-            .unwrap_or(default_russian_roulette_start(true)),
+        settings,
+        // Each run takes its own roulette default: guided runs none, unguided from vertex 3.
+        russian_roulette_start: args.render.russian_roulette_start,
         reference_spp: args.reference_spp,
         integrators: args.integrators.clone(),
         light_selections: args.light_selections.clone().unwrap_or_default(),

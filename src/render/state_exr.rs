@@ -102,6 +102,28 @@ pub fn write_state(path: &Path, state: &Accumulation, metadata: &RenderMetadata)
     Ok(())
 }
 
+/// The render metadata that a vkpath EXR records (`vkpath render`'s images, checkpoints,
+/// shards, merged files), read from its header alone: no pixel is read. A file without the
+/// metadata is refused with a message that says so.
+pub fn read_metadata(path: &Path) -> Result<RenderMetadata> {
+    let fail = |message: String| Error::from(ImageError::read(path, message));
+    let meta = exr::meta::MetaData::read_from_file(path, false).map_err(|e| fail(e.to_string()))?;
+    let mut attributes = BTreeMap::new();
+    for header in meta.headers.iter() {
+        let both = header
+            .shared_attributes
+            .other
+            .iter()
+            .chain(header.own_attributes.other.iter());
+        for (name, value) in both {
+            if let AttributeValue::Text(text) = value {
+                attributes.insert(name.to_string(), text.to_string());
+            }
+        }
+    }
+    RenderMetadata::from_attributes(&attributes).map_err(&fail)
+}
+
 /// Reads a file that `write_state` wrote: the state and its metadata. Files without the
 /// state channels or the metadata, or claiming more than `MAX_EXR_PIXELS`, are refused
 /// with a message that says so.
@@ -246,10 +268,14 @@ mod tests {
         let (read, read_metadata) = read_state(&path).unwrap();
         assert_eq!(read, state);
         assert_eq!(read_metadata, metadata);
-        // An image without the state is refused with a reason.
+        // The header alone gives the same metadata.
+        assert_eq!(super::read_metadata(&path).unwrap(), metadata);
+        // An image without the state is refused with a reason; without the metadata too.
         let plain = dir.path().join("plain.exr");
         crate::image_io::output::save_image(&plain, &state.image(), &Default::default()).unwrap();
         let message = read_state(&plain).unwrap_err().to_string();
+        assert!(message.contains("no vkpath attribute"), "{message}");
+        let message = super::read_metadata(&plain).unwrap_err().to_string();
         assert!(message.contains("no vkpath attribute"), "{message}");
     }
 
