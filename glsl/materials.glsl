@@ -88,7 +88,14 @@ bool has_material_texture(uint material_index, uint slot) {
 // Whether the scene has any texture (the host specializes it; false compiles lookups out).
 layout(constant_id = SPEC_SCENE_HAS_TEXTURES) const bool SCENE_HAS_TEXTURES = true;
 // Whether any material has transmission or a clear coat (false compiles their lobes out).
+// The build for scenes without them (WITHOUT_LAYERS) holds a constant false instead, so
+// that its SPIR-V carries none of glsl/layered_bsdf.glsl: lavapipe translates and optimises
+// a kernel's whole SPIR-V at every start, dead code too (docs/performance.md, "Start-up").
+#ifdef WITHOUT_LAYERS
+const bool SCENE_HAS_LAYERS = false;
+#else
 layout(constant_id = SPEC_SCENE_HAS_LAYERS) const bool SCENE_HAS_LAYERS = true;
+#endif
 
 // clearcoatNormalTexture.scale of material i.
 float get_material_clearcoat_normal_scale(uint material_index) {

@@ -336,7 +336,7 @@ fn render(
         Traversal::ConstantTriangles
     };
     // The path tracer's build for the traversal (crate::kernels), with check's own macros.
-    let build = traversal.build(false)?;
+    let build = traversal.build(false, false)?;
     let mut macros = build.macros.to_vec();
     if variant != Variant::AsYourFileRuns {
         macros.push(("IGNORE_START_SURFACE", "1"));

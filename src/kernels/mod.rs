@@ -250,12 +250,29 @@ mod tests {
 
     #[test]
     fn each_traversal_and_material_choice_has_its_path_tracer_build() {
-        let name = |traversal: Traversal, materials| traversal.build(materials).unwrap().name;
-        assert_eq!(name(Traversal::ConstantTriangles, false), "path_tracer");
-        assert_eq!(name(Traversal::Linear, false), "path_tracer");
-        assert_eq!(name(Traversal::Bvh, false), "path_tracer_bvh");
-        assert_eq!(name(Traversal::Linear, true), "path_tracer_materials");
-        assert_eq!(name(Traversal::Bvh, true), "path_tracer_materials_bvh");
+        let name = |traversal: Traversal, materials, layers| {
+            traversal.build(materials, layers).unwrap().name
+        };
+        for layers in [false, true] {
+            assert_eq!(
+                name(Traversal::ConstantTriangles, false, layers),
+                "path_tracer"
+            );
+            assert_eq!(name(Traversal::Linear, false, layers), "path_tracer");
+            assert_eq!(name(Traversal::Bvh, false, layers), "path_tracer_bvh");
+            assert_eq!(
+                name(Traversal::Linear, true, layers),
+                "path_tracer_materials"
+            );
+        }
+        assert_eq!(
+            name(Traversal::Bvh, true, true),
+            "path_tracer_materials_bvh"
+        );
+        assert_eq!(
+            name(Traversal::Bvh, true, false),
+            "path_tracer_materials_bvh_without_layers"
+        );
         for build in PATH_TRACER.builds() {
             assert!(build.embedded_spirv().is_ok(), "{}", build.name);
         }
@@ -264,8 +281,8 @@ mod tests {
 
     #[test]
     fn rows_and_constants_follow_the_build() {
-        let bvh = Traversal::Bvh.build(false).unwrap();
-        let plain = Traversal::Linear.build(false).unwrap();
+        let bvh = Traversal::Bvh.build(false, false).unwrap();
+        let plain = Traversal::Linear.build(false, false).unwrap();
         let binds = |build: &Build, resource| {
             PATH_TRACER
                 .bindings_of(build)

@@ -280,7 +280,10 @@ impl Renderer {
             ),
         };
         let gpu_scene = GpuScene::upload(context, &commands, scene, camera, &settings, traversal)?;
-        let build = traversal.build(scene.needs_material_kernels())?;
+        let build = traversal.build(
+            scene.needs_material_kernels(),
+            scene.needs_layered_kernels(),
+        )?;
         let guiding = settings.guiding.is_some();
         let loops = LoopCoefficients::path_tracer(traversal, guiding);
         let loop_limit = LoopLimit::of(context);

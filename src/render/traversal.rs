@@ -3,7 +3,7 @@
 
 use crate::contract;
 use crate::error::Result;
-use crate::kernels::builds::{USE_BVH, USE_MATERIALS};
+use crate::kernels::builds::{USE_BVH, USE_MATERIALS, WITHOUT_LAYERS};
 use crate::kernels::{Build, PATH_TRACER};
 use crate::render::settings::Accel;
 use crate::scene::Triangle;
@@ -59,14 +59,20 @@ impl Traversal {
 
     /// The build of the path tracer (`crate::kernels::PATH_TRACER`) for this traversal,
     /// with glTF materials (the glTF model of `glsl/surface.glsl`) or the workshop's diffuse
-    /// triangles.
-    pub fn build(self, materials: bool) -> Result<Build> {
+    /// triangles; with the layered lobes (`Scene::needs_layered_kernels`) or, where the BVH
+    /// traces glTF materials without them, the build that leaves them out (`WITHOUT_LAYERS`:
+    /// the same images, a faster start). The other material build keeps them whatever the
+    /// scene, one build fewer to compile for `--accel none`.
+    pub fn build(self, materials: bool, layers: bool) -> Result<Build> {
         let mut macros = Vec::new();
         if self == Traversal::Bvh {
             macros.push(USE_BVH);
         }
         if materials {
             macros.push(USE_MATERIALS);
+            if self == Traversal::Bvh && !layers {
+                macros.push(WITHOUT_LAYERS);
+            }
         }
         PATH_TRACER.build_with(&macros)
     }

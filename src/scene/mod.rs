@@ -176,6 +176,12 @@ impl Scene {
             || self.environment.as_ref().is_some_and(|e| e.emits_light())
     }
 
+    /// Whether the material kernels need their layered lobes (`SCENE_HAS_LAYERS`): some
+    /// material has transmission, a clear coat, sheen, specular textures or is unlit.
+    pub fn needs_layered_kernels(&self) -> bool {
+        self.materials.as_ref().is_some_and(|m| m.uses_layers())
+    }
+
     /// The workshop's Cornell box with its camera (`scenes/workshop_cornell_box.json`,
     /// embedded in the binary).
     pub fn builtin_cornell_box() -> Result<Scene, SceneError> {
