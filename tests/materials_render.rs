@@ -5,6 +5,8 @@
 
 mod common;
 
+use common::scenes::{glossy_box, white_metal};
+
 use glam::{UVec4, Vec2, Vec3, Vec4};
 use vkpath::camera::Camera;
 use vkpath::cpu::brdf::{get_brdf, MaterialSample};
@@ -125,15 +127,6 @@ fn pixel_ray(camera: &Camera, width: u32, height: u32, x: u32, y: u32) -> Vec3 {
     (plane.left_bottom + u * plane.right + v * plane.up - plane.camera_position).normalize()
 }
 
-fn white_metal(roughness: f32) -> PbrMaterial {
-    PbrMaterial {
-        metallic: 1.0,
-        roughness,
-        specular: 1.0,
-        ..PbrMaterial::lambertian(Vec3::ONE, Vec3::ZERO, false)
-    }
-}
-
 /// Directional albedo of a white metal (F = 1): the integral of f (n.l) over the hemisphere,
 /// by the midpoint rule in (cos theta, phi) on 600 x 1200 cells (error ~1e-4 for roughness
 /// >= 0.3, far below the render's noise).
@@ -233,48 +226,6 @@ fn block_means(image: &RenderedImage) -> MeanImage {
     .unwrap()
     .block_average(8)
     .unwrap()
-}
-
-/// The test glTF's open box with glossy walls: metal walls, a plastic floor.
-fn glossy_box(roughness: f32) -> Scene {
-    let mut scene =
-        Scene::load(std::path::Path::new(&common::fixture("emissive_quad.gltf"))).unwrap();
-    let shading: Vec<TriangleShading> = scene
-        .triangles
-        .iter()
-        .map(|t| TriangleShading {
-            material: if t.emission.max_element() > 0.0 {
-                0
-            } else if t.normal.y > 0.5 {
-                1
-            } else {
-                2
-            },
-            normals: [t.normal; 3],
-            tex_coords: [Vec2::ZERO; 3],
-            tangents: [Vec4::ZERO; 3],
-        })
-        .collect();
-    let light = scene
-        .triangles
-        .iter()
-        .find(|t| t.emission.max_element() > 0.0)
-        .unwrap();
-    let mut plastic = PbrMaterial::lambertian(Vec3::new(0.7, 0.2, 0.2), Vec3::ZERO, false);
-    plastic.specular = 1.0;
-    plastic.roughness = roughness;
-    let mut metal = white_metal(roughness);
-    metal.base_color = Vec4::new(0.9, 0.8, 0.5, 1.0);
-    scene.materials = Some(SceneMaterials {
-        materials: vec![
-            PbrMaterial::lambertian(Vec3::ZERO, light.emission, light.double_sided),
-            plastic,
-            metal,
-        ],
-        textures: Vec::new(),
-        triangles: shading,
-    });
-    scene
 }
 
 #[test]

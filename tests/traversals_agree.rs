@@ -5,10 +5,17 @@
 
 mod common;
 
-use glam::{Vec2, Vec3, Vec4};
 use vkpath::render::Traversal;
-use vkpath::scene::materials::{PbrMaterial, SceneMaterials, TriangleShading};
 use vkpath::{Integrator, RenderSettings, Renderer, Scene};
+
+/// How many of the values differ in their bits.
+fn differing_bits(a: &[f32], b: &[f32]) -> usize {
+    assert_eq!(a.len(), b.len());
+    a.iter()
+        .zip(b)
+        .filter(|(x, y)| x.to_bits() != y.to_bits())
+        .count()
+}
 
 /// The embedded linear kernel's SPIR-V words.
 fn path_tracer_spirv() -> Vec<u32> {
@@ -42,11 +49,7 @@ fn constant_triangles_render_exactly_as_the_texel_loop() {
             constant.iter().any(|&v| v > 0.0),
             "{integrator:?}: a black image"
         );
-        let differing = constant
-            .iter()
-            .zip(&linear)
-            .filter(|(a, b)| a.to_bits() != b.to_bits())
-            .count();
+        let differing = differing_bits(&constant, &linear);
         assert_eq!(
             differing,
             0,
@@ -71,54 +74,6 @@ fn constant_triangles_refuse_a_scene_that_does_not_fit() {
     );
     let message = result.err().expect("an error").to_string();
     assert!(message.contains("at most 64 triangles"), "{message}");
-}
-
-/// `tests/data/emissive_quad.gltf` with glTF materials: its light, a glossy gold metal on
-/// the floor (normal up) and a rough red plastic elsewhere; no layered lobes.
-fn glossy_quad_scene() -> Scene {
-    let mut scene =
-        Scene::load(std::path::Path::new(&common::fixture("emissive_quad.gltf"))).unwrap();
-    let light = *scene
-        .triangles
-        .iter()
-        .find(|t| t.emission.max_element() > 0.0)
-        .unwrap();
-    let triangles = scene
-        .triangles
-        .iter()
-        .map(|t| TriangleShading {
-            material: if t.emission.max_element() > 0.0 {
-                0
-            } else if t.normal.y > 0.5 {
-                1
-            } else {
-                2
-            },
-            normals: [t.normal; 3],
-            tex_coords: [Vec2::ZERO; 3],
-            tangents: [Vec4::ZERO; 3],
-        })
-        .collect();
-    let gold = PbrMaterial {
-        metallic: 1.0,
-        roughness: 0.3,
-        ..PbrMaterial::lambertian(Vec3::new(0.9, 0.8, 0.5), Vec3::ZERO, false)
-    };
-    let plastic = PbrMaterial {
-        specular: 1.0,
-        roughness: 0.6,
-        ..PbrMaterial::lambertian(Vec3::new(0.7, 0.2, 0.2), Vec3::ZERO, false)
-    };
-    scene.materials = Some(SceneMaterials {
-        materials: vec![
-            PbrMaterial::lambertian(Vec3::ZERO, light.emission, light.double_sided),
-            gold,
-            plastic,
-        ],
-        textures: Vec::new(),
-        triangles,
-    });
-    scene
 }
 
 /// Renders `scene` with the kernel that `Renderer::new` picks and with the build that keeps
@@ -157,7 +112,7 @@ fn the_material_build_without_layers_renders_exactly_as_the_one_with_them() {
     // A glTF scene whose materials have no transmission, coat or sheen gets the build
     // without the layered lobes (WITHOUT_LAYERS: a constant false where the other build has
     // SCENE_HAS_LAYERS specialized to false), which must change no bit.
-    let scene = glossy_quad_scene();
+    let scene = common::scenes::glossy_box(0.3);
     assert!(scene.needs_material_kernels() && !scene.needs_layered_kernels());
     for integrator in [Integrator::PathTracing, Integrator::Mis] {
         let (picked, full) = render_both_material_builds(&scene, integrator);
@@ -165,11 +120,7 @@ fn the_material_build_without_layers_renders_exactly_as_the_one_with_them() {
             picked.iter().any(|&v| v > 0.0),
             "{integrator:?}: a black image"
         );
-        let differing = picked
-            .iter()
-            .zip(&full)
-            .filter(|(a, b)| a.to_bits() != b.to_bits())
-            .count();
+        let differing = differing_bits(&picked, &full);
         assert_eq!(
             differing,
             0,

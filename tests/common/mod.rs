@@ -3,6 +3,7 @@
 #![allow(dead_code)]
 
 pub mod runs;
+pub mod scenes;
 pub mod twins;
 
 use std::path::Path;
