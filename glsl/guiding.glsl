@@ -1,11 +1,13 @@
 // Path guiding's guide: where light arrives from, learned per region of the scene, as a
 // distribution of directions to sample (--guiding, after Mueller et al. 2017's "practical
-// path guiding", simplified for a compute shader). Space is a uniform grid of cells over
-// the scene's box; each cell holds a histogram over GUIDE_BIN_COUNT bins of equal solid
-// angle (the equal-area map z = cos theta, phi, cut GUIDE_DIRECTION_RESOLUTION ways each),
-// stored as cumulative probabilities. A fixed layout with no pointers: one texel fetch
-// finds a cell, a binary search of seven fetches samples a bin, two give a density,
-// and the memory is cells x 1 KB, known before training. A cell that training did not
+// path guiding", simplified for a compute shader). Space is a uniform grid over the scene's
+// box, and each grid position has a cell for each way a surface there can face (the
+// normal's dominant axis and sign): each cell holds a histogram over GUIDE_BIN_COUNT bins of
+// equal solid angle (the equal-area map z = cos theta, phi, cut GUIDE_DIRECTION_RESOLUTION
+// ways each), stored as cumulative probabilities. A fixed layout with no pointers: four
+// texel fetches find a cell (the last in a table of grid position and orientation to cell,
+// which gives cells only where the scene has surfaces), a binary search of seven fetches
+// samples a bin, two give a density, and the memory is cells x 1 KB, known before training. A cell that training did not
 // reach often enough holds zeros and is not guided.
 //
 // Sampling is a one-sample mixture with the BSDF: with probability GUIDE_BSDF_FRACTION the
@@ -18,13 +20,25 @@
 #ifndef VKPATH_GUIDING_GLSL
 #define VKPATH_GUIDING_GLSL
 
-// What get_guide_cell_index() returns outside the grid (and for an empty guide).
+// What get_guide_cell_index() returns outside the grid, where no surface faces the normal's
+// way, and for an empty guide.
 #define GUIDE_NO_CELL 0xffffffffu
 
-// The cell of the grid that holds `position` (x fastest, then y, then z), GUIDE_NO_CELL
-// outside the grid.
-uint get_guide_cell_index(vec3 position) {
+// The orientation of a unit normal: 2 axis + (1 if it points down that axis), its axis the
+// first of its largest components. The two faces of a wall, or a floor and the wall it
+// meets, see light from different places, so they learn in different cells.
+uint get_guide_orientation(vec3 normal) {
+    vec3 a = abs(normal);
+    uint axis = (a.x >= a.y && a.x >= a.z) ? 0u : ((a.y >= a.z) ? 1u : 2u);
+    return 2u * axis + ((normal[axis] < 0.0) ? 1u : 0u);
+}
+
+// The slot of the guide's cell table for a point at `position` with `normal` (orientation
+// slowest, then z, y, x fastest), GUIDE_NO_CELL outside the grid and for an empty guide;
+// `cell_count` is the guide's number of cells.
+uint get_guide_table_slot(vec3 position, vec3 normal, out uint cell_count) {
     uvec4 header = texelFetch(g_guide_texels, 0);
+    cell_count = header.w;
     if (header.w == 0u)
         return GUIDE_NO_CELL;
     vec3 bounds_min = uintBitsToFloat(texelFetch(g_guide_texels, 1).xyz);
@@ -33,7 +47,20 @@ uint get_guide_cell_index(vec3 position) {
     if (!(all(greaterThanEqual(cell, vec3(0.0))) && all(lessThan(cell, vec3(header.xyz)))))
         return GUIDE_NO_CELL;
     uvec3 coordinates = uvec3(cell);
-    return (coordinates.z * header.y + coordinates.y) * header.x + coordinates.x;
+    return ((get_guide_orientation(normal) * header.z + coordinates.z) * header.y + coordinates.y) * header.x + coordinates.x;
+}
+
+// The cell that holds the distribution of a point at `position` whose surface faces
+// `normal` (unit, on the side the ray came from): the cell table's entry for its grid
+// position and orientation. GUIDE_NO_CELL outside the grid, and where no triangle of the
+// scene could face that way (the host gives cells only to those: vkpath::guiding::GuideGrid).
+uint get_guide_cell_index(vec3 position, vec3 normal) {
+    uint cell_count;
+    uint slot = get_guide_table_slot(position, normal, cell_count);
+    if (slot == GUIDE_NO_CELL)
+        return GUIDE_NO_CELL;
+    uint table_texel = GUIDE_HEADER_TEXEL_COUNT + cell_count * GUIDE_CELL_TEXEL_COUNT + slot / 4u;
+    return texelFetch(g_guide_texels, int(table_texel))[slot % 4u];
 }
 
 // The directional bin of a unit world-space direction: row (cos theta + 1) / 2, column

@@ -37,12 +37,13 @@ bool is_guide_training() {
     return GUIDING == GUIDING_ON && g_guide_training != 0u;
 }
 
-// The grid cell of a vertex that takes light samples (what guides and what trains),
-// GUIDE_NO_CELL without guiding, outside the grid or where no light samples are taken.
-uint get_path_guide_grid_cell(vec3 position, bool light_sampled) {
+// The cell of a vertex that takes light samples (what guides and what trains), at
+// `position` on a surface whose geometric normal on the ray's side is `normal`;
+// GUIDE_NO_CELL without guiding, where the guide has no cell or no light samples are taken.
+uint get_path_guide_grid_cell(vec3 position, vec3 normal, bool light_sampled) {
     if (GUIDING == GUIDING_OFF || !light_sampled)
         return GUIDE_NO_CELL;
-    return get_guide_cell_index(position);
+    return get_guide_cell_index(position, normal);
 }
 
 // Whether the guide may sample directions at `surface`: Lambert always; glTF materials unless

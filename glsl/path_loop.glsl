@@ -145,7 +145,7 @@ vec3 get_path_radiance(vec3 ray_origin, vec3 ray_direction, inout uvec2 seed) {
         // 2. Light samples (none at glass), weighed by MIS against the direction sampling of
         // step 3, guided where the guide knows the vertex's cell
         light_sampled = takes_light_samples() && !is_transmissive(surface);
-        uint guide_grid_cell = get_path_guide_grid_cell(ray_origin, light_sampled);
+        uint guide_grid_cell = get_path_guide_grid_cell(ray_origin, surface.geometric_normal, light_sampled);
         g_path.guide_cell = get_path_guide_cell(guide_grid_cell, surface);
         if (light_sampled) {
             light_origin = get_light_sample_origin(surface, ray_origin);

@@ -27,6 +27,7 @@ layout(push_constant) uniform probe_push_constants {
 
 struct probe_input_t {
     vec4 position;        // xyz: world space; w: unused
+    vec4 normal;          // xyz: the unit normal of the surface there; w: unused
     vec4 direction;       // xyz: a unit direction; w: unused
     vec4 random_numbers;  // xy: sample_guide_direction()'s; zw: unused
 };
@@ -49,7 +50,7 @@ void main() {
         return;
     probe_input_t probe_input = g_inputs[index];
     vec3 direction = probe_input.direction.xyz;
-    uint cell = get_guide_cell_index(probe_input.position.xyz);
+    uint cell = get_guide_cell_index(probe_input.position.xyz, probe_input.normal.xyz);
     bool guided = is_guided_cell(cell);
     probe_output_t result;
     result.cell_bin = uvec4(cell, guided ? 1u : 0u, get_guide_bin_index(direction), 0u);

@@ -255,9 +255,13 @@
 // resolution and cell count; its lower corner; its cells per unit length), then
 // GUIDE_CELL_TEXEL_COUNT texels per cell: the cumulative probabilities of its
 // GUIDE_BIN_COUNT directional bins (floats, 1 at the last bin; all 0 where the cell is not
-// guided). Bound by glsl/probe_guiding.comp.
+// guided), then the cell table: for each of the 6 orientations and grid position, the cell
+// or 0xffffffff, padded to whole texels. Bound by glsl/probe_guiding.comp.
 #define BINDING_GUIDE 18
 #define GUIDE_HEADER_TEXEL_COUNT 3
+// Orientations of the guide's cells (get_guide_orientation()): a normal's dominant axis
+// (x, y, z) and its sign.
+#define GUIDE_ORIENTATION_COUNT 6
 // Bins per axis of a cell's directional histogram over the sphere's equal-area cylindrical
 // map (cos theta, phi): GUIDE_DIRECTION_RESOLUTION^2 bins of equal solid angle.
 #define GUIDE_DIRECTION_RESOLUTION 16

@@ -10,6 +10,7 @@
 
 mod common;
 
+use glam::Vec3;
 use vkpath::cpu::guiding::GuideTexels;
 use vkpath::cpu::{
     add_cpu_guided_samples, train_cpu_guide, CpuGuiding, CpuImage, CpuRenderSettings,
@@ -107,15 +108,16 @@ fn gpu_and_cpu_train_the_same_guide_and_render_the_same_guided_image() {
     common::assert_validation_silent(&context);
 
     // The guide.
-    let grid = GuideGrid::around_points(scene.triangles.iter().flat_map(|t| t.positions));
-    assert_eq!(*gpu_guide.grid(), grid);
+    let positions: Vec<[Vec3; 3]> = scene.triangles.iter().map(|t| t.positions).collect();
+    let grid = GuideGrid::around_triangles(&positions);
+    assert_eq!(gpu_guide.grid(), &grid);
     let plane = camera.image_plane(settings.aspect());
     let cpu_settings = cpu_settings(&settings);
     let cpu_guide = train_cpu_guide(
         &scene.triangles,
         &plane,
         &cpu_settings,
-        grid,
+        grid.clone(),
         settings.guiding.unwrap(),
     )
     .unwrap();

@@ -15,8 +15,9 @@ use vkpath::guiding::{GuideGrid, GuideSplats};
 use vkpath::probe::guiding_probe::{GuidingProbeInput, GuidingProbeRunner};
 use vkpath::probe::inputs::InputRng;
 
-/// A guide on a 4 x 2 x 3 grid over [0, 4] x [0, 2] x [0, 3] whose cells learned lobes
-/// around directions of their own; cells with x >= 3 got too few splats and stay unguided.
+/// A guide on a 4 x 2 x 3 grid over [0, 4] x [0, 2] x [0, 3] whose cells (each position's
+/// six orientations) learned lobes around directions of their own; cells with x >= 3 got too
+/// few splats and stay unguided.
 fn trained_guide(rng: &mut InputRng) -> vkpath::guiding::Guide {
     let grid = GuideGrid::around(Vec3::ZERO, Vec3::new(4.0, 2.0, 3.0), 4);
     assert_eq!(grid.resolution.to_array(), [4, 2, 3]);
@@ -27,6 +28,7 @@ fn trained_guide(rng: &mut InputRng) -> vkpath::guiding::Guide {
         let direction = rng.unit_vector();
         splats.splat(
             position,
+            rng.unit_vector(),
             direction,
             axis.dot(direction).max(0.0).powi(6) * 10.0,
         );
@@ -34,6 +36,7 @@ fn trained_guide(rng: &mut InputRng) -> vkpath::guiding::Guide {
     for _ in 0..20 {
         splats.splat(
             rng.in_box(Vec3::new(3.0, 0.0, 0.0), Vec3::new(4.0, 2.0, 3.0)),
+            rng.unit_vector(),
             rng.unit_vector(),
             1.0,
         );
@@ -45,7 +48,7 @@ fn trained_guide(rng: &mut InputRng) -> vkpath::guiding::Guide {
 fn gpu_and_cpu_find_the_same_cells_bins_densities_and_samples() {
     let mut rng = InputRng::new(2202);
     let guide = trained_guide(&mut rng);
-    assert_eq!(guide.guided_cell_count(), 18);
+    assert_eq!(guide.guided_cell_count(), 6 * 18);
     let texels = GuideTexels {
         words: guide.words(),
     };
@@ -61,12 +64,24 @@ fn gpu_and_cpu_find_the_same_cells_bins_densities_and_samples() {
             30 => Vec3::new(0.6, 0.0, 0.8),
             _ => rng.unit_vector(),
         };
+        // Every 7th normal is a tie of two axes (the first wins) or an axis.
+        let normal = match index % 7 {
+            0 => Vec3::new(-1.0, 1.0, 0.0).normalize(),
+            1 => Vec3::new(0.0, 1.0, -1.0).normalize(),
+            2 => -Vec3::Z,
+            _ => rng.unit_vector(),
+        };
         let random_numbers = match index % 50 {
             0 => Vec2::ZERO,
             25 => Vec2::splat(vkpath::contract::ONE_MINUS_EPSILON),
             _ => Vec2::new(rng.uniform(), rng.uniform()),
         };
-        inputs.push(GuidingProbeInput::new(position, direction, random_numbers));
+        inputs.push(GuidingProbeInput::new(
+            position,
+            normal,
+            direction,
+            random_numbers,
+        ));
     }
     let context = common::validated_context();
     let runner = GuidingProbeRunner::new(&context, guide.words()).expect("the probe runs");
@@ -75,11 +90,12 @@ fn gpu_and_cpu_find_the_same_cells_bins_densities_and_samples() {
     let (mut worst_density, mut worst_angle) = (0f32, 0f32);
     for (input, output) in inputs.iter().zip(&outputs) {
         let position = Vec3::from_slice(&input.position[..3]);
+        let normal = Vec3::from_slice(&input.normal[..3]);
         let direction = Vec3::from_slice(&input.direction[..3]);
         let random_numbers = Vec2::from_slice(&input.random_numbers[..2]);
-        let cell = get_guide_cell_index(texels, position);
-        // Cells: the same arithmetic (a subtraction, a product, floor), correctly rounded on
-        // every Vulkan device, so the same index.
+        let cell = get_guide_cell_index(texels, position, normal);
+        // Cells: the same arithmetic (a subtraction, a product, floor; comparisons of the
+        // normal's components), correctly rounded on every Vulkan device, so the same index.
         assert_eq!(output.cell_bin[0], cell, "cell of {position}");
         assert_eq!(
             output.cell_bin[1] == 1,
@@ -161,7 +177,7 @@ fn gpu_samples_fall_in_the_bin_they_were_sampled_from() {
         words: guide.words(),
     };
     let position = Vec3::new(1.5, 1.0, 1.5);
-    let cell = get_guide_cell_index(texels, position);
+    let cell = get_guide_cell_index(texels, position, Vec3::Y);
     assert!(is_guided_cell(texels, cell));
     let random: Vec<Vec2> = (0..50_000)
         .map(|_| Vec2::new(rng.uniform(), rng.uniform()))
@@ -170,7 +186,7 @@ fn gpu_samples_fall_in_the_bin_they_were_sampled_from() {
     let runner = GuidingProbeRunner::new(&context, guide.words()).expect("the probe runs");
     let first: Vec<GuidingProbeInput> = random
         .iter()
-        .map(|&r| GuidingProbeInput::new(position, Vec3::Z, r))
+        .map(|&r| GuidingProbeInput::new(position, Vec3::Y, Vec3::Z, r))
         .collect();
     let sampled = runner.run(&first).expect("the probe runs");
     let again: Vec<GuidingProbeInput> = sampled
@@ -178,6 +194,7 @@ fn gpu_samples_fall_in_the_bin_they_were_sampled_from() {
         .map(|s| {
             GuidingProbeInput::new(
                 position,
+                Vec3::Y,
                 Vec3::from_slice(&s.sampled_density[..3]),
                 Vec2::ZERO,
             )

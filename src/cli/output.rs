@@ -136,8 +136,10 @@ pub struct RenderReport {
 /// `--guiding`'s guide in a `RenderReport`.
 #[derive(Serialize)]
 pub struct GuideSummary {
-    /// Cells of its grid along x, y and z.
+    /// Positions of its grid along x, y and z.
     pub grid: [u32; 3],
+    /// Cells in all: one per grid position and orientation that a surface there can face.
+    pub cells: u32,
     /// Cells that training taught.
     pub guided_cells: u32,
     /// Bytes it takes on the device.
@@ -155,6 +157,7 @@ impl GuideSummary {
     fn new(report: &GuideReport) -> GuideSummary {
         GuideSummary {
             grid: report.grid_resolution,
+            cells: report.cell_count,
             guided_cells: report.guided_cell_count,
             memory_bytes: report.memory_bytes,
             training_iterations: report.iterations.clone(),
@@ -163,13 +166,14 @@ impl GuideSummary {
         }
     }
 
-    /// "guide: XxYxZ cells, G taught, M MB; trained on N spp (1+2+...) in S s" (or "from
-    /// the checkpoint").
+    /// "guide: XxYxZ grid, C cells, G taught, M MB; trained on N spp (1+2+...) in S s" (or
+    /// "from the checkpoint").
     fn line(&self) -> String {
         let [x, y, z] = self.grid;
         if self.from_checkpoint {
             return format!(
-                "guide: {x}x{y}x{z} cells, {} taught, {:.2} MB; from the checkpoint",
+                "guide: {x}x{y}x{z} grid, {} cells, {} taught, {:.2} MB; from the checkpoint",
+                self.cells,
                 self.guided_cells,
                 self.memory_bytes as f64 / 1e6
             );
@@ -181,7 +185,8 @@ impl GuideSummary {
             .map(u32::to_string)
             .collect();
         format!(
-            "guide: {x}x{y}x{z} cells, {} taught, {:.2} MB; trained on {total} spp ({}) in {:.2} s",
+            "guide: {x}x{y}x{z} grid, {} cells, {} taught, {:.2} MB; trained on {total} spp ({}) in {:.2} s",
+            self.cells,
             self.guided_cells,
             self.memory_bytes as f64 / 1e6,
             parts.join("+"),

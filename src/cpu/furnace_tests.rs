@@ -207,14 +207,15 @@ fn guided_furnace_with_a_guide_the_cpu_trained() {
     let path_length = 3;
     let triangles = furnace_box(albedo, emission);
     let expected = furnace_expectation(albedo, emission, path_length);
-    let grid = crate::guiding::GuideGrid::around_points(triangles.iter().flat_map(|t| t.positions));
+    let positions: Vec<[Vec3; 3]> = triangles.iter().map(|t| t.positions).collect();
+    let grid = crate::guiding::GuideGrid::around_triangles(&positions);
     for integrator in [INTEGRATOR_NEE, INTEGRATOR_MIS] {
         let settings = settings(integrator, path_length);
         let guide = crate::cpu::train_cpu_guide(
             &triangles,
             &camera_inside(),
             &settings,
-            grid,
+            grid.clone(),
             crate::guiding::training::GuideTraining { samples: 16 },
         )
         .unwrap();

@@ -21,21 +21,51 @@ pub struct GuideTexels<'a> {
     pub words: &'a [u32],
 }
 
-/// Twin of `get_guide_cell_index`.
-pub fn get_guide_cell_index(texels: GuideTexels, position: Vec3) -> u32 {
+/// Twin of `get_guide_orientation`: 2 axis + (1 if the normal points down it), the axis the
+/// first of its largest components.
+pub fn get_guide_orientation(normal: Vec3) -> u32 {
+    let a = normal.abs();
+    let axis = if a.x >= a.y && a.x >= a.z {
+        0
+    } else if a.y >= a.z {
+        1
+    } else {
+        2
+    };
+    2 * axis + u32::from(normal[axis as usize] < 0.0)
+}
+
+/// Twin of `get_guide_table_slot`, returning `(slot, cell_count)`. Reads only the header
+/// texels.
+pub fn get_guide_table_slot(texels: GuideTexels, position: Vec3, normal: Vec3) -> (u32, u32) {
     let header = fetch_texel(texels.words, 0);
+    let cell_count = header.w;
     if header.w == 0 {
-        return GUIDE_NO_CELL;
+        return (GUIDE_NO_CELL, cell_count);
     }
     let bounds_min = fetch_float_texel(texels.words, 1).truncate();
     let cells_per_unit = fetch_float_texel(texels.words, 2).truncate();
     let cell = ((position - bounds_min) * cells_per_unit).floor();
     let resolution = header.truncate().as_vec3();
     if !(cell.cmpge(Vec3::ZERO).all() && cell.cmplt(resolution).all()) {
-        return GUIDE_NO_CELL;
+        return (GUIDE_NO_CELL, cell_count);
     }
     let coordinates: UVec3 = cell.as_uvec3();
-    (coordinates.z * header.y + coordinates.y) * header.x + coordinates.x
+    let slot = ((get_guide_orientation(normal) * header.z + coordinates.z) * header.y
+        + coordinates.y)
+        * header.x
+        + coordinates.x;
+    (slot, cell_count)
+}
+
+/// Twin of `get_guide_cell_index`.
+pub fn get_guide_cell_index(texels: GuideTexels, position: Vec3, normal: Vec3) -> u32 {
+    let (slot, cell_count) = get_guide_table_slot(texels, position, normal);
+    if slot == GUIDE_NO_CELL {
+        return GUIDE_NO_CELL;
+    }
+    let table_texel = GUIDE_HEADER_TEXEL_COUNT + cell_count * GUIDE_CELL_TEXEL_COUNT + slot / 4;
+    fetch_texel(texels.words, table_texel as usize)[(slot % 4) as usize]
 }
 
 /// Twin of `get_guide_bin_index`.

@@ -20,15 +20,17 @@ use crate::cpu::surface::{get_bsdf, get_bsdf_density, BsdfSample, Surface, BSDF_
 use crate::cpu::texels::fetch_texel;
 use crate::cpu::workshop::M_PI;
 
-/// Twin of `get_path_guide_grid_cell`: the grid cell of a vertex that takes light samples,
-/// `GUIDE_NO_CELL` without guiding, outside the grid or where no light samples are taken.
+/// Twin of `get_path_guide_grid_cell`: the cell of a vertex that takes light samples, at
+/// `position` on a surface facing `normal`; `GUIDE_NO_CELL` without guiding, where the
+/// guide has no cell or no light samples are taken.
 pub fn get_path_guide_grid_cell(
     guide: Option<GuideTexels>,
     position: Vec3,
+    normal: Vec3,
     light_sampled: bool,
 ) -> u32 {
     match guide {
-        Some(texels) if light_sampled => get_guide_cell_index(texels, position),
+        Some(texels) if light_sampled => get_guide_cell_index(texels, position, normal),
         _ => GUIDE_NO_CELL,
     }
 }
@@ -191,8 +193,8 @@ mod tests {
     use crate::contract::GUIDE_BSDF_FRACTION;
     use crate::guiding::{GuideGrid, GuideSplats};
 
-    /// A guide on a 2 x 1 x 1 grid whose cell 0 learned a lobe around +z and cell 1
-    /// nothing.
+    /// A guide on a 2 x 1 x 1 grid whose cell 0 (facing +x) learned a lobe around +z and the
+    /// others nothing.
     fn lobe_guide() -> crate::guiding::Guide {
         let grid = GuideGrid::around(Vec3::ZERO, Vec3::new(2.0, 1.0, 1.0), 2);
         let mut splats = GuideSplats::new(grid);
@@ -201,6 +203,7 @@ mod tests {
             let direction = rng.unit_vector();
             splats.splat(
                 Vec3::new(0.5, 0.5, 0.5),
+                Vec3::X,
                 direction,
                 direction.z.max(0.0).powi(4),
             );
@@ -223,12 +226,25 @@ mod tests {
         let texels = guide.texels();
         let surface = floor_surface();
         let inside = Vec3::new(0.5, 0.5, 0.5);
-        assert_eq!(get_path_guide_grid_cell(None, inside, true), GUIDE_NO_CELL);
         assert_eq!(
-            get_path_guide_grid_cell(Some(texels), inside, false),
+            get_path_guide_grid_cell(None, inside, Vec3::X, true),
             GUIDE_NO_CELL
         );
-        assert_eq!(get_path_guide_grid_cell(Some(texels), inside, true), 0);
+        assert_eq!(
+            get_path_guide_grid_cell(Some(texels), inside, Vec3::X, false),
+            GUIDE_NO_CELL
+        );
+        assert_eq!(
+            get_path_guide_grid_cell(Some(texels), inside, Vec3::X, true),
+            0
+        );
+        // Facing +z, the same point is in another cell, which learned nothing.
+        let facing_up = get_path_guide_grid_cell(Some(texels), inside, Vec3::Z, true);
+        assert_eq!(facing_up, 8);
+        assert_eq!(
+            get_path_guide_cell(Some(texels), facing_up, &surface),
+            GUIDE_NO_CELL
+        );
         assert_eq!(get_path_guide_cell(Some(texels), 0, &surface), 0);
         // Cell 1 learned nothing: the BSDF samples alone there.
         assert_eq!(
@@ -282,7 +298,7 @@ mod tests {
     fn splats_add_with_carry_and_count_per_cell() {
         let guide = lobe_guide();
         let texels = guide.texels();
-        let grid = *guide.grid();
+        let grid = guide.grid();
         let words: Vec<AtomicU32> = (0..grid.splat_word_count())
             .map(|_| AtomicU32::new(0))
             .collect();

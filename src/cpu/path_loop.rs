@@ -205,7 +205,12 @@ pub fn get_path_radiance(
         // 2. Light samples (none at glass), weighed by MIS against the direction sampling of
         // step 3, guided where the guide knows the vertex's cell
         light_sampled = takes_light_samples(scene.integrator) && !is_transmissive(&surface);
-        let guide_grid_cell = get_path_guide_grid_cell(scene.guide, ray_origin, light_sampled);
+        let guide_grid_cell = get_path_guide_grid_cell(
+            scene.guide,
+            ray_origin,
+            surface.geometric_normal,
+            light_sampled,
+        );
         let guide_cell = get_path_guide_cell(scene.guide, guide_grid_cell, &surface);
         if light_sampled {
             light_origin = get_light_sample_origin(&surface, ray_origin);

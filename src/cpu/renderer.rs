@@ -220,8 +220,8 @@ fn add_pixel_samples(
 /// Twin of `Renderer::train_guide` on the CPU: the iterations of `training` over the whole
 /// image, each taking training samples from `GUIDE_TRAINING_FIRST_SAMPLE` on with the guide
 /// built so far, their splats added up by the host's `GuideTrainer` as the GPU's are.
-/// \param grid The guide's grid (the GPU render's: `GuideGrid::around_points` of the
-///        scene's vertices)
+/// \param grid The guide's grid (the GPU render's: `GuideGrid::around_triangles` of the
+///        scene's triangles)
 /// \return The final guide
 pub fn train_cpu_guide(
     scene_triangles: &[Triangle],
@@ -230,7 +230,7 @@ pub fn train_cpu_guide(
     grid: GuideGrid,
     training: GuideTraining,
 ) -> Result<Guide> {
-    let mut trainer = GuideTrainer::new(grid);
+    let mut trainer = GuideTrainer::new(grid.clone());
     let mut taken = 0u32;
     for samples in training.iterations() {
         let words: Vec<AtomicU32> = (0..grid.splat_word_count())
@@ -250,7 +250,7 @@ pub fn train_cpu_guide(
             &mut image,
         );
         let words: Vec<u32> = words.iter().map(|w| w.load(Ordering::Relaxed)).collect();
-        trainer.add_iteration(&GuideSplats::from_device_words(grid, &words)?);
+        trainer.add_iteration(&GuideSplats::from_device_words(&grid, &words)?);
         taken += samples;
     }
     Ok(trainer.into_guide())

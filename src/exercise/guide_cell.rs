@@ -115,7 +115,7 @@ pub fn render_guide_cell_display(
         .guide()
         .ok_or_else(|| Error::InvalidSettings("the render trained no guide".into()))?;
     let texels = guide.texels();
-    let cell = get_guide_cell_index(texels, point);
+    let cell = get_guide_cell_index(texels, point, normal);
     if !is_guided_cell(texels, cell) {
         return Err(Error::InvalidSettings(format!(
             "the guide's cell at {point} learned nothing (too few training paths reached it): \

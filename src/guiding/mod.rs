@@ -14,10 +14,10 @@ use glam::{UVec3, Vec3};
 
 use crate::contract::{
     GUIDE_BIN_COUNT, GUIDE_CELL_TEXEL_COUNT, GUIDE_HEADER_TEXEL_COUNT, GUIDE_MIN_SPLATS,
-    GUIDE_UNIFORM_FRACTION,
+    GUIDE_ORIENTATION_COUNT, GUIDE_UNIFORM_FRACTION,
 };
 use crate::cpu::guiding::{
-    get_guide_bin_index, get_guide_cell_index, get_guide_splat_units, GuideTexels, GUIDE_NO_CELL,
+    get_guide_bin_index, get_guide_splat_units, get_guide_table_slot, GuideTexels, GUIDE_NO_CELL,
 };
 use crate::error::{Error, Result};
 
@@ -25,59 +25,163 @@ use crate::error::{Error, Result};
 mod tests;
 pub mod training;
 
-/// Cells along the longest axis of the scene's box (the other axes get as many as keep the
-/// cells near cubes): 16^3 cells at most, 4 MB of guide.
+/// Grid positions along the longest axis of the scene's box (the other axes get as many as
+/// keep them near cubes): 16^3 positions at most, each with a cell per orientation that a
+/// surface there can face, so 6 x 16^3 cells (24 MB of guide) at the very most.
 pub const GUIDE_MAX_CELLS_PER_AXIS: u32 = 16;
 
-/// The guide's uniform grid of cells over a box.
-#[derive(Clone, Copy, Debug, PartialEq)]
+/// How far past a triangle's box (in cells) a grid position still counts as touched by it:
+/// a hit point the GPU computes can stray a rounding error outside the triangle's box.
+const TRIANGLE_CELL_MARGIN: f32 = 1e-3;
+
+/// How much smaller than a normal's largest component another may be and still count as
+/// dominant: where two are (nearly) equal, float rounding on the GPU may take either axis
+/// (`get_guide_orientation`), so both get a cell.
+const ORIENTATION_TIE_TOLERANCE: f32 = 1e-4;
+
+/// The guide's uniform grid over a box, and its cells: each grid position has a cell for
+/// each orientation (`get_guide_orientation`: a normal's dominant axis and sign) that a
+/// surface there can face, found through the cell table.
+#[derive(Clone, Debug, PartialEq)]
 pub struct GuideGrid {
-    /// Cells along x, y and z.
+    /// Grid positions along x, y and z.
     pub resolution: UVec3,
     /// The grid's lower corner, world space.
     pub bounds_min: Vec3,
-    /// Cells per unit length along each axis.
+    /// Grid positions per unit length along each axis.
     pub cells_per_unit: Vec3,
+    /// For each orientation and grid position (x fastest, then y, z, orientation), its cell
+    /// or `GUIDE_NO_CELL`; the cells are numbered in this order. Padded with
+    /// `GUIDE_NO_CELL` to whole texels.
+    cell_table: Vec<u32>,
+    /// Cells in the table.
+    cell_count: u32,
+}
+
+/// Words of the cell table of a grid of `resolution`: one per orientation and grid position,
+/// rounded up to whole texels of four (`None` if that overflows).
+fn cell_table_word_count(resolution: UVec3) -> Option<usize> {
+    let slots = u64::from(GUIDE_ORIENTATION_COUNT)
+        * u64::from(resolution.x)
+        * u64::from(resolution.y)
+        * u64::from(resolution.z);
+    usize::try_from(slots.div_ceil(4) * 4).ok()
 }
 
 impl GuideGrid {
     /// The grid over the box from `bounds_min` to `bounds_max`, padded by 10^-3 of its
     /// largest extent so that points on its faces fall inside, with
-    /// `max_cells_per_axis` cells along the longest axis and the nearest whole number in
-    /// proportion along the others (at least 1).
+    /// `max_cells_per_axis` positions along the longest axis and the nearest whole number in
+    /// proportion along the others (at least 1), and a cell for every position and
+    /// orientation.
     pub fn around(bounds_min: Vec3, bounds_max: Vec3, max_cells_per_axis: u32) -> GuideGrid {
+        let mut grid = GuideGrid::without_cells(bounds_min, bounds_max, max_cells_per_axis);
+        grid.cell_table.iter_mut().for_each(|slot| *slot = 0);
+        grid.number_cells();
+        grid
+    }
+
+    /// As `around`, with no cells yet.
+    fn without_cells(bounds_min: Vec3, bounds_max: Vec3, max_cells_per_axis: u32) -> GuideGrid {
         let extent = (bounds_max - bounds_min).max(Vec3::ZERO);
         let padding = (extent.max_element() * 1e-3).max(1e-6);
         let low = bounds_min - Vec3::splat(padding);
         let size = extent + Vec3::splat(2.0 * padding);
         let longest = size.max_element();
-        let cells = max_cells_per_axis.max(1) as f32;
+        let cells = max_cells_per_axis.clamp(1, GUIDE_MAX_CELLS_PER_AXIS) as f32;
         let resolution = (size / longest * cells).round().max(Vec3::ONE).as_uvec3();
+        let table_words = cell_table_word_count(resolution).expect("at most 6 x 16^3 slots");
         GuideGrid {
             resolution,
             bounds_min: low,
             cells_per_unit: resolution.as_vec3() / size,
+            cell_table: vec![GUIDE_NO_CELL; table_words],
+            cell_count: 0,
         }
     }
 
-    /// The grid over the box of every vertex of `positions` (a scene's triangles), as
-    /// `around` with `GUIDE_MAX_CELLS_PER_AXIS`.
-    pub fn around_points(positions: impl IntoIterator<Item = Vec3>) -> GuideGrid {
-        let (low, high) = positions.into_iter().fold(
+    /// Numbers the table's marked slots (any value but `GUIDE_NO_CELL`) 0, 1, 2, … in slot
+    /// order.
+    fn number_cells(&mut self) {
+        let mut next = 0u32;
+        for slot in &mut self.cell_table {
+            if *slot != GUIDE_NO_CELL {
+                *slot = next;
+                next += 1;
+            }
+        }
+        self.cell_count = next;
+    }
+
+    /// The grid over the box of the scene's `triangles` (`GUIDE_MAX_CELLS_PER_AXIS` positions
+    /// along its longest axis), with a cell at each grid position that a triangle's box
+    /// touches for each orientation its normal has on either side (a ray may hit either):
+    /// the orientations of empty space get none, which keeps the guide about as small as a
+    /// grid without orientations (each surface is mostly one orientation) while the two
+    /// faces of a wall learn apart.
+    pub fn around_triangles(triangles: &[[Vec3; 3]]) -> GuideGrid {
+        let (low, high) = triangles.iter().flatten().fold(
             (Vec3::splat(f32::INFINITY), Vec3::splat(f32::NEG_INFINITY)),
-            |(low, high), p| (low.min(p), high.max(p)),
+            |(low, high), &p| (low.min(p), high.max(p)),
         );
         let (low, high) = if low.cmple(high).all() {
             (low, high)
         } else {
             (Vec3::ZERO, Vec3::ZERO)
         };
-        GuideGrid::around(low, high, GUIDE_MAX_CELLS_PER_AXIS)
+        let mut grid = GuideGrid::without_cells(low, high, GUIDE_MAX_CELLS_PER_AXIS);
+        let [nx, ny, nz] = grid.resolution.to_array().map(|n| n as usize);
+        let last = grid.resolution.as_vec3() - Vec3::ONE;
+        for [a, b, c] in triangles {
+            let normal = (*b - *a).cross(*c - *a).normalize_or_zero();
+            if normal == Vec3::ZERO {
+                continue;
+            }
+            let largest = normal.abs().max_element();
+            let to_cells = |p: Vec3| (p - grid.bounds_min) * grid.cells_per_unit;
+            let first = (to_cells(a.min(*b).min(*c)) - Vec3::splat(TRIANGLE_CELL_MARGIN))
+                .floor()
+                .clamp(Vec3::ZERO, last)
+                .as_uvec3();
+            let end = (to_cells(a.max(*b).max(*c)) + Vec3::splat(TRIANGLE_CELL_MARGIN))
+                .floor()
+                .clamp(Vec3::ZERO, last)
+                .as_uvec3();
+            for axis in 0..3 {
+                if normal[axis].abs() < largest - ORIENTATION_TIE_TOLERANCE {
+                    continue;
+                }
+                for orientation in [2 * axis, 2 * axis + 1] {
+                    for z in first.z..=end.z {
+                        for y in first.y..=end.y {
+                            for x in first.x..=end.x {
+                                let slot = ((orientation * nz + z as usize) * ny + y as usize) * nx
+                                    + x as usize;
+                                grid.cell_table[slot] = 0;
+                            }
+                        }
+                    }
+                }
+            }
+        }
+        grid.number_cells();
+        grid
     }
 
     /// Number of cells.
     pub fn cell_count(&self) -> u32 {
-        self.resolution.x * self.resolution.y * self.resolution.z
+        self.cell_count
+    }
+
+    /// The cell of a point at `position` on a surface facing `normal` (as
+    /// `get_guide_cell_index` finds it), `GUIDE_NO_CELL` where there is none.
+    pub fn cell_index(&self, position: Vec3, normal: Vec3) -> u32 {
+        let header = self.header_words();
+        let (slot, _) = get_guide_table_slot(GuideTexels { words: &header }, position, normal);
+        self.cell_table
+            .get(slot as usize)
+            .copied()
+            .unwrap_or(GUIDE_NO_CELL)
     }
 
     /// Words of the path tracer's training buffer (`BINDING_GUIDE_SPLATS`) for this grid:
@@ -131,8 +235,8 @@ impl GuideSplats {
     pub fn new(grid: GuideGrid) -> GuideSplats {
         let cells = grid.cell_count() as usize;
         GuideSplats {
-            grid,
             header: grid.header_words(),
+            grid,
             sums: vec![0; cells * GUIDE_BIN_COUNT as usize],
             counts: vec![0; cells],
         }
@@ -147,16 +251,11 @@ impl GuideSplats {
     /// of the unit `direction`. Returns whether it counted: points outside the grid and
     /// values that are negative or not finite are ignored; values are clamped to
     /// `GUIDE_MAX_SPLAT_UNITS`.
-    pub fn splat(&mut self, position: Vec3, direction: Vec3, value: f32) -> bool {
+    pub fn splat(&mut self, position: Vec3, normal: Vec3, direction: Vec3, value: f32) -> bool {
         if !(value.is_finite() && value >= 0.0) {
             return false;
         }
-        let cell = get_guide_cell_index(
-            GuideTexels {
-                words: &self.header,
-            },
-            position,
-        );
+        let cell = self.grid.cell_index(position, normal);
         if cell == GUIDE_NO_CELL {
             return false;
         }
@@ -171,7 +270,7 @@ impl GuideSplats {
 
     /// The splats that the path tracer's training frames added up in `words` (its
     /// `BINDING_GUIDE_SPLATS` buffer, `GuideGrid::splat_word_count` words) on `grid`.
-    pub fn from_device_words(grid: GuideGrid, words: &[u32]) -> Result<GuideSplats> {
+    pub fn from_device_words(grid: &GuideGrid, words: &[u32]) -> Result<GuideSplats> {
         let cells = grid.cell_count() as usize;
         let bins = GUIDE_BIN_COUNT as usize;
         if words.len() < grid.splat_word_count() {
@@ -186,8 +285,8 @@ impl GuideSplats {
             .collect();
         let counts = words[2 * cells * bins..2 * cells * bins + cells].to_vec();
         Ok(GuideSplats {
-            grid,
             header: grid.header_words(),
+            grid: grid.clone(),
             sums,
             counts,
         })
@@ -211,23 +310,36 @@ impl GuideSplats {
     pub fn pooled_with_neighbours(&self) -> GuideSplats {
         let [nx, ny, nz] = self.grid.resolution.to_array().map(|n| n as i64);
         let bins = GUIDE_BIN_COUNT as usize;
-        let mut pooled = GuideSplats::new(self.grid);
-        for z in 0..nz {
-            for y in 0..ny {
-                for x in 0..nx {
-                    let cell = ((z * ny + y) * nx + x) as usize;
-                    for (dx, dy, dz) in FACE_NEIGHBOURHOOD {
-                        let (a, b, c) = (x + dx, y + dy, z + dz);
-                        if a < 0 || b < 0 || c < 0 || a >= nx || b >= ny || c >= nz {
+        let table = &self.grid.cell_table;
+        let mut pooled = GuideSplats::new(self.grid.clone());
+        for orientation in 0..i64::from(GUIDE_ORIENTATION_COUNT) {
+            let slot_of =
+                |x: i64, y: i64, z: i64| (((orientation * nz + z) * ny + y) * nx + x) as usize;
+            for z in 0..nz {
+                for y in 0..ny {
+                    for x in 0..nx {
+                        let cell = table[slot_of(x, y, z)];
+                        if cell == GUIDE_NO_CELL {
                             continue;
                         }
-                        let other = ((c * ny + b) * nx + a) as usize;
-                        for bin in 0..bins {
-                            let sum = &mut pooled.sums[cell * bins + bin];
-                            *sum = sum.saturating_add(self.sums[other * bins + bin]);
+                        let cell = cell as usize;
+                        for (dx, dy, dz) in FACE_NEIGHBOURHOOD {
+                            let (a, b, c) = (x + dx, y + dy, z + dz);
+                            if a < 0 || b < 0 || c < 0 || a >= nx || b >= ny || c >= nz {
+                                continue;
+                            }
+                            let other = table[slot_of(a, b, c)];
+                            if other == GUIDE_NO_CELL {
+                                continue;
+                            }
+                            let other = other as usize;
+                            for bin in 0..bins {
+                                let sum = &mut pooled.sums[cell * bins + bin];
+                                *sum = sum.saturating_add(self.sums[other * bins + bin]);
+                            }
+                            pooled.counts[cell] =
+                                pooled.counts[cell].saturating_add(self.counts[other]);
                         }
-                        pooled.counts[cell] =
-                            pooled.counts[cell].saturating_add(self.counts[other]);
                     }
                 }
             }
@@ -243,7 +355,8 @@ impl GuideSplats {
     /// The guide these splats teach: in each cell with at least `GUIDE_MIN_SPLATS` splats
     /// and a positive sum, bin b's probability (1 - u) s_b / sum(s) + u / GUIDE_BIN_COUNT
     /// with u = GUIDE_UNIFORM_FRACTION, stored as cumulative f32 probabilities (summed in
-    /// f64, the last set to exactly 1); other cells hold zeros and are not guided.
+    /// f64, the last set to exactly 1); other cells hold zeros and are not guided. The
+    /// grid's cell table follows the cells.
     pub fn build(&self) -> Guide {
         let bins = GUIDE_BIN_COUNT as usize;
         let mut words = self.header.clone();
@@ -269,8 +382,9 @@ impl GuideSplats {
                 words.push(stored.to_bits());
             }
         }
+        words.extend_from_slice(&self.grid.cell_table);
         Guide {
-            grid: self.grid,
+            grid: self.grid.clone(),
             words,
             guided_cell_count,
         }
@@ -286,7 +400,7 @@ pub struct Guide {
 }
 
 impl Guide {
-    /// The texel buffer's words (header, then `GUIDE_CELL_TEXEL_COUNT` texels per cell).
+    /// The texel buffer's words (header, `GUIDE_CELL_TEXEL_COUNT` texels per cell, the cell table).
     pub fn words(&self) -> &[u32] {
         &self.words
     }
@@ -311,15 +425,16 @@ impl Guide {
         4 * self.words.len()
     }
 
-    /// The guide's words without its unguided cells (all zeros): the header, then for each
-    /// guided cell its index and its `GUIDE_BIN_COUNT` words. What a checkpoint stores: a
-    /// guide of 4096 cells takes 4 MB on the device, of which training often teaches a few
-    /// percent.
+    /// The guide's words without its unguided cells (all zeros): the header, the cell
+    /// table, then for each guided cell its index and its `GUIDE_BIN_COUNT` words. What a
+    /// checkpoint stores: training often teaches a few percent of the cells.
     pub fn sparse_words(&self) -> Vec<u32> {
         let header_words = 4 * GUIDE_HEADER_TEXEL_COUNT as usize;
         let bins = GUIDE_BIN_COUNT as usize;
+        let cells_end = header_words + self.grid.cell_count() as usize * bins;
         let mut sparse = self.words[..header_words].to_vec();
-        for (cell, cumulative) in self.words[header_words..].chunks(bins).enumerate() {
+        sparse.extend_from_slice(&self.grid.cell_table);
+        for (cell, cumulative) in self.words[header_words..cells_end].chunks(bins).enumerate() {
             if cumulative.iter().any(|&w| w != 0) {
                 sparse.push(cell as u32);
                 sparse.extend_from_slice(cumulative);
@@ -334,20 +449,26 @@ impl Guide {
         let invalid = |why: String| Error::InvalidSettings(format!("not a guide: {why}"));
         let header_words = 4 * GUIDE_HEADER_TEXEL_COUNT as usize;
         let bins = GUIDE_BIN_COUNT as usize;
-        if sparse.len() < header_words || !(sparse.len() - header_words).is_multiple_of(bins + 1) {
+        if sparse.len() < header_words {
+            return Err(invalid(format!("{} words, no header", sparse.len())));
+        }
+        let resolution = checked_resolution(&sparse[..3]).map_err(invalid)?;
+        let table_words = cell_table_word_count(resolution).expect("a checked resolution");
+        let cells_start = header_words + table_words;
+        if sparse.len() < cells_start || !(sparse.len() - cells_start).is_multiple_of(bins + 1) {
             return Err(invalid(format!(
-                "{} words do not make whole cells",
+                "{} words do not make a header, a cell table and whole cells",
                 sparse.len()
             )));
         }
         let cell_count = sparse[3] as usize;
-        if cell_count > (GUIDE_MAX_CELLS_PER_AXIS as usize).pow(3) {
+        if cell_count > table_words {
             return Err(invalid(format!("{cell_count} cells")));
         }
         let mut words = sparse[..header_words].to_vec();
         words.resize(header_words + cell_count * bins, 0);
         let mut next = 0usize;
-        for record in sparse[header_words..].chunks(bins + 1) {
+        for record in sparse[cells_start..].chunks(bins + 1) {
             let cell = record[0] as usize;
             if cell < next || cell >= cell_count {
                 return Err(invalid(format!("cell {cell} out of order or range")));
@@ -356,30 +477,28 @@ impl Guide {
             words[start..start + bins].copy_from_slice(&record[1..]);
             next = cell + 1;
         }
+        words.extend_from_slice(&sparse[header_words..cells_start]);
         Guide::from_words(words)
     }
 
-    /// The guide that `words` hold (as `words` gives them), checked: a header whose resolution gives its cell count, one cell of
-    /// `GUIDE_CELL_TEXEL_COUNT` texels per cell, and in each cell either zeros (not guided)
-    /// or cumulative probabilities that never fall, lie in [0, 1] and end at exactly 1.
+    /// The guide that `words` hold (as `words` gives them), checked: a header whose
+    /// resolution is at most `GUIDE_MAX_CELLS_PER_AXIS` along each axis, one cell of
+    /// `GUIDE_CELL_TEXEL_COUNT` texels per cell, in each cell either zeros (not guided) or
+    /// cumulative probabilities that never fall, lie in [0, 1] and end at exactly 1, and a
+    /// cell table that numbers the header's count of cells in slot order.
     pub fn from_words(words: Vec<u32>) -> Result<Guide> {
         let invalid = |why: String| Error::InvalidSettings(format!("not a guide: {why}"));
         let header_words = 4 * GUIDE_HEADER_TEXEL_COUNT as usize;
         if words.len() < header_words {
             return Err(invalid(format!("{} words, no header", words.len())));
         }
-        let resolution = UVec3::new(words[0], words[1], words[2]);
+        let resolution = checked_resolution(&words[..3]).map_err(invalid)?;
+        let table_words = cell_table_word_count(resolution).expect("a checked resolution");
         let float = |i: usize| f32::from_bits(words[i]);
-        let grid = GuideGrid {
-            resolution,
-            bounds_min: Vec3::new(float(4), float(5), float(6)),
-            cells_per_unit: Vec3::new(float(8), float(9), float(10)),
-        };
-        let cell_count =
-            u64::from(resolution.x) * u64::from(resolution.y) * u64::from(resolution.z);
+        let cell_count = words[3] as usize;
         let bins = GUIDE_BIN_COUNT as usize;
-        let expected = header_words as u64 + cell_count * bins as u64;
-        if cell_count != u64::from(words[3]) || expected != words.len() as u64 {
+        let cells_end = header_words + cell_count * bins;
+        if cell_count > table_words || cells_end + table_words != words.len() {
             return Err(invalid(format!(
                 "a {}x{}x{} grid of {} cells in {} words",
                 resolution.x,
@@ -389,13 +508,38 @@ impl Guide {
                 words.len()
             )));
         }
+        let cell_table = words[cells_end..].to_vec();
+        let mut numbered = 0u32;
+        for &slot in &cell_table {
+            if slot == GUIDE_NO_CELL {
+                continue;
+            }
+            if slot != numbered {
+                return Err(invalid(
+                    "its cell table does not number its cells in order".into(),
+                ));
+            }
+            numbered += 1;
+        }
+        if numbered as usize != cell_count {
+            return Err(invalid(format!(
+                "its cell table has {numbered} cells, its header {cell_count}"
+            )));
+        }
+        let grid = GuideGrid {
+            resolution,
+            bounds_min: Vec3::new(float(4), float(5), float(6)),
+            cells_per_unit: Vec3::new(float(8), float(9), float(10)),
+            cell_table,
+            cell_count: numbered,
+        };
         if grid.header_words() != words[..header_words] {
             return Err(invalid(
                 "its header holds other words than its grid's".into(),
             ));
         }
         let mut guided_cell_count = 0;
-        for (cell, cumulative) in words[header_words..].chunks(bins).enumerate() {
+        for (cell, cumulative) in words[header_words..cells_end].chunks(bins).enumerate() {
             if cumulative.iter().all(|&w| w == 0) {
                 continue;
             }
@@ -414,4 +558,17 @@ impl Guide {
             guided_cell_count,
         })
     }
+}
+
+/// The grid resolution of a guide's first three header words, if each lies in
+/// 1..=`GUIDE_MAX_CELLS_PER_AXIS`.
+fn checked_resolution(words: &[u32]) -> std::result::Result<UVec3, String> {
+    let resolution = UVec3::new(words[0], words[1], words[2]);
+    if resolution.min_element() == 0 || resolution.max_element() > GUIDE_MAX_CELLS_PER_AXIS {
+        return Err(format!(
+            "a {}x{}x{} grid",
+            resolution.x, resolution.y, resolution.z
+        ));
+    }
+    Ok(resolution)
 }

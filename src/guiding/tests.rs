@@ -6,20 +6,21 @@ use glam::{Vec2, Vec3};
 
 use super::*;
 use crate::cpu::guiding::{
-    get_guide_bin_probability, get_guide_density, get_guided_mixture_density, is_guided_cell,
-    sample_guide_direction,
+    get_guide_bin_probability, get_guide_cell_index, get_guide_density, get_guided_mixture_density,
+    is_guided_cell, sample_guide_direction,
 };
 use crate::cpu::importance_sampling::{get_hemisphere_cosine_density, sample_hemisphere_cosine};
 use crate::probe::inputs::InputRng;
 use crate::stats::chi2::{chi2_direction_test, Chi2Config};
 use crate::stats::sphere_histogram::{SphereFrame, TargetDensity};
 
-/// A 2 x 1 x 1 grid over the box [0, 2] x [0, 1] x [0, 1].
+/// A 2 x 1 x 1 grid over the box [0, 2] x [0, 1] x [0, 1], with a cell for each position and
+/// orientation: cells 0 and 1 face +x.
 fn two_cells() -> GuideGrid {
     GuideGrid::around(Vec3::ZERO, Vec3::new(2.0, 1.0, 1.0), 2)
 }
 
-/// Splats in cell 0 of `two_cells()` shaped like a lobe around `axis` (value
+/// Splats in cell 0 of `two_cells()` (a surface facing +x) shaped like a lobe around `axis` (value
 /// max(0, axis . l)^8 at uniform directions) plus a dim uniform floor: a learned distribution
 /// with a peak, a tail and empty bins' neighbours.
 fn lobe_splats(axis: Vec3, count: usize, seed: u64) -> GuideSplats {
@@ -28,7 +29,7 @@ fn lobe_splats(axis: Vec3, count: usize, seed: u64) -> GuideSplats {
     for _ in 0..count {
         let direction = rng.unit_vector();
         let value = axis.dot(direction).max(0.0).powi(8) + 1e-3;
-        assert!(splats.splat(Vec3::new(0.5, 0.5, 0.5), direction, value));
+        assert!(splats.splat(Vec3::new(0.5, 0.5, 0.5), Vec3::X, direction, value));
     }
     splats
 }
@@ -37,22 +38,125 @@ fn lobe_splats(axis: Vec3, count: usize, seed: u64) -> GuideSplats {
 fn the_grid_keeps_cells_near_cubes_and_holds_its_box() {
     let grid = GuideGrid::around(Vec3::ZERO, Vec3::new(4.0, 1.0, 2.0), 16);
     assert_eq!(grid.resolution, UVec3::new(16, 4, 8));
-    let header = grid.header_words();
-    let texels = GuideTexels { words: &header };
-    // The box's corners are inside; a point beyond it is not.
-    assert_eq!(get_guide_cell_index(texels, Vec3::ZERO), 0);
+    assert_eq!(grid.cell_count(), 6 * 16 * 4 * 8);
+    let guide = GuideSplats::new(grid.clone()).build();
+    let texels = guide.texels();
+    // The box's corners are inside (the first cell faces +x, the last -z); a point beyond
+    // it is not.
+    let lookups = [
+        (Vec3::ZERO, Vec3::X, 0),
+        (Vec3::new(4.0, 1.0, 2.0), -Vec3::Z, grid.cell_count() - 1),
+        (Vec3::new(4.1, 0.5, 0.5), Vec3::X, GUIDE_NO_CELL),
+        (Vec3::new(f32::NAN, 0.5, 0.5), Vec3::X, GUIDE_NO_CELL),
+    ];
+    for (position, normal, cell) in lookups {
+        assert_eq!(
+            get_guide_cell_index(texels, position, normal),
+            cell,
+            "{position}"
+        );
+        assert_eq!(grid.cell_index(position, normal), cell, "{position}");
+    }
+}
+
+#[test]
+fn orientations_are_the_normals_dominant_axis_and_sign() {
+    use crate::cpu::guiding::get_guide_orientation;
+    let axes = [Vec3::X, -Vec3::X, Vec3::Y, -Vec3::Y, Vec3::Z, -Vec3::Z];
+    for (orientation, axis) in axes.into_iter().enumerate() {
+        assert_eq!(get_guide_orientation(axis), orientation as u32);
+        let tilted = (axis + 0.4 * Vec3::ONE.cross(axis).normalize_or_zero()).normalize();
+        assert_eq!(
+            get_guide_orientation(tilted),
+            orientation as u32,
+            "{tilted}"
+        );
+    }
+    // A tie goes to the first axis.
     assert_eq!(
-        get_guide_cell_index(texels, Vec3::new(4.0, 1.0, 2.0)),
-        grid.cell_count() - 1
+        get_guide_orientation(Vec3::new(-1.0, 1.0, 0.0).normalize()),
+        1
     );
     assert_eq!(
-        get_guide_cell_index(texels, Vec3::new(4.1, 0.5, 0.5)),
+        get_guide_orientation(Vec3::new(0.0, 1.0, -1.0).normalize()),
+        2
+    );
+}
+
+#[test]
+fn a_scenes_grid_has_cells_only_where_its_triangles_face() {
+    // A floor (normal +y) over [0, 4] x [0, 4] and a thin wall at x = 2 (normal +x) up to
+    // y = 2, on a 16 x 8 x 16 grid: the floor's layer of positions gets cells facing +y and
+    // -y, the wall's slab +x and -x; nothing else.
+    let floor = [
+        [
+            Vec3::new(0.0, 0.0, 0.0),
+            Vec3::new(0.0, 0.0, 4.0),
+            Vec3::new(4.0, 0.0, 4.0),
+        ],
+        [
+            Vec3::new(0.0, 0.0, 0.0),
+            Vec3::new(4.0, 0.0, 4.0),
+            Vec3::new(4.0, 0.0, 0.0),
+        ],
+    ];
+    let wall = [
+        [
+            Vec3::new(2.0, 0.0, 0.0),
+            Vec3::new(2.0, 2.0, 0.0),
+            Vec3::new(2.0, 2.0, 4.0),
+        ],
+        [
+            Vec3::new(2.0, 0.0, 0.0),
+            Vec3::new(2.0, 2.0, 4.0),
+            Vec3::new(2.0, 0.0, 4.0),
+        ],
+    ];
+    let triangles: Vec<[Vec3; 3]> = floor.into_iter().chain(wall).collect();
+    let grid = GuideGrid::around_triangles(&triangles);
+    assert_eq!(grid.resolution, UVec3::new(16, 8, 16));
+    // Floor: 16 x 1 x 16 positions, two orientations. The wall at x = 2 lies on the boundary
+    // of positions 7 and 8 (within the margin of both) and spans the grid's height: 2 x 8 x
+    // 16 positions, two other orientations, so the counts add up.
+    assert_eq!(grid.cell_count(), 2 * 16 * 16 + 2 * (2 * 8 * 16));
+    let on_floor = Vec3::new(1.0, 0.0, 1.0);
+    let up = grid.cell_index(on_floor, Vec3::Y);
+    let down = grid.cell_index(on_floor, -Vec3::Y);
+    assert!(up != GUIDE_NO_CELL && down != GUIDE_NO_CELL && up != down);
+    assert_eq!(grid.cell_index(on_floor, Vec3::X), GUIDE_NO_CELL);
+    // The wall's two faces learn apart.
+    let on_wall = Vec3::new(2.0, 1.0, 1.0);
+    let east = grid.cell_index(on_wall, Vec3::X);
+    let west = grid.cell_index(on_wall, -Vec3::X);
+    assert!(east != GUIDE_NO_CELL && west != GUIDE_NO_CELL && east != west);
+    // Empty space has no cells.
+    assert_eq!(
+        grid.cell_index(Vec3::new(1.0, 1.5, 1.0), Vec3::Y),
         GUIDE_NO_CELL
     );
-    assert_eq!(
-        get_guide_cell_index(texels, Vec3::new(f32::NAN, 0.5, 0.5)),
-        GUIDE_NO_CELL
-    );
+    // A triangle whose normal lies between two axes gets both (the GPU may round either way).
+    let diagonal = [[
+        Vec3::ZERO,
+        Vec3::new(0.0, 0.0, 1.0),
+        Vec3::new(1.0, 1.0, 0.0),
+    ]];
+    let grid = GuideGrid::around_triangles(&diagonal);
+    let middle = Vec3::new(0.5, 0.5, 0.5);
+    for normal in [Vec3::X, -Vec3::X, Vec3::Y, -Vec3::Y] {
+        assert_ne!(grid.cell_index(middle, normal), GUIDE_NO_CELL, "{normal}");
+    }
+    assert_eq!(grid.cell_index(middle, Vec3::Z), GUIDE_NO_CELL);
+    // A guide built on it finds the same cells through the table (get_guide_cell_index).
+    let guide = GuideSplats::new(grid.clone()).build();
+    let mut rng = InputRng::new(21);
+    for _ in 0..2_000 {
+        let position = rng.in_box(Vec3::splat(-0.1), Vec3::splat(1.1));
+        let normal = rng.unit_vector();
+        assert_eq!(
+            get_guide_cell_index(guide.texels(), position, normal),
+            grid.cell_index(position, normal)
+        );
+    }
 }
 
 #[test]
@@ -226,7 +330,7 @@ fn splats_sum_to_the_same_guide_in_any_order_and_split() {
         .collect();
     let mut forward = GuideSplats::new(two_cells());
     for &(p, d, v) in &splats {
-        forward.splat(p, d, v);
+        forward.splat(p, Vec3::X, d, v);
     }
     // Backwards, in two halves merged in the other order.
     let (mut first, mut second) = (GuideSplats::new(two_cells()), GuideSplats::new(two_cells()));
@@ -236,7 +340,7 @@ fn splats_sum_to_the_same_guide_in_any_order_and_split() {
         } else {
             &mut second
         }
-        .splat(p, d, v);
+        .splat(p, Vec3::X, d, v);
     }
     second.merge(&first);
     assert_eq!(forward, second);
@@ -249,19 +353,19 @@ fn sparse_cells_stay_unguided_and_bad_values_do_not_count() {
     let mut splats = GuideSplats::new(two_cells());
     let inside = Vec3::new(1.5, 0.5, 0.5);
     for _ in 0..GUIDE_MIN_SPLATS - 1 {
-        assert!(splats.splat(inside, Vec3::Z, 1.0));
+        assert!(splats.splat(inside, Vec3::X, Vec3::Z, 1.0));
     }
-    assert!(!splats.splat(inside, Vec3::Z, f32::NAN));
-    assert!(!splats.splat(inside, Vec3::Z, -1.0));
-    assert!(!splats.splat(inside, Vec3::Z, f32::INFINITY));
-    assert!(!splats.splat(Vec3::splat(9.0), Vec3::Z, 1.0));
+    assert!(!splats.splat(inside, Vec3::X, Vec3::Z, f32::NAN));
+    assert!(!splats.splat(inside, Vec3::X, Vec3::Z, -1.0));
+    assert!(!splats.splat(inside, Vec3::X, Vec3::Z, f32::INFINITY));
+    assert!(!splats.splat(Vec3::splat(9.0), Vec3::X, Vec3::Z, 1.0));
     assert_eq!(splats.splat_count(1), GUIDE_MIN_SPLATS - 1);
     let guide = splats.build();
     assert_eq!(guide.guided_cell_count(), 0);
     assert!(!is_guided_cell(guide.texels(), 1));
     // One more splat makes the cell guided, with the uniform floor in every bin and the
     // splatted bin holding the rest.
-    splats.splat(inside, Vec3::Z, 1.0);
+    splats.splat(inside, Vec3::X, Vec3::Z, 1.0);
     let guide = splats.build();
     assert!(is_guided_cell(guide.texels(), 1));
     let floor = GUIDE_UNIFORM_FRACTION / GUIDE_BIN_COUNT as f32;
@@ -272,8 +376,8 @@ fn sparse_cells_stay_unguided_and_bad_values_do_not_count() {
     );
     let other = get_guide_bin_probability(guide.texels(), 1, get_guide_bin_index(-Vec3::Z));
     assert!((other - floor).abs() < 1e-6, "{other}");
-    // 3 header texels and 64 per cell.
-    assert_eq!(guide.memory_bytes(), 16 * (3 + 2 * 64));
+    // 3 header texels, 64 per cell (2 positions x 6 orientations), and a table of 12 slots.
+    assert_eq!(guide.memory_bytes(), 16 * (3 + 12 * 64 + 3));
 }
 
 #[test]
@@ -304,7 +408,7 @@ fn device_words_read_back_as_the_same_splats() {
     // The training buffer's layout (BINDING_GUIDE_SPLATS): a 64-bit sum per cell and bin as
     // (low, high) words, then a count per cell.
     let splats = lobe_splats(Vec3::Y, 5_000, 13);
-    let grid = *splats.grid();
+    let grid = splats.grid().clone();
     let bins = GUIDE_BIN_COUNT as usize;
     let mut words = vec![0u32; grid.splat_word_count()];
     for cell in 0..grid.cell_count() as usize {
@@ -316,33 +420,43 @@ fn device_words_read_back_as_the_same_splats() {
         words[2 * grid.cell_count() as usize * bins + cell] = splats.counts[cell];
     }
     assert_eq!(
-        GuideSplats::from_device_words(grid, &words).unwrap(),
+        GuideSplats::from_device_words(&grid, &words).unwrap(),
         splats
     );
-    assert!(GuideSplats::from_device_words(grid, &words[1..]).is_err());
+    assert!(GuideSplats::from_device_words(&grid, &words[1..]).is_err());
 }
 
 #[test]
 fn pooling_adds_each_cells_face_neighbours() {
-    // A 3 x 3 x 1 grid with one splat of value 1 in each cell: a corner cell pools 3 cells,
-    // an edge cell 4, the centre 5, and the sums pool alike.
+    // A 3 x 3 x 1 grid with one splat of value 1 in each cell facing +z (cells 36 to 44): a
+    // corner cell pools 3 cells, an edge cell 4, the centre 5, and the sums pool alike;
+    // cells of other orientations pool nothing from them.
     let grid = GuideGrid::around(Vec3::ZERO, Vec3::new(3.0, 3.0, 0.1), 3);
     assert_eq!(grid.resolution, UVec3::new(3, 3, 1));
     let mut splats = GuideSplats::new(grid);
+    let first = 4 * 9;
     for y in 0..3 {
         for x in 0..3 {
             let position = Vec3::new(x as f32 + 0.5, y as f32 + 0.5, 0.05);
-            assert!(splats.splat(position, Vec3::Z, 1.0));
+            assert!(splats.splat(position, Vec3::Z, Vec3::Z, 1.0));
         }
     }
     let pooled = splats.pooled_with_neighbours();
-    let counts: Vec<u32> = (0..9).map(|cell| pooled.splat_count(cell)).collect();
+    let counts: Vec<u32> = (0..9)
+        .map(|cell| pooled.splat_count(first + cell))
+        .collect();
     assert_eq!(counts, [3, 4, 3, 4, 5, 4, 3, 4, 3]);
     let bin = get_guide_bin_index(Vec3::Z) as usize;
     let bins = GUIDE_BIN_COUNT as usize;
     for (cell, &count) in counts.iter().enumerate() {
-        assert_eq!(pooled.sums[cell * bins + bin], u64::from(count) << 20);
+        assert_eq!(
+            pooled.sums[(first as usize + cell) * bins + bin],
+            u64::from(count) << 20
+        );
     }
+    assert!((0..first)
+        .chain(first + 9..54)
+        .all(|cell| pooled.splat_count(cell) == 0));
 }
 
 #[test]
@@ -350,9 +464,10 @@ fn a_guide_survives_its_sparse_words_and_broken_words_are_refused() {
     let guide = lobe_splats(Vec3::Z, 20_000, 3).build();
     assert_eq!(guide.guided_cell_count(), 1);
     let sparse = guide.sparse_words();
-    // The header, then one cell: its index and its bins.
+    // The header, the cell table (12 slots), then one cell: its index and its bins.
     let header = 4 * GUIDE_HEADER_TEXEL_COUNT as usize;
-    assert_eq!(sparse.len(), header + 1 + GUIDE_BIN_COUNT as usize);
+    let table = 12;
+    assert_eq!(sparse.len(), header + table + 1 + GUIDE_BIN_COUNT as usize);
     assert_eq!(Guide::from_sparse_words(&sparse).unwrap(), guide);
     assert_eq!(Guide::from_words(guide.words().to_vec()).unwrap(), guide);
     // An empty guide has no cells to store.
@@ -363,13 +478,13 @@ fn a_guide_survives_its_sparse_words_and_broken_words_are_refused() {
     );
     let refused = |words: Vec<u32>| Guide::from_sparse_words(&words).unwrap_err().to_string();
     // Cut short, a cell out of range, a falling cumulative, a last bin below 1, a header
-    // whose resolution does not give its cell count.
+    // whose resolution does not give its cell count, a table that skips a cell.
     assert!(refused(sparse[..sparse.len() - 1].to_vec()).contains("whole cells"));
     let mut out_of_range = sparse.clone();
-    out_of_range[header] = 2;
+    out_of_range[header + table] = 12;
     assert!(refused(out_of_range).contains("out of order or range"));
     let mut falling = sparse.clone();
-    falling[header + 10] = 0.99f32.to_bits();
+    falling[header + table + 10] = 0.99f32.to_bits();
     assert!(refused(falling).contains("no cumulative distribution"));
     let mut short_of_one = sparse.clone();
     *short_of_one.last_mut().unwrap() = 0.5f32.to_bits();
@@ -377,4 +492,7 @@ fn a_guide_survives_its_sparse_words_and_broken_words_are_refused() {
     let mut resolution = sparse.clone();
     resolution[0] = 3;
     assert!(refused(resolution).contains("not a guide"));
+    let mut skipping = sparse.clone();
+    skipping[header + 1] = 2;
+    assert!(refused(skipping).contains("does not number its cells in order"));
 }

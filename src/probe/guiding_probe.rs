@@ -13,12 +13,14 @@ use crate::kernels::{self, Resource};
 use crate::probe::runner::TexelBufferProbe;
 use crate::vk::Context;
 
-/// `probe_input_t` of `glsl/probe_guiding.comp` (48 bytes).
+/// `probe_input_t` of `glsl/probe_guiding.comp` (64 bytes).
 #[repr(C)]
 #[derive(Clone, Copy, Debug, PartialEq, Pod, Zeroable)]
 pub struct GuidingProbeInput {
     /// xyz: the point whose cell is looked up, world space; w: 0.
     pub position: [f32; 4],
+    /// xyz: the unit normal of the surface at that point (its cell's orientation); w: 0.
+    pub normal: [f32; 4],
     /// xyz: a unit direction (its bin and density); w: 0.
     pub direction: [f32; 4],
     /// xy: `sample_guide_direction`'s random numbers; zw: 0.
@@ -26,11 +28,12 @@ pub struct GuidingProbeInput {
 }
 
 impl GuidingProbeInput {
-    /// The input that looks up `position`'s cell, `direction`'s bin and density there, and
-    /// samples the cell with `random_numbers`.
-    pub fn new(position: Vec3, direction: Vec3, random_numbers: Vec2) -> Self {
+    /// The input that looks up the cell of `position` on a surface facing `normal`,
+    /// `direction`'s bin and density there, and samples the cell with `random_numbers`.
+    pub fn new(position: Vec3, normal: Vec3, direction: Vec3, random_numbers: Vec2) -> Self {
         GuidingProbeInput {
             position: position.extend(0.0).to_array(),
+            normal: normal.extend(0.0).to_array(),
             direction: direction.extend(0.0).to_array(),
             random_numbers: [random_numbers.x, random_numbers.y, 0.0, 0.0],
         }
@@ -78,10 +81,11 @@ mod tests {
 
     #[test]
     fn structs_match_the_std430_declarations() {
-        // vec4 position, direction, random_numbers
-        assert_eq!(size_of::<GuidingProbeInput>(), 48);
-        assert_eq!(offset_of!(GuidingProbeInput, direction), 16);
-        assert_eq!(offset_of!(GuidingProbeInput, random_numbers), 32);
+        // vec4 position, normal, direction, random_numbers
+        assert_eq!(size_of::<GuidingProbeInput>(), 64);
+        assert_eq!(offset_of!(GuidingProbeInput, normal), 16);
+        assert_eq!(offset_of!(GuidingProbeInput, direction), 32);
+        assert_eq!(offset_of!(GuidingProbeInput, random_numbers), 48);
         // uvec4 cell_bin; vec4 sampled_density
         assert_eq!(size_of::<GuidingProbeOutput>(), 32);
         assert_eq!(offset_of!(GuidingProbeOutput, sampled_density), 16);

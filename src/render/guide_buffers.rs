@@ -53,7 +53,7 @@ impl GuideBuffers {
             | vk::BufferUsageFlags::TRANSFER_SRC
             | vk::BufferUsageFlags::TRANSFER_DST;
         Ok(GuideBuffers {
-            guide: guide_view(context, GuideSplats::new(grid).build().words())?,
+            guide: guide_view(context, GuideSplats::new(grid.clone()).build().words())?,
             splats: Buffer::new(
                 context,
                 "guide splats",
@@ -73,8 +73,8 @@ impl GuideBuffers {
     }
 
     /// The grid of a guided render's buffers.
-    pub fn grid(&self) -> Option<GuideGrid> {
-        self.grid
+    pub fn grid(&self) -> Option<&GuideGrid> {
+        self.grid.as_ref()
     }
 
     /// Puts `guide` in a new texel buffer (the caller rebinds `guide`).
@@ -91,7 +91,7 @@ impl GuideBuffers {
 
     /// The splats the frames since `clear_splats` added up (a guided render's only).
     pub fn read_splats(&self, commands: &CommandRunner) -> Result<Option<GuideSplats>> {
-        let (Some(readback), Some(grid)) = (&self.readback, self.grid) else {
+        let (Some(readback), Some(grid)) = (&self.readback, &self.grid) else {
             return Ok(None);
         };
         commands.run(|recorder| {

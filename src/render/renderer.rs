@@ -95,9 +95,9 @@ pub struct Renderer {
 /// What training a render's guide did (`--guiding`).
 #[derive(Clone, Debug, PartialEq)]
 pub struct GuideReport {
-    /// Cells of the guide's grid along x, y and z.
+    /// Positions of the guide's grid along x, y and z.
     pub grid_resolution: [u32; 3],
-    /// Cells in all.
+    /// Cells in all (one per grid position and orientation that a surface there can face).
     pub cell_count: u32,
     /// Cells that training taught (the others sample the BSDF alone).
     pub guided_cell_count: u32,
@@ -314,7 +314,13 @@ impl Renderer {
         let guide_buffers = if guiding {
             GuideBuffers::guided(
                 context,
-                GuideGrid::around_points(scene.triangles.iter().flat_map(|t| t.positions)),
+                GuideGrid::around_triangles(
+                    &scene
+                        .triangles
+                        .iter()
+                        .map(|t| t.positions)
+                        .collect::<Vec<_>>(),
+                ),
             )?
         } else {
             GuideBuffers::unguided(context)?
@@ -593,7 +599,7 @@ impl Renderer {
         }
         let started = Instant::now();
         let iterations = training.iterations();
-        let mut trainer = GuideTrainer::new(grid);
+        let mut trainer = GuideTrainer::new(grid.clone());
         let mut taken = 0u32;
         let result = (|| -> Result<bool> {
             // The first iteration samples with no guided cell, whatever an abandoned
@@ -648,7 +654,7 @@ impl Renderer {
     /// training one: it must cover this render's grid, i.e. come from this scene.
     fn use_frozen_guide(&mut self, guide: Arc<Guide>) -> Result<()> {
         let grid = self.guide_buffers.grid();
-        if grid != Some(*guide.grid()) {
+        if grid != Some(guide.grid()) {
             return Err(Error::InvalidSettings(match grid {
                 None => "the saved state holds a guide, but this render is not guided".into(),
                 Some(_) => "the saved state's guide covers another grid than this scene's".into(),

@@ -296,7 +296,12 @@ mod tests {
         let mut splats = crate::guiding::GuideSplats::new(grid);
         for i in 0..500 {
             let direction = glam::Vec3::new((i as f32).sin(), (i as f32).cos(), 0.5).normalize();
-            splats.splat(glam::Vec3::splat(0.5), direction, 1.0 + i as f32);
+            splats.splat(
+                glam::Vec3::splat(0.5),
+                glam::Vec3::X,
+                direction,
+                1.0 + i as f32,
+            );
         }
         let guide = splats.build();
         assert_eq!(guide.guided_cell_count(), 1);
