@@ -118,26 +118,31 @@ bsdf_sample_t get_guided_direction(surface_t surface, vec3 view, uint guide_cell
 
 // The vertices this path recorded (the first GUIDE_TRAINING_VERTEX_COUNT that take light
 // samples inside the grid): cell, directional bin, the path's radiance after the vertex's
-// light samples, and 1 / (throughput after the vertex times the direction's density).
+// light samples, and |cos theta| / (throughput after the vertex times the direction's
+// density), theta the direction's angle to the shading normal.
 uint g_guide_record_count = 0u;
 uint g_guide_record_cells[GUIDE_TRAINING_VERTEX_COUNT];
 uint g_guide_record_bins[GUIDE_TRAINING_VERTEX_COUNT];
 vec3 g_guide_record_radiance[GUIDE_TRAINING_VERTEX_COUNT];
 vec3 g_guide_record_scale[GUIDE_TRAINING_VERTEX_COUNT];
 
-// Records a vertex in grid cell `grid_cell` whose path went on along `direction`, sampled
-// with `density`, with `throughput_weight` after it, `radiance` having been gathered up to
-// and including its light samples. Only in training frames.
-void record_guide_vertex(uint grid_cell, vec3 direction, float density, vec3 throughput_weight, vec3 radiance) {
+// Records a vertex in grid cell `grid_cell`, with shading normal `normal`, whose path went on
+// along `direction`, sampled with `density`, with `throughput_weight` after it, `radiance`
+// having been gathered up to and including its light samples. Only in training frames.
+// The cosine makes the guide learn incident radiance times |cos theta|, the product that a
+// diffuse BSDF's ideal sampler follows: the opening scene's guided relMSE fell from 0.00097
+// to 0.00075, the Cornell box's (128^2, 128 spp) from 0.00371 to 0.00326 (docs/guiding.md).
+void record_guide_vertex(uint grid_cell, vec3 normal, vec3 direction, float density, vec3 throughput_weight, vec3 radiance) {
     if (!is_guide_training() || grid_cell == GUIDE_NO_CELL || g_guide_record_count >= uint(GUIDE_TRAINING_VERTEX_COUNT) || !(density > 0.0))
         return;
     uint k = g_guide_record_count++;
     g_guide_record_cells[k] = grid_cell;
     g_guide_record_bins[k] = get_guide_bin_index(direction);
     g_guide_record_radiance[k] = radiance;
-    g_guide_record_scale[k] = vec3(throughput_weight.r > 0.0 ? 1.0 / (throughput_weight.r * density) : 0.0,
-                                   throughput_weight.g > 0.0 ? 1.0 / (throughput_weight.g * density) : 0.0,
-                                   throughput_weight.b > 0.0 ? 1.0 / (throughput_weight.b * density) : 0.0);
+    float cosine = abs(dot(normal, direction));
+    g_guide_record_scale[k] = vec3(throughput_weight.r > 0.0 ? cosine / (throughput_weight.r * density) : 0.0,
+                                   throughput_weight.g > 0.0 ? cosine / (throughput_weight.g * density) : 0.0,
+                                   throughput_weight.b > 0.0 ? cosine / (throughput_weight.b * density) : 0.0);
 }
 
 // A splat's value in fixed point, as (low, high) words of the integer floor(min(value
@@ -168,7 +173,7 @@ void add_guide_splat(uint cell, uint bin, float value) {
 
 // At the end of a training path with total `radiance`: each recorded vertex's estimate of
 // the radiance that arrived along its direction, (radiance - its radiance) / its
-// throughput, as luminance over the direction's density.
+// throughput, as luminance times |cos theta| over the direction's density.
 void splat_guide_records(vec3 radiance) {
     for (uint k = 0u; k < g_guide_record_count; ++k) {
         vec3 incident = (radiance - g_guide_record_radiance[k]) * g_guide_record_scale[k];

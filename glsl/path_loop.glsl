@@ -173,7 +173,7 @@ vec3 get_path_radiance(vec3 ray_origin, vec3 ray_direction, inout uvec2 seed) {
             throughput_weight /= survival;
         }
         // Training frames: where this vertex's light came from (glsl/path_guiding.glsl)
-        record_guide_vertex(guide_grid_cell, ray_direction, direction_density, throughput_weight, radiance);
+        record_guide_vertex(guide_grid_cell, surface.shading_normal, ray_direction, direction_density, throughput_weight, radiance);
     }
     if (is_guide_training())
         splat_guide_records(radiance);

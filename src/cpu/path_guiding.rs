@@ -116,7 +116,8 @@ pub fn get_guided_direction(
 /// recorded, at most `GUIDE_TRAINING_VERTEX_COUNT`.
 #[derive(Clone, Debug, Default)]
 pub struct GuideRecords {
-    /// (grid cell, directional bin, radiance so far, 1 / (throughput times density)).
+    /// (grid cell, directional bin, radiance so far, |cos theta| / (throughput times
+    /// density)).
     records: Vec<(u32, u32, Vec3, Vec3)>,
 }
 
@@ -125,6 +126,7 @@ impl GuideRecords {
     pub fn record_guide_vertex(
         &mut self,
         grid_cell: u32,
+        normal: Vec3,
         direction: Vec3,
         density: f32,
         throughput_weight: Vec3,
@@ -136,9 +138,10 @@ impl GuideRecords {
         {
             return;
         }
+        let cosine = normal.dot(direction).abs();
         let scale = throughput_weight.to_array().map(|throughput| {
             if throughput > 0.0 {
-                1.0 / (throughput * density)
+                cosine / (throughput * density)
             } else {
                 0.0
             }
@@ -152,7 +155,8 @@ impl GuideRecords {
     }
 
     /// Twin of `splat_guide_records`: each record's estimate of the radiance that arrived
-    /// along its direction, as luminance over the direction's density, into `words`.
+    /// along its direction, as luminance times |cos theta| over the direction's density,
+    /// into `words`.
     pub fn splat_guide_records(
         &mut self,
         texels: GuideTexels,

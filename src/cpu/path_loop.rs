@@ -253,6 +253,7 @@ pub fn get_path_radiance(
         if guide_splats.is_some() {
             guide_records.record_guide_vertex(
                 guide_grid_cell,
+                surface.shading_normal,
                 ray_direction,
                 direction_density,
                 throughput_weight,
