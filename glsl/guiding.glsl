@@ -7,8 +7,8 @@
 // ways each), stored as cumulative probabilities. A fixed layout with no pointers: four
 // texel fetches find a cell (the last in a table of grid position and orientation to cell,
 // which gives cells only where the scene has surfaces), a binary search of seven fetches
-// samples a bin, two give a density, and the memory is cells x 1 KB, known before training. A cell that training did not
-// reach often enough holds zeros and is not guided.
+// samples a bin, two give a density, and the memory is cells x 1 KB, known before
+// training. A cell that training did not reach often enough holds zeros and is not guided.
 //
 // Sampling is a one-sample mixture with the BSDF: with probability GUIDE_BSDF_FRACTION the
 // BSDF's sampler, else the guide's, and the density of either outcome is the mixture's

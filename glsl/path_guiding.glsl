@@ -131,7 +131,7 @@ vec3 g_guide_record_scale[GUIDE_TRAINING_VERTEX_COUNT];
 // having been gathered up to and including its light samples. Only in training frames.
 // The cosine makes the guide learn incident radiance times |cos theta|, the product that a
 // diffuse BSDF's ideal sampler follows: the opening scene's guided relMSE fell from 0.00097
-// to 0.00075, the Cornell box's (128^2, 128 spp) from 0.00371 to 0.00326 (docs/guiding.md).
+// to 0.00080, the Cornell box's (256^2, 256 spp) from 0.00174 to 0.00151 (docs/guiding.md).
 void record_guide_vertex(uint grid_cell, vec3 normal, vec3 direction, float density, vec3 throughput_weight, vec3 radiance) {
     if (!is_guide_training() || grid_cell == GUIDE_NO_CELL || g_guide_record_count >= uint(GUIDE_TRAINING_VERTEX_COUNT) || !(density > 0.0))
         return;

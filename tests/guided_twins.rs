@@ -10,7 +10,6 @@
 
 mod common;
 
-use glam::Vec3;
 use vkpath::cpu::guiding::GuideTexels;
 use vkpath::cpu::{
     add_cpu_guided_samples, train_cpu_guide, CpuGuiding, CpuImage, CpuRenderSettings,
@@ -108,8 +107,7 @@ fn gpu_and_cpu_train_the_same_guide_and_render_the_same_guided_image() {
     common::assert_validation_silent(&context);
 
     // The guide.
-    let positions: Vec<[Vec3; 3]> = scene.triangles.iter().map(|t| t.positions).collect();
-    let grid = GuideGrid::around_triangles(&positions);
+    let grid = GuideGrid::around_triangles(scene.triangles.iter().map(|t| t.positions));
     assert_eq!(gpu_guide.grid(), &grid);
     let plane = camera.image_plane(settings.aspect());
     let cpu_settings = cpu_settings(&settings);

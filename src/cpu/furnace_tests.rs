@@ -207,8 +207,7 @@ fn guided_furnace_with_a_guide_the_cpu_trained() {
     let path_length = 3;
     let triangles = furnace_box(albedo, emission);
     let expected = furnace_expectation(albedo, emission, path_length);
-    let positions: Vec<[Vec3; 3]> = triangles.iter().map(|t| t.positions).collect();
-    let grid = crate::guiding::GuideGrid::around_triangles(&positions);
+    let grid = crate::guiding::GuideGrid::around_triangles(triangles.iter().map(|t| t.positions));
     for integrator in [INTEGRATOR_NEE, INTEGRATOR_MIS] {
         let settings = settings(integrator, path_length);
         let guide = crate::cpu::train_cpu_guide(

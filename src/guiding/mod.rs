@@ -10,7 +10,7 @@
 //!
 //! How a render trains one: `training` (the schedule) and `crate::render::guide_buffers`.
 
-use glam::{UVec3, Vec3};
+use glam::{IVec3, UVec3, Vec3};
 
 use crate::contract::{
     GUIDE_BIN_COUNT, GUIDE_CELL_TEXEL_COUNT, GUIDE_HEADER_TEXEL_COUNT, GUIDE_MIN_SPLATS,
@@ -76,7 +76,10 @@ impl GuideGrid {
     /// orientation.
     pub fn around(bounds_min: Vec3, bounds_max: Vec3, max_cells_per_axis: u32) -> GuideGrid {
         let mut grid = GuideGrid::without_cells(bounds_min, bounds_max, max_cells_per_axis);
-        grid.cell_table.iter_mut().for_each(|slot| *slot = 0);
+        let last = grid.resolution - UVec3::ONE;
+        for orientation in 0..GUIDE_ORIENTATION_COUNT {
+            grid.give_cells(orientation, UVec3::ZERO, last);
+        }
         grid.number_cells();
         grid
     }
@@ -119,7 +122,8 @@ impl GuideGrid {
     /// the orientations of empty space get none, which keeps the guide about as small as a
     /// grid without orientations (each surface is mostly one orientation) while the two
     /// faces of a wall learn apart.
-    pub fn around_triangles(triangles: &[[Vec3; 3]]) -> GuideGrid {
+    pub fn around_triangles(triangles: impl IntoIterator<Item = [Vec3; 3]>) -> GuideGrid {
+        let triangles: Vec<[Vec3; 3]> = triangles.into_iter().collect();
         let (low, high) = triangles.iter().flatten().fold(
             (Vec3::splat(f32::INFINITY), Vec3::splat(f32::NEG_INFINITY)),
             |(low, high), &p| (low.min(p), high.max(p)),
@@ -130,42 +134,62 @@ impl GuideGrid {
             (Vec3::ZERO, Vec3::ZERO)
         };
         let mut grid = GuideGrid::without_cells(low, high, GUIDE_MAX_CELLS_PER_AXIS);
-        let [nx, ny, nz] = grid.resolution.to_array().map(|n| n as usize);
         let last = grid.resolution.as_vec3() - Vec3::ONE;
         for [a, b, c] in triangles {
-            let normal = (*b - *a).cross(*c - *a).normalize_or_zero();
+            let normal = (b - a).cross(c - a).normalize_or_zero();
             if normal == Vec3::ZERO {
                 continue;
             }
             let largest = normal.abs().max_element();
             let to_cells = |p: Vec3| (p - grid.bounds_min) * grid.cells_per_unit;
-            let first = (to_cells(a.min(*b).min(*c)) - Vec3::splat(TRIANGLE_CELL_MARGIN))
+            let first = (to_cells(a.min(b).min(c)) - Vec3::splat(TRIANGLE_CELL_MARGIN))
                 .floor()
                 .clamp(Vec3::ZERO, last)
                 .as_uvec3();
-            let end = (to_cells(a.max(*b).max(*c)) + Vec3::splat(TRIANGLE_CELL_MARGIN))
+            let end = (to_cells(a.max(b).max(c)) + Vec3::splat(TRIANGLE_CELL_MARGIN))
                 .floor()
                 .clamp(Vec3::ZERO, last)
                 .as_uvec3();
-            for axis in 0..3 {
-                if normal[axis].abs() < largest - ORIENTATION_TIE_TOLERANCE {
-                    continue;
-                }
-                for orientation in [2 * axis, 2 * axis + 1] {
-                    for z in first.z..=end.z {
-                        for y in first.y..=end.y {
-                            for x in first.x..=end.x {
-                                let slot = ((orientation * nz + z as usize) * ny + y as usize) * nx
-                                    + x as usize;
-                                grid.cell_table[slot] = 0;
-                            }
-                        }
-                    }
-                }
+            let axes = (0..3u32)
+                .filter(|&axis| normal[axis as usize].abs() >= largest - ORIENTATION_TIE_TOLERANCE);
+            for orientation in axes.flat_map(|axis| [2 * axis, 2 * axis + 1]) {
+                grid.give_cells(orientation, first, end);
             }
         }
         grid.number_cells();
         grid
+    }
+
+    /// Marks the table's slots of `orientation` at the grid positions from `first` to `last`
+    /// (inclusive) as cells, to be numbered by `number_cells`.
+    fn give_cells(&mut self, orientation: u32, first: UVec3, last: UVec3) {
+        for z in first.z..=last.z {
+            for y in first.y..=last.y {
+                for x in first.x..=last.x {
+                    let slot = self.table_slot(orientation, UVec3::new(x, y, z));
+                    self.cell_table[slot] = 0;
+                }
+            }
+        }
+    }
+
+    /// The table's slot of `orientation` at grid position `position` (orientation slowest,
+    /// then z, y, x fastest: `get_guide_table_slot`'s order).
+    fn table_slot(&self, orientation: u32, position: UVec3) -> usize {
+        let [nx, ny, nz] = self.resolution.to_array().map(|n| n as usize);
+        let [x, y, z] = position.to_array().map(|n| n as usize);
+        ((orientation as usize * nz + z) * ny + y) * nx + x
+    }
+
+    /// The orientation and grid position of table slot `slot` (the inverse of `table_slot`).
+    fn slot_position(&self, slot: usize) -> (u32, UVec3) {
+        let [nx, ny, nz] = self.resolution.to_array().map(|n| n as usize);
+        let position = UVec3::new(
+            (slot % nx) as u32,
+            (slot / nx % ny) as u32,
+            (slot / (nx * ny) % nz) as u32,
+        );
+        ((slot / (nx * ny * nz)) as u32, position)
     }
 
     /// Number of cells.
@@ -191,24 +215,28 @@ impl GuideGrid {
     }
 
     /// The header texels' words (`GUIDE_HEADER_TEXEL_COUNT` texels).
-    fn header_words(&self) -> Vec<u32> {
-        let mut words = vec![
+    fn header_words(&self) -> [u32; 4 * GUIDE_HEADER_TEXEL_COUNT as usize] {
+        let [x, y, z] = self.bounds_min.to_array().map(f32::to_bits);
+        let [u, v, w] = self.cells_per_unit.to_array().map(f32::to_bits);
+        [
             self.resolution.x,
             self.resolution.y,
             self.resolution.z,
             self.cell_count(),
-        ];
-        for corner in [self.bounds_min, self.cells_per_unit] {
-            words.extend(corner.to_array().map(f32::to_bits));
-            words.push(0);
-        }
-        debug_assert_eq!(words.len(), 4 * GUIDE_HEADER_TEXEL_COUNT as usize);
-        words
+            x,
+            y,
+            z,
+            0,
+            u,
+            v,
+            w,
+            0,
+        ]
     }
 }
 
 /// A cell and its six face neighbours, as (dx, dy, dz).
-const FACE_NEIGHBOURHOOD: [(i64, i64, i64); 7] = [
+const FACE_NEIGHBOURHOOD: [(i32, i32, i32); 7] = [
     (0, 0, 0),
     (-1, 0, 0),
     (1, 0, 0),
@@ -225,7 +253,6 @@ const FACE_NEIGHBOURHOOD: [(i64, i64, i64); 7] = [
 #[derive(Clone, Debug, PartialEq)]
 pub struct GuideSplats {
     grid: GuideGrid,
-    header: Vec<u32>,
     sums: Vec<u64>,
     counts: Vec<u32>,
 }
@@ -235,7 +262,6 @@ impl GuideSplats {
     pub fn new(grid: GuideGrid) -> GuideSplats {
         let cells = grid.cell_count() as usize;
         GuideSplats {
-            header: grid.header_words(),
             grid,
             sums: vec![0; cells * GUIDE_BIN_COUNT as usize],
             counts: vec![0; cells],
@@ -285,7 +311,6 @@ impl GuideSplats {
             .collect();
         let counts = words[2 * cells * bins..2 * cells * bins + cells].to_vec();
         Ok(GuideSplats {
-            header: grid.header_words(),
             grid: grid.clone(),
             sums,
             counts,
@@ -308,40 +333,32 @@ impl GuideSplats {
     /// spatial box filter: a guide learns from 7 cells' paths instead of one, so it is
     /// smoother where training paths are few). Integer sums: still order-independent.
     pub fn pooled_with_neighbours(&self) -> GuideSplats {
-        let [nx, ny, nz] = self.grid.resolution.to_array().map(|n| n as i64);
+        let grid = &self.grid;
         let bins = GUIDE_BIN_COUNT as usize;
-        let table = &self.grid.cell_table;
-        let mut pooled = GuideSplats::new(self.grid.clone());
-        for orientation in 0..i64::from(GUIDE_ORIENTATION_COUNT) {
-            let slot_of =
-                |x: i64, y: i64, z: i64| (((orientation * nz + z) * ny + y) * nx + x) as usize;
-            for z in 0..nz {
-                for y in 0..ny {
-                    for x in 0..nx {
-                        let cell = table[slot_of(x, y, z)];
-                        if cell == GUIDE_NO_CELL {
-                            continue;
-                        }
-                        let cell = cell as usize;
-                        for (dx, dy, dz) in FACE_NEIGHBOURHOOD {
-                            let (a, b, c) = (x + dx, y + dy, z + dz);
-                            if a < 0 || b < 0 || c < 0 || a >= nx || b >= ny || c >= nz {
-                                continue;
-                            }
-                            let other = table[slot_of(a, b, c)];
-                            if other == GUIDE_NO_CELL {
-                                continue;
-                            }
-                            let other = other as usize;
-                            for bin in 0..bins {
-                                let sum = &mut pooled.sums[cell * bins + bin];
-                                *sum = sum.saturating_add(self.sums[other * bins + bin]);
-                            }
-                            pooled.counts[cell] =
-                                pooled.counts[cell].saturating_add(self.counts[other]);
-                        }
-                    }
+        let mut pooled = GuideSplats::new(grid.clone());
+        for (slot, &cell) in grid.cell_table.iter().enumerate() {
+            if cell == GUIDE_NO_CELL {
+                continue;
+            }
+            let cell = cell as usize;
+            let (orientation, position) = grid.slot_position(slot);
+            for (dx, dy, dz) in FACE_NEIGHBOURHOOD {
+                let neighbour = position.as_ivec3() + IVec3::new(dx, dy, dz);
+                if neighbour.cmplt(IVec3::ZERO).any()
+                    || neighbour.cmpge(grid.resolution.as_ivec3()).any()
+                {
+                    continue;
                 }
+                let other = grid.cell_table[grid.table_slot(orientation, neighbour.as_uvec3())];
+                if other == GUIDE_NO_CELL {
+                    continue;
+                }
+                let other = other as usize;
+                for bin in 0..bins {
+                    let sum = &mut pooled.sums[cell * bins + bin];
+                    *sum = sum.saturating_add(self.sums[other * bins + bin]);
+                }
+                pooled.counts[cell] = pooled.counts[cell].saturating_add(self.counts[other]);
             }
         }
         pooled
@@ -359,7 +376,7 @@ impl GuideSplats {
     /// grid's cell table follows the cells.
     pub fn build(&self) -> Guide {
         let bins = GUIDE_BIN_COUNT as usize;
-        let mut words = self.header.clone();
+        let mut words = self.grid.header_words().to_vec();
         words.reserve(self.counts.len() * 4 * GUIDE_CELL_TEXEL_COUNT as usize);
         let mut guided_cell_count = 0;
         for (cell, &count) in self.counts.iter().enumerate() {

@@ -113,7 +113,7 @@ fn a_scenes_grid_has_cells_only_where_its_triangles_face() {
         ],
     ];
     let triangles: Vec<[Vec3; 3]> = floor.into_iter().chain(wall).collect();
-    let grid = GuideGrid::around_triangles(&triangles);
+    let grid = GuideGrid::around_triangles(triangles);
     assert_eq!(grid.resolution, UVec3::new(16, 8, 16));
     // Floor: 16 x 1 x 16 positions, two orientations. The wall at x = 2 lies on the boundary
     // of positions 7 and 8 (within the margin of both) and spans the grid's height: 2 x 8 x
@@ -140,7 +140,7 @@ fn a_scenes_grid_has_cells_only_where_its_triangles_face() {
         Vec3::new(0.0, 0.0, 1.0),
         Vec3::new(1.0, 1.0, 0.0),
     ]];
-    let grid = GuideGrid::around_triangles(&diagonal);
+    let grid = GuideGrid::around_triangles(diagonal);
     let middle = Vec3::new(0.5, 0.5, 0.5);
     for normal in [Vec3::X, -Vec3::X, Vec3::Y, -Vec3::Y] {
         assert_ne!(grid.cell_index(middle, normal), GUIDE_NO_CELL, "{normal}");

@@ -314,13 +314,7 @@ impl Renderer {
         let guide_buffers = if guiding {
             GuideBuffers::guided(
                 context,
-                GuideGrid::around_triangles(
-                    &scene
-                        .triangles
-                        .iter()
-                        .map(|t| t.positions)
-                        .collect::<Vec<_>>(),
-                ),
+                GuideGrid::around_triangles(scene.triangles.iter().map(|t| t.positions)),
             )?
         } else {
             GuideBuffers::unguided(context)?
