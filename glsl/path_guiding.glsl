@@ -2,7 +2,7 @@
 // every vertex where nee and mis take light samples and the guide has learned its cell,
 // the direction comes from the one-sample mixture of BSDF and guide sampling, and every
 // density that MIS weighs against (the found emission's, the light samples') is the
-// mixture's. In training frames (g_guide_training) the loop also records its first
+// mixture's. In training frames (GUIDING_TRAINING) the loop also records its first
 // GUIDE_TRAINING_VERTEX_COUNT such vertices, guided or not, and at the end of the path
 // splats each one's estimate of the radiance that arrived along its direction, divided by
 // the direction's density (Mueller et al. 2017), into the training buffer with integer
@@ -17,8 +17,7 @@
 // BSDF (below GUIDE_BSDF_FRACTION) or guide; then the BSDF's pairs as sample_path_direction()
 // draws them, or one pair for sample_guide_direction().
 //
-// Needs GUIDING (SPEC_GUIDING) and g_guide_training (a push constant) declared by the
-// includer, and glsl/surface.glsl's and glsl/sobol.glsl's functions.
+// Needs GUIDING (SPEC_GUIDING) declared by the includer, and glsl/surface.glsl's and glsl/sobol.glsl's functions.
 #ifndef VKPATH_PATH_GUIDING_GLSL
 #define VKPATH_PATH_GUIDING_GLSL
 
@@ -34,7 +33,7 @@ layout(set = 0, binding = BINDING_GUIDE_SPLATS, std430) buffer guide_splats {
 
 // Whether this frame records training splats.
 bool is_guide_training() {
-    return GUIDING == GUIDING_ON && g_guide_training != 0u;
+    return GUIDING == GUIDING_TRAINING;
 }
 
 // The cell of a vertex that takes light samples (what guides and what trains), at

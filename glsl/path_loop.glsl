@@ -92,16 +92,22 @@ bsdf_sample_t sample_path_direction(surface_t surface, vec3 view, inout uvec2 se
     return sample_bsdf(surface, view, random_numbers, lobe_random);
 }
 
-// Step 3 at a vertex that path guiding guides (cell `guide_cell`, glsl/path_guiding.glsl):
-// one number chooses between sample_path_direction() and the guide.
+// Step 3 with path guiding (glsl/path_guiding.glsl): at a vertex that the guide guides (cell
+// `guide_cell`), one number chooses between sample_path_direction() and the guide; elsewhere
+// (GUIDE_NO_CELL, always without guiding) sample_path_direction() alone. One function for
+// both, so that sample_path_direction() appears once: on lavapipe both sides of a branch
+// run, and a guided and an unguided call would each pay for the BSDF's sampling.
 bsdf_sample_t sample_guided_path_direction(surface_t surface, vec3 view, uint guide_cell, inout uvec2 seed) {
-    bool bsdf_chosen = get_path_random_numbers(seed)[0] < GUIDE_BSDF_FRACTION;
+    bool guided = guide_cell != GUIDE_NO_CELL;
+    bool bsdf_chosen = !guided || get_path_random_numbers(seed)[0] < GUIDE_BSDF_FRACTION;
     bsdf_sample_t bsdf_sample;
     vec2 guide_random_numbers = vec2(0.0);
     if (bsdf_chosen)
         bsdf_sample = sample_path_direction(surface, view, seed);
     else
         guide_random_numbers = get_path_random_numbers(seed);
+    if (!guided)
+        return bsdf_sample;
     return get_guided_direction(surface, view, guide_cell, bsdf_sample, bsdf_chosen, guide_random_numbers);
 }
 
@@ -153,9 +159,7 @@ vec3 get_path_radiance(vec3 ray_origin, vec3 ray_direction, inout uvec2 seed) {
             radiance += throughput_weight * sample_direct_light(ray_origin, surface, view, seed);
         }
         // 3. Continue the path
-        bsdf_sample_t direction = (g_path.guide_cell != GUIDE_NO_CELL)
-            ? sample_guided_path_direction(surface, view, g_path.guide_cell, seed)
-            : sample_path_direction(surface, view, seed);
+        bsdf_sample_t direction = sample_guided_path_direction(surface, view, g_path.guide_cell, seed);
         if (direction.weight == vec3(0.0))
             break;
         ray_direction = direction.direction;

@@ -36,7 +36,8 @@ layout(constant_id = SPEC_LOOPS_PER_SAMPLE) const uint LOOPS_PER_SAMPLE = 0u;
 layout(constant_id = SPEC_LOOPS_PER_RAY) const uint LOOPS_PER_RAY = 0u;
 layout(constant_id = SPEC_LIGHT_SEARCHES_PER_RAY) const uint LIGHT_SEARCHES_PER_RAY = 0u;
 layout(constant_id = SPEC_TRIANGLE_LOOPS_PER_RAY) const uint TRIANGLE_LOOPS_PER_RAY = 0u;
-// GUIDING_OFF or GUIDING_ON: path guiding (glsl/path_guiding.glsl), compiled out when off.
+// GUIDING_OFF, GUIDING_ON or GUIDING_TRAINING: path guiding (glsl/path_guiding.glsl), compiled
+// out when off, its training only in GUIDING_TRAINING.
 layout(constant_id = SPEC_GUIDING) const int GUIDING = GUIDING_OFF;
 
 // What changes per frame. Mirrors `vkpath::render::gpu_types::FramePushConstants`.
@@ -55,9 +56,6 @@ layout(push_constant) uniform frame_push_constants {
     // sampling off.
     float g_noise_threshold;
     uint g_noise_min_samples;
-    // Nonzero in path guiding's training frames: the path loop splats what it learns
-    // (glsl/path_guiding.glsl).
-    uint g_guide_training;
 };
 
 #include "integrator.glsl"

@@ -133,9 +133,10 @@
 // How nee and mis choose the emissive triangle they sample: LIGHT_SELECTION_* (an id past
 // the constant triangles' 16 + 9 * CONSTANT_TRIANGLE_CAPACITY).
 #define SPEC_LIGHT_SELECTION 600
-// Path guiding (--guiding): GUIDING_OFF, or GUIDING_ON, which samples directions from the
-// guide bound at BINDING_GUIDE and, in training frames, splats into BINDING_GUIDE_SPLATS
-// (glsl/path_guiding.glsl).
+// Path guiding (--guiding): GUIDING_OFF; GUIDING_ON, which samples directions from the guide
+// bound at BINDING_GUIDE; or GUIDING_TRAINING, which also splats into BINDING_GUIDE_SPLATS
+// (glsl/path_guiding.glsl). A guided render has two pipelines: its training frames use the
+// last, its other frames the second, which holds none of the training's code.
 #define SPEC_GUIDING 601
 // Most triangles that can be passed as specialization constants.
 #define CONSTANT_TRIANGLE_CAPACITY 64
@@ -175,8 +176,13 @@
 // Values of SPEC_GUIDING (glsl/path_guiding.glsl).
 // No guide: the path tracer's code for it is compiled out, its bindings unread.
 #define GUIDING_OFF 0
-// Guided directions at nee and mis vertices, and training splats in training frames.
+// Guided directions at nee and mis vertices.
 #define GUIDING_ON 1
+// Guided directions, and training splats: the kernel of a guided render's training frames.
+// On lavapipe both sides of every branch run, so code that a frame skips still costs: the
+// render frames' kernel leaves the training out (Cornell box, 256^2, 256 spp: guided render
+// seconds 9.8-11.8 -> 7.0-7.6, docs/guiding.md).
+#define GUIDING_TRAINING 2
 
 // Values of SPEC_INTEGRATOR.
 // Exercise 7: the path-tracing loop of get_ray_radiance().

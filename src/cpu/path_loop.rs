@@ -109,16 +109,20 @@ pub fn sample_path_direction(
 }
 
 /// Twin of `sample_guided_path_direction`: at a vertex that path guiding guides (cell
-/// `guide_cell` of `texels`), one number chooses between `sample_path_direction` and the
-/// guide.
+/// `guide_cell` of `guide`), one number chooses between `sample_path_direction` and the
+/// guide; elsewhere (no guide, or `GUIDE_NO_CELL`) `sample_path_direction` alone.
 pub fn sample_guided_path_direction(
     integrator: u32,
-    texels: GuideTexels,
+    guide: Option<GuideTexels>,
     surface: &Surface,
     view: Vec3,
     guide_cell: u32,
     seed: &mut UVec2,
 ) -> BsdfSample {
+    let texels = match guide {
+        Some(texels) if guide_cell != GUIDE_NO_CELL => texels,
+        _ => return sample_path_direction(integrator, surface, view, seed),
+    };
     let bsdf_chosen = get_random_numbers(seed)[0] < GUIDE_BSDF_FRACTION;
     // The shader leaves its bsdf_sample unset where the guide samples: every member that
     // get_guided_direction() returns is then overwritten.
@@ -219,17 +223,14 @@ pub fn get_path_radiance(
                 * sample_direct_light(scene, ray_origin, &surface, view, guide_cell, seed);
         }
         // 3. Continue the path
-        let direction = match scene.guide {
-            Some(texels) if guide_cell != GUIDE_NO_CELL => sample_guided_path_direction(
-                scene.integrator,
-                texels,
-                &surface,
-                view,
-                guide_cell,
-                seed,
-            ),
-            _ => sample_path_direction(scene.integrator, &surface, view, seed),
-        };
+        let direction = sample_guided_path_direction(
+            scene.integrator,
+            scene.guide,
+            &surface,
+            view,
+            guide_cell,
+            seed,
+        );
         if direction.weight == Vec3::ZERO {
             break;
         }

@@ -45,7 +45,7 @@ pub struct RenderUniforms {
     pub resolution_triangle_count_seed: [u32; 4],
 }
 
-/// `frame_push_constants` of `glsl/path_tracer.comp` (36 bytes): what changes per frame.
+/// `frame_push_constants` of `glsl/path_tracer.comp` (32 bytes): what changes per frame.
 #[repr(C)]
 #[derive(Clone, Copy, Debug, PartialEq, Pod, Zeroable)]
 pub struct FramePushConstants {
@@ -64,9 +64,6 @@ pub struct FramePushConstants {
     /// Samples a pixel takes before adaptive sampling may stop it, and how often (in
     /// samples) it is judged after that.
     pub noise_min_samples: u32,
-    /// Nonzero in path guiding's training frames: the kernel splats what it learns into the
-    /// guide's training buffer.
-    pub guide_training: u32,
 }
 
 fn extend(v: glam::Vec3, w: f32) -> [f32; 4] {
@@ -139,14 +136,13 @@ mod tests {
 
     #[test]
     fn push_constants_match_frame_push_constants() {
-        assert_eq!(size_of::<FramePushConstants>(), 36);
+        assert_eq!(size_of::<FramePushConstants>(), 32);
         assert_eq!(offset_of!(FramePushConstants, first_sample_index), 0);
         // uvec2 members are 8-byte aligned in a push-constant block (std430).
         assert_eq!(offset_of!(FramePushConstants, pixel_offset), 8);
         assert_eq!(offset_of!(FramePushConstants, pixel_extent), 16);
         assert_eq!(offset_of!(FramePushConstants, noise_threshold), 24);
         assert_eq!(offset_of!(FramePushConstants, noise_min_samples), 28);
-        assert_eq!(offset_of!(FramePushConstants, guide_training), 32);
         assert_eq!(offset_of!(FramePushConstants, sample_end), 4);
     }
 

@@ -15,7 +15,7 @@ use crate::guiding::training::{GuideTrainer, GUIDE_TRAINING_FIRST_SAMPLE};
 use crate::guiding::{Guide, GuideGrid};
 use crate::image_io::data::RenderedImage;
 use crate::kernels::loops::{bvh_iterations_per_ray_at_most, LoopCoefficients, SampleWork};
-use crate::kernels::{Bound, KernelPipeline, Resource, PATH_TRACER};
+use crate::kernels::{Bound, Build, KernelPipeline, Resource, PATH_TRACER};
 use crate::render::accumulation::Accumulation;
 use crate::render::adaptive::NoiseThreshold;
 use crate::render::gpu_scene::GpuScene;
@@ -49,7 +49,7 @@ struct FrameSpan {
     spp: u32,
     /// Adaptive sampling, if on.
     noise_threshold: Option<NoiseThreshold>,
-    /// Whether the frames train the guide (`FramePushConstants::guide_training`).
+    /// Whether the frames train the guide (with `Renderer::training_pipeline`).
     training: bool,
 }
 
@@ -59,6 +59,12 @@ pub struct Renderer {
     settings: RenderSettings,
     commands: CommandRunner,
     pipeline: KernelPipeline,
+    /// A guided render's training frames' pipeline (`GUIDING_TRAINING`; `pipeline` holds
+    /// none of the training's code), built when training first needs it from the kernel
+    /// that `training_kernel` keeps; `descriptors` serve both.
+    training_pipeline: Option<KernelPipeline>,
+    /// What the training pipeline is built from (`--guiding` only, until it is built).
+    training_kernel: Option<TrainingKernel>,
     descriptors: DescriptorSet,
     /// The part of the image rendered (`settings.area()`): the accumulation's pixels.
     area: PixelRegion,
@@ -90,6 +96,14 @@ pub struct Renderer {
     guide_report: Option<GuideReport>,
     /// The trained guide (`--guiding` only, once trained).
     guide: Option<Arc<Guide>>,
+}
+
+/// The kernel a guided render's training pipeline is built from: the render's own, with
+/// `SPEC_GUIDING` set to `GUIDING_TRAINING`.
+struct TrainingKernel {
+    build: Build,
+    spirv: Vec<u32>,
+    specialization: Vec<(u32, u32)>,
 }
 
 /// What training a render's guide did (`--guiding`).
@@ -303,14 +317,11 @@ impl Renderer {
         specialization.extend_from_slice(&gpu_scene.specialization);
         specialization.push((contract::SPEC_LOOP_LIMIT, loop_limit.0));
         specialization.extend_from_slice(&loops.specialization());
-        specialization.push((
-            contract::SPEC_GUIDING,
-            if guiding {
-                contract::GUIDING_ON
-            } else {
-                contract::GUIDING_OFF
-            },
-        ));
+        let specialization_with = |guiding_value| {
+            let mut all = specialization.clone();
+            all.push((contract::SPEC_GUIDING, guiding_value));
+            all
+        };
         let guide_buffers = if guiding {
             GuideBuffers::guided(
                 context,
@@ -323,7 +334,21 @@ impl Renderer {
             Some((spirv, _)) => spirv.to_vec(),
             None => build.embedded_spirv()?,
         };
-        let pipeline = PATH_TRACER.pipeline(context, &build, &spirv, &specialization)?;
+        let pipeline = PATH_TRACER.pipeline(
+            context,
+            &build,
+            &spirv,
+            &specialization_with(if guiding {
+                contract::GUIDING_ON
+            } else {
+                contract::GUIDING_OFF
+            }),
+        )?;
+        let training_kernel = guiding.then(|| TrainingKernel {
+            build,
+            specialization: specialization_with(contract::GUIDING_TRAINING),
+            spirv,
+        });
         let accumulation = StorageImage::new(
             context,
             "accumulation",
@@ -364,6 +389,8 @@ impl Renderer {
             settings,
             commands,
             pipeline,
+            training_pipeline: None,
+            training_kernel,
             descriptors,
             area,
             tiles,
@@ -592,6 +619,16 @@ impl Renderer {
             return Ok(true);
         }
         let started = Instant::now();
+        if self.training_pipeline.is_none() {
+            if let Some(kernel) = &self.training_kernel {
+                self.training_pipeline = Some(PATH_TRACER.pipeline(
+                    &self.context,
+                    &kernel.build,
+                    &kernel.spirv,
+                    &kernel.specialization,
+                )?);
+            }
+        }
         let iterations = training.iterations();
         let mut trainer = GuideTrainer::new(grid.clone());
         let mut taken = 0u32;
@@ -700,7 +737,11 @@ impl Renderer {
         let (noise_threshold, noise_min_samples) = span
             .noise_threshold
             .map_or((0.0, 0), |noise| (noise.threshold, noise.min_spp));
-        let (pipeline, descriptors) = (&self.pipeline.pipeline, &self.descriptors);
+        let kernel = match (&self.training_pipeline, span.training) {
+            (Some(training), true) => training,
+            _ => &self.pipeline,
+        };
+        let (pipeline, descriptors) = (&kernel.pipeline, &self.descriptors);
         // The frames over one rectangle (the area, or a tile of it).
         let record_frames = |recorder: &mut crate::vk::Recorder, part: PixelRegion| {
             recorder.bind(pipeline, descriptors);
@@ -713,7 +754,6 @@ impl Renderer {
                     pixel_extent: [part.width(), part.height()],
                     noise_threshold,
                     noise_min_samples,
-                    guide_training: u32::from(span.training),
                 };
                 recorder.push_constants(pipeline, &constants);
                 recorder.dispatch(pipeline, [part.width(), part.height(), 1]);
@@ -1015,3 +1055,4 @@ fn validate(
     }
     Ok(())
 }
+
