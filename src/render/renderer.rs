@@ -1055,4 +1055,3 @@ fn validate(
     }
     Ok(())
 }
-
