@@ -76,12 +76,13 @@ impl Choices<'_> {
                 .map(|(x0, y0, x1, y1)| PixelRegion { x0, y0, x1, y1 }),
             ..default
         };
-        // As `vkpath render --guiding`: the training budget defaults to a quarter of spp.
+        // As `vkpath render --guiding`: the training budget's default (about a million paths, at
+        // most a quarter of spp).
         let settings = RenderSettings {
             guiding: self.guiding.then(|| GuideTraining {
                 samples: self
                     .guide_training_spp
-                    .unwrap_or(GuideTraining::for_spp(settings.spp).samples),
+                    .unwrap_or(settings.default_guide_training().samples),
             }),
             ..settings
         };

@@ -229,8 +229,9 @@ def render(
     (y1 - y0, x1 - x0, 4), each pixel bit for bit the full render's.
 
     ``guiding=True`` (nee and mis) is ``--guiding``: path guiding, a guide trained on
-    ``guide_training_spp`` samples per pixel (default a quarter of ``spp``) before the
-    render's ``spp``; the same seed gives the same bits as the command line.
+    ``guide_training_spp`` samples per pixel (default: about a million paths in all, at least
+    4 per pixel, at most a quarter of ``spp``) before the render's ``spp``; the same seed
+    gives the same bits as the command line.
     """
     return render_result(
         scene,

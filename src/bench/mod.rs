@@ -167,7 +167,8 @@ pub struct BenchSetup {
     /// Whether to measure nee and mis guided too (`--guiding`): each of them then once
     /// without and once with the guide of `guide_training`.
     pub compare_guiding: bool,
-    /// The guided runs' training (`--guide-training-spp`, else a quarter of `spp`).
+    /// The guided runs' training (`--guide-training-spp`, else
+    /// `RenderSettings::default_guide_training`).
     pub guide_training: Option<GuideTraining>,
     /// `--russian-roulette-start` as given: every render, the reference's included, resolves
     /// it as `vkpath render` does, `default_russian_roulette_start(guided)` where none was
@@ -268,7 +269,7 @@ pub fn run_bench(
         let guiding = guided.then(|| {
             setup
                 .guide_training
-                .unwrap_or(GuideTraining::for_spp(setup.settings.spp))
+                .unwrap_or(setup.settings.default_guide_training())
         });
         let settings = RenderSettings {
             integrator,

@@ -119,7 +119,8 @@ pub struct RenderOptions {
     #[arg(long)]
     pub guiding: bool,
     /// With --guiding: samples per pixel that train the guide, all iterations together
-    /// [default: a quarter of --spp].
+    /// [default: about a million paths in all (at least 4 per pixel), at most a quarter of
+    /// --spp].
     #[arg(long, value_name = "N")]
     pub guide_training_spp: Option<u32>,
 }
@@ -140,8 +141,8 @@ impl RenderOptions {
             light_selection: self.light_selection,
             guiding: self.guiding.then(|| {
                 self.guide_training_spp
-                    .map_or(GuideTraining::for_spp(settings.spp), |samples| {
-                        GuideTraining { samples }
+                    .map_or(settings.default_guide_training(), |samples| GuideTraining {
+                        samples,
                     })
             }),
             ..settings

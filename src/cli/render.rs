@@ -382,7 +382,7 @@ pub fn run(args: &RenderArgs) -> anyhow::Result<()> {
         bail!("--noise-threshold decides per pixel how many of all the samples it takes: it cannot be split into shards or over several devices");
     }
     if settings.guiding.is_some() && shard && args.render.guide_training_spp.is_none() {
-        bail!("--guiding with shards needs --guide-training-spp: every shard must train the same guide as the whole render (its default, a quarter of --spp, differs per shard)");
+        bail!("--guiding with shards needs --guide-training-spp: every shard must train the same guide as the whole render (its default depends on --spp, which differs per shard)");
     }
     if args.denoise {
         crate::denoise::available()?;

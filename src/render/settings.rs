@@ -464,6 +464,13 @@ impl RenderSettings {
             .unwrap_or(PixelRegion::whole(self.width, self.height))
     }
 
+    /// The training budget of a guided render with these settings when none is given:
+    /// `GuideTraining::default_for` its spp and area.
+    pub fn default_guide_training(&self) -> GuideTraining {
+        let area = self.area();
+        GuideTraining::default_for(self.spp, u64::from(area.width()) * u64::from(area.height()))
+    }
+
     /// Width / height.
     pub fn aspect(&self) -> f32 {
         self.width as f32 / self.height as f32
