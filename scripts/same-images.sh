@@ -19,6 +19,11 @@
 # two binaries render each case at once, one per core. A render that fails counts as
 # different (its file is removed before each case).
 set -euo pipefail
+# Both binaries compile every kernel afresh: llvmpipe's kernels loaded from Mesa's shader
+# cache can differ in the last bits from the same kernels compiled in the process (material
+# kernels, docs/guiding.md "A lavapipe fact"), and a changed build would compile where the
+# old one loads.
+export MESA_SHADER_CACHE_DISABLE=true
 old=$(realpath "$1")
 new=$(realpath "$2")
 work=${3:-$(mktemp -d)}
