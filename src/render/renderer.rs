@@ -60,10 +60,11 @@ pub struct Renderer {
     commands: CommandRunner,
     pipeline: KernelPipeline,
     /// A guided render's training frames' pipeline (`GUIDING_TRAINING`; `pipeline` holds
-    /// none of the training's code), built when training first needs it from the kernel
-    /// that `training_kernel` keeps; `descriptors` serve both.
+    /// none of the training's code), built when training first needs it from
+    /// `training_kernel`, which it then replaces; `descriptors` serve both.
     training_pipeline: Option<KernelPipeline>,
-    /// What the training pipeline is built from (`--guiding` only, until it is built).
+    /// What the training pipeline is built from (`--guiding` only, until it is built: a
+    /// render resumed with a frozen guide never builds it).
     training_kernel: Option<TrainingKernel>,
     descriptors: DescriptorSet,
     /// The part of the image rendered (`settings.area()`): the accumulation's pixels.
@@ -619,15 +620,14 @@ impl Renderer {
             return Ok(true);
         }
         let started = Instant::now();
-        if self.training_pipeline.is_none() {
-            if let Some(kernel) = &self.training_kernel {
-                self.training_pipeline = Some(PATH_TRACER.pipeline(
-                    &self.context,
-                    &kernel.build,
-                    &kernel.spirv,
-                    &kernel.specialization,
-                )?);
-            }
+        if let Some(kernel) = &self.training_kernel {
+            self.training_pipeline = Some(PATH_TRACER.pipeline(
+                &self.context,
+                &kernel.build,
+                &kernel.spirv,
+                &kernel.specialization,
+            )?);
+            self.training_kernel = None;
         }
         let iterations = training.iterations();
         let mut trainer = GuideTrainer::new(grid.clone());
@@ -737,9 +737,15 @@ impl Renderer {
         let (noise_threshold, noise_min_samples) = span
             .noise_threshold
             .map_or((0.0, 0), |noise| (noise.threshold, noise.min_spp));
-        let kernel = match (&self.training_pipeline, span.training) {
-            (Some(training), true) => training,
-            _ => &self.pipeline,
+        let kernel = match (span.training, &self.training_pipeline) {
+            (false, _) => &self.pipeline,
+            (true, Some(training)) => training,
+            // Only train_guide_until runs training frames, after building the pipeline.
+            (true, None) => {
+                return Err(Error::InvalidSettings(
+                    "training frames without a training pipeline (an unguided render)".into(),
+                ))
+            }
         };
         let (pipeline, descriptors) = (&kernel.pipeline, &self.descriptors);
         // The frames over one rectangle (the area, or a tile of it).
