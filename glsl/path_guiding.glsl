@@ -17,7 +17,8 @@
 // BSDF (below GUIDE_BSDF_FRACTION) or guide; then the BSDF's pairs as sample_path_direction()
 // draws them, or one pair for sample_guide_direction().
 //
-// Needs GUIDING (SPEC_GUIDING) declared by the includer, and glsl/surface.glsl's and glsl/sobol.glsl's functions.
+// Needs GUIDING (SPEC_GUIDING) declared by the includer, and glsl/surface.glsl's and
+// glsl/sobol.glsl's functions.
 #ifndef VKPATH_PATH_GUIDING_GLSL
 #define VKPATH_PATH_GUIDING_GLSL
 

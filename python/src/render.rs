@@ -12,7 +12,6 @@ use std::time::{Duration, Instant};
 use glam::Vec3;
 use pyo3::prelude::*;
 use pyo3::types::{PyBool, PyByteArray, PyDict};
-use vkpath::guiding::training::GuideTraining;
 use vkpath::lights::environment_source::{EnvironmentOptionNames, EnvironmentSource};
 use vkpath::render::job::production_settings;
 use vkpath::render::region::PixelRegion;
@@ -79,11 +78,9 @@ impl Choices<'_> {
         // As `vkpath render --guiding`: the training budget's default (about a million paths, at
         // most a quarter of spp).
         let settings = RenderSettings {
-            guiding: self.guiding.then(|| GuideTraining {
-                samples: self
-                    .guide_training_spp
-                    .unwrap_or(settings.default_guide_training().samples),
-            }),
+            guiding: self
+                .guiding
+                .then(|| settings.guide_training(self.guide_training_spp)),
             ..settings
         };
         settings.validate().map_err(to_py)?;

@@ -11,7 +11,6 @@ use crate::render::job::{
 };
 use crate::render::metadata::parse_range;
 
-use crate::guiding::training::GuideTraining;
 use crate::image_io::output::{ImageFormat, SaveOptions};
 use crate::image_io::tonemap::{Exposure, ToneMap};
 use crate::render::settings::{
@@ -139,12 +138,9 @@ impl RenderOptions {
             sampler: self.sampler.unwrap_or(settings.sampler),
             light_sampling: self.light_sampling,
             light_selection: self.light_selection,
-            guiding: self.guiding.then(|| {
-                self.guide_training_spp
-                    .map_or(settings.default_guide_training(), |samples| GuideTraining {
-                        samples,
-                    })
-            }),
+            guiding: self
+                .guiding
+                .then(|| settings.guide_training(self.guide_training_spp)),
             ..settings
         }
     }

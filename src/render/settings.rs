@@ -471,6 +471,14 @@ impl RenderSettings {
         GuideTraining::default_for(self.spp, u64::from(area.width()) * u64::from(area.height()))
     }
 
+    /// The training budget of a guided render with these settings: `samples` per pixel
+    /// where given (`--guide-training-spp`), else `default_guide_training`.
+    pub fn guide_training(&self, samples: Option<u32>) -> GuideTraining {
+        samples.map_or(self.default_guide_training(), |samples| GuideTraining {
+            samples,
+        })
+    }
+
     /// Width / height.
     pub fn aspect(&self) -> f32 {
         self.width as f32 / self.height as f32
