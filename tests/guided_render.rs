@@ -119,6 +119,20 @@ fn guided_renders_agree_with_unguided_ones() {
             guide["memory_bytes"].as_u64().unwrap() > 0,
             "{name}: {report}"
         );
+        // Where training's seconds went: three non-negative parts that add up to them (the
+        // host's part is the remainder, so up to rounding in the JSON).
+        let part = |key: &str| guide[key].as_f64().unwrap();
+        let parts = [
+            part("training_pipeline_seconds"),
+            part("training_frames_seconds"),
+            part("training_host_seconds"),
+        ];
+        assert!(parts.iter().all(|&p| p >= 0.0), "{name}: {report}");
+        assert!(
+            (parts.iter().sum::<f64>() - part("training_seconds")).abs() < 1e-6,
+            "{name}: {report}"
+        );
+        assert!(part("training_frames_seconds") > 0.0, "{name}: {report}");
         let output = common::vkpath(dir.path(), &["compare", &guided, &plain]);
         assert!(
             output.status.success(),

@@ -148,6 +148,12 @@ pub struct GuideSummary {
     pub training_iterations: Vec<u32>,
     /// Seconds training took (part of `render_seconds`).
     pub training_seconds: f64,
+    /// Of those: building the training kernel's pipeline.
+    pub training_pipeline_seconds: f64,
+    /// Of those: the training frames (submitting them and waiting for the device).
+    pub training_frames_seconds: f64,
+    /// Of those: the host's side (read-backs, guide builds, uploads, clears).
+    pub training_host_seconds: f64,
     /// Whether the guide came frozen in the resumed checkpoint (no training then).
     pub from_checkpoint: bool,
 }
@@ -162,12 +168,15 @@ impl GuideSummary {
             memory_bytes: report.memory_bytes,
             training_iterations: report.iterations.clone(),
             training_seconds: report.seconds,
+            training_pipeline_seconds: report.times.pipeline_seconds,
+            training_frames_seconds: report.times.frames_seconds,
+            training_host_seconds: report.times.host_seconds,
             from_checkpoint: report.from_checkpoint,
         }
     }
 
-    /// "guide: XxYxZ grid, C cells, G taught, M MB; trained on N spp (1+2+...) in S s" (or
-    /// "from the checkpoint").
+    /// "guide: XxYxZ grid, C cells, G taught, M MB; trained on N spp (1+2+...) in S s
+    /// (pipeline P s, frames F s, host H s)" (or "from the checkpoint").
     fn line(&self) -> String {
         let [x, y, z] = self.grid;
         if self.from_checkpoint {
@@ -185,12 +194,16 @@ impl GuideSummary {
             .map(u32::to_string)
             .collect();
         format!(
-            "guide: {x}x{y}x{z} grid, {} cells, {} taught, {:.2} MB; trained on {total} spp ({}) in {:.2} s",
+            "guide: {x}x{y}x{z} grid, {} cells, {} taught, {:.2} MB; trained on {total} spp ({}) \
+             in {:.2} s (pipeline {:.2} s, frames {:.2} s, host {:.2} s)",
             self.cells,
             self.guided_cells,
             self.memory_bytes as f64 / 1e6,
             parts.join("+"),
-            self.training_seconds
+            self.training_seconds,
+            self.training_pipeline_seconds,
+            self.training_frames_seconds,
+            self.training_host_seconds
         )
     }
 }

@@ -122,15 +122,23 @@ pub struct GuideReport {
     pub iterations: Vec<u32>,
     /// Seconds the training took (frames, read-backs and builds).
     pub seconds: f64,
+    /// Where those seconds went.
+    pub times: TrainingTimes,
     /// Whether the guide came frozen in a resumed state (`Renderer::resume`) instead: no
     /// iterations, no seconds.
     pub from_checkpoint: bool,
 }
 
 impl GuideReport {
-    /// The report of `guide`, trained in `iterations` (spp each) in `seconds`, or frozen in
-    /// a resumed state.
-    fn of(guide: &Guide, iterations: Vec<u32>, seconds: f64, from_checkpoint: bool) -> GuideReport {
+    /// The report of `guide`, trained in `iterations` (spp each) in `seconds` spent as
+    /// `times` says, or frozen in a resumed state.
+    fn of(
+        guide: &Guide,
+        iterations: Vec<u32>,
+        seconds: f64,
+        times: TrainingTimes,
+        from_checkpoint: bool,
+    ) -> GuideReport {
         let grid = guide.grid();
         GuideReport {
             grid_resolution: grid.resolution.to_array(),
@@ -139,9 +147,25 @@ impl GuideReport {
             memory_bytes: guide.memory_bytes(),
             iterations,
             seconds,
+            times,
             from_checkpoint,
         }
     }
+}
+
+/// Where a guide's training spent its seconds (`GuideReport::times`): what to make cheaper
+/// differs between lavapipe, where the frames dominate, and a GPU, where they take
+/// milliseconds.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct TrainingTimes {
+    /// Building the training kernel's pipeline (the driver's compile, or its cache's copy).
+    pub pipeline_seconds: f64,
+    /// The training frames: recording and submitting them and waiting for the device (on
+    /// lavapipe this includes compiling the kernel at its first dispatch).
+    pub frames_seconds: f64,
+    /// The host's side between iterations: clearing the state and the splats, reading the
+    /// splats back, building each iteration's guide and uploading it.
+    pub host_seconds: f64,
 }
 
 /// A render in tiles: the state of the whole area lives on the host, and each frame uploads
@@ -620,6 +644,7 @@ impl Renderer {
             return Ok(true);
         }
         let started = Instant::now();
+        let mut times = TrainingTimes::default();
         if let Some(kernel) = &self.training_kernel {
             self.training_pipeline = Some(PATH_TRACER.pipeline(
                 &self.context,
@@ -629,6 +654,7 @@ impl Renderer {
             )?);
             self.training_kernel = None;
         }
+        times.pipeline_seconds = started.elapsed().as_secs_f64();
         let iterations = training.iterations();
         let mut trainer = GuideTrainer::new(grid.clone());
         let mut taken = 0u32;
@@ -649,12 +675,14 @@ impl Renderer {
                     noise_threshold: None,
                     training: true,
                 };
+                let frames_started = Instant::now();
                 while self.samples_done < samples {
                     if stop() {
                         return Ok(false);
                     }
                     self.run_frames(TRAINING_FRAMES_PER_SUBMISSION, &span)?;
                 }
+                times.frames_seconds += frames_started.elapsed().as_secs_f64();
                 if let Some(splats) = self.guide_buffers.read_splats(&self.commands)? {
                     trainer.add_iteration(&splats);
                 }
@@ -671,12 +699,9 @@ impl Renderer {
             return Ok(false);
         }
         let guide = trainer.into_guide();
-        self.guide_report = Some(GuideReport::of(
-            &guide,
-            iterations,
-            started.elapsed().as_secs_f64(),
-            false,
-        ));
+        let seconds = started.elapsed().as_secs_f64();
+        times.host_seconds = (seconds - times.pipeline_seconds - times.frames_seconds).max(0.0);
+        self.guide_report = Some(GuideReport::of(&guide, iterations, seconds, times, false));
         self.guide = Some(Arc::new(guide));
         Ok(true)
     }
@@ -694,7 +719,13 @@ impl Renderer {
         self.guide_buffers.set_guide(&self.context, &guide)?;
         self.descriptors
             .write_texel_buffer(contract::BINDING_GUIDE, &self.guide_buffers.guide);
-        self.guide_report = Some(GuideReport::of(&guide, Vec::new(), 0.0, true));
+        self.guide_report = Some(GuideReport::of(
+            &guide,
+            Vec::new(),
+            0.0,
+            TrainingTimes::default(),
+            true,
+        ));
         self.guide = Some(guide);
         Ok(())
     }
