@@ -2,7 +2,9 @@
 # Where a guided render's training spends its seconds on a GPU (issue 22): the opening scene
 # at 640x480, 256 spp, 8 vertices, `--guiding`, rendered four times (the first fills the
 # caches), each printing its guide line "trained on ... in S s (pipeline P s, frames F s,
-# host H s)" and the whole process's wall and CPU seconds; plain `mis` twice for comparison.
+# host H s)" and the whole process's wall and CPU seconds; plain `mis` twice for comparison;
+# then the built-in Cornell box at 256x256 (a small image, where training's host side shows)
+# guided three times.
 # Run like scripts/gpu-bench.sh (same carry: .gl with the loader debs, .gpu/vkpath):
 #   run(command="bash scripts/gpu-guide-times.sh", carry=[".gl", ".gpu"], timeout_s=240)
 # On lavapipe, `bash scripts/gpu-guide-times.sh --small target/release/vkpath` runs it at 80x60
@@ -37,4 +39,9 @@ done
 for run in 1 2; do
     echo "== plain mis, run $run"
     { time timeout 60 "$bin" "${common[@]}" 2>&1 | grep -E "setup"; } 2>&1
+done
+for run in 1 2 3; do
+    echo "== Cornell box 256x256, guided, run $run"
+    { time timeout 60 "$bin" render --width 256 --height 256 --spp 256 --integrator mis --guiding \
+        "${gpu[@]}" -o /tmp/guide-times-box.exr 2>&1 | grep -E "trained on|setup"; } 2>&1
 done

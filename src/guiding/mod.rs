@@ -11,10 +11,11 @@
 //! How a render trains one: `training` (the schedule) and `crate::render::guide_buffers`.
 
 use glam::{IVec3, UVec3, Vec3};
+use rayon::prelude::*;
 
 use crate::contract::{
-    GUIDE_BIN_COUNT, GUIDE_CELL_TEXEL_COUNT, GUIDE_HEADER_TEXEL_COUNT, GUIDE_MIN_SPLATS,
-    GUIDE_ORIENTATION_COUNT, GUIDE_UNIFORM_FRACTION,
+    GUIDE_BIN_COUNT, GUIDE_HEADER_TEXEL_COUNT, GUIDE_MIN_SPLATS, GUIDE_ORIENTATION_COUNT,
+    GUIDE_UNIFORM_FRACTION,
 };
 use crate::cpu::guiding::{
     get_guide_bin_index, get_guide_splat_units, get_guide_table_slot, GuideTexels, GUIDE_NO_CELL,
@@ -335,32 +336,53 @@ impl GuideSplats {
     pub fn pooled_with_neighbours(&self) -> GuideSplats {
         let grid = &self.grid;
         let bins = GUIDE_BIN_COUNT as usize;
-        let mut pooled = GuideSplats::new(grid.clone());
+        // Cells whose sums are all zero add nothing to a neighbour's sums (only their count):
+        // most cells, early in training. Found once, instead of adding zeros 7 times over.
+        let has_sums: Vec<bool> = self
+            .sums
+            .par_chunks_exact(bins)
+            .map(|sums| sums.iter().any(|&s| s != 0))
+            .collect();
+        // Each cell has one slot of the table (its grid position and orientation).
+        let mut slot_of_cell = vec![usize::MAX; self.counts.len()];
         for (slot, &cell) in grid.cell_table.iter().enumerate() {
-            if cell == GUIDE_NO_CELL {
-                continue;
-            }
-            let cell = cell as usize;
-            let (orientation, position) = grid.slot_position(slot);
-            for (dx, dy, dz) in FACE_NEIGHBOURHOOD {
-                let neighbour = position.as_ivec3() + IVec3::new(dx, dy, dz);
-                if neighbour.cmplt(IVec3::ZERO).any()
-                    || neighbour.cmpge(grid.resolution.as_ivec3()).any()
-                {
-                    continue;
-                }
-                let other = grid.cell_table[grid.table_slot(orientation, neighbour.as_uvec3())];
-                if other == GUIDE_NO_CELL {
-                    continue;
-                }
-                let other = other as usize;
-                for bin in 0..bins {
-                    let sum = &mut pooled.sums[cell * bins + bin];
-                    *sum = sum.saturating_add(self.sums[other * bins + bin]);
-                }
-                pooled.counts[cell] = pooled.counts[cell].saturating_add(self.counts[other]);
+            if cell != GUIDE_NO_CELL {
+                slot_of_cell[cell as usize] = slot;
             }
         }
+        let mut pooled = GuideSplats::new(grid.clone());
+        // Cells are independent: each thread writes its own cells' bins and count.
+        pooled
+            .sums
+            .par_chunks_exact_mut(bins)
+            .zip(pooled.counts.par_iter_mut())
+            .zip(slot_of_cell.par_iter())
+            .for_each(|((ours, count), &slot)| {
+                if slot == usize::MAX {
+                    return;
+                }
+                let (orientation, position) = grid.slot_position(slot);
+                for (dx, dy, dz) in FACE_NEIGHBOURHOOD {
+                    let neighbour = position.as_ivec3() + IVec3::new(dx, dy, dz);
+                    if neighbour.cmplt(IVec3::ZERO).any()
+                        || neighbour.cmpge(grid.resolution.as_ivec3()).any()
+                    {
+                        continue;
+                    }
+                    let other = grid.cell_table[grid.table_slot(orientation, neighbour.as_uvec3())];
+                    if other == GUIDE_NO_CELL {
+                        continue;
+                    }
+                    let other = other as usize;
+                    if has_sums[other] {
+                        let theirs = &self.sums[other * bins..(other + 1) * bins];
+                        for (sum, &more) in ours.iter_mut().zip(theirs) {
+                            *sum = sum.saturating_add(more);
+                        }
+                    }
+                    *count = count.saturating_add(self.counts[other]);
+                }
+            });
         pooled
     }
 
@@ -376,30 +398,41 @@ impl GuideSplats {
     /// grid's cell table follows the cells.
     pub fn build(&self) -> Guide {
         let bins = GUIDE_BIN_COUNT as usize;
-        let mut words = self.grid.header_words().to_vec();
-        words.reserve(self.counts.len() * 4 * GUIDE_CELL_TEXEL_COUNT as usize);
-        let mut guided_cell_count = 0;
-        for (cell, &count) in self.counts.iter().enumerate() {
-            let sums = &self.sums[cell * bins..(cell + 1) * bins];
-            let total: u128 = sums.iter().map(|&s| u128::from(s)).sum();
-            if count < GUIDE_MIN_SPLATS || total == 0 {
-                words.extend(std::iter::repeat_n(0, bins));
-                continue;
-            }
-            guided_cell_count += 1;
-            let uniform = f64::from(GUIDE_UNIFORM_FRACTION);
-            let mut cumulative = 0.0f64;
-            for (bin, &sum) in sums.iter().enumerate() {
-                cumulative += (1.0 - uniform) * (sum as f64 / total as f64) + uniform / bins as f64;
-                let stored = if bin + 1 == bins {
-                    1.0
+        let header = self.grid.header_words();
+        let cells = self.counts.len();
+        let mut words = vec![0u32; header.len() + cells * bins + self.grid.cell_table.len()];
+        words[..header.len()].copy_from_slice(&header);
+        words[header.len() + cells * bins..].copy_from_slice(&self.grid.cell_table);
+        // Cells are independent: each thread fills its own cells' words (zeros stay zeros).
+        let guided_cell_count = words[header.len()..header.len() + cells * bins]
+            .par_chunks_exact_mut(bins)
+            .zip(self.sums.par_chunks_exact(bins))
+            .zip(self.counts.par_iter())
+            .map(|((cumulatives, sums), &count)| {
+                // Too few splats: not guided, whatever they sum to (not summed then).
+                let total: u128 = if count < GUIDE_MIN_SPLATS {
+                    0
                 } else {
-                    cumulative.min(1.0) as f32
+                    sums.iter().map(|&s| u128::from(s)).sum()
                 };
-                words.push(stored.to_bits());
-            }
-        }
-        words.extend_from_slice(&self.grid.cell_table);
+                if total == 0 {
+                    return 0u32;
+                }
+                let uniform = f64::from(GUIDE_UNIFORM_FRACTION);
+                let mut cumulative = 0.0f64;
+                for (bin, (&sum, word)) in sums.iter().zip(cumulatives.iter_mut()).enumerate() {
+                    cumulative +=
+                        (1.0 - uniform) * (sum as f64 / total as f64) + uniform / bins as f64;
+                    let stored = if bin + 1 == bins {
+                        1.0
+                    } else {
+                        cumulative.min(1.0) as f32
+                    };
+                    *word = stored.to_bits();
+                }
+                1
+            })
+            .sum();
         Guide {
             grid: self.grid.clone(),
             words,

@@ -460,6 +460,59 @@ fn pooling_adds_each_cells_face_neighbours() {
 }
 
 #[test]
+fn pooling_skips_no_splat_that_counts() {
+    // pooled_with_neighbours() skips the bins of cells whose sums are all zero; against the
+    // plain sum over every cell and its face neighbours, on a 4 x 4 x 4 grid with splats in
+    // a few scattered cells, some of value 0 (they count, and add nothing).
+    let grid = GuideGrid::around(Vec3::ZERO, Vec3::splat(4.0), 4);
+    let mut splats = GuideSplats::new(grid.clone());
+    let mut rng = InputRng::new(17);
+    for k in 0..400 {
+        let position = Vec3::new(
+            rng.range(0.0, 4.0),
+            rng.range(0.0, 4.0),
+            rng.range(0.0, 1.5),
+        );
+        let normal = [Vec3::X, Vec3::NEG_Y, Vec3::Z][k % 3];
+        let value = if k % 4 == 0 { 0.0 } else { rng.range(0.0, 5.0) };
+        assert!(splats.splat(position, normal, rng.unit_vector(), value));
+    }
+    let bins = GUIDE_BIN_COUNT as usize;
+    let mut expected = GuideSplats::new(grid.clone());
+    for (slot, &cell) in grid.cell_table.iter().enumerate() {
+        if cell == GUIDE_NO_CELL {
+            continue;
+        }
+        let (orientation, position) = grid.slot_position(slot);
+        for (dx, dy, dz) in FACE_NEIGHBOURHOOD {
+            let neighbour = position.as_ivec3() + glam::IVec3::new(dx, dy, dz);
+            if neighbour.cmplt(glam::IVec3::ZERO).any()
+                || neighbour.cmpge(grid.resolution.as_ivec3()).any()
+            {
+                continue;
+            }
+            let other = grid.cell_table[grid.table_slot(orientation, neighbour.as_uvec3())];
+            if other == GUIDE_NO_CELL {
+                continue;
+            }
+            let (cell, other) = (cell as usize, other as usize);
+            for bin in 0..bins {
+                expected.sums[cell * bins + bin] += splats.sums[other * bins + bin];
+            }
+            expected.counts[cell] += splats.counts[other];
+        }
+    }
+    let pooled = splats.pooled_with_neighbours();
+    assert_eq!(pooled, expected);
+    // Some cell has splats but no sums: the case the skip must get right.
+    assert!((0..grid.cell_count() as usize).any(|c| splats.counts[c] > 0
+        && splats.sums[c * bins..(c + 1) * bins]
+            .iter()
+            .all(|&s| s == 0)));
+    assert_eq!(pooled.build(), expected.build());
+}
+
+#[test]
 fn a_guide_survives_its_sparse_words_and_broken_words_are_refused() {
     let guide = lobe_splats(Vec3::Z, 20_000, 3).build();
     assert_eq!(guide.guided_cell_count(), 1);
