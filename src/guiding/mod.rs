@@ -11,7 +11,6 @@
 //! How a render trains one: `training` (the schedule) and `crate::render::guide_buffers`.
 
 use glam::{IVec3, UVec3, Vec3};
-use rayon::prelude::*;
 
 use crate::contract::{
     GUIDE_BIN_COUNT, GUIDE_HEADER_TEXEL_COUNT, GUIDE_MIN_SPLATS, GUIDE_ORIENTATION_COUNT,
@@ -340,49 +339,38 @@ impl GuideSplats {
         // most cells, early in training. Found once, instead of adding zeros 7 times over.
         let has_sums: Vec<bool> = self
             .sums
-            .par_chunks_exact(bins)
+            .chunks_exact(bins)
             .map(|sums| sums.iter().any(|&s| s != 0))
             .collect();
-        // Each cell has one slot of the table (its grid position and orientation).
-        let mut slot_of_cell = vec![usize::MAX; self.counts.len()];
+        let mut pooled = GuideSplats::new(grid.clone());
         for (slot, &cell) in grid.cell_table.iter().enumerate() {
-            if cell != GUIDE_NO_CELL {
-                slot_of_cell[cell as usize] = slot;
+            if cell == GUIDE_NO_CELL {
+                continue;
+            }
+            let cell = cell as usize;
+            let (orientation, position) = grid.slot_position(slot);
+            for (dx, dy, dz) in FACE_NEIGHBOURHOOD {
+                let neighbour = position.as_ivec3() + IVec3::new(dx, dy, dz);
+                if neighbour.cmplt(IVec3::ZERO).any()
+                    || neighbour.cmpge(grid.resolution.as_ivec3()).any()
+                {
+                    continue;
+                }
+                let other = grid.cell_table[grid.table_slot(orientation, neighbour.as_uvec3())];
+                if other == GUIDE_NO_CELL {
+                    continue;
+                }
+                let other = other as usize;
+                if has_sums[other] {
+                    let theirs = &self.sums[other * bins..(other + 1) * bins];
+                    let ours = &mut pooled.sums[cell * bins..(cell + 1) * bins];
+                    for (sum, &more) in ours.iter_mut().zip(theirs) {
+                        *sum = sum.saturating_add(more);
+                    }
+                }
+                pooled.counts[cell] = pooled.counts[cell].saturating_add(self.counts[other]);
             }
         }
-        let mut pooled = GuideSplats::new(grid.clone());
-        // Cells are independent: each thread writes its own cells' bins and count.
-        pooled
-            .sums
-            .par_chunks_exact_mut(bins)
-            .zip(pooled.counts.par_iter_mut())
-            .zip(slot_of_cell.par_iter())
-            .for_each(|((ours, count), &slot)| {
-                if slot == usize::MAX {
-                    return;
-                }
-                let (orientation, position) = grid.slot_position(slot);
-                for (dx, dy, dz) in FACE_NEIGHBOURHOOD {
-                    let neighbour = position.as_ivec3() + IVec3::new(dx, dy, dz);
-                    if neighbour.cmplt(IVec3::ZERO).any()
-                        || neighbour.cmpge(grid.resolution.as_ivec3()).any()
-                    {
-                        continue;
-                    }
-                    let other = grid.cell_table[grid.table_slot(orientation, neighbour.as_uvec3())];
-                    if other == GUIDE_NO_CELL {
-                        continue;
-                    }
-                    let other = other as usize;
-                    if has_sums[other] {
-                        let theirs = &self.sums[other * bins..(other + 1) * bins];
-                        for (sum, &more) in ours.iter_mut().zip(theirs) {
-                            *sum = sum.saturating_add(more);
-                        }
-                    }
-                    *count = count.saturating_add(self.counts[other]);
-                }
-            });
         pooled
     }
 
@@ -403,11 +391,11 @@ impl GuideSplats {
         let mut words = vec![0u32; header.len() + cells * bins + self.grid.cell_table.len()];
         words[..header.len()].copy_from_slice(&header);
         words[header.len() + cells * bins..].copy_from_slice(&self.grid.cell_table);
-        // Cells are independent: each thread fills its own cells' words (zeros stay zeros).
+        // Unguided cells keep their zeros.
         let guided_cell_count = words[header.len()..header.len() + cells * bins]
-            .par_chunks_exact_mut(bins)
-            .zip(self.sums.par_chunks_exact(bins))
-            .zip(self.counts.par_iter())
+            .chunks_exact_mut(bins)
+            .zip(self.sums.chunks_exact(bins))
+            .zip(&self.counts)
             .map(|((cumulatives, sums), &count)| {
                 // Too few splats: not guided, whatever they sum to (not summed then).
                 let total: u128 = if count < GUIDE_MIN_SPLATS {
