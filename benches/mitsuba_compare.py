@@ -311,6 +311,17 @@ def write_with_moments(mi, dr, path, image, batches, spp, batch_spp):
 
 # --------------------------------------------------------------------------------------------
 
+def add_common_arguments(parser, workdir_name):
+    """The options every Mitsuba comparison takes: --threads, --workdir (default
+    target/WORKDIR_NAME), --vkpath, --build, --force-reference, --no-setup."""
+    parser.add_argument("--threads", type=int, default=2, help="Mitsuba (drjit) CPU threads")
+    parser.add_argument("--workdir", default=os.path.join(REPO, "target", workdir_name))
+    parser.add_argument("--vkpath", default=os.path.join(REPO, "target", "release", "vkpath"))
+    parser.add_argument("--build", action="store_true", help="run cargo build --release first")
+    parser.add_argument("--force-reference", action="store_true", help="render the reference(s) even if cached")
+    parser.add_argument("--no-setup", action="store_true", help="never apt-get/pip install")
+
+
 def main():
     parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     parser.add_argument("--width", type=int, default=256)
@@ -332,12 +343,7 @@ def main():
     parser.add_argument("--mitsuba-max-depth", type=int, default=None,
                         help="override Mitsuba's max_depth (default: --max-path-length); e.g. one less, "
                              "to see the gate fail on a convention mismatch")
-    parser.add_argument("--threads", type=int, default=2, help="Mitsuba (drjit) CPU threads")
-    parser.add_argument("--workdir", default=os.path.join(REPO, "target", "mitsuba_compare"))
-    parser.add_argument("--vkpath", default=os.path.join(REPO, "target", "release", "vkpath"))
-    parser.add_argument("--build", action="store_true", help="run cargo build --release first")
-    parser.add_argument("--force-reference", action="store_true", help="render the reference even if cached")
-    parser.add_argument("--no-setup", action="store_true", help="never apt-get/pip install")
+    add_common_arguments(parser, "mitsuba_compare")
     args = parser.parse_args()
     if args.batches < 2 or args.spp < args.batches or args.spp % args.batches:
         sys.exit("--spp must be a multiple of --batches, and --batches at least 2")

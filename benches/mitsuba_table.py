@@ -395,12 +395,7 @@ def main():
     parser.add_argument("--scenes", default=",".join(SCENES), help=f"comma-separated subset of {', '.join(SCENES)}")
     parser.add_argument("--repeats", type=int, default=3, help="timed whole-process runs per renderer (fastest counts)")
     parser.add_argument("--batches", type=int, default=16, help="Mitsuba renders at spp/batches for the gate's variance")
-    parser.add_argument("--threads", type=int, default=2, help="Mitsuba (drjit) CPU threads")
-    parser.add_argument("--workdir", default=os.path.join(REPO, "target", "mitsuba_table"))
-    parser.add_argument("--vkpath", default=os.path.join(REPO, "target", "release", "vkpath"))
-    parser.add_argument("--build", action="store_true", help="run cargo build --release first")
-    parser.add_argument("--force-reference", action="store_true", help="render the references even if cached")
-    parser.add_argument("--no-setup", action="store_true", help="never apt-get/pip install")
+    mc.add_common_arguments(parser, "mitsuba_table")
     # The worker: one whole Mitsuba process (used by the script itself).
     parser.add_argument("--worker", help=argparse.SUPPRESS)
     parser.add_argument("--out", help=argparse.SUPPRESS)
