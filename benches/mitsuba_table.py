@@ -206,11 +206,12 @@ def spheres_scene(directory):
 
 def textured_scene(directory):
     """Row textured: benches/mitsuba_textured.py's box (its defaults: no metallic-roughness)."""
+    png = mt.checker_png()
     png_path = os.path.join(directory, "checker.png")
     with open(png_path, "wb") as f:
-        f.write(mt.checker_png())
+        f.write(png)
     gltf = os.path.join(directory, "textured_box.gltf")
-    mt.write_gltf(gltf, mt.checker_png())
+    mt.write_gltf(gltf, png)
     shapes = []
     triangles = 0
     for q in mt.scene_description():

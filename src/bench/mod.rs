@@ -134,7 +134,10 @@ fn timed_render(
     let cold_start = started.elapsed().as_secs_f64();
     let outcome = renderer.render_to_end(|_| {}, None)?.finished()?;
     let cpu = process_cpu_seconds() - cpu_started;
-    let training = outcome.guide.as_ref().map_or(0.0, |guide| guide.seconds);
+    let training = outcome
+        .guide
+        .as_ref()
+        .map_or(0.0, crate::render::renderer::GuideReport::seconds);
     let (image, steady) = (outcome.image, outcome.seconds);
     let steady_samples = spp - first_frame_samples;
     let seconds = if steady_samples > 0 {

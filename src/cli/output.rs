@@ -167,7 +167,7 @@ impl GuideSummary {
             guided_cells: report.guided_cell_count,
             memory_bytes: report.memory_bytes,
             training_iterations: report.iterations.clone(),
-            training_seconds: report.seconds,
+            training_seconds: report.seconds(),
             training_pipeline_seconds: report.times.pipeline_seconds,
             training_frames_seconds: report.times.frames_seconds,
             training_host_seconds: report.times.host_seconds,

@@ -391,6 +391,7 @@ impl GuideSplats {
         let mut words = vec![0u32; header.len() + cells * bins + self.grid.cell_table.len()];
         words[..header.len()].copy_from_slice(&header);
         words[header.len() + cells * bins..].copy_from_slice(&self.grid.cell_table);
+        let uniform = f64::from(GUIDE_UNIFORM_FRACTION);
         // Unguided cells keep their zeros.
         let guided_cell_count = words[header.len()..header.len() + cells * bins]
             .chunks_exact_mut(bins)
@@ -406,7 +407,6 @@ impl GuideSplats {
                 if total == 0 {
                     return 0u32;
                 }
-                let uniform = f64::from(GUIDE_UNIFORM_FRACTION);
                 let mut cumulative = 0.0f64;
                 for (bin, (&sum, word)) in sums.iter().zip(cumulatives.iter_mut()).enumerate() {
                     cumulative +=

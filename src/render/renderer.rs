@@ -120,9 +120,7 @@ pub struct GuideReport {
     pub memory_bytes: usize,
     /// Samples per pixel of each training iteration.
     pub iterations: Vec<u32>,
-    /// Seconds the training took (frames, read-backs and builds).
-    pub seconds: f64,
-    /// Where those seconds went.
+    /// Where the training's seconds went (`seconds()` is their sum).
     pub times: TrainingTimes,
     /// Whether the guide came frozen in a resumed state (`Renderer::resume`) instead: no
     /// iterations, no seconds.
@@ -130,12 +128,11 @@ pub struct GuideReport {
 }
 
 impl GuideReport {
-    /// The report of `guide`, trained in `iterations` (spp each) in `seconds` spent as
-    /// `times` says, or frozen in a resumed state.
+    /// The report of `guide`, trained in `iterations` (spp each) in `times`, or frozen in a
+    /// resumed state.
     fn of(
         guide: &Guide,
         iterations: Vec<u32>,
-        seconds: f64,
         times: TrainingTimes,
         from_checkpoint: bool,
     ) -> GuideReport {
@@ -146,10 +143,15 @@ impl GuideReport {
             guided_cell_count: guide.guided_cell_count(),
             memory_bytes: guide.memory_bytes(),
             iterations,
-            seconds,
             times,
             from_checkpoint,
         }
+    }
+
+    /// Seconds the training took (pipeline, frames, read-backs and builds; 0 for a guide
+    /// from a checkpoint).
+    pub fn seconds(&self) -> f64 {
+        self.times.pipeline_seconds + self.times.frames_seconds + self.times.host_seconds
     }
 }
 
@@ -701,7 +703,7 @@ impl Renderer {
         let guide = trainer.into_guide();
         let seconds = started.elapsed().as_secs_f64();
         times.host_seconds = (seconds - times.pipeline_seconds - times.frames_seconds).max(0.0);
-        self.guide_report = Some(GuideReport::of(&guide, iterations, seconds, times, false));
+        self.guide_report = Some(GuideReport::of(&guide, iterations, times, false));
         self.guide = Some(Arc::new(guide));
         Ok(true)
     }
@@ -722,7 +724,6 @@ impl Renderer {
         self.guide_report = Some(GuideReport::of(
             &guide,
             Vec::new(),
-            0.0,
             TrainingTimes::default(),
             true,
         ));
