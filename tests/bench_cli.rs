@@ -127,3 +127,87 @@ fn startup_bench_reports_cold_and_warm_runs_of_both_kernels() {
         }
     }
 }
+
+/// A stored reference (`--reference`) is measured against as the bench's own would be: the
+/// same render written by `vkpath render --moments` (the bench's reference seed, 0x5eed =
+/// 24301, and settings) gives the same relMSE to the last bit, and the report names the
+/// file, its spp and the relMSE its noise adds. A reference of another size is refused.
+#[test]
+fn a_stored_reference_measures_as_the_benchs_own() {
+    let dir = tempfile::tempdir().unwrap();
+    let reference = dir.path().join("reference.exr");
+    let output = common::vkpath(
+        dir.path(),
+        &[
+            "render",
+            "--width",
+            "16",
+            "--height",
+            "16",
+            "--spp",
+            "16",
+            "--integrator",
+            "mis",
+            "--sampler",
+            "pcg",
+            "--seed",
+            "24301",
+            "--moments",
+            "--quiet",
+            "-o",
+            reference.to_str().unwrap(),
+        ],
+    );
+    assert!(
+        output.status.success(),
+        "{}",
+        String::from_utf8_lossy(&output.stderr)
+    );
+    let own = bench(&["--integrators", "mis"]);
+    let stored = |width: &str| {
+        let args = [
+            "bench",
+            "--width",
+            width,
+            "--height",
+            "16",
+            "--spp",
+            "4",
+            "--repeats",
+            "1",
+            "--json",
+            "--integrators",
+            "mis",
+            "--reference",
+            reference.to_str().unwrap(),
+        ];
+        common::vkpath(dir.path(), &args)
+    };
+    let output = stored("16");
+    assert!(
+        output.status.success(),
+        "{}",
+        String::from_utf8_lossy(&output.stderr)
+    );
+    let report: Value = serde_json::from_slice(&output.stdout).unwrap();
+    assert_eq!(own["reference"], "mis");
+    assert_eq!(report["reference"], reference.to_str().unwrap());
+    assert_eq!(report["reference_spp"], 16);
+    assert_eq!(
+        report["results"][0]["relative_mse"],
+        own["results"][0]["relative_mse"]
+    );
+    assert_eq!(
+        report["reference_noise_relative_mse"],
+        own["reference_noise_relative_mse"]
+    );
+    let noise = report["reference_noise_relative_mse"].as_f64().unwrap();
+    assert!(noise > 0.0 && noise.is_finite(), "{report}");
+    let wrong = stored("8");
+    assert!(!wrong.status.success());
+    let stderr = String::from_utf8_lossy(&wrong.stderr);
+    assert!(
+        stderr.contains("reference") && stderr.contains("16x16"),
+        "{stderr}"
+    );
+}

@@ -79,8 +79,15 @@ pub struct BenchReport {
     pub height: u32,
     /// Samples per pixel of each measured render.
     pub spp: u32,
-    /// Samples per pixel of the reference (rendered with MIS).
+    /// Samples per pixel of the reference (rendered with MIS, or the most any pixel of a
+    /// stored reference has).
     pub reference_spp: u32,
+    /// Where the reference came from: "mis" (rendered by the bench) or a stored file's path.
+    pub reference: String,
+    /// The relMSE its own noise adds, in expectation, to every measured relMSE (from its
+    /// moments; `None` for a stored reference without them). Small next to the measured
+    /// figures, or the better estimators' ratios are understated.
+    pub reference_noise_relative_mse: Option<f64>,
     /// Maximum path length of every render.
     pub max_path_length: u32,
     /// Per integrator.
@@ -88,7 +95,7 @@ pub struct BenchReport {
 }
 
 /// Relative MSE of an image against a reference (`vkpath compare` reports it too).
-pub use crate::compare::relative_mse;
+pub use crate::compare::{reference_noise_relative_mse, relative_mse};
 
 /// A timed render's image and times.
 struct TimedRender {
@@ -162,6 +169,9 @@ pub struct BenchSetup {
     pub settings: RenderSettings,
     /// Samples per pixel of the MIS reference.
     pub reference_spp: u32,
+    /// A stored reference (`--reference`) to measure against instead of rendering one, with
+    /// the file's name; it must have the measured renders' size.
+    pub stored_reference: Option<(RenderedImage, String)>,
     /// Integrators to measure.
     pub integrators: Vec<Integrator>,
     /// Light selections to measure each integrator with (`--light-selections`), against
@@ -205,6 +215,7 @@ impl Default for BenchSetup {
                 ..RenderSettings::default()
             },
             reference_spp: 4096,
+            stored_reference: None,
             integrators: vec![
                 Integrator::PathTracing,
                 Integrator::Cosine,
@@ -229,17 +240,33 @@ pub fn run_bench(
     setup: &BenchSetup,
     mut progress: impl FnMut(&str),
 ) -> Result<BenchReport> {
-    progress(&format!("reference: mis, {} spp", setup.reference_spp));
-    let reference_settings = RenderSettings {
-        spp: setup.reference_spp,
-        integrator: Integrator::Mis,
-        // A seed no measured render uses, so the reference's noise is independent.
-        seed: 0x5eed,
-        guiding: None,
-        russian_roulette_start: setup.russian_roulette_start(false),
-        ..setup.settings.clone()
+    let (reference, reference_name, reference_spp) = match &setup.stored_reference {
+        Some((image, name)) => {
+            let (width, height) = (setup.settings.width, setup.settings.height);
+            if (image.width, image.height) != (width, height) {
+                return Err(crate::error::Error::InvalidSettings(format!(
+                    "the reference {name} is {}x{}, the renders {width}x{height}",
+                    image.width, image.height
+                )));
+            }
+            let spp = image.sample_count.iter().fold(0.0f32, |a, &b| a.max(b));
+            (image.clone(), name.clone(), spp as u32)
+        }
+        None => {
+            progress(&format!("reference: mis, {} spp", setup.reference_spp));
+            let reference_settings = RenderSettings {
+                spp: setup.reference_spp,
+                integrator: Integrator::Mis,
+                // A seed no measured render uses, so the reference's noise is independent.
+                seed: 0x5eed,
+                guiding: None,
+                russian_roulette_start: setup.russian_roulette_start(false),
+                ..setup.settings.clone()
+            };
+            let image = timed_render(context, scene, camera, reference_settings)?.image;
+            (image, "mis".to_string(), setup.reference_spp)
+        }
     };
-    let reference = timed_render(context, scene, camera, reference_settings)?.image;
     let mut results = Vec::new();
     let selections = if setup.light_selections.is_empty() {
         vec![setup.settings.light_selection]
@@ -323,7 +350,9 @@ pub fn run_bench(
         width: setup.settings.width,
         height: setup.settings.height,
         spp: setup.settings.spp,
-        reference_spp: setup.reference_spp,
+        reference_spp,
+        reference: reference_name,
+        reference_noise_relative_mse: reference_noise_relative_mse(&reference),
         max_path_length: setup.settings.max_path_length,
         results,
     })
@@ -332,7 +361,7 @@ pub fn run_bench(
 /// The report as a table for people, efficiencies also as ratios to the first integrator.
 pub fn format_table(report: &BenchReport) -> String {
     let mut text = format!(
-        "{} | {} ({} triangles, {}) | sampler {} | light sampling {} | {}x{} | {} spp | reference {} spp (mis) | max path length {}\n",
+        "{} | {} ({} triangles, {}) | sampler {} | light sampling {} | {}x{} | {} spp | reference {} spp ({}, own noise adds relMSE {}) | max path length {}\n",
         report.device,
         report.scene,
         report.triangle_count,
@@ -343,6 +372,10 @@ pub fn format_table(report: &BenchReport) -> String {
         report.height,
         report.spp,
         report.reference_spp,
+        report.reference,
+        report
+            .reference_noise_relative_mse
+            .map_or("unknown".to_string(), |n| format!("{n:.5}")),
         report.max_path_length
     );
     text += &format!(

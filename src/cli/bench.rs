@@ -30,6 +30,11 @@ pub struct BenchArgs {
     /// 1/(reference_spp/spp) of a same-strategy render's to every relMSE.
     #[arg(long, default_value_t = BenchSetup::default().reference_spp)]
     pub reference_spp: u32,
+    /// Measure against this stored reference (an EXR of the same size, best written by
+    /// `vkpath render --moments` at many spp) instead of rendering one: a reference far
+    /// better than the renders, rendered once for many benches.
+    #[arg(long, value_name = "EXR", conflicts_with = "reference_spp")]
+    pub reference: Option<std::path::PathBuf>,
     /// How paths are traced.
     #[command(flatten)]
     pub render: RenderOptions,
@@ -170,6 +175,13 @@ pub fn run(args: &BenchArgs) -> anyhow::Result<()> {
     let Some(camera) = scene.camera else {
         bail!("the scene has no camera; bench needs a scene with its own camera (glTF or the built-in one)");
     };
+    let stored_reference = match &args.reference {
+        Some(path) => {
+            let read = crate::image_io::exr_input::read_exr(path)?;
+            Some((read.image, path.display().to_string()))
+        }
+        None => None,
+    };
     let context = args.device.create_context()?;
     let guiding = settings.guiding;
     let setup = BenchSetup {
@@ -178,6 +190,7 @@ pub fn run(args: &BenchArgs) -> anyhow::Result<()> {
         // Each run takes its own roulette default: guided runs none, unguided from vertex 3.
         russian_roulette_start: args.render.russian_roulette_start,
         reference_spp: args.reference_spp,
+        stored_reference,
         integrators: args.integrators.clone(),
         light_selections: args.light_selections.clone().unwrap_or_default(),
         compare_guiding: guiding.is_some(),

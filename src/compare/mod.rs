@@ -95,6 +95,23 @@ pub fn relative_mse(image: &RenderedImage, reference: &RenderedImage) -> f64 {
     total / (3 * image.mean.len().max(1)) as f64
 }
 
+/// The relMSE that `reference`'s own noise adds, in expectation, to every `relative_mse`
+/// measured against it: the mean of its pixels' variance of the mean over (r^2 + 0.01), from
+/// its moments. `None` when it has no moments (fewer than two samples in some pixel).
+pub fn reference_noise_relative_mse(reference: &RenderedImage) -> Option<f64> {
+    if reference.sample_count.iter().any(|&n| n < 2.0) {
+        return None;
+    }
+    let mut total = 0.0f64;
+    for (variance, r) in reference.variance_of_mean().iter().zip(&reference.mean) {
+        for c in 0..3 {
+            let r = f64::from(r[c]);
+            total += f64::from(variance[c]) / (r * r + 0.01);
+        }
+    }
+    Some(total / (3 * reference.mean.len().max(1)) as f64)
+}
+
 /// The outcome of a comparison.
 #[derive(Clone, Debug, PartialEq, serde::Serialize)]
 pub struct CompareReport {
@@ -295,6 +312,35 @@ mod tests {
             },
             has_moments: moments,
         }
+    }
+
+    #[test]
+    fn a_references_noise_is_what_it_adds_to_the_relative_mse() {
+        // The moments state a variance of the mean of 0.01 per pixel: the noise term is
+        // 0.01 / (r^2 + 0.01) averaged over pixels, about 0.0099 for r = 1 +- 0.17.
+        let size = (64, 64);
+        let exact = noisy(size, 1.0, 0.0, 1, true).image;
+        let (mut measured, mut predicted) = (0.0, 0.0);
+        for seed in 2..6 {
+            let reference = noisy(size, 1.0, 0.01, seed, true).image;
+            measured += relative_mse(&exact, &reference) / 4.0;
+            predicted += reference_noise_relative_mse(&reference).unwrap() / 4.0;
+        }
+        assert!((predicted - 0.0099).abs() < 0.0099 * 0.05, "{predicted}");
+        // (1 - r)^2 of uniform noise has a standard deviation of 0.89 sigma^2: the mean over
+        // 4 x 4096 pixels is within 0.7 % (one standard error) of its expectation; 5 % is
+        // seven standard errors.
+        assert!(
+            (measured - predicted).abs() < predicted * 0.05,
+            "{measured} vs {predicted}"
+        );
+        // Without moments (one sample per pixel) the noise is unknown.
+        let single = noisy(size, 1.0, 0.01, 2, false).image;
+        let single = RenderedImage {
+            sample_count: vec![1.0; single.mean.len()],
+            ..single
+        };
+        assert_eq!(reference_noise_relative_mse(&single), None);
     }
 
     #[test]
