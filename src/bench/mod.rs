@@ -429,7 +429,34 @@ pub fn format_table(report: &BenchReport) -> String {
             r.cpu_efficiency / cpu_baseline
         );
     }
+    if let Some(note) = reference_noise_note(report) {
+        text += &note;
+        text += "\n";
+    }
     text
+}
+
+/// Share of the smallest measured relMSE beyond which the reference's own noise is worth a
+/// note: every relMSE includes it, so it understates the best render's efficiency against
+/// the others by about this share.
+const REFERENCE_NOISE_NOTE_SHARE: f64 = 0.05;
+
+/// A note when the reference's own noise is more than `REFERENCE_NOISE_NOTE_SHARE` of the
+/// smallest relMSE measured: the ratios to the best render are then understated.
+pub fn reference_noise_note(report: &BenchReport) -> Option<String> {
+    let noise = report.reference_noise_relative_mse?;
+    let smallest = report
+        .results
+        .iter()
+        .map(|r| r.relative_mse)
+        .fold(f64::INFINITY, f64::min);
+    let share = noise / smallest;
+    (share > REFERENCE_NOISE_NOTE_SHARE).then(|| {
+        format!(
+            "note: the reference's own noise adds {noise:.5} to every relMSE, {:.0} % of the smallest ({smallest:.5}): the better renders' efficiencies are understated; raise --reference-spp or pass --reference",
+            share * 100.0
+        )
+    })
 }
 
 #[cfg(test)]
@@ -444,6 +471,60 @@ mod tests {
             second_moment: vec![[0.0; 3]; values.len()],
             sample_count: vec![1.0; values.len()],
         }
+    }
+
+    /// A report of renders with these relMSEs against a reference whose noise adds `noise`.
+    fn report(noise: Option<f64>, relative_mses: &[f64]) -> BenchReport {
+        let result = |relative_mse: f64| BenchResult {
+            integrator: "mis".into(),
+            light_selection: "power".into(),
+            cold_start_seconds: 0.1,
+            render_seconds: 1.0,
+            samples_per_second: 1e6,
+            rays_per_second: 4e6,
+            relative_mse,
+            efficiency: 1.0 / relative_mse,
+            seconds_to_target: relative_mse / TARGET_RELATIVE_MSE,
+            guiding: false,
+            training_seconds: 0.0,
+            cpu_seconds: 1.0,
+            cpu_efficiency: 1.0 / relative_mse,
+        };
+        BenchReport {
+            device: "device".into(),
+            scene: "scene".into(),
+            triangle_count: 30,
+            traversal: "BVH".into(),
+            sampler: "pcg".into(),
+            light_sampling: "area".into(),
+            width: 4,
+            height: 4,
+            spp: 4,
+            reference_spp: 64,
+            reference: "mis".into(),
+            reference_noise_relative_mse: noise,
+            max_path_length: 5,
+            results: relative_mses.iter().map(|&m| result(m)).collect(),
+        }
+    }
+
+    #[test]
+    fn a_noisy_reference_is_noted_against_the_smallest_relative_mse() {
+        // 0.00014 is 17.5 % of 0.0008 (the smallest), 3 % of 0.0047: noted, with the share.
+        let noisy = report(Some(0.00014), &[0.0047, 0.0008]);
+        let note = reference_noise_note(&noisy).unwrap();
+        assert!(
+            note.contains("0.00014") && note.contains("18 %") && note.contains("0.00080"),
+            "{note}"
+        );
+        assert!(format_table(&noisy).ends_with(&format!("{note}\n")));
+        // 0.00002 is 2.5 % of it; unknown noise says nothing.
+        assert_eq!(
+            reference_noise_note(&report(Some(0.00002), &[0.0047, 0.0008])),
+            None
+        );
+        assert_eq!(reference_noise_note(&report(None, &[0.0047, 0.0008])), None);
+        assert!(!format_table(&report(None, &[0.0047])).contains("note"));
     }
 
     #[test]
