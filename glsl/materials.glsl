@@ -116,14 +116,45 @@ vec4 sample_material_texture(uint material_index, uint slot, vec2 tex_coord) {
     return sample_texture(texture, tex_coord);
 }
 
-// Base colour and alpha: factor times texture.
-vec4 get_base_color(uint material_index, vec2 tex_coord) {
-    return uintBitsToFloat(get_material_texel(material_index, MATERIAL_TEXEL_BASE_COLOR)) * sample_material_texture(material_index, MATERIAL_TEXTURE_BASE_COLOR, tex_coord);
+// The texture slots of material i at a point: each slot's sample_material_texture() (1 where
+// the material has no texture there; the slots past MATERIAL_TEXTURE_EMISSIVE stay 1 in
+// scenes without layered materials, which never read them).
+struct material_textures_t {
+    vec4 slots[MATERIAL_TEXTURE_SLOT_COUNT];
+};
+
+// Every texture slot of material i at tex_coord: a loop over the slots that have a texture
+// (the layered materials' only in scenes with them), so that the kernel holds a single copy
+// of sample_texture() for all the lookups of a surface instead of one per slot. lavapipe
+// translates and optimises a kernel's whole code at every start, and those copies were 43 %
+// of the material kernel's instructions (docs/performance.md, "Start-up").
+#extension GL_EXT_control_flow_attributes : enable
+material_textures_t sample_material_textures(uint material_index, vec2 tex_coord) {
+    material_textures_t textures;
+    textures.slots = vec4[MATERIAL_TEXTURE_SLOT_COUNT](vec4(1.0), vec4(1.0), vec4(1.0), vec4(1.0), vec4(1.0), vec4(1.0), vec4(1.0), vec4(1.0), vec4(1.0), vec4(1.0), vec4(1.0), vec4(1.0), vec4(1.0));
+    if (!SCENE_HAS_TEXTURES)
+        return textures;
+    uint slot_count = SCENE_HAS_LAYERS ? MATERIAL_TEXTURE_SLOT_COUNT : MATERIAL_TEXTURE_EMISSIVE + 1;
+    uint slots = get_material_texel(material_index, MATERIAL_TEXEL_ALPHA_MODE_TEXTURE_MASK).y & ((1u << slot_count) - 1u);
+    [[dont_unroll]] while (slots != 0u) {
+        int slot = findLSB(slots);
+        slots &= slots - 1u;
+        int first = MATERIAL_FACTOR_TEXEL_COUNT + 3 * slot;
+        texture_slot_t texture = unpack_texture_slot(get_material_texel(material_index, first), get_material_texel(material_index, first + 1), get_material_texel(material_index, first + 2));
+        textures.slots[slot] = sample_texture(texture, tex_coord);
+    }
+    return textures;
 }
 
-// Emitted radiance (front side): factor times texture.
-vec3 get_material_emission(uint material_index, vec2 tex_coord) {
-    return uintBitsToFloat(get_material_texel(material_index, MATERIAL_TEXEL_EMISSIVE_METALLIC).rgb) * sample_material_texture(material_index, MATERIAL_TEXTURE_EMISSIVE, tex_coord).rgb;
+// Base colour and alpha: factor times `texture`, the base colour slot's value
+// (sample_material_texture() of MATERIAL_TEXTURE_BASE_COLOR).
+vec4 get_base_color(uint material_index, vec4 texture) {
+    return uintBitsToFloat(get_material_texel(material_index, MATERIAL_TEXEL_BASE_COLOR)) * texture;
+}
+
+// Emitted radiance (front side): factor times `texture`, the emissive slot's value.
+vec3 get_material_emission(uint material_index, vec4 texture) {
+    return uintBitsToFloat(get_material_texel(material_index, MATERIAL_TEXEL_EMISSIVE_METALLIC).rgb) * texture.rgb;
 }
 
 // Whether a candidate hit at ray parameter t on triangle i counts: always for opaque
@@ -136,7 +167,8 @@ bool is_opaque_hit(uint triangle_index, vec3 ray_origin, vec3 ray_direction, flo
     if (alpha_mode == ALPHA_MODE_OPAQUE)
         return true;
     vec3 barycentrics = get_barycentrics(ray_origin + t * ray_direction, get_triangle(triangle_index));
-    float alpha = get_base_color(material_index, get_tex_coord(triangle_index, barycentrics)).a;
+    vec2 tex_coord = get_tex_coord(triangle_index, barycentrics);
+    float alpha = get_base_color(material_index, sample_material_texture(material_index, MATERIAL_TEXTURE_BASE_COLOR, tex_coord)).a;
     if (alpha_mode == ALPHA_MODE_MASK)
         return alpha >= get_material_alpha_cutoff(material_index);
     uvec2 hash_state = g_path.alpha_seed ^ uvec2(g_path.ray_count * 2654435769u, triangle_index);
@@ -161,11 +193,12 @@ vec3 apply_normal_map(vec3 normal, vec4 tangent, vec3 texel, float scale) {
 }
 
 // The interpolated vertex normal of triangle i (front side), perturbed by the normal map in
-// texture slot `slot` (MATERIAL_TEXTURE_NORMAL or _CLEARCOAT_NORMAL) with `scale`, in the
+// texture slot `slot` (MATERIAL_TEXTURE_NORMAL or _CLEARCOAT_NORMAL), whose value at the
+// point is `texture`, with `scale`, in the
 // interpolated MikkTSpace frame (glTF: n = normalize(T x + B y + N z) with (x, y, z) =
 // (2 rgb - 1) * (scale, scale, 1) and B = cross(N, T) w). The face normal where the
 // interpolation vanishes.
-vec3 get_front_mapped_normal(uint triangle_index, uint material_index, vec3 barycentrics, vec2 tex_coord, vec3 face_normal, uint slot, float scale) {
+vec3 get_front_mapped_normal(uint triangle_index, uint material_index, vec3 barycentrics, vec4 texture, vec3 face_normal, uint slot, float scale) {
     vec3 normal = barycentrics[0] * uintBitsToFloat(get_shading_texel(triangle_index, 0).xyz) + barycentrics[1] * uintBitsToFloat(get_shading_texel(triangle_index, 1).xyz) + barycentrics[2] * uintBitsToFloat(get_shading_texel(triangle_index, 2).xyz);
     if (!(dot(normal, normal) > 1.0e-12))
         return face_normal;
@@ -173,30 +206,29 @@ vec3 get_front_mapped_normal(uint triangle_index, uint material_index, vec3 bary
     if (SCENE_HAS_TEXTURES && has_material_texture(material_index, slot)) {
         vec4 tangent_0 = uintBitsToFloat(get_shading_texel(triangle_index, 5));
         vec3 tangent = barycentrics[0] * tangent_0.xyz + barycentrics[1] * uintBitsToFloat(get_shading_texel(triangle_index, 6).xyz) + barycentrics[2] * uintBitsToFloat(get_shading_texel(triangle_index, 7).xyz);
-        vec3 texel = sample_material_texture(material_index, slot, tex_coord).rgb;
-        normal = apply_normal_map(normal, vec4(tangent, tangent_0.w), texel, scale);
+        normal = apply_normal_map(normal, vec4(tangent, tangent_0.w), texture.rgb, scale);
     }
     return normal;
 }
 
 // The shading normal of triangle i (front side): the vertex normals and the material's
 // normalTexture (get_front_mapped_normal()).
-vec3 get_front_shading_normal(uint triangle_index, uint material_index, vec3 barycentrics, vec2 tex_coord, vec3 face_normal) {
-    return get_front_mapped_normal(triangle_index, material_index, barycentrics, tex_coord, face_normal, MATERIAL_TEXTURE_NORMAL, get_material_normal_scale(material_index));
+vec3 get_front_shading_normal(uint triangle_index, uint material_index, vec3 barycentrics, material_textures_t textures, vec3 face_normal) {
+    return get_front_mapped_normal(triangle_index, material_index, barycentrics, textures.slots[MATERIAL_TEXTURE_NORMAL], face_normal, MATERIAL_TEXTURE_NORMAL, get_material_normal_scale(material_index));
 }
 
 // The clear coat's normal of triangle i (front side): the vertex normals and the material's
 // clearcoatNormalTexture, not its normalTexture (KHR_materials_clearcoat).
-vec3 get_front_clearcoat_normal(uint triangle_index, uint material_index, vec3 barycentrics, vec2 tex_coord, vec3 face_normal) {
-    return get_front_mapped_normal(triangle_index, material_index, barycentrics, tex_coord, face_normal, MATERIAL_TEXTURE_CLEARCOAT_NORMAL, get_material_clearcoat_normal_scale(material_index));
+vec3 get_front_clearcoat_normal(uint triangle_index, uint material_index, vec3 barycentrics, material_textures_t textures, vec3 face_normal) {
+    return get_front_mapped_normal(triangle_index, material_index, barycentrics, textures.slots[MATERIAL_TEXTURE_CLEARCOAT_NORMAL], face_normal, MATERIAL_TEXTURE_CLEARCOAT_NORMAL, get_material_clearcoat_normal_scale(material_index));
 }
 
-// Material i at a point with TEXCOORD_0 tex_coord, after texture lookups: the factors times
+// Material i at a point whose texture slots have the values `textures`: the factors times
 // their textures (glTF: roughness in G, metallic in B of the metallic-roughness texture).
 // \param base_color get_base_color() at the point (alpha tests read it too)
-material_t get_material(uint material_index, vec2 tex_coord, vec4 base_color) {
+material_t get_material(uint material_index, material_textures_t textures, vec4 base_color) {
     vec4 factors = uintBitsToFloat(get_material_texel(material_index, MATERIAL_TEXEL_ROUGHNESS_SPECULAR_IOR_NORMAL_SCALE));
-    vec4 metallic_roughness = sample_material_texture(material_index, MATERIAL_TEXTURE_METALLIC_ROUGHNESS, tex_coord);
+    vec4 metallic_roughness = textures.slots[MATERIAL_TEXTURE_METALLIC_ROUGHNESS];
     material_t material;
     material.base_color = base_color.rgb;
     material.metallic = uintBitsToFloat(get_material_texel(material_index, MATERIAL_TEXEL_EMISSIVE_METALLIC).w) * metallic_roughness.b;
@@ -213,17 +245,17 @@ material_t get_material(uint material_index, vec2 tex_coord, vec4 base_color) {
     material.sheen_roughness = 0.0;
     if (SCENE_HAS_LAYERS) {
         // KHR_materials_specular's textures (A: specular, RGB sRGB: specular colour)
-        material.specular *= sample_material_texture(material_index, MATERIAL_TEXTURE_SPECULAR, tex_coord).a;
-        material.specular_color *= sample_material_texture(material_index, MATERIAL_TEXTURE_SPECULAR_COLOR, tex_coord).rgb;
+        material.specular *= textures.slots[MATERIAL_TEXTURE_SPECULAR].a;
+        material.specular_color *= textures.slots[MATERIAL_TEXTURE_SPECULAR_COLOR].rgb;
         vec4 layers = uintBitsToFloat(get_material_texel(material_index, MATERIAL_TEXEL_TRANSMISSION_THICKNESS_CLEARCOAT));
-        material.transmission = layers.x * sample_material_texture(material_index, MATERIAL_TEXTURE_TRANSMISSION, tex_coord).r;
-        material.thickness = layers.y * sample_material_texture(material_index, MATERIAL_TEXTURE_THICKNESS, tex_coord).g;
+        material.transmission = layers.x * textures.slots[MATERIAL_TEXTURE_TRANSMISSION].r;
+        material.thickness = layers.y * textures.slots[MATERIAL_TEXTURE_THICKNESS].g;
         material.attenuation = uintBitsToFloat(get_material_texel(material_index, MATERIAL_TEXEL_ATTENUATION_CLEARCOAT_NORMAL_SCALE).rgb);
-        material.clearcoat = layers.z * sample_material_texture(material_index, MATERIAL_TEXTURE_CLEARCOAT, tex_coord).r;
-        material.clearcoat_roughness = layers.w * sample_material_texture(material_index, MATERIAL_TEXTURE_CLEARCOAT_ROUGHNESS, tex_coord).g;
+        material.clearcoat = layers.z * textures.slots[MATERIAL_TEXTURE_CLEARCOAT].r;
+        material.clearcoat_roughness = layers.w * textures.slots[MATERIAL_TEXTURE_CLEARCOAT_ROUGHNESS].g;
         vec4 sheen = uintBitsToFloat(get_material_texel(material_index, MATERIAL_TEXEL_SHEEN));
-        material.sheen_color = sheen.rgb * sample_material_texture(material_index, MATERIAL_TEXTURE_SHEEN_COLOR, tex_coord).rgb;
-        material.sheen_roughness = sheen.a * sample_material_texture(material_index, MATERIAL_TEXTURE_SHEEN_ROUGHNESS, tex_coord).a;
+        material.sheen_color = sheen.rgb * textures.slots[MATERIAL_TEXTURE_SHEEN_COLOR].rgb;
+        material.sheen_roughness = sheen.a * textures.slots[MATERIAL_TEXTURE_SHEEN_ROUGHNESS].a;
     }
     return material;
 }

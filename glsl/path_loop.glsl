@@ -111,6 +111,27 @@ bsdf_sample_t sample_guided_path_direction(surface_t surface, vec3 view, uint gu
     return get_guided_direction(surface, view, guide_cell, bsdf_sample, bsdf_chosen, guide_random_numbers);
 }
 
+// What the camera ray's hit shows (ray tracing: the base colour; normal: the shading
+// normal; depth: the ray parameter t; material: (metallic, roughness, 0) after texture
+// lookups, (0, 1, 0) for the Lambertian triangles of kernels without USE_MATERIALS, which
+// leave them unset). The path loop returns it at its first hit (0 where the ray hits
+// nothing): one intersection and one get_surface() in the kernel serve every integrator,
+// which lavapipe translates and optimises once instead of twice.
+vec3 get_first_hit_view(surface_t surface, float t) {
+    if (INTEGRATOR == INTEGRATOR_RAY_TRACING)
+        return surface.material.base_color;
+    if (INTEGRATOR == INTEGRATOR_NORMAL)
+        return surface.shading_normal;
+    if (INTEGRATOR == INTEGRATOR_MATERIAL) {
+#ifdef USE_MATERIALS
+        return vec3(surface.material.metallic, surface.material.roughness, 0.0);
+#else
+        return vec3(0.0, 1.0, 0.0);
+#endif
+    }
+    return vec3(t);
+}
+
 // A Monte Carlo estimate of the radiance arriving along a ray: the loop of the file's
 // comment. L_{j+1} = L_j + T_j (found emission + light samples), T_{j+1} = T_j weight_j.
 // \param ray_origin, ray_direction The camera ray, world space
@@ -135,13 +156,17 @@ vec3 get_path_radiance(vec3 ray_origin, vec3 ray_direction, inout uvec2 seed) {
         triangle_t triangle;
         if (!ray_mesh_intersection(t, triangle, ray_origin, ray_direction)) {
 #ifdef USE_MATERIALS
-            radiance += get_found_environment(i, throughput_weight, ray_direction, direction_density, light_sampled);
+            if (!shows_first_hit())
+                radiance += get_found_environment(i, throughput_weight, ray_direction, direction_density, light_sampled);
 #endif
             break;
         }
         uint triangle_index = g_path.hit_triangle_index;
         ray_origin += t * ray_direction;
         surface_t surface = get_surface(triangle_index, triangle, ray_origin, ray_direction);
+        // Ray tracing, normal, depth and material: what the camera ray's hit shows, no path
+        if (shows_first_hit())
+            return get_first_hit_view(surface, t);
         vec3 view = -ray_direction;
         throughput_weight *= get_volume_transmittance(surface, t);
         // 1. The emission found
@@ -182,30 +207,6 @@ vec3 get_path_radiance(vec3 ray_origin, vec3 ray_direction, inout uvec2 seed) {
     if (is_guide_training())
         splat_guide_records(radiance);
     return radiance;
-}
-
-// What the first hit shows (ray tracing: the base colour; normal: the shading normal; depth:
-// the ray parameter; material: (metallic, roughness, 0) after texture lookups, (0, 1, 0) for
-// the Lambertian triangles of kernels without USE_MATERIALS, which leave them unset), 0 where
-// the ray hits nothing.
-vec3 get_first_hit_view(vec3 ray_origin, vec3 ray_direction) {
-    float t;
-    triangle_t triangle;
-    if (!ray_mesh_intersection(t, triangle, ray_origin, ray_direction))
-        return vec3(0.0);
-    surface_t surface = get_surface(g_path.hit_triangle_index, triangle, ray_origin + t * ray_direction, ray_direction);
-    if (INTEGRATOR == INTEGRATOR_RAY_TRACING)
-        return surface.material.base_color;
-    if (INTEGRATOR == INTEGRATOR_NORMAL)
-        return surface.shading_normal;
-    if (INTEGRATOR == INTEGRATOR_MATERIAL) {
-#ifdef USE_MATERIALS
-        return vec3(surface.material.metallic, surface.material.roughness, 0.0);
-#else
-        return vec3(0.0, 1.0, 0.0);
-#endif
-    }
-    return vec3(t);
 }
 
 #endif

@@ -93,8 +93,7 @@ vec3 get_sample_radiance(vec3 ray_direction, inout uvec2 seed) {
         return compute_direct_illumination(camera_position + t * ray_direction, triangle, seed);
     }
 #endif
-    if (shows_first_hit())
-        return get_first_hit_view(camera_position, ray_direction);
+    // (ray tracing, normal, depth and material too: the loop returns their first hit's view)
     return get_path_radiance(camera_position, ray_direction, seed);
 }
 

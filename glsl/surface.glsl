@@ -118,20 +118,21 @@ surface_t get_surface(uint triangle_index, triangle_t triangle, vec3 position, v
     bool front = dot(triangle.normal, ray_direction) <= 0.0;
     vec3 view = -ray_direction;
     surface.geometric_normal = front ? triangle.normal : -triangle.normal;
-    vec3 shading_normal = get_front_shading_normal(triangle_index, material_index, barycentrics, tex_coord, triangle.normal);
+    material_textures_t textures = sample_material_textures(material_index, tex_coord);
+    vec3 shading_normal = get_front_shading_normal(triangle_index, material_index, barycentrics, textures, triangle.normal);
     shading_normal = front ? shading_normal : -shading_normal;
     surface.shading_normal = (dot(shading_normal, view) > 0.0) ? shading_normal : surface.geometric_normal;
-    vec4 base_color = get_base_color(material_index, tex_coord);
-    surface.material = get_material(material_index, tex_coord, base_color);
+    vec4 base_color = get_base_color(material_index, textures.slots[MATERIAL_TEXTURE_BASE_COLOR]);
+    surface.material = get_material(material_index, textures, base_color);
     bool double_sided = is_double_sided(triangle_index);
-    surface.emission = (front || double_sided) ? get_material_emission(material_index, tex_coord) : vec3(0.0);
+    surface.emission = (front || double_sided) ? get_material_emission(material_index, textures.slots[MATERIAL_TEXTURE_EMISSIVE]) : vec3(0.0);
     surface.eta = front ? surface.material.ior : 1.0 / surface.material.ior;
     surface.back_face = !front;
     surface.clearcoat_normal = surface.geometric_normal;
     surface.unlit_color = vec3(0.0);
     if (SCENE_HAS_LAYERS) {
         if (surface.material.clearcoat > 0.0) {
-            vec3 clearcoat_normal = get_front_clearcoat_normal(triangle_index, material_index, barycentrics, tex_coord, triangle.normal);
+            vec3 clearcoat_normal = get_front_clearcoat_normal(triangle_index, material_index, barycentrics, textures, triangle.normal);
             clearcoat_normal = front ? clearcoat_normal : -clearcoat_normal;
             surface.clearcoat_normal = (dot(clearcoat_normal, view) > 0.0) ? clearcoat_normal : surface.geometric_normal;
         }
@@ -160,7 +161,9 @@ surface_t get_surface(uint triangle_index, triangle_t triangle, vec3 position, v
 // Radiance that triangle i emits from its front at a point of it (a light sample's end).
 vec3 get_front_emission(uint triangle_index, triangle_t triangle, vec3 position) {
 #ifdef USE_MATERIALS
-    return get_material_emission(get_material_index(triangle_index), get_tex_coord(triangle_index, get_barycentrics(position, triangle)));
+    uint material_index = get_material_index(triangle_index);
+    vec2 tex_coord = get_tex_coord(triangle_index, get_barycentrics(position, triangle));
+    return get_material_emission(material_index, sample_material_texture(material_index, MATERIAL_TEXTURE_EMISSIVE, tex_coord));
 #else
     return triangle.emission;
 #endif

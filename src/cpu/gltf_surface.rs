@@ -12,9 +12,10 @@ use crate::contract::{
     MATERIAL_TEXEL_COUNT, MATERIAL_TEXTURE_BASE_COLOR, MATERIAL_TEXTURE_CLEARCOAT,
     MATERIAL_TEXTURE_CLEARCOAT_NORMAL, MATERIAL_TEXTURE_CLEARCOAT_ROUGHNESS,
     MATERIAL_TEXTURE_EMISSIVE, MATERIAL_TEXTURE_METALLIC_ROUGHNESS, MATERIAL_TEXTURE_NORMAL,
-    MATERIAL_TEXTURE_SHEEN_COLOR, MATERIAL_TEXTURE_SHEEN_ROUGHNESS, MATERIAL_TEXTURE_SPECULAR,
-    MATERIAL_TEXTURE_SPECULAR_COLOR, MATERIAL_TEXTURE_THICKNESS, MATERIAL_TEXTURE_TRANSMISSION,
-    SHADING_TEXEL_COUNT, TRIANGLE_FLAG_DOUBLE_SIDED, TRIANGLE_TEXEL_COUNT,
+    MATERIAL_TEXTURE_SHEEN_COLOR, MATERIAL_TEXTURE_SHEEN_ROUGHNESS, MATERIAL_TEXTURE_SLOT_COUNT,
+    MATERIAL_TEXTURE_SPECULAR, MATERIAL_TEXTURE_SPECULAR_COLOR, MATERIAL_TEXTURE_THICKNESS,
+    MATERIAL_TEXTURE_TRANSMISSION, SHADING_TEXEL_COUNT, TRIANGLE_FLAG_DOUBLE_SIDED,
+    TRIANGLE_TEXEL_COUNT,
 };
 use crate::cpu::brdf::{get_brdf, get_brdf_density, sample_brdf, MaterialSample};
 use crate::cpu::layered_bsdf::{
@@ -200,30 +201,74 @@ pub fn sample_material_texture(
     sample_texture(texels.texture_texels, &texture, tex_coord)
 }
 
-/// Twin of `get_base_color`: base colour and alpha, factor times texture.
-pub fn get_base_color(texels: &SurfaceTexels, material_index: u32, tex_coord: Vec2) -> Vec4 {
+/// Twin of `material_textures_t`: the value of each texture slot `MATERIAL_TEXTURE_*` of a
+/// material at a point (1 without a texture, and in the layered slots of scenes without
+/// layered materials).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct MaterialTextures {
+    /// Indexed by `MATERIAL_TEXTURE_*`.
+    pub slots: [Vec4; MATERIAL_TEXTURE_SLOT_COUNT as usize],
+}
+
+/// Twin of `sample_material_textures`: every texture slot of material `i` at `tex_coord`
+/// that has a texture (the layered materials' slots only in scenes with them), lowest slot
+/// first.
+pub fn sample_material_textures(
+    texels: &SurfaceTexels,
+    material_index: u32,
+    tex_coord: Vec2,
+) -> MaterialTextures {
+    let mut textures = MaterialTextures {
+        slots: [Vec4::ONE; MATERIAL_TEXTURE_SLOT_COUNT as usize],
+    };
+    if !texels.scene_has_textures {
+        return textures;
+    }
+    let slot_count = if texels.scene_has_layers {
+        MATERIAL_TEXTURE_SLOT_COUNT
+    } else {
+        MATERIAL_TEXTURE_EMISSIVE + 1
+    };
+    let mut slots = get_material_texel(
+        texels,
+        material_index,
+        MATERIAL_TEXEL_ALPHA_MODE_TEXTURE_MASK,
+    )
+    .y & ((1 << slot_count) - 1);
+    while slots != 0 {
+        let slot = slots.trailing_zeros();
+        slots &= slots - 1;
+        let first = MATERIAL_FACTOR_TEXEL_COUNT + 3 * slot;
+        let texture = unpack_texture_slot(
+            get_material_texel(texels, material_index, first),
+            get_material_texel(texels, material_index, first + 1),
+            get_material_texel(texels, material_index, first + 2),
+        );
+        textures.slots[slot as usize] = sample_texture(texels.texture_texels, &texture, tex_coord);
+    }
+    textures
+}
+
+/// Twin of `get_base_color`: base colour and alpha, factor times `texture` (the base colour
+/// slot's value).
+pub fn get_base_color(texels: &SurfaceTexels, material_index: u32, texture: Vec4) -> Vec4 {
     uint_bits_to_float(get_material_texel(
         texels,
         material_index,
         MATERIAL_TEXEL_BASE_COLOR,
-    )) * sample_material_texture(
-        texels,
-        material_index,
-        MATERIAL_TEXTURE_BASE_COLOR,
-        tex_coord,
-    )
+    )) * texture
 }
 
-/// Twin of `get_material_emission`: emitted radiance (front side), factor times texture.
-pub fn get_material_emission(texels: &SurfaceTexels, material_index: u32, tex_coord: Vec2) -> Vec3 {
+/// Twin of `get_material_emission`: emitted radiance (front side), factor times `texture`
+/// (the emissive slot's value).
+pub fn get_material_emission(texels: &SurfaceTexels, material_index: u32, texture: Vec4) -> Vec3 {
     uint_bits_to_float(get_material_texel(
         texels,
         material_index,
         MATERIAL_TEXEL_EMISSIVE_METALLIC,
     ))
     .truncate()
-        * sample_material_texture(texels, material_index, MATERIAL_TEXTURE_EMISSIVE, tex_coord)
-            .truncate()
+        * texture.truncate()
 }
 
 /// Twin of `is_opaque_hit`: whether a candidate hit at ray parameter `t` on triangle `i`
@@ -247,10 +292,16 @@ pub fn is_opaque_hit(
         ray_origin + t * ray_direction,
         &get_triangle(texels, triangle_index),
     );
+    let tex_coord = get_tex_coord(texels, triangle_index, barycentrics);
     let alpha = get_base_color(
         texels,
         material_index,
-        get_tex_coord(texels, triangle_index, barycentrics),
+        sample_material_texture(
+            texels,
+            material_index,
+            MATERIAL_TEXTURE_BASE_COLOR,
+            tex_coord,
+        ),
     )
     .w;
     if alpha_mode == ALPHA_MODE_MASK {
@@ -262,15 +313,15 @@ pub fn is_opaque_hit(
 }
 
 /// Twin of `get_front_mapped_normal`: the interpolated vertex normal of triangle `i` (front
-/// side), perturbed by the normal map in texture slot `slot` with `scale`; the face normal
-/// where the interpolation vanishes.
+/// side), perturbed by the normal map in texture slot `slot`, whose value at the point is
+/// `texture`, with `scale`; the face normal where the interpolation vanishes.
 #[allow(clippy::too_many_arguments)]
 pub fn get_front_mapped_normal(
     texels: &SurfaceTexels,
     triangle_index: u32,
     material_index: u32,
     barycentrics: Vec3,
-    tex_coord: Vec2,
+    texture: Vec4,
     face_normal: Vec3,
     slot: u32,
     scale: f32,
@@ -291,8 +342,12 @@ pub fn get_front_mapped_normal(
                 * uint_bits_to_float(get_shading_texel(texels, triangle_index, 6)).truncate()
             + barycentrics[2]
                 * uint_bits_to_float(get_shading_texel(texels, triangle_index, 7)).truncate();
-        let texel = sample_material_texture(texels, material_index, slot, tex_coord).truncate();
-        normal = apply_normal_map(normal, tangent.extend(tangent_0.w), texel, scale);
+        normal = apply_normal_map(
+            normal,
+            tangent.extend(tangent_0.w),
+            texture.truncate(),
+            scale,
+        );
     }
     normal
 }
@@ -303,7 +358,7 @@ pub fn get_front_shading_normal(
     triangle_index: u32,
     material_index: u32,
     barycentrics: Vec3,
-    tex_coord: Vec2,
+    textures: &MaterialTextures,
     face_normal: Vec3,
 ) -> Vec3 {
     get_front_mapped_normal(
@@ -311,7 +366,7 @@ pub fn get_front_shading_normal(
         triangle_index,
         material_index,
         barycentrics,
-        tex_coord,
+        textures.slots[MATERIAL_TEXTURE_NORMAL as usize],
         face_normal,
         MATERIAL_TEXTURE_NORMAL,
         get_material_normal_scale(texels, material_index),
@@ -324,7 +379,7 @@ pub fn get_front_clearcoat_normal(
     triangle_index: u32,
     material_index: u32,
     barycentrics: Vec3,
-    tex_coord: Vec2,
+    textures: &MaterialTextures,
     face_normal: Vec3,
 ) -> Vec3 {
     get_front_mapped_normal(
@@ -332,7 +387,7 @@ pub fn get_front_clearcoat_normal(
         triangle_index,
         material_index,
         barycentrics,
-        tex_coord,
+        textures.slots[MATERIAL_TEXTURE_CLEARCOAT_NORMAL as usize],
         face_normal,
         MATERIAL_TEXTURE_CLEARCOAT_NORMAL,
         get_material_clearcoat_normal_scale(texels, material_index),
@@ -360,12 +415,13 @@ pub struct Surface {
     pub unlit_color: Vec3,
 }
 
-/// Twin of `get_material`: material `i` at `tex_coord` after texture lookups (roughness in G,
-/// metallic in B of the metallic-roughness texture); `base_color` is `get_base_color` there.
+/// Twin of `get_material`: material `i` at a point whose texture slots have the values
+/// `textures` (roughness in G, metallic in B of the metallic-roughness texture);
+/// `base_color` is `get_base_color` there.
 pub fn get_material(
     texels: &SurfaceTexels,
     material_index: u32,
-    tex_coord: Vec2,
+    textures: &MaterialTextures,
     base_color: Vec4,
 ) -> MaterialSample {
     let factors = uint_bits_to_float(get_material_texel(
@@ -373,12 +429,7 @@ pub fn get_material(
         material_index,
         MATERIAL_TEXEL_ROUGHNESS_SPECULAR_IOR_NORMAL_SCALE,
     ));
-    let metallic_roughness = sample_material_texture(
-        texels,
-        material_index,
-        MATERIAL_TEXTURE_METALLIC_ROUGHNESS,
-        tex_coord,
-    );
+    let metallic_roughness = textures.slots[MATERIAL_TEXTURE_METALLIC_ROUGHNESS as usize];
     let mut material = MaterialSample {
         base_color: base_color.truncate(),
         metallic: uint_bits_to_float(get_material_texel(
@@ -405,7 +456,7 @@ pub fn get_material(
         sheen_roughness: 0.0,
     };
     if texels.scene_has_layers {
-        let texture = |slot: u32| sample_material_texture(texels, material_index, slot, tex_coord);
+        let texture = |slot: u32| textures.slots[slot as usize];
         material.specular *= texture(MATERIAL_TEXTURE_SPECULAR).w;
         material.specular_color *= texture(MATERIAL_TEXTURE_SPECULAR_COLOR).truncate();
         let layers = uint_bits_to_float(get_material_texel(
@@ -453,12 +504,13 @@ pub fn get_surface(
     } else {
         -triangle.normal
     };
+    let textures = sample_material_textures(texels, material_index, tex_coord);
     let shading_normal = get_front_shading_normal(
         texels,
         triangle_index,
         material_index,
         barycentrics,
-        tex_coord,
+        &textures,
         triangle.normal,
     );
     let shading_normal = if front {
@@ -471,11 +523,19 @@ pub fn get_surface(
     } else {
         geometric_normal
     };
-    let base_color = get_base_color(texels, material_index, tex_coord);
-    let mut material = get_material(texels, material_index, tex_coord, base_color);
+    let base_color = get_base_color(
+        texels,
+        material_index,
+        textures.slots[MATERIAL_TEXTURE_BASE_COLOR as usize],
+    );
+    let mut material = get_material(texels, material_index, &textures, base_color);
     let double_sided = is_double_sided(texels, triangle_index);
     let emission = if front || double_sided {
-        get_material_emission(texels, material_index, tex_coord)
+        get_material_emission(
+            texels,
+            material_index,
+            textures.slots[MATERIAL_TEXTURE_EMISSIVE as usize],
+        )
     } else {
         Vec3::ZERO
     };
@@ -493,7 +553,7 @@ pub fn get_surface(
                 triangle_index,
                 material_index,
                 barycentrics,
-                tex_coord,
+                &textures,
                 triangle.normal,
             );
             let normal = if front { normal } else { -normal };

@@ -35,6 +35,10 @@ pub enum LoopBound {
     /// per ray (once per guided vertex, each of which traced a ray):
     /// `GUIDE_SEARCH_ITERATIONS` iterations.
     GuideSearchPerRay,
+    /// The loop over a material's textured slots (`sample_material_textures`), at most once
+    /// per ray (once per surface, each of which a ray found): at most
+    /// `MATERIAL_TEXTURE_SLOT_COUNT` iterations and the trip that leaves the loop.
+    TextureSlotsPerRay,
 }
 
 /// Iterations of the guide's binary search: log2 of `GUIDE_CELL_TEXEL_COUNT` (texels of four
@@ -57,6 +61,9 @@ pub struct KernelLoop {
     /// Whether it runs only with path guiding on (`GUIDING_ON`): the bound of an unguided
     /// kernel leaves it out.
     pub guiding_only: bool,
+    /// Whether it exists only in the glTF-material kernels (`USE_MATERIALS`): the bound of
+    /// the others leaves it out.
+    pub materials_only: bool,
 }
 
 const fn described(
@@ -71,6 +78,7 @@ const fn described(
         bound,
         group,
         guiding_only: false,
+        materials_only: false,
     }
 }
 
@@ -83,6 +91,19 @@ const fn guiding_loop(
 ) -> KernelLoop {
     KernelLoop {
         guiding_only: true,
+        ..described(file, function, bound, group)
+    }
+}
+
+/// A loop that exists only in the glTF-material kernels.
+const fn material_loop(
+    file: &'static str,
+    function: &'static str,
+    bound: LoopBound,
+    group: &'static str,
+) -> KernelLoop {
+    KernelLoop {
+        materials_only: true,
         ..described(file, function, bound, group)
     }
 }
@@ -138,6 +159,12 @@ pub const PATH_TRACER_LOOPS: &[KernelLoop] = &[
         "sample_guide_direction",
         GuideSearchPerRay,
         "guide search",
+    ),
+    material_loop(
+        "materials.glsl",
+        "sample_material_textures",
+        TextureSlotsPerRay,
+        "texture slots",
     ),
     // One iteration per recorded vertex, each of which traced a ray.
     guiding_loop(
@@ -205,14 +232,13 @@ pub struct LoopCoefficients {
     pub counted_by_kernel: bool,
 }
 
-/// Groups of `loops` with this bound (those of guiding only with `guiding`): each group
-/// runs once per unit.
-fn groups(loops: &[KernelLoop], bound: LoopBound, guiding: bool) -> u32 {
+/// Groups of `loops` with this bound (those of guiding only with `guiding`, those of the
+/// material kernels only with `materials`): each group runs once per unit.
+fn groups(loops: &[KernelLoop], bound: LoopBound, guiding: bool, materials: bool) -> u32 {
     let mut seen: Vec<&str> = Vec::new();
-    for kernel_loop in loops
-        .iter()
-        .filter(|l| l.bound == bound && (guiding || !l.guiding_only))
-    {
+    for kernel_loop in loops.iter().filter(|l| {
+        l.bound == bound && (guiding || !l.guiding_only) && (materials || !l.materials_only)
+    }) {
         if !seen.contains(&kernel_loop.group) {
             seen.push(kernel_loop.group);
         }
@@ -222,12 +248,19 @@ fn groups(loops: &[KernelLoop], bound: LoopBound, guiding: bool) -> u32 {
 
 impl LoopCoefficients {
     /// The coefficients of `loops` for a kernel built for `traversal`, specialized with
-    /// path guiding on or off.
-    pub fn of(loops: &[KernelLoop], traversal: Traversal, guiding: bool) -> LoopCoefficients {
-        let count = |bound| groups(loops, bound, guiding);
+    /// path guiding on or off, with the glTF-material kernels' code (`materials`) or not.
+    pub fn of(
+        loops: &[KernelLoop],
+        traversal: Traversal,
+        guiding: bool,
+        materials: bool,
+    ) -> LoopCoefficients {
+        let count = |bound| groups(loops, bound, guiding, materials);
         LoopCoefficients {
             per_sample: count(PerSample),
-            per_ray: count(PerRay) + GUIDE_SEARCH_ITERATIONS * count(GuideSearchPerRay),
+            per_ray: count(PerRay)
+                + GUIDE_SEARCH_ITERATIONS * count(GuideSearchPerRay)
+                + (contract::MATERIAL_TEXTURE_SLOT_COUNT + 1) * count(TextureSlotsPerRay),
             light_searches_per_ray: count(LightSearchPerRay),
             triangle_loops_per_ray: match traversal {
                 Traversal::Linear => count(TrianglesPerRay),
@@ -237,9 +270,9 @@ impl LoopCoefficients {
         }
     }
 
-    /// The path tracer's, with path guiding on or off.
-    pub fn path_tracer(traversal: Traversal, guiding: bool) -> LoopCoefficients {
-        LoopCoefficients::of(PATH_TRACER_LOOPS, traversal, guiding)
+    /// The path tracer's, with path guiding on or off, in a material kernel or not.
+    pub fn path_tracer(traversal: Traversal, guiding: bool, materials: bool) -> LoopCoefficients {
+        LoopCoefficients::of(PATH_TRACER_LOOPS, traversal, guiding, materials)
     }
 
     /// The specialization constants that pass them to the kernel.
@@ -331,7 +364,7 @@ mod tests {
 
     #[test]
     fn coefficients_count_each_group_once() {
-        let linear = LoopCoefficients::path_tracer(Traversal::Linear, false);
+        let linear = LoopCoefficients::path_tracer(Traversal::Linear, false, false);
         // One sample loop; three path loops of which one runs; one light search; the
         // closest-hit or the any-hit query's loop over the triangles.
         assert_eq!(
@@ -344,15 +377,23 @@ mod tests {
             (1, 1, 1, 1)
         );
         assert!(!linear.counted_by_kernel);
-        let bvh = LoopCoefficients::path_tracer(Traversal::Bvh, false);
+        let bvh = LoopCoefficients::path_tracer(Traversal::Bvh, false, false);
         assert_eq!(bvh.triangle_loops_per_ray, 0);
         assert!(bvh.counted_by_kernel);
-        let constant = LoopCoefficients::path_tracer(Traversal::ConstantTriangles, false);
+        let constant = LoopCoefficients::path_tracer(Traversal::ConstantTriangles, false, false);
         assert_eq!(constant.triangle_loops_per_ray, 0);
         // With guiding, per ray: the path loop, the splat loop and the guide's 6-step search.
-        let guided = LoopCoefficients::path_tracer(Traversal::Linear, true);
+        let guided = LoopCoefficients::path_tracer(Traversal::Linear, true, false);
         assert_eq!(guided.per_ray, 1 + 1 + 6);
         assert_eq!(guided.per_sample, 1);
+        // A material kernel: the path loop and each surface's 13 texture slots plus the
+        // trip that leaves their loop.
+        let materials = LoopCoefficients::path_tracer(Traversal::Bvh, false, true);
+        assert_eq!(materials.per_ray, 1 + 14);
+        assert_eq!(
+            LoopCoefficients::path_tracer(Traversal::Bvh, true, true).per_ray,
+            1 + 1 + 6 + 14
+        );
         // 1 + 10 rays * (1 + 32 + 100 triangles), with 2^32 - 1 lights (32 bits)
         let work = SampleWork {
             rays: 10,
@@ -387,7 +428,7 @@ mod tests {
             ..BvhStats::default()
         };
         assert_eq!(bvh_iterations_per_ray_at_most(&stats), 40);
-        let bvh = LoopCoefficients::path_tracer(Traversal::Bvh, false);
+        let bvh = LoopCoefficients::path_tracer(Traversal::Bvh, false, false);
         // mis at 48 vertices over 2 lights: 48 closest-hit rays and 47 shadow rays, each
         // 1 (path loop) + 2 (light search over 2 lights) + 40 (the tree): 1 + 95 * 43.
         let work = SampleWork {

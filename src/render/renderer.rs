@@ -326,7 +326,8 @@ impl Renderer {
             scene.needs_layered_kernels(),
         )?;
         let guiding = settings.guiding.is_some();
-        let loops = LoopCoefficients::path_tracer(traversal, guiding);
+        let loops =
+            LoopCoefficients::path_tracer(traversal, guiding, scene.needs_material_kernels());
         let loop_limit = LoopLimit::of(context);
         let work = SampleWork {
             rays: rays_per_sample(&settings, scene),
