@@ -225,11 +225,10 @@ bsdf_sample_t sample_bsdf(surface_t surface, vec3 view, vec2 random_numbers, flo
             bsdf_sample.lobes = BSDF_LOBE_TRANSMIT;
             bsdf_sample.eta = is_refracting(surface.material) ? surface.eta : 1.0;
         }
-        bsdf_sample.density = get_bsdf_density(surface, view, bsdf_sample.direction);
-        bsdf_sample.weight = (bsdf_sample.density > 0.0) ? get_bsdf(surface, view, bsdf_sample.direction) / bsdf_sample.density : vec3(0.0);
-        return bsdf_sample;
-    }
-    bsdf_sample.direction = sample_brdf(random_numbers, surface.material, surface.shading_normal, view);
+    } else
+        bsdf_sample.direction = sample_brdf(random_numbers, surface.material, surface.shading_normal, view);
+    // One density and one BSDF evaluation after both branches: the kernel holds them once
+    // (lavapipe translates every inlined copy at each start).
     bsdf_sample.density = get_bsdf_density(surface, view, bsdf_sample.direction);
     bsdf_sample.weight = (bsdf_sample.density > 0.0) ? get_bsdf(surface, view, bsdf_sample.direction) / bsdf_sample.density : vec3(0.0);
 #else
