@@ -284,32 +284,14 @@ vec3 estimate_light_sample(surface_t surface, vec3 view, vec3 origin, light_samp
 // estimates all the direct light arriving there (the path loop's light-samples step).
 // \param position The surface point, world space
 // \param seed The pixel's PCG2D random state (see get_path_random_numbers())
-#ifdef USE_MATERIALS
-#extension GL_EXT_control_flow_attributes : enable
-#endif
 vec3 sample_direct_light(vec3 position, surface_t surface, vec3 view, inout uvec2 seed) {
     vec3 origin = get_light_sample_origin(surface, position);
+    vec3 direct = estimate_light_sample(surface, view, origin, sample_emissive_triangle_light(origin, get_light_selection_normal(surface), seed));
 #ifdef USE_MATERIALS
-    // The LIGHT_KIND_COUNT kinds in a loop, so that estimate_light_sample() (a BSDF
-    // evaluation and a shadow ray's traversal, alpha test included) is in the kernel once
-    // instead of once per kind: lavapipe translates and optimises all of a kernel's code at
-    // every start (docs/performance.md, "Start-up"). The sum is taken in the same order.
-    vec3 direct = vec3(0.0);
-    [[dont_unroll]] for (int kind = 0; kind < LIGHT_KIND_COUNT; ++kind) {
-        light_sample_t light_sample;
-        if (kind == 0)
-            light_sample = sample_emissive_triangle_light(origin, get_light_selection_normal(surface), seed);
-        else if (kind == 1)
-            light_sample = sample_environment_light(seed);
-        else
-            light_sample = sample_punctual_light(origin, seed);
-        vec3 estimate = estimate_light_sample(surface, view, origin, light_sample);
-        direct = (kind == 0) ? estimate : direct + estimate;
-    }
-    return direct;
-#else
-    return estimate_light_sample(surface, view, origin, sample_emissive_triangle_light(origin, get_light_selection_normal(surface), seed));
+    direct += estimate_light_sample(surface, view, origin, sample_environment_light(seed));
+    direct += estimate_light_sample(surface, view, origin, sample_punctual_light(origin, seed));
 #endif
+    return direct;
 }
 
 #endif

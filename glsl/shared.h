@@ -167,11 +167,6 @@
 // by area where that solid angle is tiny or nearly 2 pi (use_spherical_sampling()).
 #define LIGHT_SAMPLING_SOLID_ANGLE 1
 
-// The kinds of light that nee and mis sample at a vertex of the material kernels, one light
-// sample each, in this order (sample_direct_light()): an emissive triangle, the environment,
-// a punctual light.
-#define LIGHT_KIND_COUNT 3
-
 // Values of SPEC_LIGHT_SELECTION (glsl/lights.glsl).
 // In proportion to power, from the lights' CDF (sample_light_index()).
 #define LIGHT_SELECTION_POWER 0

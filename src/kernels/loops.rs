@@ -39,10 +39,6 @@ pub enum LoopBound {
     /// per ray (once per surface, each of which a ray found): at most
     /// `MATERIAL_TEXTURE_SLOT_COUNT` iterations and the trip that leaves the loop.
     TextureSlotsPerRay,
-    /// The loop over the kinds of light (`sample_direct_light`), at most once per ray (once
-    /// per vertex that takes light samples, each of which a ray found): `LIGHT_KIND_COUNT`
-    /// iterations and the trip that leaves the loop.
-    LightKindsPerRay,
 }
 
 /// Iterations of the guide's binary search: log2 of `GUIDE_CELL_TEXEL_COUNT` (texels of four
@@ -170,12 +166,6 @@ pub const PATH_TRACER_LOOPS: &[KernelLoop] = &[
         TextureSlotsPerRay,
         "texture slots",
     ),
-    material_loop(
-        "lights.glsl",
-        "sample_direct_light",
-        LightKindsPerRay,
-        "light kinds",
-    ),
     // One iteration per recorded vertex, each of which traced a ray.
     guiding_loop(
         "path_guiding.glsl",
@@ -270,8 +260,7 @@ impl LoopCoefficients {
             per_sample: count(PerSample),
             per_ray: count(PerRay)
                 + GUIDE_SEARCH_ITERATIONS * count(GuideSearchPerRay)
-                + (contract::MATERIAL_TEXTURE_SLOT_COUNT + 1) * count(TextureSlotsPerRay)
-                + (contract::LIGHT_KIND_COUNT + 1) * count(LightKindsPerRay),
+                + (contract::MATERIAL_TEXTURE_SLOT_COUNT + 1) * count(TextureSlotsPerRay),
             light_searches_per_ray: count(LightSearchPerRay),
             triangle_loops_per_ray: match traversal {
                 Traversal::Linear => count(TrianglesPerRay),
@@ -397,13 +386,13 @@ mod tests {
         let guided = LoopCoefficients::path_tracer(Traversal::Linear, true, false);
         assert_eq!(guided.per_ray, 1 + 1 + 6);
         assert_eq!(guided.per_sample, 1);
-        // A material kernel: the path loop, each surface's 13 texture slots and each light
-        // sampling vertex's 3 kinds of light, each loop with the trip that leaves it.
+        // A material kernel: the path loop and each surface's 13 texture slots plus the
+        // trip that leaves their loop.
         let materials = LoopCoefficients::path_tracer(Traversal::Bvh, false, true);
-        assert_eq!(materials.per_ray, 1 + 14 + 4);
+        assert_eq!(materials.per_ray, 1 + 14);
         assert_eq!(
             LoopCoefficients::path_tracer(Traversal::Bvh, true, true).per_ray,
-            1 + 1 + 6 + 14 + 4
+            1 + 1 + 6 + 14
         );
         // 1 + 10 rays * (1 + 32 + 100 triangles), with 2^32 - 1 lights (32 bits)
         let work = SampleWork {
