@@ -240,6 +240,7 @@ pub fn run_bench(
     setup: &BenchSetup,
     mut progress: impl FnMut(&str),
 ) -> Result<BenchReport> {
+    let rendered_reference;
     let (reference, reference_name, reference_spp) = match &setup.stored_reference {
         Some((image, name)) => {
             let (width, height) = (setup.settings.width, setup.settings.height);
@@ -250,7 +251,7 @@ pub fn run_bench(
                 )));
             }
             let spp = image.sample_count.iter().fold(0.0f32, |a, &b| a.max(b));
-            (image.clone(), name.clone(), spp as u32)
+            (image, name.clone(), spp as u32)
         }
         None => {
             progress(&format!("reference: mis, {} spp", setup.reference_spp));
@@ -263,8 +264,8 @@ pub fn run_bench(
                 russian_roulette_start: setup.russian_roulette_start(false),
                 ..setup.settings.clone()
             };
-            let image = timed_render(context, scene, camera, reference_settings)?.image;
-            (image, "mis".to_string(), setup.reference_spp)
+            rendered_reference = timed_render(context, scene, camera, reference_settings)?.image;
+            (&rendered_reference, "mis".to_string(), setup.reference_spp)
         }
     };
     let mut results = Vec::new();
@@ -312,7 +313,7 @@ pub fn run_bench(
         let samples =
             f64::from(settings.width) * f64::from(settings.height) * f64::from(settings.spp);
         let timed = timed_render(context, scene, camera, settings)?;
-        let relative_mse = relative_mse(&timed.image, &reference);
+        let relative_mse = relative_mse(&timed.image, reference);
         let seconds = timed.seconds.max(1e-9);
         results.push(BenchResult {
             integrator: name.to_string(),
@@ -352,7 +353,7 @@ pub fn run_bench(
         spp: setup.settings.spp,
         reference_spp,
         reference: reference_name,
-        reference_noise_relative_mse: reference_noise_relative_mse(&reference),
+        reference_noise_relative_mse: reference_noise_relative_mse(reference),
         max_path_length: setup.settings.max_path_length,
         results,
     })

@@ -85,31 +85,40 @@ pub struct WorstTest {
 /// Relative MSE of `image` against `reference`: mean of (x - r)^2 / (r^2 + 0.01) over all
 /// pixels and colour channels (the 0.01 keeps dark pixels from dominating).
 pub fn relative_mse(image: &RenderedImage, reference: &RenderedImage) -> f64 {
-    let mut total = 0.0f64;
-    for (x, r) in image.mean.iter().zip(&reference.mean) {
-        for c in 0..3 {
+    let squared_errors = image.mean.iter().zip(&reference.mean).map(|(x, r)| {
+        std::array::from_fn(|c| {
             let (x, r) = (f64::from(x[c]), f64::from(r[c]));
-            total += (x - r) * (x - r) / (r * r + 0.01);
-        }
-    }
-    total / (3 * image.mean.len().max(1)) as f64
+            (x - r) * (x - r)
+        })
+    });
+    mean_relative_to_reference(squared_errors.zip(&reference.mean), image.mean.len())
 }
 
 /// The relMSE that `reference`'s own noise adds, in expectation, to every `relative_mse`
 /// measured against it: the mean of its pixels' variance of the mean over (r^2 + 0.01), from
 /// its moments. `None` when it has no moments (fewer than two samples in some pixel).
 pub fn reference_noise_relative_mse(reference: &RenderedImage) -> Option<f64> {
-    if reference.sample_count.iter().any(|&n| n < 2.0) {
-        return None;
-    }
+    let variances = pixel_variances(reference, true)?;
+    Some(mean_relative_to_reference(
+        variances.into_iter().zip(&reference.mean),
+        reference.mean.len(),
+    ))
+}
+
+/// relMSE's normalisation: the mean over `pixel_count` pixels and the colour channels of
+/// each pixel's term over (r^2 + 0.01), r the reference's value there.
+fn mean_relative_to_reference<'a>(
+    terms: impl Iterator<Item = ([f64; 3], &'a [f32; 4])>,
+    pixel_count: usize,
+) -> f64 {
     let mut total = 0.0f64;
-    for (variance, r) in reference.variance_of_mean().iter().zip(&reference.mean) {
+    for (term, r) in terms {
         for c in 0..3 {
             let r = f64::from(r[c]);
-            total += f64::from(variance[c]) / (r * r + 0.01);
+            total += term[c] / (r * r + 0.01);
         }
     }
-    Some(total / (3 * reference.mean.len().max(1)) as f64)
+    total / (3 * pixel_count.max(1)) as f64
 }
 
 /// The outcome of a comparison.

@@ -95,19 +95,6 @@ const fn guiding_loop(
     }
 }
 
-/// A loop that exists only in the glTF-material kernels.
-const fn material_loop(
-    file: &'static str,
-    function: &'static str,
-    bound: LoopBound,
-    group: &'static str,
-) -> KernelLoop {
-    KernelLoop {
-        materials_only: true,
-        ..described(file, function, bound, group)
-    }
-}
-
 use LoopBound::*;
 
 /// Every loop of `glsl/path_tracer.comp` and the files it includes, in the order of each
@@ -160,12 +147,16 @@ pub const PATH_TRACER_LOOPS: &[KernelLoop] = &[
         GuideSearchPerRay,
         "guide search",
     ),
-    material_loop(
-        "materials.glsl",
-        "sample_material_textures",
-        TextureSlotsPerRay,
-        "texture slots",
-    ),
+    // Only in the glTF-material kernels.
+    KernelLoop {
+        materials_only: true,
+        ..described(
+            "materials.glsl",
+            "sample_material_textures",
+            TextureSlotsPerRay,
+            "texture slots",
+        )
+    },
     // One iteration per recorded vertex, each of which traced a ray.
     guiding_loop(
         "path_guiding.glsl",
