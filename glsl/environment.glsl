@@ -18,8 +18,15 @@
 // gpu_environment_words() on the host.
 layout(set = 0, binding = BINDING_ENVIRONMENT) uniform usamplerBuffer g_environment_texels;
 
+// Whether the scene has an environment that emits light (the host specializes it; false
+// makes the kind a constant ENVIRONMENT_NONE, which compiles the environment's light samples,
+// lookups and MIS weights out).
+layout(constant_id = SPEC_SCENE_HAS_ENVIRONMENT) const bool SCENE_HAS_ENVIRONMENT = true;
+
 // ENVIRONMENT_NONE (black: nothing to sample), ENVIRONMENT_CONSTANT or ENVIRONMENT_MAP.
 uint get_environment_kind() {
+    if (!SCENE_HAS_ENVIRONMENT)
+        return ENVIRONMENT_NONE;
     return texelFetch(g_environment_texels, 0).z;
 }
 
@@ -46,6 +53,9 @@ uint get_environment_texel_index(vec3 direction) {
 // Radiance arriving from infinitely far along a unit direction (world space).
 vec3 get_environment_radiance(vec3 direction) {
     uint kind = get_environment_kind();
+    // ENVIRONMENT_NONE's background texel is black (gpu_environment_words() on the host)
+    if (!SCENE_HAS_ENVIRONMENT)
+        return vec3(0.0);
     if (kind == ENVIRONMENT_MAP)
         return uintBitsToFloat(texelFetch(g_environment_texels, 3 + 2 * int(get_environment_texel_index(direction))).rgb);
     return uintBitsToFloat(texelFetch(g_environment_texels, 2).rgb);

@@ -246,12 +246,16 @@ light_sample_t sample_environment_light(inout uvec2 seed) {
     return light_sample;
 }
 
+// Whether the scene has punctual lights (the host specializes it; false compiles their light
+// samples out).
+layout(constant_id = SPEC_SCENE_HAS_PUNCTUAL_LIGHTS) const bool SCENE_HAS_PUNCTUAL_LIGHTS = true;
+
 // One punctual light, chosen uniformly (delta_weight: their count): delta lights have no
 // density to weigh against, so no MIS. No sample where it gives no light (outside a spot's
 // cone).
 light_sample_t sample_punctual_light(vec3 origin, inout uvec2 seed) {
     light_sample_t light_sample = get_no_light_sample();
-    uint count = get_punctual_light_count();
+    uint count = SCENE_HAS_PUNCTUAL_LIGHTS ? get_punctual_light_count() : 0u;
     if (count == 0u)
         return light_sample;
     uint index = min(uint(get_path_random_numbers(seed)[0] * float(count)), count - 1u);
@@ -288,8 +292,10 @@ vec3 sample_direct_light(vec3 position, surface_t surface, vec3 view, inout uvec
     vec3 origin = get_light_sample_origin(surface, position);
     vec3 direct = estimate_light_sample(surface, view, origin, sample_emissive_triangle_light(origin, get_light_selection_normal(surface), seed));
 #ifdef USE_MATERIALS
-    direct += estimate_light_sample(surface, view, origin, sample_environment_light(seed));
-    direct += estimate_light_sample(surface, view, origin, sample_punctual_light(origin, seed));
+    if (SCENE_HAS_ENVIRONMENT)
+        direct += estimate_light_sample(surface, view, origin, sample_environment_light(seed));
+    if (SCENE_HAS_PUNCTUAL_LIGHTS)
+        direct += estimate_light_sample(surface, view, origin, sample_punctual_light(origin, seed));
 #endif
     return direct;
 }

@@ -138,6 +138,13 @@
 // (glsl/path_guiding.glsl). A guided render has two pipelines: its training frames use the
 // last, its other frames the second, which holds none of the training's code.
 #define SPEC_GUIDING 601
+// Kernels built with USE_MATERIALS: whether the scene has an environment that emits light
+// (glsl/environment.glsl) and whether it has punctual lights (glsl/punctual_lights.glsl).
+// 0 compiles that kind's light sample out of sample_direct_light(): on lavapipe both sides of
+// an `if` run, so a kind the scene lacks would still cost its BSDF evaluation and the start
+// of its shadow ray's traversal at every vertex.
+#define SPEC_SCENE_HAS_ENVIRONMENT 602
+#define SPEC_SCENE_HAS_PUNCTUAL_LIGHTS 603
 // Most triangles that can be passed as specialization constants.
 #define CONSTANT_TRIANGLE_CAPACITY 64
 

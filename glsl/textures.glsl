@@ -76,9 +76,11 @@ int wrap_texel_coordinate(int coordinate, int size, uint wrap_mode) {
     if (wrap_mode == WRAP_REPEAT || wrap_mode == WRAP_MIRRORED_REPEAT) {
         int period = (wrap_mode == WRAP_REPEAT) ? size : 2 * size;
         // Euclidean modulo; GLSL's % is undefined for negative operands, so negative
-        // coordinates use -coordinate - 1 >= 0.
-        int wrapped = (coordinate >= 0) ? (coordinate % period)
-                                        : (period - 1 - ((-coordinate - 1) % period));
+        // coordinates use -coordinate - 1 >= 0. One % for both signs: an integer division is
+        // a scalar loop over the SIMD lanes on lavapipe, and both sides of a ?: run.
+        bool negative = coordinate < 0;
+        int remainder = (negative ? -coordinate - 1 : coordinate) % period;
+        int wrapped = negative ? period - 1 - remainder : remainder;
         if (wrap_mode == WRAP_REPEAT)
             return wrapped;
         // (size - 1) - mirror(wrapped - size) with mirror(a) = a >= 0 ? a : -(1 + a).
@@ -88,13 +90,10 @@ int wrap_texel_coordinate(int coordinate, int size, uint wrap_mode) {
     return clamp(coordinate, 0, size - 1);
 }
 
-// The value of one texel, wrapped with the slot's wrap modes, as linear floats in [0, 1]
-// (rgb decoded from sRGB when the slot says so; alpha always as stored).
-vec4 get_texel(texture_slot_t slot, ivec2 texel) {
-    int x = wrap_texel_coordinate(texel.x, int(slot.width),
-                                  (slot.flags >> TEXTURE_WRAP_S_SHIFT) & TEXTURE_WRAP_MASK);
-    int y = wrap_texel_coordinate(texel.y, int(slot.height),
-                                  (slot.flags >> TEXTURE_WRAP_T_SHIFT) & TEXTURE_WRAP_MASK);
+// The value of the texel at column x, row y of the texture (both already wrapped into it,
+// wrap_texel_coordinate()), as linear floats in [0, 1] (rgb decoded from sRGB when the slot
+// says so; alpha always as stored).
+vec4 get_wrapped_texel(texture_slot_t slot, int x, int y) {
     uint index = slot.first_texel + uint(y) * max(slot.width, 1u) + uint(x);
     // A multiplication by the rounded 1/255 is correctly rounded on every device (a division
     // only to 2.5 ulps), so that the CPU twin gets the same bits.
@@ -107,6 +106,22 @@ vec4 get_texel(texture_slot_t slot, ivec2 texel) {
     return value;
 }
 
+// The wrap mode of a slot along s (x) or t (y): WRAP_*.
+uint get_wrap_s(texture_slot_t slot) {
+    return (slot.flags >> TEXTURE_WRAP_S_SHIFT) & TEXTURE_WRAP_MASK;
+}
+uint get_wrap_t(texture_slot_t slot) {
+    return (slot.flags >> TEXTURE_WRAP_T_SHIFT) & TEXTURE_WRAP_MASK;
+}
+
+// The value of one texel, wrapped with the slot's wrap modes, as linear floats in [0, 1]
+// (get_wrapped_texel()).
+vec4 get_texel(texture_slot_t slot, ivec2 texel) {
+    int x = wrap_texel_coordinate(texel.x, int(slot.width), get_wrap_s(slot));
+    int y = wrap_texel_coordinate(texel.y, int(slot.height), get_wrap_t(slot));
+    return get_wrapped_texel(slot, x, y);
+}
+
 // A texel coordinate that int() can convert: NaN becomes 0, anything else is clamped to
 // +-TEXTURE_COORDINATE_LIMIT (int() of a float out of range is undefined in GLSL).
 float limit_texel_coordinate(float x) {
@@ -117,29 +132,33 @@ float limit_texel_coordinate(float x) {
 // Bilinear: the four texels around (u * width - 0.5, v * height - 0.5), weighted by the
 // fractional parts, each wrapped and decoded to linear before the weighting; at a texel's
 // centre exactly that texel's value. Nearest (TEXTURE_FLAG_NEAREST): texel
-// (floor(u * width), floor(v * height)). Coordinates of any size read a defined texel: NaN
-// counts as texel coordinate 0 (texel (0, 0)'s value where both are NaN), infinities and
-// huge values as +-TEXTURE_COORDINATE_LIMIT.
+// (floor(u * width), floor(v * height)), which is the same sum with an offset and weights of
+// 0 (1 * texel + 0 * neighbour is the texel's value exactly), so one path serves both: on
+// lavapipe both sides of a branch run, and a separate nearest lookup cost a fifth texel.
+// Coordinates of any size read a defined texel: NaN counts as texel coordinate 0 (texel
+// (0, 0)'s value where both are NaN), infinities and huge values as
+// +-TEXTURE_COORDINATE_LIMIT.
 vec4 sample_texture(texture_slot_t slot, vec2 tex_coord) {
     vec2 uv = transform_tex_coord(slot, tex_coord);
     vec2 size = vec2(float(max(slot.width, 1u)), float(max(slot.height, 1u)));
-    if ((slot.flags & TEXTURE_FLAG_NEAREST) != 0u) {
-        precise float x = floor(limit_texel_coordinate(uv.x * size.x));
-        precise float y = floor(limit_texel_coordinate(uv.y * size.y));
-        return get_texel(slot, ivec2(int(x), int(y)));
-    }
-    precise float x = limit_texel_coordinate(uv.x * size.x - 0.5);
-    precise float y = limit_texel_coordinate(uv.y * size.y - 0.5);
+    bool nearest = (slot.flags & TEXTURE_FLAG_NEAREST) != 0u;
+    float offset = nearest ? 0.0 : 0.5;
+    precise float x = limit_texel_coordinate(uv.x * size.x - offset);
+    precise float y = limit_texel_coordinate(uv.y * size.y - offset);
     precise float x0 = floor(x);
     precise float y0 = floor(y);
     // The weights of the texels at x0 + 1 and y0 + 1, in [0, 1).
-    precise float weight_x = x - x0;
-    precise float weight_y = y - y0;
-    ivec2 texel = ivec2(int(x0), int(y0));
-    vec4 top_left = get_texel(slot, texel);
-    vec4 top_right = get_texel(slot, texel + ivec2(1, 0));
-    vec4 bottom_left = get_texel(slot, texel + ivec2(0, 1));
-    vec4 bottom_right = get_texel(slot, texel + ivec2(1, 1));
+    precise float weight_x = nearest ? 0.0 : x - x0;
+    precise float weight_y = nearest ? 0.0 : y - y0;
+    // Each column and row wrapped once, not once per texel
+    int left = wrap_texel_coordinate(int(x0), int(slot.width), get_wrap_s(slot));
+    int right = wrap_texel_coordinate(int(x0) + 1, int(slot.width), get_wrap_s(slot));
+    int top_row = wrap_texel_coordinate(int(y0), int(slot.height), get_wrap_t(slot));
+    int bottom_row = wrap_texel_coordinate(int(y0) + 1, int(slot.height), get_wrap_t(slot));
+    vec4 top_left = get_wrapped_texel(slot, left, top_row);
+    vec4 top_right = get_wrapped_texel(slot, right, top_row);
+    vec4 bottom_left = get_wrapped_texel(slot, left, bottom_row);
+    vec4 bottom_right = get_wrapped_texel(slot, right, bottom_row);
     precise vec4 top = (1.0 - weight_x) * top_left + weight_x * top_right;
     precise vec4 bottom = (1.0 - weight_x) * bottom_left + weight_x * bottom_right;
     precise vec4 value = (1.0 - weight_y) * top + weight_y * bottom;

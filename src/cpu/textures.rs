@@ -84,11 +84,14 @@ pub fn wrap_texel_coordinate(coordinate: i32, size: i32, wrap_mode: u32) -> i32 
         } else {
             2 * size
         };
-        // Euclidean modulo, written as the shader must (GLSL's % of negatives is undefined).
-        let wrapped = if coordinate >= 0 {
-            coordinate % period
+        // Euclidean modulo, written as the shader must (GLSL's % of negatives is undefined),
+        // with one % for both signs.
+        let negative = coordinate < 0;
+        let remainder = if negative { -coordinate - 1 } else { coordinate } % period;
+        let wrapped = if negative {
+            period - 1 - remainder
         } else {
-            period - 1 - ((-coordinate - 1) % period)
+            remainder
         };
         if wrap_mode == WRAP_REPEAT {
             return wrapped;
@@ -100,20 +103,11 @@ pub fn wrap_texel_coordinate(coordinate: i32, size: i32, wrap_mode: u32) -> i32 
     coordinate.max(0).min(size - 1)
 }
 
-/// Twin of GLSL `get_texel`: one texel, wrapped with the slot's wrap modes, as linear floats
-/// in [0, 1] (rgb decoded from sRGB when the slot says so, alpha as stored). An index past
-/// `texels` (a slot that does not fit the buffer) reads zeros, as a robust texel fetch does.
-pub fn get_texel(texels: &[[u8; 4]], slot: &TextureSlot, texel: IVec2) -> Vec4 {
-    let x = wrap_texel_coordinate(
-        texel.x,
-        slot.width as i32,
-        (slot.flags >> TEXTURE_WRAP_S_SHIFT) & TEXTURE_WRAP_MASK,
-    );
-    let y = wrap_texel_coordinate(
-        texel.y,
-        slot.height as i32,
-        (slot.flags >> TEXTURE_WRAP_T_SHIFT) & TEXTURE_WRAP_MASK,
-    );
+/// Twin of GLSL `get_wrapped_texel`: the texel at column `x`, row `y` (both already wrapped
+/// into the texture), as linear floats in [0, 1] (rgb decoded from sRGB when the slot says
+/// so, alpha as stored). An index past `texels` (a slot that does not fit the buffer) reads
+/// zeros, as a robust texel fetch does.
+pub fn get_wrapped_texel(texels: &[[u8; 4]], slot: &TextureSlot, x: i32, y: i32) -> Vec4 {
     let index = slot
         .first_texel
         .wrapping_add((y as u32).wrapping_mul(slot.width.max(1)))
@@ -126,6 +120,24 @@ pub fn get_texel(texels: &[[u8; 4]], slot: &TextureSlot, texel: IVec2) -> Vec4 {
         value.z = srgb_to_linear(value.z);
     }
     value
+}
+
+/// Twin of GLSL `get_wrap_s`: the slot's wrap mode along s (x), `WRAP_*`.
+pub fn get_wrap_s(slot: &TextureSlot) -> u32 {
+    (slot.flags >> TEXTURE_WRAP_S_SHIFT) & TEXTURE_WRAP_MASK
+}
+
+/// Twin of GLSL `get_wrap_t`: the slot's wrap mode along t (y), `WRAP_*`.
+pub fn get_wrap_t(slot: &TextureSlot) -> u32 {
+    (slot.flags >> TEXTURE_WRAP_T_SHIFT) & TEXTURE_WRAP_MASK
+}
+
+/// Twin of GLSL `get_texel`: one texel, wrapped with the slot's wrap modes
+/// (`get_wrapped_texel`).
+pub fn get_texel(texels: &[[u8; 4]], slot: &TextureSlot, texel: IVec2) -> Vec4 {
+    let x = wrap_texel_coordinate(texel.x, slot.width as i32, get_wrap_s(slot));
+    let y = wrap_texel_coordinate(texel.y, slot.height as i32, get_wrap_t(slot));
+    get_wrapped_texel(texels, slot, x, y)
 }
 
 /// Twin of GLSL `limit_texel_coordinate`: NaN becomes 0, anything else is clamped to
@@ -142,26 +154,32 @@ pub fn limit_texel_coordinate(x: f32) -> f32 {
 /// Twin of GLSL `sample_texture`: the texture at texture coordinates (before the slot's
 /// transform), linear RGBA; bilinear over the four texels around (u · width − 0.5,
 /// v · height − 0.5), each decoded before the weighting, or the nearest texel
-/// (floor(u · width), floor(v · height)) with `TEXTURE_FLAG_NEAREST`. NaN coordinates count
-/// as texel coordinate 0, infinite and huge ones as ±`TEXTURE_COORDINATE_LIMIT`.
+/// (floor(u · width), floor(v · height)) with `TEXTURE_FLAG_NEAREST`: the same sum with an
+/// offset and weights of 0. NaN coordinates count as texel coordinate 0, infinite and huge
+/// ones as ±`TEXTURE_COORDINATE_LIMIT`.
 pub fn sample_texture(texels: &[[u8; 4]], slot: &TextureSlot, tex_coord: Vec2) -> Vec4 {
     let uv = transform_tex_coord(slot, tex_coord);
     let size = Vec2::new(slot.width.max(1) as f32, slot.height.max(1) as f32);
-    if slot.flags & TEXTURE_FLAG_NEAREST != 0 {
-        let x = limit_texel_coordinate(uv.x * size.x).floor();
-        let y = limit_texel_coordinate(uv.y * size.y).floor();
-        return get_texel(texels, slot, IVec2::new(x as i32, y as i32));
-    }
-    let x = limit_texel_coordinate(uv.x * size.x - 0.5);
-    let y = limit_texel_coordinate(uv.y * size.y - 0.5);
+    let nearest = slot.flags & TEXTURE_FLAG_NEAREST != 0;
+    let offset = if nearest { 0.0 } else { 0.5 };
+    let x = limit_texel_coordinate(uv.x * size.x - offset);
+    let y = limit_texel_coordinate(uv.y * size.y - offset);
     let (x0, y0) = (x.floor(), y.floor());
     // The weights of the texels at x0 + 1 and y0 + 1, in [0, 1).
-    let (weight_x, weight_y) = (x - x0, y - y0);
-    let texel = IVec2::new(x0 as i32, y0 as i32);
-    let top_left = get_texel(texels, slot, texel);
-    let top_right = get_texel(texels, slot, texel + IVec2::new(1, 0));
-    let bottom_left = get_texel(texels, slot, texel + IVec2::new(0, 1));
-    let bottom_right = get_texel(texels, slot, texel + IVec2::new(1, 1));
+    let (weight_x, weight_y) = if nearest {
+        (0.0, 0.0)
+    } else {
+        (x - x0, y - y0)
+    };
+    let (width, height) = (slot.width as i32, slot.height as i32);
+    let left = wrap_texel_coordinate(x0 as i32, width, get_wrap_s(slot));
+    let right = wrap_texel_coordinate(x0 as i32 + 1, width, get_wrap_s(slot));
+    let top_row = wrap_texel_coordinate(y0 as i32, height, get_wrap_t(slot));
+    let bottom_row = wrap_texel_coordinate(y0 as i32 + 1, height, get_wrap_t(slot));
+    let top_left = get_wrapped_texel(texels, slot, left, top_row);
+    let top_right = get_wrapped_texel(texels, slot, right, top_row);
+    let bottom_left = get_wrapped_texel(texels, slot, left, bottom_row);
+    let bottom_right = get_wrapped_texel(texels, slot, right, bottom_row);
     let top = (1.0 - weight_x) * top_left + weight_x * top_right;
     let bottom = (1.0 - weight_x) * bottom_left + weight_x * bottom_right;
     (1.0 - weight_y) * top + weight_y * bottom

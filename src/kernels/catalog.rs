@@ -47,6 +47,8 @@ pub static PATH_TRACER: Kernel = Kernel {
         SpecConstants::one(c::SPEC_TRIANGLE_LOOPS_PER_RAY),
         SpecConstants::one(c::SPEC_SCENE_HAS_TEXTURES),
         SpecConstants::one(c::SPEC_SCENE_HAS_LAYERS),
+        SpecConstants::one(c::SPEC_SCENE_HAS_ENVIRONMENT),
+        SpecConstants::one(c::SPEC_SCENE_HAS_PUNCTUAL_LIGHTS),
     ],
     push_constant_size: size_of::<FramePushConstants>() as u32,
 };

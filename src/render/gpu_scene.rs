@@ -13,7 +13,7 @@ use crate::camera::Camera;
 use crate::contract;
 use crate::error::{Error, Result};
 use crate::kernels::{Bound, Resource};
-use crate::lights::SceneLights;
+use crate::lights::{Environment, SceneLights};
 use crate::render::gpu_materials::{material_texel_words, GpuMaterial, GpuTriangleShading};
 use crate::render::gpu_textures::TextureAtlas;
 use crate::render::gpu_types::{GpuTriangle, RenderUniforms};
@@ -208,6 +208,14 @@ impl GpuScene {
             specialization.push((
                 contract::SPEC_SCENE_HAS_LAYERS,
                 u32::from(scene_materials.uses_layers()),
+            ));
+            specialization.push((
+                contract::SPEC_SCENE_HAS_ENVIRONMENT,
+                u32::from(scene_lights.environment.is_some_and(Environment::emits_light)),
+            ));
+            specialization.push((
+                contract::SPEC_SCENE_HAS_PUNCTUAL_LIGHTS,
+                u32::from(!scene_lights.punctual.is_empty()),
             ));
         }
         Ok(GpuScene {
