@@ -80,13 +80,15 @@ vec2 get_tex_coord(uint triangle_index, vec3 barycentrics) {
     return barycentrics[0] * uintBitsToFloat(first.xy) + barycentrics[1] * uintBitsToFloat(first.zw) + barycentrics[2] * uintBitsToFloat(second.xy);
 }
 
-// Whether material i has a texture in slot MATERIAL_TEXTURE_*.
-bool has_material_texture(uint material_index, uint slot) {
-    return (get_material_texel(material_index, MATERIAL_TEXEL_ALPHA_MODE_TEXTURE_MASK).y & (1u << slot)) != 0u;
-}
+// The texture slots (bit 1 << MATERIAL_TEXTURE_*) in which some material of the scene has a
+// texture: the host specializes it, and a slot outside it compiles that slot's lookups out.
+layout(constant_id = SPEC_SCENE_TEXTURE_SLOTS) const uint SCENE_TEXTURE_SLOTS = 0xFFFFFFFFu;
 
-// Whether the scene has any texture (the host specializes it; false compiles lookups out).
-layout(constant_id = SPEC_SCENE_HAS_TEXTURES) const bool SCENE_HAS_TEXTURES = true;
+// Whether material i has a texture in slot MATERIAL_TEXTURE_* (never in a slot outside
+// SCENE_TEXTURE_SLOTS).
+bool has_material_texture(uint material_index, uint slot) {
+    return (SCENE_TEXTURE_SLOTS & (1u << slot)) != 0u && (get_material_texel(material_index, MATERIAL_TEXEL_ALPHA_MODE_TEXTURE_MASK).y & (1u << slot)) != 0u;
+}
 // Whether any material has transmission or a clear coat (false compiles their lobes out).
 // The build for scenes without them (WITHOUT_LAYERS) holds a constant false instead, so
 // that its SPIR-V carries none of glsl/layered_bsdf.glsl: lavapipe translates and optimises
@@ -109,7 +111,7 @@ bool is_unlit_material(uint material_index) {
 
 // A texture slot MATERIAL_TEXTURE_* of material i, sampled at tex_coord (1 without texture).
 vec4 sample_material_texture(uint material_index, uint slot, vec2 tex_coord) {
-    if (!SCENE_HAS_TEXTURES || !has_material_texture(material_index, slot))
+    if (!has_material_texture(material_index, slot))
         return vec4(1.0);
     int first = MATERIAL_FACTOR_TEXEL_COUNT + 3 * int(slot);
     texture_slot_t texture = unpack_texture_slot(get_material_texel(material_index, first), get_material_texel(material_index, first + 1), get_material_texel(material_index, first + 2));
@@ -132,10 +134,10 @@ struct material_textures_t {
 material_textures_t sample_material_textures(uint material_index, vec2 tex_coord) {
     material_textures_t textures;
     textures.slots = vec4[MATERIAL_TEXTURE_SLOT_COUNT](vec4(1.0), vec4(1.0), vec4(1.0), vec4(1.0), vec4(1.0), vec4(1.0), vec4(1.0), vec4(1.0), vec4(1.0), vec4(1.0), vec4(1.0), vec4(1.0), vec4(1.0));
-    if (!SCENE_HAS_TEXTURES)
+    if (SCENE_TEXTURE_SLOTS == 0u)
         return textures;
     uint slot_count = SCENE_HAS_LAYERS ? MATERIAL_TEXTURE_SLOT_COUNT : MATERIAL_TEXTURE_EMISSIVE + 1;
-    uint slots = get_material_texel(material_index, MATERIAL_TEXEL_ALPHA_MODE_TEXTURE_MASK).y & ((1u << slot_count) - 1u);
+    uint slots = get_material_texel(material_index, MATERIAL_TEXEL_ALPHA_MODE_TEXTURE_MASK).y & SCENE_TEXTURE_SLOTS & ((1u << slot_count) - 1u);
     [[dont_unroll]] while (slots != 0u) {
         int slot = findLSB(slots);
         slots &= slots - 1u;
@@ -203,7 +205,7 @@ vec3 get_front_mapped_normal(uint triangle_index, uint material_index, vec3 bary
     if (!(dot(normal, normal) > 1.0e-12))
         return face_normal;
     normal = normalize(normal);
-    if (SCENE_HAS_TEXTURES && has_material_texture(material_index, slot)) {
+    if (has_material_texture(material_index, slot)) {
         vec4 tangent_0 = uintBitsToFloat(get_shading_texel(triangle_index, 5));
         vec3 tangent = barycentrics[0] * tangent_0.xyz + barycentrics[1] * uintBitsToFloat(get_shading_texel(triangle_index, 6).xyz) + barycentrics[2] * uintBitsToFloat(get_shading_texel(triangle_index, 7).xyz);
         normal = apply_normal_map(normal, vec4(tangent, tangent_0.w), texture.rgb, scale);

@@ -91,11 +91,13 @@
 // How nee and mis sample a point on the chosen light: LIGHT_SAMPLING_*.
 #define SPEC_LIGHT_SAMPLING 7
 // Kernels built with USE_MATERIALS: whether any material uses alpha (0: the traversal loops
-// test no alpha) and whether the scene has textures (0: no texture is ever sampled). On
-// lavapipe, code under an `if` costs the whole SIMD program whenever any lane takes it, so
-// what a scene does not use is compiled out instead.
+// test no alpha) and the texture slots (bit 1 << MATERIAL_TEXTURE_*) in which some material
+// has a texture (0: no texture is ever sampled; a slot outside it compiles that slot's
+// lookups out, e.g. the emissive texture's at every light sample). On lavapipe, code under
+// an `if` costs the whole SIMD program whenever any lane takes it, so what a scene does not
+// use is compiled out instead.
 #define SPEC_SCENE_HAS_ALPHA 9
-#define SPEC_SCENE_HAS_TEXTURES 10
+#define SPEC_SCENE_TEXTURE_SLOTS 10
 // ... and whether any material has layers beyond metallic-roughness: transmission
 // (KHR_materials_transmission, with KHR_materials_volume), a clear coat
 // (KHR_materials_clearcoat) or sheen (KHR_materials_sheen), or KHR_materials_specular's

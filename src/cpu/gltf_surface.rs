@@ -40,8 +40,9 @@ pub struct SurfaceTexels<'a> {
     pub materials: &'a [u32],
     /// `g_texture_texels`: the atlas (`TextureAtlas::texels`).
     pub texture_texels: &'a [[u8; 4]],
-    /// The specialization constant `SCENE_HAS_TEXTURES`.
-    pub scene_has_textures: bool,
+    /// The specialization constant `SCENE_TEXTURE_SLOTS`: the slots (bit
+    /// 1 << `MATERIAL_TEXTURE_*`) in which some material has a texture.
+    pub scene_texture_slots: u32,
     /// The specialization constant `SCENE_HAS_LAYERS`.
     pub scene_has_layers: bool,
 }
@@ -170,15 +171,16 @@ pub fn get_tex_coord(texels: &SurfaceTexels, triangle_index: u32, barycentrics: 
         + barycentrics[2] * Vec2::new(second.x, second.y)
 }
 
-/// Twin of `has_material_texture`.
+/// Twin of `has_material_texture` (never in a slot outside `scene_texture_slots`).
 pub fn has_material_texture(texels: &SurfaceTexels, material_index: u32, slot: u32) -> bool {
-    (get_material_texel(
-        texels,
-        material_index,
-        MATERIAL_TEXEL_ALPHA_MODE_TEXTURE_MASK,
-    )
-    .y & (1 << slot))
-        != 0
+    texels.scene_texture_slots & (1 << slot) != 0
+        && (get_material_texel(
+            texels,
+            material_index,
+            MATERIAL_TEXEL_ALPHA_MODE_TEXTURE_MASK,
+        )
+        .y & (1 << slot))
+            != 0
 }
 
 /// Twin of `sample_material_texture`: slot `MATERIAL_TEXTURE_*` of material `i` at
@@ -189,7 +191,7 @@ pub fn sample_material_texture(
     slot: u32,
     tex_coord: Vec2,
 ) -> Vec4 {
-    if !texels.scene_has_textures || !has_material_texture(texels, material_index, slot) {
+    if !has_material_texture(texels, material_index, slot) {
         return Vec4::ONE;
     }
     let first = MATERIAL_FACTOR_TEXEL_COUNT + 3 * slot;
@@ -221,7 +223,7 @@ pub fn sample_material_textures(
     let mut textures = MaterialTextures {
         slots: [Vec4::ONE; MATERIAL_TEXTURE_SLOT_COUNT as usize],
     };
-    if !texels.scene_has_textures {
+    if texels.scene_texture_slots == 0 {
         return textures;
     }
     let slot_count = if texels.scene_has_layers {
@@ -234,7 +236,8 @@ pub fn sample_material_textures(
         material_index,
         MATERIAL_TEXEL_ALPHA_MODE_TEXTURE_MASK,
     )
-    .y & ((1 << slot_count) - 1);
+    .y & texels.scene_texture_slots
+        & ((1 << slot_count) - 1);
     while slots != 0 {
         let slot = slots.trailing_zeros();
         slots &= slots - 1;
@@ -335,7 +338,7 @@ pub fn get_front_mapped_normal(
         return face_normal;
     }
     normal = normal.normalize();
-    if texels.scene_has_textures && has_material_texture(texels, material_index, slot) {
+    if has_material_texture(texels, material_index, slot) {
         let tangent_0 = uint_bits_to_float(get_shading_texel(texels, triangle_index, 5));
         let tangent = barycentrics[0] * tangent_0.truncate()
             + barycentrics[1]

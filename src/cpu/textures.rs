@@ -87,7 +87,11 @@ pub fn wrap_texel_coordinate(coordinate: i32, size: i32, wrap_mode: u32) -> i32 
         // Euclidean modulo, written as the shader must (GLSL's % of negatives is undefined),
         // with one % for both signs.
         let negative = coordinate < 0;
-        let remainder = if negative { -coordinate - 1 } else { coordinate } % period;
+        let remainder = if negative {
+            -coordinate - 1
+        } else {
+            coordinate
+        } % period;
         let wrapped = if negative {
             period - 1 - remainder
         } else {

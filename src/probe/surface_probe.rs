@@ -10,12 +10,14 @@ use ash::vk;
 use bytemuck::{Pod, Zeroable};
 use glam::{UVec2, Vec2, Vec3};
 
-use crate::contract::{SPEC_SCENE_HAS_LAYERS, SPEC_SCENE_HAS_TEXTURES};
+use crate::contract::{SPEC_SCENE_HAS_LAYERS, SPEC_SCENE_TEXTURE_SLOTS};
 use crate::cpu::gltf_surface::SurfaceTexels;
 use crate::error::{Error, Result};
 use crate::kernels::{self, Bound, Resource};
 use crate::probe::runner::Probe;
-use crate::render::gpu_materials::{material_texel_words, GpuMaterial, GpuTriangleShading};
+use crate::render::gpu_materials::{
+    material_texel_words, scene_texture_slots, GpuMaterial, GpuTriangleShading,
+};
 use crate::render::gpu_textures::TextureAtlas;
 use crate::render::gpu_types::{GpuTriangle, RenderUniforms};
 use crate::scene::Scene;
@@ -107,8 +109,8 @@ pub struct SurfaceWords {
     pub materials: Vec<u32>,
     /// The texture atlas.
     pub atlas: TextureAtlas,
-    /// Whether the scene has textures (`SCENE_HAS_TEXTURES`).
-    pub has_textures: bool,
+    /// The texture slots in which some material has a texture (`SCENE_TEXTURE_SLOTS`).
+    pub texture_slots: u32,
     /// Whether it needs the layers (`SCENE_HAS_LAYERS`).
     pub has_layers: bool,
 }
@@ -139,7 +141,7 @@ impl SurfaceWords {
             shading: bytemuck::cast_slice(&shading).to_vec(),
             materials: material_texel_words(&packed),
             atlas,
-            has_textures: !materials.textures.is_empty(),
+            texture_slots: scene_texture_slots(&packed),
             has_layers: materials.uses_layers(),
         })
     }
@@ -151,7 +153,7 @@ impl SurfaceWords {
             shading: &self.shading,
             materials: &self.materials,
             texture_texels: &self.atlas.texels,
-            scene_has_textures: self.has_textures,
+            scene_texture_slots: self.texture_slots,
             scene_has_layers: self.has_layers,
         }
     }
@@ -185,7 +187,7 @@ impl SurfaceProbeRunner {
                 context,
                 &kernels::PROBE_SURFACE,
                 &[
-                    (SPEC_SCENE_HAS_TEXTURES, u32::from(words.has_textures)),
+                    (SPEC_SCENE_TEXTURE_SLOTS, words.texture_slots),
                     (SPEC_SCENE_HAS_LAYERS, u32::from(words.has_layers)),
                 ],
                 "the surface functions",

@@ -208,6 +208,14 @@ pub fn material_texel_words(materials: &[GpuMaterial]) -> Vec<u32> {
     words
 }
 
+/// `SCENE_TEXTURE_SLOTS` (`glsl/materials.glsl`): the texture slots (bit
+/// 1 << `MATERIAL_TEXTURE_*`) in which some of `materials` has a texture; 0 for none.
+pub fn scene_texture_slots(materials: &[GpuMaterial]) -> u32 {
+    materials.iter().fold(0, |slots, material| {
+        slots | material.alpha_mode_texture_flags[1]
+    })
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -252,6 +260,24 @@ mod tests {
             16 * MATERIAL_FACTOR_TEXEL_COUNT as usize
         );
         assert_eq!(size_of::<GpuTextureSlot>(), 48);
+    }
+
+    #[test]
+    fn the_scenes_texture_slots_are_every_materials_slots() {
+        use crate::contract::{MATERIAL_TEXTURE_BASE_COLOR, MATERIAL_TEXTURE_NORMAL};
+        let mut materials = [GpuMaterial::zeroed(); 3];
+        assert_eq!(scene_texture_slots(&materials), 0);
+        materials[0].alpha_mode_texture_flags[1] = 1 << MATERIAL_TEXTURE_BASE_COLOR;
+        materials[2].alpha_mode_texture_flags = [
+            crate::contract::ALPHA_MODE_MASK,
+            1 << MATERIAL_TEXTURE_BASE_COLOR | 1 << MATERIAL_TEXTURE_NORMAL,
+            0,
+            0,
+        ];
+        assert_eq!(
+            scene_texture_slots(&materials),
+            1 << MATERIAL_TEXTURE_BASE_COLOR | 1 << MATERIAL_TEXTURE_NORMAL
+        );
     }
 
     #[test]

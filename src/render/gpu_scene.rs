@@ -14,7 +14,9 @@ use crate::contract;
 use crate::error::{Error, Result};
 use crate::kernels::{Bound, Resource};
 use crate::lights::{Environment, SceneLights};
-use crate::render::gpu_materials::{material_texel_words, GpuMaterial, GpuTriangleShading};
+use crate::render::gpu_materials::{
+    material_texel_words, scene_texture_slots, GpuMaterial, GpuTriangleShading,
+};
 use crate::render::gpu_textures::TextureAtlas;
 use crate::render::gpu_types::{GpuTriangle, RenderUniforms};
 use crate::render::settings::RenderSettings;
@@ -130,6 +132,8 @@ impl GpuScene {
             }
             None => None,
         };
+        // SCENE_TEXTURE_SLOTS, set with the materials' words
+        let mut texture_slots = 0;
         let materials = match scene_materials {
             None => None,
             Some(scene_materials) => {
@@ -158,6 +162,7 @@ impl GpuScene {
                     .iter()
                     .map(|m| GpuMaterial::new(m, scene_materials, &atlas))
                     .collect();
+                texture_slots = scene_texture_slots(&gpu_materials);
                 let texture_buffer = Buffer::device_local_with_data(
                     context,
                     commands,
@@ -201,17 +206,18 @@ impl GpuScene {
                 contract::SPEC_SCENE_HAS_ALPHA,
                 u32::from(scene_materials.uses_alpha()),
             ));
-            specialization.push((
-                contract::SPEC_SCENE_HAS_TEXTURES,
-                u32::from(!scene_materials.textures.is_empty()),
-            ));
+            specialization.push((contract::SPEC_SCENE_TEXTURE_SLOTS, texture_slots));
             specialization.push((
                 contract::SPEC_SCENE_HAS_LAYERS,
                 u32::from(scene_materials.uses_layers()),
             ));
             specialization.push((
                 contract::SPEC_SCENE_HAS_ENVIRONMENT,
-                u32::from(scene_lights.environment.is_some_and(Environment::emits_light)),
+                u32::from(
+                    scene_lights
+                        .environment
+                        .is_some_and(Environment::emits_light),
+                ),
             ));
             specialization.push((
                 contract::SPEC_SCENE_HAS_PUNCTUAL_LIGHTS,
