@@ -12,17 +12,11 @@
 #include "shared.h"
 #include "scene.glsl"
 
-// One node of the BVH, 32 bytes. Mirrors `vkpath::bvh::GpuBvhNode`, whose layout test checks
-// these offsets. The root is node 0. An interior node's children are nodes first_index and
-// first_index + 1; a leaf holds triangles first_index .. first_index + triangle_count - 1 of
-// g_triangles. The integers are stored as float bits (no arithmetic ever touches them).
-struct bvh_node_t {
-    vec4 lower; // xyz: lower corner of the box (world space), w: first_index as uint bits
-    vec4 upper; // xyz: upper corner of the box (world space), w: triangle_count as uint bits, 0 for interior nodes
-};
-
-// The nodes as a texel buffer of RGBA32_UINT, two texels per node: on lavapipe a texel fetch
-// is a vector gather, where a storage-buffer load is a per-lane loop.
+// The nodes of the 4-wide BVH as a texel buffer of RGBA32_UINT, WIDE_BVH_NODE_TEXEL_COUNT
+// texels per node (glsl/shared.h: the four children's boxes as lower x, upper x, lower y,
+// upper y, lower z, upper z, then their references). Mirrors `vkpath::bvh::GpuWideBvhNode`,
+// whose layout test checks it; the root is node 0. On lavapipe a texel fetch is a vector
+// gather, where a storage-buffer load is a per-lane loop.
 layout(set = 0, binding = BINDING_BVH_NODES) uniform usamplerBuffer g_bvh_node_texels;
 
 // The triangles' vertex positions alone, in the leaf order of g_triangle_texels: a texel
@@ -53,17 +47,16 @@ triangle_t get_traversal_triangle(uint index) {
 #endif
 }
 
-// Node i of the BVH.
-bvh_node_t get_bvh_node(uint index) {
-    bvh_node_t node;
-    node.lower = uintBitsToFloat(texelFetch(g_bvh_node_texels, int(2u * index)));
-    node.upper = uintBitsToFloat(texelFetch(g_bvh_node_texels, int(2u * index + 1u)));
-    return node;
-}
-
 // Number of nodes in the BVH.
 uint get_bvh_node_count() {
-    return uint(textureSize(g_bvh_node_texels)) / 2u;
+    return uint(textureSize(g_bvh_node_texels)) / uint(WIDE_BVH_NODE_TEXEL_COUNT);
+}
+
+// The box of child `slot` (0 .. WIDE_BVH_WIDTH - 1) of node i, world space.
+void get_bvh_child_box(uint node_index, int slot, out vec3 out_lower, out vec3 out_upper) {
+    int first = WIDE_BVH_NODE_TEXEL_COUNT * int(node_index);
+    out_lower = uintBitsToFloat(uvec3(texelFetch(g_bvh_node_texels, first)[slot], texelFetch(g_bvh_node_texels, first + 2)[slot], texelFetch(g_bvh_node_texels, first + 4)[slot]));
+    out_upper = uintBitsToFloat(uvec3(texelFetch(g_bvh_node_texels, first + 1)[slot], texelFetch(g_bvh_node_texels, first + 3)[slot], texelFetch(g_bvh_node_texels, first + 5)[slot]));
 }
 
 // BVH_SLAB_PADDING, BVH_MIN_DIRECTION and NO_HIT_T, shared with the Rust twins, are in
@@ -96,41 +89,82 @@ bool bvh_ray_box_intersection(out float out_t_entry, vec3 ray_origin, vec3 inver
     return t_entry <= min(t_exit, t_max);
 }
 
-// Whether the ray enters the root's box before t_max; out_node_count: the tree's nodes (0 for
-// an empty tree, which nothing enters).
-bool bvh_enters_root(out uint out_node_count, vec3 ray_origin, vec3 inverse_direction, float t_max) {
-    out_node_count = get_bvh_node_count();
-    float t_entry;
-    return out_node_count != 0u && bvh_ray_box_intersection(t_entry, ray_origin, inverse_direction, get_bvh_node(0).lower.xyz, get_bvh_node(0).upper.xyz, t_max);
+// A child reference's triangle count: at least 1 for a leaf, 0 for an interior node.
+uint get_bvh_leaf_triangle_count(uint child) {
+    return child >> WIDE_BVH_LEAF_COUNT_SHIFT;
 }
 
-// Visits a node: its range, its first triangle (a leaf) or its first child (an interior
-// node, the second child follows it), and its triangle count (0 for interior nodes); counts
-// the visit and the leaf loop's iterations (an upper bound when that loop stops early) in
-// g_path.traversal_iterations.
-void visit_bvh_node(uint node_index, out uint out_first_index, out uint out_triangle_count) {
-    bvh_node_t node = get_bvh_node(node_index);
-    out_first_index = floatBitsToUint(node.lower.w);
-    out_triangle_count = floatBitsToUint(node.upper.w);
+// A child reference's node index (interior) or first triangle (leaf).
+uint get_bvh_child_index(uint child) {
+    return child & uint(WIDE_BVH_INDEX_MASK);
+}
+
+// Visits a child reference: its first triangle (a leaf) or its node (an interior node) and its
+// triangle count (0 for interior nodes); counts the visit and the leaf loop's iterations (an
+// upper bound when that loop stops early) in g_path.traversal_iterations.
+void visit_bvh_child(uint child, out uint out_first_index, out uint out_triangle_count) {
+    out_first_index = get_bvh_child_index(child);
+    out_triangle_count = get_bvh_leaf_triangle_count(child);
     g_path.traversal_iterations += 1u + out_triangle_count;
 }
 
-// The children of an interior node (first_index and first_index + 1) whose boxes the ray
-// enters before t_max, nearer first: how many (0, 1 or 2); out_near is the one to visit
-// next, out_far (entered at out_far_entry) the one to push when both are entered.
-uint bvh_enter_children(uint first_index, vec3 ray_origin, vec3 inverse_direction, float t_max, out uint out_near, out uint out_far, out float out_far_entry) {
-    float t_left, t_right;
-    bool hit_left = bvh_ray_box_intersection(t_left, ray_origin, inverse_direction, get_bvh_node(first_index).lower.xyz, get_bvh_node(first_index).upper.xyz, t_max);
-    bool hit_right = bvh_ray_box_intersection(t_right, ray_origin, inverse_direction, get_bvh_node(first_index + 1u).lower.xyz, get_bvh_node(first_index + 1u).upper.xyz, t_max);
-    bool left_first = !hit_right || (hit_left && t_left <= t_right);
-    out_near = left_first ? first_index : first_index + 1u;
-    out_far = left_first ? first_index + 1u : first_index;
-    out_far_entry = left_first ? t_right : t_left;
-    return (hit_left ? 1u : 0u) + (hit_right ? 1u : 0u);
+// Puts two (entry, child) pairs in order of entry: a compare-exchange of a sorting network,
+// which swaps only when the second enters strictly earlier.
+void order_bvh_children(inout float entry_a, inout uint child_a, inout float entry_b, inout uint child_b) {
+    bool swap = entry_b < entry_a;
+    float entry = entry_a;
+    uint child = child_a;
+    entry_a = swap ? entry_b : entry_a;
+    child_a = swap ? child_b : child_a;
+    entry_b = swap ? entry : entry_b;
+    child_b = swap ? child : child_b;
 }
 
+// The children of interior node i whose boxes the ray enters before t_max, nearest first:
+// how many (0 .. WIDE_BVH_WIDTH); out_children holds them in its first components, with
+// the parameters where the ray enters them in out_entries (the slab test of
+// bvh_ray_box_intersection() for four boxes at once, component by component).
+uint bvh_enter_children(uint node_index, vec3 ray_origin, vec3 inverse_direction, float t_max, out uvec4 out_children, out vec4 out_entries) {
+    int first = WIDE_BVH_NODE_TEXEL_COUNT * int(node_index);
+    vec4 t_lower_x = (uintBitsToFloat(texelFetch(g_bvh_node_texels, first)) - ray_origin.x) * inverse_direction.x;
+    vec4 t_upper_x = (uintBitsToFloat(texelFetch(g_bvh_node_texels, first + 1)) - ray_origin.x) * inverse_direction.x;
+    vec4 t_lower_y = (uintBitsToFloat(texelFetch(g_bvh_node_texels, first + 2)) - ray_origin.y) * inverse_direction.y;
+    vec4 t_upper_y = (uintBitsToFloat(texelFetch(g_bvh_node_texels, first + 3)) - ray_origin.y) * inverse_direction.y;
+    vec4 t_lower_z = (uintBitsToFloat(texelFetch(g_bvh_node_texels, first + 4)) - ray_origin.z) * inverse_direction.z;
+    vec4 t_upper_z = (uintBitsToFloat(texelFetch(g_bvh_node_texels, first + 5)) - ray_origin.z) * inverse_direction.z;
+    uvec4 children = texelFetch(g_bvh_node_texels, first + 6);
+    vec4 t_entry = max(max(min(t_lower_x, t_upper_x), min(t_lower_y, t_upper_y)), max(min(t_lower_z, t_upper_z), vec4(0.0)));
+    vec4 t_exit = min(min(max(t_lower_x, t_upper_x), max(t_lower_y, t_upper_y)), max(t_lower_z, t_upper_z)) * BVH_SLAB_PADDING;
+    bvec4 entered = bvec4(uvec4(lessThanEqual(t_entry, min(t_exit, vec4(t_max)))) & uvec4(notEqual(children, uvec4(WIDE_BVH_EMPTY_CHILD))));
+    // Boxes not entered sort last
+    out_entries = mix(vec4(NO_HIT_T), t_entry, entered);
+    out_children = children;
+    order_bvh_children(out_entries.x, out_children.x, out_entries.y, out_children.y);
+    order_bvh_children(out_entries.z, out_children.z, out_entries.w, out_children.w);
+    order_bvh_children(out_entries.x, out_children.x, out_entries.z, out_children.z);
+    order_bvh_children(out_entries.y, out_children.y, out_entries.w, out_children.w);
+    order_bvh_children(out_entries.y, out_children.y, out_entries.z, out_children.z);
+    uvec4 counted = uvec4(entered);
+    return counted.x + counted.y + counted.z + counted.w;
+}
+
+// Pushes the entered children but the nearest (components 1 .. count - 1 of
+// bvh_enter_children()'s), farthest first, so that they pop nearest first. The stack never
+// overflows (src/bvh/wide.rs bounds every path's pushes by WIDE_BVH_STACK_SIZE); the test
+// only keeps a malformed tree from writing out of bounds.
+#define PUSH_BVH_CHILD(child, entry, stack_nodes, stack_entries, stack_size) \
+    if (stack_size < WIDE_BVH_STACK_SIZE) { \
+        stack_nodes[stack_size] = child; \
+        stack_entries[stack_size] = entry; \
+        ++stack_size; \
+    }
+#define PUSH_BVH_CHILDREN(count, children, entries, stack_nodes, stack_entries, stack_size) \
+    if (count > 3u) { PUSH_BVH_CHILD(children.w, entries.w, stack_nodes, stack_entries, stack_size) } \
+    if (count > 2u) { PUSH_BVH_CHILD(children.z, entries.z, stack_nodes, stack_entries, stack_size) } \
+    if (count > 1u) { PUSH_BVH_CHILD(children.y, entries.y, stack_nodes, stack_entries, stack_size) }
+
 // Finds the closest triangle that a ray hits, traversing the BVH: the brute-force
-// ray_mesh_intersection() with the same triangle tests, nearer child first, and subtrees
+// ray_mesh_intersection() with the same triangle tests, nearest child first, and subtrees
 // skipped once they start beyond the closest hit so far.
 // \param out_t Ray parameter of the closest hit (NO_HIT_T if none)
 // \param out_triangle_index Index of the hit triangle in g_triangles (0 if none)
@@ -141,18 +175,20 @@ bool bvh_closest_hit(out float out_t, out uint out_triangle_index, vec3 ray_orig
     out_triangle_index = 0u;
     bool hit = false;
     vec3 inverse_direction = bvh_inverse_direction(ray_direction);
-    uint node_count;
-    if (!bvh_enters_root(node_count, ray_origin, inverse_direction, out_t))
+    uint node_count = get_bvh_node_count();
+    if (node_count == 0u)
         return false;
-    // Nodes still to visit, with the parameter where the ray enters them
-    uint stack_nodes[BVH_STACK_SIZE];
-    float stack_entries[BVH_STACK_SIZE];
+    // Children still to visit, with the parameter where the ray enters them
+    uint stack_nodes[WIDE_BVH_STACK_SIZE];
+    float stack_entries[WIDE_BVH_STACK_SIZE];
     uint stack_size = 0u;
-    uint node_index = 0u;
-    // Each iteration visits one node and no node is visited twice, so node_count bounds it.
-    for (uint iteration = 0u; iteration != node_count; ++iteration) {
+    // The root, an interior node (a leaf root is the only child of a root node)
+    uint child = 0u;
+    // Each iteration visits one child reference and none is visited twice: at most the
+    // root and every child of every node
+    for (uint iteration = 0u; iteration != WIDE_BVH_WIDTH * node_count + 1u; ++iteration) {
         uint first_index, triangle_count;
-        visit_bvh_node(node_index, first_index, triangle_count);
+        visit_bvh_child(child, first_index, triangle_count);
         bool descend = false;
         if (triangle_count != 0u) {
             // A leaf: the brute-force loop over its triangles
@@ -166,26 +202,21 @@ bool bvh_closest_hit(out float out_t, out uint out_triangle_index, vec3 ray_orig
                 }
             }
         } else {
-            // An interior node: test both children, go to the nearer, push the farther
-            uint far_child;
-            float far_entry;
-            uint entered = bvh_enter_children(first_index, ray_origin, inverse_direction, out_t, node_index, far_child, far_entry);
-            // The builder keeps leaves at depth <= BVH_STACK_SIZE, so the stack never
-            // overflows; the test only keeps a malformed tree from writing out of bounds.
-            if (entered == 2u && stack_size < BVH_STACK_SIZE) {
-                stack_nodes[stack_size] = far_child;
-                stack_entries[stack_size] = far_entry;
-                ++stack_size;
-            }
+            // An interior node: test its children, go to the nearest, push the others
+            uvec4 children;
+            vec4 entries;
+            uint entered = bvh_enter_children(first_index, ray_origin, inverse_direction, out_t, children, entries);
+            PUSH_BVH_CHILDREN(entered, children, entries, stack_nodes, stack_entries, stack_size)
+            child = children.x;
             descend = entered != 0u;
         }
-        // Pop the next node that the ray enters before the closest hit so far (the stack
-        // shrinks in every iteration, so this loop is bounded by BVH_STACK_SIZE)
+        // Pop the next child that the ray enters before the closest hit so far (the stack
+        // shrinks in every iteration, so this loop is bounded by WIDE_BVH_STACK_SIZE)
         while (!descend && stack_size != 0u) {
             ++g_path.traversal_iterations;
             --stack_size;
             if (stack_entries[stack_size] <= out_t) {
-                node_index = stack_nodes[stack_size];
+                child = stack_nodes[stack_size];
                 descend = true;
             }
         }
@@ -202,17 +233,18 @@ bool bvh_closest_hit(out float out_t, out uint out_triangle_index, vec3 ray_orig
 // \return true iff some triangle is hit at 0 <= t < t_max
 bool bvh_any_hit(vec3 ray_origin, vec3 ray_direction, float t_max) {
     vec3 inverse_direction = bvh_inverse_direction(ray_direction);
-    uint node_count;
-    if (!bvh_enters_root(node_count, ray_origin, inverse_direction, t_max))
+    uint node_count = get_bvh_node_count();
+    if (node_count == 0u)
         return false;
-    // Entry parameters need no stack here: t_max never shrinks, so popped nodes need no test.
-    uint stack_nodes[BVH_STACK_SIZE];
+    // Entry parameters need no test when popped: t_max never shrinks. They are kept for
+    // PUSH_BVH_CHILDREN's sake.
+    uint stack_nodes[WIDE_BVH_STACK_SIZE];
+    float stack_entries[WIDE_BVH_STACK_SIZE];
     uint stack_size = 0u;
-    uint node_index = 0u;
-    // Each iteration visits one node and no node is visited twice, so node_count bounds it.
-    for (uint iteration = 0u; iteration != node_count; ++iteration) {
+    uint child = 0u;
+    for (uint iteration = 0u; iteration != WIDE_BVH_WIDTH * node_count + 1u; ++iteration) {
         uint first_index, triangle_count;
-        visit_bvh_node(node_index, first_index, triangle_count);
+        visit_bvh_child(child, first_index, triangle_count);
         if (triangle_count != 0u) {
             uint end = first_index + triangle_count;
             for (uint i = first_index; i < end; ++i) {
@@ -221,24 +253,21 @@ bool bvh_any_hit(vec3 ray_origin, vec3 ray_direction, float t_max) {
                     return true;
             }
         } else {
-            // Nearer first: an occluder near the origin ends the search sooner
-            uint far_child;
-            float far_entry;
-            uint next_node;
-            uint entered = bvh_enter_children(first_index, ray_origin, inverse_direction, t_max, next_node, far_child, far_entry);
-            if (entered == 2u && stack_size < BVH_STACK_SIZE) {
-                stack_nodes[stack_size] = far_child;
-                ++stack_size;
-            }
+            // Nearest first: an occluder near the origin ends the search sooner
+            uvec4 children;
+            vec4 entries;
+            uint entered = bvh_enter_children(first_index, ray_origin, inverse_direction, t_max, children, entries);
+            PUSH_BVH_CHILDREN(entered, children, entries, stack_nodes, stack_entries, stack_size)
             if (entered != 0u) {
-                node_index = next_node;
+                child = children.x;
                 continue;
             }
         }
         if (stack_size == 0u)
             break;
+        ++g_path.traversal_iterations;
         --stack_size;
-        node_index = stack_nodes[stack_size];
+        child = stack_nodes[stack_size];
     }
     return false;
 }

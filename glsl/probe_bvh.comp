@@ -34,7 +34,7 @@ struct bvh_probe_result_t {
     // w: 0 (all 0 when BVH_PROBE_BRUTE_FORCE is 0)
     uvec4 brute_force;
     // xyz: bvh_inverse_direction(), w: out_t_entry of bvh_ray_box_intersection() with the
-    // root's box and t_max (0 when there are no nodes)
+    // box of the root's first child and t_max (0 when there are no nodes)
     vec4 inverse_direction_root_entry;
     // x: 1 iff that box test hit; yzw: 0
     uvec4 root_hit;
@@ -58,8 +58,11 @@ void main() {
     vec3 inverse_direction = bvh_inverse_direction(direction);
     float root_entry = 0.0;
     bool root_hit = false;
-    if (get_bvh_node_count() > 0u)
-        root_hit = bvh_ray_box_intersection(root_entry, origin, inverse_direction, get_bvh_node(0u).lower.xyz, get_bvh_node(0u).upper.xyz, t_max);
+    if (get_bvh_node_count() > 0u) {
+        vec3 lower, upper;
+        get_bvh_child_box(0u, 0, lower, upper);
+        root_hit = bvh_ray_box_intersection(root_entry, origin, inverse_direction, lower, upper, t_max);
+    }
     g_probe_results[index].inverse_direction_root_entry = vec4(inverse_direction, root_entry);
     g_probe_results[index].root_hit = uvec4(root_hit ? 1u : 0u, 0u, 0u, 0u);
 

@@ -422,6 +422,21 @@
 // leaf deeper than this (root: depth 0), which is what the stack needs: at most one entry is
 // pushed per interior node on the path from the root.
 #define BVH_STACK_SIZE 32
+// The BVH that the kernels traverse is 4-wide (src/bvh/wide.rs collapses the binary tree of
+// the builder): a node holds up to WIDE_BVH_WIDTH child boxes in WIDE_BVH_NODE_TEXEL_COUNT
+// RGBA32 texels (lower x, upper x, lower y, upper y, lower z, upper z of the four children,
+// then the four child references). A reference is a node index (interior child), or a leaf's
+// first triangle | triangle count << WIDE_BVH_LEAF_COUNT_SHIFT, or WIDE_BVH_EMPTY_CHILD for
+// an unused slot: 0, the root's index, which is no node's child.
+#define WIDE_BVH_WIDTH 4
+#define WIDE_BVH_NODE_TEXEL_COUNT 7
+#define WIDE_BVH_LEAF_COUNT_SHIFT 24
+#define WIDE_BVH_INDEX_MASK 16777215
+#define WIDE_BVH_EMPTY_CHILD 0
+// Entries of the wide traversal's stack: a node pushes up to WIDE_BVH_WIDTH - 1 children, and
+// the collapse keeps every path's pushes within this (else it keeps the binary tree, whose
+// paths push at most BVH_STACK_SIZE).
+#define WIDE_BVH_STACK_SIZE 64
 // Slab exits are scaled by this before the comparison, so that rounding errors never cull a
 // box that the ray touches: pbrt-v4 (6.8.2) shows that 1 + 2 gamma_3 (3.6e-7) suffices for
 // exact division; 1e-6 (8 ulps) leaves room for a GPU's approximate reciprocal (NVIDIA: 2 ulps).

@@ -1,12 +1,12 @@
 //! A bounding volume hierarchy over the scene's triangles, so that a ray tests O(log n)
-//! triangles instead of all of them: a binned-SAH builder on the CPU (`build`), the flat
-//! 32-byte node layout that `glsl/bvh.glsl` traverses (`GpuBvhNode`), and the Rust twins of
-//! the shader's traversal (`traversal`).
+//! triangles instead of all of them: a binned-SAH builder on the CPU (`build`) of a binary
+//! tree (`GpuBvhNode`), collapsed into the 4-wide tree that `glsl/bvh.glsl` traverses
+//! (`wide`, `GpuWideBvhNode`), and the Rust twins of the shader's traversal (`traversal`).
 //!
 //! Usage: `let bvh = Bvh::build(&scene.triangles);` then upload
 //! `bvh.reorder(&scene.triangles)` as the triangle buffer (leaves reference contiguous
 //! ranges of the reordered triangles), `traversal_triangles` of the reordered triangles at
-//! `BINDING_TRAVERSAL_TRIANGLES` and `bvh.nodes` at `BINDING_BVH_NODES`. Triangle
+//! `BINDING_TRAVERSAL_TRIANGLES` and `bvh.wide_nodes` at `BINDING_BVH_NODES`. Triangle
 //! indices that the traversal reports refer to the reordered triangles;
 //! `bvh.triangle_order[i]` is the original index of triangle i.
 
@@ -17,6 +17,7 @@ mod aabb;
 mod build;
 mod stats;
 pub mod traversal;
+mod wide;
 
 #[cfg(test)]
 mod tests;
@@ -27,9 +28,10 @@ pub use build::{
 };
 pub use stats::BvhStats;
 pub use traversal::{
-    bvh_any_hit, bvh_closest_hit, bvh_inverse_direction, bvh_ray_box_intersection,
-    get_traversal_triangle,
+    bvh_any_hit, bvh_closest_hit, bvh_enter_children, bvh_inverse_direction,
+    bvh_ray_box_intersection, get_traversal_triangle,
 };
+pub use wide::{leaf_reference, most_pushes, widen, GpuWideBvhNode};
 
 use crate::scene::Triangle;
 
@@ -132,6 +134,9 @@ pub struct Bvh {
     /// Triangle `i` of the reordered buffer that the leaves index is triangle
     /// `triangle_order[i]` of the list the BVH was built from: a permutation.
     pub triangle_order: Vec<u32>,
+    /// The same tree 4 wide (`widen(&nodes)`), as the kernels traverse it and the twins of
+    /// `traversal` do: upload it at `BINDING_BVH_NODES`.
+    pub wide_nodes: Vec<GpuWideBvhNode>,
 }
 
 impl Bvh {
@@ -146,10 +151,14 @@ impl Bvh {
     /// `build` with a lower depth limit, for tests of the limit.
     pub(crate) fn build_with_max_depth(triangles: &[Triangle], max_depth: u32) -> Bvh {
         match build::build_tree(triangles, max_depth.min(MAX_DEPTH)) {
-            Some((root, triangle_order)) => Bvh {
-                nodes: build::flatten(&root),
-                triangle_order,
-            },
+            Some((root, triangle_order)) => {
+                let nodes = build::flatten(&root);
+                Bvh {
+                    wide_nodes: widen(&nodes),
+                    nodes,
+                    triangle_order,
+                }
+            }
             None => Bvh::default(),
         }
     }
@@ -171,8 +180,8 @@ impl Bvh {
         BvhStats::of(&self.nodes)
     }
 
-    /// Bytes of the node buffer.
+    /// Bytes of the node buffer that the kernels read (the wide nodes).
     pub fn node_bytes(&self) -> usize {
-        std::mem::size_of_val(self.nodes.as_slice())
+        std::mem::size_of_val(self.wide_nodes.as_slice())
     }
 }

@@ -35,6 +35,73 @@ fn node_matches_std430_bvh_node_t() {
 }
 
 #[test]
+fn wide_node_matches_the_wide_node_texels() {
+    // WIDE_BVH_NODE_TEXEL_COUNT texels: lower x, upper x, lower y, upper y, lower z, upper z
+    // of the four children, then their references
+    assert_eq!(
+        size_of::<GpuWideBvhNode>(),
+        16 * crate::contract::WIDE_BVH_NODE_TEXEL_COUNT as usize
+    );
+    let offsets = [
+        offset_of!(GpuWideBvhNode, lower_x),
+        offset_of!(GpuWideBvhNode, upper_x),
+        offset_of!(GpuWideBvhNode, lower_y),
+        offset_of!(GpuWideBvhNode, upper_y),
+        offset_of!(GpuWideBvhNode, lower_z),
+        offset_of!(GpuWideBvhNode, upper_z),
+        offset_of!(GpuWideBvhNode, children),
+    ];
+    assert_eq!(offsets, [0, 16, 32, 48, 64, 80, 96]);
+    // A leaf's reference: its count above WIDE_BVH_LEAF_COUNT_SHIFT, its first triangle below
+    let reference = leaf_reference(0xAB_CDEF, 16);
+    assert_eq!(
+        (
+            traversal::get_bvh_child_index(reference),
+            traversal::get_bvh_leaf_triangle_count(reference)
+        ),
+        (0xAB_CDEF, 16)
+    );
+    assert_eq!(traversal::get_bvh_leaf_triangle_count(7), 0);
+}
+
+#[test]
+fn a_tree_whose_paths_would_overflow_the_wide_stack_stays_binary() {
+    // A spine of 40 interior nodes, each with a small interior child that continues the
+    // spine and a large sibling of three leaves under two levels: collapsed 4 wide, each
+    // spine node pushes the sibling's three leaves (120 entries down the spine), more than
+    // WIDE_BVH_STACK_SIZE, so the binary tree is kept, two children per node.
+    let unit = |size: f32| Aabb {
+        lower: Vec3::ZERO,
+        upper: Vec3::splat(size),
+    };
+    let mut nodes = vec![GpuBvhNode::default()];
+    let mut spine = 0usize;
+    for level in 0..40 {
+        let first = nodes.len();
+        // children: the spine's next node (small) and the large sibling
+        nodes.extend([GpuBvhNode::default(); 2]);
+        nodes[spine] = GpuBvhNode::interior(&unit(10.0 - 0.1 * level as f32), first as u32);
+        let sibling = first + 1;
+        let grandchildren = nodes.len();
+        nodes.extend([GpuBvhNode::default(); 2]);
+        nodes[sibling] = GpuBvhNode::interior(&unit(50.0), grandchildren as u32);
+        let leaves = nodes.len();
+        nodes.extend([GpuBvhNode::leaf(&unit(1.0), level, 1); 2]);
+        nodes[grandchildren] = GpuBvhNode::interior(&unit(40.0), leaves as u32);
+        nodes[grandchildren + 1] = GpuBvhNode::leaf(&unit(30.0), 100 + level, 1);
+        spine = first;
+    }
+    nodes[spine] = GpuBvhNode::leaf(&unit(0.5), 1000, 1);
+    let four_wide = wide::widen_to(&nodes, 4);
+    assert_eq!(most_pushes(&four_wide), 3 * 40);
+    let wide = widen(&nodes);
+    assert!(most_pushes(&wide) <= crate::contract::WIDE_BVH_STACK_SIZE as usize);
+    assert!(wide.iter().all(|node| node.children[2] == 0));
+    let interior = nodes.iter().filter(|node| !node.is_leaf()).count();
+    assert_eq!(wide.len(), interior);
+}
+
+#[test]
 fn traversal_triangle_matches_traversal_triangle_texels() {
     // TRAVERSAL_TRIANGLE_TEXEL_COUNT texels: v_0, v_1, v_2 in xyz, w unused
     assert_eq!(
@@ -131,8 +198,17 @@ fn slab_test_handles_axis_parallel_rays_and_flat_boxes() {
 fn empty_input_gives_an_empty_bvh_that_misses() {
     let bvh = Bvh::build(&[]);
     assert!(bvh.nodes.is_empty() && bvh.triangle_order.is_empty());
-    assert_eq!(bvh_closest_hit(&bvh.nodes, &[], Vec3::ZERO, Vec3::X), None);
-    assert!(!bvh_any_hit(&bvh.nodes, &[], Vec3::ZERO, Vec3::X, 1e30));
+    assert_eq!(
+        bvh_closest_hit(&bvh.wide_nodes, &[], Vec3::ZERO, Vec3::X),
+        None
+    );
+    assert!(!bvh_any_hit(
+        &bvh.wide_nodes,
+        &[],
+        Vec3::ZERO,
+        Vec3::X,
+        1e30
+    ));
     assert_eq!(bvh.stats(), BvhStats::default());
 }
 
@@ -188,6 +264,55 @@ fn check_structure(bvh: &Bvh, triangles: &[Triangle]) {
     );
     assert_eq!(stats.triangle_count, n);
     assert_eq!(stats.node_count, 2 * stats.leaf_count - 1);
+    check_wide_structure(bvh);
+}
+
+/// The wide tree holds the binary tree's leaves, each once, with their boxes, under nodes of
+/// 2 to 4 children (1 for a leaf root), and no path pushes more than the stack holds.
+fn check_wide_structure(bvh: &Bvh) {
+    use crate::contract::{WIDE_BVH_EMPTY_CHILD, WIDE_BVH_LEAF_COUNT_SHIFT, WIDE_BVH_STACK_SIZE};
+    let binary_leaves: std::collections::HashMap<u32, Aabb> = bvh
+        .nodes
+        .iter()
+        .filter(|node| node.is_leaf())
+        .map(|node| {
+            (
+                leaf_reference(node.first_index(), node.triangle_count()),
+                node.bounds(),
+            )
+        })
+        .collect();
+    let mut leaves_seen = std::collections::HashSet::new();
+    let mut nodes_seen = vec![0u32; bvh.wide_nodes.len()];
+    nodes_seen[0] = 1;
+    for node in &bvh.wide_nodes {
+        let used = node
+            .children
+            .iter()
+            .take_while(|&&c| c != WIDE_BVH_EMPTY_CHILD)
+            .count();
+        assert!(node.children[used..]
+            .iter()
+            .all(|&c| c == WIDE_BVH_EMPTY_CHILD));
+        assert!(used >= 2 || bvh.wide_nodes.len() == 1 && used == 1);
+        for (slot, &child) in node.children[..used].iter().enumerate() {
+            if child >> WIDE_BVH_LEAF_COUNT_SHIFT != 0 {
+                assert_eq!(
+                    binary_leaves[&child],
+                    node.child_bounds(slot),
+                    "a leaf's box"
+                );
+                assert!(leaves_seen.insert(child), "each leaf once");
+            } else {
+                nodes_seen[child as usize] += 1;
+            }
+        }
+    }
+    assert_eq!(leaves_seen.len(), binary_leaves.len(), "every leaf");
+    assert!(nodes_seen.iter().all(|&c| c == 1), "every wide node once");
+    let interior = bvh.nodes.len() - binary_leaves.len();
+    assert!(bvh.wide_nodes.len() <= interior.max(1));
+    assert!(most_pushes(&bvh.wide_nodes) <= WIDE_BVH_STACK_SIZE as usize);
 }
 
 /// Random rays: origins in `origin_box` (grown by 10% so some start outside the mesh),
@@ -229,7 +354,7 @@ fn compare_with_brute_force(triangles: &[Triangle], rays: &[(Vec3, Vec3)]) -> Ag
     for &(origin, direction) in rays {
         agreement.rays += 1;
         let expected = ray_mesh_intersection(triangles, origin, direction);
-        let actual = bvh_closest_hit(&bvh.nodes, &reordered, origin, direction);
+        let actual = bvh_closest_hit(&bvh.wide_nodes, &reordered, origin, direction);
         match (expected, actual) {
             (None, None) => {}
             (Some(e), Some(a)) => {
@@ -253,7 +378,7 @@ fn compare_with_brute_force(triangles: &[Triangle], rays: &[(Vec3, Vec3)]) -> Ag
         let factor = 0.5 + get_random_numbers(&mut state).x;
         let t_max = expected.map_or(1e30, |e| e.t * factor);
         let expected_any = expected.is_some_and(|e| e.t < t_max);
-        if bvh_any_hit(&bvh.nodes, &reordered, origin, direction, t_max) != expected_any {
+        if bvh_any_hit(&bvh.wide_nodes, &reordered, origin, direction, t_max) != expected_any {
             agreement.mismatches += 1;
         }
     }
@@ -353,7 +478,7 @@ fn the_depth_limit_makes_leaves_and_traversal_still_matches() {
     let mut hits = 0;
     for (origin, direction) in rays {
         let expected = ray_mesh_intersection(&triangles, origin, direction);
-        let actual = bvh_closest_hit(&bvh.nodes, &reordered, origin, direction);
+        let actual = bvh_closest_hit(&bvh.wide_nodes, &reordered, origin, direction);
         let actual = actual.map(|a| (bvh.triangle_order[a.triangle_index] as usize, a.t));
         assert_eq!(actual, expected.map(|e| (e.triangle_index, e.t)));
         hits += usize::from(actual.is_some());

@@ -7,13 +7,16 @@
 
 use glam::Vec3;
 
-use super::{GpuBvhNode, GpuTraversalTriangle};
-use crate::contract::{BVH_MIN_DIRECTION, BVH_SLAB_PADDING, BVH_STACK_SIZE, NO_HIT_T};
+use super::{GpuTraversalTriangle, GpuWideBvhNode};
+use crate::contract::{
+    BVH_MIN_DIRECTION, BVH_SLAB_PADDING, NO_HIT_T, WIDE_BVH_EMPTY_CHILD, WIDE_BVH_INDEX_MASK,
+    WIDE_BVH_LEAF_COUNT_SHIFT, WIDE_BVH_STACK_SIZE, WIDE_BVH_WIDTH,
+};
 use crate::cpu::integrator::MeshHit;
 use crate::cpu::workshop::ray_triangle_intersection;
 use crate::scene::Triangle;
 
-const STACK_SIZE: usize = BVH_STACK_SIZE as usize;
+const STACK_SIZE: usize = WIDE_BVH_STACK_SIZE as usize;
 
 /// Triangle `index` as the traversal's triangle test sees it, twin of GLSL
 /// `get_traversal_triangle`: its vertex positions, and zeros for the members that
@@ -71,81 +74,105 @@ pub fn bvh_ray_box_intersection(
     (t_entry <= t_exit.min(t_max)).then_some(t_entry)
 }
 
-/// Node `index`'s box test, as the shader writes it inline.
-fn node_box_test(
-    nodes: &[GpuBvhNode],
-    index: u32,
-    ray_origin: Vec3,
-    inverse_direction: Vec3,
-    t_max: f32,
-) -> Option<f32> {
-    let bounds = nodes[index as usize].bounds();
-    bvh_ray_box_intersection(
-        ray_origin,
-        inverse_direction,
-        bounds.lower,
-        bounds.upper,
-        t_max,
-    )
+/// Twin of GLSL `get_bvh_leaf_triangle_count`: a child reference's triangle count, at least 1
+/// for a leaf, 0 for an interior node.
+pub fn get_bvh_leaf_triangle_count(child: u32) -> u32 {
+    child >> WIDE_BVH_LEAF_COUNT_SHIFT
 }
 
-/// Twin of GLSL `bvh_enters_root`: whether the ray enters the root's box before `t_max` (an
-/// empty tree is entered by nothing).
-pub fn bvh_enters_root(
-    nodes: &[GpuBvhNode],
-    ray_origin: Vec3,
-    inverse_direction: Vec3,
-    t_max: f32,
-) -> bool {
-    !nodes.is_empty() && node_box_test(nodes, 0, ray_origin, inverse_direction, t_max).is_some()
+/// Twin of GLSL `get_bvh_child_index`: a child reference's node index (interior) or first
+/// triangle (leaf).
+pub fn get_bvh_child_index(child: u32) -> u32 {
+    child & WIDE_BVH_INDEX_MASK
 }
 
-/// The children of an interior node that a ray enters, nearer first (`bvh_enter_children`).
+/// Twin of GLSL `order_bvh_children`: a compare-exchange of (entry, child) pairs that swaps
+/// only when the second enters strictly earlier.
+pub fn order_bvh_children(entries: &mut [f32; 4], children: &mut [u32; 4], a: usize, b: usize) {
+    if entries[b] < entries[a] {
+        entries.swap(a, b);
+        children.swap(a, b);
+    }
+}
+
+/// The children of a wide node that a ray enters (`bvh_enter_children`), nearest first.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct EnteredChildren {
-    /// How many of the two boxes the ray enters before `t_max`: 0, 1 or 2.
+    /// How many of the boxes the ray enters before `t_max`: 0 to `WIDE_BVH_WIDTH`.
     pub count: u32,
-    /// The child to visit next (the nearer one when both are entered).
-    pub near: u32,
-    /// The child to push when both are entered.
-    pub far: u32,
-    /// Where the ray enters `far` (meaningful when both are entered).
-    pub far_entry: f32,
+    /// The references, those entered first, nearest first.
+    pub children: [u32; 4],
+    /// Where the ray enters them (`NO_HIT_T` for those not entered).
+    pub entries: [f32; 4],
 }
 
-/// Twin of GLSL `bvh_enter_children`: the children `first_index` and `first_index + 1` whose
-/// boxes the ray enters before `t_max`, nearer first.
+/// Twin of GLSL `bvh_enter_children`: the children of interior node `node_index` whose boxes
+/// the ray enters before `t_max` (`bvh_ray_box_intersection`'s slab test, four boxes at
+/// once), nearest first by a sorting network.
 pub fn bvh_enter_children(
-    nodes: &[GpuBvhNode],
-    first_index: u32,
+    nodes: &[GpuWideBvhNode],
+    node_index: u32,
     ray_origin: Vec3,
     inverse_direction: Vec3,
     t_max: f32,
 ) -> EnteredChildren {
-    let t_left = node_box_test(nodes, first_index, ray_origin, inverse_direction, t_max);
-    let t_right = node_box_test(nodes, first_index + 1, ray_origin, inverse_direction, t_max);
-    let left_first = match (t_left, t_right) {
-        (_, None) => true,
-        (Some(left), Some(right)) => left <= right,
-        (None, Some(_)) => false,
-    };
-    let (near, far, far_entry) = if left_first {
-        (first_index, first_index + 1, t_right)
-    } else {
-        (first_index + 1, first_index, t_left)
-    };
+    let node = &nodes[node_index as usize];
+    let slab = |values: [f32; 4], origin: f32, inverse: f32| values.map(|v| (v - origin) * inverse);
+    let t_lower_x = slab(node.lower_x, ray_origin.x, inverse_direction.x);
+    let t_upper_x = slab(node.upper_x, ray_origin.x, inverse_direction.x);
+    let t_lower_y = slab(node.lower_y, ray_origin.y, inverse_direction.y);
+    let t_upper_y = slab(node.upper_y, ray_origin.y, inverse_direction.y);
+    let t_lower_z = slab(node.lower_z, ray_origin.z, inverse_direction.z);
+    let t_upper_z = slab(node.upper_z, ray_origin.z, inverse_direction.z);
+    let mut entries = [0.0f32; 4];
+    let mut count = 0;
+    for k in 0..4 {
+        let t_entry = t_lower_x[k]
+            .min(t_upper_x[k])
+            .max(t_lower_y[k].min(t_upper_y[k]))
+            .max(t_lower_z[k].min(t_upper_z[k]).max(0.0));
+        let t_exit = t_lower_x[k]
+            .max(t_upper_x[k])
+            .min(t_lower_y[k].max(t_upper_y[k]))
+            .min(t_lower_z[k].max(t_upper_z[k]))
+            * BVH_SLAB_PADDING;
+        let entered = t_entry <= t_exit.min(t_max) && node.children[k] != WIDE_BVH_EMPTY_CHILD;
+        // Boxes not entered sort last
+        entries[k] = if entered { t_entry } else { NO_HIT_T };
+        count += u32::from(entered);
+    }
+    let mut children = node.children;
+    for (a, b) in [(0, 1), (2, 3), (0, 2), (1, 3), (1, 2)] {
+        order_bvh_children(&mut entries, &mut children, a, b);
+    }
     EnteredChildren {
-        count: u32::from(t_left.is_some()) + u32::from(t_right.is_some()),
-        near,
-        far,
-        far_entry: far_entry.unwrap_or(0.0),
+        count,
+        children,
+        entries,
     }
 }
 
-/// Finds the closest triangle that a ray hits by traversing the BVH, twin of GLSL
-/// `bvh_closest_hit`: brute force's triangle tests, nearer child first, subtrees skipped
+/// `PUSH_BVH_CHILDREN` of `glsl/bvh.glsl`: the entered children but the nearest, farthest
+/// first.
+fn push_children(
+    entered: &EnteredChildren,
+    stack_nodes: &mut [u32; STACK_SIZE],
+    stack_entries: &mut [f32; STACK_SIZE],
+    stack_size: &mut usize,
+) {
+    for k in (1..entered.count as usize).rev() {
+        if *stack_size < STACK_SIZE {
+            stack_nodes[*stack_size] = entered.children[k];
+            stack_entries[*stack_size] = entered.entries[k];
+            *stack_size += 1;
+        }
+    }
+}
+
+/// Finds the closest triangle that a ray hits by traversing the wide BVH, twin of GLSL
+/// `bvh_closest_hit`: brute force's triangle tests, nearest child first, subtrees skipped
 /// once they start beyond the closest hit so far.
-/// \param nodes The BVH's nodes (the shader's `g_bvh_nodes`)
+/// \param nodes The wide BVH's nodes (the shader's `g_bvh_node_texels`)
 /// \param scene_triangles The traversal-only triangles in leaf order (the shader's
 ///        `g_traversal_triangle_texels`)
 /// \param ray_origin, ray_direction The ray, world space
@@ -155,7 +182,7 @@ pub fn bvh_enter_children(
 /// # Panics
 /// If the nodes index past `nodes` or `scene_triangles` (a BVH built for other triangles).
 pub fn bvh_closest_hit(
-    nodes: &[GpuBvhNode],
+    nodes: &[GpuWideBvhNode],
     scene_triangles: &[GpuTraversalTriangle],
     ray_origin: Vec3,
     ray_direction: Vec3,
@@ -163,20 +190,18 @@ pub fn bvh_closest_hit(
     let mut out_t = NO_HIT_T;
     let mut out_triangle_index = 0u32;
     let mut hit = false;
-    let node_count = nodes.len();
     let inverse_direction = bvh_inverse_direction(ray_direction);
-    if !bvh_enters_root(nodes, ray_origin, inverse_direction, out_t) {
+    if nodes.is_empty() {
         return None;
     }
     let mut stack_nodes = [0u32; STACK_SIZE];
     let mut stack_entries = [0f32; STACK_SIZE];
     let mut stack_size = 0usize;
-    let mut node_index = 0u32;
-    // Each iteration visits one node and no node is visited twice.
-    for _ in 0..node_count {
-        let node = nodes[node_index as usize];
-        let first_index = node.first_index();
-        let triangle_count = node.triangle_count();
+    let mut child = 0u32;
+    // Each iteration visits one child reference and none is visited twice.
+    for _ in 0..WIDE_BVH_WIDTH as usize * nodes.len() + 1 {
+        let first_index = get_bvh_child_index(child);
+        let triangle_count = get_bvh_leaf_triangle_count(child);
         let mut descend = false;
         if triangle_count != 0 {
             for i in first_index..first_index + triangle_count {
@@ -190,22 +215,21 @@ pub fn bvh_closest_hit(
                 }
             }
         } else {
-            let children =
+            let entered =
                 bvh_enter_children(nodes, first_index, ray_origin, inverse_direction, out_t);
-            if children.count == 2 && stack_size < STACK_SIZE {
-                stack_nodes[stack_size] = children.far;
-                stack_entries[stack_size] = children.far_entry;
-                stack_size += 1;
-            }
-            if children.count != 0 {
-                node_index = children.near;
-                descend = true;
-            }
+            push_children(
+                &entered,
+                &mut stack_nodes,
+                &mut stack_entries,
+                &mut stack_size,
+            );
+            child = entered.children[0];
+            descend = entered.count != 0;
         }
         while !descend && stack_size != 0 {
             stack_size -= 1;
             if stack_entries[stack_size] <= out_t {
-                node_index = stack_nodes[stack_size];
+                child = stack_nodes[stack_size];
                 descend = true;
             }
         }
@@ -221,7 +245,7 @@ pub fn bvh_closest_hit(
 
 /// Whether a ray hits any triangle at t < `t_max` (shadow rays), twin of GLSL `bvh_any_hit`:
 /// the traversal of `bvh_closest_hit` with a fixed `t_max`, ending at the first hit found.
-/// \param nodes The BVH's nodes (the shader's `g_bvh_nodes`)
+/// \param nodes The wide BVH's nodes (the shader's `g_bvh_node_texels`)
 /// \param scene_triangles The traversal-only triangles in leaf order (the shader's
 ///        `g_traversal_triangle_texels`)
 /// \param ray_origin, ray_direction The ray, world space
@@ -230,24 +254,23 @@ pub fn bvh_closest_hit(
 /// # Panics
 /// If the nodes index past `nodes` or `scene_triangles` (a BVH built for other triangles).
 pub fn bvh_any_hit(
-    nodes: &[GpuBvhNode],
+    nodes: &[GpuWideBvhNode],
     scene_triangles: &[GpuTraversalTriangle],
     ray_origin: Vec3,
     ray_direction: Vec3,
     t_max: f32,
 ) -> bool {
-    let node_count = nodes.len();
     let inverse_direction = bvh_inverse_direction(ray_direction);
-    if !bvh_enters_root(nodes, ray_origin, inverse_direction, t_max) {
+    if nodes.is_empty() {
         return false;
     }
     let mut stack_nodes = [0u32; STACK_SIZE];
+    let mut stack_entries = [0f32; STACK_SIZE];
     let mut stack_size = 0usize;
-    let mut node_index = 0u32;
-    for _ in 0..node_count {
-        let node = nodes[node_index as usize];
-        let first_index = node.first_index();
-        let triangle_count = node.triangle_count();
+    let mut child = 0u32;
+    for _ in 0..WIDE_BVH_WIDTH as usize * nodes.len() + 1 {
+        let first_index = get_bvh_child_index(child);
+        let triangle_count = get_bvh_leaf_triangle_count(child);
         if triangle_count != 0 {
             for i in first_index..first_index + triangle_count {
                 let triangle = get_traversal_triangle(scene_triangles, i);
@@ -258,15 +281,17 @@ pub fn bvh_any_hit(
                 }
             }
         } else {
-            // Nearer first: an occluder near the origin ends the search sooner
-            let children =
+            // Nearest first: an occluder near the origin ends the search sooner
+            let entered =
                 bvh_enter_children(nodes, first_index, ray_origin, inverse_direction, t_max);
-            if children.count == 2 && stack_size < STACK_SIZE {
-                stack_nodes[stack_size] = children.far;
-                stack_size += 1;
-            }
-            if children.count != 0 {
-                node_index = children.near;
+            push_children(
+                &entered,
+                &mut stack_nodes,
+                &mut stack_entries,
+                &mut stack_size,
+            );
+            if entered.count != 0 {
+                child = entered.children[0];
                 continue;
             }
         }
@@ -274,7 +299,7 @@ pub fn bvh_any_hit(
             break;
         }
         stack_size -= 1;
-        node_index = stack_nodes[stack_size];
+        child = stack_nodes[stack_size];
     }
     false
 }

@@ -111,7 +111,7 @@ impl GpuScene {
             vk::BufferUsageFlags::UNIFORM_BUFFER,
         )?;
         let bvh_nodes = match &bvh {
-            Some(bvh) => Some(texels("BVH nodes", bytemuck::cast_slice(&bvh.nodes))?),
+            Some(bvh) => Some(texels("BVH nodes", bytemuck::cast_slice(&bvh.wide_nodes))?),
             None => None,
         };
         let traversal_triangles = match &bvh {

@@ -1,0 +1,168 @@
+//! The 4-wide BVH that `glsl/bvh.glsl` traverses: the builder's binary tree collapsed so that
+//! each node holds up to `WIDE_BVH_WIDTH` children, whose boxes a ray tests together. A
+//! traversal then takes about half the steps of the binary tree's, and reads a node's four
+//! boxes from 7 contiguous texels instead of two boxes from 4 texels in two places.
+
+use bytemuck::{Pod, Zeroable};
+use glam::Vec3;
+
+use super::{Aabb, GpuBvhNode};
+use crate::contract::{
+    WIDE_BVH_EMPTY_CHILD, WIDE_BVH_INDEX_MASK, WIDE_BVH_LEAF_COUNT_SHIFT, WIDE_BVH_STACK_SIZE,
+    WIDE_BVH_WIDTH,
+};
+
+const WIDTH: usize = WIDE_BVH_WIDTH as usize;
+
+/// One node of the wide BVH as `glsl/bvh.glsl` reads it (`WIDE_BVH_NODE_TEXEL_COUNT` RGBA32
+/// texels, 112 bytes): its children's boxes, one coordinate of all four per texel, then their
+/// references (`child`). An unused slot has the reference `WIDE_BVH_EMPTY_CHILD` (0, the
+/// root's index, which is no node's child) and a box of zeros.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
+pub struct GpuWideBvhNode {
+    /// The children's lower x, world space.
+    pub lower_x: [f32; 4],
+    /// Their upper x.
+    pub upper_x: [f32; 4],
+    /// Their lower y.
+    pub lower_y: [f32; 4],
+    /// Their upper y.
+    pub upper_y: [f32; 4],
+    /// Their lower z.
+    pub lower_z: [f32; 4],
+    /// Their upper z.
+    pub upper_z: [f32; 4],
+    /// Their references: a node index (interior child), a leaf's first triangle |
+    /// its triangle count << `WIDE_BVH_LEAF_COUNT_SHIFT`, or `WIDE_BVH_EMPTY_CHILD`.
+    pub children: [u32; 4],
+}
+
+impl GpuWideBvhNode {
+    /// Child `slot`'s box, world space.
+    pub fn child_bounds(&self, slot: usize) -> Aabb {
+        Aabb {
+            lower: Vec3::new(self.lower_x[slot], self.lower_y[slot], self.lower_z[slot]),
+            upper: Vec3::new(self.upper_x[slot], self.upper_y[slot], self.upper_z[slot]),
+        }
+    }
+
+    fn set_child(&mut self, slot: usize, bounds: &Aabb, child: u32) {
+        self.lower_x[slot] = bounds.lower.x;
+        self.lower_y[slot] = bounds.lower.y;
+        self.lower_z[slot] = bounds.lower.z;
+        self.upper_x[slot] = bounds.upper.x;
+        self.upper_y[slot] = bounds.upper.y;
+        self.upper_z[slot] = bounds.upper.z;
+        self.children[slot] = child;
+    }
+}
+
+/// The reference to a leaf over triangles `first..first + count` (`count` from 1 to
+/// `MAX_LEAF_SIZE`).
+pub fn leaf_reference(first: u32, count: u32) -> u32 {
+    debug_assert!(first <= WIDE_BVH_INDEX_MASK && (1..256).contains(&count));
+    first | count << WIDE_BVH_LEAF_COUNT_SHIFT
+}
+
+/// The wide BVH of a binary one (`Bvh::nodes`, root first): each node takes its binary
+/// node's two children and opens the interior child of largest surface area until it has
+/// `WIDE_BVH_WIDTH` children or only leaves. Where some path of that tree would push more
+/// than `WIDE_BVH_STACK_SIZE` entries (never seen; each node pushes up to width - 1), the
+/// binary tree itself is returned in the wide layout (two children per node), whose paths
+/// push at most its depth. Empty for an empty tree.
+pub fn widen(nodes: &[GpuBvhNode]) -> Vec<GpuWideBvhNode> {
+    if nodes.is_empty() {
+        return Vec::new();
+    }
+    let wide = widen_to(nodes, WIDTH);
+    if most_pushes(&wide) <= WIDE_BVH_STACK_SIZE as usize {
+        wide
+    } else {
+        widen_to(nodes, 2)
+    }
+}
+
+/// `widen` with nodes of up to `width` children and no fallback.
+pub(super) fn widen_to(nodes: &[GpuBvhNode], width: usize) -> Vec<GpuWideBvhNode> {
+    let mut wide = vec![GpuWideBvhNode::default()];
+    fill(nodes, 0, 0, width, &mut wide);
+    wide
+}
+
+/// The binary nodes that become the children of binary node `index`'s wide node (just
+/// `index` for a leaf root).
+fn collapsed_children(nodes: &[GpuBvhNode], index: usize, width: usize) -> Vec<usize> {
+    let node = &nodes[index];
+    if node.is_leaf() {
+        return vec![index];
+    }
+    let first = node.first_index() as usize;
+    let mut children = vec![first, first + 1];
+    while children.len() < width {
+        let largest = children
+            .iter()
+            .enumerate()
+            .filter(|(_, &child)| !nodes[child].is_leaf())
+            .max_by(|(_, &a), (_, &b)| {
+                let area = |i: usize| nodes[i].bounds().surface_area();
+                area(a).total_cmp(&area(b))
+            })
+            .map(|(position, _)| position);
+        let Some(position) = largest else {
+            break;
+        };
+        let opened = nodes[children[position]].first_index() as usize;
+        children.splice(position..=position, [opened, opened + 1]);
+    }
+    children
+}
+
+fn fill(
+    nodes: &[GpuBvhNode],
+    index: usize,
+    slot: usize,
+    width: usize,
+    wide: &mut Vec<GpuWideBvhNode>,
+) {
+    let mut node = GpuWideBvhNode::default();
+    for (k, &child) in collapsed_children(nodes, index, width).iter().enumerate() {
+        let binary = &nodes[child];
+        let reference = if binary.is_leaf() {
+            leaf_reference(binary.first_index(), binary.triangle_count())
+        } else {
+            let child_slot = wide.len();
+            debug_assert!(child_slot as u32 <= WIDE_BVH_INDEX_MASK);
+            wide.push(GpuWideBvhNode::default());
+            fill(nodes, child, child_slot, width, wide);
+            child_slot as u32
+        };
+        node.set_child(k, &binary.bounds(), reference);
+    }
+    wide[slot] = node;
+}
+
+/// The most stack entries that a traversal of `wide` can hold: over all paths from the root,
+/// the sum of each node's children but one.
+pub fn most_pushes(wide: &[GpuWideBvhNode]) -> usize {
+    let mut most = 0;
+    let mut stack = vec![(0usize, 0usize)];
+    while let Some((index, pending)) = stack.pop() {
+        let Some(node) = wide.get(index) else {
+            continue;
+        };
+        let used = node
+            .children
+            .iter()
+            .filter(|&&c| c != WIDE_BVH_EMPTY_CHILD)
+            .count();
+        let pushes = pending + used.saturating_sub(1);
+        most = most.max(pushes);
+        for &child in &node.children {
+            if child != WIDE_BVH_EMPTY_CHILD && child >> WIDE_BVH_LEAF_COUNT_SHIFT == 0 {
+                stack.push((child as usize, pushes));
+            }
+        }
+    }
+    most
+}
