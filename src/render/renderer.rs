@@ -1068,8 +1068,8 @@ fn validate(
         return Err(Error::MissingInput("the scene has no triangles".into()));
     }
     // What the render allocates on the device: the triangles (96 bytes each), with a BVH
-    // their positions for the traversal (48 bytes each) and at most 2 nodes per triangle (32
-    // bytes each), the lights (16 bytes each and a header), the accumulation image (of the
+    // their positions for the traversal (48 bytes each) and at most 1 wide node per triangle
+    // (112 bytes each), the lights (16 bytes each and a header), the accumulation image (of the
     // area or of a tile) and its read-back and upload buffers (48 bytes per pixel each).
     let triangles = scene.triangles.len() as u64;
     let scene_bytes = scene_bytes(scene);
