@@ -4,7 +4,9 @@
 // (g_traversal_triangle_texels); the rest of a triangle is read for the closest hit only.
 // The triangle tests are the workshop's ray_triangle_intersection(), so the hits are those of
 // the brute-force ray_mesh_intersection() (up to ties at equal t). The nodes are built on the
-// CPU (src/bvh/), which also reorders g_triangles so that each leaf holds a contiguous range.
+// CPU (src/bvh/): a binary tree by the SAH, which also reorders g_triangles so that each leaf
+// holds a contiguous range, collapsed into a 4-wide tree (src/bvh/wide.rs) whose nodes hold
+// the boxes of up to four children, tested together.
 // Rust twins: src/bvh/traversal.rs, same names and maths; change both together.
 #ifndef VKPATH_BVH_GLSL
 #define VKPATH_BVH_GLSL

@@ -418,9 +418,9 @@
 
 // ======== The bounding volume hierarchy (glsl/bvh.glsl, host side src/bvh/) and its probe ========
 
-// Entries of the traversal stack of bvh_closest_hit() and bvh_any_hit(). The builder makes no
-// leaf deeper than this (root: depth 0), which is what the stack needs: at most one entry is
-// pushed per interior node on the path from the root.
+// Depth limit of the builder's binary tree: it makes no leaf deeper than this (root: depth
+// 0), so a traversal of the binary tree pushes at most this many entries, one per interior
+// node on the path from the root (the bound of the wide tree's fallback below).
 #define BVH_STACK_SIZE 32
 // The BVH that the kernels traverse is 4-wide (src/bvh/wide.rs collapses the binary tree of
 // the builder): a node holds up to WIDE_BVH_WIDTH child boxes in WIDE_BVH_NODE_TEXEL_COUNT

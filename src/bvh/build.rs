@@ -39,10 +39,11 @@ pub const LEAF_SIZE: usize = 4;
 /// Only the depth limit and coincident centroids make larger leaves.
 pub const MAX_LEAF_SIZE: usize = 16;
 
-/// No leaf is deeper than this (the root has depth 0): the traversal pushes at most one node
-/// per interior ancestor, so a stack of `BVH_STACK_SIZE` entries never overflows. Nodes at
-/// this depth become leaves whatever their size; a binned SAH tree over 10^6 triangles is
-/// about 25 deep, so this only matters for pathological inputs.
+/// No leaf is deeper than this (the root has depth 0): a traversal of the binary tree pushes
+/// at most one node per interior ancestor, so a stack of `BVH_STACK_SIZE` entries never
+/// overflows (the wide tree bounds its own pushes, `wide::most_pushes`). Nodes at this depth
+/// become leaves whatever their size; a binned SAH tree over 10^6 triangles is about 25 deep,
+/// so this only matters for pathological inputs.
 pub const MAX_DEPTH: u32 = BVH_STACK_SIZE;
 
 /// Subtrees with more triangles than this are built in a rayon task of their own; smaller
