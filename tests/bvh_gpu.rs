@@ -11,7 +11,7 @@ use ash::vk;
 use glam::{UVec2, Vec3};
 use vkpath::bvh::{
     bvh_any_hit, bvh_closest_hit, bvh_inverse_direction, bvh_ray_box_intersection,
-    traversal_triangles, Bvh,
+    get_bvh_child_box, traversal_triangles, Bvh,
 };
 use vkpath::contract;
 use vkpath::cpu::workshop::{get_random_numbers, sample_sphere};
@@ -172,7 +172,7 @@ fn check(
     let mut gpu_brute_force = Tally::default();
     let mut any_hit_disagreements = 0;
     let mut box_test_disagreements = 0;
-    let root = bvh.wide_nodes[0].child_bounds(0);
+    let root = get_bvh_child_box(&bvh.wide_nodes, 0, 0);
     for (ray, result) in rays.iter().zip(results) {
         let origin = Vec3::from_slice(&ray[0][..3]);
         let direction = Vec3::from_slice(&ray[1][..3]);

@@ -29,7 +29,7 @@ pub use build::{
 pub use stats::BvhStats;
 pub use traversal::{
     bvh_any_hit, bvh_closest_hit, bvh_enter_children, bvh_inverse_direction,
-    bvh_ray_box_intersection, get_traversal_triangle,
+    bvh_ray_box_intersection, get_bvh_child_box, get_traversal_triangle,
 };
 pub use wide::{leaf_reference, most_pushes, widen, GpuWideBvhNode};
 

@@ -270,7 +270,7 @@ fn check_structure(bvh: &Bvh, triangles: &[Triangle]) {
 /// The wide tree holds the binary tree's leaves, each once, with their boxes, under nodes of
 /// 2 to 4 children (1 for a leaf root), and no path pushes more than the stack holds.
 fn check_wide_structure(bvh: &Bvh) {
-    use crate::contract::{WIDE_BVH_EMPTY_CHILD, WIDE_BVH_LEAF_COUNT_SHIFT, WIDE_BVH_STACK_SIZE};
+    use crate::contract::{WIDE_BVH_EMPTY_CHILD, WIDE_BVH_STACK_SIZE};
     let binary_leaves: std::collections::HashMap<u32, Aabb> = bvh
         .nodes
         .iter()
@@ -296,7 +296,7 @@ fn check_wide_structure(bvh: &Bvh) {
             .all(|&c| c == WIDE_BVH_EMPTY_CHILD));
         assert!(used >= 2 || bvh.wide_nodes.len() == 1 && used == 1);
         for (slot, &child) in node.children[..used].iter().enumerate() {
-            if child >> WIDE_BVH_LEAF_COUNT_SHIFT != 0 {
+            if traversal::get_bvh_leaf_triangle_count(child) != 0 {
                 assert_eq!(
                     binary_leaves[&child],
                     node.child_bounds(slot),

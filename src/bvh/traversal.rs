@@ -7,7 +7,7 @@
 
 use glam::Vec3;
 
-use super::{GpuTraversalTriangle, GpuWideBvhNode};
+use super::{Aabb, GpuTraversalTriangle, GpuWideBvhNode};
 use crate::contract::{
     BVH_MIN_DIRECTION, BVH_SLAB_PADDING, NO_HIT_T, WIDE_BVH_EMPTY_CHILD, WIDE_BVH_INDEX_MASK,
     WIDE_BVH_LEAF_COUNT_SHIFT, WIDE_BVH_STACK_SIZE, WIDE_BVH_WIDTH,
@@ -72,6 +72,12 @@ pub fn bvh_ray_box_intersection(
     let t_entry = t_near.x.max(t_near.y).max(t_near.z.max(0.0));
     let t_exit = t_far.x.min(t_far.y).min(t_far.z) * BVH_SLAB_PADDING;
     (t_entry <= t_exit.min(t_max)).then_some(t_entry)
+}
+
+/// Twin of GLSL `get_bvh_child_box`: the box of child `slot` of node `node_index`, world
+/// space.
+pub fn get_bvh_child_box(nodes: &[GpuWideBvhNode], node_index: u32, slot: usize) -> Aabb {
+    nodes[node_index as usize].child_bounds(slot)
 }
 
 /// Twin of GLSL `get_bvh_leaf_triangle_count`: a child reference's triangle count, at least 1

@@ -6,6 +6,7 @@
 use bytemuck::{Pod, Zeroable};
 use glam::Vec3;
 
+use super::traversal::get_bvh_leaf_triangle_count;
 use super::{Aabb, GpuBvhNode};
 use crate::contract::{
     WIDE_BVH_EMPTY_CHILD, WIDE_BVH_INDEX_MASK, WIDE_BVH_LEAF_COUNT_SHIFT, WIDE_BVH_STACK_SIZE,
@@ -159,7 +160,7 @@ pub fn most_pushes(wide: &[GpuWideBvhNode]) -> usize {
         let pushes = pending + used.saturating_sub(1);
         most = most.max(pushes);
         for &child in &node.children {
-            if child != WIDE_BVH_EMPTY_CHILD && child >> WIDE_BVH_LEAF_COUNT_SHIFT == 0 {
+            if child != WIDE_BVH_EMPTY_CHILD && get_bvh_leaf_triangle_count(child) == 0 {
                 stack.push((child as usize, pushes));
             }
         }

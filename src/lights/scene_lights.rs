@@ -86,6 +86,12 @@ impl<'a> SceneLights<'a> {
         gpu_environment_words(self.environment)
     }
 
+    /// Whether the environment gives light (`SCENE_HAS_ENVIRONMENT`; else its words say
+    /// `ENVIRONMENT_NONE`).
+    pub fn has_environment(&self) -> bool {
+        self.environment.is_some_and(Environment::emits_light)
+    }
+
     /// The words of the punctual lights' texel buffer (`BINDING_PUNCTUAL_LIGHTS`).
     pub fn punctual_words(&self) -> Vec<u32> {
         gpu_punctual_light_words(self.punctual)

@@ -13,7 +13,7 @@ use crate::camera::Camera;
 use crate::contract;
 use crate::error::{Error, Result};
 use crate::kernels::{Bound, Resource};
-use crate::lights::{Environment, SceneLights};
+use crate::lights::SceneLights;
 use crate::render::gpu_materials::{
     material_texel_words, scene_texture_slots, GpuMaterial, GpuTriangleShading,
 };
@@ -213,11 +213,7 @@ impl GpuScene {
             ));
             specialization.push((
                 contract::SPEC_SCENE_HAS_ENVIRONMENT,
-                u32::from(
-                    scene_lights
-                        .environment
-                        .is_some_and(Environment::emits_light),
-                ),
+                u32::from(scene_lights.has_environment()),
             ));
             specialization.push((
                 contract::SPEC_SCENE_HAS_PUNCTUAL_LIGHTS,

@@ -314,19 +314,16 @@ pub fn scene_hash(scene: &Scene, camera: &Camera) -> String {
             hasher.update(bytemuck::cast_slice::<_, u8>(&map.texels));
         }
     }
-    let mut add = |values: &[f32]| {
-        for value in values {
-            hasher.update(value.to_bits().to_le_bytes());
-        }
-    };
+    bytes.clear();
     for vector in [
         camera.position,
         camera.image_plane_middle,
         camera.up,
         camera.right_per_unit_aspect,
     ] {
-        add(&vector.to_array());
+        add(&mut bytes, &vector.to_array());
     }
+    hasher.update(&bytes);
     let digest = hasher.finalize();
     digest[..8].iter().map(|b| format!("{b:02x}")).collect()
 }
