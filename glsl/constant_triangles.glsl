@@ -1,7 +1,9 @@
 // Small scenes compiled into the kernel, as the workshop's ShaderToy keeps its triangles in a
-// constant array: the vertex positions of up to CONSTANT_TRIANGLE_CAPACITY triangles arrive as
-// specialization constants, and ray_mesh_intersection() and ray_mesh_any_hit() test them in a
-// loop that the preprocessor unrolls. Every position is then a constant of the compiled code,
+// constant array: the vertex positions of up to CONSTANT_TRIANGLE_CAPACITY triangles (the
+// material kernels: MATERIAL_CONSTANT_TRIANGLE_CAPACITY) arrive as specialization constants,
+// and ray_mesh_intersection() and ray_mesh_any_hit() test them in a loop that the
+// preprocessor unrolls. Alpha-tested materials are not tested there: the host gives constant
+// triangles only to scenes without them (`Traversal::choose`). Every position is then a constant of the compiled code,
 // so the driver reads nothing per triangle; on lavapipe, where each texel fetch is a per-lane
 // gather, this makes rays 2-4x as fast (docs/performance.md). The other members of the hit
 // triangle still come from the texel buffer (get_triangle()).
@@ -26,6 +28,19 @@ layout(constant_id = SPEC_CONSTANT_TRIANGLE_COUNT) const uint CONSTANT_TRIANGLE_
     M(40) M(41) M(42) M(43) M(44) M(45) M(46) M(47) \
     M(48) M(49) M(50) M(51) M(52) M(53) M(54) M(55) \
     M(56) M(57) M(58) M(59) M(60) M(61) M(62) M(63)
+
+#if MATERIAL_CONSTANT_TRIANGLE_CAPACITY != 16
+#error FOR_EACH_TESTED_CONSTANT_TRIANGLE lists 16 triangles: change it with MATERIAL_CONSTANT_TRIANGLE_CAPACITY
+#endif
+// Calls M(i) for every constant triangle that this kernel tests: the first
+// MATERIAL_CONSTANT_TRIANGLE_CAPACITY (16) in the material kernels, all 64 in the others.
+#ifdef USE_MATERIALS
+#define FOR_EACH_TESTED_CONSTANT_TRIANGLE(M) \
+    M(0) M(1) M(2) M(3) M(4) M(5) M(6) M(7) \
+    M(8) M(9) M(10) M(11) M(12) M(13) M(14) M(15)
+#else
+#define FOR_EACH_TESTED_CONSTANT_TRIANGLE(M) FOR_EACH_CONSTANT_TRIANGLE(M)
+#endif
 
 // The 9 coordinates of constant triangle i.
 #define DECLARE_CONSTANT_TRIANGLE(i) \

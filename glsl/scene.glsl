@@ -142,17 +142,18 @@ bool ray_mesh_intersection(out float out_t, out triangle_t out_triangle, vec3 ra
     uint hit_index = 0u;
     bool hit = false;
     if (CONSTANT_TRIANGLE_COUNT != 0u) {
-        // The same loop, unrolled over the constant triangles
+        // The same loop, unrolled over the constant triangles (of a scene without alpha:
+        // Traversal::choose, so no alpha test, whose code would be unrolled too)
 #define TEST_CONSTANT_TRIANGLE(i) \
         if (i < CONSTANT_TRIANGLE_COUNT) { \
             float t; \
-            if (RAY_HITS_TRIANGLE(t, ray_origin, ray_direction, GET_CONSTANT_TRIANGLE(i)) && t < out_t AND_HIT_IS_OPAQUE(i, ray_origin, ray_direction, t)) { \
+            if (RAY_HITS_TRIANGLE(t, ray_origin, ray_direction, GET_CONSTANT_TRIANGLE(i)) && t < out_t) { \
                 out_t = t; \
                 hit_index = i; \
                 hit = true; \
             } \
         }
-        FOR_EACH_CONSTANT_TRIANGLE(TEST_CONSTANT_TRIANGLE)
+        FOR_EACH_TESTED_CONSTANT_TRIANGLE(TEST_CONSTANT_TRIANGLE)
 #undef TEST_CONSTANT_TRIANGLE
     } else {
         uint triangle_count = g_resolution_triangle_count_seed.z;
@@ -185,10 +186,10 @@ bool ray_mesh_any_hit(vec3 ray_origin, vec3 ray_direction, float t_max) {
 #define TEST_CONSTANT_TRIANGLE(i) \
         if (i < CONSTANT_TRIANGLE_COUNT) { \
             float t; \
-            if (ray_triangle_intersection(t, ray_origin, ray_direction, GET_CONSTANT_TRIANGLE(i)) && t < t_max AND_HIT_IS_OPAQUE(i, ray_origin, ray_direction, t)) \
+            if (ray_triangle_intersection(t, ray_origin, ray_direction, GET_CONSTANT_TRIANGLE(i)) && t < t_max) \
                 return true; \
         }
-        FOR_EACH_CONSTANT_TRIANGLE(TEST_CONSTANT_TRIANGLE)
+        FOR_EACH_TESTED_CONSTANT_TRIANGLE(TEST_CONSTANT_TRIANGLE)
 #undef TEST_CONSTANT_TRIANGLE
         return false;
     }

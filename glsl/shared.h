@@ -149,6 +149,12 @@
 #define SPEC_SCENE_HAS_PUNCTUAL_LIGHTS 603
 // Most triangles that can be passed as specialization constants.
 #define CONSTANT_TRIANGLE_CAPACITY 64
+// Most constant triangles that the material kernels (USE_MATERIALS) test: their intersection
+// code stands at four call sites (the closest hit and the shadow rays of three kinds of
+// light), each unrolled over every triangle the kernel can hold, and lavapipe translates all
+// of it at every start before it folds the unused ones away. 16 keeps their start within
+// about 0.02 s of the BVH kernel's (docs/performance.md).
+#define MATERIAL_CONSTANT_TRIANGLE_CAPACITY 16
 
 // ---- Values of the specialization constants ----
 

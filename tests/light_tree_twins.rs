@@ -62,11 +62,7 @@ fn twins_agree(name: &str, scene: &Scene, tree_differs_from_power: bool) {
         // another light for the same number in another order (767 of 768 pixels differed),
         // and the tree's probabilities too change slightly with the order its build sees
         // (mis: 6 pixels differed by 0.5-3 %, 1 in the same order).
-        let traversal = Traversal::choose(
-            scene.triangles.len(),
-            settings.accel,
-            scene.needs_material_kernels(),
-        );
+        let traversal = Traversal::for_scene(scene, settings.accel);
         let ordered = match traversal {
             Traversal::Bvh => Bvh::build(&scene.triangles).reorder(&scene.triangles),
             _ => scene.triangles.clone(),

@@ -1,11 +1,14 @@
 //! The loop over all triangles compiled into the kernel (`Traversal::ConstantTriangles`, the
 //! default for small scenes) and the same loop over the texel buffer (`Traversal::Linear`)
 //! trace the same rays with the same arithmetic: their renders must be bit-identical. So must
-//! the material kernels' builds with and without the layered lobes on a scene that has none.
+//! the material kernels' builds with and without the layered lobes on a scene that has none,
+//! and a small material scene's constant triangles (the default) and its BVH.
 
 mod common;
 
+use vkpath::render::settings::Accel;
 use vkpath::render::Traversal;
+use vkpath::scene::materials::AlphaMode;
 use vkpath::{Integrator, RenderSettings, Renderer, Scene};
 
 /// How many of the values differ in their bits.
@@ -77,7 +80,7 @@ fn constant_triangles_refuse_a_scene_that_does_not_fit() {
 }
 
 /// Renders `scene` with the kernel that `Renderer::new` picks and with the build that keeps
-/// the layered lobes (`path_tracer_materials_bvh`), both through the BVH.
+/// the layered lobes (`path_tracer_materials_bvh`) through the BVH.
 fn render_both_material_builds(scene: &Scene, integrator: Integrator) -> (Vec<f32>, Vec<f32>) {
     let context = common::validated_context();
     let camera = scene.camera.unwrap();
@@ -111,9 +114,15 @@ fn render_both_material_builds(scene: &Scene, integrator: Integrator) -> (Vec<f3
 fn the_material_build_without_layers_renders_exactly_as_the_one_with_them() {
     // A glTF scene whose materials have no transmission, coat or sheen gets the build
     // without the layered lobes (WITHOUT_LAYERS: a constant false where the other build has
-    // SCENE_HAS_LAYERS specialized to false), which must change no bit.
+    // SCENE_HAS_LAYERS specialized to false), which must change no bit. The box is small
+    // enough for the constant triangles, which run the BVH's triangle tests: the picked
+    // kernel traces it with its triangles compiled in, the other through the BVH.
     let scene = common::scenes::glossy_box(0.3);
     assert!(scene.needs_material_kernels() && !scene.needs_layered_kernels());
+    assert_eq!(
+        Traversal::for_scene(&scene, Accel::Auto),
+        Traversal::ConstantTriangles
+    );
     for integrator in [Integrator::PathTracing, Integrator::Mis] {
         let (picked, full) = render_both_material_builds(&scene, integrator);
         assert!(
@@ -128,4 +137,29 @@ fn the_material_build_without_layers_renders_exactly_as_the_one_with_them() {
             picked.len()
         );
     }
+}
+
+#[test]
+fn constant_triangles_refuse_a_scene_with_alpha() {
+    // Their unrolled tests run no alpha test, so a scene with alpha-tested materials gets the
+    // BVH or the texel loop, and a kernel forced onto it is refused with a one-line error.
+    let mut scene = common::scenes::glossy_box(0.3);
+    let materials = scene.materials.as_mut().unwrap();
+    materials.materials[1].alpha_mode = AlphaMode::Mask { cutoff: 0.5 };
+    assert!(scene.uses_alpha());
+    assert_eq!(Traversal::for_scene(&scene, Accel::Auto), Traversal::Bvh);
+    assert_eq!(Traversal::for_scene(&scene, Accel::None), Traversal::Linear);
+    let context = common::validated_context();
+    let build = Traversal::ConstantTriangles.build(true, false).unwrap();
+    let spirv = build.embedded_spirv().unwrap();
+    let result = Renderer::with_kernel(
+        &context,
+        &scene,
+        &scene.camera.unwrap(),
+        RenderSettings::default(),
+        &spirv,
+        Traversal::ConstantTriangles,
+    );
+    let message = result.err().expect("an error").to_string();
+    assert!(message.contains("no alpha test"), "{message}");
 }

@@ -335,13 +335,9 @@ pub fn run_bench(
         device: format!("{} [{}]", context.info.name, context.info.kind),
         scene: setup.scene_name.clone(),
         triangle_count: scene.triangles.len(),
-        traversal: Traversal::choose(
-            scene.triangles.len(),
-            setup.settings.accel,
-            scene.needs_material_kernels(),
-        )
-        .name()
-        .to_string(),
+        traversal: Traversal::for_scene(&scene, setup.settings.accel)
+            .name()
+            .to_string(),
         sampler: match setup.settings.sampler {
             SamplerKind::Pcg => "pcg",
             SamplerKind::Sobol => "sobol",

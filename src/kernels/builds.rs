@@ -41,6 +41,11 @@ pub const EXTRA_BUILDS: &[KernelBuild] = &[
     },
     KernelBuild {
         source: "path_tracer",
+        name: "path_tracer_materials_without_layers",
+        macros: &[(USE_MATERIALS, "1"), (WITHOUT_LAYERS, "1")],
+    },
+    KernelBuild {
+        source: "path_tracer",
         name: "path_tracer_materials_bvh",
         macros: &[(USE_BVH, "1"), (USE_MATERIALS, "1")],
     },

@@ -260,11 +260,12 @@ mod tests {
             );
             assert_eq!(name(Traversal::Linear, false, layers), "path_tracer");
             assert_eq!(name(Traversal::Bvh, false, layers), "path_tracer_bvh");
-            assert_eq!(
-                name(Traversal::Linear, true, layers),
-                "path_tracer_materials"
-            );
         }
+        assert_eq!(name(Traversal::Linear, true, true), "path_tracer_materials");
+        assert_eq!(
+            name(Traversal::ConstantTriangles, true, false),
+            "path_tracer_materials_without_layers"
+        );
         assert_eq!(
             name(Traversal::Bvh, true, true),
             "path_tracer_materials_bvh"

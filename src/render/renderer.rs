@@ -271,8 +271,8 @@ impl Renderer {
     /// Prepares a render like `new`, with the kernel's SPIR-V given instead of the embedded
     /// one: `glsl/path_tracer.comp` compiled at run time, e.g. with a user's functions by
     /// `vkpath check`. `traversal` says how it was compiled (`Bvh` with `USE_BVH` defined,
-    /// the others without) and, for `ConstantTriangles`, that the scene must fit
-    /// `CONSTANT_TRIANGLE_CAPACITY`.
+    /// the others without) and, for `ConstantTriangles`, that the constant triangles must be
+    /// able to trace the scene (`Traversal::constant_triangles_can_trace`).
     pub fn with_kernel(
         context: &Arc<Context>,
         scene: &Scene,
@@ -281,12 +281,20 @@ impl Renderer {
         spirv: &[u32],
         traversal: Traversal,
     ) -> Result<Renderer> {
-        let capacity = contract::CONSTANT_TRIANGLE_CAPACITY as usize;
-        if traversal == Traversal::ConstantTriangles && scene.triangles.len() > capacity {
-            return Err(Error::InvalidSettings(format!(
-                "a kernel with constant triangles holds at most {capacity} triangles, the scene has {}",
-                scene.triangles.len()
-            )));
+        if traversal == Traversal::ConstantTriangles {
+            let materials = scene.needs_material_kernels();
+            let capacity = Traversal::constant_triangle_capacity(materials);
+            if scene.triangles.len() > capacity {
+                return Err(Error::InvalidSettings(format!(
+                    "a kernel with constant triangles holds at most {capacity} triangles, the scene has {}",
+                    scene.triangles.len()
+                )));
+            }
+            if scene.uses_alpha() {
+                return Err(Error::InvalidSettings(
+                    "a kernel with constant triangles runs no alpha test, and the scene has alpha-tested materials: use the BVH or the linear loop".into(),
+                ));
+            }
         }
         Renderer::create(context, scene, camera, settings, Some((spirv, traversal)))
     }
@@ -314,11 +322,7 @@ impl Renderer {
         let commands = CommandRunner::new(context)?;
         let traversal = match kernel {
             Some((_, traversal)) => traversal,
-            None => Traversal::choose(
-                scene.triangles.len(),
-                settings.accel,
-                scene.needs_material_kernels(),
-            ),
+            None => Traversal::for_scene(scene, settings.accel),
         };
         let gpu_scene = GpuScene::upload(context, &commands, scene, camera, &settings, traversal)?;
         let build = traversal.build(

@@ -253,12 +253,15 @@ impl LightSelection {
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
 #[cfg_attr(feature = "cli", derive(clap::ValueEnum))]
 pub enum Accel {
-    /// A BVH for scenes of more than `BVH_THRESHOLD` triangles and for scenes that need the
-    /// glTF-material kernels, else the linear loop (`Traversal::choose`).
+    /// A BVH for scenes of more than `BVH_THRESHOLD` triangles and for material scenes that
+    /// the constant triangles cannot trace (more than 16 triangles, or alpha), else the loop
+    /// compiled into the kernel (`Traversal::choose`).
     #[default]
     #[cfg_attr(
         feature = "cli",
-        value(help = "A BVH above 64 triangles or with glTF materials, else the linear loop")
+        value(
+            help = "A BVH above 64 triangles (glTF materials: above 16 or with alpha), else the linear loop"
+        )
     )]
     Auto,
     /// The workshop's loop over all triangles.

@@ -6,7 +6,7 @@ use crate::error::Result;
 use crate::kernels::builds::{USE_BVH, USE_MATERIALS, WITHOUT_LAYERS};
 use crate::kernels::{Build, PATH_TRACER};
 use crate::render::settings::Accel;
-use crate::scene::Triangle;
+use crate::scene::{Scene, Triangle};
 
 /// How the kernel finds the triangle a ray hits. The triangles' data are read from a texel
 /// buffer (RGBA32_UINT, `TRIANGLE_TEXEL_COUNT` texels per triangle): on lavapipe a texel fetch
@@ -16,7 +16,7 @@ use crate::scene::Triangle;
 pub enum Traversal {
     /// The workshop's loop over all triangles, compiled into the kernel: their positions are
     /// specialization constants (`glsl/constant_triangles.glsl`), so a ray reads no memory
-    /// per triangle. For scenes of at most `CONSTANT_TRIANGLE_CAPACITY` triangles.
+    /// per triangle. For scenes that `constant_triangles_can_trace`.
     ConstantTriangles,
     /// The workshop's loop over all triangles, read from the texel buffer
     /// (`glsl/path_tracer.comp`).
@@ -26,26 +26,62 @@ pub enum Traversal {
 }
 
 impl Traversal {
+    /// Most triangles that the kernel of these `materials` (the workshop's kernels: false;
+    /// the glTF-material kernels: true) compiles in: `CONSTANT_TRIANGLE_CAPACITY`, or
+    /// `MATERIAL_CONSTANT_TRIANGLE_CAPACITY` for the material kernels, whose intersection
+    /// code stands at more call sites (`glsl/shared.h`).
+    pub fn constant_triangle_capacity(materials: bool) -> usize {
+        if materials {
+            contract::MATERIAL_CONSTANT_TRIANGLE_CAPACITY as usize
+        } else {
+            contract::CONSTANT_TRIANGLE_CAPACITY as usize
+        }
+    }
+
+    /// Whether the constant triangles can trace a scene of `triangle_count` triangles for
+    /// the workshop's kernels (`materials` false) or the glTF-material kernels (true), with
+    /// or without alpha-tested materials: it fits their capacity, and it has no alpha (their
+    /// unrolled tests leave the alpha test out, whose code would be unrolled with them).
+    pub fn constant_triangles_can_trace(
+        triangle_count: usize,
+        materials: bool,
+        alpha: bool,
+    ) -> bool {
+        triangle_count <= Traversal::constant_triangle_capacity(materials) && !alpha
+    }
+
     /// What `accel` asks for, for a scene of `triangle_count` triangles traced by the
-    /// workshop's kernels (`materials` false) or the glTF-material kernels (true).
+    /// workshop's kernels (`materials` false) or the glTF-material kernels (true), `alpha`
+    /// when some material is alpha-tested.
     ///
-    /// The workshop's kernels compile the loop over all triangles in whenever they fit. The
-    /// material kernels take a BVH under `Accel::Auto` however small the scene: their kernel
-    /// without one holds the unrolled loop at every intersection call site, which llvmpipe
-    /// inlines before it folds the loop away, so building it takes 20-30 times longer (about
-    /// 19 s against 0.5-0.6 s on 2 busy cores, for the constant loop and the texel loop
-    /// alike), on every run since lavapipe keeps no pipeline cache; that costs more than the
-    /// BVH's slower samples save below millions of samples (docs/performance.md, `cargo
-    /// bench --bench startup`). `Accel::None` keeps the loop compiled in there too.
-    pub fn choose(triangle_count: usize, accel: Accel, materials: bool) -> Traversal {
-        let fits = triangle_count <= contract::CONSTANT_TRIANGLE_CAPACITY as usize;
-        if accel.uses_bvh(triangle_count) || (accel == Accel::Auto && materials) {
+    /// Scenes that the constant triangles can trace (`constant_triangles_can_trace`) compile
+    /// their triangles in: the fastest samples, and for the material kernels a start within
+    /// about 0.02 s of the BVH's (16 triangles unrolled at four call sites, without the
+    /// layered lobes where the scene has none; docs/performance.md). Other material scenes
+    /// take a BVH under `Accel::Auto` however small (the texel loop's samples are slower);
+    /// `Accel::None` keeps the loop, over the texel buffer where the constant triangles
+    /// cannot trace the scene.
+    pub fn choose(triangle_count: usize, accel: Accel, materials: bool, alpha: bool) -> Traversal {
+        let constant = Traversal::constant_triangles_can_trace(triangle_count, materials, alpha);
+        if accel.uses_bvh(triangle_count) {
             Traversal::Bvh
-        } else if fits {
+        } else if constant {
             Traversal::ConstantTriangles
+        } else if accel == Accel::Auto && materials {
+            Traversal::Bvh
         } else {
             Traversal::Linear
         }
+    }
+
+    /// `choose` for `scene`.
+    pub fn for_scene(scene: &Scene, accel: Accel) -> Traversal {
+        Traversal::choose(
+            scene.triangles.len(),
+            accel,
+            scene.needs_material_kernels(),
+            scene.uses_alpha(),
+        )
     }
 
     /// A short name for reports: "constant triangles", "linear" or "BVH".
@@ -59,10 +95,9 @@ impl Traversal {
 
     /// The build of the path tracer (`crate::kernels::PATH_TRACER`) for this traversal,
     /// with glTF materials (the glTF model of `glsl/surface.glsl`) or the workshop's diffuse
-    /// triangles; with the layered lobes (`Scene::needs_layered_kernels`) or, where the BVH
-    /// traces glTF materials without them, the build that leaves them out (`WITHOUT_LAYERS`:
-    /// the same images, a faster start). The other material build keeps them whatever the
-    /// scene, one build fewer to compile for `--accel none`.
+    /// triangles; with the layered lobes (`Scene::needs_layered_kernels`) or, for glTF
+    /// materials without them, the build that leaves them out (`WITHOUT_LAYERS`: the same
+    /// images, a faster start).
     pub fn build(self, materials: bool, layers: bool) -> Result<Build> {
         let mut macros = Vec::new();
         if self == Traversal::Bvh {
@@ -70,7 +105,7 @@ impl Traversal {
         }
         if materials {
             macros.push(USE_MATERIALS);
-            if self == Traversal::Bvh && !layers {
+            if !layers {
                 macros.push(WITHOUT_LAYERS);
             }
         }
@@ -109,14 +144,30 @@ mod tests {
     use super::*;
 
     #[test]
-    fn small_scenes_compile_their_triangles_in_only_for_the_workshop_kernels() {
+    fn small_scenes_without_alpha_compile_their_triangles_in() {
         let capacity = contract::CONSTANT_TRIANGLE_CAPACITY as usize;
+        let material_capacity = contract::MATERIAL_CONSTANT_TRIANGLE_CAPACITY as usize;
         let choose = Traversal::choose;
-        assert_eq!(choose(30, Accel::Auto, false), Traversal::ConstantTriangles);
-        assert_eq!(choose(30, Accel::Auto, true), Traversal::Bvh);
-        assert_eq!(choose(30, Accel::None, true), Traversal::ConstantTriangles);
-        assert_eq!(choose(capacity + 1, Accel::None, false), Traversal::Linear);
-        assert_eq!(choose(capacity + 1, Accel::Auto, false), Traversal::Bvh);
-        assert_eq!(choose(12, Accel::Bvh, false), Traversal::Bvh);
+        use Traversal::{Bvh, ConstantTriangles as Constant, Linear};
+        // The workshop's kernels: up to 64 triangles compiled in
+        assert_eq!(choose(30, Accel::Auto, false, false), Constant);
+        assert_eq!(choose(capacity, Accel::Auto, false, false), Constant);
+        assert_eq!(choose(capacity + 1, Accel::None, false, false), Linear);
+        assert_eq!(choose(capacity + 1, Accel::Auto, false, false), Bvh);
+        assert_eq!(choose(12, Accel::Bvh, false, false), Bvh);
+        // The material kernels: up to 16, and only without alpha
+        assert_eq!(choose(12, Accel::Auto, true, false), Constant);
+        assert_eq!(
+            choose(material_capacity, Accel::Auto, true, false),
+            Constant
+        );
+        assert_eq!(choose(material_capacity + 1, Accel::Auto, true, false), Bvh);
+        assert_eq!(
+            choose(material_capacity + 1, Accel::None, true, false),
+            Linear
+        );
+        assert_eq!(choose(12, Accel::Auto, true, true), Bvh);
+        assert_eq!(choose(12, Accel::None, true, true), Linear);
+        assert_eq!(choose(12, Accel::Bvh, true, false), Bvh);
     }
 }

@@ -182,6 +182,12 @@ impl Scene {
         self.materials.as_ref().is_some_and(|m| m.uses_layers())
     }
 
+    /// Whether some material is alpha-masked or alpha-blended (`SCENE_HAS_ALPHA`): its
+    /// candidate hits need the alpha test, which the constant triangles do not run.
+    pub fn uses_alpha(&self) -> bool {
+        self.materials.as_ref().is_some_and(|m| m.uses_alpha())
+    }
+
     /// The workshop's Cornell box with its camera (`scenes/workshop_cornell_box.json`,
     /// embedded in the binary).
     pub fn builtin_cornell_box() -> Result<Scene, SceneError> {
