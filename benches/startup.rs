@@ -34,13 +34,14 @@ fn measure(
     // A fresh device each time, so that nothing the driver kept from a previous build helps.
     let context = Context::new(&ContextOptions::default())?;
     let camera = scene.camera.ok_or("the scene has no camera")?;
-    let spirv = match (scene.needs_material_kernels(), traversal) {
-        (true, Traversal::Bvh) => vkpath::shaders::PATH_TRACER_MATERIALS_BVH,
-        (true, _) => vkpath::shaders::PATH_TRACER_MATERIALS,
-        (false, Traversal::Bvh) => vkpath::shaders::PATH_TRACER_BVH,
-        (false, _) => vkpath::shaders::PATH_TRACER,
-    };
-    let spirv = vkpath::vk::spirv_words(spirv)?;
+    // The build that `Renderer::new` would take for this traversal
+    let spirv = traversal
+        .build_for(
+            scene.triangles.len(),
+            scene.needs_material_kernels(),
+            scene.needs_layered_kernels(),
+        )?
+        .embedded_spirv()?;
     let settings = RenderSettings {
         width: 64,
         height: 64,
@@ -86,11 +87,25 @@ fn report(name: &str, scene: &Scene) -> Result<(), Box<dyn std::error::Error>> {
     );
     for integrator in [Integrator::PathTracing, Integrator::Mis] {
         let mut rows = Vec::new();
+        let materials = scene.needs_material_kernels();
+        let constant = Traversal::constant_triangles_can_trace(
+            scene.triangles.len(),
+            materials,
+            scene.uses_alpha(),
+        );
         for traversal in [
             Traversal::ConstantTriangles,
             Traversal::Linear,
             Traversal::Bvh,
         ] {
+            if traversal == Traversal::ConstantTriangles && !constant {
+                println!(
+                    "{:<20} {:<9} (more triangles than these kernels compile in, or alpha)",
+                    traversal.name(),
+                    format!("{integrator:?}")
+                );
+                continue;
+            }
             rows.push(measure(scene, traversal, integrator)?);
         }
         for row in &rows {

@@ -29,15 +29,22 @@ layout(constant_id = SPEC_CONSTANT_TRIANGLE_COUNT) const uint CONSTANT_TRIANGLE_
     M(48) M(49) M(50) M(51) M(52) M(53) M(54) M(55) \
     M(56) M(57) M(58) M(59) M(60) M(61) M(62) M(63)
 
-#if MATERIAL_CONSTANT_TRIANGLE_CAPACITY != 16
-#error FOR_EACH_TESTED_CONSTANT_TRIANGLE lists 16 triangles: change it with MATERIAL_CONSTANT_TRIANGLE_CAPACITY
+#if MATERIAL_CONSTANT_TRIANGLE_CAPACITY != 16 || FEW_CONSTANT_TRIANGLE_CAPACITY != 32
+#error FOR_EACH_TESTED_CONSTANT_TRIANGLE lists 16 and 32 triangles: change it with the capacities
 #endif
 // Calls M(i) for every constant triangle that this kernel tests: the first
-// MATERIAL_CONSTANT_TRIANGLE_CAPACITY (16) in the material kernels, all 64 in the others.
-#ifdef USE_MATERIALS
+// MATERIAL_CONSTANT_TRIANGLE_CAPACITY (16) in the material kernels, the first
+// FEW_CONSTANT_TRIANGLE_CAPACITY (32) in the build for few triangles, all 64 in the others.
+#if defined(USE_MATERIALS)
 #define FOR_EACH_TESTED_CONSTANT_TRIANGLE(M) \
     M(0) M(1) M(2) M(3) M(4) M(5) M(6) M(7) \
     M(8) M(9) M(10) M(11) M(12) M(13) M(14) M(15)
+#elif defined(FEW_CONSTANT_TRIANGLES)
+#define FOR_EACH_TESTED_CONSTANT_TRIANGLE(M) \
+    M(0) M(1) M(2) M(3) M(4) M(5) M(6) M(7) \
+    M(8) M(9) M(10) M(11) M(12) M(13) M(14) M(15) \
+    M(16) M(17) M(18) M(19) M(20) M(21) M(22) M(23) \
+    M(24) M(25) M(26) M(27) M(28) M(29) M(30) M(31)
 #else
 #define FOR_EACH_TESTED_CONSTANT_TRIANGLE(M) FOR_EACH_CONSTANT_TRIANGLE(M)
 #endif

@@ -63,6 +63,47 @@ fn constant_triangles_render_exactly_as_the_texel_loop() {
 }
 
 #[test]
+fn the_build_for_few_triangles_renders_exactly_as_the_full_one() {
+    // The workshop's box (30 triangles) gets the build that unrolls 32 constant triangles
+    // instead of 64 (FEW_CONSTANT_TRIANGLES): the same tests, so the same bits.
+    let context = common::validated_context();
+    let scene = Scene::builtin_cornell_box().unwrap();
+    let picked = Traversal::for_scene(&scene, Accel::Auto)
+        .build_for(scene.triangles.len(), false, false)
+        .unwrap();
+    assert_eq!(picked.name, "path_tracer_few_triangles");
+    for integrator in [Integrator::PathTracing, Integrator::Mis] {
+        let settings = RenderSettings {
+            width: 24,
+            height: 24,
+            spp: 8,
+            samples_per_frame: 4,
+            integrator,
+            ..Default::default()
+        };
+        let few = Renderer::new(&context, &scene, &scene.camera.unwrap(), settings)
+            .unwrap()
+            .render_all()
+            .unwrap()
+            .mean
+            .concat();
+        let full = render(integrator, Traversal::ConstantTriangles);
+        assert!(
+            few.iter().any(|&v| v > 0.0),
+            "{integrator:?}: a black image"
+        );
+        let differing = differing_bits(&few, &full);
+        assert_eq!(
+            differing,
+            0,
+            "{integrator:?}: {differing} of {} values differ",
+            few.len()
+        );
+    }
+    common::assert_validation_silent(&context);
+}
+
+#[test]
 fn constant_triangles_refuse_a_scene_that_does_not_fit() {
     let context = common::validated_context();
     let scene = vkpath::scene::meshes::scale_test_scene(200).unwrap();

@@ -274,6 +274,23 @@ mod tests {
             name(Traversal::Bvh, true, false),
             "path_tracer_materials_bvh_without_layers"
         );
+        let few = crate::contract::FEW_CONSTANT_TRIANGLE_CAPACITY as usize;
+        let name_for = |traversal: Traversal, count, materials| {
+            traversal.build_for(count, materials, false).unwrap().name
+        };
+        assert_eq!(
+            name_for(Traversal::ConstantTriangles, few, false),
+            "path_tracer_few_triangles"
+        );
+        assert_eq!(
+            name_for(Traversal::ConstantTriangles, few + 1, false),
+            "path_tracer"
+        );
+        assert_eq!(name_for(Traversal::Linear, 12, false), "path_tracer");
+        assert_eq!(
+            name_for(Traversal::ConstantTriangles, 12, true),
+            "path_tracer_materials_without_layers"
+        );
         for build in PATH_TRACER.builds() {
             assert!(build.embedded_spirv().is_ok(), "{}", build.name);
         }

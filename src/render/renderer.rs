@@ -325,10 +325,15 @@ impl Renderer {
             None => Traversal::for_scene(scene, settings.accel),
         };
         let gpu_scene = GpuScene::upload(context, &commands, scene, camera, &settings, traversal)?;
-        let build = traversal.build(
+        let (materials, layers) = (
             scene.needs_material_kernels(),
             scene.needs_layered_kernels(),
-        )?;
+        );
+        // A given kernel was compiled as `build` says (the plain source, 64 constant triangles)
+        let build = match kernel {
+            Some(_) => traversal.build(materials, layers)?,
+            None => traversal.build_for(scene.triangles.len(), materials, layers)?,
+        };
         let guiding = settings.guiding.is_some();
         let loops =
             LoopCoefficients::path_tracer(traversal, guiding, scene.needs_material_kernels());

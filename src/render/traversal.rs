@@ -3,7 +3,7 @@
 
 use crate::contract;
 use crate::error::Result;
-use crate::kernels::builds::{USE_BVH, USE_MATERIALS, WITHOUT_LAYERS};
+use crate::kernels::builds::{FEW_CONSTANT_TRIANGLES, USE_BVH, USE_MATERIALS, WITHOUT_LAYERS};
 use crate::kernels::{Build, PATH_TRACER};
 use crate::render::settings::Accel;
 use crate::scene::{Scene, Triangle};
@@ -110,6 +110,18 @@ impl Traversal {
             }
         }
         PATH_TRACER.build_with(&macros)
+    }
+
+    /// `build`, but for the workshop kernels' constant triangles of a scene of at most
+    /// `FEW_CONSTANT_TRIANGLE_CAPACITY` triangles the build that unrolls only that many
+    /// (`FEW_CONSTANT_TRIANGLES`: the same images, a shorter start).
+    pub fn build_for(self, triangle_count: usize, materials: bool, layers: bool) -> Result<Build> {
+        let few = triangle_count <= contract::FEW_CONSTANT_TRIANGLE_CAPACITY as usize;
+        if self == Traversal::ConstantTriangles && !materials && few {
+            PATH_TRACER.build_with(&[FEW_CONSTANT_TRIANGLES])
+        } else {
+            self.build(materials, layers)
+        }
     }
 }
 
