@@ -23,6 +23,10 @@ layout(set = 0, binding = BINDING_ENVIRONMENT) uniform usamplerBuffer g_environm
 // lookups and MIS weights out).
 layout(constant_id = SPEC_SCENE_HAS_ENVIRONMENT) const bool SCENE_HAS_ENVIRONMENT = true;
 
+// Whether light samples are drawn from the environment (the host specializes it: true for a
+// map, false for a constant environment, which only BSDF-sampled rays find; glsl/shared.h).
+layout(constant_id = SPEC_SCENE_SAMPLES_ENVIRONMENT) const bool SCENE_SAMPLES_ENVIRONMENT = true;
+
 // ENVIRONMENT_NONE (black: nothing to sample), ENVIRONMENT_CONSTANT or ENVIRONMENT_MAP.
 uint get_environment_kind() {
     if (!SCENE_HAS_ENVIRONMENT)

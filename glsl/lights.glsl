@@ -233,7 +233,7 @@ float get_emissive_triangle_density(uint triangle_index, triangle_t triangle, ve
 light_sample_t sample_environment_light(inout uvec2 seed) {
     light_sample_t light_sample = get_no_light_sample();
     uint kind = get_environment_kind();
-    if (kind == ENVIRONMENT_NONE)
+    if (!SCENE_SAMPLES_ENVIRONMENT || kind == ENVIRONMENT_NONE)
         return light_sample;
     vec2 texel_randoms = get_path_random_numbers(seed);
     vec2 point_randoms = vec2(0.0);
@@ -292,7 +292,7 @@ vec3 sample_direct_light(vec3 position, surface_t surface, vec3 view, inout uvec
     vec3 origin = get_light_sample_origin(surface, position);
     vec3 direct = estimate_light_sample(surface, view, origin, sample_emissive_triangle_light(origin, get_light_selection_normal(surface), seed));
 #ifdef USE_MATERIALS
-    if (SCENE_HAS_ENVIRONMENT)
+    if (SCENE_SAMPLES_ENVIRONMENT)
         direct += estimate_light_sample(surface, view, origin, sample_environment_light(seed));
     if (SCENE_HAS_PUNCTUAL_LIGHTS)
         direct += estimate_light_sample(surface, view, origin, sample_punctual_light(origin, seed));

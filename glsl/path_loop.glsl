@@ -69,9 +69,10 @@ vec3 get_found_emission(int vertex, vec3 throughput_weight, surface_t surface, u
 
 #ifdef USE_MATERIALS
 // Step 1 where a ray leaves the scene: throughput times the environment's radiance, weighted
-// as get_found_emission() weighs emission.
+// as get_found_emission() weighs emission; in full where light samples never come from the
+// environment (a constant one: SCENE_SAMPLES_ENVIRONMENT).
 vec3 get_found_environment(int vertex, vec3 throughput_weight, vec3 ray_direction, float direction_density, bool light_sampled) {
-    if (vertex == 0 || !light_sampled)
+    if (vertex == 0 || !light_sampled || !SCENE_SAMPLES_ENVIRONMENT)
         return throughput_weight * get_environment_radiance(ray_direction);
     if (weighs_by_mis() && get_environment_kind() != ENVIRONMENT_NONE)
         return throughput_weight * get_environment_radiance(ray_direction) * get_power_heuristic_weight(direction_density, get_environment_density(ray_direction));

@@ -147,6 +147,13 @@
 // of its shadow ray's traversal at every vertex.
 #define SPEC_SCENE_HAS_ENVIRONMENT 602
 #define SPEC_SCENE_HAS_PUNCTUAL_LIGHTS 603
+// Kernels built with USE_MATERIALS: whether next event estimation samples the environment,
+// i.e. whether it is a map. A constant environment is found by the paths' BSDF-sampled rays
+// alone, with weight 1 (as pbrt-v4's uniform infinite light with an incomplete PDF): the
+// BSDF's own directions are already distributed as its integrand is, so a uniform light
+// sample only adds a BSDF evaluation and a shadow ray (the 24 icospheres under a white sky:
+// 15 % more efficient).
+#define SPEC_SCENE_SAMPLES_ENVIRONMENT 604
 // Most triangles that can be passed as specialization constants.
 #define CONSTANT_TRIANGLE_CAPACITY 64
 // Most constant triangles that the material kernels (USE_MATERIALS) test: their intersection

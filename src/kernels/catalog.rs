@@ -49,6 +49,7 @@ pub static PATH_TRACER: Kernel = Kernel {
         SpecConstants::one(c::SPEC_SCENE_HAS_LAYERS),
         SpecConstants::one(c::SPEC_SCENE_HAS_ENVIRONMENT),
         SpecConstants::one(c::SPEC_SCENE_HAS_PUNCTUAL_LIGHTS),
+        SpecConstants::one(c::SPEC_SCENE_SAMPLES_ENVIRONMENT),
     ],
     push_constant_size: size_of::<FramePushConstants>() as u32,
 };

@@ -92,6 +92,13 @@ impl<'a> SceneLights<'a> {
         self.environment.is_some_and(Environment::emits_light)
     }
 
+    /// Whether next event estimation draws light samples from the environment
+    /// (`SCENE_SAMPLES_ENVIRONMENT`): where it gives light and is a map. A constant
+    /// environment is left to the paths' BSDF-sampled rays (`glsl/shared.h`).
+    pub fn samples_environment(&self) -> bool {
+        self.has_environment() && self.environment.is_some_and(|e| e.map.is_some())
+    }
+
     /// The words of the punctual lights' texel buffer (`BINDING_PUNCTUAL_LIGHTS`).
     pub fn punctual_words(&self) -> Vec<u32> {
         gpu_punctual_light_words(self.punctual)
@@ -101,6 +108,7 @@ impl<'a> SceneLights<'a> {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::lights::environment::EnvironmentMap;
     use crate::lights::punctual::PunctualKind;
     use glam::{Mat4, Vec3};
 
@@ -133,5 +141,33 @@ mod tests {
         lights.annotate(&mut packed);
         let written: Vec<f32> = packed.iter().map(|t| t.normal[3]).collect();
         assert_eq!(written, lights.emissive.selection_probability);
+    }
+
+    #[test]
+    fn only_an_environment_map_that_gives_light_is_light_sampled() {
+        let mut scene = Scene::builtin_cornell_box().unwrap();
+        let samples =
+            |scene: &Scene| SceneLights::new(scene, &scene.triangles).samples_environment();
+        assert!(!samples(&scene), "no environment");
+        scene.environment = Some(Environment::constant(Vec3::ONE));
+        assert!(
+            !samples(&scene),
+            "a constant environment: BSDF sampling alone"
+        );
+        let map = |radiance: Vec3| EnvironmentMap {
+            width: 2,
+            height: 1,
+            texels: vec![radiance; 2],
+        };
+        scene.environment = Some(Environment {
+            map: Some(map(Vec3::ONE)),
+            ..Environment::constant(Vec3::ZERO)
+        });
+        assert!(samples(&scene), "a map");
+        scene.environment = Some(Environment {
+            map: Some(map(Vec3::ZERO)),
+            ..Environment::constant(Vec3::ZERO)
+        });
+        assert!(!samples(&scene), "a black map gives no light");
     }
 }

@@ -219,6 +219,10 @@ impl GpuScene {
                 contract::SPEC_SCENE_HAS_PUNCTUAL_LIGHTS,
                 u32::from(!scene_lights.punctual.is_empty()),
             ));
+            specialization.push((
+                contract::SPEC_SCENE_SAMPLES_ENVIRONMENT,
+                u32::from(scene_lights.samples_environment()),
+            ));
         }
         Ok(GpuScene {
             triangles,
