@@ -25,17 +25,34 @@ fn path_tracer_spirv() -> Vec<u32> {
     ash::util::read_spv(&mut std::io::Cursor::new(vkpath::shaders::PATH_TRACER)).unwrap()
 }
 
-fn render(integrator: Integrator, traversal: Traversal) -> Vec<f32> {
-    let context = common::validated_context();
-    let scene = Scene::builtin_cornell_box().unwrap();
-    let settings = RenderSettings {
+/// Asserts that two renders are bit-identical and not black.
+fn assert_same_bits(integrator: Integrator, a: &[f32], b: &[f32]) {
+    assert!(a.iter().any(|&v| v > 0.0), "{integrator:?}: a black image");
+    let differing = differing_bits(a, b);
+    assert_eq!(
+        differing,
+        0,
+        "{integrator:?}: {differing} of {} values differ",
+        a.len()
+    );
+}
+
+/// The box's small test render.
+fn box_settings(integrator: Integrator) -> RenderSettings {
+    RenderSettings {
         width: 24,
         height: 24,
         spp: 8,
         samples_per_frame: 4,
         integrator,
         ..Default::default()
-    };
+    }
+}
+
+fn render(integrator: Integrator, traversal: Traversal) -> Vec<f32> {
+    let context = common::validated_context();
+    let scene = Scene::builtin_cornell_box().unwrap();
+    let settings = box_settings(integrator);
     let spirv = path_tracer_spirv();
     let camera = scene.camera.unwrap();
     let mut renderer =
@@ -48,17 +65,7 @@ fn constant_triangles_render_exactly_as_the_texel_loop() {
     for integrator in [Integrator::PathTracing, Integrator::Mis] {
         let constant = render(integrator, Traversal::ConstantTriangles);
         let linear = render(integrator, Traversal::Linear);
-        assert!(
-            constant.iter().any(|&v| v > 0.0),
-            "{integrator:?}: a black image"
-        );
-        let differing = differing_bits(&constant, &linear);
-        assert_eq!(
-            differing,
-            0,
-            "{integrator:?}: {differing} of {} values differ",
-            constant.len()
-        );
+        assert_same_bits(integrator, &constant, &linear);
     }
 }
 
@@ -73,14 +80,7 @@ fn the_build_for_few_triangles_renders_exactly_as_the_full_one() {
         .unwrap();
     assert_eq!(picked.name, "path_tracer_few_triangles");
     for integrator in [Integrator::PathTracing, Integrator::Mis] {
-        let settings = RenderSettings {
-            width: 24,
-            height: 24,
-            spp: 8,
-            samples_per_frame: 4,
-            integrator,
-            ..Default::default()
-        };
+        let settings = box_settings(integrator);
         let few = Renderer::new(&context, &scene, &scene.camera.unwrap(), settings)
             .unwrap()
             .render_all()
@@ -88,36 +88,30 @@ fn the_build_for_few_triangles_renders_exactly_as_the_full_one() {
             .mean
             .concat();
         let full = render(integrator, Traversal::ConstantTriangles);
-        assert!(
-            few.iter().any(|&v| v > 0.0),
-            "{integrator:?}: a black image"
-        );
-        let differing = differing_bits(&few, &full);
-        assert_eq!(
-            differing,
-            0,
-            "{integrator:?}: {differing} of {} values differ",
-            few.len()
-        );
+        assert_same_bits(integrator, &few, &full);
     }
     common::assert_validation_silent(&context);
 }
 
 #[test]
 fn constant_triangles_refuse_a_scene_that_does_not_fit() {
-    let context = common::validated_context();
     let scene = vkpath::scene::meshes::scale_test_scene(200).unwrap();
-    let spirv = path_tracer_spirv();
+    let message = constant_triangles_refusal(&scene, &path_tracer_spirv());
+    assert!(message.contains("at most 64 triangles"), "{message}");
+}
+
+/// The error of a renderer of `scene` with `spirv` built for constant triangles.
+fn constant_triangles_refusal(scene: &Scene, spirv: &[u32]) -> String {
+    let context = common::validated_context();
     let result = Renderer::with_kernel(
         &context,
-        &scene,
+        scene,
         &scene.camera.unwrap(),
         RenderSettings::default(),
-        &spirv,
+        spirv,
         Traversal::ConstantTriangles,
     );
-    let message = result.err().expect("an error").to_string();
-    assert!(message.contains("at most 64 triangles"), "{message}");
+    result.err().expect("an error").to_string()
 }
 
 /// Renders `scene` with the kernel that `Renderer::new` picks and with the build that keeps
@@ -166,17 +160,7 @@ fn the_material_build_without_layers_renders_exactly_as_the_one_with_them() {
     );
     for integrator in [Integrator::PathTracing, Integrator::Mis] {
         let (picked, full) = render_both_material_builds(&scene, integrator);
-        assert!(
-            picked.iter().any(|&v| v > 0.0),
-            "{integrator:?}: a black image"
-        );
-        let differing = differing_bits(&picked, &full);
-        assert_eq!(
-            differing,
-            0,
-            "{integrator:?}: {differing} of {} values differ",
-            picked.len()
-        );
+        assert_same_bits(integrator, &picked, &full);
     }
 }
 
@@ -190,17 +174,7 @@ fn constant_triangles_refuse_a_scene_with_alpha() {
     assert!(scene.uses_alpha());
     assert_eq!(Traversal::for_scene(&scene, Accel::Auto), Traversal::Bvh);
     assert_eq!(Traversal::for_scene(&scene, Accel::None), Traversal::Linear);
-    let context = common::validated_context();
     let build = Traversal::ConstantTriangles.build(true, false).unwrap();
-    let spirv = build.embedded_spirv().unwrap();
-    let result = Renderer::with_kernel(
-        &context,
-        &scene,
-        &scene.camera.unwrap(),
-        RenderSettings::default(),
-        &spirv,
-        Traversal::ConstantTriangles,
-    );
-    let message = result.err().expect("an error").to_string();
+    let message = constant_triangles_refusal(&scene, &build.embedded_spirv().unwrap());
     assert!(message.contains("no alpha test"), "{message}");
 }
