@@ -335,7 +335,7 @@ pub fn run_bench(
         device: format!("{} [{}]", context.info.name, context.info.kind),
         scene: setup.scene_name.clone(),
         triangle_count: scene.triangles.len(),
-        traversal: Traversal::for_scene(&scene, setup.settings.accel)
+        traversal: Traversal::for_scene(scene, setup.settings.accel)
             .name()
             .to_string(),
         sampler: match setup.settings.sampler {
