@@ -284,13 +284,21 @@ vec3 estimate_light_sample(surface_t surface, vec3 view, vec3 origin, light_samp
     return reflected / light_sample.density * weight;
 }
 
+#ifdef USE_MATERIALS
+// Whether the scene has emissive triangles (the host specializes it; glsl/shared.h).
+layout(constant_id = SPEC_SCENE_HAS_EMISSIVE_TRIANGLES) const bool SCENE_HAS_EMISSIVE_TRIANGLES = true;
+#else
+const bool SCENE_HAS_EMISSIVE_TRIANGLES = true;
+#endif
+
 // Next event estimation: one sample of each kind of light at a surface point, whose sum
 // estimates all the direct light arriving there (the path loop's light-samples step).
 // \param position The surface point, world space
 // \param seed The pixel's PCG2D random state (see get_path_random_numbers())
 vec3 sample_direct_light(vec3 position, surface_t surface, vec3 view, inout uvec2 seed) {
     vec3 origin = get_light_sample_origin(surface, position);
-    vec3 direct = estimate_light_sample(surface, view, origin, sample_emissive_triangle_light(origin, get_light_selection_normal(surface), seed));
+    light_sample_t emissive_sample = sample_emissive_triangle_light(origin, get_light_selection_normal(surface), seed);
+    vec3 direct = SCENE_HAS_EMISSIVE_TRIANGLES ? estimate_light_sample(surface, view, origin, emissive_sample) : vec3(0.0);
 #ifdef USE_MATERIALS
     if (SCENE_SAMPLES_ENVIRONMENT)
         direct += estimate_light_sample(surface, view, origin, sample_environment_light(seed));

@@ -154,6 +154,12 @@
 // sample only adds a BSDF evaluation and a shadow ray (the 24 icospheres under a white sky:
 // 15 % more efficient).
 #define SPEC_SCENE_SAMPLES_ENVIRONMENT 604
+// Kernels built with USE_MATERIALS: whether the scene has emissive triangles. 0 compiles their
+// light sample's estimate (a BSDF evaluation, its density, a shadow ray) out of
+// sample_direct_light(), which lavapipe would otherwise run masked at every vertex of a scene
+// lit by its environment or punctual lights alone; the sample's random numbers are still
+// drawn, so the other lights' stay the same.
+#define SPEC_SCENE_HAS_EMISSIVE_TRIANGLES 605
 // Most triangles that can be passed as specialization constants.
 #define CONSTANT_TRIANGLE_CAPACITY 64
 // Most constant triangles that the material kernels (USE_MATERIALS) test: their intersection

@@ -50,6 +50,7 @@ pub static PATH_TRACER: Kernel = Kernel {
         SpecConstants::one(c::SPEC_SCENE_HAS_ENVIRONMENT),
         SpecConstants::one(c::SPEC_SCENE_HAS_PUNCTUAL_LIGHTS),
         SpecConstants::one(c::SPEC_SCENE_SAMPLES_ENVIRONMENT),
+        SpecConstants::one(c::SPEC_SCENE_HAS_EMISSIVE_TRIANGLES),
     ],
     push_constant_size: size_of::<FramePushConstants>() as u32,
 };

@@ -223,6 +223,10 @@ impl GpuScene {
                 contract::SPEC_SCENE_SAMPLES_ENVIRONMENT,
                 u32::from(scene_lights.samples_environment()),
             ));
+            specialization.push((
+                contract::SPEC_SCENE_HAS_EMISSIVE_TRIANGLES,
+                u32::from(!scene_lights.emissive.triangle_indices.is_empty()),
+            ));
         }
         Ok(GpuScene {
             triangles,
