@@ -87,10 +87,9 @@ fn report(name: &str, scene: &Scene) -> Result<(), Box<dyn std::error::Error>> {
     );
     for integrator in [Integrator::PathTracing, Integrator::Mis] {
         let mut rows = Vec::new();
-        let materials = scene.needs_material_kernels();
         let constant = Traversal::constant_triangles_can_trace(
             scene.triangles.len(),
-            materials,
+            scene.needs_material_kernels(),
             scene.uses_alpha(),
         );
         for traversal in [

@@ -233,7 +233,7 @@ float get_emissive_triangle_density(uint triangle_index, triangle_t triangle, ve
 light_sample_t sample_environment_light(inout uvec2 seed) {
     light_sample_t light_sample = get_no_light_sample();
     uint kind = get_environment_kind();
-    if (!SCENE_SAMPLES_ENVIRONMENT || kind == ENVIRONMENT_NONE)
+    if (kind == ENVIRONMENT_NONE)
         return light_sample;
     vec2 texel_randoms = get_path_random_numbers(seed);
     vec2 point_randoms = vec2(0.0);

@@ -335,8 +335,7 @@ impl Renderer {
             None => traversal.build_for(scene.triangles.len(), materials, layers)?,
         };
         let guiding = settings.guiding.is_some();
-        let loops =
-            LoopCoefficients::path_tracer(traversal, guiding, scene.needs_material_kernels());
+        let loops = LoopCoefficients::path_tracer(traversal, guiding, materials);
         let loop_limit = LoopLimit::of(context);
         let work = SampleWork {
             rays: rays_per_sample(&settings, scene),
