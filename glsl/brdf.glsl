@@ -170,6 +170,17 @@ float get_ggx_reflection_density(float alpha, vec3 local_view, vec3 local_half) 
     return get_ggx_distribution(alpha, local_half) / (2.0 * (local_view.z + root));
 }
 
+// The diffuse lobe's direction by Malley's method: a uniform point on the unit disk (radius
+// sqrt(u), angle 2 pi phi_random), projected up to the hemisphere around the basis's third
+// axis; density max(0, n.l) / pi.
+// \param u, phi_random Uniform in [0,1)
+// \param basis get_shading_basis() of the normal
+vec3 sample_diffuse_lobe(float u, float phi_random, mat3 basis) {
+    float radius = sqrt(u);
+    float phi = 2.0 * M_PI * phi_random;
+    return basis * vec3(radius * cos(phi), radius * sin(phi), sqrt(max(0.0, 1.0 - u)));
+}
+
 // Samples a light direction for the glTF BRDF: the specular lobe (a reflected visible GGX
 // normal) with probability get_specular_probability(), else the diffuse lobe (cosine
 // weighted). u_0 chooses the lobe and is stretched back to [0, 1) for the lobe's sampler.
@@ -186,11 +197,8 @@ vec3 sample_brdf(vec2 random_numbers, material_t material, vec3 normal, vec3 vie
         vec3 local_half = sample_ggx_visible_normal(lobe_randoms, get_ggx_alpha(material.roughness), local_view);
         return normalize(basis * reflect(-local_view, local_half));
     }
-    // Malley's method: a uniform point on the unit disk, projected up to the hemisphere.
     float u = (random_numbers[0] - specular_probability) / (1.0 - specular_probability);
-    float radius = sqrt(u);
-    float phi = 2.0 * M_PI * random_numbers[1];
-    return basis * vec3(radius * cos(phi), radius * sin(phi), sqrt(max(0.0, 1.0 - u)));
+    return sample_diffuse_lobe(u, random_numbers[1], basis);
 }
 
 // Density of sample_brdf() w.r.t. solid angle: p_s G_1(v) D(h) / (4 n.v) + (1 - p_s)
@@ -210,6 +218,32 @@ float get_brdf_density(material_t material, vec3 normal, vec3 view, vec3 light) 
         specular = get_ggx_reflection_density(get_ggx_alpha(material.roughness), local_view, normalize(half_sum * basis));
     float diffuse = max(0.0, dot(normal, light)) / M_PI;
     return specular_probability * specular + (1.0 - specular_probability) * diffuse;
+}
+
+// The glTF BRDF of a Lambertian material (metallic and specular 0, KHR_materials_specular's
+// specularFactor 0), where get_brdf()'s Fresnel terms are exact zeros: base_color / pi, 0
+// where the view or the light is below the normal. The same bits as get_brdf() for such a
+// material, without the GGX maths (kernels whose scene has no specular lobe,
+// SCENE_HAS_SPECULAR).
+vec3 get_lambert_brdf(material_t material, vec3 normal, vec3 view, vec3 light) {
+    if (dot(normal, view) <= 0.0 || dot(normal, light) <= 0.0)
+        return vec3(0.0);
+    return material.base_color / M_PI;
+}
+
+// sample_brdf() of a Lambertian material: its specular probability is 0, so the diffuse
+// lobe alone, with u_0 as it is (the same bits where the base colour is not black; a black
+// one reflects nothing whichever lobe is sampled).
+vec3 sample_lambert_brdf(vec2 random_numbers, vec3 normal) {
+    return sample_diffuse_lobe(random_numbers[0], random_numbers[1], get_shading_basis(normal));
+}
+
+// Density of sample_lambert_brdf(): max(0, n.l) / pi, 0 when the view is below (what
+// get_brdf_density() gives a Lambertian material whose base colour is not black).
+float get_lambert_brdf_density(vec3 normal, vec3 view, vec3 light) {
+    if (dot(normal, view) <= 0.0)
+        return 0.0;
+    return max(0.0, dot(normal, light)) / M_PI;
 }
 
 #endif

@@ -99,6 +99,13 @@ const bool SCENE_HAS_LAYERS = false;
 layout(constant_id = SPEC_SCENE_HAS_LAYERS) const bool SCENE_HAS_LAYERS = true;
 #endif
 
+// Whether any material has a specular (GGX) lobe: metallic or KHR_materials_specular's
+// specularFactor above 0, or layers. False where every material is Lambertian (the workshop's
+// box under an environment, most converted scenes): the surface seam then evaluates and
+// samples albedo / pi directly (glsl/surface.glsl), the same bits without the GGX maths that
+// lavapipe would otherwise run at every vertex.
+layout(constant_id = SPEC_SCENE_HAS_SPECULAR) const bool SCENE_HAS_SPECULAR = true;
+
 // clearcoatNormalTexture.scale of material i.
 float get_material_clearcoat_normal_scale(uint material_index) {
     return uintBitsToFloat(get_material_texel(material_index, MATERIAL_TEXEL_ATTENUATION_CLEARCOAT_NORMAL_SCALE).w);
@@ -137,14 +144,26 @@ material_textures_t sample_material_textures(uint material_index, vec2 tex_coord
     if (SCENE_TEXTURE_SLOTS == 0u)
         return textures;
     uint slot_count = SCENE_HAS_LAYERS ? MATERIAL_TEXTURE_SLOT_COUNT : MATERIAL_TEXTURE_EMISSIVE + 1;
-    uint slots = get_material_texel(material_index, MATERIAL_TEXEL_ALPHA_MODE_TEXTURE_MASK).y & SCENE_TEXTURE_SLOTS & ((1u << slot_count) - 1u);
-    [[dont_unroll]] while (slots != 0u) {
-        int slot = findLSB(slots);
+    uint scene_slots = SCENE_TEXTURE_SLOTS & ((1u << slot_count) - 1u);
+    uint slots = get_material_texel(material_index, MATERIAL_TEXEL_ALPHA_MODE_TEXTURE_MASK).y & scene_slots;
+    // Where the scene's materials use one slot only (commonly the base colour), its index is
+    // a constant once specialized and the loop runs once, which the driver folds away.
+    bool one_slot = bitCount(scene_slots) == 1;
+    do {
+        int slot = one_slot ? findLSB(scene_slots) : findLSB(slots);
+        if (slots != 0u) {
+            int first = MATERIAL_FACTOR_TEXEL_COUNT + 3 * slot;
+            texture_slot_t texture = unpack_texture_slot(get_material_texel(material_index, first), get_material_texel(material_index, first + 1), get_material_texel(material_index, first + 2));
+            vec4 value = sample_texture(texture, tex_coord);
+            // Stored at constant indices: an array written at a variable index is kept in
+            // memory for every lane on lavapipe, which made the textured box's samples twice
+            // as slow (docs/performance.md, "Stop 25"); so each slot the scene uses selects.
+            [[unroll]] for (int k = 0; k != MATERIAL_TEXTURE_SLOT_COUNT; ++k)
+                if ((scene_slots & (1u << k)) != 0u && k == slot)
+                    textures.slots[k] = value;
+        }
         slots &= slots - 1u;
-        int first = MATERIAL_FACTOR_TEXEL_COUNT + 3 * slot;
-        texture_slot_t texture = unpack_texture_slot(get_material_texel(material_index, first), get_material_texel(material_index, first + 1), get_material_texel(material_index, first + 2));
-        textures.slots[slot] = sample_texture(texture, tex_coord);
-    }
+    } while (!one_slot && slots != 0u);
     return textures;
 }
 

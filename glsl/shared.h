@@ -160,6 +160,10 @@
 // lit by its environment or punctual lights alone; the sample's random numbers are still
 // drawn, so the other lights' stay the same.
 #define SPEC_SCENE_HAS_EMISSIVE_TRIANGLES 605
+// Kernels built with USE_MATERIALS: whether any material has a specular lobe (metallic or
+// specular above 0, or layers). 0: every surface is Lambertian, and the surface seam skips
+// the GGX maths (glsl/materials.glsl, SCENE_HAS_SPECULAR).
+#define SPEC_SCENE_HAS_SPECULAR 606
 // Most triangles that can be passed as specialization constants.
 #define CONSTANT_TRIANGLE_CAPACITY 64
 // Most constant triangles that the material kernels (USE_MATERIALS) test: their intersection

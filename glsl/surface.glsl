@@ -9,7 +9,9 @@
 // - Lambert, the workshop's (kernels without USE_MATERIALS): albedo / pi, cosine sampled;
 // - glTF 2.0 metallic-roughness (USE_MATERIALS): glsl/brdf.glsl's BRDF with the textures,
 //   normal maps and emission of glsl/materials.glsl, and where a material has them (and
-//   SCENE_HAS_LAYERS), the transmission and clear coat of glsl/layered_bsdf.glsl.
+//   SCENE_HAS_LAYERS), the transmission and clear coat of glsl/layered_bsdf.glsl; in scenes
+//   whose materials are all Lambertian (not SCENE_HAS_SPECULAR) its Lambertian special case
+//   (get_lambert_brdf() and its sampling), the same bits without the GGX maths.
 //
 // Side rule: the BSDF is evaluated with the shading normal (interpolated vertex normals,
 // perturbed by a normal map), but light never crosses the geometric surface: a direction
@@ -180,6 +182,8 @@ vec3 get_bsdf(surface_t surface, vec3 view, vec3 light) {
     if (dot(surface.geometric_normal, light) <= 0.0)
         return vec3(0.0);
 #ifdef USE_MATERIALS
+    if (!SCENE_HAS_SPECULAR)
+        return get_lambert_brdf(surface.material, surface.shading_normal, view, light) * max(0.0, dot(surface.shading_normal, light));
     return get_brdf(surface.material, surface.shading_normal, view, light) * max(0.0, dot(surface.shading_normal, light));
 #else
     return surface.material.base_color / M_PI * max(0.0, dot(surface.shading_normal, light));
@@ -203,6 +207,8 @@ float get_bsdf_density(surface_t surface, vec3 view, vec3 light) {
 #ifdef USE_MATERIALS
     if (has_layers(surface))
         return get_layered_density(surface.material, surface.eta, surface.shading_normal, surface.clearcoat_normal, view, light);
+    if (!SCENE_HAS_SPECULAR)
+        return get_lambert_brdf_density(surface.shading_normal, view, light);
     return get_brdf_density(surface.material, surface.shading_normal, view, light);
 #else
     return get_hemisphere_cosine_density(surface.geometric_normal, light);
@@ -225,7 +231,9 @@ bsdf_sample_t sample_bsdf(surface_t surface, vec3 view, vec2 random_numbers, flo
             bsdf_sample.lobes = BSDF_LOBE_TRANSMIT;
             bsdf_sample.eta = is_refracting(surface.material) ? surface.eta : 1.0;
         }
-    } else
+    } else if (!SCENE_HAS_SPECULAR)
+        bsdf_sample.direction = sample_lambert_brdf(random_numbers, surface.shading_normal);
+    else
         bsdf_sample.direction = sample_brdf(random_numbers, surface.material, surface.shading_normal, view);
     // One density and one BSDF evaluation after both branches: the kernel holds them once
     // (lavapipe translates every inlined copy at each start).

@@ -211,14 +211,47 @@ pub fn sample_brdf(
         return (basis * reflect(-local_view, local_half)).normalize();
     }
     let u = (random_numbers[0] - specular_probability) / (1.0 - specular_probability);
+    sample_diffuse_lobe(u, random_numbers[1], basis)
+}
+
+/// Twin of `sample_diffuse_lobe`: Malley's method, a uniform point on the unit disk
+/// projected up to the hemisphere around the basis's third axis.
+pub fn sample_diffuse_lobe(u: f32, phi_random: f32, basis: Mat3) -> Vec3 {
     let radius = u.sqrt();
-    let phi = 2.0 * M_PI * random_numbers[1];
+    let phi = 2.0 * M_PI * phi_random;
     basis
         * Vec3::new(
             radius * phi.cos(),
             radius * phi.sin(),
             (1.0 - u).max(0.0).sqrt(),
         )
+}
+
+/// Twin of `get_lambert_brdf`: `get_brdf` of a Lambertian material (metallic and specular 0),
+/// base colour / pi, 0 where the view or the light is below the normal.
+pub fn get_lambert_brdf(material: &MaterialSample, normal: Vec3, view: Vec3, light: Vec3) -> Vec3 {
+    if normal.dot(view) <= 0.0 || normal.dot(light) <= 0.0 {
+        return Vec3::ZERO;
+    }
+    material.base_color / M_PI
+}
+
+/// Twin of `sample_lambert_brdf`: `sample_brdf` of a Lambertian material, the diffuse lobe
+/// alone.
+pub fn sample_lambert_brdf(random_numbers: Vec2, normal: Vec3) -> Vec3 {
+    sample_diffuse_lobe(
+        random_numbers[0],
+        random_numbers[1],
+        get_shading_basis(normal),
+    )
+}
+
+/// Twin of `get_lambert_brdf_density`: max(0, n.l) / pi, 0 when the view is below.
+pub fn get_lambert_brdf_density(normal: Vec3, view: Vec3, light: Vec3) -> f32 {
+    if normal.dot(view) <= 0.0 {
+        return 0.0;
+    }
+    normal.dot(light).max(0.0) / M_PI
 }
 
 /// Twin of `get_brdf_density`: the mixture density of `sample_brdf` w.r.t. solid angle.

@@ -264,6 +264,57 @@ fn specular_zero_dielectric_is_lambertian_and_samples_the_cosine() {
 }
 
 #[test]
+fn the_lambert_special_case_has_the_general_functions_bits() {
+    // Kernels whose scene has no specular lobe (SCENE_HAS_SPECULAR false) call the Lambert
+    // functions instead of get_brdf, sample_brdf and get_brdf_density: their images keep
+    // every bit only if these agree exactly, for any roughness and any directions, the view
+    // above the normal (the surface seam guarantees it) and the light anywhere. A black base
+    // colour is the one exception (its specular probability is 1/2); it reflects nothing.
+    let mut seed = UVec2::new(5, 77);
+    let mut uniform = || get_random_numbers(&mut seed);
+    let sphere = |u: Vec2| {
+        let z = 1.0 - 2.0 * u.x;
+        let r = (1.0 - z * z).max(0.0).sqrt();
+        let phi = 2.0 * M_PI * u.y;
+        Vec3::new(r * phi.cos(), r * phi.sin(), z)
+    };
+    for _ in 0..20_000 {
+        let colour = uniform();
+        let roughness = uniform();
+        let mut material = MaterialSample::gltf(
+            Vec3::new(colour.x, colour.y, 0.01 + roughness.y),
+            0.0,
+            roughness.x,
+        );
+        material.specular = 0.0;
+        let normal = sphere(uniform());
+        let mut view = sphere(uniform());
+        if normal.dot(view) < 0.0 {
+            view = -view;
+        }
+        let light = sphere(uniform());
+        let randoms = uniform();
+        let general = get_brdf(&material, normal, view, light);
+        let lambert = get_lambert_brdf(&material, normal, view, light);
+        assert_eq!(
+            general.to_array().map(f32::to_bits),
+            lambert.to_array().map(f32::to_bits)
+        );
+        assert_eq!(
+            get_brdf_density(&material, normal, view, light).to_bits(),
+            get_lambert_brdf_density(normal, view, light).to_bits()
+        );
+        let sampled = sample_brdf(randoms, &material, normal, view);
+        assert_eq!(
+            sampled.to_array().map(f32::to_bits),
+            sample_lambert_brdf(randoms, normal)
+                .to_array()
+                .map(f32::to_bits)
+        );
+    }
+}
+
+#[test]
 fn roughness_zero_gives_finite_values_and_a_mirror_direction() {
     let material = MaterialSample::gltf(Vec3::ONE, 1.0, 0.0);
     let view = view_at(50.0);

@@ -51,6 +51,7 @@ pub static PATH_TRACER: Kernel = Kernel {
         SpecConstants::one(c::SPEC_SCENE_HAS_PUNCTUAL_LIGHTS),
         SpecConstants::one(c::SPEC_SCENE_SAMPLES_ENVIRONMENT),
         SpecConstants::one(c::SPEC_SCENE_HAS_EMISSIVE_TRIANGLES),
+        SpecConstants::one(c::SPEC_SCENE_HAS_SPECULAR),
     ],
     push_constant_size: size_of::<FramePushConstants>() as u32,
 };

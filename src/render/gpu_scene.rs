@@ -224,6 +224,10 @@ impl GpuScene {
                 u32::from(scene_lights.samples_environment()),
             ));
             specialization.push((
+                contract::SPEC_SCENE_HAS_SPECULAR,
+                u32::from(scene_materials.uses_specular()),
+            ));
+            specialization.push((
                 contract::SPEC_SCENE_HAS_EMISSIVE_TRIANGLES,
                 u32::from(!scene_lights.emissive.triangle_indices.is_empty()),
             ));

@@ -333,6 +333,17 @@ impl SceneMaterials {
         })
     }
 
+    /// Whether any material has a specular (GGX) lobe (`SCENE_HAS_SPECULAR`): metallic or
+    /// KHR_materials_specular's specular above 0, or the layers (`uses_layers`). False where
+    /// every material is Lambertian, whose BRDF the kernels then evaluate as albedo / pi.
+    pub fn uses_specular(&self) -> bool {
+        self.uses_layers()
+            || self
+                .materials
+                .iter()
+                .any(|m| m.metallic != 0.0 || m.specular != 0.0)
+    }
+
     /// Whether any material uses alpha (mask or blend).
     pub fn uses_alpha(&self) -> bool {
         self.materials

@@ -1,7 +1,8 @@
 //! Scenes built in code that several integration tests render.
 
 use glam::{Vec2, Vec3, Vec4};
-use vkpath::scene::materials::{PbrMaterial, SceneMaterials, TriangleShading};
+use vkpath::scene::materials::{PbrMaterial, SceneMaterials, TextureBinding, TriangleShading};
+use vkpath::scene::textures::{Texture, TextureTransform, WrapMode};
 use vkpath::Scene;
 
 /// A white metal (base colour 1, F = 1) of the given roughness.
@@ -52,6 +53,61 @@ pub fn glossy_box(roughness: f32) -> Scene {
             metal,
         ],
         textures: Vec::new(),
+        triangles: shading,
+    });
+    scene
+}
+
+/// The test glTF's open box (`tests/data/emissive_quad.gltf`) with Lambertian glTF materials
+/// (metallic and specular 0): the floor textured by a 4x4 sRGB checker of colours
+/// (bilinear, repeated), the walls grey, the quad emitting. Texture coordinates are the
+/// vertices' x and z, so the floor shows the texture about twice.
+pub fn textured_lambertian_box() -> Scene {
+    let mut scene =
+        Scene::load(std::path::Path::new(&super::fixture("emissive_quad.gltf"))).unwrap();
+    let shading: Vec<TriangleShading> = scene
+        .triangles
+        .iter()
+        .map(|t| TriangleShading {
+            material: if t.emission.max_element() > 0.0 {
+                0
+            } else if t.normal.y > 0.5 {
+                1
+            } else {
+                2
+            },
+            normals: [t.normal; 3],
+            tex_coords: t.positions.map(|p| Vec2::new(p.x, p.z)),
+            tangents: [Vec4::ZERO; 3],
+        })
+        .collect();
+    let light = scene
+        .triangles
+        .iter()
+        .find(|t| t.emission.max_element() > 0.0)
+        .unwrap();
+    let mut floor = PbrMaterial::lambertian(Vec3::ONE, Vec3::ZERO, false);
+    floor.base_color_texture = Some(TextureBinding {
+        texture: 0,
+        transform: TextureTransform::identity(),
+    });
+    let checker = Texture {
+        width: 4,
+        height: 4,
+        texels: (0..16u8)
+            .map(|i| [40 + i * 12, 230 - i * 9, (i % 3) * 100, 255])
+            .collect(),
+        wrap_s: WrapMode::Repeat,
+        wrap_t: WrapMode::Repeat,
+        nearest: false,
+    };
+    scene.materials = Some(SceneMaterials {
+        materials: vec![
+            PbrMaterial::lambertian(Vec3::ZERO, light.emission, light.double_sided),
+            floor,
+            PbrMaterial::lambertian(Vec3::splat(0.6), Vec3::ZERO, false),
+        ],
+        textures: vec![checker],
         triangles: shading,
     });
     scene
