@@ -14,6 +14,7 @@ use std::time::Instant;
 
 use glam::Vec3;
 use vkpath::lights::EnvironmentSource;
+use vkpath::render::gpu_scene::fits_lean_builds;
 use vkpath::render::Traversal;
 use vkpath::{Context, ContextOptions, Integrator, RenderSettings, Renderer, Scene};
 
@@ -34,14 +35,6 @@ fn measure(
     // A fresh device each time, so that nothing the driver kept from a previous build helps.
     let context = Context::new(&ContextOptions::default())?;
     let camera = scene.camera.ok_or("the scene has no camera")?;
-    // The build that `Renderer::new` would take for this traversal
-    let spirv = traversal
-        .build_for(
-            scene.triangles.len(),
-            scene.needs_material_kernels(),
-            scene.needs_layered_kernels(),
-        )?
-        .embedded_spirv()?;
     let settings = RenderSettings {
         width: 64,
         height: 64,
@@ -49,6 +42,15 @@ fn measure(
         integrator,
         ..RenderSettings::default()
     };
+    // The build that `Renderer::new` would take for this traversal
+    let spirv = traversal
+        .build_for(
+            scene.triangles.len(),
+            scene.needs_material_kernels(),
+            scene.needs_layered_kernels(),
+            fits_lean_builds(scene, &settings),
+        )?
+        .embedded_spirv()?;
     let samples = f64::from(settings.width * settings.height);
     let started = Instant::now();
     let mut renderer =

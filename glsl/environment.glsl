@@ -25,7 +25,15 @@ layout(constant_id = SPEC_SCENE_HAS_ENVIRONMENT) const bool SCENE_HAS_ENVIRONMEN
 
 // Whether light samples are drawn from the environment (the host specializes it: true for a
 // map, false for a constant environment, which only BSDF-sampled rays find; glsl/shared.h).
+// The lean builds (WITHOUT_ENVIRONMENT_MAP), for scenes without a map, hold constants
+// instead, so that their SPIR-V carries none of the map's sampling and lookups.
+#ifdef WITHOUT_ENVIRONMENT_MAP
+const bool SCENE_SAMPLES_ENVIRONMENT = false;
+const bool SCENE_HAS_ENVIRONMENT_MAP = false;
+#else
 layout(constant_id = SPEC_SCENE_SAMPLES_ENVIRONMENT) const bool SCENE_SAMPLES_ENVIRONMENT = true;
+const bool SCENE_HAS_ENVIRONMENT_MAP = true;
+#endif
 
 // ENVIRONMENT_NONE (black: nothing to sample), ENVIRONMENT_CONSTANT or ENVIRONMENT_MAP.
 uint get_environment_kind() {
@@ -60,7 +68,7 @@ vec3 get_environment_radiance(vec3 direction) {
     // ENVIRONMENT_NONE's background texel is black (gpu_environment_words() on the host)
     if (!SCENE_HAS_ENVIRONMENT)
         return vec3(0.0);
-    if (kind == ENVIRONMENT_MAP)
+    if (SCENE_HAS_ENVIRONMENT_MAP && kind == ENVIRONMENT_MAP)
         return uintBitsToFloat(texelFetch(g_environment_texels, 3 + 2 * int(get_environment_texel_index(direction))).rgb);
     return uintBitsToFloat(texelFetch(g_environment_texels, 2).rgb);
 }

@@ -26,8 +26,14 @@ layout(constant_id = SPEC_SAMPLER) const int SAMPLER = SAMPLER_PCG;
 // LIGHT_SAMPLING_AREA or LIGHT_SAMPLING_SOLID_ANGLE: how nee and mis sample their lights.
 layout(constant_id = SPEC_LIGHT_SAMPLING) const int LIGHT_SAMPLING = LIGHT_SAMPLING_SOLID_ANGLE;
 // LIGHT_SELECTION_POWER or LIGHT_SELECTION_TREE: how nee and mis choose the emissive
-// triangle they sample (the tree's code is compiled out of power kernels).
+// triangle they sample (the tree's code is compiled out of power kernels). The lean builds
+// (WITHOUT_LIGHT_TREE) hold a constant instead, so that their SPIR-V carries none of the
+// tree's code: lavapipe translates a kernel's whole SPIR-V at every start, dead code too.
+#ifdef WITHOUT_LIGHT_TREE
+const int LIGHT_SELECTION = LIGHT_SELECTION_POWER;
+#else
 layout(constant_id = SPEC_LIGHT_SELECTION) const int LIGHT_SELECTION = LIGHT_SELECTION_POWER;
+#endif
 // LLVMPIPE_LOOP_LIMIT / LLVMPIPE_SIMD_WIDTH on lavapipe, 0 elsewhere.
 layout(constant_id = SPEC_LOOP_LIMIT) const uint LOOP_LIMIT = 0u;
 // The bound's coefficients, which the host derives from its description of this kernel's
@@ -37,8 +43,13 @@ layout(constant_id = SPEC_LOOPS_PER_RAY) const uint LOOPS_PER_RAY = 0u;
 layout(constant_id = SPEC_LIGHT_SEARCHES_PER_RAY) const uint LIGHT_SEARCHES_PER_RAY = 0u;
 layout(constant_id = SPEC_TRIANGLE_LOOPS_PER_RAY) const uint TRIANGLE_LOOPS_PER_RAY = 0u;
 // GUIDING_OFF, GUIDING_ON or GUIDING_TRAINING: path guiding (glsl/path_guiding.glsl), compiled
-// out when off, its training only in GUIDING_TRAINING.
+// out when off, its training only in GUIDING_TRAINING; a constant GUIDING_OFF in the lean
+// builds (WITHOUT_GUIDING), which carry none of its code.
+#ifdef WITHOUT_GUIDING
+const int GUIDING = GUIDING_OFF;
+#else
 layout(constant_id = SPEC_GUIDING) const int GUIDING = GUIDING_OFF;
+#endif
 
 // What changes per frame. Mirrors `vkpath::render::gpu_types::FramePushConstants`.
 layout(push_constant) uniform frame_push_constants {

@@ -6,6 +6,7 @@
 
 mod common;
 
+use vkpath::render::gpu_scene::fits_lean_builds;
 use vkpath::render::settings::Accel;
 use vkpath::render::Traversal;
 use vkpath::scene::materials::AlphaMode;
@@ -72,13 +73,21 @@ fn constant_triangles_render_exactly_as_the_texel_loop() {
 #[test]
 fn the_build_for_few_triangles_renders_exactly_as_the_full_one() {
     // The workshop's box (30 triangles) gets the build that unrolls 32 constant triangles
-    // instead of 64 (FEW_CONSTANT_TRIANGLES): the same tests, so the same bits.
+    // instead of 64 (FEW_CONSTANT_TRIANGLES), without the light tree and guiding: the same
+    // tests, so the same bits.
     let context = common::validated_context();
     let scene = Scene::builtin_cornell_box().unwrap();
+    let settings = box_settings(Integrator::Mis);
     let picked = Traversal::for_scene(&scene, Accel::Auto)
-        .build_for(scene.triangles.len(), false, false)
+        .build_for(
+            scene.triangles.len(),
+            false,
+            false,
+            fits_lean_builds(&scene, &settings),
+        )
         .unwrap();
-    assert_eq!(picked.name, "path_tracer_few_triangles");
+    // ... without the light tree and guiding, which it does not need (the lean build)
+    assert_eq!(picked.name, "path_tracer_few_triangles_lean");
     for integrator in [Integrator::PathTracing, Integrator::Mis] {
         let settings = box_settings(integrator);
         let few = Renderer::new(&context, &scene, &scene.camera.unwrap(), settings)
@@ -151,7 +160,8 @@ fn the_material_build_without_layers_renders_exactly_as_the_one_with_them() {
     // without the layered lobes (WITHOUT_LAYERS: a constant false where the other build has
     // SCENE_HAS_LAYERS specialized to false), which must change no bit. The box is small
     // enough for the constant triangles, which run the BVH's triangle tests: the picked
-    // kernel traces it with its triangles compiled in, the other through the BVH.
+    // kernel (the lean build: no light tree, guiding or map either) traces it with its
+    // triangles compiled in, the other through the BVH.
     let scene = common::scenes::glossy_box(0.3);
     assert!(scene.needs_material_kernels() && !scene.needs_layered_kernels());
     assert_eq!(
@@ -162,6 +172,58 @@ fn the_material_build_without_layers_renders_exactly_as_the_one_with_them() {
         let (picked, full) = render_both_material_builds(&scene, integrator);
         assert_same_bits(integrator, &picked, &full);
     }
+}
+
+/// Renders `scene` with the build `Renderer::new` picks and with `full` (a build with the
+/// light tree, guiding and environment maps) on `traversal`, and fails unless every bit
+/// agrees.
+fn assert_lean_build_renders_as(scene: &Scene, full: &str, traversal: Traversal) {
+    let context = common::validated_context();
+    let camera = scene.camera.unwrap();
+    let spirv = vkpath::kernels::PATH_TRACER
+        .builds()
+        .into_iter()
+        .find(|build| build.name == full)
+        .unwrap()
+        .embedded_spirv()
+        .unwrap();
+    for integrator in [Integrator::PathTracing, Integrator::Mis] {
+        let settings = box_settings(integrator);
+        assert!(fits_lean_builds(scene, &settings));
+        let render = |renderer: vkpath::Result<Renderer>| {
+            renderer.unwrap().render_all().unwrap().mean.concat()
+        };
+        let lean = render(Renderer::new(&context, scene, &camera, settings.clone()));
+        let full = render(Renderer::with_kernel(
+            &context, scene, &camera, settings, &spirv, traversal,
+        ));
+        assert_same_bits(integrator, &lean, &full);
+    }
+    common::assert_validation_silent(&context);
+}
+
+#[test]
+fn the_lean_builds_render_exactly_as_the_full_ones() {
+    // Renders that need no light tree, guiding or environment map take the lean builds
+    // (WITHOUT_LIGHT_TREE, WITHOUT_GUIDING, WITHOUT_ENVIRONMENT_MAP: constants where the
+    // full builds have specialization constants, so that the code they turn off is not in
+    // the SPIR-V). A plain scene through the BVH, and a material scene under a constant
+    // environment, which the lean material builds keep.
+    let generated = vkpath::scene::meshes::scale_test_scene(200).unwrap();
+    assert_eq!(
+        Traversal::for_scene(&generated, Accel::Auto),
+        Traversal::Bvh
+    );
+    assert_lean_build_renders_as(&generated, "path_tracer_bvh", Traversal::Bvh);
+    let white = vkpath::lights::EnvironmentSource::Background(glam::Vec3::splat(0.5));
+    let sky = common::scenes::glossy_box(0.3)
+        .with_environment(Some(&white))
+        .unwrap();
+    assert_lean_build_renders_as(
+        &sky,
+        "path_tracer_materials_bvh_without_layers",
+        Traversal::Bvh,
+    );
 }
 
 #[test]

@@ -32,6 +32,17 @@ pub const WITHOUT_LAYERS: &str = "WITHOUT_LAYERS";
 /// images from half the unrolled code (a shorter start on lavapipe).
 pub const FEW_CONSTANT_TRIANGLES: &str = "FEW_CONSTANT_TRIANGLES";
 
+/// The macros of the lean builds, for renders that need neither the light tree, nor path
+/// guiding, nor an environment map (most renders of small scenes): each turns a
+/// specialization constant into a constant, so that the build's SPIR-V carries none of that
+/// code. The same images as the builds with it, and a shorter start on lavapipe, which
+/// translates a kernel's whole SPIR-V at every start (docs/performance.md, "Stop 25").
+pub const WITHOUT_LIGHT_TREE: &str = "WITHOUT_LIGHT_TREE";
+/// See `WITHOUT_LIGHT_TREE`.
+pub const WITHOUT_GUIDING: &str = "WITHOUT_GUIDING";
+/// See `WITHOUT_LIGHT_TREE` (material kernels only: the others have no environment).
+pub const WITHOUT_ENVIRONMENT_MAP: &str = "WITHOUT_ENVIRONMENT_MAP";
+
 /// Every build beyond the plain one of each kernel.
 pub const EXTRA_BUILDS: &[KernelBuild] = &[
     KernelBuild {
@@ -63,5 +74,46 @@ pub const EXTRA_BUILDS: &[KernelBuild] = &[
         source: "path_tracer",
         name: "path_tracer_materials_bvh_without_layers",
         macros: &[(USE_BVH, "1"), (USE_MATERIALS, "1"), (WITHOUT_LAYERS, "1")],
+    },
+    KernelBuild {
+        source: "path_tracer",
+        name: "path_tracer_few_triangles_lean",
+        macros: &[
+            (FEW_CONSTANT_TRIANGLES, "1"),
+            (WITHOUT_LIGHT_TREE, "1"),
+            (WITHOUT_GUIDING, "1"),
+        ],
+    },
+    KernelBuild {
+        source: "path_tracer",
+        name: "path_tracer_bvh_lean",
+        macros: &[
+            (USE_BVH, "1"),
+            (WITHOUT_LIGHT_TREE, "1"),
+            (WITHOUT_GUIDING, "1"),
+        ],
+    },
+    KernelBuild {
+        source: "path_tracer",
+        name: "path_tracer_materials_lean",
+        macros: &[
+            (USE_MATERIALS, "1"),
+            (WITHOUT_LAYERS, "1"),
+            (WITHOUT_LIGHT_TREE, "1"),
+            (WITHOUT_GUIDING, "1"),
+            (WITHOUT_ENVIRONMENT_MAP, "1"),
+        ],
+    },
+    KernelBuild {
+        source: "path_tracer",
+        name: "path_tracer_materials_bvh_lean",
+        macros: &[
+            (USE_BVH, "1"),
+            (USE_MATERIALS, "1"),
+            (WITHOUT_LAYERS, "1"),
+            (WITHOUT_LIGHT_TREE, "1"),
+            (WITHOUT_GUIDING, "1"),
+            (WITHOUT_ENVIRONMENT_MAP, "1"),
+        ],
     },
 ];

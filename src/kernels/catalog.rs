@@ -148,6 +148,7 @@ pub static PROBE_SURFACE: Kernel = Kernel {
         SCENE_SPEC[2],
         SpecConstants::one(c::SPEC_SCENE_TEXTURE_SLOTS),
         SpecConstants::one(c::SPEC_SCENE_HAS_LAYERS),
+        SpecConstants::one(c::SPEC_SCENE_HAS_SPECULAR),
     ],
     push_constant_size: size_of::<ProbePushConstants>() as u32,
 };

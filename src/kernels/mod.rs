@@ -276,8 +276,47 @@ mod tests {
         );
         let few = crate::contract::FEW_CONSTANT_TRIANGLE_CAPACITY as usize;
         let name_for = |traversal: Traversal, count, materials| {
-            traversal.build_for(count, materials, false).unwrap().name
+            traversal
+                .build_for(count, materials, false, false)
+                .unwrap()
+                .name
         };
+        let lean_name_for = |traversal: Traversal, count, materials, layers| {
+            traversal
+                .build_for(count, materials, layers, true)
+                .unwrap()
+                .name
+        };
+        // The lean builds, where the render needs no light tree, guiding or map
+        assert_eq!(
+            lean_name_for(Traversal::ConstantTriangles, few, false, false),
+            "path_tracer_few_triangles_lean"
+        );
+        assert_eq!(
+            lean_name_for(Traversal::Bvh, 100, false, false),
+            "path_tracer_bvh_lean"
+        );
+        assert_eq!(
+            lean_name_for(Traversal::ConstantTriangles, 12, true, false),
+            "path_tracer_materials_lean"
+        );
+        assert_eq!(
+            lean_name_for(Traversal::Linear, 100, true, false),
+            "path_tracer_materials_lean"
+        );
+        assert_eq!(
+            lean_name_for(Traversal::Bvh, 100, true, false),
+            "path_tracer_materials_bvh_lean"
+        );
+        // ... and the full build where none is lean
+        assert_eq!(
+            lean_name_for(Traversal::Linear, 100, false, false),
+            "path_tracer"
+        );
+        assert_eq!(
+            lean_name_for(Traversal::Bvh, 100, true, true),
+            "path_tracer_materials_bvh"
+        );
         assert_eq!(
             name_for(Traversal::ConstantTriangles, few, false),
             "path_tracer_few_triangles"

@@ -12,7 +12,8 @@ pub struct FoundLoop {
 
 /// The loops (`for`, `while`, `do ... while`) of one GLSL file, with the function each is
 /// in: comments and preprocessor lines are skipped, a function is a `name(...) {` at brace
-/// depth 0, and a `while` that closes a `do` is not a loop of its own.
+/// depth 0, a `while` that closes a `do` is not a loop of its own, and a loop marked
+/// `[[unroll]]` (a constant trip count, unrolled when compiled) is no loop at run time.
 pub fn find_loops(file: &str, text: &str) -> Vec<FoundLoop> {
     let code = strip_comments_and_directives(text);
     let mut tokens: Vec<&str> = Vec::new();
@@ -57,6 +58,9 @@ pub fn find_loops(file: &str, text: &str) -> Vec<FoundLoop> {
             "do" | "for" | "while" if depth > 0 => {
                 if token == "while" && previous == "}" && open_dos.last() == Some(&depth) {
                     open_dos.pop();
+                    continue;
+                }
+                if i >= 5 && tokens[i - 5..i] == ["[", "[", "unroll", "]", "]"] {
                     continue;
                 }
                 if token == "do" {
@@ -143,5 +147,13 @@ mod tests {
         let found = find_loops("x.glsl", text);
         let names: Vec<&str> = found.iter().map(|l| l.function.as_str()).collect();
         assert_eq!(names, ["f", "f", "g"]);
+    }
+
+    #[test]
+    fn loops_unrolled_when_compiled_are_not_counted() {
+        let text = "void f(int n) {\n    [[unroll]] for (int k = 0; k != 4; ++k) {}\n    \
+                    [[dont_unroll]] while (n > 0) n--;\n}\n";
+        let found = find_loops("x.glsl", text);
+        assert_eq!(found.len(), 1, "{found:?}");
     }
 }

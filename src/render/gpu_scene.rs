@@ -24,6 +24,22 @@ use crate::render::traversal::{constant_triangle_specialization, Traversal};
 use crate::scene::Scene;
 use crate::vk::{Buffer, CommandRunner, Context, TexelBufferView};
 
+/// Whether a render of `scene` with `settings` can take the lean builds of the path tracer
+/// (`crate::kernels::builds::WITHOUT_LIGHT_TREE`): no light tree, no path guiding, no
+/// environment map to sample. `GpuScene::fits_lean_builds` says the same for an uploaded scene.
+pub fn fits_lean_builds(scene: &Scene, settings: &RenderSettings) -> bool {
+    let lights = SceneLights::new(scene, &scene.triangles);
+    let uses_tree = settings
+        .light_selection
+        .uses_tree(lights.emissive.triangle_indices.len());
+    settings.guiding.is_none() && lights_fit_lean_builds(uses_tree, &lights)
+}
+
+/// The lights' half of `fits_lean_builds`: no light tree and no environment map to sample.
+fn lights_fit_lean_builds(uses_tree: bool, lights: &SceneLights) -> bool {
+    !uses_tree && !lights.samples_environment()
+}
+
 /// The buffers of `glsl/materials.glsl`.
 struct MaterialBuffers {
     shading: TexelBufferView,
@@ -53,6 +69,9 @@ pub struct GpuScene {
     pub light_tree_iterations: Option<u64>,
     /// The BVH's shape, for bounding a traversal's loop iterations (`None` without a BVH).
     pub bvh_stats: Option<BvhStats>,
+    /// Whether the scene's lights let the render take the lean builds (no light tree, no
+    /// environment map to sample; `fits_lean_builds`, guiding aside).
+    pub fits_lean_builds: bool,
 }
 
 impl GpuScene {
@@ -246,6 +265,7 @@ impl GpuScene {
                 .as_ref()
                 .map(|_| scene_lights.light_search_iterations()),
             bvh_stats: bvh.as_ref().map(Bvh::stats),
+            fits_lean_builds: lights_fit_lean_builds(uses_tree, &scene_lights),
         })
     }
 

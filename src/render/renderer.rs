@@ -332,7 +332,12 @@ impl Renderer {
         // A given kernel was compiled as `build` says (the plain source, 64 constant triangles)
         let build = match kernel {
             Some(_) => traversal.build(materials, layers)?,
-            None => traversal.build_for(scene.triangles.len(), materials, layers)?,
+            None => traversal.build_for(
+                scene.triangles.len(),
+                materials,
+                layers,
+                settings.guiding.is_none() && gpu_scene.fits_lean_builds,
+            )?,
         };
         let guiding = settings.guiding.is_some();
         let loops = LoopCoefficients::path_tracer(traversal, guiding, materials);

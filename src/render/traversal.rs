@@ -3,7 +3,10 @@
 
 use crate::contract;
 use crate::error::Result;
-use crate::kernels::builds::{FEW_CONSTANT_TRIANGLES, USE_BVH, USE_MATERIALS, WITHOUT_LAYERS};
+use crate::kernels::builds::{
+    FEW_CONSTANT_TRIANGLES, USE_BVH, USE_MATERIALS, WITHOUT_ENVIRONMENT_MAP, WITHOUT_GUIDING,
+    WITHOUT_LAYERS, WITHOUT_LIGHT_TREE,
+};
 use crate::kernels::{Build, PATH_TRACER};
 use crate::render::settings::Accel;
 use crate::scene::{Scene, Triangle};
@@ -114,14 +117,31 @@ impl Traversal {
 
     /// `build`, but for the workshop kernels' constant triangles of a scene of at most
     /// `FEW_CONSTANT_TRIANGLE_CAPACITY` triangles the build that unrolls only that many
-    /// (`FEW_CONSTANT_TRIANGLES`: the same images, a shorter start).
-    pub fn build_for(self, triangle_count: usize, materials: bool, layers: bool) -> Result<Build> {
+    /// (`FEW_CONSTANT_TRIANGLES`), and where `lean` (the render needs no light tree, guiding
+    /// or environment map: `crate::render::gpu_scene::fits_lean_builds`) the lean build of
+    /// that build where there is one (`WITHOUT_LIGHT_TREE`): the same images, a shorter start.
+    pub fn build_for(
+        self,
+        triangle_count: usize,
+        materials: bool,
+        layers: bool,
+        lean: bool,
+    ) -> Result<Build> {
         let few = triangle_count <= contract::FEW_CONSTANT_TRIANGLE_CAPACITY as usize;
-        if self == Traversal::ConstantTriangles && !materials && few {
-            PATH_TRACER.build_with(&[FEW_CONSTANT_TRIANGLES])
+        let full = if self == Traversal::ConstantTriangles && !materials && few {
+            PATH_TRACER.build_with(&[FEW_CONSTANT_TRIANGLES])?
         } else {
-            self.build(materials, layers)
+            self.build(materials, layers)?
+        };
+        if !lean {
+            return Ok(full);
         }
+        let mut macros: Vec<&str> = full.macros.iter().map(|(name, _)| *name).collect();
+        macros.extend([WITHOUT_LIGHT_TREE, WITHOUT_GUIDING]);
+        if materials {
+            macros.push(WITHOUT_ENVIRONMENT_MAP);
+        }
+        Ok(PATH_TRACER.build_with(&macros).unwrap_or(full))
     }
 }
 
