@@ -3,6 +3,7 @@
 use glam::{Vec2, Vec3, Vec4};
 use vkpath::scene::materials::{PbrMaterial, SceneMaterials, TextureBinding, TriangleShading};
 use vkpath::scene::textures::{Texture, TextureTransform, WrapMode};
+use vkpath::scene::Triangle;
 use vkpath::Scene;
 
 /// A white metal (base colour 1, F = 1) of the given roughness.
@@ -15,12 +16,14 @@ pub fn white_metal(roughness: f32) -> PbrMaterial {
     }
 }
 
-/// The test glTF's open box (`tests/data/emissive_quad.gltf`) with glossy glTF materials:
-/// gold metal walls, a red plastic floor, both of `roughness`; no layered lobes.
-pub fn glossy_box(roughness: f32) -> Scene {
-    let mut scene =
-        Scene::load(std::path::Path::new(&super::fixture("emissive_quad.gltf"))).unwrap();
-    let shading: Vec<TriangleShading> = scene
+/// The test glTF's open box (`tests/data/emissive_quad.gltf`), its triangles' shading for
+/// three materials (0 the emitting quad, 1 the floor, 2 the walls; flat normals, texture
+/// coordinates from `tex_coords`) and its light triangle.
+fn open_box(
+    tex_coords: impl Fn(&Triangle) -> [Vec2; 3],
+) -> (Scene, Vec<TriangleShading>, Triangle) {
+    let scene = Scene::load(std::path::Path::new(&super::fixture("emissive_quad.gltf"))).unwrap();
+    let shading = scene
         .triangles
         .iter()
         .map(|t| TriangleShading {
@@ -32,15 +35,22 @@ pub fn glossy_box(roughness: f32) -> Scene {
                 2
             },
             normals: [t.normal; 3],
-            tex_coords: [Vec2::ZERO; 3],
+            tex_coords: tex_coords(t),
             tangents: [Vec4::ZERO; 3],
         })
         .collect();
-    let light = scene
+    let light = *scene
         .triangles
         .iter()
         .find(|t| t.emission.max_element() > 0.0)
         .unwrap();
+    (scene, shading, light)
+}
+
+/// The test glTF's open box (`tests/data/emissive_quad.gltf`) with glossy glTF materials:
+/// gold metal walls, a red plastic floor, both of `roughness`; no layered lobes.
+pub fn glossy_box(roughness: f32) -> Scene {
+    let (mut scene, shading, light) = open_box(|_| [Vec2::ZERO; 3]);
     let mut plastic = PbrMaterial::lambertian(Vec3::new(0.7, 0.2, 0.2), Vec3::ZERO, false);
     plastic.specular = 1.0;
     plastic.roughness = roughness;
@@ -63,29 +73,7 @@ pub fn glossy_box(roughness: f32) -> Scene {
 /// (bilinear, repeated), the walls grey, the quad emitting. Texture coordinates are the
 /// vertices' x and z, so the floor shows the texture about twice.
 pub fn textured_lambertian_box() -> Scene {
-    let mut scene =
-        Scene::load(std::path::Path::new(&super::fixture("emissive_quad.gltf"))).unwrap();
-    let shading: Vec<TriangleShading> = scene
-        .triangles
-        .iter()
-        .map(|t| TriangleShading {
-            material: if t.emission.max_element() > 0.0 {
-                0
-            } else if t.normal.y > 0.5 {
-                1
-            } else {
-                2
-            },
-            normals: [t.normal; 3],
-            tex_coords: t.positions.map(|p| Vec2::new(p.x, p.z)),
-            tangents: [Vec4::ZERO; 3],
-        })
-        .collect();
-    let light = scene
-        .triangles
-        .iter()
-        .find(|t| t.emission.max_element() > 0.0)
-        .unwrap();
+    let (mut scene, shading, light) = open_box(|t| t.positions.map(|p| Vec2::new(p.x, p.z)));
     let mut floor = PbrMaterial::lambertian(Vec3::ONE, Vec3::ZERO, false);
     floor.base_color_texture = Some(TextureBinding {
         texture: 0,
