@@ -275,61 +275,46 @@ mod tests {
             "path_tracer_materials_bvh_without_layers"
         );
         let few = crate::contract::FEW_CONSTANT_TRIANGLE_CAPACITY as usize;
-        let name_for = |traversal: Traversal, count, materials| {
-            traversal
-                .build_for(count, materials, false, false)
-                .unwrap()
-                .name
-        };
-        let lean_name_for = |traversal: Traversal, count, materials, layers| {
-            traversal
-                .build_for(count, materials, layers, true)
-                .unwrap()
-                .name
-        };
-        // The lean builds, where the render needs no light tree, guiding or map
-        assert_eq!(
-            lean_name_for(Traversal::ConstantTriangles, few, false, false),
-            "path_tracer_few_triangles_lean"
-        );
-        assert_eq!(
-            lean_name_for(Traversal::Bvh, 100, false, false),
-            "path_tracer_bvh_lean"
-        );
-        assert_eq!(
-            lean_name_for(Traversal::ConstantTriangles, 12, true, false),
-            "path_tracer_materials_lean"
-        );
-        assert_eq!(
-            lean_name_for(Traversal::Linear, 100, true, false),
-            "path_tracer_materials_lean"
-        );
-        assert_eq!(
-            lean_name_for(Traversal::Bvh, 100, true, false),
-            "path_tracer_materials_bvh_lean"
-        );
-        // ... and the full build where none is lean
-        assert_eq!(
-            lean_name_for(Traversal::Linear, 100, false, false),
-            "path_tracer"
-        );
-        assert_eq!(
-            lean_name_for(Traversal::Bvh, 100, true, true),
-            "path_tracer_materials_bvh"
-        );
-        assert_eq!(
-            name_for(Traversal::ConstantTriangles, few, false),
-            "path_tracer_few_triangles"
-        );
-        assert_eq!(
-            name_for(Traversal::ConstantTriangles, few + 1, false),
-            "path_tracer"
-        );
-        assert_eq!(name_for(Traversal::Linear, 12, false), "path_tracer");
-        assert_eq!(
-            name_for(Traversal::ConstantTriangles, 12, true),
-            "path_tracer_materials_without_layers"
-        );
+        use Traversal::{Bvh, ConstantTriangles as Constant, Linear};
+        // (traversal, triangles, materials, layers, lean): the build `build_for` picks
+        let cases = [
+            // The lean builds, where the render needs no light tree, guiding or map
+            (
+                (Constant, few, false, false, true),
+                "path_tracer_few_triangles_lean",
+            ),
+            ((Bvh, 100, false, false, true), "path_tracer_bvh_lean"),
+            (
+                (Constant, 12, true, false, true),
+                "path_tracer_materials_lean",
+            ),
+            (
+                (Linear, 100, true, false, true),
+                "path_tracer_materials_lean",
+            ),
+            (
+                (Bvh, 100, true, false, true),
+                "path_tracer_materials_bvh_lean",
+            ),
+            // ... and the full build where none is lean
+            ((Linear, 100, false, false, true), "path_tracer"),
+            ((Bvh, 100, true, true, true), "path_tracer_materials_bvh"),
+            // The few-triangle build, and the full ones without lean
+            (
+                (Constant, few, false, false, false),
+                "path_tracer_few_triangles",
+            ),
+            ((Constant, few + 1, false, false, false), "path_tracer"),
+            ((Linear, 12, false, false, false), "path_tracer"),
+            (
+                (Constant, 12, true, false, false),
+                "path_tracer_materials_without_layers",
+            ),
+        ];
+        for ((traversal, count, materials, layers, lean), expected) in cases {
+            let picked = traversal.build_for(count, materials, layers, lean).unwrap();
+            assert_eq!(picked.name, expected, "{traversal:?}, {count} triangles, materials {materials}, layers {layers}, lean {lean}");
+        }
         for build in PATH_TRACER.builds() {
             assert!(build.embedded_spirv().is_ok(), "{}", build.name);
         }

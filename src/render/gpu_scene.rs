@@ -32,12 +32,16 @@ pub fn fits_lean_builds(scene: &Scene, settings: &RenderSettings) -> bool {
     let uses_tree = settings
         .light_selection
         .uses_tree(lights.emissive.triangle_indices.len());
-    settings.guiding.is_none() && lights_fit_lean_builds(uses_tree, &lights)
+    render_fits_lean_builds(settings, uses_tree, &lights)
 }
 
-/// The lights' half of `fits_lean_builds`: no light tree and no environment map to sample.
-fn lights_fit_lean_builds(uses_tree: bool, lights: &SceneLights) -> bool {
-    !uses_tree && !lights.samples_environment()
+/// `fits_lean_builds` from the lights that the upload has already gathered.
+fn render_fits_lean_builds(
+    settings: &RenderSettings,
+    uses_tree: bool,
+    lights: &SceneLights,
+) -> bool {
+    settings.guiding.is_none() && !uses_tree && !lights.samples_environment()
 }
 
 /// The buffers of `glsl/materials.glsl`.
@@ -69,8 +73,8 @@ pub struct GpuScene {
     pub light_tree_iterations: Option<u64>,
     /// The BVH's shape, for bounding a traversal's loop iterations (`None` without a BVH).
     pub bvh_stats: Option<BvhStats>,
-    /// Whether the scene's lights let the render take the lean builds (no light tree, no
-    /// environment map to sample; `fits_lean_builds`, guiding aside).
+    /// Whether the render can take the lean builds (`fits_lean_builds`: no guiding, no light
+    /// tree, no environment map to sample).
     pub fits_lean_builds: bool,
 }
 
@@ -221,35 +225,39 @@ impl GpuScene {
             },
         ));
         if let Some(scene_materials) = scene_materials {
-            specialization.push((
-                contract::SPEC_SCENE_HAS_ALPHA,
-                u32::from(scene_materials.uses_alpha()),
-            ));
-            specialization.push((contract::SPEC_SCENE_TEXTURE_SLOTS, texture_slots));
-            specialization.push((
-                contract::SPEC_SCENE_HAS_LAYERS,
-                u32::from(scene_materials.uses_layers()),
-            ));
-            specialization.push((
-                contract::SPEC_SCENE_HAS_ENVIRONMENT,
-                u32::from(scene_lights.has_environment()),
-            ));
-            specialization.push((
-                contract::SPEC_SCENE_HAS_PUNCTUAL_LIGHTS,
-                u32::from(!scene_lights.punctual.is_empty()),
-            ));
-            specialization.push((
-                contract::SPEC_SCENE_SAMPLES_ENVIRONMENT,
-                u32::from(scene_lights.samples_environment()),
-            ));
-            specialization.push((
-                contract::SPEC_SCENE_HAS_SPECULAR,
-                u32::from(scene_materials.uses_specular()),
-            ));
-            specialization.push((
-                contract::SPEC_SCENE_HAS_EMISSIVE_TRIANGLES,
-                u32::from(!scene_lights.emissive.triangle_indices.is_empty()),
-            ));
+            // What the material kernels compile out where the scene lacks it
+            let flag = u32::from;
+            specialization.extend([
+                (
+                    contract::SPEC_SCENE_HAS_ALPHA,
+                    flag(scene_materials.uses_alpha()),
+                ),
+                (contract::SPEC_SCENE_TEXTURE_SLOTS, texture_slots),
+                (
+                    contract::SPEC_SCENE_HAS_LAYERS,
+                    flag(scene_materials.uses_layers()),
+                ),
+                (
+                    contract::SPEC_SCENE_HAS_ENVIRONMENT,
+                    flag(scene_lights.has_environment()),
+                ),
+                (
+                    contract::SPEC_SCENE_HAS_PUNCTUAL_LIGHTS,
+                    flag(!scene_lights.punctual.is_empty()),
+                ),
+                (
+                    contract::SPEC_SCENE_SAMPLES_ENVIRONMENT,
+                    flag(scene_lights.samples_environment()),
+                ),
+                (
+                    contract::SPEC_SCENE_HAS_SPECULAR,
+                    flag(scene_materials.uses_specular()),
+                ),
+                (
+                    contract::SPEC_SCENE_HAS_EMISSIVE_TRIANGLES,
+                    flag(!scene_lights.emissive.triangle_indices.is_empty()),
+                ),
+            ]);
         }
         Ok(GpuScene {
             triangles,
@@ -265,7 +273,7 @@ impl GpuScene {
                 .as_ref()
                 .map(|_| scene_lights.light_search_iterations()),
             bvh_stats: bvh.as_ref().map(Bvh::stats),
-            fits_lean_builds: lights_fit_lean_builds(uses_tree, &scene_lights),
+            fits_lean_builds: render_fits_lean_builds(settings, uses_tree, &scene_lights),
         })
     }
 

@@ -336,7 +336,7 @@ impl Renderer {
                 scene.triangles.len(),
                 materials,
                 layers,
-                settings.guiding.is_none() && gpu_scene.fits_lean_builds,
+                gpu_scene.fits_lean_builds,
             )?,
         };
         let guiding = settings.guiding.is_some();
