@@ -20,7 +20,7 @@ MATURIN_PEP517_ARGS="--profile dev" "$venv/bin/pip" install --quiet "./python[te
 # after `cargo test` this is a no-op; `cargo build --bin` would rebuild the library without
 # the dev-dependencies' features).
 if [ -z "${VKPATH_CLI:-}" ]; then
-  cargo test --no-run --quiet --test cli_errors
+  cargo test --no-run --quiet --test cli
   VKPATH_CLI="$(pwd)/target/debug/vkpath"
 fi
 VKPATH_CLI="$VKPATH_CLI" "$venv/bin/python" -m pytest -q python/tests "$@"

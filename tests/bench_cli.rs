@@ -2,7 +2,7 @@
 //! sampling, and reports finite, positive figures for every integrator asked for, against
 //! the reference.
 
-mod common;
+use crate::common;
 
 use serde_json::Value;
 

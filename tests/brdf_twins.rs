@@ -9,7 +9,7 @@
 //! of the GPU's `sample_brdf` against the CPU's `get_brdf_density`. Every test prints its
 //! measured maximum errors and asserts that the validation layer stayed silent.
 
-mod common;
+use crate::common;
 
 use glam::{UVec2, Vec2, Vec3};
 use vkpath::cpu::brdf::{

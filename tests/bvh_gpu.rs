@@ -2,7 +2,7 @@
 //! twins `bvh_closest_hit` / `bvh_any_hit`, and against the GPU's own brute-force
 //! `ray_mesh_intersection`, with the validation layer on and silent.
 
-mod common;
+use crate::common;
 
 use std::sync::Arc;
 use std::time::Instant;

@@ -4,7 +4,7 @@
 //! has the validation layer on (the binary fails if it reports anything). Renders are small
 //! (32 x 32 at 256 spp) to keep the suite fast on lavapipe.
 
-mod common;
+use crate::common;
 
 use std::path::Path;
 

@@ -1,7 +1,7 @@
 //! Bad input through the binary: one clear line on stderr naming the problem, a non-zero
 //! exit, no panic, and no output file left behind.
 
-mod common;
+use crate::common;
 
 use std::path::Path;
 

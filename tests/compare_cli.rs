@@ -3,7 +3,7 @@
 //! scaled as a wrong exposure or emission would, is not; a reference without moments is
 //! taken as exact; bad inputs give exit status 2 and one error line.
 
-mod common;
+use crate::common;
 
 use std::path::Path;
 use std::process::Output;

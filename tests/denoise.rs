@@ -7,7 +7,7 @@
 //! Measured on lavapipe with OIDN 1.4.3 (colour only, 128x128): the workshop's integrator
 //! relMSE 0.256 noisy, 0.0105 denoised (24x lower); MIS 0.0330 and 0.0044 (7.5x).
 
-mod common;
+use crate::common;
 
 use vkpath::render::aov::{render_aov, Aov};
 

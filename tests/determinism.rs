@@ -1,7 +1,7 @@
 //! The same scene, seed and spp give a bit-identical EXR on the same device, however the
 //! samples are split into frames.
 
-mod common;
+use crate::common;
 
 #[test]
 fn exr_is_bit_identical_whatever_the_samples_per_frame() {

@@ -5,7 +5,7 @@
 //! red wall on the left and green wall on the right; `guide-cell` draws a trained guide's
 //! samples and the BSDF's where the twins put them.
 
-mod common;
+use crate::common;
 
 use std::path::Path;
 

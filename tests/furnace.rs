@@ -3,7 +3,7 @@
 //! with every integrator, both traversals, both samplers, both light samplings, and with
 //! path guiding (nee and mis, `--guiding`).
 
-mod common;
+use crate::common;
 
 use vkpath::guiding::training::GuideTraining;
 use vkpath::scene::procedural::{furnace, furnace_radiance};

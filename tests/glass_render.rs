@@ -5,7 +5,7 @@
 //! Beer-Lambert and exact Fresnel terms, and a thin-walled pane transmits (1 - F) of what is
 //! behind it, tinted by its base colour.
 
-mod common;
+use crate::common;
 
 use glam::{Vec2, Vec3, Vec4};
 use vkpath::camera::Camera;

@@ -2,7 +2,7 @@
 //! camera on a rotated node, lands on the expected pixel of a GPU render (loader, node
 //! transforms, camera, image-plane maths and the row flip for output all take part).
 
-mod common;
+use crate::common;
 
 use std::path::Path;
 

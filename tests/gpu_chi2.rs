@@ -4,7 +4,7 @@
 //! several tests form one family). The naive spherical-coordinates sampler must fail the
 //! same test, which shows that the test has teeth on GPU output too.
 
-mod common;
+use crate::common;
 
 use std::sync::Arc;
 

@@ -6,7 +6,7 @@
 //! bounded. Every test prints its measured maximum errors and asserts that the validation
 //! layer stayed silent.
 
-mod common;
+use crate::common;
 
 use std::sync::Arc;
 

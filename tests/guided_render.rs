@@ -6,7 +6,7 @@
 //! its guide; and the options that cannot work say so in one line. The validation layer stays
 //! silent throughout (`--validate`, `assert_validation_silent`).
 
-mod common;
+use crate::common;
 
 use std::cell::Cell;
 use std::path::Path;

@@ -8,7 +8,7 @@
 //! path can diverge, and how rarely). The test asserts that the validation layer stayed
 //! silent.
 
-mod common;
+use crate::common;
 
 use vkpath::cpu::guiding::GuideTexels;
 use vkpath::cpu::{

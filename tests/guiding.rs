@@ -4,7 +4,7 @@
 //! direction up to the GPU's arctangent at bin edges, the same sampled direction up to its
 //! sine and cosine. The test asserts that the validation layer stayed silent.
 
-mod common;
+use crate::common;
 
 use glam::{Vec2, Vec3};
 use vkpath::cpu::guiding::{

@@ -1,7 +1,7 @@
 //! Hostile and broken scene files through the binary: one line a user can act on, a non-zero
 //! exit, no panic, no unbounded read, nothing outside the scene's folder read unless asked.
 
-mod common;
+use crate::common;
 
 use std::path::Path;
 

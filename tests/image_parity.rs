@@ -8,7 +8,7 @@
 //! pixels, check that each one has such a near-tie on its CPU path, bound their number, and
 //! z-test 8x8 block means so that the divergent paths cannot hide a bias.
 
-mod common;
+use crate::common;
 
 use std::path::PathBuf;
 

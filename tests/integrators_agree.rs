@@ -7,7 +7,7 @@
 //! 1.7% low after 4e5 samples, 0.3% after 2e7). Solid-angle sampling, the default, has no
 //! such tail. Area-sampled NEE is checked against the furnace's closed form (tests/furnace.rs).
 
-mod common;
+use crate::common;
 
 use vkpath::render::settings::DEFAULT_MAX_PATH_LENGTH;
 use vkpath::stats::ztest::{z_test_images, MeanImage};

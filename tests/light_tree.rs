@@ -5,7 +5,7 @@
 //! behind the surface are never chosen; and a corridor of 1000 lights renders consistently
 //! with the power CDF's image. Each test asserts that the validation layer stayed silent.
 
-mod common;
+use crate::common;
 
 use glam::Vec3;
 use vkpath::cpu::light_tree::{

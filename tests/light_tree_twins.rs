@@ -6,7 +6,7 @@
 //! from the same random numbers, so only float rounding separates them (see
 //! `tests/image_parity.rs`). The test asserts that the validation layer stayed silent.
 
-mod common;
+use crate::common;
 
 use vkpath::bvh::Bvh;
 use vkpath::contract::LIGHT_SELECTION_TREE;

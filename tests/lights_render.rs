@@ -2,7 +2,7 @@
 //! diffuse object under a constant background, point, spot and directional lights over a
 //! diffuse plane, and an environment map that every integrator sees alike.
 
-mod common;
+use crate::common;
 
 use glam::{Mat4, Vec3};
 use vkpath::camera::Camera;

@@ -2,7 +2,7 @@
 //! kernel's loop bound, `vkpath::kernels::loops`, relies on it), and a render with long
 //! paths (mis, BVH) that is neither refused nor cut short.
 
-mod common;
+use crate::common;
 
 use ash::vk;
 use gpu_allocator::MemoryLocation;

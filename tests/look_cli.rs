@@ -2,7 +2,7 @@
 //! --preview`, each with the validation layer on (a render fails when it reports anything),
 //! and their bad values as one-line usage errors.
 
-mod common;
+use crate::common;
 
 use std::path::Path;
 use std::process::Stdio;

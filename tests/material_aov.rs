@@ -6,7 +6,7 @@
 //! the workshop's Lambertian triangles show (0, 1, 0) in both kernels. This is the probe of
 //! the metallic and roughness that the BRDF really gets at the camera's hits.
 
-mod common;
+use crate::common;
 
 use glam::{UVec4, Vec2, Vec3, Vec4};
 use vkpath::camera::Camera;

@@ -2,7 +2,7 @@
 //! the render goes on with the material's factor; a texture index out of range is a one-line
 //! error; the showcase scene renders without warnings.
 
-mod common;
+use crate::common;
 
 use std::path::Path;
 

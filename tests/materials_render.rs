@@ -3,7 +3,7 @@
 //! view angle; every integrator estimates the same image on glossy materials; textures and
 //! alpha (mask and blend) show what the CPU twins of the texture lookup predict.
 
-mod common;
+use crate::common;
 
 use common::scenes::{glossy_box, white_metal};
 

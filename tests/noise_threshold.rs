@@ -4,7 +4,7 @@
 //! `compare` judges it consistent with a reference, and the image does not depend on how
 //! samples are split into frames or tiles.
 
-mod common;
+use crate::common;
 
 use std::path::Path;
 

@@ -3,7 +3,7 @@
 //! before the first sample writes nothing and leaves an existing output as it was; a second
 //! signal aborts at once without leaving a temporary or a partial file.
 
-mod common;
+use crate::common;
 
 use std::io::{BufRead, BufReader};
 use std::os::unix::fs::{symlink, FileTypeExt};

@@ -3,7 +3,7 @@
 //! a cached run renders the identical image, a corrupt file is ignored with a warning and
 //! rewritten, `--no-cache` touches nothing, and a cache that cannot be written is a warning.
 
-mod common;
+use crate::common;
 
 use std::path::{Path, PathBuf};
 use std::process::Output;

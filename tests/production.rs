@@ -3,7 +3,7 @@
 //! kept within a second; shards merge into the single render within the documented 4 ulps;
 //! mismatched checkpoints and shards are refused with the reason.
 
-mod common;
+use crate::common;
 
 use std::path::Path;
 use std::process::{Command, Stdio};

@@ -8,7 +8,7 @@
 //! bounds justified below; the test prints its measured errors and asserts that the
 //! validation layer stayed silent.
 
-mod common;
+use crate::common;
 
 use glam::{EulerRot, Mat4, Quat, Vec3};
 use vkpath::contract::NO_HIT_T;

@@ -2,7 +2,7 @@
 //! render put on the device in tiles, are bit for bit what the full untiled render gives;
 //! the region's EXR records the full image as its display window; bad regions are one line.
 
-mod common;
+use crate::common;
 
 use std::collections::BTreeMap;
 use std::path::Path;

@@ -2,7 +2,7 @@
 //! silent on success, a warning for each option without effect, several outputs from one
 //! render, `wrote PATH` for every file, and the command line's names in EXR metadata.
 
-mod common;
+use crate::common;
 
 use std::collections::BTreeSet;
 use std::path::Path;

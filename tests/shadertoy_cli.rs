@@ -5,7 +5,7 @@
 //! line, and stops by signal and time limit that keep what was reached. Every run has the
 //! validation layer on (the binary fails if it reports anything). Images are tiny.
 
-mod common;
+use crate::common;
 
 use std::path::Path;
 use std::process::{Command, Stdio};

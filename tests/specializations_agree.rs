@@ -6,7 +6,7 @@
 //! Each test renders a scene and the same scene with one more material that no triangle
 //! uses, which turns the cut off, and compares the bits.
 
-mod common;
+use crate::common;
 
 use vkpath::scene::materials::{PbrMaterial, TextureBinding};
 use vkpath::scene::textures::TextureTransform;

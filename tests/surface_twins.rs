@@ -9,7 +9,7 @@
 //! the bounds justified below; the test prints its measured errors and asserts that the
 //! validation layer stayed silent.
 
-mod common;
+use crate::common;
 
 use glam::{UVec2, Vec2, Vec3};
 use vkpath::cpu::gltf_surface::{

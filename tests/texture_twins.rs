@@ -7,7 +7,7 @@
 //! below; every test prints its measured maximum errors and asserts that the validation
 //! layer stayed silent.
 
-mod common;
+use crate::common;
 
 use glam::{IVec2, UVec4, Vec2, Vec4};
 use vkpath::contract::{WRAP_CLAMP_TO_EDGE, WRAP_MIRRORED_REPEAT, WRAP_REPEAT};

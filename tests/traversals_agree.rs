@@ -4,7 +4,7 @@
 //! the material kernels' builds with and without the layered lobes on a scene that has none,
 //! and a small material scene's constant triangles (the default) and its BVH.
 
-mod common;
+use crate::common;
 
 use vkpath::render::gpu_scene::fits_lean_builds;
 use vkpath::render::settings::Accel;

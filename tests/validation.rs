@@ -1,6 +1,6 @@
 //! The validation layer stays silent during a render, and the counter that says so works.
 
-mod common;
+use crate::common;
 
 use ash::vk;
 use vkpath::{RenderSettings, Renderer, Scene};

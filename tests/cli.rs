@@ -1,0 +1,39 @@
+//! The command-line tests: each runs the `vkpath` binary (with `common::vkpath`) on small
+//! scenes and checks its outputs, messages and exit codes. One test binary for all of them, so
+//! that the crate is linked once (issue 40: 42 binaries took 5 min 44 s of CI to build); each
+//! file below is a module, run alone with `cargo test --test cli <module>::`.
+
+mod common;
+
+#[path = "bench_cli.rs"]
+mod bench_cli;
+#[path = "cli_errors.rs"]
+mod cli_errors;
+#[path = "compare_cli.rs"]
+mod compare_cli;
+#[path = "determinism.rs"]
+mod determinism;
+#[path = "exercise_cli.rs"]
+mod exercise_cli;
+#[path = "hostile_input.rs"]
+mod hostile_input;
+#[path = "look_cli.rs"]
+mod look_cli;
+#[path = "materials_cli.rs"]
+mod materials_cli;
+#[path = "noise_threshold.rs"]
+mod noise_threshold;
+#[path = "nothing_lost.rs"]
+mod nothing_lost;
+#[path = "pipeline_cache.rs"]
+mod pipeline_cache;
+#[path = "production.rs"]
+mod production;
+#[path = "region_tiles.rs"]
+mod region_tiles;
+#[path = "scripting_cli.rs"]
+mod scripting_cli;
+#[path = "check_cli.rs"]
+mod check_cli;
+#[path = "shadertoy_cli.rs"]
+mod shadertoy_cli;
