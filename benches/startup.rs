@@ -14,7 +14,7 @@ use std::time::Instant;
 
 use glam::Vec3;
 use vkpath::lights::EnvironmentSource;
-use vkpath::render::gpu_scene::fits_lean_builds;
+use vkpath::render::gpu_scene::embedded_build;
 use vkpath::render::Traversal;
 use vkpath::{Context, ContextOptions, Integrator, RenderSettings, Renderer, Scene};
 
@@ -43,13 +43,7 @@ fn measure(
         ..RenderSettings::default()
     };
     // The build that `Renderer::new` would take for this traversal
-    let spirv = traversal
-        .build_for(
-            scene.triangles.len(),
-            scene.needs_material_kernels(),
-            scene.needs_layered_kernels(),
-            fits_lean_builds(scene, &settings),
-        )?
+    let spirv = embedded_build(scene, &settings, traversal)?
         .embedded_spirv()?;
     let samples = f64::from(settings.width * settings.height);
     let started = Instant::now();

@@ -6,6 +6,7 @@
 
 use crate::common;
 
+use vkpath::kernels::variant::{path_tracer_variant, KernelSource, SceneSummary, VariantSettings};
 use vkpath::render::gpu_scene::fits_lean_builds;
 use vkpath::render::settings::Accel;
 use vkpath::render::Traversal;
@@ -78,14 +79,20 @@ fn the_build_for_few_triangles_renders_exactly_as_the_full_one() {
     let context = common::validated_context();
     let scene = Scene::builtin_cornell_box().unwrap();
     let settings = box_settings(Integrator::Mis);
-    let picked = Traversal::for_scene(&scene, Accel::Auto)
-        .build_for(
-            scene.triangles.len(),
-            false,
-            false,
-            fits_lean_builds(&scene, &settings),
-        )
-        .unwrap();
+    assert!(fits_lean_builds(&scene, &settings));
+    let summary = SceneSummary {
+        triangle_count: scene.triangles.len(),
+        emissive_triangles: true,
+        ..SceneSummary::default()
+    };
+    let picked = path_tracer_variant(
+        &summary,
+        &VariantSettings::default(),
+        Traversal::for_scene(&scene, Accel::Auto),
+        KernelSource::Embedded,
+    )
+    .unwrap()
+    .build;
     // ... without the light tree and guiding, which it does not need (the lean build)
     assert_eq!(picked.name, "path_tracer_few_triangles_lean");
     for integrator in [Integrator::PathTracing, Integrator::Mis] {
@@ -141,7 +148,7 @@ fn render_both_material_builds(scene: &Scene, integrator: Integrator) -> (Vec<f3
         .unwrap()
         .mean
         .concat();
-    let layered = Traversal::Bvh.build(true, true).unwrap();
+    let layered = plain_build(Traversal::Bvh, true, true);
     assert_eq!(layered.name, "path_tracer_materials_bvh");
     let spirv = layered.embedded_spirv().unwrap();
     let full = Renderer::with_kernel(&context, scene, &camera, settings, &spirv, Traversal::Bvh)
@@ -236,7 +243,20 @@ fn constant_triangles_refuse_a_scene_with_alpha() {
     assert!(scene.uses_alpha());
     assert_eq!(Traversal::for_scene(&scene, Accel::Auto), Traversal::Bvh);
     assert_eq!(Traversal::for_scene(&scene, Accel::None), Traversal::Linear);
-    let build = Traversal::ConstantTriangles.build(true, false).unwrap();
+    let build = plain_build(Traversal::ConstantTriangles, true, false);
     let message = constant_triangles_refusal(&scene, &build.embedded_spirv().unwrap());
     assert!(message.contains("no alpha test"), "{message}");
+}
+
+/// The build that a kernel given to `Renderer::with_kernel` is compiled as, for a scene with
+/// glTF `materials` (and their `layers`) or without.
+fn plain_build(traversal: Traversal, materials: bool, layers: bool) -> vkpath::kernels::Build {
+    let summary = SceneSummary {
+        materials,
+        layers,
+        ..SceneSummary::default()
+    };
+    path_tracer_variant(&summary, &VariantSettings::default(), traversal, KernelSource::Given)
+        .unwrap()
+        .build
 }

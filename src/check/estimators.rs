@@ -24,6 +24,7 @@ use crate::error::{Error, Result};
 use crate::image_io::data::RenderedImage;
 use crate::kernels::PATH_TRACER;
 use crate::render::settings::{Integrator, PixelFilter, RenderSettings};
+use crate::kernels::variant::{path_tracer_variant, KernelSource, SceneSummary, VariantSettings};
 use crate::render::{Renderer, Traversal};
 use crate::stats::ztest::{two_sided_p_value, z_score, z_test_images, MeanImage};
 
@@ -336,7 +337,13 @@ fn render(
         Traversal::ConstantTriangles
     };
     // The path tracer's build for the traversal (crate::kernels), with check's own macros.
-    let build = traversal.build(false, false)?;
+    let build = path_tracer_variant(
+        &SceneSummary::default(),
+        &VariantSettings::default(),
+        traversal,
+        KernelSource::Given,
+    )?
+    .build;
     let mut macros = build.macros.to_vec();
     if variant != Variant::AsYourFileRuns {
         macros.push(("IGNORE_START_SURFACE", "1"));

@@ -22,8 +22,9 @@ const SCENE_SPEC: [SpecConstants; 3] = [
     SpecConstants::one(c::SPEC_SCENE_HAS_ALPHA),
 ];
 
-/// The progressive path tracer (`crate::render::Renderer`), in four builds: with or without
-/// a BVH, with or without glTF materials.
+/// The progressive path tracer (`crate::render::Renderer`), in the builds of
+/// `builds::EXTRA_BUILDS` and its plain one; which of them a render takes, and with which
+/// scene constants, the variant room decides (`crate::kernels::variant`).
 pub static PATH_TRACER: Kernel = Kernel {
     source: "path_tracer.comp",
     bindings: bindings::PATH_TRACER,

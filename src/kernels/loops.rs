@@ -14,7 +14,7 @@
 
 use crate::bvh::BvhStats;
 use crate::contract;
-use crate::render::traversal::Traversal;
+use crate::kernels::variant::Traversal;
 
 /// How many times one loop may iterate, in what the kernel counts.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]

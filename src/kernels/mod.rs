@@ -11,6 +11,7 @@ pub mod catalog;
 pub mod loops;
 pub mod reflect;
 pub mod scan;
+pub mod variant;
 
 use std::sync::Arc;
 
@@ -246,75 +247,11 @@ impl KernelPipeline {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::render::traversal::Traversal;
+    use crate::kernels::variant::{path_tracer_variant, KernelSource, SceneSummary, Traversal, VariantSettings};
 
     #[test]
-    fn each_traversal_and_material_choice_has_its_path_tracer_build() {
-        let name = |traversal: Traversal, materials, layers| {
-            traversal.build(materials, layers).unwrap().name
-        };
-        for layers in [false, true] {
-            assert_eq!(
-                name(Traversal::ConstantTriangles, false, layers),
-                "path_tracer"
-            );
-            assert_eq!(name(Traversal::Linear, false, layers), "path_tracer");
-            assert_eq!(name(Traversal::Bvh, false, layers), "path_tracer_bvh");
-        }
-        assert_eq!(name(Traversal::Linear, true, true), "path_tracer_materials");
-        assert_eq!(
-            name(Traversal::ConstantTriangles, true, false),
-            "path_tracer_materials_without_layers"
-        );
-        assert_eq!(
-            name(Traversal::Bvh, true, true),
-            "path_tracer_materials_bvh"
-        );
-        assert_eq!(
-            name(Traversal::Bvh, true, false),
-            "path_tracer_materials_bvh_without_layers"
-        );
-        let few = crate::contract::FEW_CONSTANT_TRIANGLE_CAPACITY as usize;
-        use Traversal::{Bvh, ConstantTriangles as Constant, Linear};
-        // (traversal, triangles, materials, layers, lean): the build `build_for` picks
-        let cases = [
-            // The lean builds, where the render needs no light tree, guiding or map
-            (
-                (Constant, few, false, false, true),
-                "path_tracer_few_triangles_lean",
-            ),
-            ((Bvh, 100, false, false, true), "path_tracer_bvh_lean"),
-            (
-                (Constant, 12, true, false, true),
-                "path_tracer_materials_lean",
-            ),
-            (
-                (Linear, 100, true, false, true),
-                "path_tracer_materials_lean",
-            ),
-            (
-                (Bvh, 100, true, false, true),
-                "path_tracer_materials_bvh_lean",
-            ),
-            // ... and the full build where none is lean
-            ((Linear, 100, false, false, true), "path_tracer"),
-            ((Bvh, 100, true, true, true), "path_tracer_materials_bvh"),
-            // The few-triangle build, and the full ones without lean
-            (
-                (Constant, few, false, false, false),
-                "path_tracer_few_triangles",
-            ),
-            ((Constant, few + 1, false, false, false), "path_tracer"),
-            ((Linear, 12, false, false, false), "path_tracer"),
-            (
-                (Constant, 12, true, false, false),
-                "path_tracer_materials_without_layers",
-            ),
-        ];
-        for ((traversal, count, materials, layers, lean), expected) in cases {
-            let picked = traversal.build_for(count, materials, layers, lean).unwrap();
-            assert_eq!(picked.name, expected, "{traversal:?}, {count} triangles, materials {materials}, layers {layers}, lean {lean}");
-        }
+    fn every_path_tracer_build_is_embedded() {
+        // Which build a render takes is variant::tests' matter
         for build in PATH_TRACER.builds() {
             assert!(build.embedded_spirv().is_ok(), "{}", build.name);
         }
@@ -323,8 +260,13 @@ mod tests {
 
     #[test]
     fn rows_and_constants_follow_the_build() {
-        let bvh = Traversal::Bvh.build(false, false).unwrap();
-        let plain = Traversal::Linear.build(false, false).unwrap();
+        let plain_build = |traversal| {
+            let scene = SceneSummary::default();
+            path_tracer_variant(&scene, &VariantSettings::default(), traversal, KernelSource::Given)
+                .unwrap()
+                .build
+        };
+        let (bvh, plain) = (plain_build(Traversal::Bvh), plain_build(Traversal::Linear));
         let binds = |build: &Build, resource| {
             PATH_TRACER
                 .bindings_of(build)

@@ -1,7 +1,7 @@
 //! The scene as the path-tracing kernel reads it: triangles (in BVH leaf order when a BVH
 //! is used, with their positions also apart for the traversal's triangle tests), its lights
 //! (`crate::lights::SceneLights`), the BVH nodes and the render uniforms, uploaded to the
-//! device, with the specialization constants that go with them; the kernel's binding table
+//! device, with the summary the variant room reads (`crate::kernels::variant`); the kernel's binding table
 //! (`crate::kernels::bindings`) says where each is bound.
 
 use std::sync::Arc;
@@ -10,7 +10,6 @@ use ash::vk;
 
 use crate::bvh::{traversal_triangles, Bvh, BvhStats};
 use crate::camera::Camera;
-use crate::contract;
 use crate::error::{Error, Result};
 use crate::kernels::{Bound, Resource};
 use crate::lights::SceneLights;
@@ -20,28 +19,71 @@ use crate::render::gpu_materials::{
 use crate::render::gpu_textures::TextureAtlas;
 use crate::render::gpu_types::{GpuTriangle, RenderUniforms};
 use crate::render::settings::RenderSettings;
-use crate::render::traversal::{constant_triangle_specialization, Traversal};
+use crate::kernels::variant::{
+    self, path_tracer_variant, KernelSource, SceneSummary, Traversal, VariantSettings,
+};
+use crate::kernels::Build;
+use crate::scene::materials::SceneMaterials;
 use crate::scene::Scene;
 use crate::vk::{Buffer, CommandRunner, Context, TexelBufferView};
 
 /// Whether a render of `scene` with `settings` can take the lean builds of the path tracer
-/// (`crate::kernels::builds::WITHOUT_LIGHT_TREE`): no light tree, no path guiding, no
-/// environment map to sample. `GpuScene::fits_lean_builds` says the same for an uploaded scene.
+/// (`crate::kernels::variant::fits_lean_builds`: no light tree, no path guiding, no
+/// environment map to sample).
 pub fn fits_lean_builds(scene: &Scene, settings: &RenderSettings) -> bool {
     let lights = SceneLights::new(scene, &scene.triangles);
-    let uses_tree = settings
-        .light_selection
-        .uses_tree(lights.emissive.triangle_indices.len());
-    render_fits_lean_builds(settings, uses_tree, &lights)
+    let summary = scene_summary(scene, None, &lights, 0);
+    variant::fits_lean_builds(&summary, &variant_settings(settings, &lights))
 }
 
-/// `fits_lean_builds` from the lights that the upload has already gathered.
-fn render_fits_lean_builds(
-    settings: &RenderSettings,
-    uses_tree: bool,
+/// The build of the path tracer that `Renderer::new` takes for `scene` with `settings` and
+/// `traversal` (the variant room's choice, which reads no texture slots).
+pub fn embedded_build(scene: &Scene, settings: &RenderSettings, traversal: Traversal) -> Result<Build> {
+    let lights = SceneLights::new(scene, &scene.triangles);
+    let plain_materials;
+    let materials = match &scene.materials {
+        Some(materials) => Some(materials),
+        None if scene.needs_material_kernels() => {
+            plain_materials = SceneMaterials::from_plain(&scene.triangles);
+            Some(&plain_materials)
+        }
+        None => None,
+    };
+    let summary = scene_summary(scene, materials, &lights, 0);
+    let settings = variant_settings(settings, &lights);
+    Ok(path_tracer_variant(&summary, &settings, traversal, KernelSource::Embedded)?.build)
+}
+
+/// What the variant room reads of `scene`, of the materials the kernels read (`None`: the
+/// workshop kernels), of its lights and of the texture slots its materials use.
+fn scene_summary(
+    scene: &Scene,
+    materials: Option<&SceneMaterials>,
     lights: &SceneLights,
-) -> bool {
-    settings.guiding.is_none() && !uses_tree && !lights.samples_environment()
+    texture_slots: u32,
+) -> SceneSummary {
+    SceneSummary {
+        triangle_count: scene.triangles.len(),
+        materials: materials.is_some(),
+        layers: materials.is_some_and(|m| m.uses_layers()),
+        alpha: materials.is_some_and(|m| m.uses_alpha()),
+        specular: materials.is_some_and(|m| m.uses_specular()),
+        texture_slots,
+        environment: lights.has_environment(),
+        samples_environment: lights.samples_environment(),
+        punctual_lights: !lights.punctual.is_empty(),
+        emissive_triangles: !lights.emissive.triangle_indices.is_empty(),
+    }
+}
+
+/// What the variant room reads of `settings`, for a scene with `lights`.
+fn variant_settings(settings: &RenderSettings, lights: &SceneLights) -> VariantSettings {
+    VariantSettings {
+        guiding: settings.guiding.is_some(),
+        light_tree: settings
+            .light_selection
+            .uses_tree(lights.emissive.triangle_indices.len()),
+    }
 }
 
 /// The buffers of `glsl/materials.glsl`.
@@ -63,8 +105,10 @@ pub struct GpuScene {
     traversal_triangles: Option<TexelBufferView>,
     /// Shading data, materials and texture texels (scenes with materials only).
     materials: Option<MaterialBuffers>,
-    /// The specialization constants that the traversal needs (the constant triangles).
-    pub specialization: Vec<(u32, u32)>,
+    /// What the variant room (`crate::kernels::variant`) reads of the scene.
+    pub summary: SceneSummary,
+    /// What the variant room reads of the settings.
+    pub variant_settings: VariantSettings,
     /// Emissive triangles, the count that the kernel's light search halves
     /// (`get_light_count()`).
     pub light_count: u64,
@@ -73,9 +117,6 @@ pub struct GpuScene {
     pub light_tree_iterations: Option<u64>,
     /// The BVH's shape, for bounding a traversal's loop iterations (`None` without a BVH).
     pub bvh_stats: Option<BvhStats>,
-    /// Whether the render can take the lean builds (`fits_lean_builds`: no guiding, no light
-    /// tree, no environment map to sample).
-    pub fits_lean_builds: bool,
 }
 
 impl GpuScene {
@@ -99,10 +140,8 @@ impl GpuScene {
         let mut gpu_triangles: Vec<GpuTriangle> =
             ordered_triangles.iter().map(GpuTriangle::new).collect();
         let mut scene_lights = SceneLights::new(scene, &ordered_triangles);
-        let uses_tree = settings
-            .light_selection
-            .uses_tree(scene_lights.emissive.triangle_indices.len());
-        if uses_tree {
+        let variant_settings = variant_settings(settings, &scene_lights);
+        if variant_settings.light_tree {
             scene_lights = scene_lights.with_light_tree(&ordered_triangles);
         }
         scene_lights.annotate(&mut gpu_triangles);
@@ -150,7 +189,7 @@ impl GpuScene {
             Some(materials) => Some(materials),
             None if scene.needs_material_kernels() => {
                 plain_materials =
-                    crate::scene::materials::SceneMaterials::from_plain(&scene.triangles);
+                    SceneMaterials::from_plain(&scene.triangles);
                 Some(&plain_materials)
             }
             None => None,
@@ -215,50 +254,7 @@ impl GpuScene {
                 })
             }
         };
-        let mut specialization = constant_triangle_specialization(traversal, &ordered_triangles);
-        specialization.push((
-            contract::SPEC_LIGHT_SELECTION,
-            if uses_tree {
-                contract::LIGHT_SELECTION_TREE
-            } else {
-                contract::LIGHT_SELECTION_POWER
-            },
-        ));
-        if let Some(scene_materials) = scene_materials {
-            // What the material kernels compile out where the scene lacks it
-            let flag = u32::from;
-            specialization.extend([
-                (
-                    contract::SPEC_SCENE_HAS_ALPHA,
-                    flag(scene_materials.uses_alpha()),
-                ),
-                (contract::SPEC_SCENE_TEXTURE_SLOTS, texture_slots),
-                (
-                    contract::SPEC_SCENE_HAS_LAYERS,
-                    flag(scene_materials.uses_layers()),
-                ),
-                (
-                    contract::SPEC_SCENE_HAS_ENVIRONMENT,
-                    flag(scene_lights.has_environment()),
-                ),
-                (
-                    contract::SPEC_SCENE_HAS_PUNCTUAL_LIGHTS,
-                    flag(!scene_lights.punctual.is_empty()),
-                ),
-                (
-                    contract::SPEC_SCENE_SAMPLES_ENVIRONMENT,
-                    flag(scene_lights.samples_environment()),
-                ),
-                (
-                    contract::SPEC_SCENE_HAS_SPECULAR,
-                    flag(scene_materials.uses_specular()),
-                ),
-                (
-                    contract::SPEC_SCENE_HAS_EMISSIVE_TRIANGLES,
-                    flag(!scene_lights.emissive.triangle_indices.is_empty()),
-                ),
-            ]);
-        }
+        let summary = scene_summary(scene, scene_materials, &scene_lights, texture_slots);
         Ok(GpuScene {
             triangles,
             uniforms,
@@ -266,14 +262,14 @@ impl GpuScene {
             bvh_nodes,
             traversal_triangles,
             materials,
-            specialization,
+            summary,
+            variant_settings,
             light_count: scene_lights.emissive.triangle_indices.len() as u64,
             light_tree_iterations: scene_lights
                 .tree
                 .as_ref()
                 .map(|_| scene_lights.light_search_iterations()),
             bvh_stats: bvh.as_ref().map(Bvh::stats),
-            fits_lean_builds: render_fits_lean_builds(settings, uses_tree, &scene_lights),
         })
     }
 

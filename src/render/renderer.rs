@@ -27,7 +27,9 @@ use crate::render::tiles::{
     area_texel_count, copy_tile, host_available_memory, layer_count, scene_bytes, tile_layout,
     validate_host_memory,
 };
-use crate::render::traversal::Traversal;
+use crate::kernels::variant::{
+    constant_triangle_specialization, path_tracer_variant, KernelSource, Traversal,
+};
 use crate::scene::Scene;
 use crate::vk::{Buffer, CommandRunner, Context, DescriptorSet, StorageImage};
 
@@ -325,20 +327,19 @@ impl Renderer {
             None => Traversal::for_scene(scene, settings.accel),
         };
         let gpu_scene = GpuScene::upload(context, &commands, scene, camera, &settings, traversal)?;
-        let (materials, layers) = (
-            scene.needs_material_kernels(),
-            scene.needs_layered_kernels(),
-        );
-        // A given kernel was compiled as `build` says (the plain source, 64 constant triangles)
-        let build = match kernel {
-            Some(_) => traversal.build(materials, layers)?,
-            None => traversal.build_for(
-                scene.triangles.len(),
-                materials,
-                layers,
-                gpu_scene.fits_lean_builds,
-            )?,
+        let materials = gpu_scene.summary.materials;
+        // A given kernel was compiled as the variant room says of one (the plain macros)
+        let source = match kernel {
+            Some(_) => KernelSource::Given,
+            None => KernelSource::Embedded,
         };
+        let variant = path_tracer_variant(
+            &gpu_scene.summary,
+            &gpu_scene.variant_settings,
+            traversal,
+            source,
+        )?;
+        let build = variant.build;
         let guiding = settings.guiding.is_some();
         let loops = LoopCoefficients::path_tracer(traversal, guiding, materials);
         let loop_limit = LoopLimit::of(context);
@@ -355,7 +356,8 @@ impl Renderer {
         let samples_per_dispatch =
             loop_limit.samples_per_dispatch(&settings, &loops, &work, traversal)?;
         let mut specialization = settings.specialization();
-        specialization.extend_from_slice(&gpu_scene.specialization);
+        specialization.extend(constant_triangle_specialization(traversal, &scene.triangles));
+        specialization.extend_from_slice(&variant.specialization);
         specialization.push((contract::SPEC_LOOP_LIMIT, loop_limit.0));
         specialization.extend_from_slice(&loops.specialization());
         let specialization_with = |guiding_value| {
