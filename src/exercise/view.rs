@@ -3,7 +3,6 @@
 //! `sample_brdf`, with the material and view direction of a `BrdfDisplaySetup`). Same names
 //! and maths as the shader, so that a test can predict where every dot lands.
 
-use bytemuck::{Pod, Zeroable};
 use glam::{UVec2, Vec2, Vec3};
 
 use crate::contract::{
@@ -31,23 +30,8 @@ pub const SAMPLE_VIEW_TOWARD_VIEWER: Vec3 =
 /// (`glsl/shared.h`).
 pub use crate::contract::SAMPLE_VIEW_HALF_HEIGHT;
 
-/// `exercise_push_constants` of `glsl/exercise_samples.comp` (80 bytes, within the 128 that
-/// Vulkan guarantees). All but the first field only matter for `EXERCISE_SAMPLER_BRDF`.
-#[repr(C)]
-#[derive(Clone, Copy, Debug, PartialEq, Pod, Zeroable)]
-pub struct SampleDisplayPushConstants {
-    /// Image width and height in pixels, `EXERCISE_SAMPLER_*`, seed of the sample sequence.
-    pub resolution_sampler_seed: [u32; 4],
-    /// The material's base colour (linear RGB) and metallic factor.
-    pub base_color_metallic: [f32; 4],
-    /// The material's specular colour (linear RGB) and specular factor.
-    pub specular_color_specular: [f32; 4],
-    /// Unit view direction (from the surface towards the viewer, world space; the normal is
-    /// +z), w = 0.
-    pub view_direction: [f32; 4],
-    /// The material's perceptual roughness and index of refraction, z = w = 0.
-    pub roughness_ior: [f32; 4],
-}
+/// The sample display's push constants, declared beside the kernels.
+pub use crate::kernels::push_constants::SampleDisplayPushConstants;
 
 impl SampleDisplayPushConstants {
     /// The constants that draw `sampler` (its samples drawn from `seed`) at `width` x
@@ -227,25 +211,7 @@ mod tests {
     use std::mem::{offset_of, size_of};
 
     #[test]
-    fn push_constants_match_the_shader_block() {
-        // uniform exercise_push_constants { uvec4 g_resolution_sampler_seed;
-        //     vec4 g_base_color_metallic; vec4 g_specular_color_specular;
-        //     vec4 g_view_direction; vec4 g_roughness_ior; }: five 16-byte members.
-        assert_eq!(size_of::<SampleDisplayPushConstants>(), 80);
-        assert_eq!(
-            offset_of!(SampleDisplayPushConstants, resolution_sampler_seed),
-            0
-        );
-        assert_eq!(
-            offset_of!(SampleDisplayPushConstants, base_color_metallic),
-            16
-        );
-        assert_eq!(
-            offset_of!(SampleDisplayPushConstants, specular_color_specular),
-            32
-        );
-        assert_eq!(offset_of!(SampleDisplayPushConstants, view_direction), 48);
-        assert_eq!(offset_of!(SampleDisplayPushConstants, roughness_ior), 64);
+    fn push_constants_carry_the_material_and_view() {
         let setup = BrdfDisplaySetup::new(
             MaterialSample {
                 base_color: Vec3::new(0.1, 0.2, 0.3),

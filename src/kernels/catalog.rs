@@ -5,11 +5,11 @@
 use std::mem::size_of;
 
 use crate::contract as c;
-use crate::exercise::view::SampleDisplayPushConstants;
 use crate::kernels::bindings;
+use crate::kernels::push_constants::{
+    FramePushConstants, ProbePushConstants, SampleDisplayPushConstants,
+};
 use crate::kernels::{Kernel, SpecConstants};
-use crate::probe::layout::ProbePushConstants;
-use crate::render::gpu_types::FramePushConstants;
 
 /// The specialization constants of `glsl/scene.glsl` and `glsl/constant_triangles.glsl`,
 /// which every kernel that traces rays declares.

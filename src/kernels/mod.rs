@@ -9,6 +9,7 @@ pub mod bindings;
 pub mod builds;
 pub mod catalog;
 pub mod loops;
+pub mod push_constants;
 pub mod reflect;
 pub mod scan;
 pub mod variant;

@@ -16,8 +16,51 @@ use crate::kernels::builds::{
     WITHOUT_LAYERS, WITHOUT_LIGHT_TREE,
 };
 use crate::kernels::{Build, PATH_TRACER};
-use crate::render::settings::Accel;
 use crate::scene::Triangle;
+
+/// How rays find the closest triangle.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+#[cfg_attr(feature = "cli", derive(clap::ValueEnum))]
+pub enum Accel {
+    /// A BVH for scenes of more than `BVH_THRESHOLD` triangles and for material scenes that
+    /// the constant triangles cannot trace (more than 16 triangles, or alpha), else the loop
+    /// compiled into the kernel (`Traversal::choose`).
+    #[default]
+    #[cfg_attr(
+        feature = "cli",
+        value(
+            help = "A BVH above 64 triangles (glTF materials: above 16 or with alpha), else the linear loop"
+        )
+    )]
+    Auto,
+    /// The workshop's loop over all triangles.
+    #[cfg_attr(
+        feature = "cli",
+        value(help = "The workshop's linear loop over all triangles")
+    )]
+    None,
+    /// A bounding volume hierarchy (binned SAH), traversed in the shader.
+    #[cfg_attr(feature = "cli", value(help = "Always a BVH"))]
+    Bvh,
+}
+
+/// Scenes with more triangles than this get a BVH under `Accel::Auto`. Measured on lavapipe
+/// (`vkpath bench`-style runs): the workshop's 30-triangle box is several times faster with
+/// the loop over all triangles compiled into the kernel (`Traversal::ConstantTriangles`), and
+/// even the loop over the texel buffer beats the BVH there (2.27 against 1.29 M samples/s
+/// with `workshop`); at about 130 triangles the BVH is 1.3x faster than that loop.
+pub const BVH_THRESHOLD: usize = 64;
+
+impl Accel {
+    /// Whether a scene of `triangle_count` triangles is traced with a BVH.
+    pub fn uses_bvh(self, triangle_count: usize) -> bool {
+        match self {
+            Accel::Auto => triangle_count > BVH_THRESHOLD,
+            Accel::None => false,
+            Accel::Bvh => true,
+        }
+    }
+}
 
 /// How the kernel finds the triangle a ray hits. The triangles' data are read from a texel
 /// buffer (RGBA32_UINT, `TRIANGLE_TEXEL_COUNT` texels per triangle): on lavapipe a texel fetch

@@ -9,16 +9,8 @@ use glam::{UVec2, Vec2, Vec3};
 use crate::render::gpu_types::GpuTriangle;
 use crate::scene::Triangle;
 
-/// `probe_push_constants` of `glsl/probe_common.glsl` (8 bytes): which inputs a dispatch
-/// covers.
-#[repr(C)]
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Pod, Zeroable)]
-pub struct ProbePushConstants {
-    /// Index of the input that invocation 0 of the dispatch evaluates.
-    pub first: u32,
-    /// Number of inputs in the buffer; invocations past it do nothing.
-    pub count: u32,
-}
+/// The probe kernels' push constants, declared beside the kernels.
+pub use crate::kernels::push_constants::ProbePushConstants;
 
 fn extend(v: Vec3) -> [f32; 4] {
     [v.x, v.y, v.z, 0.0]
@@ -377,13 +369,6 @@ impl RadianceOutput {
 mod tests {
     use super::*;
     use std::mem::{offset_of, size_of};
-
-    #[test]
-    fn push_constants_match_probe_push_constants() {
-        assert_eq!(size_of::<ProbePushConstants>(), 8);
-        assert_eq!(offset_of!(ProbePushConstants, first), 0);
-        assert_eq!(offset_of!(ProbePushConstants, count), 4);
-    }
 
     #[test]
     fn structs_match_the_std430_declarations() {

@@ -11,6 +11,9 @@ use crate::camera::ImagePlane;
 use crate::contract::TRIANGLE_FLAG_DOUBLE_SIDED;
 use crate::scene::Triangle;
 
+/// The path tracer's per-frame push constants, declared beside the kernels.
+pub use crate::kernels::push_constants::FramePushConstants;
+
 /// `packed_triangle_t` of `glsl/scene.glsl` (std430, 96 bytes; `TRIANGLE_TEXEL_COUNT` texels
 /// of the triangle texel buffer).
 #[repr(C)]
@@ -43,27 +46,6 @@ pub struct RenderUniforms {
     pub up: [f32; 4],
     /// Image width and height in pixels, triangle count, user seed.
     pub resolution_triangle_count_seed: [u32; 4],
-}
-
-/// `frame_push_constants` of `glsl/path_tracer.comp` (32 bytes): what changes per frame.
-#[repr(C)]
-#[derive(Clone, Copy, Debug, PartialEq, Pod, Zeroable)]
-pub struct FramePushConstants {
-    /// Index of the first sample this frame adds to each pixel.
-    pub first_sample_index: u32,
-    /// Samples at or past this index are not taken (the render's total spp).
-    pub sample_end: u32,
-    /// The full image's pixel (column, row from the top) of the accumulation image's texel
-    /// (0, 0): the corner of the region or tile this dispatch renders.
-    pub pixel_offset: [u32; 2],
-    /// Width and height of that region or tile: texels beyond are not touched.
-    pub pixel_extent: [u32; 2],
-    /// `--noise-threshold`: a pixel takes no more samples once `is_pixel_converged` says so;
-    /// 0 turns adaptive sampling off.
-    pub noise_threshold: f32,
-    /// Samples a pixel takes before adaptive sampling may stop it, and how often (in
-    /// samples) it is judged after that.
-    pub noise_min_samples: u32,
 }
 
 fn extend(v: glam::Vec3, w: f32) -> [f32; 4] {
@@ -132,18 +114,6 @@ mod tests {
             offset_of!(RenderUniforms, resolution_triangle_count_seed),
             64
         );
-    }
-
-    #[test]
-    fn push_constants_match_frame_push_constants() {
-        assert_eq!(size_of::<FramePushConstants>(), 32);
-        assert_eq!(offset_of!(FramePushConstants, first_sample_index), 0);
-        // uvec2 members are 8-byte aligned in a push-constant block (std430).
-        assert_eq!(offset_of!(FramePushConstants, pixel_offset), 8);
-        assert_eq!(offset_of!(FramePushConstants, pixel_extent), 16);
-        assert_eq!(offset_of!(FramePushConstants, noise_threshold), 24);
-        assert_eq!(offset_of!(FramePushConstants, noise_min_samples), 28);
-        assert_eq!(offset_of!(FramePushConstants, sample_end), 4);
     }
 
     #[test]

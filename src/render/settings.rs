@@ -249,49 +249,9 @@ impl LightSelection {
     }
 }
 
-/// How rays find the closest triangle.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
-#[cfg_attr(feature = "cli", derive(clap::ValueEnum))]
-pub enum Accel {
-    /// A BVH for scenes of more than `BVH_THRESHOLD` triangles and for material scenes that
-    /// the constant triangles cannot trace (more than 16 triangles, or alpha), else the loop
-    /// compiled into the kernel (`Traversal::choose`).
-    #[default]
-    #[cfg_attr(
-        feature = "cli",
-        value(
-            help = "A BVH above 64 triangles (glTF materials: above 16 or with alpha), else the linear loop"
-        )
-    )]
-    Auto,
-    /// The workshop's loop over all triangles.
-    #[cfg_attr(
-        feature = "cli",
-        value(help = "The workshop's linear loop over all triangles")
-    )]
-    None,
-    /// A bounding volume hierarchy (binned SAH), traversed in the shader.
-    #[cfg_attr(feature = "cli", value(help = "Always a BVH"))]
-    Bvh,
-}
-
-/// Scenes with more triangles than this get a BVH under `Accel::Auto`. Measured on lavapipe
-/// (`vkpath bench`-style runs): the workshop's 30-triangle box is several times faster with
-/// the loop over all triangles compiled into the kernel (`Traversal::ConstantTriangles`), and
-/// even the loop over the texel buffer beats the BVH there (2.27 against 1.29 M samples/s
-/// with `workshop`); at about 130 triangles the BVH is 1.3x faster than that loop.
-pub const BVH_THRESHOLD: usize = 64;
-
-impl Accel {
-    /// Whether a scene of `triangle_count` triangles is traced with a BVH.
-    pub fn uses_bvh(self, triangle_count: usize) -> bool {
-        match self {
-            Accel::Auto => triangle_count > BVH_THRESHOLD,
-            Accel::None => false,
-            Accel::Bvh => true,
-        }
-    }
-}
+/// How rays find the closest triangle, and the size above which `Accel::Auto` takes a BVH:
+/// declared in the variant room, which decides the traversal.
+pub use crate::kernels::variant::{Accel, BVH_THRESHOLD};
 
 /// Largest image side we accept (also bounded by the device's limit).
 pub const MAX_IMAGE_SIDE: u32 = 16384;
