@@ -43,8 +43,7 @@ fn measure(
         ..RenderSettings::default()
     };
     // The build that `Renderer::new` would take for this traversal
-    let spirv = embedded_build(scene, &settings, traversal)?
-        .embedded_spirv()?;
+    let spirv = embedded_build(scene, &settings, traversal)?.embedded_spirv()?;
     let samples = f64::from(settings.width * settings.height);
     let started = Instant::now();
     let mut renderer =

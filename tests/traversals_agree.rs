@@ -256,7 +256,12 @@ fn plain_build(traversal: Traversal, materials: bool, layers: bool) -> vkpath::k
         layers,
         ..SceneSummary::default()
     };
-    path_tracer_variant(&summary, &VariantSettings::default(), traversal, KernelSource::Given)
-        .unwrap()
-        .build
+    path_tracer_variant(
+        &summary,
+        &VariantSettings::default(),
+        traversal,
+        KernelSource::Given,
+    )
+    .unwrap()
+    .build
 }

@@ -60,7 +60,10 @@ fn rust_functions(folder: &Path) -> BTreeSet<String> {
             if before.is_some_and(|c| c.is_alphanumeric() || c == '_') {
                 continue;
             }
-            let name: String = rest.chars().take_while(|c| c.is_alphanumeric() || *c == '_').collect();
+            let name: String = rest
+                .chars()
+                .take_while(|c| c.is_alphanumeric() || *c == '_')
+                .collect();
             if !name.is_empty() {
                 names.insert(name);
             }
@@ -78,7 +81,10 @@ fn files(folder: &Path, extensions: &[&str]) -> Vec<PathBuf> {
             let path = entry.expect("folder entry").path();
             if path.is_dir() {
                 folders.push(path);
-            } else if path.extension().is_some_and(|e| extensions.iter().any(|x| e == *x)) {
+            } else if path
+                .extension()
+                .is_some_and(|e| extensions.iter().any(|x| e == *x))
+            {
                 found.push(path);
             }
         }
@@ -163,7 +169,9 @@ fn function_name(header: &str) -> Option<String> {
     let open = header.find('(')?;
     let words: Vec<&str> = header[..open].split_whitespace().collect();
     match words.as_slice() {
-        [.., _type, name] if !["struct", "buffer", "uniform"].contains(name) => Some(name.to_string()),
+        [.., _type, name] if !["struct", "buffer", "uniform"].contains(name) => {
+            Some(name.to_string())
+        }
         _ => None,
     }
 }
@@ -174,10 +182,20 @@ fn every_glsl_function_has_a_rust_twin_or_a_reason() {
     let glsl = glsl_functions(&root.join("glsl"));
     let rust = rust_functions(&root.join("src"));
     // The scanner must see the workshop's functions, or it would pass on nothing.
-    for known in ["get_random_numbers", "sample_sphere", "sample_hemisphere", "ray_triangle_intersection", "get_ray_radiance"] {
+    for known in [
+        "get_random_numbers",
+        "sample_sphere",
+        "sample_hemisphere",
+        "ray_triangle_intersection",
+        "get_ray_radiance",
+    ] {
         assert!(glsl.contains_key(known), "the scan of glsl/ missed {known}");
     }
-    assert!(glsl.len() > 200, "the scan of glsl/ found only {} functions", glsl.len());
+    assert!(
+        glsl.len() > 200,
+        "the scan of glsl/ found only {} functions",
+        glsl.len()
+    );
     let listed: BTreeMap<&str, &str> = WITHOUT_TWINS.iter().copied().collect();
     let without: Vec<(&String, &BTreeSet<String>)> = glsl
         .iter()
@@ -186,7 +204,12 @@ fn every_glsl_function_has_a_rust_twin_or_a_reason() {
     let unlisted: Vec<String> = without
         .iter()
         .filter(|(name, _)| !listed.contains_key(name.as_str()))
-        .map(|(name, files)| format!("{name} ({})", files.iter().cloned().collect::<Vec<_>>().join(", ")))
+        .map(|(name, files)| {
+            format!(
+                "{name} ({})",
+                files.iter().cloned().collect::<Vec<_>>().join(", ")
+            )
+        })
         .collect();
     assert!(
         unlisted.is_empty(),

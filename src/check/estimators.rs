@@ -22,9 +22,9 @@ use crate::check::report::FunctionReport;
 use crate::check::Session;
 use crate::error::{Error, Result};
 use crate::image_io::data::RenderedImage;
+use crate::kernels::variant::{path_tracer_variant, KernelSource, SceneSummary, VariantSettings};
 use crate::kernels::PATH_TRACER;
 use crate::render::settings::{Integrator, PixelFilter, RenderSettings};
-use crate::kernels::variant::{path_tracer_variant, KernelSource, SceneSummary, VariantSettings};
 use crate::render::{Renderer, Traversal};
 use crate::stats::ztest::{two_sided_p_value, z_score, z_test_images, MeanImage};
 

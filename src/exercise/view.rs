@@ -208,7 +208,6 @@ pub fn dot_radius_pixels(height: u32) -> f32 {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use std::mem::{offset_of, size_of};
 
     #[test]
     fn push_constants_carry_the_material_and_view() {

@@ -248,7 +248,9 @@ impl KernelPipeline {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::kernels::variant::{path_tracer_variant, KernelSource, SceneSummary, Traversal, VariantSettings};
+    use crate::kernels::variant::{
+        path_tracer_variant, KernelSource, SceneSummary, Traversal, VariantSettings,
+    };
 
     #[test]
     fn every_path_tracer_build_is_embedded() {
@@ -263,9 +265,14 @@ mod tests {
     fn rows_and_constants_follow_the_build() {
         let plain_build = |traversal| {
             let scene = SceneSummary::default();
-            path_tracer_variant(&scene, &VariantSettings::default(), traversal, KernelSource::Given)
-                .unwrap()
-                .build
+            path_tracer_variant(
+                &scene,
+                &VariantSettings::default(),
+                traversal,
+                KernelSource::Given,
+            )
+            .unwrap()
+            .build
         };
         let (bvh, plain) = (plain_build(Traversal::Bvh), plain_build(Traversal::Linear));
         let binds = |build: &Build, resource| {

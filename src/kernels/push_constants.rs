@@ -88,9 +88,18 @@ mod tests {
         //     vec4 g_base_color_metallic; vec4 g_specular_color_specular;
         //     vec4 g_view_direction; vec4 g_roughness_ior; }: five 16-byte members.
         assert_eq!(size_of::<SampleDisplayPushConstants>(), 80);
-        assert_eq!(offset_of!(SampleDisplayPushConstants, resolution_sampler_seed), 0);
-        assert_eq!(offset_of!(SampleDisplayPushConstants, base_color_metallic), 16);
-        assert_eq!(offset_of!(SampleDisplayPushConstants, specular_color_specular), 32);
+        assert_eq!(
+            offset_of!(SampleDisplayPushConstants, resolution_sampler_seed),
+            0
+        );
+        assert_eq!(
+            offset_of!(SampleDisplayPushConstants, base_color_metallic),
+            16
+        );
+        assert_eq!(
+            offset_of!(SampleDisplayPushConstants, specular_color_specular),
+            32
+        );
         assert_eq!(offset_of!(SampleDisplayPushConstants, view_direction), 48);
         assert_eq!(offset_of!(SampleDisplayPushConstants, roughness_ior), 64);
     }

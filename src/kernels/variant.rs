@@ -427,28 +427,73 @@ mod tests {
         // (traversal, triangles, materials, layers, settings, source): the build
         let cases = [
             // The lean builds, where the render needs no light tree, guiding or map
-            ((Constant, few, false, false, lean, Embedded), "path_tracer_few_triangles_lean"),
-            ((Bvh, 100, false, false, lean, Embedded), "path_tracer_bvh_lean"),
-            ((Constant, 12, true, false, lean, Embedded), "path_tracer_materials_lean"),
-            ((Linear, 100, true, false, lean, Embedded), "path_tracer_materials_lean"),
-            ((Bvh, 100, true, false, lean, Embedded), "path_tracer_materials_bvh_lean"),
+            (
+                (Constant, few, false, false, lean, Embedded),
+                "path_tracer_few_triangles_lean",
+            ),
+            (
+                (Bvh, 100, false, false, lean, Embedded),
+                "path_tracer_bvh_lean",
+            ),
+            (
+                (Constant, 12, true, false, lean, Embedded),
+                "path_tracer_materials_lean",
+            ),
+            (
+                (Linear, 100, true, false, lean, Embedded),
+                "path_tracer_materials_lean",
+            ),
+            (
+                (Bvh, 100, true, false, lean, Embedded),
+                "path_tracer_materials_bvh_lean",
+            ),
             // ... and the full build where none is lean
             ((Linear, 100, false, false, lean, Embedded), "path_tracer"),
-            ((Bvh, 100, true, true, lean, Embedded), "path_tracer_materials_bvh"),
+            (
+                (Bvh, 100, true, true, lean, Embedded),
+                "path_tracer_materials_bvh",
+            ),
             // The few-triangle build, and the full ones without lean
-            ((Constant, few, false, false, guided, Embedded), "path_tracer_few_triangles"),
-            ((Constant, few, false, false, tree, Embedded), "path_tracer_few_triangles"),
-            ((Constant, few + 1, false, false, guided, Embedded), "path_tracer"),
+            (
+                (Constant, few, false, false, guided, Embedded),
+                "path_tracer_few_triangles",
+            ),
+            (
+                (Constant, few, false, false, tree, Embedded),
+                "path_tracer_few_triangles",
+            ),
+            (
+                (Constant, few + 1, false, false, guided, Embedded),
+                "path_tracer",
+            ),
             ((Linear, 12, false, false, guided, Embedded), "path_tracer"),
-            ((Constant, 12, true, false, tree, Embedded), "path_tracer_materials_without_layers"),
-            ((Linear, 12, true, true, guided, Embedded), "path_tracer_materials"),
-            ((Bvh, 100, true, false, guided, Embedded), "path_tracer_materials_bvh_without_layers"),
-            ((Bvh, 100, false, false, guided, Embedded), "path_tracer_bvh"),
+            (
+                (Constant, 12, true, false, tree, Embedded),
+                "path_tracer_materials_without_layers",
+            ),
+            (
+                (Linear, 12, true, true, guided, Embedded),
+                "path_tracer_materials",
+            ),
+            (
+                (Bvh, 100, true, false, guided, Embedded),
+                "path_tracer_materials_bvh_without_layers",
+            ),
+            (
+                (Bvh, 100, false, false, guided, Embedded),
+                "path_tracer_bvh",
+            ),
             // A given kernel: the plain macros only
             ((Constant, few, false, false, lean, Given), "path_tracer"),
             ((Bvh, 100, false, false, lean, Given), "path_tracer_bvh"),
-            ((Constant, 12, true, false, lean, Given), "path_tracer_materials_without_layers"),
-            ((Bvh, 100, true, true, lean, Given), "path_tracer_materials_bvh"),
+            (
+                (Constant, 12, true, false, lean, Given),
+                "path_tracer_materials_without_layers",
+            ),
+            (
+                (Bvh, 100, true, true, lean, Given),
+                "path_tracer_materials_bvh",
+            ),
         ];
         for ((traversal, count, materials, layers, settings, source), expected) in cases {
             let picked = build_name(traversal, count, materials, layers, settings, source);
@@ -475,7 +520,10 @@ mod tests {
                 .unwrap();
         assert_eq!(
             variant.specialization,
-            [(contract::SPEC_LIGHT_SELECTION, contract::LIGHT_SELECTION_TREE)]
+            [(
+                contract::SPEC_LIGHT_SELECTION,
+                contract::LIGHT_SELECTION_TREE
+            )]
         );
         let gltf = SceneSummary {
             materials: true,
@@ -498,7 +546,10 @@ mod tests {
                 .find(|(i, _)| *i == id)
                 .map(|(_, v)| *v)
         };
-        assert_eq!(value(contract::SPEC_LIGHT_SELECTION), Some(contract::LIGHT_SELECTION_POWER));
+        assert_eq!(
+            value(contract::SPEC_LIGHT_SELECTION),
+            Some(contract::LIGHT_SELECTION_POWER)
+        );
         assert_eq!(value(contract::SPEC_SCENE_HAS_ALPHA), Some(1));
         assert_eq!(value(contract::SPEC_SCENE_TEXTURE_SLOTS), Some(3));
         assert_eq!(value(contract::SPEC_SCENE_HAS_SPECULAR), Some(1));

@@ -14,6 +14,7 @@
 //!   `Environment` (the scene description's, see `crate::scene::SceneDescription`);
 //! - `punctual`: KHR_lights_punctual's point, spot and directional lights;
 //! - `scene_lights`: `SceneLights`, every light of a scene as the renderer uploads it;
+//! - `gpu_buffers`: `LightBuffers`, the lights' own buffers on the device, one per kind;
 //! - `gpu_emissive`, `gpu_environment`, `gpu_punctual`: each kind's words as
 //!   `glsl/importance_sampling.glsl`, `glsl/environment.glsl` and
 //!   `glsl/punctual_lights.glsl` read them (the CPU twins in `crate::cpu` read the same
@@ -21,13 +22,14 @@
 //!
 //! A new kind of light is a file for the kind, a file for its words, a field of
 //! `SceneLights` (and of `crate::scene::Scene`, which carries the description), its binding
-//! (`crate::kernels::bindings`, `glsl/shared.h`) and its upload in
-//! `crate::render::gpu_scene`.
+//! (`crate::kernels::bindings`, `glsl/shared.h`), its buffer in `gpu_buffers` and its
+//! binding in `crate::render::gpu_scene::GpuScene::resource`.
 
 pub mod alias_table;
 pub mod emissive;
 pub mod environment;
 pub mod environment_source;
+pub mod gpu_buffers;
 pub mod gpu_emissive;
 pub mod gpu_environment;
 pub mod gpu_punctual;

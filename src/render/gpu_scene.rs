@@ -11,7 +11,12 @@ use ash::vk;
 use crate::bvh::{traversal_triangles, Bvh, BvhStats};
 use crate::camera::Camera;
 use crate::error::{Error, Result};
+use crate::kernels::variant::{
+    self, path_tracer_variant, KernelSource, SceneSummary, Traversal, VariantSettings,
+};
+use crate::kernels::Build;
 use crate::kernels::{Bound, Resource};
+use crate::lights::gpu_buffers::LightBuffers;
 use crate::lights::SceneLights;
 use crate::render::gpu_materials::{
     material_texel_words, scene_texture_slots, GpuMaterial, GpuTriangleShading,
@@ -19,10 +24,6 @@ use crate::render::gpu_materials::{
 use crate::render::gpu_textures::TextureAtlas;
 use crate::render::gpu_types::{GpuTriangle, RenderUniforms};
 use crate::render::settings::RenderSettings;
-use crate::kernels::variant::{
-    self, path_tracer_variant, KernelSource, SceneSummary, Traversal, VariantSettings,
-};
-use crate::kernels::Build;
 use crate::scene::materials::SceneMaterials;
 use crate::scene::Scene;
 use crate::vk::{Buffer, CommandRunner, Context, TexelBufferView};
@@ -38,7 +39,11 @@ pub fn fits_lean_builds(scene: &Scene, settings: &RenderSettings) -> bool {
 
 /// The build of the path tracer that `Renderer::new` takes for `scene` with `settings` and
 /// `traversal` (the variant room's choice, which reads no texture slots).
-pub fn embedded_build(scene: &Scene, settings: &RenderSettings, traversal: Traversal) -> Result<Build> {
+pub fn embedded_build(
+    scene: &Scene,
+    settings: &RenderSettings,
+    traversal: Traversal,
+) -> Result<Build> {
     let lights = SceneLights::new(scene, &scene.triangles);
     let plain_materials;
     let materials = match &scene.materials {
@@ -91,15 +96,76 @@ struct MaterialBuffers {
     shading: TexelBufferView,
     materials: TexelBufferView,
     texture_texels: TexelBufferView,
-    environment: TexelBufferView,
-    punctual_lights: TexelBufferView,
+    /// `SCENE_TEXTURE_SLOTS`, set with the materials' words.
+    texture_slots: u32,
+}
+
+impl MaterialBuffers {
+    /// Uploads `scene_materials`, their per-triangle shading data in the order of the BVH's
+    /// leaves (`bvh`) where there is one; an error when the textures do not fit the device.
+    fn upload(
+        context: &Arc<Context>,
+        commands: &CommandRunner,
+        scene_materials: &SceneMaterials,
+        bvh: Option<&Bvh>,
+    ) -> Result<MaterialBuffers> {
+        let shading: Vec<GpuTriangleShading> = match bvh {
+            Some(bvh) => bvh.reorder(&scene_materials.triangles),
+            None => scene_materials.triangles.clone(),
+        }
+        .iter()
+        .map(GpuTriangleShading::new)
+        .collect();
+        let limit = u64::from(context.limits.max_texel_buffer_elements);
+        let atlas = TextureAtlas::new(&scene_materials.textures, limit).map_err(|e| {
+            Error::MissingInput(format!("the scene's textures do not fit this device: {e}"))
+        })?;
+        let texture_bytes = atlas.texels.len() as u64 * 4;
+        let memory = context.device_memory_bytes();
+        if texture_bytes > memory / 2 {
+            return Err(Error::MissingInput(format!(
+                "the scene's textures need {} MiB, more than half of this device's {} MiB of memory",
+                texture_bytes >> 20,
+                memory >> 20
+            )));
+        }
+        let gpu_materials: Vec<GpuMaterial> = scene_materials
+            .materials
+            .iter()
+            .map(|m| GpuMaterial::new(m, scene_materials, &atlas))
+            .collect();
+        let texture_buffer = Buffer::device_local_with_data(
+            context,
+            commands,
+            "texture texels",
+            bytemuck::cast_slice(&atlas.texels),
+            vk::BufferUsageFlags::UNIFORM_TEXEL_BUFFER,
+        )?;
+        let upload = |name: &str, bytes: &[u8]| {
+            TexelBufferView::upload_rgba32_uint(context, commands, name, bytes)
+        };
+        Ok(MaterialBuffers {
+            shading: upload("shading data", bytemuck::cast_slice(&shading))?,
+            materials: upload(
+                "materials",
+                bytemuck::cast_slice(&material_texel_words(&gpu_materials)),
+            )?,
+            texture_texels: TexelBufferView::rgba8_uint(
+                context,
+                texture_buffer,
+                "scene's texture texels",
+            )?,
+            texture_slots: scene_texture_slots(&gpu_materials),
+        })
+    }
 }
 
 /// A scene uploaded for one traversal.
 pub struct GpuScene {
     triangles: TexelBufferView,
     uniforms: Buffer,
-    lights: TexelBufferView,
+    /// The lights, one buffer per kind (`crate::lights::gpu_buffers`).
+    lights: LightBuffers,
     bvh_nodes: Option<TexelBufferView>,
     /// The vertex positions alone, in leaf order, for the traversal (with a BVH only).
     traversal_triangles: Option<TexelBufferView>,
@@ -145,21 +211,10 @@ impl GpuScene {
             scene_lights = scene_lights.with_light_tree(&ordered_triangles);
         }
         scene_lights.annotate(&mut gpu_triangles);
-        let texels = |name: &str, bytes: &[u8]| -> Result<TexelBufferView> {
-            let buffer = Buffer::device_local_with_data(
-                context,
-                commands,
-                name,
-                bytes,
-                vk::BufferUsageFlags::UNIFORM_TEXEL_BUFFER,
-            )?;
-            Ok(TexelBufferView::rgba32_uint(
-                context,
-                buffer,
-                &format!("scene's {name}"),
-            )?)
+        let upload = |name: &str, bytes: &[u8]| {
+            TexelBufferView::upload_rgba32_uint(context, commands, name, bytes)
         };
-        let triangles = texels("triangles", bytemuck::cast_slice(&gpu_triangles))?;
+        let triangles = upload("triangles", bytemuck::cast_slice(&gpu_triangles))?;
         let uniforms = Buffer::with_data(
             context,
             "render uniforms",
@@ -173,87 +228,37 @@ impl GpuScene {
             vk::BufferUsageFlags::UNIFORM_BUFFER,
         )?;
         let bvh_nodes = match &bvh {
-            Some(bvh) => Some(texels("BVH nodes", bytemuck::cast_slice(&bvh.wide_nodes))?),
+            Some(bvh) => Some(upload("BVH nodes", bytemuck::cast_slice(&bvh.wide_nodes))?),
             None => None,
         };
         let traversal_triangles = match &bvh {
-            Some(_) => Some(texels(
+            Some(_) => Some(upload(
                 "traversal triangles",
                 bytemuck::cast_slice(&traversal_triangles(&ordered_triangles)),
             )?),
             None => None,
         };
-        let lights = texels("lights", &scene_lights.emissive_bytes())?;
         let plain_materials;
         let scene_materials = match &scene.materials {
             Some(materials) => Some(materials),
             None if scene.needs_material_kernels() => {
-                plain_materials =
-                    SceneMaterials::from_plain(&scene.triangles);
+                plain_materials = SceneMaterials::from_plain(&scene.triangles);
                 Some(&plain_materials)
             }
             None => None,
         };
-        // SCENE_TEXTURE_SLOTS, set with the materials' words
-        let mut texture_slots = 0;
+        let lights =
+            LightBuffers::upload(context, commands, &scene_lights, scene_materials.is_some())?;
         let materials = match scene_materials {
+            Some(scene_materials) => Some(MaterialBuffers::upload(
+                context,
+                commands,
+                scene_materials,
+                bvh.as_ref(),
+            )?),
             None => None,
-            Some(scene_materials) => {
-                let shading: Vec<GpuTriangleShading> = match &bvh {
-                    Some(bvh) => bvh.reorder(&scene_materials.triangles),
-                    None => scene_materials.triangles.clone(),
-                }
-                .iter()
-                .map(GpuTriangleShading::new)
-                .collect();
-                let limit = u64::from(context.limits.max_texel_buffer_elements);
-                let atlas = TextureAtlas::new(&scene_materials.textures, limit).map_err(|e| {
-                    Error::MissingInput(format!("the scene's textures do not fit this device: {e}"))
-                })?;
-                let texture_bytes = atlas.texels.len() as u64 * 4;
-                let memory = context.device_memory_bytes();
-                if texture_bytes > memory / 2 {
-                    return Err(Error::MissingInput(format!(
-                        "the scene's textures need {} MiB, more than half of this device's {} MiB of memory",
-                        texture_bytes >> 20,
-                        memory >> 20
-                    )));
-                }
-                let gpu_materials: Vec<GpuMaterial> = scene_materials
-                    .materials
-                    .iter()
-                    .map(|m| GpuMaterial::new(m, scene_materials, &atlas))
-                    .collect();
-                texture_slots = scene_texture_slots(&gpu_materials);
-                let texture_buffer = Buffer::device_local_with_data(
-                    context,
-                    commands,
-                    "texture texels",
-                    bytemuck::cast_slice(&atlas.texels),
-                    vk::BufferUsageFlags::UNIFORM_TEXEL_BUFFER,
-                )?;
-                Some(MaterialBuffers {
-                    shading: texels("shading data", bytemuck::cast_slice(&shading))?,
-                    materials: texels(
-                        "materials",
-                        bytemuck::cast_slice(&material_texel_words(&gpu_materials)),
-                    )?,
-                    texture_texels: TexelBufferView::rgba8_uint(
-                        context,
-                        texture_buffer,
-                        "scene's texture texels",
-                    )?,
-                    environment: texels(
-                        "environment",
-                        bytemuck::cast_slice(&scene_lights.environment_words()),
-                    )?,
-                    punctual_lights: texels(
-                        "punctual lights",
-                        bytemuck::cast_slice(&scene_lights.punctual_words()),
-                    )?,
-                })
-            }
         };
+        let texture_slots = materials.as_ref().map_or(0, |m| m.texture_slots);
         let summary = scene_summary(scene, scene_materials, &scene_lights, texture_slots);
         Ok(GpuScene {
             triangles,
@@ -281,14 +286,14 @@ impl GpuScene {
         let texel = match resource {
             Resource::Triangles => &self.triangles,
             Resource::RenderUniforms => return Some(Bound::Buffer(&self.uniforms)),
-            Resource::Lights => &self.lights,
+            Resource::Lights => &self.lights.emissive,
             Resource::BvhNodes => self.bvh_nodes.as_ref()?,
             Resource::TraversalTriangles => self.traversal_triangles.as_ref()?,
             Resource::Shading => &materials?.shading,
             Resource::Materials => &materials?.materials,
             Resource::TextureTexels => &materials?.texture_texels,
-            Resource::Environment => &materials?.environment,
-            Resource::PunctualLights => &materials?.punctual_lights,
+            Resource::Environment => self.lights.environment.as_ref()?,
+            Resource::PunctualLights => self.lights.punctual.as_ref()?,
             _ => return None,
         };
         Some(Bound::TexelBuffer(texel))

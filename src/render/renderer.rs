@@ -1,5 +1,7 @@
 //! The progressive GPU renderer: uploads a scene, runs frames of the path-tracing kernel that
-//! add samples to an accumulation image, and reads the image back.
+//! add samples to an accumulation image, and reads the image back. Training a guided
+//! render's guide (`guide_training`) and the lavapipe loop budget that sizes each dispatch
+//! (`loop_budget`) are rooms of their own beside it.
 
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::Arc;
@@ -11,27 +13,33 @@ use gpu_allocator::MemoryLocation;
 use crate::camera::Camera;
 use crate::contract;
 use crate::error::{Error, Result};
-use crate::guiding::training::{GuideTrainer, GUIDE_TRAINING_FIRST_SAMPLE};
+use crate::guiding::training::GUIDE_TRAINING_FIRST_SAMPLE;
 use crate::guiding::{Guide, GuideGrid};
 use crate::image_io::data::RenderedImage;
-use crate::kernels::loops::{bvh_iterations_per_ray_at_most, LoopCoefficients, SampleWork};
-use crate::kernels::{Bound, Build, KernelPipeline, Resource, PATH_TRACER};
+use crate::kernels::variant::{
+    constant_triangle_specialization, path_tracer_variant, KernelSource, Traversal,
+};
+use crate::kernels::{Bound, KernelPipeline, Resource, PATH_TRACER};
 use crate::render::accumulation::Accumulation;
 use crate::render::adaptive::NoiseThreshold;
 use crate::render::gpu_scene::GpuScene;
 use crate::render::gpu_types::FramePushConstants;
 use crate::render::guide_buffers::GuideBuffers;
 use crate::render::region::{PixelRegion, ACCUMULATION_BYTES_PER_PIXEL, ACCUMULATION_COPIES};
-use crate::render::settings::{Integrator, RenderSettings};
+use crate::render::settings::RenderSettings;
 use crate::render::tiles::{
     area_texel_count, copy_tile, host_available_memory, layer_count, scene_bytes, tile_layout,
     validate_host_memory,
 };
-use crate::kernels::variant::{
-    constant_triangle_specialization, path_tracer_variant, KernelSource, Traversal,
-};
 use crate::scene::Scene;
 use crate::vk::{Buffer, CommandRunner, Context, DescriptorSet, StorageImage};
+
+mod guide_training;
+mod loop_budget;
+
+use guide_training::TrainingKernel;
+pub use guide_training::{GuideReport, TrainingTimes};
+use loop_budget::{loop_limit_advice, LoopBudget};
 
 /// How long one submission of frames should take: long enough to hide submission overhead,
 /// short enough for a responsive progress bar. Each frame is its own dispatch, so a GPU
@@ -39,8 +47,6 @@ use crate::vk::{Buffer, CommandRunner, Context, DescriptorSet, StorageImage};
 const TARGET_BATCH_DURATION: Duration = Duration::from_millis(250);
 /// Most frames recorded into one submission.
 const MAX_FRAMES_PER_BATCH: u32 = 256;
-/// Frames recorded into one submission while training a guide.
-const TRAINING_FRAMES_PER_SUBMISSION: u32 = 16;
 
 /// The samples that `Renderer::run_frames` takes: the render's (`first_sample`,
 /// `settings.spp`, its noise threshold) or a training iteration's.
@@ -99,77 +105,6 @@ pub struct Renderer {
     guide_report: Option<GuideReport>,
     /// The trained guide (`--guiding` only, once trained).
     guide: Option<Arc<Guide>>,
-}
-
-/// The kernel a guided render's training pipeline is built from: the render's own, with
-/// `SPEC_GUIDING` set to `GUIDING_TRAINING`.
-struct TrainingKernel {
-    build: Build,
-    spirv: Vec<u32>,
-    specialization: Vec<(u32, u32)>,
-}
-
-/// What training a render's guide did (`--guiding`).
-#[derive(Clone, Debug, PartialEq)]
-pub struct GuideReport {
-    /// Positions of the guide's grid along x, y and z.
-    pub grid_resolution: [u32; 3],
-    /// Cells in all (one per grid position and orientation that a surface there can face).
-    pub cell_count: u32,
-    /// Cells that training taught (the others sample the BSDF alone).
-    pub guided_cell_count: u32,
-    /// Bytes the guide takes on the device (the training splats take about twice that).
-    pub memory_bytes: usize,
-    /// Samples per pixel of each training iteration.
-    pub iterations: Vec<u32>,
-    /// Where the training's seconds went (`seconds()` is their sum).
-    pub times: TrainingTimes,
-    /// Whether the guide came frozen in a resumed state (`Renderer::resume`) instead: no
-    /// iterations, no seconds.
-    pub from_checkpoint: bool,
-}
-
-impl GuideReport {
-    /// The report of `guide`, trained in `iterations` (spp each) in `times`, or frozen in a
-    /// resumed state.
-    fn of(
-        guide: &Guide,
-        iterations: Vec<u32>,
-        times: TrainingTimes,
-        from_checkpoint: bool,
-    ) -> GuideReport {
-        let grid = guide.grid();
-        GuideReport {
-            grid_resolution: grid.resolution.to_array(),
-            cell_count: grid.cell_count(),
-            guided_cell_count: guide.guided_cell_count(),
-            memory_bytes: guide.memory_bytes(),
-            iterations,
-            times,
-            from_checkpoint,
-        }
-    }
-
-    /// Seconds the training took (pipeline, frames, read-backs and builds; 0 for a guide
-    /// from a checkpoint).
-    pub fn seconds(&self) -> f64 {
-        self.times.pipeline_seconds + self.times.frames_seconds + self.times.host_seconds
-    }
-}
-
-/// Where a guide's training spent its seconds (`GuideReport::times`): what to make cheaper
-/// differs between lavapipe, where the frames dominate, and a GPU, where they take
-/// milliseconds.
-#[derive(Clone, Copy, Debug, Default, PartialEq)]
-pub struct TrainingTimes {
-    /// Building the training kernel's pipeline (the driver's compile, or its cache's copy).
-    pub pipeline_seconds: f64,
-    /// The training frames: recording and submitting them and waiting for the device (on
-    /// lavapipe this includes compiling the kernel at its first dispatch).
-    pub frames_seconds: f64,
-    /// The host's side between iterations: clearing the state and the splats, reading the
-    /// splats back, building each iteration's guide and uploading it.
-    pub host_seconds: f64,
 }
 
 /// A render in tiles: the state of the whole area lives on the host, and each frame uploads
@@ -327,7 +262,6 @@ impl Renderer {
             None => Traversal::for_scene(scene, settings.accel),
         };
         let gpu_scene = GpuScene::upload(context, &commands, scene, camera, &settings, traversal)?;
-        let materials = gpu_scene.summary.materials;
         // A given kernel was compiled as the variant room says of one (the plain macros)
         let source = match kernel {
             Some(_) => KernelSource::Given,
@@ -341,25 +275,14 @@ impl Renderer {
         )?;
         let build = variant.build;
         let guiding = settings.guiding.is_some();
-        let loops = LoopCoefficients::path_tracer(traversal, guiding, materials);
-        let loop_limit = LoopLimit::of(context);
-        let work = SampleWork {
-            rays: rays_per_sample(&settings, scene),
-            triangle_count: scene.triangles.len() as u64,
-            light_count: gpu_scene.light_count,
-            light_tree_iterations: gpu_scene.light_tree_iterations,
-            bvh_iterations_per_ray: gpu_scene
-                .bvh_stats
-                .as_ref()
-                .map(bvh_iterations_per_ray_at_most),
-        };
-        let samples_per_dispatch =
-            loop_limit.samples_per_dispatch(&settings, &loops, &work, traversal)?;
+        let budget = LoopBudget::of(context, &settings, scene, &gpu_scene, traversal)?;
         let mut specialization = settings.specialization();
-        specialization.extend(constant_triangle_specialization(traversal, &scene.triangles));
+        specialization.extend(constant_triangle_specialization(
+            traversal,
+            &scene.triangles,
+        ));
         specialization.extend_from_slice(&variant.specialization);
-        specialization.push((contract::SPEC_LOOP_LIMIT, loop_limit.0));
-        specialization.extend_from_slice(&loops.specialization());
+        specialization.extend(budget.specialization());
         let specialization_with = |guiding_value| {
             let mut all = specialization.clone();
             all.push((contract::SPEC_GUIDING, guiding_value));
@@ -443,7 +366,7 @@ impl Renderer {
             first_sample: 0,
             samples_done: 0,
             frames_per_batch: 1,
-            samples_per_dispatch,
+            samples_per_dispatch: budget.samples_per_dispatch,
             seconds_per_frame: None,
             rays_traced: 0.0,
             setup_seconds: started.elapsed().as_secs_f64(),
@@ -627,124 +550,6 @@ impl Renderer {
                 Some(per_frame * f64::from(self.samples_per_dispatch) / f64::from(old_step));
         }
         Ok(self.samples_done)
-    }
-
-    /// The trained guide: `None` before training, and without `--guiding`.
-    pub fn guide(&self) -> Option<&Guide> {
-        self.guide.as_deref()
-    }
-
-    /// What training the guide did: `None` before it has, and without `--guiding`.
-    pub fn guide_report(&self) -> Option<&GuideReport> {
-        self.guide_report.as_ref()
-    }
-
-    /// Trains the guide of a guided render (`--guiding`), if it has not yet: the iterations
-    /// of `GuideTraining::iterations` over the render's whole area, each taking training
-    /// samples (from `GUIDE_TRAINING_FIRST_SAMPLE` on, which no render takes) with the
-    /// guide built so far and adding its splats to those before; then the render's state
-    /// is cleared. The first frame (and `resume`) call it; deterministic, so every shard and
-    /// resumed render of an image trains the same guide.
-    pub fn train_guide(&mut self) -> Result<()> {
-        self.train_guide_until(&|| false).map(|_| ())
-    }
-
-    /// `train_guide`, asking `stop` before each submission of training frames: once it
-    /// says so, training is abandoned (the next call starts it afresh, so the guide is the
-    /// same) and this returns `false`; `true` once the guide is trained (or none is
-    /// needed).
-    pub fn train_guide_until(&mut self, stop: &dyn Fn() -> bool) -> Result<bool> {
-        let (Some(training), Some(grid)) = (self.settings.guiding, self.guide_buffers.grid())
-        else {
-            return Ok(true);
-        };
-        if self.guide_report.is_some() {
-            return Ok(true);
-        }
-        let started = Instant::now();
-        let mut times = TrainingTimes::default();
-        if let Some(kernel) = &self.training_kernel {
-            self.training_pipeline = Some(PATH_TRACER.pipeline(
-                &self.context,
-                &kernel.build,
-                &kernel.spirv,
-                &kernel.specialization,
-            )?);
-            self.training_kernel = None;
-        }
-        times.pipeline_seconds = started.elapsed().as_secs_f64();
-        let iterations = training.iterations();
-        let mut trainer = GuideTrainer::new(grid.clone());
-        let mut taken = 0u32;
-        let result = (|| -> Result<bool> {
-            // The first iteration samples with no guided cell, whatever an abandoned
-            // training left bound.
-            self.guide_buffers
-                .set_guide(&self.context, trainer.guide())?;
-            self.descriptors
-                .write_texel_buffer(contract::BINDING_GUIDE, &self.guide_buffers.guide);
-            for &samples in &iterations {
-                self.clear_state()?;
-                self.guide_buffers.clear_splats(&self.commands)?;
-                // Adaptive sampling stays off: every pixel trains alike.
-                let span = FrameSpan {
-                    first_sample: GUIDE_TRAINING_FIRST_SAMPLE + taken,
-                    spp: samples,
-                    noise_threshold: None,
-                    training: true,
-                };
-                let frames_started = Instant::now();
-                while self.samples_done < samples {
-                    if stop() {
-                        return Ok(false);
-                    }
-                    self.run_frames(TRAINING_FRAMES_PER_SUBMISSION, &span)?;
-                }
-                times.frames_seconds += frames_started.elapsed().as_secs_f64();
-                if let Some(splats) = self.guide_buffers.read_splats(&self.commands)? {
-                    trainer.add_iteration(&splats);
-                }
-                self.guide_buffers
-                    .set_guide(&self.context, trainer.guide())?;
-                self.descriptors
-                    .write_texel_buffer(contract::BINDING_GUIDE, &self.guide_buffers.guide);
-                taken += samples;
-            }
-            Ok(true)
-        })();
-        self.clear_state()?;
-        if !result? {
-            return Ok(false);
-        }
-        let guide = trainer.into_guide();
-        let seconds = started.elapsed().as_secs_f64();
-        times.host_seconds = (seconds - times.pipeline_seconds - times.frames_seconds).max(0.0);
-        self.guide_report = Some(GuideReport::of(&guide, iterations, times, false));
-        self.guide = Some(Arc::new(guide));
-        Ok(true)
-    }
-
-    /// Samples with `guide` (a guided render's, frozen into a saved state) instead of
-    /// training one: it must cover this render's grid, i.e. come from this scene.
-    fn use_frozen_guide(&mut self, guide: Arc<Guide>) -> Result<()> {
-        let grid = self.guide_buffers.grid();
-        if grid != Some(guide.grid()) {
-            return Err(Error::InvalidSettings(match grid {
-                None => "the saved state holds a guide, but this render is not guided".into(),
-                Some(_) => "the saved state's guide covers another grid than this scene's".into(),
-            }));
-        }
-        self.guide_buffers.set_guide(&self.context, &guide)?;
-        self.descriptors
-            .write_texel_buffer(contract::BINDING_GUIDE, &self.guide_buffers.guide);
-        self.guide_report = Some(GuideReport::of(
-            &guide,
-            Vec::new(),
-            TrainingTimes::default(),
-            true,
-        ));
-        self.guide = Some(guide);
-        Ok(())
     }
 
     /// Zeroes the accumulation state: no samples taken.
@@ -977,89 +782,6 @@ impl Renderer {
         self.commands
             .run(|recorder| recorder.copy_image_to_buffer(image, readback))?;
         Ok(self.readback.read())
-    }
-}
-
-/// The loop iterations one invocation may run before the driver may end its loops
-/// silently: on CPU devices (lavapipe) llvmpipe's limit per SIMD program divided by its
-/// width (see `glsl/shared.h`), none (0) on GPUs.
-struct LoopLimit(u32);
-
-impl LoopLimit {
-    /// The limit of `context`'s device.
-    fn of(context: &Context) -> LoopLimit {
-        LoopLimit(if context.info.kind.is_gpu() {
-            0
-        } else {
-            contract::LLVMPIPE_LOOP_LIMIT / contract::LLVMPIPE_SIMD_WIDTH
-        })
-    }
-
-    /// Samples per dispatch that keep an invocation's loop iterations below the limit by
-    /// construction (the kernel still checks, and flags what reaches it): at most
-    /// `samples_per_frame`, fewer where a sample loops a lot. A single sample that cannot
-    /// fit (long paths, the loop over very many triangles) is refused.
-    fn samples_per_dispatch(
-        &self,
-        settings: &RenderSettings,
-        loops: &LoopCoefficients,
-        work: &SampleWork,
-        traversal: Traversal,
-    ) -> Result<u32> {
-        if self.0 == 0 {
-            return Ok(settings.samples_per_frame);
-        }
-        let per_sample = loops.iterations_per_sample(work);
-        // Keep a margin of 10% for the estimate.
-        let budget = u64::from(self.0) * 9 / 10;
-        if per_sample > budget {
-            return Err(Error::InvalidSettings(format!(
-                "one sample of {} path vertices over {} triangles loops about {per_sample} \
-                 times, more than llvmpipe safely allows one shader invocation ({} of its {} \
-                 per {} lanes): {}",
-                settings.max_path_length,
-                work.triangle_count,
-                self.0,
-                contract::LLVMPIPE_LOOP_LIMIT,
-                contract::LLVMPIPE_SIMD_WIDTH,
-                loop_limit_advice(traversal, false)
-            )));
-        }
-        Ok(((budget / per_sample) as u32).clamp(1, settings.samples_per_frame))
-    }
-}
-
-/// What to change when the loop limit stops a render: a shorter `--max-path-length`, and
-/// `--accel bvh` only where the BVH is not in use already; fewer `--samples-per-frame` too
-/// for an image that was rendered (one sample per dispatch can still be too many).
-fn loop_limit_advice(traversal: Traversal, rendered: bool) -> &'static str {
-    match (traversal == Traversal::Bvh, rendered) {
-        (true, false) => "use a shorter --max-path-length",
-        (false, false) => "use --accel bvh (or auto) or a shorter --max-path-length",
-        (true, true) => "use fewer --samples-per-frame or a shorter --max-path-length",
-        (false, true) => {
-            "use fewer --samples-per-frame, a shorter --max-path-length or --accel bvh"
-        }
-    }
-}
-
-/// Rays one sample traces at most, for the loop-limit estimate: one closest-hit ray per path
-/// vertex (two for direct illumination: the camera ray and its one bounce), and for nee and
-/// mis a shadow ray per vertex but the last (the path loop ends there before its light
-/// samples) for each kind of light the scene has (`sample_direct_light` in
-/// `glsl/lights.glsl`: emissive triangles, and in the material kernels the environment and
-/// punctual lights).
-fn rays_per_sample(settings: &RenderSettings, scene: &Scene) -> u64 {
-    let vertices = u64::from(settings.max_path_length);
-    match settings.integrator {
-        Integrator::DirectIllumination => vertices.max(2),
-        Integrator::Nee | Integrator::Mis => {
-            let kinds = 1
-                + u64::from(scene.environment.as_ref().is_some_and(|e| e.emits_light()))
-                + u64::from(!scene.punctual_lights.is_empty());
-            vertices + vertices.saturating_sub(1) * kinds
-        }
-        _ => vertices,
     }
 }
 

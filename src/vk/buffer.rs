@@ -185,6 +185,25 @@ impl TexelBufferView {
         TexelBufferView::new(context, buffer, vk::Format::R32G32B32A32_UINT)
     }
 
+    /// A device-local uniform texel buffer filled with `bytes` (whole 16-byte texels)
+    /// through a staging buffer, viewed as RGBA32_UINT texels; `name` labels the buffer and
+    /// names the data in the error (`rgba32_uint`).
+    pub fn upload_rgba32_uint(
+        context: &Arc<Context>,
+        commands: &CommandRunner,
+        name: &str,
+        bytes: &[u8],
+    ) -> VkResult<TexelBufferView> {
+        let buffer = Buffer::device_local_with_data(
+            context,
+            commands,
+            name,
+            bytes,
+            vk::BufferUsageFlags::UNIFORM_TEXEL_BUFFER,
+        )?;
+        TexelBufferView::rgba32_uint(context, buffer, &format!("scene's {name}"))
+    }
+
     /// Views all of `buffer` as RGBA8_UINT texels (4 bytes each, read as `uvec4` in 0..=255
     /// by a `usamplerBuffer`), after checking that the device allows that many; `what` names
     /// the data in the error. Uniform texel buffers of this format are mandatory in Vulkan.

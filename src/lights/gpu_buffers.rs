@@ -1,0 +1,56 @@
+//! The lights' own buffers on the device (`LightBuffers`): one texel buffer per kind of
+//! light, each holding the words that kind's GLSL file reads (`gpu_emissive`,
+//! `gpu_environment`, `gpu_punctual`). The scene's upload (`crate::render::gpu_scene`) binds
+//! them where the kernels' binding table (`crate::kernels::bindings`) says.
+
+use std::sync::Arc;
+
+use crate::lights::SceneLights;
+use crate::vk::{CommandRunner, Context, TexelBufferView, VkResult};
+
+/// A scene's lights on the device.
+pub struct LightBuffers {
+    /// The emissive triangles' selection table, or their light tree
+    /// (`glsl/importance_sampling.glsl`, `glsl/light_tree.glsl`).
+    pub emissive: TexelBufferView,
+    /// The environment (`glsl/environment.glsl`): only the material kernels read it.
+    pub environment: Option<TexelBufferView>,
+    /// The punctual lights (`glsl/punctual_lights.glsl`): only the material kernels read
+    /// them.
+    pub punctual: Option<TexelBufferView>,
+}
+
+impl LightBuffers {
+    /// Uploads `lights`: the emissive triangles always, the environment and punctual lights
+    /// when the kernel reads them (`material_kernels`: the builds with `USE_MATERIALS`).
+    pub fn upload(
+        context: &Arc<Context>,
+        commands: &CommandRunner,
+        lights: &SceneLights,
+        material_kernels: bool,
+    ) -> VkResult<LightBuffers> {
+        let upload = |name: &str, bytes: &[u8]| {
+            TexelBufferView::upload_rgba32_uint(context, commands, name, bytes)
+        };
+        let emissive = upload("lights", &lights.emissive_bytes())?;
+        let (environment, punctual) = if material_kernels {
+            (
+                Some(upload(
+                    "environment",
+                    bytemuck::cast_slice(&lights.environment_words()),
+                )?),
+                Some(upload(
+                    "punctual lights",
+                    bytemuck::cast_slice(&lights.punctual_words()),
+                )?),
+            )
+        } else {
+            (None, None)
+        };
+        Ok(LightBuffers {
+            emissive,
+            environment,
+            punctual,
+        })
+    }
+}
