@@ -26,9 +26,9 @@ use std::time::Duration;
 
 use serde::{Deserialize, Serialize};
 
-use crate::check::compile::{NotJudged, UserFunctions};
 use crate::check::detect::WorkshopFunction;
 use crate::check::report::FunctionReport;
+use crate::check::user_functions::{NotJudged, UserFunctions};
 use crate::check::CheckOptions;
 
 /// The test-only fault switch (see the module documentation).

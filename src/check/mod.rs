@@ -4,7 +4,8 @@
 //! just the functions. `crate::glsl_intake` prepares it (drops entry points, `#version`, uniforms …,
 //! supplies ShaderToy's inputs, renames what clashes with vkpath's own names), `detect`
 //! finds the workshop functions it defines with the workshop's signatures (the prototypes of
-//! `glsl/workshop.glsl`; other uses of those names are listed as not judged), and `compile`
+//! `glsl/workshop.glsl`; other uses of those names are listed as not judged), `user_functions`
+//! models what the file defines, and `compile`
 //! builds the probe kernels and the path tracer at run time with one user function at a
 //! time in place of the reference version, so that a mistake in one function never fails
 //! another. Each function is judged the way its contract allows:
@@ -28,6 +29,7 @@ pub mod program;
 pub mod report;
 pub mod samplers;
 pub mod unavailable;
+pub mod user_functions;
 
 /// The intake's preparation, under its old name (see `crate::glsl_intake`).
 pub use crate::glsl_intake::prepare as source;
@@ -44,9 +46,9 @@ use crate::probe::{ProbeKind, ProbePipeline, ProbeRunner};
 use crate::scene::Scene;
 use crate::stats::sidak_alpha;
 use crate::vk::Context;
-pub use compile::{NotJudged, UserFunctions};
 pub use detect::WorkshopFunction;
 pub use report::{CheckReport, FunctionReport};
+pub use user_functions::{NotJudged, UserFunctions};
 
 /// `MAX_PATH_LENGTH` of the probe kernels (only `get_ray_radiance` reads it): the renderer's
 /// default.
@@ -146,7 +148,7 @@ fn read_unit(files: &[(String, String)]) -> UserFunctions {
     let mut text = String::new();
     let mut sources = Vec::new();
     for (name, file_text) in files {
-        sources.push(compile::SourceFile {
+        sources.push(user_functions::SourceFile {
             name: name.clone(),
             first_line: text.matches('\n').count() + 1,
         });
@@ -579,7 +581,7 @@ fn loops_without_end(
 /// The verdict on a function that does not compile: failed, with the compiler's messages.
 fn does_not_compile(
     function: WorkshopFunction,
-    broken: &compile::BrokenFunction,
+    broken: &user_functions::BrokenFunction,
 ) -> FunctionReport {
     let mut report = FunctionReport::new(
         function.name(),

@@ -7,7 +7,7 @@ use std::fmt::Write as _;
 
 use serde::{Deserialize, Deserializer, Serialize};
 
-pub use crate::check::compile::NotJudged;
+pub use crate::check::user_functions::NotJudged;
 
 /// How many mismatching inputs a report shows (the count covers all of them).
 pub const SHOWN_MISMATCHES: usize = 5;

@@ -139,7 +139,7 @@ pub fn leave_out_unavailable(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::check::compile::check_intake_options;
+    use crate::check::user_functions::check_intake_options;
     use crate::glsl_intake::prepare_with;
 
     #[test]

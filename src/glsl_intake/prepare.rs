@@ -20,7 +20,7 @@ use std::fmt::Write as _;
 use std::sync::OnceLock;
 
 use crate::contract::USER_OPAQUE_BINDING_FIRST;
-use crate::glsl_intake::functions::{find_functions, Signature};
+use crate::glsl_intake::functions::{find_functions, FoundFunction, Signature};
 use crate::glsl_intake::syntax::{
     matching, structural_tokens, tokenize, top_level_items, Item, ItemKind, Token,
 };
@@ -414,508 +414,609 @@ pub fn prepare(source: &str) -> PreparedSource {
     prepare_with(source, &IntakeOptions::default())
 }
 
-/// Prepares a user's file (see the module documentation and `IntakeOptions`).
+/// Prepares a user's file (see the module documentation and `IntakeOptions`): one job per
+/// step of `Intake`.
 pub fn prepare_with(source: &str, options: &IntakeOptions) -> PreparedSource {
-    let ours = kernel_names();
-    let tokens = tokenize(source);
-    let mut prepared = PreparedSource::default();
-    let mut edits = Vec::new();
-    let mut blanked: Vec<std::ops::Range<usize>> = Vec::new();
+    let mut intake = Intake::new(source, options);
+    intake.read_directives();
+    intake.read_top_level_items();
+    let renames = intake.choose_renames();
+    intake.rename(&renames);
+    intake.guard_loops();
+    intake.prepared.text = apply(source, std::mem::take(&mut intake.edits));
+    intake.find_unavailable_names();
+    intake.write_prelude();
+    intake.write_epilogue();
+    intake.prepared
+}
 
-    // Directives: keep #define (and its kin), drop what a kernel cannot take.
-    let mut user_macros: Vec<String> = Vec::new();
-    // The user's macros whose value is an integer literal (bounds of counted loops).
-    let mut macro_integers: BTreeMap<String, i64> = BTreeMap::new();
-    for directive in directives(&tokens) {
-        let Some(word) = directive.get(1) else {
-            continue;
-        };
-        let range = directive[0].start..directive.last().expect("not empty").end;
-        match word.text.as_str() {
-            "version" | "extension" | "include" | "line" => {
-                prepared.notes.push(format!(
-                    "line {}: dropped #{} ({})",
-                    word.line,
-                    word.text,
-                    match word.text.as_str() {
-                        "version" => "vkpath compiles GLSL 4.60 for Vulkan",
-                        "extension" => "vkpath enables what its kernels need",
-                        "include" => "check reads one self-contained file",
-                        _ => "line numbers stay your file's",
-                    }
-                ));
-                blanked.push(range.clone());
-                edits.push(blank(source, range));
-            }
-            "define" => {
-                if let Some(name) = directive.get(2) {
-                    user_macros.push(name.text.clone());
-                    let value: Vec<&str> = directive[3..].iter().map(|t| t.text.as_str()).collect();
-                    if let Some(number) = integer_value(&value.join("")) {
-                        macro_integers.insert(name.text.clone(), number);
-                    }
-                    if name.text == "MAX_PATH_LENGTH" {
-                        prepared.max_path_length =
-                            value.join("").trim_end_matches('u').parse().ok();
-                    }
-                }
-            }
-            _ => {}
+/// Whether `token` lies in text that the intake blanked.
+fn is_blanked(blanked: &[std::ops::Range<usize>], token: &Token) -> bool {
+    blanked.iter().any(|r| r.contains(&token.start))
+}
+
+/// A user's file on its way through `prepare_with`: what its steps read (the tokens, the
+/// top-level items, the functions found) and what they add to (the edits, the blanked
+/// ranges, the prepared source with its notes).
+struct Intake<'a> {
+    source: &'a str,
+    options: &'a IntakeOptions,
+    ours: &'static KernelNames,
+    tokens: Vec<Token>,
+    /// The tokens outside comments and directives.
+    structure: Vec<Token>,
+    items: Vec<Item>,
+    found: Vec<FoundFunction>,
+    /// Names that the conditions of the user's loops read.
+    loop_bounds: BTreeSet<String>,
+    prepared: PreparedSource,
+    edits: Vec<Edit>,
+    blanked: Vec<std::ops::Range<usize>>,
+    /// The user's macros.
+    user_macros: Vec<String>,
+    /// The user's macros whose value is an integer literal (bounds of counted loops).
+    macro_integers: BTreeMap<String, i64>,
+    /// The global names the file declares, with the line of the first declaration.
+    declared: BTreeMap<String, usize>,
+    /// The identifiers the kept code reads.
+    referenced: BTreeSet<String>,
+}
+
+impl<'a> Intake<'a> {
+    /// Tokenizes `source` and finds its top-level items and functions.
+    fn new(source: &'a str, options: &'a IntakeOptions) -> Intake<'a> {
+        let tokens = tokenize(source);
+        let structure = structural_tokens(&tokens);
+        let items = top_level_items(&structure);
+        let loop_bounds = loop_condition_names(&structure, &items, &ENTRY_POINTS);
+        Intake {
+            source,
+            options,
+            ours: kernel_names(),
+            tokens,
+            structure,
+            items,
+            found: find_functions(source),
+            loop_bounds,
+            prepared: PreparedSource::default(),
+            edits: Vec::new(),
+            blanked: Vec::new(),
+            user_macros: Vec::new(),
+            macro_integers: BTreeMap::new(),
+            declared: BTreeMap::new(),
+            referenced: BTreeSet::new(),
         }
     }
 
-    // Top-level items: entry points, precision statements, interface variables, the
-    // triangle struct; collect what the file declares.
-    let structure = structural_tokens(&tokens);
-    let items = top_level_items(&structure);
-    let mut declared: BTreeMap<String, usize> = BTreeMap::new();
-    let mut opaque_bindings = 0u32;
-    let found = find_functions(source);
-    let loop_bounds = loop_condition_names(&structure, &items, &ENTRY_POINTS);
-
-    for item in &items {
-        let first = &structure[item.first];
-        let range = first.start..structure[item.last].end;
-        if let Some(name) = item.name {
-            let name_text = &structure[name].text;
-            if ENTRY_POINTS.contains(&name_text.as_str()) && !options.keep_entry_points {
-                if item.kind == ItemKind::FunctionDefinition {
-                    prepared.notes.push(format!(
-                        "line {}: dropped {name_text}() (the entry point; vkpath's kernels call your functions)",
-                        structure[name].line
+    /// Directives: keeps `#define` (and its kin), drops what a kernel cannot take.
+    fn read_directives(&mut self) {
+        for directive in directives(&self.tokens) {
+            let Some(word) = directive.get(1) else {
+                continue;
+            };
+            let range = directive[0].start..directive.last().expect("not empty").end;
+            match word.text.as_str() {
+                "version" | "extension" | "include" | "line" => {
+                    self.prepared.notes.push(format!(
+                        "line {}: dropped #{} ({})",
+                        word.line,
+                        word.text,
+                        match word.text.as_str() {
+                            "version" => "vkpath compiles GLSL 4.60 for Vulkan",
+                            "extension" => "vkpath enables what its kernels need",
+                            "include" => "check reads one self-contained file",
+                            _ => "line numbers stay your file's",
+                        }
                     ));
+                    self.blanked.push(range.clone());
+                    self.edits.push(blank(self.source, range));
                 }
-                blanked.push(range.clone());
-                edits.push(blank(source, range));
+                "define" => {
+                    if let Some(name) = directive.get(2) {
+                        self.user_macros.push(name.text.clone());
+                        let value: Vec<&str> =
+                            directive[3..].iter().map(|t| t.text.as_str()).collect();
+                        if let Some(number) = integer_value(&value.join("")) {
+                            self.macro_integers.insert(name.text.clone(), number);
+                        }
+                        if name.text == "MAX_PATH_LENGTH" {
+                            self.prepared.max_path_length =
+                                value.join("").trim_end_matches('u').parse().ok();
+                        }
+                    }
+                }
+                _ => {}
+            }
+        }
+    }
+
+    /// Top-level items: entry points, precision statements, interface variables, the
+    /// triangle struct; collects what the file declares.
+    fn read_top_level_items(&mut self) {
+        let mut opaque_bindings = 0u32;
+
+        for item in &self.items {
+            let first = &self.structure[item.first];
+            let range = first.start..self.structure[item.last].end;
+            if let Some(name) = item.name {
+                let name_text = &self.structure[name].text;
+                if ENTRY_POINTS.contains(&name_text.as_str()) && !self.options.keep_entry_points {
+                    if item.kind == ItemKind::FunctionDefinition {
+                        self.prepared.notes.push(format!(
+                            "line {}: dropped {name_text}() (the entry point; vkpath's kernels call your functions)",
+                            self.structure[name].line
+                        ));
+                    }
+                    self.blanked.push(range.clone());
+                    self.edits.push(blank(self.source, range));
+                    continue;
+                }
+                self.declared
+                    .entry(name_text.clone())
+                    .or_insert(self.structure[name].line);
                 continue;
             }
-            declared
-                .entry(name_text.clone())
-                .or_insert(structure[name].line);
-            continue;
-        }
-        if first.text == "precision" {
-            blanked.push(range.clone());
-            edits.push(blank(source, range));
-            continue;
-        }
-        // vkpath's kernels declare their own triangle_t; a program that runs on its own
-        // (`avoid_kernel_names` off) keeps the user's.
-        let triangle =
-            struct_members(&structure, item, "triangle_t").filter(|_| options.avoid_kernel_names);
-        if let Some(members) = triangle {
-            if members == ours.triangle_members {
-                prepared.notes.push(format!(
-                    "line {}: your struct triangle_t is the workshop's; vkpath's declaration is used",
+            if first.text == "precision" {
+                self.blanked.push(range.clone());
+                self.edits.push(blank(self.source, range));
+                continue;
+            }
+            // vkpath's kernels declare their own triangle_t; a program that runs on its own
+            // (`avoid_kernel_names` off) keeps the user's.
+            let triangle = struct_members(&self.structure, item, "triangle_t")
+                .filter(|_| self.options.avoid_kernel_names);
+            if let Some(members) = triangle {
+                if members == self.ours.triangle_members {
+                    self.prepared.notes.push(format!(
+                        "line {}: your struct triangle_t is the workshop's; vkpath's declaration is used",
+                        first.line
+                    ));
+                    self.blanked.push(range.clone());
+                    self.edits.push(blank(self.source, range));
+                    continue;
+                }
+                self.prepared.other_triangle_struct = Some(first.line);
+            }
+            let names_declared = declared_names(&self.structure, item);
+            if let Some(name) = names_declared
+                .iter()
+                .find(|n| self.options.caller_declares.contains(n))
+            {
+                self.prepared.notes.push(format!(
+                    "line {}: dropped your declaration of {name} (vkpath supplies it, as ShaderToy does)",
                     first.line
                 ));
-                blanked.push(range.clone());
-                edits.push(blank(source, range));
+                self.blanked.push(range.clone());
+                self.edits.push(blank(self.source, range));
                 continue;
             }
-            prepared.other_triangle_struct = Some(first.line);
-        }
-        let names_declared = declared_names(&structure, item);
-        if let Some(name) = names_declared
-            .iter()
-            .find(|n| options.caller_declares.contains(n))
-        {
-            prepared.notes.push(format!(
-                "line {}: dropped your declaration of {name} (vkpath supplies it, as ShaderToy does)",
-                first.line
-            ));
-            blanked.push(range.clone());
-            edits.push(blank(source, range));
-            continue;
-        }
-        let tokens_of_item = &structure[item.first..=item.last];
-        let mut position = 0;
-        let mut interface = None;
-        while position < tokens_of_item.len() {
-            let text = tokens_of_item[position].text.as_str();
-            if text == "layout" {
-                match matching(tokens_of_item, position + 1, "(", ")") {
-                    Some(close) => position = close + 1,
-                    None => break,
+            let tokens_of_item = &self.structure[item.first..=item.last];
+            let mut position = 0;
+            let mut interface = None;
+            while position < tokens_of_item.len() {
+                let text = tokens_of_item[position].text.as_str();
+                if text == "layout" {
+                    match matching(tokens_of_item, position + 1, "(", ")") {
+                        Some(close) => position = close + 1,
+                        None => break,
+                    }
+                } else if INTERFACE_QUALIFIERS.contains(&text) {
+                    interface = Some(text.to_string());
+                    position += 1;
+                } else if OTHER_QUALIFIERS.contains(&text) || text == "const" {
+                    position += 1;
+                } else {
+                    break;
                 }
-            } else if INTERFACE_QUALIFIERS.contains(&text) {
-                interface = Some(text.to_string());
-                position += 1;
-            } else if OTHER_QUALIFIERS.contains(&text) || text == "const" {
-                position += 1;
-            } else {
-                break;
             }
-        }
-        if let Some(qualifier) = interface {
-            let type_token = tokens_of_item.get(position);
-            let is_block = tokens_of_item.iter().any(|t| t.text == "{");
-            let is_opaque = type_token.is_some_and(|t| is_opaque_type(&t.text));
-            // `layout(local_size_x = 8) in;` declares no variable.
-            let no_variable = type_token.is_none_or(|t| t.text == ";");
-            if is_block || no_variable || is_opaque && qualifier != "uniform" {
-                prepared.notes.push(format!(
-                    "line {}: dropped the {qualifier} declaration{}",
-                    first.line,
-                    if is_block { " block" } else { "" }
-                ));
-                blanked.push(range.clone());
-                edits.push(blank(source, range));
-                continue;
-            }
-            let qualifiers = first.start..tokens_of_item[position].start;
-            let declarators = declared_names(&structure, item);
-            let interface_at = tokens_of_item
-                .iter()
-                .position(|t| INTERFACE_QUALIFIERS.contains(&t.text.as_str()))
-                .unwrap_or(0);
-            let written = tokens_of_item[interface_at..]
-                .iter()
-                .take_while(|t| t.text != ";" && t.text != "=")
-                .map(|t| t.text.as_str())
-                .collect::<Vec<_>>()
-                .join(" ");
-            if is_opaque && !options.bind_opaque {
-                let what = tokens_of_item[position - 1..]
+            if let Some(qualifier) = interface {
+                let type_token = tokens_of_item.get(position);
+                let is_block = tokens_of_item.iter().any(|t| t.text == "{");
+                let is_opaque = type_token.is_some_and(|t| is_opaque_type(&t.text));
+                // `layout(local_size_x = 8) in;` declares no variable.
+                let no_variable = type_token.is_none_or(|t| t.text == ";");
+                if is_block || no_variable || is_opaque && qualifier != "uniform" {
+                    self.prepared.notes.push(format!(
+                        "line {}: dropped the {qualifier} declaration{}",
+                        first.line,
+                        if is_block { " block" } else { "" }
+                    ));
+                    self.blanked.push(range.clone());
+                    self.edits.push(blank(self.source, range));
+                    continue;
+                }
+                let qualifiers = first.start..tokens_of_item[position].start;
+                let declarators = declared_names(&self.structure, item);
+                let interface_at = tokens_of_item
                     .iter()
-                    .take_while(|t| t.text != ";")
+                    .position(|t| INTERFACE_QUALIFIERS.contains(&t.text.as_str()))
+                    .unwrap_or(0);
+                let written = tokens_of_item[interface_at..]
+                    .iter()
+                    .take_while(|t| t.text != ";" && t.text != "=")
                     .map(|t| t.text.as_str())
                     .collect::<Vec<_>>()
                     .join(" ");
-                prepared.notes.push(format!(
-                    "line {}: dropped '{written}' (check has no data for it): functions that read it are not judged",
-                    first.line
-                ));
-                for name in &declarators {
-                    prepared.unavailable.push(Unavailable {
-                        name: name.clone(),
-                        line: first.line,
-                        what: what.replace(" ,", ","),
-                    });
-                }
-                blanked.push(range.clone());
-                edits.push(blank(source, range));
-                continue;
-            }
-            let type_text = type_token.map_or("", |t| t.text.as_str());
-            let role = (options.uniform_values && qualifier == "uniform" && declarators.len() == 1)
-                .then(|| uniform_role(type_text, &declarators[0], &loop_bounds, options))
-                .flatten();
-            if let Some(value) = role {
-                let name = &declarators[0];
-                let end = tokens_of_item.last().map_or(range.end, |t| t.start);
-                edits.push(Edit {
-                    range: qualifiers.clone(),
-                    replacement: "const ".into(),
-                });
-                edits.push(Edit {
-                    range: end..end,
-                    replacement: format!(" = {value}"),
-                });
-                prepared.notes.push(format!(
-                    "line {}: 'uniform {type_text} {name}' is {} here ({})",
-                    first.line,
-                    value_in_words(&value, prepared.max_path_length, name),
-                    role_in_words(&value)
-                ));
-                prepared.uniform_values.push(UniformValue {
-                    name: name.clone(),
-                    line: first.line,
-                    value,
-                });
-            } else if is_opaque {
-                let binding = USER_OPAQUE_BINDING_FIRST + 4 + opaque_bindings;
-                opaque_bindings += 1;
-                edits.push(Edit {
-                    range: qualifiers,
-                    replacement: format!("layout(set = 0, binding = {binding}) uniform "),
-                });
-            } else {
-                if qualifier == "out" && declarators.len() == 1 {
-                    prepared
-                        .outputs
-                        .push((type_text.to_string(), declarators[0].clone()));
-                }
-                prepared.notes.push(format!(
-                    "line {}: '{}' is a plain global here (no {qualifier} in a compute kernel{})",
-                    first.line,
-                    tokens_of_item[position..]
+                if is_opaque && !self.options.bind_opaque {
+                    let what = tokens_of_item[position - 1..]
                         .iter()
-                        .take_while(|t| t.text != ";" && t.text != "=")
+                        .take_while(|t| t.text != ";")
                         .map(|t| t.text.as_str())
                         .collect::<Vec<_>>()
-                        .join(" "),
-                    if qualifier == "uniform" {
-                        "; it is 0"
-                    } else {
-                        ""
+                        .join(" ");
+                    self.prepared.notes.push(format!(
+                        "line {}: dropped '{written}' (check has no data for it): functions that read it are not judged",
+                        first.line
+                    ));
+                    for name in &declarators {
+                        self.prepared.unavailable.push(Unavailable {
+                            name: name.clone(),
+                            line: first.line,
+                            what: what.replace(" ,", ","),
+                        });
                     }
-                ));
-                edits.push(blank(source, qualifiers));
-            }
-        }
-        for name in declared_names(&structure, item) {
-            declared.entry(name).or_insert(first.line);
-        }
-        if prepared.max_path_length.is_none() {
-            // const int MAX_PATH_LENGTH = 5;
-            let texts: Vec<&str> = tokens_of_item.iter().map(|t| t.text.as_str()).collect();
-            if let Some(at) = texts.iter().position(|t| *t == "MAX_PATH_LENGTH") {
-                if texts.get(at + 1) == Some(&"=") {
-                    prepared.max_path_length = texts
-                        .get(at + 2)
-                        .and_then(|v| v.trim_end_matches('u').parse().ok());
+                    self.blanked.push(range.clone());
+                    self.edits.push(blank(self.source, range));
+                    continue;
                 }
-            }
-        }
-    }
-
-    // Names that clash with vkpath's: workshop functions with other parameters, a
-    // different triangle_t, and any other global name the kernels declare too.
-    let mut renames: BTreeMap<String, String> = options.renames.iter().cloned().collect();
-    for (function, signature) in &options.protected_functions {
-        let definitions: Vec<_> = found
-            .iter()
-            .filter(|f| f.has_body && f.name == *function)
-            .collect();
-        let any_protected = definitions.iter().any(|f| f.signature == *signature);
-        if !definitions.is_empty() && !any_protected {
-            for definition in &definitions {
-                prepared.renamed_functions.push((
-                    function.clone(),
-                    definition.line,
-                    definition.signature.to_string(),
-                ));
-            }
-            renames.insert(function.clone(), format!("user_{function}"));
-        }
-    }
-    if let Some(line) = prepared.other_triangle_struct {
-        prepared.notes.push(format!(
-            "line {line}: your struct triangle_t differs from the workshop's; it is renamed user_triangle_t, and functions that take it cannot be judged"
-        ));
-        renames.insert("triangle_t".into(), "user_triangle_t".into());
-    }
-    for (name, line) in &declared {
-        let is_protected = options.protected_functions.iter().any(|(f, _)| f == name);
-        if options.avoid_kernel_names
-            && !is_protected
-            && name != "triangle_t"
-            && (ours.identifiers.contains(name) || ours.macros.contains_key(name))
-            && !user_macros.contains(name)
-        {
-            prepared.notes.push(format!(
-                "line {line}: your {name} is renamed user_{name} (vkpath's kernels declare a {name} of their own)"
-            ));
-            renames.insert(name.clone(), format!("user_{name}"));
-        }
-    }
-
-    // Renames and fragment built-ins, everywhere except in blanked text.
-    let is_blanked = |token: &Token| blanked.iter().any(|r| r.contains(&token.start));
-    let mut referenced: BTreeSet<String> = BTreeSet::new();
-    for token in tokens
-        .iter()
-        .filter(|t| t.is_identifier() && !is_blanked(t))
-    {
-        if let Some(new_name) = renames.get(&token.text) {
-            edits.push(Edit {
-                range: token.start..token.end,
-                replacement: new_name.clone(),
-            });
-        } else if let Some((_, replacement, _)) = FRAGMENT_BUILTINS
-            .iter()
-            .find(|(name, _, _)| *name == token.text)
-        {
-            edits.push(Edit {
-                range: token.start..token.end,
-                replacement: replacement.to_string(),
-            });
-        }
-        referenced.insert(token.text.clone());
-    }
-    // Every loop of the user's functions gets a guard in its condition: an endless loop ends
-    // after USER_LOOP_LIMIT iterations, and the kernel knows it (llvmpipe would end it
-    // silently after 65535 and return whatever the function had). A counted loop (a counter
-    // from a constant to a constant, see `is_counted_loop`) cannot run without end and is left
-    // as it is: a guard in its condition keeps the compiler from unrolling it, which made the
-    // workshop's Exercise 7 tab (its loop over 30 triangles in a local array) about 50 times
-    // slower on lavapipe (`vkpath shadertoy`, 128 x 128: 0.3 against 14.5 frames/s).
-    for item in items
-        .iter()
-        .filter(|i| i.kind == ItemKind::FunctionDefinition && options.guard_loops)
-    {
-        if blanked
-            .iter()
-            .any(|r| r.contains(&structure[item.first].start))
-        {
-            continue;
-        }
-        for index in item.first..item.last {
-            let keyword = structure[index].text.as_str();
-            if !(keyword == "for" || keyword == "while")
-                || structure.get(index + 1).is_none_or(|t| t.text != "(")
-            {
-                continue;
-            }
-            let Some(close) = matching(&structure, index + 1, "(", ")") else {
-                continue;
-            };
-            let (start, end) = if keyword == "while" {
-                (structure[index + 1].end, structure[close].start)
-            } else {
-                // The condition of for (init; condition; increment)
-                let mut depth = 0i32;
-                let semicolons: Vec<usize> = (index + 1..close)
-                    .filter(|&i| {
-                        match structure[i].text.as_str() {
-                            "(" => depth += 1,
-                            ")" => depth -= 1,
-                            _ => {}
-                        }
-                        depth == 1 && structure[i].text == ";"
+                let type_text = type_token.map_or("", |t| t.text.as_str());
+                let role = (self.options.uniform_values
+                    && qualifier == "uniform"
+                    && declarators.len() == 1)
+                    .then(|| {
+                        uniform_role(type_text, &declarators[0], &self.loop_bounds, self.options)
                     })
-                    .collect();
-                let [first, second] = semicolons[..] else {
-                    continue;
-                };
-                if second == first + 1 {
-                    edits.push(Edit {
-                        range: structure[first].end..structure[first].end,
-                        replacement: " vkpath_loop_guard()".into(),
+                    .flatten();
+                if let Some(value) = role {
+                    let name = &declarators[0];
+                    let end = tokens_of_item.last().map_or(range.end, |t| t.start);
+                    self.edits.push(Edit {
+                        range: qualifiers.clone(),
+                        replacement: "const ".into(),
                     });
-                    continue;
+                    self.edits.push(Edit {
+                        range: end..end,
+                        replacement: format!(" = {value}"),
+                    });
+                    self.prepared.notes.push(format!(
+                        "line {}: 'uniform {type_text} {name}' is {} here ({})",
+                        first.line,
+                        value_in_words(&value, self.prepared.max_path_length, name),
+                        role_in_words(&value)
+                    ));
+                    self.prepared.uniform_values.push(UniformValue {
+                        name: name.clone(),
+                        line: first.line,
+                        value,
+                    });
+                } else if is_opaque {
+                    let binding = USER_OPAQUE_BINDING_FIRST + 4 + opaque_bindings;
+                    opaque_bindings += 1;
+                    self.edits.push(Edit {
+                        range: qualifiers,
+                        replacement: format!("layout(set = 0, binding = {binding}) uniform "),
+                    });
+                } else {
+                    if qualifier == "out" && declarators.len() == 1 {
+                        self.prepared
+                            .outputs
+                            .push((type_text.to_string(), declarators[0].clone()));
+                    }
+                    self.prepared.notes.push(format!(
+                        "line {}: '{}' is a plain global here (no {qualifier} in a compute kernel{})",
+                        first.line,
+                        tokens_of_item[position..]
+                            .iter()
+                            .take_while(|t| t.text != ";" && t.text != "=")
+                            .map(|t| t.text.as_str())
+                            .collect::<Vec<_>>()
+                            .join(" "),
+                        if qualifier == "uniform" {
+                            "; it is 0"
+                        } else {
+                            ""
+                        }
+                    ));
+                    self.edits.push(blank(self.source, qualifiers));
                 }
-                let is_constant = |name: &str| {
-                    user_macros.iter().any(|m| m == name)
-                        || ours.macros.contains_key(name)
-                        || prepared.uniform_values.iter().any(|u| u.name == name)
-                };
-                let value_of =
-                    |word: &str| integer_value(word).or_else(|| macro_integers.get(word).copied());
-                let constants = Constants {
-                    is_constant: &is_constant,
-                    value_of: &value_of,
-                };
-                if is_counted_loop(&structure, index + 1, first, second, close, &constants) {
-                    continue;
+            }
+            for name in declared_names(&self.structure, item) {
+                self.declared.entry(name).or_insert(first.line);
+            }
+            if self.prepared.max_path_length.is_none() {
+                // const int MAX_PATH_LENGTH = 5;
+                let texts: Vec<&str> = tokens_of_item.iter().map(|t| t.text.as_str()).collect();
+                if let Some(at) = texts.iter().position(|t| *t == "MAX_PATH_LENGTH") {
+                    if texts.get(at + 1) == Some(&"=") {
+                        self.prepared.max_path_length = texts
+                            .get(at + 2)
+                            .and_then(|v| v.trim_end_matches('u').parse().ok());
+                    }
                 }
-                (structure[first].end, structure[second].start)
-            };
-            edits.push(Edit {
-                range: start..start,
-                replacement: "vkpath_loop_guard() && (".into(),
-            });
-            edits.push(Edit {
-                range: end..end,
-                replacement: ")".into(),
-            });
+            }
         }
     }
-    prepared.text = apply(source, edits);
-    if !options.bind_opaque {
-        let mut seen = BTreeSet::new();
-        for token in tokens
-            .iter()
-            .filter(|t| t.is_identifier() && !is_blanked(t))
-        {
-            let what = if token.text.starts_with("rayQuery") {
-                "ray queries (GL_EXT_ray_query), which vkpath cannot run".to_string()
-            } else if token.text.len() == 9
-                && token.text.starts_with("iChannel")
-                && !declared.contains_key(&token.text)
-                && !options.caller_declares.contains(&token.text)
+
+    /// Names that clash with vkpath's: workshop functions with other parameters, a
+    /// different `triangle_t`, and any other global name the kernels declare too; returns
+    /// each with its new name.
+    fn choose_renames(&mut self) -> BTreeMap<String, String> {
+        let mut renames: BTreeMap<String, String> = self.options.renames.iter().cloned().collect();
+        for (function, signature) in &self.options.protected_functions {
+            let definitions: Vec<_> = self
+                .found
+                .iter()
+                .filter(|f| f.has_body && f.name == *function)
+                .collect();
+            let any_protected = definitions.iter().any(|f| f.signature == *signature);
+            if !definitions.is_empty() && !any_protected {
+                for definition in &definitions {
+                    self.prepared.renamed_functions.push((
+                        function.clone(),
+                        definition.line,
+                        definition.signature.to_string(),
+                    ));
+                }
+                renames.insert(function.clone(), format!("user_{function}"));
+            }
+        }
+        if let Some(line) = self.prepared.other_triangle_struct {
+            self.prepared.notes.push(format!(
+                "line {line}: your struct triangle_t differs from the workshop's; it is renamed user_triangle_t, and functions that take it cannot be judged"
+            ));
+            renames.insert("triangle_t".into(), "user_triangle_t".into());
+        }
+        for (name, line) in &self.declared {
+            let is_protected = self
+                .options
+                .protected_functions
+                .iter()
+                .any(|(f, _)| f == name);
+            if self.options.avoid_kernel_names
+                && !is_protected
+                && name != "triangle_t"
+                && (self.ours.identifiers.contains(name) || self.ours.macros.contains_key(name))
+                && !self.user_macros.contains(name)
             {
-                format!("ShaderToy's {}, whose data check does not have", token.text)
-            } else {
+                self.prepared.notes.push(format!(
+                    "line {line}: your {name} is renamed user_{name} (vkpath's kernels declare a {name} of their own)"
+                ));
+                renames.insert(name.clone(), format!("user_{name}"));
+            }
+        }
+
+        renames
+    }
+
+    /// Renames (`renames`) and fragment built-ins, everywhere except in blanked text;
+    /// notes the identifiers the kept code reads.
+    fn rename(&mut self, renames: &BTreeMap<String, String>) {
+        for token in self
+            .tokens
+            .iter()
+            .filter(|t| t.is_identifier() && !is_blanked(&self.blanked, t))
+        {
+            if let Some(new_name) = renames.get(&token.text) {
+                self.edits.push(Edit {
+                    range: token.start..token.end,
+                    replacement: new_name.clone(),
+                });
+            } else if let Some((_, replacement, _)) = FRAGMENT_BUILTINS
+                .iter()
+                .find(|(name, _, _)| *name == token.text)
+            {
+                self.edits.push(Edit {
+                    range: token.start..token.end,
+                    replacement: replacement.to_string(),
+                });
+            }
+            self.referenced.insert(token.text.clone());
+        }
+    }
+
+    /// Guards the loops of the user's functions (`IntakeOptions::guard_loops`).
+    fn guard_loops(&mut self) {
+        // Every loop of the user's functions gets a guard in its condition: an endless loop ends
+        // after USER_LOOP_LIMIT iterations, and the kernel knows it (llvmpipe would end it
+        // silently after 65535 and return whatever the function had). A counted loop (a counter
+        // from a constant to a constant, see `is_counted_loop`) cannot run without end and is left
+        // as it is: a guard in its condition keeps the compiler from unrolling it, which made the
+        // workshop's Exercise 7 tab (its loop over 30 triangles in a local array) about 50 times
+        // slower on lavapipe (`vkpath shadertoy`, 128 x 128: 0.3 against 14.5 frames/s).
+        for item in self
+            .items
+            .iter()
+            .filter(|i| i.kind == ItemKind::FunctionDefinition && self.options.guard_loops)
+        {
+            if self
+                .blanked
+                .iter()
+                .any(|r| r.contains(&self.structure[item.first].start))
+            {
                 continue;
-            };
-            if seen.insert(token.text.clone()) {
-                prepared.unavailable.push(Unavailable {
-                    name: token.text.clone(),
-                    line: token.line,
-                    what,
+            }
+            for index in item.first..item.last {
+                let keyword = self.structure[index].text.as_str();
+                if !(keyword == "for" || keyword == "while")
+                    || self.structure.get(index + 1).is_none_or(|t| t.text != "(")
+                {
+                    continue;
+                }
+                let Some(close) = matching(&self.structure, index + 1, "(", ")") else {
+                    continue;
+                };
+                let (start, end) = if keyword == "while" {
+                    (self.structure[index + 1].end, self.structure[close].start)
+                } else {
+                    // The condition of for (init; condition; increment)
+                    let mut depth = 0i32;
+                    let semicolons: Vec<usize> = (index + 1..close)
+                        .filter(|&i| {
+                            match self.structure[i].text.as_str() {
+                                "(" => depth += 1,
+                                ")" => depth -= 1,
+                                _ => {}
+                            }
+                            depth == 1 && self.structure[i].text == ";"
+                        })
+                        .collect();
+                    let [first, second] = semicolons[..] else {
+                        continue;
+                    };
+                    if second == first + 1 {
+                        self.edits.push(Edit {
+                            range: self.structure[first].end..self.structure[first].end,
+                            replacement: " vkpath_loop_guard()".into(),
+                        });
+                        continue;
+                    }
+                    let is_constant = |name: &str| {
+                        self.user_macros.iter().any(|m| m == name)
+                            || self.ours.macros.contains_key(name)
+                            || self.prepared.uniform_values.iter().any(|u| u.name == name)
+                    };
+                    let value_of = |word: &str| {
+                        integer_value(word).or_else(|| self.macro_integers.get(word).copied())
+                    };
+                    let constants = Constants {
+                        is_constant: &is_constant,
+                        value_of: &value_of,
+                    };
+                    if is_counted_loop(&self.structure, index + 1, first, second, close, &constants)
+                    {
+                        continue;
+                    }
+                    (self.structure[first].end, self.structure[second].start)
+                };
+                self.edits.push(Edit {
+                    range: start..start,
+                    replacement: "vkpath_loop_guard() && (".into(),
+                });
+                self.edits.push(Edit {
+                    range: end..end,
+                    replacement: ")".into(),
                 });
             }
         }
     }
 
-    // The prelude: undefine the user's macros, supply what the kept code reads, and the
-    // guard of the user's loops.
-    let mut prelude = String::new();
-    if options.guard_loops && !options.caller_declares_loop_guard {
-        prelude = loop_guard_declarations(&format!("{USER_LOOP_LIMIT}u"));
-    }
-    let unique_macros: BTreeSet<&String> = user_macros.iter().collect();
-    for name in &unique_macros {
-        let _ = writeln!(prelude, "#undef {name}");
-    }
-    let mut supplied = Vec::new();
-    for (name, declaration) in SHADERTOY_INPUTS {
-        if options.supply_inputs
-            && referenced.contains(name)
-            && !declared.contains_key(name)
-            && !unique_macros.contains(&name.to_string())
-            && !options.caller_declares.iter().any(|n| n == name)
-        {
-            if name == "iResolution" {
-                let _ = writeln!(prelude, "{}", resolution_declaration(options.resolution));
-            } else {
-                let _ = writeln!(prelude, "{declaration}");
+    /// Names the kept code reads that check cannot supply: ray queries, and ShaderToy's
+    /// channels where no caller binds them.
+    fn find_unavailable_names(&mut self) {
+        if !self.options.bind_opaque {
+            let mut seen = BTreeSet::new();
+            for token in self
+                .tokens
+                .iter()
+                .filter(|t| t.is_identifier() && !is_blanked(&self.blanked, t))
+            {
+                let what = if token.text.starts_with("rayQuery") {
+                    "ray queries (GL_EXT_ray_query), which vkpath cannot run".to_string()
+                } else if token.text.len() == 9
+                    && token.text.starts_with("iChannel")
+                    && !self.declared.contains_key(&token.text)
+                    && !self.options.caller_declares.contains(&token.text)
+                {
+                    format!("ShaderToy's {}, whose data check does not have", token.text)
+                } else {
+                    continue;
+                };
+                if seen.insert(token.text.clone()) {
+                    self.prepared.unavailable.push(Unavailable {
+                        name: token.text.clone(),
+                        line: token.line,
+                        what,
+                    });
+                }
             }
-            supplied.push(name);
         }
     }
-    for channel in 0..4u32 {
-        let name = format!("iChannel{channel}");
-        if options.supply_inputs
-            && options.bind_opaque
-            && referenced.contains(&name)
-            && !declared.contains_key(&name)
-        {
-            let _ = writeln!(
-                prelude,
-                "layout(set = 0, binding = {}) uniform sampler2D {name};",
-                USER_OPAQUE_BINDING_FIRST + channel
-            );
-            supplied.push(match channel {
-                0 => "iChannel0",
-                1 => "iChannel1",
-                2 => "iChannel2",
-                _ => "iChannel3",
-            });
-        }
-    }
-    for (name, _, declaration) in FRAGMENT_BUILTINS {
-        if options.supply_inputs && referenced.contains(name) {
-            let _ = writeln!(prelude, "{declaration}");
-            supplied.push(name);
-        }
-    }
-    if referenced.contains("texture2D") && !unique_macros.contains(&"texture2D".to_string()) {
-        prelude.push_str("#define texture2D texture\n");
-        user_macros.push("texture2D".into());
-    }
-    if !supplied.is_empty() {
-        let (width, height) = options.resolution;
-        prepared.notes.push(format!(
-            "supplied for your code: {} (ShaderToy's inputs at frame 0 of a {width} x {height} image)",
-            supplied.join(", ")
-        ));
-    }
-    prepared.prelude = prelude;
 
-    // The epilogue: the user's macros end with the file; vkpath's come back.
-    let mut epilogue = String::from("\n");
-    let unique_macros: BTreeSet<&String> = user_macros.iter().collect();
-    for name in unique_macros {
-        let _ = writeln!(epilogue, "#undef {name}");
-        if let Some(value) = ours.macros.get(name.as_str()) {
-            let _ = writeln!(epilogue, "#define {name} {value}");
+    /// The prelude: undefines the user's macros, supplies what the kept code reads, and
+    /// declares the guard of the user's loops.
+    fn write_prelude(&mut self) {
+        let mut prelude = String::new();
+        if self.options.guard_loops && !self.options.caller_declares_loop_guard {
+            prelude = loop_guard_declarations(&format!("{USER_LOOP_LIMIT}u"));
         }
+        let unique_macros: BTreeSet<&String> = self.user_macros.iter().collect();
+        for name in &unique_macros {
+            let _ = writeln!(prelude, "#undef {name}");
+        }
+        let mut supplied = Vec::new();
+        for (name, declaration) in SHADERTOY_INPUTS {
+            if self.options.supply_inputs
+                && self.referenced.contains(name)
+                && !self.declared.contains_key(name)
+                && !unique_macros.contains(&name.to_string())
+                && !self.options.caller_declares.iter().any(|n| n == name)
+            {
+                if name == "iResolution" {
+                    let _ = writeln!(
+                        prelude,
+                        "{}",
+                        resolution_declaration(self.options.resolution)
+                    );
+                } else {
+                    let _ = writeln!(prelude, "{declaration}");
+                }
+                supplied.push(name);
+            }
+        }
+        for channel in 0..4u32 {
+            let name = format!("iChannel{channel}");
+            if self.options.supply_inputs
+                && self.options.bind_opaque
+                && self.referenced.contains(&name)
+                && !self.declared.contains_key(&name)
+            {
+                let _ = writeln!(
+                    prelude,
+                    "layout(set = 0, binding = {}) uniform sampler2D {name};",
+                    USER_OPAQUE_BINDING_FIRST + channel
+                );
+                supplied.push(match channel {
+                    0 => "iChannel0",
+                    1 => "iChannel1",
+                    2 => "iChannel2",
+                    _ => "iChannel3",
+                });
+            }
+        }
+        for (name, _, declaration) in FRAGMENT_BUILTINS {
+            if self.options.supply_inputs && self.referenced.contains(name) {
+                let _ = writeln!(prelude, "{declaration}");
+                supplied.push(name);
+            }
+        }
+        if self.referenced.contains("texture2D")
+            && !unique_macros.contains(&"texture2D".to_string())
+        {
+            prelude.push_str("#define texture2D texture\n");
+            self.user_macros.push("texture2D".into());
+        }
+        if !supplied.is_empty() {
+            let (width, height) = self.options.resolution;
+            self.prepared.notes.push(format!(
+                "supplied for your code: {} (ShaderToy's inputs at frame 0 of a {width} x {height} image)",
+                supplied.join(", ")
+            ));
+        }
+        self.prepared.prelude = prelude;
     }
-    prepared.epilogue = epilogue;
-    prepared
+
+    /// The epilogue: the user's macros end with the file; vkpath's come back.
+    fn write_epilogue(&mut self) {
+        let mut epilogue = String::from("\n");
+        let unique_macros: BTreeSet<&String> = self.user_macros.iter().collect();
+        for name in unique_macros {
+            let _ = writeln!(epilogue, "#undef {name}");
+            if let Some(value) = self.ours.macros.get(name.as_str()) {
+                let _ = writeln!(epilogue, "#define {name} {value}");
+            }
+        }
+        self.prepared.epilogue = epilogue;
+    }
 }
 
 /// Most iterations of a loop that `is_counted_loop` leaves unguarded: the workshop's loops

@@ -1,0 +1,859 @@
+//! A user's GLSL file as `check` models it (`UserFunctions`): the workshop functions it
+//! defines, those it cannot have judged and why, the ones that do not compile (dropped one
+//! round at a time), stubs, and the code each judging kernel includes (`UserCode`, compiled
+//! by `crate::check::compile`).
+
+use std::collections::BTreeSet;
+use std::ops::Range;
+
+use crate::check::compile::{compile_kernel, UserCode};
+use crate::check::detect::{
+    find_functions, Definition, FoundFunction, Signature, WorkshopFunction,
+};
+use crate::check::report::FunctionReport;
+use crate::check::unavailable::leave_out_unavailable;
+use crate::glsl_intake::syntax::{structural_tokens, tokenize, top_level_items, ItemKind};
+use crate::glsl_intake::{prepare_with, IntakeOptions, PreparedSource};
+
+/// The intake options of `check`: the user's code goes into vkpath's kernels, its entry
+/// points are dropped, and the workshop functions keep their signatures (a definition with
+/// other parameters is renamed `user_<name>` and listed as not judged).
+pub fn check_intake_options() -> IntakeOptions {
+    IntakeOptions {
+        protected_functions: WorkshopFunction::ALL
+            .iter()
+            .filter_map(|f| Some((f.name().to_string(), f.signature()?)))
+            .collect(),
+        ..IntakeOptions::default()
+    }
+}
+
+/// How many rounds of dropping functions that do not compile are tried before the whole
+/// file is reported as not compiling.
+const MAX_COMPILE_ROUNDS: usize = 12;
+
+/// A workshop name in the user's file that cannot be judged, and why.
+#[derive(Clone, Debug, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
+pub struct NotJudged {
+    /// The function's name.
+    pub function: String,
+    /// Its line in the user's file.
+    pub line: usize,
+    /// Why it is not judged.
+    pub reason: String,
+    /// The user's file where it stands (filled in for the report).
+    #[serde(default)]
+    pub file: String,
+}
+
+/// One of the user's files in the text that `UserFunctions` reads (several for the tabs of
+/// a ShaderToy program).
+#[derive(Clone, Debug, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
+pub struct SourceFile {
+    /// The file as the user named it.
+    pub name: String,
+    /// The line of the text where it begins (from 1).
+    pub first_line: usize,
+}
+
+/// A function of the user's file that does not compile: dropped, with the compiler's words.
+#[derive(Clone, Debug, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
+pub struct BrokenFunction {
+    /// The function's name.
+    pub name: String,
+    /// Its line in the user's file.
+    pub line: usize,
+    /// The compiler's messages about it (naming the user's file and lines).
+    pub messages: String,
+}
+
+/// A user's GLSL file with its versions of workshop functions.
+#[derive(Clone, Debug, serde::Serialize, serde::Deserialize)]
+pub struct UserFunctions {
+    /// The file as the user named it, for messages.
+    pub display_name: String,
+    /// Its text as written.
+    pub text: String,
+    /// The text made ready for the kernels.
+    pub prepared: PreparedSource,
+    /// The workshop functions it defines with the workshop's signatures, in order of
+    /// appearance (those that do not compile included).
+    pub definitions: Vec<Definition>,
+    /// Workshop names it uses for something else.
+    pub not_judged: Vec<NotJudged>,
+    /// Workshop functions defined with the workshop's types but other parameter qualifiers
+    /// (`inout` missing, `in`/`out` swapped): the user's definition is renamed
+    /// `user_<name>` and judged through an adapter with the workshop's signature, so that
+    /// the wrong qualifier has the effect it has in the user's program.
+    pub qualifier_mismatches: Vec<QualifierMismatch>,
+    /// Functions dropped because they do not compile.
+    pub broken: Vec<BrokenFunction>,
+    /// The compiler's warnings about the file (once it compiles).
+    pub compile_warnings: String,
+    /// The compiler's messages when an error lies outside every function, so that nothing
+    /// can be judged.
+    pub compile_errors: Option<String>,
+    /// Workshop functions whose body only returns a constant (`return false;`,
+    /// `return vec3(0.0);`): the exercise's stub, not yet written.
+    pub stubs: Vec<(WorkshopFunction, String)>,
+    /// The user's files in the text, in order (one unless several tabs were given).
+    pub sources: Vec<SourceFile>,
+}
+
+/// A workshop function defined with other parameter qualifiers than the workshop's.
+#[derive(Clone, Debug, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
+pub struct QualifierMismatch {
+    /// The function.
+    pub function: WorkshopFunction,
+    /// Its line in the user's file.
+    pub line: usize,
+    /// Its signature as written.
+    pub signature: Signature,
+}
+
+impl QualifierMismatch {
+    /// The mismatch of `signature` with `function`'s, if they differ only in the `out`/
+    /// `inout` qualifiers of their parameters.
+    pub fn of(function: WorkshopFunction, line: usize, signature: &Signature) -> Option<Self> {
+        let workshop = function.signature()?;
+        let bare = |s: &Signature| -> Vec<String> {
+            s.parameters
+                .iter()
+                .map(|p| {
+                    p.trim_start_matches("inout ")
+                        .trim_start_matches("out ")
+                        .to_string()
+                })
+                .collect()
+        };
+        let only_qualifiers = workshop != *signature
+            && workshop.return_type == signature.return_type
+            && bare(&workshop) == bare(signature);
+        only_qualifiers.then(|| QualifierMismatch {
+            function,
+            line,
+            signature: signature.clone(),
+        })
+    }
+
+    /// Why the verdict may be what it is: which parameters differ and what that does.
+    pub fn explanation(&self) -> String {
+        let workshop = self
+            .function
+            .signature()
+            .unwrap_or_else(|| self.signature.clone());
+        let differences: Vec<String> = workshop
+            .parameters
+            .iter()
+            .zip(&self.signature.parameters)
+            .enumerate()
+            .filter(|(_, (ours, yours))| ours != yours)
+            .map(|(index, (ours, yours))| {
+                let effect = if ours.starts_with("inout ") && !yours.starts_with("inout ") {
+                    if yours.starts_with("out ") {
+                        "the value passed in is never read"
+                    } else {
+                        "what your function writes to it never reaches the caller (a seed that never advances, for get_random_numbers)"
+                    }
+                } else if ours.starts_with("out ") && !yours.starts_with("out ") {
+                    "what your function writes to it never reaches the caller"
+                } else {
+                    "the caller's value is overwritten or not passed in"
+                };
+                format!(
+                    "parameter {} is '{yours}' where the workshop's is '{ours}': {effect}",
+                    index + 1
+                )
+            })
+            .collect();
+        format!(
+            "your {} is {} where the workshop's is {}; {}",
+            self.function.name(),
+            self.signature,
+            workshop,
+            differences.join("; ")
+        )
+    }
+
+    /// The adapter with the workshop's signature that calls the user's renamed function,
+    /// compiled only where the function is taken from the user.
+    fn adapter(&self) -> Option<String> {
+        let workshop = self.function.signature()?;
+        let parameters: Vec<String> = workshop
+            .parameters
+            .iter()
+            .enumerate()
+            .map(|(i, p)| format!("{p} vkpath_a{i}"))
+            .collect();
+        let arguments: Vec<String> = (0..workshop.parameters.len())
+            .map(|i| format!("vkpath_a{i}"))
+            .collect();
+        let name = self.function.name();
+        Some(format!(
+            "#ifdef {}
+{} {name}({}) {{ return user_{name}({}); }}
+#endif
+",
+            self.function.user_defines_macro(),
+            workshop.return_type,
+            parameters.join(", "),
+            arguments.join(", ")
+        ))
+    }
+}
+impl UserFunctions {
+    /// Reads `text`: prepares it and finds the workshop functions it defines.
+    pub fn new(display_name: &str, text: String) -> UserFunctions {
+        let mut prepared = prepare_with(&text, &check_intake_options());
+        let mut definitions = Vec::new();
+        let mut not_judged = Vec::new();
+        let mut qualifier_mismatches = Vec::new();
+        for (name, line, signature) in &prepared.renamed_functions {
+            let Some(function) = WorkshopFunction::from_name(name) else {
+                continue;
+            };
+            let written = find_functions(&text)
+                .into_iter()
+                .find(|f| f.has_body && f.line == *line && f.name == *name)
+                .map(|f| f.signature);
+            if let Some(mismatch) = written
+                .as_ref()
+                .and_then(|s| QualifierMismatch::of(function, *line, s))
+            {
+                definitions.push(Definition {
+                    function,
+                    line: *line,
+                    signature: mismatch.signature.clone(),
+                });
+                qualifier_mismatches.push(mismatch);
+                continue;
+            }
+            not_judged.push(NotJudged {
+                function: function.name().to_string(),
+                line: *line,
+                reason: format!(
+                    "its parameters are {signature} but the workshop's {} is {}; it is kept as your own user_{} and not judged",
+                    function.name(),
+                    function
+                        .signature()
+                        .map_or_else(|| "unknown".to_string(), |s| s.to_string()),
+                    function.name()
+                ),
+                file: String::new(),
+            });
+        }
+        for found in find_functions(&prepared.text)
+            .into_iter()
+            .filter(|f| f.has_body)
+        {
+            let Some(function) = WorkshopFunction::from_name(&found.name) else {
+                continue;
+            };
+            let definition = Definition {
+                function,
+                line: found.line,
+                signature: found.signature,
+            };
+            if definition.has_workshop_signature() {
+                definitions.push(definition);
+            } else {
+                // A second definition of the name with other parameters, beside one with
+                // the workshop's: GLSL takes it as an overload.
+                not_judged.push(NotJudged {
+                    function: function.name().to_string(),
+                    line: found.line,
+                    reason: format!(
+                        "this overload takes {} rather than the workshop's parameters; it is kept and not judged",
+                        definition.signature
+                    ),
+                    file: String::new(),
+                });
+            }
+        }
+        if prepared.other_triangle_struct.is_some() {
+            for entry in &mut not_judged {
+                if entry.reason.contains("user_triangle_t") {
+                    entry
+                        .reason
+                        .push_str(" (your triangle_t differs from the workshop's)");
+                }
+            }
+        }
+        // What needs data check does not have is left out; the rest is judged.
+        let renamed: Vec<WorkshopFunction> =
+            qualifier_mismatches.iter().map(|m| m.function).collect();
+        let workshop_of = |name: &str| {
+            WorkshopFunction::from_name(name).or_else(|| {
+                WorkshopFunction::from_name(name.strip_prefix("user_")?)
+                    .filter(|f| renamed.contains(f))
+            })
+        };
+        for left_out in leave_out_unavailable(&mut prepared, workshop_of) {
+            match workshop_of(&left_out.name) {
+                Some(function) => {
+                    definitions.retain(|d| !(d.function == function && d.line == left_out.line));
+                    not_judged.push(NotJudged {
+                        function: function.name().to_string(),
+                        line: left_out.line,
+                        reason: left_out.reason,
+                        file: String::new(),
+                    });
+                }
+                None => prepared.notes.push(format!(
+                    "line {}: left out your {}: {}",
+                    left_out.line, left_out.name, left_out.reason
+                )),
+            }
+        }
+        qualifier_mismatches.retain(|m| definitions.iter().any(|d| d.function == m.function));
+        let stubs = find_stubs(&prepared.text, &workshop_of);
+        not_judged.sort_by_key(|n| n.line);
+        UserFunctions {
+            display_name: display_name.to_string(),
+            text,
+            prepared,
+            definitions,
+            not_judged,
+            qualifier_mismatches,
+            broken: Vec::new(),
+            compile_warnings: String::new(),
+            compile_errors: None,
+            stubs,
+            sources: vec![SourceFile {
+                name: display_name.to_string(),
+                first_line: 1,
+            }],
+        }
+    }
+
+    /// The distinct workshop functions the file defines (with the workshop's signature), in
+    /// the workshop's order.
+    pub fn functions(&self) -> Vec<WorkshopFunction> {
+        let defined: BTreeSet<WorkshopFunction> =
+            self.definitions.iter().map(|d| d.function).collect();
+        defined.into_iter().collect()
+    }
+
+    /// The functions that compile and can be judged.
+    pub fn judged_functions(&self) -> Vec<WorkshopFunction> {
+        self.functions()
+            .into_iter()
+            .filter(|f| !self.broken.iter().any(|b| b.name == f.name()))
+            .collect()
+    }
+
+    /// Whether the file defines `function`.
+    pub fn defines(&self, function: WorkshopFunction) -> bool {
+        self.definitions.iter().any(|d| d.function == function)
+    }
+
+    /// The line of the file's first definition of `function` (0 if none).
+    pub fn line_of(&self, function: WorkshopFunction) -> usize {
+        self.definitions
+            .iter()
+            .find(|d| d.function == function)
+            .map_or(0, |d| d.line)
+    }
+
+    /// The code a kernel includes to take `active` from the user (the user's other workshop
+    /// functions and the functions that do not compile are left out; its helpers stay).
+    pub fn code(&self, active: &[WorkshopFunction]) -> UserCode {
+        let mut left_out: Vec<Range<usize>> = Vec::new();
+        for found in find_functions(&self.prepared.text) {
+            let workshop = self.workshop_function_of(&found.name);
+            let inactive = workshop.is_some_and(|f| !active.contains(&f));
+            let name = workshop.map_or(found.name.clone(), |f| f.name().to_string());
+            let broken = self.broken.iter().any(|b| b.name == name);
+            if inactive || broken {
+                left_out.push(found.span.clone());
+            }
+        }
+        // A function with other qualifiers is the user's `user_<name>`: where it is taken
+        // from the user an adapter with the workshop's signature calls it, elsewhere the
+        // user's calls of it go to the reference version.
+        let mut before = String::new();
+        let mut after = String::new();
+        for mismatch in &self.qualifier_mismatches {
+            let name = mismatch.function.name();
+            let taken =
+                active.contains(&mismatch.function) && !self.broken.iter().any(|b| b.name == name);
+            if taken {
+                after.push_str(&mismatch.adapter().unwrap_or_default());
+            } else {
+                before.push_str(&format!("#define user_{name} {name}\n"));
+                after.push_str(&format!("#undef user_{name}\n"));
+            }
+        }
+        let mut text = self.prepared.text.clone();
+        for range in left_out {
+            let blank: String = text[range.clone()]
+                .chars()
+                .map(|c| if c == '\n' { '\n' } else { ' ' })
+                .collect();
+            text.replace_range(range, &blank);
+        }
+        UserCode {
+            include: format!(
+                "{}{before}#line 1\n{}{}{after}",
+                self.prepared.prelude, text, self.prepared.epilogue
+            ),
+            active: active.to_vec(),
+            display_name: self.display_name.clone(),
+        }
+    }
+
+    /// `report` (the verdict on `function`) with what the file tells about it: a parameter
+    /// qualifier that differs from the workshop's (the likely cause of a failure, a warning
+    /// beside a pass), a body that is still the exercise's stub.
+    pub fn annotate(
+        &self,
+        function: WorkshopFunction,
+        mut report: FunctionReport,
+    ) -> FunctionReport {
+        let (file, line) = self.locate(report.line);
+        report.file = file;
+        report.line = line;
+        if report.method == "compile" {
+            if let Some(hint) = &report.hint {
+                if let Some(missing) = self.undefined_names(hint) {
+                    report.summary = format!(
+                        "does not compile: {missing} not defined in any of your files; if your program has a Common tab, pass it first"
+                    );
+                }
+                report.hint = Some(self.localize(hint));
+            }
+        }
+        if let Some(mismatch) = self
+            .qualifier_mismatches
+            .iter()
+            .find(|m| m.function == function)
+        {
+            if report.passed {
+                report.warnings.push(mismatch.explanation());
+            } else {
+                report.hint = Some(mismatch.explanation());
+            }
+        }
+        if let Some((_, body)) = self.stubs.iter().find(|(f, _)| *f == function) {
+            if !report.passed {
+                report.hint = Some(format!(
+                    "this function is still the exercise's stub (its body is only '{body}'): write it as the slides describe"
+                ));
+            }
+        }
+        report
+    }
+
+    /// The file and line of the user's that line `line` of the text is.
+    pub fn locate(&self, line: usize) -> (String, usize) {
+        match self.sources.iter().rev().find(|s| s.first_line <= line) {
+            Some(source) => (source.name.clone(), line + 1 - source.first_line),
+            None => (self.display_name.clone(), line),
+        }
+    }
+
+    /// `text` (a note, compiler messages) with each place in the text, `line N` or
+    /// `<display name>:N`, written as the user's `file:line`.
+    pub fn localize(&self, text: &str) -> String {
+        let prefix = format!("{}:", self.display_name);
+        let mut result = String::with_capacity(text.len());
+        let mut rest = text;
+        loop {
+            let at_name = rest.find(&prefix).map(|i| (i, prefix.len()));
+            let at_line = rest
+                .match_indices("line ")
+                .find(|(i, _)| rest[i + 5..].starts_with(|c: char| c.is_ascii_digit()))
+                .map(|(i, _)| (i, 5));
+            let Some((start, skip)) = [at_name, at_line].into_iter().flatten().min() else {
+                result.push_str(rest);
+                return result;
+            };
+            let digits_end = rest[start + skip..]
+                .find(|c: char| !c.is_ascii_digit())
+                .map_or(rest.len(), |i| start + skip + i);
+            result.push_str(&rest[..start]);
+            match rest[start + skip..digits_end].parse::<usize>() {
+                Ok(line) => {
+                    let (file, line) = self.locate(line);
+                    result.push_str(&format!("{file}:{line}"));
+                }
+                Err(_) => result.push_str(&rest[start..digits_end]),
+            }
+            rest = &rest[digits_end..];
+        }
+    }
+
+    /// The identifiers that compiler `messages` call undeclared and that none of the user's
+    /// files declares, as "'a' is" or "'a', 'b' are"; `None` when there are none.
+    fn undefined_names(&self, messages: &str) -> Option<String> {
+        let declared = crate::glsl_intake::prepare::declared_globals(&self.text);
+        let mut missing: Vec<String> = Vec::new();
+        for line in messages.lines() {
+            let Some(error) = line.split(": error:").nth(1) else {
+                continue;
+            };
+            let undeclared = error.contains("undeclared identifier")
+                || error.contains("no matching overloaded function found");
+            let name = error
+                .trim()
+                .strip_prefix('\'')
+                .and_then(|r| r.split('\'').next());
+            if let (true, Some(name)) = (undeclared, name) {
+                let base = name.strip_prefix("user_").unwrap_or(name);
+                if !declared.contains(name)
+                    && !declared.contains(base)
+                    && !missing.iter().any(|m| m == name)
+                {
+                    missing.push(name.to_string());
+                }
+            }
+        }
+        match missing.len() {
+            0 => None,
+            1 => Some(format!("'{}' is", missing[0])),
+            _ => Some(format!(
+                "{} are",
+                missing
+                    .iter()
+                    .map(|m| format!("'{m}'"))
+                    .collect::<Vec<_>>()
+                    .join(", ")
+            )),
+        }
+    }
+
+    /// The workshop function that a function of the prepared text stands for: its own
+    /// name, or `user_<name>` for a definition with other qualifiers.
+    pub fn workshop_function_of(&self, name: &str) -> Option<WorkshopFunction> {
+        WorkshopFunction::from_name(name).or_else(|| {
+            let workshop = WorkshopFunction::from_name(name.strip_prefix("user_")?)?;
+            self.qualifier_mismatches
+                .iter()
+                .any(|m| m.function == workshop)
+                .then_some(workshop)
+        })
+    }
+
+    /// The code with every judged function taken from the user, as the file runs on its own.
+    pub fn whole(&self) -> UserCode {
+        self.code(&self.judged_functions())
+    }
+
+    /// Compiles the file with all its functions; functions whose code the compiler rejects
+    /// are dropped (recorded in `broken`, with the compiler's messages) and the rest compiled
+    /// again. Returns the compiler's warnings, or its messages when an error lies outside
+    /// every function (then nothing can be judged).
+    pub fn find_broken_functions(&mut self) -> Result<String, String> {
+        for _ in 0..MAX_COMPILE_ROUNDS {
+            let code = self.whole();
+            let messages = match compile_kernel("probe_get_random_numbers.comp", Some(&code), &[]) {
+                Ok(compiled) => return Ok(compiled.warnings),
+                Err(messages) => messages,
+            };
+            let functions = find_functions(&self.prepared.text);
+            let mut newly_broken: Vec<BrokenFunction> = Vec::new();
+            let mut outside = false;
+            let mut dropped_declaration = false;
+            for message in messages.lines().filter(|l| l.contains(": error:")) {
+                let Some(line) = self.error_line(message) else {
+                    outside = true;
+                    continue;
+                };
+                let found = enclosing(&functions, &self.prepared.text, line).map(|found| {
+                    let name = self
+                        .workshop_function_of(&found.name)
+                        .map_or(found.name.clone(), |f| f.name().to_string());
+                    (name, found)
+                });
+                match found {
+                    Some((name, found)) if !self.broken.iter().any(|b| b.name == name) => {
+                        match newly_broken.iter_mut().find(|b| b.name == name) {
+                            Some(broken) => {
+                                broken.messages.push_str(message);
+                                broken.messages.push('\n');
+                            }
+                            None => newly_broken.push(BrokenFunction {
+                                name,
+                                line: found.line,
+                                messages: format!("{message}\n"),
+                            }),
+                        }
+                    }
+                    Some(_) => {}
+                    None => match self.drop_declaration_at(line, message) {
+                        true => dropped_declaration = true,
+                        false => outside = true,
+                    },
+                }
+            }
+            if outside || newly_broken.is_empty() && !dropped_declaration {
+                return Err(messages);
+            }
+            self.broken.extend(newly_broken);
+        }
+        Err(format!(
+            "{}: too many functions do not compile",
+            self.display_name
+        ))
+    }
+
+    /// Drops (blanks) the global declaration of the prepared text that covers `line`, with a
+    /// note quoting the compiler's `message`; false when no declaration covers it. The
+    /// functions that need what it declares then fail to compile one by one, and are
+    /// reported, instead of the whole file.
+    fn drop_declaration_at(&mut self, line: usize, message: &str) -> bool {
+        let tokens = structural_tokens(&tokenize(&self.prepared.text));
+        let Some(item) = top_level_items(&tokens)
+            .into_iter()
+            .filter(|item| item.kind == ItemKind::Declaration)
+            .find(|item| (tokens[item.first].line..=tokens[item.last].line).contains(&line))
+        else {
+            return false;
+        };
+        let range = tokens[item.first].start..tokens[item.last].end;
+        // The declaration as the user wrote it, on one line.
+        let written: Vec<&str> = self.prepared.text[range.clone()]
+            .split_whitespace()
+            .collect();
+        let reason = message
+            .split(": error:")
+            .nth(1)
+            .map_or(message, str::trim)
+            .to_string();
+        self.prepared.notes.push(format!(
+            "line {}: dropped '{}' (it does not compile here: {reason}); a function that needs it fails to compile",
+            tokens[item.first].line,
+            shorten(&written.join(" "), 60)
+        ));
+        let blank: String = self.prepared.text[range.clone()]
+            .chars()
+            .map(|c| if c == '\n' { '\n' } else { ' ' })
+            .collect();
+        self.prepared.text.replace_range(range, &blank);
+        true
+    }
+
+    /// The user's line that a compiler message names, if it names the user's file.
+    fn error_line(&self, message: &str) -> Option<usize> {
+        let rest = message.strip_prefix(&format!("{}:", self.display_name))?;
+        rest.split(':').next()?.trim().parse().ok()
+    }
+}
+
+/// The workshop functions of `text` whose body is only `return <constant>;` (no identifier
+/// other than a type's constructor, `true` or `false`): the exercise's stub, with the body.
+fn find_stubs(
+    text: &str,
+    workshop_of: &impl Fn(&str) -> Option<WorkshopFunction>,
+) -> Vec<(WorkshopFunction, String)> {
+    let tokens = structural_tokens(&tokenize(text));
+    let mut stubs = Vec::new();
+    for item in top_level_items(&tokens) {
+        let (Some(name), ItemKind::FunctionDefinition) = (item.name, &item.kind) else {
+            continue;
+        };
+        let Some(function) = workshop_of(&tokens[name].text) else {
+            continue;
+        };
+        let Some(open) = (name..item.last).find(|&i| tokens[i].text == "{") else {
+            continue;
+        };
+        let body = &tokens[open + 1..item.last];
+        let constant = body.first().is_some_and(|t| t.text == "return")
+            && body.last().is_some_and(|t| t.text == ";")
+            && body.iter().filter(|t| t.text == ";").count() == 1
+            && body[1..body.len() - 1].iter().all(|t| {
+                !t.is_identifier()
+                    || matches!(t.text.as_str(), "true" | "false")
+                    || is_constructor(&t.text)
+            });
+        if constant && body.len() >= 2 {
+            let words: Vec<&str> = body.iter().map(|t| t.text.as_str()).collect();
+            let written = words
+                .join(" ")
+                .replace(" ( ", "(")
+                .replace(" )", ")")
+                .replace(" ,", ",")
+                .replace(" ;", ";");
+            stubs.push((function, written));
+        }
+    }
+    stubs
+}
+
+/// Whether a word is a scalar, vector or matrix type (a constructor in an expression).
+fn is_constructor(word: &str) -> bool {
+    matches!(word, "float" | "int" | "uint" | "bool" | "double")
+        || ["vec", "ivec", "uvec", "bvec", "dvec", "mat", "dmat"]
+            .iter()
+            .any(|prefix| {
+                word.strip_prefix(prefix)
+                    .is_some_and(|rest| rest.starts_with(|c: char| c.is_ascii_digit()))
+            })
+}
+
+/// `text` cut to at most `limit` characters, with "…" where it was cut.
+fn shorten(text: &str, limit: usize) -> String {
+    if text.chars().count() <= limit {
+        return text.to_string();
+    }
+    let cut: String = text.chars().take(limit).collect();
+    format!("{cut}…")
+}
+
+/// The function (defined at global scope) whose text covers `line`.
+fn enclosing<'a>(
+    functions: &'a [FoundFunction],
+    text: &str,
+    line: usize,
+) -> Option<&'a FoundFunction> {
+    functions.iter().filter(|f| f.has_body).find(|f| {
+        let first_line = text[..f.span.start].matches('\n').count() + 1;
+        (first_line..=f.last_line).contains(&line)
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::check::compile::USER_FUNCTIONS_FILE;
+
+    #[test]
+    fn user_functions_replace_the_reference_and_errors_name_their_file() {
+        let user = UserFunctions::new(
+            "mine.glsl",
+            "vec3 sample_sphere(vec2 u) {\n    return vec3(0.0, 0.0, 1.0);\n}\n".into(),
+        );
+        assert_eq!(user.functions(), [WorkshopFunction::SampleSphere]);
+        let code = user.whole();
+        assert!(code
+            .macros()
+            .contains(&("USER_DEFINES_SAMPLE_SPHERE".into(), "1".into())));
+        let compiled = compile_kernel("probe_sample_hemisphere.comp", Some(&code), &[]);
+        assert!(compiled.is_ok(), "{:?}", compiled.err());
+
+        let mut broken = UserFunctions::new(
+            "mine.glsl",
+            "#version 300 es\nvec3 sample_sphere(vec2 u) {\n    return vec3(0.0, 0.0, 1.0)\n}\n"
+                .into(),
+        );
+        let Err(error) = compile_kernel("probe_sample_sphere.comp", Some(&broken.whole()), &[])
+        else {
+            panic!("a missing semicolon must not compile");
+        };
+        assert!(error.contains("mine.glsl:4:"), "{error}");
+        assert!(!error.contains(USER_FUNCTIONS_FILE), "{error}");
+        // The function is dropped, and with it nothing is left to judge.
+        assert!(broken.find_broken_functions().is_ok());
+        assert_eq!(broken.broken.len(), 1);
+        assert!(broken.judged_functions().is_empty());
+    }
+
+    #[test]
+    fn one_function_that_does_not_compile_leaves_the_others() {
+        let mut user = UserFunctions::new(
+            "tab.glsl",
+            "vec3 sample_sphere(vec2 u) {\n    return vec3(0.0, 0.0, 1.0);\n}\n\
+             vec3 sample_hemisphere(vec2 u, vec3 n) {\n    return undefined_name;\n}\n"
+                .into(),
+        );
+        assert!(user.find_broken_functions().is_ok());
+        assert_eq!(user.judged_functions(), [WorkshopFunction::SampleSphere]);
+        assert_eq!(user.broken[0].name, "sample_hemisphere");
+        assert!(
+            user.broken[0].messages.contains("tab.glsl:5:"),
+            "{:?}",
+            user.broken
+        );
+    }
+
+    #[test]
+    fn each_kernel_takes_only_the_function_it_judges() {
+        let user = UserFunctions::new(
+            "tab.glsl",
+            "vec3 sample_sphere(vec2 u) { return vec3(0.0, 0.0, 1.0); }\n\
+             vec3 sample_hemisphere(vec2 u, vec3 n) { return sample_sphere(u); }\n"
+                .into(),
+        );
+        let code = user.code(&[WorkshopFunction::SampleHemisphere]);
+        assert!(!code.include.contains("return vec3(0.0, 0.0, 1.0)"));
+        assert!(code.include.contains("return sample_sphere(u)"));
+        assert!(compile_kernel("probe_sample_hemisphere.comp", Some(&code), &[]).is_ok());
+    }
+
+    #[test]
+    fn a_missing_inout_is_judged_through_an_adapter() {
+        let user = UserFunctions::new(
+            "tab.glsl",
+            "vec2 get_random_numbers(uvec2 seed) {\n    seed += 1u;\n    return vec2(seed);\n}\n"
+                .into(),
+        );
+        assert_eq!(user.functions(), [WorkshopFunction::GetRandomNumbers]);
+        assert!(user.not_judged.is_empty(), "{:?}", user.not_judged);
+        let explanation = user.qualifier_mismatches[0].explanation();
+        assert!(
+            explanation.contains("'uvec2' where the workshop's is 'inout uvec2'"),
+            "{explanation}"
+        );
+        let code = user.code(&[WorkshopFunction::GetRandomNumbers]);
+        assert!(code
+            .include
+            .contains("return user_get_random_numbers(vkpath_a0);"));
+        assert!(compile_kernel("probe_get_random_numbers.comp", Some(&code), &[]).is_ok());
+        // Where another function is judged, the user's calls go to the reference.
+        let other = user.code(&[]);
+        assert!(other
+            .include
+            .contains("#define user_get_random_numbers get_random_numbers"));
+        // Other types than the workshop's are not a qualifier mismatch.
+        let signature = Signature {
+            return_type: "vec2".into(),
+            parameters: vec!["uvec3".into()],
+        };
+        assert!(QualifierMismatch::of(WorkshopFunction::GetRandomNumbers, 1, &signature).is_none());
+    }
+
+    #[test]
+    fn stubs_places_and_undefined_names_are_found() {
+        let mut user = UserFunctions::new(
+            "tab.glsl",
+            "bool ray_triangle_intersection(out float out_t, vec3 o, vec3 d, triangle_t tri) {\n    return false;\n}\n\
+             vec3 sample_sphere(vec2 u) {\n    return vec3(0.0, 0.0, 1.0);\n}\n\
+             vec3 sample_hemisphere(vec2 u, vec3 n) {\n    return n;\n}\n"
+                .into(),
+        );
+        let stubs: Vec<WorkshopFunction> = user.stubs.iter().map(|(f, _)| *f).collect();
+        assert_eq!(
+            stubs,
+            [
+                WorkshopFunction::RayTriangleIntersection,
+                WorkshopFunction::SampleSphere
+            ]
+        );
+        assert_eq!(user.stubs[0].1, "return false;");
+        user.display_name = "a.glsl + b.glsl".into();
+        user.sources = vec![
+            SourceFile {
+                name: "a.glsl".into(),
+                first_line: 1,
+            },
+            SourceFile {
+                name: "b.glsl".into(),
+                first_line: 4,
+            },
+        ];
+        assert_eq!(user.locate(5), ("b.glsl".into(), 2));
+        assert_eq!(
+            user.localize("line 2: x; a.glsl + b.glsl:7: error: 'f' : undeclared identifier"),
+            "a.glsl:2: x; b.glsl:4: error: 'f' : undeclared identifier"
+        );
+        // sample_sphere is declared in the text, helper is not.
+        assert_eq!(
+            user.undefined_names(
+                "b.glsl:4: error: 'helper' : no matching overloaded function found\n\
+                 b.glsl:5: error: 'sample_sphere' : undeclared identifier"
+            ),
+            Some("'helper' is".into())
+        );
+    }
+}
