@@ -7,6 +7,8 @@ mod common;
 
 #[path = "bench_cli.rs"]
 mod bench_cli;
+#[path = "check_cli.rs"]
+mod check_cli;
 #[path = "cli_errors.rs"]
 mod cli_errors;
 #[path = "compare_cli.rs"]
@@ -21,6 +23,8 @@ mod hostile_input;
 mod look_cli;
 #[path = "materials_cli.rs"]
 mod materials_cli;
+#[path = "messages_cli.rs"]
+mod messages_cli;
 #[path = "noise_threshold.rs"]
 mod noise_threshold;
 #[path = "nothing_lost.rs"]
@@ -33,7 +37,5 @@ mod production;
 mod region_tiles;
 #[path = "scripting_cli.rs"]
 mod scripting_cli;
-#[path = "check_cli.rs"]
-mod check_cli;
 #[path = "shadertoy_cli.rs"]
 mod shadertoy_cli;
