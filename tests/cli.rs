@@ -23,6 +23,8 @@ mod hostile_input;
 mod look_cli;
 #[path = "materials_cli.rs"]
 mod materials_cli;
+#[path = "messages_cli.rs"]
+mod messages_cli;
 #[path = "noise_threshold.rs"]
 mod noise_threshold;
 #[path = "nothing_lost.rs"]

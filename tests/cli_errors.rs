@@ -115,8 +115,6 @@ fn unsupported_scene_format() {
 fn zero_and_absurd_sizes_and_sample_counts() {
     render_error(&["--width", "0"], "--width");
     render_error(&["--height", "100000"], "100000");
-    render_error(&["--spp", "0"], "--spp");
-    render_error(&["--spp", "4000000000"], "--spp");
     render_error(&["--max-path-length", "0"], "--max-path-length");
     render_error(&["--generated", "100000000000"], "--generated");
     // Too large for the device, so in tiles; their state on the host (240 bytes a pixel
@@ -231,4 +229,124 @@ fn a_good_render_prints_the_device_and_a_summary() {
     }
     let png = image::open(dir.path().join("out.png")).unwrap();
     assert_eq!((png.width(), png.height()), (8, 8));
+}
+
+#[test]
+fn zero_samples_are_usage_errors_of_render_bench_and_exercise() {
+    let dir = tempfile::tempdir().unwrap();
+    for args in [
+        &["render", "-o", "out.png", "--spp", "0"][..],
+        &["render", "-o", "out.png", "--spp", "4000000000"],
+        &["bench", "--spp", "0"],
+        &["exercise", "path-tracing", "-o", "out.png", "--spp", "0"],
+    ] {
+        let line = expect_error(dir.path(), args, &[], 2);
+        assert!(
+            line.contains("--spp")
+                && line.contains("is not a number of samples per pixel in 1..=16777216"),
+            "{line}"
+        );
+    }
+}
+
+/// A directory with the files of the tests below: a PNG, a text file named .exr and a
+/// truncated Radiance map.
+fn wrong_files() -> tempfile::TempDir {
+    let dir = tempfile::tempdir().unwrap();
+    image::RgbImage::new(2, 2)
+        .save(dir.path().join("a.png"))
+        .unwrap();
+    std::fs::write(dir.path().join("text.exr"), "not an EXR").unwrap();
+    std::fs::write(
+        dir.path().join("cut.hdr"),
+        b"#?RADIANCE\nFORMAT=32-bit_rle_rgbe\n\n-Y 8 +X 8\n\x01\x02",
+    )
+    .unwrap();
+    std::fs::create_dir(dir.path().join("folder.exr")).unwrap();
+    dir
+}
+
+#[test]
+fn environment_map_errors_name_the_map_and_the_cause() {
+    let files = wrong_files();
+    let path = |name: &str| files.path().join(name).display().to_string();
+    let missing = path("nope.hdr");
+    render_error(
+        &["--environment", &missing],
+        &format!("cannot read environment map '{missing}': No such file or directory"),
+    );
+    // The file is named once, and what is wrong with it is said plainly.
+    for (name, cause) in [
+        ("text.exr", "it is not an OpenEXR file"),
+        ("a.png", "must be a .hdr (Radiance) or .exr (OpenEXR) file"),
+        ("cut.hdr", "the file is truncated"),
+        ("folder.exr", "it is a directory, not a file"),
+    ] {
+        let dir = tempfile::tempdir().unwrap();
+        let line = expect_error(
+            dir.path(),
+            &[
+                "render",
+                "-o",
+                "out.png",
+                "--width",
+                "8",
+                "--height",
+                "8",
+                "--spp",
+                "1",
+                "--environment",
+                &path(name),
+            ],
+            &[],
+            1,
+        );
+        assert!(line.contains(cause), "{name}: {line}");
+        assert_eq!(line.matches(name).count(), 1, "{name}: {line}");
+    }
+}
+
+#[test]
+fn files_that_are_not_openexr_say_so_and_what_the_command_reads() {
+    let files = wrong_files();
+    let path = |name: &str| files.path().join(name).display().to_string();
+    let dir = tempfile::tempdir().unwrap();
+    let png = path("a.png");
+    let folder = path("folder.exr");
+    let line = expect_error(dir.path(), &["compare", &png, &png], &[], 2);
+    assert!(
+        line.contains(
+            "it is a PNG image, not an OpenEXR file (`vkpath compare` reads OpenEXR images"
+        ),
+        "{line}"
+    );
+    let line = expect_error(dir.path(), &["compare", "--exact", &png, &png], &[], 2);
+    assert!(
+        line.contains("it is a PNG image, not an OpenEXR file"),
+        "{line}"
+    );
+    let line = expect_error(dir.path(), &["compare", &folder, &png], &[], 2);
+    assert!(line.contains("it is a directory, not a file"), "{line}");
+    let line = expect_error(dir.path(), &["merge", &png, "-o", "m.exr"], &[], 1);
+    assert!(
+        line.contains(
+            "it is a PNG image, not an OpenEXR file (`vkpath merge` reads the OpenEXR shards"
+        ),
+        "{line}"
+    );
+    render_error(
+        &["--resume", &png],
+        "it is a PNG image, not an OpenEXR file (--resume reads the OpenEXR checkpoint",
+    );
+}
+
+#[test]
+fn obj_errors_give_file_and_line() {
+    let files = tempfile::tempdir().unwrap();
+    let obj = files.path().join("bad.obj");
+    std::fs::write(&obj, "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 1 2 x\nf 1 2 3\n").unwrap();
+    render_error(
+        &[obj.to_str().unwrap()],
+        &format!("malformed OBJ '{}:4': position parse error", obj.display()),
+    );
 }

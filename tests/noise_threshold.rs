@@ -179,3 +179,73 @@ fn bad_thresholds_and_splits_are_one_line_errors() {
         "{stderr}"
     );
 }
+
+#[test]
+fn the_summary_and_the_exr_say_how_many_samples_were_taken() {
+    let dir = tempfile::tempdir().unwrap();
+    let stderr = vkpath_ok(
+        dir.path(),
+        &[
+            "render",
+            "--width",
+            "32",
+            "--height",
+            "32",
+            "--spp",
+            "256",
+            "--noise-threshold",
+            "0.1",
+            "--noise-min-spp",
+            "16",
+            "-o",
+            "a.exr",
+        ],
+    );
+    let summary = stderr.lines().last().unwrap();
+    // "... 32x32, mean M spp, cap 256, setup T s, render S s, R M samples/s"
+    let after = |label: &str| -> f64 {
+        let start = summary.find(label).unwrap_or_else(|| panic!("{summary}")) + label.len();
+        summary[start..]
+            .split(|c: char| c == ' ' || c == ',')
+            .next()
+            .and_then(|n| n.parse().ok())
+            .unwrap_or_else(|| panic!("no number after '{label}': {summary}"))
+    };
+    let mean = after("mean ");
+    assert!(summary.contains(" spp, cap 256, "), "{summary}");
+    let image = read_exr(&dir.path().join("a.exr")).unwrap().image;
+    let pixels = image.sample_count.len() as f64;
+    let held: f64 = image.sample_count.iter().map(|&n| f64::from(n)).sum();
+    assert!(
+        held < 0.9 * 256.0 * pixels,
+        "no pixel stopped early: {summary}"
+    );
+    assert!(
+        (mean - held / pixels).abs() <= 0.5,
+        "{summary}: {}",
+        held / pixels
+    );
+    // The rate counts the samples taken, not 256 per pixel: rate x seconds is the samples
+    // held, up to the rounding of the printed seconds (2 decimals) and rate (3).
+    let seconds = after("render ");
+    let rate = {
+        let end = summary.rfind(" M samples/s").unwrap();
+        let start = summary[..end].rfind(' ').unwrap() + 1;
+        summary[start..end].parse::<f64>().unwrap()
+    };
+    let counted = rate * 1e6 * seconds;
+    let slack = held * 0.006 / seconds.max(0.01) + 0.0006e6 * seconds + 0.01 * held;
+    assert!(
+        (counted - held).abs() <= slack,
+        "{summary}: rate x seconds = {counted}, samples taken {held}"
+    );
+    // The EXR's vkpath attribute records the mean beside spp (the cap) and sample_range.
+    let attributes =
+        vkpath::render::state_exr::read_text_attributes(&dir.path().join("a.exr")).unwrap();
+    let text = &attributes["vkpath"];
+    let expected = format!(
+        "spp=256; sample_range=0..256; spp_mean={:.2}; ",
+        held / pixels
+    );
+    assert!(text.starts_with(&expected), "{text} vs {expected}");
+}

@@ -101,6 +101,9 @@ pub struct WorkerLauncher {
     pub device_arguments: Vec<String>,
     /// How long one function may take before its worker is killed.
     pub function_time_limit: Duration,
+    /// Whether the workers print nothing on stderr but warnings and errors (`check --quiet`:
+    /// no device line, no note about building kernels).
+    pub quiet: bool,
 }
 
 /// What became of one function judged in a worker.
@@ -268,6 +271,7 @@ impl WorkerLauncher {
             .arg("--output-dir")
             .arg(&options.output_dir)
             .args(&self.device_arguments)
+            .args(self.quiet.then_some("--quiet"))
             .stdin(Stdio::piped())
             .stdout(Stdio::piped())
             .stderr(Stdio::inherit())

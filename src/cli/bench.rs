@@ -5,7 +5,7 @@ use std::sync::LazyLock;
 use anyhow::bail;
 use clap::ValueEnum;
 
-use super::options::{RenderOptions, SceneArgs};
+use super::options::{parse_spp, RenderOptions, SceneArgs};
 use super::DeviceArgs;
 use crate::bench::{format_table, run_bench, BenchSetup};
 use crate::render::settings::{Integrator, LightSelection, RenderSettings};
@@ -24,11 +24,11 @@ pub struct BenchArgs {
     #[arg(long, default_value_t = BenchSetup::default().settings.height)]
     pub height: u32,
     /// Samples per pixel of each measured render.
-    #[arg(long, default_value_t = BenchSetup::default().settings.spp)]
+    #[arg(long, default_value_t = BenchSetup::default().settings.spp, value_parser = parse_spp)]
     pub spp: u32,
     /// Samples per pixel of the reference (rendered with mis); its own error adds
     /// 1/(reference_spp/spp) of a same-strategy render's to every relMSE.
-    #[arg(long, default_value_t = BenchSetup::default().reference_spp)]
+    #[arg(long, default_value_t = BenchSetup::default().reference_spp, value_parser = parse_spp)]
     pub reference_spp: u32,
     /// Measure against this stored reference (an EXR of the same size, best written by
     /// `vkpath render --moments` at many spp) instead of rendering one: a reference far

@@ -61,6 +61,10 @@ pub struct CheckArgs {
     /// judged (a hang in the driver or in the function).
     #[arg(long, default_value_t = 600, value_parser = clap::value_parser!(u64).range(1..))]
     pub function_time_limit: u64,
+    /// Print nothing on stderr but warnings and errors (no device line, no note about
+    /// building kernels); the verdicts still go to stdout.
+    #[arg(long)]
+    pub quiet: bool,
     /// Device selection and validation.
     #[command(flatten)]
     pub device: DeviceArgs,
@@ -88,6 +92,9 @@ pub struct CheckWorkerArgs {
     /// Where the images go.
     #[arg(long)]
     pub output_dir: PathBuf,
+    /// Print nothing on stderr but warnings and errors (`check --quiet`).
+    #[arg(long)]
+    pub quiet: bool,
     /// Device selection and validation.
     #[command(flatten)]
     pub device: DeviceArgs,
@@ -195,6 +202,7 @@ fn judge_all(
             .map_err(|e| anyhow::anyhow!("cannot find the vkpath binary to judge with: {e}"))?,
         device_arguments: args.device.to_arguments(),
         function_time_limit: Duration::from_secs(args.function_time_limit),
+        quiet: args.quiet,
     };
     let alpha = test_alpha_of_units(units, options)?;
     let json = args.json;
@@ -274,7 +282,7 @@ pub fn run_worker(args: &CheckWorkerArgs) -> anyhow::Result<()> {
                 .ok_or_else(|| anyhow::anyhow!("{name} is not a workshop function"))
         })
         .collect::<anyhow::Result<_>>()?;
-    let context = args.device.create_context()?;
+    let context = args.device.create_context_reporting(!args.quiet)?;
     isolation::emit(&WorkerEvent::Started {
         device: context.info.name.clone(),
     })?;

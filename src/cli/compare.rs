@@ -5,13 +5,24 @@
 use std::io::Write as _;
 use std::path::{Path, PathBuf};
 
-use crate::compare::heatmap::heat_map;
+use crate::compare::heatmap::{heat_legend, heat_map};
 use crate::compare::{
     compare_images, CompareOptions, CompareReport, VarianceSource, DEFAULT_ALPHA,
     DEFAULT_BLOCK_SIZE,
 };
-use crate::image_io::exr_input::read_exr;
+use crate::image_io::exr_input::{check_exr_file, read_exr, ExrImage};
 use crate::image_io::output::{check_writable, save_image, SaveOptions};
+
+/// What `compare` reads, for the error about a file that is not one.
+pub const COMPARE_READS: &str =
+    "`vkpath compare` reads OpenEXR images, as `vkpath render -o NAME.exr --moments` writes them";
+
+/// Reads image `path` for the comparison; a file that is not an OpenEXR image is refused
+/// with what it is and what `compare` reads.
+fn read_input(path: &Path) -> anyhow::Result<ExrImage> {
+    check_exr_file(path, Some(COMPARE_READS))?;
+    Ok(read_exr(path)?)
+}
 
 /// Exit status when the images are not consistent.
 pub const EXIT_INCONSISTENT: i32 = 1;
@@ -43,6 +54,10 @@ pub struct CompareArgs {
     /// them) identical, bit for bit? Exit 0 if so, 1 if not (headers are not compared).
     #[arg(long, conflicts_with_all = ["heatmap", "json"])]
     pub exact: bool,
+    /// Print nothing on stderr but errors (no line about the heat map); the verdict still
+    /// goes to stdout.
+    #[arg(long)]
+    pub quiet: bool,
 }
 
 /// Runs `vkpath compare`. Does not return when the verdict is "inconsistent" (exit status 1)
@@ -74,7 +89,7 @@ pub fn run(args: &CompareArgs) -> anyhow::Result<()> {
 /// `vkpath compare --exact`: the pixels bit for bit.
 fn run_exact(args: &CompareArgs) -> anyhow::Result<()> {
     let read = |path: &Path| {
-        read_exr(path).unwrap_or_else(|error| {
+        read_input(path).unwrap_or_else(|error| {
             eprintln!("vkpath: error: {error:#}");
             std::process::exit(EXIT_USAGE);
         })
@@ -112,8 +127,8 @@ fn compare_files(args: &CompareArgs) -> anyhow::Result<CompareReport> {
     if let Some(path) = &args.heatmap {
         check_writable(path)?;
     }
-    let a = read_exr(&args.a)?;
-    let b = read_exr(&args.b)?;
+    let a = read_input(&args.a)?;
+    let b = read_input(&args.b)?;
     let options = CompareOptions {
         alpha: args.alpha,
         block_size: args.block_size,
@@ -128,7 +143,14 @@ fn compare_files(args: &CompareArgs) -> anyhow::Result<CompareReport> {
     if let Some(path) = &args.heatmap {
         let map = heat_map(&report, a.image.width, a.image.height);
         save_image(path, &map, &SaveOptions::default())?;
-        eprintln!("vkpath: wrote {} (heat map)", path.display());
+        if !args.quiet {
+            eprintln!(
+                "vkpath: wrote {} (heat map of {size}x{size} blocks: {})",
+                path.display(),
+                heat_legend(report.per_test_significance),
+                size = report.block_size
+            );
+        }
     }
     Ok(report)
 }

@@ -5,8 +5,8 @@ use std::path::PathBuf;
 use anyhow::bail;
 use glam::{UVec2, Vec3};
 
-use super::options::SaveArgs;
-use super::output::{fail_on_validation_messages, render_and_save};
+use super::options::{parse_spp, SaveArgs};
+use super::output::{fail_on_validation_messages, render_and_save, Reporting};
 use super::{parse_vec3, DeviceArgs};
 use crate::exercise::{
     render_brdf_sample_display, render_guide_cell_display, render_sample_display,
@@ -22,8 +22,10 @@ use crate::scene::SceneSource;
 
 /// Arguments of `vkpath exercise`. Its defaults are the workshop's
 /// (`workshop_frame_settings()`), not `render`'s, and the frame's sample count is
-/// `--sample-count` as the workshop calls it.
+/// `--sample-count` as the workshop calls it. Its PNGs are clamped, as the workshop shows
+/// them, so `--tonemap`'s help names that default (`EXERCISE_TONEMAP_HELP`).
 #[derive(Debug, Clone, clap::Args)]
+#[command(mut_arg("tonemap", |arg| arg.help(EXERCISE_TONEMAP_HELP)))]
 pub struct ExerciseArgs {
     /// Which picture.
     #[arg(value_enum)]
@@ -42,7 +44,7 @@ pub struct ExerciseArgs {
     pub sample_count: u32,
     /// Samples per pixel in total, rendered progressively in frames of --sample-count;
     /// default: one frame, as the slides' pictures.
-    #[arg(long)]
+    #[arg(long, value_parser = parse_spp)]
     pub spp: Option<u32>,
     /// Maximum number of surface hits per path (MAX_PATH_LENGTH, path-tracing).
     #[arg(long, default_value_t = workshop_frame_settings().max_path_length)]
@@ -57,6 +59,10 @@ pub struct ExerciseArgs {
     /// How the image is written.
     #[command(flatten)]
     pub save: SaveArgs,
+    /// Print only notes, warnings and errors: no device line, progress bar, summary or
+    /// `wrote` line.
+    #[arg(long)]
+    pub quiet: bool,
     /// Device selection and validation.
     #[command(flatten)]
     pub device: DeviceArgs,
@@ -68,6 +74,15 @@ pub struct ExerciseArgs {
     #[command(flatten)]
     pub brdf: BrdfArgs,
 }
+
+/// `exercise`'s help for `--tonemap` (in place of `SaveArgs`' own): its default is
+/// `EXERCISE_TONE_MAP`.
+pub const EXERCISE_TONEMAP_HELP: &str =
+    "PNG only: how exposed radiance becomes display values [default: clamp, the workshop's display]";
+
+/// The tone map of `exercise`'s PNGs when --tonemap is not given: the workshop's display,
+/// exposure then clip (PNGs byte for byte as they always were).
+pub const EXERCISE_TONE_MAP: ToneMap = ToneMap::Clamp;
 
 /// What `vkpath exercise guide-cell` shows: the scene, the pixel whose camera ray finds the
 /// point, and the guide's training.
@@ -190,8 +205,12 @@ fn parse_color(text: &str) -> Result<Vec3, String> {
 
 /// Runs `vkpath exercise`.
 pub fn run(args: &ExerciseArgs) -> anyhow::Result<()> {
-    // The workshop's display: exposure, then clip (PNGs byte for byte as they always were).
-    let save = args.save.options(ToneMap::Clamp);
+    let save = args.save.options(EXERCISE_TONE_MAP);
+    let talk = !args.quiet;
+    let reporting = Reporting {
+        json: false,
+        quiet: args.quiet,
+    };
     args.save
         .warn_unused(std::slice::from_ref(&args.output), false);
     match args.name.kind() {
@@ -216,8 +235,16 @@ pub fn run(args: &ExerciseArgs) -> anyhow::Result<()> {
             let Some(camera) = scene.camera else {
                 bail!("the built-in Cornell box has no camera");
             };
-            let context = args.device.create_context()?;
-            render_and_save(&context, &scene, &camera, settings, &args.output, &save)
+            let context = args.device.create_context_reporting(talk)?;
+            render_and_save(
+                &context,
+                &scene,
+                &camera,
+                settings,
+                &args.output,
+                &save,
+                reporting,
+            )
         }
         ExerciseKind::GuideCell => {
             check_writable(&args.output)?;
@@ -253,7 +280,7 @@ pub fn run(args: &ExerciseArgs) -> anyhow::Result<()> {
                     setup.height
                 );
             }
-            let context = args.device.create_context()?;
+            let context = args.device.create_context_reporting(talk)?;
             let view = render_guide_cell_display(
                 &context,
                 &scene,
@@ -263,13 +290,15 @@ pub fn run(args: &ExerciseArgs) -> anyhow::Result<()> {
                 args.height,
             )?;
             save_image(&args.output, &view.image, &save)?;
-            eprintln!(
-                "vkpath: wrote {} (cell {} at {}, normal {}: guide left, BSDF right)",
-                args.output.display(),
-                view.cell,
-                view.point,
-                view.normal
-            );
+            if talk {
+                eprintln!(
+                    "vkpath: wrote {} (cell {} at {}, normal {}: guide left, BSDF right)",
+                    args.output.display(),
+                    view.cell,
+                    view.point,
+                    view.normal
+                );
+            }
             fail_on_validation_messages(&context)
         }
         ExerciseKind::Samples(sampler) => {
@@ -284,7 +313,7 @@ pub fn run(args: &ExerciseArgs) -> anyhow::Result<()> {
                 );
             }
             check_writable(&args.output)?;
-            let context = args.device.create_context()?;
+            let context = args.device.create_context_reporting(talk)?;
             let image = match sampler {
                 ExerciseSampler::Brdf => render_brdf_sample_display(
                     &context,
@@ -296,7 +325,9 @@ pub fn run(args: &ExerciseArgs) -> anyhow::Result<()> {
                 _ => render_sample_display(&context, sampler, args.width, args.height, args.seed)?,
             };
             save_image(&args.output, &image, &save)?;
-            eprintln!("vkpath: wrote {}", args.output.display());
+            if talk {
+                eprintln!("vkpath: wrote {}", args.output.display());
+            }
             fail_on_validation_messages(&context)
         }
     }

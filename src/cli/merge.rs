@@ -1,11 +1,19 @@
-//! `vkpath merge SHARD.exr... -o OUT.{exr,png}`: combines the shards of one render.
+//! `vkpath merge SHARD.exr... -o OUT.{exr,png} [-o OUT2...]`: combines the shards of one
+//! render.
 
 use std::path::PathBuf;
 
+use anyhow::bail;
+
 use super::options::SaveArgs;
+use crate::image_io::exr_input::check_exr_file;
 use crate::image_io::output::{check_writable, save_image, ImageFormat};
 use crate::image_io::tonemap::RENDER_PNG_TONE_MAP;
 use crate::render::state_exr::{merge_state_files, write_state};
+
+/// What `merge` reads, for the error about a file that is not one.
+pub const MERGE_READS: &str =
+    "`vkpath merge` reads the OpenEXR shards that `vkpath render --shard` or `--sample-range` writes";
 
 /// Arguments of `vkpath merge`.
 #[derive(Debug, Clone, clap::Args)]
@@ -14,10 +22,11 @@ pub struct MergeArgs {
     /// of one scene and settings, whose sample ranges tile one range.
     #[arg(required = true)]
     pub shards: Vec<PathBuf>,
-    /// The merged image: .exr (with the merged state, so it can be merged again) or .png.
-    #[arg(short, long)]
-    pub output: PathBuf,
-    /// How a PNG is written (tone map: agx unless --tonemap says otherwise).
+    /// The merged image: .exr (with the merged state, so it can be merged again) or .png;
+    /// give it more than once (-o a.exr -o a.png) to write several files.
+    #[arg(short, long = "output", required = true)]
+    pub outputs: Vec<PathBuf>,
+    /// How a PNG is written.
     #[command(flatten)]
     pub save: SaveArgs,
     /// Print nothing but warnings and errors.
@@ -27,23 +36,40 @@ pub struct MergeArgs {
 
 /// Runs `vkpath merge`.
 pub fn run(args: &MergeArgs) -> anyhow::Result<()> {
-    let format = check_writable(&args.output)?;
+    let mut formats = Vec::new();
+    for (index, output) in args.outputs.iter().enumerate() {
+        formats.push(check_writable(output)?);
+        if args.outputs[..index].contains(output) {
+            bail!("-o '{}' is given twice", output.display());
+        }
+    }
+    for shard in &args.shards {
+        check_exr_file(shard, Some(MERGE_READS))?;
+    }
+    args.save.warn_unused(&args.outputs, false);
     let (merged, metadata) = merge_state_files(&args.shards)?;
-    match format {
-        ImageFormat::Exr => write_state(&args.output, &merged, &metadata)?,
-        ImageFormat::Png => save_image(
-            &args.output,
-            &merged.image(),
-            &args.save.options(RENDER_PNG_TONE_MAP),
-        )?,
+    for (output, format) in args.outputs.iter().zip(formats) {
+        match format {
+            ImageFormat::Exr => write_state(output, &merged, &metadata)?,
+            ImageFormat::Png => save_image(
+                output,
+                &merged.image(),
+                &args.save.options(RENDER_PNG_TONE_MAP),
+            )?,
+        }
     }
     if !args.quiet {
+        let written: Vec<String> = args
+            .outputs
+            .iter()
+            .map(|p| p.display().to_string())
+            .collect();
         eprintln!(
             "vkpath: merged {} shards (samples {}..{}); wrote {}",
             args.shards.len(),
             merged.samples.start,
             merged.samples.end,
-            args.output.display()
+            written.join(", ")
         );
     }
     Ok(())

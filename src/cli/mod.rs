@@ -203,6 +203,99 @@ mod tests {
         assert!(parse_vec3("1,2,inf").is_err());
     }
 
+    /// The help of subcommand `name`, as `vkpath NAME --help` prints it.
+    fn long_help(name: &str) -> String {
+        use clap::CommandFactory;
+        let mut command = Cli::command();
+        command.build();
+        command
+            .find_subcommand_mut(name)
+            .expect("the subcommand exists")
+            .render_long_help()
+            .to_string()
+    }
+
+    /// The help of option `--long` of subcommand `name`.
+    fn option_help(name: &str, long: &str) -> String {
+        use clap::CommandFactory;
+        let command = Cli::command();
+        let subcommand = command
+            .find_subcommand(name)
+            .expect("the subcommand exists");
+        let argument = subcommand
+            .get_arguments()
+            .find(|a| a.get_long() == Some(long))
+            .expect("the option exists");
+        argument
+            .get_long_help()
+            .or(argument.get_help())
+            .map(ToString::to_string)
+            .unwrap_or_default()
+    }
+
+    #[test]
+    fn the_tone_map_help_names_the_default_the_code_uses() {
+        use crate::image_io::tonemap::RENDER_PNG_TONE_MAP;
+        for name in ["render", "merge"] {
+            let help = option_help(name, "tonemap");
+            let default = format!("[default: {}]", RENDER_PNG_TONE_MAP.name());
+            assert!(help.contains(&default), "{name}: {help}");
+        }
+        let help = option_help("exercise", "tonemap");
+        let default = format!("[default: {},", exercise::EXERCISE_TONE_MAP.name());
+        assert!(help.contains(&default), "exercise: {help}");
+    }
+
+    #[test]
+    fn help_mentions_no_option_the_subcommand_lacks() {
+        // `--preview` is render's; `exercise` and `merge` share its image options.
+        for name in ["exercise", "merge"] {
+            let help = long_help(name);
+            assert!(!help.contains("--preview"), "{name} --help: {help}");
+        }
+        for name in ["exercise", "compare", "check", "merge", "render"] {
+            assert!(long_help(name).contains("--quiet"), "{name} has no --quiet");
+        }
+    }
+
+    #[test]
+    fn zero_samples_are_usage_errors() {
+        for arguments in [
+            &["vkpath", "render", "-o", "a.png", "--spp", "0"][..],
+            &["vkpath", "bench", "--spp", "0"],
+            &[
+                "vkpath",
+                "exercise",
+                "path-tracing",
+                "-o",
+                "a.png",
+                "--spp",
+                "0",
+            ],
+        ] {
+            let error = Cli::try_parse_from(arguments).unwrap_err();
+            assert_eq!(error.exit_code(), 2, "{arguments:?}");
+            assert!(
+                error
+                    .to_string()
+                    .contains("'0' is not a number of samples per pixel in 1..="),
+                "{error}"
+            );
+        }
+    }
+
+    #[test]
+    fn merge_takes_several_outputs() {
+        let cli = Cli::try_parse_from([
+            "vkpath", "merge", "a.exr", "b.exr", "-o", "m.exr", "-o", "m.png",
+        ])
+        .unwrap();
+        let Command::Merge(args) = cli.command else {
+            panic!("not merge");
+        };
+        assert_eq!(args.outputs.len(), 2);
+    }
+
     #[test]
     fn cli_definition_is_consistent() {
         use clap::CommandFactory;

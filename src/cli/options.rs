@@ -15,7 +15,7 @@ use crate::image_io::output::{ImageFormat, SaveOptions};
 use crate::image_io::tonemap::{Exposure, ToneMap};
 use crate::render::settings::{
     default_russian_roulette_start, Accel, LightSampling, LightSelection, RenderSettings,
-    SamplerKind,
+    SamplerKind, MAX_SPP,
 };
 use crate::scene::files::LoadOptions;
 use crate::scene::{Scene, SceneSource};
@@ -252,6 +252,17 @@ pub(crate) fn parse_seconds(text: &str) -> Result<f64, String> {
     Ok(seconds)
 }
 
+/// A sample count per pixel for `--spp`: a whole number in 1..=`MAX_SPP`. Parsed here, so
+/// that `--spp 0` is a usage error (exit status 2) as every other malformed option is.
+pub(crate) fn parse_spp(text: &str) -> Result<u32, String> {
+    match text.trim().parse::<u32>() {
+        Ok(spp) if (1..=MAX_SPP).contains(&spp) => Ok(spp),
+        _ => Err(format!(
+            "'{text}' is not a number of samples per pixel in 1..={MAX_SPP}"
+        )),
+    }
+}
+
 /// START..END with START < END.
 fn parse_sample_range(text: &str) -> Result<Range<u32>, String> {
     parse_range(text)
@@ -289,12 +300,13 @@ fn parse_exposure(text: &str) -> Result<Exposure, String> {
 /// default tone map differs (`options`).
 #[derive(Debug, Clone, clap::Args)]
 pub struct SaveArgs {
-    /// PNG (and --preview) only: multiply radiance by 2^EXPOSURE before the tone map; `auto`
-    /// maps the image's log-average luminance to middle grey 0.18 [default: 0].
+    /// PNG only: multiply radiance by 2^EXPOSURE before the tone map; `auto` maps the
+    /// image's log-average luminance to middle grey 0.18 [default: 0].
     #[arg(long, allow_negative_numbers = true, value_parser = parse_exposure)]
     pub exposure: Option<Exposure>,
-    /// PNG (and --preview) only: how exposed radiance becomes display values
-    /// [default: agx; for `exercise`, clamp].
+    // The default named here is `RENDER_PNG_TONE_MAP`'s; `exercise` replaces this help with
+    // its own (`exercise::EXERCISE_TONEMAP_HELP`); `cli::tests` keeps both true.
+    /// PNG only: how exposed radiance becomes display values [default: agx-punchy].
     #[arg(long, value_enum)]
     pub tonemap: Option<ToneMap>,
     /// EXR only: also store each pixel's second moment and sample count (for `vkpath compare`).

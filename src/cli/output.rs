@@ -133,6 +133,36 @@ pub struct RenderReport {
     pub guide: Option<GuideSummary>,
 }
 
+/// The JSON object `render --json` prints on stdout when it fails before its report: the
+/// schema version, `stop` as `failed` and the error line, so that a script reading stdout
+/// always gets one object (the exit status is still non-zero).
+#[derive(Serialize)]
+pub struct RenderFailure {
+    /// `RENDER_REPORT_SCHEMA_VERSION`.
+    pub schema_version: u32,
+    /// Always `failed`.
+    pub stop: &'static str,
+    /// The error, as the line on stderr says it (without `vkpath: error: `).
+    pub error: String,
+}
+
+impl RenderFailure {
+    /// The report of a render that failed with `error`.
+    pub fn new(error: &anyhow::Error) -> RenderFailure {
+        RenderFailure {
+            schema_version: RENDER_REPORT_SCHEMA_VERSION,
+            stop: crate::render::StopReason::Failed.name(),
+            error: format!("{error:#}"),
+        }
+    }
+}
+
+/// An error after `render --json` printed its report (which says how the render stopped),
+/// so that no second JSON object follows it. Displays as the error it wraps.
+#[derive(Debug, thiserror::Error)]
+#[error("{0:#}")]
+pub struct ReportPrinted(pub anyhow::Error);
+
 /// `--guiding`'s guide in a `RenderReport`.
 #[derive(Serialize)]
 pub struct GuideSummary {
@@ -259,8 +289,9 @@ struct Finished {
     preview_failure: Option<String>,
 }
 
-/// Renders all samples with a progress bar, saves the image and prints the summary line.
-/// A signal stops it early and saves the samples taken so far.
+/// Renders all samples with a progress bar, saves the image and prints the summary line
+/// (neither with `reporting.quiet`). A signal stops it early and saves the samples taken so
+/// far.
 pub fn render_and_save(
     context: &Arc<Context>,
     scene: &Scene,
@@ -268,6 +299,7 @@ pub fn render_and_save(
     settings: RenderSettings,
     output: &Path,
     save: &SaveOptions,
+    reporting: Reporting,
 ) -> anyhow::Result<()> {
     let outputs = [output.to_path_buf()];
     render_job_and_save(
@@ -283,13 +315,18 @@ pub fn render_and_save(
             },
             outputs: &outputs,
             save: *save,
-            reporting: Reporting::default(),
+            reporting,
             shard: false,
             post: PostProcess::default(),
             command_started: Instant::now(),
         },
     )
 }
+
+/// What `render --denoise` says it did (after "vkpath: ", unless quiet): the filter
+/// `PostProcess::apply` runs and where the original went.
+pub const DENOISED_LINE: &str = "denoised with Intel Open Image Denoise's RT filter (HDR, \
+     guided by the albedo and normal); an EXR keeps the noisy image in its `noisy` layer";
 
 /// What happens to a finished render before it is saved: outputs beside the colour
 /// (`--aov`) and denoising (`--denoise`, which renders the albedo and normal it needs).
@@ -473,7 +510,7 @@ fn install_signals(request: &RenderRequest) -> anyhow::Result<()> {
 fn finish(
     request: &RenderRequest,
     contexts: &[Arc<Context>],
-    finished: Finished,
+    mut finished: Finished,
 ) -> anyhow::Result<()> {
     let settings = request.settings;
     let total = request.job.samples.len() as u32;
@@ -510,6 +547,13 @@ fn finish(
         .rendering_started
         .saturating_duration_since(request.command_started)
         .as_secs_f64();
+    let area = settings.area();
+    let pixels = f64::from(area.width()) * f64::from(area.height());
+    let samples_held: f64 = image.sample_count.iter().map(|&n| f64::from(n)).sum();
+    // Samples this run took: all those held but the resumed ones (`resumed_spp` per pixel,
+    // exact unless an adaptive checkpoint had stopped some pixels before).
+    let new_samples_taken = (samples_held - f64::from(finished.resumed_samples) * pixels).max(0.0);
+    let spp_mean = samples_held / pixels.max(1.0);
     let checkpoint = request.job.checkpoint.as_ref();
     let preview = request
         .job
@@ -518,6 +562,13 @@ fn finish(
         .filter(|_| finished.preview_failure.is_none())
         .map(|p| &p.path);
     if request.reporting.talks() {
+        if let Some(resumed) = &request.job.resume {
+            eprintln!(
+                "vkpath: resumed from '{}' at {} of {total} spp; this run took {new_samples} more",
+                resumed.display(),
+                finished.resumed_samples
+            );
+        }
         for output in request.outputs {
             eprintln!("vkpath: wrote {}", output.display());
         }
@@ -527,7 +578,6 @@ fn finish(
         if let Some(preview) = preview {
             eprintln!("vkpath: wrote {} (preview)", preview.display());
         }
-        let area = settings.area();
         let devices: Vec<(DeviceInfo, u32)> = contexts
             .iter()
             .zip(&finished.devices)
@@ -540,7 +590,8 @@ fn finish(
                 width: area.width(),
                 height: area.height(),
                 spp: done,
-                new_spp: new_samples,
+                spp_mean: settings.noise_threshold.map(|_| spp_mean),
+                new_samples: new_samples_taken,
                 setup_seconds,
                 seconds: finished.render_seconds,
             })
@@ -550,13 +601,6 @@ fn finish(
         }
     }
     if request.reporting.json {
-        let area = settings.area();
-        let pixels = f64::from(area.width()) * f64::from(area.height());
-        let samples_held: f64 = image.sample_count.iter().map(|&n| f64::from(n)).sum();
-        // Samples this run took: all those held but the resumed ones (`resumed_spp` per
-        // pixel, exact unless an adaptive checkpoint had stopped some pixels before).
-        let new_samples_taken =
-            (samples_held - f64::from(finished.resumed_samples) * pixels).max(0.0);
         let effective_sampler = if settings.integrator.is_importance_sampled() {
             settings.sampler
         } else {
@@ -574,7 +618,7 @@ fn finish(
             height: settings.height,
             region: settings.region.map(|r| [r.x0, r.y0, r.x1, r.y1]),
             noise_threshold: settings.noise_threshold.map(|n| n.threshold),
-            spp_mean: samples_held / pixels.max(1.0),
+            spp_mean,
             integrator: settings.integrator.name(),
             sampler: sampler_name(effective_sampler),
             spp_requested: total,
@@ -584,7 +628,7 @@ fn finish(
             setup_seconds,
             render_seconds: finished.render_seconds,
             samples_per_second: new_samples_taken / finished.render_seconds.max(1e-9),
-            devices: finished.devices,
+            devices: std::mem::take(&mut finished.devices),
             stop: finished.stop.name(),
             checkpoint: checkpoint.map(|p| p.display().to_string()),
             preview: preview.map(|p| p.display().to_string()),
@@ -596,6 +640,25 @@ fn finish(
         };
         println!("{}", serde_json::to_string(&report)?);
     }
+    end_after_report(request, contexts, &finished, checkpoint).map_err(|error| {
+        if request.reporting.json {
+            ReportPrinted(error).into()
+        } else {
+            error
+        }
+    })
+}
+
+/// What `finish` does after the report: fails as the render did, exits as a signal asks,
+/// says that the time limit was reached, and fails when the validation layer complained.
+fn end_after_report(
+    request: &RenderRequest,
+    contexts: &[Arc<Context>],
+    finished: &Finished,
+    checkpoint: Option<&PathBuf>,
+) -> anyhow::Result<()> {
+    let total = request.job.samples.len() as u32;
+    let done = finished.state.samples.len() as u32;
     if let Some(error) = &finished.failure {
         bail!("rendering stopped after {done} of {total} spp: {error}");
     }
@@ -666,6 +729,9 @@ fn save_outputs(
     for output in request.outputs {
         save_or_rescue(output, &processed, &request.save, metadata, &layers)?;
     }
+    if request.post.denoise && request.reporting.talks() {
+        eprintln!("vkpath: {}", DENOISED_LINE);
+    }
     Ok(())
 }
 
@@ -679,7 +745,7 @@ pub fn save_or_rescue(
     metadata: &RenderMetadata,
     layers: &[ImageLayer],
 ) -> anyhow::Result<()> {
-    let attributes = metadata.attributes();
+    let attributes = metadata.attributes_with_counts(&image.sample_count);
     // A region's EXR is placed in the full image; an adaptive render's keeps every pixel's
     // sample count (and the second moments beside it, for `compare`).
     let save = &SaveOptions {

@@ -6,10 +6,14 @@ use std::time::Instant;
 use anyhow::bail;
 use glam::Vec3;
 
-use super::options::{JobArgs, RenderOptions, SaveArgs, SceneArgs};
-use super::output::{render_job_and_save, render_on_devices_and_save, PostProcess, RenderRequest};
+use super::options::{parse_spp, JobArgs, RenderOptions, SaveArgs, SceneArgs};
+use super::output::{
+    render_job_and_save, render_on_devices_and_save, PostProcess, RenderFailure, RenderRequest,
+    ReportPrinted,
+};
 use super::{parse_vec3, signals, DeviceArgs};
 use crate::camera::{Camera, DEFAULT_VERTICAL_FOV_DEGREES};
+use crate::image_io::exr_input::check_exr_file;
 use crate::image_io::output::{check_writable, ImageFormat};
 use crate::image_io::tonemap::RENDER_PNG_TONE_MAP;
 use crate::lights::environment_source::{EnvironmentSource, COMMAND_LINE_NAMES};
@@ -19,6 +23,10 @@ use crate::render::metadata::sampler_name;
 use crate::render::region::PixelRegion;
 use crate::render::settings::{Integrator, PixelFilter, RenderSettings};
 use crate::scene::Scene;
+
+/// What `--resume` reads, for the error about a file that is not one.
+pub const RESUME_READS: &str =
+    "--resume reads the OpenEXR checkpoint that `vkpath render --checkpoint` writes";
 
 /// Arguments of `vkpath render`.
 #[derive(Debug, Clone, clap::Args)]
@@ -37,7 +45,7 @@ pub struct RenderArgs {
     #[arg(long, default_value_t = RenderSettings::default().height)]
     pub height: u32,
     /// Samples per pixel in total.
-    #[arg(long, default_value_t = RenderSettings::default().spp)]
+    #[arg(long, default_value_t = RenderSettings::default().spp, value_parser = parse_spp)]
     pub spp: u32,
     /// How paths are traced.
     #[command(flatten)]
@@ -264,8 +272,11 @@ impl RenderArgs {
     /// Checks every file the render would write before anything is rendered: each output
     /// (`check_writable`: a known format, a regular file or a new name, never a device,
     /// FIFO, socket or directory), no output named twice, an EXR checkpoint and a PNG
-    /// preview, EXR outputs for a shard.
+    /// preview, EXR outputs for a shard; and that the checkpoint to resume is an EXR.
     fn check_files(&self, job: &JobOptions) -> anyhow::Result<()> {
+        if let Some(resume) = &job.resume {
+            check_exr_file(resume, Some(RESUME_READS))?;
+        }
         for (index, output) in self.outputs.iter().enumerate() {
             check_writable(output)?;
             if self.outputs[..index].contains(output) {
@@ -357,8 +368,22 @@ impl RenderArgs {
     }
 }
 
-/// Runs `vkpath render`.
+/// Runs `vkpath render`. With `--json`, a failure before the report is printed still
+/// prints one JSON object on stdout (`RenderFailure`), and the error goes to `main` as
+/// usual (one line on stderr, exit status 1).
 pub fn run(args: &RenderArgs) -> anyhow::Result<()> {
+    let result = render(args);
+    if let Err(error) = &result {
+        if args.job.json && !error.is::<ReportPrinted>() {
+            let failure = RenderFailure::new(error);
+            println!("{}", serde_json::to_string(&failure)?);
+        }
+    }
+    result
+}
+
+/// `run` without the JSON report of a failure.
+fn render(args: &RenderArgs) -> anyhow::Result<()> {
     let command_started = Instant::now();
     let reporting = args.job.reporting();
     let settings = args.settings();

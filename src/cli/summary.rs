@@ -81,33 +81,43 @@ pub struct Summary<'a> {
     pub width: u32,
     /// Image height in pixels.
     pub height: u32,
-    /// Samples per pixel the image holds (resumed ones included).
+    /// Samples per pixel the image holds (resumed ones included); with `--noise-threshold`,
+    /// the most any pixel holds (the cap).
     pub spp: u32,
-    /// Samples per pixel this run took (the rate counts these only: samples resumed from a
-    /// checkpoint took no time here).
-    pub new_spp: u32,
+    /// With `--noise-threshold`: the mean over the pixels of the samples each holds;
+    /// `None` when every pixel holds `spp`.
+    pub spp_mean: Option<f64>,
+    /// Samples this run took, all pixels together (the rate counts these only: samples
+    /// resumed from a checkpoint took no time here, and pixels that stopped early took no
+    /// more).
+    pub new_samples: f64,
     /// Seconds from the command's start to the first sample.
     pub setup_seconds: f64,
     /// Seconds of rendering.
     pub seconds: f64,
 }
 
-/// "device NAME [KIND], WxH, N spp, setup T s, render S s, M M samples/s" for one device; for
-/// several, "K devices, WxH, ... M M samples/s (NAME: N1 spp, ...)".
+/// "device NAME [KIND], WxH, N spp, setup T s, render S s, M M samples/s" for one device
+/// ("mean N spp, cap C" with `--noise-threshold`); for several, "K devices, WxH, ...
+/// M M samples/s (NAME: N1 spp, ...)".
 pub fn summary_line(summary: &Summary) -> String {
     let Summary {
         devices,
         width,
         height,
         spp,
-        new_spp,
+        spp_mean,
+        new_samples,
         setup_seconds,
         seconds,
     } = *summary;
-    let samples = f64::from(width) * f64::from(height) * f64::from(new_spp);
-    let rate = samples / seconds.max(1e-9) / 1e6;
+    let rate = new_samples / seconds.max(1e-9) / 1e6;
+    let samples = match spp_mean {
+        Some(mean) => format!("mean {} spp, cap {spp}", format_spp_mean(mean)),
+        None => format!("{spp} spp"),
+    };
     let common = format!(
-        "{width}x{height}, {spp} spp, setup {setup_seconds:.2} s, render {seconds:.2} s, {rate:.3} M samples/s"
+        "{width}x{height}, {samples}, setup {setup_seconds:.2} s, render {seconds:.2} s, {rate:.3} M samples/s"
     );
     match devices {
         [(device, _)] => format!("device {} [{}], {common}", device.name, device.kind),
@@ -122,5 +132,61 @@ pub fn summary_line(summary: &Summary) -> String {
                 shares.join(", ")
             )
         }
+    }
+}
+
+/// A mean sample count as the summary prints it: whole samples from 10 up, one decimal
+/// below (where a fraction of a sample is a large part of it).
+pub fn format_spp_mean(mean: f64) -> String {
+    if mean >= 10.0 {
+        format!("{mean:.0}")
+    } else {
+        format!("{mean:.1}")
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::vk::{DeviceInfo, DeviceKind};
+
+    fn device() -> DeviceInfo {
+        DeviceInfo {
+            index: 0,
+            name: "llvmpipe".into(),
+            kind: DeviceKind::Cpu,
+            api_version: "1.3.0".into(),
+            compute_queue_family: Some(0),
+        }
+    }
+
+    #[test]
+    fn the_rate_counts_the_samples_taken_and_an_adaptive_render_says_its_mean() {
+        let devices = [(device(), 1024)];
+        // 128x128 pixels that took 256 samples each on average, in 2 s: 2.097 M samples/s,
+        // not the 8.389 M that 1024 spp would claim.
+        let summary = Summary {
+            devices: &devices,
+            width: 128,
+            height: 128,
+            spp: 1024,
+            spp_mean: Some(256.2),
+            new_samples: 128.0 * 128.0 * 256.0,
+            setup_seconds: 0.5,
+            seconds: 2.0,
+        };
+        let line = summary_line(&summary);
+        assert!(
+            line.contains(
+                "128x128, mean 256 spp, cap 1024, setup 0.50 s, render 2.00 s, 2.097 M samples/s"
+            ),
+            "{line}"
+        );
+        let uniform = summary_line(&Summary {
+            spp_mean: None,
+            ..summary
+        });
+        assert!(uniform.contains("128x128, 1024 spp, setup"), "{uniform}");
+        assert_eq!(format_spp_mean(3.26), "3.3");
     }
 }

@@ -22,6 +22,18 @@ pub fn heat_color(p_value: f64, significance: f64) -> [f32; 3] {
     }
 }
 
+/// The heat map's legend in one line: what each colour of `heat_color` says about a
+/// block's smallest p-value, with the thresholds that `significance` (the per-test level)
+/// puts on them.
+pub fn heat_legend(significance: f64) -> String {
+    format!(
+        "black: p = 1; grey, brighter as p falls towards {significance:.2e}: passes; \
+         red: p = {significance:.2e}, fails; red to yellow: p from {significance:.2e} \
+         down to {:.2e} and below",
+        significance.powi(5)
+    )
+}
+
 /// An image of the compared images' size in which every pixel has its block's
 /// `heat_color`.
 pub fn heat_map(report: &CompareReport, width: u32, height: u32) -> RenderedImage {
@@ -59,6 +71,21 @@ mod tests {
         assert!(near[0] == near[1] && near[0] > 0.2 && near[0] < 0.25);
         assert_eq!(heat_color(1e-4, significance), [1.0, 0.0, 0.0]);
         assert_eq!(heat_color(0.0, significance), [1.0, 1.0, 0.0]);
+        assert_eq!(heat_color(1e-20, significance), [1.0, 1.0, 0.0]);
+    }
+
+    #[test]
+    fn the_legend_names_the_thresholds_where_the_colours_change() {
+        let significance = 1e-4;
+        let legend = heat_legend(significance);
+        assert_eq!(
+            legend,
+            "black: p = 1; grey, brighter as p falls towards 1.00e-4: passes; \
+             red: p = 1.00e-4, fails; red to yellow: p from 1.00e-4 down to 1.00e-20 and below"
+        );
+        // The colours it names are `heat_color`'s at those p-values.
+        assert_eq!(heat_color(1.0, significance), [0.0; 3]);
+        assert_eq!(heat_color(1e-4, significance), [1.0, 0.0, 0.0]);
         assert_eq!(heat_color(1e-20, significance), [1.0, 1.0, 0.0]);
     }
 }

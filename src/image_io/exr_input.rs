@@ -26,12 +26,10 @@ pub struct ExrImage {
 /// file with only some of them is an error, since it cannot have come from vkpath intact.
 pub fn read_exr(path: &Path) -> Result<ExrImage> {
     let fail = |message: String| ImageError::read(path, message);
-    if !path.is_file() {
-        return Err(fail("no such file".into()));
-    }
+    check_exr_file(path, None)?;
     // A header may claim any size: refuse a hostile one before a pixel is read.
     check_exr_size(path).map_err(&fail)?;
-    let file = read_first_flat_layer_from_file(path).map_err(|e| fail(e.to_string()))?;
+    let file = read_first_flat_layer_from_file(path).map_err(|e| fail(plain_cause(&e)))?;
     let layer = &file.layer_data;
     let (width, height) = (layer.size.width(), layer.size.height());
     let pixel_count = width * height;
@@ -114,6 +112,80 @@ pub fn read_exr(path: &Path) -> Result<ExrImage> {
     })
 }
 
+/// The four bytes every OpenEXR file starts with (its magic number 20000630, little-endian).
+const EXR_MAGIC: [u8; 4] = [0x76, 0x2f, 0x31, 0x01];
+
+/// Checks, before anything is decoded, that `path` is a regular file that starts as an
+/// OpenEXR file does; the error names what it is instead (missing, a directory, a PNG, ...)
+/// and, for a file of the wrong kind, what `reader` reads when given (e.g. "`vkpath merge`
+/// reads the OpenEXR shards of ..."), so that a wrong file is not reported in the EXR
+/// decoder's words ("file identifier missing").
+pub fn check_exr_file(path: &Path, reader: Option<&str>) -> Result<()> {
+    match (exr_file_problem(path), reader) {
+        (None, _) => Ok(()),
+        (Some(problem), Some(reader)) if problem != NO_SUCH_FILE => {
+            Err(ImageError::read(path, format!("{problem} ({reader})")))
+        }
+        (Some(problem), _) => Err(ImageError::read(path, problem)),
+    }
+}
+
+/// What `exr_file_problem` says of a path where there is nothing.
+const NO_SUCH_FILE: &str = "no such file";
+
+/// What keeps `path` from being an OpenEXR file, in words, or `None` when it starts like
+/// one.
+fn exr_file_problem(path: &Path) -> Option<String> {
+    use std::io::Read as _;
+    let metadata = match std::fs::metadata(path) {
+        Ok(metadata) => metadata,
+        Err(error) if error.kind() == std::io::ErrorKind::NotFound => {
+            return Some(NO_SUCH_FILE.into())
+        }
+        Err(error) => return Some(error.to_string()),
+    };
+    if metadata.is_dir() {
+        return Some("it is a directory, not a file".into());
+    }
+    if !metadata.is_file() {
+        return Some("it is not a regular file".into());
+    }
+    let mut start = Vec::with_capacity(8);
+    let read = std::fs::File::open(path).and_then(|file| file.take(8).read_to_end(&mut start));
+    if let Err(error) = read {
+        return Some(error.to_string());
+    }
+    if start.starts_with(&EXR_MAGIC) {
+        return None;
+    }
+    let what = if start.is_empty() {
+        return Some("it is empty, not an OpenEXR file".into());
+    } else if start.starts_with(b"\x89PNG") {
+        "a PNG image"
+    } else if start.starts_with(b"#?") {
+        "a Radiance HDR image"
+    } else if start.starts_with(&[0xff, 0xd8, 0xff]) {
+        "a JPEG image"
+    } else if EXR_MAGIC.starts_with(&start) {
+        return Some("it is truncated: it ends inside the OpenEXR header".into());
+    } else {
+        return Some(
+            "it is not an OpenEXR file (it does not start with the OpenEXR magic number)".into(),
+        );
+    };
+    Some(format!("it is {what}, not an OpenEXR file"))
+}
+
+/// The message of a failed read in plain words: a file that ends too early makes Rust's
+/// readers say "failed to fill whole buffer", which is said here as "the file is truncated
+/// (it ends before its image data does)"; the rest of the message stays.
+pub fn plain_cause(error: &dyn std::fmt::Display) -> String {
+    error.to_string().replace(
+        "failed to fill whole buffer",
+        "the file is truncated (it ends before its image data does)",
+    )
+}
+
 /// Most pixels an EXR that vkpath reads may claim (the check happens on the header, before
 /// any pixel is read): 2^28, a 16384 x 16384 image.
 pub const MAX_EXR_PIXELS: usize = 1 << 28;
@@ -121,7 +193,7 @@ pub const MAX_EXR_PIXELS: usize = 1 << 28;
 /// Refuses an EXR whose header claims more than `MAX_EXR_PIXELS` (read before any pixel,
 /// so that a hostile header cannot make vkpath allocate terabytes).
 pub fn check_exr_size(path: &Path) -> std::result::Result<(), String> {
-    let meta = exr::meta::MetaData::read_from_file(path, false).map_err(|e| e.to_string())?;
+    let meta = exr::meta::MetaData::read_from_file(path, false).map_err(|e| plain_cause(&e))?;
     for header in meta.headers.iter() {
         let (width, height) = (header.layer_size.width(), header.layer_size.height());
         if width
@@ -219,5 +291,36 @@ mod tests {
         std::fs::write(&garbage, b"not an exr").unwrap();
         let message = read_exr(&garbage).unwrap_err().to_string();
         assert!(message.contains("garbage.exr"), "{message}");
+        assert!(message.contains("not an OpenEXR file"), "{message}");
+    }
+
+    #[test]
+    fn wrong_kinds_of_file_are_named_with_what_reads_them() {
+        let dir = tempfile::tempdir().unwrap();
+        let reader = Some("`vkpath compare` reads OpenEXR images");
+        let message = |path: &Path| check_exr_file(path, reader).unwrap_err().to_string();
+        let png = dir.path().join("a.png");
+        save_image(&png, &test_image(), &SaveOptions::default()).unwrap();
+        assert_eq!(
+            message(&png),
+            format!(
+                "cannot read '{}': it is a PNG image, not an OpenEXR file (`vkpath compare` \
+                 reads OpenEXR images)",
+                png.display()
+            )
+        );
+        assert!(message(dir.path()).contains("it is a directory, not a file"));
+        let empty = dir.path().join("empty.exr");
+        std::fs::write(&empty, b"").unwrap();
+        assert!(message(&empty).contains("it is empty"));
+        let exr = dir.path().join("a.exr");
+        save_image(&exr, &test_image(), &SaveOptions::default()).unwrap();
+        assert!(check_exr_file(&exr, reader).is_ok());
+        // A whole header but no pixels: truncated, in those words.
+        let bytes = std::fs::read(&exr).unwrap();
+        let cut = dir.path().join("cut.exr");
+        std::fs::write(&cut, &bytes[..bytes.len() / 2]).unwrap();
+        let message = read_exr(&cut).unwrap_err().to_string();
+        assert!(!message.contains("fill whole buffer"), "{message}");
     }
 }

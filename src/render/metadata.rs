@@ -18,6 +18,9 @@ use crate::scene::Scene;
 
 /// The name of vkpath's EXR header attribute.
 pub const ATTRIBUTE_NAME: &str = "vkpath";
+/// The field of an adaptive render's attribute that holds the mean over the pixels of the
+/// samples each holds (`RenderMetadata::attributes_with_counts`).
+pub const SPP_MEAN_FIELD: &str = "spp_mean";
 /// What separates the fields in the attribute's text.
 const FIELD_SEPARATOR: &str = "; ";
 /// The settings recorded, in order.
@@ -147,8 +150,27 @@ impl RenderMetadata {
 
     /// The header attributes: one, `vkpath`, with every field as `name=value`.
     pub fn attributes(&self) -> Vec<(String, String)> {
-        let text: Vec<String> = self
-            .fields()
+        Self::attribute_of(&self.fields())
+    }
+
+    /// The header attributes of a file whose pixels hold `sample_counts` samples:
+    /// `attributes()`, and for an adaptive render (`noise_threshold` recorded), whose pixels
+    /// hold different numbers of samples and whose `spp` is only the cap, the mean of the
+    /// counts as `spp_mean` after `sample_range` (two decimals). Reading ignores it: `spp`
+    /// and `sample_range` still say which samples the file holds.
+    pub fn attributes_with_counts(&self, sample_counts: &[f32]) -> Vec<(String, String)> {
+        let mut fields = self.fields();
+        if self.setting("noise_threshold").is_some() && !sample_counts.is_empty() {
+            let sum: f64 = sample_counts.iter().map(|&n| f64::from(n)).sum();
+            let mean = sum / sample_counts.len() as f64;
+            fields.insert(2, (SPP_MEAN_FIELD.to_string(), format!("{mean:.2}")));
+        }
+        Self::attribute_of(&fields)
+    }
+
+    /// The `vkpath` attribute holding `fields`.
+    fn attribute_of(fields: &[(String, String)]) -> Vec<(String, String)> {
+        let text: Vec<String> = fields
             .iter()
             .map(|(name, value)| format!("{name}={value}"))
             .collect();
@@ -428,5 +450,34 @@ mod tests {
         assert_eq!(parse_range("3..9"), Some(3..9));
         assert_eq!(parse_range("9..3"), None);
         assert_eq!(parse_range("x"), None);
+    }
+
+    #[test]
+    fn an_adaptive_render_records_its_mean_samples_beside_spp_and_sample_range() {
+        let scene = Scene::builtin_cornell_box().unwrap();
+        let camera = scene.camera.unwrap();
+        let mut settings = RenderSettings::default();
+        let uniform = RenderMetadata::new(&settings, &scene, &camera, 0..1024);
+        // A uniform render's attribute stays as it was: every pixel holds `spp`.
+        assert_eq!(
+            uniform.attributes_with_counts(&[1024.0; 4]),
+            uniform.attributes()
+        );
+        settings.noise_threshold = Some(crate::render::adaptive::NoiseThreshold {
+            threshold: 0.05,
+            min_spp: 16,
+        });
+        let adaptive = RenderMetadata::new(&settings, &scene, &camera, 0..1024);
+        let attributes: BTreeMap<String, String> = adaptive
+            .attributes_with_counts(&[16.0, 1024.0, 100.0, 101.0])
+            .into_iter()
+            .collect();
+        assert!(
+            attributes["vkpath"].starts_with("spp=1024; sample_range=0..1024; spp_mean=310.25; "),
+            "{}",
+            attributes["vkpath"]
+        );
+        // Merge and resume read `spp` and `sample_range`, and nothing else changes.
+        assert_eq!(RenderMetadata::from_attributes(&attributes), Ok(adaptive));
     }
 }

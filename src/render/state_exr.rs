@@ -15,7 +15,7 @@ use exr::prelude::{read_first_flat_layer_from_file, AttributeValue};
 use crate::contract;
 use crate::error::{Error, Result};
 use crate::guiding::Guide;
-use crate::image_io::exr_input::check_exr_size;
+use crate::image_io::exr_input::{check_exr_file, check_exr_size, plain_cause};
 use crate::image_io::output::{
     write_atomically, write_exr_channels, ByteAttribute, SAMPLE_COUNT_CHANNEL,
     SECOND_MOMENT_CHANNELS,
@@ -94,7 +94,7 @@ pub fn write_state(path: &Path, state: &Accumulation, metadata: &RenderMetadata)
             state.width,
             state.height,
             channels,
-            &metadata.attributes(),
+            &metadata.attributes_with_counts(&image.sample_count),
             &guide_attribute,
             metadata.window(),
         )
@@ -106,8 +106,18 @@ pub fn write_state(path: &Path, state: &Accumulation, metadata: &RenderMetadata)
 /// shards, merged files), read from its header alone: no pixel is read. A file without the
 /// metadata is refused with a message that says so.
 pub fn read_metadata(path: &Path) -> Result<RenderMetadata> {
+    let attributes = read_text_attributes(path)?;
     let fail = |message: String| Error::from(ImageError::read(path, message));
-    let meta = exr::meta::MetaData::read_from_file(path, false).map_err(|e| fail(e.to_string()))?;
+    RenderMetadata::from_attributes(&attributes).map_err(&fail)
+}
+
+/// The text attributes of an EXR's headers (name to text), read from the headers alone: no
+/// pixel is read. vkpath's metadata is the one named `metadata::ATTRIBUTE_NAME`.
+pub fn read_text_attributes(path: &Path) -> Result<BTreeMap<String, String>> {
+    let fail = |message: String| Error::from(ImageError::read(path, message));
+    check_exr_file(path, None)?;
+    let meta =
+        exr::meta::MetaData::read_from_file(path, false).map_err(|e| fail(plain_cause(&e)))?;
     let mut attributes = BTreeMap::new();
     for header in meta.headers.iter() {
         let both = header
@@ -121,7 +131,7 @@ pub fn read_metadata(path: &Path) -> Result<RenderMetadata> {
             }
         }
     }
-    RenderMetadata::from_attributes(&attributes).map_err(&fail)
+    Ok(attributes)
 }
 
 /// Reads a file that `write_state` wrote: the state and its metadata. Files without the
@@ -129,8 +139,9 @@ pub fn read_metadata(path: &Path) -> Result<RenderMetadata> {
 /// with a message that says so.
 pub fn read_state(path: &Path) -> Result<(Accumulation, RenderMetadata)> {
     let fail = |message: String| Error::from(ImageError::read(path, message));
+    check_exr_file(path, None)?;
     check_exr_size(path).map_err(&fail)?;
-    let file = read_first_flat_layer_from_file(path).map_err(|e| fail(e.to_string()))?;
+    let file = read_first_flat_layer_from_file(path).map_err(|e| fail(plain_cause(&e)))?;
     let mut attributes = BTreeMap::new();
     let mut guide = None;
     for (name, value) in file

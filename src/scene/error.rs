@@ -133,11 +133,14 @@ pub enum SceneError {
         /// What is wrong, naming the object (mesh, node, accessor) where possible.
         reason: String,
     },
-    /// The `tobj` crate rejected the OBJ file or its material library.
-    #[error("malformed OBJ '{}': {error}", path.display())]
+    /// The `tobj` crate (or our check before it) rejected the OBJ file or its material
+    /// library; the message gives the place as `file:line` when the line is known.
+    #[error("malformed OBJ '{}{}': {error}", path.display(), line.map_or(String::new(), |line| format!(":{line}")))]
     Obj {
-        /// The scene file as given.
+        /// The scene file (or material library) as given.
         path: PathBuf,
+        /// The line (from 1) that the error is on, when known.
+        line: Option<usize>,
         /// The `tobj` crate's error.
         error: tobj::LoadError,
     },
@@ -223,7 +226,7 @@ pub fn printable(text: &str) -> String {
 
 /// An I/O error's message without the "(os error N)" suffix that `std` appends, which means
 /// nothing to a user reading one line of output.
-fn io_message(error: &std::io::Error) -> String {
+pub(super) fn io_message(error: &std::io::Error) -> String {
     let message = error.to_string();
     match message.rfind(" (os error ") {
         Some(start) if message.ends_with(')') => message[..start].to_owned(),

@@ -24,16 +24,18 @@ pub const DEFAULT_ALBEDO: f32 = 0.8;
 /// too (the material keeps its `Kd`); other texture maps are ignored with a warning.
 pub fn load_obj(path: &Path) -> Result<Scene, SceneError> {
     let bytes = super::files::read_bounded(path, super::files::MAX_SCENE_FILE_BYTES)?;
-    let malformed = |error| SceneError::Obj {
+    let malformed = |line: Option<usize>, error| SceneError::Obj {
         path: path.to_owned(),
+        line,
         error,
     };
-    let text = index_every_corner(&bytes).map_err(malformed)?;
+    let text = index_every_corner(&bytes).map_err(|(line, error)| malformed(Some(line), error))?;
     drop(bytes);
     let directory = path.parent().unwrap_or(Path::new(""));
     // tobj keeps only one library error (and only when no library loaded at all), so we
     // record every failing library ourselves.
-    let failed_libraries: RefCell<Vec<(PathBuf, tobj::LoadError)>> = RefCell::new(Vec::new());
+    let failed_libraries: RefCell<Vec<(PathBuf, Option<usize>, tobj::LoadError)>> =
+        RefCell::new(Vec::new());
     let options = tobj::LoadOptions {
         triangulate: true,
         // Points and lines would become zero-area triangles; they have nothing to render.
@@ -62,24 +64,46 @@ pub fn load_obj(path: &Path) -> Result<Scene, SceneError> {
         )
         .ok()
         .and_then(|file| super::files::read_bounded(&file, budget).ok())
-        .ok_or(tobj::LoadError::OpenFileFailed)
+        .ok_or((None, tobj::LoadError::OpenFileFailed))
         .and_then(|text| {
             library_bytes.set(library_bytes.get() + text.len() as u64);
-            tobj::load_mtl_buf(&mut sanitize_mtl(&text).as_bytes())
+            // `sanitize_mtl` keeps one line per line, so its line numbers are the file's.
+            let sanitized = sanitize_mtl(&text);
+            tobj::load_mtl_buf(&mut sanitized.as_bytes()).map_err(|error| {
+                let line = first_failing_line(&sanitized, |start| {
+                    tobj::load_mtl_buf(&mut start.as_bytes()).err() == Some(error)
+                });
+                (line, error)
+            })
         });
-        if let Err(error) = &result {
-            failed_libraries.borrow_mut().push((library_path, *error));
+        match result {
+            Ok(loaded) => Ok(loaded),
+            Err((line, error)) => {
+                failed_libraries
+                    .borrow_mut()
+                    .push((library_path, line, error));
+                Err(error)
+            }
         }
-        result
     })
-    .map_err(malformed)?;
+    .map_err(|error| {
+        // tobj stops at the first line it cannot read, and says which error but not where:
+        // the line is the shortest start of the text that it rejects with that error.
+        let line = first_failing_line(&text, |start| {
+            let loaded =
+                tobj::load_obj_buf(&mut start.as_bytes(), &options, |_| Ok(Default::default()));
+            loaded.err() == Some(error)
+        });
+        malformed(line.and_then(original_line), error)
+    })?;
     drop(text);
 
     let mut builder = SceneBuilder::new(path);
-    for (library_path, error) in failed_libraries.into_inner() {
+    for (library_path, line, error) in failed_libraries.into_inner() {
         if error != tobj::LoadError::OpenFileFailed {
             return Err(SceneError::Obj {
                 path: library_path,
+                line,
                 error,
             });
         }
@@ -151,6 +175,7 @@ fn push_mesh(
             // tobj checks face indices while parsing; this guards against a gap there.
             return Err(SceneError::Obj {
                 path: builder.path().to_owned(),
+                line: None,
                 error: tobj::LoadError::FaceVertexOutOfBounds,
             });
         };
@@ -179,35 +204,79 @@ fn element<const N: usize, F: Copy + Into<f64>>(values: &[F], index: u32) -> Opt
 /// coordinates of a mesh without any); a zero normal becomes the face's normal.
 const MISSING_CORNER_DATA: &str = "vt 0 1\nvn 0 0 0\n";
 
+/// The lines [`MISSING_CORNER_DATA`] puts before the file's own.
+const MISSING_CORNER_LINES: usize = 2;
+
+/// The file's line (from 1) of line `line` of the text `index_every_corner` made, which
+/// keeps one line per line after [`MISSING_CORNER_DATA`]'s; `None` for those.
+fn original_line(line: usize) -> Option<usize> {
+    line.checked_sub(MISSING_CORNER_LINES)
+        .filter(|&line| line > 0)
+}
+
+/// The line (from 1) of `text` on which a parser that stops at the first line it cannot
+/// read fails: the fewest whole lines from the start on which `fails` holds, found by
+/// bisection (the parser is run about log2(lines) times, and only after it failed).
+/// `None` for a text without lines, or when even all of it passes.
+fn first_failing_line(text: &str, fails: impl Fn(&str) -> bool) -> Option<usize> {
+    let mut ends: Vec<usize> = text.match_indices('\n').map(|(i, _)| i + 1).collect();
+    if ends.last() != Some(&text.len()) && !text.is_empty() {
+        ends.push(text.len());
+    }
+    if ends.is_empty() || !fails(text) {
+        return None;
+    }
+    // The first `low` lines pass (none pass trivially), the first `high` lines fail.
+    let (mut low, mut high) = (0, ends.len());
+    while high - low > 1 {
+        let middle = (low + high) / 2;
+        if fails(&text[..ends[middle - 1]]) {
+            high = middle;
+        } else {
+            low = middle;
+        }
+    }
+    Some(high)
+}
+
 /// The OBJ text with every face corner naming its texture coordinate and normal explicitly
 /// (`v/vt/vn`, absolute indices): corners without them refer to [`MISSING_CORNER_DATA`].
 ///
 /// tobj gives a corner without `vn` (or `vt`) the previous corner's, so a faceted face next
 /// to a smooth one would borrow its neighbour's normal. Indices out of range are errors
-/// here (tobj overflows on some); a corner that does not parse is left for tobj to report.
-fn index_every_corner(bytes: &[u8]) -> Result<String, tobj::LoadError> {
+/// here, with their line (from 1): tobj overflows on some, and checks positions only at the
+/// end of an object, far from the face. A corner that does not parse is left for tobj to
+/// report.
+fn index_every_corner(bytes: &[u8]) -> Result<String, (usize, tobj::LoadError)> {
     // tobj reads lines as UTF-8 and fails on any other.
-    let text = std::str::from_utf8(bytes).map_err(|_| tobj::LoadError::ReadError)?;
+    let text = std::str::from_utf8(bytes).map_err(|error| {
+        let line = bytes[..error.valid_up_to()]
+            .iter()
+            .filter(|&&b| b == b'\n')
+            .count();
+        (line + 1, tobj::LoadError::ReadError)
+    })?;
     let total = |wanted: &str| {
         text.lines()
             .filter(|line| line.split_whitespace().next() == Some(wanted))
             .count()
     };
-    let totals = [total("vt"), total("vn")];
-    let mut counts = [0usize; 2];
+    let totals = [total("v"), total("vt"), total("vn")];
+    let mut counts = [0usize; 3];
     let mut indexed = String::with_capacity(text.len() + text.len() / 4 + 32);
     indexed.push_str(MISSING_CORNER_DATA);
-    for line in text.lines() {
+    for (number, line) in text.lines().enumerate() {
         let mut words = line.split_whitespace();
         match words.next() {
-            Some("vt") => counts[0] += 1,
-            Some("vn") => counts[1] += 1,
+            Some("v") => counts[0] += 1,
+            Some("vt") => counts[1] += 1,
+            Some("vn") => counts[2] += 1,
             // Points and lines (one or two corners) are ignored; they stay as they are.
             Some("f") if words.clone().nth(2).is_some() => {
                 let corners: Result<Option<Vec<String>>, _> = words
                     .map(|corner| index_corner(corner, counts, totals))
                     .collect();
-                if let Some(corners) = corners? {
+                if let Some(corners) = corners.map_err(|error| (number + 1, error))? {
                     indexed.push_str("f ");
                     indexed.push_str(&corners.join(" "));
                     indexed.push('\n');
@@ -222,26 +291,28 @@ fn index_every_corner(bytes: &[u8]) -> Result<String, tobj::LoadError> {
     Ok(indexed)
 }
 
-/// One face corner (`v`, `v/vt`, `v//vn`, `v/vt/vn`) as `v/vt/vn` with absolute indices
-/// shifted past [`MISSING_CORNER_DATA`]; `counts` are the `vt` and `vn` lines so far
-/// (negative indices count back from there), `totals` those of the whole file.
+/// One face corner (`v`, `v/vt`, `v//vn`, `v/vt/vn`) as `v/vt/vn`, the texture coordinate
+/// and normal as absolute indices shifted past [`MISSING_CORNER_DATA`] (the position as
+/// written, for tobj); `counts` are the `v`, `vt` and `vn` lines so far (negative indices
+/// count back from there), `totals` those of the whole file.
 fn index_corner(
     corner: &str,
-    counts: [usize; 2],
-    totals: [usize; 2],
+    counts: [usize; 3],
+    totals: [usize; 3],
 ) -> Result<Option<String>, tobj::LoadError> {
     let parts: Vec<&str> = corner.split('/').collect();
     if parts.len() > 3 {
         return Ok(None);
     }
     let errors = [
+        tobj::LoadError::FaceVertexOutOfBounds,
         tobj::LoadError::FaceTexCoordOutOfBounds,
         tobj::LoadError::FaceNormalOutOfBounds,
     ];
-    let mut indices = [1usize; 2];
-    for k in 0..2 {
-        let part = parts.get(k + 1).copied().unwrap_or("");
-        if part.is_empty() {
+    let mut indices = [1usize; 3];
+    for k in 0..3 {
+        let part = parts.get(k).copied().unwrap_or("");
+        if part.is_empty() && k > 0 {
             continue;
         }
         let Ok(index) = part.parse::<i64>() else {
@@ -262,7 +333,7 @@ fn index_corner(
         }
         indices[k] = absolute as usize + 1;
     }
-    Ok(Some(format!("{}/{}/{}", parts[0], indices[0], indices[1])))
+    Ok(Some(format!("{}/{}/{}", parts[0], indices[1], indices[2])))
 }
 
 #[cfg(test)]

@@ -110,6 +110,12 @@ fn errors_name_the_file() {
     let error = load_obj(&bad_index).unwrap_err();
     assert!(matches!(error, SceneError::Obj { .. }), "{error}");
     assert!(error.to_string().starts_with("malformed OBJ '"), "{error}");
+    assert!(
+        error
+            .to_string()
+            .ends_with("bad.obj:2': face vertex index out of bounds"),
+        "{error}"
+    );
 
     let empty = write(directory.path(), "empty.obj", "v 0 0 0\n");
     let error = load_obj(&empty).unwrap_err();
@@ -378,4 +384,56 @@ fn corner_indices_out_of_range_are_errors() {
         "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1//9 2//9\nf 1 2 3\n",
     );
     assert_eq!(load_obj(&obj).unwrap().triangles.len(), 1);
+}
+
+#[test]
+fn errors_give_the_line_as_file_colon_line() {
+    let directory = tempfile::tempdir().unwrap();
+    let message = |name: &str, text: &str| {
+        let path = write(directory.path(), name, text);
+        let message = load_obj(&path).unwrap_err().to_string();
+        let location = format!("{}:", path.display());
+        message
+            .split_once(&location)
+            .map(|(_, rest)| rest.to_string())
+            .unwrap_or(message)
+    };
+    let cube = "v 0 0 0\nv 1 0 0\nv 0 1 0\n# a comment\n";
+    // tobj's parse errors, found at the line tobj stopped on.
+    assert_eq!(
+        message("position.obj", &format!("{cube}v 1 2 x\nf 1 2 3\n")),
+        "5': position parse error"
+    );
+    assert_eq!(
+        message("face.obj", &format!("{cube}f 1 2 3\nf 1 x 3\n")),
+        "6': face parse error"
+    );
+    // Our own checks: indices out of range, before tobj's.
+    assert_eq!(
+        message("normal.obj", &format!("{cube}vn 0 0 1\nf 1//1 2//1 3//2\n")),
+        "6': face normal index out of bounds"
+    );
+    assert_eq!(
+        message("vertex.obj", &format!("{cube}f 1 2 3\nf 1 2 -4\n")),
+        "6': face vertex index out of bounds"
+    );
+    // Bytes that are not UTF-8, on line 2.
+    let path = directory.path().join("latin1.obj");
+    std::fs::write(&path, b"v 0 0 0\n# caf\xe9\n").unwrap();
+    let error = load_obj(&path).unwrap_err().to_string();
+    assert!(error.ends_with("latin1.obj:2': read error"), "{error}");
+    // A material library's errors give its own line.
+    write(
+        directory.path(),
+        "bad.mtl",
+        "newmtl red\nKd 1 0 0\n\nKd\nmap_Kd\n",
+    );
+    let error = message(
+        "library.obj",
+        &format!("mtllib bad.mtl\n{cube}usemtl red\nf 1 2 3\n"),
+    );
+    assert!(
+        error.contains("bad.mtl:5': material parse error"),
+        "{error}"
+    );
 }

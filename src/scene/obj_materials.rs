@@ -268,8 +268,9 @@ fn ignored_maps_warning(material: &tobj::Material) -> Option<String> {
 /// An MTL text that tobj can parse without panicking: a colour statement (`Ka`, `Kd`,
 /// `Ks`, `Ke`, `Tf`) with fewer than three numbers gets its missing components from the
 /// first (the MTL format lets `Kd r` stand for `Kd r r r`), and one with none is dropped
-/// (tobj 4 unwraps three numbers). Lines lose their indentation: tobj cuts a map's file
-/// name from the line at the keyword's length, so `\tmap_Kd a.png` would name `d a.png`.
+/// (tobj 4 unwraps three numbers; an empty line keeps its place, so that line numbers stay
+/// the file's). Lines lose their indentation: tobj cuts a map's file name from the line at
+/// the keyword's length, so `\tmap_Kd a.png` would name `d a.png`.
 pub(crate) fn sanitize_mtl(bytes: &[u8]) -> String {
     let text = String::from_utf8_lossy(bytes);
     let mut sanitized = String::with_capacity(text.len());
@@ -279,7 +280,7 @@ pub(crate) fn sanitize_mtl(bytes: &[u8]) -> String {
         if ["Ka", "Kd", "Ks", "Ke", "Tf"].contains(&keyword) {
             let numbers: Vec<&str> = words.collect();
             match numbers.as_slice() {
-                [] => continue,
+                [] => {}
                 [r] => sanitized.push_str(&format!("{keyword} {r} {r} {r}")),
                 [r, g] => sanitized.push_str(&format!("{keyword} {r} {g} {g}")),
                 _ => sanitized.push_str(line),
