@@ -285,3 +285,53 @@ fn exercise_help_lists_general_options_before_the_brdf_ones() {
     }
     assert!(defined("--metallic") > heading, "{help}");
 }
+
+/// `render --json`'s `scene_memory` (issue 39): the acceleration structure's bytes are the
+/// BVH's 112-byte nodes plus 48 bytes of positions per triangle for its triangle tests, and
+/// every scene buffer is counted in `scene_bytes` (at least the 96-byte triangles besides);
+/// the box compiled into the kernel has no acceleration structure.
+#[test]
+fn json_reports_what_the_scene_takes_on_the_device() {
+    let dir = tempfile::tempdir().unwrap();
+    let memory = |accel: &str, output: &str| {
+        let (stdout, _) = vkpath_ok(
+            dir.path(),
+            &tiny(&["--accel", accel, "-o", output, "--json"]),
+        );
+        let report: serde_json::Value = serde_json::from_str(&stdout).unwrap();
+        report["scene_memory"].clone()
+    };
+    let bvh = memory("bvh", "bvh.exr");
+    assert_eq!(bvh["traversal"], "BVH", "{bvh}");
+    assert_eq!(bvh["triangle_count"], 30, "{bvh}");
+    let nodes = bvh["bvh_node_bytes"].as_u64().unwrap();
+    let positions = bvh["traversal_triangle_bytes"].as_u64().unwrap();
+    assert!(nodes > 0 && nodes % 112 == 0, "{bvh}");
+    assert_eq!(positions, 48 * 30, "{bvh}");
+    let per_triangle = bvh["acceleration_bytes_per_triangle"].as_f64().unwrap();
+    assert!(
+        (per_triangle - (nodes + positions) as f64 / 30.0).abs() < 1e-9,
+        "{bvh}"
+    );
+    let scene = bvh["scene_bytes"].as_u64().unwrap();
+    assert!(scene >= nodes + positions + 96 * 30, "{bvh}");
+    let scene_per_triangle = bvh["scene_bytes_per_triangle"].as_f64().unwrap();
+    assert!(
+        (scene_per_triangle - scene as f64 / 30.0).abs() < 1e-9,
+        "{bvh}"
+    );
+
+    let constant = memory("none", "none.exr");
+    assert_eq!(constant["traversal"], "constant triangles", "{constant}");
+    assert_eq!(constant["bvh_node_bytes"], 0, "{constant}");
+    assert_eq!(constant["traversal_triangle_bytes"], 0, "{constant}");
+    assert_eq!(
+        constant["acceleration_bytes_per_triangle"], 0.0,
+        "{constant}"
+    );
+    // The box's triangles without the BVH's buffers.
+    assert!(
+        constant["scene_bytes"].as_u64().unwrap() < scene - nodes - positions + 1,
+        "{constant}"
+    );
+}

@@ -14,6 +14,7 @@ use crate::camera::Camera;
 use crate::error::Result;
 use crate::guiding::training::GuideTraining;
 use crate::image_io::data::RenderedImage;
+use crate::render::gpu_scene::SceneMemory;
 use crate::render::settings::{
     default_russian_roulette_start, Integrator, LightSelection, RenderSettings, SamplerKind,
 };
@@ -56,6 +57,9 @@ pub struct BenchResult {
     /// 1 / (relMSE * cpu_seconds): what a render costs in all, start-up and training
     /// included (on a CPU device, the fairest measure).
     pub cpu_efficiency: f64,
+    /// What the scene took on the device: the acceleration structure's bytes and every
+    /// buffer's, in all and per triangle.
+    pub scene_memory: SceneMemory,
 }
 
 /// The benchmark's setup and results.
@@ -109,6 +113,8 @@ struct TimedRender {
     training: f64,
     /// The process's CPU time over all of it.
     cpu: f64,
+    /// What the scene took on the device.
+    scene_memory: SceneMemory,
 }
 
 /// The process's CPU time so far, user and system, in seconds (every thread's).
@@ -145,7 +151,7 @@ fn timed_render(
         .guide
         .as_ref()
         .map_or(0.0, crate::render::renderer::GuideReport::seconds);
-    let (image, steady) = (outcome.image, outcome.seconds);
+    let (image, steady, outcome_memory) = (outcome.image, outcome.seconds, outcome.scene_memory);
     let steady_samples = spp - first_frame_samples;
     let seconds = if steady_samples > 0 {
         steady * f64::from(spp) / f64::from(steady_samples)
@@ -159,6 +165,7 @@ fn timed_render(
         rays: renderer.rays_traced(),
         training,
         cpu,
+        scene_memory: outcome_memory,
     })
 }
 
@@ -329,6 +336,7 @@ pub fn run_bench(
             training_seconds: timed.training,
             cpu_seconds: timed.cpu,
             cpu_efficiency: 1.0 / (relative_mse * timed.cpu.max(1e-9)),
+            scene_memory: timed.scene_memory,
         });
     }
     Ok(BenchReport {
@@ -426,6 +434,10 @@ pub fn format_table(report: &BenchReport) -> String {
             r.cpu_efficiency / cpu_baseline
         );
     }
+    if let Some(first) = report.results.first() {
+        text += &first.scene_memory.line();
+        text += "\n";
+    }
     if let Some(note) = reference_noise_note(report) {
         text += &note;
         text += "\n";
@@ -486,6 +498,15 @@ mod tests {
             training_seconds: 0.0,
             cpu_seconds: 1.0,
             cpu_efficiency: 1.0 / relative_mse,
+            scene_memory: SceneMemory {
+                traversal: "BVH",
+                triangle_count: 30,
+                bvh_node_bytes: 1120,
+                traversal_triangle_bytes: 1440,
+                acceleration_bytes_per_triangle: 2560.0 / 30.0,
+                scene_bytes: 6000,
+                scene_bytes_per_triangle: 200.0,
+            },
         };
         BenchReport {
             device: "device".into(),

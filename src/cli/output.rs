@@ -18,6 +18,7 @@ use crate::image_io::output::{
 };
 use crate::render::accumulation::Accumulation;
 use crate::render::aov::{render_aov, Aov};
+use crate::render::gpu_scene::SceneMemory;
 use crate::render::job::{run_job, JobOptions};
 use crate::render::metadata::{sampler_name, RenderMetadata};
 use crate::render::multi::run_on_devices;
@@ -131,6 +132,10 @@ pub struct RenderReport {
     pub light_selection: &'static str,
     /// What training the guide did (`--guiding`), or `null`.
     pub guide: Option<GuideSummary>,
+    /// What the scene takes on the device: the acceleration structure's bytes (BVH nodes and
+    /// traversal triangles) and every buffer's, in all and per triangle (`null` when the
+    /// render stopped before its renderer was made).
+    pub scene_memory: Option<SceneMemory>,
 }
 
 /// The JSON object `render --json` prints on stdout when it fails before its report: the
@@ -285,6 +290,8 @@ struct Finished {
     devices: Vec<DeviceReport>,
     /// What training the guide did (`--guiding`; the first device's).
     guide: Option<GuideReport>,
+    /// What the scene takes on the (first) device.
+    scene_memory: Option<SceneMemory>,
     /// Why the final preview could not be written, if it could not.
     preview_failure: Option<String>,
 }
@@ -442,6 +449,7 @@ pub fn render_job_and_save(context: &Arc<Context>, request: RenderRequest) -> an
         devices: vec![DeviceReport::new(&context.info, new_samples)],
         preview_failure: outcome.preview_failure.map(|e| e.to_string()),
         guide: result.guide,
+        scene_memory: Some(result.scene_memory),
         state: result.state,
     };
     finish(&request, std::slice::from_ref(context), finished)
@@ -491,6 +499,7 @@ pub fn render_on_devices_and_save(
         render_seconds,
         devices,
         guide: outcome.guide,
+        scene_memory: outcome.scene_memory,
         preview_failure: None,
     };
     finish(&request, contexts, finished)
@@ -637,6 +646,7 @@ fn finish(
                 _ => "power",
             },
             guide: finished.guide.as_ref().map(GuideSummary::new),
+            scene_memory: finished.scene_memory,
         };
         println!("{}", serde_json::to_string(&report)?);
     }

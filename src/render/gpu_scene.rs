@@ -160,6 +160,54 @@ impl MaterialBuffers {
     }
 }
 
+/// What an uploaded scene takes on the device, in bytes: what the traversal reads (the
+/// BVH's nodes and the vertex positions apart for its triangle tests) and every buffer in
+/// all (`render --json` and `bench --json` report it as `scene_memory`).
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize)]
+pub struct SceneMemory {
+    /// How rays find hits (`Traversal::name`): `BVH` (the 4-wide BVH), `linear` or
+    /// `constant triangles`.
+    pub traversal: &'static str,
+    /// Triangles in the scene.
+    pub triangle_count: u64,
+    /// The BVH's nodes (0 without a BVH).
+    pub bvh_node_bytes: u64,
+    /// The vertex positions that the BVH traversal's triangle tests read (0 without a BVH).
+    pub traversal_triangle_bytes: u64,
+    /// `bvh_node_bytes + traversal_triangle_bytes` per triangle: what the traversal reads.
+    pub acceleration_bytes_per_triangle: f64,
+    /// Every buffer of the scene: triangles, BVH, lights, shading data, materials, textures
+    /// and the render uniforms.
+    pub scene_bytes: u64,
+    /// `scene_bytes` per triangle.
+    pub scene_bytes_per_triangle: f64,
+}
+
+impl SceneMemory {
+    /// The memory in words: "scene memory (BVH): nodes 1.2 MiB + traversal triangles 0.5
+    /// MiB = 160.0 bytes/triangle; all buffers 3.0 MiB = 300.0 bytes/triangle".
+    pub fn line(&self) -> String {
+        let mib = |bytes: u64| bytes as f64 / f64::from(1u32 << 20);
+        let traversal = if self.bvh_node_bytes > 0 {
+            format!(
+                "nodes {:.2} MiB + traversal triangles {:.2} MiB = {:.1} bytes/triangle; ",
+                mib(self.bvh_node_bytes),
+                mib(self.traversal_triangle_bytes),
+                self.acceleration_bytes_per_triangle
+            )
+        } else {
+            String::new()
+        };
+        format!(
+            "scene memory ({}, {} triangles): {traversal}all buffers {:.2} MiB = {:.1} bytes/triangle",
+            self.traversal,
+            self.triangle_count,
+            mib(self.scene_bytes),
+            self.scene_bytes_per_triangle
+        )
+    }
+}
+
 /// A scene uploaded for one traversal.
 pub struct GpuScene {
     triangles: TexelBufferView,
@@ -183,6 +231,8 @@ pub struct GpuScene {
     pub light_tree_iterations: Option<u64>,
     /// The BVH's shape, for bounding a traversal's loop iterations (`None` without a BVH).
     pub bvh_stats: Option<BvhStats>,
+    /// What the scene takes on the device.
+    pub memory: SceneMemory,
 }
 
 impl GpuScene {
@@ -260,6 +310,33 @@ impl GpuScene {
         };
         let texture_slots = materials.as_ref().map_or(0, |m| m.texture_slots);
         let summary = scene_summary(scene, scene_materials, &scene_lights, texture_slots);
+        let bytes = |view: Option<&TexelBufferView>| view.map_or(0, TexelBufferView::byte_size);
+        let bvh_node_bytes = bytes(bvh_nodes.as_ref());
+        let traversal_triangle_bytes = bytes(traversal_triangles.as_ref());
+        let material_bytes = materials.as_ref().map_or(0, |m| {
+            m.shading.byte_size() + m.materials.byte_size() + m.texture_texels.byte_size()
+        });
+        let light_bytes = lights.emissive.byte_size()
+            + bytes(lights.environment.as_ref())
+            + bytes(lights.punctual.as_ref());
+        let scene_bytes = triangles.byte_size()
+            + uniforms.size
+            + bvh_node_bytes
+            + traversal_triangle_bytes
+            + material_bytes
+            + light_bytes;
+        let per_triangle = |bytes: u64| bytes as f64 / scene.triangles.len().max(1) as f64;
+        let memory = SceneMemory {
+            traversal: traversal.name(),
+            triangle_count: scene.triangles.len() as u64,
+            bvh_node_bytes,
+            traversal_triangle_bytes,
+            acceleration_bytes_per_triangle: per_triangle(
+                bvh_node_bytes + traversal_triangle_bytes,
+            ),
+            scene_bytes,
+            scene_bytes_per_triangle: per_triangle(scene_bytes),
+        };
         Ok(GpuScene {
             triangles,
             uniforms,
@@ -275,6 +352,7 @@ impl GpuScene {
                 .as_ref()
                 .map(|_| scene_lights.light_search_iterations()),
             bvh_stats: bvh.as_ref().map(Bvh::stats),
+            memory,
         })
     }
 

@@ -13,6 +13,7 @@ use std::time::{Duration, Instant};
 use crate::camera::Camera;
 use crate::error::{Error, Result};
 use crate::render::accumulation::Accumulation;
+use crate::render::gpu_scene::SceneMemory;
 use crate::render::job::{run_job, shard_range, JobOptions, DEFAULT_CHECKPOINT_INTERVAL};
 use crate::render::renderer::{GuideReport, StopReason};
 use crate::render::settings::RenderSettings;
@@ -34,6 +35,8 @@ pub struct MultiOutcome {
     /// What training the first device's guide did (`--guiding`; each device trains its
     /// own, the same on devices of one kind).
     pub guide: Option<GuideReport>,
+    /// What the scene takes on the first device (the same on every device).
+    pub scene_memory: Option<SceneMemory>,
 }
 
 /// Renders `samples` of `scene` on every context at once and merges the shares. A time
@@ -63,6 +66,7 @@ pub fn run_on_devices(
         Option<Error>,
         Instant,
         Option<GuideReport>,
+        SceneMemory,
     );
     let results: Vec<Result<DeviceResult>> = std::thread::scope(|scope| {
         let handles: Vec<_> = contexts
@@ -89,6 +93,7 @@ pub fn run_on_devices(
                         outcome.failure,
                         job.rendering_started,
                         outcome.guide,
+                        outcome.scene_memory,
                     ))
                 })
             })
@@ -109,9 +114,11 @@ pub fn run_on_devices(
     let mut stop = StopReason::Done;
     let mut rendering_started = Instant::now();
     let mut guide = None;
+    let mut scene_memory = None;
     for (context, result) in contexts.iter().zip(results) {
-        let (state, device_stop, failure, device_started, device_guide) = result?;
+        let (state, device_stop, failure, device_started, device_guide, device_memory) = result?;
         guide = guide.or(device_guide);
+        scene_memory = scene_memory.or(Some(device_memory));
         rendering_started = rendering_started.min(device_started);
         if let Some(error) = failure {
             return Err(Error::InvalidSettings(format!(
@@ -144,5 +151,6 @@ pub fn run_on_devices(
         rendering_started,
         stop,
         guide,
+        scene_memory,
     })
 }

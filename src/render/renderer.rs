@@ -22,7 +22,7 @@ use crate::kernels::variant::{
 use crate::kernels::{Bound, KernelPipeline, Resource, PATH_TRACER};
 use crate::render::accumulation::Accumulation;
 use crate::render::adaptive::NoiseThreshold;
-use crate::render::gpu_scene::GpuScene;
+use crate::render::gpu_scene::{GpuScene, SceneMemory};
 use crate::render::gpu_types::FramePushConstants;
 use crate::render::guide_buffers::GuideBuffers;
 use crate::render::region::{PixelRegion, ACCUMULATION_BYTES_PER_PIXEL, ACCUMULATION_COPIES};
@@ -61,6 +61,38 @@ struct FrameSpan {
     training: bool,
 }
 
+/// What one frame dispatches: each stage's pipeline over the frame's pixels, in order, with
+/// a barrier after each (the stages share the descriptor set and the frame's push
+/// constants). Today's plans have one stage, the path tracer's megakernel (its render or
+/// its guide-training build); a staged (wavefront) integrator or another integrator's
+/// kernels are another plan, not another branch of the frame loop.
+struct FramePlan<'a> {
+    stages: Vec<&'a KernelPipeline>,
+}
+
+impl<'a> FramePlan<'a> {
+    /// The plan of a render's frames: its `render` pipeline, or with `training` the guide's
+    /// training build (which only `train_guide_until` runs, once it has built it).
+    fn of(
+        render: &'a KernelPipeline,
+        training_pipeline: Option<&'a KernelPipeline>,
+        training: bool,
+    ) -> Result<FramePlan<'a>> {
+        let stage = match (training, training_pipeline) {
+            (false, _) => render,
+            (true, Some(pipeline)) => pipeline,
+            (true, None) => {
+                return Err(Error::InvalidSettings(
+                    "training frames without a training pipeline (an unguided render)".into(),
+                ))
+            }
+        };
+        Ok(FramePlan {
+            stages: vec![stage],
+        })
+    }
+}
+
 /// A progressive render of one scene on one device.
 pub struct Renderer {
     context: Arc<Context>,
@@ -82,8 +114,8 @@ pub struct Renderer {
     tiles: Option<Tiles>,
     accumulation: StorageImage,
     readback: Buffer,
-    // Bound through the descriptor set; kept alive as long as it.
-    _scene: GpuScene,
+    /// Bound through the descriptor set; kept alive as long as it.
+    scene: GpuScene,
     /// Index of the first sample of every pixel's sequence that this render takes.
     first_sample: u32,
     samples_done: u32,
@@ -182,6 +214,8 @@ pub struct RenderOutcome {
     pub failure: Option<Error>,
     /// What training the guide did (`--guiding` only).
     pub guide: Option<GuideReport>,
+    /// What the scene takes on the device.
+    pub scene_memory: SceneMemory,
 }
 
 impl RenderOutcome {
@@ -362,7 +396,7 @@ impl Renderer {
             tiles,
             accumulation,
             readback,
-            _scene: gpu_scene,
+            scene: gpu_scene,
             first_sample: 0,
             samples_done: 0,
             frames_per_batch: 1,
@@ -375,6 +409,11 @@ impl Renderer {
             guide_report: None,
             guide: None,
         })
+    }
+
+    /// What the scene takes on the device (`render --json`'s `scene_memory`).
+    pub fn scene_memory(&self) -> SceneMemory {
+        self.scene.memory
     }
 
     /// The settings this render was made with.
@@ -590,20 +629,16 @@ impl Renderer {
         let (noise_threshold, noise_min_samples) = span
             .noise_threshold
             .map_or((0.0, 0), |noise| (noise.threshold, noise.min_spp));
-        let kernel = match (span.training, &self.training_pipeline) {
-            (false, _) => &self.pipeline,
-            (true, Some(training)) => training,
-            // Only train_guide_until runs training frames, after building the pipeline.
-            (true, None) => {
-                return Err(Error::InvalidSettings(
-                    "training frames without a training pipeline (an unguided render)".into(),
-                ))
-            }
-        };
-        let (pipeline, descriptors) = (&kernel.pipeline, &self.descriptors);
-        // The frames over one rectangle (the area, or a tile of it).
+        let plan = FramePlan::of(
+            &self.pipeline,
+            self.training_pipeline.as_ref(),
+            span.training,
+        )?;
+        let descriptors = &self.descriptors;
+        // The frames over one rectangle (the area, or a tile of it): each frame dispatches
+        // the plan's stages in order.
         let record_frames = |recorder: &mut crate::vk::Recorder, part: PixelRegion| {
-            recorder.bind(pipeline, descriptors);
+            let mut bound: Option<&KernelPipeline> = None;
             for frame in 0..frames {
                 let frame_first = first + frame * step;
                 let constants = FramePushConstants {
@@ -614,10 +649,17 @@ impl Renderer {
                     noise_threshold,
                     noise_min_samples,
                 };
-                recorder.push_constants(pipeline, &constants);
-                recorder.dispatch(pipeline, [part.width(), part.height(), 1]);
-                // Each frame reads what the previous one wrote.
-                recorder.compute_barrier();
+                for &stage in &plan.stages {
+                    let pipeline = &stage.pipeline;
+                    if !bound.is_some_and(|b| std::ptr::eq(b, stage)) {
+                        recorder.bind(pipeline, descriptors);
+                        bound = Some(stage);
+                    }
+                    recorder.push_constants(pipeline, &constants);
+                    recorder.dispatch(pipeline, [part.width(), part.height(), 1]);
+                    // Each stage, and each frame, reads what the one before wrote.
+                    recorder.compute_barrier();
+                }
             }
         };
         match self.tiles.as_mut() {
@@ -766,6 +808,7 @@ impl Renderer {
             state,
             failure,
             guide: self.guide_report.clone(),
+            scene_memory: self.scene.memory,
         })
     }
 

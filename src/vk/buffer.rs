@@ -204,6 +204,11 @@ impl TexelBufferView {
         TexelBufferView::rgba32_uint(context, buffer, &format!("scene's {name}"))
     }
 
+    /// Bytes of the viewed buffer.
+    pub fn byte_size(&self) -> u64 {
+        self._buffer.size
+    }
+
     /// Views all of `buffer` as RGBA8_UINT texels (4 bytes each, read as `uvec4` in 0..=255
     /// by a `usamplerBuffer`), after checking that the device allows that many; `what` names
     /// the data in the error. Uniform texel buffers of this format are mandatory in Vulkan.
