@@ -13,6 +13,9 @@ use std::path::Path;
 
 use glam::Vec3;
 
+use crate::image_io::error::ImageError;
+use crate::image_io::exr_input::plain_cause;
+use crate::scene::error::io_message;
 use crate::scene::files::{read_bounded, MAX_SCENE_FILE_BYTES};
 use crate::scene::printable;
 
@@ -67,11 +70,28 @@ impl Environment {
 /// negative radiance is an error naming the texel.
 pub fn load_environment_map(path: &Path) -> Result<EnvironmentMap, String> {
     let shown = printable(&path.display().to_string());
+    // Every message about the file names it once, as the environment map it was meant to
+    // be, with the cause in plain words.
+    let fail = |cause: &dyn std::fmt::Display| {
+        format!(
+            "cannot read environment map '{shown}': {}",
+            plain_cause(cause)
+        )
+    };
+    let metadata = std::fs::metadata(path).map_err(|e| fail(&io_message(&e)))?;
+    if metadata.is_dir() {
+        return Err(fail(&"it is a directory, not a file"));
+    }
+    if !metadata.is_file() {
+        return Err(fail(&"it is not a regular file"));
+    }
     let extension = path.extension().map(|e| e.to_string_lossy().to_lowercase());
     let (width, height, texels) = match extension.as_deref() {
         Some("exr") => {
-            let exr = crate::image_io::exr_input::read_exr(path)
-                .map_err(|e| format!("cannot read environment map '{shown}': {e}"))?;
+            let exr = crate::image_io::exr_input::read_exr(path).map_err(|error| match error {
+                ImageError::Read { message, .. } => fail(&message),
+                other => fail(&other),
+            })?;
             let image = exr.image;
             let texels: Vec<Vec3> = image
                 .mean
@@ -83,7 +103,7 @@ pub fn load_environment_map(path: &Path) -> Result<EnvironmentMap, String> {
         Some("hdr") => {
             let bytes = read_bounded(path, MAX_SCENE_FILE_BYTES).map_err(|e| e.to_string())?;
             let image = image::load_from_memory_with_format(&bytes, image::ImageFormat::Hdr)
-                .map_err(|e| format!("cannot read environment map '{shown}': {e}"))?
+                .map_err(|e| fail(&e))?
                 .into_rgb32f();
             let (width, height) = image.dimensions();
             let texels: Vec<Vec3> = image.pixels().map(|p| Vec3::from(p.0)).collect();
@@ -133,6 +153,43 @@ pub fn texel_solid_angle(row: u32, width: u32, height: u32) -> f64 {
 mod tests {
     use super::*;
     use crate::lights::alias_table::AliasTable;
+
+    #[test]
+    fn unreadable_maps_are_named_once_with_the_cause_in_plain_words() {
+        let dir = tempfile::tempdir().unwrap();
+        let missing = dir.path().join("nope.hdr");
+        assert_eq!(
+            load_environment_map(&missing).unwrap_err(),
+            format!(
+                "cannot read environment map '{}': No such file or directory",
+                missing.display()
+            )
+        );
+        let message = load_environment_map(dir.path()).unwrap_err();
+        assert!(
+            message.ends_with("it is a directory, not a file"),
+            "{message}"
+        );
+        // A PNG named .exr: the path once, what the file is.
+        let not_exr = dir.path().join("sky.exr");
+        std::fs::write(&not_exr, b"\x89PNG\r\n\x1a\n0000").unwrap();
+        let message = load_environment_map(&not_exr).unwrap_err();
+        assert_eq!(message.matches("sky.exr").count(), 1, "{message}");
+        assert!(message.contains("not an OpenEXR file"), "{message}");
+        // A Radiance header whose pixels are missing: truncated, in those words.
+        let truncated = dir.path().join("t.hdr");
+        std::fs::write(
+            &truncated,
+            b"#?RADIANCE\nFORMAT=32-bit_rle_rgbe\n\n-Y 4 +X 4\n",
+        )
+        .unwrap();
+        let message = load_environment_map(&truncated).unwrap_err();
+        assert!(
+            message.starts_with("cannot read environment map '")
+                && message.ends_with("the file is truncated (it ends before its image data does)"),
+            "{message}"
+        );
+    }
 
     #[test]
     fn a_black_map_samples_uniformly_and_does_not_emit() {

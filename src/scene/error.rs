@@ -226,7 +226,7 @@ pub fn printable(text: &str) -> String {
 
 /// An I/O error's message without the "(os error N)" suffix that `std` appends, which means
 /// nothing to a user reading one line of output.
-pub(super) fn io_message(error: &std::io::Error) -> String {
+pub(crate) fn io_message(error: &std::io::Error) -> String {
     let message = error.to_string();
     match message.rfind(" (os error ") {
         Some(start) if message.ends_with(')') => message[..start].to_owned(),

@@ -9,8 +9,7 @@ use crate::camera::Camera;
 use crate::lights::{Environment, EnvironmentSource, PunctualLight};
 
 pub mod cornell;
-mod environment_file;
-mod error;
+pub(crate) mod error;
 pub mod export;
 pub mod files;
 mod gltf_extensions;
@@ -131,21 +130,10 @@ impl Scene {
         mut self,
         source: Option<&EnvironmentSource>,
     ) -> Result<Scene, SceneError> {
-        if let Some(EnvironmentSource::Map { path, .. }) = source {
-            environment_file::check_environment_file(path)?;
-        }
         self.environment = source
             .map(EnvironmentSource::load)
             .transpose()
-            .map_err(|message| {
-                let message = match source {
-                    Some(EnvironmentSource::Map { path, .. }) => {
-                        environment_file::plain_environment_message(path, &message)
-                    }
-                    _ => message,
-                };
-                SceneError::Environment(message)
-            })?;
+            .map_err(SceneError::Environment)?;
         Ok(self)
     }
 
