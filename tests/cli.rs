@@ -13,6 +13,8 @@ mod check_cli;
 mod cli_errors;
 #[path = "compare_cli.rs"]
 mod compare_cli;
+#[path = "devices_cli.rs"]
+mod devices_cli;
 #[path = "determinism.rs"]
 mod determinism;
 #[path = "exercise_cli.rs"]
