@@ -107,10 +107,11 @@ fn choose_unchecked(
 ) -> Result<DeviceChoice, VkError> {
     let has_nvidia = devices.iter().any(|d| d.vendor_id == NVIDIA_VENDOR_ID);
     let cuda = environment.cuda_visible_devices.as_deref();
-    // The CUDA variable restricts what `all` and the default see, on NVIDIA machines only.
-    let visible = match cuda {
-        Some(value) if has_nvidia => Some(cuda_visible(devices, value, environment)?),
-        _ => None,
+    // The CUDA variable restricts what `all` and the default see, on NVIDIA machines only;
+    // read only there, so that a list vkpath cannot map does not stop a `--device 1`.
+    let visible = || match cuda {
+        Some(value) if has_nvidia => cuda_visible(devices, value, environment).map(Some),
+        _ => Ok(None),
     };
     let cuda_note = match cuda {
         Some(value) if !has_nvidia && !hides_all(value) => {
@@ -129,9 +130,9 @@ fn choose_unchecked(
     if let Some((selector, source)) = named {
         let selector = selector.trim();
         if selector.eq_ignore_ascii_case("all") {
-            let (indices, reason) = match &visible {
+            let (indices, reason) = match visible()? {
                 Some(listed) => (
-                    listed.clone(),
+                    listed,
                     format!(
                         "{source}: the devices of CUDA_VISIBLE_DEVICES={}",
                         cuda.unwrap_or_default()
@@ -166,7 +167,7 @@ fn choose_unchecked(
             reason: format!("{source}{cuda_note}"),
         });
     }
-    if let (Some(listed), Some(value)) = (visible, cuda) {
+    if let (Some(listed), Some(value)) = (visible()?, cuda) {
         if listed.is_empty() {
             return no_gpu_for_this_task(devices, value, require_gpu);
         }

@@ -149,6 +149,8 @@ fn device_comes_before_vkpath_device_before_cuda_visible_devices() {
         choice.reason
     );
     assert_eq!(chosen(&devices, None, &env(Some(&uuid(0xaa)))), [0]);
+    // A CUDA list vkpath cannot map (indices without PCI order) does not stop --device.
+    assert_eq!(chosen(&devices, Some("1"), &env(Some("1"))), [1]);
 }
 
 #[test]
