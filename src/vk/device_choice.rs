@@ -185,7 +185,9 @@ fn choose_unchecked(
     Ok(DeviceChoice {
         indices: vec![best.index],
         several: false,
-        reason: format!("default: the first of discrete, integrated, virtual GPU, CPU{cuda_note}"),
+        reason: format!(
+            "default (first of: discrete GPU, integrated GPU, virtual GPU, CPU device){cuda_note}"
+        ),
     })
 }
 
