@@ -13,10 +13,10 @@ mod check_cli;
 mod cli_errors;
 #[path = "compare_cli.rs"]
 mod compare_cli;
-#[path = "devices_cli.rs"]
-mod devices_cli;
 #[path = "determinism.rs"]
 mod determinism;
+#[path = "devices_cli.rs"]
+mod devices_cli;
 #[path = "exercise_cli.rs"]
 mod exercise_cli;
 #[path = "hostile_input.rs"]
