@@ -15,6 +15,8 @@ mod cli_errors;
 mod compare_cli;
 #[path = "determinism.rs"]
 mod determinism;
+#[path = "devices_cli.rs"]
+mod devices_cli;
 #[path = "exercise_cli.rs"]
 mod exercise_cli;
 #[path = "hostile_input.rs"]

@@ -234,6 +234,7 @@ pub fn render<'py>(
             device,
             require_gpu: false,
             pipeline_cache: user_pipeline_cache(),
+            ..ContextOptions::default()
         })?;
         // What `run_job` does for a whole render without checkpoints, previews or resuming
         // (the Renderer itself, so that Python needs none of the command line's job options).

@@ -222,7 +222,9 @@ def render(
     each batch (about every 250 ms); returning ``False`` stops the render and returns the
     samples taken so far, raising stops it and re-raises. Ctrl-C stops it after the current
     batch and raises KeyboardInterrupt. ``time_limit`` (seconds) stops it and returns what it
-    has. ``device`` is an index or part of a name, as ``vkpath devices`` lists them.
+    has. ``device`` is an index, a UUID (``GPU-...``, or a unique prefix) or part of a name, as
+    ``vkpath devices`` lists them; without it, ``VKPATH_DEVICE`` and then
+    ``CUDA_VISIBLE_DEVICES`` (as Ray sets it for a task with ``num_gpus``) choose, as for the CLI.
 
     ``region=(x0, y0, x1, y1)`` renders only columns x0..x1 and rows y0..y1 of the image
     (x1 and y1 excluded, from the top-left), as ``--region`` does: the array is

@@ -3,7 +3,8 @@
 /// Arguments of `vkpath devices`.
 #[derive(Debug, Clone, clap::Args)]
 pub struct DevicesArgs {
-    /// Print a JSON array (index, name, kind, API version) instead of one line per device.
+    /// Print a JSON array (index, name, kind, API version, UUID, vendor ID, PCI address)
+    /// instead of one line per device.
     #[arg(long)]
     pub json: bool,
 }
@@ -21,6 +22,12 @@ pub fn run(args: &DevicesArgs) -> anyhow::Result<()> {
                     "kind": format!("{:?}", device.kind),
                     "api_version": device.api_version,
                     "compute": device.compute_queue_family.is_some(),
+                    "uuid": crate::vk::format_uuid(&device.uuid),
+                    "vendor_id": device.vendor_id,
+                    "pci_bus": device.pci_bus.map(|p| format!(
+                        "{:04x}:{:02x}:{:02x}.{:x}",
+                        p.domain, p.bus, p.device, p.function
+                    )),
                     "description": device.to_string(),
                 })
             })

@@ -58,9 +58,11 @@ pub enum Command {
 /// Options that choose and check the Vulkan device.
 #[derive(Debug, Clone, clap::Args)]
 pub struct DeviceArgs {
-    /// Device to use: an index or part of a name, as `vkpath devices` lists them; for
-    /// `render`, also `all` or a comma-separated list (e.g. 0,1) to render on several at
-    /// once (a device may be listed twice).
+    /// Device to use: an index, a UUID (GPU-..., or a unique prefix) or part of a name, as
+    /// `vkpath devices` lists them; for `render`, also `all` or a comma-separated list (e.g.
+    /// 0,1) to render on several at once (a device may be listed twice). Without it:
+    /// $VKPATH_DEVICE (same forms), then $CUDA_VISIBLE_DEVICES on machines with NVIDIA
+    /// devices, then the first discrete GPU, integrated GPU, ..., CPU device.
     #[arg(long)]
     pub device: Option<String>,
     /// Fail unless the device is a GPU (not a CPU implementation such as lavapipe).
@@ -76,39 +78,37 @@ pub struct DeviceArgs {
 }
 
 impl DeviceArgs {
-    /// The devices of `--device all` or `--device A,B,...`; `None` for one device.
-    pub fn several(&self) -> anyhow::Result<Option<Vec<String>>> {
-        match self.device.as_deref() {
-            Some("all") => {
-                let devices: Vec<String> = crate::vk::list_devices()?
-                    .into_iter()
-                    .filter(|d| d.compute_queue_family.is_some())
-                    .map(|d| d.index.to_string())
-                    .collect();
-                Ok(Some(devices))
-            }
-            Some(list) if list.contains(',') => Ok(Some(
-                list.split(',').map(|s| s.trim().to_string()).collect(),
-            )),
-            _ => Ok(None),
+    /// The devices of `--device all` or `--device A,B,...` (or the same in `VKPATH_DEVICE`)
+    /// as indices, with why they were chosen; `None` for one device.
+    pub fn several(&self) -> anyhow::Result<Option<(Vec<String>, String)>> {
+        let environment = crate::vk::DeviceEnvironment::from_process();
+        let selector = self.device.as_ref().or(environment.vkpath_device.as_ref());
+        let asks_several = selector.is_some_and(|s| s.trim() == "all" || s.contains(','));
+        if !asks_several {
+            return Ok(None);
         }
+        let devices = crate::vk::list_devices()?;
+        let choice = crate::vk::choose_devices(
+            &devices,
+            self.device.as_deref(),
+            &environment,
+            self.require_gpu,
+        )?;
+        let indices = choice.indices.iter().map(ToString::to_string).collect();
+        Ok(Some((indices, choice.reason)))
     }
 
-    /// A context on each device of `selectors` (as `create_context_reporting` does for one).
+    /// A context on each device of `selectors` (indices, as `several` gives them), each
+    /// chosen because of `reason` (as `create_context_reporting` does for one).
     pub fn create_contexts(
         &self,
         selectors: &[String],
+        reason: &str,
         announce: bool,
     ) -> crate::Result<Vec<std::sync::Arc<crate::vk::Context>>> {
         selectors
             .iter()
-            .map(|selector| {
-                DeviceArgs {
-                    device: Some(selector.clone()),
-                    ..self.clone()
-                }
-                .create_context_reporting(announce)
-            })
+            .map(|selector| self.open(Some(selector.clone()), Some(reason.to_string()), announce))
             .collect()
     }
 
@@ -138,9 +138,22 @@ impl DeviceArgs {
         &self,
         announce: bool,
     ) -> crate::Result<std::sync::Arc<crate::vk::Context>> {
+        self.open(self.device.clone(), None, announce)
+    }
+
+    /// A context on `device` (`--device`'s syntax; `None`: the environment's or the default
+    /// choice), chosen because of `chosen_because` if given; prints the device line (which
+    /// device and why) when `announce` is set.
+    fn open(
+        &self,
+        device: Option<String>,
+        chosen_because: Option<String>,
+        announce: bool,
+    ) -> crate::Result<std::sync::Arc<crate::vk::Context>> {
         let context = crate::vk::Context::new(&crate::vk::ContextOptions {
             validate: self.validate,
-            device: self.device.clone(),
+            device,
+            chosen_because,
             require_gpu: self.require_gpu,
             pipeline_cache: if self.no_cache {
                 None
@@ -149,7 +162,10 @@ impl DeviceArgs {
             },
         })?;
         if announce {
-            eprintln!("vkpath: device {}", context.info);
+            eprintln!(
+                "vkpath: device {} (chosen by {})",
+                context.info, context.chosen_because
+            );
         }
         Ok(context)
     }

@@ -253,14 +253,21 @@ pub struct DeviceReport {
     /// `discrete-gpu`, `integrated-gpu`, `virtual-gpu`, `cpu` or `other`.
     #[serde(rename = "type")]
     pub kind: &'static str,
+    /// Its UUID, `GPU-xxxxxxxx-...` (`vkpath devices`).
+    pub uuid: String,
+    /// Why it was chosen (`--device 1`, `CUDA_VISIBLE_DEVICES=GPU-...`, `default: ...`).
+    pub chosen_because: String,
     /// Samples per pixel it took in this run.
     pub spp: u32,
 }
 
 impl DeviceReport {
-    /// The report of `device`, which took `spp` samples per pixel.
-    fn new(device: &DeviceInfo, spp: u32) -> DeviceReport {
+    /// The report of `context`'s device, which took `spp` samples per pixel.
+    fn new(context: &Context, spp: u32) -> DeviceReport {
+        let device = &context.info;
         DeviceReport {
+            uuid: crate::vk::format_uuid(&device.uuid),
+            chosen_because: context.chosen_because.clone(),
             index: device.index,
             name: device.name.clone(),
             kind: match device.kind {
@@ -446,7 +453,7 @@ pub fn render_job_and_save(context: &Arc<Context>, request: RenderRequest) -> an
         resumed_samples: outcome.resumed_samples,
         rendering_started: outcome.rendering_started,
         render_seconds: result.seconds,
-        devices: vec![DeviceReport::new(&context.info, new_samples)],
+        devices: vec![DeviceReport::new(context, new_samples)],
         preview_failure: outcome.preview_failure.map(|e| e.to_string()),
         guide: result.guide,
         scene_memory: Some(result.scene_memory),
@@ -487,7 +494,7 @@ pub fn render_on_devices_and_save(
     let devices = contexts
         .iter()
         .zip(&outcome.shares)
-        .map(|(context, (_, spp))| DeviceReport::new(&context.info, *spp))
+        .map(|(context, (_, spp))| DeviceReport::new(context, *spp))
         .collect();
     let finished = Finished {
         state: outcome.state,

@@ -454,8 +454,10 @@ fn render(args: &RenderArgs) -> anyhow::Result<()> {
         command_started,
     };
     match several {
-        Some(selectors) => {
-            let contexts = args.device.create_contexts(&selectors, reporting.talks())?;
+        Some((selectors, reason)) => {
+            let contexts = args
+                .device
+                .create_contexts(&selectors, &reason, reporting.talks())?;
             render_on_devices_and_save(&contexts, request)
         }
         None => {

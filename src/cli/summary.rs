@@ -157,6 +157,9 @@ mod tests {
             kind: DeviceKind::Cpu,
             api_version: "1.3.0".into(),
             compute_queue_family: Some(0),
+            uuid: [0; 16],
+            vendor_id: 0x10005,
+            pci_bus: None,
         }
     }
 

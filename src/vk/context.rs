@@ -15,6 +15,7 @@ use std::sync::{Arc, Mutex, MutexGuard};
 use ash::vk;
 use gpu_allocator::vulkan::{Allocator, AllocatorCreateDesc};
 
+use super::device_choice::{choose_devices, format_uuid, DeviceEnvironment, PciBusInfo};
 use super::error::{CallContext, VkError, VkResult};
 use super::pipeline_cache::{PersistentPipelineCache, PipelineCacheKey, PipelineCacheStore};
 use super::validation::{messenger_create_info, ValidationMessages};
@@ -26,9 +27,14 @@ const VALIDATION_LAYER: &CStr = c"VK_LAYER_KHRONOS_validation";
 pub struct ContextOptions {
     /// Enable `VK_LAYER_KHRONOS_validation` and count its messages.
     pub validate: bool,
-    /// Which device: an index of `vkpath devices`, or a case-insensitive part of its name.
-    /// `None` picks a discrete GPU, else an integrated or virtual one, else the CPU device.
+    /// Which device: an index of `vkpath devices`, a `GPU-` UUID (or a unique prefix), or a
+    /// case-insensitive part of its name. `None` reads `VKPATH_DEVICE`, then
+    /// `CUDA_VISIBLE_DEVICES` (on machines with NVIDIA devices), else picks a discrete GPU, else
+    /// an integrated or virtual one, else the CPU device (`device_choice::choose_devices`).
     pub device: Option<String>,
+    /// Why `device` was chosen, when the caller chose it (several devices): replaces the
+    /// reason `Context::new` would give (`Context::chosen_because`).
+    pub chosen_because: Option<String>,
     /// Fail unless the chosen device is a GPU (not a CPU implementation such as lavapipe).
     pub require_gpu: bool,
     /// Build pipelines through a pipeline cache that this store keeps between processes
@@ -71,7 +77,7 @@ impl DeviceKind {
     }
 
     /// Preference when no device is named: lower is better.
-    fn rank(self) -> u32 {
+    pub(crate) fn rank(self) -> u32 {
         match self {
             DeviceKind::DiscreteGpu => 0,
             DeviceKind::IntegratedGpu => 1,
@@ -107,6 +113,13 @@ pub struct DeviceInfo {
     pub api_version: String,
     /// Queue family index of a queue that supports compute, if any.
     pub compute_queue_family: Option<u32>,
+    /// `VkPhysicalDeviceIDProperties::deviceUUID` (what CUDA and `nvidia-smi` call the GPU's
+    /// UUID on NVIDIA; all zero on a Vulkan 1.0 device).
+    pub uuid: [u8; 16],
+    /// PCI vendor ID (0x10de: NVIDIA).
+    pub vendor_id: u32,
+    /// Its PCI address, where the driver has `VK_EXT_pci_bus_info`.
+    pub pci_bus: Option<PciBusInfo>,
 }
 
 impl fmt::Display for DeviceInfo {
@@ -116,6 +129,7 @@ impl fmt::Display for DeviceInfo {
             "{}: {} [{}], Vulkan {}",
             self.index, self.name, self.kind, self.api_version
         )?;
+        write!(f, ", {}", format_uuid(&self.uuid))?;
         if self.compute_queue_family.is_none() {
             f.write_str(", no compute queue")?;
         }
@@ -136,6 +150,9 @@ pub struct Context {
     pub physical_device: vk::PhysicalDevice,
     /// What the chosen device is.
     pub info: DeviceInfo,
+    /// Why it was chosen, in words (`--device 1`, `CUDA_VISIBLE_DEVICES=GPU-...`, `default:
+    /// ...`), for the device line and `--json`.
+    pub chosen_because: String,
     /// Its limits (workgroup counts, push constant size, ...).
     pub limits: vk::PhysicalDeviceLimits,
     /// The logical device.
@@ -234,6 +251,7 @@ fn describe_devices(instance: &ash::Instance) -> VkResult<Vec<(vk::PhysicalDevic
                 .position(|f| f.queue_flags.contains(vk::QueueFlags::COMPUTE))
                 .map(|i| i as u32);
             let v = properties.api_version;
+            let (uuid, pci_bus) = identity(instance, physical_device, v);
             let info = DeviceInfo {
                 index,
                 name: properties
@@ -248,10 +266,47 @@ fn describe_devices(instance: &ash::Instance) -> VkResult<Vec<(vk::PhysicalDevic
                     vk::api_version_patch(v)
                 ),
                 compute_queue_family,
+                uuid,
+                vendor_id: properties.vendor_id,
+                pci_bus,
             };
             (physical_device, info)
         })
         .collect())
+}
+
+/// The device's UUID (`VkPhysicalDeviceIDProperties`, Vulkan 1.1) and, where the driver has
+/// `VK_EXT_pci_bus_info`, its PCI address; zeros and `None` on a Vulkan 1.0 device.
+fn identity(
+    instance: &ash::Instance,
+    physical_device: vk::PhysicalDevice,
+    api_version: u32,
+) -> ([u8; 16], Option<PciBusInfo>) {
+    if vk::api_version_minor(api_version) == 0 && vk::api_version_major(api_version) == 1 {
+        return ([0; 16], None);
+    }
+    // SAFETY: physical_device came from this instance.
+    let has_pci_bus_info =
+        unsafe { instance.enumerate_device_extension_properties(physical_device) }
+            .unwrap_or_default()
+            .iter()
+            .any(|e| e.extension_name_as_c_str() == Ok(ash::ext::pci_bus_info::NAME));
+    let mut id = vk::PhysicalDeviceIDProperties::default();
+    let mut pci = vk::PhysicalDevicePCIBusInfoPropertiesEXT::default();
+    let mut properties = vk::PhysicalDeviceProperties2::default().push_next(&mut id);
+    if has_pci_bus_info {
+        properties = properties.push_next(&mut pci);
+    }
+    // SAFETY: the chain holds structures the device supports (Vulkan 1.1, the extension
+    // only where listed), all alive for the call.
+    unsafe { instance.get_physical_device_properties2(physical_device, &mut properties) };
+    let pci_bus = has_pci_bus_info.then_some(PciBusInfo {
+        domain: pci.pci_domain,
+        bus: pci.pci_bus,
+        device: pci.pci_device,
+        function: pci.pci_function,
+    });
+    (id.device_uuid, pci_bus)
 }
 
 /// Lists the Vulkan devices that the loader finds (for `vkpath devices`).
@@ -268,42 +323,22 @@ pub fn list_devices() -> VkResult<Vec<DeviceInfo>> {
     Ok(devices.into_iter().map(|(_, info)| info).collect())
 }
 
-/// Picks a device as `ContextOptions::device` says.
+/// Picks a device as `ContextOptions::device` and the environment say (one device: the
+/// first of a list), with the reason.
 fn choose_device(
     devices: &[(vk::PhysicalDevice, DeviceInfo)],
     selector: Option<&str>,
-) -> VkResult<(vk::PhysicalDevice, DeviceInfo)> {
-    let list = || {
-        devices
-            .iter()
-            .map(|(_, info)| format!("{} {}", info.index, info.name))
-            .collect::<Vec<_>>()
-            .join(", ")
-    };
-    let chosen = match selector {
-        Some(selector) => {
-            let needle = selector.to_lowercase();
-            let by_index = selector.parse::<usize>().ok();
-            devices
-                .iter()
-                .find(|(_, info)| {
-                    Some(info.index) == by_index || info.name.to_lowercase().contains(&needle)
-                })
-                .ok_or_else(|| VkError::DeviceNotFound {
-                    selector: selector.to_string(),
-                    available: list(),
-                })?
-        }
-        None => devices
-            .iter()
-            .filter(|(_, info)| info.compute_queue_family.is_some())
-            .min_by_key(|(_, info)| (info.kind.rank(), info.index))
-            .ok_or_else(|| VkError::NoComputeDevice(list()))?,
-    };
-    if chosen.1.compute_queue_family.is_none() {
-        return Err(VkError::NoComputeDevice(list()));
-    }
-    Ok(chosen.clone())
+    environment: &DeviceEnvironment,
+    require_gpu: bool,
+) -> VkResult<(vk::PhysicalDevice, DeviceInfo, String)> {
+    let infos: Vec<DeviceInfo> = devices.iter().map(|(_, info)| info.clone()).collect();
+    let choice = choose_devices(&infos, selector, environment, require_gpu)?;
+    let (physical_device, info) = devices
+        .iter()
+        .find(|(_, info)| choice.indices.first() == Some(&info.index))
+        .ok_or_else(|| VkError::NoComputeDevice(String::new()))?
+        .clone();
+    Ok((physical_device, info, choice.reason))
 }
 
 impl Context {
@@ -354,9 +389,14 @@ impl Context {
             if devices.is_empty() {
                 return Err(VkError::NoDriver("the loader found no device".into()));
             }
-            choose_device(&devices, options.device.as_deref())
+            choose_device(
+                &devices,
+                options.device.as_deref(),
+                &DeviceEnvironment::from_process(),
+                options.require_gpu,
+            )
         });
-        let (physical_device, info) = match chosen {
+        let (physical_device, info, reason) = match chosen {
             Ok(chosen) => chosen,
             Err(error) => {
                 destroy_instance(messenger);
@@ -437,6 +477,7 @@ impl Context {
             validation,
             physical_device,
             info,
+            chosen_because: options.chosen_because.clone().unwrap_or(reason),
             limits,
             device,
             queue: Mutex::new(queue),
@@ -549,57 +590,11 @@ impl Drop for Context {
 mod tests {
     use super::*;
 
-    fn device(
-        index: usize,
-        name: &str,
-        kind: DeviceKind,
-        compute: bool,
-    ) -> (vk::PhysicalDevice, DeviceInfo) {
-        let info = DeviceInfo {
-            index,
-            name: name.into(),
-            kind,
-            api_version: "1.3.0".into(),
-            compute_queue_family: compute.then_some(0),
-        };
-        (vk::PhysicalDevice::null(), info)
-    }
-
     #[test]
     fn contexts_may_be_shared_between_threads() {
         fn shared<T: Send + Sync>() {}
         shared::<Context>();
         shared::<Arc<Context>>();
-    }
-
-    #[test]
-    fn devices_without_a_compute_queue_are_refused() {
-        let devices = [device(0, "graphics only", DeviceKind::DiscreteGpu, false)];
-        assert!(matches!(
-            choose_device(&devices, None),
-            Err(VkError::NoComputeDevice(_))
-        ));
-        assert!(matches!(
-            choose_device(&devices, Some("0")),
-            Err(VkError::NoComputeDevice(_))
-        ));
-        let message = choose_device(&devices, None).unwrap_err().to_string();
-        assert!(message.contains("compute queue"), "{message}");
-    }
-
-    #[test]
-    fn default_choice_prefers_a_gpu_and_selectors_match_index_or_name() {
-        let devices = [
-            device(0, "llvmpipe (LLVM 15)", DeviceKind::Cpu, true),
-            device(1, "NVIDIA H100", DeviceKind::DiscreteGpu, true),
-        ];
-        assert_eq!(choose_device(&devices, None).unwrap().1.index, 1);
-        assert_eq!(choose_device(&devices, Some("0")).unwrap().1.index, 0);
-        assert_eq!(choose_device(&devices, Some("h100")).unwrap().1.index, 1);
-        assert!(matches!(
-            choose_device(&devices, Some("amd")),
-            Err(VkError::DeviceNotFound { .. })
-        ));
     }
 
     #[test]

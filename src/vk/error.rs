@@ -34,6 +34,10 @@ pub enum VkError {
         /// The devices that exist.
         available: String,
     },
+    /// The device could not be chosen as `--device`, `VKPATH_DEVICE` or
+    /// `CUDA_VISIBLE_DEVICES` asks (the message names the variable and what to change).
+    #[error("{0}")]
+    Choice(String),
     /// Validation was asked for, but the layer is not installed.
     #[error("the validation layer VK_LAYER_KHRONOS_validation is not installed; install it with `apt-get install vulkan-validationlayers`")]
     ValidationLayerMissing,

@@ -6,6 +6,7 @@
 pub mod buffer;
 pub mod commands;
 pub mod context;
+pub mod device_choice;
 pub mod error;
 pub mod image;
 pub mod pipeline;
@@ -16,6 +17,7 @@ pub mod validation;
 pub use buffer::{Buffer, TexelBufferView};
 pub use commands::{CommandRunner, Recorder};
 pub use context::{list_devices, Context, ContextOptions, DeviceInfo, DeviceKind};
+pub use device_choice::{choose_devices, format_uuid, DeviceChoice, DeviceEnvironment, PciBusInfo};
 pub use error::{VkError, VkResult};
 pub use image::StorageImage;
 pub use pipeline::{spirv_words, ComputePipeline, DescriptorSet};
