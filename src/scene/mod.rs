@@ -8,11 +8,13 @@ use glam::Vec3;
 use crate::camera::Camera;
 use crate::lights::{Environment, EnvironmentSource, PunctualLight};
 
+pub mod animation;
 pub mod cornell;
 mod environment_file;
 mod error;
 pub mod export;
 pub mod files;
+mod gltf_animation;
 mod gltf_extensions;
 pub mod gltf_loader;
 mod gltf_materials;
