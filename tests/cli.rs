@@ -17,6 +17,8 @@ mod compare_cli;
 mod determinism;
 #[path = "exercise_cli.rs"]
 mod exercise_cli;
+#[path = "frames_cli.rs"]
+mod frames_cli;
 #[path = "hostile_input.rs"]
 mod hostile_input;
 #[path = "look_cli.rs"]

@@ -71,6 +71,8 @@ pub struct RenderRequest<'a> {
     pub post: PostProcess,
     /// When the command began: set-up time (loading, device, kernels) counts from here.
     pub command_started: Instant,
+    /// The frame and time rendered, when the command line gave `--time` or `--frames`.
+    pub frame: Option<super::frames::FrameTime>,
 }
 
 /// The version of `RenderReport`'s schema: it changes only when a key is removed or changes
@@ -131,6 +133,12 @@ pub struct RenderReport {
     pub light_selection: &'static str,
     /// What training the guide did (`--guiding`), or `null`.
     pub guide: Option<GuideSummary>,
+    /// The frame number (`--frames`); absent for a still, `null` with `--time`.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub frame: Option<Option<u32>>,
+    /// The scene time in seconds (`--time`, or frame / `--fps`); absent without either.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub time: Option<f64>,
 }
 
 /// The JSON object `render --json` prints on stdout when it fails before its report: the
@@ -319,6 +327,7 @@ pub fn render_and_save(
             shard: false,
             post: PostProcess::default(),
             command_started: Instant::now(),
+            frame: None,
         },
     )
 }
@@ -637,6 +646,8 @@ fn finish(
                 _ => "power",
             },
             guide: finished.guide.as_ref().map(GuideSummary::new),
+            frame: request.frame.map(|f| f.frame),
+            time: request.frame.map(|f| f.time),
         };
         println!("{}", serde_json::to_string(&report)?);
     }
