@@ -870,3 +870,26 @@ fn bad_animation_data_names_the_animation_and_accessor() {
     );
     assert!(!error.contains('\n'), "{error}");
 }
+
+#[test]
+fn morph_targets_warn_once_that_the_rest_pose_is_drawn() {
+    let mut buffer = TestBuffer::default();
+    let triangle = buffer.positions(&[[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]]);
+    let delta = buffer.positions(&[[0.0, 0.0, 1.0], [0.0, 0.0, 1.0], [0.0, 0.0, 1.0]]);
+    let text = buffer.embedded(json!({
+        "nodes": [{"mesh": 0}, {"mesh": 0}],
+        "meshes": [{"primitives": [{"attributes": {"POSITION": triangle},
+                                    "targets": [{"POSITION": delta}]}],
+                    "weights": [1.0]}],
+    }));
+    let dir = tempfile::tempdir().unwrap();
+    let scene = load_gltf(&write(&dir, "morph.gltf", text)).unwrap();
+    let warnings: Vec<&String> = scene
+        .warnings
+        .iter()
+        .filter(|w| w.contains("skins/morph targets"))
+        .collect();
+    assert_eq!(warnings.len(), 1, "{:?}", scene.warnings);
+    // The rest pose: no delta applied.
+    assert_close(scene.triangles[0].positions[0], Vec3::ZERO);
+}
