@@ -133,6 +133,7 @@ fn a_static_scene_is_the_same_every_frame_and_existing_frames_are_skipped() {
         "-o",
         "c_#.exr",
         "--skip-existing",
+        "--json",
     ];
     args.extend(&SMALL[..6]);
     let frames = run(dir.path(), &args, &[]);
@@ -144,6 +145,13 @@ fn a_static_scene_is_the_same_every_frame_and_existing_frames_are_skipped() {
         "{}",
         frames.stderr
     );
+    // One object per frame, the skipped one included.
+    let stops: Vec<String> = frames
+        .stdout
+        .lines()
+        .map(|line| serde_json::from_str::<serde_json::Value>(line).unwrap()["stop"].to_string())
+        .collect();
+    assert_eq!(stops, ["\"done\"", "\"skipped\"", "\"done\""]);
     let read = |name: &str| std::fs::read(dir.path().join(name)).unwrap();
     assert_eq!(read("c_1.exr"), b"finished before");
     assert!(read("c_0.exr") == read("c_2.exr"), "a static scene changed");

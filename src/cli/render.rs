@@ -459,7 +459,18 @@ fn render(args: &RenderArgs) -> anyhow::Result<()> {
             .map(|o| frame_path(o, frame.frame))
             .collect();
         if args.frames.skip_existing && outputs.iter().all(|o| o.is_file()) {
-            if !reporting.json && !args.job.quiet {
+            if reporting.json {
+                // A farm's script reads one object per frame, skipped ones included.
+                let skipped = serde_json::json!({
+                    "schema_version": super::output::RENDER_REPORT_SCHEMA_VERSION,
+                    "outputs": outputs.iter().map(|o| o.display().to_string()).collect::<Vec<_>>(),
+                    "frame": frame.frame,
+                    "time": frame.time,
+                    "stop": "skipped",
+                });
+                println!("{skipped}");
+            }
+            if !args.job.quiet {
                 let names: Vec<String> = outputs
                     .iter()
                     .map(|o| format!("'{}'", o.display()))
