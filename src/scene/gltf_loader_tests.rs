@@ -893,3 +893,39 @@ fn morph_targets_warn_once_that_the_rest_pose_is_drawn() {
     // The rest pose: no delta applied.
     assert_close(scene.triangles[0].positions[0], Vec3::ZERO);
 }
+
+#[test]
+fn an_animated_camera_node_moves_the_camera() {
+    // The camera node slides CUBICSPLINE from z = 2 at 0 s to z = 6 at 2 s with zero
+    // tangents: at 1 s (s = 1/2) the Hermite basis gives 2 + (6 - 2) * 1/2 = 4.
+    let mut buffer = TestBuffer::default();
+    let triangle = buffer.positions(&[[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]]);
+    let input = buffer.floats("SCALAR", &[0.0, 2.0]);
+    let zero = [0.0; 3];
+    let keys: Vec<f32> = [zero, [0.0, 0.0, 2.0], zero, zero, [0.0, 0.0, 6.0], zero]
+        .into_iter()
+        .flatten()
+        .collect();
+    let output = buffer.floats("VEC3", &keys);
+    let text = buffer.embedded(json!({
+        "nodes": [{"mesh": 0}, {"camera": 0, "translation": [0, 0, 9]}],
+        "meshes": [{"primitives": [{"attributes": {"POSITION": triangle}}]}],
+        "cameras": [{"type": "perspective", "perspective": {"yfov": 0.8, "znear": 0.1}}],
+        "animations": [{
+            "channels": [{"sampler": 0, "target": {"node": 1, "path": "translation"}}],
+            "samplers": [{"input": input, "output": output, "interpolation": "CUBICSPLINE"}],
+        }],
+    }));
+    let dir = tempfile::tempdir().unwrap();
+    let path = write(&dir, "camera.gltf", text);
+    let camera_at = |time| {
+        load_at(&path, time, AnimationPick::All)
+            .unwrap()
+            .camera
+            .unwrap()
+            .position
+    };
+    assert_close(camera_at(0.0), Vec3::new(0.0, 0.0, 2.0));
+    assert_close(camera_at(1.0), Vec3::new(0.0, 0.0, 4.0));
+    assert_close(camera_at(5.0), Vec3::new(0.0, 0.0, 6.0));
+}
