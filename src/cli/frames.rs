@@ -103,6 +103,49 @@ impl FrameArgs {
     }
 }
 
+impl FrameArgs {
+    /// Whether `--skip-existing` skips `frame`, whose outputs are `outputs`: all of them exist.
+    /// Says so on stderr (unless `quiet`) and, with `json`, prints the frame's object
+    /// (`stop: skipped`) so that a script reads one object per frame.
+    pub fn skip(&self, frame: FrameTime, outputs: &[PathBuf], json: bool, quiet: bool) -> bool {
+        if !self.skip_existing || !outputs.iter().all(|o| o.is_file()) {
+            return false;
+        }
+        if json {
+            let skipped = serde_json::json!({
+                "schema_version": super::output::RENDER_REPORT_SCHEMA_VERSION,
+                "outputs": outputs.iter().map(|o| o.display().to_string()).collect::<Vec<_>>(),
+                "frame": frame.frame,
+                "time": frame.time,
+                "stop": "skipped",
+            });
+            println!("{skipped}");
+        }
+        if !quiet {
+            let names: Vec<String> = outputs
+                .iter()
+                .map(|o| format!("'{}'", o.display()))
+                .collect();
+            eprintln!(
+                "vkpath render: {}: {} already exist(s), skipped (--skip-existing)",
+                frame.name(),
+                names.join(", ")
+            );
+        }
+        true
+    }
+}
+
+impl FrameTime {
+    /// How messages name a frame: "frame 7", or "time 0.5 s" for a still.
+    pub fn name(&self) -> String {
+        match self.frame {
+            Some(number) => format!("frame {number}"),
+            None => format!("time {} s", self.time),
+        }
+    }
+}
+
 /// Whether a path's file name has a `#`.
 fn has_frame_run(path: &Path) -> bool {
     path.file_name()

@@ -6,7 +6,7 @@ use std::time::Instant;
 use anyhow::bail;
 use glam::Vec3;
 
-use super::frames::{frame_path, FrameArgs, FrameTime};
+use super::frames::{frame_path, FrameArgs};
 use super::options::{parse_spp, JobArgs, RenderOptions, SaveArgs, SceneArgs};
 use super::output::{
     render_job_and_save, render_on_devices_and_save, PostProcess, RenderFailure, RenderRequest,
@@ -458,29 +458,10 @@ fn render(args: &RenderArgs) -> anyhow::Result<()> {
             .iter()
             .map(|o| frame_path(o, frame.frame))
             .collect();
-        if args.frames.skip_existing && outputs.iter().all(|o| o.is_file()) {
-            if reporting.json {
-                // A farm's script reads one object per frame, skipped ones included.
-                let skipped = serde_json::json!({
-                    "schema_version": super::output::RENDER_REPORT_SCHEMA_VERSION,
-                    "outputs": outputs.iter().map(|o| o.display().to_string()).collect::<Vec<_>>(),
-                    "frame": frame.frame,
-                    "time": frame.time,
-                    "stop": "skipped",
-                });
-                println!("{skipped}");
-            }
-            if !args.job.quiet {
-                let names: Vec<String> = outputs
-                    .iter()
-                    .map(|o| format!("'{}'", o.display()))
-                    .collect();
-                eprintln!(
-                    "vkpath render: {}: {} already exist(s), skipped (--skip-existing)",
-                    frame_name(frame),
-                    names.join(", ")
-                );
-            }
+        if args
+            .frames
+            .skip(frame, &outputs, reporting.json, args.job.quiet)
+        {
             continue;
         }
         let scene = args
@@ -535,14 +516,6 @@ enum Devices {
     One(std::sync::Arc<crate::vk::Context>),
     /// `--device` named several.
     Several(Vec<std::sync::Arc<crate::vk::Context>>),
-}
-
-/// How messages name a frame: "frame 7", or "time 0.5 s" for a still.
-fn frame_name(frame: FrameTime) -> String {
-    match frame.frame {
-        Some(number) => format!("frame {number}"),
-        None => format!("time {} s", frame.time),
-    }
 }
 
 /// Warns that nothing lights the scene, or that its punctual lights are invisible to the
