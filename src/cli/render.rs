@@ -464,6 +464,12 @@ fn render(args: &RenderArgs) -> anyhow::Result<()> {
         {
             continue;
         }
+        // Each frame starts as the command does: a signal before its first sample ends the
+        // command at once, writing nothing of this frame (earlier frames are complete), so
+        // that a re-queued task with --skip-existing renders it again.
+        signals::RENDERING.store(false, std::sync::atomic::Ordering::SeqCst);
+        let files: Vec<&std::path::Path> = outputs.iter().map(PathBuf::as_path).collect();
+        signals::install(&files)?;
         let scene = args
             .scene
             .load_at(
