@@ -155,6 +155,29 @@ fn a_static_scene_is_the_same_every_frame_and_existing_frames_are_skipped() {
     let read = |name: &str| std::fs::read(dir.path().join(name)).unwrap();
     assert_eq!(read("c_1.exr"), b"finished before");
     assert!(read("c_0.exr") == read("c_2.exr"), "a static scene changed");
+    // A frame that holds fewer samples than asked (as a stop leaves it) is rendered again.
+    let whole = read("c_2.exr");
+    let partial = run(
+        dir.path(),
+        &[
+            "render", "--width", "32", "--height", "32", "--spp", "1", "-o", "c_2.exr",
+        ],
+        &[],
+    );
+    assert_eq!(partial.code, Some(0), "{}", partial.stderr);
+    let again = run(dir.path(), &args, &[]);
+    assert_eq!(again.code, Some(0), "{}", again.stderr);
+    assert!(
+        again
+            .stderr
+            .contains("frame 2: 'c_2.exr' holds samples 0..1 of 0..2"),
+        "{}",
+        again.stderr
+    );
+    assert!(
+        read("c_2.exr") == whole,
+        "the partial frame was not rendered again"
+    );
 }
 
 #[test]

@@ -4,7 +4,9 @@
 use std::ops::Range;
 use std::path::{Path, PathBuf};
 
+use crate::image_io::output::ImageFormat;
 use crate::render::metadata::parse_range;
+use crate::render::state_exr::read_metadata;
 use crate::scene::animation::AnimationPick;
 
 /// The default of `--fps`.
@@ -104,11 +106,40 @@ impl FrameArgs {
 }
 
 impl FrameArgs {
-    /// Whether `--skip-existing` skips `frame`, whose outputs are `outputs`: all of them exist.
-    /// Says so on stderr (unless `quiet`) and, with `json`, prints the frame's object
-    /// (`stop: skipped`) so that a script reads one object per frame.
-    pub fn skip(&self, frame: FrameTime, outputs: &[PathBuf], json: bool, quiet: bool) -> bool {
+    /// Whether `--skip-existing` skips `frame`, whose outputs are `outputs`: all of them exist
+    /// and none is a vkpath EXR whose metadata holds other samples than `samples` (one that a
+    /// stop left partial, rendered again, as a line says). Other files (PNG, EXR without
+    /// vkpath's metadata) count as finished. Says so on stderr (unless `quiet`) and, with
+    /// `json`, prints the frame's object (`stop: skipped`) so that a script reads one object
+    /// per frame.
+    pub fn skip(
+        &self,
+        frame: FrameTime,
+        outputs: &[PathBuf],
+        samples: &Range<u32>,
+        json: bool,
+        quiet: bool,
+    ) -> bool {
         if !self.skip_existing || !outputs.iter().all(|o| o.is_file()) {
+            return false;
+        }
+        let partial = outputs.iter().find_map(|output| {
+            let exr = ImageFormat::from_path(output).ok() == Some(ImageFormat::Exr);
+            let held = read_metadata(output).ok().filter(|_| exr)?.samples;
+            (held != *samples).then_some((output, held))
+        });
+        if let Some((output, held)) = partial {
+            if !quiet {
+                eprintln!(
+                    "vkpath render: {}: '{}' holds samples {}..{} of {}..{} (a stop left it partial): rendering it again",
+                    frame.name(),
+                    output.display(),
+                    held.start,
+                    held.end,
+                    samples.start,
+                    samples.end
+                );
+            }
             return false;
         }
         if json {

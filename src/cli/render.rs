@@ -458,10 +458,13 @@ fn render(args: &RenderArgs) -> anyhow::Result<()> {
             .iter()
             .map(|o| frame_path(o, frame.frame))
             .collect();
-        if args
-            .frames
-            .skip(frame, &outputs, reporting.json, args.job.quiet)
-        {
+        if args.frames.skip(
+            frame,
+            &outputs,
+            &job.samples,
+            reporting.json,
+            args.job.quiet,
+        ) {
             continue;
         }
         // Each frame starts as the command does: a signal before its first sample ends the
