@@ -23,7 +23,7 @@ fn write_animated_quad(dir: &Path) {
     let mut view = |data: Vec<u8>| {
         let offset = bytes.len();
         bytes.extend_from_slice(&data);
-        while bytes.len() % 4 != 0 {
+        while !bytes.len().is_multiple_of(4) {
             bytes.push(0);
         }
         json!({"buffer": 0, "byteOffset": offset, "byteLength": data.len()})
