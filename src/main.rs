@@ -10,6 +10,8 @@ fn main() {
     let cli = vkpath::cli::Cli::parse();
     if let Err(error) = vkpath::cli::run(cli) {
         eprintln!("vkpath: error: {error:#}");
-        std::process::exit(1);
+        // A usage error found after parsing exits as clap's do.
+        let usage = error.is::<vkpath::cli::frames::UsageError>();
+        std::process::exit(if usage { 2 } else { 1 });
     }
 }

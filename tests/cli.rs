@@ -19,6 +19,8 @@ mod determinism;
 mod devices_cli;
 #[path = "exercise_cli.rs"]
 mod exercise_cli;
+#[path = "frames_cli.rs"]
+mod frames_cli;
 #[path = "hostile_input.rs"]
 mod hostile_input;
 #[path = "look_cli.rs"]

@@ -2064,6 +2064,7 @@ fn fuzz(format: Format) {
             let path = case.write(dir.path());
             let options = LoadOptions {
                 allow_external_paths: case.allow_external_paths,
+                ..LoadOptions::default()
             };
             let run = run_load(&case.label, &path, options);
             tally.cases += 1;

@@ -101,6 +101,7 @@ impl Scene {
         let inner = source
             .load_with(&LoadOptions {
                 allow_external_paths,
+                ..LoadOptions::default()
             })
             .map_err(to_py)?;
         Ok(Scene {

@@ -12,6 +12,7 @@ pub mod compare;
 pub mod devices;
 pub mod exercise;
 pub mod export;
+pub mod frames;
 pub mod merge;
 pub mod options;
 pub mod output;

@@ -17,6 +17,7 @@ use crate::render::settings::{
     default_russian_roulette_start, Accel, LightSampling, LightSelection, RenderSettings,
     SamplerKind, MAX_SPP,
 };
+use crate::scene::animation::AnimationPick;
 use crate::scene::files::LoadOptions;
 use crate::scene::{Scene, SceneSource};
 
@@ -58,10 +59,25 @@ impl SceneArgs {
 
     /// `load`, saying how long generating took only when `talk` is set (warnings always).
     pub fn load_reporting(&self, command: &str, talk: bool) -> anyhow::Result<Scene> {
+        self.load_at(command, talk, true, 0.0, AnimationPick::All)
+    }
+
+    /// `load_reporting` with a glTF file's animations `animation` evaluated at `time`
+    /// seconds; the loader's warnings printed only when `warn` is set (once per sequence).
+    pub fn load_at(
+        &self,
+        command: &str,
+        talk: bool,
+        warn: bool,
+        time: f32,
+        animation: AnimationPick,
+    ) -> anyhow::Result<Scene> {
         let source = self.source();
         let started = Instant::now();
         let scene = source.load_with(&LoadOptions {
             allow_external_paths: self.allow_external_paths,
+            time,
+            animation,
         })?;
         if let (SceneSource::Generated(_), true) = (source, talk) {
             eprintln!(
@@ -70,7 +86,7 @@ impl SceneArgs {
                 started.elapsed().as_secs_f64()
             );
         }
-        for warning in &scene.warnings {
+        for warning in scene.warnings.iter().filter(|_| warn) {
             eprintln!("vkpath: warning: {warning}");
         }
         Ok(scene)

@@ -72,6 +72,8 @@ pub struct RenderRequest<'a> {
     pub post: PostProcess,
     /// When the command began: set-up time (loading, device, kernels) counts from here.
     pub command_started: Instant,
+    /// The frame and time rendered, when the command line gave `--time` or `--frames`.
+    pub frame: Option<super::frames::FrameTime>,
 }
 
 /// The version of `RenderReport`'s schema: it changes only when a key is removed or changes
@@ -136,6 +138,12 @@ pub struct RenderReport {
     /// traversal triangles) and every buffer's, in all and per triangle (`null` when the
     /// render stopped before its renderer was made).
     pub scene_memory: Option<SceneMemory>,
+    /// The frame number (`--frames`); absent for a still, `null` with `--time`.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub frame: Option<Option<u32>>,
+    /// The scene time in seconds (`--time`, or frame / `--fps`); absent without either.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub time: Option<f64>,
 }
 
 /// The JSON object `render --json` prints on stdout when it fails before its report: the
@@ -333,6 +341,7 @@ pub fn render_and_save(
             shard: false,
             post: PostProcess::default(),
             command_started: Instant::now(),
+            frame: None,
         },
     )
 }
@@ -654,6 +663,8 @@ fn finish(
             },
             guide: finished.guide.as_ref().map(GuideSummary::new),
             scene_memory: finished.scene_memory,
+            frame: request.frame.map(|f| f.frame),
+            time: request.frame.map(|f| f.time),
         };
         println!("{}", serde_json::to_string(&report)?);
     }

@@ -6,6 +6,7 @@ use std::time::Instant;
 use anyhow::bail;
 use glam::Vec3;
 
+use super::frames::{frame_path, FrameArgs};
 use super::options::{parse_spp, JobArgs, RenderOptions, SaveArgs, SceneArgs};
 use super::output::{
     render_job_and_save, render_on_devices_and_save, PostProcess, RenderFailure, RenderRequest,
@@ -109,6 +110,9 @@ pub struct RenderArgs {
     /// Device selection and validation.
     #[command(flatten)]
     pub device: DeviceArgs,
+    /// The time or frames rendered.
+    #[command(flatten)]
+    pub frames: FrameArgs,
 }
 
 /// An environment map or a constant background around the scene.
@@ -250,6 +254,9 @@ impl RenderArgs {
         if self.job.sample_range.is_some() && self.spp != defaults.spp {
             warn("--spp has no effect with --sample-range: the range decides the samples".into());
         }
+        if self.frames.frames.is_none() && self.frames.fps != super::frames::DEFAULT_FPS {
+            warn("--fps has no effect without --frames".into());
+        }
         if self.job.checkpoint.is_none()
             && self.job.checkpoint_interval != DEFAULT_CHECKPOINT_INTERVAL.as_secs_f64()
         {
@@ -382,7 +389,8 @@ pub fn run(args: &RenderArgs) -> anyhow::Result<()> {
     result
 }
 
-/// `run` without the JSON report of a failure.
+/// `run` without the JSON report of a failure: every frame asked for, on devices opened
+/// once.
 fn render(args: &RenderArgs) -> anyhow::Result<()> {
     let command_started = Instant::now();
     let reporting = args.job.reporting();
@@ -390,7 +398,13 @@ fn render(args: &RenderArgs) -> anyhow::Result<()> {
     settings.validate()?;
     let save = args.save.options(RENDER_PNG_TONE_MAP);
     let job = args.job.options(settings.spp, save)?;
+    args.frames.check_outputs(&args.outputs)?;
     args.check_files(&job)?;
+    if args.frames.frames.as_ref().is_some_and(|f| f.len() > 1)
+        && (job.checkpoint.is_some() || job.resume.is_some())
+    {
+        bail!("--checkpoint and --resume belong to one frame: render frames one at a time to use them");
+    }
     // From here a signal ends the command at once, writing nothing, until the first sample.
     let files: Vec<&std::path::Path> = args.outputs.iter().map(PathBuf::as_path).collect();
     signals::install(&files)?;
@@ -412,10 +426,112 @@ fn render(args: &RenderArgs) -> anyhow::Result<()> {
     if args.denoise {
         crate::denoise::available()?;
     }
-    let scene = args
-        .scene
-        .load_reporting("vkpath render", reporting.talks())?
-        .with_environment(args.lights.source()?.as_ref())?;
+    let several = args.device.several()?;
+    if several.is_some() {
+        if job.checkpoint.is_some() || job.resume.is_some() || job.preview.is_some() {
+            bail!("--checkpoint, --resume and --preview work with one device; render on several with shards instead");
+        }
+        if !post.is_empty() {
+            bail!("--aov and --denoise work with one device");
+        }
+    }
+    if let Some(animation) = &args.frames.animation {
+        let gltf = matches!(args.scene.source(), crate::scene::source::SceneSource::File(path)
+            if path.extension().is_some_and(|e| e.eq_ignore_ascii_case("gltf") || e.eq_ignore_ascii_case("glb")));
+        if !gltf {
+            bail!("--animation {animation}: only glTF scenes (.gltf, .glb) have animations");
+        }
+    }
+    let environment = args.lights.source()?;
+    // The devices are opened once, with the first frame's scene loaded: every frame after
+    // it reuses them (and their pipeline cache).
+    let mut devices: Option<Devices> = None;
+    let mut first = true;
+    for frame in args.frames.frame_times() {
+        let frame_started = if first {
+            command_started
+        } else {
+            Instant::now()
+        };
+        let outputs: Vec<PathBuf> = args
+            .outputs
+            .iter()
+            .map(|o| frame_path(o, frame.frame))
+            .collect();
+        if args.frames.skip(
+            frame,
+            &outputs,
+            &job.samples,
+            reporting.json,
+            args.job.quiet,
+        ) {
+            continue;
+        }
+        // Each frame starts as the command does: a signal before its first sample ends the
+        // command at once, writing nothing of this frame (earlier frames are complete), so
+        // that a re-queued task with --skip-existing renders it again.
+        signals::RENDERING.store(false, std::sync::atomic::Ordering::SeqCst);
+        let files: Vec<&std::path::Path> = outputs.iter().map(PathBuf::as_path).collect();
+        signals::install(&files)?;
+        let scene = args
+            .scene
+            .load_at(
+                "vkpath render",
+                reporting.talks() && first,
+                first,
+                frame.time as f32,
+                args.frames.pick(),
+            )?
+            .with_environment(environment.as_ref())?;
+        if first {
+            warn_about_lights(&scene, &settings);
+        }
+        let camera = args.camera(&scene, reporting.talks() && first)?;
+        first = false;
+        let devices = match &mut devices {
+            Some(devices) => devices,
+            None => devices.insert(match &several {
+                Some((selectors, reason)) => Devices::Several(args.device.create_contexts(
+                    selectors,
+                    reason,
+                    reporting.talks(),
+                )?),
+                None => Devices::One(args.device.create_context_reporting(reporting.talks())?),
+            }),
+        };
+        let request = RenderRequest {
+            scene: &scene,
+            scene_name: args.scene.name(),
+            camera: &camera,
+            settings: &settings,
+            job: job.clone(),
+            outputs: &outputs,
+            save,
+            reporting,
+            shard,
+            post: post.clone(),
+            command_started: frame_started,
+            frame: args.frames.timed().then_some(frame),
+        };
+        match devices {
+            Devices::Several(contexts) => render_on_devices_and_save(contexts, request)?,
+            Devices::One(context) => render_job_and_save(context, request)?,
+        }
+    }
+    Ok(())
+}
+
+/// The devices a sequence renders on, opened for its first frame.
+enum Devices {
+    /// `--device` named one (or none: the default).
+    One(std::sync::Arc<crate::vk::Context>),
+    /// `--device` named several.
+    Several(Vec<std::sync::Arc<crate::vk::Context>>),
+}
+
+/// Warns that nothing lights the scene, or that its punctual lights are invisible to the
+/// integrator.
+fn warn_about_lights(scene: &Scene, settings: &RenderSettings) {
     if !scene.emits_light() {
         eprintln!(
             "vkpath: warning: nothing lights the scene (no emissive surface, punctual light, --environment or --background): the image will be black"
@@ -429,40 +545,5 @@ fn render(args: &RenderArgs) -> anyhow::Result<()> {
             scene.punctual_lights.len(),
             settings.integrator.name()
         );
-    }
-    let camera = args.camera(&scene, reporting.talks())?;
-    let several = args.device.several()?;
-    if several.is_some() {
-        if job.checkpoint.is_some() || job.resume.is_some() || job.preview.is_some() {
-            bail!("--checkpoint, --resume and --preview work with one device; render on several with shards instead");
-        }
-        if !post.is_empty() {
-            bail!("--aov and --denoise work with one device");
-        }
-    }
-    let request = RenderRequest {
-        scene: &scene,
-        scene_name: args.scene.name(),
-        camera: &camera,
-        settings: &settings,
-        job,
-        outputs: &args.outputs,
-        save,
-        reporting,
-        shard,
-        post,
-        command_started,
-    };
-    match several {
-        Some((selectors, reason)) => {
-            let contexts = args
-                .device
-                .create_contexts(&selectors, &reason, reporting.talks())?;
-            render_on_devices_and_save(&contexts, request)
-        }
-        None => {
-            let context = args.device.create_context_reporting(reporting.talks())?;
-            render_job_and_save(&context, request)
-        }
     }
 }

@@ -124,6 +124,14 @@ pub enum SceneError {
         /// The `gltf` crate's error.
         error: gltf::Error,
     },
+    /// `--animation` names an animation that the glTF file does not have.
+    #[error("'{}': {reason}", path.display())]
+    Animation {
+        /// The scene file as given.
+        path: PathBuf,
+        /// What was asked and what the file has.
+        reason: String,
+    },
     /// The glTF file passed the `gltf` crate's checks but breaks a rule of the format that
     /// we check ourselves (accessor types and extents, index ranges, the node hierarchy).
     #[error("malformed glTF '{}': {reason}", path.display())]

@@ -13,12 +13,17 @@ use super::SceneError;
 pub const MAX_SCENE_FILE_BYTES: u64 = 1 << 30;
 
 /// How scene files may be read.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+#[derive(Clone, Debug, Default, PartialEq)]
 pub struct LoadOptions {
     /// Whether a glTF file may refer to files outside its own folder (absolute paths,
     /// `../`, `file:` URIs). Off by default: a scene from elsewhere must not read
     /// `/etc/passwd` or a device.
     pub allow_external_paths: bool,
+    /// The time in seconds at which a glTF file's animations are evaluated (0 by default:
+    /// their first keys, or the rest pose where nothing is animated).
+    pub time: f32,
+    /// Which of a glTF file's animations play (all by default).
+    pub animation: super::animation::AnimationPick,
 }
 
 /// Reads a whole regular file of at most `limit` bytes.
@@ -177,6 +182,7 @@ mod tests {
         assert!(resolve_reference(&inner.join("a.gltf"), "link.bin", &options).is_err());
         let allowed = LoadOptions {
             allow_external_paths: true,
+            ..LoadOptions::default()
         };
         assert_eq!(
             resolve_reference(scene, "/etc/passwd", &allowed).unwrap(),

@@ -7,7 +7,7 @@
 //! things ourselves before asking it: the GLB header's length, POSITION accessor indices,
 //! accessor types and extents, and camera types.
 
-use std::collections::HashSet;
+use std::collections::{HashMap, HashSet};
 use std::io::Read as _;
 use std::path::Path;
 
@@ -19,6 +19,7 @@ use gltf::mesh::Mode;
 use gltf::{Document, Gltf, Node};
 
 use super::files::{read_bounded, resolve_reference, LoadOptions, MAX_SCENE_FILE_BYTES};
+use super::gltf_animation::node_transforms_at;
 use super::gltf_extensions::unsupported_extension_warnings;
 use super::gltf_materials::MaterialReader;
 use super::materials::TriangleShading;
@@ -60,7 +61,12 @@ pub fn load_gltf_with(path: &Path, options: &LoadOptions) -> Result<Scene, Scene
     for warning in unsupported_extension_warnings(document.extensions_used()) {
         loader.builder.warn(warning);
     }
-    for (node, world) in flatten_hierarchy(path, &document)? {
+    let (animated, animation_warnings) =
+        node_transforms_at(path, &document, &buffers, &options.animation, options.time)?;
+    for warning in animation_warnings {
+        loader.builder.warn(warning);
+    }
+    for (node, world) in flatten_hierarchy(path, &document, &animated)? {
         loader.visit(&node, world)?;
     }
     let MaterialReader {
@@ -317,10 +323,12 @@ fn validate(path: &Path, document: &Document) -> Result<(), SceneError> {
 }
 
 /// Every node of the default scene (else the first scene, else all root nodes) with its
-/// world matrix (parent * local), in depth-first pre-order, children in file order.
+/// world matrix (parent * local), in depth-first pre-order, children in file order. A node
+/// in `animated` has that local matrix in place of the file's.
 fn flatten_hierarchy<'a>(
     path: &Path,
     document: &'a Document,
+    animated: &HashMap<usize, Mat4>,
 ) -> Result<Vec<(Node<'a>, Mat4)>, SceneError> {
     let roots: Vec<Node<'a>> = match document
         .default_scene()
@@ -360,7 +368,10 @@ fn flatten_hierarchy<'a>(
                 ));
             }
         }
-        let local_to_parent = Mat4::from_cols_array_2d(&node.transform().matrix());
+        let local_to_parent = animated
+            .get(&node.index())
+            .copied()
+            .unwrap_or_else(|| Mat4::from_cols_array_2d(&node.transform().matrix()));
         let local_to_world = parent_to_world * local_to_parent;
         let children: Vec<Node<'a>> = node.children().collect();
         stack.extend(
@@ -727,7 +738,7 @@ struct VertexAttributes {
 /// overflows otherwise): the element type, a non-zero count, strides no smaller than an
 /// element, and byte ranges that fit in a `usize`. Whether the range lies inside the buffer
 /// the reader checks itself.
-fn check_accessor(
+pub(super) fn check_accessor(
     accessor: &gltf::Accessor,
     dimensions: Dimensions,
     data_types: &[DataType],
@@ -792,12 +803,12 @@ fn triangle_corners(mode: Mode, vertex_count: usize) -> Vec<[usize; 3]> {
 }
 
 /// An object's name (printable), or `#index` when it has none (names are optional in glTF).
-fn label(name: Option<&str>, index: usize) -> String {
+pub(super) fn label(name: Option<&str>, index: usize) -> String {
     name.map_or_else(|| format!("#{index}"), super::printable)
 }
 
 /// A [`SceneError::MalformedGltf`] for `path`.
-fn malformed(path: &Path, reason: String) -> SceneError {
+pub(super) fn malformed(path: &Path, reason: String) -> SceneError {
     SceneError::MalformedGltf {
         path: path.to_owned(),
         reason,

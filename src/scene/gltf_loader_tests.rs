@@ -777,3 +777,155 @@ fn malformed_fixture_is_refused() {
     let error = Scene::load(&fixture("malformed.gltf")).unwrap_err();
     assert!(matches!(error, SceneError::Gltf { .. }), "{error}");
 }
+
+/// A triangle on node "mover" whose translation is animated LINEAR from (0, 0, 0) at 1 s to
+/// (4, 0, 0) at 3 s (animation "slide"), and a node "turner" that animation "spin" turns
+/// STEP to 90° about +Y at 2 s; `times` and `translations` replace slide's keys.
+fn animated(times: &[f32], translations: &[f32]) -> String {
+    let mut buffer = TestBuffer::default();
+    let triangle = buffer.positions(&[[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]]);
+    let input = buffer.floats("SCALAR", times);
+    let output = buffer.floats("VEC3", translations);
+    let spin_input = buffer.floats("SCALAR", &[0.0, 2.0]);
+    let spin_output = buffer.floats("VEC4", &[0.0, 0.0, 0.0, 1.0, 0.0, S, 0.0, S]);
+    buffer.embedded(json!({
+        "nodes": [
+            {"name": "mover", "mesh": 0},
+            {"name": "turner", "mesh": 0, "translation": [0, 0, -5]},
+        ],
+        "meshes": [{"primitives": [{"attributes": {"POSITION": triangle}}]}],
+        "animations": [
+            {"name": "slide",
+             "channels": [{"sampler": 0, "target": {"node": 0, "path": "translation"}}],
+             "samplers": [{"input": input, "output": output}]},
+            {"name": "spin",
+             "channels": [{"sampler": 0, "target": {"node": 1, "path": "rotation"}}],
+             "samplers": [{"input": spin_input, "output": spin_output,
+                           "interpolation": "STEP"}]},
+        ],
+    }))
+}
+
+fn load_at(path: &std::path::Path, time: f32, pick: AnimationPick) -> Result<Scene, SceneError> {
+    load_gltf_with(
+        path,
+        &LoadOptions {
+            time,
+            animation: pick,
+            ..LoadOptions::default()
+        },
+    )
+}
+
+use crate::scene::animation::AnimationPick;
+
+#[test]
+fn animated_nodes_move_with_time() {
+    let dir = tempfile::tempdir().unwrap();
+    let path = write(
+        &dir,
+        "animated.gltf",
+        animated(&[1.0, 3.0], &[0.0, 0.0, 0.0, 4.0, 0.0, 0.0]),
+    );
+    let first = |time, pick| load_at(&path, time, pick).unwrap().triangles[0].positions[0];
+    // Before the first key the first key holds; halfway (2 s) x is 2; after the last, 4.
+    assert_close(first(0.0, AnimationPick::All), Vec3::ZERO);
+    assert_close(first(2.0, AnimationPick::All), Vec3::new(2.0, 0.0, 0.0));
+    assert_close(first(7.0, AnimationPick::All), Vec3::new(4.0, 0.0, 0.0));
+    // "spin" alone leaves "mover" where the file puts it.
+    let spin = AnimationPick::One("spin".into());
+    assert_close(first(2.0, spin.clone()), Vec3::ZERO);
+    // The turned triangle at 2 s: (1, 0, 0) -> (0, 0, -1), then moved to z = -5.
+    let turned = load_at(&path, 2.0, AnimationPick::One("1".into())).unwrap();
+    assert_close(turned.triangles[1].positions[1], Vec3::new(0.0, 0.0, -6.0));
+    let before = load_at(&path, 1.9, spin).unwrap();
+    assert_close(before.triangles[1].positions[1], Vec3::new(1.0, 0.0, -5.0));
+    let missing = load_at(&path, 0.0, AnimationPick::One("jump".into())).unwrap_err();
+    assert!(missing.to_string().contains("slide, spin"), "{missing}");
+}
+
+#[test]
+fn bad_animation_data_names_the_animation_and_accessor() {
+    let dir = tempfile::tempdir().unwrap();
+    let decreasing = write(
+        &dir,
+        "decreasing.gltf",
+        animated(&[3.0, 1.0], &[0.0, 0.0, 0.0, 4.0, 0.0, 0.0]),
+    );
+    let error = load_at(&decreasing, 0.0, AnimationPick::All)
+        .unwrap_err()
+        .to_string();
+    assert!(
+        error.contains("animation 'slide'") && error.contains("accessor '#1'"),
+        "{error}"
+    );
+    assert!(error.contains("not above the one before"), "{error}");
+    let short = write(&dir, "short.gltf", animated(&[1.0, 3.0], &[0.0, 0.0, 0.0]));
+    let error = load_at(&short, 0.0, AnimationPick::All)
+        .unwrap_err()
+        .to_string();
+    assert!(
+        error.contains("animation 'slide'") && error.contains("accessor '#2'"),
+        "{error}"
+    );
+    assert!(!error.contains('\n'), "{error}");
+}
+
+#[test]
+fn morph_targets_warn_once_that_the_rest_pose_is_drawn() {
+    let mut buffer = TestBuffer::default();
+    let triangle = buffer.positions(&[[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]]);
+    let delta = buffer.positions(&[[0.0, 0.0, 1.0], [0.0, 0.0, 1.0], [0.0, 0.0, 1.0]]);
+    let text = buffer.embedded(json!({
+        "nodes": [{"mesh": 0}, {"mesh": 0}],
+        "meshes": [{"primitives": [{"attributes": {"POSITION": triangle},
+                                    "targets": [{"POSITION": delta}]}],
+                    "weights": [1.0]}],
+    }));
+    let dir = tempfile::tempdir().unwrap();
+    let scene = load_gltf(&write(&dir, "morph.gltf", text)).unwrap();
+    let warnings: Vec<&String> = scene
+        .warnings
+        .iter()
+        .filter(|w| w.contains("skins/morph targets"))
+        .collect();
+    assert_eq!(warnings.len(), 1, "{:?}", scene.warnings);
+    // The rest pose: no delta applied.
+    assert_close(scene.triangles[0].positions[0], Vec3::ZERO);
+}
+
+#[test]
+fn an_animated_camera_node_moves_the_camera() {
+    // The camera node slides CUBICSPLINE from z = 2 at 0 s to z = 6 at 2 s with zero
+    // tangents: at 1 s (s = 1/2) the Hermite basis gives 2 + (6 - 2) * 1/2 = 4.
+    let mut buffer = TestBuffer::default();
+    let triangle = buffer.positions(&[[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]]);
+    let input = buffer.floats("SCALAR", &[0.0, 2.0]);
+    let zero = [0.0; 3];
+    let keys: Vec<f32> = [zero, [0.0, 0.0, 2.0], zero, zero, [0.0, 0.0, 6.0], zero]
+        .into_iter()
+        .flatten()
+        .collect();
+    let output = buffer.floats("VEC3", &keys);
+    let text = buffer.embedded(json!({
+        "nodes": [{"mesh": 0}, {"camera": 0, "translation": [0, 0, 9]}],
+        "meshes": [{"primitives": [{"attributes": {"POSITION": triangle}}]}],
+        "cameras": [{"type": "perspective", "perspective": {"yfov": 0.8, "znear": 0.1}}],
+        "animations": [{
+            "channels": [{"sampler": 0, "target": {"node": 1, "path": "translation"}}],
+            "samplers": [{"input": input, "output": output, "interpolation": "CUBICSPLINE"}],
+        }],
+    }));
+    let dir = tempfile::tempdir().unwrap();
+    let path = write(&dir, "camera.gltf", text);
+    let camera_at = |time| {
+        load_at(&path, time, AnimationPick::All)
+            .unwrap()
+            .camera
+            .unwrap()
+            .position
+    };
+    assert_close(camera_at(0.0), Vec3::new(0.0, 0.0, 2.0));
+    assert_close(camera_at(1.0), Vec3::new(0.0, 0.0, 4.0));
+    assert_close(camera_at(5.0), Vec3::new(0.0, 0.0, 6.0));
+}

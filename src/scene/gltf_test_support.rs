@@ -68,10 +68,11 @@ impl TestBuffer {
         self.accessors.len() - 1
     }
 
-    /// A FLOAT accessor of `kind` ("VEC2", "VEC3", "VEC4") over `values`, element after
+    /// A FLOAT accessor of `kind` ("SCALAR", "VEC2", "VEC3", "VEC4") over `values`, element after
     /// element; its index.
     pub fn floats(&mut self, kind: &str, values: &[f32]) -> usize {
         let width = match kind {
+            "SCALAR" => 1,
             "VEC2" => 2,
             "VEC3" => 3,
             _ => 4,

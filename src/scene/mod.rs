@@ -8,10 +8,12 @@ use glam::Vec3;
 use crate::camera::Camera;
 use crate::lights::{Environment, EnvironmentSource, PunctualLight};
 
+pub mod animation;
 pub mod cornell;
 pub(crate) mod error;
 pub mod export;
 pub mod files;
+mod gltf_animation;
 mod gltf_extensions;
 pub mod gltf_loader;
 mod gltf_materials;

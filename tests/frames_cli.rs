@@ -1,0 +1,227 @@
+//! `vkpath render --time / --frames / --fps / --animation / --skip-existing` (issue 41): a
+//! keyframed glTF written by the test renders its motion, `--time` equals the matching frame
+//! bit for bit, outputs take the frame number, and bad requests are one line before anything
+//! renders.
+
+use std::path::Path;
+
+use serde_json::json;
+
+use crate::common::runs::run;
+
+/// Writes `animated.gltf` (and `animated.bin`) into `dir`: a unit quad facing +Z whose node
+/// slides LINEAR from x = -1 at 0 s to x = 1 at 1 s (animation "slide"), seen by a camera at
+/// z = 3 looking down -Z.
+fn write_animated_quad(dir: &Path) {
+    let positions: [f32; 12] = [
+        -0.5, -0.5, 0.0, 0.5, -0.5, 0.0, 0.5, 0.5, 0.0, -0.5, 0.5, 0.0,
+    ];
+    let indices: [u16; 6] = [0, 1, 2, 0, 2, 3];
+    let times: [f32; 2] = [0.0, 1.0];
+    let translations: [f32; 6] = [-1.0, 0.0, 0.0, 1.0, 0.0, 0.0];
+    let mut bytes: Vec<u8> = Vec::new();
+    let mut view = |data: Vec<u8>| {
+        let offset = bytes.len();
+        bytes.extend_from_slice(&data);
+        while !bytes.len().is_multiple_of(4) {
+            bytes.push(0);
+        }
+        json!({"buffer": 0, "byteOffset": offset, "byteLength": data.len()})
+    };
+    let floats = |v: &[f32]| v.iter().flat_map(|x| x.to_le_bytes()).collect::<Vec<u8>>();
+    let views = vec![
+        view(floats(&positions)),
+        view(indices.iter().flat_map(|i| i.to_le_bytes()).collect()),
+        view(floats(&times)),
+        view(floats(&translations)),
+    ];
+    let document = json!({
+        "asset": {"version": "2.0"},
+        "scene": 0,
+        "scenes": [{"nodes": [0, 1]}],
+        "nodes": [
+            {"name": "quad", "mesh": 0},
+            {"name": "camera", "camera": 0, "translation": [0, 0, 3]},
+        ],
+        "cameras": [{"type": "perspective", "perspective": {"yfov": 0.9, "znear": 0.01}}],
+        "meshes": [{"primitives": [{"attributes": {"POSITION": 0}, "indices": 1}]}],
+        "animations": [{
+            "name": "slide",
+            "channels": [{"sampler": 0, "target": {"node": 0, "path": "translation"}}],
+            "samplers": [{"input": 2, "output": 3}],
+        }],
+        "buffers": [{"uri": "animated.bin", "byteLength": bytes.len()}],
+        "bufferViews": views,
+        "accessors": [
+            {"bufferView": 0, "componentType": 5126, "count": 4, "type": "VEC3",
+             "min": [-0.5, -0.5, 0.0], "max": [0.5, 0.5, 0.0]},
+            {"bufferView": 1, "componentType": 5123, "count": 6, "type": "SCALAR"},
+            {"bufferView": 2, "componentType": 5126, "count": 2, "type": "SCALAR",
+             "min": [0.0], "max": [1.0]},
+            {"bufferView": 3, "componentType": 5126, "count": 2, "type": "VEC3"},
+        ],
+    });
+    std::fs::write(dir.join("animated.bin"), &bytes).unwrap();
+    std::fs::write(dir.join("animated.gltf"), document.to_string()).unwrap();
+}
+
+/// Small, quick renders: 32 x 32 at 2 spp, lit by a white background.
+const SMALL: [&str; 8] = [
+    "--width",
+    "32",
+    "--height",
+    "32",
+    "--spp",
+    "2",
+    "--background",
+    "1,1,1",
+];
+
+#[test]
+fn frames_render_the_motion_and_time_equals_its_frame() {
+    let dir = tempfile::tempdir().unwrap();
+    write_animated_quad(dir.path());
+    let mut args = vec![
+        "render",
+        "animated.gltf",
+        "--frames",
+        "0..3",
+        "--fps",
+        "2",
+        "-o",
+        "f_##.exr",
+        "--json",
+    ];
+    args.extend(SMALL);
+    let frames = run(dir.path(), &args, &[]);
+    assert_eq!(frames.code, Some(0), "{}", frames.stderr);
+    // One JSON object per line and frame, with its frame number and time.
+    let reports: Vec<serde_json::Value> = frames
+        .stdout
+        .lines()
+        .map(|line| serde_json::from_str(line).unwrap())
+        .collect();
+    assert_eq!(reports.len(), 3, "{}", frames.stdout);
+    for (index, report) in reports.iter().enumerate() {
+        assert_eq!(report["frame"], json!(index));
+        assert_eq!(report["time"], json!(index as f64 / 2.0));
+        assert_eq!(report["outputs"], json!([format!("f_{index:02}.exr")]));
+    }
+    let read = |name: &str| std::fs::read(dir.path().join(name)).unwrap();
+    // Frame 0 (x = -1) and frame 2 (x = 1) see the quad in different places.
+    assert_ne!(read("f_00.exr"), read("f_02.exr"));
+    // --time 1 is frame 2 at 2 fps, bit for bit.
+    let mut args = vec!["render", "animated.gltf", "--time", "1", "-o", "t.exr"];
+    args.extend(SMALL);
+    let still = run(dir.path(), &args, &[]);
+    assert_eq!(still.code, Some(0), "{}", still.stderr);
+    assert!(
+        read("t.exr") == read("f_02.exr"),
+        "--time 1 differs from frame 2"
+    );
+}
+
+#[test]
+fn a_static_scene_is_the_same_every_frame_and_existing_frames_are_skipped() {
+    let dir = tempfile::tempdir().unwrap();
+    // Frame 1's output exists: --skip-existing leaves it as it is, and says so.
+    std::fs::write(dir.path().join("c_1.exr"), b"finished before").unwrap();
+    let mut args = vec![
+        "render",
+        "--frames",
+        "0..3",
+        "-o",
+        "c_#.exr",
+        "--skip-existing",
+        "--json",
+    ];
+    args.extend(&SMALL[..6]);
+    let frames = run(dir.path(), &args, &[]);
+    assert_eq!(frames.code, Some(0), "{}", frames.stderr);
+    assert!(
+        frames
+            .stderr
+            .contains("frame 1: 'c_1.exr' already exist(s), skipped"),
+        "{}",
+        frames.stderr
+    );
+    // One object per frame, the skipped one included.
+    let stops: Vec<String> = frames
+        .stdout
+        .lines()
+        .map(|line| serde_json::from_str::<serde_json::Value>(line).unwrap()["stop"].to_string())
+        .collect();
+    assert_eq!(stops, ["\"done\"", "\"skipped\"", "\"done\""]);
+    let read = |name: &str| std::fs::read(dir.path().join(name)).unwrap();
+    assert_eq!(read("c_1.exr"), b"finished before");
+    assert!(read("c_0.exr") == read("c_2.exr"), "a static scene changed");
+    // A frame that holds fewer samples than asked (as a stop leaves it) is rendered again.
+    let whole = read("c_2.exr");
+    let partial = run(
+        dir.path(),
+        &[
+            "render", "--width", "32", "--height", "32", "--spp", "1", "-o", "c_2.exr",
+        ],
+        &[],
+    );
+    assert_eq!(partial.code, Some(0), "{}", partial.stderr);
+    let again = run(dir.path(), &args, &[]);
+    assert_eq!(again.code, Some(0), "{}", again.stderr);
+    assert!(
+        again
+            .stderr
+            .contains("frame 2: 'c_2.exr' holds samples 0..1 of 0..2"),
+        "{}",
+        again.stderr
+    );
+    assert!(
+        read("c_2.exr") == whole,
+        "the partial frame was not rendered again"
+    );
+}
+
+#[test]
+fn bad_times_frames_and_outputs_are_one_line_usage_errors() {
+    let dir = tempfile::tempdir().unwrap();
+    write_animated_quad(dir.path());
+    for (args, expected) in [
+        (vec!["--frames", "5..2", "-o", "a_#.png"], "START < END"),
+        (
+            vec!["--frames", "0..2", "--fps", "0", "-o", "a_#.png"],
+            "frame rate",
+        ),
+        (vec!["--time", "-1", "-o", "a.png"], "at or after 0"),
+        (vec!["--frames", "0..2", "-o", "a.png"], "no run of '#'"),
+    ] {
+        let mut full = vec!["render", "animated.gltf"];
+        full.extend(&args);
+        let result = run(dir.path(), &full, &[]);
+        assert_eq!(result.code, Some(2), "{args:?}: {}", result.stderr);
+        assert!(
+            result.stderr.contains(expected),
+            "{args:?}: {}",
+            result.stderr
+        );
+    }
+    assert!(!dir.path().join("a.png").exists());
+    let mut full = vec![
+        "render",
+        "animated.gltf",
+        "--animation",
+        "jump",
+        "-o",
+        "a.png",
+    ];
+    full.extend(SMALL);
+    let missing = run(dir.path(), &full, &[]);
+    assert_eq!(missing.code, Some(1), "{}", missing.stderr);
+    assert!(
+        missing
+            .stderr
+            .contains("no animation of that name or index")
+            && missing.stderr.contains("slide")
+            && missing.stderr.trim().lines().count() == 1,
+        "{}",
+        missing.stderr
+    );
+}
