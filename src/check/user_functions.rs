@@ -551,6 +551,14 @@ impl UserFunctions {
                 Err(messages) => messages,
             };
             let functions = find_functions(&self.prepared.text);
+            // Where each line starts, found once per round: each error message then finds its
+            // function by binary search instead of counting the file's lines again.
+            let newlines: Vec<usize> = self
+                .prepared
+                .text
+                .match_indices('\n')
+                .map(|(at, _)| at)
+                .collect();
             let mut newly_broken: Vec<BrokenFunction> = Vec::new();
             let mut outside = false;
             let mut dropped_declaration = false;
@@ -559,7 +567,7 @@ impl UserFunctions {
                     outside = true;
                     continue;
                 };
-                let found = enclosing(&functions, &self.prepared.text, line).map(|found| {
+                let found = enclosing(&functions, &newlines, line).map(|found| {
                     let name = self
                         .workshop_function_of(&found.name)
                         .map_or(found.name.clone(), |f| f.name().to_string());
@@ -702,13 +710,14 @@ fn shorten(text: &str, limit: usize) -> String {
 }
 
 /// The function (defined at global scope) whose text covers `line`.
+/// `newlines`: the byte offsets of the text's line breaks, in order.
 fn enclosing<'a>(
     functions: &'a [FoundFunction],
-    text: &str,
+    newlines: &[usize],
     line: usize,
 ) -> Option<&'a FoundFunction> {
     functions.iter().filter(|f| f.has_body).find(|f| {
-        let first_line = text[..f.span.start].matches('\n').count() + 1;
+        let first_line = newlines.partition_point(|&at| at < f.span.start) + 1;
         (first_line..=f.last_line).contains(&line)
     })
 }
