@@ -117,7 +117,14 @@ pub fn program_of_tabs(
         }
         passes.push(pass(PassKind::Image, &last.0, &last.1, PassKind::BufferA));
     }
-    Some((Program { common, passes }, PassKind::BufferA))
+    let mut program = Program { common, passes };
+    // The VS Code Shader Toy directives wire the channels as in `vkpath shadertoy`; one that
+    // names a tab not given leaves the defaults.
+    let mut wired = program.clone();
+    if wired.wire_channel_directives().is_ok() {
+        program = wired;
+    }
+    Some((program, PassKind::BufferA))
 }
 
 /// The user's files as (name, text), split where each begins.

@@ -529,7 +529,13 @@ impl<'a> Intake<'a> {
             let Some(word) = directive.get(1) else {
                 continue;
             };
-            let range = directive[0].start..directive.last().expect("not empty").end;
+            // To the end of the line: a directive dropped takes its trailing comment (or what
+            // the tokenizer read as one, the `//` of `"file://bufferA.glsl"`) with it.
+            let end = directive.last().expect("not empty").end;
+            let end = self.source[end..]
+                .find('\n')
+                .map_or(self.source.len(), |at| end + at);
+            let range = directive[0].start..end;
             match word.text.as_str() {
                 "version" | "extension" | "include" | "line" => {
                     self.prepared.notes.push(format!(
@@ -539,13 +545,23 @@ impl<'a> Intake<'a> {
                         match word.text.as_str() {
                             "version" => "vkpath compiles GLSL 4.60 for Vulkan",
                             "extension" => "vkpath enables what its kernels need",
-                            "include" => "check reads one self-contained file",
+                            "include" => "the tabs given on the command line are all that is read; a Common tab given first is put before every tab",
                             _ => "line numbers stay your file's",
                         }
                     ));
                     self.blanked.push(range.clone());
                     self.edits.push(blank(self.source, range));
                 }
+                word if word.starts_with("iChannel") => {
+                    self.prepared.notes.push(format!(
+                        "line {}: dropped #{word} (VS Code Shader Toy's channel wiring: read to wire the channel, not compiled)",
+                        directive[1].line
+                    ));
+                    self.blanked.push(range.clone());
+                    self.edits.push(blank(self.source, range));
+                }
+                "undef" | "if" | "ifdef" | "ifndef" | "else" | "elif" | "endif" | "error"
+                | "pragma" | "" => {}
                 "define" => {
                     if let Some(name) = directive.get(2) {
                         self.user_macros.push(name.text.clone());
@@ -560,7 +576,14 @@ impl<'a> Intake<'a> {
                         }
                     }
                 }
-                _ => {}
+                other => {
+                    self.prepared.notes.push(format!(
+                        "line {}: dropped #{other} (not a GLSL directive)",
+                        word.line
+                    ));
+                    self.blanked.push(range.clone());
+                    self.edits.push(blank(self.source, range));
+                }
             }
         }
     }
@@ -1577,6 +1600,28 @@ mod tests {
         let overloads = prepare("float f(float x) { return x; }\nvec2 f(vec2 x) { return x; }\n");
         assert_eq!(find_functions(&overloads.text).len(), 2);
         assert!(!overloads.notes.iter().any(|n| n.contains("times")));
+    }
+
+    #[test]
+    fn channel_and_unknown_directives_are_dropped_with_a_note() {
+        let source = "#iChannel0 \"self\"\n#iChannel1 \"file://bufferA.glsl\"\n#iKeyboard\n#ifdef X\n#endif\nfloat f() { return 1.0; }\n";
+        let prepared = prepare(source);
+        assert_eq!(prepared.text.lines().count(), source.lines().count());
+        assert!(!prepared.text.contains("#iC"), "{}", prepared.text);
+        assert!(!prepared.text.contains("bufferA"), "{}", prepared.text);
+        assert!(prepared.text.contains("#ifdef X"));
+        assert!(prepared
+            .notes
+            .iter()
+            .any(|n| n.starts_with("line 1: dropped #iChannel0")));
+        assert!(prepared
+            .notes
+            .iter()
+            .any(|n| n.starts_with("line 2: dropped #iChannel1")));
+        assert!(prepared
+            .notes
+            .iter()
+            .any(|n| n == "line 3: dropped #iKeyboard (not a GLSL directive)"));
     }
 
     #[test]
