@@ -749,3 +749,33 @@ fn each_pass_is_compiled_on_its_own_after_the_common_tab() {
     );
     assert!(report["compile_errors"].is_null(), "{report:#}");
 }
+
+#[test]
+fn a_program_without_the_running_mean_is_not_judged_and_leaves_the_exit_status_to_the_functions() {
+    // The workshop's Exercise 7 tab with its running mean taken out (each frame overwrites
+    // the last): the program's recovered frame estimates go negative, so comparing it with
+    // the reference means nothing. Its functions are all right.
+    let dir = tempfile::tempdir().expect("temporary directory");
+    let tab = std::fs::read_to_string(solution("programs/exercise7_tab.glsl")).expect("tab");
+    let mean = "out_color.rgb = mix(previous, out_color.rgb, 1.0 / float(iFrame + 1));";
+    assert!(tab.contains(mean));
+    let path = dir.path().join("no_running_mean.glsl");
+    std::fs::write(&path, tab.replace(mean, "out_color.rgb += 0.0 * previous;")).expect("write");
+    let files = [path.display().to_string()];
+    let outcome = common::runs::check(dir.path(), &files, &["--json", "--frames", "8"], &[]);
+    assert_eq!(
+        outcome.code,
+        Some(0),
+        "{}\n{}",
+        outcome.stdout,
+        outcome.stderr
+    );
+    let report: Value = serde_json::from_str(&outcome.stdout).expect("JSON report");
+    assert_eq!(report["passed"], true);
+    assert!(
+        common::runs::verdict(&report, "program").is_none(),
+        "{report}"
+    );
+    let reason = not_judged(&report, "program");
+    assert!(reason.contains("running mean"), "{report}");
+}

@@ -535,7 +535,10 @@ pub fn check(
     if let Some(verdict) =
         program::judge_user_program(context, user, options, alpha, &report.functions)?
     {
-        report.functions.push(verdict);
+        match program::not_judged_of(&verdict) {
+            Some(not_judged) => report.not_judged.push(not_judged),
+            None => report.functions.push(verdict),
+        }
     }
     report.passed = report.functions.iter().all(|f| f.passed);
     Ok(report)
