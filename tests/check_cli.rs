@@ -779,3 +779,28 @@ fn a_program_without_the_running_mean_is_not_judged_and_leaves_the_exit_status_t
     let reason = not_judged(&report, "program");
     assert!(reason.contains("running mean"), "{report}");
 }
+
+#[test]
+fn a_wgsl_port_is_named_as_wgsl_with_exit_status_2() {
+    // A port of the workshop's sampler to WGSL (written for this test).
+    let dir = tempfile::tempdir().expect("temporary directory");
+    let path = dir.path().join("sampler_port.wgsl");
+    std::fs::write(
+        &path,
+        "// sample_sphere, ported\nfn sample_sphere(u: vec2<f32>) -> vec3<f32> {\n    let z = 1.0 - 2.0 * u.x;\n    return vec3<f32>(0.0, 0.0, z);\n}\n",
+    )
+    .expect("write");
+    let outcome = common::runs::check(dir.path(), &[path.display().to_string()], &[], &[]);
+    assert_eq!(outcome.code, Some(2), "{}", outcome.stderr);
+    assert!(
+        outcome.stderr.contains("is WGSL (line 2") && outcome.stderr.contains("check reads GLSL"),
+        "{}",
+        outcome.stderr
+    );
+    assert_eq!(
+        outcome.stderr.trim().lines().count(),
+        1,
+        "{}",
+        outcome.stderr
+    );
+}

@@ -108,6 +108,19 @@ pub enum LoadError {
         /// The file.
         path: PathBuf,
     },
+    /// The file is WGSL (WebGPU's shading language), not GLSL.
+    #[error(
+        "'{path}' is WGSL (line {line}: '{seen}'); check reads GLSL (the workshop's ShaderToy \
+         tabs, Vulkan or WebGL GLSL): give it your GLSL version"
+    )]
+    Wgsl {
+        /// The file.
+        path: PathBuf,
+        /// The first line that only WGSL writes (from 1).
+        line: usize,
+        /// What it starts with.
+        seen: String,
+    },
     /// The file uses workshop names, but none with the workshop's parameters.
     #[error("'{path}' has nothing check can judge: {reasons}")]
     NothingToJudge {
@@ -129,12 +142,44 @@ pub fn read_tabs(paths: &[PathBuf]) -> std::result::Result<Vec<(String, String)>
                 path: path.to_owned(),
                 source,
             })?;
+        if let Some((line, seen)) = wgsl_line(&text) {
+            return Err(LoadError::Wgsl {
+                path: path.to_owned(),
+                line,
+                seen,
+            });
+        }
         files.push((path.display().to_string(), text));
     }
     let (commons, passes): (Vec<_>, Vec<_>) = files
         .into_iter()
         .partition(|(_, text)| crate::glsl_intake::find_entry_point(text).is_none());
     Ok(commons.into_iter().chain(passes).collect())
+}
+
+/// The first line (from 1, and its first words) that only WGSL writes: a function
+/// declared with `fn`, an attribute such as `@fragment` or `@group(0)`, a `var<...>`
+/// declaration or a `struct` member typed `name: vec3<f32>`; `None` for GLSL.
+pub fn wgsl_line(text: &str) -> Option<(usize, String)> {
+    const ATTRIBUTES: [&str; 6] = [
+        "@fragment",
+        "@vertex",
+        "@compute",
+        "@group(",
+        "@binding(",
+        "@workgroup_size(",
+    ];
+    text.lines().enumerate().find_map(|(index, line)| {
+        let line = line.trim_start();
+        let is_wgsl = line.starts_with("fn ") && line.contains('(')
+            || ATTRIBUTES.iter().any(|a| line.starts_with(a))
+            || line.starts_with("var<")
+            || line.contains("<f32>") && line.contains(':');
+        is_wgsl.then(|| {
+            let seen: String = line.chars().take(40).collect();
+            (index + 1, seen.trim_end().to_string())
+        })
+    })
 }
 
 /// The user's functions in `files` read as one text, whose lines are mapped back to each
@@ -595,4 +640,17 @@ fn does_not_compile(
     report.summary = "does not compile (the rest of the file is judged without it)".into();
     report.hint = Some(broken.messages.trim_end().to_string());
     report
+}
+
+#[cfg(test)]
+mod wgsl_tests {
+    use super::*;
+
+    #[test]
+    fn wgsl_is_named_and_glsl_is_not() {
+        let wgsl = "// a port\nstruct Hit { t: f32, n: vec3<f32> }\nfn sample_sphere(u: vec2<f32>) -> vec3<f32> {\n    return vec3<f32>(0.0, 0.0, 1.0);\n}\n";
+        assert_eq!(wgsl_line(wgsl).map(|(line, _)| line), Some(2));
+        let glsl = "// fn is not a GLSL word\nvec3 sample_sphere(vec2 u) {\n    float fn_value = 1.0;\n    return vec3(0.0, 0.0, fn_value);\n}\n";
+        assert_eq!(wgsl_line(glsl), None);
+    }
 }
