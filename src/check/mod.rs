@@ -622,8 +622,22 @@ fn loops_without_end(
         ),
     );
     report.summary = "loops without end: a call's loops ran past their limit".into();
-    report.hint = Some(message);
+    report.hint = Some(loop_hint_for_check(&message));
     report
+}
+
+/// What `check` says after a loop-limit message: the renderer's advice (`--samples-per-frame`,
+/// `--max-path-length`, `--accel`) names options of `render`, which `check` does not have, so
+/// it gives way to what the user can change, the loop itself.
+pub fn loop_hint_for_check(message: &str) -> String {
+    let cause = match message.rfind(": use ") {
+        Some(at) => &message[..at],
+        None => message,
+    };
+    format!(
+        "{cause}; look for a loop whose condition never turns false, or a `continue` where a \
+         `break` was meant"
+    )
 }
 
 /// The verdict on a function that does not compile: failed, with the compiler's messages.
@@ -645,6 +659,16 @@ fn does_not_compile(
 #[cfg(test)]
 mod wgsl_tests {
     use super::*;
+
+    #[test]
+    fn loop_hints_name_no_option_check_lacks() {
+        let hint = loop_hint_for_check(
+            "the loop limit may have cut paths short in 12 pixels, so the image would be wrong: use fewer --samples-per-frame, a shorter --max-path-length or --accel bvh",
+        );
+        assert!(hint.starts_with("the loop limit may have cut paths short in 12 pixels"));
+        assert!(!hint.contains("--"), "{hint}");
+        assert!(hint.contains("continue"));
+    }
 
     #[test]
     fn wgsl_is_named_and_glsl_is_not() {

@@ -362,7 +362,7 @@ pub fn judge_program(
             Err(Error::LoopLimit(message)) => {
                 report.method = "loop limit".into();
                 report.summary = "loops without end: a pixel's loops ran past their limit".into();
-                report.hint = Some(message);
+                report.hint = Some(crate::check::loop_hint_for_check(&message));
                 return Ok(report);
             }
             Err(error) => return Err(error),
