@@ -657,7 +657,7 @@ fn does_not_compile(
 }
 
 #[cfg(test)]
-mod wgsl_tests {
+mod tests {
     use super::*;
 
     #[test]
