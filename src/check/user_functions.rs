@@ -623,13 +623,10 @@ impl UserFunctions {
         message: &str,
     ) -> Option<std::ops::RangeInclusive<usize>> {
         let tokens = structural_tokens(&tokenize(&self.prepared.text));
-        let Some(item) = top_level_items(&tokens)
+        let item = top_level_items(&tokens)
             .into_iter()
             .filter(|item| item.kind == ItemKind::Declaration)
-            .find(|item| (tokens[item.first].line..=tokens[item.last].line).contains(&line))
-        else {
-            return None;
-        };
+            .find(|item| (tokens[item.first].line..=tokens[item.last].line).contains(&line))?;
         let lines = tokens[item.first].line..=tokens[item.last].line;
         let range = tokens[item.first].start..tokens[item.last].end;
         // The declaration as the user wrote it, on one line.
