@@ -479,10 +479,10 @@ fn an_endless_loop_fails_instead_of_being_cut_silently() {
     );
     let function = &report["functions"][0];
     assert_eq!(function["method"], "loop limit");
-    assert!(function["hint"]
-        .as_str()
-        .expect("text")
-        .contains("endless loop"));
+    let hint = function["hint"].as_str().expect("text");
+    assert!(hint.contains("endless loop"), "{hint}");
+    // Only what check has: no render options (--max-path-length, --accel, ...).
+    assert!(!hint.contains("--"), "{hint}");
 }
 
 /// Runs `vkpath check` on several solutions (tabs) at once, with small renders.
@@ -748,4 +748,59 @@ fn each_pass_is_compiled_on_its_own_after_the_common_tab() {
         "{report:#}"
     );
     assert!(report["compile_errors"].is_null(), "{report:#}");
+}
+
+#[test]
+fn a_program_without_the_running_mean_is_not_judged_and_leaves_the_exit_status_to_the_functions() {
+    // The workshop's Exercise 7 tab with its running mean taken out (each frame overwrites
+    // the last): the program's recovered frame estimates go negative, so comparing it with
+    // the reference means nothing. Its functions are all right.
+    let dir = tempfile::tempdir().expect("temporary directory");
+    let tab = std::fs::read_to_string(solution("programs/exercise7_tab.glsl")).expect("tab");
+    let mean = "out_color.rgb = mix(previous, out_color.rgb, 1.0 / float(iFrame + 1));";
+    assert!(tab.contains(mean));
+    let path = dir.path().join("no_running_mean.glsl");
+    std::fs::write(&path, tab.replace(mean, "out_color.rgb += 0.0 * previous;")).expect("write");
+    let files = [path.display().to_string()];
+    let outcome = common::runs::check(dir.path(), &files, &["--json", "--frames", "8"], &[]);
+    assert_eq!(
+        outcome.code,
+        Some(0),
+        "{}\n{}",
+        outcome.stdout,
+        outcome.stderr
+    );
+    let report: Value = serde_json::from_str(&outcome.stdout).expect("JSON report");
+    assert_eq!(report["passed"], true);
+    assert!(
+        common::runs::verdict(&report, "program").is_none(),
+        "{report}"
+    );
+    let reason = not_judged(&report, "program");
+    assert!(reason.contains("running mean"), "{report}");
+}
+
+#[test]
+fn a_wgsl_port_is_named_as_wgsl_with_exit_status_2() {
+    // A port of the workshop's sampler to WGSL (written for this test).
+    let dir = tempfile::tempdir().expect("temporary directory");
+    let path = dir.path().join("sampler_port.wgsl");
+    std::fs::write(
+        &path,
+        "// sample_sphere, ported\nfn sample_sphere(u: vec2<f32>) -> vec3<f32> {\n    let z = 1.0 - 2.0 * u.x;\n    return vec3<f32>(0.0, 0.0, z);\n}\n",
+    )
+    .expect("write");
+    let outcome = common::runs::check(dir.path(), &[path.display().to_string()], &[], &[]);
+    assert_eq!(outcome.code, Some(2), "{}", outcome.stderr);
+    assert!(
+        outcome.stderr.contains("is WGSL (line 2") && outcome.stderr.contains("check reads GLSL"),
+        "{}",
+        outcome.stderr
+    );
+    assert_eq!(
+        outcome.stderr.trim().lines().count(),
+        1,
+        "{}",
+        outcome.stderr
+    );
 }

@@ -141,6 +141,39 @@ fn two_buffers_see_this_frame_of_earlier_passes_and_the_previous_of_later_ones()
 }
 
 #[test]
+fn vscode_shader_toy_directives_wire_the_channels() {
+    // The chain program above as VS Code Shader Toy tabs: #iChannelN "self" /
+    // "file://…glsl" instead of --channel, #include of the Common tab given, and an unknown
+    // directive (#iKeyboard) dropped with a note: the same image.
+    let dir = tempfile::tempdir().unwrap();
+    let (code, stderr) = shadertoy(
+        dir.path(),
+        &[
+            &program("vscode_image.glsl"),
+            "--common",
+            &program("vscode_common.glsl"),
+            "--buffer-a",
+            &program("vscode_buffer_a.glsl"),
+            "--buffer-b",
+            &program("vscode_buffer_b.glsl"),
+            "--frames",
+            "5",
+            "--width",
+            "8",
+            "--height",
+            "8",
+            "-o",
+            "image.exr",
+        ],
+    );
+    assert_eq!(code, Some(0), "{stderr}");
+    let image = rgba(&dir.path().join("image.exr"));
+    for (x, y) in [(0, 0), (7, 7), (3, 5)] {
+        assert_eq!(at(&image, x, y), [5.0, 10.0, 15.0, 1.0], "({x}, {y})");
+    }
+}
+
+#[test]
 fn a_page_shader_runs_as_the_image_pass_and_pngs_are_clamped_not_encoded() {
     let dir = tempfile::tempdir().unwrap();
     let (code, stderr) = shadertoy(

@@ -108,6 +108,19 @@ pub enum LoadError {
         /// The file.
         path: PathBuf,
     },
+    /// The file is WGSL (WebGPU's shading language), not GLSL.
+    #[error(
+        "'{path}' is WGSL (line {line}: '{seen}'); check reads GLSL (the workshop's ShaderToy \
+         tabs, Vulkan or WebGL GLSL): give it your GLSL version"
+    )]
+    Wgsl {
+        /// The file.
+        path: PathBuf,
+        /// The first line that only WGSL writes (from 1).
+        line: usize,
+        /// What it starts with.
+        seen: String,
+    },
     /// The file uses workshop names, but none with the workshop's parameters.
     #[error("'{path}' has nothing check can judge: {reasons}")]
     NothingToJudge {
@@ -129,12 +142,44 @@ pub fn read_tabs(paths: &[PathBuf]) -> std::result::Result<Vec<(String, String)>
                 path: path.to_owned(),
                 source,
             })?;
+        if let Some((line, seen)) = wgsl_line(&text) {
+            return Err(LoadError::Wgsl {
+                path: path.to_owned(),
+                line,
+                seen,
+            });
+        }
         files.push((path.display().to_string(), text));
     }
     let (commons, passes): (Vec<_>, Vec<_>) = files
         .into_iter()
         .partition(|(_, text)| crate::glsl_intake::find_entry_point(text).is_none());
     Ok(commons.into_iter().chain(passes).collect())
+}
+
+/// The first line (from 1, and its first words) that only WGSL writes: a function
+/// declared with `fn`, an attribute such as `@fragment` or `@group(0)`, a `var<...>`
+/// declaration or a `struct` member typed `name: vec3<f32>`; `None` for GLSL.
+pub fn wgsl_line(text: &str) -> Option<(usize, String)> {
+    const ATTRIBUTES: [&str; 6] = [
+        "@fragment",
+        "@vertex",
+        "@compute",
+        "@group(",
+        "@binding(",
+        "@workgroup_size(",
+    ];
+    text.lines().enumerate().find_map(|(index, line)| {
+        let line = line.trim_start();
+        let is_wgsl = line.starts_with("fn ") && line.contains('(')
+            || ATTRIBUTES.iter().any(|a| line.starts_with(a))
+            || line.starts_with("var<")
+            || line.contains("<f32>") && line.contains(':');
+        is_wgsl.then(|| {
+            let seen: String = line.chars().take(40).collect();
+            (index + 1, seen.trim_end().to_string())
+        })
+    })
 }
 
 /// The user's functions in `files` read as one text, whose lines are mapped back to each
@@ -535,7 +580,10 @@ pub fn check(
     if let Some(verdict) =
         program::judge_user_program(context, user, options, alpha, &report.functions)?
     {
-        report.functions.push(verdict);
+        match program::not_judged_of(&verdict) {
+            Some(not_judged) => report.not_judged.push(not_judged),
+            None => report.functions.push(verdict),
+        }
     }
     report.passed = report.functions.iter().all(|f| f.passed);
     Ok(report)
@@ -574,8 +622,22 @@ fn loops_without_end(
         ),
     );
     report.summary = "loops without end: a call's loops ran past their limit".into();
-    report.hint = Some(message);
+    report.hint = Some(loop_hint_for_check(&message));
     report
+}
+
+/// What `check` says after a loop-limit message: the renderer's advice (`--samples-per-frame`,
+/// `--max-path-length`, `--accel`) names options of `render`, which `check` does not have, so
+/// it gives way to what the user can change, the loop itself.
+pub fn loop_hint_for_check(message: &str) -> String {
+    let cause = match message.rfind(": use ") {
+        Some(at) => &message[..at],
+        None => message,
+    };
+    format!(
+        "{cause}; look for a loop whose condition never turns false, or a `continue` where a \
+         `break` was meant"
+    )
 }
 
 /// The verdict on a function that does not compile: failed, with the compiler's messages.
@@ -592,4 +654,27 @@ fn does_not_compile(
     report.summary = "does not compile (the rest of the file is judged without it)".into();
     report.hint = Some(broken.messages.trim_end().to_string());
     report
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn loop_hints_name_no_option_check_lacks() {
+        let hint = loop_hint_for_check(
+            "the loop limit may have cut paths short in 12 pixels, so the image would be wrong: use fewer --samples-per-frame, a shorter --max-path-length or --accel bvh",
+        );
+        assert!(hint.starts_with("the loop limit may have cut paths short in 12 pixels"));
+        assert!(!hint.contains("--"), "{hint}");
+        assert!(hint.contains("continue"));
+    }
+
+    #[test]
+    fn wgsl_is_named_and_glsl_is_not() {
+        let wgsl = "// a port\nstruct Hit { t: f32, n: vec3<f32> }\nfn sample_sphere(u: vec2<f32>) -> vec3<f32> {\n    return vec3<f32>(0.0, 0.0, 1.0);\n}\n";
+        assert_eq!(wgsl_line(wgsl).map(|(line, _)| line), Some(2));
+        let glsl = "// fn is not a GLSL word\nvec3 sample_sphere(vec2 u) {\n    float fn_value = 1.0;\n    return vec3(0.0, 0.0, fn_value);\n}\n";
+        assert_eq!(wgsl_line(glsl), None);
+    }
 }

@@ -67,6 +67,31 @@ pub struct ProgramOptions {
     pub output_dir: PathBuf,
 }
 
+/// The `method` of a program verdict that is no verdict: the program does not render the
+/// workshop's scene with the workshop's running mean, so comparing it with the reference
+/// means nothing. The report lists it as NOT JUDGED (`not_judged_of`), and it does not
+/// change the exit status.
+pub const NOT_JUDGED_METHOD: &str = "not judged";
+
+/// The NOT JUDGED entry that stands for `verdict` when the program could not be judged
+/// (`NOT_JUDGED_METHOD`), with the reason; `None` for a real verdict.
+pub fn not_judged_of(verdict: &FunctionReport) -> Option<crate::check::NotJudged> {
+    (verdict.method == NOT_JUDGED_METHOD).then(|| crate::check::NotJudged {
+        function: verdict.function.clone(),
+        line: verdict.line,
+        reason: verdict
+            .summary
+            .strip_prefix("not judged: ")
+            .unwrap_or(&verdict.summary)
+            .to_string()
+            + &verdict
+                .hint
+                .as_ref()
+                .map_or(String::new(), |hint| format!(" ({hint})")),
+        file: verdict.file.clone(),
+    })
+}
+
 /// The Image pass of a program whose only tab is a buffer: shows Buffer A.
 const SHOW_BUFFER_A: &str = "void mainImage(out vec4 fragColor, in vec2 fragCoord) {\n    fragColor = texelFetch(iChannel0, ivec2(fragCoord), 0);\n}\n";
 
@@ -117,7 +142,14 @@ pub fn program_of_tabs(
         }
         passes.push(pass(PassKind::Image, &last.0, &last.1, PassKind::BufferA));
     }
-    Some((Program { common, passes }, PassKind::BufferA))
+    let mut program = Program { common, passes };
+    // The VS Code Shader Toy directives wire the channels as in `vkpath shadertoy`; one that
+    // names a tab not given leaves the defaults.
+    let mut wired = program.clone();
+    if wired.wire_channel_directives().is_ok() {
+        program = wired;
+    }
+    Some((program, PassKind::BufferA))
 }
 
 /// The user's files as (name, text), split where each begins.
@@ -330,7 +362,7 @@ pub fn judge_program(
             Err(Error::LoopLimit(message)) => {
                 report.method = "loop limit".into();
                 report.summary = "loops without end: a pixel's loops ran past their limit".into();
-                report.hint = Some(message);
+                report.hint = Some(crate::check::loop_hint_for_check(&message));
                 return Ok(report);
             }
             Err(error) => return Err(error),
@@ -346,6 +378,7 @@ pub fn judge_program(
     };
     report.measure("frames", f64::from(frames));
     if statistics.negative > 0 {
+        report.method = NOT_JUDGED_METHOD.into();
         report.summary = format!(
             "not judged: {} recovered frame estimates are negative, so your program does not keep \
              the running mean of its frames (the workshop's mix(previous, color, 1.0 / float(iFrame + 1)))",

@@ -551,15 +551,24 @@ impl UserFunctions {
                 Err(messages) => messages,
             };
             let functions = find_functions(&self.prepared.text);
+            // Where each line starts, found once per round: each error message then finds its
+            // function by binary search instead of counting the file's lines again.
+            let newlines: Vec<usize> = self
+                .prepared
+                .text
+                .match_indices('\n')
+                .map(|(at, _)| at)
+                .collect();
             let mut newly_broken: Vec<BrokenFunction> = Vec::new();
             let mut outside = false;
             let mut dropped_declaration = false;
+            let mut dropped_lines: Vec<std::ops::RangeInclusive<usize>> = Vec::new();
             for message in messages.lines().filter(|l| l.contains(": error:")) {
                 let Some(line) = self.error_line(message) else {
                     outside = true;
                     continue;
                 };
-                let found = enclosing(&functions, &self.prepared.text, line).map(|found| {
+                let found = enclosing(&functions, &newlines, line).map(|found| {
                     let name = self
                         .workshop_function_of(&found.name)
                         .map_or(found.name.clone(), |f| f.name().to_string());
@@ -580,9 +589,15 @@ impl UserFunctions {
                         }
                     }
                     Some(_) => {}
+                    // A declaration dropped in this round may have had several errors:
+                    // the later ones are its own, not errors outside any function.
+                    None if dropped_lines.iter().any(|lines| lines.contains(&line)) => {}
                     None => match self.drop_declaration_at(line, message) {
-                        true => dropped_declaration = true,
-                        false => outside = true,
+                        Some(lines) => {
+                            dropped_lines.push(lines);
+                            dropped_declaration = true;
+                        }
+                        None => outside = true,
                     },
                 }
             }
@@ -600,16 +615,19 @@ impl UserFunctions {
     /// Drops (blanks) the global declaration of the prepared text that covers `line`, with a
     /// note quoting the compiler's `message`; false when no declaration covers it. The
     /// functions that need what it declares then fail to compile one by one, and are
-    /// reported, instead of the whole file.
-    fn drop_declaration_at(&mut self, line: usize, message: &str) -> bool {
+    /// reported, instead of the whole file. Returns the lines dropped, `None` when no
+    /// declaration covers `line`.
+    fn drop_declaration_at(
+        &mut self,
+        line: usize,
+        message: &str,
+    ) -> Option<std::ops::RangeInclusive<usize>> {
         let tokens = structural_tokens(&tokenize(&self.prepared.text));
-        let Some(item) = top_level_items(&tokens)
+        let item = top_level_items(&tokens)
             .into_iter()
             .filter(|item| item.kind == ItemKind::Declaration)
-            .find(|item| (tokens[item.first].line..=tokens[item.last].line).contains(&line))
-        else {
-            return false;
-        };
+            .find(|item| (tokens[item.first].line..=tokens[item.last].line).contains(&line))?;
+        let lines = tokens[item.first].line..=tokens[item.last].line;
         let range = tokens[item.first].start..tokens[item.last].end;
         // The declaration as the user wrote it, on one line.
         let written: Vec<&str> = self.prepared.text[range.clone()]
@@ -630,7 +648,7 @@ impl UserFunctions {
             .map(|c| if c == '\n' { '\n' } else { ' ' })
             .collect();
         self.prepared.text.replace_range(range, &blank);
-        true
+        Some(lines)
     }
 
     /// The user's line that a compiler message names, if it names the user's file.
@@ -702,13 +720,14 @@ fn shorten(text: &str, limit: usize) -> String {
 }
 
 /// The function (defined at global scope) whose text covers `line`.
+/// `newlines`: the byte offsets of the text's line breaks, in order.
 fn enclosing<'a>(
     functions: &'a [FoundFunction],
-    text: &str,
+    newlines: &[usize],
     line: usize,
 ) -> Option<&'a FoundFunction> {
     functions.iter().filter(|f| f.has_body).find(|f| {
-        let first_line = text[..f.span.start].matches('\n').count() + 1;
+        let first_line = newlines.partition_point(|&at| at < f.span.start) + 1;
         (first_line..=f.last_line).contains(&line)
     })
 }
@@ -811,6 +830,33 @@ mod tests {
             parameters: vec!["uvec3".into()],
         };
         assert!(QualifierMismatch::of(WorkshopFunction::GetRandomNumbers, 1, &signature).is_none());
+    }
+
+    #[test]
+    fn snippet_lines_at_top_level_are_dropped_for_real() {
+        // The slides' two snippet lines pasted at file scope (written for this test): the
+        // second has three errors of its own once the first is dropped; all of them go with
+        // it, and the function compiles.
+        let mut user = UserFunctions::new(
+            "snippets.glsl",
+            "vec3 sample_sphere(vec2 u) {\n    return vec3(0.0, 0.0, 2.0 * u.x - 1.0);\n}\n\
+             uvec2 seed = uvec2(pixel_coord) ^ uvec2(iFrame << 16);\n\
+             vec2 r = get_random_numbers(seed);\n"
+                .into(),
+        );
+        let compiled = user.find_broken_functions();
+        assert!(compiled.is_ok(), "{compiled:?}");
+        assert!(user.broken.is_empty());
+        for line in [4, 5] {
+            assert!(
+                user.prepared
+                    .notes
+                    .iter()
+                    .any(|n| n.starts_with(&format!("line {line}: dropped '"))),
+                "{:?}",
+                user.prepared.notes
+            );
+        }
     }
 
     #[test]

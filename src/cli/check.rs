@@ -17,7 +17,7 @@ use std::time::Duration;
 
 use super::DeviceArgs;
 use crate::check::isolation::{self, Outcome, WorkerEvent, WorkerJob, WorkerLauncher};
-use crate::check::program::{is_workshop_program, judge_tabs_program};
+use crate::check::program::{is_workshop_program, judge_tabs_program, not_judged_of};
 use crate::check::report::{
     describe_function, describe_header, describe_not_judged, describe_summary, CheckReport,
 };
@@ -207,12 +207,22 @@ fn judge_all(
     let alpha = test_alpha_of_units(units, options)?;
     let json = args.json;
     let record = |report: &mut CheckReport, outcome: Outcome| match outcome {
-        Outcome::Verdict(verdict) => {
-            if !json {
-                print_now(&describe_function(&verdict));
+        Outcome::Verdict(verdict) => match not_judged_of(&verdict) {
+            // A program that is not the workshop's (its own scene, no running mean): listed
+            // with the reason, and the exit status comes from the functions alone.
+            Some(not_judged) => {
+                if !json {
+                    print_now(&describe_not_judged(&not_judged));
+                }
+                report.not_judged.push(not_judged);
             }
-            report.functions.push(*verdict);
-        }
+            None => {
+                if !json {
+                    print_now(&describe_function(&verdict));
+                }
+                report.functions.push(*verdict);
+            }
+        },
         Outcome::Lost(lost) => {
             if !json {
                 print_now(&describe_not_judged(&lost));

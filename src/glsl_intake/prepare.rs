@@ -419,6 +419,7 @@ pub fn prepare(source: &str) -> PreparedSource {
 pub fn prepare_with(source: &str, options: &IntakeOptions) -> PreparedSource {
     let mut intake = Intake::new(source, options);
     intake.read_directives();
+    intake.drop_repeated_items();
     intake.read_top_level_items();
     let renames = intake.choose_renames();
     intake.rename(&renames);
@@ -432,7 +433,41 @@ pub fn prepare_with(source: &str, options: &IntakeOptions) -> PreparedSource {
 
 /// Whether `token` lies in text that the intake blanked.
 fn is_blanked(blanked: &[std::ops::Range<usize>], token: &Token) -> bool {
-    blanked.iter().any(|r| r.contains(&token.start))
+    // `blanked` is sorted and merged (`merged`): the one range that can hold the token is the
+    // last that starts at or before it, so a 2 MB paste's thousands of dropped repeats cost a
+    // binary search per token, not a scan.
+    let after = blanked.partition_point(|r| r.start <= token.start);
+    after > 0 && blanked[after - 1].contains(&token.start)
+}
+
+/// `ranges` sorted by start, with overlapping or nested ones merged (what `is_blanked` reads).
+fn merged(mut ranges: Vec<std::ops::Range<usize>>) -> Vec<std::ops::Range<usize>> {
+    ranges.sort_by_key(|r| r.start);
+    let mut result: Vec<std::ops::Range<usize>> = Vec::with_capacity(ranges.len());
+    for range in ranges {
+        match result.last_mut() {
+            Some(last) if range.start < last.end => last.end = last.end.max(range.end),
+            _ => result.push(range),
+        }
+    }
+    result
+}
+
+/// What identifies a top-level item among its repeats: a function definition by its name
+/// and parameter list (GLSL rejects a second body for the same signature), anything else
+/// by its whole text (a struct or global pasted twice, word for word).
+fn repeat_key(tokens: &[Token], item: &Item) -> String {
+    let end = match (&item.kind, item.name) {
+        (&ItemKind::FunctionDefinition, Some(name)) => {
+            matching(tokens, name + 1, "(", ")").unwrap_or(item.last)
+        }
+        _ => item.last,
+    };
+    let texts: Vec<&str> = tokens[item.first..=end]
+        .iter()
+        .map(|t| t.text.as_str())
+        .collect();
+    texts.join(" ")
 }
 
 /// A user's file on its way through `prepare_with`: what its steps read (the tokens, the
@@ -494,7 +529,13 @@ impl<'a> Intake<'a> {
             let Some(word) = directive.get(1) else {
                 continue;
             };
-            let range = directive[0].start..directive.last().expect("not empty").end;
+            // To the end of the line: a directive dropped takes its trailing comment (or what
+            // the tokenizer read as one, the `//` of `"file://bufferA.glsl"`) with it.
+            let end = directive.last().expect("not empty").end;
+            let end = self.source[end..]
+                .find('\n')
+                .map_or(self.source.len(), |at| end + at);
+            let range = directive[0].start..end;
             match word.text.as_str() {
                 "version" | "extension" | "include" | "line" => {
                     self.prepared.notes.push(format!(
@@ -504,13 +545,23 @@ impl<'a> Intake<'a> {
                         match word.text.as_str() {
                             "version" => "vkpath compiles GLSL 4.60 for Vulkan",
                             "extension" => "vkpath enables what its kernels need",
-                            "include" => "check reads one self-contained file",
+                            "include" => "the tabs given on the command line are all that is read; a Common tab given first is put before every tab",
                             _ => "line numbers stay your file's",
                         }
                     ));
                     self.blanked.push(range.clone());
                     self.edits.push(blank(self.source, range));
                 }
+                word if word.starts_with("iChannel") => {
+                    self.prepared.notes.push(format!(
+                        "line {}: dropped #{word} (VS Code Shader Toy's channel wiring: read to wire the channel, not compiled)",
+                        directive[1].line
+                    ));
+                    self.blanked.push(range.clone());
+                    self.edits.push(blank(self.source, range));
+                }
+                "undef" | "if" | "ifdef" | "ifndef" | "else" | "elif" | "endif" | "error"
+                | "pragma" | "" => {}
                 "define" => {
                     if let Some(name) = directive.get(2) {
                         self.user_macros.push(name.text.clone());
@@ -525,9 +576,82 @@ impl<'a> Intake<'a> {
                         }
                     }
                 }
-                _ => {}
+                other => {
+                    self.prepared.notes.push(format!(
+                        "line {}: dropped #{other} (not a GLSL directive)",
+                        word.line
+                    ));
+                    self.blanked.push(range.clone());
+                    self.edits.push(blank(self.source, range));
+                }
             }
         }
+    }
+
+    /// Repeats: a function defined again with the same parameters, or a struct or global
+    /// pasted again word for word, is dropped with one note per item ("defined 90 times;
+    /// judged the first"), so that a paste of the helpers repeated is compiled (and judged)
+    /// once, whatever its size.
+    fn drop_repeated_items(&mut self) {
+        // (index of the first item, its line, the lines of the repeats) by key.
+        let mut firsts: BTreeMap<String, usize> = BTreeMap::new();
+        let mut repeats: Vec<(usize, Vec<usize>)> = Vec::new();
+        let mut kept = Vec::with_capacity(self.items.len());
+        for item in std::mem::take(&mut self.items) {
+            let is_repeatable = item.kind == ItemKind::FunctionDefinition
+                || self.structure[item.last].text == ";"
+                    && item.last > item.first
+                    && self.structure[item.first].text != "precision";
+            if !is_repeatable {
+                kept.push(item);
+                continue;
+            }
+            let key = repeat_key(&self.structure, &item);
+            match firsts.get(&key) {
+                Some(&at) => {
+                    let range = self.structure[item.first].start..self.structure[item.last].end;
+                    repeats[at].1.push(self.structure[item.first].line);
+                    self.blanked.push(range.clone());
+                    self.edits.push(blank(self.source, range));
+                }
+                None => {
+                    firsts.insert(key, repeats.len());
+                    repeats.push((kept.len(), Vec::new()));
+                    kept.push(item);
+                }
+            }
+        }
+        for (at, lines) in &repeats {
+            if lines.is_empty() {
+                continue;
+            }
+            let item = &kept[*at];
+            let first = &self.structure[item.first];
+            let what = match item.name {
+                Some(name) => format!("{}()", self.structure[name].text),
+                None => self.structure[item.first..=item.last]
+                    .iter()
+                    .take_while(|t| !["{", "=", ";"].contains(&t.text.as_str()))
+                    .map(|t| t.text.as_str())
+                    .collect::<Vec<_>>()
+                    .join(" "),
+            };
+            let last = lines.last().expect("not empty");
+            let (verb, kept_word) = match item.kind {
+                ItemKind::FunctionDefinition => ("defined", "judged"),
+                _ => ("written", "kept"),
+            };
+            self.prepared.notes.push(format!(
+                "line {}: {what} is {verb} {} times (the last at line {last}); {kept_word} the first, the other {} dropped",
+                first.line,
+                lines.len() + 1,
+                lines.len()
+            ));
+        }
+        self.items = kept;
+        let blanked = self.blanked.clone();
+        self.found
+            .retain(|f| !blanked.iter().any(|r| r.contains(&f.span.start)));
     }
 
     /// Top-level items: entry points, precision statements, interface variables, the
@@ -791,6 +915,7 @@ impl<'a> Intake<'a> {
     /// Renames (`renames`) and fragment built-ins, everywhere except in blanked text;
     /// notes the identifiers the kept code reads.
     fn rename(&mut self, renames: &BTreeMap<String, String>) {
+        self.blanked = merged(std::mem::take(&mut self.blanked));
         for token in self
             .tokens
             .iter()
@@ -903,6 +1028,7 @@ impl<'a> Intake<'a> {
     /// Names the kept code reads that check cannot supply: ray queries, and ShaderToy's
     /// channels where no caller binds them.
     fn find_unavailable_names(&mut self) {
+        self.blanked = merged(std::mem::take(&mut self.blanked));
         if !self.options.bind_opaque {
             let mut seen = BTreeSet::new();
             for token in self
@@ -1439,6 +1565,63 @@ mod tests {
         assert_eq!(prepared.other_triangle_struct, Some(1));
         assert!(prepared.text.contains("struct user_triangle_t"));
         assert!(prepared.text.contains("vec3 d, user_triangle_t t"));
+    }
+
+    #[test]
+    fn repeated_definitions_are_named_once_and_kept_once() {
+        // The shape of a long paste: the same helpers, struct and global written again and
+        // again (written for this test, 40 copies).
+        let helpers = "struct hit_t { float t; vec3 n; };\nconst float SCALE = 2.0;\n\
+            vec3 my_direction(vec2 u) {\n    float z = 1.0 - SCALE * u.x;\n    return vec3(0.0, 0.0, z);\n}\n\
+            float helper(float x) { return x * SCALE; }\n";
+        let source = helpers.repeat(40);
+        let prepared = prepare(&source);
+        // One definition of each is left in the text compiled, so a file is compiled (and each
+        // function judged) once however often it repeats itself; lines stay where they were.
+        assert_eq!(prepared.text.lines().count(), source.lines().count());
+        let functions = find_functions(&prepared.text);
+        let names: Vec<&str> = functions.iter().map(|f| f.name.as_str()).collect();
+        assert_eq!(names, ["my_direction", "helper"]);
+        assert_eq!(prepared.text.matches("struct hit_t").count(), 1);
+        assert_eq!(prepared.text.matches("const float SCALE").count(), 1);
+        let repeats: Vec<&String> = prepared
+            .notes
+            .iter()
+            .filter(|n| n.contains("40 times"))
+            .collect();
+        assert_eq!(repeats.len(), 4, "{:?}", prepared.notes);
+        assert!(repeats.iter().any(|n| n
+            .starts_with("line 3: my_direction() is defined 40 times")
+            && n.contains("judged the first, the other 39 dropped")));
+        assert!(repeats
+            .iter()
+            .any(|n| n.starts_with("line 1: struct hit_t is written 40 times")));
+        // A function defined again with other parameters is an overload, not a repeat.
+        let overloads = prepare("float f(float x) { return x; }\nvec2 f(vec2 x) { return x; }\n");
+        assert_eq!(find_functions(&overloads.text).len(), 2);
+        assert!(!overloads.notes.iter().any(|n| n.contains("times")));
+    }
+
+    #[test]
+    fn channel_and_unknown_directives_are_dropped_with_a_note() {
+        let source = "#iChannel0 \"self\"\n#iChannel1 \"file://bufferA.glsl\"\n#iKeyboard\n#ifdef X\n#endif\nfloat f() { return 1.0; }\n";
+        let prepared = prepare(source);
+        assert_eq!(prepared.text.lines().count(), source.lines().count());
+        assert!(!prepared.text.contains("#iC"), "{}", prepared.text);
+        assert!(!prepared.text.contains("bufferA"), "{}", prepared.text);
+        assert!(prepared.text.contains("#ifdef X"));
+        assert!(prepared
+            .notes
+            .iter()
+            .any(|n| n.starts_with("line 1: dropped #iChannel0")));
+        assert!(prepared
+            .notes
+            .iter()
+            .any(|n| n.starts_with("line 2: dropped #iChannel1")));
+        assert!(prepared
+            .notes
+            .iter()
+            .any(|n| n == "line 3: dropped #iKeyboard (not a GLSL directive)"));
     }
 
     #[test]

@@ -138,6 +138,21 @@ impl std::str::FromStr for ChannelBinding {
     }
 }
 
+/// The VS Code Shader Toy extension's channel directives of a tab, `#iChannelN "TARGET"`:
+/// (line from 1, N, TARGET) each.
+pub fn channel_directives(text: &str) -> Vec<(usize, usize, String)> {
+    text.lines()
+        .enumerate()
+        .filter_map(|(index, line)| {
+            let rest = line.trim_start().strip_prefix('#')?.trim_start();
+            let rest = rest.strip_prefix("iChannel")?;
+            let channel = rest.get(..1)?.parse::<usize>().ok().filter(|c| *c < 4)?;
+            let target = rest[1..].trim().trim_matches('"').to_string();
+            Some((index + 1, channel, target))
+        })
+        .collect()
+}
+
 /// Reads a user's file as text: a byte-order mark dropped, Windows line ends made `\n`.
 pub fn read_source(path: &Path) -> Result<String, String> {
     let bytes =
@@ -192,10 +207,62 @@ impl Program {
             channels: image_channels,
         });
         let mut program = Program { common, passes };
+        program.wire_channel_directives()?;
         for binding in channels {
             program.bind(binding)?;
         }
         Ok(program)
+    }
+
+    /// Wires the channels that the VS Code Shader Toy extension's directives name in each
+    /// pass (`#iChannel0 "self"`, `#iChannel1 "file://bufferA.glsl"`, `#iChannel2
+    /// "file://noise.png"` or a plain texture path): `self` is the pass's own previous frame,
+    /// a `.glsl` file is the pass given with that file name, anything else an image file
+    /// beside the tab. The intake drops the directive lines themselves. An error names a tab
+    /// that the program was not given.
+    pub fn wire_channel_directives(&mut self) -> Result<(), String> {
+        let mut bindings = Vec::new();
+        for pass in &self.passes {
+            for (line, channel, target) in channel_directives(&pass.text) {
+                let target = target.strip_prefix("file://").unwrap_or(&target);
+                let source = if target == "self" {
+                    if pass.kind == PassKind::Image {
+                        return Err(format!(
+                            "{}:{line}: #iChannel{channel} \"self\": the Image pass cannot read itself (as in ShaderToy)",
+                            pass.path.display()
+                        ));
+                    }
+                    ChannelSource::Buffer(pass.kind)
+                } else if target.ends_with(".glsl") {
+                    let wanted = Path::new(target).file_name();
+                    let reader = self
+                        .passes
+                        .iter()
+                        .find(|p| p.kind != PassKind::Image && p.path.file_name() == wanted);
+                    match reader {
+                        Some(buffer) => ChannelSource::Buffer(buffer.kind),
+                        None => {
+                            return Err(format!(
+                                "{}:{line}: #iChannel{channel} reads {target}, which is not one of the buffers given (give it as a buffer tab)",
+                                pass.path.display()
+                            ))
+                        }
+                    }
+                } else {
+                    let folder = pass.path.parent().unwrap_or(Path::new(""));
+                    ChannelSource::File(folder.join(target))
+                };
+                bindings.push(ChannelBinding {
+                    pass: pass.kind,
+                    channel,
+                    source,
+                });
+            }
+        }
+        for binding in &bindings {
+            self.bind(binding)?;
+        }
+        Ok(())
     }
 
     /// Applies one `--channel` override.
@@ -244,6 +311,18 @@ pub fn reads_previous_frame(reader: PassKind, source: PassKind) -> bool {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn channel_directives_are_read_with_their_line() {
+        let text = "// tab\n#iChannel0 \"self\"\n  # iChannel3 \"file://textures/noise.png\"\n#iChannel7 \"x\"\n";
+        assert_eq!(
+            channel_directives(text),
+            [
+                (2, 0, "self".to_string()),
+                (3, 3, "file://textures/noise.png".to_string())
+            ]
+        );
+    }
 
     #[test]
     fn channel_overrides_parse() {
