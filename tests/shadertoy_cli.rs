@@ -132,9 +132,13 @@ fn two_buffers_see_this_frame_of_earlier_passes_and_the_previous_of_later_ones()
         ],
     );
     assert_eq!(code, Some(0), "{stderr}");
-    // After N = 5 frames: A's red 5, A's green B's red after frame 3 (1+2+3+4 = 10), B's red
-    // 1+...+5 = 15.
-    let image = rgba(&dir.path().join("image.exr"));
+    assert_chain_image(&dir.path().join("image.exr"));
+}
+
+/// The chain program's image after N = 5 frames: A's red 5, A's green B's red after frame 3
+/// (1+2+3+4 = 10), B's red 1+...+5 = 15, in every pixel.
+fn assert_chain_image(path: &Path) {
+    let image = rgba(path);
     for (x, y) in [(0, 0), (7, 7), (3, 5)] {
         assert_eq!(at(&image, x, y), [5.0, 10.0, 15.0, 1.0], "({x}, {y})");
     }
@@ -167,10 +171,7 @@ fn vscode_shader_toy_directives_wire_the_channels() {
         ],
     );
     assert_eq!(code, Some(0), "{stderr}");
-    let image = rgba(&dir.path().join("image.exr"));
-    for (x, y) in [(0, 0), (7, 7), (3, 5)] {
-        assert_eq!(at(&image, x, y), [5.0, 10.0, 15.0, 1.0], "({x}, {y})");
-    }
+    assert_chain_image(&dir.path().join("image.exr"));
 }
 
 #[test]

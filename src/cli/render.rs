@@ -417,7 +417,9 @@ fn render(args: &RenderArgs) -> anyhow::Result<()> {
     if !post.is_empty() && shard {
         bail!("--aov and --denoise work on whole renders: merge the shards first");
     }
-    if settings.noise_threshold.is_some() && (shard || args.device.several()?.is_some()) {
+    // The devices, listed once (only `all` or a list asks Vulkan for them).
+    let several = args.device.several()?;
+    if settings.noise_threshold.is_some() && (shard || several.is_some()) {
         bail!("--noise-threshold decides per pixel how many of all the samples it takes: it cannot be split into shards or over several devices");
     }
     if settings.guiding.is_some() && shard && args.render.guide_training_spp.is_none() {
@@ -426,7 +428,6 @@ fn render(args: &RenderArgs) -> anyhow::Result<()> {
     if args.denoise {
         crate::denoise::available()?;
     }
-    let several = args.device.several()?;
     if several.is_some() {
         if job.checkpoint.is_some() || job.resume.is_some() || job.preview.is_some() {
             bail!("--checkpoint, --resume and --preview work with one device; render on several with shards instead");
