@@ -451,6 +451,8 @@ def main():
     unknown = [p for p in args.pairing_list if p not in PAIRINGS]
     if unknown or not args.pairing_list:
         sys.exit(f"unknown pairing(s) {', '.join(unknown)}; known: {', '.join(PAIRINGS)}")
+    if args.threads < 2:
+        sys.exit("--threads must be at least 2: with one drjit thread mi.Bitmap's EXR read hangs")
     if args.repeats < 1 or args.batches < 2:
         sys.exit("--repeats must be at least 1 and --batches at least 2")
 
