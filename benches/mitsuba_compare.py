@@ -535,16 +535,27 @@ def main():
           f"{', '.join(f'{t:.3f}' for t in timings)} s", flush=True)
     batch_spp = spp // args.batches
     batches = []
+    batch_times = []
     for b in range(args.batches):
-        batch, _ = mitsuba_render(mi, dr, scene, batch_spp, seed=2000 + b)
+        batch, seconds = mitsuba_render(mi, dr, scene, batch_spp, seed=2000 + b)
         batches.append(batch)
+        batch_times.append(seconds)
+    # Mitsuba's fixed cost per render (tracing the integrator and BSDFs into the kernel on the
+    # host, the launch), from t = a + b * spp at two spp: the timed renders' and the batches'
+    # (the first batch compiles its kernel; the fastest of the others counts).
+    t_full, t_batch = mitsuba_s, min(batch_times[1:]) if len(batch_times) > 1 else batch_times[0]
+    ratio = spp / batch_spp
+    fixed_s = max((ratio * t_batch - t_full) / (ratio - 1.0), 0.0)
+    print(f"    batch renders at {batch_spp} spp: fastest {t_batch:.4f} s; fixed cost per render "
+          f"~{fixed_s:.4f} s (of the timed {t_full:.4f} s)", flush=True)
     mitsuba_exr = os.path.join(args.workdir, f"mitsuba_{tag}.exr")
     write_with_moments(mi, dr, mitsuba_exr, image, batches, spp, batch_spp)
     x, _, _ = read_rgb(mi, dr, mitsuba_exr)
     rows = [{"name": "Mitsuba path", "renderer": "mitsuba", "integrator": "path", "sampler": mi_sampler,
              "seconds": mitsuba_s, "cold": cold_s, "second_render_s": timings[0], "timings": timings,
              "paths_per_s": w * h * spp / mitsuba_s, "relmse": relative_mse(mi, dr, x, r),
-             "device": args.variant, "image": mitsuba_exr}]
+             "device": args.variant, "image": mitsuba_exr, "batch_spp": batch_spp, "batch_timings": batch_times,
+             "fixed_per_render_s": fixed_s}]
     orient_m = orientation(mi, dr, x, w, h)
     orient_r = orientation(mi, dr, r, w, h)
 
