@@ -408,7 +408,7 @@ def run_bench(vkpath, args, sampler, reference, integrators):
         return None
 
 
-def check_variant(mi, variant):
+def check_variant(mi, dr, variant):
     """Sets the variant; for CUDA also renders 16x16 at 1 spp once (OptiX's first use). Stops the
     script with one 'PEER STOP:' line when the variant cannot run here."""
     try:
@@ -416,8 +416,11 @@ def check_variant(mi, variant):
             raise RuntimeError(f"this mitsuba build has no {variant} (it has {', '.join(mi.variants())})")
         mi.set_variant(variant)
         if variant.startswith("cuda"):
-            image = mi.render(mi.load_dict(mi.cornell_box()), spp=1)
-            image.numpy() if hasattr(image, "numpy") else None
+            box = mi.cornell_box()
+            box["sensor"]["film"]["width"] = box["sensor"]["film"]["height"] = 16
+            image = mi.render(mi.load_dict(box), spp=1)
+            dr.eval(image)
+            dr.sync_thread()
     except Exception as error:  # ImportError, RuntimeError from drjit's CUDA/OptiX loader, ...
         first = str(error).strip().splitlines()[0] if str(error).strip() else type(error).__name__
         print(f"PEER STOP: Mitsuba's {variant} cannot run here: {first}", flush=True)
@@ -468,7 +471,7 @@ def main():
     os.makedirs(args.workdir, exist_ok=True)
     import drjit as dr
     import mitsuba as mi
-    check_variant(mi, args.variant)
+    check_variant(mi, dr, args.variant)
     dr.set_thread_count(args.threads)
     where = (f"{dr.thread_count()} threads, DRJIT_LIBLLVM_PATH={os.environ.get('DRJIT_LIBLLVM_PATH')}"
              if args.variant.startswith("llvm") else "CUDA + OptiX from the driver")

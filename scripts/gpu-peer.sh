@@ -143,7 +143,10 @@ if [ $small = 0 ]; then
     variant=cuda_ad_rgb
     smoke='import drjit as dr, mitsuba as mi
 mi.set_variant("cuda_ad_rgb")
-img = mi.render(mi.load_dict(mi.cornell_box()), spp=1)
+box = mi.cornell_box()
+box["sensor"]["film"]["width"] = box["sensor"]["film"]["height"] = 16
+img = mi.render(mi.load_dict(box), spp=1)
+dr.eval(img)
 print("cuda_ad_rgb smoke render", img.shape, "mitsuba", mi.__version__, "drjit", dr.__version__)'
     step smoke 120 "$py" -c "$smoke" || stop "Mitsuba cuda_ad_rgb did not render (see peer.log: CUDA or OptiX missing or broken)"
     step vkpath-devices 30 "$bin" devices || stop "vkpath devices failed"
