@@ -101,7 +101,8 @@ def main():
                     value = row["bench_rays_per_s"]
                     judged = r["sampler"] == "independent"
                     verdicts.append({"target": f"{TARGET_NAMES[scene]} {integrator} >= {target / 1e9:g} G rays/s",
-                                     "sampler": row["sampler"], "value": value, "met": value >= target,
+                                     "sampler": f"{r['sampler']} run, {integrator} with {row['sampler']}",
+                                     "value": value, "met": value >= target,
                                      "judged": judged, "counts": row["gate"] == "consistent"})
         if not found:
             verdicts.append({"target": f"{TARGET_NAMES[scene]} {integrator} >= {target / 1e9:g} G rays/s",
