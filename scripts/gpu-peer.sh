@@ -31,7 +31,8 @@
 #      one vkpath reference per scene, for both pairings of samplers (PCG2D / independent,
 #      Sobol / ldsampler), the PCG2D pairing of every scene first:
 #        Cornell box       1920x1080, 64 spp, reference 1024 spp
-#        10^6 triangles    1920x1080, 16 spp, reference 256 spp (--generated 1000000)
+#        10^6 triangles    1920x1080, 16 spp, reference 256 spp (--generated 1000000; the
+#                          gate's blocks 16x16 pixels, 4096 samples each, as the others' 8x8)
 #        material glTF     1920x1080, 64 spp, reference 1024 spp (--scene spheres: 24
 #                          metallic-roughness icospheres, 122 882 triangles, white sky)
 #      Mitsuba: a warm-up render, then 2 timed (its second render first); vkpath: 2 renders per
@@ -153,7 +154,8 @@ print("cuda_ad_rgb smoke render", img.shape, "mitsuba", mi.__version__, "drjit",
     gpu=(--require-gpu)
     work=.peer/work
     cornell=(--width 1920 --height 1080 --spp 64 --reference-spp 1024 --repeats 2 --batches 16)
-    generated=(--generated 1000000 --width 1920 --height 1080 --spp 16 --reference-spp 256 --repeats 2 --batches 16)
+    # At 16 spp the gate's blocks are 16x16 pixels: 4096 samples each, as 8x8 blocks at 64 spp.
+    generated=(--generated 1000000 --width 1920 --height 1080 --spp 16 --reference-spp 256 --repeats 2 --batches 16 --gate-block 16)
     spheres=(--scene spheres --width 1920 --height 1080 --spp 64 --reference-spp 1024 --repeats 2 --batches 16)
     limits=(90 120 150)
 else
