@@ -99,7 +99,10 @@ else
         say "unpacked mitsuba + drjit into .peer/site ($(du -sm .peer/site | cut -f1) MiB)"
     fi
     if [ -f .peer/carry/vkpath.xz ]; then
-        mkdir -p .peer/bin && xz -dc .peer/carry/vkpath.xz >.peer/bin/vkpath && chmod +x .peer/bin/vkpath ||
+        # Python's lzma rather than the xz program, which a bare machine may lack.
+        mkdir -p .peer/bin && python3 -c 'import lzma, shutil, sys
+with lzma.open(sys.argv[1]) as src, open(sys.argv[2], "wb") as dst: shutil.copyfileobj(src, dst)' \
+            .peer/carry/vkpath.xz .peer/bin/vkpath && chmod +x .peer/bin/vkpath ||
             stop "vkpath.xz did not unpack"
         say "unpacked vkpath ($(cat .peer/carry/vkpath.commit 2>/dev/null || echo 'commit unknown'))"
     fi
