@@ -20,7 +20,9 @@ correction (alpha per test = 1 - 0.99^(1/tests), e.g. 2.1e-4 for 48 tests), so a
 pair fails about once in a hundred runs whatever the image size (at 1920x1080, 97 200 tests,
 a block fails beyond |z| ~ 5.3), while a bias shows once it exceeds about that many standard
 errors of a block's mean. Blocks rather than pixels: a pixel's 64-sample mean is too skewed
-for a z-test, a block's 4096 samples are not. A mismatch of
+for a z-test, a block's 4096 samples much less so; at ~1000 samples per block (8x8 at 16 spp)
+heavy-tailed images failed single blocks by chance in lavapipe checks, so give low-spp runs
+larger blocks (--gate-block 16 at 16 spp: 4096 samples again). A mismatch of
 conventions (Mitsuba max_depth one less: --mitsuba-max-depth 4) fails it. Stratified samplers
 (Sobol, ldsampler) make the gate more lenient, never stricter: their moments and batch spread
 overestimate the noise of the image they judge.
