@@ -20,7 +20,7 @@ use crate::render::accumulation::Accumulation;
 use crate::render::aov::{render_aov, Aov};
 use crate::render::gpu_scene::SceneMemory;
 use crate::render::job::{run_job, JobOptions};
-use crate::render::metadata::{sampler_name, RenderMetadata};
+use crate::render::metadata::{sampler_name, RenderMetadata, RenderOutcome};
 use crate::render::multi::run_on_devices;
 use crate::render::renderer::GuideReport;
 use crate::render::settings::{RenderSettings, SamplerKind};
@@ -521,6 +521,36 @@ pub fn render_on_devices_and_save(
     finish(&request, contexts, finished)
 }
 
+/// The files a render writes its image to: its outputs, or after Ctrl-C (SIGINT) their
+/// partial siblings (`out.png` -> `out.partial.png`), so that an interrupted render never
+/// replaces a finished image, as Mitsuba, pbrt and Blender leave theirs. A time limit and
+/// SIGTERM or SIGHUP (a scheduler's stop, which expects the outputs and checkpoint there)
+/// write the outputs themselves.
+fn written_outputs(outputs: &[PathBuf], stop: StopReason) -> Vec<PathBuf> {
+    let interrupted = stop == StopReason::Cancelled && signals::interrupted();
+    outputs
+        .iter()
+        .map(|output| match interrupted {
+            true => partial_path(output),
+            false => output.clone(),
+        })
+        .collect()
+}
+
+/// Where an interrupted render writes what it rendered for `output`: `.partial` before its
+/// extension (`out.png` -> `out.partial.png`; `out` -> `out.partial`).
+pub fn partial_path(output: &Path) -> PathBuf {
+    let stem = output
+        .file_stem()
+        .map(|s| s.to_string_lossy().into_owned())
+        .unwrap_or_default();
+    let name = match output.extension() {
+        Some(extension) => format!("{stem}.partial.{}", extension.to_string_lossy()),
+        None => format!("{stem}.partial"),
+    };
+    output.with_file_name(name)
+}
+
 /// Installs the signal handlers, naming the request's outputs for a stop before the first
 /// sample.
 fn install_signals(request: &RenderRequest) -> anyhow::Result<()> {
@@ -553,6 +583,11 @@ fn finish(
             ),
         }
     }
+    finished.metadata.outcome = Some(RenderOutcome {
+        spp_requested: total,
+        stop: finished.stop.name().to_string(),
+    });
+    let outputs = written_outputs(request.outputs, finished.stop);
     let image = finished.state.image();
     let non_finite = image
         .mean
@@ -564,7 +599,7 @@ fn finish(
             "vkpath: warning: {non_finite} pixels are not finite (NaN or infinite); the scene's values overflow 32-bit floats"
         );
     }
-    save_outputs(request, contexts, &finished, &image)?;
+    save_outputs(request, &outputs, contexts, &finished, &image)?;
     if let Some(error) = &finished.preview_failure {
         eprintln!("vkpath: warning: {error} (the preview)");
     }
@@ -594,7 +629,7 @@ fn finish(
                 finished.resumed_samples
             );
         }
-        for output in request.outputs {
+        for output in &outputs {
             eprintln!("vkpath: wrote {}", output.display());
         }
         if let Some(checkpoint) = checkpoint {
@@ -633,11 +668,7 @@ fn finish(
         };
         let report = RenderReport {
             schema_version: RENDER_REPORT_SCHEMA_VERSION,
-            outputs: request
-                .outputs
-                .iter()
-                .map(|p| p.display().to_string())
-                .collect(),
+            outputs: outputs.iter().map(|p| p.display().to_string()).collect(),
             scene: request.scene_name.clone(),
             width: settings.width,
             height: settings.height,
@@ -668,7 +699,7 @@ fn finish(
         };
         println!("{}", serde_json::to_string(&report)?);
     }
-    end_after_report(request, contexts, &finished, checkpoint).map_err(|error| {
+    end_after_report(request, &outputs, contexts, &finished, checkpoint).map_err(|error| {
         if request.reporting.json {
             ReportPrinted(error).into()
         } else {
@@ -681,6 +712,7 @@ fn finish(
 /// says that the time limit was reached, and fails when the validation layer complained.
 fn end_after_report(
     request: &RenderRequest,
+    outputs: &[PathBuf],
     contexts: &[Arc<Context>],
     finished: &Finished,
     checkpoint: Option<&PathBuf>,
@@ -693,8 +725,7 @@ fn end_after_report(
     match finished.stop {
         StopReason::Cancelled => {
             let (name, status) = signals::received().unwrap_or(("a signal", 130));
-            let mut saved: Vec<String> = request
-                .outputs
+            let mut saved: Vec<String> = outputs
                 .iter()
                 .chain(checkpoint)
                 .map(|p| format!("'{}'", p.display()))
@@ -704,7 +735,19 @@ fn end_after_report(
                 true => last,
                 false => format!("{} and {last}", saved.join(", ")),
             };
-            eprintln!("vkpath: stopped by {name} after {done} of {total} spp; saved to {saved}");
+            let kept = if outputs == request.outputs {
+                String::new()
+            } else {
+                let names: Vec<String> = request
+                    .outputs
+                    .iter()
+                    .map(|p| format!("'{}'", p.display()))
+                    .collect();
+                format!(" ({} left as it was)", names.join(", "))
+            };
+            eprintln!(
+                "vkpath: stopped by {name} after {done} of {total} spp; saved to {saved}{kept}"
+            );
             std::process::exit(status);
         }
         StopReason::TimeLimit if !request.reporting.quiet && !request.reporting.json => {
@@ -723,18 +766,19 @@ fn end_after_report(
 /// nothing is lost if post-processing fails.
 fn save_outputs(
     request: &RenderRequest,
+    outputs: &[PathBuf],
     contexts: &[Arc<Context>],
     finished: &Finished,
     image: &RenderedImage,
 ) -> anyhow::Result<()> {
     let metadata = &finished.metadata;
     if request.shard {
-        for output in request.outputs {
+        for output in outputs {
             write_state(output, &finished.state, metadata)?;
         }
         return Ok(());
     }
-    for output in request.outputs {
+    for output in outputs {
         save_or_rescue(output, image, &request.save, metadata, &[])?;
     }
     if request.post.is_empty() {
@@ -754,7 +798,7 @@ fn save_outputs(
         request.settings,
         image,
     )?;
-    for output in request.outputs {
+    for output in outputs {
         save_or_rescue(output, &processed, &request.save, metadata, &layers)?;
     }
     if request.post.denoise && request.reporting.talks() {
