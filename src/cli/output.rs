@@ -437,7 +437,7 @@ pub fn render_job_and_save(context: &Arc<Context>, request: RenderRequest) -> an
     let mut progress = request
         .reporting
         .talks()
-        .then(|| RenderProgress::new(total));
+        .then(|| RenderProgress::new(total, request.settings.noise_threshold.is_some()));
     let outcome = run_job(
         context,
         request.scene,
@@ -446,7 +446,7 @@ pub fn render_job_and_save(context: &Arc<Context>, request: RenderRequest) -> an
         &job,
         |done| {
             if let Some(progress) = progress.as_mut() {
-                progress.update(done);
+                progress.update(done.samples_done, done.deadline);
             }
         },
     )?;

@@ -513,6 +513,10 @@ pub fn write_rgb8_png_with_texts(
     let mut encoder = png::Encoder::new(std::io::BufWriter::new(file), width, height);
     encoder.set_color(png::ColorType::Rgb);
     encoder.set_depth(png::BitDepth::Eight);
+    // What the image crate's encoder chose (its defaults), so that a PNG without texts is
+    // the same file it wrote before.
+    encoder.set_compression(png::Compression::Fast);
+    encoder.set_filter(png::Filter::Adaptive);
     for (keyword, text) in texts {
         encoder
             .add_text_chunk(keyword.clone(), text.clone())

@@ -121,6 +121,16 @@ pub fn shard_range(index: u32, count: u32, spp: u32) -> Result<Range<u32>> {
     Ok(boundary(index)..boundary(index + 1))
 }
 
+/// Where a running job stands, after each batch (`run_job`'s progress).
+#[derive(Clone, Copy, Debug)]
+pub struct JobProgress {
+    /// Samples per pixel done so far (of the job's range, resumed ones included).
+    pub samples_done: u32,
+    /// When the time limit stops the render, if one was set (counted from the end of
+    /// set-up, as `JobOptions::time_limit` is).
+    pub deadline: Option<Instant>,
+}
+
 /// Runs a render as `options` say. `settings.spp` is ignored: the sample range decides.
 pub fn run_job(
     context: &Arc<Context>,
@@ -128,7 +138,7 @@ pub fn run_job(
     camera: &Camera,
     settings: &RenderSettings,
     options: &JobOptions,
-    progress: impl FnMut(u32),
+    progress: impl FnMut(JobProgress),
 ) -> Result<JobOutcome> {
     let samples = options.samples.clone();
     let settings = RenderSettings {
@@ -177,9 +187,13 @@ pub fn run_job(
         }
         Ok(())
     };
+    // The driver's first-dispatch compile belongs to set-up, not to the first batch (nor to
+    // the time limit, counted from the end of set-up).
+    renderer.warm_up()?;
+    let deadline = options.time_limit.map(|limit| Instant::now() + limit);
     let control = RenderControl {
         cancel: options.cancel,
-        deadline: options.time_limit.map(|limit| Instant::now() + limit),
+        deadline,
         checkpoint: options.checkpoint.as_ref().map(|_| {
             (
                 options.checkpoint_interval,
@@ -198,7 +212,10 @@ pub fn run_job(
         if let Some(started) = options.started {
             started.store(true, Ordering::SeqCst);
         }
-        progress(samples);
+        progress(JobProgress {
+            samples_done: samples,
+            deadline,
+        });
     };
     let rendering_started = Instant::now();
     let outcome = renderer.render_with(progress, control)?;

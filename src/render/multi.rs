@@ -85,7 +85,7 @@ pub fn run_on_devices(
                         preview: None,
                         started: rendering,
                     };
-                    let job = run_job(context, scene, camera, settings, &job, |_| {})?;
+                    let job = run_job(context, scene, camera, settings, &job, |_| ())?;
                     let outcome = job.outcome;
                     Ok((
                         outcome.state,
