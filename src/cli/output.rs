@@ -12,6 +12,7 @@ use serde::Serialize;
 
 use super::signals;
 use super::summary::{summary_line, RenderProgress, Summary};
+use super::tev::TevView;
 use crate::camera::Camera;
 use crate::image_io::output::{
     save_image_with_attributes, save_image_with_layers, ImageLayer, SaveOptions,
@@ -19,7 +20,7 @@ use crate::image_io::output::{
 use crate::render::accumulation::Accumulation;
 use crate::render::aov::{render_aov, Aov};
 use crate::render::gpu_scene::SceneMemory;
-use crate::render::job::{run_job, JobOptions};
+use crate::render::job::{run_job, JobOptions, LiveImage};
 use crate::render::metadata::{sampler_name, RenderMetadata, RenderOutcome};
 use crate::render::multi::run_on_devices;
 use crate::render::renderer::GuideReport;
@@ -74,6 +75,8 @@ pub struct RenderRequest<'a> {
     pub command_started: Instant,
     /// The frame and time rendered, when the command line gave `--time` or `--frames`.
     pub frame: Option<super::frames::FrameTime>,
+    /// Where a live view goes (`--tev HOST:PORT`) and how often, if anywhere.
+    pub tev: Option<(String, std::time::Duration)>,
 }
 
 /// The version of `RenderReport`'s schema: it changes only when a key is removed or changes
@@ -342,6 +345,7 @@ pub fn render_and_save(
             post: PostProcess::default(),
             command_started: Instant::now(),
             frame: None,
+            tev: None,
         },
     )
 }
@@ -434,6 +438,18 @@ pub fn render_job_and_save(context: &Arc<Context>, request: RenderRequest) -> an
     job.cancel = Some(&signals::STOP_REQUESTED);
     job.started = Some(&signals::RENDERING);
     let total = job.samples.len() as u32;
+    let tev = connect_tev(&request);
+    let show = |image: &RenderedImage| {
+        if let Some(view) = &tev {
+            view.show(image);
+        }
+    };
+    if let (Some(_), Some((_, interval))) = (&tev, &request.tev) {
+        job.live = Some(LiveImage {
+            interval: *interval,
+            show: &show,
+        });
+    }
     let mut progress = request
         .reporting
         .talks()
@@ -468,7 +484,27 @@ pub fn render_job_and_save(context: &Arc<Context>, request: RenderRequest) -> an
         scene_memory: Some(result.scene_memory),
         state: result.state,
     };
-    finish(&request, std::slice::from_ref(context), finished)
+    drop(job);
+    finish(&request, std::slice::from_ref(context), finished, tev)
+}
+
+/// Connects the live view the request asks for (`--tev`), named after its first output; a
+/// tev that cannot be reached is a warning, and the render goes on without it.
+fn connect_tev(request: &RenderRequest) -> Option<TevView> {
+    let (address, _) = request.tev.as_ref()?;
+    let area = request.settings.area();
+    let name = request
+        .outputs
+        .first()
+        .map(|o| o.display().to_string())
+        .unwrap_or_else(|| "vkpath".into());
+    match TevView::connect(address, &name, area.width(), area.height()) {
+        Ok(view) => Some(view),
+        Err(warning) => {
+            eprintln!("vkpath: warning: {warning}");
+            None
+        }
+    }
 }
 
 /// `render_job_and_save` on several devices at once (each an equal share; no checkpoints,
@@ -518,7 +554,7 @@ pub fn render_on_devices_and_save(
         scene_memory: outcome.scene_memory,
         preview_failure: None,
     };
-    finish(&request, contexts, finished)
+    finish(&request, contexts, finished, None)
 }
 
 /// The files a render writes its image to: its outputs, or after Ctrl-C (SIGINT) their
@@ -566,6 +602,7 @@ fn finish(
     request: &RenderRequest,
     contexts: &[Arc<Context>],
     mut finished: Finished,
+    tev: Option<TevView>,
 ) -> anyhow::Result<()> {
     let settings = request.settings;
     let total = request.job.samples.len() as u32;
@@ -599,7 +636,16 @@ fn finish(
             "vkpath: warning: {non_finite} pixels are not finite (NaN or infinite); the scene's values overflow 32-bit floats"
         );
     }
-    save_outputs(request, &outputs, contexts, &finished, &image)?;
+    let processed = save_outputs(request, &outputs, contexts, &finished, &image)?;
+    if let Some(view) = tev {
+        let (shown, layers) = match &processed {
+            Some((processed, layers)) => (processed, layers.as_slice()),
+            None => (&image, &[][..]),
+        };
+        if let Some(warning) = view.finish(shown, layers) {
+            eprintln!("vkpath: warning: {warning}");
+        }
+    }
     if let Some(error) = &finished.preview_failure {
         eprintln!("vkpath: warning: {error} (the preview)");
     }
@@ -770,26 +816,26 @@ fn save_outputs(
     contexts: &[Arc<Context>],
     finished: &Finished,
     image: &RenderedImage,
-) -> anyhow::Result<()> {
+) -> anyhow::Result<Option<(RenderedImage, Vec<ImageLayer>)>> {
     let metadata = &finished.metadata;
     if request.shard {
         for output in outputs {
             write_state(output, &finished.state, metadata)?;
         }
-        return Ok(());
+        return Ok(None);
     }
     for output in outputs {
         save_or_rescue(output, image, &request.save, metadata, &[])?;
     }
     if request.post.is_empty() {
-        return Ok(());
+        return Ok(None);
     }
     if finished.stop != StopReason::Done {
         eprintln!("vkpath: warning: the render stopped early: saved without --aov/--denoise");
-        return Ok(());
+        return Ok(None);
     }
     let Some(context) = contexts.first() else {
-        return Ok(());
+        return Ok(None);
     };
     let (processed, layers) = request.post.apply(
         context,
@@ -804,7 +850,7 @@ fn save_outputs(
     if request.post.denoise && request.reporting.talks() {
         eprintln!("vkpath: {}", DENOISED_LINE);
     }
-    Ok(())
+    Ok(Some((processed, layers)))
 }
 
 /// Saves `image` to `output` with the render's metadata in its header; when that fails,
