@@ -604,38 +604,14 @@ fn finish(
     mut finished: Finished,
     tev: Option<TevView>,
 ) -> anyhow::Result<()> {
-    let settings = request.settings;
-    let total = request.job.samples.len() as u32;
-    let done = finished.state.samples.len() as u32;
-    let new_samples = done - finished.resumed_samples;
-    if finished.stop != StopReason::Done && new_samples == 0 {
-        match (&finished.failure, finished.stop) {
-            (Some(error), _) => {
-                bail!("rendering failed before its first sample, so nothing was written: {error}")
-            }
-            (None, StopReason::Cancelled) => signals::exit_with_nothing_written(),
-            _ => bail!(
-                "the render stopped ({}) before its first sample: nothing was written",
-                finished.stop.name()
-            ),
-        }
-    }
+    refuse_when_nothing_was_taken(&finished)?;
     finished.metadata.outcome = Some(RenderOutcome {
-        spp_requested: total,
+        spp_requested: request.job.samples.len() as u32,
         stop: finished.stop.name().to_string(),
     });
     let outputs = written_outputs(request.outputs, finished.stop);
     let image = finished.state.image();
-    let non_finite = image
-        .mean
-        .iter()
-        .filter(|p| !(p[0].is_finite() && p[1].is_finite() && p[2].is_finite()))
-        .count();
-    if non_finite > 0 {
-        eprintln!(
-            "vkpath: warning: {non_finite} pixels are not finite (NaN or infinite); the scene's values overflow 32-bit floats"
-        );
-    }
+    warn_about_non_finite_pixels(&image);
     let processed = save_outputs(request, &outputs, contexts, &finished, &image)?;
     if let Some(view) = tev {
         let (shown, layers) = match &processed {
@@ -649,109 +625,203 @@ fn finish(
     if let Some(error) = &finished.preview_failure {
         eprintln!("vkpath: warning: {error} (the preview)");
     }
-    let setup_seconds = finished
-        .rendering_started
-        .saturating_duration_since(request.command_started)
-        .as_secs_f64();
-    let area = settings.area();
-    let pixels = f64::from(area.width()) * f64::from(area.height());
-    let samples_held: f64 = image.sample_count.iter().map(|&n| f64::from(n)).sum();
-    // Samples this run took: all those held but the resumed ones (`resumed_spp` per pixel,
-    // exact unless an adaptive checkpoint had stopped some pixels before).
-    let new_samples_taken = (samples_held - f64::from(finished.resumed_samples) * pixels).max(0.0);
-    let spp_mean = samples_held / pixels.max(1.0);
-    let checkpoint = request.job.checkpoint.as_ref();
-    let preview = request
-        .job
-        .preview
-        .as_ref()
-        .filter(|_| finished.preview_failure.is_none())
-        .map(|p| &p.path);
+    let files = WrittenFiles {
+        outputs: &outputs,
+        checkpoint: request.job.checkpoint.as_ref(),
+        preview: request
+            .job
+            .preview
+            .as_ref()
+            .filter(|_| finished.preview_failure.is_none())
+            .map(|p| &p.path),
+    };
+    let counts = RunCounts::of(request, &finished, &image);
     if request.reporting.talks() {
-        if let Some(resumed) = &request.job.resume {
-            eprintln!(
-                "vkpath: resumed from '{}' at {} of {total} spp; this run took {new_samples} more",
-                resumed.display(),
-                finished.resumed_samples
-            );
-        }
-        for output in &outputs {
-            eprintln!("vkpath: wrote {}", output.display());
-        }
-        if let Some(checkpoint) = checkpoint {
-            eprintln!("vkpath: wrote {} (checkpoint)", checkpoint.display());
-        }
-        if let Some(preview) = preview {
-            eprintln!("vkpath: wrote {} (preview)", preview.display());
-        }
-        let devices: Vec<(DeviceInfo, u32)> = contexts
-            .iter()
-            .zip(&finished.devices)
-            .map(|(context, report)| (context.info.clone(), report.spp))
-            .collect();
-        eprintln!(
-            "{}",
-            summary_line(&Summary {
-                devices: &devices,
-                width: area.width(),
-                height: area.height(),
-                spp: done,
-                spp_mean: settings.noise_threshold.map(|_| spp_mean),
-                new_samples: new_samples_taken,
-                setup_seconds,
-                seconds: finished.render_seconds,
-            })
-        );
-        if let Some(guide) = &finished.guide {
-            eprintln!("{}", GuideSummary::new(guide).line());
-        }
+        print_summary(request, contexts, &finished, &files, &counts);
     }
     if request.reporting.json {
-        let effective_sampler = if settings.integrator.is_importance_sampled() {
-            settings.sampler
-        } else {
-            SamplerKind::Pcg
-        };
-        let report = RenderReport {
-            schema_version: RENDER_REPORT_SCHEMA_VERSION,
-            outputs: outputs.iter().map(|p| p.display().to_string()).collect(),
-            scene: request.scene_name.clone(),
-            width: settings.width,
-            height: settings.height,
-            region: settings.region.map(|r| [r.x0, r.y0, r.x1, r.y1]),
-            noise_threshold: settings.noise_threshold.map(|n| n.threshold),
-            spp_mean,
-            integrator: settings.integrator.name(),
-            sampler: sampler_name(effective_sampler),
-            spp_requested: total,
-            spp_taken: done,
-            sample_range: [finished.state.samples.start, finished.state.samples.end],
-            resumed_spp: finished.resumed_samples,
-            setup_seconds,
-            render_seconds: finished.render_seconds,
-            samples_per_second: new_samples_taken / finished.render_seconds.max(1e-9),
-            devices: std::mem::take(&mut finished.devices),
-            stop: finished.stop.name(),
-            checkpoint: checkpoint.map(|p| p.display().to_string()),
-            preview: preview.map(|p| p.display().to_string()),
-            light_selection: match finished.metadata.setting("light_selection") {
-                Some("tree") => "tree",
-                _ => "power",
-            },
-            guide: finished.guide.as_ref().map(GuideSummary::new),
-            scene_memory: finished.scene_memory,
-            frame: request.frame.map(|f| f.frame),
-            time: request.frame.map(|f| f.time),
-        };
+        let report = render_report(request, &mut finished, &files, &counts);
         println!("{}", serde_json::to_string(&report)?);
     }
-    end_after_report(request, &outputs, contexts, &finished, checkpoint).map_err(|error| {
+    end_after_report(request, &outputs, contexts, &finished, files.checkpoint).map_err(|error| {
         if request.reporting.json {
             ReportPrinted(error).into()
         } else {
             error
         }
     })
+}
+
+/// Ends the command, writing nothing, when a render stopped before this run's first sample:
+/// a failure or a time limit as an error, a signal as the signal asks.
+fn refuse_when_nothing_was_taken(finished: &Finished) -> anyhow::Result<()> {
+    let new_samples = finished.state.samples.len() as u32 - finished.resumed_samples;
+    if finished.stop == StopReason::Done || new_samples > 0 {
+        return Ok(());
+    }
+    match (&finished.failure, finished.stop) {
+        (Some(error), _) => {
+            bail!("rendering failed before its first sample, so nothing was written: {error}")
+        }
+        (None, StopReason::Cancelled) => signals::exit_with_nothing_written(),
+        _ => bail!(
+            "the render stopped ({}) before its first sample: nothing was written",
+            finished.stop.name()
+        ),
+    }
+}
+
+/// Warns once when pixels are NaN or infinite.
+fn warn_about_non_finite_pixels(image: &RenderedImage) {
+    let non_finite = image
+        .mean
+        .iter()
+        .filter(|p| !(p[0].is_finite() && p[1].is_finite() && p[2].is_finite()))
+        .count();
+    if non_finite > 0 {
+        eprintln!(
+            "vkpath: warning: {non_finite} pixels are not finite (NaN or infinite); the scene's values overflow 32-bit floats"
+        );
+    }
+}
+
+/// The files a finished render wrote, for its report.
+struct WrittenFiles<'a> {
+    /// The images (the outputs, or after Ctrl-C their `.partial` siblings).
+    outputs: &'a [PathBuf],
+    /// The checkpoint, if one was asked for.
+    checkpoint: Option<&'a PathBuf>,
+    /// The preview, if one was asked for and written.
+    preview: Option<&'a PathBuf>,
+}
+
+/// What this run of a render took, as the summary and the report count it.
+struct RunCounts {
+    /// From the command's start to the first batch (loading, device, kernels).
+    setup_seconds: f64,
+    /// Samples this run took: all those held but the resumed ones (`resumed_spp` per pixel,
+    /// exact unless an adaptive checkpoint had stopped some pixels before).
+    new_samples: f64,
+    /// Mean over the pixels of the samples each holds.
+    spp_mean: f64,
+}
+
+impl RunCounts {
+    fn of(request: &RenderRequest, finished: &Finished, image: &RenderedImage) -> RunCounts {
+        let area = request.settings.area();
+        let pixels = f64::from(area.width()) * f64::from(area.height());
+        let samples_held: f64 = image.sample_count.iter().map(|&n| f64::from(n)).sum();
+        RunCounts {
+            setup_seconds: finished
+                .rendering_started
+                .saturating_duration_since(request.command_started)
+                .as_secs_f64(),
+            new_samples: (samples_held - f64::from(finished.resumed_samples) * pixels).max(0.0),
+            spp_mean: samples_held / pixels.max(1.0),
+        }
+    }
+}
+
+/// The lines on stderr after a render: resumed from where, the files written, the summary
+/// line and the guide's.
+fn print_summary(
+    request: &RenderRequest,
+    contexts: &[Arc<Context>],
+    finished: &Finished,
+    files: &WrittenFiles,
+    counts: &RunCounts,
+) {
+    let total = request.job.samples.len() as u32;
+    let done = finished.state.samples.len() as u32;
+    if let Some(resumed) = &request.job.resume {
+        eprintln!(
+            "vkpath: resumed from '{}' at {} of {total} spp; this run took {} more",
+            resumed.display(),
+            finished.resumed_samples,
+            done - finished.resumed_samples
+        );
+    }
+    for output in files.outputs {
+        eprintln!("vkpath: wrote {}", output.display());
+    }
+    if let Some(checkpoint) = files.checkpoint {
+        eprintln!("vkpath: wrote {} (checkpoint)", checkpoint.display());
+    }
+    if let Some(preview) = files.preview {
+        eprintln!("vkpath: wrote {} (preview)", preview.display());
+    }
+    let devices: Vec<(DeviceInfo, u32)> = contexts
+        .iter()
+        .zip(&finished.devices)
+        .map(|(context, report)| (context.info.clone(), report.spp))
+        .collect();
+    let area = request.settings.area();
+    eprintln!(
+        "{}",
+        summary_line(&Summary {
+            devices: &devices,
+            width: area.width(),
+            height: area.height(),
+            spp: done,
+            spp_mean: request.settings.noise_threshold.map(|_| counts.spp_mean),
+            new_samples: counts.new_samples,
+            setup_seconds: counts.setup_seconds,
+            seconds: finished.render_seconds,
+        })
+    );
+    if let Some(guide) = &finished.guide {
+        eprintln!("{}", GuideSummary::new(guide).line());
+    }
+}
+
+/// The object `render --json` prints (the devices' reports are moved out of `finished`).
+fn render_report(
+    request: &RenderRequest,
+    finished: &mut Finished,
+    files: &WrittenFiles,
+    counts: &RunCounts,
+) -> RenderReport {
+    let settings = request.settings;
+    let effective_sampler = if settings.integrator.is_importance_sampled() {
+        settings.sampler
+    } else {
+        SamplerKind::Pcg
+    };
+    RenderReport {
+        schema_version: RENDER_REPORT_SCHEMA_VERSION,
+        outputs: files
+            .outputs
+            .iter()
+            .map(|p| p.display().to_string())
+            .collect(),
+        scene: request.scene_name.clone(),
+        width: settings.width,
+        height: settings.height,
+        region: settings.region.map(|r| [r.x0, r.y0, r.x1, r.y1]),
+        noise_threshold: settings.noise_threshold.map(|n| n.threshold),
+        spp_mean: counts.spp_mean,
+        integrator: settings.integrator.name(),
+        sampler: sampler_name(effective_sampler),
+        spp_requested: request.job.samples.len() as u32,
+        spp_taken: finished.state.samples.len() as u32,
+        sample_range: [finished.state.samples.start, finished.state.samples.end],
+        resumed_spp: finished.resumed_samples,
+        setup_seconds: counts.setup_seconds,
+        render_seconds: finished.render_seconds,
+        samples_per_second: counts.new_samples / finished.render_seconds.max(1e-9),
+        devices: std::mem::take(&mut finished.devices),
+        stop: finished.stop.name(),
+        checkpoint: files.checkpoint.map(|p| p.display().to_string()),
+        preview: files.preview.map(|p| p.display().to_string()),
+        light_selection: match finished.metadata.setting("light_selection") {
+            Some("tree") => "tree",
+            _ => "power",
+        },
+        guide: finished.guide.as_ref().map(GuideSummary::new),
+        scene_memory: finished.scene_memory,
+        frame: request.frame.map(|f| f.frame),
+        time: request.frame.map(|f| f.time),
+    }
 }
 
 /// What `finish` does after the report: fails as the render did, exits as a signal asks,

@@ -22,7 +22,7 @@ use crate::image_io::output::{
 };
 use crate::image_io::ImageError;
 use crate::render::accumulation::Accumulation;
-use crate::render::metadata::{RenderMetadata, ATTRIBUTE_NAME};
+use crate::render::metadata::{RenderMetadata, RenderOutcome, ATTRIBUTE_NAME};
 
 /// The state channels, four per accumulation layer (`LAYER_SUM`, `LAYER_COMPENSATION`,
 /// `LAYER_SUM_OF_SQUARES`), in the texel order r, g, b, a.
@@ -229,12 +229,15 @@ pub fn read_state(path: &Path) -> Result<(Accumulation, RenderMetadata)> {
 /// Reads shards (files `write_state` wrote) and merges them: every shard must come from the
 /// same render (the first setting that differs is named, with both files) and their sample
 /// ranges must tile one range (overlaps and gaps are named). Returns the merged state and
-/// its metadata.
+/// its metadata, whose outcome (when the shards record theirs) asks for the merged samples
+/// and says `done` unless a shard stopped early (then that shard's stop).
 pub fn merge_state_files(paths: &[std::path::PathBuf]) -> Result<(Accumulation, RenderMetadata)> {
     let mut states = Vec::new();
+    let mut stops = Vec::new();
     let mut first: Option<(&std::path::PathBuf, RenderMetadata)> = None;
     for path in paths {
         let (state, metadata) = read_state(path)?;
+        stops.extend(metadata.outcome.as_ref().map(|o| o.stop.clone()));
         match &first {
             None => first = Some((path, metadata)),
             Some((first_path, first_metadata)) => {
@@ -262,6 +265,13 @@ pub fn merge_state_files(paths: &[std::path::PathBuf]) -> Result<(Accumulation, 
         .map(|(_, m)| m)
         .ok_or_else(|| Error::InvalidSettings("no shards to merge".into()))?;
     metadata.samples = merged.samples.clone();
+    metadata.outcome = (!stops.is_empty()).then(|| RenderOutcome {
+        spp_requested: merged.samples.len() as u32,
+        stop: stops
+            .into_iter()
+            .find(|stop| stop != "done")
+            .unwrap_or_else(|| "done".into()),
+    });
     Ok((merged, metadata))
 }
 
