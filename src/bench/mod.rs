@@ -499,10 +499,12 @@ mod tests {
             cpu_seconds: 1.0,
             cpu_efficiency: 1.0 / relative_mse,
             scene_memory: SceneMemory {
+                accel: "bvh",
                 traversal: "BVH",
                 triangle_count: 30,
                 bvh_node_bytes: 1120,
                 traversal_triangle_bytes: 1440,
+                hardware_structure_bytes: 0,
                 acceleration_bytes_per_triangle: 2560.0 / 30.0,
                 scene_bytes: 6000,
                 scene_bytes_per_triangle: 200.0,
