@@ -16,6 +16,11 @@ const EXTENSIONS: [&CStr; 3] = [
     ash::khr::deferred_host_operations::NAME,
 ];
 
+/// Environment variable that lowers the triangles one bottom-level structure may hold below
+/// the device's own limit (never raises it): for tests of scenes beyond the limit, and for
+/// users who want large scenes on the BVH.
+pub const PRIMITIVE_LIMIT_VARIABLE: &str = "VKPATH_RAY_QUERY_MAX_PRIMITIVES";
+
 /// What the device's acceleration structures allow
 /// (`VkPhysicalDeviceAccelerationStructurePropertiesKHR`).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -104,10 +109,15 @@ pub fn probe(instance: &ash::Instance, physical_device: vk::PhysicalDevice) -> R
     let mut properties = vk::PhysicalDeviceProperties2::default().push_next(&mut limits);
     // SAFETY: as above.
     unsafe { instance.get_physical_device_properties2(physical_device, &mut properties) };
+    let lowered = std::env::var(PRIMITIVE_LIMIT_VARIABLE)
+        .ok()
+        .and_then(|value| value.trim().parse::<u64>().ok());
     RayQuerySupport::Available(RayQueryLimits {
         max_geometry_count: limits.max_geometry_count,
         max_instance_count: limits.max_instance_count,
-        max_primitive_count: limits.max_primitive_count,
+        max_primitive_count: lowered.map_or(limits.max_primitive_count, |lowered| {
+            lowered.min(limits.max_primitive_count)
+        }),
         scratch_alignment: u64::from(
             limits
                 .min_acceleration_structure_scratch_offset_alignment
