@@ -183,6 +183,40 @@ fn auto_takes_the_hardware_where_it_would_take_the_bvh() {
 }
 
 #[test]
+fn the_structures_follow_an_animation() {
+    let Some(icd) = ray_query_icd("the_structures_follow_an_animation") else {
+        return;
+    };
+    let dir = tempfile::tempdir().unwrap();
+    // A quad that slides from x = -1 to x = 1 in a second, lit by a white background: every
+    // frame loads the scene at its time, so its structures are built again
+    crate::frames_cli::write_animated_quad(dir.path());
+    for accel in ["hardware", "bvh"] {
+        let output = format!("{accel}_##.exr");
+        let args = [
+            "render", "animated.gltf", "--frames", "0..3", "--fps", "2", "-o", &output,
+            "--width", "32", "--height", "32", "--spp", "4", "--background", "1,1,1", "--accel",
+            accel,
+        ];
+        let run = run_on(&icd, dir.path(), &args, &[]);
+        assert_eq!(run.code, Some(0), "{}", run.stderr);
+    }
+    let read = |name: &str| std::fs::read(dir.path().join(name)).unwrap();
+    assert_ne!(read("hardware_00.exr"), read("hardware_02.exr"), "the quad did not move");
+    // Each frame is the BVH's, bit for bit: the same quad's two triangles found, the same
+    // t (the workshop's triangle test of the hit triangle), the same shading
+    for frame in ["00", "01", "02"] {
+        let (hardware, bvh) = (format!("hardware_{frame}.exr"), format!("bvh_{frame}.exr"));
+        let output = common::vkpath(dir.path(), &["compare", "--exact", &hardware, &bvh]);
+        assert!(
+            output.status.success(),
+            "frame {frame}: {}",
+            String::from_utf8_lossy(&output.stdout)
+        );
+    }
+}
+
+#[test]
 fn a_scene_beyond_the_limits_falls_back_under_auto_and_is_refused_under_hardware() {
     let Some(icd) = ray_query_icd("a_scene_beyond_the_limits_falls_back_under_auto") else {
         return;

@@ -18,7 +18,7 @@ use crate::render::gpu_scene::SceneMemory;
 use crate::render::settings::{
     default_russian_roulette_start, Integrator, LightSelection, RenderSettings, SamplerKind,
 };
-use crate::render::{Renderer, Traversal};
+use crate::render::Renderer;
 use crate::scene::{Scene, SceneSource};
 use crate::vk::Context;
 
@@ -343,7 +343,9 @@ pub fn run_bench(
         device: format!("{} [{}]", context.info.name, context.info.kind),
         scene: setup.scene_name.clone(),
         triangle_count: scene.triangles.len(),
-        traversal: Traversal::for_scene(scene, setup.settings.accel)
+        // As the renders chose it, on this device (its ray queries, where it has them)
+        traversal: crate::accel::choose_traversal(context, scene, setup.settings.accel)?
+            .traversal
             .name()
             .to_string(),
         sampler: match setup.settings.sampler {
