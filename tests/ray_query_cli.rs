@@ -77,7 +77,15 @@ fn render_accels(icd: &str, dir: &Path, scene_args: &[&str], renders: &[(&str, &
         let seed = (seed + 1).to_string();
         let output = format!("{name}.exr");
         let mut args = vec![
-            "--accel", accel, "--sampler", "pcg", "--moments", "--seed", &seed, "-o", &output,
+            "--accel",
+            accel,
+            "--sampler",
+            "pcg",
+            "--moments",
+            "--seed",
+            &seed,
+            "-o",
+            &output,
         ];
         args.extend_from_slice(scene_args);
         args.extend_from_slice(extra);
@@ -173,12 +181,18 @@ fn auto_takes_the_hardware_where_it_would_take_the_bvh() {
     let (accel, memory) = accel_of(&["--generated", "1000"]);
     assert_eq!(accel, "hardware", "{memory}");
     assert_eq!(memory["traversal"], "ray queries");
-    assert!(memory["hardware_structure_bytes"].as_u64().unwrap() > 0, "{memory}");
+    assert!(
+        memory["hardware_structure_bytes"].as_u64().unwrap() > 0,
+        "{memory}"
+    );
     assert_eq!(memory["bvh_node_bytes"], 0, "{memory}");
     // The Cornell box's 30 triangles stay compiled into the kernel
     assert_eq!(accel_of(&[]).0, "none");
     // --accel bvh is the BVH, and --accel hardware the hardware however small the scene
-    assert_eq!(accel_of(&["--generated", "1000", "--accel", "bvh"]).0, "bvh");
+    assert_eq!(
+        accel_of(&["--generated", "1000", "--accel", "bvh"]).0,
+        "bvh"
+    );
     assert_eq!(accel_of(&["--accel", "hardware"]).0, "hardware");
 }
 
@@ -194,15 +208,34 @@ fn the_structures_follow_an_animation() {
     for accel in ["hardware", "bvh"] {
         let output = format!("{accel}_##.exr");
         let args = [
-            "render", "animated.gltf", "--frames", "0..3", "--fps", "2", "-o", &output,
-            "--width", "32", "--height", "32", "--spp", "4", "--background", "1,1,1", "--accel",
+            "render",
+            "animated.gltf",
+            "--frames",
+            "0..3",
+            "--fps",
+            "2",
+            "-o",
+            &output,
+            "--width",
+            "32",
+            "--height",
+            "32",
+            "--spp",
+            "4",
+            "--background",
+            "1,1,1",
+            "--accel",
             accel,
         ];
         let run = run_on(&icd, dir.path(), &args, &[]);
         assert_eq!(run.code, Some(0), "{}", run.stderr);
     }
     let read = |name: &str| std::fs::read(dir.path().join(name)).unwrap();
-    assert_ne!(read("hardware_00.exr"), read("hardware_02.exr"), "the quad did not move");
+    assert_ne!(
+        read("hardware_00.exr"),
+        read("hardware_02.exr"),
+        "the quad did not move"
+    );
     // Each frame is the BVH's, bit for bit: the same quad's two triangles found, the same
     // t (the workshop's triangle test of the hit triangle), the same shading
     for frame in ["00", "01", "02"] {
@@ -226,8 +259,20 @@ fn a_scene_beyond_the_limits_falls_back_under_auto_and_is_refused_under_hardware
     let limit = [("VKPATH_RAY_QUERY_MAX_PRIMITIVES", "500")];
     let args = |accel| {
         vec![
-            "render", "--generated", "1000", "--width", "8", "--height", "8", "--spp", "1", "-o",
-            "a.png", "--accel", accel, "--json",
+            "render",
+            "--generated",
+            "1000",
+            "--width",
+            "8",
+            "--height",
+            "8",
+            "--spp",
+            "1",
+            "-o",
+            "a.png",
+            "--accel",
+            accel,
+            "--json",
         ]
     };
     let auto = run_on(&icd, dir.path(), &args("auto"), &limit);
@@ -269,8 +314,20 @@ const MESA25_TEXEL_BUFFER_WARNING: &str =
 /// message headers and of those that are `MESA25_TEXEL_BUFFER_WARNING`.
 fn validation_messages(icd: &str, dir: &Path, accel: &str) -> (usize, usize) {
     let args = [
-        "render", "--generated", "1000", "--width", "8", "--height", "8", "--spp", "2", "-o",
-        "a.png", "--validate", "--accel", accel,
+        "render",
+        "--generated",
+        "1000",
+        "--width",
+        "8",
+        "--height",
+        "8",
+        "--spp",
+        "2",
+        "-o",
+        "a.png",
+        "--validate",
+        "--accel",
+        accel,
     ];
     let run = run_on(icd, dir, &args, &[]);
     println!("{accel}: {}", run.stderr);

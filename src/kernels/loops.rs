@@ -149,7 +149,12 @@ pub const PATH_TRACER_LOOPS: &[KernelLoop] = &[
         CountedByKernel,
         "ray query",
     ),
-    described("ray_query.glsl", "ray_query_any_hit", CountedByKernel, "ray query"),
+    described(
+        "ray_query.glsl",
+        "ray_query_any_hit",
+        CountedByKernel,
+        "ray query",
+    ),
     guiding_loop(
         "guiding.glsl",
         "sample_guide_direction",

@@ -437,7 +437,10 @@ mod tests {
         assert_eq!(choose(12, Accel::None, true, true), Linear);
         assert_eq!(choose(12, Accel::Bvh, true, false), Bvh);
         // Hardware always takes the ray queries
-        assert_eq!(choose(12, Accel::Hardware, false, false), Traversal::RayQuery);
+        assert_eq!(
+            choose(12, Accel::Hardware, false, false),
+            Traversal::RayQuery
+        );
     }
 
     #[test]
@@ -446,14 +449,23 @@ mod tests {
         let capacity = contract::CONSTANT_TRIANGLE_CAPACITY as usize;
         use Traversal::{Bvh, ConstantTriangles as Constant, Linear, RayQuery};
         // A device with ray queries: the BVH's scenes take them, the others keep their path
-        assert_eq!(on_device(capacity + 1, Accel::Auto, false, false, true), RayQuery);
+        assert_eq!(
+            on_device(capacity + 1, Accel::Auto, false, false, true),
+            RayQuery
+        );
         assert_eq!(on_device(12, Accel::Auto, true, true, true), RayQuery);
         assert_eq!(on_device(30, Accel::Auto, false, false, true), Constant);
-        assert_eq!(on_device(capacity + 1, Accel::None, false, false, true), Linear);
+        assert_eq!(
+            on_device(capacity + 1, Accel::None, false, false, true),
+            Linear
+        );
         assert_eq!(on_device(capacity + 1, Accel::Bvh, false, false, true), Bvh);
         assert_eq!(on_device(30, Accel::Hardware, false, false, true), RayQuery);
         // One without: the BVH
-        assert_eq!(on_device(capacity + 1, Accel::Auto, false, false, false), Bvh);
+        assert_eq!(
+            on_device(capacity + 1, Accel::Auto, false, false, false),
+            Bvh
+        );
         assert_eq!(Traversal::RayQuery.accel_name(), "hardware");
         assert_eq!(Traversal::Bvh.accel_name(), "bvh");
         assert_eq!(Constant.accel_name(), "none");

@@ -91,9 +91,9 @@ fn device_address(context: &Context, buffer: &Buffer) -> u64 {
     // SAFETY: the buffer was created with SHADER_DEVICE_ADDRESS on a device with the
     // bufferDeviceAddress feature.
     unsafe {
-        context
-            .device
-            .get_buffer_device_address(&vk::BufferDeviceAddressInfo::default().buffer(buffer.handle))
+        context.device.get_buffer_device_address(
+            &vk::BufferDeviceAddressInfo::default().buffer(buffer.handle),
+        )
     }
 }
 
@@ -236,8 +236,7 @@ impl AccelerationStructure {
                 transform: instance.transform,
                 custom_index_and_mask: (instance.custom_index & MAX_CUSTOM_INDEX) | (0xff << 24),
                 binding_offset_and_flags: vk::GeometryInstanceFlagsKHR::TRIANGLE_FACING_CULL_DISABLE
-                    .as_raw()
-                    << 24,
+                    .as_raw() << 24,
                 bottom_level_address: instance.bottom_level_address,
             })
             .collect();
@@ -315,8 +314,9 @@ impl AccelerationStructure {
             .scratch_data(vk::DeviceOrHostAddressKHR {
                 device_address: scratch_address,
             });
-        let ranges = [vk::AccelerationStructureBuildRangeInfoKHR::default()
-            .primitive_count(primitive_count)];
+        let ranges =
+            [vk::AccelerationStructureBuildRangeInfoKHR::default()
+                .primitive_count(primitive_count)];
         commands.run(|recorder| {
             // SAFETY: the command buffer is recording; inputs, scratch and destination stay
             // alive until run() has waited for the build.

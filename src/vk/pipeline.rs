@@ -300,8 +300,8 @@ impl DescriptorSet {
     /// Points `binding` at an acceleration structure (a top-level one, for ray queries).
     pub fn write_acceleration_structure(&self, binding: u32, structure: &AccelerationStructure) {
         let handles = [structure.handle];
-        let mut info =
-            vk::WriteDescriptorSetAccelerationStructureKHR::default().acceleration_structures(&handles);
+        let mut info = vk::WriteDescriptorSetAccelerationStructureKHR::default()
+            .acceleration_structures(&handles);
         let mut write = vk::WriteDescriptorSet::default()
             .dst_set(self.set)
             .dst_binding(binding)
