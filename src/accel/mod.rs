@@ -4,28 +4,26 @@
 //! structures built over the scene's triangles (`SceneStructures`), which
 //! `glsl/ray_query.glsl` traverses.
 //!
-//! Layout: one bottom-level structure over all triangles in the scene's order (world space,
-//! so an identity instance), one instance of it in the top-level structure with custom index
-//! 0 (its first triangle): the kernel's triangle index is custom index + primitive index, and
-//! every per-triangle buffer (triangles, shading data, lights) stays in the scene's order.
-//! The scene arrives flattened (`Scene::triangles`, meshes that several nodes use copied per
-//! node), so there is one mesh to instance; a scene that keeps its meshes apart would get one
-//! bottom level per mesh and an instance per node, each instance's custom index its copy's
-//! first triangle.
+//! Layout (`plan`): one bottom-level structure per mesh that glTF nodes draw, an instance per
+//! node, and world-space bottom levels over the triangles no node's copy covers (all of them
+//! for other scenes); each instance's custom index is its first triangle, so the kernel's
+//! triangle index is custom index + primitive index, and every per-triangle buffer
+//! (triangles, shading data, lights) stays in the scene's order. Every frame of an animation
+//! loads its scene again, so its structures are built again.
+
+pub mod plan;
 
 use std::sync::Arc;
 
 use crate::error::{Error, Result};
 use crate::kernels::variant::{Accel, Traversal};
 use crate::render::tiles::scene_bytes;
-use crate::scene::{Scene, Triangle};
+use crate::scene::Scene;
 use crate::vk::acceleration_structure::{
-    bottom_level_sizes, top_level_sizes, InstanceDescription, IDENTITY_TRANSFORM,
+    bottom_level_sizes, top_level_sizes, InstanceDescription, MAX_CUSTOM_INDEX,
 };
 use crate::vk::{AccelerationStructure, CommandRunner, Context, RayQuerySupport};
-
-/// Instances of the top-level structure (one per bottom level: one today).
-const INSTANCE_COUNT: u64 = 1;
+use plan::StructurePlan;
 
 /// Bytes of the bottom level's vertex input per triangle (three `[f32; 3]`), held on the
 /// device (and in a staging buffer) while it is built.
@@ -42,40 +40,60 @@ pub struct TraversalChoice {
     pub warning: Option<String>,
 }
 
-/// What the device's structures for `scene` need, in bytes, while they are built: the
-/// structures, their scratch memory and the vertex input (twice: its staging copy).
-pub fn build_bytes(context: &Context, scene: &Scene) -> u64 {
-    let triangles = scene.triangles.len() as u32;
-    let bottom = bottom_level_sizes(context, triangles, !scene.uses_alpha());
-    let top = top_level_sizes(context, INSTANCE_COUNT as u32);
-    bottom.structure
-        + bottom.scratch
-        + top.structure
-        + top.scratch
-        + 2 * VERTEX_BYTES_PER_TRIANGLE * u64::from(triangles)
+/// What the device's structures of `plan` need, in bytes, while they are built: the
+/// structures, their scratch memory (all of it: a conservative bound, each build frees its
+/// own) and the vertex input (twice: its staging copy).
+pub fn build_bytes(context: &Context, plan: &StructurePlan, opaque: bool) -> u64 {
+    let top = top_level_sizes(context, plan.instance_count() as u32);
+    let bottom: u64 = plan
+        .bottom_levels
+        .iter()
+        .map(|level| {
+            let count = level.positions.len() as u32;
+            let sizes = bottom_level_sizes(context, count, opaque);
+            sizes.structure + sizes.scratch + 2 * VERTEX_BYTES_PER_TRIANGLE * u64::from(count)
+        })
+        .sum();
+    bottom + top.structure + top.scratch
 }
 
-/// Why the device's structures cannot hold `scene` (its limits on primitives, instances and
-/// custom indices; its memory beside the scene's other buffers), or `Ok` where they can.
-/// The device must have ray queries.
-pub fn check_fits(context: &Context, scene: &Scene) -> std::result::Result<(), String> {
+/// Why the device's structures cannot hold `scene` as `plan` lays it out (its limits on
+/// triangles per structure, instances and custom indices; its memory beside the scene's other
+/// buffers), or `Ok` where they can. The device must have ray queries.
+pub fn check_fits(
+    context: &Context,
+    scene: &Scene,
+    plan: &StructurePlan,
+) -> std::result::Result<(), String> {
     let Some(limits) = context.ray_queries.limits() else {
         return Err("it has no ray queries".into());
     };
-    let triangles = scene.triangles.len() as u64;
-    if triangles > limits.max_primitive_count {
+    let largest = plan
+        .bottom_levels
+        .iter()
+        .map(|level| level.positions.len() as u64)
+        .max()
+        .unwrap_or(0);
+    if largest > limits.max_primitive_count {
         return Err(format!(
-            "the scene's {triangles} triangles exceed its acceleration structures' limit of {} per structure",
+            "the scene's {largest} triangles in one structure exceed its acceleration structures' limit of {}",
             limits.max_primitive_count
         ));
     }
-    if INSTANCE_COUNT > limits.max_instance_count {
+    let instances = plan.instance_count() as u64;
+    if instances > limits.max_instance_count {
         return Err(format!(
-            "its acceleration structures hold at most {} instances",
+            "the scene's {instances} instances exceed its acceleration structures' limit of {}",
             limits.max_instance_count
         ));
     }
-    let needed = build_bytes(context, scene) + scene_bytes(scene);
+    if plan.largest_first_triangle() > u64::from(MAX_CUSTOM_INDEX) {
+        return Err(format!(
+            "an instance starts at triangle {}, beyond the 24-bit custom index",
+            plan.largest_first_triangle()
+        ));
+    }
+    let needed = build_bytes(context, plan, !scene.uses_alpha()) + scene_bytes(scene);
     let available = context.device_memory_bytes();
     if available > 0 && needed > available {
         return Err(format!(
@@ -113,7 +131,8 @@ pub fn choose_traversal(context: &Context, scene: &Scene, accel: Accel) -> Resul
             "--accel hardware needs ray queries, and '{device}' lacks {lacking}: use --accel auto or bvh, or a driver with VK_KHR_ray_query (README: \"Ray queries\")"
         )));
     }
-    match (check_fits(context, scene), accel) {
+    let plan = StructurePlan::of(&scene.triangles, &scene.mesh_instances);
+    match (check_fits(context, scene, &plan), accel) {
         (Ok(()), _) => Ok(TraversalChoice {
             traversal,
             warning: None,
@@ -134,52 +153,70 @@ pub fn choose_traversal(context: &Context, scene: &Scene, accel: Accel) -> Resul
 pub struct SceneStructures {
     /// The top-level structure (bound at `BINDING_ACCELERATION_STRUCTURE`).
     pub top: AccelerationStructure,
-    /// The bottom-level structure over the triangles, which `top` instances.
-    bottom: AccelerationStructure,
+    /// The bottom-level structures, which `top` instances.
+    bottom: Vec<AccelerationStructure>,
+    /// Instances in `top`.
+    instance_count: usize,
 }
 
 impl SceneStructures {
-    /// Builds the structures over `triangles` (in the order the kernel's buffers hold them),
-    /// opaque unless some material is `alpha`-tested, after checking that they fit
-    /// (`check_fits`).
+    /// Builds the structures of `scene` (its triangles in their scene order, the order of
+    /// the kernel's buffers), opaque unless some material is alpha-tested, after checking
+    /// that they fit (`check_fits`).
     pub fn build(
         context: &Arc<Context>,
         commands: &CommandRunner,
         scene: &Scene,
-        triangles: &[Triangle],
     ) -> Result<SceneStructures> {
-        check_fits(context, scene).map_err(|reason| {
+        let plan = StructurePlan::of(&scene.triangles, &scene.mesh_instances);
+        check_fits(context, scene, &plan).map_err(|reason| {
             Error::InvalidSettings(format!(
                 "the scene's acceleration structures do not fit '{}': {reason}",
                 context.info.name
             ))
         })?;
-        let positions: Vec<[[f32; 3]; 3]> = triangles
-            .iter()
-            .map(|triangle| triangle.positions.map(|p| p.to_array()))
-            .collect();
-        let bottom = AccelerationStructure::bottom_level(
-            context,
-            commands,
-            "scene triangles' structure",
-            &positions,
-            !scene.uses_alpha(),
-        )?;
+        let mut bottom = Vec::with_capacity(plan.bottom_levels.len());
+        let mut instances = Vec::with_capacity(plan.instance_count());
+        for level in &plan.bottom_levels {
+            let structure = AccelerationStructure::bottom_level(
+                context,
+                commands,
+                "scene mesh's structure",
+                &level.positions,
+                !scene.uses_alpha(),
+            )?;
+            instances.extend(level.instances.iter().map(|instance| InstanceDescription {
+                transform: instance.transform,
+                custom_index: instance.first_triangle,
+                bottom_level_address: structure.address,
+            }));
+            bottom.push(structure);
+        }
         let top = AccelerationStructure::top_level(
             context,
             commands,
             "scene instances' structure",
-            &[InstanceDescription {
-                transform: IDENTITY_TRANSFORM,
-                custom_index: 0,
-                bottom_level_address: bottom.address,
-            }],
+            &instances,
         )?;
-        Ok(SceneStructures { top, bottom })
+        Ok(SceneStructures {
+            top,
+            bottom,
+            instance_count: instances.len(),
+        })
     }
 
-    /// Bytes of both structures on the device.
+    /// Bytes of all structures on the device.
     pub fn bytes(&self) -> u64 {
-        self.top.size + self.bottom.size
+        self.top.size + self.bottom.iter().map(|b| b.size).sum::<u64>()
+    }
+
+    /// Bottom-level structures (meshes and world-space runs).
+    pub fn bottom_level_count(&self) -> usize {
+        self.bottom.len()
+    }
+
+    /// Instances in the top level.
+    pub fn instance_count(&self) -> usize {
+        self.instance_count
     }
 }

@@ -507,6 +507,8 @@ mod tests {
                 bvh_node_bytes: 1120,
                 traversal_triangle_bytes: 1440,
                 hardware_structure_bytes: 0,
+                hardware_bottom_levels: 0,
+                hardware_instances: 0,
                 acceleration_bytes_per_triangle: 2560.0 / 30.0,
                 scene_bytes: 6000,
                 scene_bytes_per_triangle: 200.0,

@@ -180,6 +180,11 @@ pub struct SceneMemory {
     pub traversal_triangle_bytes: u64,
     /// The device's acceleration structures, top and bottom level (0 without ray queries).
     pub hardware_structure_bytes: u64,
+    /// Bottom-level structures of the device's (a mesh that nodes draw, or a run of
+    /// world-space triangles each; 0 without ray queries).
+    pub hardware_bottom_levels: u64,
+    /// Instances in the device's top-level structure (0 without ray queries).
+    pub hardware_instances: u64,
     /// `bvh_node_bytes + traversal_triangle_bytes + hardware_structure_bytes` per triangle:
     /// what the traversal reads.
     pub acceleration_bytes_per_triangle: f64,
@@ -304,12 +309,8 @@ impl GpuScene {
             None => None,
         };
         let structures = match traversal {
-            Traversal::RayQuery => Some(SceneStructures::build(
-                context,
-                commands,
-                scene,
-                &ordered_triangles,
-            )?),
+            // The triangles stay in the scene's order (no BVH reorders them)
+            Traversal::RayQuery => Some(SceneStructures::build(context, commands, scene)?),
             _ => None,
         };
         let plain_materials;
@@ -359,6 +360,10 @@ impl GpuScene {
             bvh_node_bytes,
             traversal_triangle_bytes,
             hardware_structure_bytes,
+            hardware_bottom_levels: structures
+                .as_ref()
+                .map_or(0, |s| s.bottom_level_count() as u64),
+            hardware_instances: structures.as_ref().map_or(0, |s| s.instance_count() as u64),
             acceleration_bytes_per_triangle: per_triangle(
                 bvh_node_bytes + traversal_triangle_bytes + hardware_structure_bytes,
             ),
