@@ -298,8 +298,19 @@ fn a_mesh_that_several_nodes_draw_is_one_bottom_level_with_instances() {
     for accel in ["hardware", "bvh"] {
         let output = format!("{accel}.exr");
         let args = [
-            "nodes.gltf", "-o", &output, "--width", "48", "--height", "32", "--spp", "4",
-            "--background", "1,1,1", "--accel", accel,
+            "nodes.gltf",
+            "-o",
+            &output,
+            "--width",
+            "48",
+            "--height",
+            "32",
+            "--spp",
+            "4",
+            "--background",
+            "1,1,1",
+            "--accel",
+            accel,
         ];
         reports.push(render_json(&icd, dir.path(), &args));
     }
@@ -311,7 +322,10 @@ fn a_mesh_that_several_nodes_draw_is_one_bottom_level_with_instances() {
     // The BVH's image: each instance's transform puts its triangles where the flattened
     // scene has them (the hit's t is recomputed on the world-space triangle, so rounding in
     // the transform could only move a hit across a triangle's edge: none does here)
-    let output = common::vkpath(dir.path(), &["compare", "--exact", "hardware.exr", "bvh.exr"]);
+    let output = common::vkpath(
+        dir.path(),
+        &["compare", "--exact", "hardware.exr", "bvh.exr"],
+    );
     assert!(
         output.status.success(),
         "{}",

@@ -140,7 +140,11 @@ mod tests {
 
     fn triangle(x: f32) -> Triangle {
         Triangle::new(
-            [Vec3::new(x, 0.0, 0.0), Vec3::new(x + 1.0, 0.0, 0.0), Vec3::Y],
+            [
+                Vec3::new(x, 0.0, 0.0),
+                Vec3::new(x + 1.0, 0.0, 0.0),
+                Vec3::Y,
+            ],
             Vec3::ONE,
             Vec3::ZERO,
             false,
@@ -157,8 +161,8 @@ mod tests {
             object_to_world: Mat4::from_translation(Vec3::new(x, 0.0, 0.0)),
             object_positions: mesh.clone(),
         };
-        // Triangles 0 (loose), 1..3 and 4..6 (copies of one mesh), 6 (loose)
-        let plan = StructurePlan::of(&triangles, &[copy(4, 2.0), copy(1, 1.0)]);
+        // Triangles 0 (loose), 1..3 and 3..5 (copies of one mesh), 5..7 (loose)
+        let plan = StructurePlan::of(&triangles, &[copy(3, 2.0), copy(1, 1.0)]);
         assert_eq!(plan.bottom_levels.len(), 3);
         assert_eq!(plan.instance_count(), 4);
         let firsts: Vec<Vec<u32>> = plan
@@ -166,12 +170,13 @@ mod tests {
             .iter()
             .map(|b| b.instances.iter().map(|i| i.first_triangle).collect())
             .collect();
-        assert_eq!(firsts, [vec![0], vec![1, 4], vec![6]]);
+        assert_eq!(firsts, [vec![0], vec![1, 3], vec![5]]);
         assert_eq!(plan.bottom_levels[0].positions.len(), 1);
         assert_eq!(plan.bottom_levels[1].positions.len(), 2);
+        assert_eq!(plan.bottom_levels[2].positions.len(), 2);
         // Row-major rows: the translation is each row's last element
         assert_eq!(plan.bottom_levels[1].instances[1].transform[0][3], 2.0);
-        assert_eq!(plan.largest_first_triangle(), 6);
+        assert_eq!(plan.largest_first_triangle(), 5);
         // An overlapping or out-of-range copy is not instanced: all world space
         let bad = StructurePlan::of(&triangles, &[copy(1, 1.0), copy(2, 1.0), copy(6, 1.0)]);
         assert_eq!(bad.instance_count(), 3);

@@ -77,7 +77,9 @@ mod tests {
     fn copies_of_one_mesh_share_their_positions() {
         let quad = vec![[Vec3::ZERO, Vec3::X, Vec3::Y]];
         let mut recorder = InstanceRecorder::default();
-        let a = recorder.instance(0, 0, Mat4::IDENTITY, quad.clone()).unwrap();
+        let a = recorder
+            .instance(0, 0, Mat4::IDENTITY, quad.clone())
+            .unwrap();
         let moved = Mat4::from_translation(Vec3::X);
         let b = recorder.instance(0, 1, moved, quad.clone()).unwrap();
         assert!(Arc::ptr_eq(&a.object_positions, &b.object_positions));
