@@ -1,11 +1,12 @@
 // Ray traversal by the device's own acceleration structures (VK_KHR_ray_query with
 // VK_KHR_acceleration_structure), in the same compute kernel: the closest hit and the any-hit
 // query of shadow rays, the hardware twins of bvh_closest_hit() and bvh_any_hit()
-// (glsl/bvh.glsl). The host (src/accel/) builds one bottom-level structure over the scene's
-// triangles in their scene order and a top-level structure of instances above it, each
-// instance's custom index being its first triangle's index in g_triangle_texels, so that
-// custom index + primitive index is the triangle index the shading code reads: only the
-// traversal differs from the BVH builds, the hit's shading data come from the same buffers.
+// (glsl/bvh.glsl). The host (src/accel/) builds one bottom-level structure per mesh (and
+// world-space ones over the triangles no mesh copy covers) and a top-level structure of
+// instances above them, each instance's custom index being its first triangle's index in
+// g_triangle_texels (the scene's order), so that custom index + primitive index is the
+// triangle index the shading code reads: only the traversal differs from the BVH builds, the
+// hit's shading data come from the same buffers.
 // The software BVH is this file's reference (tests/ray_query_cli.rs compares their images).
 #ifndef VKPATH_RAY_QUERY_GLSL
 #define VKPATH_RAY_QUERY_GLSL
