@@ -35,8 +35,9 @@ impl MeshInstance {
 /// Records a loader's mesh copies, sharing the object-space positions of copies of one mesh.
 #[derive(Default)]
 pub(crate) struct InstanceRecorder {
-    /// The last positions recorded of each mesh (by its index in the file).
-    shared: HashMap<usize, Arc<Vec<[Vec3; 3]>>>,
+    /// The last positions recorded of each mesh (by its index in the file) drawn with and
+    /// without mirroring (which reorders each triangle's vertices).
+    shared: HashMap<(usize, bool), Arc<Vec<[Vec3; 3]>>>,
 }
 
 impl InstanceRecorder {
@@ -53,11 +54,12 @@ impl InstanceRecorder {
         if object_positions.is_empty() {
             return None;
         }
-        let shared = match self.shared.get(&mesh) {
+        let key = (mesh, object_to_world.determinant() < 0.0);
+        let shared = match self.shared.get(&key) {
             Some(shared) if **shared == object_positions => shared.clone(),
             _ => {
                 let shared = Arc::new(object_positions);
-                self.shared.insert(mesh, shared.clone());
+                self.shared.insert(key, shared.clone());
                 shared
             }
         };
@@ -84,10 +86,13 @@ mod tests {
         let b = recorder.instance(0, 1, moved, quad.clone()).unwrap();
         assert!(Arc::ptr_eq(&a.object_positions, &b.object_positions));
         assert_eq!(b.triangles(), 1..2);
-        // A copy that lost a triangle (mirrored, or degenerate after its transform) differs
+        // A mirrored copy (its vertices reordered) differs, and leaves the others shared
+        let mirror = Mat4::from_scale(Vec3::new(-1.0, 1.0, 1.0));
         let mirrored = vec![[Vec3::ZERO, Vec3::Y, Vec3::X]];
-        let c = recorder.instance(0, 2, moved, mirrored).unwrap();
+        let c = recorder.instance(0, 2, mirror, mirrored).unwrap();
         assert!(!Arc::ptr_eq(&a.object_positions, &c.object_positions));
-        assert_eq!(recorder.instance(1, 3, moved, Vec::new()), None);
+        let d = recorder.instance(0, 3, moved, quad.clone()).unwrap();
+        assert!(Arc::ptr_eq(&a.object_positions, &d.object_positions));
+        assert_eq!(recorder.instance(1, 4, moved, Vec::new()), None);
     }
 }
