@@ -21,8 +21,16 @@ layout(set = 0, binding = BINDING_ACCELERATION_STRUCTURE) uniform accelerationSt
 // t >= 0 (the path loop offsets its origins itself), so the hardware query starts at 0 too.
 #define RAY_QUERY_T_MIN 0.0
 
+// Whether a ray may start a query: Vulkan leaves queries of rays with a non-finite origin or
+// direction undefined (the BVH's slab tests simply find nothing for them, and so do these).
+bool is_ray_query_defined(vec3 ray_origin, vec3 ray_direction) {
+    bvec3 bad = bvec3(uvec3(isnan(ray_origin)) | uvec3(isinf(ray_origin)) | uvec3(isnan(ray_direction)) | uvec3(isinf(ray_direction)));
+    return !any(bad);
+}
+
 // The triangle index of a query's candidate (committed: false) or committed (true) hit. A
-// macro, as is CONFIRM_OPAQUE_CANDIDATE: a rayQueryEXT is an opaque object that functions do not take.
+// macro, as is CONFIRM_OPAQUE_CANDIDATE, so that each query stays a local object of the one
+// function that initializes and runs it.
 #define GET_RAY_QUERY_TRIANGLE_INDEX(query, committed) \
     (uint(rayQueryGetIntersectionInstanceCustomIndexEXT(query, committed)) \
         + uint(rayQueryGetIntersectionPrimitiveIndexEXT(query, committed)))
@@ -49,13 +57,15 @@ layout(set = 0, binding = BINDING_ACCELERATION_STRUCTURE) uniform accelerationSt
 // \param ray_origin, ray_direction The ray, world space (the direction need not be normalized)
 // \return true iff a triangle was hit at 0 <= t < NO_HIT_T
 bool ray_query_closest_hit(out float out_t, out uint out_triangle_index, vec3 ray_origin, vec3 ray_direction) {
+    out_t = NO_HIT_T;
+    out_triangle_index = 0u;
+    if (!is_ray_query_defined(ray_origin, ray_direction))
+        return false;
     rayQueryEXT query;
     rayQueryInitializeEXT(query, g_acceleration_structure, gl_RayFlagsNoneEXT, 0xff, ray_origin, RAY_QUERY_T_MIN, ray_direction, NO_HIT_T);
     while (rayQueryProceedEXT(query)) {
         CONFIRM_OPAQUE_CANDIDATE(query, ray_origin, ray_direction)
     }
-    out_t = NO_HIT_T;
-    out_triangle_index = 0u;
     if (rayQueryGetIntersectionTypeEXT(query, true) != gl_RayQueryCommittedIntersectionTriangleEXT)
         return false;
     out_triangle_index = GET_RAY_QUERY_TRIANGLE_INDEX(query, true);
@@ -71,10 +81,10 @@ bool ray_query_closest_hit(out float out_t, out uint out_triangle_index, vec3 ra
 // \param t_max Hits at or beyond this ray parameter do not count
 // \return true iff some triangle is hit at 0 <= t < t_max
 bool ray_query_any_hit(vec3 ray_origin, vec3 ray_direction, float t_max) {
-    if (!(t_max > RAY_QUERY_T_MIN))
+    if (!(t_max > RAY_QUERY_T_MIN) || !is_ray_query_defined(ray_origin, ray_direction))
         return false;
     rayQueryEXT query;
-    rayQueryInitializeEXT(query, g_acceleration_structure, gl_RayFlagsTerminateOnFirstHitEXT, 0xff, ray_origin, RAY_QUERY_T_MIN, ray_direction, t_max);
+    rayQueryInitializeEXT(query, g_acceleration_structure, gl_RayFlagsTerminateOnFirstHitEXT, 0xff, ray_origin, RAY_QUERY_T_MIN, ray_direction, min(t_max, NO_HIT_T));
     while (rayQueryProceedEXT(query)) {
         CONFIRM_OPAQUE_CANDIDATE(query, ray_origin, ray_direction)
     }
