@@ -186,6 +186,9 @@ fn auto_takes_the_hardware_where_it_would_take_the_bvh() {
         "{memory}"
     );
     assert_eq!(memory["bvh_node_bytes"], 0, "{memory}");
+    // `devices` says so
+    let devices = run_on(&icd, dir.path(), &["devices", "--json"], &[]).json();
+    assert_eq!(devices[0]["ray_queries"], true, "{devices}");
     // The Cornell box's 30 triangles stay compiled into the kernel
     assert_eq!(accel_of(&[]).0, "none");
     // --accel bvh is the BVH, and --accel hardware the hardware however small the scene
@@ -453,6 +456,8 @@ fn hardware_without_ray_queries_is_one_line_naming_the_device() {
     ];
     let run = run(dir.path(), &args, &[]);
     assert_eq!(run.code, Some(1), "{}", run.stderr);
+    let devices = common::runs::run(dir.path(), &["devices", "--json"], &[]).json();
+    assert_eq!(devices[0]["ray_queries"], false, "{devices}");
     let errors: Vec<&str> = run
         .stderr
         .lines()

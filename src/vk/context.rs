@@ -121,6 +121,9 @@ pub struct DeviceInfo {
     pub vendor_id: u32,
     /// Its PCI address, where the driver has `VK_EXT_pci_bus_info`.
     pub pci_bus: Option<PciBusInfo>,
+    /// Whether its kernels can trace rays with ray queries (`VK_KHR_ray_query`:
+    /// `--accel hardware`).
+    pub ray_queries: bool,
 }
 
 impl fmt::Display for DeviceInfo {
@@ -133,6 +136,9 @@ impl fmt::Display for DeviceInfo {
         write!(f, ", {}", format_uuid(&self.uuid))?;
         if self.compute_queue_family.is_none() {
             f.write_str(", no compute queue")?;
+        }
+        if self.ray_queries {
+            f.write_str(", ray queries")?;
         }
         Ok(())
     }
@@ -273,6 +279,7 @@ fn describe_devices(instance: &ash::Instance) -> VkResult<Vec<(vk::PhysicalDevic
                 uuid,
                 vendor_id: properties.vendor_id,
                 pci_bus,
+                ray_queries: ray_query_support::probe(instance, physical_device).is_available(),
             };
             (physical_device, info)
         })
