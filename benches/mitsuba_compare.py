@@ -10,8 +10,22 @@ pixel filter, maximum path length and no Russian roulette. Mitsuba reads the tri
     efficiency  = 1 / (relMSE * seconds)               (higher is better)
     s to 0.005  = seconds * relMSE / 0.005             (time to reach relMSE 0.005)
 
-Mitsuba's speed figures count only if `vkpath compare mitsuba.exr <reference>` says the two
-renderers agree (the correctness gate); the script prints the verdict either way.
+The correctness gate: a speed counts only if `vkpath compare <image> <reference>` finds the
+image consistent with the common reference, for every image (Mitsuba's, vkpath mis's, vkpath
+workshop's); the script prints each verdict and exits 1 when any fails. The thresholds are
+compare's: the image is cut into 8x8-pixel blocks, and each block's mean difference per channel
+is a z-test whose variance comes from both images' per-pixel moments (the noise of the image
+AND of the reference enter); the family of tests is held at alpha 0.01 in all with Sidak's
+correction (alpha per test = 1 - 0.99^(1/tests), e.g. 2.1e-4 for 48 tests), so a consistent
+pair fails about once in a hundred runs whatever the image size (at 1920x1080, 97 200 tests,
+a block fails beyond |z| ~ 5.3), while a bias shows once it exceeds about that many standard
+errors of a block's mean. Blocks rather than pixels: a pixel's 64-sample mean is too skewed
+for a z-test, a block's 4096 samples much less so; at ~1000 samples per block (8x8 at 16 spp)
+heavy-tailed images failed single blocks by chance in lavapipe checks, so give low-spp runs
+larger blocks (--gate-block 16 at 16 spp: 4096 samples again). A mismatch of
+conventions (Mitsuba max_depth one less: --mitsuba-max-depth 4) fails it. Stratified samplers
+(Sobol, ldsampler) make the gate more lenient, never stricter: their moments and batch spread
+overestimate the noise of the image they judge.
 
 Setup (done by the script itself when missing; needs root for apt, skip it with --no-setup):
     apt-get install -y libllvm19          # Debian 12 bookworm: 1:19.1.7-3~deb12u1
@@ -22,12 +36,16 @@ Mitsuba runs the `llvm_ad_rgb` variant on --threads CPU threads (default 2, dr.s
 vkpath runs on whatever Vulkan device it picks (lavapipe on a machine without a GPU).
 
 Timing:
-  * Mitsuba: one warm-up mi.render first (JIT tracing and LLVM compilation; reported as
-    "cold"), then the timed mi.render at --spp with another seed, timed around mi.render and
-    the evaluation of its result only. Drjit caches compiled kernels on disk (~/.drjit), so
-    the cold time of a second run of this script is smaller.
+  * Mitsuba: one warm-up mi.render first (JIT tracing and LLVM or CUDA/OptiX compilation;
+    reported as "cold"), then --repeats timed mi.renders at --spp (the first of them is
+    Mitsuba's second render), timed around mi.render and the evaluation of its result only.
+    The seed is an opaque value in drjit's traced kernel (checked with drjit's kernel history:
+    a render at another seed is a kernel-cache hit, a render at another spp is not), so the
+    timed renders run the warm-up's compiled kernel. Drjit caches compiled kernels on disk
+    (~/.drjit), so the cold time of a second run of this script is smaller.
   * vkpath: the render seconds of its stderr summary line ('..., setup T s, render S s,
-    M M samples/s'), which cover the frames only (not device start-up or pipeline creation).
+    M M samples/s'), which cover the frames only (not device start-up or pipeline creation);
+    its pipeline cache makes every render after the first warm, like Mitsuba's second.
 
 Moments for the gate: `vkpath compare` needs each image's per-pixel variance. vkpath stores
 it with --moments; for Mitsuba the script renders --batches more independent images at
@@ -35,13 +53,37 @@ spp/batches each, estimates the variance of the timed image's pixel means from t
 and stores it in mitsuba.exr as vkpath's `second_moment.{R,G,B}` / `sample_count.Y` channels
 (sample count = number of batches; the mean channels are the timed image's).
 
+Variants (--variant): `llvm_ad_rgb` (the default: drjit's LLVM back end on --threads CPU
+threads) or `cuda_ad_rgb` (CUDA and OptiX loaded from the NVIDIA driver, no toolkit; OptiX's
+software traversal on GPUs without RT cores, such as the H100/H200 the device lends). With
+`cuda_ad_rgb` no libLLVM is needed, and the script stops at once with one line starting
+"PEER STOP:" when the variant cannot start (no libcuda.so / libnvoptix.so, no GPU), so that a
+device call spends no time on a run that cannot work. scripts/gpu-peer.sh runs it that way.
+
+Scenes (--scene): `cornell` (the built-in box, or with --generated N the scale-test scene, both
+through `vkpath export`) or `spheres`: benches/mitsuba_table.py's material glTF scene (24 flat
+icospheres, 122 882 triangles, 25 glTF metallic-roughness materials, a white sky; Mitsuba gets
+benches/mitsuba_gltf_bsdf.py's BSDF). The workshop integrator renders Lambertian scenes only,
+so the spheres get no `vkpath workshop` row.
+
+Rays/s: vkpath counts the rays it traces (camera, path and shadow rays); the script runs
+`vkpath bench --reference <the same reference>` at the same settings and reports its rays/s and
+rays per sample. Mitsuba counts none: its rays/s is an ESTIMATE, labelled so everywhere, from
+vkpath `mis`'s rays per sample (the same algorithm: a BSDF ray and a shadow ray per bounce,
+power-heuristic MIS, the same path length, no roulette).
+
 Usage (from the repository root):
     python3 benches/mitsuba_compare.py                       # 256x256, path length 5, 64 spp
     python3 benches/mitsuba_compare.py --width 128 --height 128 --max-path-length 3 --spp 16
     python3 benches/mitsuba_compare.py --generated 1000000 --width 128 --height 128
+    python3 benches/mitsuba_compare.py --scene spheres --width 64 --height 64 --sampler low-discrepancy
+    python3 benches/mitsuba_compare.py --variant cuda_ad_rgb --require-gpu --no-setup \
+        --width 1920 --height 1080 --spp 64 --reference-spp 1024      # on an NVIDIA GPU
 Outputs go to --workdir (default target/mitsuba_compare): the exported scene (scene_<name>/),
 the reference (cached by scene and parameters; --force-reference renders it again),
-mitsuba.exr, vkpath_mis.exr, vkpath_workshop.exr, and results_<name>.json.
+mitsuba_<tag>.exr, vkpath_mis_<tag>.exr, vkpath_workshop_<tag>.exr, bench_<tag>.json and
+results_<tag>.json, where <tag> is <name>_<sampler> (e.g. cornell_independent,
+generated1000000_low-discrepancy, spheres_independent).
 """
 
 import argparse
@@ -83,9 +125,9 @@ def find_libllvm():
     return sorted(candidates, key=lambda c: (-c[0], c[1]))[0][2] if candidates else None
 
 
-def ensure_setup(allow_install):
-    """Installs libllvm19 and mitsuba when missing, sets DRJIT_LIBLLVM_PATH."""
-    if not os.environ.get("DRJIT_LIBLLVM_PATH"):
+def ensure_setup(allow_install, variant="llvm_ad_rgb"):
+    """Installs libllvm19 and mitsuba when missing, sets DRJIT_LIBLLVM_PATH (llvm variants only)."""
+    if variant.startswith("llvm") and not os.environ.get("DRJIT_LIBLLVM_PATH"):
         lib = find_libllvm()
         if lib is None:
             if not allow_install:
@@ -127,22 +169,37 @@ def ensure_vkpath(path, build):
 # vkpath
 # --------------------------------------------------------------------------------------------
 
+def scene_arguments(args):
+    """vkpath's scene arguments for the chosen scene (set by main: args.scene_args)."""
+    if getattr(args, "scene_args", None) is not None:
+        return list(args.scene_args)
+    return [] if args.generated is None else ["--generated", str(args.generated)]
+
+
 def run_vkpath(vkpath, output, args, spp, integrator, moments=True, seed=None, sampler="pcg"):
-    cmd = [vkpath, "render", "-o", output, "--width", str(args.width), "--height", str(args.height),
+    cmd = [vkpath, "render", *scene_arguments(args), "-o", output, "--width", str(args.width), "--height", str(args.height),
            "--spp", str(spp), "--integrator", integrator, "--russian-roulette-start", "0",
            "--max-path-length", str(args.max_path_length), "--pixel-filter", "box"]
     if integrator != "workshop":  # the workshop's integrator has PCG2D only
         cmd += ["--sampler", sampler]
-    if args.generated is not None:
-        cmd += ["--generated", str(args.generated)]
+    if getattr(args, "require_gpu", False):
+        cmd.append("--require-gpu")
     if moments:
         cmd.append("--moments")
     if seed is not None:
         cmd += ["--seed", str(seed)]
+    # --json: the render's seconds unrounded (the summary line prints 0.01 s; a GPU frame takes ms).
+    cmd.append("--json")
     print("  $ " + " ".join(cmd), flush=True)
     result = subprocess.run(cmd, capture_output=True, text=True)
     if result.returncode != 0:
         sys.exit(f"vkpath failed ({result.returncode}):\n{result.stderr}")
+    try:
+        report = json.loads(result.stdout)
+        return {"seconds": report["render_seconds"], "device": report["devices"][0]["name"],
+                "msamples_per_s": report["samples_per_second"] / 1e6, "setup_seconds": report["setup_seconds"]}
+    except (json.JSONDecodeError, KeyError, IndexError):
+        pass
     match = None
     for line in result.stderr.splitlines():
         match = SUMMARY_RE.search(line) or match
@@ -152,8 +209,8 @@ def run_vkpath(vkpath, output, args, spp, integrator, moments=True, seed=None, s
             "msamples_per_s": float(match.group("msps"))}
 
 
-def run_compare(vkpath, a, b):
-    cmd = [vkpath, "compare", a, b]
+def run_compare(vkpath, a, b, block=None):
+    cmd = [vkpath, "compare", a, b] + (["--block", str(block)] if block else [])
     print("  $ " + " ".join(cmd), flush=True)
     result = subprocess.run(cmd, capture_output=True, text=True)
     text = (result.stdout + result.stderr).strip()
@@ -314,7 +371,9 @@ def write_with_moments(mi, dr, path, image, batches, spp, batch_spp):
 def add_common_arguments(parser, workdir_name):
     """The options every Mitsuba comparison takes: --threads, --workdir (default
     target/WORKDIR_NAME), --vkpath, --build, --force-reference, --no-setup."""
-    parser.add_argument("--threads", type=int, default=2, help="Mitsuba (drjit) CPU threads")
+    parser.add_argument("--threads", type=int, default=2,
+                        help="Mitsuba (drjit) CPU threads, at least 2: with 1, mi.Bitmap's EXR read "
+                             "hangs (drjit 1.5.0, mitsuba 3.9.1; seen here)")
     parser.add_argument("--workdir", default=os.path.join(REPO, "target", workdir_name))
     parser.add_argument("--vkpath", default=os.path.join(REPO, "target", "release", "vkpath"))
     parser.add_argument("--build", action="store_true", help="run cargo build --release first")
@@ -322,10 +381,63 @@ def add_common_arguments(parser, workdir_name):
     parser.add_argument("--no-setup", action="store_true", help="never apt-get/pip install")
 
 
+def run_bench(vkpath, args, sampler, reference, integrators):
+    """`vkpath bench` at the comparison's settings against the same reference: vkpath's rays/s
+    (it counts camera, path and shadow rays) and rays per sample per integrator."""
+    scene_args = scene_arguments(args)
+    if "--background" in scene_args:
+        # `bench` takes no --background. The spheres' white sky is a constant environment, which
+        # vkpath never light-samples (stop 24), so the rays per sample are those of the same
+        # scene under a black sky: the same camera and BSDF rays, no shadow rays either way
+        # (the scene has no emissive triangles). Bench's relMSE is then meaningless: unused.
+        i = scene_args.index("--background")
+        del scene_args[i:i + 2]
+    cmd = [vkpath, "bench", *scene_args, "--reference", reference, "--width", str(args.width),
+           "--height", str(args.height), "--spp", str(args.spp), "--max-path-length", str(args.max_path_length),
+           "--russian-roulette-start", "0", "--sampler", sampler, "--integrators", ",".join(integrators),
+           "--repeats", str(max(args.repeats, 2)), "--json"]
+    if getattr(args, "require_gpu", False):
+        cmd.append("--require-gpu")
+    print("  $ " + " ".join(cmd), flush=True)
+    result = subprocess.run(cmd, capture_output=True, text=True)
+    if result.returncode != 0:
+        print(f"    vkpath bench failed ({result.returncode}); no rays/s:\n{result.stderr[-2000:]}", flush=True)
+        return None
+    try:
+        return json.loads(result.stdout)
+    except json.JSONDecodeError:
+        print("    vkpath bench printed no JSON; no rays/s", flush=True)
+        return None
+
+
+def check_variant(mi, dr, variant):
+    """Sets the variant; for CUDA also renders 16x16 at 1 spp once (OptiX's first use). Stops the
+    script with one 'PEER STOP:' line when the variant cannot run here."""
+    try:
+        if variant not in mi.variants():
+            raise RuntimeError(f"this mitsuba build has no {variant} (it has {', '.join(mi.variants())})")
+        mi.set_variant(variant)
+        if variant.startswith("cuda"):
+            box = mi.cornell_box()
+            box["sensor"]["film"]["width"] = box["sensor"]["film"]["height"] = 16
+            image = mi.render(mi.load_dict(box), spp=1)
+            dr.eval(image)
+            dr.sync_thread()
+    except Exception as error:  # ImportError, RuntimeError from drjit's CUDA/OptiX loader, ...
+        first = str(error).strip().splitlines()[0] if str(error).strip() else type(error).__name__
+        print(f"PEER STOP: Mitsuba's {variant} cannot run here: {first}", flush=True)
+        sys.exit(3)
+
+
 def main():
     parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     parser.add_argument("--width", type=int, default=256)
     parser.add_argument("--height", type=int, default=256)
+    parser.add_argument("--variant", choices=["llvm_ad_rgb", "cuda_ad_rgb"], default="llvm_ad_rgb",
+                        help="Mitsuba's variant: CPU (LLVM, --threads threads) or NVIDIA GPU (CUDA + OptiX)")
+    parser.add_argument("--scene", choices=["cornell", "spheres"], default="cornell",
+                        help="the built-in Cornell box (or --generated N), or benches/mitsuba_table.py's "
+                             "material glTF scene (24 metallic-roughness icospheres, white sky)")
     parser.add_argument("--generated", type=int, default=None,
                         help="vkpath's generated scale-test scene of about this many triangles "
                              "instead of the Cornell box")
@@ -343,29 +455,60 @@ def main():
     parser.add_argument("--mitsuba-max-depth", type=int, default=None,
                         help="override Mitsuba's max_depth (default: --max-path-length); e.g. one less, "
                              "to see the gate fail on a convention mismatch")
+    parser.add_argument("--require-gpu", action="store_true",
+                        help="pass --require-gpu to vkpath (refuse to fall back to a CPU device)")
+    parser.add_argument("--no-bench", action="store_true", help="skip `vkpath bench` (no rays/s)")
+    parser.add_argument("--gate-block", type=int, default=None,
+                        help="side of the gate's pixel blocks (vkpath compare --block; default 8). At "
+                             "few spp use larger blocks, so that each block pools ~4000 samples: block "
+                             "means of heavy-tailed estimators at ~1000 samples are not yet normal far "
+                             "enough into the tail that a 1920x1080 gate's threshold (|z| ~ 5.3) reaches")
     add_common_arguments(parser, "mitsuba_compare")
     args = parser.parse_args()
+    if args.threads < 2:
+        sys.exit("--threads must be at least 2: with one drjit thread mi.Bitmap's EXR read hangs")
     if args.batches < 2 or args.spp < args.batches or args.spp % args.batches:
         sys.exit("--spp must be a multiple of --batches, and --batches at least 2")
+    if args.scene == "spheres" and args.generated is not None:
+        sys.exit("--generated goes with --scene cornell only")
 
-    ensure_setup(not args.no_setup)
+    ensure_setup(not args.no_setup, args.variant)
     ensure_vkpath(args.vkpath, args.build)
+    args.vkpath = os.path.abspath(args.vkpath)
     os.makedirs(args.workdir, exist_ok=True)
     import drjit as dr
     import mitsuba as mi
-    mi.set_variant("llvm_ad_rgb")
+    check_variant(mi, dr, args.variant)
     dr.set_thread_count(args.threads)
-    print(f"mitsuba {mi.__version__}, drjit {dr.__version__}, variant llvm_ad_rgb, "
-          f"{dr.thread_count()} threads, DRJIT_LIBLLVM_PATH={os.environ['DRJIT_LIBLLVM_PATH']}")
+    where = (f"{dr.thread_count()} threads, DRJIT_LIBLLVM_PATH={os.environ.get('DRJIT_LIBLLVM_PATH')}"
+             if args.variant.startswith("llvm") else "CUDA + OptiX from the driver")
+    print(f"mitsuba {mi.__version__}, drjit {dr.__version__}, variant {args.variant}, {where}")
     w, h, n, spp = args.width, args.height, args.max_path_length, args.spp
-    name = "cornell" if args.generated is None else f"generated{args.generated}"
+    vk_sampler, mi_sampler = SAMPLERS[args.sampler]
+    if args.scene == "spheres":
+        name = "spheres"
+    else:
+        name = "cornell" if args.generated is None else f"generated{args.generated}"
+    tag = f"{name}_{args.sampler}"
     scene_dir = os.path.join(args.workdir, f"scene_{name}")
-    manifest = export_scene(args, scene_dir)
-    triangles = sum(mesh["triangles"] for mesh in manifest["meshes"])
-    print(f"scene {name} ({triangles} triangles, {len(manifest['meshes'])} materials), {w}x{h}, "
-          f"max path length {n}, {spp} spp, no Russian roulette, box pixel filter")
+    os.makedirs(scene_dir, exist_ok=True)
+    if args.scene == "spheres":
+        import mitsuba_table as mt  # its material scene and scene builder (imports this module)
+        import mitsuba_gltf_bsdf
+        mitsuba_gltf_bsdf.register(mi, dr)
+        description, args.scene_args = mt.spheres_scene(scene_dir)
+        triangles, materials = description["triangles"], len(description["shapes"])
+        integrators = ["mis"]  # the workshop integrator renders Lambertian scenes only
+    else:
+        manifest = export_scene(args, scene_dir)
+        args.scene_args = None
+        triangles, materials = sum(mesh["triangles"] for mesh in manifest["meshes"]), len(manifest["meshes"])
+        integrators = ["mis", "workshop"]
+    print(f"scene {name} ({triangles} triangles, {materials} materials), {w}x{h}, "
+          f"max path length {n}, {spp} spp, no Russian roulette, box pixel filter; samplers: vkpath "
+          f"{vk_sampler} (mis; workshop always PCG2D), Mitsuba {mi_sampler}")
 
-    # (1) Reference.
+    # (1) Reference: vkpath MIS with PCG2D (independent samples, so its moments are honest).
     ref = os.path.join(args.workdir, f"ref_{name}_{w}x{h}_L{n}_spp{args.reference_spp}.exr")
     if args.force_reference or not os.path.exists(ref):
         print(f"[1] vkpath reference, MIS, {args.reference_spp} spp (slow on lavapipe)", flush=True)
@@ -380,70 +523,132 @@ def main():
     ref_noise = reference_noise(mi, dr, r, r_moments)
 
     # (2) Mitsuba.
-    print("[2] Mitsuba", flush=True)
+    print(f"[2] Mitsuba {args.variant}", flush=True)
     t0 = time.perf_counter()
-    scene, fov_y = build_mitsuba_scene(mi, args, spp, scene_dir, manifest)
+    if args.scene == "spheres":
+        max_depth = args.mitsuba_max_depth if args.mitsuba_max_depth is not None else n
+        scene = mt.mitsuba_scene(mi, description, w, h, spp, sampler=mi_sampler, max_depth=max_depth)
+        fov_y = description["camera"]["fov_y_degrees"]
+    else:
+        scene, fov_y = build_mitsuba_scene(mi, args, spp, scene_dir, manifest)
     load_s = time.perf_counter() - t0
     print(f"    scene loaded in {load_s:.2f} s, fov_y {fov_y:.4f} deg")
     _, cold_s = mitsuba_render(mi, dr, scene, spp, seed=1000)
     # The same seed each time, so every repeat computes the same image; the fastest counts.
+    # The first of them is Mitsuba's second render: its kernel compiled by the warm-up.
     timings = []
     for _ in range(args.repeats):
         image, seconds = mitsuba_render(mi, dr, scene, spp, seed=0)
         timings.append(seconds)
     mitsuba_s = min(timings)
     print(f"    cold (warm-up) render {cold_s:.2f} s, timed renders "
-          f"{', '.join(f'{t:.2f}' for t in timings)} s", flush=True)
+          f"{', '.join(f'{t:.3f}' for t in timings)} s", flush=True)
     batch_spp = spp // args.batches
     batches = []
+    batch_times = []
     for b in range(args.batches):
-        batch, _ = mitsuba_render(mi, dr, scene, batch_spp, seed=2000 + b)
+        batch, seconds = mitsuba_render(mi, dr, scene, batch_spp, seed=2000 + b)
         batches.append(batch)
-    mitsuba_exr = os.path.join(args.workdir, "mitsuba.exr")
+        batch_times.append(seconds)
+    # Mitsuba's fixed cost per render (tracing the integrator and BSDFs into the kernel on the
+    # host, the launch), from t = a + b * spp at two spp: the timed renders' and the batches'
+    # (the first batch compiles its kernel; the fastest of the others counts).
+    t_full, t_batch = mitsuba_s, min(batch_times[1:]) if len(batch_times) > 1 else batch_times[0]
+    ratio = spp / batch_spp
+    fixed_s = max((ratio * t_batch - t_full) / (ratio - 1.0), 0.0)
+    print(f"    batch renders at {batch_spp} spp: fastest {t_batch:.4f} s; fixed cost per render "
+          f"~{fixed_s:.4f} s (of the timed {t_full:.4f} s)", flush=True)
+    mitsuba_exr = os.path.join(args.workdir, f"mitsuba_{tag}.exr")
     write_with_moments(mi, dr, mitsuba_exr, image, batches, spp, batch_spp)
     x, _, _ = read_rgb(mi, dr, mitsuba_exr)
-    rows = [{"name": "Mitsuba path", "seconds": mitsuba_s, "cold": cold_s,
-             "paths_per_s": w * h * spp / mitsuba_s, "relmse": relative_mse(mi, dr, x, r)}]
+    rows = [{"name": "Mitsuba path", "renderer": "mitsuba", "integrator": "path", "sampler": mi_sampler,
+             "seconds": mitsuba_s, "cold": cold_s, "second_render_s": timings[0], "timings": timings,
+             "paths_per_s": w * h * spp / mitsuba_s, "relmse": relative_mse(mi, dr, x, r),
+             "device": args.variant, "image": mitsuba_exr, "batch_spp": batch_spp, "batch_timings": batch_times,
+             "fixed_per_render_s": fixed_s}]
     orient_m = orientation(mi, dr, x, w, h)
     orient_r = orientation(mi, dr, r, w, h)
 
     # (3) vkpath.
     print("[3] vkpath", flush=True)
-    for integrator in ("mis", "workshop"):
-        out = os.path.join(args.workdir, f"vkpath_{integrator}.exr")
+    for integrator in integrators:
+        out = os.path.join(args.workdir, f"vkpath_{integrator}_{tag}.exr")
         # The same seed each time (the default, 0): the same image; the fastest counts.
-        runs = [run_vkpath(args.vkpath, out, args, spp, integrator, sampler=SAMPLERS[args.sampler][0])
+        runs = [run_vkpath(args.vkpath, out, args, spp, integrator, sampler=vk_sampler)
                 for _ in range(args.repeats)]
         info = min(runs, key=lambda run: run["seconds"])
         xi, _, _ = read_rgb(mi, dr, out)
-        rows.append({"name": f"vkpath {integrator}", "seconds": info["seconds"], "cold": None,
+        rows.append({"name": f"vkpath {integrator}", "renderer": "vkpath", "integrator": integrator,
+                     "sampler": "pcg" if integrator == "workshop" else vk_sampler,
+                     "seconds": info["seconds"], "cold": None, "timings": [run["seconds"] for run in runs],
                      "paths_per_s": info["msamples_per_s"] * 1e6, "relmse": relative_mse(mi, dr, xi, r),
-                     "device": info["device"]})
+                     "device": info["device"], "image": out})
 
-    # (5) Gate.
-    print("[5] correctness gate", flush=True)
-    code, verdict, text = run_compare(args.vkpath, mitsuba_exr, ref)
-    code_v, verdict_v, _ = run_compare(args.vkpath, os.path.join(args.workdir, "vkpath_mis.exr"), ref)
+    # (4) vkpath's rays: `vkpath bench` at the same settings against the same reference.
+    bench = None
+    if not args.no_bench:
+        print("[4] vkpath bench (rays/s)", flush=True)
+        bench = run_bench(args.vkpath, args, vk_sampler, ref, integrators)
+        if bench is not None:
+            with open(os.path.join(args.workdir, f"bench_{tag}.json"), "w") as f:
+                json.dump(bench, f, indent=1)
+    rays_per_sample = {}
+    for result in (bench or {}).get("results", []):
+        if result["samples_per_second"] > 0:
+            rays_per_sample[result["integrator"]] = result["rays_per_second"] / result["samples_per_second"]
+    for row in rows:
+        if row["renderer"] == "vkpath" and row["integrator"] in rays_per_sample:
+            bench_row = next(b for b in bench["results"] if b["integrator"] == row["integrator"])
+            row["rays_per_sample"] = rays_per_sample[row["integrator"]]
+            row["rays_per_s"] = row["rays_per_sample"] * row["paths_per_s"]
+            row["rays_per_s_kind"] = "counted (vkpath bench's rays per sample x this render's samples/s)"
+            if args.scene == "spheres":
+                row["rays_per_s_kind"] += "; bench under a black sky (it takes no --background)"
+            row["bench_rays_per_s"] = bench_row["rays_per_second"]
+            row["bench_samples_per_s"] = bench_row["samples_per_second"]
+            row["bench_relmse"] = bench_row["relative_mse"]
+        elif row["renderer"] == "mitsuba" and "mis" in rays_per_sample:
+            # Mitsuba counts no rays: estimated from vkpath mis's rays per sample (same algorithm).
+            row["rays_per_sample"] = rays_per_sample["mis"]
+            row["rays_per_s"] = row["rays_per_sample"] * row["paths_per_s"]
+            row["rays_per_s_kind"] = "ESTIMATE (vkpath mis's rays per sample x Mitsuba's samples/s)"
 
-    # (4) Report.
+    # (5) Gates: each image against the same reference; a row's speed counts only if it passes.
+    print("[5] correctness gates", flush=True)
+    code, verdict, text = run_compare(args.vkpath, mitsuba_exr, ref, args.gate_block)
+    rows[0]["gate"] = verdict
+    for row in rows[1:]:
+        _, row["gate"], _ = run_compare(args.vkpath, row["image"], ref, args.gate_block)
+    verdict_v = rows[1]["gate"]
+
+    # (6) Report.
     for row in rows:
         row["efficiency"] = 1.0 / (row["relmse"] * row["seconds"])
         row["s_to_target"] = row["seconds"] * row["relmse"] / TARGET_RELMSE
+        row["counts"] = row["gate"] == "consistent"
+    m = rows[0]["efficiency"]
+    for row in rows[1:]:
+        row["efficiency_ratio_vs_mitsuba"] = row["efficiency"] / m
     print()
     print(f"scene {name} ({triangles} triangles) {w}x{h}, max path length {n}, {spp} spp, "
-          f"reference vkpath MIS {args.reference_spp} spp")
-    print(f"vkpath device: {rows[1].get('device')}; Mitsuba: llvm_ad_rgb, {dr.thread_count()} threads")
-    header = f"{'renderer':<16}{'seconds':>9}{'cold s':>9}{'Mpaths/s':>10}{'relMSE':>11}{'efficiency':>12}{'s to 0.005':>12}"
+          f"reference vkpath MIS {args.reference_spp} spp; samplers vkpath {vk_sampler} / Mitsuba {mi_sampler}")
+    print(f"vkpath device: {rows[1].get('device')}; Mitsuba: {args.variant}"
+          + (f", {dr.thread_count()} threads" if args.variant.startswith("llvm") else ""))
+    header = (f"{'renderer':<16}{'seconds':>9}{'cold s':>9}{'Mpaths/s':>10}{'Mrays/s':>11}{'relMSE':>11}"
+              f"{'efficiency':>12}{'s to 0.005':>12}  gate")
     print(header)
     print("-" * len(header))
     for row in rows:
         cold = f"{row['cold']:.2f}" if row["cold"] is not None else "-"
-        print(f"{row['name']:<16}{row['seconds']:>9.2f}{cold:>9}{row['paths_per_s'] / 1e6:>10.3f}"
-              f"{row['relmse']:>11.5f}{row['efficiency']:>12.3f}{row['s_to_target']:>12.1f}")
-    m = rows[0]["efficiency"]
+        rays = "-"
+        if "rays_per_s" in row:
+            rays = f"{row['rays_per_s'] / 1e6:.4g}" + ("*" if row["renderer"] == "mitsuba" else "")
+        print(f"{row['name']:<16}{row['seconds']:>9.3f}{cold:>9}{row['paths_per_s'] / 1e6:>10.4g}{rays:>11}"
+              f"{row['relmse']:>11.5f}{row['efficiency']:>12.4g}{row['s_to_target']:>12.3g}  {row['gate']}")
+    print("* Mitsuba's rays/s is an estimate (vkpath mis's rays per sample); vkpath's are counted")
     print()
-    print(f"efficiency ratio vkpath-mis / Mitsuba      = {rows[1]['efficiency'] / m:.3f}")
-    print(f"efficiency ratio vkpath-workshop / Mitsuba = {rows[2]['efficiency'] / m:.3f}")
+    for row in rows[1:]:
+        print(f"efficiency ratio {row['name']} / Mitsuba = {row['efficiency_ratio_vs_mitsuba']:.3f}")
     print(f"Mitsuba paths/s (W*H*spp/seconds)          = {rows[0]['paths_per_s']:.4g}")
     if ref_noise is not None:
         print(f"reference's own noise adds ~{ref_noise:.5f} to every relMSE "
@@ -454,21 +659,29 @@ def main():
           f"{orient_r['left_r_minus_g']:+.3f}/{orient_r['right_r_minus_g']:+.3f}, "
           f"{orient_r['top_luminance']:.3f}/{orient_r['bottom_luminance']:.3f}")
     print()
-    print("vkpath compare mitsuba.exr ref:")
+    print(f"vkpath compare {os.path.basename(mitsuba_exr)} ref:")
     print("  " + text.replace("\n", "\n  "))
-    print(f"vkpath compare vkpath_mis.exr ref: {verdict_v}")
+    print(f"vkpath compare vkpath_mis ref: {verdict_v}")
+    all_pass = all(row["counts"] for row in rows)
     if code == 0:
         print("GATE: Mitsuba's image is CONSISTENT with vkpath's reference: the speed figures count.")
     else:
         print(f"GATE: Mitsuba's image is {verdict.upper()} with vkpath's reference: "
               "the speed figures DO NOT COUNT (the renderers compute different images).")
-    with open(os.path.join(args.workdir, f"results_{name}.json"), "w") as f:
-        json.dump({"scene": name, "triangles": triangles, "width": w, "height": h, "max_path_length": n, "spp": spp,
+    if not all_pass:
+        print("GATES: not all images are consistent with the reference: "
+              + ", ".join(f"{row['name']} {row['gate']}" for row in rows))
+    with open(os.path.join(args.workdir, f"results_{tag}.json"), "w") as f:
+        json.dump({"scene": name, "tag": tag, "variant": args.variant, "sampler": args.sampler,
+                   "samplers": {"vkpath": vk_sampler, "mitsuba": mi_sampler},
+                   "triangles": triangles, "width": w, "height": h, "max_path_length": n, "spp": spp,
                    "reference_spp": args.reference_spp, "reference_noise_relmse": ref_noise,
-                   "rows": rows, "gate": {"exit": code, "verdict": verdict, "report": text},
+                   "mitsuba_load_s": load_s, "rows": rows,
+                   "gate": {"exit": code, "verdict": verdict, "report": text, "block": args.gate_block or 8},
+                   "all_gates_pass": all_pass,
                    "vkpath_mis_gate": verdict_v, "orientation": {"mitsuba": orient_m, "reference": orient_r}},
                   f, indent=1)
-    return 0 if code == 0 else 1
+    return 0 if all_pass else 1
 
 
 if __name__ == "__main__":

@@ -3,7 +3,7 @@
 # with two vkpath binaries (e.g. one built from the commit before a change and one from the
 # change) on this machine, and compares them: EXR pixels bit for bit with the new binary's
 # `vkpath compare --exact` (headers carry each render's metadata, which may change), PNG
-# files byte for byte.
+# files byte for byte but for their tEXt chunks (the render's metadata).
 # Usage: scripts/same-images.sh OLD_VKPATH NEW_VKPATH [WORK_DIR]
 # SAME_IMAGES_SHOWCASE=FILE renders FILE in place of scenes/materials.gltf (e.g. the showcase
 # as it was before a change that adds objects to it, to prove the rest unchanged).
@@ -46,6 +46,26 @@ for scene in builtin gltf; do
 done
 compared=0
 differ=0
+# Whether two PNGs are the same file but for their tEXt chunks (render metadata, which a
+# change may extend, as the EXR headers' attribute): every other chunk byte for byte.
+png_same() {
+  python3 - "$1" "$2" <<'PY'
+import struct, sys
+def chunks(path):
+    data = open(path, "rb").read()
+    out, at = [data[:8]], 8
+    while at < len(data):
+        (length,) = struct.unpack(">I", data[at:at + 4])
+        if data[at + 4:at + 8] != b"tEXt":
+            out.append(data[at:at + 12 + length])
+        at += 12 + length
+    return out
+try:
+    sys.exit(0 if chunks(sys.argv[1]) == chunks(sys.argv[2]) else 1)
+except OSError:
+    sys.exit(1)
+PY
+}
 # Renders one case with both binaries (at once) and compares the EXRs' pixels bit for bit.
 # Usage: render_both NAME ARGS...
 render_both() {
@@ -78,7 +98,7 @@ for exercise in ray-tracing sample-sphere sample-hemisphere spherical-coords dir
     "$binary" exercise "$exercise" -o "$work/$side/$name" >/dev/null 2>&1
   done
   compared=$((compared + 1))
-  if ! cmp -s "$work/old/$name" "$work/new/$name"; then
+  if ! png_same "$work/old/$name" "$work/new/$name"; then
     echo "DIFFERENT: $name"
     differ=$((differ + 1))
   fi

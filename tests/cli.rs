@@ -45,3 +45,5 @@ mod region_tiles;
 mod scripting_cli;
 #[path = "shadertoy_cli.rs"]
 mod shadertoy_cli;
+#[path = "tev_live.rs"]
+mod tev_live;

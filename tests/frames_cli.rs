@@ -170,7 +170,7 @@ fn a_static_scene_is_the_same_every_frame_and_existing_frames_are_skipped() {
     assert!(
         again
             .stderr
-            .contains("frame 2: 'c_2.exr' holds samples 0..1 of 0..2"),
+            .contains("frame 2: 'c_2.exr' is partial (it holds samples 0..1 of 0..2)"),
         "{}",
         again.stderr
     );
@@ -178,6 +178,48 @@ fn a_static_scene_is_the_same_every_frame_and_existing_frames_are_skipped() {
         read("c_2.exr") == whole,
         "the partial frame was not rendered again"
     );
+    // A PNG frame carries its metadata in tEXt chunks: one whose render a signal stopped
+    // (its samples complete, as after a last batch) is rendered again; a finished one is
+    // skipped.
+    let mut png_args = args.clone();
+    png_args[4] = "p_#.png";
+    let pngs = run(dir.path(), &png_args, &[]);
+    assert_eq!(pngs.code, Some(0), "{}", pngs.stderr);
+    let texts = vkpath::image_io::output::read_png_texts(&dir.path().join("p_1.png")).unwrap();
+    assert!(
+        texts["vkpath"].contains("spp_requested=2; stop=done"),
+        "{texts:?}"
+    );
+    let (width, height) = (32, 32);
+    let stopped = vec![(
+        "vkpath".to_string(),
+        texts["vkpath"].replace("stop=done", "stop=signal"),
+    )];
+    vkpath::image_io::output::write_rgb8_png_with_texts(
+        &dir.path().join("p_1.png"),
+        width,
+        height,
+        &vec![0u8; (width * height * 3) as usize],
+        &stopped,
+    )
+    .unwrap();
+    let again = run(dir.path(), &png_args, &[]);
+    assert_eq!(again.code, Some(0), "{}", again.stderr);
+    assert!(
+        again
+            .stderr
+            .contains("frame 1: 'p_1.png' is partial (its render stopped (signal))"),
+        "{}",
+        again.stderr
+    );
+    assert!(
+        again
+            .stderr
+            .contains("frame 0: 'p_0.png' already exist(s), skipped"),
+        "{}",
+        again.stderr
+    );
+    assert!(read("p_1.png") == read("p_0.png"), "frame 1 rendered again");
 }
 
 #[test]

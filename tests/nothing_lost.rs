@@ -231,13 +231,132 @@ fn a_second_sigint_aborts_at_once_leaving_only_whole_files() {
     assert_eq!(output.status.code(), Some(130), "{rest}");
     // The second signal may come before or after the first one's writes finished: either
     // way every file there is whole and no temporary is left.
+    // (A Ctrl-C's image goes to out.partial.exr, never over out.exr.)
     let left = names(path);
     assert!(
-        left.iter().all(|n| n == "ck.exr" || n == "out.exr"),
+        left.iter().all(|n| n == "ck.exr" || n == "out.partial.exr"),
         "only whole files: {left:?}"
     );
     vkpath::render::state_exr::read_state(&path.join("ck.exr")).expect("a whole checkpoint");
-    if path.join("out.exr").exists() {
-        vkpath::image_io::exr_input::read_exr(&path.join("out.exr")).expect("a whole image");
+    if path.join("out.partial.exr").exists() {
+        vkpath::image_io::exr_input::read_exr(&path.join("out.partial.exr"))
+            .expect("a whole image");
     }
+}
+
+/// A render of the built-in box long enough to be stopped mid-way (seconds on lavapipe),
+/// writing `outputs`, with a checkpoint every 0.2 s so that a test knows it has samples.
+fn long_render_args<'a>(outputs: &[&'a str]) -> Vec<&'a str> {
+    let mut args = vec![
+        "render",
+        "--width",
+        "96",
+        "--height",
+        "96",
+        "--spp",
+        "4096",
+        "--integrator",
+        "workshop",
+        "--checkpoint",
+        "ck.exr",
+        "--checkpoint-interval",
+        "0.2",
+    ];
+    for output in outputs {
+        args.extend(["-o", output]);
+    }
+    args
+}
+
+/// Starts a long render, waits for its first checkpoint (so it has samples), sends
+/// `signal` and returns its exit status and the rest of its stderr.
+fn stop_after_first_samples(dir: &Path, outputs: &[&str], signal: &str) -> (i32, String) {
+    let (child, _, mut reader) = spawn_until(dir, &long_render_args(outputs), "vkpath: device");
+    let started = Instant::now();
+    while !dir.join("ck.exr").exists() {
+        assert!(started.elapsed() < Duration::from_secs(60), "no checkpoint");
+        std::thread::sleep(Duration::from_millis(20));
+    }
+    kill(&child, signal);
+    let output = child.wait_with_output().unwrap();
+    let mut rest = String::new();
+    std::io::Read::read_to_string(&mut reader, &mut rest).unwrap();
+    (output.status.code().unwrap_or(-1), rest)
+}
+
+/// The `vkpath` metadata text of an image (EXR header attribute or PNG tEXt chunk).
+fn metadata_text(path: &Path) -> String {
+    let metadata = vkpath::render::state_exr::read_image_metadata(path)
+        .unwrap()
+        .expect("vkpath metadata");
+    metadata
+        .fields()
+        .iter()
+        .map(|(name, value)| format!("{name}={value}"))
+        .collect::<Vec<_>>()
+        .join("; ")
+}
+
+#[test]
+fn ctrl_c_after_the_first_samples_keeps_the_finished_image_and_writes_a_partial_one_beside() {
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path();
+    // A finished image from an earlier render: a Ctrl-C must not replace it.
+    let before = b"a finished image from yesterday".to_vec();
+    std::fs::write(path.join("out.png"), &before).unwrap();
+    let (status, rest) = stop_after_first_samples(path, &["out.png", "out.exr"], "-INT");
+    assert_eq!(status, 130, "128 + SIGINT: {rest}");
+    assert_eq!(std::fs::read(path.join("out.png")).unwrap(), before);
+    assert!(!path.join("out.exr").exists(), "{rest}");
+    let stopped: Vec<&str> = rest.lines().filter(|l| l.contains("stopped by")).collect();
+    assert_eq!(stopped.len(), 1, "{rest}");
+    assert!(
+        stopped[0].contains("saved to 'out.partial.png', 'out.partial.exr' and 'ck.exr'")
+            && stopped[0].contains("('out.png', 'out.exr' left as it was)"),
+        "{}",
+        stopped[0]
+    );
+    // Both partial files say what they hold, that a signal stopped them and what was asked.
+    for name in ["out.partial.png", "out.partial.exr"] {
+        let text = metadata_text(&path.join(name));
+        assert!(
+            text.contains("spp_requested=4096; stop=signal"),
+            "{name}: {text}"
+        );
+        assert!(!text.starts_with("spp=4096;"), "{name}: partial: {text}");
+    }
+}
+
+#[test]
+fn sigterm_and_the_time_limit_write_the_outputs_and_say_how_they_stopped() {
+    // A scheduler's stop (SIGTERM) writes the outputs themselves, as before.
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path();
+    let (status, rest) = stop_after_first_samples(path, &["out.png"], "-TERM");
+    assert_eq!(status, 143, "128 + SIGTERM: {rest}");
+    let text = metadata_text(&path.join("out.png"));
+    assert!(text.contains("stop=signal"), "{text}");
+    assert!(!path.join("out.partial.png").exists());
+    // The time limit too, recording it; a finished render records done.
+    let mut args = long_render_args(&["limited.png"]);
+    args.extend(["--time-limit", "0.5"]);
+    let output = common::vkpath(path, &args);
+    assert_eq!(output.status.code(), Some(0));
+    let text = metadata_text(&path.join("limited.png"));
+    assert!(
+        text.contains("spp_requested=4096; stop=time-limit"),
+        "{text}"
+    );
+    let output = common::vkpath(
+        path,
+        &[
+            "render", "--width", "8", "--height", "8", "--spp", "2", "-o", "done.png",
+        ],
+    );
+    assert_eq!(output.status.code(), Some(0));
+    let text = metadata_text(&path.join("done.png"));
+    assert!(
+        text.starts_with("spp=2; sample_range=0..2; spp_requested=2; stop=done; version="),
+        "{text}"
+    );
 }

@@ -259,6 +259,26 @@ fn every_file_written_is_named_and_metadata_uses_command_line_names() {
         .count();
     let files = std::fs::read_dir(path.join("box")).unwrap().count();
     assert_eq!(written, files, "{stderr}");
+    assert!(
+        !stderr.contains("note"),
+        "plain materials need no note: {stderr}"
+    );
+    // Glass is not exported as opaque plastic in silence: its transmission factors are in
+    // the manifest, and one note names the layered materials.
+    let glass = format!("{}/scenes/glass.gltf", env!("CARGO_MANIFEST_DIR"));
+    let (_, stderr) = vkpath_ok(path, &["export", &glass, "--output-dir", "glass"]);
+    let notes: Vec<&str> = stderr.lines().filter(|l| l.contains("note")).collect();
+    assert_eq!(notes.len(), 1, "{stderr}");
+    assert!(notes[0].contains(": transmission"), "{}", notes[0]);
+    let manifest: serde_json::Value =
+        serde_json::from_slice(&std::fs::read(path.join("glass/scene.json")).unwrap()).unwrap();
+    let transmitting = manifest["meshes"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .filter(|mesh| mesh["material"]["transmission"]["factor"].as_f64() > Some(0.0))
+        .count();
+    assert!(transmitting > 0, "{manifest}");
 }
 
 #[test]

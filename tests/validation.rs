@@ -17,13 +17,24 @@ fn a_render_produces_no_validation_messages() {
         samples_per_frame: 2,
         ..Default::default()
     };
-    let mut renderer = Renderer::new(&context, &scene, &scene.camera.unwrap(), settings).unwrap();
+    let camera = scene.camera.unwrap();
+    let mut renderer = Renderer::new(&context, &scene, &camera, settings.clone()).unwrap();
     let image = renderer.render_all().unwrap();
     assert!(
         image.average()[0] > 0.0,
         "the Cornell box should not render black"
     );
     drop(renderer);
+    // The warm-up dispatch over no pixels (render jobs compile the kernel with it during
+    // set-up) is valid and leaves the image bit for bit as it was.
+    let mut warmed = Renderer::new(&context, &scene, &camera, settings).unwrap();
+    warmed.warm_up().unwrap();
+    let warmed_image = warmed.render_all().unwrap();
+    assert!(
+        warmed_image.mean == image.mean,
+        "the warm-up changed the image"
+    );
+    drop(warmed);
     common::assert_validation_silent(&context);
 }
 

@@ -3,7 +3,7 @@
 use std::path::PathBuf;
 
 use super::options::SceneArgs;
-use crate::scene::export::export_scene;
+use crate::scene::export::{export_scene, layers_of};
 
 /// Arguments of `vkpath export`.
 #[derive(Debug, Clone, clap::Args)]
@@ -29,5 +29,29 @@ pub fn run(args: &ExportArgs) -> anyhow::Result<()> {
         exported.meshes.len(),
         scene.punctual_lights.len()
     );
+    if let Some(note) = layers_note(&scene) {
+        eprintln!("{note}");
+    }
     Ok(())
+}
+
+/// One line naming the materials that use layers beyond metallic-roughness (glass, coats,
+/// sheen, unlit), whose factors `scene.json` holds apart: a consumer reading only the base
+/// factors would render them as something else. None when no material does.
+fn layers_note(scene: &crate::scene::Scene) -> Option<String> {
+    let materials = &scene.materials.as_ref()?.materials;
+    let layered: Vec<String> = materials
+        .iter()
+        .enumerate()
+        .filter_map(|(index, material)| {
+            let layers = layers_of(material);
+            (!layers.is_empty()).then(|| format!("material {index}: {}", layers.join(", ")))
+        })
+        .collect();
+    (!layered.is_empty()).then(|| {
+        format!(
+            "vkpath export: note: layers beyond metallic-roughness are in scene.json's \"transmission\", \"clearcoat\", \"sheen\" and \"unlit\" ({}); a reader of the base factors alone renders them as opaque plastic",
+            layered.join("; ")
+        )
+    })
 }

@@ -4,9 +4,8 @@
 use std::ops::Range;
 use std::path::{Path, PathBuf};
 
-use crate::image_io::output::ImageFormat;
 use crate::render::metadata::parse_range;
-use crate::render::state_exr::read_metadata;
+use crate::render::state_exr::read_image_metadata;
 use crate::scene::animation::AnimationPick;
 
 /// The default of `--fps`.
@@ -107,11 +106,12 @@ impl FrameArgs {
 
 impl FrameArgs {
     /// Whether `--skip-existing` skips `frame`, whose outputs are `outputs`: all of them exist
-    /// and none is a vkpath EXR whose metadata holds other samples than `samples` (one that a
-    /// stop left partial, rendered again, as a line says). Other files (PNG, EXR without
-    /// vkpath's metadata) count as finished. Says so on stderr (unless `quiet`) and, with
-    /// `json`, prints the frame's object (`stop: skipped`) so that a script reads one object
-    /// per frame.
+    /// and none is a vkpath image (EXR, or PNG with its tEXt metadata) that a stop left
+    /// partial: one holding other samples than `samples`, or whose render did not end `done`
+    /// (a Ctrl-C's `.partial` files never count: they have other names). Those are rendered
+    /// again, as a line says; other files (EXR or PNG without vkpath's metadata) count as
+    /// finished. Says so on stderr (unless `quiet`) and, with `json`, prints the frame's
+    /// object (`stop: skipped`) so that a script reads one object per frame.
     pub fn skip(
         &self,
         frame: FrameTime,
@@ -124,20 +124,28 @@ impl FrameArgs {
             return false;
         }
         let partial = outputs.iter().find_map(|output| {
-            let exr = ImageFormat::from_path(output).ok() == Some(ImageFormat::Exr);
-            let held = read_metadata(output).ok().filter(|_| exr)?.samples;
-            (held != *samples).then_some((output, held))
+            let metadata = read_image_metadata(output).ok().flatten()?;
+            let stopped = metadata.outcome.as_ref().filter(|o| !o.is_finished());
+            match stopped {
+                Some(outcome) => Some((output, format!("its render stopped ({})", outcome.stop))),
+                None => (metadata.samples != *samples).then(|| {
+                    let held = &metadata.samples;
+                    (
+                        output,
+                        format!(
+                            "it holds samples {}..{} of {}..{}",
+                            held.start, held.end, samples.start, samples.end
+                        ),
+                    )
+                }),
+            }
         });
-        if let Some((output, held)) = partial {
+        if let Some((output, why)) = partial {
             if !quiet {
                 eprintln!(
-                    "vkpath render: {}: '{}' holds samples {}..{} of {}..{} (a stop left it partial): rendering it again",
+                    "vkpath render: {}: '{}' is partial ({why}): rendering it again",
                     frame.name(),
                     output.display(),
-                    held.start,
-                    held.end,
-                    samples.start,
-                    samples.end
                 );
             }
             return false;

@@ -20,6 +20,7 @@ pub mod render;
 pub mod shadertoy;
 pub mod signals;
 pub mod summary;
+pub mod tev;
 
 /// Headless progressive path tracer: the Path Tracing Workshop's GLSL on Vulkan.
 #[derive(Debug, Parser)]

@@ -165,6 +165,9 @@ impl RenderOptions {
     }
 }
 
+/// The default time between live updates of `render --tev`.
+pub const DEFAULT_TEV_INTERVAL: Duration = Duration::from_secs(2);
+
 /// A production render's controls (`render` only).
 #[derive(Debug, Clone, clap::Args)]
 pub struct JobArgs {
@@ -200,6 +203,15 @@ pub struct JobArgs {
     #[arg(long, value_parser = parse_seconds, default_value_t = DEFAULT_PREVIEW_INTERVAL.as_secs_f64(),
         allow_negative_numbers = true, requires = "preview")]
     pub preview_interval: f64,
+    /// Show the render live in tev (the HDR viewer) listening at HOST:PORT (tev's default is
+    /// 127.0.0.1:14158): the image so far every --tev-interval seconds, the finished one
+    /// with its AOVs at the end. The render never waits for tev; an unreachable tev costs a
+    /// warning.
+    #[arg(long, value_name = "HOST:PORT")]
+    pub tev: Option<String>,
+    /// Seconds between live updates.
+    #[arg(long, value_parser = parse_seconds, default_value_t = DEFAULT_TEV_INTERVAL.as_secs_f64(), requires = "tev")]
+    pub tev_interval: f64,
     /// Print one JSON object at the end on stdout (outputs, scene, size, integrator,
     /// sampler, samples requested and taken, set-up and render seconds, samples/s, devices,
     /// stop reason, checkpoint; schema in the README) instead of the progress bar and summary.
@@ -242,6 +254,7 @@ impl JobArgs {
                 },
             }),
             started: None,
+            live: None,
         })
     }
 

@@ -12,6 +12,7 @@ use serde::Serialize;
 
 use super::signals;
 use super::summary::{summary_line, RenderProgress, Summary};
+use super::tev::TevView;
 use crate::camera::Camera;
 use crate::image_io::output::{
     save_image_with_attributes, save_image_with_layers, ImageLayer, SaveOptions,
@@ -19,8 +20,8 @@ use crate::image_io::output::{
 use crate::render::accumulation::Accumulation;
 use crate::render::aov::{render_aov, Aov};
 use crate::render::gpu_scene::SceneMemory;
-use crate::render::job::{run_job, JobOptions};
-use crate::render::metadata::{sampler_name, RenderMetadata};
+use crate::render::job::{run_job, JobOptions, LiveImage};
+use crate::render::metadata::{sampler_name, RenderMetadata, RenderOutcome};
 use crate::render::multi::run_on_devices;
 use crate::render::renderer::GuideReport;
 use crate::render::settings::{RenderSettings, SamplerKind};
@@ -74,6 +75,8 @@ pub struct RenderRequest<'a> {
     pub command_started: Instant,
     /// The frame and time rendered, when the command line gave `--time` or `--frames`.
     pub frame: Option<super::frames::FrameTime>,
+    /// Where a live view goes (`--tev HOST:PORT`) and how often, if anywhere.
+    pub tev: Option<(String, std::time::Duration)>,
 }
 
 /// The version of `RenderReport`'s schema: it changes only when a key is removed or changes
@@ -345,6 +348,7 @@ pub fn render_and_save(
             post: PostProcess::default(),
             command_started: Instant::now(),
             frame: None,
+            tev: None,
         },
     )
 }
@@ -437,10 +441,22 @@ pub fn render_job_and_save(context: &Arc<Context>, request: RenderRequest) -> an
     job.cancel = Some(&signals::STOP_REQUESTED);
     job.started = Some(&signals::RENDERING);
     let total = job.samples.len() as u32;
+    let tev = connect_tev(&request);
+    let show = |image: &RenderedImage| {
+        if let Some(view) = &tev {
+            view.show(image);
+        }
+    };
+    if let (Some(_), Some((_, interval))) = (&tev, &request.tev) {
+        job.live = Some(LiveImage {
+            interval: *interval,
+            show: &show,
+        });
+    }
     let mut progress = request
         .reporting
         .talks()
-        .then(|| RenderProgress::new(total));
+        .then(|| RenderProgress::new(total, request.settings.noise_threshold.is_some()));
     let outcome = run_job(
         context,
         request.scene,
@@ -449,7 +465,7 @@ pub fn render_job_and_save(context: &Arc<Context>, request: RenderRequest) -> an
         &job,
         |done| {
             if let Some(progress) = progress.as_mut() {
-                progress.update(done);
+                progress.update(done.samples_done, done.deadline);
             }
         },
     )?;
@@ -471,7 +487,27 @@ pub fn render_job_and_save(context: &Arc<Context>, request: RenderRequest) -> an
         scene_memory: Some(result.scene_memory),
         state: result.state,
     };
-    finish(&request, std::slice::from_ref(context), finished)
+    drop(job);
+    finish(&request, std::slice::from_ref(context), finished, tev)
+}
+
+/// Connects the live view the request asks for (`--tev`), named after its first output; a
+/// tev that cannot be reached is a warning, and the render goes on without it.
+fn connect_tev(request: &RenderRequest) -> Option<TevView> {
+    let (address, _) = request.tev.as_ref()?;
+    let area = request.settings.area();
+    let name = request
+        .outputs
+        .first()
+        .map(|o| o.display().to_string())
+        .unwrap_or_else(|| "vkpath".into());
+    match TevView::connect(address, &name, area.width(), area.height()) {
+        Ok(view) => Some(view),
+        Err(warning) => {
+            eprintln!("vkpath: warning: {warning}");
+            None
+        }
+    }
 }
 
 /// `render_job_and_save` on several devices at once (each an equal share; no checkpoints,
@@ -521,7 +557,37 @@ pub fn render_on_devices_and_save(
         scene_memory: outcome.scene_memory,
         preview_failure: None,
     };
-    finish(&request, contexts, finished)
+    finish(&request, contexts, finished, None)
+}
+
+/// The files a render writes its image to: its outputs, or after Ctrl-C (SIGINT) their
+/// partial siblings (`out.png` -> `out.partial.png`), so that an interrupted render never
+/// replaces a finished image, as Mitsuba, pbrt and Blender leave theirs. A time limit and
+/// SIGTERM or SIGHUP (a scheduler's stop, which expects the outputs and checkpoint there)
+/// write the outputs themselves.
+fn written_outputs(outputs: &[PathBuf], stop: StopReason) -> Vec<PathBuf> {
+    let interrupted = stop == StopReason::Cancelled && signals::interrupted();
+    outputs
+        .iter()
+        .map(|output| match interrupted {
+            true => partial_path(output),
+            false => output.clone(),
+        })
+        .collect()
+}
+
+/// Where an interrupted render writes what it rendered for `output`: `.partial` before its
+/// extension (`out.png` -> `out.partial.png`; `out` -> `out.partial`).
+pub fn partial_path(output: &Path) -> PathBuf {
+    let stem = output
+        .file_stem()
+        .map(|s| s.to_string_lossy().into_owned())
+        .unwrap_or_default();
+    let name = match output.extension() {
+        Some(extension) => format!("{stem}.partial.{}", extension.to_string_lossy()),
+        None => format!("{stem}.partial"),
+    };
+    output.with_file_name(name)
 }
 
 /// Installs the signal handlers, naming the request's outputs for a stop before the first
@@ -539,6 +605,7 @@ fn finish(
     request: &RenderRequest,
     contexts: &[Arc<Context>],
     mut finished: Finished,
+    tev: Option<TevView>,
 ) -> anyhow::Result<()> {
     let settings = request.settings;
     let total = request.job.samples.len() as u32;
@@ -556,6 +623,11 @@ fn finish(
             ),
         }
     }
+    finished.metadata.outcome = Some(RenderOutcome {
+        spp_requested: total,
+        stop: finished.stop.name().to_string(),
+    });
+    let outputs = written_outputs(request.outputs, finished.stop);
     let image = finished.state.image();
     let non_finite = image
         .mean
@@ -567,7 +639,16 @@ fn finish(
             "vkpath: warning: {non_finite} pixels are not finite (NaN or infinite); the scene's values overflow 32-bit floats"
         );
     }
-    save_outputs(request, contexts, &finished, &image)?;
+    let processed = save_outputs(request, &outputs, contexts, &finished, &image)?;
+    if let Some(view) = tev {
+        let (shown, layers) = match &processed {
+            Some((processed, layers)) => (processed, layers.as_slice()),
+            None => (&image, &[][..]),
+        };
+        if let Some(warning) = view.finish(shown, layers) {
+            eprintln!("vkpath: warning: {warning}");
+        }
+    }
     if let Some(error) = &finished.preview_failure {
         eprintln!("vkpath: warning: {error} (the preview)");
     }
@@ -597,7 +678,7 @@ fn finish(
                 finished.resumed_samples
             );
         }
-        for output in request.outputs {
+        for output in &outputs {
             eprintln!("vkpath: wrote {}", output.display());
         }
         if let Some(checkpoint) = checkpoint {
@@ -636,11 +717,7 @@ fn finish(
         };
         let report = RenderReport {
             schema_version: RENDER_REPORT_SCHEMA_VERSION,
-            outputs: request
-                .outputs
-                .iter()
-                .map(|p| p.display().to_string())
-                .collect(),
+            outputs: outputs.iter().map(|p| p.display().to_string()).collect(),
             scene: request.scene_name.clone(),
             width: settings.width,
             height: settings.height,
@@ -672,7 +749,7 @@ fn finish(
         };
         println!("{}", serde_json::to_string(&report)?);
     }
-    end_after_report(request, contexts, &finished, checkpoint).map_err(|error| {
+    end_after_report(request, &outputs, contexts, &finished, checkpoint).map_err(|error| {
         if request.reporting.json {
             ReportPrinted(error).into()
         } else {
@@ -685,6 +762,7 @@ fn finish(
 /// says that the time limit was reached, and fails when the validation layer complained.
 fn end_after_report(
     request: &RenderRequest,
+    outputs: &[PathBuf],
     contexts: &[Arc<Context>],
     finished: &Finished,
     checkpoint: Option<&PathBuf>,
@@ -697,8 +775,7 @@ fn end_after_report(
     match finished.stop {
         StopReason::Cancelled => {
             let (name, status) = signals::received().unwrap_or(("a signal", 130));
-            let mut saved: Vec<String> = request
-                .outputs
+            let mut saved: Vec<String> = outputs
                 .iter()
                 .chain(checkpoint)
                 .map(|p| format!("'{}'", p.display()))
@@ -708,7 +785,19 @@ fn end_after_report(
                 true => last,
                 false => format!("{} and {last}", saved.join(", ")),
             };
-            eprintln!("vkpath: stopped by {name} after {done} of {total} spp; saved to {saved}");
+            let kept = if outputs == request.outputs {
+                String::new()
+            } else {
+                let names: Vec<String> = request
+                    .outputs
+                    .iter()
+                    .map(|p| format!("'{}'", p.display()))
+                    .collect();
+                format!(" ({} left as it was)", names.join(", "))
+            };
+            eprintln!(
+                "vkpath: stopped by {name} after {done} of {total} spp; saved to {saved}{kept}"
+            );
             std::process::exit(status);
         }
         StopReason::TimeLimit if !request.reporting.quiet && !request.reporting.json => {
@@ -727,29 +816,30 @@ fn end_after_report(
 /// nothing is lost if post-processing fails.
 fn save_outputs(
     request: &RenderRequest,
+    outputs: &[PathBuf],
     contexts: &[Arc<Context>],
     finished: &Finished,
     image: &RenderedImage,
-) -> anyhow::Result<()> {
+) -> anyhow::Result<Option<(RenderedImage, Vec<ImageLayer>)>> {
     let metadata = &finished.metadata;
     if request.shard {
-        for output in request.outputs {
+        for output in outputs {
             write_state(output, &finished.state, metadata)?;
         }
-        return Ok(());
+        return Ok(None);
     }
-    for output in request.outputs {
+    for output in outputs {
         save_or_rescue(output, image, &request.save, metadata, &[])?;
     }
     if request.post.is_empty() {
-        return Ok(());
+        return Ok(None);
     }
     if finished.stop != StopReason::Done {
         eprintln!("vkpath: warning: the render stopped early: saved without --aov/--denoise");
-        return Ok(());
+        return Ok(None);
     }
     let Some(context) = contexts.first() else {
-        return Ok(());
+        return Ok(None);
     };
     let (processed, layers) = request.post.apply(
         context,
@@ -758,13 +848,13 @@ fn save_outputs(
         request.settings,
         image,
     )?;
-    for output in request.outputs {
+    for output in outputs {
         save_or_rescue(output, &processed, &request.save, metadata, &layers)?;
     }
     if request.post.denoise && request.reporting.talks() {
         eprintln!("vkpath: {}", DENOISED_LINE);
     }
-    Ok(())
+    Ok(Some((processed, layers)))
 }
 
 /// Saves `image` to `output` with the render's metadata in its header; when that fails,

@@ -432,6 +432,9 @@ fn render(args: &RenderArgs) -> anyhow::Result<()> {
         if job.checkpoint.is_some() || job.resume.is_some() || job.preview.is_some() {
             bail!("--checkpoint, --resume and --preview work with one device; render on several with shards instead");
         }
+        if args.job.tev.is_some() {
+            bail!("--tev works with one device");
+        }
         if !post.is_empty() {
             bail!("--aov and --denoise work with one device");
         }
@@ -513,6 +516,12 @@ fn render(args: &RenderArgs) -> anyhow::Result<()> {
             post: post.clone(),
             command_started: frame_started,
             frame: args.frames.timed().then_some(frame),
+            tev: args.job.tev.clone().map(|address| {
+                (
+                    address,
+                    std::time::Duration::from_secs_f64(args.job.tev_interval),
+                )
+            }),
         };
         match devices {
             Devices::Several(contexts) => render_on_devices_and_save(contexts, request)?,

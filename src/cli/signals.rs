@@ -6,6 +6,9 @@
 //!   nothing; one line says so and every existing output stays as it was;
 //! - while it renders after that: the render stops after the current batch, the command
 //!   writes what it rendered (and its checkpoint) and exits with 128 + the signal's number;
+//!   after SIGINT (Ctrl-C) the image goes beside each output (`out.partial.png`), leaving a
+//!   finished image there as it was, while SIGTERM and SIGHUP (a scheduler's stop) write
+//!   the outputs;
 //! - a second signal, at any time: the command aborts at once. The temporary files of the
 //!   writes in progress are removed, so every output is either as it was or completely
 //!   written (outputs are only ever replaced by renaming a finished file over them).
@@ -103,6 +106,12 @@ pub fn received() -> Option<(&'static str, i32)> {
         0 => None,
         signal => Some((name(signal), 128 + signal)),
     }
+}
+
+/// Whether the first signal was SIGINT (Ctrl-C): a person stopped the render, whose image
+/// then goes beside the outputs instead of over them.
+pub fn interrupted() -> bool {
+    SIGNAL.load(Ordering::SeqCst) == SIGINT
 }
 
 /// A signal's name.

@@ -5,20 +5,29 @@ use std::time::{Duration, Instant};
 
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 
-/// A progress bar on stderr that only appears once a render has run for a second.
+/// A progress bar on stderr that only appears once a render has run for a second, with an
+/// estimate of the time left (`eta`): the sooner of the time limit and the samples still to
+/// take at the rate measured since the first batch (set-up and the first batch, in which a
+/// driver may compile the kernels, do not count towards the rate). With a noise threshold,
+/// converged pixels stop early, so the samples' estimate is an upper bound: `eta ≤ …`.
 pub struct RenderProgress {
     bar: ProgressBar,
     started: Instant,
     visible: bool,
+    total: u32,
+    adaptive: bool,
+    /// The first batch's end and its samples per pixel: where the rate is measured from.
+    first_batch: Option<(Instant, u32)>,
 }
 
 impl RenderProgress {
-    /// A hidden bar counting samples per pixel up to `total`.
-    pub fn new(total: u32) -> RenderProgress {
+    /// A hidden bar counting samples per pixel up to `total`; `adaptive` for a render with
+    /// a noise threshold.
+    pub fn new(total: u32, adaptive: bool) -> RenderProgress {
         let bar =
             ProgressBar::with_draw_target(Some(u64::from(total)), ProgressDrawTarget::hidden());
         if let Ok(style) =
-            ProgressStyle::with_template("{elapsed_precise} [{bar:40}] {pos}/{len} spp, eta {eta}")
+            ProgressStyle::with_template("{elapsed_precise} [{bar:40}] {pos}/{len} spp, {msg}")
         {
             bar.set_style(style.progress_chars("=> "));
         }
@@ -26,21 +35,70 @@ impl RenderProgress {
             bar,
             started: Instant::now(),
             visible: false,
+            total,
+            adaptive,
+            first_batch: None,
         }
     }
 
-    /// Reports the samples per pixel done so far.
-    pub fn update(&mut self, samples_done: u32) {
+    /// Reports the samples per pixel done so far and the time limit's deadline, if any.
+    pub fn update(&mut self, samples_done: u32, deadline: Option<Instant>) {
+        let now = Instant::now();
         if !self.visible && self.started.elapsed() > Duration::from_secs(1) {
             self.bar.set_draw_target(ProgressDrawTarget::stderr());
             self.visible = true;
         }
+        let (first_time, first_done) = *self.first_batch.get_or_insert((now, samples_done));
+        let samples_left = eta_of_samples(
+            self.total.saturating_sub(samples_done),
+            samples_done.saturating_sub(first_done),
+            now.saturating_duration_since(first_time),
+        );
+        let limit_left = deadline.map(|d| d.saturating_duration_since(now));
+        self.bar
+            .set_message(eta_text(samples_left, limit_left, self.adaptive));
         self.bar.set_position(u64::from(samples_done));
     }
 
     /// Removes the bar.
     pub fn finish(&self) {
         self.bar.finish_and_clear();
+    }
+}
+
+/// The time the `left` samples per pixel still take at the rate of `taken` in `elapsed`;
+/// none before a rate is measured.
+fn eta_of_samples(left: u32, taken: u32, elapsed: Duration) -> Option<Duration> {
+    if left == 0 {
+        return Some(Duration::ZERO);
+    }
+    (taken > 0 && !elapsed.is_zero()).then(|| elapsed.mul_f64(f64::from(left) / f64::from(taken)))
+}
+
+/// The bar's estimate: the sooner of the samples' and the time limit's ("eta 12s"); "eta ≤"
+/// where what decides is only a bound (the samples' with a noise threshold, `adaptive`; the
+/// limit's before the samples' is known); "eta ?" while nothing is known yet.
+fn eta_text(samples: Option<Duration>, limit: Option<Duration>, adaptive: bool) -> String {
+    let (eta, bound) = match (samples, limit) {
+        (Some(s), Some(l)) if l <= s => (l, false),
+        (Some(s), _) => (s, adaptive),
+        (None, Some(l)) => (l, true),
+        (None, None) => return "eta ?".to_string(),
+    };
+    format!(
+        "eta {}{}",
+        if bound { "≤ " } else { "" },
+        short_duration(eta)
+    )
+}
+
+/// A duration as the bar shows it: "7s", "3m 05s", "1h 02m".
+fn short_duration(duration: Duration) -> String {
+    let seconds = duration.as_secs_f64().ceil() as u64;
+    match seconds {
+        0..=59 => format!("{seconds}s"),
+        60..=3599 => format!("{}m {:02}s", seconds / 60, seconds % 60),
+        _ => format!("{}h {:02}m", seconds / 3600, seconds % 3600 / 60),
     }
 }
 
@@ -148,6 +206,25 @@ pub fn format_spp_mean(mean: f64) -> String {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn the_eta_is_the_sooner_of_the_samples_and_the_time_limit() {
+        let s = Duration::from_secs;
+        // 10 spp in 2 s since the first batch, 40 left: 8 s.
+        assert_eq!(eta_of_samples(40, 10, s(2)), Some(s(8)));
+        assert_eq!(eta_of_samples(40, 0, s(2)), None);
+        assert_eq!(eta_of_samples(0, 0, s(0)), Some(s(0)));
+        // The case: --time-limit 4 said "eta 60m"; the limit decides.
+        assert_eq!(eta_text(Some(s(3600)), Some(s(4)), false), "eta 4s");
+        assert_eq!(eta_text(Some(s(3)), Some(s(40)), false), "eta 3s");
+        // A noise threshold makes the samples' estimate a bound, not the limit's.
+        assert_eq!(eta_text(Some(s(200)), None, true), "eta ≤ 3m 20s");
+        assert_eq!(eta_text(Some(s(200)), Some(s(100)), true), "eta 1m 40s");
+        assert_eq!(eta_text(None, Some(s(100)), false), "eta ≤ 1m 40s");
+        assert_eq!(eta_text(None, None, false), "eta ?");
+        assert_eq!(short_duration(Duration::from_millis(7200)), "8s");
+        assert_eq!(short_duration(s(3725)), "1h 02m");
+    }
     use crate::vk::{DeviceInfo, DeviceKind};
 
     fn device() -> DeviceInfo {

@@ -5,6 +5,7 @@
 //! failed write never leaves a partial file behind; only regular files (or new names) are
 //! written, never a device, FIFO, socket or directory, even through a symbolic link.
 
+use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 use std::sync::Mutex;
 
@@ -111,7 +112,8 @@ pub fn save_image(path: &Path, image: &RenderedImage, options: &SaveOptions) -> 
     save_image_with_attributes(path, image, options, &[])
 }
 
-/// `save_image` with EXR header attributes (name, text value); PNG files get none.
+/// `save_image` with header attributes (name, text value): EXR header attributes, or a PNG's
+/// tEXt chunks (keyword, text).
 pub fn save_image_with_attributes(
     path: &Path,
     image: &RenderedImage,
@@ -131,7 +133,13 @@ pub fn save_image_with_attributes(
             )
         }),
         ImageFormat::Png => write_atomically(path, |temporary| {
-            write_png(temporary, image, options.exposure, options.tone_map)
+            write_png(
+                temporary,
+                image,
+                options.exposure,
+                options.tone_map,
+                attributes,
+            )
         }),
     }
 }
@@ -476,9 +484,10 @@ fn write_png(
     image: &RenderedImage,
     exposure: Exposure,
     map: ToneMap,
+    texts: &[(String, String)],
 ) -> std::result::Result<(), String> {
     let bytes = tone_mapped_srgb8(image, exposure, map);
-    write_rgb8_png(path, image.width, image.height, &bytes)
+    write_rgb8_png_with_texts(path, image.width, image.height, &bytes, texts)
 }
 
 /// Writes 8-bit RGB pixels (rows top-down) as a PNG at `path` (no atomic rename: callers
@@ -489,15 +498,46 @@ pub fn write_rgb8_png(
     height: u32,
     bytes: &[u8],
 ) -> std::result::Result<(), String> {
-    image::save_buffer_with_format(
-        path,
-        bytes,
-        width,
-        height,
-        image::ColorType::Rgb8,
-        image::ImageFormat::Png,
-    )
-    .map_err(|e| e.to_string())
+    write_rgb8_png_with_texts(path, width, height, bytes, &[])
+}
+
+/// `write_rgb8_png` with tEXt chunks (keyword, Latin-1 text) before the pixels.
+pub fn write_rgb8_png_with_texts(
+    path: &Path,
+    width: u32,
+    height: u32,
+    bytes: &[u8],
+    texts: &[(String, String)],
+) -> std::result::Result<(), String> {
+    let file = std::fs::File::create(path).map_err(|e| e.to_string())?;
+    let mut encoder = png::Encoder::new(std::io::BufWriter::new(file), width, height);
+    encoder.set_color(png::ColorType::Rgb);
+    encoder.set_depth(png::BitDepth::Eight);
+    // What the image crate's encoder chose (its defaults), so that a PNG without texts is
+    // the same file it wrote before.
+    encoder.set_compression(png::Compression::Fast);
+    encoder.set_filter(png::Filter::Adaptive);
+    for (keyword, text) in texts {
+        encoder
+            .add_text_chunk(keyword.clone(), text.clone())
+            .map_err(|e| e.to_string())?;
+    }
+    let mut writer = encoder.write_header().map_err(|e| e.to_string())?;
+    writer.write_image_data(bytes).map_err(|e| e.to_string())?;
+    writer.finish().map_err(|e| e.to_string())
+}
+
+/// The tEXt chunks of the PNG at `path` (keyword to text), read without decoding a pixel.
+pub fn read_png_texts(path: &Path) -> std::result::Result<BTreeMap<String, String>, String> {
+    let file = std::fs::File::open(path).map_err(|e| e.to_string())?;
+    let decoder = png::Decoder::new(std::io::BufReader::new(file));
+    let reader = decoder.read_info().map_err(|e| e.to_string())?;
+    Ok(reader
+        .info()
+        .uncompressed_latin1_text
+        .iter()
+        .map(|chunk| (chunk.keyword.clone(), chunk.text.clone()))
+        .collect())
 }
 
 #[cfg(test)]

@@ -19,6 +19,7 @@ use crate::render::settings::{Integrator, RenderSettings, SamplerKind};
 use crate::render::state_exr::{read_state, write_state};
 use crate::scene::Scene;
 use crate::vk::Context;
+use crate::RenderedImage;
 
 /// The settings of a production render where nothing says otherwise, what `vkpath render`
 /// starts from and what the Python package's `vkpath.render` takes for every setting a call
@@ -53,6 +54,24 @@ pub struct PreviewOptions {
     pub save: SaveOptions,
 }
 
+/// A live view of the image so far (`render --tev`): shown every `interval` while the render
+/// runs (with the preview, if any, at the sooner of their intervals). It must return at once.
+#[derive(Clone, Copy)]
+pub struct LiveImage<'a> {
+    /// Time between updates.
+    pub interval: Duration,
+    /// Shows an image.
+    pub show: &'a (dyn Fn(&RenderedImage) + Sync),
+}
+
+impl std::fmt::Debug for LiveImage<'_> {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("LiveImage")
+            .field("interval", &self.interval)
+            .finish_non_exhaustive()
+    }
+}
+
 /// How a production render runs.
 #[derive(Clone, Debug)]
 pub struct JobOptions<'a> {
@@ -76,6 +95,8 @@ pub struct JobOptions<'a> {
     /// `--guiding` the guide's training): what a caller's signal handling needs to know,
     /// since a stop before then has nothing to save.
     pub started: Option<&'a AtomicBool>,
+    /// Show the image so far every so often (a live view).
+    pub live: Option<LiveImage<'a>>,
 }
 
 impl Default for JobOptions<'_> {
@@ -90,6 +111,7 @@ impl Default for JobOptions<'_> {
             resume: None,
             preview: None,
             started: None,
+            live: None,
         }
     }
 }
@@ -121,6 +143,16 @@ pub fn shard_range(index: u32, count: u32, spp: u32) -> Result<Range<u32>> {
     Ok(boundary(index)..boundary(index + 1))
 }
 
+/// Where a running job stands, after each batch (`run_job`'s progress).
+#[derive(Clone, Copy, Debug)]
+pub struct JobProgress {
+    /// Samples per pixel done so far (of the job's range, resumed ones included).
+    pub samples_done: u32,
+    /// When the time limit stops the render, if one was set (counted from the end of
+    /// set-up, as `JobOptions::time_limit` is).
+    pub deadline: Option<Instant>,
+}
+
 /// Runs a render as `options` say. `settings.spp` is ignored: the sample range decides.
 pub fn run_job(
     context: &Arc<Context>,
@@ -128,7 +160,7 @@ pub fn run_job(
     camera: &Camera,
     settings: &RenderSettings,
     options: &JobOptions,
-    progress: impl FnMut(u32),
+    progress: impl FnMut(JobProgress),
 ) -> Result<JobOutcome> {
     let samples = options.samples.clone();
     let settings = RenderSettings {
@@ -168,27 +200,43 @@ pub fn run_job(
     // A preview is a convenience: a failed write is logged (once) and the render goes on.
     let mut preview_warned = false;
     let mut write_preview = |state: &Accumulation| -> Result<()> {
+        let image = state.image();
         if let Some(preview) = &options.preview {
-            if let Err(error) = save_image(&preview.path, &state.image(), &preview.save) {
+            if let Err(error) = save_image(&preview.path, &image, &preview.save) {
                 if !std::mem::replace(&mut preview_warned, true) {
                     log::warn!("{error} (the preview; the render goes on)");
                 }
             }
         }
+        if let Some(live) = &options.live {
+            (live.show)(&image);
+        }
         Ok(())
     };
+    // The preview and the live view share the periodic hook, at the sooner interval.
+    let image_interval = [
+        options.preview.as_ref().map(|p| p.interval),
+        options.live.as_ref().map(|l| l.interval),
+    ]
+    .into_iter()
+    .flatten()
+    .min();
+    // The driver's first-dispatch compile belongs to set-up, not to the first batch (nor to
+    // the time limit, counted from the end of set-up).
+    renderer.warm_up()?;
+    let deadline = options.time_limit.map(|limit| Instant::now() + limit);
     let control = RenderControl {
         cancel: options.cancel,
-        deadline: options.time_limit.map(|limit| Instant::now() + limit),
+        deadline,
         checkpoint: options.checkpoint.as_ref().map(|_| {
             (
                 options.checkpoint_interval,
                 &mut write_checkpoint as &mut dyn FnMut(&_) -> Result<()>,
             )
         }),
-        preview: options.preview.as_ref().map(|preview| {
+        preview: image_interval.map(|interval| {
             (
-                preview.interval,
+                interval,
                 &mut write_preview as &mut dyn FnMut(&_) -> Result<()>,
             )
         }),
@@ -198,7 +246,10 @@ pub fn run_job(
         if let Some(started) = options.started {
             started.store(true, Ordering::SeqCst);
         }
-        progress(samples);
+        progress(JobProgress {
+            samples_done: samples,
+            deadline,
+        });
     };
     let rendering_started = Instant::now();
     let outcome = renderer.render_with(progress, control)?;

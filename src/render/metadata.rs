@@ -21,6 +21,10 @@ pub const ATTRIBUTE_NAME: &str = "vkpath";
 /// The field of an adaptive render's attribute that holds the mean over the pixels of the
 /// samples each holds (`RenderMetadata::attributes_with_counts`).
 pub const SPP_MEAN_FIELD: &str = "spp_mean";
+/// The field of a finished image's attribute that holds the samples per pixel asked for.
+pub const SPP_REQUESTED_FIELD: &str = "spp_requested";
+/// The field of a finished image's attribute that says why its render stopped.
+pub const STOP_FIELD: &str = "stop";
 /// What separates the fields in the attribute's text.
 const FIELD_SEPARATOR: &str = "; ";
 /// The settings recorded, in order.
@@ -59,6 +63,26 @@ pub struct RenderMetadata {
     pub settings: Vec<(String, String)>,
     /// The samples of every pixel's sequence that the image holds.
     pub samples: Range<u32>,
+    /// How the render that wrote the file ended, for finished images (`render`'s outputs);
+    /// none for checkpoints, shards and merged files, whose samples say what they hold.
+    pub outcome: Option<RenderOutcome>,
+}
+
+/// How a render ended, as an image records it beside its samples: the samples per pixel
+/// asked for and why it stopped, so that a file left by a stop is told from a finished one.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct RenderOutcome {
+    /// The samples per pixel the render was asked for (`--spp`).
+    pub spp_requested: u32,
+    /// Why it stopped, as `render --json` names it: `done`, `time-limit` or `signal`.
+    pub stop: String,
+}
+
+impl RenderOutcome {
+    /// Whether the render ran to the end of its samples (`stop=done`).
+    pub fn is_finished(&self) -> bool {
+        self.stop == "done"
+    }
 }
 
 impl RenderMetadata {
@@ -112,6 +136,7 @@ impl RenderMetadata {
         RenderMetadata {
             settings: settings_list,
             samples,
+            outcome: None,
         }
     }
 
@@ -134,8 +159,8 @@ impl RenderMetadata {
         })
     }
 
-    /// The fields: `spp` (samples per pixel taken), `sample_range` ("start..end") and the
-    /// settings.
+    /// The fields: `spp` (samples per pixel taken), `sample_range` ("start..end"), for a
+    /// finished image `spp_requested` and `stop`, and the settings.
     pub fn fields(&self) -> Vec<(String, String)> {
         let mut fields = vec![
             ("spp".to_string(), self.samples.len().to_string()),
@@ -144,6 +169,13 @@ impl RenderMetadata {
                 format!("{}..{}", self.samples.start, self.samples.end),
             ),
         ];
+        if let Some(outcome) = &self.outcome {
+            fields.push((
+                SPP_REQUESTED_FIELD.to_string(),
+                outcome.spp_requested.to_string(),
+            ));
+            fields.push((STOP_FIELD.to_string(), outcome.stop.clone()));
+        }
         fields.extend(self.settings.iter().cloned());
         fields
     }
@@ -205,7 +237,20 @@ impl RenderMetadata {
                 settings.push((name.to_string(), value.to_string()));
             }
         }
-        Ok(RenderMetadata { settings, samples })
+        let outcome = match (fields.get(SPP_REQUESTED_FIELD), fields.get(STOP_FIELD)) {
+            (Some(requested), Some(stop)) => Some(RenderOutcome {
+                spp_requested: requested.parse().map_err(|_| {
+                    format!("its {SPP_REQUESTED_FIELD} '{requested}' is not a number")
+                })?,
+                stop: stop.to_string(),
+            }),
+            _ => None,
+        };
+        Ok(RenderMetadata {
+            settings,
+            samples,
+            outcome,
+        })
     }
 
     /// The first setting in which `other` differs, as "name: this vs other".
@@ -425,6 +470,21 @@ mod tests {
         )]
         .into();
         assert_eq!(RenderMetadata::from_attributes(&old), Ok(metadata.clone()));
+        // A finished image's outcome follows its samples and is read back; files without
+        // one (checkpoints, and images of earlier versions) read as none.
+        let finished = RenderMetadata {
+            outcome: Some(RenderOutcome {
+                spp_requested: 64,
+                stop: "signal".into(),
+            }),
+            ..metadata.clone()
+        };
+        let attributes: BTreeMap<String, String> = finished.attributes().into_iter().collect();
+        assert!(attributes["vkpath"]
+            .starts_with("spp=16; sample_range=4..20; spp_requested=64; stop=signal; version="));
+        let read = RenderMetadata::from_attributes(&attributes).unwrap();
+        assert_eq!(read, finished);
+        assert!(!read.outcome.unwrap().is_finished());
         // A region and a noise threshold are recorded, read back and told apart.
         let mut region_settings = settings.clone();
         region_settings.region = Some(PixelRegion::parse("1,2,30,40").unwrap());

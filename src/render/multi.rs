@@ -84,8 +84,9 @@ pub fn run_on_devices(
                         resume: None,
                         preview: None,
                         started: rendering,
+                        live: None,
                     };
-                    let job = run_job(context, scene, camera, settings, &job, |_| {})?;
+                    let job = run_job(context, scene, camera, settings, &job, |_| ())?;
                     let outcome = job.outcome;
                     Ok((
                         outcome.state,

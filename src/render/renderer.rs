@@ -600,6 +600,29 @@ impl Renderer {
         Ok(self.samples_done)
     }
 
+    /// Dispatches the render pipeline once over no pixels (an extent of 0 × 0: every
+    /// invocation returns before reading or writing anything), so that a driver that compiles
+    /// kernels at their first dispatch, as lavapipe does, compiles it now: set-up, not the
+    /// first batch, pays for it (the summary's set-up and render seconds, the first batch's
+    /// timing that sizes the next). The image is as it was.
+    pub fn warm_up(&mut self) -> Result<()> {
+        let constants = FramePushConstants {
+            first_sample_index: 0,
+            sample_end: 0,
+            pixel_offset: [0, 0],
+            pixel_extent: [0, 0],
+            noise_threshold: 0.0,
+            noise_min_samples: 0,
+        };
+        let (pipeline, descriptors) = (&self.pipeline.pipeline, &self.descriptors);
+        self.commands.run(|recorder| {
+            recorder.bind(pipeline, descriptors);
+            recorder.push_constants(pipeline, &constants);
+            recorder.dispatch(pipeline, [1, 1, 1]);
+        })?;
+        Ok(())
+    }
+
     /// Zeroes the accumulation state: no samples taken.
     fn clear_state(&mut self) -> Result<()> {
         let image = &self.accumulation;

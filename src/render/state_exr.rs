@@ -17,12 +17,12 @@ use crate::error::{Error, Result};
 use crate::guiding::Guide;
 use crate::image_io::exr_input::{check_exr_file, check_exr_size, plain_cause};
 use crate::image_io::output::{
-    write_atomically, write_exr_channels, ByteAttribute, SAMPLE_COUNT_CHANNEL,
-    SECOND_MOMENT_CHANNELS,
+    read_png_texts, write_atomically, write_exr_channels, ByteAttribute, ImageFormat,
+    SAMPLE_COUNT_CHANNEL, SECOND_MOMENT_CHANNELS,
 };
 use crate::image_io::ImageError;
 use crate::render::accumulation::Accumulation;
-use crate::render::metadata::RenderMetadata;
+use crate::render::metadata::{RenderMetadata, ATTRIBUTE_NAME};
 
 /// The state channels, four per accumulation layer (`LAYER_SUM`, `LAYER_COMPENSATION`,
 /// `LAYER_SUM_OF_SQUARES`), in the texel order r, g, b, a.
@@ -109,6 +109,23 @@ pub fn read_metadata(path: &Path) -> Result<RenderMetadata> {
     let attributes = read_text_attributes(path)?;
     let fail = |message: String| Error::from(ImageError::read(path, message));
     RenderMetadata::from_attributes(&attributes).map_err(&fail)
+}
+
+/// The render metadata of an image that `vkpath render` may have written, EXR or PNG (its
+/// `vkpath` tEXt chunk), read without its pixels: none for an image without it (another
+/// program's, or a PNG of a version before the chunk).
+pub fn read_image_metadata(path: &Path) -> Result<Option<RenderMetadata>> {
+    let fail = |message: String| Error::from(ImageError::read(path, message));
+    let attributes = match ImageFormat::from_path(path)? {
+        ImageFormat::Exr => read_text_attributes(path)?,
+        ImageFormat::Png => read_png_texts(path).map_err(&fail)?,
+    };
+    if !attributes.contains_key(ATTRIBUTE_NAME) {
+        return Ok(None);
+    }
+    RenderMetadata::from_attributes(&attributes)
+        .map(Some)
+        .map_err(&fail)
 }
 
 /// The text attributes of an EXR's headers (name to text), read from the headers alone: no

@@ -14,6 +14,11 @@
 //!                 "material": { "base_color": [r, g, b, a], "metallic": 1, "roughness": 0.3,
 //!                               "specular": 1, "specular_color": [r, g, b], "ior": 1.5,
 //!                               "alpha_mode": "opaque", "alpha_cutoff": null,
+//!                               "transmission": { "factor": 1, "thickness": 0.1,
+//!                                                 "attenuation_coefficient": [r, g, b] },
+//!                               "clearcoat": { "factor": 1, "roughness": 0.1 },
+//!                               "sheen": { "color": [r, g, b], "roughness": 0.5 },
+//!                               "unlit": false,
 //!                               "textures_not_exported": ["baseColorTexture"] } } ],
 //!   "lights": [ { "type": "spot", "position": [x, y, z], "direction": [x, y, z],
 //!                 "intensity": [r, g, b], "inner_cone_angle": 0, "outer_cone_angle": 0.785 } ] }
@@ -22,7 +27,10 @@
 //! `camera` is `null` when the scene has none; `target` is the centre of the image plane and
 //! `fov_y_degrees` the full vertical field of view. `material` is `null` for scenes of plain
 //! Lambertian materials (the built-in box, OBJ files): `color` and `emission` say all; else
-//! it holds the glTF factors (`color` is then the base colour's RGB). Textures, vertex normals and texture
+//! it holds the glTF factors (`color` is then the base colour's RGB), the layers' among them
+//! (`transmission`, `clearcoat` and `sheen` are `null` for materials without that layer;
+//! `vkpath export` notes once which layers the scene uses, since a consumer that reads only
+//! the metallic-roughness factors renders glass as opaque plastic). Textures, vertex normals and texture
 //! coordinates are not exported (the PLY files hold positions only): `textures_not_exported`
 //! names the textures a material loses. `lights` lists KHR_lights_punctual lights in world
 //! space, in the units of the README (`type` point, spot or directional; `position` is
@@ -91,7 +99,55 @@ struct ManifestMaterial {
     ior: f32,
     alpha_mode: &'static str,
     alpha_cutoff: Option<f32>,
+    /// KHR_materials_transmission and KHR_materials_volume, when the material transmits.
+    transmission: Option<ManifestTransmission>,
+    /// KHR_materials_clearcoat, when the material has a coat.
+    clearcoat: Option<ManifestClearcoat>,
+    /// KHR_materials_sheen, when the material has sheen.
+    sheen: Option<ManifestSheen>,
+    /// KHR_materials_unlit.
+    unlit: bool,
     textures_not_exported: Vec<&'static str>,
+}
+
+/// A material's transmission and volume factors, as the manifest stores them.
+#[derive(Debug, Serialize)]
+struct ManifestTransmission {
+    factor: f32,
+    /// 0: thin-walled; above 0: the mesh encloses a refracting volume.
+    thickness: f32,
+    /// Absorption coefficient per unit length, per channel (Beer-Lambert; 0: none).
+    attenuation_coefficient: [f32; 3],
+}
+
+/// A material's clear coat factors, as the manifest stores them.
+#[derive(Debug, Serialize)]
+struct ManifestClearcoat {
+    factor: f32,
+    roughness: f32,
+}
+
+/// A material's sheen factors, as the manifest stores them.
+#[derive(Debug, Serialize)]
+struct ManifestSheen {
+    color: [f32; 3],
+    roughness: f32,
+}
+
+/// The names of the layers (glTF extensions) `material` uses beyond metallic-roughness, for
+/// the export's one note: their factors are in the manifest, which a consumer may not read.
+pub fn layers_of(material: &PbrMaterial) -> Vec<&'static str> {
+    let layers = [
+        ("transmission", material.transmission.factor > 0.0),
+        ("clearcoat", material.clearcoat.factor > 0.0),
+        ("sheen", material.sheen.color.max_element() > 0.0),
+        ("unlit", material.unlit),
+    ];
+    layers
+        .iter()
+        .filter(|(_, used)| *used)
+        .map(|(name, _)| *name)
+        .collect()
 }
 
 impl ManifestMaterial {
@@ -109,7 +165,37 @@ impl ManifestMaterial {
             ),
             ("normalTexture", material.normal_texture.is_some()),
             ("emissiveTexture", material.emissive_texture.is_some()),
+            ("specularTexture", material.specular_texture.is_some()),
+            (
+                "specularColorTexture",
+                material.specular_color_texture.is_some(),
+            ),
+            (
+                "transmissionTexture",
+                material.transmission.texture.is_some(),
+            ),
+            (
+                "thicknessTexture",
+                material.transmission.thickness_texture.is_some(),
+            ),
+            ("clearcoatTexture", material.clearcoat.texture.is_some()),
+            (
+                "clearcoatRoughnessTexture",
+                material.clearcoat.roughness_texture.is_some(),
+            ),
+            (
+                "clearcoatNormalTexture",
+                material.clearcoat.normal_texture.is_some(),
+            ),
+            ("sheenColorTexture", material.sheen.color_texture.is_some()),
+            (
+                "sheenRoughnessTexture",
+                material.sheen.roughness_texture.is_some(),
+            ),
         ];
+        let transmission = &material.transmission;
+        let clearcoat = &material.clearcoat;
+        let sheen = &material.sheen;
         ManifestMaterial {
             base_color: material.base_color.to_array(),
             metallic: material.metallic,
@@ -119,6 +205,20 @@ impl ManifestMaterial {
             ior: material.ior,
             alpha_mode,
             alpha_cutoff,
+            transmission: (transmission.factor > 0.0).then(|| ManifestTransmission {
+                factor: transmission.factor,
+                thickness: transmission.thickness,
+                attenuation_coefficient: transmission.attenuation.to_array(),
+            }),
+            clearcoat: (clearcoat.factor > 0.0).then(|| ManifestClearcoat {
+                factor: clearcoat.factor,
+                roughness: clearcoat.roughness,
+            }),
+            sheen: (sheen.color.max_element() > 0.0).then(|| ManifestSheen {
+                color: sheen.color.to_array(),
+                roughness: sheen.roughness,
+            }),
+            unlit: material.unlit,
             textures_not_exported: textures
                 .iter()
                 .filter(|(_, used)| *used)
