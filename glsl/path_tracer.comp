@@ -5,6 +5,9 @@
 // result is bit-identical however the samples are split into frames.
 
 #extension GL_EXT_control_flow_attributes : require
+#ifdef USE_RAY_QUERY
+#extension GL_EXT_ray_query : require
+#endif
 #include "shared.h"
 
 layout(local_size_x = WORKGROUP_SIZE_X, local_size_y = WORKGROUP_SIZE_Y, local_size_z = 1) in;
@@ -73,6 +76,9 @@ layout(push_constant) uniform frame_push_constants {
 #include "integrators.glsl"
 #ifdef USE_BVH
 #include "bvh.glsl"
+#endif
+#ifdef USE_RAY_QUERY
+#include "ray_query.glsl"
 #endif
 #include "camera.glsl"
 #include "adaptive_sampling.glsl"

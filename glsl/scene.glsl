@@ -124,17 +124,26 @@ layout(constant_id = SPEC_SCENE_HAS_ALPHA) const bool SCENE_HAS_ALPHA = true;
 bool bvh_closest_hit(out float out_t, out uint out_triangle_index, vec3 ray_origin, vec3 ray_direction);
 bool bvh_any_hit(vec3 ray_origin, vec3 ray_direction, float t_max);
 #endif
+#ifdef USE_RAY_QUERY
+// Defined in ray_query.glsl, which kernels built with USE_RAY_QUERY include.
+bool ray_query_closest_hit(out float out_t, out uint out_triangle_index, vec3 ray_origin, vec3 ray_direction);
+bool ray_query_any_hit(vec3 ray_origin, vec3 ray_direction, float t_max);
+#endif
 
 #ifndef USER_DEFINES_RAY_MESH_INTERSECTION
 // Finds the closest triangle that a ray hits (Part 1): brute force over all triangles, or,
-// in kernels built with USE_BVH, by traversing the BVH with the same triangle tests.
+// in kernels built with USE_BVH, by traversing the BVH with the same triangle tests, or, in
+// kernels built with USE_RAY_QUERY, with the device's acceleration structure.
 // \param out_t Ray parameter of the closest hit
 // \param out_triangle The triangle that was hit
 // \param ray_origin, ray_direction The ray, world space
 // \return true iff any triangle was hit; then g_hit_triangle_index names the triangle
 bool ray_mesh_intersection(out float out_t, out triangle_t out_triangle, vec3 ray_origin, vec3 ray_direction) {
     ++g_path.ray_count;
-#ifdef USE_BVH
+#if defined(USE_RAY_QUERY)
+    uint hit_index;
+    bool hit = ray_query_closest_hit(out_t, hit_index, ray_origin, ray_direction);
+#elif defined(USE_BVH)
     uint hit_index;
     bool hit = bvh_closest_hit(out_t, hit_index, ray_origin, ray_direction);
 #else
@@ -179,7 +188,9 @@ bool ray_mesh_intersection(out float out_t, out triangle_t out_triangle, vec3 ra
 // shadow rays): it may stop at the first such hit instead of finding the closest.
 bool ray_mesh_any_hit(vec3 ray_origin, vec3 ray_direction, float t_max) {
     ++g_path.ray_count;
-#ifdef USE_BVH
+#if defined(USE_RAY_QUERY)
+    return ray_query_any_hit(ray_origin, ray_direction, t_max);
+#elif defined(USE_BVH)
     return bvh_any_hit(ray_origin, ray_direction, t_max);
 #else
     if (CONSTANT_TRIANGLE_COUNT != 0u) {

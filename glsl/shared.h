@@ -61,6 +61,9 @@
 // (x = count) then PUNCTUAL_LIGHT_TEXEL_COUNT texels per light (gpu_punctual_light_words()
 // of src/lights/gpu_punctual.rs).
 #define BINDING_PUNCTUAL_LIGHTS 17
+// Builds with USE_RAY_QUERY: the scene's top-level acceleration structure
+// (glsl/ray_query.glsl, src/accel/ on the host), in place of the BVH's bindings.
+#define BINDING_ACCELERATION_STRUCTURE 24
 
 // ---- Layers of the accumulation image ----
 

@@ -4,6 +4,11 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 bash scripts/install-deps.sh --python
+# Mesa 25's lavapipe, unpacked apart (never installed): the driver of the ray-query tests
+# alone (tests/ray_query_cli.rs gives it to their vkpath processes through VK_DRIVER_FILES);
+# every other test runs on the system's Mesa 22.3. A failed download fails the suite.
+ray_query_icd=$(bash scripts/mesa25.sh)
+export VKPATH_RAY_QUERY_ICD="$ray_query_icd"
 # A toolchain that install-deps.sh put there (none was found).
 export PATH="$HOME/.cargo/bin:$PATH"
 cargo test --all-targets "$@"

@@ -45,6 +45,7 @@ pub mod shaders;
 #[doc(hidden)]
 pub mod shader_compiler;
 
+pub mod accel;
 #[doc(hidden)]
 pub mod bench;
 #[doc(hidden)]

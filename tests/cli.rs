@@ -37,6 +37,8 @@ mod nothing_lost;
 mod pipeline_cache;
 #[path = "production.rs"]
 mod production;
+#[path = "ray_query_cli.rs"]
+mod ray_query_cli;
 #[path = "region_tiles.rs"]
 mod region_tiles;
 #[path = "scripting_cli.rs"]

@@ -12,7 +12,7 @@ use crate::common::runs::run;
 /// Writes `animated.gltf` (and `animated.bin`) into `dir`: a unit quad facing +Z whose node
 /// slides LINEAR from x = -1 at 0 s to x = 1 at 1 s (animation "slide"), seen by a camera at
 /// z = 3 looking down -Z.
-fn write_animated_quad(dir: &Path) {
+pub(crate) fn write_animated_quad(dir: &Path) {
     let positions: [f32; 12] = [
         -0.5, -0.5, 0.0, 0.5, -0.5, 0.0, 0.5, 0.5, 0.0, -0.5, 0.5, 0.0,
     ];

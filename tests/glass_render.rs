@@ -137,6 +137,7 @@ impl MeshScene {
             punctual_lights: Vec::new(),
             environment: None,
             cameras: Vec::new(),
+            mesh_instances: Vec::new(),
             materials: Some(SceneMaterials {
                 materials: self.materials,
                 textures: Vec::new(),

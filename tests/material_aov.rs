@@ -105,6 +105,7 @@ fn quad_scene(material: Option<(PbrMaterial, Vec<Texture>)>, camera: Camera) -> 
         punctual_lights: Vec::new(),
         environment: None,
         cameras: Vec::new(),
+        mesh_instances: Vec::new(),
         materials: material.map(|(material, textures)| SceneMaterials {
             materials: vec![material],
             textures,

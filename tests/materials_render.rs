@@ -108,6 +108,7 @@ impl QuadScene {
             punctual_lights: Vec::new(),
             environment: None,
             cameras: Vec::new(),
+            mesh_instances: Vec::new(),
             materials: Some(SceneMaterials {
                 materials: self.materials,
                 textures: self.textures,

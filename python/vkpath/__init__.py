@@ -214,7 +214,7 @@ def render(
     ``integrator`` "workshop", "cosine", "nee" or "mis"; ``sampler`` "pcg" or "sobol";
     ``light_sampling`` "solid-angle" or "area"; ``light_selection`` "auto", "power" or
     "tree"; ``pixel_filter`` "box" or "center";
-    ``accel`` "auto", "none" or "bvh". ``environment`` is an equirectangular .exr/.hdr map
+    ``accel`` "auto", "none", "bvh" or "hardware". ``environment`` is an equirectangular .exr/.hdr map
     (``environment_strength``, ``environment_rotation`` in degrees about +Y), ``background``
     a constant R, G, B radiance instead.
 

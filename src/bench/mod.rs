@@ -18,7 +18,7 @@ use crate::render::gpu_scene::SceneMemory;
 use crate::render::settings::{
     default_russian_roulette_start, Integrator, LightSelection, RenderSettings, SamplerKind,
 };
-use crate::render::{Renderer, Traversal};
+use crate::render::Renderer;
 use crate::scene::{Scene, SceneSource};
 use crate::vk::Context;
 
@@ -343,7 +343,9 @@ pub fn run_bench(
         device: format!("{} [{}]", context.info.name, context.info.kind),
         scene: setup.scene_name.clone(),
         triangle_count: scene.triangles.len(),
-        traversal: Traversal::for_scene(scene, setup.settings.accel)
+        // As the renders chose it, on this device (its ray queries, where it has them)
+        traversal: crate::accel::choose_traversal(context, scene, setup.settings.accel)?
+            .traversal
             .name()
             .to_string(),
         sampler: match setup.settings.sampler {
@@ -499,10 +501,14 @@ mod tests {
             cpu_seconds: 1.0,
             cpu_efficiency: 1.0 / relative_mse,
             scene_memory: SceneMemory {
+                accel: "bvh",
                 traversal: "BVH",
                 triangle_count: 30,
                 bvh_node_bytes: 1120,
                 traversal_triangle_bytes: 1440,
+                hardware_structure_bytes: 0,
+                hardware_bottom_levels: 0,
+                hardware_instances: 0,
                 acceleration_bytes_per_triangle: 2560.0 / 30.0,
                 scene_bytes: 6000,
                 scene_bytes_per_triangle: 200.0,

@@ -3,8 +3,8 @@
 /// Arguments of `vkpath devices`.
 #[derive(Debug, Clone, clap::Args)]
 pub struct DevicesArgs {
-    /// Print a JSON array (index, name, kind, API version, UUID, vendor ID, PCI address)
-    /// instead of one line per device.
+    /// Print a JSON array (index, name, kind, API version, UUID, vendor ID, PCI address,
+    /// ray queries) instead of one line per device.
     #[arg(long)]
     pub json: bool,
 }
@@ -28,6 +28,7 @@ pub fn run(args: &DevicesArgs) -> anyhow::Result<()> {
                         "{:04x}:{:02x}:{:02x}.{:x}",
                         p.domain, p.bus, p.device, p.function
                     )),
+                    "ray_queries": device.ray_queries,
                     "description": device.to_string(),
                 })
             })

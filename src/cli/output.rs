@@ -137,9 +137,12 @@ pub struct RenderReport {
     pub light_selection: &'static str,
     /// What training the guide did (`--guiding`), or `null`.
     pub guide: Option<GuideSummary>,
+    /// What found the hits: `hardware` (the device's ray queries), `bvh` or `none` (the
+    /// loop over all triangles); `null` when the render stopped before its renderer was made.
+    pub accel: Option<&'static str>,
     /// What the scene takes on the device: the acceleration structure's bytes (BVH nodes and
-    /// traversal triangles) and every buffer's, in all and per triangle (`null` when the
-    /// render stopped before its renderer was made).
+    /// traversal triangles, or the device's structures) and every buffer's, in all and per
+    /// triangle (`null` when the render stopped before its renderer was made).
     pub scene_memory: Option<SceneMemory>,
     /// The frame number (`--frames`); absent for a still, `null` with `--time`.
     #[serde(skip_serializing_if = "Option::is_none")]
@@ -818,6 +821,7 @@ fn render_report(
             _ => "power",
         },
         guide: finished.guide.as_ref().map(GuideSummary::new),
+        accel: finished.scene_memory.map(|memory| memory.accel),
         scene_memory: finished.scene_memory,
         frame: request.frame.map(|f| f.frame),
         time: request.frame.map(|f| f.time),

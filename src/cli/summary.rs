@@ -237,6 +237,7 @@ mod tests {
             uuid: [0; 16],
             vendor_id: 0x10005,
             pci_bus: None,
+            ray_queries: false,
         }
     }
 

@@ -7,7 +7,7 @@
 use ash::vk;
 
 use crate::contract as c;
-use crate::kernels::builds::{USE_BVH, USE_MATERIALS};
+use crate::kernels::builds::{USE_BVH, USE_MATERIALS, USE_RAY_QUERY};
 
 /// What the host binds: each names one buffer, view or image that some kernel reads.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
@@ -23,6 +23,9 @@ pub enum Resource {
     /// The triangles' vertex positions alone, in BVH leaf order, for the traversal's
     /// triangle tests (`GpuTraversalTriangle`, texel buffer).
     TraversalTriangles,
+    /// The scene's top-level acceleration structure (`crate::accel`, builds with
+    /// `USE_RAY_QUERY`).
+    AccelerationStructure,
     /// The emissive triangles and their power CDF (`gpu_light_bytes`, texel buffer).
     Lights,
     /// The texels of every texture (`TextureAtlas`, RGBA8 texel buffer).
@@ -71,6 +74,7 @@ const TEXEL: vk::DescriptorType = vk::DescriptorType::UNIFORM_TEXEL_BUFFER;
 const UNIFORM: vk::DescriptorType = vk::DescriptorType::UNIFORM_BUFFER;
 const STORAGE: vk::DescriptorType = vk::DescriptorType::STORAGE_BUFFER;
 const IMAGE: vk::DescriptorType = vk::DescriptorType::STORAGE_IMAGE;
+const ACCELERATION_STRUCTURE: vk::DescriptorType = vk::DescriptorType::ACCELERATION_STRUCTURE_KHR;
 
 /// A row that every build of the kernel declares.
 const fn row(binding: u32, kind: vk::DescriptorType, resource: Resource) -> Binding {
@@ -113,6 +117,12 @@ pub const PATH_TRACER: &[Binding] = &[
         c::BINDING_TRAVERSAL_TRIANGLES,
         TEXEL,
         R::TraversalTriangles,
+    ),
+    with(
+        USE_RAY_QUERY,
+        c::BINDING_ACCELERATION_STRUCTURE,
+        ACCELERATION_STRUCTURE,
+        R::AccelerationStructure,
     ),
     with(
         USE_MATERIALS,

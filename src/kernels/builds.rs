@@ -17,6 +17,9 @@ pub struct KernelBuild {
 
 /// The macro that makes the path tracer traverse a BVH (`glsl/bvh.glsl`).
 pub const USE_BVH: &str = "USE_BVH";
+/// The macro that makes the path tracer find hits with the device's acceleration structures
+/// (`glsl/ray_query.glsl`: `VK_KHR_ray_query`), for devices that offer them.
+pub const USE_RAY_QUERY: &str = "USE_RAY_QUERY";
 /// The macro that gives the path tracer glTF materials (the glTF model of `glsl/surface.glsl`,
 /// the environment and punctual lights of `glsl/lights.glsl`).
 pub const USE_MATERIALS: &str = "USE_MATERIALS";
@@ -91,6 +94,46 @@ pub const EXTRA_BUILDS: &[KernelBuild] = &[
             (USE_BVH, "1"),
             (WITHOUT_LIGHT_TREE, "1"),
             (WITHOUT_GUIDING, "1"),
+        ],
+    },
+    KernelBuild {
+        source: "path_tracer",
+        name: "path_tracer_ray_query",
+        macros: &[(USE_RAY_QUERY, "1")],
+    },
+    KernelBuild {
+        source: "path_tracer",
+        name: "path_tracer_ray_query_lean",
+        macros: &[
+            (USE_RAY_QUERY, "1"),
+            (WITHOUT_LIGHT_TREE, "1"),
+            (WITHOUT_GUIDING, "1"),
+        ],
+    },
+    KernelBuild {
+        source: "path_tracer",
+        name: "path_tracer_materials_ray_query",
+        macros: &[(USE_RAY_QUERY, "1"), (USE_MATERIALS, "1")],
+    },
+    KernelBuild {
+        source: "path_tracer",
+        name: "path_tracer_materials_ray_query_without_layers",
+        macros: &[
+            (USE_RAY_QUERY, "1"),
+            (USE_MATERIALS, "1"),
+            (WITHOUT_LAYERS, "1"),
+        ],
+    },
+    KernelBuild {
+        source: "path_tracer",
+        name: "path_tracer_materials_ray_query_lean",
+        macros: &[
+            (USE_RAY_QUERY, "1"),
+            (USE_MATERIALS, "1"),
+            (WITHOUT_LAYERS, "1"),
+            (WITHOUT_LIGHT_TREE, "1"),
+            (WITHOUT_GUIDING, "1"),
+            (WITHOUT_ENVIRONMENT_MAP, "1"),
         ],
     },
     KernelBuild {

@@ -141,6 +141,20 @@ pub const PATH_TRACER_LOOPS: &[KernelLoop] = &[
     described("bvh.glsl", "bvh_closest_hit", CountedByKernel, "BVH"),
     described("bvh.glsl", "bvh_any_hit", CountedByKernel, "BVH"),
     described("bvh.glsl", "bvh_any_hit", CountedByKernel, "BVH"),
+    // The ray queries' steps (the device's traversal inside each step is estimated by the
+    // host as a BVH's: `TYPICAL_BVH_ITERATIONS_PER_RAY`).
+    described(
+        "ray_query.glsl",
+        "ray_query_closest_hit",
+        CountedByKernel,
+        "ray query",
+    ),
+    described(
+        "ray_query.glsl",
+        "ray_query_any_hit",
+        CountedByKernel,
+        "ray query",
+    ),
     guiding_loop(
         "guiding.glsl",
         "sample_guide_direction",
@@ -256,9 +270,10 @@ impl LoopCoefficients {
             light_searches_per_ray: count(LightSearchPerRay),
             triangle_loops_per_ray: match traversal {
                 Traversal::Linear => count(TrianglesPerRay),
-                Traversal::ConstantTriangles | Traversal::Bvh => 0,
+                Traversal::ConstantTriangles | Traversal::Bvh | Traversal::RayQuery => 0,
             },
-            counted_by_kernel: traversal == Traversal::Bvh && count(CountedByKernel) > 0,
+            counted_by_kernel: matches!(traversal, Traversal::Bvh | Traversal::RayQuery)
+                && count(CountedByKernel) > 0,
         }
     }
 

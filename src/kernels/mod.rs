@@ -21,7 +21,10 @@ use ash::vk;
 use crate::error::{Error, Result};
 use crate::shaders;
 use crate::vk::TexelBufferView;
-use crate::vk::{spirv_words, Buffer, ComputePipeline, Context, DescriptorSet, StorageImage};
+use crate::vk::{
+    spirv_words, AccelerationStructure, Buffer, ComputePipeline, Context, DescriptorSet,
+    StorageImage,
+};
 pub use bindings::{Binding, Resource};
 pub use catalog::*;
 
@@ -99,6 +102,8 @@ pub enum Bound<'a> {
     TexelBuffer(&'a TexelBufferView),
     /// A storage image in GENERAL layout.
     StorageImage(&'a StorageImage),
+    /// A top-level acceleration structure.
+    AccelerationStructure(&'a AccelerationStructure),
 }
 
 impl Kernel {
@@ -238,6 +243,10 @@ impl KernelPipeline {
                 (Bound::StorageImage(image), vk::DescriptorType::STORAGE_IMAGE) => {
                     set.write_storage_image(row.binding, image)
                 }
+                (
+                    Bound::AccelerationStructure(structure),
+                    vk::DescriptorType::ACCELERATION_STRUCTURE_KHR,
+                ) => set.write_acceleration_structure(row.binding, structure),
                 _ => return Err(missing()),
             }
         }

@@ -2,7 +2,7 @@
 //! name) and its specialization-constant ids, read from the module's `OpDecorate`,
 //! `OpVariable` and type instructions (SPIR-V 1.6 specification, 2.3 and 3.x). Only what
 //! GLSL compute kernels declare is told apart: uniform and storage buffers, texel buffers,
-//! storage and sampled images, samplers. The tests use it to check each kernel's binding
+//! storage and sampled images, samplers, acceleration structures. The tests use it to check each kernel's binding
 //! table (`crate::kernels::bindings`) against every build.
 
 use std::collections::HashMap;
@@ -49,6 +49,8 @@ const OP_TYPE_SAMPLED_IMAGE: u32 = 27;
 const OP_TYPE_ARRAY: u32 = 28;
 const OP_TYPE_RUNTIME_ARRAY: u32 = 29;
 const OP_TYPE_POINTER: u32 = 32;
+/// `OpTypeAccelerationStructureKHR` (SPV_KHR_ray_query).
+const OP_TYPE_ACCELERATION_STRUCTURE: u32 = 5341;
 const OP_VARIABLE: u32 = 59;
 const OP_DECORATE: u32 = 71;
 const DECORATION_SPEC_ID: u32 = 1;
@@ -70,6 +72,8 @@ enum Type {
         sampled: u32,
     },
     Sampler,
+    /// `OpTypeAccelerationStructureKHR`.
+    AccelerationStructure,
     /// `OpTypeSampledImage` of an image type.
     SampledImage(u32),
     /// An array of descriptors of the element type.
@@ -135,6 +139,9 @@ pub fn declarations(spirv: &[u32]) -> Result<Declarations, String> {
             }
             OP_TYPE_SAMPLER => {
                 types.insert(word(0), Type::Sampler);
+            }
+            OP_TYPE_ACCELERATION_STRUCTURE => {
+                types.insert(word(0), Type::AccelerationStructure);
             }
             OP_TYPE_SAMPLED_IMAGE => {
                 types.insert(word(0), Type::SampledImage(word(1)));
@@ -249,6 +256,7 @@ fn pointer_operands(opcode: u32, operands: &[u32]) -> &[u32] {
 fn descriptor_type(t: Type, types: &HashMap<u32, Type>) -> Option<vk::DescriptorType> {
     match t {
         Type::Sampler => Some(vk::DescriptorType::SAMPLER),
+        Type::AccelerationStructure => Some(vk::DescriptorType::ACCELERATION_STRUCTURE_KHR),
         Type::Image { dim, sampled } => Some(match (dim == DIM_BUFFER, sampled) {
             (true, 2) => vk::DescriptorType::STORAGE_TEXEL_BUFFER,
             (true, _) => vk::DescriptorType::UNIFORM_TEXEL_BUFFER,

@@ -12,8 +12,8 @@
 use crate::contract;
 use crate::error::Result;
 use crate::kernels::builds::{
-    FEW_CONSTANT_TRIANGLES, USE_BVH, USE_MATERIALS, WITHOUT_ENVIRONMENT_MAP, WITHOUT_GUIDING,
-    WITHOUT_LAYERS, WITHOUT_LIGHT_TREE,
+    FEW_CONSTANT_TRIANGLES, USE_BVH, USE_MATERIALS, USE_RAY_QUERY, WITHOUT_ENVIRONMENT_MAP,
+    WITHOUT_GUIDING, WITHOUT_LAYERS, WITHOUT_LIGHT_TREE,
 };
 use crate::kernels::{Build, PATH_TRACER};
 use crate::scene::Triangle;
@@ -24,12 +24,14 @@ use crate::scene::Triangle;
 pub enum Accel {
     /// A BVH for scenes of more than `BVH_THRESHOLD` triangles and for material scenes that
     /// the constant triangles cannot trace (more than 16 triangles, or alpha), else the loop
-    /// compiled into the kernel (`Traversal::choose`).
+    /// compiled into the kernel (`Traversal::choose`); where such a scene would take the
+    /// BVH and the device has ray queries, the device's acceleration structures
+    /// (`Traversal::choose_on_device`).
     #[default]
     #[cfg_attr(
         feature = "cli",
         value(
-            help = "A BVH above 64 triangles (glTF materials: above 16 or with alpha), else the linear loop"
+            help = "A BVH above 64 triangles (glTF materials: above 16 or with alpha), the device's ray queries instead where it has them, else the linear loop"
         )
     )]
     Auto,
@@ -42,6 +44,13 @@ pub enum Accel {
     /// A bounding volume hierarchy (binned SAH), traversed in the shader.
     #[cfg_attr(feature = "cli", value(help = "Always a BVH"))]
     Bvh,
+    /// The device's acceleration structures, traversed by `VK_KHR_ray_query` in the same
+    /// kernel (`glsl/ray_query.glsl`); an error on devices without ray queries.
+    #[cfg_attr(
+        feature = "cli",
+        value(help = "Always the device's ray queries (VK_KHR_ray_query); an error without them")
+    )]
+    Hardware,
 }
 
 /// Scenes with more triangles than this get a BVH under `Accel::Auto`. Measured on lavapipe
@@ -56,7 +65,7 @@ impl Accel {
     pub fn uses_bvh(self, triangle_count: usize) -> bool {
         match self {
             Accel::Auto => triangle_count > BVH_THRESHOLD,
-            Accel::None => false,
+            Accel::None | Accel::Hardware => false,
             Accel::Bvh => true,
         }
     }
@@ -77,6 +86,9 @@ pub enum Traversal {
     Linear,
     /// A BVH, with the triangles in its leaf order (`path_tracer.comp` with `USE_BVH`).
     Bvh,
+    /// The device's acceleration structures over the triangles in their scene order,
+    /// traversed with `VK_KHR_ray_query` (`path_tracer.comp` with `USE_RAY_QUERY`).
+    RayQuery,
 }
 
 impl Traversal {
@@ -115,9 +127,14 @@ impl Traversal {
     /// take a BVH under `Accel::Auto` however small (the texel loop's samples are slower);
     /// `Accel::None` keeps the loop, over the texel buffer where the constant triangles
     /// cannot trace the scene.
+    ///
+    /// `Accel::Hardware` always takes `Traversal::RayQuery` (the caller checks that the
+    /// device has ray queries); `Accel::Auto` never does here (`choose_on_device` does).
     pub fn choose(triangle_count: usize, accel: Accel, materials: bool, alpha: bool) -> Traversal {
         let constant = Traversal::constant_triangles_can_trace(triangle_count, materials, alpha);
-        if accel.uses_bvh(triangle_count) {
+        if accel == Accel::Hardware {
+            Traversal::RayQuery
+        } else if accel.uses_bvh(triangle_count) {
             Traversal::Bvh
         } else if constant {
             Traversal::ConstantTriangles
@@ -128,12 +145,39 @@ impl Traversal {
         }
     }
 
-    /// A short name for reports: "constant triangles", "linear" or "BVH".
+    /// `choose` on a device that has ray queries (`ray_queries`) or not: `Accel::Auto`
+    /// takes the device's acceleration structures wherever it would otherwise take the BVH
+    /// (scenes compiled into the kernel, or traced by the loop, keep that path).
+    pub fn choose_on_device(
+        triangle_count: usize,
+        accel: Accel,
+        materials: bool,
+        alpha: bool,
+        ray_queries: bool,
+    ) -> Traversal {
+        match Traversal::choose(triangle_count, accel, materials, alpha) {
+            Traversal::Bvh if accel == Accel::Auto && ray_queries => Traversal::RayQuery,
+            traversal => traversal,
+        }
+    }
+
+    /// A short name for reports: "constant triangles", "linear", "BVH" or "ray queries".
     pub fn name(self) -> &'static str {
         match self {
             Traversal::ConstantTriangles => "constant triangles",
             Traversal::Linear => "linear",
             Traversal::Bvh => "BVH",
+            Traversal::RayQuery => "ray queries",
+        }
+    }
+
+    /// What ran, as `render --json`'s `accel` names it: `"hardware"` (the device's ray
+    /// queries), `"bvh"` or `"none"` (the loop over all triangles, compiled in or not).
+    pub fn accel_name(self) -> &'static str {
+        match self {
+            Traversal::ConstantTriangles | Traversal::Linear => "none",
+            Traversal::Bvh => "bvh",
+            Traversal::RayQuery => "hardware",
         }
     }
 }
@@ -222,6 +266,11 @@ const PATH_TRACER_MACROS: &[BuildMacro] = &[
         name: USE_BVH,
         lean: false,
         wanted: |c| c.traversal == Traversal::Bvh,
+    },
+    BuildMacro {
+        name: USE_RAY_QUERY,
+        lean: false,
+        wanted: |c| c.traversal == Traversal::RayQuery,
     },
     // The workshop kernels' constant triangles of a scene of at most
     // FEW_CONSTANT_TRIANGLE_CAPACITY triangles: the build that unrolls only that many.
@@ -387,6 +436,39 @@ mod tests {
         assert_eq!(choose(12, Accel::Auto, true, true), Bvh);
         assert_eq!(choose(12, Accel::None, true, true), Linear);
         assert_eq!(choose(12, Accel::Bvh, true, false), Bvh);
+        // Hardware always takes the ray queries
+        assert_eq!(
+            choose(12, Accel::Hardware, false, false),
+            Traversal::RayQuery
+        );
+    }
+
+    #[test]
+    fn auto_takes_ray_queries_where_it_would_take_the_bvh() {
+        let on_device = Traversal::choose_on_device;
+        let capacity = contract::CONSTANT_TRIANGLE_CAPACITY as usize;
+        use Traversal::{Bvh, ConstantTriangles as Constant, Linear, RayQuery};
+        // A device with ray queries: the BVH's scenes take them, the others keep their path
+        assert_eq!(
+            on_device(capacity + 1, Accel::Auto, false, false, true),
+            RayQuery
+        );
+        assert_eq!(on_device(12, Accel::Auto, true, true, true), RayQuery);
+        assert_eq!(on_device(30, Accel::Auto, false, false, true), Constant);
+        assert_eq!(
+            on_device(capacity + 1, Accel::None, false, false, true),
+            Linear
+        );
+        assert_eq!(on_device(capacity + 1, Accel::Bvh, false, false, true), Bvh);
+        assert_eq!(on_device(30, Accel::Hardware, false, false, true), RayQuery);
+        // One without: the BVH
+        assert_eq!(
+            on_device(capacity + 1, Accel::Auto, false, false, false),
+            Bvh
+        );
+        assert_eq!(Traversal::RayQuery.accel_name(), "hardware");
+        assert_eq!(Traversal::Bvh.accel_name(), "bvh");
+        assert_eq!(Constant.accel_name(), "none");
     }
 
     /// The build a render of `triangles` triangles takes.
@@ -423,7 +505,7 @@ mod tests {
             ..lean
         };
         use KernelSource::{Embedded, Given};
-        use Traversal::{Bvh, ConstantTriangles as Constant, Linear};
+        use Traversal::{Bvh, ConstantTriangles as Constant, Linear, RayQuery};
         // (traversal, triangles, materials, layers, settings, source): the build
         let cases = [
             // The lean builds, where the render needs no light tree, guiding or map
@@ -446,6 +528,26 @@ mod tests {
             (
                 (Bvh, 100, true, false, lean, Embedded),
                 "path_tracer_materials_bvh_lean",
+            ),
+            (
+                (RayQuery, 100, false, false, lean, Embedded),
+                "path_tracer_ray_query_lean",
+            ),
+            (
+                (RayQuery, 100, true, false, lean, Embedded),
+                "path_tracer_materials_ray_query_lean",
+            ),
+            (
+                (RayQuery, 100, false, false, guided, Embedded),
+                "path_tracer_ray_query",
+            ),
+            (
+                (RayQuery, 100, true, true, lean, Embedded),
+                "path_tracer_materials_ray_query",
+            ),
+            (
+                (RayQuery, 100, true, false, tree, Embedded),
+                "path_tracer_materials_ray_query_without_layers",
             ),
             // ... and the full build where none is lean
             ((Linear, 100, false, false, lean, Embedded), "path_tracer"),

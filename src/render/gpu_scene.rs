@@ -8,6 +8,7 @@ use std::sync::Arc;
 
 use ash::vk;
 
+use crate::accel::SceneStructures;
 use crate::bvh::{traversal_triangles, Bvh, BvhStats};
 use crate::camera::Camera;
 use crate::error::{Error, Result};
@@ -165,16 +166,27 @@ impl MaterialBuffers {
 /// all (`render --json` and `bench --json` report it as `scene_memory`).
 #[derive(Clone, Copy, Debug, PartialEq, serde::Serialize)]
 pub struct SceneMemory {
-    /// How rays find hits (`Traversal::name`): `BVH` (the 4-wide BVH), `linear` or
-    /// `constant triangles`.
+    /// How rays find hits (`Traversal::name`): `BVH` (the 4-wide BVH), `ray queries`,
+    /// `linear` or `constant triangles`.
     pub traversal: &'static str,
+    /// What found the hits as `--accel` names it (`Traversal::accel_name`): `hardware` (the
+    /// device's ray queries), `bvh` or `none`.
+    pub accel: &'static str,
     /// Triangles in the scene.
     pub triangle_count: u64,
     /// The BVH's nodes (0 without a BVH).
     pub bvh_node_bytes: u64,
     /// The vertex positions that the BVH traversal's triangle tests read (0 without a BVH).
     pub traversal_triangle_bytes: u64,
-    /// `bvh_node_bytes + traversal_triangle_bytes` per triangle: what the traversal reads.
+    /// The device's acceleration structures, top and bottom level (0 without ray queries).
+    pub hardware_structure_bytes: u64,
+    /// Bottom-level structures of the device's (a mesh that nodes draw, or a run of
+    /// world-space triangles each; 0 without ray queries).
+    pub hardware_bottom_levels: u64,
+    /// Instances in the device's top-level structure (0 without ray queries).
+    pub hardware_instances: u64,
+    /// `bvh_node_bytes + traversal_triangle_bytes + hardware_structure_bytes` per triangle:
+    /// what the traversal reads.
     pub acceleration_bytes_per_triangle: f64,
     /// Every buffer of the scene: triangles, BVH, lights, shading data, materials, textures
     /// and the render uniforms.
@@ -193,6 +205,12 @@ impl SceneMemory {
                 "nodes {:.2} MiB + traversal triangles {:.2} MiB = {:.1} bytes/triangle; ",
                 mib(self.bvh_node_bytes),
                 mib(self.traversal_triangle_bytes),
+                self.acceleration_bytes_per_triangle
+            )
+        } else if self.hardware_structure_bytes > 0 {
+            format!(
+                "acceleration structures {:.2} MiB = {:.1} bytes/triangle; ",
+                mib(self.hardware_structure_bytes),
                 self.acceleration_bytes_per_triangle
             )
         } else {
@@ -217,6 +235,8 @@ pub struct GpuScene {
     bvh_nodes: Option<TexelBufferView>,
     /// The vertex positions alone, in leaf order, for the traversal (with a BVH only).
     traversal_triangles: Option<TexelBufferView>,
+    /// The device's acceleration structures (`Traversal::RayQuery` only).
+    structures: Option<SceneStructures>,
     /// Shading data, materials and texture texels (scenes with materials only).
     materials: Option<MaterialBuffers>,
     /// What the variant room (`crate::kernels::variant`) reads of the scene.
@@ -288,6 +308,11 @@ impl GpuScene {
             )?),
             None => None,
         };
+        let structures = match traversal {
+            // The triangles stay in the scene's order (no BVH reorders them)
+            Traversal::RayQuery => Some(SceneStructures::build(context, commands, scene)?),
+            _ => None,
+        };
         let plain_materials;
         let scene_materials = match &scene.materials {
             Some(materials) => Some(materials),
@@ -313,6 +338,7 @@ impl GpuScene {
         let bytes = |view: Option<&TexelBufferView>| view.map_or(0, TexelBufferView::byte_size);
         let bvh_node_bytes = bytes(bvh_nodes.as_ref());
         let traversal_triangle_bytes = bytes(traversal_triangles.as_ref());
+        let hardware_structure_bytes = structures.as_ref().map_or(0, SceneStructures::bytes);
         let material_bytes = materials.as_ref().map_or(0, |m| {
             m.shading.byte_size() + m.materials.byte_size() + m.texture_texels.byte_size()
         });
@@ -323,16 +349,23 @@ impl GpuScene {
             + uniforms.size
             + bvh_node_bytes
             + traversal_triangle_bytes
+            + hardware_structure_bytes
             + material_bytes
             + light_bytes;
         let per_triangle = |bytes: u64| bytes as f64 / scene.triangles.len().max(1) as f64;
         let memory = SceneMemory {
             traversal: traversal.name(),
+            accel: traversal.accel_name(),
             triangle_count: scene.triangles.len() as u64,
             bvh_node_bytes,
             traversal_triangle_bytes,
+            hardware_structure_bytes,
+            hardware_bottom_levels: structures
+                .as_ref()
+                .map_or(0, |s| s.bottom_level_count() as u64),
+            hardware_instances: structures.as_ref().map_or(0, |s| s.instance_count() as u64),
             acceleration_bytes_per_triangle: per_triangle(
-                bvh_node_bytes + traversal_triangle_bytes,
+                bvh_node_bytes + traversal_triangle_bytes + hardware_structure_bytes,
             ),
             scene_bytes,
             scene_bytes_per_triangle: per_triangle(scene_bytes),
@@ -343,6 +376,7 @@ impl GpuScene {
             lights,
             bvh_nodes,
             traversal_triangles,
+            structures,
             materials,
             summary,
             variant_settings,
@@ -364,6 +398,9 @@ impl GpuScene {
         let texel = match resource {
             Resource::Triangles => &self.triangles,
             Resource::RenderUniforms => return Some(Bound::Buffer(&self.uniforms)),
+            Resource::AccelerationStructure => {
+                return Some(Bound::AccelerationStructure(&self.structures.as_ref()?.top))
+            }
             Resource::Lights => &self.lights.emissive,
             Resource::BvhNodes => self.bvh_nodes.as_ref()?,
             Resource::TraversalTriangles => self.traversal_triangles.as_ref()?,

@@ -10,6 +10,7 @@ use std::time::{Duration, Instant};
 use ash::vk;
 use gpu_allocator::MemoryLocation;
 
+use crate::accel::choose_traversal;
 use crate::camera::Camera;
 use crate::contract;
 use crate::error::{Error, Result};
@@ -291,9 +292,17 @@ impl Renderer {
             validate_host_memory(&settings, area, host_available_memory())?;
         }
         let commands = CommandRunner::new(context)?;
+        // The device decides too: its ray queries under --accel auto and hardware
+        // (`crate::accel::choose_traversal`, which refuses or warns where it cannot).
         let traversal = match kernel {
             Some((_, traversal)) => traversal,
-            None => Traversal::for_scene(scene, settings.accel),
+            None => {
+                let choice = choose_traversal(context, scene, settings.accel)?;
+                if let Some(warning) = &choice.warning {
+                    log::warn!("{warning}");
+                }
+                choice.traversal
+            }
         };
         let gpu_scene = GpuScene::upload(context, &commands, scene, camera, &settings, traversal)?;
         // A given kernel was compiled as the variant room says of one (the plain macros)

@@ -7,7 +7,8 @@ use crate::render::settings::Accel;
 use crate::scene::Scene;
 
 impl Traversal {
-    /// `Traversal::choose` for `scene`.
+    /// `Traversal::choose` for `scene`, as on a device without ray queries (a render asks
+    /// `crate::accel::choose_traversal`, which knows the device).
     pub fn for_scene(scene: &Scene, accel: Accel) -> Traversal {
         Traversal::choose(
             scene.triangles.len(),

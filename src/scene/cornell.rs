@@ -68,6 +68,7 @@ pub fn workshop_cornell_box() -> Result<Scene, SceneError> {
         punctual_lights: Vec::new(),
         environment: None,
         cameras: vec![camera],
+        mesh_instances: Vec::new(),
     })
 }
 

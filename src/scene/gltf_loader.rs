@@ -22,6 +22,7 @@ use super::files::{read_bounded, resolve_reference, LoadOptions, MAX_SCENE_FILE_
 use super::gltf_animation::node_transforms_at;
 use super::gltf_extensions::unsupported_extension_warnings;
 use super::gltf_materials::MaterialReader;
+use super::instances::InstanceRecorder;
 use super::materials::TriangleShading;
 use super::tangents::generate_tangents;
 use super::{Material, Scene, SceneBuilder, SceneError};
@@ -57,6 +58,7 @@ pub fn load_gltf_with(path: &Path, options: &LoadOptions) -> Result<Scene, Scene
         builder: SceneBuilder::new(path),
         materials: MaterialReader::new(path, &document, &buffers, options),
         orthographic_camera: None,
+        instances: InstanceRecorder::default(),
     };
     for warning in unsupported_extension_warnings(document.extensions_used()) {
         loader.builder.warn(warning);
@@ -394,6 +396,8 @@ struct Loader<'a> {
     materials: MaterialReader<'a>,
     /// The first orthographic camera met, reported if no perspective camera follows.
     orthographic_camera: Option<String>,
+    /// Each node's copy of its mesh, for the device's acceleration structures.
+    instances: InstanceRecorder,
 }
 
 impl Loader<'_> {
@@ -469,6 +473,9 @@ impl Loader<'_> {
         // A mirroring transform turns counter-clockwise into clockwise; swapping two
         // vertices keeps the normal on the side that was the front in object space.
         let mirrors = local_to_world.determinant() < 0.0;
+        // The kept triangles in object space, vertex for vertex as in world space
+        let first_triangle = self.builder.triangle_count();
+        let mut kept_object_positions: Vec<[Vec3; 3]> = Vec::new();
         for (primitive_index, primitive) in mesh.primitives().enumerate() {
             let mode = primitive.mode();
             if !matches!(
@@ -527,6 +534,7 @@ impl Loader<'_> {
             let vector_matrix = Mat3::from_mat4(local_to_world);
             let handedness = if mirrors { -1.0 } else { 1.0 };
             for (t, corner_positions) in object_positions.iter().enumerate() {
+                let mut object = *corner_positions;
                 let mut world = corner_positions.map(|p| local_to_world.transform_point3(p));
                 let mut shading = TriangleShading {
                     material: material_index,
@@ -543,13 +551,26 @@ impl Loader<'_> {
                     }),
                 };
                 if mirrors {
+                    object.swap(1, 2);
                     world.swap(1, 2);
                     shading.normals.swap(1, 2);
                     shading.tex_coords.swap(1, 2);
                     shading.tangents.swap(1, 2);
                 }
+                let kept = self.builder.triangle_count();
                 self.builder.push_shaded(&name, world, &material, shading)?;
+                if self.builder.triangle_count() > kept {
+                    kept_object_positions.push(object);
+                }
             }
+        }
+        if let Some(instance) = self.instances.instance(
+            mesh.index(),
+            first_triangle,
+            local_to_world,
+            kept_object_positions,
+        ) {
+            self.builder.add_mesh_instance(instance);
         }
         Ok(())
     }

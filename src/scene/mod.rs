@@ -17,6 +17,7 @@ mod gltf_animation;
 mod gltf_extensions;
 pub mod gltf_loader;
 mod gltf_materials;
+pub mod instances;
 pub mod materials;
 pub mod meshes;
 pub mod obj_loader;
@@ -27,6 +28,7 @@ pub mod tangents;
 pub mod textures;
 
 pub use error::{printable, SceneError};
+pub use instances::MeshInstance;
 pub use source::SceneSource;
 
 /// A triangle with the workshop's shading parameters (`triangle_t`), world space.
@@ -66,6 +68,9 @@ pub struct Scene {
     /// Python's `environment=`, `background=`) give it as an `EnvironmentSource`, which
     /// `with_environment` loads into the scene.
     pub environment: Option<Environment>,
+    /// The ranges of `triangles` that are copies of a mesh (glTF nodes; empty for other
+    /// formats): what the device's acceleration structures instance.
+    pub mesh_instances: Vec<MeshInstance>,
 }
 
 impl Triangle {
@@ -259,6 +264,16 @@ impl SceneBuilder {
     /// The scene file, for the loaders' own errors.
     pub fn path(&self) -> &Path {
         &self.path
+    }
+
+    /// Triangles kept so far.
+    pub fn triangle_count(&self) -> usize {
+        self.scene.triangles.len()
+    }
+
+    /// Records a copy of a mesh among the triangles kept so far.
+    pub fn add_mesh_instance(&mut self, instance: MeshInstance) {
+        self.scene.mesh_instances.push(instance);
     }
 
     /// Adds a triangle with world-space, counter-clockwise `positions`; `mesh` names its

@@ -62,6 +62,7 @@ pub fn furnace(albedo: f32, emission: f32) -> Scene {
         punctual_lights: Vec::new(),
         environment: None,
         cameras: Vec::new(),
+        mesh_instances: Vec::new(),
     }
 }
 

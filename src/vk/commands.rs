@@ -198,6 +198,12 @@ pub struct Recorder<'a> {
 }
 
 impl Recorder<'_> {
+    /// The command buffer being recorded, for commands of extensions that this file does not
+    /// wrap (`crate::vk::acceleration_structure`'s builds).
+    pub(crate) fn command_buffer(&self) -> vk::CommandBuffer {
+        self.command_buffer
+    }
+
     /// Binds `pipeline` for compute dispatches, with `set` as its set 0.
     pub fn bind(&mut self, pipeline: &ComputePipeline, set: &DescriptorSet) {
         // SAFETY: the command buffer is recording; run() waits for the submission while the

@@ -18,6 +18,7 @@ use gpu_allocator::vulkan::{Allocator, AllocatorCreateDesc};
 use super::device_choice::{choose_devices, format_uuid, DeviceEnvironment, PciBusInfo};
 use super::error::{CallContext, VkError, VkResult};
 use super::pipeline_cache::{PersistentPipelineCache, PipelineCacheKey, PipelineCacheStore};
+use super::ray_query_support::{self, RayQueryFeatures, RayQuerySupport};
 use super::validation::{messenger_create_info, ValidationMessages};
 
 const VALIDATION_LAYER: &CStr = c"VK_LAYER_KHRONOS_validation";
@@ -120,6 +121,9 @@ pub struct DeviceInfo {
     pub vendor_id: u32,
     /// Its PCI address, where the driver has `VK_EXT_pci_bus_info`.
     pub pci_bus: Option<PciBusInfo>,
+    /// Whether its kernels can trace rays with ray queries (`VK_KHR_ray_query`:
+    /// `--accel hardware`).
+    pub ray_queries: bool,
 }
 
 impl fmt::Display for DeviceInfo {
@@ -132,6 +136,9 @@ impl fmt::Display for DeviceInfo {
         write!(f, ", {}", format_uuid(&self.uuid))?;
         if self.compute_queue_family.is_none() {
             f.write_str(", no compute queue")?;
+        }
+        if self.ray_queries {
+            f.write_str(", ray queries")?;
         }
         Ok(())
     }
@@ -155,6 +162,9 @@ pub struct Context {
     pub chosen_because: String,
     /// Its limits (workgroup counts, push constant size, ...).
     pub limits: vk::PhysicalDeviceLimits,
+    /// Whether its kernels can trace rays with ray queries (enabled on the device where
+    /// they can), with the acceleration structures' limits.
+    pub ray_queries: RayQuerySupport,
     /// The logical device.
     pub device: ash::Device,
     /// The compute queue, locked: Vulkan requires every submission to a queue to be
@@ -269,6 +279,7 @@ fn describe_devices(instance: &ash::Instance) -> VkResult<Vec<(vk::PhysicalDevic
                 uuid,
                 vendor_id: properties.vendor_id,
                 pci_bus,
+                ray_queries: ray_query_support::probe(instance, physical_device).is_available(),
             };
             (physical_device, info)
         })
@@ -415,7 +426,19 @@ impl Context {
         let queue_info = [vk::DeviceQueueCreateInfo::default()
             .queue_family_index(queue_family_index)
             .queue_priorities(&priorities)];
-        let device_info = vk::DeviceCreateInfo::default().queue_create_infos(&queue_info);
+        // Ray queries where the device offers them (src/vk/ray_query_support.rs); other
+        // devices are created exactly as without them.
+        let ray_queries = ray_query_support::probe(&instance, physical_device);
+        let mut ray_query_features = RayQueryFeatures::enabled();
+        let ray_query_extensions = RayQueryFeatures::extension_names();
+        let mut device_info = vk::DeviceCreateInfo::default().queue_create_infos(&queue_info);
+        if ray_queries.is_available() {
+            device_info = device_info
+                .enabled_extension_names(&ray_query_extensions)
+                .push_next(&mut ray_query_features.acceleration)
+                .push_next(&mut ray_query_features.ray_query)
+                .push_next(&mut ray_query_features.address);
+        }
         // SAFETY: physical_device belongs to instance; the create info outlives the call.
         let device = match unsafe { instance.create_device(physical_device, &device_info, None) } {
             Ok(device) => device,
@@ -436,7 +459,7 @@ impl Context {
             device: device.clone(),
             physical_device,
             debug_settings: Default::default(),
-            buffer_device_address: false,
+            buffer_device_address: ray_queries.is_available(),
             allocation_sizes: Default::default(),
         });
         let allocator = match allocator {
@@ -479,6 +502,7 @@ impl Context {
             info,
             chosen_because: options.chosen_because.clone().unwrap_or(reason),
             limits,
+            ray_queries,
             device,
             queue: Mutex::new(queue),
             queue_family_index,

@@ -5,6 +5,7 @@ use std::sync::Arc;
 
 use ash::vk;
 
+use super::acceleration_structure::AccelerationStructure;
 use super::buffer::{Buffer, TexelBufferView};
 use super::context::Context;
 use super::error::{CallContext, VkError, VkResult};
@@ -296,6 +297,21 @@ impl DescriptorSet {
 }
 
 impl DescriptorSet {
+    /// Points `binding` at an acceleration structure (a top-level one, for ray queries).
+    pub fn write_acceleration_structure(&self, binding: u32, structure: &AccelerationStructure) {
+        let handles = [structure.handle];
+        let mut info = vk::WriteDescriptorSetAccelerationStructureKHR::default()
+            .acceleration_structures(&handles);
+        let mut write = vk::WriteDescriptorSet::default()
+            .dst_set(self.set)
+            .dst_binding(binding)
+            .descriptor_type(vk::DescriptorType::ACCELERATION_STRUCTURE_KHR)
+            .push_next(&mut info);
+        write.descriptor_count = 1;
+        // SAFETY: the structure is alive; the set is not in use by pending work.
+        unsafe { self.context.device.update_descriptor_sets(&[write], &[]) };
+    }
+
     /// Points `binding` at a combined image sampler: `image` (made with
     /// `StorageImage::sampled_2d`) in GENERAL layout, read through `sampler`.
     pub fn write_sampled_image(&self, binding: u32, image: &StorageImage, sampler: &Sampler) {

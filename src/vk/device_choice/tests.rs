@@ -14,6 +14,7 @@ fn device(index: usize, name: &str, kind: DeviceKind, vendor_id: u32, uuid_byte:
         uuid: [uuid_byte; 16],
         vendor_id,
         pci_bus: None,
+        ray_queries: false,
     }
 }
 
