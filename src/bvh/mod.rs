@@ -15,16 +15,23 @@ use glam::Vec3;
 
 mod aabb;
 mod build;
+mod compressed;
+pub mod compressed_traversal;
 mod stats;
 pub mod traversal;
 mod wide;
 
+#[cfg(test)]
+mod compressed_tests;
 #[cfg(test)]
 mod tests;
 
 pub use aabb::Aabb;
 pub use build::{
     BIN_COUNT, INTERSECTION_COST, LEAF_SIZE, MAX_DEPTH, MAX_LEAF_SIZE, TRAVERSAL_COST,
+};
+pub use compressed::{
+    compressed_child_node, packed_traversal_triangles, CompressedBvh, GpuCompressedBvhNode,
 };
 pub use stats::BvhStats;
 pub use traversal::{
