@@ -154,13 +154,12 @@ fn compare_compressed_with_brute_force(triangles: &[Triangle], rays: &[(Vec3, Ve
     let bvh = CompressedBvh::build(triangles).unwrap();
     check_compressed_structure(&bvh, triangles);
     let packed = packed_traversal_triangles(&bvh.reorder(triangles));
-    let count = triangles.len();
     let mut agreement = Agreement::default();
     let mut state = UVec2::new(7, 11);
     for &(origin, direction) in rays {
         agreement.rays += 1;
         let expected = ray_mesh_intersection(triangles, origin, direction);
-        let actual = cwbvh_closest_hit(&bvh.nodes, &packed, count, origin, direction);
+        let actual = cwbvh_closest_hit(&bvh.nodes, &packed, origin, direction);
         match (expected, actual) {
             (None, None) => {}
             (Some(e), Some(a)) => {
@@ -182,7 +181,7 @@ fn compare_compressed_with_brute_force(triangles: &[Triangle], rays: &[(Vec3, Ve
         let factor = 0.5 + get_random_numbers(&mut state).x;
         let t_max = expected.map_or(1e30, |e| e.t * factor);
         let expected_any = expected.is_some_and(|e| e.t < t_max);
-        if cwbvh_any_hit(&bvh.nodes, &packed, count, origin, direction, t_max) != expected_any {
+        if cwbvh_any_hit(&bvh.nodes, &packed, origin, direction, t_max) != expected_any {
             agreement.mismatches += 1;
         }
     }
@@ -235,8 +234,8 @@ fn compressed_closest_and_any_hit_match_brute_force_on_generated_meshes() {
 fn compressed_tree_handles_empty_single_and_degenerate_input() {
     let empty = CompressedBvh::build(&[]).unwrap();
     assert!(empty.nodes.is_empty() && empty.triangle_order.is_empty());
-    assert!(cwbvh_closest_hit(&[], &[], 0, Vec3::ZERO, Vec3::X).is_none());
-    assert!(!cwbvh_any_hit(&[], &[], 0, Vec3::ZERO, Vec3::X, 1e30));
+    assert!(cwbvh_closest_hit(&[], &[], Vec3::ZERO, Vec3::X).is_none());
+    assert!(!cwbvh_any_hit(&[], &[], Vec3::ZERO, Vec3::X, 1e30));
 
     let one = vec![Triangle {
         positions: [

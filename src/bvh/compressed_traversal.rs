@@ -76,34 +76,34 @@ pub fn cwbvh_octant_inverse(ray_direction: Vec3) -> u32 {
         | (if ray_direction.z < 0.0 { 0 } else { 1 })
 }
 
-/// Twin of GLSL `cwbvh_intersect_node`: which children of node `node_index` the ray enters
-/// before `t_max` (the slab test of `bvh_ray_box_intersection` on the dequantised boxes,
-/// `q * (scale / d) + (origin - o) / d`, exits padded by `BVH_SLAB_PADDING`).
-/// \return The hit mask: bit `24 + (slot ^ octant_inverse)` for each interior child entered;
-///         for each leaf entered, its triangles' offsets from the node's `triangle_base`
-pub fn cwbvh_intersect_node(
-    nodes: &[GpuCompressedBvhNode],
-    node_index: u32,
-    ray_origin: Vec3,
-    inverse_direction: Vec3,
+/// Twin of GLSL `cwbvh_intersect_four_children`: the slab test of `bvh_ray_box_intersection`
+/// on four children's dequantised boxes (slots 0-3 or 4-7), in the node's grid (plane `q` at
+/// `t = q * scaled_inverse + shifted_origin`), exits padded by `BVH_SLAB_PADDING`.
+/// \param planes Their quantised lower x, upper x, lower y, upper y, lower z, upper z
+///        planes, a byte per child (child k: bits 8k ..)
+/// \param meta_bytes Their meta bytes, likewise
+/// \return The hit bits of those entered: bit `24 + (slot ^ octant_inverse)` for an interior
+///         child, the offsets of a leaf's triangles from the node's first triangle
+pub fn cwbvh_intersect_four_children(
+    planes: [u32; 6],
+    meta_bytes: u32,
+    scaled_inverse: Vec3,
+    shifted_origin: Vec3,
     octant_inverse: u32,
     t_max: f32,
 ) -> u32 {
-    let node = &nodes[node_index as usize];
-    // The ray in the node's grid: t = q * scaled_inverse + shifted_origin per axis
-    let scaled_inverse = node.scale() * inverse_direction;
-    let shifted_origin = (Vec3::from(node.origin) - ray_origin) * inverse_direction;
-    let mut hits = 0u32;
-    for slot in 0..8 {
-        let plane = |q: &[u8; 8], axis: usize| {
-            f32::from(q[slot]) * scaled_inverse[axis] + shifted_origin[axis]
+    let mut hits = 0;
+    for k in 0..4 {
+        let byte = |word: u32| (word >> (8 * k)) & 255;
+        let plane = |word: u32, axis: usize| {
+            byte(word) as f32 * scaled_inverse[axis] + shifted_origin[axis]
         };
-        let t_lower_x = plane(&node.lower_x, 0);
-        let t_upper_x = plane(&node.upper_x, 0);
-        let t_lower_y = plane(&node.lower_y, 1);
-        let t_upper_y = plane(&node.upper_y, 1);
-        let t_lower_z = plane(&node.lower_z, 2);
-        let t_upper_z = plane(&node.upper_z, 2);
+        let t_lower_x = plane(planes[0], 0);
+        let t_upper_x = plane(planes[1], 0);
+        let t_lower_y = plane(planes[2], 1);
+        let t_upper_y = plane(planes[3], 1);
+        let t_lower_z = plane(planes[4], 2);
+        let t_upper_z = plane(planes[5], 2);
         let t_entry = t_lower_x
             .min(t_upper_x)
             .max(t_lower_y.min(t_upper_y))
@@ -113,9 +113,9 @@ pub fn cwbvh_intersect_node(
             .min(t_lower_y.max(t_upper_y))
             .min(t_lower_z.max(t_upper_z))
             * BVH_SLAB_PADDING;
-        let meta = u32::from(node.child_meta[slot]);
+        let meta = byte(meta_bytes);
         // Interior children's meta is 24 + slot: bits 3 and 4 both set, never in a leaf's
-        let inner = meta & (meta << 1) & 0x10 != 0;
+        let inner = meta & (meta << 1) & 16 != 0;
         let child_bits = if inner { 1 } else { meta >> 5 };
         let bit_index = if inner {
             (meta & 31) ^ octant_inverse
@@ -127,6 +127,61 @@ pub fn cwbvh_intersect_node(
         }
     }
     hits
+}
+
+/// Twin of GLSL `cwbvh_intersect_node`: which children of node `node_index` the ray enters
+/// before `t_max` (`cwbvh_intersect_four_children` for slots 0-3 and 4-7).
+/// \return The node group (x: the node's first interior child; y: bit `24 + (slot ^
+///         octant_inverse)` for each interior child entered | the node's inner mask) and the
+///         triangle group (x: the node's first triangle; y: the offsets from it of the
+///         triangles of the leaves entered)
+pub fn cwbvh_intersect_node(
+    nodes: &[GpuCompressedBvhNode],
+    node_index: u32,
+    ray_origin: Vec3,
+    inverse_direction: Vec3,
+    octant_inverse: u32,
+    t_max: f32,
+) -> ([u32; 2], [u32; 2]) {
+    let node = &nodes[node_index as usize];
+    let scaled_inverse = node.scale() * inverse_direction;
+    let shifted_origin = (Vec3::from(node.origin) - ray_origin) * inverse_direction;
+    // Bytes `4 half ..` of each plane array: the words of texels 2-4 (and of the meta)
+    let word = |bytes: &[u8; 8], half: usize| {
+        u32::from_le_bytes([
+            bytes[4 * half],
+            bytes[4 * half + 1],
+            bytes[4 * half + 2],
+            bytes[4 * half + 3],
+        ])
+    };
+    let four = |half: usize| {
+        let planes = [
+            &node.lower_x,
+            &node.upper_x,
+            &node.lower_y,
+            &node.upper_y,
+            &node.lower_z,
+            &node.upper_z,
+        ]
+        .map(|bytes| word(bytes, half));
+        cwbvh_intersect_four_children(
+            planes,
+            word(&node.child_meta, half),
+            scaled_inverse,
+            shifted_origin,
+            octant_inverse,
+            t_max,
+        )
+    };
+    let hits = four(0) | four(1);
+    (
+        [
+            node.child_base,
+            (hits & NODE_HITS) | u32::from(node.inner_mask()),
+        ],
+        [node.triangle_base, hits & TRIANGLE_HITS],
+    )
 }
 
 /// The state of a compressed traversal: the node group and triangle group in hand and the
@@ -191,22 +246,14 @@ impl Groups {
             Step::Done
         }
     }
-
-    /// Takes node `node`'s children that the ray entered (`cwbvh_intersect_node`'s `hits`)
-    /// as the groups in hand.
-    fn enter(&mut self, node: &GpuCompressedBvhNode, hits: u32) {
-        self.node_group = [
-            node.child_base,
-            (hits & NODE_HITS) | u32::from(node.inner_mask()),
-        ];
-        self.triangle_group = [node.triangle_base, hits & TRIANGLE_HITS];
-    }
 }
 
-/// Most steps of one traversal: every node visited once, every triangle tested once, and
-/// a pop for at most every node visit (GLSL: the loops' bound).
-pub fn cwbvh_step_bound(node_count: usize, triangle_count: usize) -> usize {
-    2 * node_count + triangle_count + 1
+/// Twin of GLSL `cwbvh_step_bound`: most steps of one traversal, every node visited once,
+/// every triangle tested once (their count from the packed triangles' texels, padding
+/// included), and a pop for at most every node visit.
+pub fn cwbvh_step_bound(nodes: &[GpuCompressedBvhNode], packed_triangles: &[[f32; 4]]) -> usize {
+    let triangle_count = 4 * packed_triangles.len() / PACKED_TRIANGLE_WORD_COUNT as usize;
+    2 * nodes.len() + triangle_count + 1
 }
 
 /// Finds the closest triangle that a ray hits, twin of GLSL `cwbvh_closest_hit`: brute
@@ -214,7 +261,6 @@ pub fn cwbvh_step_bound(node_count: usize, triangle_count: usize) -> usize {
 /// \param nodes The compressed BVH's nodes (the shader's `g_bvh_node_texels`)
 /// \param packed_triangles The packed traversal triangles in leaf order
 ///        (`packed_traversal_triangles`, the shader's `g_traversal_triangle_texels`)
-/// \param triangle_count How many triangles `packed_triangles` holds
 /// \param ray_origin, ray_direction The ray, world space
 /// \return The closest hit (t, index into the reordered triangles), `None` iff no triangle
 ///         is hit at t < `NO_HIT_T`
@@ -224,7 +270,6 @@ pub fn cwbvh_step_bound(node_count: usize, triangle_count: usize) -> usize {
 pub fn cwbvh_closest_hit(
     nodes: &[GpuCompressedBvhNode],
     packed_triangles: &[[f32; 4]],
-    triangle_count: usize,
     ray_origin: Vec3,
     ray_direction: Vec3,
 ) -> Option<MeshHit> {
@@ -237,7 +282,7 @@ pub fn cwbvh_closest_hit(
     let inverse_direction = bvh_inverse_direction(ray_direction);
     let octant_inverse = cwbvh_octant_inverse(ray_direction);
     let mut groups = Groups::new();
-    for _ in 0..cwbvh_step_bound(nodes.len(), triangle_count) {
+    for _ in 0..cwbvh_step_bound(nodes, packed_triangles) {
         match groups.step(octant_inverse) {
             Step::Triangle(i) => {
                 let triangle = get_packed_traversal_triangle(packed_triangles, i);
@@ -250,7 +295,7 @@ pub fn cwbvh_closest_hit(
                 }
             }
             Step::Node(index) => {
-                let hits = cwbvh_intersect_node(
+                (groups.node_group, groups.triangle_group) = cwbvh_intersect_node(
                     nodes,
                     index,
                     ray_origin,
@@ -258,7 +303,6 @@ pub fn cwbvh_closest_hit(
                     octant_inverse,
                     out_t,
                 );
-                groups.enter(&nodes[index as usize], hits);
             }
             Step::Pop => {}
             Step::Done => break,
@@ -273,7 +317,7 @@ pub fn cwbvh_closest_hit(
 /// Whether a ray hits any triangle at t < `t_max` (shadow rays), twin of GLSL
 /// `cwbvh_any_hit`: the traversal of `cwbvh_closest_hit` with a fixed `t_max`, ending at the
 /// first hit found.
-/// \param nodes, packed_triangles, triangle_count As for `cwbvh_closest_hit`
+/// \param nodes, packed_triangles As for `cwbvh_closest_hit`
 /// \param ray_origin, ray_direction The ray, world space
 /// \param t_max Hits at or beyond this ray parameter do not count
 ///
@@ -282,7 +326,6 @@ pub fn cwbvh_closest_hit(
 pub fn cwbvh_any_hit(
     nodes: &[GpuCompressedBvhNode],
     packed_triangles: &[[f32; 4]],
-    triangle_count: usize,
     ray_origin: Vec3,
     ray_direction: Vec3,
     t_max: f32,
@@ -293,7 +336,7 @@ pub fn cwbvh_any_hit(
     let inverse_direction = bvh_inverse_direction(ray_direction);
     let octant_inverse = cwbvh_octant_inverse(ray_direction);
     let mut groups = Groups::new();
-    for _ in 0..cwbvh_step_bound(nodes.len(), triangle_count) {
+    for _ in 0..cwbvh_step_bound(nodes, packed_triangles) {
         match groups.step(octant_inverse) {
             Step::Triangle(i) => {
                 let triangle = get_packed_traversal_triangle(packed_triangles, i);
@@ -304,7 +347,7 @@ pub fn cwbvh_any_hit(
                 }
             }
             Step::Node(index) => {
-                let hits = cwbvh_intersect_node(
+                (groups.node_group, groups.triangle_group) = cwbvh_intersect_node(
                     nodes,
                     index,
                     ray_origin,
@@ -312,7 +355,6 @@ pub fn cwbvh_any_hit(
                     octant_inverse,
                     t_max,
                 );
-                groups.enter(&nodes[index as usize], hits);
             }
             Step::Pop => {}
             Step::Done => break,

@@ -132,6 +132,18 @@ pub fn traversal_triangles(triangles: &[Triangle]) -> Vec<GpuTraversalTriangle> 
     triangles.iter().map(GpuTraversalTriangle::new).collect()
 }
 
+/// Reorders a per-triangle list by a tree's `triangle_order` (`Bvh::triangle_order`,
+/// `CompressedBvh::triangle_order`): `result[i] = items[order[i]]`.
+///
+/// # Panics
+/// If `order` indexes past `items`.
+pub fn reorder_by<T: Clone>(order: &[u32], items: &[T]) -> Vec<T> {
+    order
+        .iter()
+        .map(|&index| items[index as usize].clone())
+        .collect()
+}
+
 /// A BVH over a list of triangles, ready for the GPU.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct Bvh {

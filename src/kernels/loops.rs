@@ -141,6 +141,9 @@ pub const PATH_TRACER_LOOPS: &[KernelLoop] = &[
     described("bvh.glsl", "bvh_closest_hit", CountedByKernel, "BVH"),
     described("bvh.glsl", "bvh_any_hit", CountedByKernel, "BVH"),
     described("bvh.glsl", "bvh_any_hit", CountedByKernel, "BVH"),
+    // The compressed tree's traversals (`SPEC_BVH_LAYOUT`), counted as the 4-wide tree's
+    described("cwbvh.glsl", "cwbvh_closest_hit", CountedByKernel, "BVH"),
+    described("cwbvh.glsl", "cwbvh_any_hit", CountedByKernel, "BVH"),
     guiding_loop(
         "guiding.glsl",
         "sample_guide_direction",
@@ -256,9 +259,9 @@ impl LoopCoefficients {
             light_searches_per_ray: count(LightSearchPerRay),
             triangle_loops_per_ray: match traversal {
                 Traversal::Linear => count(TrianglesPerRay),
-                Traversal::ConstantTriangles | Traversal::Bvh => 0,
+                Traversal::ConstantTriangles | Traversal::Bvh | Traversal::CompressedBvh => 0,
             },
-            counted_by_kernel: traversal == Traversal::Bvh && count(CountedByKernel) > 0,
+            counted_by_kernel: traversal.uses_bvh() && count(CountedByKernel) > 0,
         }
     }
 

@@ -42,6 +42,13 @@ pub enum Accel {
     /// A bounding volume hierarchy (binned SAH), traversed in the shader.
     #[cfg_attr(feature = "cli", value(help = "Always a BVH"))]
     Bvh,
+    /// The compressed wide BVH (8-wide, quantised boxes: `crate::bvh::CompressedBvh`), for
+    /// large scenes: less memory per triangle than `Bvh`'s 4-wide tree.
+    #[cfg_attr(
+        feature = "cli",
+        value(help = "Always the compressed 8-wide BVH (quantised boxes, less memory)")
+    )]
+    CompressedBvh,
 }
 
 /// Scenes with more triangles than this get a BVH under `Accel::Auto`. Measured on lavapipe
@@ -57,7 +64,7 @@ impl Accel {
         match self {
             Accel::Auto => triangle_count > BVH_THRESHOLD,
             Accel::None => false,
-            Accel::Bvh => true,
+            Accel::Bvh | Accel::CompressedBvh => true,
         }
     }
 }
@@ -77,6 +84,9 @@ pub enum Traversal {
     Linear,
     /// A BVH, with the triangles in its leaf order (`path_tracer.comp` with `USE_BVH`).
     Bvh,
+    /// The compressed wide BVH (`crate::bvh::CompressedBvh`), with the triangles in its leaf
+    /// order: the builds of `Bvh`, specialized with `SPEC_BVH_LAYOUT`.
+    CompressedBvh,
 }
 
 impl Traversal {
@@ -117,7 +127,9 @@ impl Traversal {
     /// cannot trace the scene.
     pub fn choose(triangle_count: usize, accel: Accel, materials: bool, alpha: bool) -> Traversal {
         let constant = Traversal::constant_triangles_can_trace(triangle_count, materials, alpha);
-        if accel.uses_bvh(triangle_count) {
+        if accel == Accel::CompressedBvh {
+            Traversal::CompressedBvh
+        } else if accel.uses_bvh(triangle_count) {
             Traversal::Bvh
         } else if constant {
             Traversal::ConstantTriangles
@@ -128,12 +140,28 @@ impl Traversal {
         }
     }
 
-    /// A short name for reports: "constant triangles", "linear" or "BVH".
+    /// A short name for reports: "constant triangles", "linear", "BVH" or "compressed
+    /// BVH".
     pub fn name(self) -> &'static str {
         match self {
             Traversal::ConstantTriangles => "constant triangles",
             Traversal::Linear => "linear",
             Traversal::Bvh => "BVH",
+            Traversal::CompressedBvh => "compressed BVH",
+        }
+    }
+
+    /// Whether rays traverse a BVH (the `USE_BVH` builds), 4-wide or compressed.
+    pub fn uses_bvh(self) -> bool {
+        matches!(self, Traversal::Bvh | Traversal::CompressedBvh)
+    }
+
+    /// `SPEC_BVH_LAYOUT` of the `USE_BVH` builds: which tree the BVH bindings hold.
+    pub fn bvh_layout(self) -> u32 {
+        if self == Traversal::CompressedBvh {
+            contract::BVH_LAYOUT_COMPRESSED
+        } else {
+            contract::BVH_LAYOUT_WIDE
         }
     }
 }
@@ -221,7 +249,7 @@ const PATH_TRACER_MACROS: &[BuildMacro] = &[
     BuildMacro {
         name: USE_BVH,
         lean: false,
-        wanted: |c| c.traversal == Traversal::Bvh,
+        wanted: |c| c.traversal.uses_bvh(),
     },
     // The workshop kernels' constant triangles of a scene of at most
     // FEW_CONSTANT_TRIANGLE_CAPACITY triangles: the build that unrolls only that many.
@@ -322,6 +350,10 @@ pub fn path_tracer_variant(
             contract::LIGHT_SELECTION_POWER
         },
     )];
+    // The kernels' default is the 4-wide tree
+    if traversal == Traversal::CompressedBvh {
+        specialization.push((contract::SPEC_BVH_LAYOUT, traversal.bvh_layout()));
+    }
     if scene.materials {
         specialization.extend(SCENE_FLAGS.iter().map(|(id, value)| (*id, value(scene))));
     }
@@ -560,5 +592,35 @@ mod tests {
         for (id, _) in SCENE_FLAGS {
             assert!(PATH_TRACER.declares_spec_constant(*id), "{id}");
         }
+    }
+
+    #[test]
+    fn the_compressed_bvh_takes_the_bvh_builds_with_its_layout() {
+        for (triangles, materials, alpha) in [(12, false, false), (100, true, true)] {
+            assert_eq!(
+                Traversal::choose(triangles, Accel::CompressedBvh, materials, alpha),
+                Traversal::CompressedBvh
+            );
+        }
+        let scene = SceneSummary {
+            triangle_count: 100,
+            ..SceneSummary::default()
+        };
+        let settings = VariantSettings::default();
+        let variant = |traversal| {
+            path_tracer_variant(&scene, &settings, traversal, KernelSource::Embedded).unwrap()
+        };
+        let (wide, compressed) = (variant(Traversal::Bvh), variant(Traversal::CompressedBvh));
+        assert_eq!(wide.build, compressed.build);
+        let layout = |v: &Variant| {
+            v.specialization
+                .iter()
+                .find(|(id, _)| *id == contract::SPEC_BVH_LAYOUT)
+                .map(|(_, value)| *value)
+        };
+        // The 4-wide tree is the kernels' default
+        assert_eq!(layout(&wide), None);
+        assert_eq!(layout(&compressed), Some(contract::BVH_LAYOUT_COMPRESSED));
+        assert!(Traversal::CompressedBvh.uses_bvh() && Traversal::Bvh.uses_bvh());
     }
 }

@@ -8,7 +8,9 @@ use std::sync::Arc;
 
 use ash::vk;
 
-use crate::bvh::{traversal_triangles, Bvh, BvhStats};
+use crate::bvh::{
+    packed_traversal_triangles, reorder_by, traversal_triangles, Bvh, BvhStats, CompressedBvh,
+};
 use crate::camera::Camera;
 use crate::error::{Error, Result};
 use crate::kernels::variant::{
@@ -102,15 +104,15 @@ struct MaterialBuffers {
 
 impl MaterialBuffers {
     /// Uploads `scene_materials`, their per-triangle shading data in the order of the BVH's
-    /// leaves (`bvh`) where there is one; an error when the textures do not fit the device.
+    /// leaves (`triangle_order`) where there is one; an error when the textures do not fit the device.
     fn upload(
         context: &Arc<Context>,
         commands: &CommandRunner,
         scene_materials: &SceneMaterials,
-        bvh: Option<&Bvh>,
+        triangle_order: Option<&[u32]>,
     ) -> Result<MaterialBuffers> {
-        let shading: Vec<GpuTriangleShading> = match bvh {
-            Some(bvh) => bvh.reorder(&scene_materials.triangles),
+        let shading: Vec<GpuTriangleShading> = match triangle_order {
+            Some(order) => reorder_by(order, &scene_materials.triangles),
             None => scene_materials.triangles.clone(),
         }
         .iter()
@@ -165,8 +167,8 @@ impl MaterialBuffers {
 /// all (`render --json` and `bench --json` report it as `scene_memory`).
 #[derive(Clone, Copy, Debug, PartialEq, serde::Serialize)]
 pub struct SceneMemory {
-    /// How rays find hits (`Traversal::name`): `BVH` (the 4-wide BVH), `linear` or
-    /// `constant triangles`.
+    /// How rays find hits (`Traversal::name`): `BVH` (the 4-wide BVH), `compressed BVH`
+    /// (8-wide, quantised), `linear` or `constant triangles`.
     pub traversal: &'static str,
     /// Triangles in the scene.
     pub triangle_count: u64,
@@ -248,9 +250,22 @@ impl GpuScene {
     ) -> Result<GpuScene> {
         // With a BVH, triangles are stored in the order its leaves reference them; light
         // indices then refer to that order too.
-        let bvh = (traversal == Traversal::Bvh).then(|| Bvh::build(&scene.triangles));
-        let ordered_triangles = match &bvh {
-            Some(bvh) => bvh.reorder(&scene.triangles),
+        // The compressed tree collapses the binary one (`CompressedBvh::from_binary`).
+        let bvh = traversal.uses_bvh().then(|| Bvh::build(&scene.triangles));
+        let compressed = match &bvh {
+            Some(bvh) if traversal == Traversal::CompressedBvh => Some(
+                CompressedBvh::from_binary(bvh, &scene.triangles)
+                    .map_err(Error::InvalidSettings)?,
+            ),
+            _ => None,
+        };
+        let triangle_order: Option<&[u32]> = match (&compressed, &bvh) {
+            (Some(compressed), _) => Some(&compressed.triangle_order),
+            (None, Some(bvh)) => Some(&bvh.triangle_order),
+            (None, None) => None,
+        };
+        let ordered_triangles = match triangle_order {
+            Some(order) => reorder_by(order, &scene.triangles),
             None => scene.triangles.clone(),
         };
         let mut gpu_triangles: Vec<GpuTriangle> =
@@ -277,16 +292,27 @@ impl GpuScene {
             )],
             vk::BufferUsageFlags::UNIFORM_BUFFER,
         )?;
-        let bvh_nodes = match &bvh {
-            Some(bvh) => Some(upload("BVH nodes", bytemuck::cast_slice(&bvh.wide_nodes))?),
-            None => None,
-        };
-        let traversal_triangles = match &bvh {
-            Some(_) => Some(upload(
-                "traversal triangles",
-                bytemuck::cast_slice(&traversal_triangles(&ordered_triangles)),
-            )?),
-            None => None,
+        // The compressed tree's nodes and packed triangles (36 bytes), or the 4-wide tree's
+        // nodes and 48-byte triangles, at the same bindings (`SPEC_BVH_LAYOUT` tells which)
+        let (bvh_nodes, traversal_triangles) = match (&compressed, &bvh) {
+            (Some(compressed), _) => (
+                Some(upload(
+                    "BVH nodes",
+                    bytemuck::cast_slice(&compressed.nodes),
+                )?),
+                Some(upload(
+                    "traversal triangles",
+                    bytemuck::cast_slice(&packed_traversal_triangles(&ordered_triangles)),
+                )?),
+            ),
+            (None, Some(bvh)) => (
+                Some(upload("BVH nodes", bytemuck::cast_slice(&bvh.wide_nodes))?),
+                Some(upload(
+                    "traversal triangles",
+                    bytemuck::cast_slice(&traversal_triangles(&ordered_triangles)),
+                )?),
+            ),
+            (None, None) => (None, None),
         };
         let plain_materials;
         let scene_materials = match &scene.materials {
@@ -304,7 +330,7 @@ impl GpuScene {
                 context,
                 commands,
                 scene_materials,
-                bvh.as_ref(),
+                triangle_order,
             )?),
             None => None,
         };
@@ -351,6 +377,8 @@ impl GpuScene {
                 .tree
                 .as_ref()
                 .map(|_| scene_lights.light_search_iterations()),
+            // The binary tree's: its bound on traversal steps (`bvh_iterations_per_ray_at_most`)
+            // also bounds the compressed tree's, whose nodes are fewer than half as many
             bvh_stats: bvh.as_ref().map(Bvh::stats),
             memory,
         })
