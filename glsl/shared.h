@@ -35,13 +35,16 @@
 // Emissive triangles and their power CDF, for light sampling (nee, mis): a texel buffer of
 // GpuLightHeader then one GpuLight per light (glsl/lights.glsl).
 #define BINDING_LIGHTS 4
-// Builds with USE_BVH: the BVH's nodes, a texel buffer of bvh_node_t (32 bytes each,
-// glsl/bvh.glsl).
+// Builds with USE_BVH: the BVH's nodes, a texel buffer of RGBA32_UINT: the 4-wide tree's
+// (WIDE_BVH_NODE_TEXEL_COUNT texels each, glsl/bvh.glsl) or, with SPEC_BVH_LAYOUT
+// BVH_LAYOUT_COMPRESSED, the compressed tree's (CWBVH_NODE_TEXEL_COUNT, glsl/cwbvh.glsl).
 #define BINDING_BVH_NODES 3
 // Builds with USE_BVH: the triangles' vertex positions alone, for the traversal's triangle
 // tests, a texel buffer of TRAVERSAL_TRIANGLE_TEXEL_COUNT RGBA32_UINT texels per triangle in
 // the same (leaf) order as BINDING_TRIANGLES (get_traversal_triangle() of glsl/bvh.glsl,
-// GpuTraversalTriangle on the host).
+// GpuTraversalTriangle on the host); with BVH_LAYOUT_COMPRESSED, PACKED_TRIANGLE_WORD_COUNT
+// words per triangle back to back instead (get_packed_traversal_triangle() of
+// glsl/cwbvh.glsl, packed_traversal_triangles() on the host).
 #define BINDING_TRAVERSAL_TRIANGLES 15
 // The texels of every texture, concatenated (TextureAtlas on the host): a uniform texel
 // buffer of R8G8B8A8_UINT texels (usamplerBuffer), rows top-down as in the image files.

@@ -111,7 +111,8 @@ pub struct RenderOptions {
     pub russian_roulette_start: Option<u32>,
     /// Ray traversal: a BVH for scenes above 64 triangles, or above 16 or with alpha-tested
     /// materials where glTF materials need the material kernels (auto), the workshop's loop
-    /// over all triangles (none), or always a BVH (bvh).
+    /// over all triangles (none), always a BVH (bvh), or always the compressed 8-wide BVH
+    /// (compressed-bvh).
     #[arg(long, value_enum, default_value_t = RenderSettings::default().accel)]
     pub accel: Accel,
     /// Random numbers of cosine, nee and mis: the workshop's PCG2D (pcg) or Owen-scrambled

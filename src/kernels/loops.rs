@@ -143,6 +143,8 @@ pub const PATH_TRACER_LOOPS: &[KernelLoop] = &[
     described("bvh.glsl", "bvh_any_hit", CountedByKernel, "BVH"),
     // The compressed tree's traversals (`SPEC_BVH_LAYOUT`), counted as the 4-wide tree's
     described("cwbvh.glsl", "cwbvh_closest_hit", CountedByKernel, "BVH"),
+    described("cwbvh.glsl", "cwbvh_closest_hit", CountedByKernel, "BVH"),
+    described("cwbvh.glsl", "cwbvh_any_hit", CountedByKernel, "BVH"),
     described("cwbvh.glsl", "cwbvh_any_hit", CountedByKernel, "BVH"),
     guiding_loop(
         "guiding.glsl",
