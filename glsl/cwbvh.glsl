@@ -183,17 +183,20 @@ bool cwbvh_closest_hit(out float out_t, out uint out_triangle_index, vec3 ray_or
                 hit = true;
             }
         }
-        ++g_path.traversal_iterations;
-        if ((node_group.y & 0xFF000000u) != 0u) {
-            uint node_index;
-            CWBVH_NEXT_NODE(node_group, octant_inverse, stack, stack_size, node_index)
-            cwbvh_intersect_node(node_group, triangle_group, node_index, ray_origin, inverse_direction, octant_inverse, out_t);
-        } else if (stack_size != 0u) {
+        // A node group with nodes left, popped where the one in hand has none (the stack
+        // holds only such groups): in the same step as the node's visit, so that a step
+        // is a visit (on lavapipe, a step whose lanes pop costs a visit all the same)
+        if ((node_group.y & 0xFF000000u) == 0u) {
+            if (stack_size == 0u)
+                break;
+            ++g_path.traversal_iterations;
             --stack_size;
             node_group = stack[stack_size];
-        } else {
-            break;
         }
+        ++g_path.traversal_iterations;
+        uint node_index;
+        CWBVH_NEXT_NODE(node_group, octant_inverse, stack, stack_size, node_index)
+        cwbvh_intersect_node(node_group, triangle_group, node_index, ray_origin, inverse_direction, octant_inverse, out_t);
     }
     return hit;
 }
@@ -223,17 +226,20 @@ bool cwbvh_any_hit(vec3 ray_origin, vec3 ray_direction, float t_max) {
             if (ray_triangle_intersection(t, ray_origin, ray_direction, get_packed_traversal_triangle(i)) && t < t_max AND_HIT_IS_OPAQUE(i, ray_origin, ray_direction, t))
                 return true;
         }
-        ++g_path.traversal_iterations;
-        if ((node_group.y & 0xFF000000u) != 0u) {
-            uint node_index;
-            CWBVH_NEXT_NODE(node_group, octant_inverse, stack, stack_size, node_index)
-            cwbvh_intersect_node(node_group, triangle_group, node_index, ray_origin, inverse_direction, octant_inverse, t_max);
-        } else if (stack_size != 0u) {
+        // A node group with nodes left, popped where the one in hand has none (the stack
+        // holds only such groups): in the same step as the node's visit, so that a step
+        // is a visit (on lavapipe, a step whose lanes pop costs a visit all the same)
+        if ((node_group.y & 0xFF000000u) == 0u) {
+            if (stack_size == 0u)
+                break;
+            ++g_path.traversal_iterations;
             --stack_size;
             node_group = stack[stack_size];
-        } else {
-            break;
         }
+        ++g_path.traversal_iterations;
+        uint node_index;
+        CWBVH_NEXT_NODE(node_group, octant_inverse, stack, stack_size, node_index)
+        cwbvh_intersect_node(node_group, triangle_group, node_index, ray_origin, inverse_direction, octant_inverse, t_max);
     }
     return false;
 }
