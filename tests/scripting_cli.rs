@@ -326,14 +326,20 @@ fn json_reports_what_the_scene_takes_on_the_device() {
     let compressed = memory("compressed-bvh", "compressed.exr");
     assert_eq!(compressed["traversal"], "compressed BVH", "{compressed}");
     let compressed_nodes = compressed["bvh_node_bytes"].as_u64().unwrap();
-    assert!(compressed_nodes > 0 && compressed_nodes % 80 == 0, "{compressed}");
+    assert!(
+        compressed_nodes > 0 && compressed_nodes % 80 == 0,
+        "{compressed}"
+    );
     assert_eq!(
         compressed["traversal_triangle_bytes"],
         (36 * 30u64).div_ceil(16) * 16,
         "{compressed}"
     );
     assert!(
-        compressed["acceleration_bytes_per_triangle"].as_f64().unwrap() < per_triangle,
+        compressed["acceleration_bytes_per_triangle"]
+            .as_f64()
+            .unwrap()
+            < per_triangle,
         "{compressed}"
     );
 

@@ -196,18 +196,6 @@ struct Groups {
     stack_size: usize,
 }
 
-/// What one step of a traversal does next.
-enum Step {
-    /// Test this triangle.
-    Triangle(u32),
-    /// Visit this node.
-    Node(u32),
-    /// A node group was popped.
-    Pop,
-    /// Nothing is left.
-    Done,
-}
-
 impl Groups {
     fn new() -> Groups {
         Groups {
@@ -219,38 +207,50 @@ impl Groups {
         }
     }
 
-    /// Twin of the head of the GLSL traversal loops: the next triangle of the triangle
-    /// group (lowest offset first), else the next node of the node group (pushing what is
-    /// left of the group), else a node group from the stack.
-    fn step(&mut self, octant_inverse: u32) -> Step {
-        if self.triangle_group[1] != 0 {
-            let local = self.triangle_group[1].trailing_zeros();
-            self.triangle_group[1] &= !(1u32 << local);
-            Step::Triangle(self.triangle_group[0] + local)
-        } else if self.node_group[1] & NODE_HITS != 0 {
-            let hits_inner = self.node_group[1];
-            let bit = 31 - hits_inner.leading_zeros();
-            self.node_group[1] &= !(1u32 << bit);
-            if self.node_group[1] & NODE_HITS != 0 && self.stack_size < STACK_SIZE {
-                self.stack[self.stack_size] = self.node_group;
-                self.stack_size += 1;
+    /// The next triangle of the triangle group, lowest offset first (`None` when it is
+    /// empty): the head of the GLSL traversals' triangle loop.
+    fn next_triangle(&mut self) -> Option<u32> {
+        if self.triangle_group[1] == 0 {
+            return None;
+        }
+        let local = self.triangle_group[1].trailing_zeros();
+        self.triangle_group[1] &= !(1u32 << local);
+        Some(self.triangle_group[0] + local)
+    }
+
+    /// A node group with nodes left: the one in hand, else one popped from the stack
+    /// (`false` when that is empty: the traversal ends).
+    fn node_group_with_nodes(&mut self) -> bool {
+        if self.node_group[1] & NODE_HITS == 0 {
+            if self.stack_size == 0 {
+                return false;
             }
-            let slot = (bit - 24) ^ octant_inverse;
-            let below = hits_inner & ((1u32 << slot) - 1);
-            Step::Node(self.node_group[0] + below.count_ones())
-        } else if self.stack_size != 0 {
             self.stack_size -= 1;
             self.node_group = self.stack[self.stack_size];
-            Step::Pop
-        } else {
-            Step::Done
         }
+        true
+    }
+
+    /// Twin of GLSL `CWBVH_NEXT_NODE`: the next node of the node group in hand (which has
+    /// nodes left), pushing what is left of the group.
+    fn next_node(&mut self, octant_inverse: u32) -> u32 {
+        let hits_inner = self.node_group[1];
+        let bit = 31 - hits_inner.leading_zeros();
+        self.node_group[1] &= !(1u32 << bit);
+        if self.node_group[1] & NODE_HITS != 0 && self.stack_size < STACK_SIZE {
+            self.stack[self.stack_size] = self.node_group;
+            self.stack_size += 1;
+        }
+        let slot = (bit - 24) ^ octant_inverse;
+        let below = hits_inner & ((1u32 << slot) - 1);
+        self.node_group[0] + below.count_ones()
     }
 }
 
 /// Twin of GLSL `cwbvh_step_bound`: most steps of one traversal, every node visited once,
 /// every triangle tested once (their count from the packed triangles' texels, padding
-/// included), and a pop for at most every node visit.
+/// included), and a pop for at most every node visit (a bound of the steps' loop, which
+/// visits one node per step, and of the traversal's iterations as the kernel counts them).
 pub fn cwbvh_step_bound(nodes: &[GpuCompressedBvhNode], packed_triangles: &[[f32; 4]]) -> usize {
     let triangle_count = 4 * packed_triangles.len() / PACKED_TRIANGLE_WORD_COUNT as usize;
     2 * nodes.len() + triangle_count + 1
@@ -283,30 +283,29 @@ pub fn cwbvh_closest_hit(
     let octant_inverse = cwbvh_octant_inverse(ray_direction);
     let mut groups = Groups::new();
     for _ in 0..cwbvh_step_bound(nodes, packed_triangles) {
-        match groups.step(octant_inverse) {
-            Step::Triangle(i) => {
-                let triangle = get_packed_traversal_triangle(packed_triangles, i);
-                if let Some(t) = ray_triangle_intersection(ray_origin, ray_direction, &triangle) {
-                    if t < out_t {
-                        out_t = t;
-                        out_triangle_index = i;
-                        hit = true;
-                    }
+        // The triangles of the leaves just entered, all before the next node
+        while let Some(i) = groups.next_triangle() {
+            let triangle = get_packed_traversal_triangle(packed_triangles, i);
+            if let Some(t) = ray_triangle_intersection(ray_origin, ray_direction, &triangle) {
+                if t < out_t {
+                    out_t = t;
+                    out_triangle_index = i;
+                    hit = true;
                 }
             }
-            Step::Node(index) => {
-                (groups.node_group, groups.triangle_group) = cwbvh_intersect_node(
-                    nodes,
-                    index,
-                    ray_origin,
-                    inverse_direction,
-                    octant_inverse,
-                    out_t,
-                );
-            }
-            Step::Pop => {}
-            Step::Done => break,
         }
+        if !groups.node_group_with_nodes() {
+            break;
+        }
+        let index = groups.next_node(octant_inverse);
+        (groups.node_group, groups.triangle_group) = cwbvh_intersect_node(
+            nodes,
+            index,
+            ray_origin,
+            inverse_direction,
+            octant_inverse,
+            out_t,
+        );
     }
     hit.then_some(MeshHit {
         t: out_t,
@@ -337,28 +336,26 @@ pub fn cwbvh_any_hit(
     let octant_inverse = cwbvh_octant_inverse(ray_direction);
     let mut groups = Groups::new();
     for _ in 0..cwbvh_step_bound(nodes, packed_triangles) {
-        match groups.step(octant_inverse) {
-            Step::Triangle(i) => {
-                let triangle = get_packed_traversal_triangle(packed_triangles, i);
-                if let Some(t) = ray_triangle_intersection(ray_origin, ray_direction, &triangle) {
-                    if t < t_max {
-                        return true;
-                    }
+        while let Some(i) = groups.next_triangle() {
+            let triangle = get_packed_traversal_triangle(packed_triangles, i);
+            if let Some(t) = ray_triangle_intersection(ray_origin, ray_direction, &triangle) {
+                if t < t_max {
+                    return true;
                 }
             }
-            Step::Node(index) => {
-                (groups.node_group, groups.triangle_group) = cwbvh_intersect_node(
-                    nodes,
-                    index,
-                    ray_origin,
-                    inverse_direction,
-                    octant_inverse,
-                    t_max,
-                );
-            }
-            Step::Pop => {}
-            Step::Done => break,
         }
+        if !groups.node_group_with_nodes() {
+            break;
+        }
+        let index = groups.next_node(octant_inverse);
+        (groups.node_group, groups.triangle_group) = cwbvh_intersect_node(
+            nodes,
+            index,
+            ray_origin,
+            inverse_direction,
+            octant_inverse,
+            t_max,
+        );
     }
     false
 }
