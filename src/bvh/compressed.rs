@@ -145,9 +145,11 @@ impl CompressedBvh {
             // obvhs collapses from an interior root
             [leaf] if leaf.triangle_count() == 1 => vec![single_leaf_root(&leaf.bounds())],
             nodes => {
-                let mut tree = obvhs::bvh2::Bvh2::default();
-                tree.nodes = single_triangle_leaves(nodes, &ordered);
-                tree.primitive_indices = (0..ordered.len() as u32).collect();
+                let tree = obvhs::bvh2::Bvh2 {
+                    nodes: single_triangle_leaves(nodes, &ordered),
+                    primitive_indices: (0..ordered.len() as u32).collect(),
+                    ..Default::default()
+                };
                 let wide = obvhs::cwbvh::bvh2_to_cwbvh::bvh2_to_cwbvh(&tree, 3, true, false);
                 // Its primitives index the binary tree's order: compose below
                 let order: Vec<u32> = wide.primitive_indices;
