@@ -363,6 +363,17 @@ impl GpuScene {
             scene_bytes,
             scene_bytes_per_triangle: per_triangle(scene_bytes),
         };
+        // The binary tree's shape bounds a traversal's iterations
+        // (`bvh_iterations_per_ray_at_most`: 2 nodes + triangles); the compressed tree's
+        // count a visit and a pop per node and a test per triangle, so its node count, if
+        // larger (never in practice: a node collapses several binary ones), takes the place
+        let bvh_stats = bvh.as_ref().map(|bvh| {
+            let mut stats = bvh.stats();
+            if let Some(compressed) = &compressed {
+                stats.node_count = stats.node_count.max(compressed.nodes.len() + 1);
+            }
+            stats
+        });
         Ok(GpuScene {
             triangles,
             uniforms,
@@ -377,9 +388,7 @@ impl GpuScene {
                 .tree
                 .as_ref()
                 .map(|_| scene_lights.light_search_iterations()),
-            // The binary tree's: its bound on traversal steps (`bvh_iterations_per_ray_at_most`)
-            // also bounds the compressed tree's, whose nodes are fewer than half as many
-            bvh_stats: bvh.as_ref().map(Bvh::stats),
+            bvh_stats,
             memory,
         })
     }
