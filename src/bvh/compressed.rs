@@ -169,7 +169,8 @@ impl CompressedBvh {
         CompressedBvh::checked(nodes, binary.triangle_order.clone(), triangles.len())
     }
 
-    fn checked(
+    /// The tree of these nodes and order, or the error of a tree deeper than the stack.
+    pub(super) fn checked(
         nodes: Vec<GpuCompressedBvhNode>,
         triangle_order: Vec<u32>,
         triangle_count: usize,

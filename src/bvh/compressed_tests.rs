@@ -275,3 +275,36 @@ fn compressed_tree_handles_empty_single_and_degenerate_input() {
     let agreement = compare_compressed_with_brute_force(&degenerate, &rays);
     assert_eq!(agreement.mismatches, 0, "{agreement:?}");
 }
+
+#[test]
+fn a_tree_deeper_than_the_stack_is_refused_with_one_line() {
+    // A chain of nodes, each with one interior child (slot 0) and one leaf (slot 1): interior
+    // depth 39, deeper than the CWBVH_STACK_SIZE groups the traversal can hold
+    let chain: Vec<GpuCompressedBvhNode> = (0..40u32)
+        .map(|i| {
+            let mut node = GpuCompressedBvhNode {
+                child_base: i + 1,
+                triangle_base: i,
+                ..GpuCompressedBvhNode::default()
+            };
+            if i < 39 {
+                node.exponents_inner_mask[3] = 1;
+                node.child_meta[0] = 0b0010_0000 | 24;
+            }
+            node.child_meta[1] = 0b0010_0000;
+            node
+        })
+        .collect();
+    let message = CompressedBvh::checked(chain.clone(), (0..40).collect(), 40).unwrap_err();
+    assert!(
+        message.contains("40 levels deep") && !message.contains('\n'),
+        "{message}"
+    );
+    // 32 nodes deep (the deepest at depth 31): within the stack, accepted
+    let mut shallow = chain[8..].to_vec();
+    for (i, node) in shallow.iter_mut().enumerate() {
+        node.child_base = i as u32 + 1;
+    }
+    let bvh = CompressedBvh::checked(shallow, (0..32).collect(), 32).unwrap();
+    assert_eq!(bvh.max_interior_depth, 31);
+}
