@@ -125,7 +125,8 @@ impl CompressedBvh {
     ///
     /// An error (one line) when they lie deeper than the traversal's stack
     /// (`CWBVH_STACK_SIZE`) can follow, which takes a chain of leaves at the depth limit
-    /// (never seen), or when there are more triangles than the packed triangles address.
+    /// (never seen), when the scene spans 1e15 or more (obvhs's collapse costs would
+    /// overflow), or when there are more triangles than the packed triangles address.
     pub fn build(triangles: &[Triangle]) -> Result<CompressedBvh, String> {
         CompressedBvh::from_binary(&Bvh::build(triangles), triangles)
     }
@@ -138,6 +139,18 @@ impl CompressedBvh {
                 "{} triangles are too many for the compressed BVH",
                 triangles.len()
             ));
+        }
+        // obvhs's collapse sums surface areas times costs over subtrees in f32: areas of
+        // 1e30 (extents of 1e15) leave 1e8 of headroom below f32::MAX; beyond, infinite
+        // costs trip its assertions
+        if let Some(root) = binary.nodes.first() {
+            let extent = root.bounds().extent();
+            if !(extent.is_finite() && extent.max_element() < 1e15) {
+                return Err(format!(
+                    "the scene spans {extent}, too far for the compressed BVH's quantised boxes; \
+                     use --accel bvh"
+                ));
+            }
         }
         let ordered = binary.reorder(triangles);
         let nodes = match binary.nodes.as_slice() {

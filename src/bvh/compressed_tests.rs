@@ -308,3 +308,34 @@ fn a_tree_deeper_than_the_stack_is_refused_with_one_line() {
     let bvh = CompressedBvh::checked(shallow, (0..32).collect(), 32).unwrap();
     assert_eq!(bvh.max_interior_depth, 31);
 }
+
+#[test]
+fn a_scene_too_large_to_quantise_is_refused_with_one_line() {
+    let far = Triangle {
+        positions: [
+            Vec3::ZERO,
+            Vec3::new(3e38, 0.0, 0.0),
+            Vec3::new(0.0, 1.0, 0.0),
+        ],
+        ..plain()
+    };
+    let message = CompressedBvh::build(&[far, plain()]).unwrap_err();
+    assert!(
+        message.contains("too far") && !message.contains('\n'),
+        "{message}"
+    );
+    let too_far = subdivided_sphere(2, Vec3::ZERO, 1e15, Vec3::ONE, Vec3::ZERO);
+    assert!(CompressedBvh::build(&too_far).is_err());
+    // Large and small but within range: they still match brute force (at 1e-15 neither tree
+    // does: the triangle test's own tolerances, not the trees, decide there)
+    for radius in [1e14, 1e-4] {
+        let sphere = subdivided_sphere(2, Vec3::ZERO, radius, Vec3::ONE, Vec3::ZERO);
+        let around = Aabb {
+            lower: Vec3::splat(-radius),
+            upper: Vec3::splat(radius),
+        };
+        let rays = random_rays(500, around, 5);
+        let agreement = compare_compressed_with_brute_force(&sphere, &rays);
+        assert_eq!(agreement.mismatches, 0, "radius {radius}: {agreement:?}");
+    }
+}
