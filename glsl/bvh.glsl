@@ -49,6 +49,11 @@ triangle_t get_traversal_triangle(uint index) {
 #endif
 }
 
+// Which tree the bindings hold (the host specializes it with the traversal): BVH_LAYOUT_WIDE,
+// the 4-wide tree of this file, or BVH_LAYOUT_COMPRESSED, the compressed wide BVH of
+// cwbvh.glsl, which bvh_closest_hit() and bvh_any_hit() then hand the ray to.
+layout(constant_id = SPEC_BVH_LAYOUT) const int BVH_LAYOUT = BVH_LAYOUT_WIDE;
+
 // Number of nodes in the BVH.
 uint get_bvh_node_count() {
     return uint(textureSize(g_bvh_node_texels)) / uint(WIDE_BVH_NODE_TEXEL_COUNT);
@@ -165,6 +170,8 @@ uint bvh_enter_children(uint node_index, vec3 ray_origin, vec3 inverse_direction
     if (count > 2u) { PUSH_BVH_CHILD(children.z, entries.z, stack_nodes, stack_entries, stack_size) } \
     if (count > 1u) { PUSH_BVH_CHILD(children.y, entries.y, stack_nodes, stack_entries, stack_size) }
 
+#include "cwbvh.glsl"
+
 // Finds the closest triangle that a ray hits, traversing the BVH: the brute-force
 // ray_mesh_intersection() with the same triangle tests, nearest child first, and subtrees
 // skipped once they start beyond the closest hit so far.
@@ -173,6 +180,8 @@ uint bvh_enter_children(uint node_index, vec3 ray_origin, vec3 inverse_direction
 // \param ray_origin, ray_direction The ray, world space (the direction need not be normalized)
 // \return true iff a triangle was hit at 0 <= t < NO_HIT_T
 bool bvh_closest_hit(out float out_t, out uint out_triangle_index, vec3 ray_origin, vec3 ray_direction) {
+    if (BVH_LAYOUT == BVH_LAYOUT_COMPRESSED)
+        return cwbvh_closest_hit(out_t, out_triangle_index, ray_origin, ray_direction);
     out_t = NO_HIT_T;
     out_triangle_index = 0u;
     bool hit = false;
@@ -234,6 +243,8 @@ bool bvh_closest_hit(out float out_t, out uint out_triangle_index, vec3 ray_orig
 // \param t_max Hits at or beyond this ray parameter do not count
 // \return true iff some triangle is hit at 0 <= t < t_max
 bool bvh_any_hit(vec3 ray_origin, vec3 ray_direction, float t_max) {
+    if (BVH_LAYOUT == BVH_LAYOUT_COMPRESSED)
+        return cwbvh_any_hit(ray_origin, ray_direction, t_max);
     vec3 inverse_direction = bvh_inverse_direction(ray_direction);
     uint node_count = get_bvh_node_count();
     if (node_count == 0u)

@@ -58,7 +58,8 @@ void main() {
     vec3 inverse_direction = bvh_inverse_direction(direction);
     float root_entry = 0.0;
     bool root_hit = false;
-    if (get_bvh_node_count() > 0u) {
+    // (The 4-wide tree's box; the compressed tree has no such box to test.)
+    if (BVH_LAYOUT == BVH_LAYOUT_WIDE && get_bvh_node_count() > 0u) {
         vec3 lower, upper;
         get_bvh_child_box(0u, 0, lower, upper);
         root_hit = bvh_ray_box_intersection(root_entry, origin, inverse_direction, lower, upper, t_max);

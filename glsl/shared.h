@@ -35,13 +35,16 @@
 // Emissive triangles and their power CDF, for light sampling (nee, mis): a texel buffer of
 // GpuLightHeader then one GpuLight per light (glsl/lights.glsl).
 #define BINDING_LIGHTS 4
-// Builds with USE_BVH: the BVH's nodes, a texel buffer of bvh_node_t (32 bytes each,
-// glsl/bvh.glsl).
+// Builds with USE_BVH: the BVH's nodes, a texel buffer of RGBA32_UINT: the 4-wide tree's
+// (WIDE_BVH_NODE_TEXEL_COUNT texels each, glsl/bvh.glsl) or, with SPEC_BVH_LAYOUT
+// BVH_LAYOUT_COMPRESSED, the compressed tree's (CWBVH_NODE_TEXEL_COUNT, glsl/cwbvh.glsl).
 #define BINDING_BVH_NODES 3
 // Builds with USE_BVH: the triangles' vertex positions alone, for the traversal's triangle
 // tests, a texel buffer of TRAVERSAL_TRIANGLE_TEXEL_COUNT RGBA32_UINT texels per triangle in
 // the same (leaf) order as BINDING_TRIANGLES (get_traversal_triangle() of glsl/bvh.glsl,
-// GpuTraversalTriangle on the host).
+// GpuTraversalTriangle on the host); with BVH_LAYOUT_COMPRESSED, PACKED_TRIANGLE_WORD_COUNT
+// words per triangle back to back instead (get_packed_traversal_triangle() of
+// glsl/cwbvh.glsl, packed_traversal_triangles() on the host).
 #define BINDING_TRAVERSAL_TRIANGLES 15
 // The texels of every texture, concatenated (TextureAtlas on the host): a uniform texel
 // buffer of R8G8B8A8_UINT texels (usamplerBuffer), rows top-down as in the image files.
@@ -167,6 +170,12 @@
 // specular above 0, or layers). 0: every surface is Lambertian, and the surface seam skips
 // the GGX maths (glsl/materials.glsl, SCENE_HAS_SPECULAR).
 #define SPEC_SCENE_HAS_SPECULAR 606
+// BVH builds (USE_BVH): which tree the nodes and traversal triangles hold, BVH_LAYOUT_WIDE (the
+// 4-wide tree of glsl/bvh.glsl) or BVH_LAYOUT_COMPRESSED (glsl/cwbvh.glsl). Both use the same
+// bindings; the host picks the layout with the traversal (`Traversal::CompressedBvh`).
+#define SPEC_BVH_LAYOUT 607
+#define BVH_LAYOUT_WIDE 0
+#define BVH_LAYOUT_COMPRESSED 1
 // Most triangles that can be passed as specialization constants.
 #define CONSTANT_TRIANGLE_CAPACITY 64
 // Most constant triangles that the material kernels (USE_MATERIALS) test: their intersection
@@ -468,6 +477,21 @@
 // the collapse keeps every path's pushes within this (else it keeps the binary tree, whose
 // paths push at most BVH_STACK_SIZE).
 #define WIDE_BVH_STACK_SIZE 64
+// The compressed wide BVH (glsl/cwbvh.glsl, host side src/bvh/compressed.rs; Ylitie, Karras
+// and Laine 2017, "Efficient incoherent ray traversal on GPUs through compressed wide BVHs"),
+// built by the obvhs crate: 8 children per node, their boxes quantised to 8 bits per plane
+// against the node's grid (origin, power-of-two scale per axis), CWBVH_NODE_TEXEL_COUNT RGBA32
+// texels (80 bytes) per node. Leaves hold 1 to 3 triangles; a node's leaves hold at most 24.
+#define CWBVH_WIDTH 8
+#define CWBVH_NODE_TEXEL_COUNT 5
+// Entries (node groups) of the compressed traversal's stack: at most one per interior level
+// below the root, so the builder refuses trees whose interior nodes lie deeper than this
+// (src/bvh/compressed.rs); obvhs itself assumes the same bound of 32.
+#define CWBVH_STACK_SIZE 32
+// 32-bit words per triangle of the compressed tree's traversal triangles: v_0, v_1, v_2, 9
+// floats packed back to back in RGBA32 texels (36 bytes instead of 48), so triangle i starts
+// at word 9 i, component (9 i) mod 4 of texel (9 i) / 4, and spans 3 texels.
+#define PACKED_TRIANGLE_WORD_COUNT 9
 // Slab exits are scaled by this before the comparison, so that rounding errors never cull a
 // box that the ray touches: pbrt-v4 (6.8.2) shows that 1 + 2 gamma_3 (3.6e-7) suffices for
 // exact division; 1e-6 (8 ulps) leaves room for a GPU's approximate reciprocal (NVIDIA: 2 ulps).

@@ -9,9 +9,10 @@ use std::time::Instant;
 
 use ash::vk;
 use glam::{UVec2, Vec3};
+use vkpath::bvh::compressed_traversal::{cwbvh_any_hit, cwbvh_closest_hit};
 use vkpath::bvh::{
     bvh_any_hit, bvh_closest_hit, bvh_inverse_direction, bvh_ray_box_intersection,
-    get_bvh_child_box, traversal_triangles, Bvh,
+    get_bvh_child_box, packed_traversal_triangles, traversal_triangles, Bvh, CompressedBvh,
 };
 use vkpath::contract;
 use vkpath::cpu::workshop::{get_random_numbers, sample_sphere};
@@ -37,11 +38,28 @@ fn run_probe(
     rays: &[ProbeRay],
     brute_force: bool,
 ) -> (Vec<ProbeResult>, f64) {
+    let positions = traversal_triangles(triangles);
+    let layout = (
+        bytemuck::cast_slice::<_, u8>(&bvh.wide_nodes),
+        bytemuck::cast_slice::<_, u8>(&positions),
+        contract::BVH_LAYOUT_WIDE,
+    );
+    run_probe_with(context, triangles, layout, rays, brute_force)
+}
+
+/// `run_probe` with the nodes' and traversal triangles' bytes in the given `SPEC_BVH_LAYOUT`.
+fn run_probe_with(
+    context: &Arc<Context>,
+    triangles: &[Triangle],
+    (node_bytes, traversal_bytes, layout): (&[u8], &[u8], u32),
+    rays: &[ProbeRay],
+    brute_force: bool,
+) -> (Vec<ProbeResult>, f64) {
     let scene = ProbeScene::new(context, triangles).unwrap();
     let nodes = Buffer::with_data(
         context,
         "bvh nodes",
-        bytemuck::cast_slice::<_, u8>(&bvh.wide_nodes),
+        node_bytes,
         vk::BufferUsageFlags::UNIFORM_TEXEL_BUFFER,
     )
     .unwrap();
@@ -49,13 +67,16 @@ fn run_probe(
     let positions = Buffer::with_data(
         context,
         "traversal triangles",
-        bytemuck::cast_slice::<_, u8>(&traversal_triangles(triangles)),
+        traversal_bytes,
         vk::BufferUsageFlags::UNIFORM_TEXEL_BUFFER,
     )
     .unwrap();
     let position_texels =
         TexelBufferView::new(context, positions, vk::Format::R32G32B32A32_UINT).unwrap();
-    let specialization = [(contract::BVH_PROBE_SPEC_BRUTE_FORCE, u32::from(brute_force))];
+    let specialization = [
+        (contract::BVH_PROBE_SPEC_BRUTE_FORCE, u32::from(brute_force)),
+        (contract::SPEC_BVH_LAYOUT, layout),
+    ];
     let probe = Probe::embedded(
         context,
         &kernels::PROBE_BVH,
@@ -294,4 +315,76 @@ fn gpu_traversal_of_a_large_scene_matches_the_rust_twins() {
         bvh.stats()
     );
     common::assert_validation_silent(&context);
+}
+
+/// The compressed tree's probe (`SPEC_BVH_LAYOUT` = `BVH_LAYOUT_COMPRESSED`) against its Rust
+/// twins `cwbvh_closest_hit` / `cwbvh_any_hit` and the GPU's brute force, with the same
+/// tallies as the 4-wide tree's (`check`).
+fn check_compressed(
+    name: &str,
+    scene_triangles: &[Triangle],
+    ray_count: usize,
+    brute_force: usize,
+) {
+    let context = common::validated_context();
+    let bvh = CompressedBvh::build(scene_triangles).unwrap();
+    let triangles = bvh.reorder(scene_triangles);
+    let packed = packed_traversal_triangles(&triangles);
+    // The 4-wide tree over the same (reordered) triangles only makes the rays
+    let wide = Bvh::build(&triangles);
+    let rays = test_rays(ray_count, &wide.reorder(&triangles), &wide);
+    let layout = (
+        bytemuck::cast_slice::<_, u8>(&bvh.nodes),
+        bytemuck::cast_slice::<_, u8>(&packed),
+        contract::BVH_LAYOUT_COMPRESSED,
+    );
+    let (results, seconds) = run_probe_with(&context, &triangles, layout, &rays, false);
+    let (brute_results, _) =
+        run_probe_with(&context, &triangles, layout, &rays[..brute_force], true);
+    let mut twin = Tally::default();
+    let mut gpu_brute_force = Tally::default();
+    let mut any_hit_disagreements = 0;
+    for (k, (ray, result)) in rays.iter().zip(&results).enumerate() {
+        let origin = Vec3::from_slice(&ray[0][..3]);
+        let direction = Vec3::from_slice(&ray[1][..3]);
+        let expected = cwbvh_closest_hit(&bvh.nodes, &packed, origin, direction)
+            .map(|h| (h.triangle_index as u32, h.t));
+        twin.add(expected, hit(result[0]));
+        let expected_any = cwbvh_any_hit(&bvh.nodes, &packed, origin, direction, ray[0][3]);
+        any_hit_disagreements += usize::from(expected_any != (result[0][3] != 0));
+        if let Some(brute) = brute_results.get(k) {
+            assert_eq!(
+                brute[0], result[0],
+                "{name}: the same probe with brute force beside"
+            );
+            gpu_brute_force.add(hit(brute[1]), hit(brute[0]));
+        }
+    }
+    twin.assert_agrees(
+        &format!("{name}: GPU cwbvh_closest_hit vs Rust twin"),
+        rays.len(),
+    );
+    assert!(twin.hits * 2 >= rays.len(), "most rays hit: {twin:?}");
+    gpu_brute_force.assert_agrees(
+        &format!("{name}: GPU cwbvh_closest_hit vs GPU brute force"),
+        brute_force,
+    );
+    // t_max lies at least 0.5x away from the 4-wide tree's closest hit, the same up to ties
+    assert_eq!(any_hit_disagreements, 0, "{name}: cwbvh_any_hit");
+    println!(
+        "{name}: {} rays, {} triangles, {} compressed nodes: closest + any hit {:.1} ms",
+        rays.len(),
+        triangles.len(),
+        bvh.nodes.len(),
+        seconds * 1e3
+    );
+    common::assert_validation_silent(&context);
+}
+
+#[test]
+fn gpu_compressed_traversal_matches_the_rust_twins_and_gpu_brute_force() {
+    let scene = vkpath::Scene::builtin_cornell_box().unwrap();
+    check_compressed("Cornell box, compressed", &scene.triangles, 4096, 4096);
+    let scene = scale_test_scene(10_000).unwrap();
+    check_compressed("10^4 triangles, compressed", &scene.triangles, 2048, 512);
 }

@@ -9,6 +9,8 @@ mod common;
 mod brdf_twins;
 #[path = "bvh_gpu.rs"]
 mod bvh_gpu;
+#[path = "compressed_bvh_render.rs"]
+mod compressed_bvh_render;
 #[path = "denoise.rs"]
 mod denoise;
 #[path = "furnace.rs"]

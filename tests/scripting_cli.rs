@@ -307,7 +307,8 @@ fn exercise_help_lists_general_options_before_the_brdf_ones() {
 }
 
 /// `render --json`'s `scene_memory` (issue 39): the acceleration structure's bytes are the
-/// BVH's 112-byte nodes plus 48 bytes of positions per triangle for its triangle tests, and
+/// BVH's 112-byte nodes plus 48 bytes of positions per triangle for its triangle tests (the
+/// compressed BVH's 80-byte nodes plus 36 bytes), and
 /// every scene buffer is counted in `scene_bytes` (at least the 96-byte triangles besides);
 /// the box compiled into the kernel has no acceleration structure.
 #[test]
@@ -339,6 +340,27 @@ fn json_reports_what_the_scene_takes_on_the_device() {
     assert!(
         (scene_per_triangle - scene as f64 / 30.0).abs() < 1e-9,
         "{bvh}"
+    );
+
+    // The compressed tree: 80-byte nodes, positions packed 36 bytes apiece (whole texels)
+    let compressed = memory("compressed-bvh", "compressed.exr");
+    assert_eq!(compressed["traversal"], "compressed BVH", "{compressed}");
+    let compressed_nodes = compressed["bvh_node_bytes"].as_u64().unwrap();
+    assert!(
+        compressed_nodes > 0 && compressed_nodes % 80 == 0,
+        "{compressed}"
+    );
+    assert_eq!(
+        compressed["traversal_triangle_bytes"],
+        (36 * 30u64).div_ceil(16) * 16,
+        "{compressed}"
+    );
+    assert!(
+        compressed["acceleration_bytes_per_triangle"]
+            .as_f64()
+            .unwrap()
+            < per_triangle,
+        "{compressed}"
     );
 
     let constant = memory("none", "none.exr");

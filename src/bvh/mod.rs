@@ -15,16 +15,23 @@ use glam::Vec3;
 
 mod aabb;
 mod build;
+mod compressed;
+pub mod compressed_traversal;
 mod stats;
 pub mod traversal;
 mod wide;
 
+#[cfg(test)]
+mod compressed_tests;
 #[cfg(test)]
 mod tests;
 
 pub use aabb::Aabb;
 pub use build::{
     BIN_COUNT, INTERSECTION_COST, LEAF_SIZE, MAX_DEPTH, MAX_LEAF_SIZE, TRAVERSAL_COST,
+};
+pub use compressed::{
+    compressed_child_node, packed_traversal_triangles, CompressedBvh, GpuCompressedBvhNode,
 };
 pub use stats::BvhStats;
 pub use traversal::{
@@ -123,6 +130,18 @@ impl GpuTraversalTriangle {
 /// the triangles reordered by `Bvh::reorder`).
 pub fn traversal_triangles(triangles: &[Triangle]) -> Vec<GpuTraversalTriangle> {
     triangles.iter().map(GpuTraversalTriangle::new).collect()
+}
+
+/// Reorders a per-triangle list by a tree's `triangle_order` (`Bvh::triangle_order`,
+/// `CompressedBvh::triangle_order`): `result[i] = items[order[i]]`.
+///
+/// # Panics
+/// If `order` indexes past `items`.
+pub fn reorder_by<T: Clone>(order: &[u32], items: &[T]) -> Vec<T> {
+    order
+        .iter()
+        .map(|&index| items[index as usize].clone())
+        .collect()
 }
 
 /// A BVH over a list of triangles, ready for the GPU.

@@ -317,7 +317,7 @@ fn check_wide_structure(bvh: &Bvh) {
 
 /// Random rays: origins in `origin_box` (grown by 10% so some start outside the mesh),
 /// directions uniform on the sphere, from a fixed PCG2D seed.
-fn random_rays(count: usize, origin_box: Aabb, seed: u32) -> Vec<(Vec3, Vec3)> {
+pub(super) fn random_rays(count: usize, origin_box: Aabb, seed: u32) -> Vec<(Vec3, Vec3)> {
     let mut state = UVec2::new(seed, 0x9E37_79B9);
     let centre = origin_box.centre();
     let half = 0.55 * origin_box.extent();
@@ -335,14 +335,14 @@ fn random_rays(count: usize, origin_box: Aabb, seed: u32) -> Vec<(Vec3, Vec3)> {
 
 /// How the BVH's answers compared with brute force.
 #[derive(Debug, Default)]
-struct Agreement {
-    rays: usize,
-    hits: usize,
+pub(super) struct Agreement {
+    pub(super) rays: usize,
+    pub(super) hits: usize,
     /// Different triangles at t equal within 1e-6 relative (ties and near-ties that rounding
     /// in different triangles' Cramer's rule decides).
-    near_ties: usize,
+    pub(super) near_ties: usize,
     /// Anything else: a hit missed or found, a different t, a wrong any-hit answer.
-    mismatches: usize,
+    pub(super) mismatches: usize,
 }
 
 fn compare_with_brute_force(triangles: &[Triangle], rays: &[(Vec3, Vec3)]) -> Agreement {
@@ -385,7 +385,7 @@ fn compare_with_brute_force(triangles: &[Triangle], rays: &[(Vec3, Vec3)]) -> Ag
     agreement
 }
 
-fn assert_agrees(name: &str, agreement: &Agreement) {
+pub(super) fn assert_agrees(name: &str, agreement: &Agreement) {
     println!("{name}: {agreement:?}");
     assert_eq!(agreement.mismatches, 0, "{name}: {agreement:?}");
     // Random rays tie only where they hit an edge or vertex exactly: rare.
@@ -397,7 +397,7 @@ fn assert_agrees(name: &str, agreement: &Agreement) {
     assert!(agreement.hits * 5 >= agreement.rays, "{name}: too few hits");
 }
 
-fn room_box() -> Aabb {
+pub(super) fn room_box() -> Aabb {
     Aabb {
         lower: Vec3::new(0.0, -0.56, 0.0),
         upper: Vec3::new(0.556, 0.0, 0.549),

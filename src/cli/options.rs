@@ -112,8 +112,9 @@ pub struct RenderOptions {
     /// Ray traversal: a BVH for scenes above 64 triangles, or above 16 or with alpha-tested
     /// materials where glTF materials need the material kernels, and the device's ray
     /// queries instead of that BVH where it has them (auto), the workshop's loop over all
-    /// triangles (none), always a BVH (bvh), or always the device's ray queries (hardware:
-    /// VK_KHR_ray_query, e.g. Mesa 25's lavapipe; an error without them).
+    /// triangles (none), always a BVH (bvh), always the compressed 8-wide BVH
+    /// (compressed-bvh), or always the device's ray queries (hardware: VK_KHR_ray_query,
+    /// e.g. Mesa 25's lavapipe; an error without them).
     #[arg(long, value_enum, default_value_t = RenderSettings::default().accel)]
     pub accel: Accel,
     /// Random numbers of cosine, nee and mis: the workshop's PCG2D (pcg) or Owen-scrambled

@@ -53,6 +53,7 @@ pub static PATH_TRACER: Kernel = Kernel {
         SpecConstants::one(c::SPEC_SCENE_SAMPLES_ENVIRONMENT),
         SpecConstants::one(c::SPEC_SCENE_HAS_EMISSIVE_TRIANGLES),
         SpecConstants::one(c::SPEC_SCENE_HAS_SPECULAR),
+        SpecConstants::one(c::SPEC_BVH_LAYOUT),
     ],
     push_constant_size: size_of::<FramePushConstants>() as u32,
 };
@@ -164,6 +165,7 @@ pub static PROBE_BVH: Kernel = Kernel {
         SCENE_SPEC[1],
         SCENE_SPEC[2],
         SpecConstants::one(c::BVH_PROBE_SPEC_BRUTE_FORCE),
+        SpecConstants::one(c::SPEC_BVH_LAYOUT),
     ],
     push_constant_size: 0,
 };

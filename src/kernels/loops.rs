@@ -155,6 +155,11 @@ pub const PATH_TRACER_LOOPS: &[KernelLoop] = &[
         CountedByKernel,
         "ray query",
     ),
+    // The compressed tree's traversals (`SPEC_BVH_LAYOUT`), counted as the 4-wide tree's
+    described("cwbvh.glsl", "cwbvh_closest_hit", CountedByKernel, "BVH"),
+    described("cwbvh.glsl", "cwbvh_closest_hit", CountedByKernel, "BVH"),
+    described("cwbvh.glsl", "cwbvh_any_hit", CountedByKernel, "BVH"),
+    described("cwbvh.glsl", "cwbvh_any_hit", CountedByKernel, "BVH"),
     guiding_loop(
         "guiding.glsl",
         "sample_guide_direction",
@@ -270,9 +275,12 @@ impl LoopCoefficients {
             light_searches_per_ray: count(LightSearchPerRay),
             triangle_loops_per_ray: match traversal {
                 Traversal::Linear => count(TrianglesPerRay),
-                Traversal::ConstantTriangles | Traversal::Bvh | Traversal::RayQuery => 0,
+                Traversal::ConstantTriangles
+                | Traversal::Bvh
+                | Traversal::CompressedBvh
+                | Traversal::RayQuery => 0,
             },
-            counted_by_kernel: matches!(traversal, Traversal::Bvh | Traversal::RayQuery)
+            counted_by_kernel: (traversal.uses_bvh() || traversal == Traversal::RayQuery)
                 && count(CountedByKernel) > 0,
         }
     }

@@ -51,6 +51,13 @@ pub enum Accel {
         value(help = "Always the device's ray queries (VK_KHR_ray_query); an error without them")
     )]
     Hardware,
+    /// The compressed wide BVH (8-wide, quantised boxes: `crate::bvh::CompressedBvh`), for
+    /// large scenes: less memory per triangle than `Bvh`'s 4-wide tree.
+    #[cfg_attr(
+        feature = "cli",
+        value(help = "Always the compressed 8-wide BVH (quantised boxes, less memory)")
+    )]
+    CompressedBvh,
 }
 
 /// Scenes with more triangles than this get a BVH under `Accel::Auto`. Measured on lavapipe
@@ -66,7 +73,7 @@ impl Accel {
         match self {
             Accel::Auto => triangle_count > BVH_THRESHOLD,
             Accel::None | Accel::Hardware => false,
-            Accel::Bvh => true,
+            Accel::Bvh | Accel::CompressedBvh => true,
         }
     }
 }
@@ -89,6 +96,9 @@ pub enum Traversal {
     /// The device's acceleration structures over the triangles in their scene order,
     /// traversed with `VK_KHR_ray_query` (`path_tracer.comp` with `USE_RAY_QUERY`).
     RayQuery,
+    /// The compressed wide BVH (`crate::bvh::CompressedBvh`), with the triangles in its leaf
+    /// order: the builds of `Bvh`, specialized with `SPEC_BVH_LAYOUT`.
+    CompressedBvh,
 }
 
 impl Traversal {
@@ -134,6 +144,8 @@ impl Traversal {
         let constant = Traversal::constant_triangles_can_trace(triangle_count, materials, alpha);
         if accel == Accel::Hardware {
             Traversal::RayQuery
+        } else if accel == Accel::CompressedBvh {
+            Traversal::CompressedBvh
         } else if accel.uses_bvh(triangle_count) {
             Traversal::Bvh
         } else if constant {
@@ -161,23 +173,40 @@ impl Traversal {
         }
     }
 
-    /// A short name for reports: "constant triangles", "linear", "BVH" or "ray queries".
+    /// A short name for reports: "constant triangles", "linear", "BVH", "compressed BVH" or
+    /// "ray queries".
     pub fn name(self) -> &'static str {
         match self {
             Traversal::ConstantTriangles => "constant triangles",
             Traversal::Linear => "linear",
             Traversal::Bvh => "BVH",
+            Traversal::CompressedBvh => "compressed BVH",
             Traversal::RayQuery => "ray queries",
         }
     }
 
     /// What ran, as `render --json`'s `accel` names it: `"hardware"` (the device's ray
-    /// queries), `"bvh"` or `"none"` (the loop over all triangles, compiled in or not).
+    /// queries), `"bvh"` (either tree) or `"none"` (the loop over all triangles, compiled in
+    /// or not).
     pub fn accel_name(self) -> &'static str {
         match self {
             Traversal::ConstantTriangles | Traversal::Linear => "none",
-            Traversal::Bvh => "bvh",
+            Traversal::Bvh | Traversal::CompressedBvh => "bvh",
             Traversal::RayQuery => "hardware",
+        }
+    }
+
+    /// Whether rays traverse a BVH (the `USE_BVH` builds), 4-wide or compressed.
+    pub fn uses_bvh(self) -> bool {
+        matches!(self, Traversal::Bvh | Traversal::CompressedBvh)
+    }
+
+    /// `SPEC_BVH_LAYOUT` of the `USE_BVH` builds: which tree the BVH bindings hold.
+    pub fn bvh_layout(self) -> u32 {
+        if self == Traversal::CompressedBvh {
+            contract::BVH_LAYOUT_COMPRESSED
+        } else {
+            contract::BVH_LAYOUT_WIDE
         }
     }
 }
@@ -265,7 +294,7 @@ const PATH_TRACER_MACROS: &[BuildMacro] = &[
     BuildMacro {
         name: USE_BVH,
         lean: false,
-        wanted: |c| c.traversal == Traversal::Bvh,
+        wanted: |c| c.traversal.uses_bvh(),
     },
     BuildMacro {
         name: USE_RAY_QUERY,
@@ -371,6 +400,10 @@ pub fn path_tracer_variant(
             contract::LIGHT_SELECTION_POWER
         },
     )];
+    // The kernels' default is the 4-wide tree
+    if traversal == Traversal::CompressedBvh {
+        specialization.push((contract::SPEC_BVH_LAYOUT, traversal.bvh_layout()));
+    }
     if scene.materials {
         specialization.extend(SCENE_FLAGS.iter().map(|(id, value)| (*id, value(scene))));
     }
@@ -662,5 +695,35 @@ mod tests {
         for (id, _) in SCENE_FLAGS {
             assert!(PATH_TRACER.declares_spec_constant(*id), "{id}");
         }
+    }
+
+    #[test]
+    fn the_compressed_bvh_takes_the_bvh_builds_with_its_layout() {
+        for (triangles, materials, alpha) in [(12, false, false), (100, true, true)] {
+            assert_eq!(
+                Traversal::choose(triangles, Accel::CompressedBvh, materials, alpha),
+                Traversal::CompressedBvh
+            );
+        }
+        let scene = SceneSummary {
+            triangle_count: 100,
+            ..SceneSummary::default()
+        };
+        let settings = VariantSettings::default();
+        let variant = |traversal| {
+            path_tracer_variant(&scene, &settings, traversal, KernelSource::Embedded).unwrap()
+        };
+        let (wide, compressed) = (variant(Traversal::Bvh), variant(Traversal::CompressedBvh));
+        assert_eq!(wide.build, compressed.build);
+        let layout = |v: &Variant| {
+            v.specialization
+                .iter()
+                .find(|(id, _)| *id == contract::SPEC_BVH_LAYOUT)
+                .map(|(_, value)| *value)
+        };
+        // The 4-wide tree is the kernels' default
+        assert_eq!(layout(&wide), None);
+        assert_eq!(layout(&compressed), Some(contract::BVH_LAYOUT_COMPRESSED));
+        assert!(Traversal::CompressedBvh.uses_bvh() && Traversal::Bvh.uses_bvh());
     }
 }

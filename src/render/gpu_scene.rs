@@ -9,7 +9,9 @@ use std::sync::Arc;
 use ash::vk;
 
 use crate::accel::SceneStructures;
-use crate::bvh::{traversal_triangles, Bvh, BvhStats};
+use crate::bvh::{
+    packed_traversal_triangles, reorder_by, traversal_triangles, Bvh, BvhStats, CompressedBvh,
+};
 use crate::camera::Camera;
 use crate::error::{Error, Result};
 use crate::kernels::variant::{
@@ -103,15 +105,15 @@ struct MaterialBuffers {
 
 impl MaterialBuffers {
     /// Uploads `scene_materials`, their per-triangle shading data in the order of the BVH's
-    /// leaves (`bvh`) where there is one; an error when the textures do not fit the device.
+    /// leaves (`triangle_order`) where there is one; an error when the textures do not fit the device.
     fn upload(
         context: &Arc<Context>,
         commands: &CommandRunner,
         scene_materials: &SceneMaterials,
-        bvh: Option<&Bvh>,
+        triangle_order: Option<&[u32]>,
     ) -> Result<MaterialBuffers> {
-        let shading: Vec<GpuTriangleShading> = match bvh {
-            Some(bvh) => bvh.reorder(&scene_materials.triangles),
+        let shading: Vec<GpuTriangleShading> = match triangle_order {
+            Some(order) => reorder_by(order, &scene_materials.triangles),
             None => scene_materials.triangles.clone(),
         }
         .iter()
@@ -166,8 +168,8 @@ impl MaterialBuffers {
 /// all (`render --json` and `bench --json` report it as `scene_memory`).
 #[derive(Clone, Copy, Debug, PartialEq, serde::Serialize)]
 pub struct SceneMemory {
-    /// How rays find hits (`Traversal::name`): `BVH` (the 4-wide BVH), `ray queries`,
-    /// `linear` or `constant triangles`.
+    /// How rays find hits (`Traversal::name`): `BVH` (the 4-wide BVH), `compressed BVH`
+    /// (8-wide, quantised), `ray queries`, `linear` or `constant triangles`.
     pub traversal: &'static str,
     /// What found the hits as `--accel` names it (`Traversal::accel_name`): `hardware` (the
     /// device's ray queries), `bvh` or `none`.
@@ -268,9 +270,22 @@ impl GpuScene {
     ) -> Result<GpuScene> {
         // With a BVH, triangles are stored in the order its leaves reference them; light
         // indices then refer to that order too.
-        let bvh = (traversal == Traversal::Bvh).then(|| Bvh::build(&scene.triangles));
-        let ordered_triangles = match &bvh {
-            Some(bvh) => bvh.reorder(&scene.triangles),
+        // The compressed tree collapses the binary one (`CompressedBvh::from_binary`).
+        let bvh = traversal.uses_bvh().then(|| Bvh::build(&scene.triangles));
+        let compressed = match &bvh {
+            Some(bvh) if traversal == Traversal::CompressedBvh => Some(
+                CompressedBvh::from_binary(bvh, &scene.triangles)
+                    .map_err(Error::InvalidSettings)?,
+            ),
+            _ => None,
+        };
+        let triangle_order: Option<&[u32]> = match (&compressed, &bvh) {
+            (Some(compressed), _) => Some(&compressed.triangle_order),
+            (None, Some(bvh)) => Some(&bvh.triangle_order),
+            (None, None) => None,
+        };
+        let ordered_triangles = match triangle_order {
+            Some(order) => reorder_by(order, &scene.triangles),
             None => scene.triangles.clone(),
         };
         let mut gpu_triangles: Vec<GpuTriangle> =
@@ -297,16 +312,27 @@ impl GpuScene {
             )],
             vk::BufferUsageFlags::UNIFORM_BUFFER,
         )?;
-        let bvh_nodes = match &bvh {
-            Some(bvh) => Some(upload("BVH nodes", bytemuck::cast_slice(&bvh.wide_nodes))?),
-            None => None,
-        };
-        let traversal_triangles = match &bvh {
-            Some(_) => Some(upload(
-                "traversal triangles",
-                bytemuck::cast_slice(&traversal_triangles(&ordered_triangles)),
-            )?),
-            None => None,
+        // The compressed tree's nodes and packed triangles (36 bytes), or the 4-wide tree's
+        // nodes and 48-byte triangles, at the same bindings (`SPEC_BVH_LAYOUT` tells which)
+        let (bvh_nodes, traversal_triangles) = match (&compressed, &bvh) {
+            (Some(compressed), _) => (
+                Some(upload(
+                    "BVH nodes",
+                    bytemuck::cast_slice(&compressed.nodes),
+                )?),
+                Some(upload(
+                    "traversal triangles",
+                    bytemuck::cast_slice(&packed_traversal_triangles(&ordered_triangles)),
+                )?),
+            ),
+            (None, Some(bvh)) => (
+                Some(upload("BVH nodes", bytemuck::cast_slice(&bvh.wide_nodes))?),
+                Some(upload(
+                    "traversal triangles",
+                    bytemuck::cast_slice(&traversal_triangles(&ordered_triangles)),
+                )?),
+            ),
+            (None, None) => (None, None),
         };
         let structures = match traversal {
             // The triangles stay in the scene's order (no BVH reorders them)
@@ -329,7 +355,7 @@ impl GpuScene {
                 context,
                 commands,
                 scene_materials,
-                bvh.as_ref(),
+                triangle_order,
             )?),
             None => None,
         };
@@ -370,6 +396,17 @@ impl GpuScene {
             scene_bytes,
             scene_bytes_per_triangle: per_triangle(scene_bytes),
         };
+        // The binary tree's shape bounds a traversal's iterations
+        // (`bvh_iterations_per_ray_at_most`: 2 nodes + triangles); the compressed tree's
+        // count a visit and a pop per node and a test per triangle, so its node count, if
+        // larger (never in practice: a node collapses several binary ones), takes the place
+        let bvh_stats = bvh.as_ref().map(|bvh| {
+            let mut stats = bvh.stats();
+            if let Some(compressed) = &compressed {
+                stats.node_count = stats.node_count.max(compressed.nodes.len() + 1);
+            }
+            stats
+        });
         Ok(GpuScene {
             triangles,
             uniforms,
@@ -385,7 +422,7 @@ impl GpuScene {
                 .tree
                 .as_ref()
                 .map(|_| scene_lights.light_search_iterations()),
-            bvh_stats: bvh.as_ref().map(Bvh::stats),
+            bvh_stats,
             memory,
         })
     }

@@ -118,7 +118,7 @@ impl LoopLimit {
 /// `--accel bvh` only where the BVH is not in use already; fewer `--samples-per-frame` too
 /// for an image that was rendered (one sample per dispatch can still be too many).
 pub(super) fn loop_limit_advice(traversal: Traversal, rendered: bool) -> &'static str {
-    let hierarchy = matches!(traversal, Traversal::Bvh | Traversal::RayQuery);
+    let hierarchy = traversal.uses_bvh() || traversal == Traversal::RayQuery;
     match (hierarchy, rendered) {
         (true, false) => "use a shorter --max-path-length",
         (false, false) => "use --accel bvh (or auto) or a shorter --max-path-length",
