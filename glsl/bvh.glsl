@@ -10,6 +10,9 @@
 // Rust twins: src/bvh/traversal.rs, same names and maths; change both together.
 #ifndef VKPATH_BVH_GLSL
 #define VKPATH_BVH_GLSL
+// textureSize() of a texel buffer declared as a texture (utextureBuffer: the texel buffers
+// carry no sampler, which SPIR-V validation asks of buffer images).
+#extension GL_EXT_samplerless_texture_functions : require
 
 #include "shared.h"
 #include "scene.glsl"
@@ -19,7 +22,7 @@
 // upper y, lower z, upper z, then their references). Mirrors `vkpath::bvh::GpuWideBvhNode`,
 // whose layout test checks it; the root is node 0. On lavapipe a texel fetch is a vector
 // gather, where a storage-buffer load is a per-lane loop.
-layout(set = 0, binding = BINDING_BVH_NODES) uniform usamplerBuffer g_bvh_node_texels;
+layout(set = 0, binding = BINDING_BVH_NODES) uniform utextureBuffer g_bvh_node_texels;
 
 // The triangles' vertex positions alone, in the leaf order of g_triangle_texels: a texel
 // buffer of RGBA32_UINT, TRAVERSAL_TRIANGLE_TEXEL_COUNT texels per triangle (v_0, v_1, v_2 in
@@ -27,7 +30,7 @@ layout(set = 0, binding = BINDING_BVH_NODES) uniform usamplerBuffer g_bvh_node_t
 // tests read only these 48 bytes per triangle, so a leaf's triangles lie in contiguous
 // 48-byte records instead of 96-byte ones whose second half (normal, albedo, emission) only
 // the closest hit needs.
-layout(set = 0, binding = BINDING_TRAVERSAL_TRIANGLES) uniform usamplerBuffer g_traversal_triangle_texels;
+layout(set = 0, binding = BINDING_TRAVERSAL_TRIANGLES) uniform utextureBuffer g_traversal_triangle_texels;
 
 // Triangle i as the traversal's triangle test sees it: its vertex positions, and zeros for
 // the members that ray_triangle_intersection() does not read (get_triangle(i) reads all of

@@ -17,6 +17,9 @@
 // Rust twins: src/bvh/compressed_traversal.rs, same names and maths; change both together.
 #ifndef VKPATH_CWBVH_GLSL
 #define VKPATH_CWBVH_GLSL
+// textureSize() of a texel buffer declared as a texture (utextureBuffer: the texel buffers
+// carry no sampler, which SPIR-V validation asks of buffer images).
+#extension GL_EXT_samplerless_texture_functions : require
 
 // The four words that start at word `offset` (0 .. 3) of the eight words of texels a then b.
 uvec4 shift_texels(uvec4 a, uvec4 b, uint offset) {

@@ -16,7 +16,7 @@
 // top-down) texel 3 + 2 i: (radiance rgb times strength, the density of sample_environment()
 // w.r.t. solid angle over the texel) and texel 4 + 2 i: (alias threshold, alias index, 0, 0).
 // gpu_environment_words() on the host.
-layout(set = 0, binding = BINDING_ENVIRONMENT) uniform usamplerBuffer g_environment_texels;
+layout(set = 0, binding = BINDING_ENVIRONMENT) uniform utextureBuffer g_environment_texels;
 
 // Whether the scene has an environment that emits light (the host specializes it; false
 // makes the kind a constant ENVIRONMENT_NONE, which compiles the environment's light samples,

@@ -15,7 +15,7 @@
 // (get_guided_mixture_density()), so the estimator stays unbiased whatever the guide learned.
 //
 // The words are built by vkpath::guiding (GuideSplats::build()). Rust twins:
-// src/cpu/guiding.rs. Needs g_guide_texels (usamplerBuffer) and M_PI declared by the
+// src/cpu/guiding.rs. Needs g_guide_texels (utextureBuffer) and M_PI declared by the
 // includer.
 #ifndef VKPATH_GUIDING_GLSL
 #define VKPATH_GUIDING_GLSL

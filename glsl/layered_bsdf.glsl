@@ -21,6 +21,9 @@
 // Rust twins: src/cpu/layered_bsdf.rs (same names, same maths).
 #ifndef VKPATH_LAYERED_BSDF_GLSL
 #define VKPATH_LAYERED_BSDF_GLSL
+// textureSize() of a texel buffer declared as a texture (utextureBuffer: the texel buffers
+// carry no sampler, which SPIR-V validation asks of buffer images).
+#extension GL_EXT_samplerless_texture_functions : require
 
 #include "brdf.glsl"
 // sample_hemisphere_cosine() (glsl/importance_sampling.glsl) and g_material_texels

@@ -46,7 +46,7 @@
 // normal.w, for MIS. With the light tree, header.yz and each light's z say where the tree is
 // (glsl/light_tree.glsl), and normal.w holds the triangle's index in the light list (-1 for
 // non-emitters) instead.
-layout(set = 0, binding = BINDING_LIGHTS) uniform usamplerBuffer g_light_texels;
+layout(set = 0, binding = BINDING_LIGHTS) uniform utextureBuffer g_light_texels;
 
 #include "light_tree.glsl"
 

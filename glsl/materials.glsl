@@ -10,8 +10,8 @@
 #include "textures.glsl"
 #include "scene.glsl"
 
-layout(set = 0, binding = BINDING_SHADING) uniform usamplerBuffer g_shading_texels;
-layout(set = 0, binding = BINDING_MATERIALS) uniform usamplerBuffer g_material_texels;
+layout(set = 0, binding = BINDING_SHADING) uniform utextureBuffer g_shading_texels;
+layout(set = 0, binding = BINDING_MATERIALS) uniform utextureBuffer g_material_texels;
 
 
 // Barycentric coordinates (b_0, b_1, b_2) of a point in a triangle's plane.

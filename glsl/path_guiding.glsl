@@ -25,7 +25,7 @@
 #include "surface.glsl"
 #include "sobol.glsl"
 
-layout(set = 0, binding = BINDING_GUIDE) uniform usamplerBuffer g_guide_texels;
+layout(set = 0, binding = BINDING_GUIDE) uniform utextureBuffer g_guide_texels;
 layout(set = 0, binding = BINDING_GUIDE_SPLATS, std430) buffer guide_splats {
     uint g_guide_splat_words[];
 };

@@ -11,7 +11,7 @@
 #include "shared.h"
 #include "workshop.glsl"
 
-layout(set = 0, binding = BINDING_GUIDE) uniform usamplerBuffer g_guide_texels;
+layout(set = 0, binding = BINDING_GUIDE) uniform utextureBuffer g_guide_texels;
 
 #include "guiding.glsl"
 

@@ -10,7 +10,7 @@
 
 #include "shared.h"
 
-layout(set = 0, binding = BINDING_LIGHTS) uniform usamplerBuffer g_light_texels;
+layout(set = 0, binding = BINDING_LIGHTS) uniform utextureBuffer g_light_texels;
 
 #include "light_tree.glsl"
 

@@ -13,7 +13,7 @@
 // (position xyz, PUNCTUAL_LIGHT_* bits), (the direction it shines xyz, 0),
 // (intensity rgb, 0), (0, cone scale, cone offset, 0). gpu_punctual_light_words() of
 // src/lights/gpu_punctual.rs on the host.
-layout(set = 0, binding = BINDING_PUNCTUAL_LIGHTS) uniform usamplerBuffer g_punctual_light_texels;
+layout(set = 0, binding = BINDING_PUNCTUAL_LIGHTS) uniform utextureBuffer g_punctual_light_texels;
 
 // A punctual light as the integrators use it.
 struct punctual_light_t {

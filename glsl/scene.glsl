@@ -28,7 +28,7 @@ struct packed_triangle_t {
 // than both alternatives measured: a storage-buffer load at a per-lane index is a loop over
 // lanes with a bounds check per component, and a uniform-buffer load an 8-lane gather of
 // scalar loads (docs/performance.md).
-layout(set = 0, binding = BINDING_TRIANGLES) uniform usamplerBuffer g_triangle_texels;
+layout(set = 0, binding = BINDING_TRIANGLES) uniform utextureBuffer g_triangle_texels;
 
 // Triangle i of the scene as stored on the GPU. Members that the caller does not use are
 // never read (the compiler drops their loads).

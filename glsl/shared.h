@@ -47,7 +47,7 @@
 // glsl/cwbvh.glsl, packed_traversal_triangles() on the host).
 #define BINDING_TRAVERSAL_TRIANGLES 15
 // The texels of every texture, concatenated (TextureAtlas on the host): a uniform texel
-// buffer of R8G8B8A8_UINT texels (usamplerBuffer), rows top-down as in the image files.
+// buffer of R8G8B8A8_UINT texels (utextureBuffer), rows top-down as in the image files.
 #define BINDING_TEXTURE_TEXELS 5
 // Builds with USE_MATERIALS: per-triangle shading data, a texel buffer of
 // SHADING_TEXEL_COUNT RGBA32_UINT texels per triangle (GpuTriangleShading on the host):

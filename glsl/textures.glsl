@@ -35,7 +35,7 @@ struct texture_slot_t {
 };
 
 // Every texture's RGBA8 texels, concatenated (R8G8B8A8_UINT: each channel 0..255).
-layout(set = 0, binding = BINDING_TEXTURE_TEXELS) uniform usamplerBuffer g_texture_texels;
+layout(set = 0, binding = BINDING_TEXTURE_TEXELS) uniform utextureBuffer g_texture_texels;
 
 // Unpacks a texture slot from its three texels: a = (first_texel, width, height, flags),
 // b.xyz and c.xyz the bits of the transform's rows (their w is unused).

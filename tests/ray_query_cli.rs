@@ -391,15 +391,10 @@ fn a_scene_beyond_the_limits_falls_back_under_auto_and_is_refused_under_hardware
     );
 }
 
-/// The one warning the validation layer gives of every kernel on Mesa 25 (a Vulkan 1.4
-/// device, whose SPIR-V rules the layer applies), BVH builds included: the texel buffers are
-/// declared as `usamplerBuffer`, an `OpTypeSampledImage` of a buffer image.
-const MESA25_TEXEL_BUFFER_WARNING: &str =
-    "Image Type operand of OpTypeSampledImage should not have a Dim of Buffer";
-
-/// The validation layer's messages of a render on Mesa 25 with `accel`: the count of its
-/// message headers and of those that are `MESA25_TEXEL_BUFFER_WARNING`.
-fn validation_messages(icd: &str, dir: &Path, accel: &str) -> (usize, usize) {
+/// The validation layer's messages of a `--validate` render on Mesa 25 (a Vulkan 1.4 device,
+/// whose SPIR-V rules the layer applies) with `accel`: how many message headers it printed.
+/// The command fails when the layer reported anything.
+fn validation_messages(icd: &str, dir: &Path, accel: &str) -> (usize, Option<i32>) {
     let args = [
         "render",
         "--generated",
@@ -423,13 +418,7 @@ fn validation_messages(icd: &str, dir: &Path, accel: &str) -> (usize, usize) {
         .lines()
         .filter(|line| line.contains("vkpath::vk::validation"))
         .count();
-    let known = run.stderr.matches(MESA25_TEXEL_BUFFER_WARNING).count();
-    assert!(
-        !run.stderr.contains("validation layer reported") || run.stderr.contains(" 0 errors"),
-        "{}",
-        run.stderr
-    );
-    (headers, known)
+    (headers, run.code)
 }
 
 #[test]
@@ -438,12 +427,17 @@ fn the_validation_layer_says_nothing_of_the_ray_queries() {
         return;
     };
     let dir = tempfile::tempdir().unwrap();
-    let (hardware, hardware_known) = validation_messages(&icd, dir.path(), "hardware");
-    let (bvh, bvh_known) = validation_messages(&icd, dir.path(), "bvh");
-    // Every message is the texel buffers' known one, as many as of the BVH's kernel: the
-    // device features, the structures' builds, their descriptor and the queries add none
-    assert_eq!(hardware, hardware_known, "an unknown validation message");
-    assert_eq!((hardware, bvh), (bvh_known, bvh_known));
+    // Silent for the device features, the structures' builds, their descriptor and the
+    // queries, and for the BVH's kernel on the same device (the texel buffers are
+    // `utextureBuffer`s: a sampled image of a buffer, `usamplerBuffer`, drew a SPIR-V
+    // warning from the layer on Vulkan 1.4 devices)
+    for accel in ["hardware", "bvh"] {
+        assert_eq!(
+            validation_messages(&icd, dir.path(), accel),
+            (0, Some(0)),
+            "{accel}"
+        );
+    }
 }
 
 #[test]

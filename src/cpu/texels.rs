@@ -1,4 +1,4 @@
-//! RGBA32_UINT texel buffers as the twins read them: `texelFetch` of a `usamplerBuffer`
+//! RGBA32_UINT texel buffers as the twins read them: `texelFetch` of a `utextureBuffer`
 //! (four words a texel) and `uintBitsToFloat` of the result.
 
 use glam::{UVec4, Vec4};

@@ -158,7 +158,7 @@ impl Drop for Buffer {
 }
 
 /// A view of a buffer as an array of texels (a uniform texel buffer), destroyed on drop.
-/// Shaders read it with `texelFetch` on a `samplerBuffer`/`usamplerBuffer`.
+/// Shaders read it with `texelFetch` on a `textureBuffer`/`utextureBuffer`.
 pub struct TexelBufferView {
     context: Arc<Context>,
     /// The view handle.
@@ -210,7 +210,7 @@ impl TexelBufferView {
     }
 
     /// Views all of `buffer` as RGBA8_UINT texels (4 bytes each, read as `uvec4` in 0..=255
-    /// by a `usamplerBuffer`), after checking that the device allows that many; `what` names
+    /// by a `utextureBuffer`), after checking that the device allows that many; `what` names
     /// the data in the error. Uniform texel buffers of this format are mandatory in Vulkan.
     pub fn rgba8_uint(
         context: &Arc<Context>,
