@@ -804,3 +804,64 @@ fn a_wgsl_port_is_named_as_wgsl_with_exit_status_2() {
         outcome.stderr
     );
 }
+
+/// Checks `files` with `--json --frames 8`, expects exit status 0 (the functions pass), no
+/// program verdict and the program listed as not judged; returns the reason.
+fn program_not_judged(dir: &Path, files: &[String]) -> String {
+    let outcome = common::runs::check(dir, files, &["--json", "--frames", "8"], &[]);
+    assert_eq!(
+        outcome.code,
+        Some(0),
+        "{}\n{}",
+        outcome.stdout,
+        outcome.stderr
+    );
+    let report = outcome.json();
+    assert_eq!(report["passed"], true, "{report}");
+    assert!(
+        common::runs::verdict(&report, "program").is_none(),
+        "{report}"
+    );
+    assert_eq!(
+        common::runs::verdict(&report, "get_random_numbers").map(|v| v["passed"].clone()),
+        Some(Value::Bool(true)),
+        "{report}"
+    );
+    not_judged(&report, "program")
+}
+
+#[test]
+fn a_program_of_another_scene_or_colour_is_not_judged_and_leaves_the_exit_status_to_the_functions()
+{
+    let dir = tempfile::tempdir().expect("temporary directory");
+    // Its own scene: a height field read from iChannel0 while tracing (known from the text).
+    let reason = program_not_judged(dir.path(), &[solution("programs/height_field_tab.glsl")]);
+    assert!(
+        reason.contains("reads iChannel0 as a texture")
+            && reason.contains("height_field_tab.glsl:19"),
+        "{reason}"
+    );
+    // A constant colour written over the traced one: known from the frames.
+    let reason = program_not_judged(dir.path(), &[solution("programs/constant_colour_tab.glsl")]);
+    assert!(reason.contains("every pixel the same value"), "{reason}");
+    // A constant colour without tracing at all: known from the text.
+    let tab = std::fs::read_to_string(solution("programs/constant_colour_tab.glsl")).expect("tab");
+    let call = "out_color.rgb = get_ray_radiance(";
+    assert!(tab.contains(call));
+    let path = dir.path().join("constant_only.glsl");
+    std::fs::write(&path, tab.replace(call, "out_color.rgb = vec3(")).expect("write");
+    let reason = program_not_judged(dir.path(), &[path.display().to_string()]);
+    assert!(reason.contains("never calls get_ray_radiance"), "{reason}");
+    // The text says the same: NOT JUDGED, never FAIL.
+    let text = check(
+        dir.path(),
+        "programs/height_field_tab.glsl",
+        &["--frames", "8"],
+    );
+    assert_eq!(text.code, Some(0), "{}", text.stdout);
+    assert!(
+        text.stdout.contains("NOT JUDGED program") && !text.stdout.contains("FAIL"),
+        "{}",
+        text.stdout
+    );
+}

@@ -103,6 +103,20 @@ pub fn is_workshop_program(text: &str) -> bool {
         && tokens.iter().any(|t| t.text == "get_ray_radiance")
 }
 
+/// Whether the tabs of a program (ShaderToy's order, each (name, text)) are a runnable
+/// program of the workshop's scene as `is_workshop_program` reads one text: a tab has
+/// `mainImage`, and a tab (the same, or its Common tab) names `get_ray_radiance`.
+pub fn is_workshop_program_tabs(tabs: &[(PathBuf, String)]) -> bool {
+    let names = |name: &str| {
+        tabs.iter().any(|(_, text)| {
+            crate::check::glsl_syntax::tokenize(text)
+                .iter()
+                .any(|t| t.text == name)
+        })
+    };
+    names("mainImage") && names("get_ray_radiance")
+}
+
 /// The program of a user's tabs with entry points (`tabs`, in ShaderToy's order) after
 /// their Common tab, and the pass that accumulates: one tab is a Buffer A whose iChannel0
 /// is its own previous frame (the workshop's tab), shown by an Image pass of vkpath's;
@@ -207,7 +221,7 @@ pub fn judge_tabs_program(
     test_alpha: f64,
     functions: &[FunctionReport],
 ) -> Result<Option<FunctionReport>> {
-    if !tabs.iter().any(|(_, text)| is_workshop_program(text)) {
+    if !is_workshop_program_tabs(tabs) {
         return Ok(None);
     }
     let has_entry = |text: &str| {
@@ -227,6 +241,19 @@ pub fn judge_tabs_program(
     let Some((program, accumulated)) = program_of_tabs(common, &passes) else {
         return Ok(None);
     };
+    if let Some(reason) = crate::check::program_shape::not_the_workshops_scene(tabs) {
+        let (file, line) = program_place(tabs);
+        let mut report = FunctionReport::new(
+            "program",
+            line,
+            NOT_JUDGED_METHOD,
+            "judged only when it renders the workshop's scene with the workshop's running mean"
+                .into(),
+        );
+        report.file = file;
+        report.summary = format!("not judged: {reason}");
+        return Ok(Some(report));
+    }
     let program_options = ProgramOptions {
         size: options.image_size.min(MAX_PROGRAM_SIZE),
         frames: options.program_frames,
@@ -285,6 +312,23 @@ impl FrameStatistics {
         }
         self.last = running_mean.to_vec();
         self.frames += 1;
+    }
+
+    /// Whether some pixel's frame estimates differ by more than rounding (a standard
+    /// deviation over 1e-3 x the largest value; recovering a frame's estimate from a float
+    /// running mean loses about f ulps, 3e-5 relative at 256 frames): a path tracer's do
+    /// wherever a path can bounce, a constant colour's never.
+    pub fn varies(&self) -> bool {
+        let n = f64::from(self.frames);
+        let threshold = (1e-3 * self.largest).powi(2);
+        n > 1.0
+            && self
+                .sums
+                .iter()
+                .zip(&self.sums_of_squares)
+                .any(|(sum, square)| {
+                    (0..3).any(|c| (square[c] - sum[c] * sum[c] / n) / (n - 1.0) > threshold)
+                })
     }
 
     /// The final running mean with the variance of each pixel's mean: the sample variance
@@ -377,6 +421,14 @@ pub fn judge_program(
         return Err(Error::InvalidSettings("no frame ran".into()));
     };
     report.measure("frames", f64::from(frames));
+    if !statistics.varies() {
+        report.method = NOT_JUDGED_METHOD.into();
+        report.summary = format!(
+            "not judged: every one of the {frames} frames gave every pixel the same value, so your \
+             program's image is no Monte Carlo estimate of the workshop's scene (a colour of its own)"
+        );
+        return Ok(report);
+    }
     if statistics.negative > 0 {
         report.method = NOT_JUDGED_METHOD.into();
         report.summary = format!(
@@ -435,10 +487,12 @@ pub fn judge_program(
 }
 
 /// The file and line of the program that `judge_tabs_program` judges: the `mainImage` of
-/// the first tab that calls `get_ray_radiance` (the pass that accumulates).
+/// the first tab that calls `get_ray_radiance` (the pass that accumulates), else of the
+/// first tab with one.
 pub fn program_place(tabs: &[(PathBuf, String)]) -> (String, usize) {
     tabs.iter()
         .find(|(_, text)| is_workshop_program(text))
+        .or_else(|| tabs.iter().find(|(_, text)| mainimage_line(text) > 0))
         .map_or_else(
             || (String::new(), 0),
             |(path, text)| (path.display().to_string(), mainimage_line(text)),
@@ -575,6 +629,18 @@ mod tests {
         assert!((image.variances_of_mean[1] - 4.0 * 14.0 / 12.0).abs() < 1e-4);
         assert_eq!(image.variances_of_mean[2], 0.0);
         assert_eq!(statistics.negative, 0);
+        assert!(statistics.varies());
+    }
+
+    #[test]
+    fn a_constant_colour_does_not_vary() {
+        let mut statistics = FrameStatistics::default();
+        let mut mean = 0.0f32;
+        for f in 0..16 {
+            mean += (0.3 - mean) / (f as f32 + 1.0);
+            statistics.add(&[[mean, 0.5, 0.0, 1.0], [0.25, 0.25, 0.25, 1.0]]);
+        }
+        assert!(!statistics.varies());
     }
 
     #[test]
