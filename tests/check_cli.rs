@@ -865,3 +865,47 @@ fn a_program_of_another_scene_or_colour_is_not_judged_and_leaves_the_exit_status
         text.stdout
     );
 }
+
+#[test]
+fn an_endless_loop_that_traces_the_scene_each_iteration_fails_in_seconds() {
+    // Every iteration of the loop traces the scene: the full renders (and the program's
+    // frames) would spend minutes on the loop guard's 20 000 iterations a path; the probe
+    // render of a few pixels finds it first. 60 s leaves room for a loaded machine (it took
+    // 1.5 s and 6.7 s on lavapipe with 2 shared cores, over 120 s before the probe).
+    let started = std::time::Instant::now();
+    let report = expect_verdicts(
+        "path_loop_continue_for_break.glsl",
+        1,
+        &[("get_ray_radiance", false)],
+    );
+    let function = &report["functions"][0];
+    assert_eq!(function["method"], "loop limit", "{report}");
+    let hint = function["hint"].as_str().expect("text");
+    assert!(hint.contains("`continue` where a `break`"), "{hint}");
+    assert!(!hint.contains("--"), "{hint}");
+
+    // The same mistake in the workshop's whole tab: get_ray_radiance and the program fail.
+    let dir = tempfile::tempdir().expect("temporary directory");
+    let tab = std::fs::read_to_string(solution("programs/exercise7_tab.glsl")).expect("tab");
+    let miss = "for (int i = 0; i != MAX_PATH_LENGTH; ++i) {\n        float t;\n        triangle_t tri;\n        if (!ray_mesh_intersection(t, tri, origin, direction))\n            break;";
+    assert!(tab.contains(miss));
+    let path = dir.path().join("continue_for_break.glsl");
+    let endless = "for (int i = 0; i != MAX_PATH_LENGTH; ) {\n        float t;\n        triangle_t tri;\n        if (!ray_mesh_intersection(t, tri, origin, direction))\n            continue;\n        ++i;";
+    std::fs::write(&path, tab.replace(miss, endless)).expect("write");
+    let outcome = common::runs::check(
+        dir.path(),
+        &[path.display().to_string()],
+        &["--json", "--frames", "8"],
+        &[],
+    );
+    assert_eq!(outcome.code, Some(1), "{}", outcome.stderr);
+    let report = outcome.json();
+    let program = common::runs::verdict(&report, "program").expect("program verdict");
+    assert_eq!(program["method"], "loop limit", "{report}");
+    assert!(!program["hint"].as_str().expect("text").contains("--"));
+    assert!(
+        started.elapsed() < std::time::Duration::from_secs(60),
+        "{:?}",
+        started.elapsed()
+    );
+}

@@ -266,6 +266,10 @@ pub fn judge_tabs_program(
     judge_program(context, &program, accumulated, functions, &program_options).map(Some)
 }
 
+/// Side of the probe frame that runs the program before its full frames (see
+/// `judge_program`): 64 pixels, each with the workshop's 8 samples.
+const PROBE_SIZE: u32 = 8;
+
 /// Largest side of the program's image: the user's code runs once per pixel and frame
 /// (about 0.5 M paths/s on lavapipe for the workshop's tab), so 64 x 64 at 128 frames is
 /// 4.2 M paths, under 10 s there.
@@ -389,6 +393,17 @@ pub fn judge_program(
         ),
     );
     report.file = file;
+    // A loop without end costs the loop guard's iterations in every pixel that enters it: a
+    // probe frame of few pixels finds it in a second, before the full frames would spend
+    // minutes on it.
+    let probe = ShadertoyRunner::new(context, program, PROBE_SIZE, PROBE_SIZE)
+        .and_then(|mut probe| probe.run_frame());
+    if let Err(Error::LoopLimit(message)) = probe {
+        report.method = "loop limit".into();
+        report.summary = "loops without end: a pixel's loops ran past their limit".into();
+        report.hint = Some(crate::check::loop_hint_for_check(&message));
+        return Ok(report);
+    }
     let mut runner = match ShadertoyRunner::new(context, program, size, size) {
         Ok(runner) => runner,
         Err(Error::ShaderCompilation(messages)) => {
