@@ -909,3 +909,58 @@ fn an_endless_loop_that_traces_the_scene_each_iteration_fails_in_seconds() {
         started.elapsed()
     );
 }
+
+#[test]
+fn a_program_whose_types_live_in_the_common_tab_is_told_to_pass_it_first() {
+    // The workshop's tab with its struct moved to a Common tab. Function mode compiles without
+    // it (vkpath declares the workshop's triangle_t), the program does not: its compile error
+    // must say what function mode says, at the tab's own line.
+    let dir = tempfile::tempdir().expect("temporary directory");
+    let tab = std::fs::read_to_string(solution("programs/exercise7_tab.glsl")).expect("tab");
+    let start = tab
+        .find("// A triangle with its shading attributes")
+        .expect("struct");
+    let end = start + tab[start..].find("};\n").expect("struct end") + 3;
+    let image = dir.path().join("image_tab.glsl");
+    let common = dir.path().join("types_common.glsl");
+    std::fs::write(&image, format!("{}{}", &tab[..start], &tab[end..])).expect("write");
+    std::fs::write(&common, &tab[start..end]).expect("write");
+    let (image, common) = (image.display().to_string(), common.display().to_string());
+    let alone = common::runs::check(
+        dir.path(),
+        std::slice::from_ref(&image),
+        &["--json", "--frames", "8"],
+        &[],
+    );
+    assert_eq!(alone.code, Some(1), "{}", alone.stderr);
+    let report = alone.json();
+    let program = common::runs::verdict(&report, "program").expect("program verdict");
+    assert_eq!(
+        program["summary"],
+        "does not compile as a ShaderToy program: 'triangle_t' is not defined in any of your files; if your program has a Common tab, pass it first",
+        "{report}"
+    );
+    // ray_triangle_intersection's line in the user's file (28 in the whole tab, 7 lines up).
+    let hint = program["hint"].as_str().expect("hint");
+    assert!(hint.contains(&format!("{image}:21: error")), "{hint}");
+    assert_eq!(
+        report["functions"]
+            .as_array()
+            .expect("functions")
+            .iter()
+            .filter(|f| f["passed"] == false)
+            .count(),
+        1,
+        "only the program fails: {report}"
+    );
+    // With its Common tab (given second: it goes first anyway) the program compiles.
+    let both = common::runs::check(
+        dir.path(),
+        &[image, common],
+        &["--json", "--frames", "8"],
+        &[],
+    );
+    let report = both.json();
+    let program = common::runs::verdict(&report, "program").expect("program verdict");
+    assert_eq!(program["method"], "render", "{report}");
+}

@@ -407,7 +407,16 @@ pub fn judge_program(
     let mut runner = match ShadertoyRunner::new(context, program, size, size) {
         Ok(runner) => runner,
         Err(Error::ShaderCompilation(messages)) => {
-            report.summary = "does not compile as a ShaderToy program".into();
+            // The tab's hint on names no tab declares (the Common tab's), as function mode
+            // gives it, goes into the summary.
+            report.summary = messages
+                .lines()
+                .find(|line| line.contains("not defined in any of your files"))
+                .and_then(|line| line.split_once(": "))
+                .map_or_else(
+                    || "does not compile as a ShaderToy program".to_string(),
+                    |(_, hint)| format!("does not compile as a ShaderToy program: {hint}"),
+                );
             report.hint = Some(messages);
             return Ok(report);
         }
