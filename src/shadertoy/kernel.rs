@@ -173,7 +173,7 @@ pub fn compile_pass(common: Option<&UserTab>, tab: &UserTab) -> Result<CompiledS
     if !tab.has_main_image && tab.page_shader_output.is_none() {
         return Err(format!(
             "{}: defines no mainImage(out vec4 fragColor, in vec2 fragCoord) (nor a page shader's main()); \
-             if it is your Common tab, pass it with --common",
+             if it is your Common tab, pass it first among the files (or with --common)",
             tab.display_name
         ));
     }
