@@ -852,6 +852,23 @@ fn a_program_of_another_scene_or_colour_is_not_judged_and_leaves_the_exit_status
     std::fs::write(&path, tab.replace(call, "out_color.rgb = vec3(")).expect("write");
     let reason = program_not_judged(dir.path(), &[path.display().to_string()]);
     assert!(reason.contains("never calls get_ray_radiance"), "{reason}");
+    // More passes than ShaderToy has: not judged either (never a lost verdict).
+    let seed = &tab[tab.find("vec2 get_random_numbers").expect("seed")
+        ..tab.find("bool ray_mesh").expect("mesh")];
+    let common = dir.path().join("common.glsl");
+    std::fs::write(
+        &common,
+        format!("{seed}vec3 get_ray_radiance(vec3 o) {{ return o; }}\n"),
+    )
+    .expect("write");
+    let mut files = vec![common.display().to_string()];
+    for pass in 0..6 {
+        let path = dir.path().join(format!("pass{pass}.glsl"));
+        std::fs::write(&path, "void mainImage(out vec4 c, in vec2 p) { c = vec4(get_ray_radiance(vec3(p, 0.0)), 1.0); }\n").expect("write");
+        files.push(path.display().to_string());
+    }
+    let reason = program_not_judged(dir.path(), &files);
+    assert!(reason.contains("6 tabs with mainImage"), "{reason}");
     // The text says the same: NOT JUDGED, never FAIL.
     let text = check(
         dir.path(),

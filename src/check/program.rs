@@ -238,10 +238,16 @@ pub fn judge_tabs_program(
             common = Some((path.clone(), text.clone()));
         }
     }
-    let Some((program, accumulated)) = program_of_tabs(common, &passes) else {
-        return Ok(None);
+    let shaped = program_of_tabs(common, &passes);
+    let reason = match &shaped {
+        None => Some(format!(
+            "your files have {} tabs with mainImage, more than ShaderToy's 4 buffers and the \
+             Image tab",
+            passes.len()
+        )),
+        Some(_) => crate::check::program_shape::not_the_workshops_scene(tabs),
     };
-    if let Some(reason) = crate::check::program_shape::not_the_workshops_scene(tabs) {
+    if let Some(reason) = reason {
         let (file, line) = program_place(tabs);
         let mut report = FunctionReport::new(
             "program",
@@ -254,6 +260,9 @@ pub fn judge_tabs_program(
         report.summary = format!("not judged: {reason}");
         return Ok(Some(report));
     }
+    let Some((program, accumulated)) = shaped else {
+        return Ok(None);
+    };
     let program_options = ProgramOptions {
         size: options.image_size.min(MAX_PROGRAM_SIZE),
         frames: options.program_frames,
