@@ -312,8 +312,8 @@ impl FrameStatistics {
             self.sums_of_squares = vec![[0.0; 3]; running_mean.len()];
         }
         for (i, current) in running_mean.iter().enumerate() {
-            for c in 0..3 {
-                let value = f64::from(current[c]);
+            for (c, &channel) in current.iter().take(3).enumerate() {
+                let value = f64::from(channel);
                 self.largest = self.largest.max(value.abs());
                 let estimate = (f + 1.0) * value - f * f64::from(self.last[i][c]);
                 if estimate < -NEGATIVE_TOLERANCE * self.largest {
