@@ -804,3 +804,180 @@ fn a_wgsl_port_is_named_as_wgsl_with_exit_status_2() {
         outcome.stderr
     );
 }
+
+/// Checks `files` with `--json --frames 8`, expects exit status 0 (the functions pass), no
+/// program verdict and the program listed as not judged; returns the reason.
+fn program_not_judged(dir: &Path, files: &[String]) -> String {
+    let outcome = common::runs::check(dir, files, &["--json", "--frames", "8"], &[]);
+    assert_eq!(
+        outcome.code,
+        Some(0),
+        "{}\n{}",
+        outcome.stdout,
+        outcome.stderr
+    );
+    let report = outcome.json();
+    assert_eq!(report["passed"], true, "{report}");
+    assert!(
+        common::runs::verdict(&report, "program").is_none(),
+        "{report}"
+    );
+    assert_eq!(
+        common::runs::verdict(&report, "get_random_numbers").map(|v| v["passed"].clone()),
+        Some(Value::Bool(true)),
+        "{report}"
+    );
+    not_judged(&report, "program")
+}
+
+#[test]
+fn a_program_of_another_scene_or_colour_is_not_judged_and_leaves_the_exit_status_to_the_functions()
+{
+    let dir = tempfile::tempdir().expect("temporary directory");
+    // Its own scene: a height field read from iChannel0 while tracing (known from the text).
+    let reason = program_not_judged(dir.path(), &[solution("programs/height_field_tab.glsl")]);
+    assert!(
+        reason.contains("reads iChannel0 as a texture")
+            && reason.contains("height_field_tab.glsl:19"),
+        "{reason}"
+    );
+    // A constant colour written over the traced one: known from the frames.
+    let reason = program_not_judged(dir.path(), &[solution("programs/constant_colour_tab.glsl")]);
+    assert!(reason.contains("every pixel the same value"), "{reason}");
+    // A constant colour without tracing at all: known from the text.
+    let tab = std::fs::read_to_string(solution("programs/constant_colour_tab.glsl")).expect("tab");
+    let call = "out_color.rgb = get_ray_radiance(";
+    assert!(tab.contains(call));
+    let path = dir.path().join("constant_only.glsl");
+    std::fs::write(&path, tab.replace(call, "out_color.rgb = vec3(")).expect("write");
+    let reason = program_not_judged(dir.path(), &[path.display().to_string()]);
+    assert!(reason.contains("never calls get_ray_radiance"), "{reason}");
+    // More passes than ShaderToy has: not judged either (never a lost verdict).
+    let seed = &tab[tab.find("vec2 get_random_numbers").expect("seed")
+        ..tab.find("bool ray_mesh").expect("mesh")];
+    let common = dir.path().join("common.glsl");
+    std::fs::write(
+        &common,
+        format!("{seed}vec3 get_ray_radiance(vec3 o) {{ return o; }}\n"),
+    )
+    .expect("write");
+    let mut files = vec![common.display().to_string()];
+    for pass in 0..6 {
+        let path = dir.path().join(format!("pass{pass}.glsl"));
+        std::fs::write(&path, "void mainImage(out vec4 c, in vec2 p) { c = vec4(get_ray_radiance(vec3(p, 0.0)), 1.0); }\n").expect("write");
+        files.push(path.display().to_string());
+    }
+    let reason = program_not_judged(dir.path(), &files);
+    assert!(reason.contains("6 tabs with mainImage"), "{reason}");
+    // The text says the same: NOT JUDGED, never FAIL.
+    let text = check(
+        dir.path(),
+        "programs/height_field_tab.glsl",
+        &["--frames", "8"],
+    );
+    assert_eq!(text.code, Some(0), "{}", text.stdout);
+    assert!(
+        text.stdout.contains("NOT JUDGED program") && !text.stdout.contains("FAIL"),
+        "{}",
+        text.stdout
+    );
+}
+
+#[test]
+fn an_endless_loop_that_traces_the_scene_each_iteration_fails_in_seconds() {
+    // Every iteration of the loop traces the scene: the full renders (and the program's
+    // frames) would spend minutes on the loop guard's 20 000 iterations a path; the probe
+    // render of a few pixels finds it first. 60 s leaves room for a loaded machine (it took
+    // 1.5 s and 6.7 s on lavapipe with 2 shared cores, over 120 s before the probe).
+    let started = std::time::Instant::now();
+    let report = expect_verdicts(
+        "path_loop_continue_for_break.glsl",
+        1,
+        &[("get_ray_radiance", false)],
+    );
+    let function = &report["functions"][0];
+    assert_eq!(function["method"], "loop limit", "{report}");
+    let hint = function["hint"].as_str().expect("text");
+    assert!(hint.contains("`continue` where a `break`"), "{hint}");
+    assert!(!hint.contains("--"), "{hint}");
+
+    // The same mistake in the workshop's whole tab: get_ray_radiance and the program fail.
+    let dir = tempfile::tempdir().expect("temporary directory");
+    let tab = std::fs::read_to_string(solution("programs/exercise7_tab.glsl")).expect("tab");
+    let miss = "for (int i = 0; i != MAX_PATH_LENGTH; ++i) {\n        float t;\n        triangle_t tri;\n        if (!ray_mesh_intersection(t, tri, origin, direction))\n            break;";
+    assert!(tab.contains(miss));
+    let path = dir.path().join("continue_for_break.glsl");
+    let endless = "for (int i = 0; i != MAX_PATH_LENGTH; ) {\n        float t;\n        triangle_t tri;\n        if (!ray_mesh_intersection(t, tri, origin, direction))\n            continue;\n        ++i;";
+    std::fs::write(&path, tab.replace(miss, endless)).expect("write");
+    let outcome = common::runs::check(
+        dir.path(),
+        &[path.display().to_string()],
+        &["--json", "--frames", "8"],
+        &[],
+    );
+    assert_eq!(outcome.code, Some(1), "{}", outcome.stderr);
+    let report = outcome.json();
+    let program = common::runs::verdict(&report, "program").expect("program verdict");
+    assert_eq!(program["method"], "loop limit", "{report}");
+    assert!(!program["hint"].as_str().expect("text").contains("--"));
+    assert!(
+        started.elapsed() < std::time::Duration::from_secs(60),
+        "{:?}",
+        started.elapsed()
+    );
+}
+
+#[test]
+fn a_program_whose_types_live_in_the_common_tab_is_told_to_pass_it_first() {
+    // The workshop's tab with its struct moved to a Common tab. Function mode compiles without
+    // it (vkpath declares the workshop's triangle_t), the program does not: its compile error
+    // must say what function mode says, at the tab's own line.
+    let dir = tempfile::tempdir().expect("temporary directory");
+    let tab = std::fs::read_to_string(solution("programs/exercise7_tab.glsl")).expect("tab");
+    let start = tab
+        .find("// A triangle with its shading attributes")
+        .expect("struct");
+    let end = start + tab[start..].find("};\n").expect("struct end") + 3;
+    let image = dir.path().join("image_tab.glsl");
+    let common = dir.path().join("types_common.glsl");
+    std::fs::write(&image, format!("{}{}", &tab[..start], &tab[end..])).expect("write");
+    std::fs::write(&common, &tab[start..end]).expect("write");
+    let (image, common) = (image.display().to_string(), common.display().to_string());
+    let alone = common::runs::check(
+        dir.path(),
+        std::slice::from_ref(&image),
+        &["--json", "--frames", "8"],
+        &[],
+    );
+    assert_eq!(alone.code, Some(1), "{}", alone.stderr);
+    let report = alone.json();
+    let program = common::runs::verdict(&report, "program").expect("program verdict");
+    assert_eq!(
+        program["summary"],
+        "does not compile as a ShaderToy program: 'triangle_t' is not defined in any of your files; if your program has a Common tab, pass it first",
+        "{report}"
+    );
+    // ray_triangle_intersection's line in the user's file (28 in the whole tab, 7 lines up).
+    let hint = program["hint"].as_str().expect("hint");
+    assert!(hint.contains(&format!("{image}:21: error")), "{hint}");
+    assert_eq!(
+        report["functions"]
+            .as_array()
+            .expect("functions")
+            .iter()
+            .filter(|f| f["passed"] == false)
+            .count(),
+        1,
+        "only the program fails: {report}"
+    );
+    // With its Common tab (given second: it goes first anyway) the program compiles.
+    let both = common::runs::check(
+        dir.path(),
+        &[image, common],
+        &["--json", "--frames", "8"],
+        &[],
+    );
+    let report = both.json();
+    let program = common::runs::verdict(&report, "program").expect("program verdict");
+    assert_eq!(program["method"], "render", "{report}");
+}

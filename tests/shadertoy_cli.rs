@@ -588,3 +588,77 @@ fn a_crash_while_the_program_runs_loses_only_the_program_verdict() {
         "{report:#}"
     );
 }
+
+#[test]
+fn shadertoy_and_check_take_the_same_files_in_the_same_order() {
+    // The VS Code Shader Toy tabs as files in check's order (the Common tab given last goes
+    // first, then Buffer A, Buffer B and the Image tab as given): the image of --common and
+    // --buffer-a/-b, bit for bit.
+    let dir = tempfile::tempdir().unwrap();
+    let size = ["--frames", "5", "--width", "8", "--height", "8"];
+    let (buffer_a, buffer_b, image, common) = (
+        program("vscode_buffer_a.glsl"),
+        program("vscode_buffer_b.glsl"),
+        program("vscode_image.glsl"),
+        program("vscode_common.glsl"),
+    );
+    let mut args: Vec<&str> = vec![&buffer_a, &buffer_b, &image, &common];
+    args.extend_from_slice(&size);
+    args.extend_from_slice(&["-o", "in_order.exr"]);
+    let (code, stderr) = shadertoy(dir.path(), &args);
+    assert_eq!(code, Some(0), "{stderr}");
+    assert_chain_image(&dir.path().join("in_order.exr"));
+    let mut args: Vec<&str> = vec![&image, "--common", &common, "--buffer-a", &buffer_a];
+    args.extend_from_slice(&["--buffer-b", &buffer_b, "-o", "flags.exr"]);
+    args.extend_from_slice(&size);
+    let (code, stderr) = shadertoy(dir.path(), &args);
+    assert_eq!(code, Some(0), "{stderr}");
+    assert_eq!(
+        std::fs::read(dir.path().join("in_order.exr")).unwrap(),
+        std::fs::read(dir.path().join("flags.exr")).unwrap()
+    );
+
+    // A Common tab and an Image tab of workshop functions, in the wrong order: check judges
+    // them as one program (tests/check_cli.rs), and shadertoy runs them.
+    let solutions = format!("{}/tests/solutions", env!("CARGO_MANIFEST_DIR"));
+    let tabs = [
+        format!("{solutions}/image_tab_needs_common.glsl"),
+        format!("{solutions}/common_tab.glsl"),
+    ];
+    let checked = common::runs::check(dir.path(), &tabs, &["--json"], &[]);
+    assert_eq!(checked.code, Some(0), "{}", checked.stdout);
+    let mut args: Vec<&str> = tabs.iter().map(String::as_str).collect();
+    args.extend_from_slice(&size);
+    args.extend_from_slice(&["-o", "tabs.png"]);
+    let (code, stderr) = shadertoy(dir.path(), &args);
+    assert_eq!(code, Some(0), "{stderr}");
+    assert!(dir.path().join("tabs.png").exists());
+
+    // Files that cannot make one program: one usage line each.
+    let other_common = program("helper_common.glsl");
+    for (files, expected) in [
+        (
+            vec![common.as_str(), other_common.as_str(), image.as_str()],
+            "both have no entry point",
+        ),
+        (
+            vec![
+                buffer_a.as_str(),
+                image.as_str(),
+                "--common",
+                common.as_str(),
+            ],
+            "not both",
+        ),
+    ] {
+        let mut args = files.clone();
+        args.extend_from_slice(&["--frames", "1", "-o", "bad.png"]);
+        let (code, stderr) = shadertoy(dir.path(), &args);
+        assert_eq!(code, Some(2), "{stderr}");
+        let last = stderr.trim().lines().last().unwrap_or_default();
+        assert!(
+            last.starts_with("vkpath: error: ") && last.contains(expected),
+            "{stderr}"
+        );
+    }
+}

@@ -103,8 +103,13 @@ pub fn check_estimator(session: &Session, function: WorkshopFunction) -> Result<
             session.test_alpha
         ),
     );
+    // A loop without end costs the loop guard's USER_LOOP_LIMIT iterations in every path
+    // that enters it, each of which may trace the scene: a probe of few paths finds it in a
+    // second, before the full renders would spend minutes on it.
+    let your_kernel = Kernel::compile(session, function, Variant::Yours)?;
+    your_kernel.run(session, function, PROBE_SIZE, 1)?;
     let reference = render(session, function, Variant::Reference)?;
-    let yours = render(session, function, Variant::Yours)?;
+    let yours = your_kernel.run(session, function, size, spp)?;
     let (reference_blocks, your_blocks) = (
         block_means(&reference, size, block)?,
         block_means(&yours, size, block)?,
@@ -296,85 +301,125 @@ fn block_means(image: &RenderedImage, size: u32, block: usize) -> Result<MeanIma
         .map_err(|e| Error::InvalidSettings(e.to_string()))
 }
 
-/// Renders the Cornell box with `path_tracer.comp` compiled at run time as `variant` says,
-/// with the workshop's loop over all triangles (compiled into the kernel, or read from the
-/// triangle buffer when the user's own intersection functions need whole triangles).
+/// Side of the probe render that runs the user's estimator before the full renders, at one
+/// sample per pixel: 256 paths, of which many leave the box or end at the light, so a loop
+/// that never ends on such a path is found at once (each path that enters it costs the loop
+/// guard's 20 000 iterations, about as much as a whole 32 x 32 render).
+const PROBE_SIZE: u32 = 16;
+
+/// Renders the Cornell box with `path_tracer.comp` compiled at run time as `variant` says
+/// (`Kernel`), at the session's size and samples per pixel.
 fn render(
     session: &Session,
     function: WorkshopFunction,
     variant: Variant,
 ) -> Result<RenderedImage> {
-    let scene = &session.scene;
-    let camera = scene
-        .camera
-        .ok_or_else(|| Error::MissingInput("the Cornell box has no camera".into()))?;
-    let integrator = integrator_for(function).ok_or_else(|| {
-        Error::InvalidSettings(format!("{} is not an estimator", function.name()))
-    })?;
-    let user = session.user;
-    let intersections = [
-        WorkshopFunction::RayTriangleIntersection,
-        WorkshopFunction::RayMeshIntersection,
-    ];
-    let code: Option<UserCode> = match variant {
-        Variant::Reference => None,
-        Variant::Yours => Some(user.code(&[function])),
-        Variant::AsYourFileRuns => {
-            let mut active = vec![function];
-            active.extend(
-                intersections
-                    .into_iter()
-                    .filter(|f| user.judged_functions().contains(f)),
-            );
-            Some(user.code(&active))
-        }
-    };
-    // The user's ray_triangle_intersection may read any member of the triangle, which the
-    // constant triangles do not carry.
-    let traversal = if variant == Variant::AsYourFileRuns {
-        Traversal::Linear
-    } else {
-        Traversal::ConstantTriangles
-    };
-    // The path tracer's build for the traversal (crate::kernels), with check's own macros.
-    let build = path_tracer_variant(
-        &SceneSummary::default(),
-        &VariantSettings::default(),
-        traversal,
-        KernelSource::Given,
-    )?
-    .build;
-    let mut macros = build.macros.to_vec();
-    if variant != Variant::AsYourFileRuns {
-        macros.push(("IGNORE_START_SURFACE", "1"));
-    }
-    let compiled = compile_kernel(PATH_TRACER.source, code.as_ref(), &macros)
-        .map_err(Error::ShaderCompilation)?;
     let size = session.options.image_size;
-    let settings = RenderSettings {
-        width: size,
-        height: size,
-        spp: session.options.spp,
-        max_path_length: path_length(session, function),
-        seed: match variant {
-            Variant::Reference => REFERENCE_SEED,
-            Variant::Yours => USER_SEED,
-            Variant::AsYourFileRuns => COMBINED_SEED,
-        },
-        pixel_filter: PixelFilter::Box,
-        integrator,
-        samples_per_frame: 8,
-        ..RenderSettings::default()
-    };
-    let mut renderer = Renderer::with_kernel(
-        &session.context,
-        scene,
-        &camera,
-        settings,
-        &compiled.spirv,
-        traversal,
-    )?;
-    renderer.render_all()
+    Kernel::compile(session, function, variant)?.run(session, function, size, session.options.spp)
+}
+
+/// `path_tracer.comp` compiled at run time for one render variant, with the workshop's loop
+/// over all triangles (compiled into the kernel, or read from the triangle buffer when the
+/// user's own intersection functions need whole triangles).
+struct Kernel {
+    /// The kernel.
+    spirv: Vec<u32>,
+    /// How it finds the triangles.
+    traversal: Traversal,
+    /// Which render it is.
+    variant: Variant,
+}
+
+impl Kernel {
+    /// Compiles the kernel of `variant` for the estimator `function`.
+    fn compile(session: &Session, function: WorkshopFunction, variant: Variant) -> Result<Kernel> {
+        let user = session.user;
+        let intersections = [
+            WorkshopFunction::RayTriangleIntersection,
+            WorkshopFunction::RayMeshIntersection,
+        ];
+        let code: Option<UserCode> = match variant {
+            Variant::Reference => None,
+            Variant::Yours => Some(user.code(&[function])),
+            Variant::AsYourFileRuns => {
+                let mut active = vec![function];
+                active.extend(
+                    intersections
+                        .into_iter()
+                        .filter(|f| user.judged_functions().contains(f)),
+                );
+                Some(user.code(&active))
+            }
+        };
+        // The user's ray_triangle_intersection may read any member of the triangle, which the
+        // constant triangles do not carry.
+        let traversal = if variant == Variant::AsYourFileRuns {
+            Traversal::Linear
+        } else {
+            Traversal::ConstantTriangles
+        };
+        // The path tracer's build for the traversal (crate::kernels), with check's own macros.
+        let build = path_tracer_variant(
+            &SceneSummary::default(),
+            &VariantSettings::default(),
+            traversal,
+            KernelSource::Given,
+        )?
+        .build;
+        let mut macros = build.macros.to_vec();
+        if variant != Variant::AsYourFileRuns {
+            macros.push(("IGNORE_START_SURFACE", "1"));
+        }
+        let compiled = compile_kernel(PATH_TRACER.source, code.as_ref(), &macros)
+            .map_err(Error::ShaderCompilation)?;
+        Ok(Kernel {
+            spirv: compiled.spirv,
+            traversal,
+            variant,
+        })
+    }
+
+    /// Renders the Cornell box with the kernel, `size` x `size` pixels at `spp` samples per
+    /// pixel.
+    fn run(
+        &self,
+        session: &Session,
+        function: WorkshopFunction,
+        size: u32,
+        spp: u32,
+    ) -> Result<RenderedImage> {
+        let scene = &session.scene;
+        let camera = scene
+            .camera
+            .ok_or_else(|| Error::MissingInput("the Cornell box has no camera".into()))?;
+        let integrator = integrator_for(function).ok_or_else(|| {
+            Error::InvalidSettings(format!("{} is not an estimator", function.name()))
+        })?;
+        let settings = RenderSettings {
+            width: size,
+            height: size,
+            spp,
+            max_path_length: path_length(session, function),
+            seed: match self.variant {
+                Variant::Reference => REFERENCE_SEED,
+                Variant::Yours => USER_SEED,
+                Variant::AsYourFileRuns => COMBINED_SEED,
+            },
+            pixel_filter: PixelFilter::Box,
+            integrator,
+            samples_per_frame: 8,
+            ..RenderSettings::default()
+        };
+        let mut renderer = Renderer::with_kernel(
+            &session.context,
+            scene,
+            &camera,
+            settings,
+            &self.spirv,
+            self.traversal,
+        )?;
+        renderer.render_all()
+    }
 }
 
 /// The average radiance over all pixels and channels.

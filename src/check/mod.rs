@@ -26,6 +26,7 @@ pub mod deterministic;
 pub mod estimators;
 pub mod isolation;
 pub mod program;
+pub mod program_shape;
 pub mod report;
 pub mod samplers;
 pub mod unavailable;

@@ -103,6 +103,20 @@ pub fn is_workshop_program(text: &str) -> bool {
         && tokens.iter().any(|t| t.text == "get_ray_radiance")
 }
 
+/// Whether the tabs of a program (ShaderToy's order, each (name, text)) are a runnable
+/// program of the workshop's scene as `is_workshop_program` reads one text: a tab has
+/// `mainImage`, and a tab (the same, or its Common tab) names `get_ray_radiance`.
+pub fn is_workshop_program_tabs(tabs: &[(PathBuf, String)]) -> bool {
+    let names = |name: &str| {
+        tabs.iter().any(|(_, text)| {
+            crate::check::glsl_syntax::tokenize(text)
+                .iter()
+                .any(|t| t.text == name)
+        })
+    };
+    names("mainImage") && names("get_ray_radiance")
+}
+
 /// The program of a user's tabs with entry points (`tabs`, in ShaderToy's order) after
 /// their Common tab, and the pass that accumulates: one tab is a Buffer A whose iChannel0
 /// is its own previous frame (the workshop's tab), shown by an Image pass of vkpath's;
@@ -207,7 +221,7 @@ pub fn judge_tabs_program(
     test_alpha: f64,
     functions: &[FunctionReport],
 ) -> Result<Option<FunctionReport>> {
-    if !tabs.iter().any(|(_, text)| is_workshop_program(text)) {
+    if !is_workshop_program_tabs(tabs) {
         return Ok(None);
     }
     let has_entry = |text: &str| {
@@ -224,7 +238,29 @@ pub fn judge_tabs_program(
             common = Some((path.clone(), text.clone()));
         }
     }
-    let Some((program, accumulated)) = program_of_tabs(common, &passes) else {
+    let shaped = program_of_tabs(common, &passes);
+    let reason = match &shaped {
+        None => Some(format!(
+            "your files have {} tabs with mainImage, more than ShaderToy's 4 buffers and the \
+             Image tab",
+            passes.len()
+        )),
+        Some(_) => crate::check::program_shape::not_the_workshops_scene(tabs),
+    };
+    if let Some(reason) = reason {
+        let (file, line) = program_place(tabs);
+        let mut report = FunctionReport::new(
+            "program",
+            line,
+            NOT_JUDGED_METHOD,
+            "judged only when it renders the workshop's scene with the workshop's running mean"
+                .into(),
+        );
+        report.file = file;
+        report.summary = format!("not judged: {reason}");
+        return Ok(Some(report));
+    }
+    let Some((program, accumulated)) = shaped else {
         return Ok(None);
     };
     let program_options = ProgramOptions {
@@ -238,6 +274,10 @@ pub fn judge_tabs_program(
     };
     judge_program(context, &program, accumulated, functions, &program_options).map(Some)
 }
+
+/// Side of the probe frame that runs the program before its full frames (see
+/// `judge_program`): 64 pixels, each with the workshop's 8 samples.
+const PROBE_SIZE: u32 = 8;
 
 /// Largest side of the program's image: the user's code runs once per pixel and frame
 /// (about 0.5 M paths/s on lavapipe for the workshop's tab), so 64 x 64 at 128 frames is
@@ -272,8 +312,8 @@ impl FrameStatistics {
             self.sums_of_squares = vec![[0.0; 3]; running_mean.len()];
         }
         for (i, current) in running_mean.iter().enumerate() {
-            for c in 0..3 {
-                let value = f64::from(current[c]);
+            for (c, &channel) in current.iter().take(3).enumerate() {
+                let value = f64::from(channel);
                 self.largest = self.largest.max(value.abs());
                 let estimate = (f + 1.0) * value - f * f64::from(self.last[i][c]);
                 if estimate < -NEGATIVE_TOLERANCE * self.largest {
@@ -285,6 +325,23 @@ impl FrameStatistics {
         }
         self.last = running_mean.to_vec();
         self.frames += 1;
+    }
+
+    /// Whether some pixel's frame estimates differ by more than rounding (a standard
+    /// deviation over 1e-3 x the largest value; recovering a frame's estimate from a float
+    /// running mean loses about f ulps, 3e-5 relative at 256 frames): a path tracer's do
+    /// wherever a path can bounce, a constant colour's never.
+    pub fn varies(&self) -> bool {
+        let n = f64::from(self.frames);
+        let threshold = (1e-3 * self.largest).powi(2);
+        n > 1.0
+            && self
+                .sums
+                .iter()
+                .zip(&self.sums_of_squares)
+                .any(|(sum, square)| {
+                    (0..3).any(|c| (square[c] - sum[c] * sum[c] / n) / (n - 1.0) > threshold)
+                })
     }
 
     /// The final running mean with the variance of each pixel's mean: the sample variance
@@ -345,10 +402,30 @@ pub fn judge_program(
         ),
     );
     report.file = file;
+    // A loop without end costs the loop guard's iterations in every pixel that enters it: a
+    // probe frame of few pixels finds it in a second, before the full frames would spend
+    // minutes on it.
+    let probe = ShadertoyRunner::new(context, program, PROBE_SIZE, PROBE_SIZE)
+        .and_then(|mut probe| probe.run_frame());
+    if let Err(Error::LoopLimit(message)) = probe {
+        report.method = "loop limit".into();
+        report.summary = "loops without end: a pixel's loops ran past their limit".into();
+        report.hint = Some(crate::check::loop_hint_for_check(&message));
+        return Ok(report);
+    }
     let mut runner = match ShadertoyRunner::new(context, program, size, size) {
         Ok(runner) => runner,
         Err(Error::ShaderCompilation(messages)) => {
-            report.summary = "does not compile as a ShaderToy program".into();
+            // The tab's hint on names no tab declares (the Common tab's), as function mode
+            // gives it, goes into the summary.
+            report.summary = messages
+                .lines()
+                .find(|line| line.contains("not defined in any of your files"))
+                .and_then(|line| line.split_once(": "))
+                .map_or_else(
+                    || "does not compile as a ShaderToy program".to_string(),
+                    |(_, hint)| format!("does not compile as a ShaderToy program: {hint}"),
+                );
             report.hint = Some(messages);
             return Ok(report);
         }
@@ -377,6 +454,14 @@ pub fn judge_program(
         return Err(Error::InvalidSettings("no frame ran".into()));
     };
     report.measure("frames", f64::from(frames));
+    if !statistics.varies() {
+        report.method = NOT_JUDGED_METHOD.into();
+        report.summary = format!(
+            "not judged: every one of the {frames} frames gave every pixel the same value, so your \
+             program's image is no Monte Carlo estimate of the workshop's scene (a colour of its own)"
+        );
+        return Ok(report);
+    }
     if statistics.negative > 0 {
         report.method = NOT_JUDGED_METHOD.into();
         report.summary = format!(
@@ -435,10 +520,12 @@ pub fn judge_program(
 }
 
 /// The file and line of the program that `judge_tabs_program` judges: the `mainImage` of
-/// the first tab that calls `get_ray_radiance` (the pass that accumulates).
+/// the first tab that calls `get_ray_radiance` (the pass that accumulates), else of the
+/// first tab with one.
 pub fn program_place(tabs: &[(PathBuf, String)]) -> (String, usize) {
     tabs.iter()
         .find(|(_, text)| is_workshop_program(text))
+        .or_else(|| tabs.iter().find(|(_, text)| mainimage_line(text) > 0))
         .map_or_else(
             || (String::new(), 0),
             |(path, text)| (path.display().to_string(), mainimage_line(text)),
@@ -575,6 +662,18 @@ mod tests {
         assert!((image.variances_of_mean[1] - 4.0 * 14.0 / 12.0).abs() < 1e-4);
         assert_eq!(image.variances_of_mean[2], 0.0);
         assert_eq!(statistics.negative, 0);
+        assert!(statistics.varies());
+    }
+
+    #[test]
+    fn a_constant_colour_does_not_vary() {
+        let mut statistics = FrameStatistics::default();
+        let mut mean = 0.0f32;
+        for f in 0..16 {
+            mean += (0.3 - mean) / (f as f32 + 1.0);
+            statistics.add(&[[mean, 0.5, 0.0, 1.0], [0.25, 0.25, 0.25, 1.0]]);
+        }
+        assert!(!statistics.varies());
     }
 
     #[test]

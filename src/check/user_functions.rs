@@ -486,40 +486,7 @@ impl UserFunctions {
     /// The identifiers that compiler `messages` call undeclared and that none of the user's
     /// files declares, as "'a' is" or "'a', 'b' are"; `None` when there are none.
     fn undefined_names(&self, messages: &str) -> Option<String> {
-        let declared = crate::glsl_intake::prepare::declared_globals(&self.text);
-        let mut missing: Vec<String> = Vec::new();
-        for line in messages.lines() {
-            let Some(error) = line.split(": error:").nth(1) else {
-                continue;
-            };
-            let undeclared = error.contains("undeclared identifier")
-                || error.contains("no matching overloaded function found");
-            let name = error
-                .trim()
-                .strip_prefix('\'')
-                .and_then(|r| r.split('\'').next());
-            if let (true, Some(name)) = (undeclared, name) {
-                let base = name.strip_prefix("user_").unwrap_or(name);
-                if !declared.contains(name)
-                    && !declared.contains(base)
-                    && !missing.iter().any(|m| m == name)
-                {
-                    missing.push(name.to_string());
-                }
-            }
-        }
-        match missing.len() {
-            0 => None,
-            1 => Some(format!("'{}' is", missing[0])),
-            _ => Some(format!(
-                "{} are",
-                missing
-                    .iter()
-                    .map(|m| format!("'{m}'"))
-                    .collect::<Vec<_>>()
-                    .join(", ")
-            )),
-        }
+        crate::glsl_intake::undefined_names(messages, &[&self.text])
     }
 
     /// The workshop function that a function of the prepared text stands for: its own

@@ -17,7 +17,9 @@ use std::time::Duration;
 
 use super::DeviceArgs;
 use crate::check::isolation::{self, Outcome, WorkerEvent, WorkerJob, WorkerLauncher};
-use crate::check::program::{is_workshop_program, judge_tabs_program, not_judged_of};
+use crate::check::program::{
+    is_workshop_program, is_workshop_program_tabs, judge_tabs_program, not_judged_of,
+};
 use crate::check::report::{
     describe_function, describe_header, describe_not_judged, describe_summary, CheckReport,
 };
@@ -252,7 +254,12 @@ fn judge_all(
             })?;
         summary.add(judged);
     }
-    let program_unit = units.iter().find(|u| is_workshop_program(&u.text));
+    // The unit that calls get_ray_radiance, else the first (its Common tab may define it).
+    let program_unit = units
+        .iter()
+        .find(|u| is_workshop_program(&u.text))
+        .or(units.first())
+        .filter(|_| is_workshop_program_tabs(tabs));
     if let (Some(unit), None) = (program_unit, &report.compile_errors) {
         let job = WorkerJob {
             user: unit.clone(),

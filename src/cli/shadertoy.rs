@@ -1,4 +1,5 @@
-//! `vkpath shadertoy IMAGE.glsl [--common F] [--buffer-a F] … --frames N -o OUT`: runs a
+//! `vkpath shadertoy IMAGE.glsl [--common F] [--buffer-a F] … --frames N -o OUT` (or the
+//! tabs as files in `vkpath check`'s order, `COMMON.glsl BUFFER_A.glsl IMAGE.glsl`): runs a
 //! whole ShaderToy program headless (see `crate::shadertoy`) and writes the Image pass's
 //! last frame and, on request, buffers' final contents. SIGINT, SIGTERM, SIGHUP and
 //! `--time-limit` stop after the current frame, and what was reached is written. Exit
@@ -28,8 +29,12 @@ const EXIT_USAGE: i32 = 2;
 /// Arguments of `vkpath shadertoy`.
 #[derive(Debug, Clone, clap::Args)]
 pub struct ShadertoyArgs {
-    /// The Image tab (mainImage), or a page shader (main() with gl_FragCoord).
-    pub image: PathBuf,
+    /// The Image tab (mainImage), or a page shader (main() with gl_FragCoord). Several files
+    /// are the tabs of one program, read as `vkpath check` reads them: a file without an
+    /// entry point is the Common tab and goes first whatever the order given, then the
+    /// passes as given, Buffers A, B, … and the Image tab last.
+    #[arg(required = true)]
+    pub files: Vec<PathBuf>,
     /// The Common tab, prepended to every pass.
     #[arg(long)]
     pub common: Option<PathBuf>,
@@ -109,6 +114,58 @@ enum Stop {
     Signal,
 }
 
+/// The Image tab, the Common tab and the buffers of the program: one file is the Image tab
+/// with the `--common` and `--buffer-*` tabs; several are read as `vkpath check` reads them
+/// (`crate::check::read_tabs`: the file without an entry point first, then the passes as
+/// given), the last pass the Image tab and the others Buffers A, B, … in order. Exits with
+/// one usage line where the files cannot make a program.
+fn tabs_in_order(
+    args: &ShadertoyArgs,
+    buffers: Vec<(PassKind, PathBuf)>,
+) -> (PathBuf, Option<PathBuf>, Vec<(PassKind, PathBuf)>) {
+    // Read as check reads them: an unreadable file or a WGSL one is one usage line.
+    let tabs = crate::check::read_tabs(&args.files).unwrap_or_else(|e| usage_error(e));
+    let [image] = args.files.as_slice() else {
+        if args.common.is_some() || !buffers.is_empty() {
+            usage_error(
+                "give the tabs either as files in order (Common, Buffers A…D, Image) or as one \
+                 Image file with --common and --buffer-a…--buffer-d, not both",
+            );
+        }
+        let (commons, passes): (Vec<_>, Vec<_>) = tabs
+            .into_iter()
+            .map(|(name, text)| (PathBuf::from(name), text))
+            .partition(|(_, text)| crate::glsl_intake::find_entry_point(text).is_none());
+        if let [first, second, ..] = commons.as_slice() {
+            usage_error(format!(
+                "'{}' and '{}' both have no entry point (mainImage or main): a program has one \
+                 Common tab",
+                first.0.display(),
+                second.0.display()
+            ));
+        }
+        let Some(((image, _), buffer_tabs)) = passes.split_last() else {
+            usage_error("none of the files has an entry point (mainImage or main)");
+        };
+        if buffer_tabs.len() > PassKind::BUFFERS.len() {
+            usage_error(format!(
+                "{} files with an entry point: a program has at most 4 buffers and the Image tab",
+                passes.len()
+            ));
+        }
+        let buffers = PassKind::BUFFERS
+            .into_iter()
+            .zip(buffer_tabs.iter().map(|(path, _)| path.clone()))
+            .collect();
+        return (
+            image.clone(),
+            commons.into_iter().next().map(|c| c.0),
+            buffers,
+        );
+    };
+    (image.clone(), args.common.clone(), buffers)
+}
+
 /// Runs `vkpath shadertoy`.
 pub fn run(args: &ShadertoyArgs) -> anyhow::Result<()> {
     let buffers: Vec<(PassKind, PathBuf)> = [
@@ -120,13 +177,9 @@ pub fn run(args: &ShadertoyArgs) -> anyhow::Result<()> {
     .into_iter()
     .filter_map(|(kind, path)| path.clone().map(|p| (kind, p)))
     .collect();
-    let program = Program::from_files(
-        &args.image,
-        args.common.as_deref(),
-        &buffers,
-        &args.channels,
-    )
-    .unwrap_or_else(|message| usage_error(message));
+    let (image, common, buffers) = tabs_in_order(args, buffers);
+    let program = Program::from_files(&image, common.as_deref(), &buffers, &args.channels)
+        .unwrap_or_else(|message| usage_error(message));
     for (kind, path) in &args.save_buffer {
         if program.pass(*kind).is_none() {
             usage_error(format!(

@@ -61,6 +61,161 @@ pub enum EntryPoint {
     Main,
 }
 
+/// The names that the compiler's `messages` call undeclared (an undeclared identifier, a
+/// function without a matching overload) and that none of `texts` declares at global scope
+/// (a `user_` prefix, the intake's rename, ignored), as "'a' is" or "'a', 'b' are"; `None`
+/// when there are none. Such a name usually lives in a tab the user did not pass (the
+/// Common tab).
+pub fn undefined_names(messages: &str, texts: &[&str]) -> Option<String> {
+    let declared: Vec<std::collections::BTreeSet<String>> =
+        texts.iter().map(|t| prepare::declared_globals(t)).collect();
+    let is_declared = |name: &str| declared.iter().any(|d| d.contains(name));
+    let mut missing: Vec<String> = Vec::new();
+    for line in messages.lines() {
+        let Some(error) = line.split(": error:").nth(1) else {
+            continue;
+        };
+        let undeclared = error.contains("undeclared identifier")
+            || error.contains("no matching overloaded function found");
+        let name = error
+            .trim()
+            .strip_prefix('\'')
+            .and_then(|r| r.split('\'').next());
+        if let (true, Some(name)) = (undeclared, name) {
+            let base = name.strip_prefix("user_").unwrap_or(name);
+            if !name.is_empty()
+                && !is_declared(name)
+                && !is_declared(base)
+                && !missing.iter().any(|m| m == name)
+            {
+                missing.push(name.to_string());
+            }
+        }
+    }
+    match missing.len() {
+        0 => None,
+        1 => Some(format!("'{}' is", missing[0])),
+        _ => Some(format!(
+            "{} are",
+            missing
+                .iter()
+                .map(|m| format!("'{m}'"))
+                .collect::<Vec<_>>()
+                .join(", ")
+        )),
+    }
+}
+
+/// The names used as types on the lines where the compiler's `messages` report "syntax
+/// error, unexpected IDENTIFIER" (a name followed by a name, as in `triangle_t tri`) that
+/// are no GLSL word and that none of `texts` declares: a struct of a tab the user did not
+/// pass, most likely. `tabs` are (the name the messages give, the text they number).
+pub fn undeclared_types(messages: &str, tabs: &[(&str, &str)], texts: &[&str]) -> Vec<String> {
+    let declared: Vec<std::collections::BTreeSet<String>> =
+        texts.iter().map(|t| prepare::declared_globals(t)).collect();
+    let mut missing: Vec<String> = Vec::new();
+    for message in messages.lines() {
+        if !message.contains("syntax error, unexpected IDENTIFIER") {
+            continue;
+        }
+        let place = tabs.iter().find_map(|(name, text)| {
+            let rest = message.strip_prefix(name)?.strip_prefix(':')?;
+            let line: usize = rest.split(':').next()?.trim().parse().ok()?;
+            Some((*text, line))
+        });
+        let Some((text, line)) = place else {
+            continue;
+        };
+        let tokens: Vec<syntax::Token> = syntax::tokenize(text)
+            .into_iter()
+            .filter(|t| t.line == line && !t.in_directive)
+            .collect();
+        for pair in tokens.windows(2) {
+            let name = pair[0].text.as_str();
+            if pair[0].is_identifier()
+                && pair[1].is_identifier()
+                && !is_glsl_word(name)
+                && !declared.iter().any(|d| d.contains(name))
+                && !missing.iter().any(|m| m == name)
+            {
+                missing.push(name.to_string());
+            }
+        }
+    }
+    missing
+}
+
+/// Whether a word is GLSL's own: a keyword, a qualifier or a built-in type.
+fn is_glsl_word(word: &str) -> bool {
+    const WORDS: [&str; 40] = [
+        "void",
+        "bool",
+        "int",
+        "uint",
+        "float",
+        "double",
+        "in",
+        "out",
+        "inout",
+        "const",
+        "uniform",
+        "buffer",
+        "shared",
+        "highp",
+        "mediump",
+        "lowp",
+        "precise",
+        "invariant",
+        "flat",
+        "smooth",
+        "noperspective",
+        "centroid",
+        "sample",
+        "patch",
+        "coherent",
+        "volatile",
+        "restrict",
+        "readonly",
+        "writeonly",
+        "return",
+        "else",
+        "case",
+        "struct",
+        "layout",
+        "precision",
+        "attribute",
+        "varying",
+        "discard",
+        "atomic_uint",
+        "subroutine",
+    ];
+    let families = [
+        "vec",
+        "ivec",
+        "uvec",
+        "bvec",
+        "dvec",
+        "mat",
+        "dmat",
+        "sampler",
+        "isampler",
+        "usampler",
+        "image",
+        "iimage",
+        "uimage",
+        "texture",
+        "itexture",
+        "utexture",
+        "subpassInput",
+    ];
+    WORDS.contains(&word)
+        || families.iter().any(|family| {
+            word.strip_prefix(family).is_some_and(|rest| {
+                rest.starts_with(|c: char| c.is_ascii_digit() || c.is_ascii_uppercase())
+            })
+        })
+}
+
 /// The entry point that `source` defines (a definition at global scope), `mainImage` first;
 /// `None` for a file of functions only (a ShaderToy Common tab, notes).
 pub fn find_entry_point(source: &str) -> Option<EntryPoint> {

@@ -173,7 +173,7 @@ pub fn compile_pass(common: Option<&UserTab>, tab: &UserTab) -> Result<CompiledS
     if !tab.has_main_image && tab.page_shader_output.is_none() {
         return Err(format!(
             "{}: defines no mainImage(out vec4 fragColor, in vec2 fragCoord) (nor a page shader's main()); \
-             if it is your Common tab, pass it with --common",
+             if it is your Common tab, pass it first among the files (or with --common)",
             tab.display_name
         ));
     }
@@ -207,7 +207,48 @@ pub fn compile_pass(common: Option<&UserTab>, tab: &UserTab) -> Result<CompiledS
             spirv: compiled.spirv,
             warnings: rewrite(compiled.warnings),
         }),
-        Err(messages) => Err(rewrite(messages)),
+        Err(messages) => Err(with_missing_tab_hint(rewrite(messages), common, tab)),
+    }
+}
+
+/// `messages` with a last line when they call names undeclared that neither tab declares:
+/// a type or function of the Common tab, most likely, when none was given.
+fn with_missing_tab_hint(messages: String, common: Option<&UserTab>, tab: &UserTab) -> String {
+    let texts: Vec<&str> = common
+        .map(|c| c.prepared.text.as_str())
+        .into_iter()
+        .chain([tab.prepared.text.as_str()])
+        .collect();
+    let tabs: Vec<(&str, &str)> = common
+        .into_iter()
+        .chain([tab])
+        .map(|t| (t.display_name.as_str(), t.prepared.text.as_str()))
+        .collect();
+    let types = crate::glsl_intake::undeclared_types(&messages, &tabs, &texts);
+    let types = match types.len() {
+        0 => None,
+        1 => Some(format!("'{}' is", types[0])),
+        _ => Some(format!(
+            "{} are",
+            types
+                .iter()
+                .map(|t| format!("'{t}'"))
+                .collect::<Vec<_>>()
+                .join(", ")
+        )),
+    };
+    let missing = crate::glsl_intake::undefined_names(&messages, &texts).or(types);
+    match missing {
+        Some(missing) if common.is_none() => format!(
+            "{messages}\n{}: {missing} not defined in any of your files; if your program has a Common tab, pass it first",
+            tab.display_name
+        ),
+        Some(missing) => format!(
+            "{messages}\n{}: {missing} not defined in any of your files (nor in the Common tab {})",
+            tab.display_name,
+            common.map_or("", |c| c.display_name.as_str())
+        ),
+        None => messages,
     }
 }
 
@@ -262,6 +303,28 @@ mod tests {
         assert!(compile_pass(Some(&common), &image).is_ok());
         let message = compile_pass(None, &image).err().expect("an error");
         assert!(message.starts_with("image.glsl:1:"), "{message}");
+        assert!(
+            message.ends_with("image.glsl: 'shade' is not defined in any of your files; if your program has a Common tab, pass it first"),
+            "{message}"
+        );
+    }
+
+    #[test]
+    fn a_type_of_the_common_tab_is_named_when_the_tab_is_missing() {
+        // The compiler says only "syntax error, unexpected IDENTIFIER" at the parameter.
+        let common = tab("common.glsl", "struct hit_t {\n    float t;\n};\n");
+        let image = tab(
+            "image.glsl",
+            "// uses the Common tab's type\nfloat distance_of(hit_t hit) { return hit.t; }\n\
+             void mainImage(out vec4 c, in vec2 p) { hit_t h; h.t = p.x; c = vec4(distance_of(h)); }\n",
+        );
+        assert!(compile_pass(Some(&common), &image).is_ok());
+        let message = compile_pass(None, &image).err().expect("an error");
+        assert!(message.starts_with("image.glsl:2:"), "{message}");
+        assert!(
+            message.ends_with("image.glsl: 'hit_t' is not defined in any of your files; if your program has a Common tab, pass it first"),
+            "{message}"
+        );
     }
 
     #[test]
