@@ -20,6 +20,12 @@ const WITHOUT_TWINS: &[(&str, &str)] = &[
     ("pack_triangle", "the probes' inverse of unpack_triangle: probe output plumbing"),
     ("get_probe_index", "which input a probe invocation reads: probe plumbing, no maths"),
     ("get_display_material", "the exercise display's push constants into a material_t: plumbing"),
+    // The device's own traversal (VK_KHR_ray_query): the hardware walks its acceleration
+    // structures; the reference is the software BVH (whose twins are tested), and
+    // tests/ray_query_cli.rs checks the ray-query renders against the BVH's, image for image.
+    ("ray_query_closest_hit", "a rayQueryEXT loop of the device's traversal; checked against the BVH's renders (tests/ray_query_cli.rs)"),
+    ("ray_query_any_hit", "a rayQueryEXT loop of the device's traversal; checked against the BVH's renders (tests/ray_query_cli.rs)"),
+    ("is_ray_query_defined", "keeps non-finite rays from the device's traversal, whose result for them Vulkan leaves undefined; the Rust traversal has no such limit"),
     // GPU bookkeeping with no CPU counterpart.
     ("visit_bvh_child", "counts traversal iterations for the lavapipe loop budget (GPU only)"),
     ("get_light_search_iterations", "an iteration bound for the loop budget (GPU only)"),
