@@ -76,7 +76,8 @@ fn generated_scene_bench_uses_the_bvh() {
     let report = bench(&["--generated", "2000", "--integrators", "cosine"]);
     let triangles = report["triangle_count"].as_u64().unwrap();
     assert!((1900..=2100).contains(&triangles), "{triangles} triangles");
-    assert_eq!(report["traversal"], "BVH");
+    // auto's BVH: the compressed tree
+    assert_eq!(report["traversal"], "compressed BVH");
     check_results(&report, &["cosine"]);
 }
 

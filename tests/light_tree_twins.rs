@@ -8,7 +8,7 @@
 
 use crate::common;
 
-use vkpath::bvh::Bvh;
+use vkpath::bvh::{Bvh, CompressedBvh};
 use vkpath::contract::LIGHT_SELECTION_TREE;
 use vkpath::cpu::{render_cpu, CpuRenderSettings};
 use vkpath::render::settings::LightSelection;
@@ -65,6 +65,9 @@ fn twins_agree(name: &str, scene: &Scene, tree_differs_from_power: bool) {
         let traversal = Traversal::for_scene(scene, settings.accel);
         let ordered = match traversal {
             Traversal::Bvh => Bvh::build(&scene.triangles).reorder(&scene.triangles),
+            Traversal::CompressedBvh => CompressedBvh::build(&scene.triangles)
+                .unwrap()
+                .reorder(&scene.triangles),
             _ => scene.triangles.clone(),
         };
         let cpu = render_cpu(&ordered, &plane, &cpu_settings(&settings));

@@ -215,13 +215,14 @@ fn the_lean_builds_render_exactly_as_the_full_ones() {
     // (WITHOUT_LIGHT_TREE, WITHOUT_GUIDING, WITHOUT_ENVIRONMENT_MAP: constants where the
     // full builds have specialization constants, so that the code they turn off is not in
     // the SPIR-V). A plain scene through the BVH, and a material scene under a constant
-    // environment, which the lean material builds keep.
+    // environment, which the lean material builds keep. (Both through auto's BVH, the
+    // compressed tree: the same builds, specialized with SPEC_BVH_LAYOUT.)
     let generated = vkpath::scene::meshes::scale_test_scene(200).unwrap();
     assert_eq!(
         Traversal::for_scene(&generated, Accel::Auto),
-        Traversal::Bvh
+        Traversal::CompressedBvh
     );
-    assert_lean_build_renders_as(&generated, "path_tracer_bvh", Traversal::Bvh);
+    assert_lean_build_renders_as(&generated, "path_tracer_bvh", Traversal::CompressedBvh);
     let white = vkpath::lights::EnvironmentSource::Background(glam::Vec3::splat(0.5));
     let sky = common::scenes::glossy_box(0.3)
         .with_environment(Some(&white))
@@ -229,7 +230,7 @@ fn the_lean_builds_render_exactly_as_the_full_ones() {
     assert_lean_build_renders_as(
         &sky,
         "path_tracer_materials_bvh_without_layers",
-        Traversal::Bvh,
+        Traversal::CompressedBvh,
     );
 }
 
@@ -241,7 +242,10 @@ fn constant_triangles_refuse_a_scene_with_alpha() {
     let materials = scene.materials.as_mut().unwrap();
     materials.materials[1].alpha_mode = AlphaMode::Mask { cutoff: 0.5 };
     assert!(scene.uses_alpha());
-    assert_eq!(Traversal::for_scene(&scene, Accel::Auto), Traversal::Bvh);
+    assert_eq!(
+        Traversal::for_scene(&scene, Accel::Auto),
+        Traversal::CompressedBvh
+    );
     assert_eq!(Traversal::for_scene(&scene, Accel::None), Traversal::Linear);
     let build = plain_build(Traversal::ConstantTriangles, true, false);
     let message = constant_triangles_refusal(&scene, &build.embedded_spirv().unwrap());

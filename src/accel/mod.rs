@@ -141,7 +141,7 @@ pub fn choose_traversal(context: &Context, scene: &Scene, accel: Accel) -> Resul
             "--accel hardware cannot hold the scene on '{device}': {reason}; use --accel bvh"
         ))),
         (Err(reason), _) => Ok(TraversalChoice {
-            traversal: Traversal::Bvh,
+            traversal: Traversal::CompressedBvh,
             warning: Some(format!(
                 "the BVH instead of '{device}''s ray queries: {reason}"
             )),

@@ -146,12 +146,16 @@ impl Traversal {
             Traversal::RayQuery
         } else if accel == Accel::CompressedBvh {
             Traversal::CompressedBvh
-        } else if accel.uses_bvh(triangle_count) {
+        } else if accel == Accel::Bvh {
             Traversal::Bvh
+        } else if accel.uses_bvh(triangle_count) || (!constant && accel == Accel::Auto && materials)
+        {
+            // `auto`'s BVH is the compressed tree: less memory and faster samples (1.6x mis,
+            // 1.2x workshop on 10⁶ triangles, docs/performance.md); the 4-wide tree where it
+            // cannot hold the scene (`GpuScene::upload`)
+            Traversal::CompressedBvh
         } else if constant {
             Traversal::ConstantTriangles
-        } else if accel == Accel::Auto && materials {
-            Traversal::Bvh
         } else {
             Traversal::Linear
         }
@@ -168,7 +172,7 @@ impl Traversal {
         ray_queries: bool,
     ) -> Traversal {
         match Traversal::choose(triangle_count, accel, materials, alpha) {
-            Traversal::Bvh if accel == Accel::Auto && ray_queries => Traversal::RayQuery,
+            Traversal::CompressedBvh if accel == Accel::Auto && ray_queries => Traversal::RayQuery,
             traversal => traversal,
         }
     }
@@ -448,12 +452,17 @@ mod tests {
         let capacity = contract::CONSTANT_TRIANGLE_CAPACITY as usize;
         let material_capacity = contract::MATERIAL_CONSTANT_TRIANGLE_CAPACITY as usize;
         let choose = Traversal::choose;
-        use Traversal::{Bvh, ConstantTriangles as Constant, Linear};
-        // The workshop's kernels: up to 64 triangles compiled in
+        use Traversal::{Bvh, CompressedBvh, ConstantTriangles as Constant, Linear};
+        // The workshop's kernels: up to 64 triangles compiled in; above, auto's BVH is the
+        // compressed tree, --accel bvh the 4-wide one
         assert_eq!(choose(30, Accel::Auto, false, false), Constant);
         assert_eq!(choose(capacity, Accel::Auto, false, false), Constant);
         assert_eq!(choose(capacity + 1, Accel::None, false, false), Linear);
-        assert_eq!(choose(capacity + 1, Accel::Auto, false, false), Bvh);
+        assert_eq!(
+            choose(capacity + 1, Accel::Auto, false, false),
+            CompressedBvh
+        );
+        assert_eq!(choose(capacity + 1, Accel::Bvh, false, false), Bvh);
         assert_eq!(choose(12, Accel::Bvh, false, false), Bvh);
         // The material kernels: up to 16, and only without alpha
         assert_eq!(choose(12, Accel::Auto, true, false), Constant);
@@ -461,12 +470,15 @@ mod tests {
             choose(material_capacity, Accel::Auto, true, false),
             Constant
         );
-        assert_eq!(choose(material_capacity + 1, Accel::Auto, true, false), Bvh);
+        assert_eq!(
+            choose(material_capacity + 1, Accel::Auto, true, false),
+            CompressedBvh
+        );
         assert_eq!(
             choose(material_capacity + 1, Accel::None, true, false),
             Linear
         );
-        assert_eq!(choose(12, Accel::Auto, true, true), Bvh);
+        assert_eq!(choose(12, Accel::Auto, true, true), CompressedBvh);
         assert_eq!(choose(12, Accel::None, true, true), Linear);
         assert_eq!(choose(12, Accel::Bvh, true, false), Bvh);
         // Hardware always takes the ray queries
@@ -494,13 +506,14 @@ mod tests {
         );
         assert_eq!(on_device(capacity + 1, Accel::Bvh, false, false, true), Bvh);
         assert_eq!(on_device(30, Accel::Hardware, false, false, true), RayQuery);
-        // One without: the BVH
+        // One without: the (compressed) BVH
         assert_eq!(
             on_device(capacity + 1, Accel::Auto, false, false, false),
-            Bvh
+            Traversal::CompressedBvh
         );
         assert_eq!(Traversal::RayQuery.accel_name(), "hardware");
         assert_eq!(Traversal::Bvh.accel_name(), "bvh");
+        assert_eq!(Traversal::CompressedBvh.accel_name(), "bvh");
         assert_eq!(Constant.accel_name(), "none");
     }
 

@@ -26,7 +26,7 @@ use crate::render::gpu_materials::{
 };
 use crate::render::gpu_textures::TextureAtlas;
 use crate::render::gpu_types::{GpuTriangle, RenderUniforms};
-use crate::render::settings::RenderSettings;
+use crate::render::settings::{Accel, RenderSettings};
 use crate::scene::materials::SceneMaterials;
 use crate::scene::Scene;
 use crate::vk::{Buffer, CommandRunner, Context, TexelBufferView};
@@ -255,6 +255,9 @@ pub struct GpuScene {
     pub bvh_stats: Option<BvhStats>,
     /// What the scene takes on the device.
     pub memory: SceneMemory,
+    /// How rays find hits in it: the traversal asked for, or the 4-wide BVH where `auto`'s
+    /// compressed tree could not hold the scene (`upload`).
+    pub traversal: Traversal,
 }
 
 impl GpuScene {
@@ -271,12 +274,22 @@ impl GpuScene {
         // With a BVH, triangles are stored in the order its leaves reference them; light
         // indices then refer to that order too.
         // The compressed tree collapses the binary one (`CompressedBvh::from_binary`).
+        // Under `--accel auto`, a scene the compressed tree refuses (deeper than its stack,
+        // or beyond its quantisation's range) takes the 4-wide tree, with a warning.
+        let mut traversal = traversal;
         let bvh = traversal.uses_bvh().then(|| Bvh::build(&scene.triangles));
         let compressed = match &bvh {
-            Some(bvh) if traversal == Traversal::CompressedBvh => Some(
-                CompressedBvh::from_binary(bvh, &scene.triangles)
-                    .map_err(Error::InvalidSettings)?,
-            ),
+            Some(bvh) if traversal == Traversal::CompressedBvh => {
+                match CompressedBvh::from_binary(bvh, &scene.triangles) {
+                    Ok(compressed) => Some(compressed),
+                    Err(reason) if settings.accel == Accel::Auto => {
+                        log::warn!("the 4-wide BVH instead of the compressed one: {reason}");
+                        traversal = Traversal::Bvh;
+                        None
+                    }
+                    Err(reason) => return Err(Error::InvalidSettings(reason)),
+                }
+            }
             _ => None,
         };
         let triangle_order: Option<&[u32]> = match (&compressed, &bvh) {
@@ -424,6 +437,7 @@ impl GpuScene {
                 .map(|_| scene_lights.light_search_iterations()),
             bvh_stats,
             memory,
+            traversal,
         })
     }
 

@@ -305,6 +305,8 @@ impl Renderer {
             }
         };
         let gpu_scene = GpuScene::upload(context, &commands, scene, camera, &settings, traversal)?;
+        // (`auto`'s compressed tree may have made way for the 4-wide one)
+        let traversal = gpu_scene.traversal;
         // A given kernel was compiled as the variant room says of one (the plain macros)
         let source = match kernel {
             Some(_) => KernelSource::Given,
