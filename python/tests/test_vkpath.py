@@ -135,10 +135,18 @@ def test_an_exception_in_progress_stops_the_render_and_propagates():
         vkpath.render(width=16, height=16, spp=4096, progress=progress)
 
 
-def test_ctrl_c_stops_the_render_with_keyboard_interrupt(tmp_path):
+@pytest.mark.parametrize("delay", [0.0, 0.05, 0.3])
+def test_ctrl_c_stops_the_render_with_keyboard_interrupt(tmp_path, delay):
+    # The child installs Python's own SIGINT handler, as an interactive interpreter has it: a
+    # process started with SIGINT ignored (a background job of a non-interactive shell, e.g.
+    # `nohup ... &`, POSIX) inherits the ignore, and Python then installs no KeyboardInterrupt
+    # handler at all -- which is how this test "lost" its Ctrl-C on a CI run launched that way.
+    # The signal comes at varied moments after the first batch: at once, during the next
+    # batch, and after several.
     script = tmp_path / "interrupted.py"
     script.write_text(
-        "import sys, vkpath\n"
+        "import signal, sys, vkpath\n"
+        "signal.signal(signal.SIGINT, signal.default_int_handler)\n"
         "def progress(done, total):\n"
         "    print('progress', done, flush=True)\n"
         "try:\n"
@@ -150,6 +158,7 @@ def test_ctrl_c_stops_the_render_with_keyboard_interrupt(tmp_path):
     child = subprocess.Popen([sys.executable, str(script)], stdout=subprocess.PIPE, text=True)
     try:
         assert child.stdout.readline().startswith("progress")
+        time.sleep(delay)
         sent = time.monotonic()
         child.send_signal(signal.SIGINT)
         # A batch lasts about 250 ms; 60 s only bounds a hang on a loaded 2-core machine.
