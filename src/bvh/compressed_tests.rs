@@ -3,16 +3,16 @@
 
 use std::mem::{offset_of, size_of};
 
-use glam::{UVec2, Vec3};
+use glam::Vec3;
 
 use super::compressed_traversal::{
     cwbvh_any_hit, cwbvh_closest_hit, cwbvh_octant_inverse, get_packed_traversal_triangle,
 };
-use super::tests::{assert_agrees, random_rays, room_box, Agreement};
+use super::tests::{
+    assert_agrees, compare_traversal_with_brute_force, random_rays, room_box, Agreement,
+};
 use super::*;
 use crate::contract::{CWBVH_NODE_TEXEL_COUNT, CWBVH_STACK_SIZE};
-use crate::cpu::integrator::ray_mesh_intersection;
-use crate::cpu::workshop::get_random_numbers;
 use crate::scene::meshes::{displaced_grid, scale_test_scene, subdivided_sphere};
 use crate::scene::Scene;
 
@@ -154,38 +154,13 @@ fn compare_compressed_with_brute_force(triangles: &[Triangle], rays: &[(Vec3, Ve
     let bvh = CompressedBvh::build(triangles).unwrap();
     check_compressed_structure(&bvh, triangles);
     let packed = packed_traversal_triangles(&bvh.reorder(triangles));
-    let mut agreement = Agreement::default();
-    let mut state = UVec2::new(7, 11);
-    for &(origin, direction) in rays {
-        agreement.rays += 1;
-        let expected = ray_mesh_intersection(triangles, origin, direction);
-        let actual = cwbvh_closest_hit(&bvh.nodes, &packed, origin, direction);
-        match (expected, actual) {
-            (None, None) => {}
-            (Some(e), Some(a)) => {
-                agreement.hits += 1;
-                let original = bvh.triangle_order[a.triangle_index] as usize;
-                if original != e.triangle_index {
-                    // As for the 4-wide tree: rounding in two triangles' tests decides a tie
-                    if (a.t - e.t).abs() <= 1e-6 * e.t.max(1e-3) {
-                        agreement.near_ties += 1;
-                    } else {
-                        agreement.mismatches += 1;
-                    }
-                } else if a.t != e.t {
-                    agreement.mismatches += 1;
-                }
-            }
-            _ => agreement.mismatches += 1,
-        }
-        let factor = 0.5 + get_random_numbers(&mut state).x;
-        let t_max = expected.map_or(1e30, |e| e.t * factor);
-        let expected_any = expected.is_some_and(|e| e.t < t_max);
-        if cwbvh_any_hit(&bvh.nodes, &packed, origin, direction, t_max) != expected_any {
-            agreement.mismatches += 1;
-        }
-    }
-    agreement
+    compare_traversal_with_brute_force(
+        triangles,
+        rays,
+        &bvh.triangle_order,
+        |origin, direction| cwbvh_closest_hit(&bvh.nodes, &packed, origin, direction),
+        |origin, direction, t_max| cwbvh_any_hit(&bvh.nodes, &packed, origin, direction, t_max),
+    )
 }
 
 #[test]

@@ -6,7 +6,7 @@ use std::mem::{offset_of, size_of};
 use glam::{UVec2, Vec3};
 
 use super::*;
-use crate::cpu::integrator::ray_mesh_intersection;
+use crate::cpu::integrator::{ray_mesh_intersection, MeshHit};
 use crate::cpu::workshop::{get_random_numbers, sample_sphere};
 use crate::scene::meshes::{displaced_grid, scale_test_scene, subdivided_sphere};
 use crate::scene::Scene;
@@ -349,17 +349,39 @@ fn compare_with_brute_force(triangles: &[Triangle], rays: &[(Vec3, Vec3)]) -> Ag
     let bvh = Bvh::build(triangles);
     check_structure(&bvh, triangles);
     let reordered = traversal_triangles(&bvh.reorder(triangles));
+    compare_traversal_with_brute_force(
+        triangles,
+        rays,
+        &bvh.triangle_order,
+        |origin, direction| bvh_closest_hit(&bvh.wide_nodes, &reordered, origin, direction),
+        |origin, direction, t_max| {
+            bvh_any_hit(&bvh.wide_nodes, &reordered, origin, direction, t_max)
+        },
+    )
+}
+
+/// How a tree's traversal (`closest_hit` and `any_hit` over its triangles in leaf order,
+/// `triangle_order[leaf index]` being the scene's index) agrees with the brute-force
+/// `ray_mesh_intersection` over `triangles` on `rays`; shared by the 4-wide and the
+/// compressed tree's tests.
+pub(super) fn compare_traversal_with_brute_force(
+    triangles: &[Triangle],
+    rays: &[(Vec3, Vec3)],
+    triangle_order: &[u32],
+    closest_hit: impl Fn(Vec3, Vec3) -> Option<MeshHit>,
+    any_hit: impl Fn(Vec3, Vec3, f32) -> bool,
+) -> Agreement {
     let mut agreement = Agreement::default();
     let mut state = UVec2::new(7, 11);
     for &(origin, direction) in rays {
         agreement.rays += 1;
         let expected = ray_mesh_intersection(triangles, origin, direction);
-        let actual = bvh_closest_hit(&bvh.wide_nodes, &reordered, origin, direction);
+        let actual = closest_hit(origin, direction);
         match (expected, actual) {
             (None, None) => {}
             (Some(e), Some(a)) => {
                 agreement.hits += 1;
-                let original = bvh.triangle_order[a.triangle_index] as usize;
+                let original = triangle_order[a.triangle_index] as usize;
                 if original != e.triangle_index {
                     // Rounding in the two triangles' tests decides a tie: 1e-6 relative is
                     // ~8 ulps, the error bound of Cramer's rule at these sizes.
@@ -378,7 +400,7 @@ fn compare_with_brute_force(triangles: &[Triangle], rays: &[(Vec3, Vec3)]) -> Ag
         let factor = 0.5 + get_random_numbers(&mut state).x;
         let t_max = expected.map_or(1e30, |e| e.t * factor);
         let expected_any = expected.is_some_and(|e| e.t < t_max);
-        if bvh_any_hit(&bvh.wide_nodes, &reordered, origin, direction, t_max) != expected_any {
+        if any_hit(origin, direction, t_max) != expected_any {
             agreement.mismatches += 1;
         }
     }
