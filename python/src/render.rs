@@ -20,7 +20,7 @@ use vkpath::render::StopReason;
 use vkpath::render::{RenderControl, Renderer};
 use vkpath::{Context, ContextOptions, Integrator, RenderSettings};
 
-use crate::errors::{message, to_py};
+use crate::errors::{argument_error, message, to_py};
 use crate::names::{name_of, parse_optional};
 use crate::scene::Scene;
 
@@ -43,6 +43,7 @@ struct Choices<'a> {
     region: Option<(u32, u32, u32, u32)>,
     guiding: bool,
     guide_training_spp: Option<u32>,
+    sample_range: Option<(u32, u32)>,
 }
 
 impl Choices<'_> {
@@ -50,10 +51,32 @@ impl Choices<'_> {
     /// starts from), and the warnings about choices that have no effect.
     fn settings(&self) -> PyResult<(RenderSettings, Vec<String>)> {
         let default = production_settings();
+        let mut warnings = Vec::new();
+        // As `--sample-range`: the range decides the samples, and spp= has no effect.
+        let spp = match self.sample_range {
+            Some((start, end)) if start >= end => {
+                return Err(argument_error(format!(
+                    "sample_range=({start}, {end}) is not (start, end) with start < end"
+                )))
+            }
+            Some((start, end)) => {
+                if self.spp.is_some() {
+                    warnings.push(
+                        "spp= has no effect with sample_range=: the range decides the samples"
+                            .to_owned(),
+                    );
+                }
+                if self.guiding && self.guide_training_spp.is_none() {
+                    return Err(argument_error("guiding=True with sample_range= needs guide_training_spp=: every shard must train the same guide as the whole render (its default depends on spp, which differs per shard)"));
+                }
+                end - start
+            }
+            None => self.spp.unwrap_or(default.spp),
+        };
         let settings = RenderSettings {
             width: self.width.unwrap_or(default.width),
             height: self.height.unwrap_or(default.height),
-            spp: self.spp.unwrap_or(default.spp),
+            spp,
             seed: self.seed.unwrap_or(default.seed),
             integrator: parse_optional("integrator", self.integrator)?
                 .unwrap_or(default.integrator),
@@ -84,7 +107,6 @@ impl Choices<'_> {
             ..settings
         };
         settings.validate().map_err(to_py)?;
-        let mut warnings = Vec::new();
         // As `vkpath render` does: the workshop's integrators always use PCG2D, so a render
         // with one of them records (and reports) "pcg", and a sampler chosen for it is
         // ignored with a warning.
@@ -149,7 +171,7 @@ fn after_batch(
     samples_per_frame=None, russian_roulette_start=None, environment_map=None,
     environment_strength=1.0, environment_rotation=0.0, background=None, time_limit=None,
     progress=None, device=None, validate=false, region=None, guiding=false,
-    guide_training_spp=None))]
+    guide_training_spp=None, time=None, sample_range=None))]
 #[allow(clippy::too_many_arguments)]
 pub fn render<'py>(
     py: Python<'py>,
@@ -178,6 +200,8 @@ pub fn render<'py>(
     region: Option<(u32, u32, u32, u32)>,
     guiding: bool,
     guide_training_spp: Option<u32>,
+    time: Option<f64>,
+    sample_range: Option<(u32, u32)>,
 ) -> PyResult<Bound<'py, PyDict>> {
     let (settings, mut warnings) = Choices {
         width,
@@ -196,6 +220,7 @@ pub fn render<'py>(
         region,
         guiding,
         guide_training_spp,
+        sample_range,
     }
     .settings()?;
     let time_limit = time_limit
@@ -217,12 +242,11 @@ pub fn render<'py>(
         &PYTHON_NAMES,
     )
     .map_err(message)?;
-    let world = scene
-        .inner
-        .clone()
+    let (world, camera) = scene.at_time(time, settings.aspect())?;
+    let world = world
         .with_environment(environment.as_ref())
         .map_err(|e| message(e.to_string()))?;
-    let camera = scene.render_camera(settings.aspect())?;
+    let first_sample = sample_range.map_or(0, |(start, _)| start);
     warnings.extend(lighting_warnings(&world, settings.integrator));
     let stop = AtomicBool::new(false);
     let mut raised: Option<PyErr> = None;
@@ -239,6 +263,7 @@ pub fn render<'py>(
         // What `run_job` does for a whole render without checkpoints, previews or resuming
         // (the Renderer itself, so that Python needs none of the command line's job options).
         let mut renderer = Renderer::new(&context, &world, &camera, settings.clone())?;
+        renderer.start_at_sample(first_sample)?;
         let control = RenderControl {
             cancel: Some(&stop),
             deadline: time_limit.map(|limit| Instant::now() + limit),
@@ -271,7 +296,10 @@ pub fn render<'py>(
             "the validation layer reported {validation_messages} messages (see the log)"
         )));
     }
-    let image = &outcome.image;
+    // A shard's image is its state's (what `--sample-range` writes, for `vkpath merge`):
+    // the mean of its sums, which may differ from the device's in the last bit.
+    let shard_image = sample_range.map(|_| outcome.state.image());
+    let image = shard_image.as_ref().unwrap_or(&outcome.image);
     let dict = PyDict::new(py);
     dict.set_item(
         "mean",
@@ -289,6 +317,10 @@ pub fn render<'py>(
     dict.set_item("height", image.height)?;
     dict.set_item("spp", outcome.samples)?;
     dict.set_item("spp_requested", total)?;
+    dict.set_item(
+        "sample_range",
+        (first_sample, first_sample + outcome.samples),
+    )?;
     dict.set_item(
         "stop",
         match outcome.stop {

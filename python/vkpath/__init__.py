@@ -16,18 +16,28 @@ command line prints.
 from __future__ import annotations
 
 import json
+import math
 import os
 import warnings
 from dataclasses import dataclass
-from typing import Any, Callable, Dict, Optional, Sequence, Tuple, Union
+from typing import Any, Callable, Dict, Iterable, Iterator, Optional, Sequence, Tuple, Union
 
 import numpy as np
 
 from . import _vkpath
-from ._vkpath import Camera, Scene, VkpathError
+from ._vkpath import LIGHT_KEYS, MATERIAL_KEYS, Camera, Scene, VkpathError
+
+
+class ArgumentError(VkpathError, ValueError):
+    """An argument of the wrong shape, type or value (a ``ValueError``, and a
+    :class:`VkpathError` like every vkpath error); the message names the parameter."""
+
 
 __all__ = [
+    "ArgumentError",
     "Camera",
+    "LIGHT_KEYS",
+    "MATERIAL_KEYS",
     "RenderResult",
     "Scene",
     "VkpathError",
@@ -36,6 +46,7 @@ __all__ = [
     "default_settings",
     "read_exr",
     "render",
+    "render_frames",
     "render_result",
     "save",
 ]
@@ -61,6 +72,9 @@ class RenderResult:
     spp: int
     #: Samples per pixel asked for.
     spp_requested: int
+    #: The samples of every pixel's sequence taken, (start, end): (0, spp) for a whole
+    #: render, a shard's range with ``sample_range=`` (what ``vkpath merge`` adds up).
+    sample_range: Tuple[int, int]
     #: Why the render ended: "done", "time-limit" or "stopped" (the progress callback).
     stop: str
     #: Seconds the frames took (the kernel build and read-back excluded).
@@ -83,6 +97,54 @@ def _region_of(region: Sequence[int]) -> Tuple[int, int, int, int]:
     if len(values) != 4 or min(values) < 0:
         raise VkpathError(
             f"region={tuple(region)!r} is not (x0, y0, x1, y1): four whole numbers >= 0"
+        )
+    return values  # type: ignore[return-value]
+
+
+def _whole(name: str, value: Any) -> Optional[int]:
+    """``value`` as an int >= 0 (or None), else an ArgumentError naming ``name=``."""
+    if value is None:
+        return None
+    if isinstance(value, bool) or not isinstance(value, (int, np.integer)) or value < 0:
+        raise ArgumentError(f"{name}={value!r} is not a whole number >= 0")
+    if value >= 2**32:
+        raise ArgumentError(f"{name}={value!r} is larger than vkpath takes (below 2^32)")
+    return int(value)
+
+
+def _rgb(name: str, value: Optional[Sequence[float]]) -> Optional[Tuple[float, float, float]]:
+    """``value`` as three floats (or None), else an ArgumentError naming ``name=``."""
+    if value is None:
+        return None
+    try:
+        rgb = tuple(float(c) for c in value)
+    except (TypeError, ValueError):
+        rgb = ()
+    if isinstance(value, str) or len(rgb) != 3:
+        raise ArgumentError(f"{name}={value!r} is not three numbers (R, G, B)")
+    return rgb  # type: ignore[return-value]
+
+
+def _device_of(device: Optional[Union[int, str]]) -> Optional[str]:
+    """``device`` as the extension takes it; several devices are the command line's."""
+    if device is None:
+        return None
+    text = str(_whole("device", device) if isinstance(device, (int, np.integer)) else device)
+    if text.strip() == "all" or "," in text:
+        raise ArgumentError(
+            f"device={device!r}: rendering on several devices is the command line's "
+            "(vkpath render --device all); from Python render one shard per device with "
+            "sample_range= and device=INDEX"
+        )
+    return text
+
+
+def _sample_range_of(sample_range: Sequence[int]) -> Tuple[int, int]:
+    """``sample_range`` as the two ints (start, end) the extension takes."""
+    values = tuple(int(v) for v in sample_range)
+    if len(values) != 2 or min(values) < 0:
+        raise ArgumentError(
+            f"sample_range={tuple(sample_range)!r} is not (start, end): two whole numbers >= 0"
         )
     return values  # type: ignore[return-value]
 
@@ -130,36 +192,40 @@ def render_result(
     region: Optional[Sequence[int]] = None,
     guiding: bool = False,
     guide_training_spp: Optional[int] = None,
+    time: Optional[float] = None,
+    sample_range: Optional[Tuple[int, int]] = None,
 ) -> RenderResult:
     """:func:`render`, returning the image with its moments, the samples taken and why the
     render stopped."""
     world = _scene_of(scene)
     raw = _vkpath.render(
         world,
-        width=width,
-        height=height,
-        spp=spp,
-        seed=seed,
+        width=_whole("width", width),
+        height=_whole("height", height),
+        spp=_whole("spp", spp),
+        seed=_whole("seed", seed),
         integrator=integrator,
         sampler=sampler,
         light_sampling=light_sampling,
         light_selection=light_selection,
         pixel_filter=pixel_filter,
         accel=accel,
-        max_path_length=max_path_length,
-        samples_per_frame=samples_per_frame,
-        russian_roulette_start=russian_roulette_start,
+        max_path_length=_whole("max_path_length", max_path_length),
+        samples_per_frame=_whole("samples_per_frame", samples_per_frame),
+        russian_roulette_start=_whole("russian_roulette_start", russian_roulette_start),
         environment_map=None if environment is None else os.fspath(environment),
         environment_strength=float(environment_strength),
         environment_rotation=float(environment_rotation),
-        background=None if background is None else tuple(float(c) for c in background),
+        background=_rgb("background", background),
         time_limit=None if time_limit is None else float(time_limit),
         progress=progress,
-        device=None if device is None else str(device),
+        device=_device_of(device),
         validate=validate,
         region=None if region is None else _region_of(region),
         guiding=bool(guiding),
-        guide_training_spp=guide_training_spp,
+        guide_training_spp=_whole("guide_training_spp", guide_training_spp),
+        time=None if time is None else float(time),
+        sample_range=None if sample_range is None else _sample_range_of(sample_range),
     )
     for warning in raw["warnings"]:
         warnings.warn(warning, stacklevel=2)
@@ -170,6 +236,7 @@ def render_result(
         sample_count=_array(raw["sample_count"], h, w, 1),
         spp=raw["spp"],
         spp_requested=raw["spp_requested"],
+        sample_range=tuple(raw["sample_range"]),
         stop=raw["stop"],
         seconds=raw["seconds"],
         device=raw["device"],
@@ -204,6 +271,8 @@ def render(
     region: Optional[Sequence[int]] = None,
     guiding: bool = False,
     guide_training_spp: Optional[int] = None,
+    time: Optional[float] = None,
+    sample_range: Optional[Tuple[int, int]] = None,
 ) -> np.ndarray:
     """Renders a scene and returns its linear RGBA image, float32, shape (height, width, 4),
     rows top-down: what ``vkpath render ... -o out.exr`` writes, bit for bit.
@@ -229,6 +298,13 @@ def render(
     ``region=(x0, y0, x1, y1)`` renders only columns x0..x1 and rows y0..y1 of the image
     (x1 and y1 excluded, from the top-left), as ``--region`` does: the array is
     (y1 - y0, x1 - x0, 4), each pixel bit for bit the full render's.
+
+    ``time`` (seconds, default 0) is ``--time``: a glTF file's animations evaluated then
+    (the scene file is loaded again at that time; other scenes do not move).
+    ``sample_range=(start, end)`` is ``--sample-range``: only samples start..end of every
+    pixel's sequence (``spp`` then has no effect), so that a scheduler can shard one
+    render's samples over processes or machines; each shard is bit for bit the command
+    line's, and :func:`render_result` gives what averaging them needs (``sample_count``).
 
     ``guiding=True`` (nee and mis) is ``--guiding``: path guiding, a guide trained on
     ``guide_training_spp`` samples per pixel (default: about a million paths in all, at least
@@ -261,7 +337,34 @@ def render(
         region=region,
         guiding=guiding,
         guide_training_spp=guide_training_spp,
+        time=time,
+        sample_range=sample_range,
     ).image
+
+
+def render_frames(
+    scene: Union[None, PathLike, Scene] = None,
+    *,
+    frames: Iterable[int] = range(1),
+    fps: float = 24.0,
+    **settings: Any,
+) -> Iterator[Tuple[int, np.ndarray]]:
+    """Renders frames of an animation, one after the other, yielding ``(frame, image)``:
+    ``vkpath render --frames START..END --fps FPS``, frame f at time f / fps. ``settings``
+    are :func:`render`'s (``time`` aside). The scene file is read once per frame at its
+    time; the kernels are compiled once and taken from the pipeline cache after that (each
+    frame opens the device again: the command line keeps it open, Python does not yet)."""
+    if "time" in settings:
+        raise ArgumentError("render_frames takes frames= and fps=, not time=")
+    fps = float(fps)
+    if not (fps > 0.0 and math.isfinite(fps)):
+        raise ArgumentError(f"fps={fps} is not a frame rate above 0")
+    world = _scene_of(scene)
+    for frame in frames:
+        frame = int(frame)
+        if frame < 0:
+            raise ArgumentError(f"frames: frame {frame} is negative")
+        yield frame, render(world, time=frame / fps, **settings)
 
 
 ImageLike = Union[np.ndarray, RenderResult]
@@ -273,12 +376,25 @@ def _pixels(image: ImageLike) -> Dict[str, Any]:
     if isinstance(image, RenderResult):
         moments = (image.second_moment, image.sample_count)
         image = image.image
-    array = np.asarray(image, dtype=np.float32)
+    given = np.asarray(image)
+    if given.dtype.kind in "iub":
+        raise ArgumentError(
+            f"an image is linear radiance in floats, not {given.dtype} (an 8-bit image "
+            "divided by 255 is still sRGB-encoded: decode it first)"
+        )
+    array = np.asarray(given, dtype=np.float32)
     if array.ndim != 3 or array.shape[2] not in (3, 4):
         raise VkpathError(
             f"an image is an array of shape (height, width, 3 or 4), not {array.shape}"
         )
     height, width = array.shape[:2]
+    bad = ~np.isfinite(array[..., :3]).all(axis=-1)
+    if bad.any():
+        warnings.warn(
+            f"{int(bad.sum())} pixels hold NaN or infinity; they are written as 0 (black)",
+            stacklevel=3,
+        )
+        array = np.where(np.isfinite(array), array, np.float32(0.0))
     if array.shape[2] == 3:
         array = np.concatenate([array, np.ones((height, width, 1), np.float32)], axis=2)
     pixels: Dict[str, Any] = {
