@@ -13,6 +13,8 @@ use glam::Vec3;
 use pyo3::prelude::*;
 use pyo3::types::{PyBool, PyByteArray, PyDict};
 use vkpath::lights::environment_source::{EnvironmentOptionNames, EnvironmentSource};
+use vkpath::render::adaptive::{NoiseThreshold, DEFAULT_MIN_SPP};
+use vkpath::render::aov::{render_aov, Aov};
 use vkpath::render::job::production_settings;
 use vkpath::render::region::PixelRegion;
 use vkpath::render::settings::default_russian_roulette_start;
@@ -21,8 +23,17 @@ use vkpath::render::{RenderControl, Renderer};
 use vkpath::{Context, ContextOptions, Integrator, RenderSettings};
 
 use crate::errors::{argument_error, message, to_py};
-use crate::names::{name_of, parse_optional};
+use crate::names::{name_of, parse, parse_optional};
 use crate::scene::Scene;
+
+/// The outputs rendered beside the colour (`aovs=`, and those `denoise=` needs).
+#[derive(Default)]
+struct PostProcessed {
+    /// Each AOV with its pixels (RGB; depth in R, G and B).
+    aovs: Vec<(Aov, Vec<[f32; 3]>)>,
+    /// Whether the image is to be denoised (a whole render asked `denoise=True`).
+    denoise_requested: bool,
+}
 
 /// What a render may be told; `None` takes the default.
 #[derive(Default)]
@@ -44,6 +55,8 @@ struct Choices<'a> {
     guiding: bool,
     guide_training_spp: Option<u32>,
     sample_range: Option<(u32, u32)>,
+    noise_threshold: Option<f32>,
+    noise_min_spp: Option<u32>,
 }
 
 impl Choices<'_> {
@@ -97,6 +110,26 @@ impl Choices<'_> {
                 .region
                 .map(|(x0, y0, x1, y1)| PixelRegion { x0, y0, x1, y1 }),
             ..default
+        };
+        // As `--noise-threshold T --noise-min-spp N`.
+        let noise_threshold = match (self.noise_threshold, self.noise_min_spp) {
+            (Some(threshold), min_spp) => Some(NoiseThreshold {
+                threshold,
+                min_spp: min_spp.unwrap_or(DEFAULT_MIN_SPP),
+            }),
+            (None, Some(_)) => {
+                return Err(argument_error(
+                    "noise_min_spp= has no effect without noise_threshold=",
+                ))
+            }
+            (None, None) => None,
+        };
+        if noise_threshold.is_some() && self.sample_range.is_some() {
+            return Err(argument_error("noise_threshold= decides per pixel how many of all the samples it takes: it cannot be split with sample_range="));
+        }
+        let settings = RenderSettings {
+            noise_threshold,
+            ..settings
         };
         // As `vkpath render --guiding`: the training budget's default (about a million paths, at
         // most a quarter of spp).
@@ -171,7 +204,8 @@ fn after_batch(
     samples_per_frame=None, russian_roulette_start=None, environment_map=None,
     environment_strength=1.0, environment_rotation=0.0, background=None, time_limit=None,
     progress=None, device=None, validate=false, region=None, guiding=false,
-    guide_training_spp=None, time=None, sample_range=None))]
+    guide_training_spp=None, time=None, sample_range=None, noise_threshold=None,
+    noise_min_spp=None, aovs=Vec::new(), denoise=false))]
 #[allow(clippy::too_many_arguments)]
 pub fn render<'py>(
     py: Python<'py>,
@@ -202,6 +236,10 @@ pub fn render<'py>(
     guide_training_spp: Option<u32>,
     time: Option<f64>,
     sample_range: Option<(u32, u32)>,
+    noise_threshold: Option<f32>,
+    noise_min_spp: Option<u32>,
+    aovs: Vec<String>,
+    denoise: bool,
 ) -> PyResult<Bound<'py, PyDict>> {
     let (settings, mut warnings) = Choices {
         width,
@@ -221,8 +259,22 @@ pub fn render<'py>(
         guiding,
         guide_training_spp,
         sample_range,
+        noise_threshold,
+        noise_min_spp,
     }
     .settings()?;
+    let aovs = aovs
+        .iter()
+        .map(|name| parse::<Aov>("aovs", name))
+        .collect::<PyResult<Vec<_>>>()?;
+    if (denoise || !aovs.is_empty()) && sample_range.is_some() {
+        return Err(argument_error(
+            "aovs= and denoise= work on whole renders, not with sample_range=",
+        ));
+    }
+    if denoise {
+        vkpath::denoise::available().map_err(to_py)?;
+    }
     let time_limit = time_limit
         .map(|seconds| {
             if seconds > 0.0 && seconds < 1e9 {
@@ -273,18 +325,36 @@ pub fn render<'py>(
             |done| after_batch(&stop, &mut raised, progress, done, total),
             control,
         )?;
+        // As `--aov` and `--denoise` (which renders the albedo and normal it needs): only
+        // after a whole render; one stopped early is returned as it is.
+        let mut post = PostProcessed::default();
+        if outcome.stop == StopReason::Done && outcome.failure.is_none() {
+            let mut wanted = aovs.clone();
+            if denoise {
+                wanted.extend(
+                    [Aov::Albedo, Aov::Normal]
+                        .iter()
+                        .filter(|a| !aovs.contains(a)),
+                );
+            }
+            for aov in wanted {
+                let pixels = render_aov(&context, &world, &camera, &settings, aov)?;
+                post.aovs.push((aov, pixels));
+            }
+            post.denoise_requested = denoise;
+        }
         let validation = context
             .validation_messages()
             .map(|m| m.total())
             .unwrap_or(0);
-        Ok::<_, vkpath::Error>((outcome, context.info.name.clone(), validation))
+        Ok::<_, vkpath::Error>((outcome, context.info.name.clone(), validation, post))
     });
     // An exception from the callback or Ctrl-C wins over everything else: the render has
     // stopped and freed its device by now.
     if let Some(error) = raised.take() {
         return Err(error);
     }
-    let (outcome, device_name, validation_messages) = result.map_err(to_py)?;
+    let (outcome, device_name, validation_messages, post) = result.map_err(to_py)?;
     if let Some(error) = &outcome.failure {
         return Err(message(format!(
             "rendering stopped after {} of {total} spp: {error:#}",
@@ -299,8 +369,37 @@ pub fn render<'py>(
     // A shard's image is its state's (what `--sample-range` writes, for `vkpath merge`):
     // the mean of its sums, which may differ from the device's in the last bit.
     let shard_image = sample_range.map(|_| outcome.state.image());
-    let image = shard_image.as_ref().unwrap_or(&outcome.image);
+    let mut image = shard_image.unwrap_or_else(|| outcome.image.clone());
     let dict = PyDict::new(py);
+    let layer = |aov: Aov| post.aovs.iter().find(|(a, _)| *a == aov).map(|(_, p)| p);
+    let layers = PyDict::new(py);
+    for aov in &aovs {
+        if let Some(pixels) = layer(*aov) {
+            layers.set_item(
+                aov.name(),
+                PyByteArray::new(py, bytemuck::cast_slice(pixels)),
+            )?;
+        }
+    }
+    if post.denoise_requested {
+        let noisy: Vec<[f32; 3]> = image.mean.iter().map(|p| [p[0], p[1], p[2]]).collect();
+        let denoised = vkpath::denoise::denoise(
+            &noisy,
+            layer(Aov::Albedo).map(Vec::as_slice),
+            layer(Aov::Normal).map(Vec::as_slice),
+            image.width,
+            image.height,
+        )
+        .map_err(to_py)?;
+        for (pixel, value) in image.mean.iter_mut().zip(&denoised) {
+            pixel[..3].copy_from_slice(value);
+        }
+        layers.set_item("noisy", PyByteArray::new(py, bytemuck::cast_slice(&noisy)))?;
+    } else if denoise {
+        warnings.push("the render stopped early: returned without aovs= and denoise=".to_owned());
+    }
+    dict.set_item("layers", layers)?;
+    let image = &image;
     dict.set_item(
         "mean",
         PyByteArray::new(py, bytemuck::cast_slice(&image.mean)),

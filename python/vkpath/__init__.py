@@ -19,7 +19,7 @@ import json
 import math
 import os
 import warnings
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from typing import Any, Callable, Dict, Iterable, Iterator, Optional, Sequence, Tuple, Union
 
 import numpy as np
@@ -83,6 +83,10 @@ class RenderResult:
     device: str
     #: The settings it was rendered with, by the command line's names.
     settings: Dict[str, Any]
+    #: What ``aovs=`` asked for, by name ("albedo", "normal", "material": (H, W, 3);
+    #: "depth": (H, W)), and with ``denoise=True`` the image before denoising ("noisy",
+    #: (H, W, 3)): the EXR layers ``--aov`` and ``--denoise`` write.
+    layers: Dict[str, np.ndarray] = field(default_factory=dict)
 
 
 def default_settings() -> Dict[str, Any]:
@@ -137,6 +141,14 @@ def _device_of(device: Optional[Union[int, str]]) -> Optional[str]:
             "sample_range= and device=INDEX"
         )
     return text
+
+
+def _aov_names(aovs: Union[str, Sequence[str]]) -> list:
+    """``aovs`` as a list of names (one name alone is a list of one)."""
+    names = [aovs] if isinstance(aovs, str) else list(aovs)
+    if not all(isinstance(name, str) for name in names):
+        raise ArgumentError(f"aovs={aovs!r} is not a list of names (albedo, normal, depth, material)")
+    return names
 
 
 def _sample_range_of(sample_range: Sequence[int]) -> Tuple[int, int]:
@@ -194,6 +206,10 @@ def render_result(
     guide_training_spp: Optional[int] = None,
     time: Optional[float] = None,
     sample_range: Optional[Tuple[int, int]] = None,
+    noise_threshold: Optional[float] = None,
+    noise_min_spp: Optional[int] = None,
+    aovs: Sequence[str] = (),
+    denoise: bool = False,
 ) -> RenderResult:
     """:func:`render`, returning the image with its moments, the samples taken and why the
     render stopped."""
@@ -226,6 +242,10 @@ def render_result(
         guide_training_spp=_whole("guide_training_spp", guide_training_spp),
         time=None if time is None else float(time),
         sample_range=None if sample_range is None else _sample_range_of(sample_range),
+        noise_threshold=None if noise_threshold is None else float(noise_threshold),
+        noise_min_spp=_whole("noise_min_spp", noise_min_spp),
+        aovs=_aov_names(aovs),
+        denoise=bool(denoise),
     )
     for warning in raw["warnings"]:
         warnings.warn(warning, stacklevel=2)
@@ -241,6 +261,10 @@ def render_result(
         seconds=raw["seconds"],
         device=raw["device"],
         settings=dict(raw["settings"]),
+        layers={
+            name: _array(pixels, h, w, 3)[..., 0] if name == "depth" else _array(pixels, h, w, 3)
+            for name, pixels in raw["layers"].items()
+        },
     )
 
 
@@ -273,6 +297,10 @@ def render(
     guide_training_spp: Optional[int] = None,
     time: Optional[float] = None,
     sample_range: Optional[Tuple[int, int]] = None,
+    noise_threshold: Optional[float] = None,
+    noise_min_spp: Optional[int] = None,
+    aovs: Sequence[str] = (),
+    denoise: bool = False,
 ) -> np.ndarray:
     """Renders a scene and returns its linear RGBA image, float32, shape (height, width, 4),
     rows top-down: what ``vkpath render ... -o out.exr`` writes, bit for bit.
@@ -305,6 +333,13 @@ def render(
     pixel's sequence (``spp`` then has no effect), so that a scheduler can shard one
     render's samples over processes or machines; each shard is bit for bit the command
     line's, and :func:`render_result` gives what averaging them needs (``sample_count``).
+
+    ``noise_threshold=T`` is ``--noise-threshold T`` (adaptive sampling: a pixel stops once
+    its relative standard error is at most T, judged every ``noise_min_spp`` samples,
+    default 16; ``spp`` is the cap). ``aovs=["albedo", "normal", "depth", "material"]`` is
+    ``--aov`` (the arrays come in :func:`render_result`'s ``layers``), ``denoise=True`` is
+    ``--denoise`` (Open Image Denoise with the albedo and normal; the image before is
+    ``layers["noisy"]``); both only after a whole render.
 
     ``guiding=True`` (nee and mis) is ``--guiding``: path guiding, a guide trained on
     ``guide_training_spp`` samples per pixel (default: about a million paths in all, at least
@@ -339,6 +374,10 @@ def render(
         guide_training_spp=guide_training_spp,
         time=time,
         sample_range=sample_range,
+        noise_threshold=noise_threshold,
+        noise_min_spp=noise_min_spp,
+        aovs=aovs,
+        denoise=denoise,
     ).image
 
 

@@ -136,6 +136,10 @@ def render(
     guide_training_spp: Optional[int] = None,
     time: Optional[float] = None,
     sample_range: Optional[Tuple[int, int]] = None,
+    noise_threshold: Optional[float] = None,
+    noise_min_spp: Optional[int] = None,
+    aovs: List[str] = [],
+    denoise: bool = False,
 ) -> Dict[str, Any]: ...
 def save(
     pixels: Dict[str, Any],

@@ -1,0 +1,54 @@
+"""Adaptive sampling, AOVs and denoising from Python (``noise_threshold=``, ``aovs=``,
+``denoise=``) against ``vkpath render --noise-threshold / --aov / --denoise``, bit for bit
+(lavapipe, tiny images)."""
+
+from __future__ import annotations
+
+import numpy as np
+import OpenEXR
+import pytest
+
+import vkpath
+from test_vkpath import bits, cli, read_exr_rgba, run_cli  # noqa: F401 (cli: a fixture)
+
+SIZE = ["--width", "16", "--height", "12", "--seed", "1"]
+
+
+def read_layer(path, names):
+    """The channels ``names`` of an EXR, stacked (OpenEXR's reader)."""
+    with OpenEXR.File(str(path), separate_channels=True) as exr:
+        channels = exr.channels()
+        return np.stack([channels[name].pixels for name in names], axis=-1)
+
+
+def test_noise_threshold_equals_the_command_lines_adaptive_render(cli, tmp_path):
+    output = tmp_path / "adaptive.exr"
+    run_cli(cli, "render", *SIZE, "--spp", "32", "--noise-threshold", "0.2",
+            "--noise-min-spp", "4", "-o", str(output))
+    result = vkpath.render_result(width=16, height=12, seed=1, spp=32, noise_threshold=0.2,
+                                  noise_min_spp=4)
+    assert np.array_equal(bits(result.image), bits(read_exr_rgba(output)))
+    # Some pixels stopped early (else this would be an ordinary render).
+    assert result.sample_count.min() < 32
+    with pytest.raises(vkpath.ArgumentError, match="noise_min_spp= has no effect"):
+        vkpath.render(width=4, height=4, spp=1, noise_min_spp=4)
+
+
+def test_aovs_and_denoise_equal_the_command_lines_layers(cli, tmp_path):
+    output = tmp_path / "aov.exr"
+    run_cli(cli, "render", *SIZE, "--spp", "4", "--aov", "albedo", "--aov", "depth",
+            "--denoise", "-o", str(output))
+    result = vkpath.render_result(width=16, height=12, seed=1, spp=4,
+                                  aovs=["albedo", "depth"], denoise=True)
+    assert sorted(result.layers) == ["albedo", "depth", "noisy"]
+    assert result.layers["depth"].shape == (12, 16)
+    assert np.array_equal(bits(result.image), bits(read_exr_rgba(output)))
+    for name, channels in (("albedo", ["albedo.R", "albedo.G", "albedo.B"]),
+                           ("noisy", ["noisy.R", "noisy.G", "noisy.B"])):
+        assert np.array_equal(bits(result.layers[name]), bits(read_layer(output, channels)))
+    assert np.array_equal(bits(result.layers["depth"]),
+                          bits(read_layer(output, ["depth.Z"])[..., 0]))
+    # Denoising changed the image.
+    assert not np.array_equal(result.image[..., :3], result.layers["noisy"])
+    with pytest.raises(vkpath.ArgumentError, match="aovs='shadow' is not one of"):
+        vkpath.render(width=4, height=4, spp=1, aovs=["shadow"])
