@@ -169,7 +169,8 @@ pub fn read_exr(py: Python<'_>, path: PathBuf) -> PyResult<Bound<'_, PyDict>> {
 /// Tests whether image `a` is an unbiased estimate of `b` (`vkpath compare`); each is a
 /// path to an EXR or a dict of pixels. Returns the report as JSON.
 #[pyfunction]
-#[pyo3(signature = (a, b, *, alpha=DEFAULT_ALPHA, block_size=DEFAULT_BLOCK_SIZE))]
+#[pyo3(signature = (a, b, *, alpha=DEFAULT_ALPHA, block_size=DEFAULT_BLOCK_SIZE),
+    text_signature = "(a, b, *, alpha=0.01, block_size=8)")]
 pub fn compare(
     py: Python<'_>,
     a: &Bound<'_, PyAny>,

@@ -205,7 +205,7 @@ fn after_batch(
     environment_strength=1.0, environment_rotation=0.0, background=None, time_limit=None,
     progress=None, device=None, validate=false, region=None, guiding=false,
     guide_training_spp=None, time=None, sample_range=None, noise_threshold=None,
-    noise_min_spp=None, aovs=Vec::new(), denoise=false))]
+    noise_min_spp=None, aovs=None, denoise=false))]
 #[allow(clippy::too_many_arguments)]
 pub fn render<'py>(
     py: Python<'py>,
@@ -238,7 +238,7 @@ pub fn render<'py>(
     sample_range: Option<(u32, u32)>,
     noise_threshold: Option<f32>,
     noise_min_spp: Option<u32>,
-    aovs: Vec<String>,
+    aovs: Option<Vec<String>>,
     denoise: bool,
 ) -> PyResult<Bound<'py, PyDict>> {
     let (settings, mut warnings) = Choices {
@@ -264,6 +264,7 @@ pub fn render<'py>(
     }
     .settings()?;
     let aovs = aovs
+        .unwrap_or_default()
         .iter()
         .map(|name| parse::<Aov>("aovs", name))
         .collect::<PyResult<Vec<_>>>()?;

@@ -29,7 +29,8 @@ impl Camera {
     /// (not parallel to the view direction) and `fov` the vertical field of view in degrees,
     /// in (0, 180): the command line's --camera-position, --look-at, --up and --fov.
     #[new]
-    #[pyo3(signature = (position, look_at, up = (0.0, 1.0, 0.0), fov = DEFAULT_VERTICAL_FOV_DEGREES))]
+    #[pyo3(signature = (position, look_at, up = (0.0, 1.0, 0.0), fov = DEFAULT_VERTICAL_FOV_DEGREES),
+        text_signature = "(position, look_at, up=(0.0, 1.0, 0.0), fov=45.0)")]
     fn new(
         position: (f32, f32, f32),
         look_at: (f32, f32, f32),
@@ -38,11 +39,22 @@ impl Camera {
     ) -> PyResult<Camera> {
         let [position, look_at, up] = [position, look_at, up].map(Vec3::from);
         if !(position.is_finite() && look_at.is_finite() && up.is_finite()) {
-            return Err(message(
+            return Err(argument_error(
                 "the camera's position, look_at and up must be finite",
             ));
         }
-        let inner = vkpath::Camera::look_at_checked(position, look_at, up, fov).map_err(to_py)?;
+        // Checked here to name Python's parameters (the library's message names the
+        // command line's --fov, --look-at and --up).
+        if !(fov > 0.0 && fov < 180.0) {
+            return Err(argument_error(format!(
+                "fov={fov} is outside (0, 180) degrees"
+            )));
+        }
+        let inner = vkpath::Camera::look_at_checked(position, look_at, up, fov).map_err(|_| {
+            argument_error(
+                "position, look_at and up do not define a view (the view direction is zero or parallel to up)",
+            )
+        })?;
         Ok(Camera { inner })
     }
 
@@ -314,7 +326,8 @@ impl Scene {
     }
 
     /// Renders from `position` looking at `look_at` (see `Camera`).
-    #[pyo3(signature = (position, look_at, up = (0.0, 1.0, 0.0), fov = DEFAULT_VERTICAL_FOV_DEGREES))]
+    #[pyo3(signature = (position, look_at, up = (0.0, 1.0, 0.0), fov = DEFAULT_VERTICAL_FOV_DEGREES),
+        text_signature = "($self, position, look_at, up=(0.0, 1.0, 0.0), fov=45.0)")]
     fn look_at(
         &mut self,
         position: (f32, f32, f32),

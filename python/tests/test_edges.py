@@ -43,3 +43,25 @@ def test_save_writes_nan_as_black_with_a_warning(tmp_path):
         vkpath.save(image, tmp_path / "a.exr")
     back = vkpath.read_exr(tmp_path / "a.exr")
     assert back[1, 2, 0] == 0.0 and back[0, 0, 0] == 1.0
+
+
+def test_camera_errors_name_pythons_parameters():
+    with pytest.raises(vkpath.ArgumentError, match=r"^fov=200 is outside \(0, 180\) degrees$"):
+        vkpath.Camera((0, 0, 0), (0, 0, 1), fov=200)
+    with pytest.raises(vkpath.ArgumentError, match="position, look_at and up do not define"):
+        vkpath.Camera((0, 0, 0), (0, 0, 0))
+
+
+def test_signatures_show_their_defaults_not_ellipsis():
+    import inspect
+
+    functions = [vkpath.Camera, vkpath.Scene.look_at, vkpath.Scene.from_arrays,
+                 vkpath._vkpath.compare, vkpath._vkpath.render, vkpath._vkpath.save,
+                 vkpath.render, vkpath.render_result, vkpath.render_frames, vkpath.save]
+    for function in functions:
+        text = str(inspect.signature(function))
+        assert "Ellipsis" not in text and "..." not in text, (function, text)
+    # The written-out defaults are the library's.
+    assert "fov=45.0" in str(inspect.signature(vkpath.Camera))
+    assert vkpath.Camera((0, 0, 0), (0, 0, 1)).fov == pytest.approx(45.0, abs=1e-4)
+    assert "alpha=0.01, block_size=8" in str(inspect.signature(vkpath._vkpath.compare))

@@ -138,7 +138,7 @@ def render(
     sample_range: Optional[Tuple[int, int]] = None,
     noise_threshold: Optional[float] = None,
     noise_min_spp: Optional[int] = None,
-    aovs: List[str] = [],
+    aovs: Optional[List[str]] = None,
     denoise: bool = False,
 ) -> Dict[str, Any]: ...
 def save(
