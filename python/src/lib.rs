@@ -19,7 +19,7 @@ mod _vkpath {
     #[pymodule_export]
     use crate::errors::VkpathError;
     #[pymodule_export]
-    use crate::images::{check, compare, read_exr, save};
+    use crate::images::{check, compare, read_exr, read_exr_channels, save};
     #[pymodule_export]
     use crate::render::{default_settings, render};
     #[pymodule_export]

@@ -52,3 +52,21 @@ def test_aovs_and_denoise_equal_the_command_lines_layers(cli, tmp_path):
     assert not np.array_equal(result.image[..., :3], result.layers["noisy"])
     with pytest.raises(vkpath.ArgumentError, match="aovs='shadow' is not one of"):
         vkpath.render(width=4, height=4, spp=1, aovs=["shadow"])
+
+
+def test_read_exr_with_layers_returns_every_layer(cli, tmp_path):
+    output = tmp_path / "layers.exr"
+    run_cli(cli, "render", *SIZE, "--spp", "2", "--aov", "albedo", "--aov", "depth",
+            "--moments", "-o", str(output))
+    layers = vkpath.read_exr(output, layers=True)
+    assert sorted(layers) == ["albedo", "depth", "image", "sample_count", "second_moment"]
+    assert np.array_equal(bits(layers["image"]), bits(read_exr_rgba(output)))
+    assert np.array_equal(bits(layers["image"]), bits(vkpath.read_exr(output)))
+    assert layers["albedo"].shape == (12, 16, 3) and layers["depth"].shape == (12, 16)
+    for name, channels in (("albedo", ["albedo.R", "albedo.G", "albedo.B"]),
+                           ("second_moment", ["second_moment.R", "second_moment.G",
+                                              "second_moment.B"])):
+        assert np.array_equal(bits(layers[name]), bits(read_layer(output, channels)))
+    assert np.array_equal(bits(layers["sample_count"]),
+                          bits(read_layer(output, ["sample_count.Y"])[..., 0]))
+    assert (layers["sample_count"] == 2).all()

@@ -464,10 +464,41 @@ def save(
     _vkpath.save(_pixels(image), os.fspath(path), tonemap=tonemap, exposure=exposure, moments=moments)
 
 
-def read_exr(path: PathLike) -> np.ndarray:
-    """Reads an EXR's R, G, B channels as linear RGBA float32, (H, W, 4), alpha 1."""
-    raw = _vkpath.read_exr(os.fspath(path))
-    return _array(raw["mean"], raw["height"], raw["width"], 4)
+def read_exr(path: PathLike, layers: bool = False) -> Union[np.ndarray, Dict[str, np.ndarray]]:
+    """Reads an EXR's R, G, B channels as linear RGBA float32, (H, W, 4), alpha 1.
+
+    With ``layers=True``, returns every layer of the file as a dict of arrays: "image"
+    (R, G, B and A when present, (H, W, 4); alpha 1 when absent), and each other layer by
+    its name, its channels in R, G, B (A) or X, Y, Z order, (H, W, channels), a layer of
+    one channel (H, W): what ``--aov`` ("albedo", "normal", "depth", "material"),
+    ``--denoise`` ("noisy"), ``--moments`` ("second_moment", "sample_count") and a shard's
+    state ("state.sum", ...) write, by the names the file gives them."""
+    if not layers:
+        raw = _vkpath.read_exr(os.fspath(path))
+        return _array(raw["mean"], raw["height"], raw["width"], 4)
+    raw = _vkpath.read_exr_channels(os.fspath(path))
+    height, width = raw["height"], raw["width"]
+    groups: Dict[str, Dict[str, np.ndarray]] = {}
+    for name, data in raw["channels"]:
+        layer, _, channel = name.rpartition(".")
+        groups.setdefault(layer, {})[channel] = _array(data, height, width, 1)
+    order = "RGBAXYZ"
+    result: Dict[str, np.ndarray] = {}
+    for layer, channels in groups.items():
+        names = sorted(channels, key=lambda c: (order.find(c) if c in order else 99, c))
+        if layer == "" and all(c in channels for c in "RGB"):
+            alpha = channels.get("A", np.ones((height, width), np.float32))
+            result["image"] = np.stack([channels[c] for c in "RGB"] + [alpha], axis=-1)
+            names = [c for c in names if c not in "RGBA"]
+            for c in names:
+                result[c] = channels[c]
+            continue
+        key = layer or "image"
+        if len(names) == 1:
+            result[key] = channels[names[0]]
+        else:
+            result[key] = np.stack([channels[c] for c in names], axis=-1)
+    return result
 
 
 def compare(
