@@ -5,14 +5,17 @@
 //! The GIL is released while rendering; a progress callback and Ctrl-C stop it after the
 //! current batch (about 250 ms).
 
+use std::cell::Cell;
 use std::path::PathBuf;
 use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::Mutex;
 use std::time::{Duration, Instant};
 
 use glam::Vec3;
 use pyo3::prelude::*;
 use pyo3::types::{PyBool, PyByteArray, PyDict};
 use vkpath::lights::environment_source::{EnvironmentOptionNames, EnvironmentSource};
+use vkpath::render::accumulation::Accumulation;
 use vkpath::render::adaptive::{NoiseThreshold, DEFAULT_MIN_SPP};
 use vkpath::render::aov::{render_aov, Aov};
 use vkpath::render::job::production_settings;
@@ -169,14 +172,25 @@ const PYTHON_NAMES: EnvironmentOptionNames = EnvironmentOptionNames {
 /// cancel flag, which ends the render after this batch.
 fn after_batch(
     stop: &AtomicBool,
-    error: &mut Option<PyErr>,
+    error: &Mutex<Option<PyErr>>,
     progress: Option<&Py<PyAny>>,
     done: u32,
     total: u32,
+    state: Option<&Accumulation>,
 ) {
     Python::attach(|py| {
+        let call = |callback: &Py<PyAny>| match state {
+            // A callback of three parameters gets the image so far as well.
+            Some(state) => {
+                let so_far = ImageSoFar {
+                    state: state.clone(),
+                };
+                callback.call1(py, (done, total, so_far))
+            }
+            None => callback.call1(py, (done, total)),
+        };
         let result = py.check_signals().and_then(|()| match progress {
-            Some(callback) => callback.call1(py, (done, total)).map(|value| {
+            Some(callback) => call(callback).map(|value| {
                 // Only False stops: a callback that returns nothing (None) goes on.
                 let value = value.bind(py);
                 value.is_instance_of::<PyBool>() && !value.is_truthy().unwrap_or(true)
@@ -187,11 +201,38 @@ fn after_batch(
             Ok(false) => {}
             Ok(true) => stop.store(true, Ordering::SeqCst),
             Err(raised) => {
-                error.get_or_insert(raised);
+                error
+                    .lock()
+                    .unwrap_or_else(|poisoned| poisoned.into_inner())
+                    .get_or_insert(raised);
                 stop.store(true, Ordering::SeqCst);
             }
         }
     });
+}
+
+/// The estimate a render has so far, handed to a progress callback of three parameters:
+/// calling it gives a dict of `mean` (bytearray of height x width x 4 float32), `width`
+/// and `height`.
+#[pyclass(module = "vkpath", frozen)]
+pub struct ImageSoFar {
+    /// The accumulation state read back after the batch.
+    state: Accumulation,
+}
+
+#[pymethods]
+impl ImageSoFar {
+    fn __call__<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
+        let image = self.state.image();
+        let dict = PyDict::new(py);
+        dict.set_item(
+            "mean",
+            PyByteArray::new(py, bytemuck::cast_slice(&image.mean)),
+        )?;
+        dict.set_item("width", image.width)?;
+        dict.set_item("height", image.height)?;
+        Ok(dict)
+    }
 }
 
 /// Renders `scene` and returns a dict: `mean` (bytearray of height x width x 4 float32,
@@ -205,7 +246,7 @@ fn after_batch(
     environment_strength=1.0, environment_rotation=0.0, background=None, time_limit=None,
     progress=None, device=None, validate=false, region=None, guiding=false,
     guide_training_spp=None, time=None, sample_range=None, noise_threshold=None,
-    noise_min_spp=None, aovs=None, denoise=false))]
+    noise_min_spp=None, aovs=None, denoise=false, progress_image=false))]
 #[allow(clippy::too_many_arguments)]
 pub fn render<'py>(
     py: Python<'py>,
@@ -240,6 +281,7 @@ pub fn render<'py>(
     noise_min_spp: Option<u32>,
     aovs: Option<Vec<String>>,
     denoise: bool,
+    progress_image: bool,
 ) -> PyResult<Bound<'py, PyDict>> {
     let (settings, mut warnings) = Choices {
         width,
@@ -302,7 +344,7 @@ pub fn render<'py>(
     let first_sample = sample_range.map_or(0, |(start, _)| start);
     warnings.extend(lighting_warnings(&world, settings.integrator));
     let stop = AtomicBool::new(false);
-    let mut raised: Option<PyErr> = None;
+    let raised: Mutex<Option<PyErr>> = Mutex::new(None);
     let total = settings.spp;
     let progress = progress.as_ref();
     let result = py.detach(|| {
@@ -317,15 +359,51 @@ pub fn render<'py>(
         // (the Renderer itself, so that Python needs none of the command line's job options).
         let mut renderer = Renderer::new(&context, &world, &camera, settings.clone())?;
         renderer.start_at_sample(first_sample)?;
+        // `progress_image`: the callback is called from the periodic hook, after every
+        // batch but the last (which the state read back after each batch gives it), and
+        // once more below with the final state.
+        let (last_done, reported) = (Cell::new(0), Cell::new(0));
+        let mut with_image = |state: &Accumulation| {
+            reported.set(last_done.get());
+            after_batch(
+                &stop,
+                &raised,
+                progress,
+                last_done.get(),
+                total,
+                Some(state),
+            );
+            Ok::<(), vkpath::Error>(())
+        };
         let control = RenderControl {
             cancel: Some(&stop),
             deadline: time_limit.map(|limit| Instant::now() + limit),
+            preview: progress_image.then_some((
+                Duration::ZERO,
+                &mut with_image as &mut dyn FnMut(&Accumulation) -> vkpath::Result<()>,
+            )),
             ..RenderControl::default()
         };
         let outcome = renderer.render_with(
-            |done| after_batch(&stop, &mut raised, progress, done, total),
+            |done| {
+                last_done.set(done);
+                if !progress_image {
+                    after_batch(&stop, &raised, progress, done, total, None);
+                }
+            },
             control,
         )?;
+        let already_raised = raised.lock().map_or(true, |raised| raised.is_some());
+        if progress_image && outcome.samples > reported.get() && !already_raised {
+            after_batch(
+                &stop,
+                &raised,
+                progress,
+                outcome.samples,
+                total,
+                Some(&outcome.state),
+            );
+        }
         // As `--aov` and `--denoise` (which renders the albedo and normal it needs): only
         // after a whole render; one stopped early is returned as it is.
         let mut post = PostProcessed::default();
@@ -352,7 +430,10 @@ pub fn render<'py>(
     });
     // An exception from the callback or Ctrl-C wins over everything else: the render has
     // stopped and freed its device by now.
-    if let Some(error) = raised.take() {
+    if let Some(error) = raised
+        .into_inner()
+        .unwrap_or_else(|poisoned| poisoned.into_inner())
+    {
         return Err(error);
     }
     let (outcome, device_name, validation_messages, post) = result.map_err(to_py)?;

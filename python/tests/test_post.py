@@ -70,3 +70,31 @@ def test_read_exr_with_layers_returns_every_layer(cli, tmp_path):
     assert np.array_equal(bits(layers["sample_count"]),
                           bits(read_layer(output, ["sample_count.Y"])[..., 0]))
     assert (layers["sample_count"] == 2).all()
+
+
+def test_a_three_parameter_progress_callback_can_read_the_image_so_far():
+    seen = []
+
+    def progress(done, total, image_so_far):
+        seen.append((done, total, image_so_far()))
+
+    # One sample per batch (samples_per_frame=1), so that there are batches before the last.
+    result = vkpath.render_result(width=16, height=12, seed=1, spp=6, samples_per_frame=1,
+                                  progress=progress)
+    assert [done for done, _, _ in seen] == sorted({done for done, _, _ in seen})
+    assert seen[-1][0] == 6 and all(total == 6 for _, total, _ in seen)
+    assert all(image.shape == (12, 16, 4) for _, _, image in seen)
+    # The last estimate is the render's image; an earlier one, of fewer samples, is not.
+    assert np.array_equal(bits(seen[-1][2]), bits(result.image))
+    assert len(seen) >= 2 and not np.array_equal(seen[0][2], result.image)
+    # Each estimate is the render of that many samples.
+    first_done, _, first_image = seen[0]
+    alone = vkpath.render(width=16, height=12, seed=1, spp=first_done, samples_per_frame=1)
+    assert np.array_equal(bits(first_image), bits(alone))
+
+
+def test_returning_false_from_a_three_parameter_callback_stops():
+    calls = []
+    result = vkpath.render_result(width=8, height=8, seed=1, spp=64, samples_per_frame=1,
+                                  progress=lambda done, total, image: calls.append(done) or False)
+    assert result.stop == "stopped" and calls == [result.spp]

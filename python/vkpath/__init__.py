@@ -15,6 +15,7 @@ command line prints.
 
 from __future__ import annotations
 
+import inspect
 import json
 import math
 import os
@@ -54,8 +55,11 @@ __version__: str = _vkpath.__version__
 
 PathLike = Union[str, "os.PathLike[str]"]
 #: ``progress(spp_done, spp_total)``, called after each batch of samples (about every 250 ms);
-#: returning ``False`` stops the render, raising stops it and propagates.
-ProgressCallback = Callable[[int, int], Optional[bool]]
+#: returning ``False`` stops the render, raising stops it and propagates. A callback of three
+#: parameters, ``progress(spp_done, spp_total, image_so_far)``, may call ``image_so_far()``
+#: for the current estimate, (H, W, 4) (the render then reads its state back after every
+#: batch).
+ProgressCallback = Callable[..., Optional[bool]]
 
 
 @dataclass(frozen=True)
@@ -151,6 +155,31 @@ def _aov_names(aovs: Union[str, Sequence[str]]) -> list:
     return names
 
 
+def _progress_of(progress: Optional[Callable[..., Optional[bool]]]) -> Tuple[Any, bool]:
+    """The callback the extension calls, and whether it hands it the image so far: a
+    ``progress`` of three (or more) positional parameters gets, as its third argument, a
+    function of none that returns the current estimate (H, W, 4)."""
+    if progress is None:
+        return None, False
+    try:
+        parameters = inspect.signature(progress).parameters.values()
+    except (TypeError, ValueError):
+        return progress, False
+    positional = [p for p in parameters
+                  if p.kind in (p.POSITIONAL_ONLY, p.POSITIONAL_OR_KEYWORD)]
+    if len(positional) < 3:
+        return progress, False
+
+    def call(done: int, total: int, so_far: Any) -> Optional[bool]:
+        def image_so_far() -> np.ndarray:
+            raw = so_far()
+            return _array(raw["mean"], raw["height"], raw["width"], 4)
+
+        return progress(done, total, image_so_far)
+
+    return call, True
+
+
 def _sample_range_of(sample_range: Sequence[int]) -> Tuple[int, int]:
     """``sample_range`` as the two ints (start, end) the extension takes."""
     values = tuple(int(v) for v in sample_range)
@@ -214,6 +243,7 @@ def render_result(
     """:func:`render`, returning the image with its moments, the samples taken and why the
     render stopped."""
     world = _scene_of(scene)
+    callback, with_image = _progress_of(progress)
     raw = _vkpath.render(
         world,
         width=_whole("width", width),
@@ -234,7 +264,8 @@ def render_result(
         environment_rotation=float(environment_rotation),
         background=_rgb("background", background),
         time_limit=None if time_limit is None else float(time_limit),
-        progress=progress,
+        progress=callback,
+        progress_image=with_image,
         device=_device_of(device),
         validate=validate,
         region=None if region is None else _region_of(region),
@@ -317,7 +348,10 @@ def render(
 
     The GIL is released while rendering. ``progress(spp_done, spp_total)`` is called after
     each batch (about every 250 ms); returning ``False`` stops the render and returns the
-    samples taken so far, raising stops it and re-raises. Ctrl-C stops it after the current
+    samples taken so far, raising stops it and re-raises. A callback with a third
+    parameter, ``progress(spp_done, spp_total, image_so_far)``, may call
+    ``image_so_far()`` for the estimate of those samples, (H, W, 4) (the state is then
+    read back from the device after every batch, which costs time on large images). Ctrl-C stops it after the current
     batch and raises KeyboardInterrupt. ``time_limit`` (seconds) stops it and returns what it
     has. ``device`` is an index, a UUID (``GPU-...``, or a unique prefix) or part of a name, as
     ``vkpath devices`` lists them; without it, ``VKPATH_DEVICE`` and then

@@ -140,6 +140,7 @@ def render(
     noise_min_spp: Optional[int] = None,
     aovs: Optional[List[str]] = None,
     denoise: bool = False,
+    progress_image: bool = False,
 ) -> Dict[str, Any]: ...
 def save(
     pixels: Dict[str, Any],
