@@ -22,3 +22,13 @@ pub fn to_py(error: impl Into<anyhow::Error>) -> PyErr {
 pub fn message(text: impl Into<String>) -> PyErr {
     VkpathError::new_err(text.into())
 }
+
+// `vkpath.ArgumentError`, a `VkpathError` and a `ValueError`: defined in Python
+// (`vkpath/__init__.py`), which can give a class two bases, and looked up when raised.
+pyo3::import_exception!(vkpath, ArgumentError);
+
+/// A `vkpath.ArgumentError` (a `ValueError` and a `VkpathError`) with this message: an
+/// argument of the wrong shape, type or value, named in the message.
+pub fn argument_error(text: impl Into<String>) -> PyErr {
+    ArgumentError::new_err(text.into())
+}

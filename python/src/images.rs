@@ -11,7 +11,9 @@ use pyo3::pybacked::PyBackedBytes;
 use pyo3::types::{PyByteArray, PyDict};
 use vkpath::check::{check as check_file, load_user_functions, CheckOptions};
 use vkpath::compare::{DEFAULT_ALPHA, DEFAULT_BLOCK_SIZE};
-use vkpath::image_io::exr_input::{read_exr as read_exr_file, ExrImage};
+use vkpath::image_io::exr_input::{
+    read_exr as read_exr_file, read_exr_channels as read_channels, ExrImage,
+};
 use vkpath::image_io::tonemap::RENDER_PNG_TONE_MAP;
 use vkpath::{compare_images, CompareOptions, Context, ContextOptions, Exposure, RenderedImage};
 
@@ -166,10 +168,33 @@ pub fn read_exr(py: Python<'_>, path: PathBuf) -> PyResult<Bound<'_, PyDict>> {
     dict_of(py, &image)
 }
 
+/// Every channel of an EXR's first layer: a dict of `width`, `height` and `channels`, a list
+/// of (name, bytearray of float32) in the file's order.
+#[pyfunction]
+pub fn read_exr_channels(py: Python<'_>, path: PathBuf) -> PyResult<Bound<'_, PyDict>> {
+    let file = py.detach(|| read_channels(&path)).map_err(to_py)?;
+    let dict = PyDict::new(py);
+    dict.set_item("width", file.width)?;
+    dict.set_item("height", file.height)?;
+    let channels = file
+        .channels
+        .iter()
+        .map(|(name, values)| {
+            (
+                name.clone(),
+                PyByteArray::new(py, bytemuck::cast_slice(values)),
+            )
+        })
+        .collect::<Vec<_>>();
+    dict.set_item("channels", channels)?;
+    Ok(dict)
+}
+
 /// Tests whether image `a` is an unbiased estimate of `b` (`vkpath compare`); each is a
 /// path to an EXR or a dict of pixels. Returns the report as JSON.
 #[pyfunction]
-#[pyo3(signature = (a, b, *, alpha=DEFAULT_ALPHA, block_size=DEFAULT_BLOCK_SIZE))]
+#[pyo3(signature = (a, b, *, alpha=DEFAULT_ALPHA, block_size=DEFAULT_BLOCK_SIZE),
+    text_signature = "(a, b, *, alpha=0.01, block_size=8)")]
 pub fn compare(
     py: Python<'_>,
     a: &Bound<'_, PyAny>,

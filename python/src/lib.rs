@@ -6,6 +6,7 @@
 
 use pyo3::prelude::*;
 
+mod arrays;
 mod errors;
 mod images;
 mod names;
@@ -18,7 +19,7 @@ mod _vkpath {
     #[pymodule_export]
     use crate::errors::VkpathError;
     #[pymodule_export]
-    use crate::images::{check, compare, read_exr, save};
+    use crate::images::{check, compare, read_exr, read_exr_channels, save};
     #[pymodule_export]
     use crate::render::{default_settings, render};
     #[pymodule_export]
@@ -27,6 +28,8 @@ mod _vkpath {
     #[pymodule_init]
     fn init(m: &pyo3::Bound<'_, pyo3::types::PyModule>) -> pyo3::PyResult<()> {
         use pyo3::types::PyModuleMethods as _;
+        m.add("MATERIAL_KEYS", crate::arrays::MATERIAL_KEYS.to_vec())?;
+        m.add("LIGHT_KEYS", crate::arrays::LIGHT_KEYS.to_vec())?;
         m.add("__version__", env!("CARGO_PKG_VERSION"))
     }
 }

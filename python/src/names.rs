@@ -5,13 +5,13 @@
 use clap::ValueEnum;
 use pyo3::PyResult;
 
-use crate::errors::message;
+use crate::errors::argument_error;
 
 /// The value called `name` (as `--option name` would be), or an error naming `option` and
 /// the possible values.
 pub fn parse<T: ValueEnum>(option: &str, name: &str) -> PyResult<T> {
     T::from_str(name, false).map_err(|_| {
-        message(format!(
+        argument_error(format!(
             "{option}='{name}' is not one of {}",
             possible_values::<T>().join(", ")
         ))

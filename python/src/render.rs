@@ -5,14 +5,19 @@
 //! The GIL is released while rendering; a progress callback and Ctrl-C stop it after the
 //! current batch (about 250 ms).
 
+use std::cell::Cell;
 use std::path::PathBuf;
 use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::Mutex;
 use std::time::{Duration, Instant};
 
 use glam::Vec3;
 use pyo3::prelude::*;
 use pyo3::types::{PyBool, PyByteArray, PyDict};
 use vkpath::lights::environment_source::{EnvironmentOptionNames, EnvironmentSource};
+use vkpath::render::accumulation::Accumulation;
+use vkpath::render::adaptive::{NoiseThreshold, DEFAULT_MIN_SPP};
+use vkpath::render::aov::{render_aov, Aov};
 use vkpath::render::job::production_settings;
 use vkpath::render::region::PixelRegion;
 use vkpath::render::settings::default_russian_roulette_start;
@@ -20,9 +25,18 @@ use vkpath::render::StopReason;
 use vkpath::render::{RenderControl, Renderer};
 use vkpath::{Context, ContextOptions, Integrator, RenderSettings};
 
-use crate::errors::{message, to_py};
-use crate::names::{name_of, parse_optional};
+use crate::errors::{argument_error, message, to_py};
+use crate::names::{name_of, parse, parse_optional};
 use crate::scene::Scene;
+
+/// The outputs rendered beside the colour (`aovs=`, and those `denoise=` needs).
+#[derive(Default)]
+struct PostProcessed {
+    /// Each AOV with its pixels (RGB; depth in R, G and B).
+    aovs: Vec<(Aov, Vec<[f32; 3]>)>,
+    /// Whether the image is to be denoised (a whole render asked `denoise=True`).
+    denoise_requested: bool,
+}
 
 /// What a render may be told; `None` takes the default.
 #[derive(Default)]
@@ -43,6 +57,9 @@ struct Choices<'a> {
     region: Option<(u32, u32, u32, u32)>,
     guiding: bool,
     guide_training_spp: Option<u32>,
+    sample_range: Option<(u32, u32)>,
+    noise_threshold: Option<f32>,
+    noise_min_spp: Option<u32>,
 }
 
 impl Choices<'_> {
@@ -50,10 +67,32 @@ impl Choices<'_> {
     /// starts from), and the warnings about choices that have no effect.
     fn settings(&self) -> PyResult<(RenderSettings, Vec<String>)> {
         let default = production_settings();
+        let mut warnings = Vec::new();
+        // As `--sample-range`: the range decides the samples, and spp= has no effect.
+        let spp = match self.sample_range {
+            Some((start, end)) if start >= end => {
+                return Err(argument_error(format!(
+                    "sample_range=({start}, {end}) is not (start, end) with start < end"
+                )))
+            }
+            Some((start, end)) => {
+                if self.spp.is_some() {
+                    warnings.push(
+                        "spp= has no effect with sample_range=: the range decides the samples"
+                            .to_owned(),
+                    );
+                }
+                if self.guiding && self.guide_training_spp.is_none() {
+                    return Err(argument_error("guiding=True with sample_range= needs guide_training_spp=: every shard must train the same guide as the whole render (its default depends on spp, which differs per shard)"));
+                }
+                end - start
+            }
+            None => self.spp.unwrap_or(default.spp),
+        };
         let settings = RenderSettings {
             width: self.width.unwrap_or(default.width),
             height: self.height.unwrap_or(default.height),
-            spp: self.spp.unwrap_or(default.spp),
+            spp,
             seed: self.seed.unwrap_or(default.seed),
             integrator: parse_optional("integrator", self.integrator)?
                 .unwrap_or(default.integrator),
@@ -75,6 +114,26 @@ impl Choices<'_> {
                 .map(|(x0, y0, x1, y1)| PixelRegion { x0, y0, x1, y1 }),
             ..default
         };
+        // As `--noise-threshold T --noise-min-spp N`.
+        let noise_threshold = match (self.noise_threshold, self.noise_min_spp) {
+            (Some(threshold), min_spp) => Some(NoiseThreshold {
+                threshold,
+                min_spp: min_spp.unwrap_or(DEFAULT_MIN_SPP),
+            }),
+            (None, Some(_)) => {
+                return Err(argument_error(
+                    "noise_min_spp= has no effect without noise_threshold=",
+                ))
+            }
+            (None, None) => None,
+        };
+        if noise_threshold.is_some() && self.sample_range.is_some() {
+            return Err(argument_error("noise_threshold= decides per pixel how many of all the samples it takes: it cannot be split with sample_range="));
+        }
+        let settings = RenderSettings {
+            noise_threshold,
+            ..settings
+        };
         // As `vkpath render --guiding`: the training budget's default (about a million paths, at
         // most a quarter of spp).
         let settings = RenderSettings {
@@ -84,7 +143,6 @@ impl Choices<'_> {
             ..settings
         };
         settings.validate().map_err(to_py)?;
-        let mut warnings = Vec::new();
         // As `vkpath render` does: the workshop's integrators always use PCG2D, so a render
         // with one of them records (and reports) "pcg", and a sampler chosen for it is
         // ignored with a warning.
@@ -114,14 +172,25 @@ const PYTHON_NAMES: EnvironmentOptionNames = EnvironmentOptionNames {
 /// cancel flag, which ends the render after this batch.
 fn after_batch(
     stop: &AtomicBool,
-    error: &mut Option<PyErr>,
+    error: &Mutex<Option<PyErr>>,
     progress: Option<&Py<PyAny>>,
     done: u32,
     total: u32,
+    state: Option<&Accumulation>,
 ) {
     Python::attach(|py| {
+        let call = |callback: &Py<PyAny>| match state {
+            // A callback of three parameters gets the image so far as well.
+            Some(state) => {
+                let so_far = ImageSoFar {
+                    state: state.clone(),
+                };
+                callback.call1(py, (done, total, so_far))
+            }
+            None => callback.call1(py, (done, total)),
+        };
         let result = py.check_signals().and_then(|()| match progress {
-            Some(callback) => callback.call1(py, (done, total)).map(|value| {
+            Some(callback) => call(callback).map(|value| {
                 // Only False stops: a callback that returns nothing (None) goes on.
                 let value = value.bind(py);
                 value.is_instance_of::<PyBool>() && !value.is_truthy().unwrap_or(true)
@@ -132,11 +201,38 @@ fn after_batch(
             Ok(false) => {}
             Ok(true) => stop.store(true, Ordering::SeqCst),
             Err(raised) => {
-                error.get_or_insert(raised);
+                error
+                    .lock()
+                    .unwrap_or_else(|poisoned| poisoned.into_inner())
+                    .get_or_insert(raised);
                 stop.store(true, Ordering::SeqCst);
             }
         }
     });
+}
+
+/// The estimate a render has so far, handed to a progress callback of three parameters:
+/// calling it gives a dict of `mean` (bytearray of height x width x 4 float32), `width`
+/// and `height`.
+#[pyclass(module = "vkpath", frozen)]
+pub struct ImageSoFar {
+    /// The accumulation state read back after the batch.
+    state: Accumulation,
+}
+
+#[pymethods]
+impl ImageSoFar {
+    fn __call__<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
+        let image = self.state.image();
+        let dict = PyDict::new(py);
+        dict.set_item(
+            "mean",
+            PyByteArray::new(py, bytemuck::cast_slice(&image.mean)),
+        )?;
+        dict.set_item("width", image.width)?;
+        dict.set_item("height", image.height)?;
+        Ok(dict)
+    }
 }
 
 /// Renders `scene` and returns a dict: `mean` (bytearray of height x width x 4 float32,
@@ -149,7 +245,8 @@ fn after_batch(
     samples_per_frame=None, russian_roulette_start=None, environment_map=None,
     environment_strength=1.0, environment_rotation=0.0, background=None, time_limit=None,
     progress=None, device=None, validate=false, region=None, guiding=false,
-    guide_training_spp=None))]
+    guide_training_spp=None, time=None, sample_range=None, noise_threshold=None,
+    noise_min_spp=None, aovs=None, denoise=false, progress_image=false))]
 #[allow(clippy::too_many_arguments)]
 pub fn render<'py>(
     py: Python<'py>,
@@ -178,6 +275,13 @@ pub fn render<'py>(
     region: Option<(u32, u32, u32, u32)>,
     guiding: bool,
     guide_training_spp: Option<u32>,
+    time: Option<f64>,
+    sample_range: Option<(u32, u32)>,
+    noise_threshold: Option<f32>,
+    noise_min_spp: Option<u32>,
+    aovs: Option<Vec<String>>,
+    denoise: bool,
+    progress_image: bool,
 ) -> PyResult<Bound<'py, PyDict>> {
     let (settings, mut warnings) = Choices {
         width,
@@ -196,8 +300,24 @@ pub fn render<'py>(
         region,
         guiding,
         guide_training_spp,
+        sample_range,
+        noise_threshold,
+        noise_min_spp,
     }
     .settings()?;
+    let aovs = aovs
+        .unwrap_or_default()
+        .iter()
+        .map(|name| parse::<Aov>("aovs", name))
+        .collect::<PyResult<Vec<_>>>()?;
+    if (denoise || !aovs.is_empty()) && sample_range.is_some() {
+        return Err(argument_error(
+            "aovs= and denoise= work on whole renders, not with sample_range=",
+        ));
+    }
+    if denoise {
+        vkpath::denoise::available().map_err(to_py)?;
+    }
     let time_limit = time_limit
         .map(|seconds| {
             if seconds > 0.0 && seconds < 1e9 {
@@ -217,15 +337,14 @@ pub fn render<'py>(
         &PYTHON_NAMES,
     )
     .map_err(message)?;
-    let world = scene
-        .inner
-        .clone()
+    let (world, camera) = scene.at_time(time, settings.aspect())?;
+    let world = world
         .with_environment(environment.as_ref())
         .map_err(|e| message(e.to_string()))?;
-    let camera = scene.render_camera(settings.aspect())?;
+    let first_sample = sample_range.map_or(0, |(start, _)| start);
     warnings.extend(lighting_warnings(&world, settings.integrator));
     let stop = AtomicBool::new(false);
-    let mut raised: Option<PyErr> = None;
+    let raised: Mutex<Option<PyErr>> = Mutex::new(None);
     let total = settings.spp;
     let progress = progress.as_ref();
     let result = py.detach(|| {
@@ -239,27 +358,85 @@ pub fn render<'py>(
         // What `run_job` does for a whole render without checkpoints, previews or resuming
         // (the Renderer itself, so that Python needs none of the command line's job options).
         let mut renderer = Renderer::new(&context, &world, &camera, settings.clone())?;
+        renderer.start_at_sample(first_sample)?;
+        // `progress_image`: the callback is called from the periodic hook, after every
+        // batch but the last (which the state read back after each batch gives it), and
+        // once more below with the final state.
+        let (last_done, reported) = (Cell::new(0), Cell::new(0));
+        let mut with_image = |state: &Accumulation| {
+            reported.set(last_done.get());
+            after_batch(
+                &stop,
+                &raised,
+                progress,
+                last_done.get(),
+                total,
+                Some(state),
+            );
+            Ok::<(), vkpath::Error>(())
+        };
         let control = RenderControl {
             cancel: Some(&stop),
             deadline: time_limit.map(|limit| Instant::now() + limit),
+            preview: progress_image.then_some((
+                Duration::ZERO,
+                &mut with_image as &mut dyn FnMut(&Accumulation) -> vkpath::Result<()>,
+            )),
             ..RenderControl::default()
         };
         let outcome = renderer.render_with(
-            |done| after_batch(&stop, &mut raised, progress, done, total),
+            |done| {
+                last_done.set(done);
+                if !progress_image {
+                    after_batch(&stop, &raised, progress, done, total, None);
+                }
+            },
             control,
         )?;
+        let already_raised = raised.lock().map_or(true, |raised| raised.is_some());
+        if progress_image && outcome.samples > reported.get() && !already_raised {
+            after_batch(
+                &stop,
+                &raised,
+                progress,
+                outcome.samples,
+                total,
+                Some(&outcome.state),
+            );
+        }
+        // As `--aov` and `--denoise` (which renders the albedo and normal it needs): only
+        // after a whole render; one stopped early is returned as it is.
+        let mut post = PostProcessed::default();
+        if outcome.stop == StopReason::Done && outcome.failure.is_none() {
+            let mut wanted = aovs.clone();
+            if denoise {
+                wanted.extend(
+                    [Aov::Albedo, Aov::Normal]
+                        .iter()
+                        .filter(|a| !aovs.contains(a)),
+                );
+            }
+            for aov in wanted {
+                let pixels = render_aov(&context, &world, &camera, &settings, aov)?;
+                post.aovs.push((aov, pixels));
+            }
+            post.denoise_requested = denoise;
+        }
         let validation = context
             .validation_messages()
             .map(|m| m.total())
             .unwrap_or(0);
-        Ok::<_, vkpath::Error>((outcome, context.info.name.clone(), validation))
+        Ok::<_, vkpath::Error>((outcome, context.info.name.clone(), validation, post))
     });
     // An exception from the callback or Ctrl-C wins over everything else: the render has
     // stopped and freed its device by now.
-    if let Some(error) = raised.take() {
+    if let Some(error) = raised
+        .into_inner()
+        .unwrap_or_else(|poisoned| poisoned.into_inner())
+    {
         return Err(error);
     }
-    let (outcome, device_name, validation_messages) = result.map_err(to_py)?;
+    let (outcome, device_name, validation_messages, post) = result.map_err(to_py)?;
     if let Some(error) = &outcome.failure {
         return Err(message(format!(
             "rendering stopped after {} of {total} spp: {error:#}",
@@ -271,8 +448,40 @@ pub fn render<'py>(
             "the validation layer reported {validation_messages} messages (see the log)"
         )));
     }
-    let image = &outcome.image;
+    // A shard's image is its state's (what `--sample-range` writes, for `vkpath merge`):
+    // the mean of its sums, which may differ from the device's in the last bit.
+    let shard_image = sample_range.map(|_| outcome.state.image());
+    let mut image = shard_image.unwrap_or_else(|| outcome.image.clone());
     let dict = PyDict::new(py);
+    let layer = |aov: Aov| post.aovs.iter().find(|(a, _)| *a == aov).map(|(_, p)| p);
+    let layers = PyDict::new(py);
+    for aov in &aovs {
+        if let Some(pixels) = layer(*aov) {
+            layers.set_item(
+                aov.name(),
+                PyByteArray::new(py, bytemuck::cast_slice(pixels)),
+            )?;
+        }
+    }
+    if post.denoise_requested {
+        let noisy: Vec<[f32; 3]> = image.mean.iter().map(|p| [p[0], p[1], p[2]]).collect();
+        let denoised = vkpath::denoise::denoise(
+            &noisy,
+            layer(Aov::Albedo).map(Vec::as_slice),
+            layer(Aov::Normal).map(Vec::as_slice),
+            image.width,
+            image.height,
+        )
+        .map_err(to_py)?;
+        for (pixel, value) in image.mean.iter_mut().zip(&denoised) {
+            pixel[..3].copy_from_slice(value);
+        }
+        layers.set_item("noisy", PyByteArray::new(py, bytemuck::cast_slice(&noisy)))?;
+    } else if denoise {
+        warnings.push("the render stopped early: returned without aovs= and denoise=".to_owned());
+    }
+    dict.set_item("layers", layers)?;
+    let image = &image;
     dict.set_item(
         "mean",
         PyByteArray::new(py, bytemuck::cast_slice(&image.mean)),
@@ -289,6 +498,10 @@ pub fn render<'py>(
     dict.set_item("height", image.height)?;
     dict.set_item("spp", outcome.samples)?;
     dict.set_item("spp_requested", total)?;
+    dict.set_item(
+        "sample_range",
+        (first_sample, first_sample + outcome.samples),
+    )?;
     dict.set_item(
         "stop",
         match outcome.stop {

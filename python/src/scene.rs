@@ -6,10 +6,14 @@ use std::path::PathBuf;
 use glam::Vec3;
 use pyo3::prelude::*;
 use vkpath::camera::DEFAULT_VERTICAL_FOV_DEGREES;
+use vkpath::scene::arrays::ARRAYS_DESCRIPTION;
 use vkpath::scene::files::LoadOptions;
-use vkpath::scene::SceneSource;
+use vkpath::scene::{SceneArrays, SceneError, SceneSource};
 
-use crate::errors::{message, to_py};
+use crate::arrays::{
+    float_rows, index_triples, material_factors, punctual_light, vec2s, vec3s, whole_number_list,
+};
+use crate::errors::{argument_error, message, to_py};
 
 /// A pinhole camera: where it is and where it looks (world space).
 #[pyclass(module = "vkpath", frozen, from_py_object)]
@@ -25,7 +29,8 @@ impl Camera {
     /// (not parallel to the view direction) and `fov` the vertical field of view in degrees,
     /// in (0, 180): the command line's --camera-position, --look-at, --up and --fov.
     #[new]
-    #[pyo3(signature = (position, look_at, up = (0.0, 1.0, 0.0), fov = DEFAULT_VERTICAL_FOV_DEGREES))]
+    #[pyo3(signature = (position, look_at, up = (0.0, 1.0, 0.0), fov = DEFAULT_VERTICAL_FOV_DEGREES),
+        text_signature = "(position, look_at, up=(0.0, 1.0, 0.0), fov=45.0)")]
     fn new(
         position: (f32, f32, f32),
         look_at: (f32, f32, f32),
@@ -34,11 +39,22 @@ impl Camera {
     ) -> PyResult<Camera> {
         let [position, look_at, up] = [position, look_at, up].map(Vec3::from);
         if !(position.is_finite() && look_at.is_finite() && up.is_finite()) {
-            return Err(message(
+            return Err(argument_error(
                 "the camera's position, look_at and up must be finite",
             ));
         }
-        let inner = vkpath::Camera::look_at_checked(position, look_at, up, fov).map_err(to_py)?;
+        // Checked here to name Python's parameters (the library's message names the
+        // command line's --fov, --look-at and --up).
+        if !(fov > 0.0 && fov < 180.0) {
+            return Err(argument_error(format!(
+                "fov={fov} is outside (0, 180) degrees"
+            )));
+        }
+        let inner = vkpath::Camera::look_at_checked(position, look_at, up, fov).map_err(|_| {
+            argument_error(
+                "position, look_at and up do not define a view (the view direction is zero or parallel to up)",
+            )
+        })?;
         Ok(Camera { inner })
     }
 
@@ -93,6 +109,12 @@ pub struct Scene {
     pub camera: Option<vkpath::Camera>,
     /// What reports call the scene (its path, "workshop Cornell box", ...).
     pub description: String,
+    /// Where it came from and whether it may read outside its folder, to load it again at
+    /// another time (`render(time=)`); `None` for a scene from arrays.
+    pub source: Option<(SceneSource, bool)>,
+    /// The file's camera chosen by `use_camera`, by index: at another time its animated
+    /// place.
+    pub camera_index: Option<usize>,
 }
 
 impl Scene {
@@ -108,7 +130,51 @@ impl Scene {
             inner,
             camera: None,
             description: source.description(),
+            source: Some((source, allow_external_paths)),
+            camera_index: None,
         })
+    }
+
+    /// The scene at `time` seconds (a glTF file's animations then, as `--time` loads it)
+    /// with the camera renders use then: the file's camera of `use_camera`'s index at that
+    /// time, else `render_camera`'s choice. Without a time, or for a scene that has no file,
+    /// the scene as it is.
+    pub fn at_time(
+        &self,
+        time: Option<f64>,
+        aspect: f32,
+    ) -> PyResult<(vkpath::Scene, vkpath::Camera)> {
+        let reloaded = match (time, &self.source) {
+            (Some(time), _) if !(time.is_finite() && time >= 0.0) => {
+                return Err(argument_error(format!(
+                    "time={time} is not a time in seconds at or after 0"
+                )))
+            }
+            (Some(time), Some((source @ SceneSource::File(_), allow_external_paths))) => {
+                let options = LoadOptions {
+                    allow_external_paths: *allow_external_paths,
+                    time: time as f32,
+                    ..LoadOptions::default()
+                };
+                Some(source.load_with(&options).map_err(to_py)?)
+            }
+            _ => None,
+        };
+        let Some(scene) = reloaded else {
+            return Ok((self.inner.clone(), self.render_camera(aspect)?));
+        };
+        let camera = match self.camera_index {
+            Some(index) => scene.cameras.get(index).copied(),
+            None => self.camera.or(scene.camera),
+        };
+        let camera = match camera {
+            Some(camera) => camera,
+            None => scene
+                .framing_camera(aspect)
+                .map(|(camera, _, _)| camera)
+                .ok_or_else(|| message("the scene has no camera and nothing to frame"))?,
+        };
+        Ok((scene, camera))
     }
 
     /// The camera a render of `aspect` (width / height) uses: the chosen one, else the
@@ -133,6 +199,77 @@ impl Scene {
     #[pyo3(signature = (path, allow_external_paths = false))]
     fn load(path: PathBuf, allow_external_paths: bool) -> PyResult<Scene> {
         Scene::from_source(SceneSource::File(path), allow_external_paths)
+    }
+
+    /// A scene from arrays, as `mi.load_dict` users build one: `positions` (N, 3) and
+    /// `indices` (M, 3) or flat, numpy arrays or anything `numpy.asarray` takes;
+    /// `materials` a list of dicts of glTF's factors by snake-case names (see
+    /// `vkpath.MATERIAL_KEYS`; glTF's defaults for what a dict leaves out, glTF's default
+    /// material when the list is empty); `material_indices` (M,) the material of each
+    /// triangle (without it every triangle takes material 0); `normals` (N, 3) and `uvs`
+    /// (N, 2) per vertex; `camera` a `Camera` (without one a render frames the scene);
+    /// `lights` a list of dicts of KHR_lights_punctual's values (`vkpath.LIGHT_KEYS`).
+    /// The same data written as a glTF file (one mesh, a primitive per material in order,
+    /// on one node without a transform) renders bit for bit the same.
+    #[staticmethod]
+    #[pyo3(signature = (positions, indices, materials = None, material_indices = None,
+        normals = None, uvs = None, camera = None, lights = None))]
+    #[allow(clippy::too_many_arguments)]
+    fn from_arrays(
+        positions: &Bound<'_, PyAny>,
+        indices: &Bound<'_, PyAny>,
+        materials: Option<Vec<Bound<'_, PyAny>>>,
+        material_indices: Option<&Bound<'_, PyAny>>,
+        normals: Option<&Bound<'_, PyAny>>,
+        uvs: Option<&Bound<'_, PyAny>>,
+        camera: Option<Camera>,
+        lights: Option<Vec<Bound<'_, PyAny>>>,
+    ) -> PyResult<Scene> {
+        let positions = vec3s(&float_rows(positions, "positions", 3)?);
+        let triangles = index_triples(indices, "indices")?;
+        let materials = materials
+            .unwrap_or_default()
+            .iter()
+            .enumerate()
+            .map(|(i, m)| material_factors(m, i))
+            .collect::<PyResult<Vec<_>>>()?;
+        let material_indices = material_indices
+            .map(|m| whole_number_list(m, "material_indices"))
+            .transpose()?;
+        let normals = normals
+            .map(|n| float_rows(n, "normals", 3).map(|f| vec3s(&f)))
+            .transpose()?;
+        let tex_coords = uvs
+            .map(|uv| float_rows(uv, "uvs", 2).map(|f| vec2s(&f)))
+            .transpose()?;
+        let punctual_lights = lights
+            .unwrap_or_default()
+            .iter()
+            .enumerate()
+            .map(|(i, l)| punctual_light(l, i))
+            .collect::<PyResult<Vec<_>>>()?;
+        let inner = vkpath::Scene::from_arrays(&SceneArrays {
+            positions: &positions,
+            triangles: &triangles,
+            materials: &materials,
+            material_indices: material_indices.as_deref(),
+            normals: normals.as_deref(),
+            tex_coords: tex_coords.as_deref(),
+            punctual_lights,
+            camera: camera.map(|c| c.inner),
+        })
+        .map_err(|error| match error {
+            // The arrays' own mistakes are the caller's arguments.
+            SceneError::Arrays(reason) => argument_error(reason),
+            other => to_py(other),
+        })?;
+        Ok(Scene {
+            inner,
+            camera: None,
+            description: ARRAYS_DESCRIPTION.to_owned(),
+            source: None,
+            camera_index: None,
+        })
     }
 
     /// The workshop's Cornell box (the command line's scene when none is given).
@@ -160,6 +297,7 @@ impl Scene {
     /// Sets the camera renders use; `None` goes back to the scene's own.
     #[setter]
     fn set_camera(&mut self, camera: Option<Camera>) {
+        self.camera_index = None;
         self.camera = camera.map(|c| c.inner);
     }
 
@@ -183,11 +321,13 @@ impl Scene {
             ))
         })?;
         self.camera = Some(camera);
+        self.camera_index = Some(index);
         Ok(())
     }
 
     /// Renders from `position` looking at `look_at` (see `Camera`).
-    #[pyo3(signature = (position, look_at, up = (0.0, 1.0, 0.0), fov = DEFAULT_VERTICAL_FOV_DEGREES))]
+    #[pyo3(signature = (position, look_at, up = (0.0, 1.0, 0.0), fov = DEFAULT_VERTICAL_FOV_DEGREES),
+        text_signature = "($self, position, look_at, up=(0.0, 1.0, 0.0), fov=45.0)")]
     fn look_at(
         &mut self,
         position: (f32, f32, f32),
@@ -196,6 +336,7 @@ impl Scene {
         fov: f32,
     ) -> PyResult<()> {
         self.camera = Some(Camera::new(position, look_at, up, fov)?.inner);
+        self.camera_index = None;
         Ok(())
     }
 

@@ -15,19 +15,30 @@ command line prints.
 
 from __future__ import annotations
 
+import inspect
 import json
+import math
 import os
 import warnings
-from dataclasses import dataclass
-from typing import Any, Callable, Dict, Optional, Sequence, Tuple, Union
+from dataclasses import dataclass, field
+from typing import Any, Callable, Dict, Iterable, Iterator, Optional, Sequence, Tuple, Union
 
 import numpy as np
 
 from . import _vkpath
-from ._vkpath import Camera, Scene, VkpathError
+from ._vkpath import LIGHT_KEYS, MATERIAL_KEYS, Camera, Scene, VkpathError
+
+
+class ArgumentError(VkpathError, ValueError):
+    """An argument of the wrong shape, type or value (a ``ValueError``, and a
+    :class:`VkpathError` like every vkpath error); the message names the parameter."""
+
 
 __all__ = [
+    "ArgumentError",
     "Camera",
+    "LIGHT_KEYS",
+    "MATERIAL_KEYS",
     "RenderResult",
     "Scene",
     "VkpathError",
@@ -36,6 +47,7 @@ __all__ = [
     "default_settings",
     "read_exr",
     "render",
+    "render_frames",
     "render_result",
     "save",
 ]
@@ -43,8 +55,11 @@ __version__: str = _vkpath.__version__
 
 PathLike = Union[str, "os.PathLike[str]"]
 #: ``progress(spp_done, spp_total)``, called after each batch of samples (about every 250 ms);
-#: returning ``False`` stops the render, raising stops it and propagates.
-ProgressCallback = Callable[[int, int], Optional[bool]]
+#: returning ``False`` stops the render, raising stops it and propagates. A callback of three
+#: parameters, ``progress(spp_done, spp_total, image_so_far)``, may call ``image_so_far()``
+#: for the current estimate, (H, W, 4) (the render then reads its state back after every
+#: batch).
+ProgressCallback = Callable[..., Optional[bool]]
 
 
 @dataclass(frozen=True)
@@ -61,6 +76,9 @@ class RenderResult:
     spp: int
     #: Samples per pixel asked for.
     spp_requested: int
+    #: The samples of every pixel's sequence taken, (start, end): (0, spp) for a whole
+    #: render, a shard's range with ``sample_range=`` (what ``vkpath merge`` adds up).
+    sample_range: Tuple[int, int]
     #: Why the render ended: "done", "time-limit" or "stopped" (the progress callback).
     stop: str
     #: Seconds the frames took (the kernel build and read-back excluded).
@@ -69,6 +87,10 @@ class RenderResult:
     device: str
     #: The settings it was rendered with, by the command line's names.
     settings: Dict[str, Any]
+    #: What ``aovs=`` asked for, by name ("albedo", "normal", "material": (H, W, 3);
+    #: "depth": (H, W)), and with ``denoise=True`` the image before denoising ("noisy",
+    #: (H, W, 3)): the EXR layers ``--aov`` and ``--denoise`` write.
+    layers: Dict[str, np.ndarray] = field(default_factory=dict)
 
 
 def default_settings() -> Dict[str, Any]:
@@ -83,6 +105,87 @@ def _region_of(region: Sequence[int]) -> Tuple[int, int, int, int]:
     if len(values) != 4 or min(values) < 0:
         raise VkpathError(
             f"region={tuple(region)!r} is not (x0, y0, x1, y1): four whole numbers >= 0"
+        )
+    return values  # type: ignore[return-value]
+
+
+def _whole(name: str, value: Any) -> Optional[int]:
+    """``value`` as an int >= 0 (or None), else an ArgumentError naming ``name=``."""
+    if value is None:
+        return None
+    if isinstance(value, bool) or not isinstance(value, (int, np.integer)) or value < 0:
+        raise ArgumentError(f"{name}={value!r} is not a whole number >= 0")
+    if value >= 2**32:
+        raise ArgumentError(f"{name}={value!r} is larger than vkpath takes (below 2^32)")
+    return int(value)
+
+
+def _rgb(name: str, value: Optional[Sequence[float]]) -> Optional[Tuple[float, float, float]]:
+    """``value`` as three floats (or None), else an ArgumentError naming ``name=``."""
+    if value is None:
+        return None
+    try:
+        rgb = tuple(float(c) for c in value)
+    except (TypeError, ValueError):
+        rgb = ()
+    if isinstance(value, str) or len(rgb) != 3:
+        raise ArgumentError(f"{name}={value!r} is not three numbers (R, G, B)")
+    return rgb  # type: ignore[return-value]
+
+
+def _device_of(device: Optional[Union[int, str]]) -> Optional[str]:
+    """``device`` as the extension takes it; several devices are the command line's."""
+    if device is None:
+        return None
+    text = str(_whole("device", device) if isinstance(device, (int, np.integer)) else device)
+    if text.strip() == "all" or "," in text:
+        raise ArgumentError(
+            f"device={device!r}: rendering on several devices is the command line's "
+            "(vkpath render --device all); from Python render one shard per device with "
+            "sample_range= and device=INDEX"
+        )
+    return text
+
+
+def _aov_names(aovs: Union[str, Sequence[str]]) -> list:
+    """``aovs`` as a list of names (one name alone is a list of one)."""
+    names = [aovs] if isinstance(aovs, str) else list(aovs)
+    if not all(isinstance(name, str) for name in names):
+        raise ArgumentError(f"aovs={aovs!r} is not a list of names (albedo, normal, depth, material)")
+    return names
+
+
+def _progress_of(progress: Optional[Callable[..., Optional[bool]]]) -> Tuple[Any, bool]:
+    """The callback the extension calls, and whether it hands it the image so far: a
+    ``progress`` of three (or more) positional parameters gets, as its third argument, a
+    function of none that returns the current estimate (H, W, 4)."""
+    if progress is None:
+        return None, False
+    try:
+        parameters = inspect.signature(progress).parameters.values()
+    except (TypeError, ValueError):
+        return progress, False
+    positional = [p for p in parameters
+                  if p.kind in (p.POSITIONAL_ONLY, p.POSITIONAL_OR_KEYWORD)]
+    if len(positional) < 3:
+        return progress, False
+
+    def call(done: int, total: int, so_far: Any) -> Optional[bool]:
+        def image_so_far() -> np.ndarray:
+            raw = so_far()
+            return _array(raw["mean"], raw["height"], raw["width"], 4)
+
+        return progress(done, total, image_so_far)
+
+    return call, True
+
+
+def _sample_range_of(sample_range: Sequence[int]) -> Tuple[int, int]:
+    """``sample_range`` as the two ints (start, end) the extension takes."""
+    values = tuple(int(v) for v in sample_range)
+    if len(values) != 2 or min(values) < 0:
+        raise ArgumentError(
+            f"sample_range={tuple(sample_range)!r} is not (start, end): two whole numbers >= 0"
         )
     return values  # type: ignore[return-value]
 
@@ -130,36 +233,50 @@ def render_result(
     region: Optional[Sequence[int]] = None,
     guiding: bool = False,
     guide_training_spp: Optional[int] = None,
+    time: Optional[float] = None,
+    sample_range: Optional[Tuple[int, int]] = None,
+    noise_threshold: Optional[float] = None,
+    noise_min_spp: Optional[int] = None,
+    aovs: Sequence[str] = (),
+    denoise: bool = False,
 ) -> RenderResult:
     """:func:`render`, returning the image with its moments, the samples taken and why the
     render stopped."""
     world = _scene_of(scene)
+    callback, with_image = _progress_of(progress)
     raw = _vkpath.render(
         world,
-        width=width,
-        height=height,
-        spp=spp,
-        seed=seed,
+        width=_whole("width", width),
+        height=_whole("height", height),
+        spp=_whole("spp", spp),
+        seed=_whole("seed", seed),
         integrator=integrator,
         sampler=sampler,
         light_sampling=light_sampling,
         light_selection=light_selection,
         pixel_filter=pixel_filter,
         accel=accel,
-        max_path_length=max_path_length,
-        samples_per_frame=samples_per_frame,
-        russian_roulette_start=russian_roulette_start,
+        max_path_length=_whole("max_path_length", max_path_length),
+        samples_per_frame=_whole("samples_per_frame", samples_per_frame),
+        russian_roulette_start=_whole("russian_roulette_start", russian_roulette_start),
         environment_map=None if environment is None else os.fspath(environment),
         environment_strength=float(environment_strength),
         environment_rotation=float(environment_rotation),
-        background=None if background is None else tuple(float(c) for c in background),
+        background=_rgb("background", background),
         time_limit=None if time_limit is None else float(time_limit),
-        progress=progress,
-        device=None if device is None else str(device),
+        progress=callback,
+        progress_image=with_image,
+        device=_device_of(device),
         validate=validate,
         region=None if region is None else _region_of(region),
         guiding=bool(guiding),
-        guide_training_spp=guide_training_spp,
+        guide_training_spp=_whole("guide_training_spp", guide_training_spp),
+        time=None if time is None else float(time),
+        sample_range=None if sample_range is None else _sample_range_of(sample_range),
+        noise_threshold=None if noise_threshold is None else float(noise_threshold),
+        noise_min_spp=_whole("noise_min_spp", noise_min_spp),
+        aovs=_aov_names(aovs),
+        denoise=bool(denoise),
     )
     for warning in raw["warnings"]:
         warnings.warn(warning, stacklevel=2)
@@ -170,10 +287,15 @@ def render_result(
         sample_count=_array(raw["sample_count"], h, w, 1),
         spp=raw["spp"],
         spp_requested=raw["spp_requested"],
+        sample_range=tuple(raw["sample_range"]),
         stop=raw["stop"],
         seconds=raw["seconds"],
         device=raw["device"],
         settings=dict(raw["settings"]),
+        layers={
+            name: _array(pixels, h, w, 3)[..., 0] if name == "depth" else _array(pixels, h, w, 3)
+            for name, pixels in raw["layers"].items()
+        },
     )
 
 
@@ -204,6 +326,12 @@ def render(
     region: Optional[Sequence[int]] = None,
     guiding: bool = False,
     guide_training_spp: Optional[int] = None,
+    time: Optional[float] = None,
+    sample_range: Optional[Tuple[int, int]] = None,
+    noise_threshold: Optional[float] = None,
+    noise_min_spp: Optional[int] = None,
+    aovs: Sequence[str] = (),
+    denoise: bool = False,
 ) -> np.ndarray:
     """Renders a scene and returns its linear RGBA image, float32, shape (height, width, 4),
     rows top-down: what ``vkpath render ... -o out.exr`` writes, bit for bit.
@@ -220,7 +348,10 @@ def render(
 
     The GIL is released while rendering. ``progress(spp_done, spp_total)`` is called after
     each batch (about every 250 ms); returning ``False`` stops the render and returns the
-    samples taken so far, raising stops it and re-raises. Ctrl-C stops it after the current
+    samples taken so far, raising stops it and re-raises. A callback with a third
+    parameter, ``progress(spp_done, spp_total, image_so_far)``, may call
+    ``image_so_far()`` for the estimate of those samples, (H, W, 4) (the state is then
+    read back from the device after every batch, which costs time on large images). Ctrl-C stops it after the current
     batch and raises KeyboardInterrupt. ``time_limit`` (seconds) stops it and returns what it
     has. ``device`` is an index, a UUID (``GPU-...``, or a unique prefix) or part of a name, as
     ``vkpath devices`` lists them; without it, ``VKPATH_DEVICE`` and then
@@ -229,6 +360,20 @@ def render(
     ``region=(x0, y0, x1, y1)`` renders only columns x0..x1 and rows y0..y1 of the image
     (x1 and y1 excluded, from the top-left), as ``--region`` does: the array is
     (y1 - y0, x1 - x0, 4), each pixel bit for bit the full render's.
+
+    ``time`` (seconds, default 0) is ``--time``: a glTF file's animations evaluated then
+    (the scene file is loaded again at that time; other scenes do not move).
+    ``sample_range=(start, end)`` is ``--sample-range``: only samples start..end of every
+    pixel's sequence (``spp`` then has no effect), so that a scheduler can shard one
+    render's samples over processes or machines; each shard is bit for bit the command
+    line's, and :func:`render_result` gives what averaging them needs (``sample_count``).
+
+    ``noise_threshold=T`` is ``--noise-threshold T`` (adaptive sampling: a pixel stops once
+    its relative standard error is at most T, judged every ``noise_min_spp`` samples,
+    default 16; ``spp`` is the cap). ``aovs=["albedo", "normal", "depth", "material"]`` is
+    ``--aov`` (the arrays come in :func:`render_result`'s ``layers``), ``denoise=True`` is
+    ``--denoise`` (Open Image Denoise with the albedo and normal; the image before is
+    ``layers["noisy"]``); both only after a whole render.
 
     ``guiding=True`` (nee and mis) is ``--guiding``: path guiding, a guide trained on
     ``guide_training_spp`` samples per pixel (default: about a million paths in all, at least
@@ -261,7 +406,38 @@ def render(
         region=region,
         guiding=guiding,
         guide_training_spp=guide_training_spp,
+        time=time,
+        sample_range=sample_range,
+        noise_threshold=noise_threshold,
+        noise_min_spp=noise_min_spp,
+        aovs=aovs,
+        denoise=denoise,
     ).image
+
+
+def render_frames(
+    scene: Union[None, PathLike, Scene] = None,
+    *,
+    frames: Iterable[int] = range(1),
+    fps: float = 24.0,
+    **settings: Any,
+) -> Iterator[Tuple[int, np.ndarray]]:
+    """Renders frames of an animation, one after the other, yielding ``(frame, image)``:
+    ``vkpath render --frames START..END --fps FPS``, frame f at time f / fps. ``settings``
+    are :func:`render`'s (``time`` aside). The scene file is read once per frame at its
+    time; the kernels are compiled once and taken from the pipeline cache after that (each
+    frame opens the device again: the command line keeps it open, Python does not yet)."""
+    if "time" in settings:
+        raise ArgumentError("render_frames takes frames= and fps=, not time=")
+    fps = float(fps)
+    if not (fps > 0.0 and math.isfinite(fps)):
+        raise ArgumentError(f"fps={fps} is not a frame rate above 0")
+    world = _scene_of(scene)
+    for frame in frames:
+        frame = int(frame)
+        if frame < 0:
+            raise ArgumentError(f"frames: frame {frame} is negative")
+        yield frame, render(world, time=frame / fps, **settings)
 
 
 ImageLike = Union[np.ndarray, RenderResult]
@@ -273,12 +449,25 @@ def _pixels(image: ImageLike) -> Dict[str, Any]:
     if isinstance(image, RenderResult):
         moments = (image.second_moment, image.sample_count)
         image = image.image
-    array = np.asarray(image, dtype=np.float32)
+    given = np.asarray(image)
+    if given.dtype.kind in "iub":
+        raise ArgumentError(
+            f"an image is linear radiance in floats, not {given.dtype} (an 8-bit image "
+            "divided by 255 is still sRGB-encoded: decode it first)"
+        )
+    array = np.asarray(given, dtype=np.float32)
     if array.ndim != 3 or array.shape[2] not in (3, 4):
         raise VkpathError(
             f"an image is an array of shape (height, width, 3 or 4), not {array.shape}"
         )
     height, width = array.shape[:2]
+    bad = ~np.isfinite(array[..., :3]).all(axis=-1)
+    if bad.any():
+        warnings.warn(
+            f"{int(bad.sum())} pixels hold NaN or infinity; they are written as 0 (black)",
+            stacklevel=3,
+        )
+        array = np.where(np.isfinite(array), array, np.float32(0.0))
     if array.shape[2] == 3:
         array = np.concatenate([array, np.ones((height, width, 1), np.float32)], axis=2)
     pixels: Dict[str, Any] = {
@@ -309,10 +498,41 @@ def save(
     _vkpath.save(_pixels(image), os.fspath(path), tonemap=tonemap, exposure=exposure, moments=moments)
 
 
-def read_exr(path: PathLike) -> np.ndarray:
-    """Reads an EXR's R, G, B channels as linear RGBA float32, (H, W, 4), alpha 1."""
-    raw = _vkpath.read_exr(os.fspath(path))
-    return _array(raw["mean"], raw["height"], raw["width"], 4)
+def read_exr(path: PathLike, layers: bool = False) -> Union[np.ndarray, Dict[str, np.ndarray]]:
+    """Reads an EXR's R, G, B channels as linear RGBA float32, (H, W, 4), alpha 1.
+
+    With ``layers=True``, returns every layer of the file as a dict of arrays: "image"
+    (R, G, B and A when present, (H, W, 4); alpha 1 when absent), and each other layer by
+    its name, its channels in R, G, B (A) or X, Y, Z order, (H, W, channels), a layer of
+    one channel (H, W): what ``--aov`` ("albedo", "normal", "depth", "material"),
+    ``--denoise`` ("noisy"), ``--moments`` ("second_moment", "sample_count") and a shard's
+    state ("state.sum", ...) write, by the names the file gives them."""
+    if not layers:
+        raw = _vkpath.read_exr(os.fspath(path))
+        return _array(raw["mean"], raw["height"], raw["width"], 4)
+    raw = _vkpath.read_exr_channels(os.fspath(path))
+    height, width = raw["height"], raw["width"]
+    groups: Dict[str, Dict[str, np.ndarray]] = {}
+    for name, data in raw["channels"]:
+        layer, _, channel = name.rpartition(".")
+        groups.setdefault(layer, {})[channel] = _array(data, height, width, 1)
+    order = "RGBAXYZ"
+    result: Dict[str, np.ndarray] = {}
+    for layer, channels in groups.items():
+        names = sorted(channels, key=lambda c: (order.find(c) if c in order else 99, c))
+        if layer == "" and all(c in channels for c in "RGB"):
+            alpha = channels.get("A", np.ones((height, width), np.float32))
+            result["image"] = np.stack([channels[c] for c in "RGB"] + [alpha], axis=-1)
+            names = [c for c in names if c not in "RGBA"]
+            for c in names:
+                result[c] = channels[c]
+            continue
+        key = layer or "image"
+        if len(names) == 1:
+            result[key] = channels[names[0]]
+        else:
+            result[key] = np.stack([channels[c] for c in names], axis=-1)
+    return result
 
 
 def compare(

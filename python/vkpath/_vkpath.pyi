@@ -14,6 +14,11 @@ class VkpathError(RuntimeError):
     """What went wrong in vkpath, in the one line the command line prints after
     ``vkpath: error: ``."""
 
+#: The keys of ``Scene.from_arrays``'s material dicts: glTF's factors in snake case.
+MATERIAL_KEYS: List[str]
+#: The keys of ``Scene.from_arrays``'s light dicts (KHR_lights_punctual's).
+LIGHT_KEYS: List[str]
+
 class Camera:
     """A pinhole camera (world space)."""
 
@@ -43,6 +48,30 @@ class Scene:
     def load(path: _Path, allow_external_paths: bool = False) -> "Scene":
         """Loads a .gltf, .glb or .obj file; a glTF may read buffers outside its folder only
         with ``allow_external_paths``. Raises VkpathError with the command line's message."""
+    @staticmethod
+    def from_arrays(
+        positions: Any,
+        indices: Any,
+        materials: Optional[List[Dict[str, Any]]] = None,
+        material_indices: Any = None,
+        normals: Any = None,
+        uvs: Any = None,
+        camera: Optional[Camera] = None,
+        lights: Optional[List[Dict[str, Any]]] = None,
+    ) -> "Scene":
+        """A scene from numpy arrays, as ``mi.load_dict`` users build one: ``positions``
+        (N, 3), ``indices`` (M, 3) or flat; ``materials`` dicts of glTF's factors
+        (``MATERIAL_KEYS``: base_color, metallic, roughness, emission, emissive_strength,
+        specular, specular_color, ior, transmission, thickness, attenuation_color,
+        attenuation_distance, clearcoat, clearcoat_roughness, sheen_color, sheen_roughness,
+        alpha_mode, alpha_cutoff, double_sided, unlit; glTF's defaults for the rest, glTF's
+        default material, white metal, without any); ``material_indices`` (M,) the
+        material of each triangle (default: material 0 for all); ``normals`` (N, 3) and
+        ``uvs`` (N, 2) per vertex; ``camera`` (default: renders frame the scene);
+        ``lights`` dicts of KHR_lights_punctual's values (``LIGHT_KEYS``: type "point",
+        "spot" or "directional", color, intensity, position, direction, inner_cone_angle,
+        outer_cone_angle). Renders bit for bit as the same data written as a glTF file.
+        A wrong shape, type or key raises ArgumentError (a ValueError) naming it."""
     @staticmethod
     def cornell_box() -> "Scene":
         """The workshop's Cornell box (the command line's scene when none is given)."""
@@ -88,6 +117,7 @@ def render(
     integrator: Optional[str] = None,
     sampler: Optional[str] = None,
     light_sampling: Optional[str] = None,
+    light_selection: Optional[str] = None,
     pixel_filter: Optional[str] = None,
     accel: Optional[str] = None,
     max_path_length: Optional[int] = None,
@@ -104,6 +134,13 @@ def render(
     region: Optional[Tuple[int, int, int, int]] = None,
     guiding: bool = False,
     guide_training_spp: Optional[int] = None,
+    time: Optional[float] = None,
+    sample_range: Optional[Tuple[int, int]] = None,
+    noise_threshold: Optional[float] = None,
+    noise_min_spp: Optional[int] = None,
+    aovs: Optional[List[str]] = None,
+    denoise: bool = False,
+    progress_image: bool = False,
 ) -> Dict[str, Any]: ...
 def save(
     pixels: Dict[str, Any],
@@ -114,6 +151,7 @@ def save(
     moments: bool = False,
 ) -> None: ...
 def read_exr(path: str) -> Dict[str, Any]: ...
+def read_exr_channels(path: str) -> Dict[str, Any]: ...
 def compare(
     a: Union[str, Dict[str, Any]], b: Union[str, Dict[str, Any]], *, alpha: float = ..., block_size: int = ...
 ) -> str: ...

@@ -112,6 +112,55 @@ pub fn read_exr(path: &Path) -> Result<ExrImage> {
     })
 }
 
+/// Every channel of an EXR's first layer, by name, in the file's order (alphabetical), as
+/// float32: what `read_exr` picks R, G, B and the moments from, with the AOV layers
+/// (`albedo.R`, `depth.Z`, `noisy.G`, ...) and the render state beside them.
+#[derive(Clone, Debug, PartialEq)]
+pub struct ExrChannels {
+    /// Pixels per row.
+    pub width: u32,
+    /// Rows.
+    pub height: u32,
+    /// Each channel's name and its `width * height` values, rows top-down.
+    pub channels: Vec<(String, Vec<f32>)>,
+}
+
+/// Reads every channel of an OpenEXR file's first layer (checked as `read_exr` checks the
+/// file); a channel that does not cover the whole image is an error.
+pub fn read_exr_channels(path: &Path) -> Result<ExrChannels> {
+    let fail = |message: String| ImageError::read(path, message);
+    check_exr_file(path, None)?;
+    check_exr_size(path).map_err(&fail)?;
+    let file = read_first_flat_layer_from_file(path).map_err(|e| fail(plain_cause(&e)))?;
+    let layer = &file.layer_data;
+    let (width, height) = (layer.size.width(), layer.size.height());
+    let channels: Vec<(String, Vec<f32>)> = layer
+        .channel_data
+        .list
+        .iter()
+        .map(|channel| {
+            (
+                channel.name.to_string(),
+                channel.sample_data.values_as_f32().collect(),
+            )
+        })
+        .collect();
+    if channels
+        .iter()
+        .any(|(_, values)| values.len() != width * height)
+    {
+        return Err(fail(
+            "a channel does not cover the whole image (subsampled channels are not supported)"
+                .into(),
+        ));
+    }
+    Ok(ExrChannels {
+        width: width as u32,
+        height: height as u32,
+        channels,
+    })
+}
+
 /// The four bytes every OpenEXR file starts with (its magic number 20000630, little-endian).
 const EXR_MAGIC: [u8; 4] = [0x76, 0x2f, 0x31, 0x01];
 

@@ -216,6 +216,9 @@ pub enum SceneError {
     /// the message names the map's file.
     #[error("{0}")]
     Environment(String),
+    /// A scene from arrays (`Scene::from_arrays`) whose arrays do not fit together.
+    #[error("scene from arrays: {0}")]
+    Arrays(String),
 }
 
 /// Text from a file (a name, a URI), made safe for a one-line message: control characters

@@ -16,6 +16,7 @@ use std::path::Path;
 use glam::{Vec3, Vec4};
 
 use super::files::{resolve_reference, LoadOptions, MAX_SCENE_FILE_BYTES};
+use super::material_factors::MaterialFactors;
 use super::materials::{AlphaMode, Clearcoat, PbrMaterial, Sheen, TextureBinding, Transmission};
 use super::textures::{decode_texture, Texture, TextureTransform, WrapMode};
 
@@ -70,169 +71,99 @@ impl<'a> MaterialReader<'a> {
         index
     }
 
+    /// The material: its factors (`material_factors`, the conversion `Scene::from_arrays`
+    /// shares) with its textures. Textures are bound in a fixed order (specular, specular
+    /// colour, transmission, thickness, clear coat, sheen, base colour, metallic-roughness,
+    /// emissive, normal), which numbers them.
     fn convert(&mut self, material: &gltf::Material) -> PbrMaterial {
         let name = material_label(material);
+        let mut converted = material_factors(material).material();
         let pbr = material.pbr_metallic_roughness();
-        let strength = material.emissive_strength().unwrap_or(1.0);
-        let (specular, specular_color, specular_texture, specular_color_texture) =
-            match material.specular() {
-                Some(specular) => (
-                    specular.specular_factor(),
-                    Vec3::from(specular.specular_color_factor()),
-                    specular
-                        .specular_texture()
-                        .and_then(|info| self.binding(&name, "specularTexture", &info)),
-                    specular
-                        .specular_color_texture()
-                        .and_then(|info| self.binding(&name, "specularColorTexture", &info)),
-                ),
-                None => (1.0, Vec3::ONE, None, None),
-            };
-        let transmission = self.transmission(&name, material);
-        let clearcoat = self.clearcoat(&name, material);
-        let sheen = self.sheen(&name, material);
-        let alpha_mode = match material.alpha_mode() {
-            gltf::material::AlphaMode::Opaque => AlphaMode::Opaque,
-            gltf::material::AlphaMode::Mask => AlphaMode::Mask {
-                cutoff: material.alpha_cutoff().unwrap_or(0.5),
-            },
-            gltf::material::AlphaMode::Blend => AlphaMode::Blend,
-        };
-        let base_color_texture = pbr
+        if let Some(specular) = material.specular() {
+            converted.specular_texture = specular
+                .specular_texture()
+                .and_then(|info| self.binding(&name, "specularTexture", &info));
+            converted.specular_color_texture = specular
+                .specular_color_texture()
+                .and_then(|info| self.binding(&name, "specularColorTexture", &info));
+        }
+        self.transmission_textures(&name, material, &mut converted.transmission);
+        self.clearcoat_textures(&name, material, &mut converted.clearcoat);
+        self.sheen_textures(&name, material, &mut converted.sheen);
+        converted.base_color_texture = pbr
             .base_color_texture()
             .and_then(|info| self.binding(&name, "baseColorTexture", &info));
-        let metallic_roughness_texture = pbr
+        converted.metallic_roughness_texture = pbr
             .metallic_roughness_texture()
             .and_then(|info| self.binding(&name, "metallicRoughnessTexture", &info));
-        let emissive_texture = material
+        converted.emissive_texture = material
             .emissive_texture()
             .and_then(|info| self.binding(&name, "emissiveTexture", &info));
-        let (normal_texture, normal_scale) = match material.normal_texture() {
-            Some(normal) => (self.normal_binding(&name, &normal), normal.scale()),
-            None => (None, 1.0),
-        };
-        PbrMaterial {
-            base_color: Vec4::from(pbr.base_color_factor()),
-            // KHR_materials_unlit: the base colour is all there is; nothing emits light.
-            emission: if material.unlit() {
-                Vec3::ZERO
-            } else {
-                strength * Vec3::from(material.emissive_factor())
-            },
-            metallic: pbr.metallic_factor(),
-            roughness: pbr.roughness_factor(),
-            specular,
-            specular_color,
-            ior: material.ior().unwrap_or(1.5),
-            normal_scale,
-            alpha_mode,
-            double_sided: material.double_sided(),
-            base_color_texture,
-            metallic_roughness_texture,
-            normal_texture,
-            emissive_texture,
-            specular_texture,
-            specular_color_texture,
-            transmission,
-            clearcoat,
-            sheen,
-            unlit: material.unlit(),
+        if let Some(normal) = material.normal_texture() {
+            converted.normal_texture = self.normal_binding(&name, &normal);
+            converted.normal_scale = normal.scale();
         }
-        .sanitized()
+        converted.sanitized()
     }
 
-    /// KHR_materials_transmission with KHR_materials_volume (thin-walled without the volume).
-    fn transmission(&mut self, name: &str, material: &gltf::Material) -> Transmission {
+    /// KHR_materials_transmission's and KHR_materials_volume's textures.
+    fn transmission_textures(
+        &mut self,
+        name: &str,
+        material: &gltf::Material,
+        out_transmission: &mut Transmission,
+    ) {
         let Some(transmission) = material.transmission() else {
-            return Transmission::default();
+            return;
         };
-        let texture = transmission
+        out_transmission.texture = transmission
             .transmission_texture()
             .and_then(|info| self.binding(name, "transmissionTexture", &info));
-        let mut result = Transmission {
-            factor: transmission.transmission_factor(),
-            texture,
-            ..Transmission::default()
-        };
         if let Some(volume) = material.volume() {
-            result.thickness = volume.thickness_factor();
-            result.thickness_texture = volume
+            out_transmission.thickness_texture = volume
                 .thickness_texture()
                 .and_then(|info| self.binding(name, "thicknessTexture", &info));
-            result.attenuation = Transmission::attenuation_coefficient(
-                Vec3::from(volume.attenuation_color()),
-                volume.attenuation_distance(),
-            );
         }
-        result
     }
 
-    /// KHR_materials_clearcoat, read from the JSON (gltf 1.4 has no accessors for it).
-    fn clearcoat(&mut self, name: &str, material: &gltf::Material) -> Clearcoat {
-        let mut clearcoat = Clearcoat {
-            normal_scale: 1.0,
-            ..Clearcoat::default()
-        };
+    /// KHR_materials_clearcoat's textures and normal scale, read from the JSON (gltf 1.4 has
+    /// no accessors for it).
+    fn clearcoat_textures(
+        &mut self,
+        name: &str,
+        material: &gltf::Material,
+        out_clearcoat: &mut Clearcoat,
+    ) {
         let Some(json) = material.extension_value("KHR_materials_clearcoat") else {
-            return clearcoat;
+            return;
         };
-        let number = |key: &str, default: f32| {
-            json.get(key)
-                .and_then(serde_json::Value::as_f64)
-                .map_or(default, |v| v as f32)
-        };
-        clearcoat.factor = number("clearcoatFactor", 0.0);
-        clearcoat.roughness = number("clearcoatRoughnessFactor", 0.0);
-        clearcoat.texture =
+        out_clearcoat.texture =
             self.json_binding(name, "clearcoatTexture", json.get("clearcoatTexture"));
-        clearcoat.roughness_texture = self.json_binding(
+        out_clearcoat.roughness_texture = self.json_binding(
             name,
             "clearcoatRoughnessTexture",
             json.get("clearcoatRoughnessTexture"),
         );
         let normal = json.get("clearcoatNormalTexture");
-        clearcoat.normal_texture = self.json_binding(name, "clearcoatNormalTexture", normal);
-        clearcoat.normal_scale = normal
+        out_clearcoat.normal_texture = self.json_binding(name, "clearcoatNormalTexture", normal);
+        out_clearcoat.normal_scale = normal
             .and_then(|n| n.get("scale"))
             .and_then(serde_json::Value::as_f64)
             .map_or(1.0, |v| v as f32);
-        clearcoat
     }
 
-    /// KHR_materials_sheen, read from the JSON (gltf 1.4 has no accessors for it).
-    fn sheen(&mut self, name: &str, material: &gltf::Material) -> Sheen {
+    /// KHR_materials_sheen's textures, read from the JSON.
+    fn sheen_textures(&mut self, name: &str, material: &gltf::Material, out_sheen: &mut Sheen) {
         let Some(json) = material.extension_value("KHR_materials_sheen") else {
-            return Sheen::default();
+            return;
         };
-        let color = json
-            .get("sheenColorFactor")
-            .and_then(serde_json::Value::as_array)
-            .map_or(Vec3::ZERO, |values| {
-                let component = |i: usize| {
-                    values
-                        .get(i)
-                        .and_then(serde_json::Value::as_f64)
-                        .map_or(0.0, |v| v as f32)
-                };
-                Vec3::new(component(0), component(1), component(2))
-            });
-        Sheen {
-            color,
-            color_texture: self.json_binding(
-                name,
-                "sheenColorTexture",
-                json.get("sheenColorTexture"),
-            ),
-            roughness: json
-                .get("sheenRoughnessFactor")
-                .and_then(serde_json::Value::as_f64)
-                .map_or(0.0, |v| v as f32),
-            roughness_texture: self.json_binding(
-                name,
-                "sheenRoughnessTexture",
-                json.get("sheenRoughnessTexture"),
-            ),
-        }
+        out_sheen.color_texture =
+            self.json_binding(name, "sheenColorTexture", json.get("sheenColorTexture"));
+        out_sheen.roughness_texture = self.json_binding(
+            name,
+            "sheenRoughnessTexture",
+            json.get("sheenRoughnessTexture"),
+        );
     }
 
     /// The binding of a texture reference written in an extension's JSON (`{"index": i,
@@ -448,6 +379,69 @@ fn json_texture_transform(
         .and_then(|v| v.as_u64())
         .map(|v| v as u32);
     (matrix, tex_coord)
+}
+
+/// A glTF material's constant factors, glTF's defaults where the file says nothing (the
+/// volume's only with transmission, as before: a volume without transmission is ignored).
+fn material_factors(material: &gltf::Material) -> MaterialFactors {
+    let pbr = material.pbr_metallic_roughness();
+    let mut factors = MaterialFactors {
+        base_color: Vec4::from(pbr.base_color_factor()),
+        metallic: pbr.metallic_factor(),
+        roughness: pbr.roughness_factor(),
+        emission: Vec3::from(material.emissive_factor()),
+        emissive_strength: material.emissive_strength().unwrap_or(1.0),
+        ior: material.ior().unwrap_or(1.5),
+        alpha_mode: match material.alpha_mode() {
+            gltf::material::AlphaMode::Opaque => AlphaMode::Opaque,
+            gltf::material::AlphaMode::Mask => AlphaMode::Mask {
+                cutoff: material.alpha_cutoff().unwrap_or(0.5),
+            },
+            gltf::material::AlphaMode::Blend => AlphaMode::Blend,
+        },
+        double_sided: material.double_sided(),
+        unlit: material.unlit(),
+        ..MaterialFactors::default()
+    };
+    if let Some(specular) = material.specular() {
+        factors.specular = specular.specular_factor();
+        factors.specular_color = Vec3::from(specular.specular_color_factor());
+    }
+    if let Some(transmission) = material.transmission() {
+        factors.transmission = transmission.transmission_factor();
+        if let Some(volume) = material.volume() {
+            factors.thickness = volume.thickness_factor();
+            factors.attenuation_color = Vec3::from(volume.attenuation_color());
+            factors.attenuation_distance = volume.attenuation_distance();
+        }
+    }
+    // KHR_materials_clearcoat and KHR_materials_sheen from the JSON (gltf 1.4 has no
+    // accessors for them).
+    let number = |json: &serde_json::Value, key: &str| {
+        json.get(key)
+            .and_then(serde_json::Value::as_f64)
+            .map_or(0.0, |v| v as f32)
+    };
+    if let Some(json) = material.extension_value("KHR_materials_clearcoat") {
+        factors.clearcoat = number(json, "clearcoatFactor");
+        factors.clearcoat_roughness = number(json, "clearcoatRoughnessFactor");
+    }
+    if let Some(json) = material.extension_value("KHR_materials_sheen") {
+        factors.sheen_color = json
+            .get("sheenColorFactor")
+            .and_then(serde_json::Value::as_array)
+            .map_or(Vec3::ZERO, |values| {
+                let component = |i: usize| {
+                    values
+                        .get(i)
+                        .and_then(serde_json::Value::as_f64)
+                        .map_or(0.0, |v| v as f32)
+                };
+                Vec3::new(component(0), component(1), component(2))
+            });
+        factors.sheen_roughness = number(json, "sheenRoughnessFactor");
+    }
+    factors
 }
 
 fn material_label(material: &gltf::Material) -> String {

@@ -9,6 +9,7 @@ use crate::camera::Camera;
 use crate::lights::{Environment, EnvironmentSource, PunctualLight};
 
 pub mod animation;
+pub mod arrays;
 pub mod cornell;
 pub(crate) mod error;
 pub mod export;
@@ -18,6 +19,7 @@ mod gltf_extensions;
 pub mod gltf_loader;
 mod gltf_materials;
 pub mod instances;
+pub mod material_factors;
 pub mod materials;
 pub mod meshes;
 pub mod obj_loader;
@@ -27,8 +29,10 @@ pub mod source;
 pub mod tangents;
 pub mod textures;
 
+pub use arrays::SceneArrays;
 pub use error::{printable, SceneError};
 pub use instances::MeshInstance;
+pub use material_factors::MaterialFactors;
 pub use source::SceneSource;
 
 /// A triangle with the workshop's shading parameters (`triangle_t`), world space.

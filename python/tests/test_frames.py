@@ -1,0 +1,96 @@
+"""Time, frames and sample ranges (issue 41): ``render(time=)`` against ``vkpath render
+--time``, ``render_frames`` against ``render(time=)`` per frame, ``render(sample_range=)``
+against ``--sample-range``, each bit for bit (lavapipe, tiny images)."""
+
+from __future__ import annotations
+
+import json
+import struct
+
+import numpy as np
+import pytest
+
+import vkpath
+from test_vkpath import bits, cli, read_exr_rgba, run_cli  # noqa: F401 (cli: a fixture)
+
+SMALL = dict(width=16, height=16, spp=2, seed=1, background=(1.0, 1.0, 1.0))
+SMALL_CLI = ["--width", "16", "--height", "16", "--spp", "2", "--seed", "1",
+             "--background", "1,1,1"]
+
+
+def write_animated_quad(directory):
+    """tests/frames_cli.rs's scene: a unit quad facing +Z whose node slides LINEAR from
+    x = -1 at 0 s to x = 1 at 1 s, seen by a camera at z = 3 looking down -Z."""
+    chunks = [struct.pack("<12f", -0.5, -0.5, 0, 0.5, -0.5, 0, 0.5, 0.5, 0, -0.5, 0.5, 0),
+              struct.pack("<6H", 0, 1, 2, 0, 2, 3) + b"\0\0",
+              struct.pack("<2f", 0.0, 1.0),
+              struct.pack("<6f", -1, 0, 0, 1, 0, 0)]
+    views, offset = [], 0
+    for chunk in chunks:
+        views.append({"buffer": 0, "byteOffset": offset, "byteLength": len(chunk)})
+        offset += len(chunk)
+    views[1]["byteLength"] = 12
+    document = {
+        "asset": {"version": "2.0"},
+        "scene": 0,
+        "scenes": [{"nodes": [0, 1]}],
+        "nodes": [{"name": "quad", "mesh": 0},
+                  {"name": "camera", "camera": 0, "translation": [0, 0, 3]}],
+        "cameras": [{"type": "perspective", "perspective": {"yfov": 0.9, "znear": 0.01}}],
+        "meshes": [{"primitives": [{"attributes": {"POSITION": 0}, "indices": 1}]}],
+        "animations": [{"name": "slide",
+                        "channels": [{"sampler": 0,
+                                      "target": {"node": 0, "path": "translation"}}],
+                        "samplers": [{"input": 2, "output": 3}]}],
+        "buffers": [{"uri": "animated.bin", "byteLength": offset}],
+        "bufferViews": views,
+        "accessors": [
+            {"bufferView": 0, "componentType": 5126, "count": 4, "type": "VEC3",
+             "min": [-0.5, -0.5, 0.0], "max": [0.5, 0.5, 0.0]},
+            {"bufferView": 1, "componentType": 5123, "count": 6, "type": "SCALAR"},
+            {"bufferView": 2, "componentType": 5126, "count": 2, "type": "SCALAR",
+             "min": [0.0], "max": [1.0]},
+            {"bufferView": 3, "componentType": 5126, "count": 2, "type": "VEC3"},
+        ],
+    }
+    (directory / "animated.bin").write_bytes(b"".join(chunks))
+    path = directory / "animated.gltf"
+    path.write_text(json.dumps(document))
+    return path
+
+
+def test_time_equals_the_command_lines_time_bit_for_bit(cli, tmp_path):
+    scene = write_animated_quad(tmp_path)
+    output = tmp_path / "t.exr"
+    run_cli(cli, "render", str(scene), *SMALL_CLI, "--time", "0.75", "-o", str(output))
+    moved = vkpath.render(scene, time=0.75, **SMALL)
+    assert np.array_equal(bits(moved), bits(read_exr_rgba(output)))
+    # The quad did move: time 0 sees it elsewhere.
+    assert not np.array_equal(moved, vkpath.render(scene, **SMALL))
+    with pytest.raises(vkpath.ArgumentError, match="time=-1 is not a time"):
+        vkpath.render(scene, time=-1, **SMALL)
+
+
+def test_render_frames_yields_each_frame_at_frame_over_fps(tmp_path):
+    scene = write_animated_quad(tmp_path)
+    frames = list(vkpath.render_frames(scene, frames=range(2, 5), fps=4, **SMALL))
+    assert [frame for frame, _ in frames] == [2, 3, 4]
+    for frame, image in frames:
+        assert np.array_equal(bits(image), bits(vkpath.render(scene, time=frame / 4, **SMALL)))
+    assert not np.array_equal(frames[0][1], frames[2][1])
+    with pytest.raises(vkpath.ArgumentError, match="fps=0.0"):
+        next(vkpath.render_frames(scene, frames=[0], fps=0))
+
+
+def test_a_sample_range_equals_the_command_lines_shard_bit_for_bit(cli, tmp_path):
+    output = tmp_path / "shard.exr"
+    run_cli(cli, "render", "--width", "16", "--height", "12", "--seed", "1",
+            "--sample-range", "3..7", "-o", str(output))
+    result = vkpath.render_result(width=16, height=12, seed=1, sample_range=(3, 7))
+    assert result.sample_range == (3, 7) and result.spp == 4
+    assert np.array_equal(bits(result.image), bits(read_exr_rgba(output)))
+    # Other samples than the first four.
+    first = vkpath.render(width=16, height=12, seed=1, spp=4)
+    assert not np.array_equal(first, result.image)
+    with pytest.raises(vkpath.ArgumentError, match=r"sample_range=\(5, 5\)"):
+        vkpath.render(width=16, height=12, sample_range=(5, 5))
