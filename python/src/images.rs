@@ -241,7 +241,8 @@ pub fn check(
     if !(4..=65536).contains(&options.spp) {
         return Err(message(format!("spp={} is outside 4..=65536", options.spp)));
     }
-    if options.image_size == 0 || options.image_size % 8 != 0 || options.image_size > 1024 {
+    if options.image_size == 0 || !options.image_size.is_multiple_of(8) || options.image_size > 1024
+    {
         return Err(message(format!(
             "size={} is not a multiple of 8 in 8..=1024",
             options.image_size

@@ -21,7 +21,7 @@ mod _vkpath {
     #[pymodule_export]
     use crate::images::{check, compare, read_exr, read_exr_channels, save};
     #[pymodule_export]
-    use crate::render::{default_settings, render};
+    use crate::render::{default_settings, render, Session};
     #[pymodule_export]
     use crate::scene::{Camera, Scene};
 

@@ -8,7 +8,7 @@
 use std::cell::Cell;
 use std::path::PathBuf;
 use std::sync::atomic::{AtomicBool, Ordering};
-use std::sync::Mutex;
+use std::sync::{Arc, Mutex};
 use std::time::{Duration, Instant};
 
 use glam::Vec3;
@@ -211,6 +211,39 @@ fn after_batch(
     });
 }
 
+/// The Vulkan context of a render, opened as `vkpath render` opens it.
+fn open_context(device: Option<String>, validate: bool) -> vkpath::Result<Arc<Context>> {
+    Ok(Context::new(&ContextOptions {
+        validate,
+        device,
+        require_gpu: false,
+        pipeline_cache: user_pipeline_cache(),
+        ..ContextOptions::default()
+    })?)
+}
+
+/// A device kept open for several renders (`vkpath.render_frames` renders every frame on
+/// one, as `vkpath render --frames` does): its pipeline cache in memory serves every
+/// render after the first.
+#[pyclass(module = "vkpath", frozen)]
+pub struct Session {
+    /// The context every render of the session uses.
+    context: Arc<Context>,
+}
+
+#[pymethods]
+impl Session {
+    /// Opens `device` (as `render`'s `device=`), with the validation layers if `validate`.
+    #[new]
+    #[pyo3(signature = (device=None, validate=false))]
+    fn new(py: Python<'_>, device: Option<String>, validate: bool) -> PyResult<Session> {
+        let context = py
+            .detach(|| open_context(device, validate))
+            .map_err(to_py)?;
+        Ok(Session { context })
+    }
+}
+
 /// The estimate a render has so far, handed to a progress callback of three parameters:
 /// calling it gives a dict of `mean` (bytearray of height x width x 4 float32), `width`
 /// and `height`.
@@ -246,7 +279,7 @@ impl ImageSoFar {
     environment_strength=1.0, environment_rotation=0.0, background=None, time_limit=None,
     progress=None, device=None, validate=false, region=None, guiding=false,
     guide_training_spp=None, time=None, sample_range=None, noise_threshold=None,
-    noise_min_spp=None, aovs=None, denoise=false, progress_image=false))]
+    noise_min_spp=None, aovs=None, denoise=false, progress_image=false, session=None))]
 #[allow(clippy::too_many_arguments)]
 pub fn render<'py>(
     py: Python<'py>,
@@ -282,6 +315,7 @@ pub fn render<'py>(
     aovs: Option<Vec<String>>,
     denoise: bool,
     progress_image: bool,
+    session: Option<PyRef<'py, Session>>,
 ) -> PyResult<Bound<'py, PyDict>> {
     let (settings, mut warnings) = Choices {
         width,
@@ -347,14 +381,17 @@ pub fn render<'py>(
     let raised: Mutex<Option<PyErr>> = Mutex::new(None);
     let total = settings.spp;
     let progress = progress.as_ref();
+    if session.is_some() && (device.is_some() || validate) {
+        return Err(argument_error(
+            "a session has its device: device= and validate= belong to the session",
+        ));
+    }
+    let shared = session.map(|s| s.context.clone());
     let result = py.detach(|| {
-        let context = Context::new(&ContextOptions {
-            validate,
-            device,
-            require_gpu: false,
-            pipeline_cache: user_pipeline_cache(),
-            ..ContextOptions::default()
-        })?;
+        let context = match shared {
+            Some(context) => context,
+            None => open_context(device, validate)?,
+        };
         // What `run_job` does for a whole render without checkpoints, previews or resuming
         // (the Renderer itself, so that Python needs none of the command line's job options).
         let mut renderer = Renderer::new(&context, &world, &camera, settings.clone())?;

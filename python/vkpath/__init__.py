@@ -15,6 +15,7 @@ command line prints.
 
 from __future__ import annotations
 
+import contextvars
 import inspect
 import json
 import math
@@ -107,6 +108,12 @@ def _region_of(region: Sequence[int]) -> Tuple[int, int, int, int]:
             f"region={tuple(region)!r} is not (x0, y0, x1, y1): four whole numbers >= 0"
         )
     return values  # type: ignore[return-value]
+
+
+#: The open device `render_frames` renders its frames on (None: each render opens its own).
+_SESSION: "contextvars.ContextVar[Optional[_vkpath.Session]]" = contextvars.ContextVar(
+    "vkpath_session", default=None
+)
 
 
 def _whole(name: str, value: Any) -> Optional[int]:
@@ -266,6 +273,7 @@ def render_result(
         time_limit=None if time_limit is None else float(time_limit),
         progress=callback,
         progress_image=with_image,
+        session=_SESSION.get(),
         device=_device_of(device),
         validate=validate,
         region=None if region is None else _region_of(region),
@@ -425,19 +433,28 @@ def render_frames(
     """Renders frames of an animation, one after the other, yielding ``(frame, image)``:
     ``vkpath render --frames START..END --fps FPS``, frame f at time f / fps. ``settings``
     are :func:`render`'s (``time`` aside). The scene file is read once per frame at its
-    time; the kernels are compiled once and taken from the pipeline cache after that (each
-    frame opens the device again: the command line keeps it open, Python does not yet)."""
+    time; the device (``device=``, ``validate=``) is opened once for all frames, as the
+    command line does. The kernels are built per frame, as the command line builds them
+    (the library makes a renderer per frame; the pipeline cache spares the compile from
+    SPIR-V, not the driver's work at the first dispatch)."""
     if "time" in settings:
         raise ArgumentError("render_frames takes frames= and fps=, not time=")
     fps = float(fps)
     if not (fps > 0.0 and math.isfinite(fps)):
         raise ArgumentError(f"fps={fps} is not a frame rate above 0")
     world = _scene_of(scene)
+    device = _device_of(settings.pop("device", None))
+    session = _vkpath.Session(device=device, validate=bool(settings.pop("validate", False)))
     for frame in frames:
         frame = int(frame)
         if frame < 0:
             raise ArgumentError(f"frames: frame {frame} is negative")
-        yield frame, render(world, time=frame / fps, **settings)
+        token = _SESSION.set(session)
+        try:
+            image = render(world, time=frame / fps, **settings)
+        finally:
+            _SESSION.reset(token)
+        yield frame, image
 
 
 ImageLike = Union[np.ndarray, RenderResult]

@@ -141,7 +141,13 @@ def render(
     aovs: Optional[List[str]] = None,
     denoise: bool = False,
     progress_image: bool = False,
+    session: Optional["Session"] = None,
 ) -> Dict[str, Any]: ...
+
+class Session:
+    """A device kept open for several renders (``render_frames`` uses one)."""
+
+    def __init__(self, device: Optional[str] = None, validate: bool = False) -> None: ...
 def save(
     pixels: Dict[str, Any],
     path: str,
