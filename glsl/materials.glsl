@@ -36,22 +36,8 @@ uvec4 get_material_texel(uint material_index, int texel) {
     return texelFetch(g_material_texels, int(uint(MATERIAL_TEXEL_COUNT) * material_index) + texel);
 }
 
-// The material's words (MATERIAL_TEXEL_COUNT texels, `GpuMaterial` on the host): texel 0 the
-// base colour factor; 1 the emissive factor (rgb) and metallic factor (a); 2 roughness,
-// specular, ior and the normal texture's scale; 3 the specular colour (rgb) and alpha cutoff
-// (a); 4 the alpha mode (x) and the mask of texture slots present (y); 5 transmission,
-// thickness, clearcoat and clearcoat roughness; 6 the volume's absorption coefficient (rgb)
-// and the clearcoat normal texture's scale (a); 7 the MATERIAL_FLAG_* bits (x); 8 the sheen
-// colour (rgb) and sheen roughness (a); then three texels per texture slot (texture_slot_t).
-#define MATERIAL_TEXEL_BASE_COLOR 0
-#define MATERIAL_TEXEL_EMISSIVE_METALLIC 1
-#define MATERIAL_TEXEL_ROUGHNESS_SPECULAR_IOR_NORMAL_SCALE 2
-#define MATERIAL_TEXEL_SPECULAR_COLOR_ALPHA_CUTOFF 3
-#define MATERIAL_TEXEL_ALPHA_MODE_TEXTURE_MASK 4
-#define MATERIAL_TEXEL_TRANSMISSION_THICKNESS_CLEARCOAT 5
-#define MATERIAL_TEXEL_ATTENUATION_CLEARCOAT_NORMAL_SCALE 6
-#define MATERIAL_TEXEL_FLAGS 7
-#define MATERIAL_TEXEL_SHEEN 8
+// The material's words: MATERIAL_TEXEL_COUNT texels laid out by the MATERIAL_TEXEL_* of
+// glsl/shared.h (`GpuMaterial` on the host).
 
 // ALPHA_MODE_OPAQUE, _MASK or _BLEND of material i.
 uint get_material_alpha_mode(uint material_index) {
