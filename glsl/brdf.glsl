@@ -13,6 +13,7 @@
 
 #include "shared.h"
 #include "workshop.glsl"
+#include "shading_basis.glsl"
 
 // A surface point's material after texture lookups: what get_brdf() and sample_brdf() read.
 struct material_t {
@@ -50,18 +51,6 @@ struct material_t {
 // weights stay far inside float range.
 float get_ggx_alpha(float roughness) {
     return max(roughness * roughness, MIN_GGX_ALPHA);
-}
-
-// An orthonormal basis (tangent, bitangent, normal) around a unit normal (Duff et al. 2017,
-// "Building an Orthonormal Basis, Revisited", JCGT 6(1)); the BRDF is isotropic, so any
-// tangent serves. Multiply a local vector by it to get the world vector.
-mat3 get_shading_basis(vec3 normal) {
-    float sign_z = (normal.z >= 0.0) ? 1.0 : -1.0;
-    float a = -1.0 / (sign_z + normal.z);
-    float b = normal.x * normal.y * a;
-    vec3 tangent = vec3(1.0 + sign_z * normal.x * normal.x * a, sign_z * b, -sign_z * normal.x);
-    vec3 bitangent = vec3(b, sign_z + normal.y * normal.y * a, -normal.y);
-    return mat3(tangent, bitangent, normal);
 }
 
 // The Trowbridge-Reitz (GGX) normal distribution D(h) = alpha^2 / (pi ((n.h)^2 (alpha^2 - 1)

@@ -13,9 +13,9 @@ use crate::common;
 
 use glam::{UVec2, Vec2, Vec3};
 use vkpath::cpu::brdf::{
-    get_brdf_density, get_ggx_alpha, get_ggx_distribution, get_shading_basis, get_smith_visibility,
-    MaterialSample,
+    get_brdf_density, get_ggx_alpha, get_ggx_distribution, get_smith_visibility, MaterialSample,
 };
+use vkpath::cpu::shading_basis::get_shading_basis;
 use vkpath::probe::brdf_probe::{BrdfProbeInput, BrdfProbeOutput, BrdfProbeRunner};
 use vkpath::probe::inputs::{self, InputRng};
 use vkpath::stats::chi2::{chi2_direction_test, Chi2Config};

@@ -6,6 +6,7 @@
 use glam::{Mat3, Vec2, Vec3};
 
 use crate::contract::MIN_GGX_ALPHA;
+use crate::cpu::shading_basis::get_shading_basis;
 use crate::cpu::workshop::M_PI;
 
 /// Twin of `material_t`: a surface point's material after texture lookups.
@@ -64,20 +65,6 @@ impl MaterialSample {
 /// Twin of `get_ggx_alpha`: max(roughness^2, `MIN_GGX_ALPHA`).
 pub fn get_ggx_alpha(roughness: f32) -> f32 {
     (roughness * roughness).max(MIN_GGX_ALPHA)
-}
-
-/// Twin of `get_shading_basis`: columns tangent, bitangent, normal (Duff et al. 2017).
-pub fn get_shading_basis(normal: Vec3) -> Mat3 {
-    let sign_z = if normal.z >= 0.0 { 1.0 } else { -1.0 };
-    let a = -1.0 / (sign_z + normal.z);
-    let b = normal.x * normal.y * a;
-    let tangent = Vec3::new(
-        1.0 + sign_z * normal.x * normal.x * a,
-        sign_z * b,
-        -sign_z * normal.x,
-    );
-    let bitangent = Vec3::new(b, sign_z + normal.y * normal.y * a, -normal.y);
-    Mat3::from_cols(tangent, bitangent, normal)
 }
 
 /// GLSL's `vector * matrix`: the vector in the basis's local coordinates.
