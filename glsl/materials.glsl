@@ -236,20 +236,9 @@ vec3 get_front_clearcoat_normal(uint triangle_index, uint material_index, vec3 b
 material_t get_material(uint material_index, material_textures_t textures, vec4 base_color) {
     vec4 factors = uintBitsToFloat(get_material_texel(material_index, MATERIAL_TEXEL_ROUGHNESS_SPECULAR_IOR_NORMAL_SCALE));
     vec4 metallic_roughness = textures.slots[MATERIAL_TEXTURE_METALLIC_ROUGHNESS];
-    material_t material;
-    material.base_color = base_color.rgb;
-    material.metallic = uintBitsToFloat(get_material_texel(material_index, MATERIAL_TEXEL_EMISSIVE_METALLIC).w) * metallic_roughness.b;
-    material.roughness = factors.x * metallic_roughness.g;
-    material.specular = factors.y;
-    material.ior = factors.z;
-    material.specular_color = uintBitsToFloat(get_material_texel(material_index, MATERIAL_TEXEL_SPECULAR_COLOR_ALPHA_CUTOFF).rgb);
-    material.transmission = 0.0;
-    material.thickness = 0.0;
-    material.attenuation = vec3(0.0);
-    material.clearcoat = 0.0;
-    material.clearcoat_roughness = 0.0;
-    material.sheen_color = vec3(0.0);
-    material.sheen_roughness = 0.0;
+    float metallic = uintBitsToFloat(get_material_texel(material_index, MATERIAL_TEXEL_EMISSIVE_METALLIC).w) * metallic_roughness.b;
+    vec3 specular_color = uintBitsToFloat(get_material_texel(material_index, MATERIAL_TEXEL_SPECULAR_COLOR_ALPHA_CUTOFF).rgb);
+    material_t material = get_base_material(base_color.rgb, metallic, factors.x * metallic_roughness.g, factors.y, specular_color, factors.z);
     if (SCENE_HAS_LAYERS) {
         // KHR_materials_specular's textures (A: specular, RGB sRGB: specular colour)
         material.specular *= textures.slots[MATERIAL_TEXTURE_SPECULAR].a;

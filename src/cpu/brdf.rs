@@ -44,21 +44,35 @@ impl MaterialSample {
     /// glTF's default material with this base colour, metallic and roughness (specular 1,
     /// specular colour white, ior 1.5).
     pub fn gltf(base_color: Vec3, metallic: f32, roughness: f32) -> MaterialSample {
-        MaterialSample {
-            base_color,
-            metallic,
-            roughness,
-            specular: 1.0,
-            specular_color: Vec3::ONE,
-            ior: 1.5,
-            transmission: 0.0,
-            thickness: 0.0,
-            attenuation: Vec3::ZERO,
-            clearcoat: 0.0,
-            clearcoat_roughness: 0.0,
-            sheen_color: Vec3::ZERO,
-            sheen_roughness: 0.0,
-        }
+        get_base_material(base_color, metallic, roughness, 1.0, Vec3::ONE, 1.5)
+    }
+}
+
+/// Twin of `get_base_material`: the one constructor of a `MaterialSample`, the
+/// metallic-roughness factors with every layer off (0). A new field gets its "off" value here
+/// and nowhere else.
+pub fn get_base_material(
+    base_color: Vec3,
+    metallic: f32,
+    roughness: f32,
+    specular: f32,
+    specular_color: Vec3,
+    ior: f32,
+) -> MaterialSample {
+    MaterialSample {
+        base_color,
+        metallic,
+        roughness,
+        specular,
+        specular_color,
+        ior,
+        transmission: 0.0,
+        thickness: 0.0,
+        attenuation: Vec3::ZERO,
+        clearcoat: 0.0,
+        clearcoat_roughness: 0.0,
+        sheen_color: Vec3::ZERO,
+        sheen_roughness: 0.0,
     }
 }
 

@@ -20,7 +20,9 @@ use crate::contract::{
     MATERIAL_TEXTURE_SPECULAR_COLOR, MATERIAL_TEXTURE_THICKNESS, MATERIAL_TEXTURE_TRANSMISSION,
     SHADING_TEXEL_COUNT, TRIANGLE_FLAG_DOUBLE_SIDED, TRIANGLE_TEXEL_COUNT,
 };
-use crate::cpu::brdf::{get_brdf, get_brdf_density, sample_brdf, MaterialSample};
+use crate::cpu::brdf::{
+    get_base_material, get_brdf, get_brdf_density, sample_brdf, MaterialSample,
+};
 use crate::cpu::layered_bsdf::{
     get_absorption, get_layered_bsdf, get_layered_density, is_layered, is_refracting,
     sample_layered_bsdf,
@@ -416,31 +418,26 @@ pub fn get_material(
         MATERIAL_TEXEL_ROUGHNESS_SPECULAR_IOR_NORMAL_SCALE,
     ));
     let metallic_roughness = textures.slots[MATERIAL_TEXTURE_METALLIC_ROUGHNESS as usize];
-    let mut material = MaterialSample {
-        base_color: base_color.truncate(),
-        metallic: uint_bits_to_float(get_material_texel(
-            texels,
-            material_index,
-            MATERIAL_TEXEL_EMISSIVE_METALLIC,
-        ))
-        .w * metallic_roughness.z,
-        roughness: factors.x * metallic_roughness.y,
-        specular: factors.y,
-        ior: factors.z,
-        specular_color: uint_bits_to_float(get_material_texel(
-            texels,
-            material_index,
-            MATERIAL_TEXEL_SPECULAR_COLOR_ALPHA_CUTOFF,
-        ))
-        .truncate(),
-        transmission: 0.0,
-        thickness: 0.0,
-        attenuation: Vec3::ZERO,
-        clearcoat: 0.0,
-        clearcoat_roughness: 0.0,
-        sheen_color: Vec3::ZERO,
-        sheen_roughness: 0.0,
-    };
+    let metallic = uint_bits_to_float(get_material_texel(
+        texels,
+        material_index,
+        MATERIAL_TEXEL_EMISSIVE_METALLIC,
+    ))
+    .w * metallic_roughness.z;
+    let specular_color = uint_bits_to_float(get_material_texel(
+        texels,
+        material_index,
+        MATERIAL_TEXEL_SPECULAR_COLOR_ALPHA_CUTOFF,
+    ))
+    .truncate();
+    let mut material = get_base_material(
+        base_color.truncate(),
+        metallic,
+        factors.x * metallic_roughness.y,
+        factors.y,
+        specular_color,
+        factors.z,
+    );
     if texels.scene_has_layers {
         let texture = |slot: u32| textures.slots[slot as usize];
         material.specular *= texture(MATERIAL_TEXTURE_SPECULAR).w;
