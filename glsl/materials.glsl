@@ -1,7 +1,7 @@
 // Materials, textures and shading normals of glTF assets (kernels built with USE_MATERIALS):
 // the packed words a hit triangle's material and shading data are read from, and what they
 // unpack to (material_t of glsl/brdf.glsl, the shading normal, emission, alpha coverage).
-// The surface seam (glsl/surface.glsl) builds its glTF surface_t from these.
+// The surface seam's glTF model (glsl/gltf_surface.glsl) builds its surface_t from these.
 // Host side: src/render/gpu_materials.rs; Rust twins of the functions: src/cpu/materials.rs.
 #ifndef VKPATH_MATERIALS_GLSL
 #define VKPATH_MATERIALS_GLSL

@@ -1,4 +1,5 @@
-//! Rust twins of the functions of the surface seam's glTF model (`glsl/surface.glsl` over `glsl/materials.glsl`) that read the scene's texel buffers:
+//! Rust twins of the functions of the surface seam's glTF model (`glsl/gltf_surface.glsl`
+//! over `glsl/materials.glsl`) that read the scene's texel buffers:
 //! `get_surface`, `get_bsdf`, `get_bsdf_density`, `sample_bsdf`, `is_opaque_hit` and the
 //! lookups they are made of, reading the same words the GPU reads (the packed triangles, `GpuTriangleShading`,
 //! `GpuMaterial` and the texture atlas of `crate::render`), with the same maths. The pure
