@@ -13,6 +13,7 @@
 
 #include "shared.h"
 #include "workshop.glsl"
+#include "shading_basis.glsl"
 
 // A surface point's material after texture lookups: what get_brdf() and sample_brdf() read.
 struct material_t {
@@ -44,24 +45,36 @@ struct material_t {
     float sheen_roughness;
 };
 
+// The one constructor of a material_t: the metallic-roughness model's factors, every layer
+// of glsl/layered_bsdf.glsl off (0). A new field of material_t gets its "off" value here and
+// nowhere else; whoever has the layer sets it after.
+// \param base_color Linear RGB in [0, 1]; \param metallic 0: dielectric, 1: metal
+// \param roughness Perceptual roughness in [0, 1]; \param specular specularFactor
+// \param specular_color specularColorFactor, linear RGB; \param ior Index of refraction
+material_t get_base_material(vec3 base_color, float metallic, float roughness, float specular, vec3 specular_color, float ior) {
+    material_t material;
+    material.base_color = base_color;
+    material.metallic = metallic;
+    material.roughness = roughness;
+    material.specular = specular;
+    material.specular_color = specular_color;
+    material.ior = ior;
+    material.transmission = 0.0;
+    material.thickness = 0.0;
+    material.attenuation = vec3(0.0);
+    material.clearcoat = 0.0;
+    material.clearcoat_roughness = 0.0;
+    material.sheen_color = vec3(0.0);
+    material.sheen_roughness = 0.0;
+    return material;
+}
+
 // The GGX alpha of a perceptual roughness: roughness^2 as glTF defines it, but at least
 // MIN_GGX_ALPHA, so that roughness 0 (a perfect mirror, a delta lobe that no density can
 // describe) becomes a lobe about 10^-4 rad wide whose peak density (3e7) and squared MIS
 // weights stay far inside float range.
 float get_ggx_alpha(float roughness) {
     return max(roughness * roughness, MIN_GGX_ALPHA);
-}
-
-// An orthonormal basis (tangent, bitangent, normal) around a unit normal (Duff et al. 2017,
-// "Building an Orthonormal Basis, Revisited", JCGT 6(1)); the BRDF is isotropic, so any
-// tangent serves. Multiply a local vector by it to get the world vector.
-mat3 get_shading_basis(vec3 normal) {
-    float sign_z = (normal.z >= 0.0) ? 1.0 : -1.0;
-    float a = -1.0 / (sign_z + normal.z);
-    float b = normal.x * normal.y * a;
-    vec3 tangent = vec3(1.0 + sign_z * normal.x * normal.x * a, sign_z * b, -sign_z * normal.x);
-    vec3 bitangent = vec3(b, sign_z + normal.y * normal.y * a, -normal.y);
-    return mat3(tangent, bitangent, normal);
 }
 
 // The Trowbridge-Reitz (GGX) normal distribution D(h) = alpha^2 / (pi ((n.h)^2 (alpha^2 - 1)

@@ -100,14 +100,7 @@ uvec2 get_sample_display_seed(uint user_seed) {
 
 // The material of the BRDF display, from the push constants.
 material_t get_display_material() {
-    material_t material;
-    material.base_color = g_base_color_metallic.xyz;
-    material.metallic = g_base_color_metallic.w;
-    material.roughness = g_roughness_ior.x;
-    material.specular = g_specular_color_specular.w;
-    material.specular_color = g_specular_color_specular.xyz;
-    material.ior = g_roughness_ior.y;
-    return material;
+    return get_base_material(g_base_color_metallic.xyz, g_base_color_metallic.w, g_roughness_ior.x, g_specular_color_specular.w, g_specular_color_specular.xyz, g_roughness_ior.y);
 }
 
 // The sampler the display shows, by EXERCISE_SAMPLER_* value.

@@ -9,6 +9,7 @@
 #define VKPATH_IMPORTANCE_SAMPLING_GLSL
 
 #include "integrator.glsl"
+#include "shading_basis.glsl"
 
 // Maps two uniform random numbers to a cosine-distributed direction around a normal
 // (Malley's method: a uniform point on the unit disk, projected up to the hemisphere).
@@ -16,19 +17,14 @@
 // \param normal Unit normal n, world space
 // \return A unit vector omega with density get_hemisphere_cosine_density()
 vec3 sample_hemisphere_cosine(vec2 random_numbers, vec3 normal) {
-    // An orthonormal basis around n (Duff et al. 2017, "Building an Orthonormal Basis,
-    // Revisited", JCGT 6(1)).
-    float sign_z = (normal.z >= 0.0) ? 1.0 : -1.0;
-    float a = -1.0 / (sign_z + normal.z);
-    float b = normal.x * normal.y * a;
-    vec3 tangent = vec3(1.0 + sign_z * normal.x * normal.x * a, sign_z * b, -sign_z * normal.x);
-    vec3 bitangent = vec3(b, sign_z + normal.y * normal.y * a, -normal.y);
+    // The shading basis around n (glsl/shading_basis.glsl)
+    mat3 basis = get_shading_basis(normal);
     float radius = sqrt(random_numbers[0]);
     float phi = 2.0 * M_PI * random_numbers[1];
     float x = radius * cos(phi);
     float y = radius * sin(phi);
     float z = sqrt(max(0.0, 1.0 - random_numbers[0]));
-    return x * tangent + y * bitangent + z * normal;
+    return x * basis[0] + y * basis[1] + z * basis[2];
 }
 
 // Density of sample_hemisphere_cosine() w.r.t. solid angle: max(0, n.omega) / pi.

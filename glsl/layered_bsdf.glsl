@@ -27,7 +27,8 @@
 
 #include "brdf.glsl"
 // sample_hemisphere_cosine() (glsl/importance_sampling.glsl) and g_material_texels
-// (glsl/materials.glsl) come from the includer (glsl/surface.glsl), which includes them first.
+// (glsl/materials.glsl) come from the includer (glsl/gltf_surface.glsl), which includes
+// them first.
 
 // The exact Fresnel reflectance of a smooth dielectric interface for unpolarised light,
 // the mean of the s- and p-polarised reflectances; 1 under total internal reflection.

@@ -1,7 +1,7 @@
 // Materials, textures and shading normals of glTF assets (kernels built with USE_MATERIALS):
 // the packed words a hit triangle's material and shading data are read from, and what they
 // unpack to (material_t of glsl/brdf.glsl, the shading normal, emission, alpha coverage).
-// The surface seam (glsl/surface.glsl) builds its glTF surface_t from these.
+// The surface seam's glTF model (glsl/gltf_surface.glsl) builds its surface_t from these.
 // Host side: src/render/gpu_materials.rs; Rust twins of the functions: src/cpu/materials.rs.
 #ifndef VKPATH_MATERIALS_GLSL
 #define VKPATH_MATERIALS_GLSL
@@ -36,22 +36,8 @@ uvec4 get_material_texel(uint material_index, int texel) {
     return texelFetch(g_material_texels, int(uint(MATERIAL_TEXEL_COUNT) * material_index) + texel);
 }
 
-// The material's words (MATERIAL_TEXEL_COUNT texels, `GpuMaterial` on the host): texel 0 the
-// base colour factor; 1 the emissive factor (rgb) and metallic factor (a); 2 roughness,
-// specular, ior and the normal texture's scale; 3 the specular colour (rgb) and alpha cutoff
-// (a); 4 the alpha mode (x) and the mask of texture slots present (y); 5 transmission,
-// thickness, clearcoat and clearcoat roughness; 6 the volume's absorption coefficient (rgb)
-// and the clearcoat normal texture's scale (a); 7 the MATERIAL_FLAG_* bits (x); 8 the sheen
-// colour (rgb) and sheen roughness (a); then three texels per texture slot (texture_slot_t).
-#define MATERIAL_TEXEL_BASE_COLOR 0
-#define MATERIAL_TEXEL_EMISSIVE_METALLIC 1
-#define MATERIAL_TEXEL_ROUGHNESS_SPECULAR_IOR_NORMAL_SCALE 2
-#define MATERIAL_TEXEL_SPECULAR_COLOR_ALPHA_CUTOFF 3
-#define MATERIAL_TEXEL_ALPHA_MODE_TEXTURE_MASK 4
-#define MATERIAL_TEXEL_TRANSMISSION_THICKNESS_CLEARCOAT 5
-#define MATERIAL_TEXEL_ATTENUATION_CLEARCOAT_NORMAL_SCALE 6
-#define MATERIAL_TEXEL_FLAGS 7
-#define MATERIAL_TEXEL_SHEEN 8
+// The material's words: MATERIAL_TEXEL_COUNT texels laid out by the MATERIAL_TEXEL_* of
+// glsl/shared.h (`GpuMaterial` on the host).
 
 // ALPHA_MODE_OPAQUE, _MASK or _BLEND of material i.
 uint get_material_alpha_mode(uint material_index) {
@@ -250,20 +236,9 @@ vec3 get_front_clearcoat_normal(uint triangle_index, uint material_index, vec3 b
 material_t get_material(uint material_index, material_textures_t textures, vec4 base_color) {
     vec4 factors = uintBitsToFloat(get_material_texel(material_index, MATERIAL_TEXEL_ROUGHNESS_SPECULAR_IOR_NORMAL_SCALE));
     vec4 metallic_roughness = textures.slots[MATERIAL_TEXTURE_METALLIC_ROUGHNESS];
-    material_t material;
-    material.base_color = base_color.rgb;
-    material.metallic = uintBitsToFloat(get_material_texel(material_index, MATERIAL_TEXEL_EMISSIVE_METALLIC).w) * metallic_roughness.b;
-    material.roughness = factors.x * metallic_roughness.g;
-    material.specular = factors.y;
-    material.ior = factors.z;
-    material.specular_color = uintBitsToFloat(get_material_texel(material_index, MATERIAL_TEXEL_SPECULAR_COLOR_ALPHA_CUTOFF).rgb);
-    material.transmission = 0.0;
-    material.thickness = 0.0;
-    material.attenuation = vec3(0.0);
-    material.clearcoat = 0.0;
-    material.clearcoat_roughness = 0.0;
-    material.sheen_color = vec3(0.0);
-    material.sheen_roughness = 0.0;
+    float metallic = uintBitsToFloat(get_material_texel(material_index, MATERIAL_TEXEL_EMISSIVE_METALLIC).w) * metallic_roughness.b;
+    vec3 specular_color = uintBitsToFloat(get_material_texel(material_index, MATERIAL_TEXEL_SPECULAR_COLOR_ALPHA_CUTOFF).rgb);
+    material_t material = get_base_material(base_color.rgb, metallic, factors.x * metallic_roughness.g, factors.y, specular_color, factors.z);
     if (SCENE_HAS_LAYERS) {
         // KHR_materials_specular's textures (A: specular, RGB sRGB: specular colour)
         material.specular *= textures.slots[MATERIAL_TEXTURE_SPECULAR].a;

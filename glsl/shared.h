@@ -359,6 +359,34 @@
 #define MIN_GGX_ALPHA 1.0e-4
 
 #define SHADING_TEXEL_COUNT 8
+// ---- A material's layout: declared here once; glsl/materials.glsl reads it, the host's
+// `GpuMaterial` (src/render/gpu_materials.rs) writes it and the twins of
+// src/cpu/gltf_surface.rs read it, through `contract::MATERIAL_TEXEL_*`. A material is
+// MATERIAL_TEXEL_COUNT RGBA32_UINT texels: MATERIAL_FACTOR_TEXEL_COUNT texels of factors, then
+// three texels per texture slot (texture_slot_t). A new factor takes a free component or a new
+// texel here (and MATERIAL_FACTOR_TEXEL_COUNT, MATERIAL_TEXEL_COUNT grow by one).
+
+// Texel of the base colour factor (linear RGB, alpha).
+#define MATERIAL_TEXEL_BASE_COLOR 0
+// Texel of the emissive factor (rgb) and the metallic factor (a).
+#define MATERIAL_TEXEL_EMISSIVE_METALLIC 1
+// Texel of the roughness factor (x), specular factor (y), ior (z) and normal texture's scale (w).
+#define MATERIAL_TEXEL_ROUGHNESS_SPECULAR_IOR_NORMAL_SCALE 2
+// Texel of the specular colour factor (rgb) and the alpha cutoff (a).
+#define MATERIAL_TEXEL_SPECULAR_COLOR_ALPHA_CUTOFF 3
+// Texel of the alpha mode (x, ALPHA_MODE_*) and the mask of texture slots present (y).
+#define MATERIAL_TEXEL_ALPHA_MODE_TEXTURE_MASK 4
+// Texel of the transmission (x), thickness (y), clearcoat (z) and clearcoat roughness (w) factors.
+#define MATERIAL_TEXEL_TRANSMISSION_THICKNESS_CLEARCOAT 5
+// Texel of the volume's absorption coefficient per unit length (rgb) and the clearcoat normal
+// texture's scale (a).
+#define MATERIAL_TEXEL_ATTENUATION_CLEARCOAT_NORMAL_SCALE 6
+// Texel of the MATERIAL_FLAG_* bits (x).
+#define MATERIAL_TEXEL_FLAGS 7
+// Texel of the sheen colour (rgb) and sheen roughness (a).
+#define MATERIAL_TEXEL_SHEEN 8
+// Texels of a material in all: the factors, then 3 per texture slot
+// (MATERIAL_FACTOR_TEXEL_COUNT + 3 MATERIAL_TEXTURE_SLOT_COUNT, a layout test checks it).
 #define MATERIAL_TEXEL_COUNT 48
 // A material's texture slots, in the order of their texture_slot_t (3 texels each) after the
 // material's first MATERIAL_FACTOR_TEXEL_COUNT texels; bit (1 << slot) of the material's

@@ -13,9 +13,10 @@ use crate::common;
 
 use glam::{UVec2, Vec2, Vec3};
 use vkpath::cpu::brdf::{
-    get_brdf_density, get_ggx_alpha, get_ggx_distribution, get_shading_basis, get_smith_visibility,
+    get_base_material, get_brdf_density, get_ggx_alpha, get_ggx_distribution, get_smith_visibility,
     MaterialSample,
 };
+use vkpath::cpu::shading_basis::get_shading_basis;
 use vkpath::probe::brdf_probe::{BrdfProbeInput, BrdfProbeOutput, BrdfProbeRunner};
 use vkpath::probe::inputs::{self, InputRng};
 use vkpath::stats::chi2::{chi2_direction_test, Chi2Config};
@@ -35,25 +36,19 @@ fn random_material(rng: &mut InputRng) -> MaterialSample {
     let specular = pick(&[0.0, 1.0]);
     // Black one time in ten: the lobe choice's other corner (no diffuse energy).
     let black = rng.uniform() < 0.1;
-    MaterialSample {
-        base_color: if black {
+    // Arguments in the order the fields were drawn in before, so that the cases stay the same.
+    get_base_material(
+        if black {
             Vec3::ZERO
         } else {
             rng.in_box(Vec3::ZERO, Vec3::ONE)
         },
-        metallic: metallic.unwrap_or_else(|| rng.uniform()),
-        roughness: roughness.unwrap_or_else(|| rng.uniform()),
-        specular: specular.unwrap_or_else(|| rng.uniform()),
-        specular_color: rng.in_box(Vec3::ZERO, Vec3::splat(2.0)),
-        ior: rng.range(1.0, 3.0),
-        transmission: 0.0,
-        thickness: 0.0,
-        attenuation: Vec3::ZERO,
-        clearcoat: 0.0,
-        clearcoat_roughness: 0.0,
-        sheen_color: Vec3::ZERO,
-        sheen_roughness: 0.0,
-    }
+        metallic.unwrap_or_else(|| rng.uniform()),
+        roughness.unwrap_or_else(|| rng.uniform()),
+        specular.unwrap_or_else(|| rng.uniform()),
+        rng.in_box(Vec3::ZERO, Vec3::splat(2.0)),
+        rng.range(1.0, 3.0),
+    )
 }
 
 /// A random unit normal: mostly uniform on the sphere, sometimes a pole or next to one

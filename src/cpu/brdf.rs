@@ -6,6 +6,7 @@
 use glam::{Mat3, Vec2, Vec3};
 
 use crate::contract::MIN_GGX_ALPHA;
+use crate::cpu::shading_basis::get_shading_basis;
 use crate::cpu::workshop::M_PI;
 
 /// Twin of `material_t`: a surface point's material after texture lookups.
@@ -43,41 +44,41 @@ impl MaterialSample {
     /// glTF's default material with this base colour, metallic and roughness (specular 1,
     /// specular colour white, ior 1.5).
     pub fn gltf(base_color: Vec3, metallic: f32, roughness: f32) -> MaterialSample {
-        MaterialSample {
-            base_color,
-            metallic,
-            roughness,
-            specular: 1.0,
-            specular_color: Vec3::ONE,
-            ior: 1.5,
-            transmission: 0.0,
-            thickness: 0.0,
-            attenuation: Vec3::ZERO,
-            clearcoat: 0.0,
-            clearcoat_roughness: 0.0,
-            sheen_color: Vec3::ZERO,
-            sheen_roughness: 0.0,
-        }
+        get_base_material(base_color, metallic, roughness, 1.0, Vec3::ONE, 1.5)
+    }
+}
+
+/// Twin of `get_base_material`: the one constructor of a `MaterialSample`, the
+/// metallic-roughness factors with every layer off (0). A new field gets its "off" value here
+/// and nowhere else.
+pub fn get_base_material(
+    base_color: Vec3,
+    metallic: f32,
+    roughness: f32,
+    specular: f32,
+    specular_color: Vec3,
+    ior: f32,
+) -> MaterialSample {
+    MaterialSample {
+        base_color,
+        metallic,
+        roughness,
+        specular,
+        specular_color,
+        ior,
+        transmission: 0.0,
+        thickness: 0.0,
+        attenuation: Vec3::ZERO,
+        clearcoat: 0.0,
+        clearcoat_roughness: 0.0,
+        sheen_color: Vec3::ZERO,
+        sheen_roughness: 0.0,
     }
 }
 
 /// Twin of `get_ggx_alpha`: max(roughness^2, `MIN_GGX_ALPHA`).
 pub fn get_ggx_alpha(roughness: f32) -> f32 {
     (roughness * roughness).max(MIN_GGX_ALPHA)
-}
-
-/// Twin of `get_shading_basis`: columns tangent, bitangent, normal (Duff et al. 2017).
-pub fn get_shading_basis(normal: Vec3) -> Mat3 {
-    let sign_z = if normal.z >= 0.0 { 1.0 } else { -1.0 };
-    let a = -1.0 / (sign_z + normal.z);
-    let b = normal.x * normal.y * a;
-    let tangent = Vec3::new(
-        1.0 + sign_z * normal.x * normal.x * a,
-        sign_z * b,
-        -sign_z * normal.x,
-    );
-    let bitangent = Vec3::new(b, sign_z + normal.y * normal.y * a, -normal.y);
-    Mat3::from_cols(tangent, bitangent, normal)
 }
 
 /// GLSL's `vector * matrix`: the vector in the basis's local coordinates.

@@ -191,21 +191,14 @@ fn brdf_is_reciprocal() {
     for _ in 0..20_000 {
         let [a, b] = next().to_array();
         let [c, d] = next().to_array();
-        let material = MaterialSample {
-            base_color: Vec3::new(a, b, c),
-            metallic: d,
-            roughness: next().x.max(0.05),
-            specular: next().x,
-            specular_color: Vec3::new(next().x, next().y, 1.0),
-            ior: 1.0 + 2.0 * next().x,
-            transmission: 0.0,
-            thickness: 0.0,
-            attenuation: Vec3::ZERO,
-            clearcoat: 0.0,
-            clearcoat_roughness: 0.0,
-            sheen_color: Vec3::ZERO,
-            sheen_roughness: 0.0,
-        };
+        let material = get_base_material(
+            Vec3::new(a, b, c),
+            d,
+            next().x.max(0.05),
+            next().x,
+            Vec3::new(next().x, next().y, 1.0),
+            1.0 + 2.0 * next().x,
+        );
         let view = crate::cpu::workshop::sample_hemisphere(next(), Vec3::Z);
         let light = crate::cpu::workshop::sample_hemisphere(next(), Vec3::Z);
         let forward = get_brdf(&material, Vec3::Z, view, light);

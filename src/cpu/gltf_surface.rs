@@ -1,4 +1,5 @@
-//! Rust twins of the functions of the surface seam's glTF model (`glsl/surface.glsl` over `glsl/materials.glsl`) that read the scene's texel buffers:
+//! Rust twins of the functions of the surface seam's glTF model (`glsl/gltf_surface.glsl`
+//! over `glsl/materials.glsl`) that read the scene's texel buffers:
 //! `get_surface`, `get_bsdf`, `get_bsdf_density`, `sample_bsdf`, `is_opaque_hit` and the
 //! lookups they are made of, reading the same words the GPU reads (the packed triangles, `GpuTriangleShading`,
 //! `GpuMaterial` and the texture atlas of `crate::render`), with the same maths. The pure
@@ -9,15 +10,20 @@ use glam::{UVec2, UVec4, Vec2, Vec3, Vec4};
 
 use crate::contract::{
     ALPHA_MODE_MASK, ALPHA_MODE_OPAQUE, MATERIAL_FACTOR_TEXEL_COUNT, MATERIAL_FLAG_UNLIT,
-    MATERIAL_TEXEL_COUNT, MATERIAL_TEXTURE_BASE_COLOR, MATERIAL_TEXTURE_CLEARCOAT,
-    MATERIAL_TEXTURE_CLEARCOAT_NORMAL, MATERIAL_TEXTURE_CLEARCOAT_ROUGHNESS,
-    MATERIAL_TEXTURE_EMISSIVE, MATERIAL_TEXTURE_METALLIC_ROUGHNESS, MATERIAL_TEXTURE_NORMAL,
-    MATERIAL_TEXTURE_SHEEN_COLOR, MATERIAL_TEXTURE_SHEEN_ROUGHNESS, MATERIAL_TEXTURE_SLOT_COUNT,
-    MATERIAL_TEXTURE_SPECULAR, MATERIAL_TEXTURE_SPECULAR_COLOR, MATERIAL_TEXTURE_THICKNESS,
-    MATERIAL_TEXTURE_TRANSMISSION, SHADING_TEXEL_COUNT, TRIANGLE_FLAG_DOUBLE_SIDED,
-    TRIANGLE_TEXEL_COUNT,
+    MATERIAL_TEXEL_ALPHA_MODE_TEXTURE_MASK, MATERIAL_TEXEL_ATTENUATION_CLEARCOAT_NORMAL_SCALE,
+    MATERIAL_TEXEL_BASE_COLOR, MATERIAL_TEXEL_COUNT, MATERIAL_TEXEL_EMISSIVE_METALLIC,
+    MATERIAL_TEXEL_FLAGS, MATERIAL_TEXEL_ROUGHNESS_SPECULAR_IOR_NORMAL_SCALE, MATERIAL_TEXEL_SHEEN,
+    MATERIAL_TEXEL_SPECULAR_COLOR_ALPHA_CUTOFF, MATERIAL_TEXEL_TRANSMISSION_THICKNESS_CLEARCOAT,
+    MATERIAL_TEXTURE_BASE_COLOR, MATERIAL_TEXTURE_CLEARCOAT, MATERIAL_TEXTURE_CLEARCOAT_NORMAL,
+    MATERIAL_TEXTURE_CLEARCOAT_ROUGHNESS, MATERIAL_TEXTURE_EMISSIVE,
+    MATERIAL_TEXTURE_METALLIC_ROUGHNESS, MATERIAL_TEXTURE_NORMAL, MATERIAL_TEXTURE_SHEEN_COLOR,
+    MATERIAL_TEXTURE_SHEEN_ROUGHNESS, MATERIAL_TEXTURE_SLOT_COUNT, MATERIAL_TEXTURE_SPECULAR,
+    MATERIAL_TEXTURE_SPECULAR_COLOR, MATERIAL_TEXTURE_THICKNESS, MATERIAL_TEXTURE_TRANSMISSION,
+    SHADING_TEXEL_COUNT, TRIANGLE_FLAG_DOUBLE_SIDED, TRIANGLE_TEXEL_COUNT,
 };
-use crate::cpu::brdf::{get_brdf, get_brdf_density, sample_brdf, MaterialSample};
+use crate::cpu::brdf::{
+    get_base_material, get_brdf, get_brdf_density, sample_brdf, MaterialSample,
+};
 use crate::cpu::layered_bsdf::{
     get_absorption, get_layered_bsdf, get_layered_density, is_layered, is_refracting,
     sample_layered_bsdf,
@@ -85,26 +91,6 @@ pub fn get_material_texel(texels: &SurfaceTexels, material_index: u32, j: u32) -
         (MATERIAL_TEXEL_COUNT * material_index + j) as usize,
     )
 }
-
-/// `MATERIAL_TEXEL_*` of `glsl/materials.glsl`: which of a material's first texels holds what
-/// (`GpuMaterial` on the host).
-pub const MATERIAL_TEXEL_BASE_COLOR: u32 = 0;
-/// Emissive factor (rgb), metallic factor (a).
-pub const MATERIAL_TEXEL_EMISSIVE_METALLIC: u32 = 1;
-/// Roughness, specular, ior, the normal texture's scale.
-pub const MATERIAL_TEXEL_ROUGHNESS_SPECULAR_IOR_NORMAL_SCALE: u32 = 2;
-/// Specular colour (rgb), alpha cutoff (a).
-pub const MATERIAL_TEXEL_SPECULAR_COLOR_ALPHA_CUTOFF: u32 = 3;
-/// Alpha mode (x), the mask of texture slots present (y).
-pub const MATERIAL_TEXEL_ALPHA_MODE_TEXTURE_MASK: u32 = 4;
-/// Transmission, thickness, clearcoat, clearcoat roughness.
-pub const MATERIAL_TEXEL_TRANSMISSION_THICKNESS_CLEARCOAT: u32 = 5;
-/// The volume's absorption coefficient (rgb), the clearcoat normal texture's scale (a).
-pub const MATERIAL_TEXEL_ATTENUATION_CLEARCOAT_NORMAL_SCALE: u32 = 6;
-/// The `MATERIAL_FLAG_*` bits (x).
-pub const MATERIAL_TEXEL_FLAGS: u32 = 7;
-/// The sheen colour (rgb) and sheen roughness (a).
-pub const MATERIAL_TEXEL_SHEEN: u32 = 8;
 
 /// Twin of `get_material_clearcoat_normal_scale`.
 pub fn get_material_clearcoat_normal_scale(texels: &SurfaceTexels, material_index: u32) -> f32 {
@@ -433,31 +419,26 @@ pub fn get_material(
         MATERIAL_TEXEL_ROUGHNESS_SPECULAR_IOR_NORMAL_SCALE,
     ));
     let metallic_roughness = textures.slots[MATERIAL_TEXTURE_METALLIC_ROUGHNESS as usize];
-    let mut material = MaterialSample {
-        base_color: base_color.truncate(),
-        metallic: uint_bits_to_float(get_material_texel(
-            texels,
-            material_index,
-            MATERIAL_TEXEL_EMISSIVE_METALLIC,
-        ))
-        .w * metallic_roughness.z,
-        roughness: factors.x * metallic_roughness.y,
-        specular: factors.y,
-        ior: factors.z,
-        specular_color: uint_bits_to_float(get_material_texel(
-            texels,
-            material_index,
-            MATERIAL_TEXEL_SPECULAR_COLOR_ALPHA_CUTOFF,
-        ))
-        .truncate(),
-        transmission: 0.0,
-        thickness: 0.0,
-        attenuation: Vec3::ZERO,
-        clearcoat: 0.0,
-        clearcoat_roughness: 0.0,
-        sheen_color: Vec3::ZERO,
-        sheen_roughness: 0.0,
-    };
+    let metallic = uint_bits_to_float(get_material_texel(
+        texels,
+        material_index,
+        MATERIAL_TEXEL_EMISSIVE_METALLIC,
+    ))
+    .w * metallic_roughness.z;
+    let specular_color = uint_bits_to_float(get_material_texel(
+        texels,
+        material_index,
+        MATERIAL_TEXEL_SPECULAR_COLOR_ALPHA_CUTOFF,
+    ))
+    .truncate();
+    let mut material = get_base_material(
+        base_color.truncate(),
+        metallic,
+        factors.x * metallic_roughness.y,
+        factors.y,
+        specular_color,
+        factors.z,
+    );
     if texels.scene_has_layers {
         let texture = |slot: u32| textures.slots[slot as usize];
         material.specular *= texture(MATERIAL_TEXTURE_SPECULAR).w;
@@ -693,44 +674,5 @@ pub fn sample_bsdf(
         weight,
         lobes,
         eta,
-    }
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    /// The texel indices are glsl/materials.glsl's, digit for digit.
-    #[test]
-    fn material_texel_indices_are_the_shaders() {
-        let text = crate::shaders::GLSL_SOURCES
-            .iter()
-            .find(|(file, _)| *file == "materials.glsl")
-            .map(|(_, text)| *text)
-            .expect("materials.glsl is embedded");
-        for (name, value) in [
-            ("MATERIAL_TEXEL_BASE_COLOR", MATERIAL_TEXEL_BASE_COLOR),
-            (
-                "MATERIAL_TEXEL_EMISSIVE_METALLIC",
-                MATERIAL_TEXEL_EMISSIVE_METALLIC,
-            ),
-            (
-                "MATERIAL_TEXEL_ROUGHNESS_SPECULAR_IOR_NORMAL_SCALE",
-                MATERIAL_TEXEL_ROUGHNESS_SPECULAR_IOR_NORMAL_SCALE,
-            ),
-            (
-                "MATERIAL_TEXEL_SPECULAR_COLOR_ALPHA_CUTOFF",
-                MATERIAL_TEXEL_SPECULAR_COLOR_ALPHA_CUTOFF,
-            ),
-            (
-                "MATERIAL_TEXEL_ALPHA_MODE_TEXTURE_MASK",
-                MATERIAL_TEXEL_ALPHA_MODE_TEXTURE_MASK,
-            ),
-        ] {
-            assert!(
-                text.contains(&format!("#define {name} {value}\n")),
-                "{name} = {value}"
-            );
-        }
     }
 }

@@ -8,26 +8,20 @@ use crate::contract::{
     LIGHT_SAMPLING_SOLID_ANGLE, MAX_SPHERICAL_SAMPLING_SOLID_ANGLE,
     MIN_SPHERICAL_SAMPLING_SOLID_ANGLE,
 };
+use crate::cpu::shading_basis::get_shading_basis;
 use crate::cpu::workshop::M_PI;
 use crate::scene::Triangle;
 
 /// Twin of `sample_hemisphere_cosine`: Malley's method in the Duff et al. (2017) basis.
 pub fn sample_hemisphere_cosine(random_numbers: Vec2, normal: Vec3) -> Vec3 {
-    let sign_z = if normal.z >= 0.0 { 1.0 } else { -1.0 };
-    let a = -1.0 / (sign_z + normal.z);
-    let b = normal.x * normal.y * a;
-    let tangent = Vec3::new(
-        1.0 + sign_z * normal.x * normal.x * a,
-        sign_z * b,
-        -sign_z * normal.x,
-    );
-    let bitangent = Vec3::new(b, sign_z + normal.y * normal.y * a, -normal.y);
+    // The shading basis around n (`crate::cpu::shading_basis`).
+    let basis = get_shading_basis(normal);
     let radius = random_numbers[0].sqrt();
     let phi = 2.0 * M_PI * random_numbers[1];
     let x = radius * phi.cos();
     let y = radius * phi.sin();
     let z = (1.0 - random_numbers[0]).max(0.0).sqrt();
-    x * tangent + y * bitangent + z * normal
+    x * basis.x_axis + y * basis.y_axis + z * basis.z_axis
 }
 
 /// Twin of `get_hemisphere_cosine_density`: max(0, n.omega) / pi w.r.t. solid angle.

@@ -14,11 +14,11 @@ use glam::{Vec2, Vec3};
 use crate::contract::{CLEARCOAT_IOR, SHEEN_ALBEDO_SIZE, SHEEN_MIN_ALPHA};
 use crate::cpu::brdf::{
     get_brdf_density, get_dielectric_f0, get_ggx_alpha, get_ggx_distribution,
-    get_ggx_reflection_density, get_luminance, get_schlick_fresnel, get_shading_basis,
-    get_smith_visibility, reflect, sample_brdf, sample_ggx_visible_normal, to_local,
-    MaterialSample,
+    get_ggx_reflection_density, get_luminance, get_schlick_fresnel, get_smith_visibility, reflect,
+    sample_brdf, sample_ggx_visible_normal, to_local, MaterialSample,
 };
 use crate::cpu::importance_sampling::sample_hemisphere_cosine;
+use crate::cpu::shading_basis::get_shading_basis;
 use crate::cpu::sheen_albedo_table::SHEEN_ALBEDO;
 use crate::cpu::workshop::M_PI;
 

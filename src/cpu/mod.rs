@@ -19,6 +19,7 @@ pub mod path_guiding;
 pub mod path_loop;
 pub mod punctual_lights;
 pub mod renderer;
+pub mod shading_basis;
 pub mod sheen_albedo_table;
 pub mod sobol;
 pub mod surface;

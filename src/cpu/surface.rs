@@ -1,6 +1,7 @@
-//! Rust twins of `glsl/surface.glsl`'s Lambert model (the workshop's diffuse triangles): the
-//! surface seam that the path loop and the light estimators see a hit through. The glTF
-//! model's maths are twinned in `crate::cpu::brdf` and `crate::cpu::materials`.
+//! Rust twins of the surface seam's Lambert model (`glsl/lambert_surface.glsl`, behind the
+//! interface of `glsl/surface.glsl`; the workshop's diffuse triangles): the surface seam that
+//! the path loop and the light estimators see a hit through. The glTF model's maths are
+//! twinned in `crate::cpu::brdf` and `crate::cpu::materials`.
 
 use glam::{Vec2, Vec3};
 

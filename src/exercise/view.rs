@@ -208,25 +208,19 @@ pub fn dot_radius_pixels(height: u32) -> f32 {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::cpu::brdf::get_base_material;
 
     #[test]
     fn push_constants_carry_the_material_and_view() {
         let setup = BrdfDisplaySetup::new(
-            MaterialSample {
-                base_color: Vec3::new(0.1, 0.2, 0.3),
-                metallic: 0.4,
-                roughness: 0.5,
-                specular: 0.6,
-                specular_color: Vec3::new(0.7, 0.8, 0.9),
-                ior: 1.7,
-                transmission: 0.0,
-                thickness: 0.0,
-                attenuation: Vec3::ZERO,
-                clearcoat: 0.0,
-                clearcoat_roughness: 0.0,
-                sheen_color: Vec3::ZERO,
-                sheen_roughness: 0.0,
-            },
+            get_base_material(
+                Vec3::new(0.1, 0.2, 0.3),
+                0.4,
+                0.5,
+                0.6,
+                Vec3::new(0.7, 0.8, 0.9),
+                1.7,
+            ),
             30.0,
         );
         let constants = SampleDisplayPushConstants::new(ExerciseSampler::Brdf, 64, 32, 7, &setup);

@@ -9,8 +9,8 @@ use bytemuck::{Pod, Zeroable};
 use glam::{Vec2, Vec3, Vec4};
 
 use crate::cpu::brdf::{
-    get_brdf, get_brdf_density, get_ggx_alpha, get_specular_probability, sample_brdf,
-    sample_ggx_visible_normal, MaterialSample,
+    get_base_material, get_brdf, get_brdf_density, get_ggx_alpha, get_specular_probability,
+    sample_brdf, sample_ggx_visible_normal, MaterialSample,
 };
 use crate::error::Result;
 use crate::kernels;
@@ -64,21 +64,14 @@ impl BrdfProbeInput {
     pub fn material(&self) -> MaterialSample {
         let [r, g, b, metallic] = self.base_color_metallic;
         let [sr, sg, sb, specular] = self.specular_color_specular;
-        MaterialSample {
-            base_color: Vec3::new(r, g, b),
+        get_base_material(
+            Vec3::new(r, g, b),
             metallic,
-            roughness: self.roughness_ior_randoms[0],
+            self.roughness_ior_randoms[0],
             specular,
-            specular_color: Vec3::new(sr, sg, sb),
-            ior: self.roughness_ior_randoms[1],
-            transmission: 0.0,
-            thickness: 0.0,
-            attenuation: Vec3::ZERO,
-            clearcoat: 0.0,
-            clearcoat_roughness: 0.0,
-            sheen_color: Vec3::ZERO,
-            sheen_roughness: 0.0,
-        }
+            Vec3::new(sr, sg, sb),
+            self.roughness_ior_randoms[1],
+        )
     }
 
     /// The random numbers (u_0, u_1).

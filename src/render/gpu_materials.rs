@@ -1,6 +1,7 @@
 //! The materials, per-triangle shading data and textures of `glsl/materials.glsl`, byte for
 //! byte: `GpuTriangleShading` (`SHADING_TEXEL_COUNT` RGBA32 texels per triangle) and
-//! `GpuMaterial` (`MATERIAL_TEXEL_COUNT` texels per material), with layout tests.
+//! `GpuMaterial` (`MATERIAL_TEXEL_COUNT` texels per material, laid out by the `MATERIAL_TEXEL_*`
+//! of `glsl/shared.h`), with layout tests.
 
 use bytemuck::{Pod, Zeroable};
 
@@ -236,30 +237,70 @@ mod tests {
 
     #[test]
     fn material_matches_get_material_texel() {
-        assert_eq!(size_of::<GpuMaterial>(), 16 * MATERIAL_TEXEL_COUNT as usize);
-        assert_eq!(offset_of!(GpuMaterial, base_color), 0);
-        assert_eq!(offset_of!(GpuMaterial, emission_metallic), 16);
+        use crate::contract::{
+            MATERIAL_TEXEL_ALPHA_MODE_TEXTURE_MASK as ALPHA_MODE,
+            MATERIAL_TEXEL_ATTENUATION_CLEARCOAT_NORMAL_SCALE as ATTENUATION,
+            MATERIAL_TEXEL_BASE_COLOR as BASE_COLOR, MATERIAL_TEXEL_EMISSIVE_METALLIC as EMISSIVE,
+            MATERIAL_TEXEL_FLAGS as FLAGS,
+            MATERIAL_TEXEL_ROUGHNESS_SPECULAR_IOR_NORMAL_SCALE as ROUGHNESS,
+            MATERIAL_TEXEL_SHEEN as SHEEN, MATERIAL_TEXEL_SPECULAR_COLOR_ALPHA_CUTOFF as SPECULAR,
+            MATERIAL_TEXEL_TRANSMISSION_THICKNESS_CLEARCOAT as TRANSMISSION,
+        };
+        // The layout of glsl/shared.h: each field at its MATERIAL_TEXEL_* texel, the texture
+        // slots after the factors, three texels each.
+        let texel = |t: u32| 16 * t as usize;
+        assert_eq!(
+            MATERIAL_TEXEL_COUNT,
+            MATERIAL_FACTOR_TEXEL_COUNT + 3 * MATERIAL_TEXTURE_SLOT_COUNT
+        );
+        assert_eq!(size_of::<GpuMaterial>(), texel(MATERIAL_TEXEL_COUNT));
+        assert_eq!(offset_of!(GpuMaterial, base_color), texel(BASE_COLOR));
+        assert_eq!(offset_of!(GpuMaterial, emission_metallic), texel(EMISSIVE));
         assert_eq!(
             offset_of!(GpuMaterial, roughness_specular_ior_normal_scale),
-            32
+            texel(ROUGHNESS)
         );
-        assert_eq!(offset_of!(GpuMaterial, specular_color_alpha_cutoff), 48);
-        assert_eq!(offset_of!(GpuMaterial, alpha_mode_texture_flags), 64);
+        assert_eq!(
+            offset_of!(GpuMaterial, specular_color_alpha_cutoff),
+            texel(SPECULAR)
+        );
+        assert_eq!(
+            offset_of!(GpuMaterial, alpha_mode_texture_flags),
+            texel(ALPHA_MODE)
+        );
         assert_eq!(
             offset_of!(GpuMaterial, transmission_thickness_clearcoat),
-            80
+            texel(TRANSMISSION)
         );
         assert_eq!(
             offset_of!(GpuMaterial, attenuation_clearcoat_normal_scale),
-            96
+            texel(ATTENUATION)
         );
-        assert_eq!(offset_of!(GpuMaterial, flags), 112);
-        assert_eq!(offset_of!(GpuMaterial, sheen), 128);
+        assert_eq!(offset_of!(GpuMaterial, flags), texel(FLAGS));
+        assert_eq!(offset_of!(GpuMaterial, sheen), texel(SHEEN));
+        // The factors fill their texels with no gap: the last factor texel is the last one.
+        assert_eq!(
+            [
+                BASE_COLOR,
+                EMISSIVE,
+                ROUGHNESS,
+                SPECULAR,
+                ALPHA_MODE,
+                TRANSMISSION,
+                ATTENUATION,
+                FLAGS,
+                SHEEN
+            ]
+            .iter()
+            .max()
+            .map(|last| last + 1),
+            Some(MATERIAL_FACTOR_TEXEL_COUNT)
+        );
         assert_eq!(
             offset_of!(GpuMaterial, textures),
-            16 * MATERIAL_FACTOR_TEXEL_COUNT as usize
+            texel(MATERIAL_FACTOR_TEXEL_COUNT)
         );
-        assert_eq!(size_of::<GpuTextureSlot>(), 48);
+        assert_eq!(size_of::<GpuTextureSlot>(), 3 * 16);
     }
 
     #[test]
