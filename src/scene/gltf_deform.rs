@@ -248,7 +248,8 @@ impl<'a> Deformer<'a> {
         let bad =
             |reason: String| malformed(self.path, format!("skin '{skin}': {context}: {reason}"));
         let reader = primitive.reader(self.buffer());
-        let mut sets: Vec<(Vec<[u16; 4]>, Vec<[f32; 4]>)> = Vec::new();
+        // Each set's joints and weights, one element per vertex.
+        let mut sets: Vec<JointSet> = Vec::new();
         for set in 0u32.. {
             let Some(joints) = primitive.get(&gltf::Semantic::Joints(set)) else {
                 break;
@@ -309,6 +310,9 @@ impl<'a> Deformer<'a> {
         Ok(influences)
     }
 }
+
+/// One JOINTS_n set's joint indices and its WEIGHTS_n, per vertex.
+type JointSet = (Vec<[u16; 4]>, Vec<[f32; 4]>);
 
 /// Every node's local-to-world matrix with the pose's local transforms: the product of the
 /// local matrices from its root down (as the loader's walk multiplies them); `None` for a
