@@ -25,6 +25,7 @@ pub fn read_animations(
     document: &Document,
     buffers: &[gltf::buffer::Data],
 ) -> Result<Vec<Animation>, SceneError> {
+    check_channels(path, document)?;
     let mut animations = Vec::new();
     for animation in document.animations() {
         let name = label(animation.name(), animation.index());
@@ -223,6 +224,35 @@ fn read_weights_channel(
         node: node.index(),
         sampler,
     })
+}
+
+/// Checks what the `gltf` crate's validation leaves out of animations and its accessors
+/// unwrap: each channel's target node exists, its path is known, and each sampler's
+/// interpolation is known.
+fn check_channels(path: &Path, document: &Document) -> Result<(), SceneError> {
+    use gltf::json::validation::Checked;
+    let root = document.as_json();
+    for (index, animation) in root.animations.iter().enumerate() {
+        let name = label(animation.name.as_deref(), index);
+        let bad = |reason: String| malformed(path, format!("animation '{name}' {reason}"));
+        for (c, channel) in animation.channels.iter().enumerate() {
+            if channel.target.node.value() >= root.nodes.len() {
+                return Err(bad(format!(
+                    "channel {c} targets node {}, which does not exist",
+                    channel.target.node.value()
+                )));
+            }
+            if !matches!(channel.target.path, Checked::Valid(_)) {
+                return Err(bad(format!("channel {c} has an unknown target path")));
+            }
+        }
+        for (s, sampler) in animation.samplers.iter().enumerate() {
+            if !matches!(sampler.interpolation, Checked::Valid(_)) {
+                return Err(bad(format!("sampler {s} has an unknown interpolation")));
+            }
+        }
+    }
+    Ok(())
 }
 
 /// What the picked animations make of the file at one time.

@@ -1078,3 +1078,36 @@ fn an_animated_camera_node_moves_the_camera() {
     assert_close(camera_at(1.0), Vec3::new(0.0, 0.0, 4.0));
     assert_close(camera_at(5.0), Vec3::new(0.0, 0.0, 6.0));
 }
+
+#[test]
+fn a_channel_on_a_missing_node_or_unknown_path_is_one_line() {
+    // The gltf crate validates neither and unwraps both (the loaders' fuzzer found it).
+    let dir = tempfile::tempdir().unwrap();
+    let text = animated(&[1.0, 3.0], &[0.0, 0.0, 0.0, 4.0, 0.0, 0.0]);
+    assert!(text.contains(r#""node":1,"path":"rotation""#), "{text}");
+    for (name, broken, expected) in [
+        (
+            "node.gltf",
+            r#""node":9,"path":"rotation""#,
+            "targets node 9",
+        ),
+        (
+            "path.gltf",
+            r#""node":1,"path":"spin""#,
+            "unknown target path",
+        ),
+    ] {
+        let path = write(
+            &dir,
+            name,
+            text.replace(r#""node":1,"path":"rotation""#, broken),
+        );
+        let error = load_at(&path, 0.0, AnimationPick::All)
+            .unwrap_err()
+            .to_string();
+        assert!(
+            error.contains("animation 'spin' channel 0") && error.contains(expected),
+            "{error}"
+        );
+    }
+}
