@@ -45,5 +45,7 @@ mod region_tiles;
 mod scripting_cli;
 #[path = "shadertoy_cli.rs"]
 mod shadertoy_cli;
+#[path = "skin_morph_cli.rs"]
+mod skin_morph_cli;
 #[path = "tev_live.rs"]
 mod tev_live;

@@ -14,7 +14,8 @@
 //!   naming the case and its input (an allocation cannot be turned into a panic), and each fuzz
 //!   test checks the process's peak RSS (`VmHWM` in /proc/self/status) against `PROCESS_RSS_LIMIT`.
 //!
-//! Seeds: `tests/data` (cube.obj + cube.mtl, emissive_quad.gltf, lines.gltf, malformed.gltf) and,
+//! Seeds: `tests/data` (cube.obj + cube.mtl, emissive_quad.gltf, lines.gltf, malformed.gltf,
+//! skinned_morphed.gltf from `scripts/make_skinned_morphed_gltf.py`) and,
 //! made here, emissive_quad.gltf with its buffer in a `.bin` file, GLB versions of
 //! emissive_quad.gltf and lines.gltf, and the built-in Cornell box as OBJ + MTL.
 //!
@@ -472,6 +473,7 @@ fn seeds() -> Vec<Seed> {
         external,
         gltf("lines.gltf"),
         gltf("malformed.gltf"),
+        gltf("skinned_morphed.gltf"),
         glb("emissive_quad.glb", "emissive_quad.gltf"),
         glb("lines.glb", "lines.gltf"),
         Seed {

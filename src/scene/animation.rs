@@ -99,18 +99,11 @@ impl Sampler {
         values: Vec<Vec4>,
         interpolation: Interpolation,
     ) -> Result<Sampler, SamplerError> {
-        if times.is_empty() {
-            return Err(SamplerError::NoKeys);
-        }
-        if let Some(i) =
-            (0..times.len()).find(|&i| !times[i].is_finite() || (i > 0 && times[i] <= times[i - 1]))
-        {
-            return Err(SamplerError::NotIncreasing(i));
-        }
-        let expected = interpolation.output_count(times.len());
-        if values.len() != expected {
-            return Err(SamplerError::OutputCount(values.len(), expected));
-        }
+        check_keys(
+            &times,
+            values.len(),
+            interpolation.output_count(times.len()),
+        )?;
         Ok(Sampler {
             times,
             values,
@@ -129,24 +122,6 @@ impl Sampler {
             Interpolation::CubicSpline => self.values[3 * k + 1],
             _ => self.values[k],
         }
-    }
-
-    /// The segment around `time`: the key `k` at or before it and the fraction `s` in [0, 1]
-    /// of the way to key `k + 1`; `None` when `time` clamps to the first or last key (whose
-    /// index it gives then).
-    fn segment(&self, time: f32) -> Result<(usize, f32), usize> {
-        let last = self.times.len() - 1;
-        if time.is_nan() || time <= self.times[0] {
-            return Err(0);
-        }
-        if time >= self.times[last] {
-            return Err(last);
-        }
-        // The first key after `time`: at least 1 and at most `last` by the checks above.
-        let next = self.times.partition_point(|&t| t <= time);
-        let k = next - 1;
-        let s = (time - self.times[k]) / (self.times[next] - self.times[k]);
-        Ok((k, s.clamp(0.0, 1.0)))
     }
 
     /// The value at `time` of a vector channel (translation, scale): x, y, z.
@@ -168,7 +143,7 @@ impl Sampler {
 
     /// The interpolated 4-wide value at `time`; `rotation` selects slerp for `LINEAR`.
     fn sample(&self, time: f32, rotation: bool) -> Vec4 {
-        let (k, s) = match self.segment(time) {
+        let (k, s) = match key_segment(&self.times, time) {
             Ok(segment) => segment,
             Err(key) => return self.value(key),
         };
@@ -190,14 +165,58 @@ impl Sampler {
     }
 }
 
+/// Checks keys: at least one time, times finite and strictly increasing, and `found`
+/// output elements where the interpolation needs `expected`.
+pub(crate) fn check_keys(times: &[f32], found: usize, expected: usize) -> Result<(), SamplerError> {
+    if times.is_empty() {
+        return Err(SamplerError::NoKeys);
+    }
+    if let Some(i) =
+        (0..times.len()).find(|&i| !times[i].is_finite() || (i > 0 && times[i] <= times[i - 1]))
+    {
+        return Err(SamplerError::NotIncreasing(i));
+    }
+    if found != expected {
+        return Err(SamplerError::OutputCount(found, expected));
+    }
+    Ok(())
+}
+
+/// The segment of the strictly increasing key `times` around `time`: the key `k` at or
+/// before it and the fraction `s` in [0, 1] of the way to key `k + 1`; `Err(key)` when
+/// `time` clamps to the first or last key (whose index it gives then).
+pub(crate) fn key_segment(times: &[f32], time: f32) -> Result<(usize, f32), usize> {
+    let last = times.len() - 1;
+    if time.is_nan() || time <= times[0] {
+        return Err(0);
+    }
+    if time >= times[last] {
+        return Err(last);
+    }
+    // The first key after `time`: at least 1 and at most `last` by the checks above.
+    let next = times.partition_point(|&t| t <= time);
+    let k = next - 1;
+    let s = (time - times[k]) / (times[next] - times[k]);
+    Ok((k, s.clamp(0.0, 1.0)))
+}
+
+/// The cubic Hermite basis at `s` in [0, 1], the weights of p0, m0, p1, m1:
+/// 2s³ − 3s² + 1, s³ − 2s² + s, −2s³ + 3s², s³ − s².
+pub fn hermite_basis(s: f32) -> [f32; 4] {
+    let (s2, s3) = (s * s, s * s * s);
+    [
+        2.0 * s3 - 3.0 * s2 + 1.0,
+        s3 - 2.0 * s2 + s,
+        -2.0 * s3 + 3.0 * s2,
+        s3 - s2,
+    ]
+}
+
 /// Cubic Hermite spline between `p0` (tangent `m0`) and `p1` (tangent `m1`) at `s` in
 /// [0, 1]: (2s³ − 3s² + 1)p0 + (s³ − 2s² + s)m0 + (−2s³ + 3s²)p1 + (s³ − s²)m1.
 pub fn hermite(p0: Vec4, m0: Vec4, p1: Vec4, m1: Vec4, s: f32) -> Vec4 {
-    let (s2, s3) = (s * s, s * s * s);
-    p0 * (2.0 * s3 - 3.0 * s2 + 1.0)
-        + m0 * (s3 - 2.0 * s2 + s)
-        + p1 * (-2.0 * s3 + 3.0 * s2)
-        + m1 * (s3 - s2)
+    let [h00, h10, h01, h11] = hermite_basis(s);
+    p0 * h00 + m0 * h10 + p1 * h01 + m1 * h11
 }
 
 /// Spherical linear interpolation of two quaternions (x, y, z, w) by `s` in [0, 1], along the
@@ -225,8 +244,10 @@ pub struct Channel {
 pub struct Animation {
     /// Its name in the file, or `#index`.
     pub name: String,
-    /// Its channels.
+    /// Its channels on node transforms.
     pub channels: Vec<Channel>,
+    /// Its channels on nodes' morph target weights.
+    pub weights: Vec<super::morph_targets::WeightsChannel>,
 }
 
 /// A node's local transform as translation, rotation and scale.
@@ -418,6 +439,7 @@ mod tests {
         let animation = |name: &str| Animation {
             name: name.into(),
             channels: vec![],
+            weights: vec![],
         };
         let all = [animation("walk"), animation("run")];
         assert_eq!(AnimationPick::All.select(&all).unwrap().len(), 2);

@@ -1,6 +1,6 @@
-//! A glTF file's `animations` read into [`Animation`]s, and the node transforms they give at
-//! a time. Skins and morph targets are not animated yet: a file that has them is rendered in
-//! its rest pose, with one warning.
+//! A glTF file's `animations` read into [`Animation`]s, and the pose they give at a time:
+//! node transforms (which move meshes, cameras, lights and skins' joints) and morph target
+//! weights.
 
 use std::collections::HashMap;
 use std::path::Path;
@@ -14,30 +14,32 @@ use super::animation::{
     Animation, AnimationPick, Channel, Interpolation, NodePose, Property, Sampler,
 };
 use super::gltf_loader::{check_accessor, label, malformed};
+use super::morph_targets::{WeightsChannel, WeightsSampler};
 use super::SceneError;
 
-/// The warning for files with skins or morph targets.
-pub const SKIN_MORPH_WARNING: &str =
-    "animation of skins/morph targets is not supported yet; rendering the rest pose";
-
 /// Every animation of the file, checked: each sampler's input scalar floats, strictly
-/// increasing, and as many outputs as its interpolation needs. Channels on morph target
-/// weights are left out (see [`skin_or_morph_warning`]).
+/// increasing, and as many outputs as its interpolation needs (for morph target weights,
+/// times the number of targets of the node's mesh).
 pub fn read_animations(
     path: &Path,
     document: &Document,
     buffers: &[gltf::buffer::Data],
 ) -> Result<Vec<Animation>, SceneError> {
+    check_channels(path, document)?;
     let mut animations = Vec::new();
     for animation in document.animations() {
         let name = label(animation.name(), animation.index());
         let mut channels = Vec::new();
+        let mut weights = Vec::new();
         for channel in animation.channels() {
             let property = match channel.target().property() {
                 gltf::animation::Property::Translation => Property::Translation,
                 gltf::animation::Property::Rotation => Property::Rotation,
                 gltf::animation::Property::Scale => Property::Scale,
-                gltf::animation::Property::MorphTargetWeights => continue,
+                gltf::animation::Property::MorphTargetWeights => {
+                    weights.push(read_weights_channel(path, &name, &channel, buffers)?);
+                    continue;
+                }
             };
             let sampler = channel.sampler();
             let (input, output) = (sampler.input(), sampler.output());
@@ -105,7 +107,11 @@ pub fn read_animations(
                 sampler,
             });
         }
-        animations.push(Animation { name, channels });
+        animations.push(Animation {
+            name,
+            channels,
+            weights,
+        });
     }
     Ok(animations)
 }
@@ -140,34 +146,144 @@ pub fn animated_local_transforms(
         .collect()
 }
 
-/// The one warning for a file with skins, morph targets or animated morph weights, which
-/// are drawn in their rest pose.
-pub fn skin_or_morph_warning(document: &Document) -> Option<&'static str> {
-    let morph = document.meshes().any(|mesh| {
-        mesh.primitives()
-            .any(|p| p.morph_targets().next().is_some())
-    });
-    (document.skins().next().is_some() || morph).then_some(SKIN_MORPH_WARNING)
+/// A `weights` channel, checked: input as for node channels, output scalars (floats or
+/// normalised integers), as many as the interpolation needs times the number of morph targets
+/// of the node's mesh.
+fn read_weights_channel(
+    path: &Path,
+    name: &str,
+    channel: &gltf::animation::Channel,
+    buffers: &[gltf::buffer::Data],
+) -> Result<WeightsChannel, SceneError> {
+    let sampler = channel.sampler();
+    let (input, output) = (sampler.input(), sampler.output());
+    let bad = |reason: String| {
+        malformed(
+            path,
+            format!("animation '{name}' channel {}: {reason}", channel.index()),
+        )
+    };
+    let node = channel.target().node();
+    let target_count = node
+        .mesh()
+        .and_then(|mesh| mesh.primitives().map(|p| p.morph_targets().len()).max())
+        .unwrap_or(0);
+    if target_count == 0 {
+        return Err(bad(format!(
+            "animates the morph weights of node '{}', whose mesh has no morph targets",
+            label(node.name(), node.index())
+        )));
+    }
+    check_accessor(&input, Dimensions::Scalar, &[DataType::F32]).map_err(&bad)?;
+    let types = [
+        DataType::F32,
+        DataType::I8,
+        DataType::U8,
+        DataType::I16,
+        DataType::U16,
+    ];
+    check_accessor(&output, Dimensions::Scalar, &types).map_err(&bad)?;
+    let reader = channel.reader(|buffer| buffers.get(buffer.index()).map(|d| &d[..]));
+    let cut_off = |accessor: &gltf::Accessor| {
+        bad(format!(
+            "accessor '{}' lies outside its buffer",
+            label(accessor.name(), accessor.index())
+        ))
+    };
+    let times: Vec<f32> = reader
+        .read_inputs()
+        .ok_or_else(|| cut_off(&input))?
+        .collect();
+    let values: Vec<f32> = match reader.read_outputs().ok_or_else(|| cut_off(&output))? {
+        ReadOutputs::MorphTargetWeights(w) => w.into_f32().collect(),
+        _ => return Err(cut_off(&output)),
+    };
+    if times.len() != input.count() || values.len() != output.count() {
+        return Err(cut_off(&output));
+    }
+    let interpolation = match sampler.interpolation() {
+        gltf::animation::Interpolation::Linear => Interpolation::Linear,
+        gltf::animation::Interpolation::Step => Interpolation::Step,
+        gltf::animation::Interpolation::CubicSpline => Interpolation::CubicSpline,
+    };
+    let sampler =
+        WeightsSampler::new(times, values, target_count, interpolation).map_err(|error| {
+            let (accessor, more) = match error {
+                super::animation::SamplerError::OutputCount(..) => {
+                    (&output, format!(" ({target_count} morph targets per key)"))
+                }
+                _ => (&input, String::new()),
+            };
+            bad(format!(
+                "{} weights sampler: accessor '{}' {error}{more}",
+                interpolation.name(),
+                label(accessor.name(), accessor.index())
+            ))
+        })?;
+    Ok(WeightsChannel {
+        node: node.index(),
+        sampler,
+    })
 }
 
-/// Reads the file's animations and picks some (`pick`): the local transforms they give at
-/// `time`, and warnings.
-pub fn node_transforms_at(
+/// Checks what the `gltf` crate's validation leaves out of animations and its accessors
+/// unwrap: each channel's target node exists, its path is known, and each sampler's
+/// interpolation is known.
+fn check_channels(path: &Path, document: &Document) -> Result<(), SceneError> {
+    use gltf::json::validation::Checked;
+    let root = document.as_json();
+    for (index, animation) in root.animations.iter().enumerate() {
+        let name = label(animation.name.as_deref(), index);
+        let bad = |reason: String| malformed(path, format!("animation '{name}' {reason}"));
+        for (c, channel) in animation.channels.iter().enumerate() {
+            if channel.target.node.value() >= root.nodes.len() {
+                return Err(bad(format!(
+                    "channel {c} targets node {}, which does not exist",
+                    channel.target.node.value()
+                )));
+            }
+            if !matches!(channel.target.path, Checked::Valid(_)) {
+                return Err(bad(format!("channel {c} has an unknown target path")));
+            }
+        }
+        for (s, sampler) in animation.samplers.iter().enumerate() {
+            if !matches!(sampler.interpolation, Checked::Valid(_)) {
+                return Err(bad(format!("sampler {s} has an unknown interpolation")));
+            }
+        }
+    }
+    Ok(())
+}
+
+/// What the picked animations make of the file at one time.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Pose {
+    /// The local-to-parent matrix of every node they drive; other nodes keep the file's.
+    pub local_transforms: HashMap<usize, Mat4>,
+    /// The morph target weights of every node whose weights they drive.
+    pub morph_weights: HashMap<usize, Vec<f32>>,
+}
+
+/// Reads the file's animations and picks some (`pick`): the pose they give at `time`.
+pub fn pose_at(
     path: &Path,
     document: &Document,
     buffers: &[gltf::buffer::Data],
     pick: &AnimationPick,
     time: f32,
-) -> Result<(HashMap<usize, Mat4>, Vec<String>), SceneError> {
+) -> Result<Pose, SceneError> {
     let animations = read_animations(path, document, buffers)?;
     let picked = pick
         .select(&animations)
         .map_err(|reason| malformed_pick(path, reason))?;
-    let mut warnings = Vec::new();
-    if let Some(warning) = skin_or_morph_warning(document) {
-        warnings.push(warning.to_string());
+    let mut morph_weights = HashMap::new();
+    for channel in picked.iter().flat_map(|a| &a.weights) {
+        morph_weights.insert(channel.node, channel.sampler.sample(time));
     }
-    Ok((animated_local_transforms(document, &picked, time), warnings))
+    Ok(Pose {
+        local_transforms: animated_local_transforms(document, &picked, time),
+        morph_weights,
+    })
 }
 
 /// The error for an `--animation` that the file does not have.

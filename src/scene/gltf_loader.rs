@@ -19,7 +19,8 @@ use gltf::mesh::Mode;
 use gltf::{Document, Gltf, Node};
 
 use super::files::{read_bounded, resolve_reference, LoadOptions, MAX_SCENE_FILE_BYTES};
-use super::gltf_animation::node_transforms_at;
+use super::gltf_animation::pose_at;
+use super::gltf_deform::{Deformer, NodeDeformation};
 use super::gltf_extensions::unsupported_extension_warnings;
 use super::gltf_materials::MaterialReader;
 use super::instances::InstanceRecorder;
@@ -52,6 +53,7 @@ pub fn load_gltf_with(path: &Path, options: &LoadOptions) -> Result<Scene, Scene
     validate(path, &document)?;
     let buffers = load_buffers(path, &document, blob, options)?;
 
+    let pose = pose_at(path, &document, &buffers, &options.animation, options.time)?;
     let mut loader = Loader {
         document: &document,
         buffers: &buffers,
@@ -59,16 +61,12 @@ pub fn load_gltf_with(path: &Path, options: &LoadOptions) -> Result<Scene, Scene
         materials: MaterialReader::new(path, &document, &buffers, options),
         orthographic_camera: None,
         instances: InstanceRecorder::default(),
+        deformer: Deformer::new(path, &document, &buffers, pose),
     };
     for warning in unsupported_extension_warnings(document.extensions_used()) {
         loader.builder.warn(warning);
     }
-    let (animated, animation_warnings) =
-        node_transforms_at(path, &document, &buffers, &options.animation, options.time)?;
-    for warning in animation_warnings {
-        loader.builder.warn(warning);
-    }
-    for (node, world) in flatten_hierarchy(path, &document, &animated)? {
+    for (node, world) in flatten_hierarchy(path, &document, loader.deformer.local_transforms())? {
         loader.visit(&node, world)?;
     }
     let MaterialReader {
@@ -398,13 +396,16 @@ struct Loader<'a> {
     orthographic_camera: Option<String>,
     /// Each node's copy of its mesh, for the device's acceleration structures.
     instances: InstanceRecorder,
+    /// The pose: morph targets and skins.
+    deformer: Deformer<'a>,
 }
 
 impl Loader<'_> {
     /// Adds a node's mesh and, if it is the first perspective one, its camera.
     fn visit(&mut self, node: &Node, local_to_world: Mat4) -> Result<(), SceneError> {
         if let Some(mesh) = node.mesh() {
-            self.add_mesh(&mesh, local_to_world)?;
+            let deformation = self.deformer.node(node, &mesh)?;
+            self.add_mesh(&mesh, local_to_world, &deformation)?;
         }
         if let Some(camera) = node.camera() {
             if !self.builder.has_camera() {
@@ -467,9 +468,19 @@ impl Loader<'_> {
         }
     }
 
-    /// Adds every primitive of a mesh, transformed to world space.
-    fn add_mesh(&mut self, mesh: &gltf::Mesh, local_to_world: Mat4) -> Result<(), SceneError> {
+    /// Adds every primitive of a mesh, posed (`deformation`) and transformed to world space.
+    fn add_mesh(
+        &mut self,
+        mesh: &gltf::Mesh,
+        local_to_world: Mat4,
+        deformation: &NodeDeformation,
+    ) -> Result<(), SceneError> {
         let name = label(mesh.name(), mesh.index());
+        // Skinning puts vertices in world space: the skinned node's transform is ignored.
+        let local_to_world = match deformation.skin {
+            Some(_) => Mat4::IDENTITY,
+            None => local_to_world,
+        };
         // A mirroring transform turns counter-clockwise into clockwise; swapping two
         // vertices keeps the normal on the side that was the front in object space.
         let mirrors = local_to_world.determinant() < 0.0;
@@ -489,12 +500,23 @@ impl Loader<'_> {
                 continue;
             }
             let context = format!("mesh '{name}' primitive {primitive_index}");
-            let (positions, indices) = self.read_geometry(&primitive, &context)?;
+            let (mut positions, indices) = self.read_geometry(&primitive, &context)?;
             let material_index = self.materials.material_index(&primitive.material());
             let pbr = self.materials.materials[material_index as usize];
             let material =
                 Material::sanitized(pbr.base_color.truncate(), pbr.emission, pbr.double_sided);
-            let attributes = self.read_attributes(&primitive, &context, positions.len())?;
+            let mut attributes = self.read_attributes(&primitive, &context, positions.len())?;
+            let renormalised = self.deformer.primitive(
+                &primitive,
+                &context,
+                deformation,
+                &mut positions,
+                attributes.normals.as_mut(),
+                attributes.tangents.as_mut(),
+            )?;
+            if renormalised > 0 {
+                self.builder.warn(format!("{context}: the joint weights of {renormalised} vertices do not sum to 1; normalised"));
+            }
             let corners = triangle_corners(mode, indices.len());
             // Every per-corner attribute, gathered per triangle (indices checked in range).
             let gather = |values: &[Vec3]| -> Vec<[Vec3; 3]> {

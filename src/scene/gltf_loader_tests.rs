@@ -871,27 +871,176 @@ fn bad_animation_data_names_the_animation_and_accessor() {
     assert!(!error.contains('\n'), "{error}");
 }
 
-#[test]
-fn morph_targets_warn_once_that_the_rest_pose_is_drawn() {
+/// A triangle with one morph target that lifts every vertex by 2 along +Z; the mesh's
+/// default weight is 1, node 1 overrides it with 0.25, and animation "breathe" drives node 0's
+/// weight LINEAR from 0 at 0 s to 1 at 2 s (`weight_keys` replaces its output).
+fn morphed(weight_keys: &[f32]) -> String {
     let mut buffer = TestBuffer::default();
     let triangle = buffer.positions(&[[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]]);
-    let delta = buffer.positions(&[[0.0, 0.0, 1.0], [0.0, 0.0, 1.0], [0.0, 0.0, 1.0]]);
-    let text = buffer.embedded(json!({
-        "nodes": [{"mesh": 0}, {"mesh": 0}],
+    let delta = buffer.positions(&[[0.0, 0.0, 2.0], [0.0, 0.0, 2.0], [0.0, 0.0, 2.0]]);
+    let input = buffer.floats("SCALAR", &[0.0, 2.0]);
+    let output = buffer.floats("SCALAR", weight_keys);
+    buffer.embedded(json!({
+        "nodes": [{"mesh": 0}, {"mesh": 0, "weights": [0.25]}, {"mesh": 0}],
         "meshes": [{"primitives": [{"attributes": {"POSITION": triangle},
                                     "targets": [{"POSITION": delta}]}],
                     "weights": [1.0]}],
-    }));
+        "animations": [{"name": "breathe",
+            "channels": [{"sampler": 0, "target": {"node": 0, "path": "weights"}}],
+            "samplers": [{"input": input, "output": output}]}],
+    }))
+}
+
+#[test]
+fn morph_targets_take_animated_node_and_mesh_weights() {
     let dir = tempfile::tempdir().unwrap();
-    let scene = load_gltf(&write(&dir, "morph.gltf", text)).unwrap();
+    let path = write(&dir, "morph.gltf", morphed(&[0.0, 1.0]));
+    let z = |time: f32, node: usize| {
+        let scene = load_at(&path, time, AnimationPick::All).unwrap();
+        assert!(scene.warnings.is_empty(), "{:?}", scene.warnings);
+        scene.triangles[node].positions[0].z
+    };
+    // Node 0 animated: weight 0, 0.5, 1 at 0, 1, 2 s; node 1 its own 0.25; node 2 the mesh's 1.
+    assert_eq!([z(0.0, 0), z(1.0, 0), z(2.0, 0)], [0.0, 1.0, 2.0]);
+    assert_eq!(z(1.0, 1), 0.5);
+    assert_eq!(z(1.0, 2), 2.0);
+    // One weight per key is needed; two per key is one too many.
+    let bad = write(&dir, "bad.gltf", morphed(&[0.0, 1.0, 0.0, 1.0]));
+    let error = load_at(&bad, 0.0, AnimationPick::All)
+        .unwrap_err()
+        .to_string();
+    assert!(
+        error.contains("animation 'breathe'") && error.contains("accessor '#3'"),
+        "{error}"
+    );
+    assert!(error.contains("1 morph targets per key"), "{error}");
+}
+
+/// A strip of two quads along +X (x = 0, 1, 2), the mesh of node "strip" (translated by
+/// (5, 0, 0), which skinning ignores) with skin "arm": joint 0 "shoulder" at the origin and its
+/// child joint 1 "elbow" at (1, 0, 0), turned a quarter turn about +Z. Vertices at x = 0 follow
+/// the shoulder, (1, 0) half each, (1, 1) 3/4 the shoulder, at x = 2 the elbow. `joints_of_last` and `weights_of_last`
+/// are the last vertex's (elbow only); `inverse_binds` the number of inverse bind matrices; `with_joints` whether
+/// the primitive has JOINTS_0 and WEIGHTS_0.
+fn skinned(
+    joints_of_last: [u16; 4],
+    weights_of_last: [f32; 4],
+    inverse_binds: usize,
+    with_joints: bool,
+) -> String {
+    let mut buffer = TestBuffer::default();
+    let strip = buffer.positions(&[
+        [0.0, 0.0, 0.0],
+        [0.0, 1.0, 0.0],
+        [1.0, 0.0, 0.0],
+        [1.0, 1.0, 0.0],
+        [2.0, 0.0, 0.0],
+        [2.0, 1.0, 0.0],
+    ]);
+    let indices = buffer.indices(&[0, 2, 1, 1, 2, 3, 2, 4, 3, 3, 4, 5]);
+    let joints = buffer.joints(&[
+        [0, 0, 0, 0],
+        [0, 0, 0, 0],
+        [0, 1, 0, 0],
+        [0, 1, 0, 0],
+        [1, 0, 0, 0],
+        joints_of_last,
+    ]);
+    let mut weights = vec![
+        1.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 0.5, 0.5, 0.0, 0.0, 0.75, 0.25, 0.0, 0.0, 1.0, 0.0,
+        0.0, 0.0,
+    ];
+    weights.extend(weights_of_last);
+    let weights = buffer.floats("VEC4", &weights);
+    let inverse: Vec<f32> = [Mat4::IDENTITY, Mat4::from_translation(-Vec3::X)]
+        .iter()
+        .cycle()
+        .take(inverse_binds)
+        .flat_map(|m| m.to_cols_array())
+        .collect();
+    let inverse = buffer.floats("MAT4", &inverse);
+    let mut attributes = json!({"POSITION": strip});
+    if with_joints {
+        attributes["JOINTS_0"] = json!(joints);
+        attributes["WEIGHTS_0"] = json!(weights);
+    }
+    buffer.embedded(json!({
+        "scene": 0,
+        "scenes": [{"nodes": [0, 1]}],
+        "nodes": [
+            {"name": "strip", "mesh": 0, "skin": 0, "translation": [5, 0, 0]},
+            {"name": "shoulder", "children": [2]},
+            {"name": "elbow", "translation": [1, 0, 0], "rotation": [0, 0, S, S]},
+        ],
+        "meshes": [{"primitives": [{"attributes": attributes, "indices": indices}]}],
+        "skins": [{"name": "arm", "joints": [1, 2], "inverseBindMatrices": inverse}],
+    }))
+}
+
+/// All of a vertex's weight on its first joint.
+const ELBOW: [f32; 4] = [1.0, 0.0, 0.0, 0.0];
+
+#[test]
+fn a_skinned_strip_bends_at_its_elbow() {
+    let dir = tempfile::tempdir().unwrap();
+    let path = write(&dir, "skin.gltf", skinned([1, 0, 0, 0], ELBOW, 2, true));
+    let scene = load_gltf(&path).unwrap();
+    assert!(scene.warnings.is_empty(), "{:?}", scene.warnings);
+    let corners: Vec<Vec3> = scene.triangles.iter().flat_map(|t| t.positions).collect();
+    let has = |p: Vec3| corners.iter().any(|c| (*c - p).length() < 1e-5);
+    // x = 0 stays, and (1, 0) at the elbow; (1, 1) 3/4 of the way from (0, 0) (the elbow's
+    // turn) to itself: (0.75, 0.75);
+    // (2, 0) -> (1, 1) and (2, 1) -> (0, 1) around the elbow at (1, 0); the node's
+    // translation by 5 ignored.
+    for p in [
+        Vec3::ZERO,
+        Vec3::Y,
+        Vec3::X,
+        Vec3::new(0.75, 0.75, 0.0),
+        Vec3::new(1.0, 1.0, 0.0),
+    ] {
+        assert!(has(p), "{p} not among {corners:?}");
+    }
+    assert!(corners.iter().all(|c| c.x < 1.5), "{corners:?}");
+}
+
+#[test]
+fn broken_skins_name_the_skin_and_the_accessor() {
+    let dir = tempfile::tempdir().unwrap();
+    let error = |name: &str, text: String| {
+        let error = load_gltf(&write(&dir, name, text)).unwrap_err().to_string();
+        assert!(!error.contains('\n'), "{error}");
+        assert!(error.contains("skin 'arm'"), "{error}");
+        error
+    };
+    let past = error("past.gltf", skinned([2, 0, 0, 0], ELBOW, 2, true));
+    assert!(
+        past.contains("JOINTS_0 accessor '#2'") && past.contains("joint 2"),
+        "{past}"
+    );
+    let count = error("count.gltf", skinned([1, 0, 0, 0], ELBOW, 3, true));
+    assert!(
+        count.contains("inverseBindMatrices accessor '#4' holds 3 matrices for 2 joints"),
+        "{count}"
+    );
+    let bare = error("bare.gltf", skinned([1, 0, 0, 0], ELBOW, 2, false));
+    assert!(bare.contains("no JOINTS_0"), "{bare}");
+}
+
+#[test]
+fn joint_weights_not_summing_to_one_are_normalised_with_one_warning() {
+    // The last vertex's weights are (1, 1): normalised to half and half, it lands between
+    // (2, 1) about the shoulder (unmoved) and about the elbow ((0, 1)): at (1, 1).
+    let dir = tempfile::tempdir().unwrap();
+    let text = skinned([0, 1, 0, 0], [1.0, 1.0, 0.0, 0.0], 2, true);
+    let scene = load_gltf(&write(&dir, "sum.gltf", text)).unwrap();
     let warnings: Vec<&String> = scene
         .warnings
         .iter()
-        .filter(|w| w.contains("skins/morph targets"))
+        .filter(|w| w.contains("do not sum to 1"))
         .collect();
     assert_eq!(warnings.len(), 1, "{:?}", scene.warnings);
-    // The rest pose: no delta applied.
-    assert_close(scene.triangles[0].positions[0], Vec3::ZERO);
+    assert!(warnings[0].contains("1 vertices"), "{warnings:?}");
 }
 
 #[test]
@@ -928,4 +1077,37 @@ fn an_animated_camera_node_moves_the_camera() {
     assert_close(camera_at(0.0), Vec3::new(0.0, 0.0, 2.0));
     assert_close(camera_at(1.0), Vec3::new(0.0, 0.0, 4.0));
     assert_close(camera_at(5.0), Vec3::new(0.0, 0.0, 6.0));
+}
+
+#[test]
+fn a_channel_on_a_missing_node_or_unknown_path_is_one_line() {
+    // The gltf crate validates neither and unwraps both (the loaders' fuzzer found it).
+    let dir = tempfile::tempdir().unwrap();
+    let text = animated(&[1.0, 3.0], &[0.0, 0.0, 0.0, 4.0, 0.0, 0.0]);
+    assert!(text.contains(r#""node":1,"path":"rotation""#), "{text}");
+    for (name, broken, expected) in [
+        (
+            "node.gltf",
+            r#""node":9,"path":"rotation""#,
+            "targets node 9",
+        ),
+        (
+            "path.gltf",
+            r#""node":1,"path":"spin""#,
+            "unknown target path",
+        ),
+    ] {
+        let path = write(
+            &dir,
+            name,
+            text.replace(r#""node":1,"path":"rotation""#, broken),
+        );
+        let error = load_at(&path, 0.0, AnimationPick::All)
+            .unwrap_err()
+            .to_string();
+        assert!(
+            error.contains("animation 'spin' channel 0") && error.contains(expected),
+            "{error}"
+        );
+    }
 }

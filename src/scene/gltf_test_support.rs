@@ -68,19 +68,34 @@ impl TestBuffer {
         self.accessors.len() - 1
     }
 
-    /// A FLOAT accessor of `kind` ("SCALAR", "VEC2", "VEC3", "VEC4") over `values`, element after
+    /// A FLOAT accessor of `kind` ("SCALAR", "VEC2", "VEC3", "VEC4", "MAT4") over `values`, element after
     /// element; its index.
     pub fn floats(&mut self, kind: &str, values: &[f32]) -> usize {
         let width = match kind {
             "SCALAR" => 1,
             "VEC2" => 2,
             "VEC3" => 3,
+            "MAT4" => 16,
             _ => 4,
         };
         let data: Vec<u8> = values.iter().flat_map(|x| x.to_le_bytes()).collect();
         let view = self.view(&data);
         self.accessors.push(json!({
             "bufferView": view, "componentType": 5126, "count": values.len() / width, "type": kind,
+        }));
+        self.accessors.len() - 1
+    }
+
+    /// A VEC4 UNSIGNED_SHORT accessor (JOINTS_n); its index.
+    pub fn joints(&mut self, joints: &[[u16; 4]]) -> usize {
+        let data: Vec<u8> = joints
+            .iter()
+            .flatten()
+            .flat_map(|i| i.to_le_bytes())
+            .collect();
+        let view = self.view(&data);
+        self.accessors.push(json!({
+            "bufferView": view, "componentType": 5123, "count": joints.len(), "type": "VEC4",
         }));
         self.accessors.len() - 1
     }
