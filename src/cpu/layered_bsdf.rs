@@ -8,19 +8,37 @@
 //! Same names, same maths; directions are unit vectors pointing away from the surface,
 //! `local_` ones in the shading frame (z the normal, the view above it). `eta` is the far
 //! side's index of refraction over the view's side's.
+//!
+//! Each lobe's twins live in their own module (`cpu::lobe_dielectric`, `cpu::lobe_thin_wall`,
+//! `cpu::lobe_sheen`, `cpu::lobe_clearcoat`), re-exported here; this module keeps the shared
+//! helpers (`get_dielectric_fresnel`, `get_smith_masking`) and the layered mix.
 
 use glam::{Vec2, Vec3};
 
-use crate::contract::{CLEARCOAT_IOR, SHEEN_ALBEDO_SIZE, SHEEN_MIN_ALPHA};
 use crate::cpu::brdf::{
-    get_brdf_density, get_dielectric_f0, get_ggx_alpha, get_ggx_distribution,
-    get_ggx_reflection_density, get_luminance, get_schlick_fresnel, get_smith_visibility, reflect,
-    sample_brdf, sample_ggx_visible_normal, to_local, MaterialSample,
+    get_brdf_density, get_dielectric_f0, get_ggx_alpha, get_ggx_distribution, get_schlick_fresnel,
+    get_smith_visibility, sample_brdf, to_local, MaterialSample,
 };
 use crate::cpu::importance_sampling::sample_hemisphere_cosine;
 use crate::cpu::shading_basis::get_shading_basis;
-use crate::cpu::sheen_albedo_table::SHEEN_ALBEDO;
 use crate::cpu::workshop::M_PI;
+
+pub use crate::cpu::lobe_clearcoat::{
+    get_clearcoat_brdf, get_clearcoat_density, get_clearcoat_weight, sample_clearcoat,
+};
+pub use crate::cpu::lobe_dielectric::{
+    get_refraction_half, get_rough_dielectric_bsdf, get_rough_dielectric_density, refract,
+    sample_rough_dielectric,
+};
+pub use crate::cpu::lobe_sheen::{
+    get_charlie_distribution, get_sheen_albedo, get_sheen_albedo_entry, get_sheen_alpha,
+    get_sheen_brdf, get_sheen_lambda, get_sheen_lambda_fit, get_sheen_visibility, get_sheen_weight,
+    has_sheen,
+};
+pub use crate::cpu::lobe_thin_wall::{
+    get_thin_wall_btdf, get_thin_wall_density, get_thin_wall_fresnel,
+    get_thin_wall_reflection_probability, mirror_through_surface, sample_thin_wall,
+};
 
 /// Twin of `get_dielectric_fresnel`: the exact unpolarised Fresnel reflectance of a smooth
 /// dielectric interface (1 under total internal reflection).
@@ -48,312 +66,9 @@ pub fn get_smith_masking(alpha: f32, cos_theta: f32) -> f32 {
         / (cos_theta + (alpha_squared + (1.0 - alpha_squared) * cos_theta * cos_theta).sqrt())
 }
 
-/// Twin of `get_refraction_half`: normalize(eta l + v) facing the normal, 0 where none.
-pub fn get_refraction_half(eta: f32, local_view: Vec3, local_light: Vec3) -> Vec3 {
-    let half_sum = eta * local_light + local_view;
-    if !(half_sum.dot(half_sum) > 0.0) {
-        return Vec3::ZERO;
-    }
-    let local_half = half_sum.normalize();
-    if local_half.z < 0.0 {
-        -local_half
-    } else {
-        local_half
-    }
-}
-
-/// Twin of `get_rough_dielectric_bsdf`: (reflection, transmission) of the rough dielectric.
-pub fn get_rough_dielectric_bsdf(
-    alpha: f32,
-    eta: f32,
-    local_view: Vec3,
-    local_light: Vec3,
-) -> Vec2 {
-    if local_light.z > 0.0 {
-        let local_half = (local_view + local_light).normalize();
-        let fresnel = get_dielectric_fresnel(local_view.dot(local_half), eta);
-        return Vec2::new(
-            fresnel
-                * get_ggx_distribution(alpha, local_half)
-                * get_smith_visibility(alpha, local_view.z, local_light.z),
-            0.0,
-        );
-    }
-    if !(local_light.z < 0.0) {
-        return Vec2::ZERO;
-    }
-    let local_half = get_refraction_half(eta, local_view, local_light);
-    let view_dot_half = local_view.dot(local_half);
-    let light_dot_half = local_light.dot(local_half);
-    if !(view_dot_half > 0.0) || !(light_dot_half < 0.0) {
-        return Vec2::ZERO;
-    }
-    let fresnel = get_dielectric_fresnel(view_dot_half, eta);
-    let denominator = eta * light_dot_half + view_dot_half;
-    let visibility = get_smith_visibility(alpha, local_view.z, -local_light.z);
-    Vec2::new(
-        0.0,
-        4.0 * get_ggx_distribution(alpha, local_half)
-            * visibility
-            * (1.0 - fresnel)
-            * -light_dot_half
-            * view_dot_half
-            / (denominator * denominator),
-    )
-}
-
-/// Twin of `get_rough_dielectric_density`: the density of `sample_rough_dielectric`,
-/// reflection and refraction terms summed whichever side the light is on.
-pub fn get_rough_dielectric_density(
-    alpha: f32,
-    eta: f32,
-    local_view: Vec3,
-    local_light: Vec3,
-) -> f32 {
-    let mut density = 0.0;
-    let half_sum = local_view + local_light;
-    if half_sum.dot(half_sum) > 0.0 {
-        let reflection_half = half_sum.normalize();
-        density = get_dielectric_fresnel(local_view.dot(reflection_half), eta)
-            * get_ggx_reflection_density(alpha, local_view, reflection_half);
-    }
-    let local_half = get_refraction_half(eta, local_view, local_light);
-    let view_dot_half = local_view.dot(local_half);
-    let light_dot_half = local_light.dot(local_half);
-    if view_dot_half > 0.0 && light_dot_half < 0.0 {
-        let fresnel = get_dielectric_fresnel(view_dot_half, eta);
-        let denominator = eta * light_dot_half + view_dot_half;
-        let jacobian = eta * eta * -light_dot_half / (denominator * denominator);
-        density += (1.0 - fresnel)
-            * get_smith_masking(alpha, local_view.z)
-            * get_ggx_distribution(alpha, local_half)
-            * view_dot_half
-            / local_view.z
-            * jacobian;
-    }
-    density
-}
-
-/// GLSL's `refract(incident, normal, eta)`: 0 under total internal reflection.
-pub fn refract(incident: Vec3, normal: Vec3, eta: f32) -> Vec3 {
-    let normal_dot_incident = normal.dot(incident);
-    let k = 1.0 - eta * eta * (1.0 - normal_dot_incident * normal_dot_incident);
-    if k < 0.0 {
-        Vec3::ZERO
-    } else {
-        eta * incident - (eta * normal_dot_incident + k.sqrt()) * normal
-    }
-}
-
-/// Twin of `sample_rough_dielectric`: a visible normal, then reflection (lobe_random < F)
-/// or refraction.
-pub fn sample_rough_dielectric(
-    random_numbers: Vec2,
-    lobe_random: f32,
-    alpha: f32,
-    eta: f32,
-    local_view: Vec3,
-) -> Vec3 {
-    let local_half = sample_ggx_visible_normal(random_numbers, alpha, local_view);
-    let fresnel = get_dielectric_fresnel(local_view.dot(local_half), eta);
-    let refracted = refract(-local_view, local_half, 1.0 / eta);
-    if lobe_random < fresnel || refracted == Vec3::ZERO {
-        return reflect(-local_view, local_half);
-    }
-    refracted
-}
-
-/// Twin of `mirror_through_surface`.
-pub fn mirror_through_surface(local_direction: Vec3) -> Vec3 {
-    Vec3::new(local_direction.x, local_direction.y, -local_direction.z)
-}
-
-/// Twin of `get_thin_wall_fresnel`: Schlick's F of the material's dielectric at v.h.
-pub fn get_thin_wall_fresnel(material: &MaterialSample, view_dot_half: f32) -> Vec3 {
-    get_schlick_fresnel(
-        get_dielectric_f0(material),
-        Vec3::splat(material.specular),
-        view_dot_half,
-    )
-}
-
-/// Twin of `get_thin_wall_reflection_probability`.
-pub fn get_thin_wall_reflection_probability(material: &MaterialSample, view_dot_half: f32) -> f32 {
-    let fresnel = get_thin_wall_fresnel(material, view_dot_half);
-    let reflected = get_luminance(fresnel);
-    let transmitted = get_luminance((1.0 - fresnel) * material.base_color);
-    if reflected + transmitted > 0.0 {
-        reflected / (reflected + transmitted)
-    } else {
-        1.0
-    }
-}
-
-/// Twin of `get_thin_wall_btdf`: (1 - F) base_color D V at the mirrored light (light below).
-pub fn get_thin_wall_btdf(
-    material: &MaterialSample,
-    alpha: f32,
-    local_view: Vec3,
-    local_light: Vec3,
-) -> Vec3 {
-    if !(local_light.z < 0.0) {
-        return Vec3::ZERO;
-    }
-    let mirrored = mirror_through_surface(local_light);
-    let local_half = (local_view + mirrored).normalize();
-    let fresnel = get_thin_wall_fresnel(material, local_view.dot(local_half));
-    (1.0 - fresnel)
-        * material.base_color
-        * get_ggx_distribution(alpha, local_half)
-        * get_smith_visibility(alpha, local_view.z, mirrored.z)
-}
-
-/// Twin of `get_thin_wall_density`: both branches summed whichever side the light is on.
-pub fn get_thin_wall_density(
-    material: &MaterialSample,
-    alpha: f32,
-    local_view: Vec3,
-    local_light: Vec3,
-) -> f32 {
-    let mut density = 0.0;
-    let reflected_sum = local_view + local_light;
-    if reflected_sum.dot(reflected_sum) > 0.0 {
-        let local_half = reflected_sum.normalize();
-        density = get_thin_wall_reflection_probability(material, local_view.dot(local_half))
-            * get_ggx_reflection_density(alpha, local_view, local_half);
-    }
-    let mirrored_sum = local_view + mirror_through_surface(local_light);
-    if mirrored_sum.dot(mirrored_sum) > 0.0 {
-        let local_half = mirrored_sum.normalize();
-        density += (1.0
-            - get_thin_wall_reflection_probability(material, local_view.dot(local_half)))
-            * get_ggx_reflection_density(alpha, local_view, local_half);
-    }
-    density
-}
-
-/// Twin of `sample_thin_wall`.
-pub fn sample_thin_wall(
-    random_numbers: Vec2,
-    lobe_random: f32,
-    material: &MaterialSample,
-    alpha: f32,
-    local_view: Vec3,
-) -> Vec3 {
-    let local_half = sample_ggx_visible_normal(random_numbers, alpha, local_view);
-    let reflected = reflect(-local_view, local_half);
-    if lobe_random < get_thin_wall_reflection_probability(material, local_view.dot(local_half)) {
-        return reflected;
-    }
-    mirror_through_surface(reflected)
-}
-
 /// Twin of `is_layered`: transmission, a clear coat or sheen.
 pub fn is_layered(material: &MaterialSample) -> bool {
     material.transmission > 0.0 || material.clearcoat > 0.0 || has_sheen(material)
-}
-
-/// Twin of `has_sheen`.
-pub fn has_sheen(material: &MaterialSample) -> bool {
-    material.sheen_color.max_element() > 0.0
-}
-
-/// Twin of `get_sheen_alpha`.
-pub fn get_sheen_alpha(sheen_roughness: f32) -> f32 {
-    (sheen_roughness * sheen_roughness).max(SHEEN_MIN_ALPHA)
-}
-
-/// Twin of `get_charlie_distribution`.
-pub fn get_charlie_distribution(alpha: f32, normal_dot_half: f32) -> f32 {
-    let sin_squared = (1.0 - normal_dot_half * normal_dot_half).max(0.0);
-    (2.0 + 1.0 / alpha) * sin_squared.powf(0.5 / alpha) / (2.0 * M_PI)
-}
-
-/// GLSL's `mix(x, y, t)`.
-fn mix(x: f32, y: f32, t: f32) -> f32 {
-    x * (1.0 - t) + y * t
-}
-
-/// Twin of `get_sheen_lambda_fit`: Estevez & Kulla's L(x).
-pub fn get_sheen_lambda_fit(x: f32, alpha: f32) -> f32 {
-    let t = (1.0 - alpha) * (1.0 - alpha);
-    let a = mix(21.5473, 25.3245, t);
-    let b = mix(3.82987, 3.32435, t);
-    let c = mix(0.19823, 0.16801, t);
-    let d = mix(-1.97760, -1.27393, t);
-    let e = mix(-4.32054, -4.85967, t);
-    a / (1.0 + b * x.powf(c)) + d * x + e
-}
-
-/// Twin of `get_sheen_lambda`.
-pub fn get_sheen_lambda(cos_theta: f32, alpha: f32) -> f32 {
-    let c = cos_theta.abs();
-    if c < 0.5 {
-        get_sheen_lambda_fit(c, alpha).exp()
-    } else {
-        (2.0 * get_sheen_lambda_fit(0.5, alpha) - get_sheen_lambda_fit(1.0 - c, alpha)).exp()
-    }
-}
-
-/// Twin of `get_sheen_visibility`.
-pub fn get_sheen_visibility(alpha: f32, normal_dot_view: f32, normal_dot_light: f32) -> f32 {
-    (1.0 / ((1.0
-        + get_sheen_lambda(normal_dot_view, alpha)
-        + get_sheen_lambda(normal_dot_light, alpha))
-        * 4.0
-        * normal_dot_view
-        * normal_dot_light))
-        .clamp(0.0, 1.0)
-}
-
-/// Twin of `get_sheen_brdf`: sheen_color D V.
-pub fn get_sheen_brdf(material: &MaterialSample, normal: Vec3, view: Vec3, light: Vec3) -> Vec3 {
-    let normal_dot_view = normal.dot(view);
-    let normal_dot_light = normal.dot(light);
-    if normal_dot_view <= 0.0 || normal_dot_light <= 0.0 {
-        return Vec3::ZERO;
-    }
-    let alpha = get_sheen_alpha(material.sheen_roughness);
-    let normal_dot_half = normal.dot((view + light).normalize());
-    material.sheen_color
-        * get_charlie_distribution(alpha, normal_dot_half)
-        * get_sheen_visibility(alpha, normal_dot_view, normal_dot_light)
-}
-
-/// Twin of `get_sheen_albedo_entry`: entry `k` of the table (`SHEEN_ALBEDO`), which the
-/// shaders read from the end of `g_material_texels`.
-pub fn get_sheen_albedo_entry(k: usize) -> f32 {
-    SHEEN_ALBEDO[k]
-}
-
-/// Twin of `get_sheen_albedo`: E(n.v, roughness), bilinear in the table.
-pub fn get_sheen_albedo(normal_dot_view: f32, sheen_roughness: f32) -> f32 {
-    let size = SHEEN_ALBEDO_SIZE as i32;
-    let last = (SHEEN_ALBEDO_SIZE - 1) as f32;
-    let position = Vec2::new(normal_dot_view, sheen_roughness).clamp(Vec2::ZERO, Vec2::ONE) * last;
-    let low = (position.x as i32).min(size - 2);
-    let low_y = (position.y as i32).min(size - 2);
-    let weight = position - Vec2::new(low as f32, low_y as f32);
-    let row = (low * size + low_y) as usize;
-    let size = size as usize;
-    let below = mix(
-        get_sheen_albedo_entry(row),
-        get_sheen_albedo_entry(row + 1),
-        weight.y,
-    );
-    let above = mix(
-        get_sheen_albedo_entry(row + size),
-        get_sheen_albedo_entry(row + size + 1),
-        weight.y,
-    );
-    mix(below, above, weight.x)
-}
-
-/// Twin of `get_sheen_weight`: max(sheen colour) E(n.v), at most 1.
-pub fn get_sheen_weight(material: &MaterialSample, normal_dot_view: f32) -> f32 {
-    (material.sheen_color.max_element()
-        * get_sheen_albedo(normal_dot_view, material.sheen_roughness))
-    .clamp(0.0, 1.0)
 }
 
 /// Twin of `is_refracting`: a volume of another index (not a thin wall).
@@ -457,73 +172,6 @@ pub fn sample_transmissive_bsdf(
         return (basis * local_light).normalize();
     }
     sample_brdf(random_numbers, material, shading_normal, view)
-}
-
-/// Twin of `get_clearcoat_weight`: clearcoat times Schlick's F (F0 0.04) at N_c . V.
-pub fn get_clearcoat_weight(material: &MaterialSample, clearcoat_normal_dot_view: f32) -> f32 {
-    let reflectance = (CLEARCOAT_IOR - 1.0) / (CLEARCOAT_IOR + 1.0);
-    material.clearcoat
-        * get_schlick_fresnel(
-            Vec3::splat(reflectance * reflectance),
-            Vec3::ONE,
-            clearcoat_normal_dot_view,
-        )
-        .x
-}
-
-/// Twin of `get_clearcoat_brdf`: the coat's D V around its normal.
-pub fn get_clearcoat_brdf(
-    material: &MaterialSample,
-    clearcoat_normal: Vec3,
-    view: Vec3,
-    light: Vec3,
-) -> f32 {
-    let normal_dot_view = clearcoat_normal.dot(view);
-    let normal_dot_light = clearcoat_normal.dot(light);
-    if normal_dot_view <= 0.0 || normal_dot_light <= 0.0 {
-        return 0.0;
-    }
-    let basis = get_shading_basis(clearcoat_normal);
-    let local_half = to_local(basis, view + light).normalize();
-    let alpha = get_ggx_alpha(material.clearcoat_roughness);
-    get_ggx_distribution(alpha, local_half)
-        * get_smith_visibility(alpha, normal_dot_view, normal_dot_light)
-}
-
-/// Twin of `get_clearcoat_density`.
-pub fn get_clearcoat_density(
-    material: &MaterialSample,
-    clearcoat_normal: Vec3,
-    view: Vec3,
-    light: Vec3,
-) -> f32 {
-    let half_sum = view + light;
-    if clearcoat_normal.dot(view) <= 0.0 || !(half_sum.dot(half_sum) > 0.0) {
-        return 0.0;
-    }
-    let basis = get_shading_basis(clearcoat_normal);
-    get_ggx_reflection_density(
-        get_ggx_alpha(material.clearcoat_roughness),
-        to_local(basis, view),
-        to_local(basis, half_sum).normalize(),
-    )
-}
-
-/// Twin of `sample_clearcoat`.
-pub fn sample_clearcoat(
-    random_numbers: Vec2,
-    material: &MaterialSample,
-    clearcoat_normal: Vec3,
-    view: Vec3,
-) -> Vec3 {
-    let basis = get_shading_basis(clearcoat_normal);
-    let local_view = to_local(basis, view);
-    let local_half = sample_ggx_visible_normal(
-        random_numbers,
-        get_ggx_alpha(material.clearcoat_roughness),
-        local_view,
-    );
-    (basis * reflect(-local_view, local_half)).normalize()
 }
 
 /// Twin of `get_layered_base_cosine`.

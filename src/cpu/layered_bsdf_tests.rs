@@ -6,6 +6,7 @@
 use glam::{UVec2, Vec2, Vec3};
 
 use super::*;
+use crate::contract::SHEEN_ALBEDO_SIZE;
 use crate::cpu::workshop::get_random_numbers;
 use crate::stats::chi2::{chi2_direction_test, Chi2Config};
 use crate::stats::sphere_histogram::{SphereFrame, TargetDensity};
