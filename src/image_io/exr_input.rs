@@ -4,7 +4,9 @@
 
 use std::path::Path;
 
-use exr::prelude::{read_first_flat_layer_from_file, AnyChannel, FlatSamples};
+use exr::prelude::{
+    read_first_flat_layer_from_file, AnyChannel, AnyChannels, FlatSamples, Image, Layer,
+};
 
 use crate::image_io::data::RenderedImage;
 use crate::image_io::error::{ImageError, ImageResult as Result};
@@ -26,10 +28,7 @@ pub struct ExrImage {
 /// file with only some of them is an error, since it cannot have come from vkpath intact.
 pub fn read_exr(path: &Path) -> Result<ExrImage> {
     let fail = |message: String| ImageError::read(path, message);
-    check_exr_file(path, None)?;
-    // A header may claim any size: refuse a hostile one before a pixel is read.
-    check_exr_size(path).map_err(&fail)?;
-    let file = read_first_flat_layer_from_file(path).map_err(|e| fail(plain_cause(&e)))?;
+    let file = read_checked_first_layer(path)?;
     let layer = &file.layer_data;
     let (width, height) = (layer.size.width(), layer.size.height());
     let pixel_count = width * height;
@@ -112,6 +111,16 @@ pub fn read_exr(path: &Path) -> Result<ExrImage> {
     })
 }
 
+/// The first layer of an OpenEXR file, all of its channels as flat samples, read after the
+/// file's magic number and its header's size were checked (a header may claim any size:
+/// a hostile one is refused before a pixel is read).
+fn read_checked_first_layer(path: &Path) -> Result<Image<Layer<AnyChannels<FlatSamples>>>> {
+    let fail = |message: String| ImageError::read(path, message);
+    check_exr_file(path, None)?;
+    check_exr_size(path).map_err(&fail)?;
+    read_first_flat_layer_from_file(path).map_err(|e| fail(plain_cause(&e)))
+}
+
 /// Every channel of an EXR's first layer, by name, in the file's order (alphabetical), as
 /// float32: what `read_exr` picks R, G, B and the moments from, with the AOV layers
 /// (`albedo.R`, `depth.Z`, `noisy.G`, ...) and the render state beside them.
@@ -129,9 +138,7 @@ pub struct ExrChannels {
 /// file); a channel that does not cover the whole image is an error.
 pub fn read_exr_channels(path: &Path) -> Result<ExrChannels> {
     let fail = |message: String| ImageError::read(path, message);
-    check_exr_file(path, None)?;
-    check_exr_size(path).map_err(&fail)?;
-    let file = read_first_flat_layer_from_file(path).map_err(|e| fail(plain_cause(&e)))?;
+    let file = read_checked_first_layer(path)?;
     let layer = &file.layer_data;
     let (width, height) = (layer.size.width(), layer.size.height());
     let channels: Vec<(String, Vec<f32>)> = layer

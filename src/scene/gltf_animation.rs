@@ -51,26 +51,12 @@ pub fn read_animations(
             };
             check_accessor(&input, Dimensions::Scalar, &[DataType::F32]).map_err(&bad)?;
             let (dimensions, types): (Dimensions, &[DataType]) = match property {
-                Property::Rotation => (
-                    Dimensions::Vec4,
-                    &[
-                        DataType::F32,
-                        DataType::I8,
-                        DataType::U8,
-                        DataType::I16,
-                        DataType::U16,
-                    ],
-                ),
+                Property::Rotation => (Dimensions::Vec4, &FLOAT_OR_NORMALISED),
                 _ => (Dimensions::Vec3, &[DataType::F32]),
             };
             check_accessor(&output, dimensions, types).map_err(&bad)?;
             let reader = channel.reader(|buffer| buffers.get(buffer.index()).map(|d| &d[..]));
-            let cut_off = |accessor: &gltf::Accessor| {
-                bad(format!(
-                    "accessor '{}' lies outside its buffer",
-                    label(accessor.name(), accessor.index())
-                ))
-            };
+            let cut_off = |accessor: &gltf::Accessor| bad(outside_its_buffer(accessor));
             let times: Vec<f32> = reader
                 .read_inputs()
                 .ok_or_else(|| cut_off(&input))?
@@ -85,11 +71,7 @@ pub fn read_animations(
             if times.len() != input.count() || values.len() != output.count() {
                 return Err(cut_off(&output));
             }
-            let interpolation = match sampler.interpolation() {
-                gltf::animation::Interpolation::Linear => Interpolation::Linear,
-                gltf::animation::Interpolation::Step => Interpolation::Step,
-                gltf::animation::Interpolation::CubicSpline => Interpolation::CubicSpline,
-            };
+            let interpolation = interpolation_of(&sampler);
             let sampler = Sampler::new(times, values, interpolation).map_err(|error| {
                 let accessor = match error {
                     super::animation::SamplerError::OutputCount(..) => &output,
@@ -114,6 +96,33 @@ pub fn read_animations(
         });
     }
     Ok(animations)
+}
+
+/// The component types an animation output may have: floats, or normalised integers
+/// (rotations and morph weights, glTF 2.0 § 5.5.5).
+const FLOAT_OR_NORMALISED: [DataType; 5] = [
+    DataType::F32,
+    DataType::I8,
+    DataType::U8,
+    DataType::I16,
+    DataType::U16,
+];
+
+/// The reason given for an accessor whose data the buffers do not hold.
+fn outside_its_buffer(accessor: &gltf::Accessor) -> String {
+    format!(
+        "accessor '{}' lies outside its buffer",
+        label(accessor.name(), accessor.index())
+    )
+}
+
+/// A sampler's interpolation, as the animation module names it.
+fn interpolation_of(sampler: &gltf::animation::Sampler) -> Interpolation {
+    match sampler.interpolation() {
+        gltf::animation::Interpolation::Linear => Interpolation::Linear,
+        gltf::animation::Interpolation::Step => Interpolation::Step,
+        gltf::animation::Interpolation::CubicSpline => Interpolation::CubicSpline,
+    }
 }
 
 /// The local-to-parent matrix at `time` (seconds) of every node that the picked animations
@@ -175,21 +184,9 @@ fn read_weights_channel(
         )));
     }
     check_accessor(&input, Dimensions::Scalar, &[DataType::F32]).map_err(&bad)?;
-    let types = [
-        DataType::F32,
-        DataType::I8,
-        DataType::U8,
-        DataType::I16,
-        DataType::U16,
-    ];
-    check_accessor(&output, Dimensions::Scalar, &types).map_err(&bad)?;
+    check_accessor(&output, Dimensions::Scalar, &FLOAT_OR_NORMALISED).map_err(&bad)?;
     let reader = channel.reader(|buffer| buffers.get(buffer.index()).map(|d| &d[..]));
-    let cut_off = |accessor: &gltf::Accessor| {
-        bad(format!(
-            "accessor '{}' lies outside its buffer",
-            label(accessor.name(), accessor.index())
-        ))
-    };
+    let cut_off = |accessor: &gltf::Accessor| bad(outside_its_buffer(accessor));
     let times: Vec<f32> = reader
         .read_inputs()
         .ok_or_else(|| cut_off(&input))?
@@ -201,11 +198,7 @@ fn read_weights_channel(
     if times.len() != input.count() || values.len() != output.count() {
         return Err(cut_off(&output));
     }
-    let interpolation = match sampler.interpolation() {
-        gltf::animation::Interpolation::Linear => Interpolation::Linear,
-        gltf::animation::Interpolation::Step => Interpolation::Step,
-        gltf::animation::Interpolation::CubicSpline => Interpolation::CubicSpline,
-    };
+    let interpolation = interpolation_of(&sampler);
     let sampler =
         WeightsSampler::new(times, values, target_count, interpolation).map_err(|error| {
             let (accessor, more) = match error {
