@@ -275,13 +275,24 @@ vec3 estimate_light_sample(surface_t surface, vec3 view, vec3 origin, light_samp
     if (!delta && !(light_sample.density > 0.0))
         return vec3(0.0);
     vec3 bsdf = get_bsdf(surface, view, light_sample.direction);
-    if (bsdf == vec3(0.0) || !is_visible(origin, light_sample.direction, light_sample.distance))
+    if (bsdf == vec3(0.0))
         return vec3(0.0);
+    // The contribution before the shadow ray, so that only it and the ray stay live while
+    // the ray is traced: the same arithmetic in fewer registers (RDNA3, mis on the Cornell
+    // box: 108 -> 96 VGPRs, 14 -> 16 subgroups per SIMD, scripts/kernel-statistics.sh). The
+    // early return below, not a `?:` on is_visible(), which cost lavapipe 29% more
+    // instructions per sample.
     vec3 reflected = get_reflected_radiance(surface, light_sample.direction, bsdf, light_sample.radiance);
+    vec3 contribution;
     if (delta)
-        return reflected * light_sample.delta_weight;
-    float weight = weighs_by_mis() ? get_power_heuristic_weight(light_sample.density, get_path_direction_density(surface, view, light_sample.direction)) : 1.0;
-    return reflected / light_sample.density * weight;
+        contribution = reflected * light_sample.delta_weight;
+    else {
+        float weight = weighs_by_mis() ? get_power_heuristic_weight(light_sample.density, get_path_direction_density(surface, view, light_sample.direction)) : 1.0;
+        contribution = reflected / light_sample.density * weight;
+    }
+    if (!is_visible(origin, light_sample.direction, light_sample.distance))
+        return vec3(0.0);
+    return contribution;
 }
 
 #ifdef USE_MATERIALS

@@ -292,29 +292,40 @@ pub fn estimate_light_sample(
         return Vec3::ZERO;
     }
     let bsdf = get_bsdf(surface, view, sample.direction);
-    if bsdf == Vec3::ZERO
-        || !is_visible(
-            scene.scene_triangles,
-            origin,
-            sample.direction,
-            sample.distance,
-        )
-    {
+    if bsdf == Vec3::ZERO {
         return Vec3::ZERO;
     }
+    // The contribution before the shadow ray, as the GLSL computes it (fewer live registers
+    // while the ray is traced there).
     let reflected = get_reflected_radiance(surface, sample.direction, bsdf, sample.radiance);
-    if delta {
-        return reflected * sample.delta_weight;
-    }
-    let weight = if weighs_by_mis(scene.integrator) {
-        get_power_heuristic_weight(
-            sample.density,
-            get_path_direction_density(scene.guide, guide_cell, surface, view, sample.direction),
-        )
+    let contribution = if delta {
+        reflected * sample.delta_weight
     } else {
-        1.0
+        let weight = if weighs_by_mis(scene.integrator) {
+            get_power_heuristic_weight(
+                sample.density,
+                get_path_direction_density(
+                    scene.guide,
+                    guide_cell,
+                    surface,
+                    view,
+                    sample.direction,
+                ),
+            )
+        } else {
+            1.0
+        };
+        reflected / sample.density * weight
     };
-    reflected / sample.density * weight
+    if !is_visible(
+        scene.scene_triangles,
+        origin,
+        sample.direction,
+        sample.distance,
+    ) {
+        return Vec3::ZERO;
+    }
+    contribution
 }
 
 /// Twin of `sample_direct_light` (the workshop's scenes: emissive triangles only);

@@ -15,7 +15,7 @@ use crate::bvh::{
 use crate::camera::Camera;
 use crate::error::{Error, Result};
 use crate::kernels::variant::{
-    self, path_tracer_variant, KernelSource, SceneSummary, Traversal, VariantSettings,
+    self, path_tracer_variant, KernelSource, SceneSummary, Traversal, Variant, VariantSettings,
 };
 use crate::kernels::Build;
 use crate::kernels::{Bound, Resource};
@@ -47,6 +47,18 @@ pub fn embedded_build(
     settings: &RenderSettings,
     traversal: Traversal,
 ) -> Result<Build> {
+    Ok(host_variant(scene, settings, traversal)?.build)
+}
+
+/// The variant of the path tracer (build and specialization) that `Renderer::new` takes for
+/// `scene` with `settings` and `traversal`, decided on the host without a device: the
+/// scenes whose materials use no textures get exactly the renderer's (the texture slots are
+/// counted on the upload).
+pub fn host_variant(
+    scene: &Scene,
+    settings: &RenderSettings,
+    traversal: Traversal,
+) -> Result<Variant> {
     let lights = SceneLights::new(scene, &scene.triangles);
     let plain_materials;
     let materials = match &scene.materials {
@@ -59,7 +71,7 @@ pub fn embedded_build(
     };
     let summary = scene_summary(scene, materials, &lights, 0);
     let settings = variant_settings(settings, &lights);
-    Ok(path_tracer_variant(&summary, &settings, traversal, KernelSource::Embedded)?.build)
+    path_tracer_variant(&summary, &settings, traversal, KernelSource::Embedded)
 }
 
 /// What the variant room reads of `scene`, of the materials the kernels read (`None`: the
