@@ -41,12 +41,16 @@
 // light i, `vkpath::lights::gpu_emissive::GpuLight`: x = its scene triangle index, y = the
 // cumulative probability (float bits) of choosing this light or an earlier one
 // (power-proportional; the last is 1), zw = 0. Written by
-// `vkpath::lights::gpu_emissive::gpu_light_bytes`, whose layout tests check these offsets. The
-// selection probability of each triangle (0 for non-emitters) is stored in its packed
-// normal.w, for MIS. With the light tree, header.yz and each light's z say where the tree is
-// (glsl/light_tree.glsl), and normal.w holds the triangle's index in the light list (-1 for
-// non-emitters) instead.
+// `vkpath::lights::gpu_emissive::gpu_light_bytes`, whose layout tests check these offsets.
+// With the light tree, header.yz and each light's z say where the tree is
+// (glsl/light_tree.glsl).
 layout(set = 0, binding = BINDING_LIGHTS) uniform utextureBuffer g_light_texels;
+
+// Each scene triangle's selection word, for MIS, a texel buffer of R32_UINT (one word per
+// triangle, in the order of the triangle buffer): its selection probability as float bits (0
+// for non-emitters), or with the light tree its index in the light list (NO_LIGHT for
+// non-emitters). Written by `vkpath::lights::gpu_emissive::gpu_light_selection_words`.
+layout(set = 0, binding = BINDING_LIGHT_SELECTION) uniform utextureBuffer g_light_selection_words;
 
 #include "light_tree.glsl"
 
@@ -84,7 +88,7 @@ uint sample_light_index(float random_number) {
 
 // Probability that sample_light_index() picks the given scene triangle (0 for non-emitters).
 float get_light_selection_probability(uint triangle_index) {
-    return get_packed_triangle(triangle_index).normal.w;
+    return uintBitsToFloat(texelFetch(g_light_selection_words, int(triangle_index)).x);
 }
 
 // Probability that the light selection (sample_light_index() or sample_light_tree()) at a
@@ -95,10 +99,10 @@ float get_light_selection_probability(uint triangle_index) {
 float get_light_selection_probability(uint triangle_index, vec3 selection_position, vec3 selection_normal) {
     if (LIGHT_SELECTION != LIGHT_SELECTION_TREE)
         return get_light_selection_probability(triangle_index);
-    float light_index = get_packed_triangle(triangle_index).normal.w;
-    if (light_index < 0.0)
+    uint light_index = texelFetch(g_light_selection_words, int(triangle_index)).x;
+    if (light_index == NO_LIGHT)
         return 0.0;
-    return get_light_tree_probability(uint(light_index), selection_position, selection_normal);
+    return get_light_tree_probability(light_index, selection_position, selection_normal);
 }
 
 // The normal with which the light tree bounds what a surface receives: the geometric

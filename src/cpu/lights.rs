@@ -52,8 +52,8 @@ pub fn get_light_selection_normal(surface: &Surface) -> Vec3 {
 
 /// Twin of `get_light_selection_probability(triangle_index, selection_position,
 /// selection_normal)`: the power CDF's probability, or the tree's at the selection point.
-/// The GPU finds a triangle's place in the light list in its packed normal's w
-/// (`annotate_light_indices`); here it is searched in the list, which is in triangle order.
+/// The GPU finds a triangle's place in the light list in its selection word
+/// (`gpu_light_index_words`); here it is searched in the list, which is in triangle order.
 pub fn get_light_selection_probability(
     scene: &LightScene,
     triangle_index: usize,

@@ -301,14 +301,13 @@ impl GpuScene {
             Some(order) => reorder_by(order, &scene.triangles),
             None => scene.triangles.clone(),
         };
-        let mut gpu_triangles: Vec<GpuTriangle> =
+        let gpu_triangles: Vec<GpuTriangle> =
             ordered_triangles.iter().map(GpuTriangle::new).collect();
         let mut scene_lights = SceneLights::new(scene, &ordered_triangles);
         let variant_settings = variant_settings(settings, &scene_lights);
         if variant_settings.light_tree {
             scene_lights = scene_lights.with_light_tree(&ordered_triangles);
         }
-        scene_lights.annotate(&mut gpu_triangles);
         let upload = |name: &str, bytes: &[u8]| {
             TexelBufferView::upload_rgba32_uint(context, commands, name, bytes)
         };
@@ -382,6 +381,7 @@ impl GpuScene {
             m.shading.byte_size() + m.materials.byte_size() + m.texture_texels.byte_size()
         });
         let light_bytes = lights.emissive.byte_size()
+            + lights.selection.byte_size()
             + bytes(lights.environment.as_ref())
             + bytes(lights.punctual.as_ref());
         let scene_bytes = triangles.byte_size()
@@ -453,6 +453,7 @@ impl GpuScene {
                 return Some(Bound::AccelerationStructure(&self.structures.as_ref()?.top))
             }
             Resource::Lights => &self.lights.emissive,
+            Resource::LightSelection => &self.lights.selection,
             Resource::BvhNodes => self.bvh_nodes.as_ref()?,
             Resource::TraversalTriangles => self.traversal_triangles.as_ref()?,
             Resource::Shading => &materials?.shading,
