@@ -1,8 +1,9 @@
-//! Rust twins of `glsl/lights.glsl`, the lights room, for the emissive triangles (the
-//! environment's twins are `crate::cpu::environment`): choosing a light, sampling a point
-//! of it, the density MIS weighs by, and the estimator that turns a light sample into
-//! reflected light through the surface seam (`crate::cpu::surface`). Same names, same maths,
-//! same random-number consumption.
+//! Rust twins of `glsl/emissive_lights.glsl` and `glsl/lights.glsl`, the lights room, for
+//! the emissive triangles (the environment's twins are `crate::cpu::environment`): choosing
+//! a light, sampling a point of it, the density MIS weighs by (`emissive_lights.glsl`), and
+//! the estimator that turns a light sample into reflected light through the surface seam
+//! (`crate::cpu::surface`; `lights.glsl`). Same names, same maths, same random-number
+//! consumption.
 
 use glam::{UVec2, Vec2, Vec3};
 

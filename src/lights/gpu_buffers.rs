@@ -11,8 +11,8 @@ use crate::vk::{CommandRunner, Context, TexelBufferView, VkResult};
 
 /// A scene's lights on the device.
 pub struct LightBuffers {
-    /// The emissive triangles' selection table, or their light tree (`glsl/lights.glsl`,
-    /// `glsl/light_tree.glsl`).
+    /// The emissive triangles' selection table, or their light tree
+    /// (`glsl/emissive_lights.glsl`, `glsl/light_tree.glsl`).
     pub emissive: TexelBufferView,
     /// Every triangle's selection word, for MIS (`g_light_selection_words`, R32_UINT, 4
     /// bytes per triangle): its selection probability, or with the tree its light index.

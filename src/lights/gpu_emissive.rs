@@ -1,8 +1,8 @@
-//! The emissive triangles as the shaders read them: the lights' texel buffer
-//! (`g_light_texels` of `glsl/lights.glsl`, RGBA32_UINT: a header, then one entry per
-//! emissive triangle with its cumulative probability) and every scene triangle's selection
-//! word (`g_light_selection_words`, R32_UINT: its selection probability's float bits, for
-//! MIS, `get_light_selection_probability`). With a light tree (`--light-selection tree`,
+//! The emissive triangles as `glsl/emissive_lights.glsl` reads them: the lights' texel
+//! buffer (`g_light_texels`, RGBA32_UINT: a header, then one entry per emissive triangle
+//! with its cumulative probability) and every scene triangle's selection word
+//! (`g_light_selection_words`, R32_UINT: its selection probability's float bits, for MIS,
+//! `get_light_selection_probability`). With a light tree (`--light-selection tree`,
 //! `glsl/light_tree.glsl`), the header also says where the tree's nodes start (they follow
 //! the lights) and how deep it is, each light's entry holds its leaf's bit trail, and the
 //! selection word holds the triangle's index in the light list (`NO_LIGHT` for
@@ -17,7 +17,7 @@ use super::light_tree::LightTree;
 /// `glsl/light_tree.glsl`, which `sample_light_tree` also returns where no light reaches).
 pub const NO_LIGHT: u32 = u32::MAX;
 
-/// Texel 0 of the lights' texel buffer (`g_light_texels` of `glsl/lights.glsl`,
+/// Texel 0 of the lights' texel buffer (`g_light_texels` of `glsl/emissive_lights.glsl`,
 /// RGBA32_UINT, 16 bytes): the number of lights and where the light tree is. `GpuLight`s
 /// follow it, then the tree's nodes.
 #[repr(C)]

@@ -16,7 +16,7 @@
 //! - `scene_lights`: `SceneLights`, every light of a scene as the renderer uploads it;
 //! - `gpu_buffers`: `LightBuffers`, the lights' own buffers on the device, one per kind;
 //! - `gpu_emissive`, `gpu_environment`, `gpu_punctual`: each kind's words as
-//!   `glsl/importance_sampling.glsl`, `glsl/environment.glsl` and
+//!   `glsl/emissive_lights.glsl`, `glsl/environment.glsl` and
 //!   `glsl/punctual_lights.glsl` read them (the CPU twins in `crate::cpu` read the same
 //!   words).
 //!

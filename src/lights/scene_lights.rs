@@ -67,7 +67,7 @@ impl<'a> SceneLights<'a> {
     }
 
     /// The light searches' iterations per ray that the kernel counts (the loop bound,
-    /// `get_light_search_iterations()` of `glsl/lights.glsl`): the power CDF's binary search
+    /// `get_light_search_iterations()` of `glsl/emissive_lights.glsl`): the power CDF's binary search
     /// (`crate::kernels::loops::light_search_iterations`), or with a tree two walks (a light
     /// sample's and an MIS weight's) of at most depth + 1 trips each.
     pub fn light_search_iterations(&self) -> u64 {
