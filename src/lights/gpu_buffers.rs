@@ -1,11 +1,13 @@
 //! The lights' own buffers on the device (`LightBuffers`): one texel buffer per kind of
 //! light, each holding the words that kind's GLSL file reads (`gpu_emissive`,
 //! `gpu_environment`, `gpu_punctual`), and the emissive kind's per-triangle selection words.
-//! The scene's upload (`crate::render::gpu_scene`) binds them where the kernels' binding
-//! table (`crate::kernels::bindings`) says.
+//! The scene's upload (`crate::render::gpu_scene`) binds each where the kernels' binding
+//! table (`crate::kernels::bindings`) says, asking `LightBuffers::resource` which it is, and
+//! counts them all in its memory (`LightBuffers::byte_size`).
 
 use std::sync::Arc;
 
+use crate::kernels::Resource;
 use crate::lights::SceneLights;
 use crate::vk::{CommandRunner, Context, TexelBufferView, VkResult};
 
@@ -64,5 +66,32 @@ impl LightBuffers {
             environment,
             punctual,
         })
+    }
+
+    /// The lights' buffer for a binding of the kernels' tables (`crate::kernels::bindings`);
+    /// `None` for a resource that is not the lights', or for a kind this upload left out (the
+    /// environment and punctual lights without material kernels).
+    pub fn resource(&self, resource: Resource) -> Option<&TexelBufferView> {
+        match resource {
+            Resource::Lights => Some(&self.emissive),
+            Resource::LightSelection => Some(&self.selection),
+            Resource::Environment => self.environment.as_ref(),
+            Resource::PunctualLights => self.punctual.as_ref(),
+            _ => None,
+        }
+    }
+
+    /// Bytes of all the lights' buffers (`render --json`'s `scene_memory` counts them).
+    pub fn byte_size(&self) -> u64 {
+        [
+            Some(&self.emissive),
+            Some(&self.selection),
+            self.environment.as_ref(),
+            self.punctual.as_ref(),
+        ]
+        .into_iter()
+        .flatten()
+        .map(TexelBufferView::byte_size)
+        .sum()
     }
 }
