@@ -3,7 +3,7 @@
 // triangles (by area, or by solid angle with Arvo's spherical triangles) and the power
 // heuristic of multiple importance sampling. Samplers come in pairs sample_x /
 // get_x_density, as in Peters' renderers. Their users: the surface seam (glsl/surface.glsl),
-// the lights room (glsl/lights.glsl) and the path loop (glsl/path_loop.glsl).
+// the lights room (glsl/lights.glsl, glsl/emissive_lights.glsl) and the path loop (glsl/path_loop.glsl).
 // Rust twins: src/cpu/importance_sampling.rs. Needs LIGHT_SAMPLING defined by the includer.
 #ifndef VKPATH_IMPORTANCE_SAMPLING_GLSL
 #define VKPATH_IMPORTANCE_SAMPLING_GLSL
@@ -76,7 +76,7 @@ spherical_triangle_t get_spherical_triangle(vec3 origin, triangle_t triangle) {
     return spherical;
 }
 
-// Whether a light sample (sample_light_direction() of glsl/lights.glsl) is taken by solid
+// Whether a light sample (sample_light_direction() of glsl/emissive_lights.glsl) is taken by solid
 // angle (sample_spherical_triangle()) rather than by area (sample_triangle_point()). Both the
 // sampler and get_light_density() ask,
 // so that they agree on the density. Lights that subtend less than

@@ -6,7 +6,7 @@
 // given light is recomputed by walking from the root along its leaf's bit trail (for MIS).
 //
 // The nodes follow the lights in the lights' texel buffer (g_light_texels of
-// glsl/lights.glsl): header.y is the first node's texel (0: no tree), header.z the deepest
+// glsl/emissive_lights.glsl): header.y is the first node's texel (0: no tree), header.z the deepest
 // leaf's depth; light i's texel holds its bit trail in z (bit d: the walk takes the second
 // child at depth d). A node is four texels, vkpath::lights::light_tree::GpuLightTreeNode, in
 // depth-first order (an interior node's first child follows it). Written by

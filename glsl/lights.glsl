@@ -1,28 +1,32 @@
 // The lights room: every light of the scene in one list, sampled by one estimator for the
-// path loop (glsl/path_loop.glsl). The list:
+// path loop (glsl/path_loop.glsl). This file is the dispatcher; each kind of light lives in
+// its own file, with its words on the device and its own sampling maths:
 // - emissive triangles (every kernel), chosen in proportion to their power from a CDF, or
 //   with LIGHT_SELECTION_TREE by the light tree's importance to the shading point
-//   (glsl/light_tree.glsl);
+//   (glsl/emissive_lights.glsl, glsl/light_tree.glsl);
 // - the environment, a constant colour or an equirectangular map (glsl/environment.glsl);
 // - KHR_lights_punctual's point, spot and directional lights (glsl/punctual_lights.glsl);
 // the last two in kernels built with USE_MATERIALS, whose scenes may have them.
-// Each kind's sampler returns a light_sample_t (direction, distance, radiance, density, or a
-// delta light's weight); estimate_light_sample() turns any of them into reflected light
+// Here each kind's sampler becomes a light_sample_t (direction, distance, radiance, density,
+// or a delta light's weight: sample_emissive_triangle_light(), sample_environment_light(),
+// sample_punctual_light()); estimate_light_sample() turns any of them into reflected light
 // with the surface seam (glsl/surface.glsl), visibility and MIS; sample_direct_light() takes
-// one sample of each kind, whose sum estimates all the direct light. The densities that MIS
-// weighs a found light by (get_light_density(), get_environment_density()) are here too.
-// Replacing the selection (a light tree) or adding a light type touches this file (and the
-// host's src/lights/ that writes the words).
+// one sample of each kind, whose sum estimates all the direct light. The density that MIS
+// weighs an emitter a path found by is here too (get_emissive_triangle_density(); the
+// environment's is get_environment_density()). A new kind of light is a file of its own,
+// included here, a light_sample_t sampler here and a term of sample_direct_light() (and the
+// host's src/lights/ that writes its words).
 //
 // Random numbers, in the order drawn, each a get_path_random_numbers() pair: the emissive
 // triangle's selection pair and point pair (drawn even without emissive triangles); the
 // environment's (none when black, one for a constant colour, two for a map: texel, then
 // point); the punctual light's pair (only when there are punctual lights). The order decides
-// every output bit, with PCG2D and with Sobol's dimension pairs alike, so keep it.
+// every output bit, with PCG2D and with Sobol's dimension pairs alike, so keep it. The kinds'
+// files draw none themselves: the samplers here draw each kind's pairs.
 //
-// Rust twins: src/cpu/importance_sampling.rs (emissive triangles), src/cpu/environment.rs,
-// src/cpu/light_tree.rs. Needs INTEGRATOR, SAMPLER, LIGHT_SAMPLING and LIGHT_SELECTION
-// defined by the includer.
+// Rust twins: src/cpu/lights.rs (emissive triangles and the estimator),
+// src/cpu/environment.rs, src/cpu/punctual_lights.rs. Needs INTEGRATOR, SAMPLER,
+// LIGHT_SAMPLING and LIGHT_SELECTION defined by the includer.
 #ifndef VKPATH_LIGHTS_GLSL
 #define VKPATH_LIGHTS_GLSL
 
@@ -35,115 +39,7 @@
 #include "environment.glsl"
 #include "punctual_lights.glsl"
 #endif
-
-// Emissive triangles, a texel buffer of RGBA32_UINT (16 bytes a texel). Texel 0 is the header,
-// `vkpath::lights::gpu_emissive::GpuLightHeader`: x = number of lights, yzw = 0. Texel 1 + i is
-// light i, `vkpath::lights::gpu_emissive::GpuLight`: x = its scene triangle index, y = the
-// cumulative probability (float bits) of choosing this light or an earlier one
-// (power-proportional; the last is 1), zw = 0. Written by
-// `vkpath::lights::gpu_emissive::gpu_light_bytes`, whose layout tests check these offsets. The
-// selection probability of each triangle (0 for non-emitters) is stored in its packed
-// normal.w, for MIS. With the light tree, header.yz and each light's z say where the tree is
-// (glsl/light_tree.glsl), and normal.w holds the triangle's index in the light list (-1 for
-// non-emitters) instead.
-layout(set = 0, binding = BINDING_LIGHTS) uniform utextureBuffer g_light_texels;
-
-#include "light_tree.glsl"
-
-// Number of emissive triangles.
-uint get_light_count() {
-    return texelFetch(g_light_texels, 0).x;
-}
-
-// Scene triangle index of light i.
-uint get_light_triangle_index(uint light_index) {
-    return texelFetch(g_light_texels, int(light_index) + 1).x;
-}
-
-// Probability of choosing light i or an earlier one.
-float get_light_cumulative_probability(uint light_index) {
-    return uintBitsToFloat(texelFetch(g_light_texels, int(light_index) + 1).y);
-}
-
-// Chooses an emissive triangle in proportion to its power by binary search in the CDF.
-// \param random_number Uniform in [0,1)
-// \return Index of a light; only valid when get_light_count() > 0
-uint sample_light_index(float random_number) {
-    uint low = 0u;
-    uint high = get_light_count() - 1u;
-    // At most 32 halvings for any uint count.
-    for (int i = 0; i != 32 && low < high; ++i) {
-        uint middle = (low + high) / 2u;
-        if (random_number < get_light_cumulative_probability(middle))
-            high = middle;
-        else
-            low = middle + 1u;
-    }
-    return low;
-}
-
-// Probability that sample_light_index() picks the given scene triangle (0 for non-emitters).
-float get_light_selection_probability(uint triangle_index) {
-    return get_packed_triangle(triangle_index).normal.w;
-}
-
-// Probability that the light selection (sample_light_index() or sample_light_tree()) at a
-// shading point picks the given scene triangle (0 for non-emitters); the tree's depends on
-// the point (get_light_selection_point()).
-// \param selection_position, selection_normal Where the light sample was taken and the
-//        normal of its receiving side (get_light_selection_normal())
-float get_light_selection_probability(uint triangle_index, vec3 selection_position, vec3 selection_normal) {
-    if (LIGHT_SELECTION != LIGHT_SELECTION_TREE)
-        return get_light_selection_probability(triangle_index);
-    float light_index = get_packed_triangle(triangle_index).normal.w;
-    if (light_index < 0.0)
-        return 0.0;
-    return get_light_tree_probability(uint(light_index), selection_position, selection_normal);
-}
-
-// The normal with which the light tree bounds what a surface receives: the geometric
-// normal on the ray's side (get_bsdf() is 0 below it); 0 (no bound) for layered materials.
-vec3 get_light_selection_normal(surface_t surface) {
-    return has_layers(surface) ? vec3(0.0) : surface.geometric_normal;
-}
-
-// Iterations of the light search per ray, as path_tracer.comp's loop bound counts them: the
-// bits of the light count (sample_light_index()), or with the tree its two walks
-// (sample_light_tree() for a light sample, get_light_tree_probability() for an MIS weight)
-// of at most depth + 1 trips each.
-uint get_light_search_iterations() {
-    if (LIGHT_SELECTION == LIGHT_SELECTION_TREE)
-        return 2u * (get_light_tree_depth() + 1u);
-    return uint(findMSB(max(get_light_count(), 1u)) + 1);
-}
-
-// Density w.r.t. solid angle, at the origin of `spherical` (the light as seen from there), of
-// a light sample that lands on the emitter at `distance` along `direction`: p_select / solid
-// angle for lights sampled by solid angle, else p_select / area * distance^2 / |n_light.omega|.
-float get_light_density(float selection_probability, triangle_t light, spherical_triangle_t spherical, vec3 direction, float distance) {
-    if (use_spherical_sampling(spherical))
-        return selection_probability / spherical.solid_angle;
-    float cosine = abs(dot(light.normal, direction));
-    return selection_probability * distance * distance / (get_triangle_area(light) * max(cosine, MIN_LIGHT_COSINE));
-}
-
-// A direction from `origin` towards a point of a light triangle and the distance to it
-// along that direction: by solid angle or by area, as use_spherical_sampling() says.
-// \param spherical The light as seen from `origin` (get_spherical_triangle())
-void sample_light_direction(vec2 point_randoms, triangle_t light, vec3 origin, spherical_triangle_t spherical, out vec3 out_direction, out float out_distance) {
-    if (use_spherical_sampling(spherical)) {
-        out_direction = sample_spherical_triangle(point_randoms, spherical);
-        // The distance from the triangle test that shadow rays run, so that is_visible()'s
-        // margin excludes exactly this triangle; where rounding put the direction just
-        // outside the triangle, the distance to its plane.
-        if (!ray_triangle_intersection(out_distance, origin, out_direction, light))
-            out_distance = dot(light.normal, light.positions[0] - origin) / dot(light.normal, out_direction);
-    } else {
-        vec3 to_light = sample_triangle_point(point_randoms, light) - origin;
-        out_distance = length(to_light);
-        out_direction = to_light / out_distance;
-    }
-}
+#include "emissive_lights.glsl"
 
 // One light sample: where it comes from and what it brings.
 struct light_sample_t {

@@ -14,8 +14,7 @@ struct packed_triangle_t {
     // xyz: v_0, v_1, v_2 (world space); w: unused (0)
     vec4 positions[3];
     // xyz: unit normal (world space, the side the vertices are counter-clockwise from);
-    // w: the probability that light sampling chooses this triangle (power-proportional, 0 for
-    // non-emitters; get_light_selection_probability(), for MIS)
+    // w: unused (0)
     vec4 normal;
     // rgb: albedo (linear RGB in [0, 1]); a: unused (0)
     vec4 color;

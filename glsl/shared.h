@@ -33,8 +33,16 @@
 // The accumulation image (an rgba32f 2D array image with the LAYER_* layers).
 #define BINDING_ACCUMULATION 2
 // Emissive triangles and their power CDF, for light sampling (nee, mis): a texel buffer of
-// GpuLightHeader then one GpuLight per light (glsl/lights.glsl).
+// GpuLightHeader then one GpuLight per light (glsl/emissive_lights.glsl).
 #define BINDING_LIGHTS 4
+// The emissive triangles' selection word of every scene triangle, in the order of
+// BINDING_TRIANGLES, for MIS (get_light_selection_probability(), glsl/emissive_lights.glsl): a
+// texel buffer of R32_UINT, one word per triangle. With LIGHT_SELECTION_POWER the word is the
+// triangle's selection probability as float bits (0 for non-emitters); with
+// LIGHT_SELECTION_TREE its index in the light list (NO_LIGHT for non-emitters). Written by
+// gpu_light_selection_words() of src/lights/gpu_emissive.rs. 25: the first free index (0-19
+// are taken, 20-23 are the user's iChannels, 24 the acceleration structure).
+#define BINDING_LIGHT_SELECTION 25
 // Builds with USE_BVH: the BVH's nodes, a texel buffer of RGBA32_UINT: the 4-wide tree's
 // (WIDE_BVH_NODE_TEXEL_COUNT texels each, glsl/bvh.glsl) or, with SPEC_BVH_LAYOUT
 // BVH_LAYOUT_COMPRESSED, the compressed tree's (CWBVH_NODE_TEXEL_COUNT, glsl/cwbvh.glsl).
@@ -216,7 +224,7 @@
 // by area where that solid angle is tiny or nearly 2 pi (use_spherical_sampling()).
 #define LIGHT_SAMPLING_SOLID_ANGLE 1
 
-// Values of SPEC_LIGHT_SELECTION (glsl/lights.glsl).
+// Values of SPEC_LIGHT_SELECTION (glsl/emissive_lights.glsl).
 // In proportion to power, from the lights' CDF (sample_light_index()).
 #define LIGHT_SELECTION_POWER 0
 // By the light tree's importance to the shading point (glsl/light_tree.glsl).

@@ -10,8 +10,9 @@ use crate::contract::{
 };
 use crate::cpu::texels::{fetch_float_texel, fetch_texel};
 
-/// Twin of `NO_LIGHT`: what `sample_light_tree` returns where no light can reach the point.
-pub const NO_LIGHT: u32 = u32::MAX;
+/// Twin of `NO_LIGHT`: what `sample_light_tree` returns where no light can reach the point
+/// (also the selection word of a triangle that is no light, which the host writes).
+pub use crate::lights::gpu_emissive::NO_LIGHT;
 
 /// The words of `g_light_texels` (header, lights, tree nodes) as the twins read them.
 #[derive(Clone, Copy, Debug)]

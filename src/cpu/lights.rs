@@ -1,8 +1,9 @@
-//! Rust twins of `glsl/lights.glsl`, the lights room, for the emissive triangles (the
-//! environment's twins are `crate::cpu::environment`): choosing a light, sampling a point
-//! of it, the density MIS weighs by, and the estimator that turns a light sample into
-//! reflected light through the surface seam (`crate::cpu::surface`). Same names, same maths,
-//! same random-number consumption.
+//! Rust twins of `glsl/emissive_lights.glsl` and `glsl/lights.glsl`, the lights room, for
+//! the emissive triangles (the environment's twins are `crate::cpu::environment`): choosing
+//! a light, sampling a point of it, the density MIS weighs by (`emissive_lights.glsl`), and
+//! the estimator that turns a light sample into reflected light through the surface seam
+//! (`crate::cpu::surface`; `lights.glsl`). Same names, same maths, same random-number
+//! consumption.
 
 use glam::{UVec2, Vec2, Vec3};
 
@@ -52,8 +53,8 @@ pub fn get_light_selection_normal(surface: &Surface) -> Vec3 {
 
 /// Twin of `get_light_selection_probability(triangle_index, selection_position,
 /// selection_normal)`: the power CDF's probability, or the tree's at the selection point.
-/// The GPU finds a triangle's place in the light list in its packed normal's w
-/// (`annotate_light_indices`); here it is searched in the list, which is in triangle order.
+/// The GPU finds a triangle's place in the light list in its selection word
+/// (`gpu_light_index_words`); here it is searched in the list, which is in triangle order.
 pub fn get_light_selection_probability(
     scene: &LightScene,
     triangle_index: usize,

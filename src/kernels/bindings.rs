@@ -28,6 +28,9 @@ pub enum Resource {
     AccelerationStructure,
     /// The emissive triangles and their power CDF (`gpu_light_bytes`, texel buffer).
     Lights,
+    /// Every triangle's light-selection word, for MIS (`gpu_light_selection_words`, R32_UINT
+    /// texel buffer).
+    LightSelection,
     /// The texels of every texture (`TextureAtlas`, RGBA8 texel buffer).
     TextureTexels,
     /// Per-triangle shading data (`GpuTriangleShading`, texel buffer).
@@ -109,6 +112,7 @@ pub const PATH_TRACER: &[Binding] = &[
     row(c::BINDING_RENDER_UNIFORMS, UNIFORM, R::RenderUniforms),
     row(c::BINDING_ACCUMULATION, IMAGE, R::Accumulation),
     row(c::BINDING_LIGHTS, TEXEL, R::Lights),
+    row(c::BINDING_LIGHT_SELECTION, TEXEL, R::LightSelection),
     row(c::BINDING_GUIDE, TEXEL, R::Guide),
     row(c::BINDING_GUIDE_SPLATS, STORAGE, R::GuideSplats),
     with(USE_BVH, c::BINDING_BVH_NODES, TEXEL, R::BvhNodes),

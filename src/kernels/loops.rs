@@ -119,7 +119,7 @@ pub const PATH_TRACER_LOOPS: &[KernelLoop] = &[
         "light search",
     ),
     described(
-        "lights.glsl",
+        "emissive_lights.glsl",
         "sample_light_index",
         LightSearchPerRay,
         "light search",

@@ -1,7 +1,7 @@
 //! The emissive triangles of a scene as light sampling needs them: a power-proportional CDF
 //! and each triangle's selection probability, for multiple importance sampling. How the
-//! shaders store them (`g_light_texels` of `glsl/importance_sampling.glsl`, the packed
-//! triangles' normal.w) is `super::gpu_emissive`'s business.
+//! shaders store them (`g_light_texels` and `g_light_selection_words` of
+//! `glsl/emissive_lights.glsl`) is `super::gpu_emissive`'s business.
 
 use glam::Vec3;
 

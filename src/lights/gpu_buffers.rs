@@ -1,18 +1,24 @@
 //! The lights' own buffers on the device (`LightBuffers`): one texel buffer per kind of
 //! light, each holding the words that kind's GLSL file reads (`gpu_emissive`,
-//! `gpu_environment`, `gpu_punctual`). The scene's upload (`crate::render::gpu_scene`) binds
-//! them where the kernels' binding table (`crate::kernels::bindings`) says.
+//! `gpu_environment`, `gpu_punctual`), and the emissive kind's per-triangle selection words.
+//! The scene's upload (`crate::render::gpu_scene`) binds each where the kernels' binding
+//! table (`crate::kernels::bindings`) says, asking `LightBuffers::resource` which it is, and
+//! counts them all in its memory (`LightBuffers::byte_size`).
 
 use std::sync::Arc;
 
+use crate::kernels::Resource;
 use crate::lights::SceneLights;
 use crate::vk::{CommandRunner, Context, TexelBufferView, VkResult};
 
 /// A scene's lights on the device.
 pub struct LightBuffers {
     /// The emissive triangles' selection table, or their light tree
-    /// (`glsl/importance_sampling.glsl`, `glsl/light_tree.glsl`).
+    /// (`glsl/emissive_lights.glsl`, `glsl/light_tree.glsl`).
     pub emissive: TexelBufferView,
+    /// Every triangle's selection word, for MIS (`g_light_selection_words`, R32_UINT, 4
+    /// bytes per triangle): its selection probability, or with the tree its light index.
+    pub selection: TexelBufferView,
     /// The environment (`glsl/environment.glsl`): only the material kernels read it.
     pub environment: Option<TexelBufferView>,
     /// The punctual lights (`glsl/punctual_lights.glsl`): only the material kernels read
@@ -21,8 +27,9 @@ pub struct LightBuffers {
 }
 
 impl LightBuffers {
-    /// Uploads `lights`: the emissive triangles always, the environment and punctual lights
-    /// when the kernel reads them (`material_kernels`: the builds with `USE_MATERIALS`).
+    /// Uploads `lights`: the emissive triangles and their selection words always, the
+    /// environment and punctual lights when the kernel reads them (`material_kernels`: the
+    /// builds with `USE_MATERIALS`).
     pub fn upload(
         context: &Arc<Context>,
         commands: &CommandRunner,
@@ -33,6 +40,12 @@ impl LightBuffers {
             TexelBufferView::upload_rgba32_uint(context, commands, name, bytes)
         };
         let emissive = upload("lights", &lights.emissive_bytes())?;
+        let selection = TexelBufferView::upload_r32_uint(
+            context,
+            commands,
+            "light selection words",
+            &lights.selection_words(),
+        )?;
         let (environment, punctual) = if material_kernels {
             (
                 Some(upload(
@@ -49,8 +62,36 @@ impl LightBuffers {
         };
         Ok(LightBuffers {
             emissive,
+            selection,
             environment,
             punctual,
         })
+    }
+
+    /// The lights' buffer for a binding of the kernels' tables (`crate::kernels::bindings`);
+    /// `None` for a resource that is not the lights', or for a kind this upload left out (the
+    /// environment and punctual lights without material kernels).
+    pub fn resource(&self, resource: Resource) -> Option<&TexelBufferView> {
+        match resource {
+            Resource::Lights => Some(&self.emissive),
+            Resource::LightSelection => Some(&self.selection),
+            Resource::Environment => self.environment.as_ref(),
+            Resource::PunctualLights => self.punctual.as_ref(),
+            _ => None,
+        }
+    }
+
+    /// Bytes of all the lights' buffers (`render --json`'s `scene_memory` counts them).
+    pub fn byte_size(&self) -> u64 {
+        [
+            Some(&self.emissive),
+            Some(&self.selection),
+            self.environment.as_ref(),
+            self.punctual.as_ref(),
+        ]
+        .into_iter()
+        .flatten()
+        .map(TexelBufferView::byte_size)
+        .sum()
     }
 }

@@ -1,19 +1,23 @@
-//! The emissive triangles as the shaders read them: the lights' texel buffer
-//! (`g_light_texels` of `glsl/importance_sampling.glsl`, RGBA32_UINT: a header, then one
-//! entry per emissive triangle with its cumulative probability) and each packed triangle's
-//! selection probability in normal.w (`get_light_selection_probability`, for MIS). With a
-//! light tree (`--light-selection tree`, `glsl/light_tree.glsl`), the header also says where
-//! the tree's nodes start (they follow the lights) and how deep it is, each light's entry
-//! holds its leaf's bit trail, and normal.w holds the triangle's index in the light list
-//! (-1 for non-emitters) instead of a probability.
+//! The emissive triangles as `glsl/emissive_lights.glsl` reads them: the lights' texel
+//! buffer (`g_light_texels`, RGBA32_UINT: a header, then one entry per emissive triangle
+//! with its cumulative probability) and every scene triangle's selection word
+//! (`g_light_selection_words`, R32_UINT: its selection probability's float bits, for MIS,
+//! `get_light_selection_probability`). With a light tree (`--light-selection tree`,
+//! `glsl/light_tree.glsl`), the header also says where the tree's nodes start (they follow
+//! the lights) and how deep it is, each light's entry holds its leaf's bit trail, and the
+//! selection word holds the triangle's index in the light list (`NO_LIGHT` for
+//! non-emitters) instead of a probability.
 
 use bytemuck::{Pod, Zeroable};
 
 use super::emissive::EmissiveTriangles;
 use super::light_tree::LightTree;
-use crate::render::gpu_types::GpuTriangle;
 
-/// Texel 0 of the lights' texel buffer (`g_light_texels` of `glsl/importance_sampling.glsl`,
+/// The selection word of a triangle that is no light, with a light tree (GLSL `NO_LIGHT` of
+/// `glsl/light_tree.glsl`, which `sample_light_tree` also returns where no light reaches).
+pub const NO_LIGHT: u32 = u32::MAX;
+
+/// Texel 0 of the lights' texel buffer (`g_light_texels` of `glsl/emissive_lights.glsl`,
 /// RGBA32_UINT, 16 bytes): the number of lights and where the light tree is. `GpuLight`s
 /// follow it, then the tree's nodes.
 #[repr(C)]
@@ -106,25 +110,27 @@ pub fn gpu_light_bytes_with_tree(lights: &EmissiveTriangles, tree: &LightTree) -
     bytes
 }
 
-/// With a light tree: writes each triangle's index in the light list into its packed
-/// normal.w as a float (exact below 2^24 lights), -1 for non-emitters, where MIS finds the
-/// light's bit trail (`get_emissive_triangle_density`).
-pub fn annotate_light_indices(lights: &EmissiveTriangles, triangles: &mut [GpuTriangle]) {
-    for triangle in triangles.iter_mut() {
-        triangle.normal[3] = -1.0;
-    }
-    for (light, &index) in lights.triangle_indices.iter().enumerate() {
-        triangles[index as usize].normal[3] = light as f32;
-    }
+/// The selection words (`g_light_selection_words`, `BINDING_LIGHT_SELECTION`), one per
+/// triangle that the table was built from, in the same order: each triangle's
+/// light-selection probability as float bits (0 for non-emitters), where MIS reads it
+/// (`get_light_selection_probability`).
+pub fn gpu_light_selection_words(lights: &EmissiveTriangles) -> Vec<u32> {
+    lights
+        .selection_probability
+        .iter()
+        .map(|probability| probability.to_bits())
+        .collect()
 }
 
-/// Writes each triangle's light-selection probability into its packed normal.w, where MIS
-/// reads it (`get_light_selection_probability`). `triangles` must be the packed triangles
-/// the table was built from, in the same order.
-pub fn annotate_selection_probabilities(lights: &EmissiveTriangles, triangles: &mut [GpuTriangle]) {
-    for (triangle, &probability) in triangles.iter_mut().zip(&lights.selection_probability) {
-        triangle.normal[3] = probability;
+/// The selection words with a light tree: each triangle's index in the light list,
+/// `NO_LIGHT` for non-emitters, where MIS finds the light's bit trail
+/// (`get_emissive_triangle_density`). Exact for any count of lights.
+pub fn gpu_light_index_words(lights: &EmissiveTriangles) -> Vec<u32> {
+    let mut words = vec![NO_LIGHT; lights.selection_probability.len()];
+    for (light, &index) in lights.triangle_indices.iter().enumerate() {
+        words[index as usize] = light as u32;
     }
+    words
 }
 
 #[cfg(test)]
@@ -178,9 +184,8 @@ mod tests {
         let empty = EmissiveTriangles::new(&triangles[1..2]);
         assert_eq!(gpu_light_bytes(&empty), vec![0u8; 16]);
 
-        let mut packed: Vec<GpuTriangle> = triangles.iter().map(GpuTriangle::new).collect();
-        annotate_selection_probabilities(&table, &mut packed);
-        let read: Vec<f32> = packed.iter().map(|t| t.normal[3]).collect();
+        let words = gpu_light_selection_words(&table);
+        let read: Vec<f32> = words.iter().copied().map(f32::from_bits).collect();
         assert_eq!(read, table.selection_probability);
         assert_eq!(read[1], 0.0);
 
@@ -201,8 +206,6 @@ mod tests {
             gpu_light_bytes_with_tree(&table, &tree),
             bytemuck::cast_slice::<u32, u8>(&words)
         );
-        annotate_light_indices(&table, &mut packed);
-        let read: Vec<f32> = packed.iter().map(|t| t.normal[3]).collect();
-        assert_eq!(read, vec![0.0, -1.0, 1.0]);
+        assert_eq!(gpu_light_index_words(&table), vec![0, NO_LIGHT, 1]);
     }
 }

@@ -14,16 +14,19 @@
 //!   `Environment` (the scene description's, see `crate::scene::SceneDescription`);
 //! - `punctual`: KHR_lights_punctual's point, spot and directional lights;
 //! - `scene_lights`: `SceneLights`, every light of a scene as the renderer uploads it;
-//! - `gpu_buffers`: `LightBuffers`, the lights' own buffers on the device, one per kind;
+//! - `gpu_buffers`: `LightBuffers`, the lights' own buffers on the device, one per kind, and
+//!   the emissive triangles' selection words;
 //! - `gpu_emissive`, `gpu_environment`, `gpu_punctual`: each kind's words as
-//!   `glsl/importance_sampling.glsl`, `glsl/environment.glsl` and
+//!   `glsl/emissive_lights.glsl`, `glsl/environment.glsl` and
 //!   `glsl/punctual_lights.glsl` read them (the CPU twins in `crate::cpu` read the same
 //!   words).
 //!
 //! A new kind of light is a file for the kind, a file for its words, a field of
 //! `SceneLights` (and of `crate::scene::Scene`, which carries the description), its binding
-//! (`crate::kernels::bindings`, `glsl/shared.h`), its buffer in `gpu_buffers` and its
-//! binding in `crate::render::gpu_scene::GpuScene::resource`.
+//! (`crate::kernels::bindings`, `glsl/shared.h`) and its buffer in `gpu_buffers` (a field,
+//! its upload, an arm of `LightBuffers::resource`); the scene's upload
+//! (`crate::render::gpu_scene`) names no kind. On the GLSL side, its file and a sampler in
+//! `glsl/lights.glsl` (`docs/house.md` counts the files).
 
 pub mod alias_table;
 pub mod emissive;

@@ -5,14 +5,12 @@
 use super::emissive::EmissiveTriangles;
 use super::environment::Environment;
 use super::gpu_emissive::{
-    annotate_light_indices, annotate_selection_probabilities, gpu_light_bytes,
-    gpu_light_bytes_with_tree,
+    gpu_light_bytes, gpu_light_bytes_with_tree, gpu_light_index_words, gpu_light_selection_words,
 };
 use super::gpu_environment::gpu_environment_words;
 use super::gpu_punctual::gpu_punctual_light_words;
 use super::light_tree::LightTree;
 use super::punctual::PunctualLight;
-use crate::render::gpu_types::GpuTriangle;
 use crate::scene::{Scene, Triangle};
 
 /// The list of a scene's lights that the renderer uploads.
@@ -49,13 +47,13 @@ impl<'a> SceneLights<'a> {
         SceneLights { tree, ..self }
     }
 
-    /// Writes what MIS reads in each packed triangle's normal.w: its selection probability,
-    /// or with a light tree its index in the light list; `triangles` must be the ones this
-    /// list was made with, packed in the same order.
-    pub fn annotate(&self, triangles: &mut [GpuTriangle]) {
+    /// The words of the selection buffer (`BINDING_LIGHT_SELECTION`), one per triangle this
+    /// list was made with, in the same order: what MIS reads of each, its selection
+    /// probability, or with a light tree its index in the light list.
+    pub fn selection_words(&self) -> Vec<u32> {
         match &self.tree {
-            None => annotate_selection_probabilities(&self.emissive, triangles),
-            Some(_) => annotate_light_indices(&self.emissive, triangles),
+            None => gpu_light_selection_words(&self.emissive),
+            Some(_) => gpu_light_index_words(&self.emissive),
         }
     }
 
@@ -69,7 +67,7 @@ impl<'a> SceneLights<'a> {
     }
 
     /// The light searches' iterations per ray that the kernel counts (the loop bound,
-    /// `get_light_search_iterations()` of `glsl/lights.glsl`): the power CDF's binary search
+    /// `get_light_search_iterations()` of `glsl/emissive_lights.glsl`): the power CDF's binary search
     /// (`crate::kernels::loops::light_search_iterations`), or with a tree two walks (a light
     /// sample's and an MIS weight's) of at most depth + 1 trips each.
     pub fn light_search_iterations(&self) -> u64 {
@@ -137,10 +135,16 @@ mod tests {
             lights.punctual_words(),
             gpu_punctual_light_words(&scene.punctual_lights)
         );
-        let mut packed: Vec<GpuTriangle> = reversed.iter().map(GpuTriangle::new).collect();
-        lights.annotate(&mut packed);
-        let written: Vec<f32> = packed.iter().map(|t| t.normal[3]).collect();
-        assert_eq!(written, lights.emissive.selection_probability);
+        assert_eq!(
+            lights.selection_words(),
+            gpu_light_selection_words(&lights.emissive)
+        );
+        assert_eq!(lights.selection_words().len(), reversed.len());
+        let lights = lights.with_light_tree(&reversed);
+        assert_eq!(
+            lights.selection_words(),
+            gpu_light_index_words(&lights.emissive)
+        );
     }
 
     #[test]

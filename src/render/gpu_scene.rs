@@ -313,14 +313,13 @@ impl GpuScene {
             Some(order) => reorder_by(order, &scene.triangles),
             None => scene.triangles.clone(),
         };
-        let mut gpu_triangles: Vec<GpuTriangle> =
+        let gpu_triangles: Vec<GpuTriangle> =
             ordered_triangles.iter().map(GpuTriangle::new).collect();
         let mut scene_lights = SceneLights::new(scene, &ordered_triangles);
         let variant_settings = variant_settings(settings, &scene_lights);
         if variant_settings.light_tree {
             scene_lights = scene_lights.with_light_tree(&ordered_triangles);
         }
-        scene_lights.annotate(&mut gpu_triangles);
         let upload = |name: &str, bytes: &[u8]| {
             TexelBufferView::upload_rgba32_uint(context, commands, name, bytes)
         };
@@ -393,9 +392,7 @@ impl GpuScene {
         let material_bytes = materials.as_ref().map_or(0, |m| {
             m.shading.byte_size() + m.materials.byte_size() + m.texture_texels.byte_size()
         });
-        let light_bytes = lights.emissive.byte_size()
-            + bytes(lights.environment.as_ref())
-            + bytes(lights.punctual.as_ref());
+        let light_bytes = lights.byte_size();
         let scene_bytes = triangles.byte_size()
             + uniforms.size
             + bvh_node_bytes
@@ -455,7 +452,8 @@ impl GpuScene {
 
     /// The scene's resource for a binding of the path tracer's table
     /// (`crate::kernels::bindings::PATH_TRACER`); `None` for one it does not hold (the
-    /// accumulation image, the BVH without a BVH, materials without materials).
+    /// accumulation image, the BVH without a BVH, materials without materials). The lights'
+    /// bindings are `LightBuffers::resource`'s.
     pub fn resource(&self, resource: Resource) -> Option<Bound<'_>> {
         let materials = self.materials.as_ref();
         let texel = match resource {
@@ -464,15 +462,13 @@ impl GpuScene {
             Resource::AccelerationStructure => {
                 return Some(Bound::AccelerationStructure(&self.structures.as_ref()?.top))
             }
-            Resource::Lights => &self.lights.emissive,
             Resource::BvhNodes => self.bvh_nodes.as_ref()?,
             Resource::TraversalTriangles => self.traversal_triangles.as_ref()?,
             Resource::Shading => &materials?.shading,
             Resource::Materials => &materials?.materials,
             Resource::TextureTexels => &materials?.texture_texels,
-            Resource::Environment => self.lights.environment.as_ref()?,
-            Resource::PunctualLights => self.lights.punctual.as_ref()?,
-            _ => return None,
+            // The lights' own buffers, one per kind, and the emissive kind's selection words
+            other => return self.lights.resource(other).map(Bound::TexelBuffer),
         };
         Some(Bound::TexelBuffer(texel))
     }

@@ -22,9 +22,8 @@ pub struct GpuTriangle {
     /// xyz: vertices v_0, v_1, v_2 (world space); w: unused, 0.
     pub positions: [[f32; 4]; 3],
     /// xyz: unit normal (world space, the side the vertices are counter-clockwise from);
-    /// w: the probability that light sampling chooses this triangle (power-proportional, 0
-    /// for non-emitters; GLSL `get_light_selection_probability`, for MIS), written by
-    /// `crate::lights::gpu_emissive::annotate_selection_probabilities`, 0 until then.
+    /// w: unused, 0 (MIS reads a triangle's light-selection probability from the lights'
+    /// own buffer, `crate::lights::gpu_buffers::LightBuffers::selection`).
     pub normal: [f32; 4],
     /// rgb: albedo, linear RGB in [0, 1]; a: unused, 0.
     pub color: [f32; 4],

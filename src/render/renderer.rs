@@ -883,8 +883,8 @@ fn validate(
     }
     // What the render allocates on the device: the triangles (96 bytes each), with a BVH
     // their positions for the traversal (48 bytes each) and at most 1 wide node per triangle
-    // (112 bytes each), the lights (16 bytes each and a header), the accumulation image (of the
-    // area or of a tile) and its read-back and upload buffers (48 bytes per pixel each).
+    // (112 bytes each), the lights (16 bytes each and a header, and a selection word of 4 bytes
+    // per triangle), the accumulation image (of the area or of a tile) and its read-back and upload buffers (48 bytes per pixel each).
     let triangles = scene.triangles.len() as u64;
     let scene_bytes = scene_bytes(scene);
     let image_bytes = u64::from(image_width)

@@ -14,9 +14,9 @@ use crate::vk::Context;
 /// Device bytes of the scene's buffers: the triangles (96 bytes each), with a BVH their
 /// positions again for the traversal (48 bytes each) and at most 1 wide node per triangle
 /// (112 bytes each; there are fewer nodes than the binary tree's interior nodes), the lights
-/// (16 bytes each and a header).
+/// (16 bytes each and a header) and every triangle's light-selection word (4 bytes each).
 pub(crate) fn scene_bytes(scene: &Scene) -> u64 {
-    scene.triangles.len() as u64 * (96 + 48 + 112 + 16) + 16
+    scene.triangles.len() as u64 * (96 + 48 + 112 + 16 + 4) + 16
 }
 
 /// Layers of the accumulation.

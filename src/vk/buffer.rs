@@ -175,14 +175,57 @@ impl TexelBufferView {
         buffer: Buffer,
         what: &str,
     ) -> VkResult<TexelBufferView> {
-        let texels = buffer.size / 16;
+        TexelBufferView::within_limit(context, buffer, what, 16, vk::Format::R32G32B32A32_UINT)
+    }
+
+    /// Views all of `buffer` as R32_UINT texels (one 32-bit word each, read as the `x` of a
+    /// `utextureBuffer`'s `uvec4`), after checking that the device allows that many; `what`
+    /// names the data in the error. Uniform texel buffers of this format are mandatory in
+    /// Vulkan.
+    pub fn r32_uint(
+        context: &Arc<Context>,
+        buffer: Buffer,
+        what: &str,
+    ) -> VkResult<TexelBufferView> {
+        TexelBufferView::within_limit(context, buffer, what, 4, vk::Format::R32_UINT)
+    }
+
+    /// A device-local uniform texel buffer filled with `words` through a staging buffer,
+    /// viewed as R32_UINT texels; `name` labels the buffer and names the data in the error
+    /// (`r32_uint`).
+    pub fn upload_r32_uint(
+        context: &Arc<Context>,
+        commands: &CommandRunner,
+        name: &str,
+        words: &[u32],
+    ) -> VkResult<TexelBufferView> {
+        let buffer = Buffer::device_local_with_data(
+            context,
+            commands,
+            name,
+            bytemuck::cast_slice(words),
+            vk::BufferUsageFlags::UNIFORM_TEXEL_BUFFER,
+        )?;
+        TexelBufferView::r32_uint(context, buffer, &format!("scene's {name}"))
+    }
+
+    /// Views all of `buffer` as texels of `format`, `texel_bytes` each, after checking that
+    /// the device allows that many; `what` names the data in the error.
+    fn within_limit(
+        context: &Arc<Context>,
+        buffer: Buffer,
+        what: &str,
+        texel_bytes: u64,
+        format: vk::Format,
+    ) -> VkResult<TexelBufferView> {
+        let texels = buffer.size / texel_bytes;
         let limit = u64::from(context.limits.max_texel_buffer_elements);
         if texels > limit {
             return Err(VkError::TooLarge(format!(
                 "the {what} need {texels} texels, more than this device's texel-buffer limit of {limit}"
             )));
         }
-        TexelBufferView::new(context, buffer, vk::Format::R32G32B32A32_UINT)
+        TexelBufferView::new(context, buffer, format)
     }
 
     /// A device-local uniform texel buffer filled with `bytes` (whole 16-byte texels)
@@ -217,14 +260,7 @@ impl TexelBufferView {
         buffer: Buffer,
         what: &str,
     ) -> VkResult<TexelBufferView> {
-        let texels = buffer.size / 4;
-        let limit = u64::from(context.limits.max_texel_buffer_elements);
-        if texels > limit {
-            return Err(VkError::TooLarge(format!(
-                "the {what} need {texels} texels, more than this device's texel-buffer limit of {limit}"
-            )));
-        }
-        TexelBufferView::new(context, buffer, vk::Format::R8G8B8A8_UINT)
+        TexelBufferView::within_limit(context, buffer, what, 4, vk::Format::R8G8B8A8_UINT)
     }
 
     /// Views all of `buffer` (created with `UNIFORM_TEXEL_BUFFER` usage) as texels of `format`.
