@@ -410,9 +410,7 @@ impl Renderer {
             spirv,
         });
         let tiled = !tile_list.is_empty();
-        let kept = sequence
-            .as_deref_mut()
-            .and_then(|s| s.take_images(image_width, image_height, tiled));
+        let kept = sequence.and_then(|s| s.take_images(image_width, image_height, tiled));
         let AccumulationImages {
             accumulation,
             readback,
