@@ -152,6 +152,11 @@ fn a_static_scene_is_the_same_every_frame_and_existing_frames_are_skipped() {
         .map(|line| serde_json::from_str::<serde_json::Value>(line).unwrap()["stop"].to_string())
         .collect();
     assert_eq!(stops, ["\"done\"", "\"skipped\"", "\"done\""]);
+    // Frame 2 took frame 0's kernel, accumulation image and scene upload (the scene is
+    // static), and is still the same image (below).
+    let last: serde_json::Value =
+        serde_json::from_str(frames.stdout.lines().last().unwrap()).unwrap();
+    assert_eq!(last["reused"], json!(["kernel", "accumulation", "scene"]));
     let read = |name: &str| std::fs::read(dir.path().join(name)).unwrap();
     assert_eq!(read("c_1.exr"), b"finished before");
     assert!(read("c_0.exr") == read("c_2.exr"), "a static scene changed");

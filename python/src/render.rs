@@ -20,6 +20,7 @@ use vkpath::render::adaptive::{NoiseThreshold, DEFAULT_MIN_SPP};
 use vkpath::render::aov::{render_aov, Aov};
 use vkpath::render::job::production_settings;
 use vkpath::render::region::PixelRegion;
+use vkpath::render::sequence::SequenceCache;
 use vkpath::render::settings::default_russian_roulette_start;
 use vkpath::render::StopReason;
 use vkpath::render::{RenderControl, Renderer};
@@ -223,12 +224,15 @@ fn open_context(device: Option<String>, validate: bool) -> vkpath::Result<Arc<Co
 }
 
 /// A device kept open for several renders (`vkpath.render_frames` renders every frame on
-/// one, as `vkpath render --frames` does): its pipeline cache in memory serves every
-/// render after the first.
+/// one, as `vkpath render --frames` does), with what each render leaves for the next
+/// (`SequenceCache`: the kernel of the same variant, the accumulation image of the same
+/// size, the scene upload while the scene's data stay the same).
 #[pyclass(module = "vkpath", frozen)]
 pub struct Session {
     /// The context every render of the session uses.
     context: Arc<Context>,
+    /// What the session's renders keep for the next (one render at a time holds it).
+    sequence: Arc<Mutex<SequenceCache>>,
 }
 
 #[pymethods]
@@ -240,7 +244,10 @@ impl Session {
         let context = py
             .detach(|| open_context(device, validate))
             .map_err(to_py)?;
-        Ok(Session { context })
+        Ok(Session {
+            context,
+            sequence: Arc::default(),
+        })
     }
 }
 
@@ -386,15 +393,29 @@ pub fn render<'py>(
             "a session has its device: device= and validate= belong to the session",
         ));
     }
-    let shared = session.map(|s| s.context.clone());
+    let shared = session.map(|s| (s.context.clone(), s.sequence.clone()));
     let result = py.detach(|| {
-        let context = match shared {
-            Some(context) => context,
-            None => open_context(device, validate)?,
+        let (context, sequence) = match shared {
+            Some((context, sequence)) => (context, Some(sequence)),
+            None => (open_context(device, validate)?, None),
         };
+        // A session's renders take what the one before left (a poisoned lock: a render
+        // that panicked; its cache is dropped for a fresh one).
+        let mut sequence = sequence.as_ref().map(|s| {
+            s.lock().unwrap_or_else(|poisoned| {
+                let mut guard = poisoned.into_inner();
+                *guard = SequenceCache::default();
+                guard
+            })
+        });
         // What `run_job` does for a whole render without checkpoints, previews or resuming
         // (the Renderer itself, so that Python needs none of the command line's job options).
-        let mut renderer = Renderer::new(&context, &world, &camera, settings.clone())?;
+        let mut renderer = match sequence.as_deref_mut() {
+            Some(sequence) => {
+                Renderer::in_sequence(&context, &world, &camera, settings.clone(), sequence)?
+            }
+            None => Renderer::new(&context, &world, &camera, settings.clone())?,
+        };
         renderer.start_at_sample(first_sample)?;
         // `progress_image`: the callback is called from the periodic hook, after every
         // batch but the last (which the state read back after each batch gives it), and
@@ -430,6 +451,9 @@ pub fn render<'py>(
             },
             control,
         )?;
+        if let Some(sequence) = sequence.as_deref_mut() {
+            renderer.keep_for_next(sequence);
+        }
         let already_raised = raised.lock().map_or(true, |raised| raised.is_some());
         if progress_image && outcome.samples > reported.get() && !already_raised {
             after_batch(

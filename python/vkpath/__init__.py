@@ -434,9 +434,10 @@ def render_frames(
     ``vkpath render --frames START..END --fps FPS``, frame f at time f / fps. ``settings``
     are :func:`render`'s (``time`` aside). The scene file is read once per frame at its
     time; the device (``device=``, ``validate=``) is opened once for all frames, as the
-    command line does. The kernels are built per frame, as the command line builds them
-    (the library makes a renderer per frame; the pipeline cache spares the compile from
-    SPIR-V, not the driver's work at the first dispatch)."""
+    command line does, and so are the kernels: each frame takes the kernel, the
+    accumulation image and (while the scene's data do not change) the scene upload that
+    the frame before it left, building only what changed; the images are bit for bit
+    those of :func:`render` at each frame's time."""
     if "time" in settings:
         raise ArgumentError("render_frames takes frames= and fps=, not time=")
     fps = float(fps)

@@ -24,6 +24,7 @@ use crate::render::job::{run_job, JobOptions, LiveImage};
 use crate::render::metadata::{sampler_name, RenderMetadata, RenderOutcome};
 use crate::render::multi::run_on_devices;
 use crate::render::renderer::GuideReport;
+use crate::render::sequence::SequenceCache;
 use crate::render::settings::{RenderSettings, SamplerKind};
 use crate::render::state_exr::write_state;
 use crate::render::StopReason;
@@ -77,6 +78,8 @@ pub struct RenderRequest<'a> {
     pub frame: Option<super::frames::FrameTime>,
     /// Where a live view goes (`--tev HOST:PORT`) and how often, if anywhere.
     pub tev: Option<(String, std::time::Duration)>,
+    /// What the frames of a sequence keep for the next (one device only).
+    pub sequence: Option<&'a mut SequenceCache>,
 }
 
 /// The version of `RenderReport`'s schema: it changes only when a key is removed or changes
@@ -150,6 +153,12 @@ pub struct RenderReport {
     /// The scene time in seconds (`--time`, or frame / `--fps`); absent without either.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub time: Option<f64>,
+    /// What a frame of `--frames` took from the frames before it instead of building it:
+    /// `kernel` (the path tracer's pipeline), `accumulation` (the image and its buffers),
+    /// `scene` (the upload, when the scene's data did not change); absent without
+    /// `--frames` or on several devices.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub reused: Option<Vec<&'static str>>,
 }
 
 /// The JSON object `render --json` prints on stdout when it fails before its report: the
@@ -315,6 +324,8 @@ struct Finished {
     scene_memory: Option<SceneMemory>,
     /// Why the final preview could not be written, if it could not.
     preview_failure: Option<String>,
+    /// What the render took from the frames before it (a sequence on one device).
+    reused: Option<Vec<&'static str>>,
 }
 
 /// Renders all samples with a progress bar, saves the image and prints the summary line
@@ -349,6 +360,7 @@ pub fn render_and_save(
             command_started: Instant::now(),
             frame: None,
             tev: None,
+            sequence: None,
         },
     )
 }
@@ -435,7 +447,10 @@ impl PostProcess {
 /// render state into the EXRs too (for `vkpath merge`). A stop before the first sample
 /// writes nothing. Exits with 128 + the signal's number when a signal stopped it, after
 /// everything is written.
-pub fn render_job_and_save(context: &Arc<Context>, request: RenderRequest) -> anyhow::Result<()> {
+pub fn render_job_and_save(
+    context: &Arc<Context>,
+    mut request: RenderRequest,
+) -> anyhow::Result<()> {
     install_signals(&request)?;
     let mut job = request.job.clone();
     job.cancel = Some(&signals::STOP_REQUESTED);
@@ -457,6 +472,7 @@ pub fn render_job_and_save(context: &Arc<Context>, request: RenderRequest) -> an
         .reporting
         .talks()
         .then(|| RenderProgress::new(total, request.settings.noise_threshold.is_some()));
+    let before = request.sequence.as_ref().map(|s| s.reused);
     let outcome = run_job(
         context,
         request.scene,
@@ -468,7 +484,13 @@ pub fn render_job_and_save(context: &Arc<Context>, request: RenderRequest) -> an
                 progress.update(done.samples_done, done.deadline);
             }
         },
+        request.sequence.as_deref_mut(),
     )?;
+    let reused = request
+        .sequence
+        .as_ref()
+        .zip(before)
+        .map(|(sequence, before)| sequence.reused.since(before));
     if let Some(progress) = progress {
         progress.finish();
     }
@@ -486,6 +508,7 @@ pub fn render_job_and_save(context: &Arc<Context>, request: RenderRequest) -> an
         guide: result.guide,
         scene_memory: Some(result.scene_memory),
         state: result.state,
+        reused: reused.filter(|_| request.frame.is_some_and(|f| f.frame.is_some())),
     };
     drop(job);
     finish(&request, std::slice::from_ref(context), finished, tev)
@@ -556,6 +579,7 @@ pub fn render_on_devices_and_save(
         guide: outcome.guide,
         scene_memory: outcome.scene_memory,
         preview_failure: None,
+        reused: None,
     };
     finish(&request, contexts, finished, None)
 }
@@ -825,6 +849,7 @@ fn render_report(
         scene_memory: finished.scene_memory,
         frame: request.frame.map(|f| f.frame),
         time: request.frame.map(|f| f.time),
+        reused: finished.reused.take(),
     }
 }
 

@@ -22,6 +22,7 @@ use crate::render::adaptive::{NoiseThreshold, DEFAULT_MIN_SPP};
 use crate::render::job::{production_settings, JobOptions, DEFAULT_CHECKPOINT_INTERVAL};
 use crate::render::metadata::sampler_name;
 use crate::render::region::PixelRegion;
+use crate::render::sequence::SequenceCache;
 use crate::render::settings::{Integrator, PixelFilter, RenderSettings};
 use crate::scene::Scene;
 
@@ -439,17 +440,21 @@ fn render(args: &RenderArgs) -> anyhow::Result<()> {
             bail!("--aov and --denoise work with one device");
         }
     }
+    let gltf = matches!(args.scene.source(), crate::scene::source::SceneSource::File(path)
+        if path.extension().is_some_and(|e| e.eq_ignore_ascii_case("gltf") || e.eq_ignore_ascii_case("glb")));
     if let Some(animation) = &args.frames.animation {
-        let gltf = matches!(args.scene.source(), crate::scene::source::SceneSource::File(path)
-            if path.extension().is_some_and(|e| e.eq_ignore_ascii_case("gltf") || e.eq_ignore_ascii_case("glb")));
         if !gltf {
             bail!("--animation {animation}: only glTF scenes (.gltf, .glb) have animations");
         }
     }
     let environment = args.lights.source()?;
     // The devices are opened once, with the first frame's scene loaded: every frame after
-    // it reuses them (and their pipeline cache).
+    // it reuses them, and on one device what the frames before it left in `sequence`
+    // (pipelines, accumulation image, the scene upload while the scene's data stay the
+    // same). Only glTF files move with time: any other scene is loaded once.
     let mut devices: Option<Devices> = None;
+    let mut sequence = SequenceCache::default();
+    let mut still: Option<Scene> = None;
     let mut first = true;
     for frame in args.frames.frame_times() {
         let frame_started = if first {
@@ -477,16 +482,19 @@ fn render(args: &RenderArgs) -> anyhow::Result<()> {
         signals::RENDERING.store(false, std::sync::atomic::Ordering::SeqCst);
         let files: Vec<&std::path::Path> = outputs.iter().map(PathBuf::as_path).collect();
         signals::install(&files)?;
-        let scene = args
-            .scene
-            .load_at(
-                "vkpath render",
-                reporting.talks() && first,
-                first,
-                frame.time as f32,
-                args.frames.pick(),
-            )?
-            .with_environment(environment.as_ref())?;
+        let scene = match still.take() {
+            Some(scene) => scene,
+            None => args
+                .scene
+                .load_at(
+                    "vkpath render",
+                    reporting.talks() && first,
+                    first,
+                    frame.time as f32,
+                    args.frames.pick(),
+                )?
+                .with_environment(environment.as_ref())?,
+        };
         if first {
             warn_about_lights(&scene, &settings);
         }
@@ -522,10 +530,14 @@ fn render(args: &RenderArgs) -> anyhow::Result<()> {
                     std::time::Duration::from_secs_f64(args.job.tev_interval),
                 )
             }),
+            sequence: Some(&mut sequence),
         };
         match devices {
             Devices::Several(contexts) => render_on_devices_and_save(contexts, request)?,
             Devices::One(context) => render_job_and_save(context, request)?,
+        }
+        if !gltf {
+            still = Some(scene);
         }
     }
     Ok(())

@@ -106,6 +106,17 @@ fn variant_settings(settings: &RenderSettings, lights: &SceneLights) -> VariantS
     }
 }
 
+/// The render uniforms of `scene` seen by `camera`, at `settings`' aspect, size and seed.
+fn render_uniforms(scene: &Scene, camera: &Camera, settings: &RenderSettings) -> RenderUniforms {
+    RenderUniforms::new(
+        &camera.image_plane(settings.aspect()),
+        settings.width,
+        settings.height,
+        scene.triangles.len() as u32,
+        settings.seed,
+    )
+}
+
 /// The buffers of `glsl/materials.glsl`.
 struct MaterialBuffers {
     shading: TexelBufferView,
@@ -327,13 +338,7 @@ impl GpuScene {
         let uniforms = Buffer::with_data(
             context,
             "render uniforms",
-            &[RenderUniforms::new(
-                &camera.image_plane(settings.aspect()),
-                settings.width,
-                settings.height,
-                scene.triangles.len() as u32,
-                settings.seed,
-            )],
+            &[render_uniforms(scene, camera, settings)],
             vk::BufferUsageFlags::UNIFORM_BUFFER,
         )?;
         // The compressed tree's nodes and packed triangles (36 bytes), or the 4-wide tree's
@@ -448,6 +453,15 @@ impl GpuScene {
             memory,
             traversal,
         })
+    }
+
+    /// Writes the render uniforms again for `camera` and `settings`' image size and seed:
+    /// for a render of the same scene data (`crate::render::sequence`), no device work
+    /// pending.
+    pub fn aim(&mut self, scene: &Scene, camera: &Camera, settings: &RenderSettings) {
+        self.uniforms.write(bytemuck::bytes_of(&render_uniforms(
+            scene, camera, settings,
+        )));
     }
 
     /// The scene's resource for a binding of the path tracer's table

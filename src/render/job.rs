@@ -15,6 +15,7 @@ use crate::image_io::output::{save_image, SaveOptions};
 use crate::render::accumulation::Accumulation;
 use crate::render::metadata::RenderMetadata;
 use crate::render::renderer::{RenderControl, RenderOutcome, Renderer, StopReason};
+use crate::render::sequence::SequenceCache;
 use crate::render::settings::{Integrator, RenderSettings, SamplerKind};
 use crate::render::state_exr::{read_state, write_state};
 use crate::scene::Scene;
@@ -154,6 +155,8 @@ pub struct JobProgress {
 }
 
 /// Runs a render as `options` say. `settings.spp` is ignored: the sample range decides.
+/// With `sequence`, one render of a sequence (`Renderer::in_sequence`): it takes what the
+/// earlier ones left there and leaves its own for the next.
 pub fn run_job(
     context: &Arc<Context>,
     scene: &Scene,
@@ -161,6 +164,7 @@ pub fn run_job(
     settings: &RenderSettings,
     options: &JobOptions,
     progress: impl FnMut(JobProgress),
+    sequence: Option<&mut SequenceCache>,
 ) -> Result<JobOutcome> {
     let samples = options.samples.clone();
     let settings = RenderSettings {
@@ -168,7 +172,13 @@ pub fn run_job(
         ..settings.clone()
     };
     let metadata_of = |taken: Range<u32>| RenderMetadata::new(&settings, scene, camera, taken);
-    let mut renderer = Renderer::new(context, scene, camera, settings.clone())?;
+    let mut sequence = sequence;
+    let mut renderer = match sequence.as_deref_mut() {
+        Some(sequence) => {
+            Renderer::in_sequence(context, scene, camera, settings.clone(), sequence)?
+        }
+        None => Renderer::new(context, scene, camera, settings.clone())?,
+    };
     renderer.start_at_sample(samples.start)?;
     let mut resumed_samples = 0;
     if let Some(path) = &options.resume {
@@ -269,6 +279,9 @@ pub fn run_job(
             &outcome.state,
             &metadata_of(outcome.state.samples.clone()),
         )?;
+    }
+    if let Some(sequence) = sequence {
+        renderer.keep_for_next(sequence);
     }
     Ok(JobOutcome {
         metadata: metadata_of(outcome.state.samples.clone()),

@@ -1,7 +1,8 @@
 //! The progressive GPU renderer and what it needs: the settings of a render, how rays find
 //! triangles (`traversal`), the scene as the kernel reads it (`gpu_scene`), the structs
 //! shared with the path-tracing kernel (`gpu_types`), the kernels kept between runs
-//! (`pipeline_cache`), and the renderer itself.
+//! (`pipeline_cache`) and between the renders of a sequence (`sequence`), and the renderer
+//! itself.
 
 pub mod accumulation;
 pub mod adaptive;
@@ -17,6 +18,7 @@ pub mod multi;
 pub mod pipeline_cache;
 pub mod region;
 pub mod renderer;
+pub mod sequence;
 pub mod settings;
 pub mod state_exr;
 pub mod tiles;

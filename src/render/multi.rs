@@ -86,7 +86,7 @@ pub fn run_on_devices(
                         started: rendering,
                         live: None,
                     };
-                    let job = run_job(context, scene, camera, settings, &job, |_| ())?;
+                    let job = run_job(context, scene, camera, settings, &job, |_| (), None)?;
                     let outcome = job.outcome;
                     Ok((
                         outcome.state,

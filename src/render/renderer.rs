@@ -27,6 +27,7 @@ use crate::render::gpu_scene::{GpuScene, SceneMemory};
 use crate::render::gpu_types::FramePushConstants;
 use crate::render::guide_buffers::GuideBuffers;
 use crate::render::region::{PixelRegion, ACCUMULATION_BYTES_PER_PIXEL, ACCUMULATION_COPIES};
+use crate::render::sequence::{AccumulationImages, SequenceCache, UploadKey};
 use crate::render::settings::RenderSettings;
 use crate::render::tiles::{
     area_texel_count, copy_tile, host_available_memory, layer_count, scene_bytes, tile_layout,
@@ -99,7 +100,8 @@ pub struct Renderer {
     context: Arc<Context>,
     settings: RenderSettings,
     commands: CommandRunner,
-    pipeline: KernelPipeline,
+    /// Shared with the sequence it belongs to, if any (`in_sequence`).
+    pipeline: Arc<KernelPipeline>,
     /// A guided render's training frames' pipeline (`GUIDING_TRAINING`; `pipeline` holds
     /// none of the training's code), built when training first needs it from
     /// `training_kernel`, which it then replaces; `descriptors` serve both.
@@ -237,7 +239,33 @@ impl Renderer {
         camera: &Camera,
         settings: RenderSettings,
     ) -> Result<Renderer> {
-        Renderer::create(context, scene, camera, settings, None)
+        Renderer::create(context, scene, camera, settings, None, None)
+    }
+
+    /// Prepares a render like `new`, one of a sequence on the same device: it takes from
+    /// `sequence` what an earlier render left there (`SequenceCache`: the pipeline of the
+    /// same variant, the accumulation image of the same size, the scene upload when the
+    /// scene's data are the same bit for bit), building only the rest. The image is bit
+    /// for bit `new`'s. Give the renderer back with `keep_for_next` when it is done.
+    pub fn in_sequence(
+        context: &Arc<Context>,
+        scene: &Scene,
+        camera: &Camera,
+        settings: RenderSettings,
+        sequence: &mut SequenceCache,
+    ) -> Result<Renderer> {
+        Renderer::create(context, scene, camera, settings, None, Some(sequence))
+    }
+
+    /// Leaves the pipeline, the accumulation image and the scene upload in `sequence` for
+    /// the next render (`in_sequence`).
+    pub fn keep_for_next(self, sequence: &mut SequenceCache) {
+        let images = AccumulationImages {
+            accumulation: self.accumulation,
+            readback: self.readback,
+            tile_upload: self.tiles.map(|tiles| tiles.upload),
+        };
+        sequence.keep(images, self.scene);
     }
 
     /// Prepares a render like `new`, with the kernel's SPIR-V given instead of the embedded
@@ -268,18 +296,28 @@ impl Renderer {
                 ));
             }
         }
-        Renderer::create(context, scene, camera, settings, Some((spirv, traversal)))
+        Renderer::create(
+            context,
+            scene,
+            camera,
+            settings,
+            Some((spirv, traversal)),
+            None,
+        )
     }
 
     /// `new` (`kernel` = `None`: the embedded kernel for the traversal that `settings.accel`
-    /// chooses) and `with_kernel`.
+    /// chooses), `with_kernel` and `in_sequence` (with `sequence`; a given kernel is never
+    /// kept in one).
     fn create(
         context: &Arc<Context>,
         scene: &Scene,
         camera: &Camera,
         settings: RenderSettings,
         kernel: Option<(&[u32], Traversal)>,
+        sequence: Option<&mut SequenceCache>,
     ) -> Result<Renderer> {
+        let mut sequence = sequence.filter(|_| kernel.is_none());
         let started = Instant::now();
         settings.validate()?;
         let area = settings.area();
@@ -304,7 +342,17 @@ impl Renderer {
                 choice.traversal
             }
         };
-        let gpu_scene = GpuScene::upload(context, &commands, scene, camera, &settings, traversal)?;
+        // A sequence's earlier upload of the same data needs only the camera written again.
+        let kept = sequence
+            .as_deref_mut()
+            .and_then(|s| s.take_scene(scene, UploadKey::new(&settings, traversal)));
+        let gpu_scene = match kept {
+            Some(mut gpu_scene) => {
+                gpu_scene.aim(scene, camera, &settings);
+                gpu_scene
+            }
+            None => GpuScene::upload(context, &commands, scene, camera, &settings, traversal)?,
+        };
         // (`auto`'s compressed tree may have made way for the 4-wide one)
         let traversal = gpu_scene.traversal;
         // A given kernel was compiled as the variant room says of one (the plain macros)
@@ -345,35 +393,32 @@ impl Renderer {
             Some((spirv, _)) => spirv.to_vec(),
             None => build.embedded_spirv()?,
         };
-        let pipeline = PATH_TRACER.pipeline(
-            context,
-            &build,
-            &spirv,
-            &specialization_with(if guiding {
-                contract::GUIDING_ON
-            } else {
-                contract::GUIDING_OFF
-            }),
-        )?;
+        let render_specialization = specialization_with(if guiding {
+            contract::GUIDING_ON
+        } else {
+            contract::GUIDING_OFF
+        });
+        let build_pipeline =
+            || PATH_TRACER.pipeline(context, &build, &spirv, &render_specialization);
+        let pipeline = match sequence.as_deref_mut() {
+            Some(sequence) => sequence.pipeline(&build, &render_specialization, build_pipeline)?,
+            None => Arc::new(build_pipeline()?),
+        };
         let training_kernel = guiding.then(|| TrainingKernel {
             build,
             specialization: specialization_with(contract::GUIDING_TRAINING),
             spirv,
         });
-        let accumulation = StorageImage::new(
-            context,
-            "accumulation",
-            image_width,
-            image_height,
-            contract::ACCUMULATION_LAYER_COUNT,
-        )?;
-        let readback = Buffer::new(
-            context,
-            "readback",
-            accumulation.byte_size(),
-            vk::BufferUsageFlags::TRANSFER_DST,
-            MemoryLocation::GpuToCpu,
-        )?;
+        let tiled = !tile_list.is_empty();
+        let kept = sequence.and_then(|s| s.take_images(image_width, image_height, tiled));
+        let AccumulationImages {
+            accumulation,
+            readback,
+            tile_upload,
+        } = match kept {
+            Some(images) => images,
+            None => accumulation_images(context, image_width, image_height, tiled)?,
+        };
         let descriptors = pipeline.descriptor_set(|resource| match resource {
             Resource::Accumulation => Some(Bound::StorageImage(&accumulation)),
             Resource::Guide => Some(Bound::TexelBuffer(&guide_buffers.guide)),
@@ -381,20 +426,11 @@ impl Renderer {
             other => gpu_scene.resource(other),
         })?;
         commands.run(|recorder| recorder.clear_storage_image(&accumulation))?;
-        let tiles = match tile_list.len() {
-            0 => None,
-            _ => Some(Tiles {
-                list: tile_list,
-                state: vec![[0.0; 4]; area_texel_count(area)],
-                upload: Buffer::new(
-                    context,
-                    "tile upload",
-                    accumulation.byte_size(),
-                    vk::BufferUsageFlags::TRANSFER_SRC,
-                    MemoryLocation::CpuToGpu,
-                )?,
-            }),
-        };
+        let tiles = tile_upload.map(|upload| Tiles {
+            list: tile_list,
+            state: vec![[0.0; 4]; area_texel_count(area)],
+            upload,
+        });
         Ok(Renderer {
             context: context.clone(),
             settings,
@@ -860,6 +896,44 @@ impl Renderer {
             .run(|recorder| recorder.copy_image_to_buffer(image, readback))?;
         Ok(self.readback.read())
     }
+}
+
+/// A new accumulation image of `width` x `height` texels with its read-back buffer and,
+/// when `tiled`, its upload buffer.
+fn accumulation_images(
+    context: &Arc<Context>,
+    width: u32,
+    height: u32,
+    tiled: bool,
+) -> Result<AccumulationImages> {
+    let accumulation = StorageImage::new(
+        context,
+        "accumulation",
+        width,
+        height,
+        contract::ACCUMULATION_LAYER_COUNT,
+    )?;
+    let buffer = |name: &str, usage, location| {
+        Buffer::new(context, name, accumulation.byte_size(), usage, location)
+    };
+    let readback = buffer(
+        "readback",
+        vk::BufferUsageFlags::TRANSFER_DST,
+        MemoryLocation::GpuToCpu,
+    )?;
+    let tile_upload = match tiled {
+        true => Some(buffer(
+            "tile upload",
+            vk::BufferUsageFlags::TRANSFER_SRC,
+            MemoryLocation::CpuToGpu,
+        )?),
+        false => None,
+    };
+    Ok(AccumulationImages {
+        accumulation,
+        readback,
+        tile_upload,
+    })
 }
 
 /// Checks what a render needs before anything is allocated: valid settings, an image

@@ -1,0 +1,53 @@
+#!/usr/bin/env bash
+# Proves that a change to how `render --frames` sets up its frames leaves every frame as it
+# was: renders the same sequences with two vkpath binaries (e.g. the one before a change and
+# the one after) and compares every frame's EXR pixels bit for bit (`vkpath compare
+# --exact` of the new binary). Sequences: tests/data/skinned_morphed.gltf (plain; in tiles;
+# guided; compressed BVH; no BVH), tests/data/RiggedSimple.gltf (a side view and its own
+# framing, which follows the moving bounds), the Cornell box, tests/data/emissive_quad.gltf
+# and `--generated 100000` (static). A render that fails counts as different.
+# Usage: scripts/same-frames.sh OLD_VKPATH NEW_VKPATH [WORK_DIR]
+set -euo pipefail
+# As scripts/same-images.sh: both binaries compile every kernel afresh (llvmpipe's kernels
+# from Mesa's shader cache can differ in the last bits from those compiled in the process).
+export MESA_SHADER_CACHE_DISABLE=true
+old=$(realpath "$1")
+new=$(realpath "$2")
+work=${3:-$(mktemp -d)}
+data=$(cd "$(dirname "$0")/.." && pwd)/tests/data
+small=(--width 64 --height 48 --spp 8 --background 1,1,1 --quiet)
+sequences=(
+  "sk $data/skinned_morphed.gltf --frames 0..8 --fps 8"
+  "skt $data/skinned_morphed.gltf --frames 0..4 --fps 4 --tile-size 16"
+  "skg $data/skinned_morphed.gltf --frames 0..3 --fps 4 --guiding"
+  "skc $data/skinned_morphed.gltf --frames 0..3 --fps 4 --accel compressed-bvh"
+  "skn $data/skinned_morphed.gltf --frames 0..3 --fps 4 --accel none"
+  "rs $data/RiggedSimple.gltf --frames 0..8 --fps 4 --camera-position 18,0,0 --look-at 0,0,0"
+  "rsf $data/RiggedSimple.gltf --frames 0..4 --fps 4"
+  "cb --frames 0..3"
+  "eq $data/emissive_quad.gltf --frames 0..3"
+  "gen --generated 100000 --frames 0..3"
+)
+for side in old new; do
+  mkdir -p "$work/$side"
+  binary=$old
+  [ "$side" = new ] && binary=$new
+  for sequence in "${sequences[@]}"; do
+    read -r name args <<<"$sequence"
+    # shellcheck disable=SC2086
+    "$binary" render $args "${small[@]}" -o "$work/$side/${name}_####.exr" ||
+      echo "$side: $name failed"
+  done
+done
+compared=0
+different=0
+for file in "$work"/old/*.exr; do
+  name=$(basename "$file")
+  compared=$((compared + 1))
+  if ! "$new" compare --exact "$file" "$work/new/$name" >/dev/null 2>&1; then
+    echo "different: $name"
+    different=$((different + 1))
+  fi
+done
+echo "$compared frames compared, $different different ($work)"
+[ "$different" -eq 0 ] && [ "$compared" -gt 0 ]
