@@ -481,6 +481,69 @@ mod tests {
     }
 
     #[test]
+    fn finished_tiles_resolve_as_the_whole_state_does() {
+        // A 5x3 area at (10, 20) in a 3x3 tile and a 2x3 one, each read back from a 3x3
+        // image (texels outside the tile -1): the image made tile by tile is the one
+        // made of the whole state, the rays add up, and one flagged pixel is counted.
+        let area = PixelRegion::parse("10,20,15,23").unwrap();
+        let layers = layer_count();
+        let squares = contract::LAYER_SUM_OF_SQUARES as usize * 15;
+        let state: Vec<[f32; 4]> = (0..15 * layers)
+            .map(|i| {
+                let v = i as f32;
+                let flag = if i == squares + 7 { 1.0 } else { 0.0 };
+                let alpha = if i >= squares {
+                    flag
+                } else {
+                    (i % 15) as f32 + 1.0
+                };
+                [v * 0.5, v + 1.0, v * 2.0, alpha]
+            })
+            .collect();
+        let whole = RenderedImage::from_accumulation(5, 3, &state);
+        let mut order = TileByTile {
+            index: 0,
+            samples: 0,
+            image: Some(RenderedImage::empty(5, 3)),
+            rays: 0.0,
+            flagged: 0,
+        };
+        for tile in area.tiles(3, 3) {
+            let mut texels = vec![[-1.0f32; 4]; 9 * layers];
+            copy_tile(&state, area, &mut texels, 3, tile, true);
+            order.resolve(&texels, 3, area, tile);
+        }
+        assert_eq!(order.rays, (1..=15).sum::<usize>() as f64);
+        assert_eq!(order.flagged, 1);
+        assert_eq!(order.take_image().unwrap(), whole);
+        assert!(order.take_image().is_err(), "handed out once");
+    }
+
+    #[test]
+    fn progress_spreads_the_finished_tiles_over_the_area() {
+        // A 10x10 area in four 5x5 tiles: one finished, the second at 4 of 8 samples.
+        let area = PixelRegion::parse("0,0,10,10").unwrap();
+        let mut tiles = Tiles {
+            list: area.tiles(5, 5),
+            order: TileOrder::OneAtATime(TileByTile {
+                index: 1,
+                samples: 4,
+                image: None,
+                rays: 0.0,
+                flagged: 0,
+            }),
+        };
+        // (25 * 8 + 25 * 4) / 100 samples a pixel, rounded down.
+        assert_eq!(tiles.progress(0, 8), 3);
+        assert_eq!(tiles.samples_of_current_pixels(0), 4);
+        if let TileOrder::OneAtATime(order) = &mut tiles.order {
+            order.index = 4;
+            order.samples = 0;
+        }
+        assert_eq!(tiles.progress(8, 8), 8);
+    }
+
+    #[test]
     fn tiles_copy_into_the_tile_image_and_back() {
         // A 5x3 area (3 layers), a 2x2 tile at (2, 1) in a 3x2 tile image.
         let area = PixelRegion::parse("10,20,15,23").unwrap();
