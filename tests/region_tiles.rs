@@ -303,3 +303,35 @@ fn tiles_finished_one_at_a_time_equal_the_untiled_render_bit_for_bit() {
     let (state, _) = vkpath::render::state_exr::read_state(&path.join("ck.exr")).unwrap();
     assert_eq!(state.samples, 0..8);
 }
+
+#[test]
+fn tiles_finished_one_at_a_time_write_nothing_when_a_fault_stops_them() {
+    // 4x4 tiles: 24 of them, each at least one submission of its own, so submission 10
+    // (after set-up, as in the test above) fails before the last tile is done. The tiles
+    // finished by then are not an image of the samples asked for, and the others have
+    // none: the command fails with one line and writes nothing.
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path();
+    let args = [
+        "render",
+        "--width",
+        "24",
+        "--height",
+        "16",
+        "--spp",
+        "8",
+        "--samples-per-frame",
+        "1",
+        "--tile-size",
+        "4",
+        "-o",
+        "out.exr",
+    ];
+    let output = common::vkpath_with_env(path, &args, &[("VKPATH_INJECT_FAULT", "device-lost:10")]);
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    assert_eq!(output.status.code(), Some(1), "{stderr}");
+    let errors: Vec<&str> = stderr.lines().filter(|l| l.contains("error")).collect();
+    assert_eq!(errors.len(), 1, "one line: {stderr}");
+    assert!(!path.join("out.exr").exists(), "{stderr}");
+    assert!(!path.join("out.partial.exr").exists(), "{stderr}");
+}

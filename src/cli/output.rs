@@ -302,6 +302,9 @@ struct Finished {
     image: RenderedImage,
     /// The render state, kept for a shard only (its outputs hold it).
     state: Option<Accumulation>,
+    /// Whether the render finished its tiles one at a time (it kept no state): stopped
+    /// early, it holds no sample of the tiles it did not reach.
+    tile_by_tile: bool,
     /// What the outputs hold.
     metadata: RenderMetadata,
     stop: StopReason,
@@ -488,6 +491,7 @@ pub fn render_job_and_save(context: &Arc<Context>, request: RenderRequest) -> an
         guide: result.guide,
         scene_memory: Some(result.scene_memory),
         image: result.image,
+        tile_by_tile: result.state.is_none(),
         state: result.state.filter(|_| request.shard),
     };
     drop(job);
@@ -550,6 +554,7 @@ pub fn render_on_devices_and_save(
     let finished = Finished {
         image: outcome.state.image(),
         state: request.shard.then_some(outcome.state),
+        tile_by_tile: false,
         metadata,
         stop: outcome.stop,
         failure: None,
@@ -665,6 +670,17 @@ fn refuse_when_nothing_was_taken(finished: &Finished) -> anyhow::Result<()> {
     let new_samples = finished.metadata.samples.len() as u32 - finished.resumed_samples;
     if finished.stop == StopReason::Done || new_samples > 0 {
         return Ok(());
+    }
+    if let (true, None, StopReason::Cancelled) =
+        (finished.tile_by_tile, &finished.failure, finished.stop)
+    {
+        let (name, status) = signals::received().unwrap_or(("a signal", 130));
+        eprintln!(
+            "vkpath: stopped by {name} before the last tile: a render finishing its tiles one \
+             at a time has no sample of those it did not reach, so nothing was written \
+             (--checkpoint keeps what a stopped render took)"
+        );
+        std::process::exit(status);
     }
     match (&finished.failure, finished.stop) {
         (Some(error), _) => {
