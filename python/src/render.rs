@@ -462,7 +462,7 @@ pub fn render<'py>(
                 progress,
                 outcome.samples,
                 total,
-                Some(&outcome.state),
+                outcome.state.as_ref(),
             );
         }
         // As `--aov` and `--denoise` (which renders the albedo and normal it needs): only
@@ -511,7 +511,7 @@ pub fn render<'py>(
     }
     // A shard's image is its state's (what `--sample-range` writes, for `vkpath merge`):
     // the mean of its sums, which may differ from the device's in the last bit.
-    let shard_image = sample_range.map(|_| outcome.state.image());
+    let shard_image = sample_range.and_then(|_| outcome.state.as_ref().map(|s| s.image()));
     let mut image = shard_image.unwrap_or_else(|| outcome.image.clone());
     let dict = PyDict::new(py);
     let layer = |aov: Aov| post.aovs.iter().find(|(a, _)| *a == aov).map(|(_, p)| p);

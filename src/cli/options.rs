@@ -256,6 +256,7 @@ impl JobArgs {
             }),
             started: None,
             live: None,
+            keep_state: self.is_shard(),
         })
     }
 

@@ -307,8 +307,13 @@ impl DeviceReport {
 
 /// A finished render of one device or several, before it is saved.
 struct Finished {
-    /// The render state (written into shards).
-    state: Accumulation,
+    /// The image.
+    image: RenderedImage,
+    /// The render state, kept for a shard only (its outputs hold it).
+    state: Option<Accumulation>,
+    /// Whether the render finished its tiles one at a time (it kept no state): stopped
+    /// early, it holds no sample of the tiles it did not reach.
+    tile_by_tile: bool,
     /// What the outputs hold.
     metadata: RenderMetadata,
     stop: StopReason,
@@ -507,8 +512,10 @@ pub fn render_job_and_save(
         preview_failure: outcome.preview_failure.map(|e| e.to_string()),
         guide: result.guide,
         scene_memory: Some(result.scene_memory),
-        state: result.state,
         reused: reused.filter(|_| request.frame.is_some_and(|f| f.frame.is_some())),
+        image: result.image,
+        tile_by_tile: result.state.is_none(),
+        state: result.state.filter(|_| request.shard),
     };
     drop(job);
     finish(&request, std::slice::from_ref(context), finished, tev)
@@ -568,7 +575,9 @@ pub fn render_on_devices_and_save(
         .map(|(context, (_, spp))| DeviceReport::new(context, *spp))
         .collect();
     let finished = Finished {
-        state: outcome.state,
+        image: outcome.state.image(),
+        state: request.shard.then_some(outcome.state),
+        tile_by_tile: false,
         metadata,
         stop: outcome.stop,
         failure: None,
@@ -637,7 +646,7 @@ fn finish(
         stop: finished.stop.name().to_string(),
     });
     let outputs = written_outputs(request.outputs, finished.stop);
-    let image = finished.state.image();
+    let image = std::mem::replace(&mut finished.image, RenderedImage::empty(0, 0));
     warn_about_non_finite_pixels(&image);
     let processed = save_outputs(request, &outputs, contexts, &finished, &image)?;
     if let Some(view) = tev {
@@ -682,9 +691,20 @@ fn finish(
 /// Ends the command, writing nothing, when a render stopped before this run's first sample:
 /// a failure or a time limit as an error, a signal as the signal asks.
 fn refuse_when_nothing_was_taken(finished: &Finished) -> anyhow::Result<()> {
-    let new_samples = finished.state.samples.len() as u32 - finished.resumed_samples;
+    let new_samples = finished.metadata.samples.len() as u32 - finished.resumed_samples;
     if finished.stop == StopReason::Done || new_samples > 0 {
         return Ok(());
+    }
+    if let (true, None, StopReason::Cancelled) =
+        (finished.tile_by_tile, &finished.failure, finished.stop)
+    {
+        let (name, status) = signals::received().unwrap_or(("a signal", 130));
+        eprintln!(
+            "vkpath: stopped by {name} before the last tile: a render finishing its tiles one \
+             at a time has no sample of those it did not reach, so nothing was written \
+             (--checkpoint keeps what a stopped render took)"
+        );
+        std::process::exit(status);
     }
     match (&finished.failure, finished.stop) {
         (Some(error), _) => {
@@ -759,7 +779,7 @@ fn print_summary(
     counts: &RunCounts,
 ) {
     let total = request.job.samples.len() as u32;
-    let done = finished.state.samples.len() as u32;
+    let done = finished.metadata.samples.len() as u32;
     if let Some(resumed) = &request.job.resume {
         eprintln!(
             "vkpath: resumed from '{}' at {} of {total} spp; this run took {} more",
@@ -830,8 +850,11 @@ fn render_report(
         integrator: settings.integrator.name(),
         sampler: sampler_name(effective_sampler),
         spp_requested: request.job.samples.len() as u32,
-        spp_taken: finished.state.samples.len() as u32,
-        sample_range: [finished.state.samples.start, finished.state.samples.end],
+        spp_taken: finished.metadata.samples.len() as u32,
+        sample_range: [
+            finished.metadata.samples.start,
+            finished.metadata.samples.end,
+        ],
         resumed_spp: finished.resumed_samples,
         setup_seconds: counts.setup_seconds,
         render_seconds: finished.render_seconds,
@@ -863,7 +886,7 @@ fn end_after_report(
     checkpoint: Option<&PathBuf>,
 ) -> anyhow::Result<()> {
     let total = request.job.samples.len() as u32;
-    let done = finished.state.samples.len() as u32;
+    let done = finished.metadata.samples.len() as u32;
     if let Some(error) = &finished.failure {
         bail!("rendering stopped after {done} of {total} spp: {error}");
     }
@@ -918,8 +941,11 @@ fn save_outputs(
 ) -> anyhow::Result<Option<(RenderedImage, Vec<ImageLayer>)>> {
     let metadata = &finished.metadata;
     if request.shard {
+        let Some(state) = &finished.state else {
+            bail!("the shard's render kept no state to write");
+        };
         for output in outputs {
-            write_state(output, &finished.state, metadata)?;
+            write_state(output, state, metadata)?;
         }
         return Ok(None);
     }

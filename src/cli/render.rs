@@ -71,7 +71,11 @@ pub struct RenderArgs {
     pub region: Option<PixelRegion>,
     /// Put the image on the device in square tiles of this many pixels a side, one at a
     /// time, and stitch them (the image is the same bit for bit). Without it, tiles are used
-    /// only when the image would not fit the device's memory or image size.
+    /// only when the image would not fit the device's memory or image size. A render in
+    /// tiles finishes each tile before the next, holding the finished image (32 bytes a
+    /// pixel) but not the whole image's state, and writes nothing if stopped early; with
+    /// --checkpoint, --resume, --time-limit, --preview, --tev, --guiding or a shard, every
+    /// frame visits every tile instead and the host holds the state (about 5x as much).
     #[arg(long, value_name = "PIXELS")]
     pub tile_size: Option<u32>,
     /// Adaptive sampling: a pixel takes no more samples once the relative standard error of

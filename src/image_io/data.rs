@@ -32,17 +32,25 @@ impl RenderedImage {
             sample_count: Vec::with_capacity(n),
         };
         for ((sum, compensation), square) in sums.iter().zip(compensations).zip(squares) {
-            let count = sum[3];
-            let scale = if count > 0.0 { 1.0 / count } else { 0.0 };
-            // Kahan summation leaves sum - compensation as the better estimate of the sum.
-            let mean = |c: usize| (sum[c] - compensation[c]) / count.max(1.0);
-            image.mean.push([mean(0), mean(1), mean(2), 1.0]);
-            image
-                .second_moment
-                .push([square[0] * scale, square[1] * scale, square[2] * scale]);
+            let (mean, second_moment, count) = resolve_pixel(sum, compensation, square);
+            image.mean.push(mean);
+            image.second_moment.push(second_moment);
             image.sample_count.push(count);
         }
         image
+    }
+
+    /// An image of `width * height` pixels with no samples (mean 0, alpha 1), for a render
+    /// that fills it in part by part (`resolve_pixel`).
+    pub fn empty(width: u32, height: u32) -> RenderedImage {
+        let n = width as usize * height as usize;
+        RenderedImage {
+            width,
+            height,
+            mean: vec![[0.0, 0.0, 0.0, 1.0]; n],
+            second_moment: vec![[0.0; 3]; n],
+            sample_count: vec![0.0; n],
+        }
     }
 
     /// The mean radiance of the pixel at column `x`, row `y` (from the top).
@@ -77,4 +85,24 @@ impl RenderedImage {
         }
         total.map(|t| t / self.mean.len().max(1) as f64)
     }
+}
+
+/// One pixel of the image from its accumulation texels (`LAYER_SUM`, `LAYER_COMPENSATION`,
+/// `LAYER_SUM_OF_SQUARES`): its mean radiance (alpha 1), second moment and sample count.
+/// `RenderedImage::from_accumulation` and a render finished tile by tile both resolve
+/// pixels with it, so they agree bit for bit.
+pub fn resolve_pixel(
+    sum: &[f32; 4],
+    compensation: &[f32; 4],
+    square: &[f32; 4],
+) -> ([f32; 4], [f32; 3], f32) {
+    let count = sum[3];
+    let scale = if count > 0.0 { 1.0 / count } else { 0.0 };
+    // Kahan summation leaves sum - compensation as the better estimate of the sum.
+    let mean = |c: usize| (sum[c] - compensation[c]) / count.max(1.0);
+    (
+        [mean(0), mean(1), mean(2), 1.0],
+        [square[0] * scale, square[1] * scale, square[2] * scale],
+        count,
+    )
 }

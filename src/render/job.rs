@@ -98,6 +98,11 @@ pub struct JobOptions<'a> {
     pub started: Option<&'a AtomicBool>,
     /// Show the image so far every so often (a live view).
     pub live: Option<LiveImage<'a>>,
+    /// Keep the render's whole state for its outcome (a shard, or a device's share of a
+    /// render on several). Without it, and without a time limit, checkpoints, resuming,
+    /// previews, a live view or a guide to train, a render in tiles finishes them one at a
+    /// time (`Renderer::tile_by_tile`): the host holds the finished image, not the state.
+    pub keep_state: bool,
 }
 
 impl Default for JobOptions<'_> {
@@ -113,13 +118,15 @@ impl Default for JobOptions<'_> {
             preview: None,
             started: None,
             live: None,
+            keep_state: false,
         }
     }
 }
 
 /// What a production render did.
 pub struct JobOutcome {
-    /// The render's outcome (image, state, stop reason, ...).
+    /// The render's outcome (image, state, stop reason, ...); its state is `None` when the
+    /// render went tile by tile (`JobOptions::keep_state`).
     pub outcome: RenderOutcome,
     /// The metadata of what it holds (for the output file's header).
     pub metadata: RenderMetadata,
@@ -201,6 +208,16 @@ pub fn run_job(
         renderer.resume(&state)?;
         resumed_samples = state.samples.len() as u32;
     }
+    // What needs the whole state as the render goes, or at its end.
+    let whole_state = options.keep_state
+        || options.time_limit.is_some()
+        || options.checkpoint.is_some()
+        || options.resume.is_some()
+        || options.preview.is_some()
+        || options.live.is_some();
+    if !whole_state {
+        renderer.tile_by_tile()?;
+    }
     let mut write_checkpoint = |state: &Accumulation| -> Result<()> {
         match &options.checkpoint {
             Some(path) => write_state(path, state, &metadata_of(state.samples.clone())),
@@ -273,18 +290,15 @@ pub fn run_job(
         .and_then(|preview| save_image(&preview.path, &outcome.image, &preview.save).err())
         .map(Error::from);
     // Every other stop writes the checkpoint, so that nothing rendered is lost.
-    if let (Some(path), true) = (&options.checkpoint, took_samples) {
-        write_state(
-            path,
-            &outcome.state,
-            &metadata_of(outcome.state.samples.clone()),
-        )?;
+    if let (Some(path), true, Some(state)) = (&options.checkpoint, took_samples, &outcome.state) {
+        write_state(path, state, &metadata_of(state.samples.clone()))?;
     }
     if let Some(sequence) = sequence {
         renderer.keep_for_next(sequence);
     }
+    let taken = samples.start..samples.start + outcome.samples;
     Ok(JobOutcome {
-        metadata: metadata_of(outcome.state.samples.clone()),
+        metadata: metadata_of(taken),
         outcome,
         resumed_samples,
         rendering_started,

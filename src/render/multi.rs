@@ -85,11 +85,15 @@ pub fn run_on_devices(
                         preview: None,
                         started: rendering,
                         live: None,
+                        keep_state: true,
                     };
                     let job = run_job(context, scene, camera, settings, &job, |_| (), None)?;
                     let outcome = job.outcome;
+                    let state = outcome.state.ok_or_else(|| {
+                        Error::InvalidSettings("a device's share kept no state to merge".into())
+                    })?;
                     Ok((
-                        outcome.state,
+                        state,
                         outcome.stop,
                         outcome.failure,
                         job.rendering_started,

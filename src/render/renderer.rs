@@ -30,8 +30,7 @@ use crate::render::region::{PixelRegion, ACCUMULATION_BYTES_PER_PIXEL, ACCUMULAT
 use crate::render::sequence::{AccumulationImages, SequenceCache, UploadKey};
 use crate::render::settings::RenderSettings;
 use crate::render::tiles::{
-    area_texel_count, copy_tile, host_available_memory, layer_count, scene_bytes, tile_layout,
-    validate_host_memory,
+    area_texel_count, scene_bytes, tile_layout, TileDevice, TileOrder, Tiles,
 };
 use crate::scene::Scene;
 use crate::vk::{Buffer, CommandRunner, Context, DescriptorSet, StorageImage};
@@ -142,18 +141,6 @@ pub struct Renderer {
     guide: Option<Arc<Guide>>,
 }
 
-/// A render in tiles: the state of the whole area lives on the host, and each frame uploads
-/// every tile's state in turn into the (tile-sized) accumulation image, adds its samples and
-/// reads it back, so the image is bit for bit the untiled one's.
-struct Tiles {
-    /// The tiles, row by row; the accumulation image is as large as the first.
-    list: Vec<PixelRegion>,
-    /// The state of the whole area, as `Accumulation::texels` lays it out.
-    state: Vec<[f32; 4]>,
-    /// A host-visible buffer of the accumulation image's size, to upload a tile's state.
-    upload: Buffer,
-}
-
 /// Why a render stopped.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 #[non_exhaustive]
@@ -209,8 +196,9 @@ pub struct RenderOutcome {
     /// building the kernel; a driver that compiles lazily does part of it in the first
     /// frame, which `seconds` counts).
     pub setup_seconds: f64,
-    /// The raw state (for a checkpoint or a shard).
-    pub state: Accumulation,
+    /// The raw state (for a checkpoint or a shard); `None` for a render finished tile by
+    /// tile (`Renderer::tile_by_tile`), which holds no state of the whole image.
+    pub state: Option<Accumulation>,
     /// Why it stopped.
     pub stop: StopReason,
     /// The error that stopped it after some samples were taken (they are in `image`).
@@ -263,7 +251,7 @@ impl Renderer {
         let images = AccumulationImages {
             accumulation: self.accumulation,
             readback: self.readback,
-            tile_upload: self.tiles.map(|tiles| tiles.upload),
+            tile_upload: self.tiles.and_then(Tiles::into_upload),
         };
         sequence.keep(images, self.scene);
     }
@@ -326,9 +314,6 @@ impl Renderer {
             .first()
             .map_or((area.width(), area.height()), |t| (t.width(), t.height()));
         validate(context, scene, &settings, image_width, image_height)?;
-        if !tile_list.is_empty() {
-            validate_host_memory(&settings, area, host_available_memory())?;
-        }
         let commands = CommandRunner::new(context)?;
         // The device decides too: its ray queries under --accel auto and hardware
         // (`crate::accel::choose_traversal`, which refuses or warns where it cannot).
@@ -426,11 +411,7 @@ impl Renderer {
             other => gpu_scene.resource(other),
         })?;
         commands.run(|recorder| recorder.clear_storage_image(&accumulation))?;
-        let tiles = tile_upload.map(|upload| Tiles {
-            list: tile_list,
-            state: vec![[0.0; 4]; area_texel_count(area)],
-            upload,
-        });
+        let tiles = tile_upload.map(|upload| Tiles::every_frame(tile_list, upload));
         Ok(Renderer {
             context: context.clone(),
             settings,
@@ -505,11 +486,32 @@ impl Renderer {
         self.first_sample..self.first_sample + self.samples_done
     }
 
+    /// Makes a render in tiles finish each tile before the next begins, so that the host
+    /// holds the finished image and one tile's state instead of the whole area's state
+    /// (the image is bit for bit the same); returns whether it did. Without tiles, with a
+    /// guide to train (`--guiding`: its training frames visit every tile) or once a sample
+    /// was taken it changes nothing. A render going tile by tile has no state of the whole
+    /// image: `accumulation`, `read_back`, `resume` and periodic checkpoints or previews
+    /// fail, its outcome's `state` is `None`, and until its last tile is done no sample is
+    /// held by every pixel (`samples_done` is 0; `render_batch` reports the samples taken
+    /// spread over the image).
+    pub fn tile_by_tile(&mut self) -> Result<bool> {
+        let Some(tiles) = self.tiles.as_mut() else {
+            return Ok(false);
+        };
+        if self.settings.guiding.is_some() || self.samples_done > 0 {
+            return Ok(false);
+        }
+        tiles.go_tile_by_tile(&self.settings, self.area)?;
+        Ok(true)
+    }
+
     /// Reads the raw accumulation state back (for a checkpoint or a shard), and updates
     /// `rays_traced`.
     pub fn accumulation(&mut self) -> Result<Accumulation> {
-        let texels = match &self.tiles {
-            Some(tiles) => tiles.state.clone(),
+        let texels = match self.tiles.as_mut().map(|tiles| &mut tiles.order) {
+            Some(TileOrder::EveryFrame(whole)) => whole.state(&self.settings, self.area)?.clone(),
+            Some(TileOrder::OneAtATime(_)) => return Err(no_whole_state("read back")),
             None => self.read_texels()?,
         };
         let pixels = self.area.width() as usize * self.area.height() as usize;
@@ -519,13 +521,7 @@ impl Renderer {
             .filter(|texel| texel[3] != 0.0)
             .count();
         if flagged > 0 {
-            return Err(Error::LoopLimit(format!(
-                "the loop limit (llvmpipe's {} loop iterations, after which it ends loops \
-                 silently, or the limit of a checked function's loops) may have cut paths short \
-                 in {flagged} pixels, so the image would be wrong: {}",
-                contract::LLVMPIPE_LOOP_LIMIT,
-                loop_limit_advice(self.traversal, true)
-            )));
+            return Err(self.loop_limit_error(flagged));
         }
         let state = Accumulation {
             width: self.area.width(),
@@ -569,7 +565,12 @@ impl Renderer {
             )));
         }
         if let Some(tiles) = self.tiles.as_mut() {
-            tiles.state.copy_from_slice(&state.texels);
+            match &mut tiles.order {
+                TileOrder::EveryFrame(whole) => whole
+                    .state(&self.settings, self.area)?
+                    .copy_from_slice(&state.texels),
+                TileOrder::OneAtATime(_) => return Err(no_whole_state("resume into")),
+            }
         } else {
             let upload = Buffer::with_data(
                 &self.context,
@@ -618,7 +619,7 @@ impl Renderer {
         }
         let frames = self.render_frames(frames)?;
         if frames == 0 {
-            return Ok(self.samples_done);
+            return Ok(self.progress_samples());
         }
         let per_frame = started.elapsed().as_secs_f64() / f64::from(frames);
         self.seconds_per_frame = Some(per_frame);
@@ -635,7 +636,16 @@ impl Renderer {
             self.seconds_per_frame =
                 Some(per_frame * f64::from(self.samples_per_dispatch) / f64::from(old_step));
         }
-        Ok(self.samples_done)
+        Ok(self.progress_samples())
+    }
+
+    /// Samples per pixel taken so far, for progress: `samples_done`, or for a render going
+    /// tile by tile its samples spread over the image (rounded down).
+    fn progress_samples(&self) -> u32 {
+        match &self.tiles {
+            Some(tiles) => tiles.progress(self.samples_done, self.settings.spp),
+            None => self.samples_done,
+        }
     }
 
     /// Dispatches the render pipeline once over no pixels (an extent of 0 × 0: every
@@ -667,7 +677,14 @@ impl Renderer {
         self.commands
             .run(|recorder| recorder.clear_storage_image(image))?;
         if let Some(tiles) = self.tiles.as_mut() {
-            tiles.state.fill([0.0; 4]);
+            match &mut tiles.order {
+                TileOrder::EveryFrame(whole) => {
+                    whole.state(&self.settings, self.area)?.fill([0.0; 4])
+                }
+                TileOrder::OneAtATime(_) => {
+                    tiles.go_tile_by_tile(&self.settings, self.area)?;
+                }
+            }
         }
         self.samples_done = 0;
         Ok(())
@@ -689,12 +706,17 @@ impl Renderer {
     /// `render_frames` without training first; `training` marks them training frames.
     fn run_frames(&mut self, frames: u32, span: &FrameSpan) -> Result<u32> {
         let step = self.samples_per_dispatch;
-        let remaining_frames = (span.spp - self.samples_done).div_ceil(step);
+        // Samples the pixels these frames visit hold: every pixel's, or with tiles finished
+        // one at a time the current tile's (the batch ends with it).
+        let done = self.tiles.as_ref().map_or(self.samples_done, |tiles| {
+            tiles.samples_of_current_pixels(self.samples_done)
+        });
+        let remaining_frames = (span.spp - done).div_ceil(step);
         let frames = frames.min(remaining_frames);
         if frames == 0 {
             return Ok(0);
         }
-        let first = span.first_sample + self.samples_done;
+        let first = span.first_sample + done;
         let end = span.first_sample + span.spp;
         let (noise_threshold, noise_min_samples) = span
             .noise_threshold
@@ -732,42 +754,24 @@ impl Renderer {
                 }
             }
         };
-        match self.tiles.as_mut() {
-            None => self
-                .commands
-                .run(|recorder| record_frames(recorder, self.area))?,
-            Some(tiles) => {
-                let (image, readback) = (&self.accumulation, &self.readback);
-                let image_width = image.width as usize;
-                let image_pixels = image_width * image.height as usize;
-                // The batch's new state, taken only once every tile has its samples: a
-                // failure halfway leaves the state as the samples taken so far say.
-                let mut next = tiles.state.clone();
-                for &tile in &tiles.list {
-                    // The tile's state into the upload buffer, laid out as the image is.
-                    let mut texels = vec![[0.0f32; 4]; image_pixels * layer_count()];
-                    copy_tile(
-                        &tiles.state,
-                        self.area,
-                        &mut texels,
-                        image_width,
-                        tile,
-                        true,
-                    );
-                    tiles.upload.write(bytemuck::cast_slice(&texels));
-                    let upload = &tiles.upload;
-                    self.commands.run(|recorder| {
-                        recorder.copy_buffer_to_image(upload, image);
-                        record_frames(recorder, tile);
-                        recorder.copy_image_to_buffer(image, readback);
-                    })?;
-                    let texels: Vec<[f32; 4]> = readback.read();
-                    copy_tile(&texels, self.area, &mut next, image_width, tile, false);
-                }
-                tiles.state = next;
+        let after = (first + frames * step).min(end) - span.first_sample;
+        self.samples_done = match self.tiles.as_mut() {
+            None => {
+                self.commands
+                    .run(|recorder| record_frames(recorder, self.area))?;
+                after
             }
-        }
-        self.samples_done = (first + frames * step).min(end) - span.first_sample;
+            Some(tiles) => {
+                let device = TileDevice {
+                    commands: &self.commands,
+                    image: &self.accumulation,
+                    readback: &self.readback,
+                    area: self.area,
+                    settings: &self.settings,
+                };
+                tiles.run_batch(&device, &record_frames, after, span.spp)?
+            }
+        };
         Ok(frames)
     }
 
@@ -868,9 +872,9 @@ impl Renderer {
             }
         };
         let seconds = started.elapsed().as_secs_f64();
-        let state = self.accumulation()?;
+        let (image, state) = self.final_image()?;
         Ok(RenderOutcome {
-            image: state.image(),
+            image,
             samples: self.samples_done,
             seconds,
             setup_seconds: self.setup_seconds,
@@ -889,6 +893,43 @@ impl Renderer {
 }
 
 impl Renderer {
+    /// The image at the end of a render and, unless it went tile by tile, its state (a
+    /// render going tile by tile hands its image out: it holds none after).
+    fn final_image(&mut self) -> Result<(RenderedImage, Option<Accumulation>)> {
+        match self.tiles.as_mut().map(|tiles| &mut tiles.order) {
+            Some(TileOrder::OneAtATime(order)) => {
+                if order.flagged > 0 {
+                    let flagged = order.flagged;
+                    return Err(self.loop_limit_error(flagged));
+                }
+                self.rays_traced = order.rays;
+                Ok((order.take_image()?, None))
+            }
+            Some(TileOrder::EveryFrame(whole)) => {
+                // The batch's new state is not needed to hand out the state.
+                whole.drop_next();
+                let state = self.accumulation()?;
+                Ok((state.image(), Some(state)))
+            }
+            None => {
+                let state = self.accumulation()?;
+                Ok((state.image(), Some(state)))
+            }
+        }
+    }
+
+    /// The error of a render whose paths the loop limit may have cut short in `flagged`
+    /// pixels.
+    fn loop_limit_error(&self, flagged: usize) -> Error {
+        Error::LoopLimit(format!(
+            "the loop limit (llvmpipe's {} loop iterations, after which it ends loops \
+             silently, or the limit of a checked function's loops) may have cut paths short \
+             in {flagged} pixels, so the image would be wrong: {}",
+            contract::LLVMPIPE_LOOP_LIMIT,
+            loop_limit_advice(self.traversal, true)
+        ))
+    }
+
     /// Copies the accumulation image back: every layer, texel by texel.
     fn read_texels(&mut self) -> Result<Vec<[f32; 4]>> {
         let (image, readback) = (&self.accumulation, &self.readback);
@@ -934,6 +975,14 @@ fn accumulation_images(
         readback,
         tile_upload,
     })
+}
+
+/// The error of asking a render going tile by tile for `what` of the whole image.
+fn no_whole_state(what: &str) -> Error {
+    Error::InvalidSettings(format!(
+        "a render finished tile by tile holds no state of the whole image to {what}: render \
+         without Renderer::tile_by_tile"
+    ))
 }
 
 /// Checks what a render needs before anything is allocated: valid settings, an image

@@ -1,8 +1,9 @@
 //! Rendering in tiles: which tiles an area is split into (`--tile-size`, or automatically
-//! when it would not fit the device), copying a tile's state between the host's state of the
-//! whole area and the tile-sized accumulation image, and the host memory that state needs.
-//! The renderer (`renderer.rs`) uploads each tile's state in turn, adds its samples and
-//! reads it back, so a tiled image is bit for bit the untiled one.
+//! when it would not fit the device), the two orders a render takes their samples in
+//! (`TileOrder`: every frame visits every tile, or each tile is finished before the next),
+//! copying a tile's state between the host and the tile-sized accumulation image, and the
+//! host memory each order needs. Every pixel takes the same samples in the same order
+//! whatever the tiles and their order, so a tiled image is bit for bit the untiled one.
 
 use crate::contract;
 use crate::error::{Error, Result};
@@ -10,6 +11,10 @@ use crate::render::region::{automatic_tile_side, PixelRegion, ACCUMULATION_BYTES
 use crate::render::settings::RenderSettings;
 use crate::scene::Scene;
 use crate::vk::Context;
+
+mod order;
+
+pub(crate) use order::{TileDevice, TileOrder, Tiles};
 
 /// Device bytes of the scene's buffers: the triangles (96 bytes each), with a BVH their
 /// positions again for the traversal (48 bytes each) and at most 1 wide node per triangle
@@ -88,26 +93,40 @@ pub(crate) fn copy_tile(
     }
 }
 
-/// Bytes of host memory a tiled render holds per pixel of its area at most: its state
-/// (`ACCUMULATION_BYTES_PER_PIXEL`), the batch's new state beside it, and at the end the
-/// state read back, the image made of it and the output's channels (about as much again
-/// each).
+/// Bytes of host memory a render in tiles that visits every tile each frame holds per
+/// pixel of its area at most: its state (`ACCUMULATION_BYTES_PER_PIXEL`), the batch's new
+/// state beside it, and at a checkpoint or the end the state handed out, the image made of
+/// it and the output's channels (about as much again each).
 pub(crate) const TILED_HOST_BYTES_PER_PIXEL: u64 = 5 * ACCUMULATION_BYTES_PER_PIXEL;
 
-/// Refuses a tiled render whose state would not fit in `available` bytes of host memory
-/// (`None`: unknown, not checked): tiles spare the device, not the host, which holds the
-/// whole area's state.
+/// Bytes of host memory a render finished tile by tile holds per pixel of its area at
+/// most: the finished image (`RenderedImage`: mean 16, second moment 12, sample count 4)
+/// and the channels an EXR output copies out of it (16, 32 with --moments).
+pub(crate) const TILE_BY_TILE_HOST_BYTES_PER_PIXEL: u64 = 32 + 32;
+
+/// Refuses a tiled render whose host memory (`bytes_per_pixel` of its area) would not fit
+/// in `available` bytes (`None`: unknown, not checked): tiles spare the device, not always
+/// the host.
 pub(crate) fn validate_host_memory(
     settings: &RenderSettings,
     area: PixelRegion,
     available: Option<u64>,
+    bytes_per_pixel: u64,
 ) -> Result<()> {
-    let needed = u64::from(area.width()) * u64::from(area.height()) * TILED_HOST_BYTES_PER_PIXEL;
+    let needed = u64::from(area.width()) * u64::from(area.height()) * bytes_per_pixel;
+    let (what, advice) = match bytes_per_pixel {
+        TILE_BY_TILE_HOST_BYTES_PER_PIXEL => ("the finished image", "use a smaller image"),
+        _ => (
+            "the state",
+            "use a smaller image, or go tile by tile (--tile-size without --checkpoint, \
+             --resume, --time-limit, --preview, --tev or --guiding)",
+        ),
+    };
     match available {
         Some(available) if needed > available => Err(Error::InvalidSettings(format!(
-            "the render needs about {} MB of host memory for the state of {}x{} pixels of the \
-             {}x{} image ({TILED_HOST_BYTES_PER_PIXEL} bytes a pixel, rendered in tiles), more \
-             than the {} MB available: use a smaller image or a --region",
+            "the render needs about {} MB of host memory for {what} of {}x{} pixels of the \
+             {}x{} image ({bytes_per_pixel} bytes a pixel, rendered in tiles), more than the \
+             {} MB available: {advice} or a --region",
             needed >> 20,
             area.width(),
             area.height(),
@@ -139,16 +158,27 @@ mod tests {
             ..RenderSettings::default()
         };
         let area = PixelRegion::parse("0,0,1000,500").unwrap();
-        let needed = 1000 * 500 * TILED_HOST_BYTES_PER_PIXEL;
-        assert!(validate_host_memory(&settings, area, Some(needed)).is_ok());
-        assert!(validate_host_memory(&settings, area, None).is_ok());
-        let message = validate_host_memory(&settings, area, Some(needed - 1))
-            .unwrap_err()
-            .to_string();
-        assert!(
-            message.contains("of 1000x500 pixels of the 1000x800 image"),
-            "{message}"
-        );
+        for per_pixel in [
+            TILED_HOST_BYTES_PER_PIXEL,
+            TILE_BY_TILE_HOST_BYTES_PER_PIXEL,
+        ] {
+            let needed = 1000 * 500 * per_pixel;
+            assert!(validate_host_memory(&settings, area, Some(needed), per_pixel).is_ok());
+            assert!(validate_host_memory(&settings, area, None, per_pixel).is_ok());
+            let message = validate_host_memory(&settings, area, Some(needed - 1), per_pixel)
+                .unwrap_err()
+                .to_string();
+            assert!(
+                message.contains("of 1000x500 pixels of the 1000x800 image"),
+                "{message}"
+            );
+            let tile_by_tile = per_pixel == TILE_BY_TILE_HOST_BYTES_PER_PIXEL;
+            assert_eq!(
+                message.contains("go tile by tile"),
+                !tile_by_tile,
+                "{message}"
+            );
+        }
         assert!(host_available_memory().is_some_and(|bytes| bytes > 0));
     }
 
