@@ -4,6 +4,7 @@
 //! device, with the summary the variant room reads (`crate::kernels::variant`); the kernel's binding table
 //! (`crate::kernels::bindings`) says where each is bound.
 
+use std::borrow::Cow;
 use std::sync::Arc;
 
 use ash::vk;
@@ -28,8 +29,8 @@ use crate::render::gpu_textures::TextureAtlas;
 use crate::render::gpu_types::{GpuTriangle, RenderUniforms};
 use crate::render::settings::{Accel, RenderSettings};
 use crate::scene::materials::SceneMaterials;
-use crate::scene::Scene;
-use crate::vk::{Buffer, CommandRunner, Context, TexelBufferView};
+use crate::scene::{Scene, Triangle};
+use crate::vk::{Buffer, CommandRunner, Context, TexelBufferView, VkResult};
 
 /// Whether a render of `scene` with `settings` can take the lean builds of the path tracer
 /// (`crate::kernels::variant::fits_lean_builds`: no light tree, no path guiding, no
@@ -60,18 +61,23 @@ pub fn host_variant(
     traversal: Traversal,
 ) -> Result<Variant> {
     let lights = SceneLights::new(scene, &scene.triangles);
-    let plain_materials;
-    let materials = match &scene.materials {
-        Some(materials) => Some(materials),
-        None if scene.needs_material_kernels() => {
-            plain_materials = SceneMaterials::from_plain(&scene.triangles);
-            Some(&plain_materials)
-        }
-        None => None,
-    };
-    let summary = scene_summary(scene, materials, &lights, 0);
+    let materials = kernel_materials(scene);
+    let summary = scene_summary(scene, materials.as_deref(), &lights, 0);
     let settings = variant_settings(settings, &lights);
     path_tracer_variant(&summary, &settings, traversal, KernelSource::Embedded)
+}
+
+/// The materials the kernels read: the scene's, or for a workshop scene that needs the
+/// material kernels its plain ones (`Scene::needs_material_kernels`); `None` for the
+/// workshop kernels.
+fn kernel_materials(scene: &Scene) -> Option<Cow<'_, SceneMaterials>> {
+    match &scene.materials {
+        Some(materials) => Some(Cow::Borrowed(materials)),
+        None if scene.needs_material_kernels() => {
+            Some(Cow::Owned(SceneMaterials::from_plain(&scene.triangles)))
+        }
+        None => None,
+    }
 }
 
 /// What the variant room reads of `scene`, of the materials the kernels read (`None`: the
@@ -115,6 +121,144 @@ fn render_uniforms(scene: &Scene, camera: &Camera, settings: &RenderSettings) ->
         scene.triangles.len() as u32,
         settings.seed,
     )
+}
+
+/// The trees a traversal reads: the binary tree it is built from (its shape bounds the
+/// loops) and the compressed tree collapsed from it, as `traversal` asks.
+struct SceneTrees {
+    /// The traversal they serve: `Bvh` where `auto`'s compressed tree made way for the
+    /// 4-wide one.
+    traversal: Traversal,
+    bvh: Option<Bvh>,
+    compressed: Option<CompressedBvh>,
+}
+
+impl SceneTrees {
+    /// Builds the trees `traversal` reads. Under `--accel auto`, a scene the compressed tree
+    /// refuses (deeper than its stack, or beyond its quantisation's range) takes the 4-wide
+    /// tree, with a warning; under `--accel compressed-bvh` it is refused.
+    fn build(scene: &Scene, accel: Accel, traversal: Traversal) -> Result<SceneTrees> {
+        let bvh = traversal.uses_bvh().then(|| Bvh::build(&scene.triangles));
+        let mut trees = SceneTrees {
+            traversal,
+            bvh: None,
+            compressed: None,
+        };
+        if let (Some(bvh), Traversal::CompressedBvh) = (&bvh, traversal) {
+            match CompressedBvh::from_binary(bvh, &scene.triangles) {
+                Ok(compressed) => trees.compressed = Some(compressed),
+                Err(reason) if accel == Accel::Auto => {
+                    log::warn!("the 4-wide BVH instead of the compressed one: {reason}");
+                    trees.traversal = Traversal::Bvh;
+                }
+                Err(reason) => return Err(Error::InvalidSettings(reason)),
+            }
+        }
+        trees.bvh = bvh;
+        Ok(trees)
+    }
+
+    /// The order of the triangles that the tree's leaves reference (the triangles, their
+    /// shading data and the light indices are stored in it); `None` without a tree.
+    fn triangle_order(&self) -> Option<&[u32]> {
+        match (&self.compressed, &self.bvh) {
+            (Some(compressed), _) => Some(&compressed.triangle_order),
+            (None, Some(bvh)) => Some(&bvh.triangle_order),
+            (None, None) => None,
+        }
+    }
+
+    /// Uploads the traversal's bindings with `upload` (name, bytes): the nodes and the
+    /// triangles (`ordered_triangles`, in `triangle_order`) of the compressed tree (packed
+    /// triangles, 36 bytes) or of the 4-wide tree (48-byte triangles), at the same bindings
+    /// (`SPEC_BVH_LAYOUT` tells which); `None` without a tree.
+    fn upload_traversal(
+        &self,
+        ordered_triangles: &[Triangle],
+        upload: impl Fn(&str, &[u8]) -> VkResult<TexelBufferView>,
+    ) -> Result<Option<(TexelBufferView, TexelBufferView)>> {
+        let views = match (&self.compressed, &self.bvh) {
+            (Some(compressed), _) => Some((
+                upload("BVH nodes", bytemuck::cast_slice(&compressed.nodes))?,
+                upload(
+                    "traversal triangles",
+                    bytemuck::cast_slice(&packed_traversal_triangles(ordered_triangles)),
+                )?,
+            )),
+            (None, Some(bvh)) => Some((
+                upload("BVH nodes", bytemuck::cast_slice(&bvh.wide_nodes))?,
+                upload(
+                    "traversal triangles",
+                    bytemuck::cast_slice(&traversal_triangles(ordered_triangles)),
+                )?,
+            )),
+            (None, None) => None,
+        };
+        Ok(views)
+    }
+
+    /// The binary tree's shape, which bounds a traversal's iterations
+    /// (`bvh_iterations_per_ray_at_most`: 2 nodes + triangles); the compressed tree's count a
+    /// visit and a pop per node and a test per triangle, so its node count, if larger (never
+    /// in practice: a node collapses several binary ones), takes the place.
+    fn stats(&self) -> Option<BvhStats> {
+        self.bvh.as_ref().map(|bvh| {
+            let mut stats = bvh.stats();
+            if let Some(compressed) = &self.compressed {
+                stats.node_count = stats.node_count.max(compressed.nodes.len() + 1);
+            }
+            stats
+        })
+    }
+}
+
+/// The device buffers of a scene, for `SceneMemory::of`.
+struct SceneBuffers<'a> {
+    triangles: &'a TexelBufferView,
+    uniforms: &'a Buffer,
+    bvh_nodes: Option<&'a TexelBufferView>,
+    traversal_triangles: Option<&'a TexelBufferView>,
+    structures: Option<&'a SceneStructures>,
+    materials: Option<&'a MaterialBuffers>,
+    lights: &'a LightBuffers,
+}
+
+impl SceneMemory {
+    /// What `buffers` of a scene of `triangle_count` triangles, traced by `traversal`, take
+    /// on the device.
+    fn of(triangle_count: usize, traversal: Traversal, buffers: SceneBuffers) -> SceneMemory {
+        let bytes = |view: Option<&TexelBufferView>| view.map_or(0, TexelBufferView::byte_size);
+        let bvh_node_bytes = bytes(buffers.bvh_nodes);
+        let traversal_triangle_bytes = bytes(buffers.traversal_triangles);
+        let structures = buffers.structures;
+        let hardware_structure_bytes = structures.map_or(0, SceneStructures::bytes);
+        let material_bytes = buffers.materials.map_or(0, |m| {
+            m.shading.byte_size() + m.materials.byte_size() + m.texture_texels.byte_size()
+        });
+        let scene_bytes = buffers.triangles.byte_size()
+            + buffers.uniforms.size
+            + bvh_node_bytes
+            + traversal_triangle_bytes
+            + hardware_structure_bytes
+            + material_bytes
+            + buffers.lights.byte_size();
+        let per_triangle = |bytes: u64| bytes as f64 / triangle_count.max(1) as f64;
+        SceneMemory {
+            traversal: traversal.name(),
+            accel: traversal.accel_name(),
+            triangle_count: triangle_count as u64,
+            bvh_node_bytes,
+            traversal_triangle_bytes,
+            hardware_structure_bytes,
+            hardware_bottom_levels: structures.map_or(0, |s| s.bottom_level_count() as u64),
+            hardware_instances: structures.map_or(0, |s| s.instance_count() as u64),
+            acceleration_bytes_per_triangle: per_triangle(
+                bvh_node_bytes + traversal_triangle_bytes + hardware_structure_bytes,
+            ),
+            scene_bytes,
+            scene_bytes_per_triangle: per_triangle(scene_bytes),
+        }
+    }
 }
 
 /// The buffers of `glsl/materials.glsl`.
@@ -299,27 +443,9 @@ impl GpuScene {
         // The compressed tree collapses the binary one (`CompressedBvh::from_binary`).
         // Under `--accel auto`, a scene the compressed tree refuses (deeper than its stack,
         // or beyond its quantisation's range) takes the 4-wide tree, with a warning.
-        let mut traversal = traversal;
-        let bvh = traversal.uses_bvh().then(|| Bvh::build(&scene.triangles));
-        let compressed = match &bvh {
-            Some(bvh) if traversal == Traversal::CompressedBvh => {
-                match CompressedBvh::from_binary(bvh, &scene.triangles) {
-                    Ok(compressed) => Some(compressed),
-                    Err(reason) if settings.accel == Accel::Auto => {
-                        log::warn!("the 4-wide BVH instead of the compressed one: {reason}");
-                        traversal = Traversal::Bvh;
-                        None
-                    }
-                    Err(reason) => return Err(Error::InvalidSettings(reason)),
-                }
-            }
-            _ => None,
-        };
-        let triangle_order: Option<&[u32]> = match (&compressed, &bvh) {
-            (Some(compressed), _) => Some(&compressed.triangle_order),
-            (None, Some(bvh)) => Some(&bvh.triangle_order),
-            (None, None) => None,
-        };
+        let trees = SceneTrees::build(scene, settings.accel, traversal)?;
+        let traversal = trees.traversal;
+        let triangle_order = trees.triangle_order();
         let ordered_triangles = match triangle_order {
             Some(order) => reorder_by(order, &scene.triangles),
             None => scene.triangles.clone(),
@@ -341,42 +467,15 @@ impl GpuScene {
             &[render_uniforms(scene, camera, settings)],
             vk::BufferUsageFlags::UNIFORM_BUFFER,
         )?;
-        // The compressed tree's nodes and packed triangles (36 bytes), or the 4-wide tree's
-        // nodes and 48-byte triangles, at the same bindings (`SPEC_BVH_LAYOUT` tells which)
-        let (bvh_nodes, traversal_triangles) = match (&compressed, &bvh) {
-            (Some(compressed), _) => (
-                Some(upload(
-                    "BVH nodes",
-                    bytemuck::cast_slice(&compressed.nodes),
-                )?),
-                Some(upload(
-                    "traversal triangles",
-                    bytemuck::cast_slice(&packed_traversal_triangles(&ordered_triangles)),
-                )?),
-            ),
-            (None, Some(bvh)) => (
-                Some(upload("BVH nodes", bytemuck::cast_slice(&bvh.wide_nodes))?),
-                Some(upload(
-                    "traversal triangles",
-                    bytemuck::cast_slice(&traversal_triangles(&ordered_triangles)),
-                )?),
-            ),
-            (None, None) => (None, None),
-        };
+        let (bvh_nodes, traversal_triangles) =
+            trees.upload_traversal(&ordered_triangles, upload)?.unzip();
         let structures = match traversal {
             // The triangles stay in the scene's order (no BVH reorders them)
             Traversal::RayQuery => Some(SceneStructures::build(context, commands, scene)?),
             _ => None,
         };
-        let plain_materials;
-        let scene_materials = match &scene.materials {
-            Some(materials) => Some(materials),
-            None if scene.needs_material_kernels() => {
-                plain_materials = SceneMaterials::from_plain(&scene.triangles);
-                Some(&plain_materials)
-            }
-            None => None,
-        };
+        let scene_materials = kernel_materials(scene);
+        let scene_materials = scene_materials.as_deref();
         let lights =
             LightBuffers::upload(context, commands, &scene_lights, scene_materials.is_some())?;
         let materials = match scene_materials {
@@ -390,50 +489,20 @@ impl GpuScene {
         };
         let texture_slots = materials.as_ref().map_or(0, |m| m.texture_slots);
         let summary = scene_summary(scene, scene_materials, &scene_lights, texture_slots);
-        let bytes = |view: Option<&TexelBufferView>| view.map_or(0, TexelBufferView::byte_size);
-        let bvh_node_bytes = bytes(bvh_nodes.as_ref());
-        let traversal_triangle_bytes = bytes(traversal_triangles.as_ref());
-        let hardware_structure_bytes = structures.as_ref().map_or(0, SceneStructures::bytes);
-        let material_bytes = materials.as_ref().map_or(0, |m| {
-            m.shading.byte_size() + m.materials.byte_size() + m.texture_texels.byte_size()
-        });
-        let light_bytes = lights.byte_size();
-        let scene_bytes = triangles.byte_size()
-            + uniforms.size
-            + bvh_node_bytes
-            + traversal_triangle_bytes
-            + hardware_structure_bytes
-            + material_bytes
-            + light_bytes;
-        let per_triangle = |bytes: u64| bytes as f64 / scene.triangles.len().max(1) as f64;
-        let memory = SceneMemory {
-            traversal: traversal.name(),
-            accel: traversal.accel_name(),
-            triangle_count: scene.triangles.len() as u64,
-            bvh_node_bytes,
-            traversal_triangle_bytes,
-            hardware_structure_bytes,
-            hardware_bottom_levels: structures
-                .as_ref()
-                .map_or(0, |s| s.bottom_level_count() as u64),
-            hardware_instances: structures.as_ref().map_or(0, |s| s.instance_count() as u64),
-            acceleration_bytes_per_triangle: per_triangle(
-                bvh_node_bytes + traversal_triangle_bytes + hardware_structure_bytes,
-            ),
-            scene_bytes,
-            scene_bytes_per_triangle: per_triangle(scene_bytes),
-        };
-        // The binary tree's shape bounds a traversal's iterations
-        // (`bvh_iterations_per_ray_at_most`: 2 nodes + triangles); the compressed tree's
-        // count a visit and a pop per node and a test per triangle, so its node count, if
-        // larger (never in practice: a node collapses several binary ones), takes the place
-        let bvh_stats = bvh.as_ref().map(|bvh| {
-            let mut stats = bvh.stats();
-            if let Some(compressed) = &compressed {
-                stats.node_count = stats.node_count.max(compressed.nodes.len() + 1);
-            }
-            stats
-        });
+        let memory = SceneMemory::of(
+            scene.triangles.len(),
+            traversal,
+            SceneBuffers {
+                triangles: &triangles,
+                uniforms: &uniforms,
+                bvh_nodes: bvh_nodes.as_ref(),
+                traversal_triangles: traversal_triangles.as_ref(),
+                structures: structures.as_ref(),
+                materials: materials.as_ref(),
+                lights: &lights,
+            },
+        );
+        let bvh_stats = trees.stats();
         Ok(GpuScene {
             triangles,
             uniforms,
