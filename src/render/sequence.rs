@@ -14,6 +14,7 @@ use std::sync::Arc;
 
 use crate::kernels::variant::Traversal;
 use crate::kernels::{Build, KernelPipeline};
+use crate::lights::gpu_punctual::gpu_punctual_light_words;
 use crate::render::gpu_scene::GpuScene;
 use crate::render::settings::{Accel, LightSelection, RenderSettings};
 use crate::scene::materials::SceneMaterials;
@@ -222,12 +223,13 @@ fn scene_data(scene: &Scene) -> Scene {
 /// per-vertex shading data are the same bit for bit (what moves with a skin, a morph target
 /// or a node), and their materials, textures, lights, environment and mesh copies compare
 /// equal (`PartialEq`: they do not depend on the time, and a sequence reads them from the
-/// same file with the same bits); punctual lights, which nodes move, are compared bit for
-/// bit (their `Debug` text: Rust writes floats exactly, -0 apart from 0).
+/// same file with the same bits); punctual lights, which nodes move, by the words their
+/// upload writes (`gpu_punctual_light_words`).
 pub(crate) fn same_scene_data(a: &Scene, b: &Scene) -> bool {
     same_triangles(&a.triangles, &b.triangles)
         && same_materials(a.materials.as_ref(), b.materials.as_ref())
-        && format!("{:?}", a.punctual_lights) == format!("{:?}", b.punctual_lights)
+        && gpu_punctual_light_words(&a.punctual_lights)
+            == gpu_punctual_light_words(&b.punctual_lights)
         && a.environment == b.environment
         && a.mesh_instances.len() == b.mesh_instances.len()
         && a.mesh_instances
