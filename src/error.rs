@@ -34,6 +34,17 @@ pub enum Error {
     /// results cannot be trusted.
     #[error("{0}")]
     LoopLimit(String),
+    /// A render failed after taking samples, and its device could not give back what it
+    /// held (a lost device), so there is no image of them.
+    #[error("rendering stopped after {samples} spp: {error}; the device could not give back what it rendered, so no image was written{kept}")]
+    RenderLost {
+        /// The samples per pixel taken before the failure.
+        samples: u32,
+        /// The failure.
+        error: Box<Error>,
+        /// What the caller kept of them (e.g. "; 'ck.exr' holds …"), or empty.
+        kept: String,
+    },
 }
 
 /// Result with vkpath's error.

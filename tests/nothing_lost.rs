@@ -360,3 +360,79 @@ fn sigterm_and_the_time_limit_write_the_outputs_and_say_how_they_stopped() {
         "{text}"
     );
 }
+
+#[test]
+fn a_device_fault_keeps_the_finished_image_and_says_what_is_left() {
+    // Submission 9 comes after the first batches of a 1-spp-per-frame render of 64 spp
+    // (see production::device_faults_name_the_device_and_keep_the_checkpoint).
+    let base = [
+        "render",
+        "--integrator",
+        "workshop",
+        "-o",
+        "out.png",
+        "--width",
+        "16",
+        "--height",
+        "16",
+        "--spp",
+        "64",
+        "--samples-per-frame",
+        "1",
+    ];
+    let with_checkpoint = ["--checkpoint", "ck.exr", "--checkpoint-interval", "0.001"];
+    for (fault, checkpoint) in [
+        ("fence-timeout:9", false),
+        ("device-lost:9", false),
+        ("device-lost:9", true),
+    ] {
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path();
+        let before = b"a finished image from yesterday".to_vec();
+        std::fs::write(path.join("out.png"), &before).unwrap();
+        let mut args = base.to_vec();
+        if checkpoint {
+            args.extend_from_slice(&with_checkpoint);
+        }
+        let output = common::vkpath_with_env(path, &args, &[("VKPATH_INJECT_FAULT", fault)]);
+        let stderr = String::from_utf8_lossy(&output.stderr);
+        assert_eq!(output.status.code(), Some(1), "{fault}: {stderr}");
+        assert_eq!(
+            std::fs::read(path.join("out.png")).unwrap(),
+            before,
+            "{fault}"
+        );
+        let errors: Vec<&str> = stderr.lines().filter(|l| l.contains("error")).collect();
+        assert_eq!(errors.len(), 1, "{fault}: one line: {stderr}");
+        let line = errors[0];
+        if fault.starts_with("fence-timeout") {
+            // The device still answers: what it took goes beside the finished image.
+            let text = metadata_text(&path.join("out.partial.png"));
+            assert!(text.contains("stop=failed"), "{text}");
+            assert!(
+                line.contains("in 'out.partial.png' ('out.png' left as it was)")
+                    && line.contains("starts over")
+                    && !line.contains("--resume"),
+                "{line}"
+            );
+            continue;
+        }
+        // A lost device gives nothing back (fault injection keeps it lost, as a real one
+        // stays): no image, and the line says what is left.
+        assert!(!path.join("out.partial.png").exists(), "{line}");
+        assert!(line.contains("no image was written"), "{line}");
+        match (checkpoint, path.join("ck.exr").exists()) {
+            (false, _) => assert!(line.contains("without --checkpoint nothing"), "{line}"),
+            (true, true) => {
+                let (state, _) =
+                    vkpath::render::state_exr::read_state(&path.join("ck.exr")).unwrap();
+                let held = format!("holds the first {} spp", state.samples.len());
+                assert!(
+                    line.contains(&held) && line.contains("--resume 'ck.exr'"),
+                    "{line}"
+                );
+            }
+            (true, false) => assert!(line.contains("no checkpoint had been written"), "{line}"),
+        }
+    }
+}

@@ -593,13 +593,14 @@ pub fn render_on_devices_and_save(
     finish(&request, contexts, finished, None)
 }
 
-/// The files a render writes its image to: its outputs, or after Ctrl-C (SIGINT) their
-/// partial siblings (`out.png` -> `out.partial.png`), so that an interrupted render never
-/// replaces a finished image, as Mitsuba, pbrt and Blender leave theirs. A time limit and
-/// SIGTERM or SIGHUP (a scheduler's stop, which expects the outputs and checkpoint there)
-/// write the outputs themselves.
+/// The files a render writes its image to: its outputs, or after Ctrl-C (SIGINT) or a
+/// device failure their partial siblings (`out.png` -> `out.partial.png`), so that an
+/// interrupted or failed render never replaces a finished image, as Mitsuba, pbrt and
+/// Blender leave theirs. A time limit and SIGTERM or SIGHUP (a scheduler's stop, which
+/// expects the outputs and checkpoint there) write the outputs themselves.
 fn written_outputs(outputs: &[PathBuf], stop: StopReason) -> Vec<PathBuf> {
-    let interrupted = stop == StopReason::Cancelled && signals::interrupted();
+    let interrupted =
+        (stop == StopReason::Cancelled && signals::interrupted()) || stop == StopReason::Failed;
     outputs
         .iter()
         .map(|output| match interrupted {
@@ -630,6 +631,37 @@ fn install_signals(request: &RenderRequest) -> anyhow::Result<()> {
     files.extend(request.job.checkpoint.as_deref());
     files.extend(request.job.preview.as_ref().map(|p| p.path.as_path()));
     signals::install(&files)
+}
+
+/// What the line of a render that failed after some samples says it kept, and how to go
+/// on: the partial images (the outputs left as they were) and, with a checkpoint, the
+/// `--resume` that continues from it; without one, that the next render starts over.
+fn what_a_failure_kept(
+    request: &RenderRequest,
+    outputs: &[PathBuf],
+    checkpoint: Option<&PathBuf>,
+) -> String {
+    let quoted = |paths: &[PathBuf]| {
+        let names: Vec<String> = paths.iter().map(|p| format!("'{}'", p.display())).collect();
+        names.join(", ")
+    };
+    let images = match outputs == request.outputs {
+        true => format!("the samples taken are in {}", quoted(outputs)),
+        false => format!(
+            "the samples taken are in {} ({} left as it was)",
+            quoted(outputs),
+            quoted(request.outputs)
+        ),
+    };
+    match checkpoint {
+        Some(checkpoint) => format!(
+            "{images}; add --resume '{}' to go on from its last checkpoint",
+            checkpoint.display()
+        ),
+        None => format!(
+            "{images}; without --checkpoint a render cannot resume, so a new one starts over"
+        ),
+    }
 }
 
 /// Saves a finished render to every output, reports it and ends the command as its stop
@@ -888,7 +920,10 @@ fn end_after_report(
     let total = request.job.samples.len() as u32;
     let done = finished.metadata.samples.len() as u32;
     if let Some(error) = &finished.failure {
-        bail!("rendering stopped after {done} of {total} spp: {error}");
+        bail!(
+            "rendering stopped after {done} of {total} spp: {error}; {}",
+            what_a_failure_kept(request, outputs, checkpoint)
+        );
     }
     match finished.stop {
         StopReason::Cancelled => {

@@ -218,9 +218,15 @@ pub fn run_job(
     if !whole_state {
         renderer.tile_by_tile()?;
     }
+    // The samples per pixel of the last checkpoint this run wrote (for a failure's line).
+    let checkpointed = std::cell::Cell::new(None);
     let mut write_checkpoint = |state: &Accumulation| -> Result<()> {
         match &options.checkpoint {
-            Some(path) => write_state(path, state, &metadata_of(state.samples.clone())),
+            Some(path) => {
+                write_state(path, state, &metadata_of(state.samples.clone()))?;
+                checkpointed.set(Some(state.samples.len()));
+                Ok(())
+            }
             None => Ok(()),
         }
     };
@@ -279,7 +285,9 @@ pub fn run_job(
         });
     };
     let rendering_started = Instant::now();
-    let outcome = renderer.render_with(progress, control)?;
+    let outcome = renderer.render_with(progress, control).map_err(|error| {
+        say_what_a_lost_render_kept(error, options, checkpointed.get(), resumed_samples)
+    })?;
     // A stop before this run's first sample has nothing new: it writes nothing, so that an
     // existing checkpoint or preview stays as it was.
     let took_samples = !stopped_before_first_sample(&outcome, resumed_samples);
@@ -304,6 +312,39 @@ pub fn run_job(
         rendering_started,
         preview_failure,
     })
+}
+
+/// Completes the error of a render whose device failed and could not give back what it
+/// held (`Error::RenderLost`) with what is left of it: the last checkpoint this run wrote
+/// (and the `--resume` that goes on from it), the resumed checkpoint, or nothing.
+fn say_what_a_lost_render_kept(
+    error: Error,
+    options: &JobOptions,
+    checkpointed: Option<usize>,
+    resumed_samples: u32,
+) -> Error {
+    let Error::RenderLost { samples, error, .. } = error else {
+        return error;
+    };
+    let written = options.checkpoint.as_ref().zip(checkpointed);
+    let kept = match (written, &options.resume, &options.checkpoint) {
+        (Some((path, spp)), _, _) => format!(
+            "; '{}' holds the first {spp} spp: add --resume '{}' to go on from it",
+            path.display(),
+            path.display()
+        ),
+        (None, Some(resumed), _) => format!(
+            "; '{}' still holds the {resumed_samples} spp this run resumed from",
+            resumed.display()
+        ),
+        (None, None, Some(_)) => "; no checkpoint had been written yet".to_string(),
+        (None, None, None) => "; without --checkpoint nothing of it is kept".to_string(),
+    };
+    Error::RenderLost {
+        samples,
+        error,
+        kept,
+    }
 }
 
 /// Whether a render stopped (by a signal, a time limit or a failure) before taking any

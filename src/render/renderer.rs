@@ -859,7 +859,13 @@ impl Renderer {
             let checkpoint_due = due(&control.checkpoint, last_checkpoint);
             let preview_due = due(&control.preview, last_preview);
             if (checkpoint_due || preview_due) && !self.is_complete() {
-                let state = self.accumulation()?;
+                let state = match self.accumulation() {
+                    Ok(state) => state,
+                    Err(error) => {
+                        failure = Some(error);
+                        break StopReason::Failed;
+                    }
+                };
                 if let (true, Some((_, checkpoint))) = (checkpoint_due, control.checkpoint.as_mut())
                 {
                     checkpoint(&state)?;
@@ -872,7 +878,21 @@ impl Renderer {
             }
         };
         let seconds = started.elapsed().as_secs_f64();
-        let (image, state) = self.final_image()?;
+        let (image, state) = match (self.final_image(), failure) {
+            (Ok(image_and_state), failure_so_far) => {
+                failure = failure_so_far;
+                image_and_state
+            }
+            (Err(error), _) if self.samples_done == 0 => return Err(error),
+            // A device that failed (lost) cannot give back what it holds either.
+            (Err(read_back), failure) => {
+                return Err(Error::RenderLost {
+                    samples: self.samples_done,
+                    error: Box::new(failure.unwrap_or(read_back)),
+                    kept: String::new(),
+                })
+            }
+        };
         Ok(RenderOutcome {
             image,
             samples: self.samples_done,

@@ -23,6 +23,8 @@ const DROP_WAIT_SECONDS: u64 = 10;
 
 /// Fault injection for tests: `VKPATH_INJECT_FAULT=KIND:N` makes submission N (from 1, over
 /// the whole process) fail as KIND would: `device-lost`, `out-of-memory` or `fence-timeout`.
+/// A lost device stays lost, as a real one does: every later submission (a read-back
+/// included) fails too; the other two fail once.
 const FAULT_VARIABLE: &str = "VKPATH_INJECT_FAULT";
 /// Submissions so far (for fault injection).
 static SUBMISSIONS: std::sync::atomic::AtomicU64 = std::sync::atomic::AtomicU64::new(0);
@@ -33,7 +35,8 @@ fn injected_fault(device: &str) -> Option<VkError> {
     let (kind, at) = spec.split_once(':')?;
     let at: u64 = at.parse().ok()?;
     let count = SUBMISSIONS.load(std::sync::atomic::Ordering::SeqCst);
-    if count != at {
+    let lost_for_good = kind == "device-lost" && count > at;
+    if count != at && !lost_for_good {
         return None;
     }
     let device = device.to_string();

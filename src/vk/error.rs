@@ -60,7 +60,7 @@ pub enum VkError {
         error: gpu_allocator::AllocationError,
     },
     /// A submitted frame did not finish in time.
-    #[error("the device '{device}' did not finish a frame within {seconds} s (hung, or a frame too long for it); what was rendered up to the last checkpoint is kept: use fewer --samples-per-frame and --resume")]
+    #[error("the device '{device}' did not finish a frame within {seconds} s (hung, or a frame too long for it): use fewer --samples-per-frame")]
     Timeout {
         /// The device's name.
         device: String,
@@ -68,7 +68,7 @@ pub enum VkError {
         seconds: u64,
     },
     /// The device was lost (a driver crash, a GPU reset, a hang the driver gave up on).
-    #[error("the device '{0}' was lost (driver crash, GPU reset or hang); what was rendered up to the last checkpoint is kept: restart the render with --resume")]
+    #[error("the device '{0}' was lost (driver crash, GPU reset or hang)")]
     DeviceLost(String),
     /// SPIR-V that Vulkan cannot take.
     #[error("invalid SPIR-V: {0}")]
