@@ -10,7 +10,11 @@
 //
 // The stack holds node groups rather than nodes: an interior node's children that the ray
 // entered and that are still to visit, as bits 24-31 of a word whose bits 0-7 are the node's
-// inner mask, beside the index of its first interior child. A node's entered leaves form a
+// inner mask, beside the index of its first interior child. On the stack a group is one word,
+// the node's index (bits 8-31) and the children still to visit (bits 0-7); a pop fetches the
+// node's first interior child and inner mask again (cwbvh_node_group_of_entry()). Half the
+// registers of a stack of whole groups: on a GPU the stack lives in registers, and they bound
+// how many subgroups a SIMD keeps in flight. A node's entered leaves form a
 // triangle group (bits 0-23: the triangles' offsets from the node's first triangle), tested
 // before the next node. Children are visited in slot order xor the ray's octant: the builder
 // sorted the slots so that the highest bit is the child nearest along the ray's direction.
@@ -124,6 +128,22 @@ void cwbvh_intersect_node(out uvec2 out_node_group, out uvec2 out_triangle_group
     out_triangle_group = uvec2(indices.y, hits & 0x00FFFFFFu);
 }
 
+// A node group as the stack holds it: the index of the node whose group it is (bits 8-31;
+// src/bvh/compressed.rs refuses trees of CWBVH_MAX_NODE_COUNT nodes or more) and the
+// children still to visit (bits 0-7: bits 24-31 of node_group.y).
+uint cwbvh_stack_entry(uint group_node_index, uvec2 node_group) {
+    return (group_node_index << 8u) | (node_group.y >> 24u);
+}
+
+// The node group of a stack entry (cwbvh_stack_entry()): its node's first interior child and
+// inner mask fetched again, beside the children still to visit.
+uvec2 cwbvh_node_group_of_entry(uint entry) {
+    int first = CWBVH_NODE_TEXEL_COUNT * int(entry >> 8u);
+    uint inner_mask = texelFetch(g_bvh_node_texels, first).w >> 24u;
+    uint first_interior_child = texelFetch(g_bvh_node_texels, first + 1).x;
+    return uvec2(first_interior_child, (entry << 24u) | inner_mask);
+}
+
 // Most steps of one traversal: every node visited once, every triangle tested once, and a
 // pop for at most every node visit.
 uint cwbvh_step_bound() {
@@ -132,16 +152,17 @@ uint cwbvh_step_bound() {
     return 2u * node_count + triangle_count + 1u;
 }
 
-// The next node of a node group whose bits 24-31 are not all 0: clears its bit, pushes what
-// is left of the group (the stack cannot overflow: it holds one group per interior level
-// below the root, and src/bvh/compressed.rs refuses trees deeper than CWBVH_STACK_SIZE; the
-// test only keeps a malformed tree from writing out of bounds), and returns its node index.
-#define CWBVH_NEXT_NODE(node_group, octant_inverse, stack, stack_size, out_node_index) { \
+// The next node of a node group (node group_node_index's) whose bits 24-31 are not all 0:
+// clears its bit, pushes what is left of the group (the stack cannot overflow: it holds one
+// group per interior level below the root, and src/bvh/compressed.rs refuses trees deeper
+// than CWBVH_STACK_SIZE; the test only keeps a malformed tree from writing out of bounds),
+// and returns its node index.
+#define CWBVH_NEXT_NODE(node_group, group_node_index, octant_inverse, stack, stack_size, out_node_index) { \
     uint hits_inner = node_group.y; \
     uint bit = uint(findMSB(hits_inner)); \
     node_group.y &= ~(1u << bit); \
     if ((node_group.y & 0xFF000000u) != 0u && stack_size < uint(CWBVH_STACK_SIZE)) { \
-        stack[stack_size] = node_group; \
+        stack[stack_size] = cwbvh_stack_entry(group_node_index, node_group); \
         ++stack_size; \
     } \
     uint slot = (bit - 24u) ^ octant_inverse; \
@@ -165,8 +186,10 @@ bool cwbvh_closest_hit(out float out_t, out uint out_triangle_index, vec3 ray_or
     uint octant_inverse = cwbvh_octant_inverse(ray_direction);
     // The root: node 0 as the only, interior, child of a group at base 0
     uvec2 node_group = uvec2(0u, 0x80000000u);
+    // The node whose group node_group is (the root's group has none: it is never pushed)
+    uint group_node_index = 0u;
     uvec2 triangle_group = uvec2(0u);
-    uvec2 stack[CWBVH_STACK_SIZE];
+    uint stack[CWBVH_STACK_SIZE];
     uint stack_size = 0u;
     uint step_bound = cwbvh_step_bound();
     for (uint step = 0u; step != step_bound; ++step) {
@@ -194,11 +217,13 @@ bool cwbvh_closest_hit(out float out_t, out uint out_triangle_index, vec3 ray_or
                 break;
             ++g_path.traversal_iterations;
             --stack_size;
-            node_group = stack[stack_size];
+            group_node_index = stack[stack_size] >> 8u;
+            node_group = cwbvh_node_group_of_entry(stack[stack_size]);
         }
         ++g_path.traversal_iterations;
         uint node_index;
-        CWBVH_NEXT_NODE(node_group, octant_inverse, stack, stack_size, node_index)
+        CWBVH_NEXT_NODE(node_group, group_node_index, octant_inverse, stack, stack_size, node_index)
+        group_node_index = node_index;
         cwbvh_intersect_node(node_group, triangle_group, node_index, ray_origin, inverse_direction, octant_inverse, out_t);
     }
     return hit;
@@ -215,8 +240,10 @@ bool cwbvh_any_hit(vec3 ray_origin, vec3 ray_direction, float t_max) {
     vec3 inverse_direction = bvh_inverse_direction(ray_direction);
     uint octant_inverse = cwbvh_octant_inverse(ray_direction);
     uvec2 node_group = uvec2(0u, 0x80000000u);
+    // The node whose group node_group is (the root's group has none: it is never pushed)
+    uint group_node_index = 0u;
     uvec2 triangle_group = uvec2(0u);
-    uvec2 stack[CWBVH_STACK_SIZE];
+    uint stack[CWBVH_STACK_SIZE];
     uint stack_size = 0u;
     uint step_bound = cwbvh_step_bound();
     for (uint step = 0u; step != step_bound; ++step) {
@@ -237,11 +264,13 @@ bool cwbvh_any_hit(vec3 ray_origin, vec3 ray_direction, float t_max) {
                 break;
             ++g_path.traversal_iterations;
             --stack_size;
-            node_group = stack[stack_size];
+            group_node_index = stack[stack_size] >> 8u;
+            node_group = cwbvh_node_group_of_entry(stack[stack_size]);
         }
         ++g_path.traversal_iterations;
         uint node_index;
-        CWBVH_NEXT_NODE(node_group, octant_inverse, stack, stack_size, node_index)
+        CWBVH_NEXT_NODE(node_group, group_node_index, octant_inverse, stack, stack_size, node_index)
+        group_node_index = node_index;
         cwbvh_intersect_node(node_group, triangle_group, node_index, ray_origin, inverse_direction, octant_inverse, t_max);
     }
     return false;

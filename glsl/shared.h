@@ -524,6 +524,9 @@
 // below the root, so the builder refuses trees whose interior nodes lie deeper than this
 // (src/bvh/compressed.rs); obvhs itself assumes the same bound of 32.
 #define CWBVH_STACK_SIZE 32
+// Nodes a compressed tree may have: a stack entry keeps a node's index in 24 bits
+// (cwbvh_stack_entry()); the builder refuses larger trees (about 10^8 triangles and more).
+#define CWBVH_MAX_NODE_COUNT 16777216
 // 32-bit words per triangle of the compressed tree's traversal triangles: v_0, v_1, v_2, 9
 // floats packed back to back in RGBA32 texels (36 bytes instead of 48), so triangle i starts
 // at word 9 i, component (9 i) mod 4 of texel (9 i) / 4, and spans 3 texels.

@@ -8,7 +8,8 @@
 # SAME_IMAGES_SHOWCASE=FILE renders FILE in place of scenes/materials.gltf (e.g. the showcase
 # as it was before a change that adds objects to it, to prove the rest unchanged).
 # Matrix: the built-in Cornell box and tests/data/emissive_quad.gltf; every integrator; both
-# samplers (for the importance-sampled integrators); both traversals (bvh and none); both
+# samplers (for the importance-sampled integrators); the traversals (bvh, compressed-bvh with
+# the box filter, and none); both
 # pixel filters; and the workshop's exercise pictures. Then the material kernels (built
 # with USE_MATERIALS): the showcase scenes/materials.gltf with every integrator and both
 # samplers, and the scenes of scripts/make_same_images_scenes.py (glossy, textured,
@@ -36,8 +37,11 @@ for scene in builtin gltf; do
     samplers=(pcg)
     [ "$integrator" = workshop ] || samplers=(pcg sobol)
     for sampler in "${samplers[@]}"; do
-      for accel in bvh none; do
-        for filter in box center; do
+      for accel in bvh compressed-bvh none; do
+        filters=(box center)
+        # The compressed tree's traversal is the filter's business as little as the 4-wide one's
+        [ "$accel" = compressed-bvh ] && filters=(box)
+        for filter in "${filters[@]}"; do
           cases+=("$scene $integrator $sampler $accel $filter")
         done
       done

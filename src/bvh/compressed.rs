@@ -15,7 +15,7 @@ use bytemuck::{Pod, Zeroable};
 use glam::Vec3;
 
 use super::{Aabb, Bvh, GpuBvhNode};
-use crate::contract::{CWBVH_STACK_SIZE, PACKED_TRIANGLE_WORD_COUNT};
+use crate::contract::{CWBVH_MAX_NODE_COUNT, CWBVH_STACK_SIZE, PACKED_TRIANGLE_WORD_COUNT};
 use crate::scene::Triangle;
 
 /// One node of the compressed BVH as `glsl/cwbvh.glsl` reads it (`CWBVH_NODE_TEXEL_COUNT`
@@ -188,6 +188,15 @@ impl CompressedBvh {
         triangle_order: Vec<u32>,
         triangle_count: usize,
     ) -> Result<CompressedBvh, String> {
+        // A traversal's stack entry keeps a node's index in 24 bits (`cwbvh_stack_entry`)
+        if nodes.len() > CWBVH_MAX_NODE_COUNT as usize {
+            return Err(format!(
+                "the compressed BVH of these {triangle_count} triangles has {} nodes, more \
+                 than its traversal's stack entries address ({CWBVH_MAX_NODE_COUNT}); use \
+                 --accel bvh",
+                nodes.len()
+            ));
+        }
         let max_interior_depth = max_interior_depth(&nodes);
         if max_interior_depth >= CWBVH_STACK_SIZE {
             return Err(format!(

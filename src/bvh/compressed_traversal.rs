@@ -184,15 +184,38 @@ pub fn cwbvh_intersect_node(
     )
 }
 
+/// Twin of GLSL `cwbvh_stack_entry`: a node group as the stack holds it, the index of the
+/// node whose group it is (bits 8-31; `CompressedBvh` has fewer than `CWBVH_MAX_NODE_COUNT`
+/// nodes) and the children still to visit (bits 0-7: bits 24-31 of `node_group[1]`).
+pub fn cwbvh_stack_entry(group_node_index: u32, node_group: [u32; 2]) -> u32 {
+    (group_node_index << 8) | (node_group[1] >> 24)
+}
+
+/// Twin of GLSL `cwbvh_node_group_of_entry`: the node group of a stack entry, its node's first
+/// interior child and inner mask read again beside the children still to visit.
+///
+/// # Panics
+/// If the entry's node is out of range.
+pub fn cwbvh_node_group_of_entry(nodes: &[GpuCompressedBvhNode], entry: u32) -> [u32; 2] {
+    let node = &nodes[(entry >> 8) as usize];
+    [
+        node.child_base,
+        (entry << 24) | u32::from(node.inner_mask()),
+    ]
+}
+
 /// The state of a compressed traversal: the node group and triangle group in hand and the
 /// stack of node groups (GLSL: locals of `cwbvh_closest_hit` and `cwbvh_any_hit`).
 struct Groups {
     /// x: the first interior child's node index; y: bits 24-31 the children still to visit
     /// (slot ^ octant), bits 0-7 the node's inner mask.
     node_group: [u32; 2],
+    /// The node whose group `node_group` is (the root's group has none: it is never pushed).
+    group_node_index: u32,
     /// x: the first triangle; y: bits 0-23 the triangles still to test (offsets from x).
     triangle_group: [u32; 2],
-    stack: [[u32; 2]; STACK_SIZE],
+    /// Node groups as `cwbvh_stack_entry` packs them.
+    stack: [u32; STACK_SIZE],
     stack_size: usize,
 }
 
@@ -201,8 +224,9 @@ impl Groups {
         Groups {
             // The root: node 0 as the only child, interior, of a node group at base 0
             node_group: [0, 0x8000_0000],
+            group_node_index: 0,
             triangle_group: [0, 0],
-            stack: [[0; 2]; STACK_SIZE],
+            stack: [0; STACK_SIZE],
             stack_size: 0,
         }
     }
@@ -220,30 +244,34 @@ impl Groups {
 
     /// A node group with nodes left: the one in hand, else one popped from the stack
     /// (`false` when that is empty: the traversal ends).
-    fn node_group_with_nodes(&mut self) -> bool {
+    fn node_group_with_nodes(&mut self, nodes: &[GpuCompressedBvhNode]) -> bool {
         if self.node_group[1] & NODE_HITS == 0 {
             if self.stack_size == 0 {
                 return false;
             }
             self.stack_size -= 1;
-            self.node_group = self.stack[self.stack_size];
+            self.group_node_index = self.stack[self.stack_size] >> 8;
+            self.node_group = cwbvh_node_group_of_entry(nodes, self.stack[self.stack_size]);
         }
         true
     }
 
     /// Twin of GLSL `CWBVH_NEXT_NODE`: the next node of the node group in hand (which has
-    /// nodes left), pushing what is left of the group.
+    /// nodes left), pushing what is left of the group; the node's group comes next (GLSL:
+    /// `group_node_index = node_index` after the macro).
     fn next_node(&mut self, octant_inverse: u32) -> u32 {
         let hits_inner = self.node_group[1];
         let bit = 31 - hits_inner.leading_zeros();
         self.node_group[1] &= !(1u32 << bit);
         if self.node_group[1] & NODE_HITS != 0 && self.stack_size < STACK_SIZE {
-            self.stack[self.stack_size] = self.node_group;
+            self.stack[self.stack_size] = cwbvh_stack_entry(self.group_node_index, self.node_group);
             self.stack_size += 1;
         }
         let slot = (bit - 24) ^ octant_inverse;
         let below = hits_inner & ((1u32 << slot) - 1);
-        self.node_group[0] + below.count_ones()
+        let node_index = self.node_group[0] + below.count_ones();
+        self.group_node_index = node_index;
+        node_index
     }
 }
 
@@ -294,7 +322,7 @@ pub fn cwbvh_closest_hit(
                 }
             }
         }
-        if !groups.node_group_with_nodes() {
+        if !groups.node_group_with_nodes(nodes) {
             break;
         }
         let index = groups.next_node(octant_inverse);
@@ -344,7 +372,7 @@ pub fn cwbvh_any_hit(
                 }
             }
         }
-        if !groups.node_group_with_nodes() {
+        if !groups.node_group_with_nodes(nodes) {
             break;
         }
         let index = groups.next_node(octant_inverse);
