@@ -17,9 +17,8 @@ use crate::error::{Error, Result};
 use crate::guiding::training::GUIDE_TRAINING_FIRST_SAMPLE;
 use crate::guiding::{Guide, GuideGrid};
 use crate::image_io::data::RenderedImage;
-use crate::kernels::variant::{
-    constant_triangle_specialization, path_tracer_variant, KernelSource, Traversal,
-};
+use crate::kernels::specialization::{path_tracer_specialization, SpecializationParts};
+use crate::kernels::variant::{path_tracer_variant, KernelSource, Traversal};
 use crate::kernels::{Bound, KernelPipeline, Resource, PATH_TRACER};
 use crate::render::accumulation::Accumulation;
 use crate::render::adaptive::NoiseThreshold;
@@ -354,18 +353,17 @@ impl Renderer {
         let build = variant.build;
         let guiding = settings.guiding.is_some();
         let budget = LoopBudget::of(context, &settings, scene, &gpu_scene, traversal)?;
-        let mut specialization = settings.specialization();
-        specialization.extend(constant_triangle_specialization(
+        let settings_specialization = settings.specialization();
+        let (loop_limit, loops) = budget.limit_and_loops();
+        let parts = SpecializationParts {
+            settings: &settings_specialization,
             traversal,
-            &scene.triangles,
-        ));
-        specialization.extend_from_slice(&variant.specialization);
-        specialization.extend(budget.specialization());
-        let specialization_with = |guiding_value| {
-            let mut all = specialization.clone();
-            all.push((contract::SPEC_GUIDING, guiding_value));
-            all
+            triangles: &scene.triangles,
+            variant: &variant,
+            loop_limit,
+            loops,
         };
+        let specialization_with = |guiding_value| path_tracer_specialization(&parts, guiding_value);
         let guide_buffers = if guiding {
             GuideBuffers::guided(
                 context,
