@@ -13,7 +13,8 @@ use std::path::Path;
 
 use clap::ValueEnum;
 use vkpath::kernels::loops::LoopCoefficients;
-use vkpath::kernels::variant::{constant_triangle_specialization, Traversal};
+use vkpath::kernels::specialization::{path_tracer_specialization, SpecializationParts};
+use vkpath::kernels::variant::Traversal;
 use vkpath::kernels::PATH_TRACER;
 use vkpath::render::gpu_scene::host_variant;
 use vkpath::vk::{Context, ContextOptions};
@@ -64,18 +65,17 @@ fn run() -> Result<(), Box<dyn std::error::Error>> {
             ..Default::default()
         };
         let variant = host_variant(&scene, &settings, traversal)?;
-        let mut specialization = settings.specialization();
-        specialization.extend(constant_triangle_specialization(
-            traversal,
-            &scene.triangles,
-        ));
-        specialization.extend_from_slice(&variant.specialization);
-        // A GPU's loop budget: no limit (`LoopBudget`).
-        specialization.push((contract::SPEC_LOOP_LIMIT, 0));
         let materials = scene.needs_material_kernels() || scene.materials.is_some();
-        specialization
-            .extend(LoopCoefficients::path_tracer(traversal, false, materials).specialization());
-        specialization.push((contract::SPEC_GUIDING, contract::GUIDING_OFF));
+        let parts = SpecializationParts {
+            settings: &settings.specialization(),
+            traversal,
+            triangles: &scene.triangles,
+            variant: &variant,
+            // A GPU's loop budget: no limit (`LoopBudget`).
+            loop_limit: 0,
+            loops: LoopCoefficients::path_tracer(traversal, false, materials),
+        };
+        let specialization = path_tracer_specialization(&parts, contract::GUIDING_OFF);
         let spirv = variant.build.embedded_spirv()?;
         eprintln!("kernel: {name} {} {}", variant.build.name, traversal.name());
         PATH_TRACER.pipeline(&context, &variant.build, &spirv, &specialization)?;

@@ -12,6 +12,7 @@ pub mod loops;
 pub mod push_constants;
 pub mod reflect;
 pub mod scan;
+pub mod specialization;
 pub mod variant;
 
 use std::sync::Arc;

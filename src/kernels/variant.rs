@@ -7,7 +7,7 @@
 //!
 //! The render-wide constants that do not depend on the scene (path length, integrator,
 //! sampler: `RenderSettings::specialization`) and those of the loop budget
-//! (`crate::kernels::loops`) are added by the renderer.
+//! (`crate::kernels::loops`) join the variant's in `crate::kernels::specialization`.
 
 use crate::contract;
 use crate::error::Result;

@@ -32,6 +32,9 @@ use crate::scene::materials::SceneMaterials;
 use crate::scene::{Scene, Triangle};
 use crate::vk::{Buffer, CommandRunner, Context, TexelBufferView, VkResult};
 
+mod upload_digest;
+pub use upload_digest::UploadDigest;
+
 /// Whether a render of `scene` with `settings` can take the lean builds of the path tracer
 /// (`crate::kernels::variant::fits_lean_builds`: no light tree, no path guiding, no
 /// environment map to sample).
@@ -261,6 +264,16 @@ impl SceneMemory {
     }
 }
 
+/// The materials of `scene_materials` as the kernels read them, their textures' texels in
+/// `atlas`.
+fn gpu_materials(scene_materials: &SceneMaterials, atlas: &TextureAtlas) -> Vec<GpuMaterial> {
+    scene_materials
+        .materials
+        .iter()
+        .map(|m| GpuMaterial::new(m, scene_materials, atlas))
+        .collect()
+}
+
 /// The buffers of `glsl/materials.glsl`.
 struct MaterialBuffers {
     shading: TexelBufferView,
@@ -299,11 +312,7 @@ impl MaterialBuffers {
                 memory >> 20
             )));
         }
-        let gpu_materials: Vec<GpuMaterial> = scene_materials
-            .materials
-            .iter()
-            .map(|m| GpuMaterial::new(m, scene_materials, &atlas))
-            .collect();
+        let gpu_materials = gpu_materials(scene_materials, &atlas);
         let texture_buffer = Buffer::device_local_with_data(
             context,
             commands,

@@ -17,9 +17,8 @@ use crate::error::{Error, Result};
 use crate::guiding::training::GUIDE_TRAINING_FIRST_SAMPLE;
 use crate::guiding::{Guide, GuideGrid};
 use crate::image_io::data::RenderedImage;
-use crate::kernels::variant::{
-    constant_triangle_specialization, path_tracer_variant, KernelSource, Traversal,
-};
+use crate::kernels::specialization::{path_tracer_specialization, SpecializationParts};
+use crate::kernels::variant::{path_tracer_variant, KernelSource, Traversal};
 use crate::kernels::{Bound, KernelPipeline, Resource, PATH_TRACER};
 use crate::render::accumulation::Accumulation;
 use crate::render::adaptive::NoiseThreshold;
@@ -30,7 +29,7 @@ use crate::render::region::{PixelRegion, ACCUMULATION_BYTES_PER_PIXEL, ACCUMULAT
 use crate::render::sequence::{AccumulationImages, SequenceCache, UploadKey};
 use crate::render::settings::RenderSettings;
 use crate::render::tiles::{
-    area_texel_count, scene_bytes, tile_layout, TileDevice, TileOrder, Tiles,
+    area_texel_count, scene_bytes, tile_layout, TileDevice, Tiles, TilesEnd,
 };
 use crate::scene::Scene;
 use crate::vk::{Buffer, CommandRunner, Context, DescriptorSet, StorageImage};
@@ -354,18 +353,17 @@ impl Renderer {
         let build = variant.build;
         let guiding = settings.guiding.is_some();
         let budget = LoopBudget::of(context, &settings, scene, &gpu_scene, traversal)?;
-        let mut specialization = settings.specialization();
-        specialization.extend(constant_triangle_specialization(
+        let settings_specialization = settings.specialization();
+        let (loop_limit, loops) = budget.limit_and_loops();
+        let parts = SpecializationParts {
+            settings: &settings_specialization,
             traversal,
-            &scene.triangles,
-        ));
-        specialization.extend_from_slice(&variant.specialization);
-        specialization.extend(budget.specialization());
-        let specialization_with = |guiding_value| {
-            let mut all = specialization.clone();
-            all.push((contract::SPEC_GUIDING, guiding_value));
-            all
+            triangles: &scene.triangles,
+            variant: &variant,
+            loop_limit,
+            loops,
         };
+        let specialization_with = |guiding_value| path_tracer_specialization(&parts, guiding_value);
         let guide_buffers = if guiding {
             GuideBuffers::guided(
                 context,
@@ -509,9 +507,10 @@ impl Renderer {
     /// Reads the raw accumulation state back (for a checkpoint or a shard), and updates
     /// `rays_traced`.
     pub fn accumulation(&mut self) -> Result<Accumulation> {
-        let texels = match self.tiles.as_mut().map(|tiles| &mut tiles.order) {
-            Some(TileOrder::EveryFrame(whole)) => whole.state(&self.settings, self.area)?.clone(),
-            Some(TileOrder::OneAtATime(_)) => return Err(no_whole_state("read back")),
+        let texels = match self.tiles.as_mut() {
+            Some(tiles) => tiles
+                .whole_state(&self.settings, self.area, "read back")?
+                .clone(),
             None => self.read_texels()?,
         };
         let pixels = self.area.width() as usize * self.area.height() as usize;
@@ -565,12 +564,9 @@ impl Renderer {
             )));
         }
         if let Some(tiles) = self.tiles.as_mut() {
-            match &mut tiles.order {
-                TileOrder::EveryFrame(whole) => whole
-                    .state(&self.settings, self.area)?
-                    .copy_from_slice(&state.texels),
-                TileOrder::OneAtATime(_) => return Err(no_whole_state("resume into")),
-            }
+            tiles
+                .whole_state(&self.settings, self.area, "resume into")?
+                .copy_from_slice(&state.texels);
         } else {
             let upload = Buffer::with_data(
                 &self.context,
@@ -677,14 +673,7 @@ impl Renderer {
         self.commands
             .run(|recorder| recorder.clear_storage_image(image))?;
         if let Some(tiles) = self.tiles.as_mut() {
-            match &mut tiles.order {
-                TileOrder::EveryFrame(whole) => {
-                    whole.state(&self.settings, self.area)?.fill([0.0; 4])
-                }
-                TileOrder::OneAtATime(_) => {
-                    tiles.go_tile_by_tile(&self.settings, self.area)?;
-                }
-            }
+            tiles.clear(&self.settings, self.area)?;
         }
         self.samples_done = 0;
         Ok(())
@@ -916,22 +905,13 @@ impl Renderer {
     /// The image at the end of a render and, unless it went tile by tile, its state (a
     /// render going tile by tile hands its image out: it holds none after).
     fn final_image(&mut self) -> Result<(RenderedImage, Option<Accumulation>)> {
-        match self.tiles.as_mut().map(|tiles| &mut tiles.order) {
-            Some(TileOrder::OneAtATime(order)) => {
-                if order.flagged > 0 {
-                    let flagged = order.flagged;
-                    return Err(self.loop_limit_error(flagged));
-                }
-                self.rays_traced = order.rays;
-                Ok((order.take_image()?, None))
+        match self.tiles.as_mut().map(Tiles::end).transpose()? {
+            Some(TilesEnd::Image { image, rays }) => {
+                self.rays_traced = rays;
+                Ok((image, None))
             }
-            Some(TileOrder::EveryFrame(whole)) => {
-                // The batch's new state is not needed to hand out the state.
-                whole.drop_next();
-                let state = self.accumulation()?;
-                Ok((state.image(), Some(state)))
-            }
-            None => {
+            Some(TilesEnd::CutPaths(flagged)) => Err(self.loop_limit_error(flagged)),
+            Some(TilesEnd::WholeState) | None => {
                 let state = self.accumulation()?;
                 Ok((state.image(), Some(state)))
             }
@@ -995,14 +975,6 @@ fn accumulation_images(
         readback,
         tile_upload,
     })
-}
-
-/// The error of asking a render going tile by tile for `what` of the whole image.
-fn no_whole_state(what: &str) -> Error {
-    Error::InvalidSettings(format!(
-        "a render finished tile by tile holds no state of the whole image to {what}: render \
-         without Renderer::tile_by_tile"
-    ))
 }
 
 /// Checks what a render needs before anything is allocated: valid settings, an image

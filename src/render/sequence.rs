@@ -3,8 +3,8 @@
 //! their build and specialization constants (a frame whose variant is unchanged takes the
 //! same pipeline; a flag that flips builds the other one, once), the accumulation image
 //! with its read-back and tile-upload buffers (cleared by every render), and the uploaded
-//! scene when the next scene uploads the same data (a static scene, or a camera flight):
-//! then only the render uniforms (the camera) are written again. A scene whose geometry
+//! scene when the next scene's upload would write the same words (the same `UploadDigest`:
+//! a static scene, or a camera flight; the scene itself is not kept): then only the render uniforms (the camera) are written again. A scene whose geometry
 //! moved is uploaded afresh, BVH built anew: a refitted BVH would have other bounds and
 //! another leaf order than the rebuilt one (the triangles, shading data and light indices
 //! are stored in that order), so its images would not be those of a render of that frame
@@ -14,11 +14,9 @@ use std::sync::Arc;
 
 use crate::kernels::variant::Traversal;
 use crate::kernels::{Build, KernelPipeline};
-use crate::lights::gpu_punctual::gpu_punctual_light_words;
-use crate::render::gpu_scene::GpuScene;
+use crate::render::gpu_scene::{GpuScene, UploadDigest};
 use crate::render::settings::{Accel, LightSelection, RenderSettings};
-use crate::scene::materials::SceneMaterials;
-use crate::scene::{Scene, Triangle};
+use crate::scene::Scene;
 use crate::vk::{Buffer, StorageImage};
 
 /// Pipelines a sequence keeps at most (the most recently used): a sequence whose variant
@@ -97,10 +95,11 @@ pub(crate) struct AccumulationImages {
     pub tile_upload: Option<Buffer>,
 }
 
-/// A scene upload and what decides it: the scene's data (camera aside) and the settings
-/// that `GpuScene::upload` reads besides the camera's image plane.
+/// A scene upload and what decides it: the digest of the words it wrote
+/// (`UploadDigest`: the scene's data, camera aside) and the settings that `GpuScene::upload`
+/// reads besides the camera's image plane.
 struct UploadedScene {
-    scene: Scene,
+    digest: UploadDigest,
     key: UploadKey,
     /// `None` while a renderer holds it (or after a render that failed).
     gpu: Option<GpuScene>,
@@ -178,12 +177,13 @@ impl SequenceCache {
         fits.then_some(images)
     }
 
-    /// The kept upload of a scene with the same data as `scene` for `key`, if there is one;
-    /// otherwise remembers `scene` and `key` for the upload the caller makes (and frees the
-    /// kept one).
+    /// The kept upload of a scene whose upload writes the same words as `scene`'s for
+    /// `key` (the same `UploadDigest`), if there is one; otherwise remembers the digest and
+    /// `key` for the upload the caller makes (and frees the kept one).
     pub(crate) fn take_scene(&mut self, scene: &Scene, key: UploadKey) -> Option<GpuScene> {
-        if let Some(kept) = self.scene.as_mut() {
-            if kept.key == key && same_scene_data(&kept.scene, scene) {
+        let digest = UploadDigest::of(scene, key.traversal);
+        if let (Some(kept), Some(digest)) = (self.scene.as_mut(), digest) {
+            if kept.key == key && kept.digest == digest {
                 let gpu = kept.gpu.take();
                 if gpu.is_some() {
                     self.reused.scenes += 1;
@@ -191,8 +191,8 @@ impl SequenceCache {
                 return gpu;
             }
         }
-        self.scene = Some(UploadedScene {
-            scene: scene_data(scene),
+        self.scene = digest.map(|digest| UploadedScene {
+            digest,
             key,
             gpu: None,
         });
@@ -208,142 +208,20 @@ impl SequenceCache {
     }
 }
 
-/// What of `scene` an upload reads (`GpuScene::upload`): all of it but its cameras and
-/// warnings.
-fn scene_data(scene: &Scene) -> Scene {
-    Scene {
-        camera: None,
-        cameras: Vec::new(),
-        warnings: Vec::new(),
-        ..scene.clone()
-    }
-}
-
-/// Whether `GpuScene::upload` uploads the same bytes for `a` as for `b`: their triangles and
-/// per-vertex shading data are the same bit for bit (what moves with a skin, a morph target
-/// or a node), and their materials, textures, lights, environment and mesh copies compare
-/// equal (`PartialEq`: they do not depend on the time, and a sequence reads them from the
-/// same file with the same bits); punctual lights, which nodes move, by the words their
-/// upload writes (`gpu_punctual_light_words`).
-pub(crate) fn same_scene_data(a: &Scene, b: &Scene) -> bool {
-    same_triangles(&a.triangles, &b.triangles)
-        && same_materials(a.materials.as_ref(), b.materials.as_ref())
-        && gpu_punctual_light_words(&a.punctual_lights)
-            == gpu_punctual_light_words(&b.punctual_lights)
-        && a.environment == b.environment
-        && a.mesh_instances.len() == b.mesh_instances.len()
-        && a.mesh_instances
-            .iter()
-            .zip(&b.mesh_instances)
-            .all(|(x, y)| {
-                x.first_triangle == y.first_triangle
-                    && bits(x.object_to_world.to_cols_array())
-                        == bits(y.object_to_world.to_cols_array())
-                    && (Arc::ptr_eq(&x.object_positions, &y.object_positions)
-                        || x.object_positions.len() == y.object_positions.len()
-                            && x.object_positions
-                                .iter()
-                                .zip(y.object_positions.iter())
-                                .all(|(p, q)| {
-                                    p.iter()
-                                        .zip(q)
-                                        .all(|(u, v)| bits(u.to_array()) == bits(v.to_array()))
-                                }))
-            })
-}
-
-/// The bits of some floats (so that 0 and -0 differ, and a NaN equals itself).
-fn bits<const N: usize>(values: [f32; N]) -> [u32; N] {
-    values.map(f32::to_bits)
-}
-
-/// Whether two triangle lists are the same bit for bit.
-fn same_triangles(a: &[Triangle], b: &[Triangle]) -> bool {
-    let key = |t: &Triangle| {
-        let p = t.positions;
-        (
-            [
-                bits(p[0].to_array()),
-                bits(p[1].to_array()),
-                bits(p[2].to_array()),
-                bits(t.normal.to_array()),
-                bits(t.color.to_array()),
-                bits(t.emission.to_array()),
-            ],
-            t.double_sided,
-        )
-    };
-    a.len() == b.len() && a.iter().zip(b).all(|(x, y)| key(x) == key(y))
-}
-
-/// Whether two scenes' materials are the same: per-vertex shading data bit for bit,
-/// materials and textures equal.
-fn same_materials(a: Option<&SceneMaterials>, b: Option<&SceneMaterials>) -> bool {
-    let (a, b) = match (a, b) {
-        (None, None) => return true,
-        (Some(a), Some(b)) => (a, b),
-        _ => return false,
-    };
-    let shading_bits = |s: &crate::scene::materials::TriangleShading| {
-        let mut words = vec![s.material];
-        for i in 0..3 {
-            words.extend(bits(s.normals[i].to_array()));
-            words.extend(bits(s.tex_coords[i].to_array()));
-            words.extend(bits(s.tangents[i].to_array()));
-        }
-        words
-    };
-    a.materials == b.materials
-        && a.textures == b.textures
-        && a.triangles.len() == b.triangles.len()
-        && a.triangles
-            .iter()
-            .zip(&b.triangles)
-            .all(|(x, y)| shading_bits(x) == shading_bits(y))
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
-    use glam::Vec3;
-
-    fn scene(x: f32) -> Scene {
-        let triangle = Triangle::new(
-            [Vec3::new(x, 0.0, 0.0), Vec3::X, Vec3::Y],
-            Vec3::splat(0.5),
-            Vec3::ZERO,
-            false,
-        )
-        .unwrap();
-        Scene {
-            triangles: vec![triangle],
-            ..Scene::default()
-        }
-    }
 
     #[test]
-    fn scenes_are_the_same_only_bit_for_bit() {
-        assert!(same_scene_data(&scene(0.0), &scene(0.0)));
-        // 0 and -0 compare equal as floats, but are other bits on the device.
-        assert!(!same_scene_data(&scene(0.0), &scene(-0.0)));
-        assert!(!same_scene_data(&scene(0.0), &scene(0.25)));
-        let mut lit = scene(0.0);
-        lit.triangles[0].emission = Vec3::ONE;
-        assert!(!same_scene_data(&scene(0.0), &lit));
-        let mut shaded = scene(0.0);
-        shaded.materials = Some(SceneMaterials::from_plain(&shaded.triangles));
-        assert!(!same_scene_data(&scene(0.0), &shaded));
-        assert!(same_scene_data(&shaded, &shaded.clone()));
-    }
-
-    #[test]
-    fn a_camera_alone_keeps_the_upload_key() {
-        let mut moved = scene(0.0);
-        moved.warnings.push("a camera moved".into());
-        assert!(same_scene_data(&scene_data(&scene(0.0)), &moved));
+    fn a_traversal_or_a_setting_changes_the_upload_key() {
         let settings = RenderSettings::default();
         let key = UploadKey::new(&settings, Traversal::Bvh);
         assert_eq!(key, UploadKey::new(&settings, Traversal::Bvh));
         assert_ne!(key, UploadKey::new(&settings, Traversal::Linear));
+        let guided = RenderSettings {
+            guiding: Some(crate::guiding::training::GuideTraining { samples: 8 }),
+            ..settings.clone()
+        };
+        assert_ne!(key, UploadKey::new(&guided, Traversal::Bvh));
     }
 }

@@ -14,7 +14,7 @@ use crate::vk::Context;
 
 mod order;
 
-pub(crate) use order::{TileDevice, TileOrder, Tiles};
+pub(crate) use order::{TileDevice, Tiles, TilesEnd};
 
 /// Device bytes of the scene's buffers: the triangles (96 bytes each), with a BVH their
 /// positions again for the traversal (48 bytes each) and at most 1 wide node per triangle

@@ -56,12 +56,11 @@ impl LoopBudget {
         })
     }
 
-    /// The kernel's specialization constants of the budget: the limit
-    /// (`SPEC_LOOP_LIMIT`), then the loops' coefficients.
-    pub(super) fn specialization(&self) -> Vec<(u32, u32)> {
-        let mut constants = vec![(contract::SPEC_LOOP_LIMIT, self.limit.0)];
-        constants.extend_from_slice(&self.loops.specialization());
-        constants
+    /// The device's loop limit (`SPEC_LOOP_LIMIT`; 0: none) and the kernel's loop
+    /// coefficients, as the path tracer's specialization takes them
+    /// (`crate::kernels::specialization::SpecializationParts`).
+    pub(super) fn limit_and_loops(&self) -> (u32, LoopCoefficients) {
+        (self.limit.0, self.loops)
     }
 }
 

@@ -13,16 +13,35 @@ use crate::render::region::PixelRegion;
 use crate::render::settings::RenderSettings;
 use crate::vk::{Buffer, CommandRunner, Recorder, StorageImage};
 
-/// A render in tiles: the device's accumulation image holds one tile at a time.
+/// A render in tiles: the device's accumulation image holds one tile at a time. The
+/// renderer asks it, and names no order.
 pub(crate) struct Tiles {
     /// The tiles, row by row; the accumulation image is as large as the first.
-    pub(crate) list: Vec<PixelRegion>,
+    list: Vec<PixelRegion>,
     /// The order the tiles take their samples in, and what the host holds meanwhile.
-    pub(crate) order: TileOrder,
+    order: TileOrder,
+}
+
+/// What a render in tiles holds at its end (`Tiles::end`).
+pub(crate) enum TilesEnd {
+    /// The tiles were finished one at a time: the image (handed out, the tiles hold none
+    /// after) and the rays they traced.
+    Image {
+        /// The finished tiles' pixels.
+        image: RenderedImage,
+        /// Rays traced by the finished tiles.
+        rays: f64,
+    },
+    /// The tiles were finished one at a time, but the loop limit may have cut paths short
+    /// in this many pixels.
+    CutPaths(usize),
+    /// The frames visited every tile: the whole area's state (`Tiles::whole_state`) holds
+    /// the samples.
+    WholeState,
 }
 
 /// The order in which the tiles of a render take their samples.
-pub(crate) enum TileOrder {
+enum TileOrder {
     /// Every frame visits every tile (a render in tiles unless told otherwise): the host
     /// holds the whole area's state, so checkpoints, resuming, time limits and previews
     /// work as without tiles.
@@ -36,7 +55,7 @@ pub(crate) enum TileOrder {
 /// each tile's state, adds its samples and reads it back into `next`, which becomes the
 /// state once every tile has its samples (the two are swapped, not copied), so that a
 /// failure halfway leaves the state as the samples of whole batches say.
-pub(crate) struct WholeState {
+struct WholeState {
     /// The state of the whole area, as `Accumulation::texels` lays it out; empty until
     /// first used (`state`), so that a render that goes tile by tile never allocates it.
     state: Vec<[f32; 4]>,
@@ -49,18 +68,18 @@ pub(crate) struct WholeState {
 /// A render finishing its tiles one at a time, for `TileOrder::OneAtATime`: the device's
 /// image keeps the tile's state from batch to batch, and once the tile has every sample it
 /// is read back, its pixels are resolved into `image` and the next tile starts from zero.
-pub(crate) struct TileByTile {
+struct TileByTile {
     /// The tile taking samples (an index into the list; its length once all are done).
     index: usize,
     /// Samples each pixel of that tile has taken.
-    pub(crate) samples: u32,
+    samples: u32,
     /// The image, with the finished tiles' pixels (the others have none); `None` once
     /// handed out (`take_image`).
     image: Option<RenderedImage>,
     /// Rays traced by the finished tiles.
-    pub(crate) rays: f64,
+    rays: f64,
     /// Pixels of the finished tiles whose paths the loop limit may have cut short.
-    pub(crate) flagged: usize,
+    flagged: usize,
 }
 
 /// What a batch over the tiles needs of the renderer.
@@ -123,6 +142,54 @@ impl Tiles {
         Ok(())
     }
 
+    /// The state of the whole area (allocated, zero, at first use after checking that it
+    /// fits the host's memory); an error for tiles finished one at a time, which hold none
+    /// (`doing`: what the caller would do with it, for the message).
+    pub(crate) fn whole_state(
+        &mut self,
+        settings: &RenderSettings,
+        area: PixelRegion,
+        doing: &str,
+    ) -> Result<&mut Vec<[f32; 4]>> {
+        match &mut self.order {
+            TileOrder::EveryFrame(whole) => whole.state(settings, area),
+            TileOrder::OneAtATime(_) => Err(no_whole_state(doing)),
+        }
+    }
+
+    /// Zeroes what the host holds of the samples: the whole area's state, or the finished
+    /// image and the current tile when finished one at a time (which start again at the
+    /// first tile).
+    pub(crate) fn clear(&mut self, settings: &RenderSettings, area: PixelRegion) -> Result<()> {
+        match &mut self.order {
+            TileOrder::EveryFrame(whole) => {
+                whole.state(settings, area)?.fill([0.0; 4]);
+                Ok(())
+            }
+            TileOrder::OneAtATime(_) => self.go_tile_by_tile(settings, area),
+        }
+    }
+
+    /// What the tiles hold at the render's end: tiles finished one at a time hand out
+    /// their image; tiles whose frames visited every tile free the last batch's new state
+    /// (the state is what a render hands out).
+    pub(crate) fn end(&mut self) -> Result<TilesEnd> {
+        match &mut self.order {
+            TileOrder::OneAtATime(order) if order.flagged > 0 => {
+                Ok(TilesEnd::CutPaths(order.flagged))
+            }
+            TileOrder::OneAtATime(order) => {
+                let rays = order.rays;
+                let image = order.take_image()?;
+                Ok(TilesEnd::Image { image, rays })
+            }
+            TileOrder::EveryFrame(whole) => {
+                whole.drop_next();
+                Ok(TilesEnd::WholeState)
+            }
+        }
+    }
+
     /// Samples each pixel being rendered holds: every pixel's (`every_pixel`, what a render
     /// in tiles visited each frame holds), or the current tile's when finished one by one.
     pub(crate) fn samples_of_current_pixels(&self, every_pixel: u32) -> u32 {
@@ -178,7 +245,7 @@ impl Tiles {
 impl WholeState {
     /// The state of the whole area, allocated (zero) at first use after checking that it
     /// fits the host's memory.
-    pub(crate) fn state(
+    fn state(
         &mut self,
         settings: &RenderSettings,
         area: PixelRegion,
@@ -232,7 +299,7 @@ impl WholeState {
 
     /// Frees the batch's new state (after the last batch: it is allocated again if another
     /// comes).
-    pub(crate) fn drop_next(&mut self) {
+    fn drop_next(&mut self) {
         self.next = Vec::new();
     }
 }
@@ -316,11 +383,20 @@ impl TileByTile {
     }
 
     /// The image (once: the render holds none after it).
-    pub(crate) fn take_image(&mut self) -> Result<RenderedImage> {
+    fn take_image(&mut self) -> Result<RenderedImage> {
         self.image.take().ok_or_else(|| {
             Error::InvalidSettings("the render's image was already handed out".into())
         })
     }
+}
+
+/// The error of a render finished tile by tile asked for the whole image's state, to do
+/// `what` with it.
+fn no_whole_state(what: &str) -> Error {
+    Error::InvalidSettings(format!(
+        "a render finished tile by tile holds no state of the whole image to {what}: render \
+         without Renderer::tile_by_tile"
+    ))
 }
 
 #[cfg(test)]

@@ -1,0 +1,190 @@
+//! What a scene's upload is made of, as one digest (`UploadDigest`): a sequence of renders
+//! (`crate::render::sequence`) keeps the upload while the next scene's digest is the same,
+//! without keeping the scene itself (a copy of a scene of 10^6 triangles takes ~200 MB).
+//!
+//! The digest hashes the words `GpuScene::upload` writes, or the words it derives the rest
+//! from, made by the functions the upload makes them with, in the scene's order: every
+//! `GpuTriangle` (the BVH, the traversal's triangles, the emissive lights, their selection
+//! words and light tree are functions of these and of the settings in the sequence's
+//! `UploadKey`); the material kernels' shading, material and texture words; the environment's
+//! and punctual lights' words; and with ray queries the acceleration structures' plan. Two
+//! scenes with the same digest therefore get the same upload, whatever else differs in them.
+
+use sha2::{Digest, Sha256};
+
+use super::{gpu_materials, kernel_materials};
+use crate::accel::plan::StructurePlan;
+use crate::kernels::variant::Traversal;
+use crate::lights::gpu_environment::gpu_environment_words;
+use crate::lights::gpu_punctual::gpu_punctual_light_words;
+use crate::render::gpu_materials::{material_texel_words, GpuTriangleShading};
+use crate::render::gpu_textures::TextureAtlas;
+use crate::render::gpu_types::GpuTriangle;
+use crate::scene::Scene;
+
+/// The SHA-256 digest of what `GpuScene::upload` writes for a scene, the render uniforms
+/// (camera, image size, seed) aside. SHA-256 is collision resistant: two scenes that upload
+/// different words get the same digest with a probability of about 2^-256 (2^-128 among
+/// every pair of a sequence of 2^64 scenes), so a sequence that reuses an upload by its
+/// digest renders the image a fresh upload would.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct UploadDigest([u8; 32]);
+
+/// Items hashed at once: their words go to the hasher in one slice, without a copy of the
+/// whole scene's words.
+const CHUNK: usize = 4096;
+
+/// A SHA-256 hasher of parts, each prefixed by its length in bytes, so that no two lists
+/// of parts give the same stream.
+struct Parts(Sha256);
+
+impl Parts {
+    /// Hashes one part: `bytes`.
+    fn part(&mut self, bytes: &[u8]) {
+        self.0.update((bytes.len() as u64).to_le_bytes());
+        self.0.update(bytes);
+    }
+
+    /// Hashes one part: the words `words` makes of each of `items`, in their order (chunk by
+    /// chunk).
+    fn words_of<T, W: bytemuck::Pod>(&mut self, items: &[T], words: impl Fn(&T) -> W) {
+        let bytes = items.len() as u64 * std::mem::size_of::<W>() as u64;
+        self.0.update(bytes.to_le_bytes());
+        let mut chunk = Vec::with_capacity(CHUNK.min(items.len()));
+        for items in items.chunks(CHUNK) {
+            chunk.clear();
+            chunk.extend(items.iter().map(&words));
+            self.0.update(bytemuck::cast_slice(&chunk));
+        }
+    }
+}
+
+impl UploadDigest {
+    /// The digest of what `GpuScene::upload` writes for `scene` traced by `traversal`;
+    /// `None` where the upload would fail on the scene's own data (textures beyond the 2^32
+    /// texels an atlas can index), which is then never kept.
+    pub fn of(scene: &Scene, traversal: Traversal) -> Option<UploadDigest> {
+        // Every field by name: a field added to `Scene` does not compile here until it is
+        // hashed, or said to be none of the upload's.
+        let Scene {
+            triangles,
+            // The render uniforms, written for every render (`GpuScene::aim`)
+            camera: _,
+            cameras: _,
+            warnings: _,
+            // Read as the kernels read them (`kernel_materials`)
+            materials: _,
+            punctual_lights,
+            environment,
+            // Read by the structures' plan
+            mesh_instances,
+        } = scene;
+        let mut parts = Parts(Sha256::new());
+        parts.words_of(triangles, GpuTriangle::new);
+        match kernel_materials(scene) {
+            Some(materials) => {
+                parts.part(b"materials");
+                parts.words_of(&materials.triangles, GpuTriangleShading::new);
+                let atlas = TextureAtlas::new(&materials.textures, u64::MAX).ok()?;
+                let words = material_texel_words(&gpu_materials(&materials, &atlas));
+                parts.part(bytemuck::cast_slice(&words));
+                parts.part(bytemuck::cast_slice(&atlas.texels));
+            }
+            None => parts.part(b"workshop"),
+        }
+        parts.part(bytemuck::cast_slice(&gpu_environment_words(
+            environment.as_ref(),
+        )));
+        parts.part(bytemuck::cast_slice(&gpu_punctual_light_words(
+            punctual_lights,
+        )));
+        if traversal == Traversal::RayQuery {
+            let plan = StructurePlan::of(triangles, mesh_instances);
+            parts.part(&(plan.bottom_levels.len() as u64).to_le_bytes());
+            for level in &plan.bottom_levels {
+                parts.part(bytemuck::cast_slice(&level.positions));
+                parts.words_of(&level.instances, |instance| instance.transform);
+                parts.words_of(&level.instances, |instance| instance.first_triangle);
+            }
+        }
+        Some(UploadDigest(parts.0.finalize().into()))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::scene::materials::SceneMaterials;
+    use crate::scene::{MeshInstance, Triangle};
+    use glam::{Mat4, Vec3};
+    use std::sync::Arc;
+
+    fn scene(x: f32) -> Scene {
+        let triangle = Triangle::new(
+            [Vec3::new(x, 0.0, 0.0), Vec3::X, Vec3::Y],
+            Vec3::splat(0.5),
+            Vec3::ZERO,
+            false,
+        )
+        .unwrap();
+        Scene {
+            triangles: vec![triangle],
+            ..Scene::default()
+        }
+    }
+
+    fn digest(scene: &Scene) -> UploadDigest {
+        UploadDigest::of(scene, Traversal::Bvh).unwrap()
+    }
+
+    #[test]
+    fn scenes_are_the_same_only_bit_for_bit() {
+        assert_eq!(digest(&scene(0.0)), digest(&scene(0.0)));
+        // 0 and -0 compare equal as floats, but are other bits on the device.
+        assert_ne!(digest(&scene(0.0)), digest(&scene(-0.0)));
+        assert_ne!(digest(&scene(0.0)), digest(&scene(0.25)));
+        let mut lit = scene(0.0);
+        lit.triangles[0].emission = Vec3::ONE;
+        assert_ne!(digest(&scene(0.0)), digest(&lit));
+        let mut two_sided = scene(0.0);
+        two_sided.triangles[0].double_sided = true;
+        assert_ne!(digest(&scene(0.0)), digest(&two_sided));
+        let mut shaded = scene(0.0);
+        shaded.materials = Some(SceneMaterials::from_plain(&shaded.triangles));
+        assert_ne!(digest(&scene(0.0)), digest(&shaded));
+        assert_eq!(digest(&shaded), digest(&shaded.clone()));
+        let mut smooth = shaded.clone();
+        if let Some(materials) = smooth.materials.as_mut() {
+            materials.triangles[0].normals[1] = Vec3::Y;
+        }
+        assert_ne!(digest(&shaded), digest(&smooth));
+    }
+
+    #[test]
+    fn a_camera_or_a_warning_is_not_uploaded() {
+        let mut moved = scene(0.0);
+        moved.warnings.push("a camera moved".into());
+        let camera = crate::camera::Camera::look_at(Vec3::Z, Vec3::ZERO, Vec3::Y, 40.0);
+        moved.cameras = vec![camera];
+        moved.camera = Some(camera);
+        assert_eq!(digest(&scene(0.0)), digest(&moved));
+    }
+
+    #[test]
+    fn an_instance_counts_where_the_device_builds_structures() {
+        let instanced = |x: f32| {
+            let mut scene = scene(0.0);
+            scene.mesh_instances = vec![MeshInstance {
+                first_triangle: 0,
+                object_to_world: Mat4::from_translation(Vec3::new(x, 0.0, 0.0)),
+                object_positions: Arc::new(vec![scene.triangles[0].positions]),
+            }];
+            scene
+        };
+        let ray_query = |scene: &Scene| UploadDigest::of(scene, Traversal::RayQuery);
+        assert_ne!(ray_query(&instanced(0.0)), ray_query(&instanced(1.0)));
+        assert_eq!(ray_query(&instanced(1.0)), ray_query(&instanced(1.0)));
+        // The BVH's upload reads the world-space triangles alone
+        assert_eq!(digest(&instanced(0.0)), digest(&instanced(1.0)));
+    }
+}
