@@ -242,20 +242,20 @@ mod tests {
         // A joint that mirrors x: positions and normals mirror, the tangent (1, 0, 0, w = 1)
         // becomes (-1, 0, 0) with w = -1 (so that w N x T is still the mapped bitangent).
         let mirror = Mat4::from_scale(Vec3::new(-1.0, 1.0, 1.0));
-        let mut positions = vec![Vec3::new(2.0, 1.0, 0.0); 2];
+        let mut positions = [Vec3::new(2.0, 1.0, 0.0)];
         let mut normals = vec![Vec3::Z; 2];
         let mut tangents = vec![Vec4::new(1.0, 0.0, 0.0, 1.0); 2];
         let maps = skin_vertices(
             &one_set([0, 1, 0, 0], [1.0, 0.0, 0.0, 0.0]),
             &[mirror, Mat4::IDENTITY],
-            &mut positions[..1],
+            &mut positions,
             Some(&mut normals),
             Some(&mut tangents),
         );
         close(positions[0], Vec3::new(-2.0, 1.0, 0.0));
         close(normals[0], Vec3::Z);
         assert_eq!(tangents[0], Vec4::new(-1.0, 0.0, 0.0, -1.0));
-        // Only the skinned vertex changed.
+        // Only the skinned vertex (one position) changed.
         assert_eq!(tangents[1], Vec4::new(1.0, 0.0, 0.0, 1.0));
         let mirrored = maps[0];
         let kept = Mat3::IDENTITY;
