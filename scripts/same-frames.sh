@@ -4,8 +4,10 @@
 # the one after) and compares every frame's EXR pixels bit for bit (`vkpath compare
 # --exact` of the new binary). Sequences: tests/data/skinned_morphed.gltf (plain; in tiles;
 # guided; compressed BVH; no BVH), tests/data/RiggedSimple.gltf (a side view and its own
-# framing, which follows the moving bounds), the Cornell box, tests/data/emissive_quad.gltf
-# and `--generated 100000` (static). A render that fails counts as different.
+# framing, which follows the moving bounds; and on two devices, `--device 0,0`),
+# tests/data/BoxAnimated.gltf and tests/data/SimpleMorph.gltf (Khronos' keyframed and
+# morphed samples), the Cornell box, tests/data/emissive_quad.gltf and `--generated 100000`
+# (static). A render that fails counts as different.
 # Usage: scripts/same-frames.sh OLD_VKPATH NEW_VKPATH [WORK_DIR]
 set -euo pipefail
 # As scripts/same-images.sh: both binaries compile every kernel afresh (llvmpipe's kernels
@@ -24,6 +26,9 @@ sequences=(
   "skn $data/skinned_morphed.gltf --frames 0..3 --fps 4 --accel none"
   "rs $data/RiggedSimple.gltf --frames 0..8 --fps 4 --camera-position 18,0,0 --look-at 0,0,0"
   "rsf $data/RiggedSimple.gltf --frames 0..4 --fps 4"
+  "rsd $data/RiggedSimple.gltf --frames 0..4 --fps 4 --device 0,0"
+  "ba $data/BoxAnimated.gltf --frames 0..6 --fps 1.6 --camera-position 2.8,2.7,3.9 --look-at 0,1.5,0"
+  "sm $data/SimpleMorph.gltf --frames 0..5 --fps 1.5 --camera-position 0.5,1.25,4.2 --look-at 0.5,1.25,0"
   "cb --frames 0..3"
   "eq $data/emissive_quad.gltf --frames 0..3"
   "gen --generated 100000 --frames 0..3"

@@ -23,6 +23,8 @@ mod exercise_cli;
 mod frames_cli;
 #[path = "hostile_input.rs"]
 mod hostile_input;
+#[path = "khronos_animation_cli.rs"]
+mod khronos_animation_cli;
 #[path = "look_cli.rs"]
 mod look_cli;
 #[path = "materials_cli.rs"]

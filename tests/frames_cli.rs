@@ -122,6 +122,61 @@ fn frames_render_the_motion_and_time_equals_its_frame() {
 }
 
 #[test]
+fn each_device_of_a_sequence_keeps_its_own_kernels_and_frames_equal_their_stills() {
+    let dir = tempfile::tempdir().unwrap();
+    write_animated_quad(dir.path());
+    // Device 0 listed twice: two renderers, each with its own cache (on lavapipe, as in CI).
+    // With the BVH: without one (`--accel auto` on 2 triangles) the triangles are the
+    // kernel's specialization constants, and a quad that moves is a new kernel every frame.
+    let devices = ["--device", "0,0", "--accel", "bvh"];
+    let mut args = vec![
+        "render",
+        "animated.gltf",
+        "--frames",
+        "0..3",
+        "--fps",
+        "2",
+        "-o",
+        "d_#.exr",
+        "--json",
+    ];
+    args.extend(devices);
+    args.extend(SMALL);
+    let frames = run(dir.path(), &args, &[]);
+    assert_eq!(frames.code, Some(0), "{}", frames.stderr);
+    let reused: Vec<serde_json::Value> = frames
+        .stdout
+        .lines()
+        .map(|line| serde_json::from_str::<serde_json::Value>(line).unwrap()["reused"].clone())
+        .collect();
+    // Every frame after the first found its kernel and accumulation image on both devices
+    // (the quad moves: the scene is uploaded again). Before each device kept a cache, no
+    // frame on several devices reused anything (`reused` was absent: null).
+    assert_eq!(
+        reused,
+        [
+            json!([]),
+            json!(["kernel", "accumulation"]),
+            json!(["kernel", "accumulation"])
+        ],
+        "{}",
+        frames.stdout
+    );
+    // And a frame that took them is the still of its time on the same devices, bit for bit.
+    let mut still = vec!["render", "animated.gltf", "--time", "1", "-o", "t.exr"];
+    still.extend(devices);
+    still.extend(SMALL);
+    let still = run(dir.path(), &still, &[]);
+    assert_eq!(still.code, Some(0), "{}", still.stderr);
+    let read = |name: &str| std::fs::read(dir.path().join(name)).unwrap();
+    assert!(
+        read("t.exr") == read("d_2.exr"),
+        "--time 1 on two devices differs from frame 2"
+    );
+    assert_ne!(read("d_0.exr"), read("d_2.exr"));
+}
+
+#[test]
 fn a_static_scene_is_the_same_every_frame_and_existing_frames_are_skipped() {
     let dir = tempfile::tempdir().unwrap();
     // Frame 1's output exists: --skip-existing leaves it as it is, and says so.

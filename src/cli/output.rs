@@ -24,7 +24,7 @@ use crate::render::job::{run_job, JobOptions, LiveImage};
 use crate::render::metadata::{sampler_name, RenderMetadata, RenderOutcome};
 use crate::render::multi::run_on_devices;
 use crate::render::renderer::GuideReport;
-use crate::render::sequence::SequenceCache;
+use crate::render::sequence::{ReuseCounts, SequenceCache};
 use crate::render::settings::{RenderSettings, SamplerKind};
 use crate::render::state_exr::write_state;
 use crate::render::StopReason;
@@ -78,8 +78,9 @@ pub struct RenderRequest<'a> {
     pub frame: Option<super::frames::FrameTime>,
     /// Where a live view goes (`--tev HOST:PORT`) and how often, if anywhere.
     pub tev: Option<(String, std::time::Duration)>,
-    /// What the frames of a sequence keep for the next (one device only).
-    pub sequence: Option<&'a mut SequenceCache>,
+    /// What the frames of a sequence keep for the next: one cache per device, in the order
+    /// of the devices (empty: a still, which keeps nothing).
+    pub sequences: &'a mut [SequenceCache],
 }
 
 /// The version of `RenderReport`'s schema: it changes only when a key is removed or changes
@@ -365,7 +366,7 @@ pub fn render_and_save(
             command_started: Instant::now(),
             frame: None,
             tev: None,
-            sequence: None,
+            sequences: &mut [],
         },
     )
 }
@@ -452,10 +453,7 @@ impl PostProcess {
 /// render state into the EXRs too (for `vkpath merge`). A stop before the first sample
 /// writes nothing. Exits with 128 + the signal's number when a signal stopped it, after
 /// everything is written.
-pub fn render_job_and_save(
-    context: &Arc<Context>,
-    mut request: RenderRequest,
-) -> anyhow::Result<()> {
+pub fn render_job_and_save(context: &Arc<Context>, request: RenderRequest) -> anyhow::Result<()> {
     install_signals(&request)?;
     let mut job = request.job.clone();
     job.cancel = Some(&signals::STOP_REQUESTED);
@@ -477,7 +475,7 @@ pub fn render_job_and_save(
         .reporting
         .talks()
         .then(|| RenderProgress::new(total, request.settings.noise_threshold.is_some()));
-    let before = request.sequence.as_ref().map(|s| s.reused);
+    let before = request.sequences.first().map(|s| s.reused);
     let outcome = run_job(
         context,
         request.scene,
@@ -489,11 +487,11 @@ pub fn render_job_and_save(
                 progress.update(done.samples_done, done.deadline);
             }
         },
-        request.sequence.as_deref_mut(),
+        request.sequences.first_mut(),
     )?;
     let reused = request
-        .sequence
-        .as_ref()
+        .sequences
+        .first()
         .zip(before)
         .map(|(sequence, before)| sequence.reused.since(before));
     if let Some(progress) = progress {
@@ -547,17 +545,33 @@ pub fn render_on_devices_and_save(
     request: RenderRequest,
 ) -> anyhow::Result<()> {
     install_signals(&request)?;
-    let job = &request.job;
+    let before: Vec<ReuseCounts> = request.sequences.iter().map(|s| s.reused).collect();
     let outcome = run_on_devices(
         contexts,
         request.scene,
         request.camera,
         request.settings,
-        job.samples.clone(),
-        job.time_limit,
+        request.job.samples.clone(),
+        request.job.time_limit,
         Some(&signals::STOP_REQUESTED),
         Some(&signals::RENDERING),
+        &mut *request.sequences,
     )?;
+    let job = &request.job;
+    // What every device took from the frames before it.
+    let reused = (!before.is_empty()).then(|| {
+        let each: Vec<Vec<&'static str>> = request
+            .sequences
+            .iter()
+            .zip(&before)
+            .map(|(sequence, before)| sequence.reused.since(*before))
+            .collect();
+        each[0]
+            .iter()
+            .copied()
+            .filter(|part| each.iter().all(|parts| parts.contains(part)))
+            .collect::<Vec<_>>()
+    });
     let render_seconds = outcome.rendering_started.elapsed().as_secs_f64();
     let spp_settings = RenderSettings {
         spp: job.samples.len() as u32,
@@ -588,7 +602,7 @@ pub fn render_on_devices_and_save(
         guide: outcome.guide,
         scene_memory: outcome.scene_memory,
         preview_failure: None,
-        reused: None,
+        reused: reused.filter(|_| request.frame.is_some_and(|f| f.frame.is_some())),
     };
     finish(&request, contexts, finished, None)
 }

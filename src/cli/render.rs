@@ -453,11 +453,11 @@ fn render(args: &RenderArgs) -> anyhow::Result<()> {
     }
     let environment = args.lights.source()?;
     // The devices are opened once, with the first frame's scene loaded: every frame after
-    // it reuses them, and on one device what the frames before it left in `sequence`
-    // (pipelines, accumulation image, the scene upload while the scene's data stay the
-    // same). Only glTF files move with time: any other scene is loaded once.
+    // it reuses them, and on each device what the frames before it left in that device's
+    // `sequences` cache (pipelines, accumulation image, the scene upload while the scene's
+    // data stay the same). Only glTF files move with time: any other scene is loaded once.
     let mut devices: Option<Devices> = None;
-    let mut sequence = SequenceCache::default();
+    let mut sequences: Vec<SequenceCache> = Vec::new();
     let mut still: Option<Scene> = None;
     let mut first = true;
     for frame in args.frames.frame_times() {
@@ -515,6 +515,11 @@ fn render(args: &RenderArgs) -> anyhow::Result<()> {
                 None => Devices::One(args.device.create_context_reporting(reporting.talks())?),
             }),
         };
+        let device_count = match devices {
+            Devices::Several(contexts) => contexts.len(),
+            Devices::One(_) => 1,
+        };
+        sequences.resize_with(device_count, SequenceCache::default);
         let request = RenderRequest {
             scene: &scene,
             scene_name: args.scene.name(),
@@ -534,7 +539,7 @@ fn render(args: &RenderArgs) -> anyhow::Result<()> {
                     std::time::Duration::from_secs_f64(args.job.tev_interval),
                 )
             }),
-            sequence: Some(&mut sequence),
+            sequences: &mut sequences,
         };
         match devices {
             Devices::Several(contexts) => render_on_devices_and_save(contexts, request)?,

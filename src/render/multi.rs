@@ -3,7 +3,9 @@
 //! and the shares are merged as shards are (`Accumulation::merge`: within 4 ulps of one
 //! render). A device listed twice is two renderers on it (that is how the tests run it on
 //! lavapipe). Each device takes an equal share, so a faster device finishes first: balancing
-//! by speed is left for later.
+//! by speed is left for later. In a sequence (`render --frames ... --device all`) each device
+//! keeps its own `SequenceCache`: pipelines, images and scene uploads belong to one device,
+//! so a frame takes from each device's cache what that device's renderer left there.
 
 use std::ops::Range;
 use std::sync::atomic::AtomicBool;
@@ -16,6 +18,7 @@ use crate::render::accumulation::Accumulation;
 use crate::render::gpu_scene::SceneMemory;
 use crate::render::job::{run_job, shard_range, JobOptions, DEFAULT_CHECKPOINT_INTERVAL};
 use crate::render::renderer::{GuideReport, StopReason};
+use crate::render::sequence::SequenceCache;
 use crate::render::settings::RenderSettings;
 use crate::scene::Scene;
 use crate::vk::Context;
@@ -43,7 +46,11 @@ pub struct MultiOutcome {
 /// limit or the cancel flag stops every device; the merged state then holds what each took
 /// (the shares' ranges then leave gaps, so the state is returned only when all finished or
 /// the stop is reported with the samples each took). `rendering` is set when the first
-/// device begins rendering (as `JobOptions::started`).
+/// device begins rendering (as `JobOptions::started`). `sequences` holds what a sequence's
+/// earlier renders left on each device, one cache per context in their order (`run_job`'s
+/// `sequence`); an empty slice (a still) keeps nothing, and a context past its end renders
+/// without a cache.
+#[allow(clippy::too_many_arguments)]
 pub fn run_on_devices(
     contexts: &[Arc<Context>],
     scene: &Scene,
@@ -53,6 +60,7 @@ pub fn run_on_devices(
     time_limit: Option<Duration>,
     cancel: Option<&AtomicBool>,
     rendering: Option<&AtomicBool>,
+    sequences: &mut [SequenceCache],
 ) -> Result<MultiOutcome> {
     let count = contexts.len() as u32;
     if count == 0 {
@@ -68,11 +76,15 @@ pub fn run_on_devices(
         Option<GuideReport>,
         SceneMemory,
     );
+    // Each device's thread borrows its own cache, none where there are fewer.
+    let mut caches: Vec<Option<&mut SequenceCache>> = sequences.iter_mut().map(Some).collect();
+    caches.resize_with(contexts.len(), || None);
     let results: Vec<Result<DeviceResult>> = std::thread::scope(|scope| {
         let handles: Vec<_> = contexts
             .iter()
+            .zip(caches)
             .enumerate()
-            .map(|(index, context)| {
+            .map(|(index, (context, cache))| {
                 scope.spawn(move || -> Result<DeviceResult> {
                     let share = shard_range(index as u32, count, total)?;
                     let job = JobOptions {
@@ -87,7 +99,7 @@ pub fn run_on_devices(
                         live: None,
                         keep_state: true,
                     };
-                    let job = run_job(context, scene, camera, settings, &job, |_| (), None)?;
+                    let job = run_job(context, scene, camera, settings, &job, |_| (), cache)?;
                     let outcome = job.outcome;
                     let state = outcome.state.ok_or_else(|| {
                         Error::InvalidSettings("a device's share kept no state to merge".into())

@@ -4,7 +4,7 @@
 //! them). Broken skins and targets are one-line errors naming the skin or mesh and the
 //! accessor.
 
-use glam::{Mat4, Vec3, Vec4};
+use glam::{Mat3, Mat4, Vec3, Vec4};
 use gltf::accessor::{DataType, Dimensions, Iter};
 use gltf::{Document, Node};
 
@@ -22,6 +22,16 @@ pub(super) struct NodeDeformation {
     /// For a node with a skin: the skin's name and its joints' skinning matrices (bind
     /// space to world space), in the order of its `joints`.
     pub skin: Option<(String, Vec<Mat4>)>,
+}
+
+/// What posing one primitive found besides its vertices.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub(super) struct PosedPrimitive {
+    /// The number of vertices whose joint weights were renormalised.
+    pub renormalised: usize,
+    /// On a skinned node: each vertex's blended linear map, bind space to world space (for
+    /// `skinning::skin_mirrors`); `None` without a skin.
+    pub skin_maps: Option<Vec<Mat3>>,
 }
 
 /// Poses the meshes of one load.
@@ -148,7 +158,6 @@ impl<'a> Deformer<'a> {
 
     /// Poses one primitive's vertices in place (`context` names it in messages): morph
     /// targets with the node's weights, then its skin, which leaves them in world space.
-    /// The number of vertices whose joint weights were renormalised.
     pub fn primitive(
         &self,
         primitive: &gltf::Primitive,
@@ -157,7 +166,7 @@ impl<'a> Deformer<'a> {
         positions: &mut [Vec3],
         mut normals: Option<&mut Vec<Vec3>>,
         mut tangents: Option<&mut Vec<Vec4>>,
-    ) -> Result<usize, SceneError> {
+    ) -> Result<PosedPrimitive, SceneError> {
         let targets = self.morph_targets(primitive, context, positions.len())?;
         if deformation.morph_weights.iter().any(|&w| w != 0.0) {
             apply_morph_targets(
@@ -169,7 +178,7 @@ impl<'a> Deformer<'a> {
             );
         }
         let Some((skin, matrices)) = &deformation.skin else {
-            return Ok(0);
+            return Ok(PosedPrimitive::default());
         };
         let mut influences = self.influences(primitive, context, skin, positions.len())?;
         if let Some((vertex, slot, joint)) = influences.joint_past(matrices.len()) {
@@ -186,8 +195,11 @@ impl<'a> Deformer<'a> {
             ));
         }
         let renormalised = influences.normalise_weights();
-        skin_vertices(&influences, matrices, positions, normals, tangents);
-        Ok(renormalised)
+        let skin_maps = skin_vertices(&influences, matrices, positions, normals, tangents);
+        Ok(PosedPrimitive {
+            renormalised,
+            skin_maps: Some(skin_maps),
+        })
     }
 
     /// The primitive's morph targets, each attribute checked: VEC3 floats, one per vertex.

@@ -25,6 +25,7 @@ use super::gltf_extensions::unsupported_extension_warnings;
 use super::gltf_materials::MaterialReader;
 use super::instances::InstanceRecorder;
 use super::materials::TriangleShading;
+use super::skinning::skin_mirrors;
 use super::tangents::generate_tangents;
 use super::{Material, Scene, SceneBuilder, SceneError};
 use crate::camera::Camera;
@@ -506,7 +507,7 @@ impl Loader<'_> {
             let material =
                 Material::sanitized(pbr.base_color.truncate(), pbr.emission, pbr.double_sided);
             let mut attributes = self.read_attributes(&primitive, &context, positions.len())?;
-            let renormalised = self.deformer.primitive(
+            let posed = self.deformer.primitive(
                 &primitive,
                 &context,
                 deformation,
@@ -514,8 +515,11 @@ impl Loader<'_> {
                 attributes.normals.as_mut(),
                 attributes.tangents.as_mut(),
             )?;
-            if renormalised > 0 {
-                self.builder.warn(format!("{context}: the joint weights of {renormalised} vertices do not sum to 1; normalised"));
+            if posed.renormalised > 0 {
+                let count = posed.renormalised;
+                self.builder.warn(format!(
+                    "{context}: the joint weights of {count} vertices do not sum to 1; normalised"
+                ));
             }
             let corners = triangle_corners(mode, indices.len());
             // Every per-corner attribute, gathered per triangle (indices checked in range).
@@ -526,9 +530,28 @@ impl Loader<'_> {
                     .collect()
             };
             let object_positions = gather(&positions);
+            // A skin that mirrors a triangle turns its front to the clockwise side, as a
+            // mirroring node transform does (its positions are already posed, in world space).
+            let skin_mirrors: Vec<bool> = match &posed.skin_maps {
+                Some(maps) => corners
+                    .iter()
+                    .map(|c| skin_mirrors(c.map(|corner| maps[indices[corner] as usize])))
+                    .collect(),
+                None => vec![false; corners.len()],
+            };
+            // Without NORMAL, the face's: on the counter-clockwise side of the (unposed)
+            // triangle, i.e. the posed one's other side where the skin mirrors it.
             let face_normals: Vec<Vec3> = object_positions
                 .iter()
-                .map(|[a, b, c]| (*b - *a).cross(*c - *a).normalize_or_zero())
+                .zip(&skin_mirrors)
+                .map(|([a, b, c], &mirrored)| {
+                    let normal = (*b - *a).cross(*c - *a).normalize_or_zero();
+                    if mirrored {
+                        -normal
+                    } else {
+                        normal
+                    }
+                })
                 .collect();
             let normals: Vec<[Vec3; 3]> = match &attributes.normals {
                 Some(normals) => gather(normals),
@@ -572,7 +595,7 @@ impl Loader<'_> {
                             })
                     }),
                 };
-                if mirrors {
+                if mirrors != skin_mirrors[t] {
                     object.swap(1, 2);
                     world.swap(1, 2);
                     shading.normals.swap(1, 2);
@@ -865,3 +888,7 @@ mod test_support;
 #[cfg(test)]
 #[path = "gltf_loader_tests.rs"]
 mod tests;
+
+#[cfg(test)]
+#[path = "gltf_mirror_tests.rs"]
+mod mirror_tests;

@@ -88,16 +88,20 @@ pub fn skin_matrix(joints: &[u32], weights: &[f32], joint_matrices: &[Mat4]) -> 
 }
 
 /// Skins a primitive in place: positions to world space, normals by the inverse transpose of
-/// each vertex's blended matrix (normalised), tangents' xyz by the matrix (normalised, w
-/// kept). `influences` covers every vertex and its joints are in range of `joint_matrices`.
+/// each vertex's blended matrix (normalised), tangents' xyz by the matrix (normalised; w
+/// negated where the matrix mirrors, as a mirroring node transform flips the bitangent's
+/// handedness). `influences` covers every vertex and its joints are in range of
+/// `joint_matrices`. Returns each vertex's blended linear map (the upper 3 x 3), which
+/// [`skin_mirrors`] reads to keep a mirrored triangle's winding.
 pub fn skin_vertices(
     influences: &Influences,
     joint_matrices: &[Mat4],
     positions: &mut [Vec3],
     mut normals: Option<&mut Vec<Vec3>>,
     mut tangents: Option<&mut Vec<Vec4>>,
-) {
+) -> Vec<Mat3> {
     let width = influences.width;
+    let mut linear_maps = Vec::with_capacity(positions.len());
     for (v, position) in positions.iter_mut().enumerate() {
         let range = v * width..(v + 1) * width;
         let matrix = skin_matrix(
@@ -111,11 +115,30 @@ pub fn skin_vertices(
             *normal = skin_normal(linear, *normal);
         }
         if let Some(tangent) = tangents.as_mut().and_then(|t| t.get_mut(v)) {
+            // B = w N x T; under an orthogonal M, (M N) x (M T) = det(M) M (N x T), so the
+            // mapped bitangent M B needs w det(M): its sign flips where M mirrors.
+            let handedness = if linear.determinant() < 0.0 {
+                -tangent.w
+            } else {
+                tangent.w
+            };
             *tangent = (linear * tangent.truncate())
                 .normalize_or_zero()
-                .extend(tangent.w);
+                .extend(handedness);
         }
+        linear_maps.push(linear);
     }
+    linear_maps
+}
+
+/// Whether skinning mirrors a triangle whose corners' blended linear maps are `corners`:
+/// whether the map at its centroid has a negative determinant. Blending is linear in the
+/// weights, so the centroid's map (the corners' weights averaged) is the corners' maps
+/// averaged, and its determinant has the sign of their sum's. A mirrored triangle's
+/// counter-clockwise side is its back: the loader swaps two corners, as it does under a
+/// node transform with a negative determinant.
+pub fn skin_mirrors(corners: [Mat3; 3]) -> bool {
+    (corners[0] + corners[1] + corners[2]).determinant() < 0.0
 }
 
 /// A normal under the linear map `linear`: its inverse transpose applied, normalised (zero
@@ -212,6 +235,35 @@ mod tests {
         close(normals[0], Vec3::new(0.5, 1.0, 0.0).normalize());
         // The skinned surface's tangent (2, -1, 0) stays perpendicular to it.
         assert!(normals[0].dot(positions[0]).abs() < 1e-6);
+    }
+
+    #[test]
+    fn a_mirroring_joint_flips_handedness_and_mirrors_its_triangles() {
+        // A joint that mirrors x: positions and normals mirror, the tangent (1, 0, 0, w = 1)
+        // becomes (-1, 0, 0) with w = -1 (so that w N x T is still the mapped bitangent).
+        let mirror = Mat4::from_scale(Vec3::new(-1.0, 1.0, 1.0));
+        let mut positions = [Vec3::new(2.0, 1.0, 0.0)];
+        let mut normals = vec![Vec3::Z; 2];
+        let mut tangents = vec![Vec4::new(1.0, 0.0, 0.0, 1.0); 2];
+        let maps = skin_vertices(
+            &one_set([0, 1, 0, 0], [1.0, 0.0, 0.0, 0.0]),
+            &[mirror, Mat4::IDENTITY],
+            &mut positions,
+            Some(&mut normals),
+            Some(&mut tangents),
+        );
+        close(positions[0], Vec3::new(-2.0, 1.0, 0.0));
+        close(normals[0], Vec3::Z);
+        assert_eq!(tangents[0], Vec4::new(-1.0, 0.0, 0.0, -1.0));
+        // Only the skinned vertex (one position) changed.
+        assert_eq!(tangents[1], Vec4::new(1.0, 0.0, 0.0, 1.0));
+        let mirrored = maps[0];
+        let kept = Mat3::IDENTITY;
+        assert!(skin_mirrors([mirrored; 3]));
+        assert!(!skin_mirrors([kept; 3]));
+        // Two corners on the mirror, one kept: the centroid's map is diag(-1/3, 1, 1).
+        assert!(skin_mirrors([mirrored, mirrored, kept]));
+        assert!(!skin_mirrors([mirrored, kept, kept]));
     }
 
     #[test]
