@@ -88,6 +88,9 @@ layout(push_constant) uniform frame_push_constants {
 #endif
 
 layout(set = 0, binding = BINDING_ACCUMULATION, rgba32f) uniform image2DArray g_accumulation;
+layout(set = 0, binding = BINDING_CONVERGED_PIXELS, std430) buffer converged_pixels {
+    uint g_converged_pixel_count;
+};
 
 
 // One sample of the radiance through a pixel with the chosen integrator.
@@ -131,6 +134,7 @@ void main() {
     vec4 sum_of_squares_and_flag = imageLoad(g_accumulation, ivec3(texel, LAYER_SUM_OF_SQUARES));
     vec3 sum_of_squares = sum_of_squares_and_flag.rgb;
     float sum_of_squares_flag = sum_of_squares_and_flag.a;
+    float samples_before = sum.a;
     // Not unrolled: one copy of the path tracer compiles faster and runs as fast.
     [[dont_unroll]] for (int i = 0; i != SAMPLE_COUNT; ++i) {
         uint sample_index = g_first_sample_index + uint(i);
@@ -162,6 +166,11 @@ void main() {
         sum.a += 1.0;
         sum_of_squares += radiance * radiance;
     }
+    // --noise-threshold: a pixel whose samples in this dispatch made it converged counts once
+    // (BINDING_CONVERGED_PIXELS); from the next dispatch on it takes no sample, so never again.
+    if (g_noise_threshold > 0.0 && sum.a > samples_before && is_noise_check_due(sum.a, g_noise_min_samples)
+        && is_pixel_converged(sum.rgb - compensation, sum.a, sum_of_squares, g_noise_threshold))
+        atomicAdd(g_converged_pixel_count, 1u);
     // llvmpipe ends the loops of a SIMD program once they have run LLVMPIPE_LOOP_LIMIT trips
     // all together, without an error; a program's iterations are at most LLVMPIPE_SIMD_WIDTH times
     // the largest lane's (see shared.h). An upper bound of this lane's iterations, with the

@@ -43,6 +43,11 @@
 // gpu_light_selection_words() of src/lights/gpu_emissive.rs. 25: the first free index (0-19
 // are taken, 20-23 are the user's iChannels, 24 the acceleration structure).
 #define BINDING_LIGHT_SELECTION 25
+// The path tracer's count of pixels that its samples made converged under --noise-threshold
+// (a storage buffer of one uint, g_converged_pixel_count): each pixel counts once, in the
+// dispatch whose samples made it converged (it takes none after); the host zeroes it before a
+// batch and adds it up after, for the progress bar's share of converged pixels.
+#define BINDING_CONVERGED_PIXELS 26
 // Builds with USE_BVH: the BVH's nodes, a texel buffer of RGBA32_UINT: the 4-wide tree's
 // (WIDE_BVH_NODE_TEXEL_COUNT texels each, glsl/bvh.glsl) or, with SPEC_BVH_LAYOUT
 // BVH_LAYOUT_COMPRESSED, the compressed tree's (CWBVH_NODE_TEXEL_COUNT, glsl/cwbvh.glsl).

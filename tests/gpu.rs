@@ -11,6 +11,8 @@ mod brdf_twins;
 mod bvh_gpu;
 #[path = "compressed_bvh_render.rs"]
 mod compressed_bvh_render;
+#[path = "converged_pixels.rs"]
+mod converged_pixels;
 #[path = "denoise.rs"]
 mod denoise;
 #[path = "furnace.rs"]

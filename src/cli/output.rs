@@ -484,7 +484,7 @@ pub fn render_job_and_save(context: &Arc<Context>, request: RenderRequest) -> an
         &job,
         |done| {
             if let Some(progress) = progress.as_mut() {
-                progress.update(done.samples_done, done.deadline);
+                progress.update(done.samples_done, done.deadline, done.converged_share);
             }
         },
         request.sequences.first_mut(),

@@ -9,7 +9,8 @@ use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 /// estimate of the time left (`eta`): the sooner of the time limit and the samples still to
 /// take at the rate measured since the first batch (set-up and the first batch, in which a
 /// driver may compile the kernels, do not count towards the rate). With a noise threshold,
-/// converged pixels stop early, so the samples' estimate is an upper bound: `eta ≤ …`.
+/// converged pixels stop early, so the samples' estimate is an upper bound (`eta ≤ …`), and
+/// the bar shows the share of pixels converged so far (`37% converged`).
 pub struct RenderProgress {
     bar: ProgressBar,
     started: Instant,
@@ -41,8 +42,14 @@ impl RenderProgress {
         }
     }
 
-    /// Reports the samples per pixel done so far and the time limit's deadline, if any.
-    pub fn update(&mut self, samples_done: u32, deadline: Option<Instant>) {
+    /// Reports the samples per pixel done so far, the time limit's deadline, if any, and
+    /// under a noise threshold the share of pixels converged (0 to 1).
+    pub fn update(
+        &mut self,
+        samples_done: u32,
+        deadline: Option<Instant>,
+        converged_share: Option<f64>,
+    ) {
         let now = Instant::now();
         if !self.visible && self.started.elapsed() > Duration::from_secs(1) {
             self.bar.set_draw_target(ProgressDrawTarget::stderr());
@@ -55,8 +62,11 @@ impl RenderProgress {
             now.saturating_duration_since(first_time),
         );
         let limit_left = deadline.map(|d| d.saturating_duration_since(now));
-        self.bar
-            .set_message(eta_text(samples_left, limit_left, self.adaptive));
+        let mut message = eta_text(samples_left, limit_left, self.adaptive);
+        if let Some(share) = converged_share {
+            message.push_str(&format!(", {}", converged_text(share)));
+        }
+        self.bar.set_message(message);
         self.bar.set_position(u64::from(samples_done));
     }
 
@@ -89,6 +99,15 @@ fn eta_text(samples: Option<Duration>, limit: Option<Duration>, adaptive: bool) 
         "eta {}{}",
         if bound { "≤ " } else { "" },
         short_duration(eta)
+    )
+}
+
+/// The share of converged pixels as the bar shows it: "37% converged", rounded down so that
+/// "100%" means every pixel.
+fn converged_text(share: f64) -> String {
+    format!(
+        "{}% converged",
+        (share.clamp(0.0, 1.0) * 100.0).floor() as u32
     )
 }
 
@@ -225,6 +244,15 @@ mod tests {
         assert_eq!(short_duration(Duration::from_millis(7200)), "8s");
         assert_eq!(short_duration(s(3725)), "1h 02m");
     }
+
+    #[test]
+    fn the_converged_share_rounds_down_so_that_100_means_every_pixel() {
+        assert_eq!(converged_text(0.0), "0% converged");
+        assert_eq!(converged_text(0.375), "37% converged");
+        assert_eq!(converged_text(0.9999), "99% converged");
+        assert_eq!(converged_text(1.0), "100% converged");
+    }
+
     use crate::vk::{DeviceInfo, DeviceKind};
 
     fn device() -> DeviceInfo {

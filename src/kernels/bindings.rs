@@ -46,6 +46,9 @@ pub enum Resource {
     /// Path guiding's training splats (`crate::guiding::GuideSplats::from_device_words`,
     /// storage buffer).
     GuideSplats,
+    /// The path tracer's count of pixels its samples made converged (`--noise-threshold`;
+    /// one `u32`, storage buffer).
+    ConvergedPixels,
     /// A probe's input structs, one per invocation.
     ProbeInputs,
     /// A probe's output structs, one per invocation.
@@ -115,6 +118,7 @@ pub const PATH_TRACER: &[Binding] = &[
     row(c::BINDING_LIGHT_SELECTION, TEXEL, R::LightSelection),
     row(c::BINDING_GUIDE, TEXEL, R::Guide),
     row(c::BINDING_GUIDE_SPLATS, STORAGE, R::GuideSplats),
+    row(c::BINDING_CONVERGED_PIXELS, STORAGE, R::ConvergedPixels),
     with(USE_BVH, c::BINDING_BVH_NODES, TEXEL, R::BvhNodes),
     with(
         USE_BVH,

@@ -159,6 +159,9 @@ pub struct JobProgress {
     /// When the time limit stops the render, if one was set (counted from the end of
     /// set-up, as `JobOptions::time_limit` is).
     pub deadline: Option<Instant>,
+    /// Under `--noise-threshold`, the share of the pixels converged so far (0 to 1): they
+    /// take no more samples.
+    pub converged_share: Option<f64>,
 }
 
 /// Runs a render as `options` say. `settings.spp` is ignored: the sample range decides.
@@ -275,6 +278,9 @@ pub fn run_job(
         }),
     };
     let mut progress = progress;
+    let converged = renderer.converged_pixels();
+    let pixels = f64::from(settings.area().width()) * f64::from(settings.area().height());
+    let adaptive = settings.noise_threshold.is_some();
     let progress = |samples: u32| {
         if let Some(started) = options.started {
             started.store(true, Ordering::SeqCst);
@@ -282,6 +288,8 @@ pub fn run_job(
         progress(JobProgress {
             samples_done: samples,
             deadline,
+            converged_share: adaptive
+                .then(|| converged.load(Ordering::SeqCst) as f64 / pixels.max(1.0)),
         });
     };
     let rendering_started = Instant::now();

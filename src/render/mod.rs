@@ -7,6 +7,7 @@
 pub mod accumulation;
 pub mod adaptive;
 pub mod aov;
+pub mod converged_pixels;
 pub mod gpu_materials;
 pub mod gpu_scene;
 pub mod gpu_textures;

@@ -22,6 +22,7 @@ use crate::kernels::variant::{path_tracer_variant, KernelSource, Traversal};
 use crate::kernels::{Bound, KernelPipeline, Resource, PATH_TRACER};
 use crate::render::accumulation::Accumulation;
 use crate::render::adaptive::NoiseThreshold;
+use crate::render::converged_pixels::{converged_pixel_count, ConvergedPixels};
 use crate::render::gpu_scene::{GpuScene, SceneMemory};
 use crate::render::gpu_types::FramePushConstants;
 use crate::render::guide_buffers::GuideBuffers;
@@ -115,6 +116,8 @@ pub struct Renderer {
     tiles: Option<Tiles>,
     accumulation: StorageImage,
     readback: Buffer,
+    /// Under `--noise-threshold`, the pixels converged so far (the kernel counts them).
+    converged_pixels: ConvergedPixels,
     /// Bound through the descriptor set; kept alive as long as it.
     scene: GpuScene,
     /// Index of the first sample of every pixel's sequence that this render takes.
@@ -402,8 +405,10 @@ impl Renderer {
             Some(images) => images,
             None => accumulation_images(context, image_width, image_height, tiled)?,
         };
+        let converged_pixels = ConvergedPixels::new(context)?;
         let descriptors = pipeline.descriptor_set(|resource| match resource {
             Resource::Accumulation => Some(Bound::StorageImage(&accumulation)),
+            Resource::ConvergedPixels => Some(Bound::Buffer(&converged_pixels.buffer)),
             Resource::Guide => Some(Bound::TexelBuffer(&guide_buffers.guide)),
             Resource::GuideSplats => Some(Bound::Buffer(&guide_buffers.splats)),
             other => gpu_scene.resource(other),
@@ -432,6 +437,7 @@ impl Renderer {
             setup_seconds: started.elapsed().as_secs_f64(),
             traversal,
             guide_buffers,
+            converged_pixels,
             guide_report: None,
             guide: None,
         })
@@ -579,7 +585,17 @@ impl Renderer {
                 .run(|recorder| recorder.copy_buffer_to_image(&upload, image))?;
         }
         self.samples_done = state.samples.len() as u32;
+        if let Some(noise) = &self.settings.noise_threshold {
+            self.converged_pixels
+                .set(converged_pixel_count(state, noise));
+        }
         Ok(())
+    }
+
+    /// Under `--noise-threshold`, the pixels converged so far (they take no more samples),
+    /// updated after every batch; read it while the render goes on, e.g. for progress.
+    pub fn converged_pixels(&self) -> Arc<std::sync::atomic::AtomicU64> {
+        self.converged_pixels.handle()
     }
 
     /// Rays traced so far (camera, path and shadow rays), as of the last `read_back()`.
@@ -676,6 +692,7 @@ impl Renderer {
             tiles.clear(&self.settings, self.area)?;
         }
         self.samples_done = 0;
+        self.converged_pixels.set(0);
         Ok(())
     }
 
@@ -742,8 +759,11 @@ impl Renderer {
                     recorder.compute_barrier();
                 }
             }
+            // The converged pixels' count, read by the host after the submission.
+            recorder.host_read_barrier();
         };
         let after = (first + frames * step).min(end) - span.first_sample;
+        self.converged_pixels.begin_batch();
         self.samples_done = match self.tiles.as_mut() {
             None => {
                 self.commands
@@ -761,6 +781,10 @@ impl Renderer {
                 tiles.run_batch(&device, &record_frames, after, span.spp)?
             }
         };
+        // Training frames' samples are the guide's, not the image's.
+        if !span.training {
+            self.converged_pixels.end_batch();
+        }
         Ok(frames)
     }
 
