@@ -10,13 +10,15 @@ use std::sync::atomic::{AtomicU32, Ordering};
 
 use glam::{Vec2, Vec3};
 
-use crate::contract::{GUIDE_BIN_COUNT, GUIDE_TRAINING_VERTEX_COUNT};
+use crate::contract::{GUIDE_BIN_COUNT, GUIDE_BSDF_FRACTION, GUIDE_TRAINING_VERTEX_COUNT};
 use crate::cpu::brdf::get_luminance;
 use crate::cpu::guiding::{
     get_guide_bin_index, get_guide_cell_index, get_guide_density, get_guide_splat_units,
     get_guided_mixture_density, is_guided_cell, sample_guide_direction, GuideTexels, GUIDE_NO_CELL,
 };
-use crate::cpu::surface::{get_bsdf, get_bsdf_density, BsdfSample, Surface, BSDF_LOBE_REFLECT};
+use crate::cpu::surface::{
+    get_bsdf, get_bsdf_density, BsdfSample, Surface, BSDF_LOBE_DELTA, BSDF_LOBE_REFLECT,
+};
 use crate::cpu::texels::fetch_texel;
 use crate::cpu::workshop::M_PI;
 
@@ -73,7 +75,8 @@ pub fn get_path_direction_density(
 
 /// Twin of `get_guided_direction`: the one-sample mixture's direction at a guided vertex,
 /// the BSDF's sample (`bsdf_sample`, drawn only when chosen) or the guide's, with the
-/// balance heuristic's weight.
+/// balance heuristic's weight; a delta pick (`BSDF_LOBE_DELTA`) keeps its own weight over
+/// `GUIDE_BSDF_FRACTION` and density 0.
 pub fn get_guided_direction(
     texels: GuideTexels,
     surface: &Surface,
@@ -83,6 +86,13 @@ pub fn get_guided_direction(
     bsdf_chosen: bool,
     guide_random_numbers: Vec2,
 ) -> BsdfSample {
+    // A delta pick bypasses the mixture: its own f / p over the BSDF's turn.
+    if bsdf_chosen && bsdf_sample.lobes & BSDF_LOBE_DELTA != 0 {
+        return BsdfSample {
+            weight: bsdf_sample.weight / GUIDE_BSDF_FRACTION,
+            ..bsdf_sample
+        };
+    }
     let mut guided = bsdf_sample;
     let mut sampled = 0.0;
     if !bsdf_chosen {
