@@ -540,16 +540,15 @@ fn a_smooth_thin_pane_transmits_one_minus_f_at_every_pixel_tile_edges_included()
             };
             let expected = 0.96 * f64::from(radiance);
             let sigma = f64::from(radiance) * sigma_per_radiance;
-            for channel in 0..3 {
-                let z = (f64::from(pixel[channel]) - expected) / sigma;
+            for (channel, &value) in pixel.iter().take(3).enumerate() {
+                let z = (f64::from(value) - expected) / sigma;
                 worst_z = worst_z.max(z.abs());
                 // 256 pixels (the channels are equal): a count of reflections among 256
                 // samples is binomial (mean 10.2, sd 3.1); 5 sd (26 or more, Poisson tail
                 // 2e-5 per pixel) keeps a false alarm below 1 % for the image.
                 assert!(
                     z.abs() < 5.0,
-                    "{integrator:?}: pixel ({column}, {row}) channel {channel}: {} vs (1 - F) Le = {expected} ({z:.1} sigma)",
-                    pixel[channel]
+                    "{integrator:?}: pixel ({column}, {row}) channel {channel}: {value} vs (1 - F) Le = {expected} ({z:.1} sigma)"
                 );
             }
         }
