@@ -2,8 +2,9 @@
 //! furnace reflects exactly Schlick's F(c, n.v) times the walls' radiance at every pixel, and a
 //! smooth plastic F_d(n.v) plus its diffuse lobe's numerical albedo, with every integrator
 //! (what a delta pick finds counts in full, MIS weight 1, while the diffuse lobe under the
-//! smooth specular keeps its light samples and MIS); and the integrators agree on a box that
-//! mixes smooth and rough materials.
+//! smooth specular keeps its light samples and MIS); the integrators agree on a box that
+//! mixes smooth and rough materials; and a guided render of it agrees with the unguided one
+//! (a delta pick bypasses the guide's mixture).
 
 use crate::common;
 use crate::materials_render::{block_means, pixel_ray, QuadScene, PLANE_HALF_SIZE};
@@ -13,9 +14,10 @@ use common::scenes::{glossy_box, white_metal};
 use glam::{DVec3, Vec3};
 use vkpath::camera::Camera;
 use vkpath::cpu::brdf::{get_brdf, get_mirror_reflectance, MaterialSample};
+use vkpath::guiding::training::GuideTraining;
 use vkpath::scene::materials::PbrMaterial;
 use vkpath::stats::ztest::z_test_images;
-use vkpath::{Integrator, PixelFilter, RenderSettings};
+use vkpath::{Integrator, PixelFilter, RenderSettings, Renderer};
 
 use common::render_scene as render;
 
@@ -201,4 +203,40 @@ fn integrators_agree_on_smooth_and_rough_materials() {
             );
         }
     }
+}
+
+#[test]
+fn guided_renders_agree_with_unguided_ones_at_a_smooth_plastic_floor() {
+    // glossy_box's floor smooth (a plastic: metallic 0, so the guide guides it, its mirror a
+    // delta lobe under a diffuse one), walls rough (0.6): at a guided vertex a BSDF sample
+    // that picks the mirror keeps its own f / p over the BSDF's turn GUIDE_BSDF_FRACTION
+    // and density 0; had it gone through the mixture, its weight would be 0 and the floor's
+    // mirror image of the light and walls would be lost. Block means of guided mis against
+    // unguided mis (z-tests as integrators_agree_on_smooth_and_rough_materials).
+    let mut scene = glossy_box(0.6);
+    scene.materials.as_mut().expect("glTF materials").materials[1].roughness = 0.0;
+    let settings = |guiding, seed| RenderSettings {
+        width: 32,
+        height: 32,
+        spp: 256,
+        samples_per_frame: 32,
+        integrator: Integrator::Mis,
+        seed,
+        guiding,
+        ..Default::default()
+    };
+    let unguided = block_means(&render(&scene, settings(None, 1)));
+    let context = common::validated_context();
+    let guided_settings = settings(Some(GuideTraining { samples: 64 }), 2);
+    let mut renderer = Renderer::new(&context, &scene, &scene.camera.unwrap(), guided_settings)
+        .expect("a guided renderer");
+    let guided = block_means(&renderer.render_all().expect("a guided render"));
+    let guided_cells = renderer.guide_report().expect("a guide").guided_cell_count;
+    drop(renderer);
+    common::assert_validation_silent(&context);
+    assert!(guided_cells > 0, "the guide guides no cell");
+    // 1 % significance, Šidák-corrected over all blocks and channels inside.
+    let report = z_test_images(&guided, &unguided, 0.01).unwrap();
+    println!("smooth floor, guided ({guided_cells} cells) vs unguided mis: {report:?}");
+    assert!(report.passed, "guided disagrees with unguided: {report:?}");
 }

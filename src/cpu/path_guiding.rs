@@ -269,6 +269,37 @@ mod tests {
     }
 
     #[test]
+    fn a_delta_pick_bypasses_the_guide_mixture() {
+        // The guide never proposes a delta lobe's peak: a BSDF sample of one keeps its
+        // direction, lobes and density 0 (the path loop then counts what it finds in full),
+        // and its weight f / p is divided by the BSDF's turn, GUIDE_BSDF_FRACTION. Had it
+        // gone through the mixture, its weight would be 0 (f / p scaled by 0 / p~).
+        let guide = lobe_guide();
+        let view = Vec3::new(0.3, 0.0, 1.0).normalize();
+        let delta = BsdfSample {
+            direction: Vec3::new(-view.x, -view.y, view.z),
+            density: 0.0,
+            weight: Vec3::new(0.6, 0.5, 0.4),
+            lobes: BSDF_LOBE_REFLECT | BSDF_LOBE_DELTA,
+            eta: 1.0,
+        };
+        let guided = get_guided_direction(
+            guide.texels(),
+            &floor_surface(),
+            view,
+            0,
+            delta,
+            true,
+            Vec2::ZERO,
+        );
+        assert_eq!(
+            (guided.direction, guided.density, guided.lobes, guided.eta),
+            (delta.direction, 0.0, delta.lobes, 1.0)
+        );
+        assert_eq!(guided.weight, delta.weight / GUIDE_BSDF_FRACTION);
+    }
+
+    #[test]
     fn guided_directions_have_the_mixture_density_and_an_unbiased_weight() {
         let guide = lobe_guide();
         let texels = guide.texels();
