@@ -70,20 +70,27 @@ material_t get_base_material(vec3 base_color, float metallic, float roughness, f
 }
 
 // The GGX alpha of a perceptual roughness: roughness^2 as glTF defines it, but at least
-// MIN_GGX_ALPHA, so that roughness 0 (a perfect mirror, a delta lobe that no density can
-// describe) becomes a lobe about 10^-4 rad wide whose peak density (3e7) and squared MIS
-// weights stay far inside float range.
+// MIN_GGX_ALPHA, so that a roughness just above 0 gives a lobe about 10^-4 rad wide whose
+// peak density (3e7) and squared MIS weights stay far inside float range. Roughness 0
+// exactly gives alpha 0: a delta (perfectly specular) lobe, a Dirac peak that no value or
+// density describes. get_ggx_distribution() is 0 for it, so every GGX lobe's value and
+// density vanish for any direction (light samples find nothing), and
+// sample_ggx_visible_normal() returns the normal itself, so the samplers return the lobe's
+// peak (the mirror direction, the thin wall's straight-through one, the refraction); the
+// samplers' callers weigh such a pick by its own f / p (get_brdf_mirror_weight(),
+// get_transmissive_delta_weight()) and mark it BSDF_LOBE_DELTA (glsl/surface.glsl).
 float get_ggx_alpha(float roughness) {
-    return max(roughness * roughness, MIN_GGX_ALPHA);
+    return (roughness == 0.0) ? 0.0 : max(roughness * roughness, MIN_GGX_ALPHA);
 }
 
 // The Trowbridge-Reitz (GGX) normal distribution D(h) = alpha^2 / (pi ((n.h)^2 (alpha^2 - 1)
 // + 1)^2), written with the local half vector's components as
 // 1 / (pi alpha^2 ((h_x^2 + h_y^2) / alpha^2 + h_z^2)^2), which keeps its digits near the
-// peak where the textbook form subtracts nearly equal numbers. 0 below the surface.
+// peak where the textbook form subtracts nearly equal numbers. 0 below the surface, and 0
+// for alpha 0 (a delta lobe, get_ggx_alpha(): its Dirac peak has no value at any half vector).
 // \param local_half Unit half vector in the shading frame (z = normal)
 float get_ggx_distribution(float alpha, vec3 local_half) {
-    if (local_half.z <= 0.0)
+    if (local_half.z <= 0.0 || alpha == 0.0)
         return 0.0;
     float stretched = (local_half.x * local_half.x + local_half.y * local_half.y) / (alpha * alpha) + local_half.z * local_half.z;
     return 1.0 / (M_PI * alpha * alpha * stretched * stretched);
@@ -153,6 +160,38 @@ float get_specular_probability(material_t material, float normal_dot_view) {
     float specular = get_luminance(mix(dielectric_fresnel, metal_fresnel, material.metallic));
     float diffuse = (1.0 - material.metallic) * get_luminance((1.0 - dielectric_fresnel) * material.base_color);
     return (specular + diffuse > 0.0) ? specular / (specular + diffuse) : 0.5;
+}
+
+// The reflectance of the glTF BRDF's delta specular lobe (roughness 0) towards the mirror
+// direction: what its Dirac peak carries, f (n.l) integrated over the peak,
+// mix(F_d, F_m, metallic) with the dielectric's and the metal's Schlick Fresnel at
+// v.h = n.v (the specular terms of get_brdf() with D V replaced by delta(l - r) / (n.l)).
+vec3 get_mirror_reflectance(material_t material, float normal_dot_view) {
+    vec3 dielectric_fresnel = get_schlick_fresnel(get_dielectric_f0(material), vec3(material.specular), normal_dot_view);
+    vec3 metal_fresnel = get_schlick_fresnel(material.base_color, vec3(1.0), normal_dot_view);
+    return mix(dielectric_fresnel, metal_fresnel, material.metallic);
+}
+
+// The probability that sample_brdf() returns the mirror direction of a delta specular lobe:
+// its specular probability where the roughness is 0 (get_ggx_alpha() 0), 0 elsewhere.
+// sample_brdf() picks the mirror exactly where random_numbers[0] is below it (the same
+// expression of the same inputs as its own choice).
+// \param normal Unit shading normal, world space; the view must be above it
+float get_brdf_mirror_probability(material_t material, vec3 normal, vec3 view) {
+    if (get_ggx_alpha(material.roughness) != 0.0)
+        return 0.0;
+    mat3 basis = get_shading_basis(normal);
+    vec3 local_view = view * basis;
+    return get_specular_probability(material, local_view.z);
+}
+
+// The weight f / p of sample_brdf()'s mirror pick (get_brdf_mirror_probability() > 0):
+// get_mirror_reflectance() over the probability of that pick alone; the continuous diffuse
+// lobe plays no part (its density is get_brdf_density(), which has no delta part).
+vec3 get_brdf_mirror_weight(material_t material, vec3 normal, vec3 view) {
+    mat3 basis = get_shading_basis(normal);
+    vec3 local_view = view * basis;
+    return get_mirror_reflectance(material, local_view.z) / get_specular_probability(material, local_view.z);
 }
 
 // Samples a GGX microfacet normal visible from the view direction (the distribution of

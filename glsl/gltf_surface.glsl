@@ -23,6 +23,19 @@ bool is_transmissive(surface_t surface) {
     return SCENE_HAS_LAYERS && surface.material.transmission > 0.0;
 }
 
+// Whether the surface's BSDF has a delta (perfectly specular) lobe: a specular lobe (metal,
+// or specular above 0) or a transmission of roughness 0, or a smooth clear coat. Directions
+// that no BSDF sampling chose (cosine, uniform hemisphere) never find its peak, so every
+// integrator samples the BSDF there (glsl/path_loop.glsl).
+bool has_delta_lobe(surface_t surface) {
+    if (!SCENE_HAS_SPECULAR)
+        return false;
+    material_t material = surface.material;
+    if (get_ggx_alpha(material.roughness) == 0.0 && (material.metallic > 0.0 || material.specular > 0.0 || is_transmissive(surface)))
+        return true;
+    return has_layers(surface) && material.clearcoat > 0.0 && get_ggx_alpha(material.clearcoat_roughness) == 0.0;
+}
+
 // Everything the integrators need at a hit: normals, the material after textures, emission.
 // \param triangle_index The hit triangle (g_hit_triangle_index)
 // \param triangle The hit triangle as ray_mesh_intersection() returned it (not oriented)
@@ -106,7 +119,13 @@ float get_bsdf_density(surface_t surface, vec3 view, vec3 light) {
 }
 
 // BSDF importance sampling: a direction with density get_bsdf_density() and the weight
-// get_bsdf() / density (0 where the density is 0).
+// get_bsdf() / density (0 where the density is 0). A pick of a delta lobe (roughness 0, a
+// smooth coat: has_delta_lobe()) is marked BSDF_LOBE_DELTA, has density 0 (MIS has nothing
+// to weigh it against: the emission it finds counts in full) and the weight f / p of that
+// pick alone (get_brdf_mirror_weight(), sample_layered_bsdf()'s out_delta_weight), 0 where
+// the geometric and the shading normal disagree about the side it leaves to (the side rule
+// of glsl/surface.glsl; for a smooth coat under a normal map that also drops the rare
+// reflection between the two horizons, which get_bsdf() would count).
 // \param random_numbers Uniform (u_0, u_1) in [0,1)^2
 // \param lobe_random Uniform in [0,1): chooses the lobe of layered materials (has_layers();
 //        unused otherwise)
@@ -114,20 +133,31 @@ bsdf_sample_t sample_bsdf(surface_t surface, vec3 view, vec2 random_numbers, flo
     bsdf_sample_t bsdf_sample;
     bsdf_sample.lobes = BSDF_LOBE_REFLECT;
     bsdf_sample.eta = 1.0;
+    bool delta = false;
+    vec3 delta_weight = vec3(0.0);
     if (has_layers(surface)) {
-        bsdf_sample.direction = sample_layered_bsdf(random_numbers, lobe_random, surface.material, surface.eta, surface.shading_normal, surface.clearcoat_normal, view);
+        bsdf_sample.direction = sample_layered_bsdf(random_numbers, lobe_random, surface.material, surface.eta, surface.shading_normal, surface.clearcoat_normal, view, delta, delta_weight);
         if (dot(surface.geometric_normal, bsdf_sample.direction) < 0.0) {
             bsdf_sample.lobes = BSDF_LOBE_TRANSMIT;
             bsdf_sample.eta = is_refracting(surface.material) ? surface.eta : 1.0;
         }
     } else if (!SCENE_HAS_SPECULAR)
         bsdf_sample.direction = sample_lambert_brdf(random_numbers, surface.shading_normal);
-    else
+    else {
         bsdf_sample.direction = sample_brdf(random_numbers, surface.material, surface.shading_normal, view);
+        delta = random_numbers[0] < get_brdf_mirror_probability(surface.material, surface.shading_normal, view);
+        delta_weight = delta ? get_brdf_mirror_weight(surface.material, surface.shading_normal, view) : vec3(0.0);
+    }
     // One density and one BSDF evaluation after both branches: the kernel holds them once
     // (lavapipe translates every inlined copy at each start).
     bsdf_sample.density = get_bsdf_density(surface, view, bsdf_sample.direction);
     bsdf_sample.weight = (bsdf_sample.density > 0.0) ? get_bsdf(surface, view, bsdf_sample.direction) / bsdf_sample.density : vec3(0.0);
+    if (delta) {
+        bool sides_agree = (dot(surface.geometric_normal, bsdf_sample.direction) > 0.0) == (dot(surface.shading_normal, bsdf_sample.direction) > 0.0);
+        bsdf_sample.lobes |= BSDF_LOBE_DELTA;
+        bsdf_sample.density = 0.0;
+        bsdf_sample.weight = sides_agree ? delta_weight : vec3(0.0);
+    }
     return bsdf_sample;
 }
 

@@ -16,6 +16,11 @@ bool is_transmissive(surface_t surface) {
     return false;
 }
 
+// Whether the surface's BSDF has a delta (perfectly specular) lobe: never for Lambert.
+bool has_delta_lobe(surface_t surface) {
+    return false;
+}
+
 // Everything the integrators need at a hit: normals, the material after textures, emission.
 // \param triangle_index The hit triangle (g_hit_triangle_index)
 // \param triangle The hit triangle as ray_mesh_intersection() returned it (not oriented)

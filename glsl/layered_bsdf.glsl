@@ -134,22 +134,57 @@ float get_transmissive_density(material_t material, float eta, vec3 shading_norm
     return density;
 }
 
+// The weight f / p of a delta pick of sample_transmissive_bsdf() (roughness 0, GGX alpha 0),
+// f the peak's coefficient in get_transmissive_bsdf() (f |n.l| integrated over the peak), p
+// the probability of that pick alone (no continuous lobe's density enters):
+// - transmission (`transmitted`): (1 - metallic) T times the thin wall's
+//   get_smooth_thin_wall_transmittance() or the refraction's
+//   get_smooth_dielectric_transmittance() base_color, over P_t (1 - P_r), with
+//   P_t = get_transmission_probability() = (1 - metallic) T, which cancels, and P_r the thin
+//   wall's reflection probability or the exact Fresnel F at n.v;
+// - reflection: mix(F_s, F_m, metallic) for a thin wall, mix((1 - T) F_s + T F, F_m,
+//   metallic) for a refracting one (F_s, F_m Schlick's, as get_transmissive_bsdf()), over
+//   P_t P_r + (1 - P_t) p_s: two routes reach the mirror direction (the transmissive lobe's
+//   reflection and sample_brdf()'s specular lobe, p_s = get_specular_probability()), so its
+//   probability is their sum (the balance heuristic over the routes).
+// \param local_view The view in the shading frame (z > 0)
+vec3 get_transmissive_delta_weight(material_t material, float eta, vec3 local_view, bool transmitted) {
+    float normal_dot_view = local_view.z;
+    bool refracting = is_refracting(material);
+    float reflection_probability = refracting ? get_dielectric_fresnel(normal_dot_view, eta) : get_thin_wall_reflection_probability(material, normal_dot_view);
+    if (transmitted) {
+        vec3 transmittance = refracting ? get_smooth_dielectric_transmittance(eta, normal_dot_view) * material.base_color : get_smooth_thin_wall_transmittance(material, normal_dot_view);
+        return transmittance / (1.0 - reflection_probability);
+    }
+    vec3 schlick_fresnel = get_thin_wall_fresnel(material, normal_dot_view);
+    vec3 dielectric = refracting ? (1.0 - material.transmission) * schlick_fresnel + material.transmission * get_dielectric_fresnel(normal_dot_view, eta) : schlick_fresnel;
+    vec3 reflectance = mix(dielectric, get_schlick_fresnel(material.base_color, vec3(1.0), normal_dot_view), material.metallic);
+    float transmission_probability = get_transmission_probability(material);
+    return reflectance / (transmission_probability * reflection_probability + (1.0 - transmission_probability) * get_specular_probability(material, normal_dot_view));
+}
+
 // Samples get_transmissive_bsdf(): lobe_random < get_transmission_probability() samples
 // the rough dielectric or the thin wall (lobe_random, stretched back to [0, 1), chooses
-// between reflection and transmission), else sample_brdf().
+// between reflection and transmission), else sample_brdf(). Where the roughness is 0 every
+// pick but sample_brdf()'s diffuse one is a delta lobe's peak (out_delta), with the weight
+// get_transmissive_delta_weight() (out_delta_weight; 0 for other picks).
 // \return A unit direction, world space (either side of the surface)
-vec3 sample_transmissive_bsdf(vec2 random_numbers, float lobe_random, material_t material, float eta, vec3 shading_normal, vec3 view) {
+vec3 sample_transmissive_bsdf(vec2 random_numbers, float lobe_random, material_t material, float eta, vec3 shading_normal, vec3 view, out bool out_delta, out vec3 out_delta_weight) {
     float transmission_probability = get_transmission_probability(material);
+    mat3 basis = get_shading_basis(shading_normal);
+    vec3 local_view = view * basis;
+    float alpha = get_ggx_alpha(material.roughness);
     if (lobe_random < transmission_probability) {
         float reflection_random = lobe_random / transmission_probability;
-        mat3 basis = get_shading_basis(shading_normal);
-        vec3 local_view = view * basis;
-        float alpha = get_ggx_alpha(material.roughness);
         vec3 local_light = is_refracting(material)
             ? sample_rough_dielectric(random_numbers, reflection_random, alpha, eta, local_view)
             : sample_thin_wall(random_numbers, reflection_random, material, alpha, local_view);
+        out_delta = alpha == 0.0;
+        out_delta_weight = out_delta ? get_transmissive_delta_weight(material, eta, local_view, local_light.z < 0.0) : vec3(0.0);
         return normalize(basis * local_light);
     }
+    out_delta = random_numbers[0] < get_brdf_mirror_probability(material, shading_normal, view);
+    out_delta_weight = out_delta ? get_transmissive_delta_weight(material, eta, local_view, false) : vec3(0.0);
     return sample_brdf(random_numbers, material, shading_normal, view);
 }
 
@@ -209,12 +244,21 @@ float get_layered_density(material_t material, float eta, vec3 shading_normal, v
 
 // Samples the layered BSDF, its lobes by weight: lobe_random < w_c samples the coat, else
 // (stretched back to [0, 1)) the sheen by its weight (a cosine direction), else (stretched
-// again) sample_transmissive_bsdf().
-vec3 sample_layered_bsdf(vec2 random_numbers, float lobe_random, material_t material, float eta, vec3 shading_normal, vec3 clearcoat_normal, vec3 view) {
+// again) sample_transmissive_bsdf(). A pick of a delta lobe (a smooth coat, or the base's
+// as sample_transmissive_bsdf() says) sets out_delta and its weight f / p out_delta_weight:
+// the layers' factors of get_layered_bsdf(), (1 - w_c) (1 - w_s) for the base and w_c for
+// the coat, are the probabilities of picking them, so they cancel (a smooth coat's peak
+// carries w_c, its weight is 1).
+vec3 sample_layered_bsdf(vec2 random_numbers, float lobe_random, material_t material, float eta, vec3 shading_normal, vec3 clearcoat_normal, vec3 view, out bool out_delta, out vec3 out_delta_weight) {
+    out_delta = false;
+    out_delta_weight = vec3(0.0);
     if (material.clearcoat > 0.0) {
         float coat_weight = get_clearcoat_weight(material, dot(clearcoat_normal, view));
-        if (lobe_random < coat_weight)
+        if (lobe_random < coat_weight) {
+            out_delta = get_ggx_alpha(material.clearcoat_roughness) == 0.0;
+            out_delta_weight = out_delta ? vec3(1.0) : vec3(0.0);
             return sample_clearcoat(random_numbers, material, clearcoat_normal, view);
+        }
         lobe_random = (lobe_random - coat_weight) / (1.0 - coat_weight);
     }
     if (has_sheen(material)) {
@@ -223,7 +267,7 @@ vec3 sample_layered_bsdf(vec2 random_numbers, float lobe_random, material_t mate
             return sample_hemisphere_cosine(random_numbers, shading_normal);
         lobe_random = (lobe_random - sheen_weight) / (1.0 - sheen_weight);
     }
-    return sample_transmissive_bsdf(random_numbers, lobe_random, material, eta, shading_normal, view);
+    return sample_transmissive_bsdf(random_numbers, lobe_random, material, eta, shading_normal, view, out_delta, out_delta_weight);
 }
 
 // The fraction of light a ray keeps over `distance` inside the material's volume

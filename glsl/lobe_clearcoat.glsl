@@ -4,6 +4,10 @@
 // - density: get_clearcoat_density();
 // - sample:  sample_clearcoat();
 // - weight:  get_clearcoat_weight() (clearcoat F(N_c . V)).
+// A smooth coat (clearcoat_roughness 0, GGX alpha 0) is a delta lobe: value and density 0 for
+// any direction, sample_clearcoat() returns the mirror direction about the coat's normal,
+// and sample_layered_bsdf() gives that pick the weight 1 (its peak carries w_c, the
+// probability of picking it).
 // Included by glsl/layered_bsdf.glsl. Rust twin: src/cpu/lobe_clearcoat.rs (same names, same
 // maths).
 #ifndef VKPATH_LOBE_CLEARCOAT_GLSL

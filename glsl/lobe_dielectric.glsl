@@ -6,6 +6,11 @@
 // - sample:  sample_rough_dielectric();
 // - weight:  none of its own: the layered mix picks it with get_transmission_probability()
 //            and is_refracting() (glsl/layered_bsdf.glsl); get_refraction_half() is its helper.
+// Smooth (roughness 0, GGX alpha 0): a delta lobe. Its value and density are 0 for any
+// direction (get_ggx_distribution() is), sample_rough_dielectric() returns the mirror or the
+// refracted direction itself, and what the two peaks carry is get_dielectric_fresnel() at n.v
+// (reflection) and get_smooth_dielectric_transmittance() (refraction), which
+// get_transmissive_delta_weight() (glsl/layered_bsdf.glsl) turns into a pick's weight.
 // Included by glsl/layered_bsdf.glsl, after get_dielectric_fresnel() and get_smith_masking(),
 // which it uses. Rust twin: src/cpu/lobe_dielectric.rs (same names, same maths).
 #ifndef VKPATH_LOBE_DIELECTRIC_GLSL
@@ -46,6 +51,14 @@ vec2 get_rough_dielectric_bsdf(float alpha, float eta, vec3 local_view, vec3 loc
     return vec2(0.0, 4.0 * get_ggx_distribution(alpha, local_half) * visibility * (1.0 - fresnel) * -light_dot_half * view_dot_half / (denominator * denominator));
 }
 
+// What a smooth dielectric's refracted peak carries for radiance (f |n.l| integrated over
+// it): (1 - F) / eta^2 with F = get_dielectric_fresnel(n.v, eta), the 1 / eta^2 of
+// crossing into a denser medium included as in get_rough_dielectric_bsdf(); 0 under total
+// internal reflection.
+float get_smooth_dielectric_transmittance(float eta, float normal_dot_view) {
+    return (1.0 - get_dielectric_fresnel(normal_dot_view, eta)) / (eta * eta);
+}
+
 // Density w.r.t. solid angle of sample_rough_dielectric(), whichever side the light is on
 // (a reflection at a steep microfacet may land below the surface, a refraction above): the
 // reflection's F G_1(v) D(h_r) / (4 v_z) at h_r = normalize(v + l), plus the refraction's
@@ -73,7 +86,8 @@ float get_rough_dielectric_density(float alpha, float eta, vec3 local_view, vec3
 // Samples the rough dielectric: a visible GGX normal h from (u_0, u_1), then the reflection
 // of the view at h where lobe_random < F(v.h), else its refraction (GLSL's refract() with
 // 1 / eta). The direction may lie on the wrong side of the surface (the BSDF is 0 there);
-// under total internal reflection F = 1 and it always reflects.
+// under total internal reflection F = 1 and it always reflects. For alpha 0 the normal is
+// the surface's: the mirror or the refracted direction.
 vec3 sample_rough_dielectric(vec2 random_numbers, float lobe_random, float alpha, float eta, vec3 local_view) {
     vec3 local_half = sample_ggx_visible_normal(random_numbers, alpha, local_view);
     float fresnel = get_dielectric_fresnel(dot(local_view, local_half), eta);

@@ -7,6 +7,11 @@
 // - weight:  get_thin_wall_reflection_probability() splits reflection from transmission
 //            (Fresnel get_thin_wall_fresnel()); the layered mix picks the lobe itself with
 //            get_transmission_probability() and is_refracting() (glsl/layered_bsdf.glsl).
+// Smooth (roughness 0, GGX alpha 0): a delta lobe. Its value and density are 0 for any
+// direction (get_ggx_distribution() is), sample_thin_wall() returns the mirror direction or
+// -v itself, and what the two peaks carry is get_thin_wall_fresnel() at n.v (reflection) and
+// get_smooth_thin_wall_transmittance() (transmission), which
+// get_transmissive_delta_weight() (glsl/layered_bsdf.glsl) turns into a pick's weight.
 // Included by glsl/layered_bsdf.glsl. Rust twin: src/cpu/lobe_thin_wall.rs (same names,
 // same maths).
 #ifndef VKPATH_LOBE_THIN_WALL_GLSL
@@ -44,6 +49,12 @@ vec3 get_thin_wall_btdf(material_t material, float alpha, vec3 local_view, vec3 
     return (1.0 - fresnel) * material.base_color * get_ggx_distribution(alpha, local_half) * get_smith_visibility(alpha, local_view.z, mirrored.z);
 }
 
+// What a smooth thin wall's straight-through peak carries (f |n.l| integrated over it):
+// (1 - F) base_color, F get_thin_wall_fresnel() at v.h = n.v.
+vec3 get_smooth_thin_wall_transmittance(material_t material, float normal_dot_view) {
+    return (1.0 - get_thin_wall_fresnel(material, normal_dot_view)) * material.base_color;
+}
+
 // Density of sample_thin_wall(), whichever side the light is on: the visible-normal
 // reflection density at h_r = normalize(v + l) times the reflection probability, plus that at
 // the mirrored light's half vector times its complement.
@@ -63,7 +74,8 @@ float get_thin_wall_density(material_t material, float alpha, vec3 local_view, v
 }
 
 // Samples the thin wall: a visible GGX normal, the view reflected at it, and that mirrored
-// through the surface where lobe_random >= the reflection probability.
+// through the surface where lobe_random >= the reflection probability. For alpha 0 the
+// normal is the surface's: the mirror direction, or -v straight through.
 vec3 sample_thin_wall(vec2 random_numbers, float lobe_random, material_t material, float alpha, vec3 local_view) {
     vec3 local_half = sample_ggx_visible_normal(random_numbers, alpha, local_view);
     vec3 reflected = reflect(-local_view, local_half);

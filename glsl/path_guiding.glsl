@@ -87,8 +87,16 @@ float get_path_direction_density(surface_t surface, vec3 view, vec3 direction) {
 // That is the one-sample balance heuristic over the two techniques, whose weights sum to 1
 // whatever p~_guide is: unbiased even where the GPU's arctangent (Vulkan allows it 4096
 // ulps) puts a sample near a bin edge in the neighbouring bin, which a plain
-// get_bsdf() / p~ would not be (tests/guiding.rs counts those samples).
+// get_bsdf() / p~ would not be (tests/guiding.rs counts those samples). A BSDF sample of a
+// delta lobe (BSDF_LOBE_DELTA) bypasses the mixture: the guide never finds its peak, so its
+// weight is its own f / p over the chance GUIDE_BSDF_FRACTION of the BSDF's turn, and its
+// density stays 0.
 bsdf_sample_t get_guided_direction(surface_t surface, vec3 view, uint guide_cell, bsdf_sample_t bsdf_sample, bool bsdf_chosen, vec2 guide_random_numbers) {
+    if (bsdf_chosen && (bsdf_sample.lobes & BSDF_LOBE_DELTA) != 0u) {
+        bsdf_sample_t delta = bsdf_sample;
+        delta.weight = bsdf_sample.weight / GUIDE_BSDF_FRACTION;
+        return delta;
+    }
     bsdf_sample_t guided = bsdf_sample;
     // The guide's density of the bin its sampler chose (p_guide; only for a guide sample).
     float sampled = 0.0;

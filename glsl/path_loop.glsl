@@ -17,8 +17,12 @@
 // light samples at a glass surface (its smooth lobes are Dirac-like peaks that light samples
 // could not find); so the emission that a path finds right after a vertex without light
 // samples counts in full, for nee and mis alike: BSDF sampling is the only estimator of that
-// light, which keeps both unbiased (light behind glass, caustics). Every integrator samples the BSDF at transmissive surfaces (a cosine or
-// uniform hemisphere cannot find a refraction's peak); a ray that leaves a refracting volume
+// light, which keeps both unbiased (light behind glass, caustics). Delta lobes (roughness 0,
+// BSDF_LOBE_DELTA) likewise: a light sample never finds their peak, so the emission that a
+// path finds after a delta pick counts in full (MIS weight 1), for nee and mis alike,
+// whatever the vertex's light samples found through its other lobes. Every integrator
+// samples the BSDF at transmissive surfaces and at surfaces with a delta lobe (a cosine or
+// uniform hemisphere cannot find a refraction's or a mirror's peak); a ray that leaves a refracting volume
 // loses what the volume absorbed (get_volume_transmittance()); Russian roulette weighs the
 // throughput with the refractions' eta^2 divided out (as pbrt does), so that a path inside
 // glass, whose radiance is scaled by 1 / eta^2, is not killed for it.
@@ -53,7 +57,8 @@
 // \param vertex Index of the hit on the path (0: the camera ray's)
 // \param previous_position Origin of the ray that found it
 // \param direction_density Density of the direction sample that found it
-// \param light_sampled Whether the previous vertex took light samples
+// \param light_sampled Whether the previous vertex took light samples that could find this
+//        emission (false after a delta pick)
 // \param light_origin, light_normal Its light sample's origin and the light tree's normal
 vec3 get_found_emission(int vertex, vec3 throughput_weight, surface_t surface, uint triangle_index, triangle_t triangle, vec3 previous_position, vec3 ray_direction, float t, float direction_density, bool light_sampled, vec3 light_origin, vec3 light_normal) {
     if (vertex == 0)
@@ -81,9 +86,9 @@ vec3 get_found_environment(int vertex, vec3 throughput_weight, vec3 ray_directio
 #endif
 
 // Step 3: the direction the path continues in, as the integrator samples it (by the BSDF
-// at transmissive surfaces whatever the integrator).
+// at transmissive surfaces and at delta lobes whatever the integrator).
 bsdf_sample_t sample_path_direction(surface_t surface, vec3 view, inout uvec2 seed) {
-    bool transmissive = is_transmissive(surface);
+    bool transmissive = is_transmissive(surface) || has_delta_lobe(surface);
     if (samples_uniform_directions() && !transmissive)
         return sample_uniform_direction(surface, view, get_random_numbers(seed));
     vec2 random_numbers = get_path_random_numbers(seed);
@@ -140,8 +145,9 @@ vec3 get_first_hit_view(surface_t surface, float t) {
 vec3 get_path_radiance(vec3 ray_origin, vec3 ray_direction, inout uvec2 seed) {
     vec3 radiance = vec3(0.0);
     vec3 throughput_weight = vec3(1.0);
-    // Density of the direction sample that produced ray_direction (0: the camera ray), and
-    // whether its vertex took light samples.
+    // Density of the direction sample that produced ray_direction (0: the camera ray, a
+    // delta pick), and whether its vertex took light samples that could find what it finds
+    // (not after a delta pick).
     float direction_density = 0.0;
     bool light_sampled = false;
     // The product of the refractions' eta^2 along the path (Russian roulette's correction).
@@ -190,6 +196,9 @@ vec3 get_path_radiance(vec3 ray_origin, vec3 ray_direction, inout uvec2 seed) {
             break;
         ray_direction = direction.direction;
         direction_density = direction.density;
+        // A delta pick: no light sample finds what it finds, which counts in full
+        if ((direction.lobes & BSDF_LOBE_DELTA) != 0u)
+            light_sampled = false;
         eta_scale *= direction.eta * direction.eta;
         throughput_weight *= direction.weight;
         ray_origin = get_departure_origin(surface, ray_origin, direction.lobes);

@@ -40,6 +40,9 @@ struct probe_output_t {
                          // alpha = get_ggx_alpha(roughness) and local_view = (view.xy,
                          // |view.z|), the view read as a shading-frame vector above the
                          // surface; w: get_specular_probability(material, dot(normal, view))
+    vec4 mirror;         // rgb: get_brdf_mirror_weight(material, normal, view) where the
+                         // mirror probability is above 0, else 0;
+                         // a: get_brdf_mirror_probability(material, normal, view)
 };
 
 layout(std430, set = 0, binding = PROBE_BINDING_INPUTS) readonly buffer probe_inputs {
@@ -75,5 +78,7 @@ void main() {
     result.visible_normal = vec4(
         sample_ggx_visible_normal(random_numbers, get_ggx_alpha(material.roughness), local_view),
         get_specular_probability(material, dot(normal, view)));
+    float mirror_probability = get_brdf_mirror_probability(material, normal, view);
+    result.mirror = vec4((mirror_probability > 0.0) ? get_brdf_mirror_weight(material, normal, view) : vec3(0.0), mirror_probability);
     g_outputs[index] = result;
 }

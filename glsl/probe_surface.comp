@@ -40,7 +40,7 @@ struct probe_output_t {
     vec4 geometric_normal; // xyz: surface.geometric_normal; w: is_opaque_hit() as 0 or 1
     vec4 shading_normal;   // xyz: surface.shading_normal; w: 0
     vec4 base_color;       // rgb: surface.material.base_color; a: metallic
-    vec4 factors;          // roughness, specular, ior, 0
+    vec4 factors;          // roughness, specular, ior, has_delta_lobe() as 0 or 1
     vec4 specular_color;   // rgb: surface.material.specular_color; a: 0
     vec4 emission;         // rgb: surface.emission; a: 0
     vec4 reflection;       // rgb: get_bsdf(surface, -direction, light);
@@ -76,7 +76,7 @@ void main() {
     result.geometric_normal = vec4(surface.geometric_normal, opaque ? 1.0 : 0.0);
     result.shading_normal = vec4(surface.shading_normal, 0.0);
     result.base_color = vec4(surface.material.base_color, surface.material.metallic);
-    result.factors = vec4(surface.material.roughness, surface.material.specular, surface.material.ior, 0.0);
+    result.factors = vec4(surface.material.roughness, surface.material.specular, surface.material.ior, has_delta_lobe(surface) ? 1.0 : 0.0);
     result.specular_color = vec4(surface.material.specular_color, 0.0);
     result.emission = vec4(surface.emission, 0.0);
     vec3 light = probe_input.light.xyz;

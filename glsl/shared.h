@@ -366,9 +366,10 @@
 
 // ======== Materials (glsl/brdf.glsl, glsl/materials.glsl; Rust twins src/cpu/brdf.rs) ========
 
-// Smallest GGX alpha (get_ggx_alpha()): roughness 0 (a perfect mirror) becomes alpha 10^-4,
-// a lobe about 10^-4 rad wide with a peak density of 1 / (pi alpha^2) = 3.2e7, whose square
-// (MIS weights) stays far below float's 3.4e38.
+// Smallest GGX alpha (get_ggx_alpha()) of a roughness above 0: a roughness below 0.01
+// becomes alpha 10^-4, a lobe about 10^-4 rad wide with a peak density of
+// 1 / (pi alpha^2) = 3.2e7, whose square (MIS weights) stays far below float's 3.4e38.
+// Roughness 0 exactly is a delta lobe (alpha 0), not this.
 #define MIN_GGX_ALPHA 1.0e-4
 
 #define SHADING_TEXEL_COUNT 8

@@ -7,7 +7,7 @@
 //
 // This file holds the interface: the types, and the rules every model shares. The model is
 // chosen once, when the kernel is built, and lives in a file of its own that defines the
-// interface's functions (has_layers, is_transmissive, get_surface, get_front_emission,
+// interface's functions (has_layers, is_transmissive, has_delta_lobe, get_surface, get_front_emission,
 // get_bsdf, get_reflected_radiance, get_bsdf_density, sample_bsdf, sample_cosine_direction,
 // get_camera_emission, get_volume_transmittance):
 // - glsl/lambert_surface.glsl, the workshop's (kernels without USE_MATERIALS): albedo / pi,
@@ -39,8 +39,9 @@
 #include "brdf.glsl"
 
 // Lobe flags of a bsdf_sample_t: a reflection (the direction leaves on the view's side), a
-// transmission (it crosses the surface), a delta lobe (a Dirac peak: no density to weigh by
-// MIS). Lambert and metallic-roughness reflect only.
+// transmission (it crosses the surface), a delta lobe (a Dirac peak, roughness 0: no density
+// to weigh by MIS, density 0, and what the path finds next counts in full). Lambert and
+// metallic-roughness reflect only.
 #define BSDF_LOBE_REFLECT 1u
 #define BSDF_LOBE_TRANSMIT 2u
 #define BSDF_LOBE_DELTA 4u
@@ -74,7 +75,7 @@ struct surface_t {
 struct bsdf_sample_t {
     // Unit direction, world space, away from the surface
     vec3 direction;
-    // Density w.r.t. solid angle
+    // Density w.r.t. solid angle (0 for a delta lobe's pick, BSDF_LOBE_DELTA)
     float density;
     // get_bsdf() / density: what the path's throughput is multiplied by; 0 ends the path
     vec3 weight;

@@ -143,6 +143,10 @@ const ULP: f64 = f32::EPSILON as f64;
 /// |v + l| is small, by more; no f32 implementation can do better there.
 fn condition(input: &BrdfProbeInput, light: Vec3) -> f64 {
     let alpha = f64::from(get_ggx_alpha(input.material().roughness));
+    // Roughness 0: a delta lobe, no GGX term at all (D is exactly 0)
+    if alpha == 0.0 {
+        return 1.0;
+    }
     let sum = (input.view().as_dvec3() + light.as_dvec3()).length();
     1.0 + 2.0 / (alpha * sum)
 }
@@ -232,6 +236,9 @@ fn brdf_matches_its_twins_on_random_cases() {
     let mut sampled_density = Worst::default();
     let mut visible_normal = Worst::default();
     let mut visible_normal_interior = Worst::default();
+    let mut mirror_probability = Worst::default();
+    let mut mirror_weight = Worst::default();
+    let mut smooth_cases = 0usize;
     let mut flips = [0usize; 3];
     let (mut near_lobe_boundary, mut ill_conditioned) = (0, 0);
     for (index, (input, gpu)) in cases.iter().zip(&gpu).enumerate() {
@@ -265,6 +272,32 @@ fn brdf_matches_its_twins_on_random_cases() {
         }
         let (gpu_p, cpu_p) = (gpu.specular_probability(), cpu.specular_probability());
         probability.add(error_units(gpu_p, cpu_p, 1.0, 0.0), index);
+        // get_brdf_mirror_probability and get_brdf_mirror_weight: a mirror pick exactly where
+        // the roughness is 0 (views above the normal: their contract)
+        if normal.dot(view) > 0.0 {
+            let smooth = input.material().roughness == 0.0;
+            assert_eq!(
+                (
+                    gpu.mirror_probability() > 0.0,
+                    cpu.mirror_probability() > 0.0
+                ),
+                (smooth && cpu_p > 0.0, smooth && cpu_p > 0.0),
+                "case {index}: {input:?}"
+            );
+            mirror_probability.add(
+                error_units(gpu.mirror_probability(), cpu.mirror_probability(), 1.0, 0.0),
+                index,
+            );
+            // F / p: Schlick's and the probability's few ulps each, relative to the weight
+            let error = (0..3)
+                .map(|i| {
+                    let scale = f64::from(cpu.mirror_weight()[i].abs());
+                    error_units(gpu.mirror_weight()[i], cpu.mirror_weight()[i], 1.0, scale)
+                })
+                .fold(0.0, f64::max);
+            mirror_weight.add(error, index);
+            smooth_cases += usize::from(smooth);
+        }
 
         // sample_ggx_visible_normal (any view: the kernel mirrors it above the surface).
         let random_numbers = input.random_numbers();
@@ -318,6 +351,13 @@ fn brdf_matches_its_twins_on_random_cases() {
     report("get_brdf, error units", &brdf);
     report("get_brdf_density, error units", &density);
     report("get_specular_probability, error units", &probability);
+    report(
+        "get_brdf_mirror_probability, error units",
+        &mirror_probability,
+    );
+    report("get_brdf_mirror_weight, error units", &mirror_weight);
+    println!("{smooth_cases} cases of roughness 0 above the normal");
+    assert!(smooth_cases > CASE_COUNT / 20, "{smooth_cases}");
     report("sample_ggx_visible_normal, angle (rad)", &visible_normal);
     report(
         "sample_ggx_visible_normal for u_1 in (1e-3, 0.999), angle (rad)",
@@ -341,6 +381,8 @@ fn brdf_matches_its_twins_on_random_cases() {
         ("brdf", &brdf),
         ("density", &density),
         ("specular probability", &probability),
+        ("mirror probability", &mirror_probability),
+        ("mirror weight", &mirror_weight),
         ("sampled density", &sampled_density),
     ] {
         assert!(

@@ -428,3 +428,130 @@ fn builder_clone(builder: &MeshScene) -> MeshScene {
         materials: builder.materials.clone(),
     }
 }
+
+/// Radiance of the emissive checkerboard behind `smooth_pane_over_tiles`: tile (i, j) of
+/// side `TILE_SIDE` (world units, z = -3) is bright where i + j is even.
+const BRIGHT_TILE: f32 = 1.0;
+/// The dark tiles' radiance: 5 % of the bright ones', so that light leaking across an edge
+/// shows as a large relative error.
+const DARK_TILE: f32 = 0.05;
+/// A tile is 2 pixels wide (the camera's pixel is 2e-3 wide at z = -3), so every pixel
+/// touches a tile edge and its centre lies half a pixel (1e-3, 3.3e-4 rad seen from the pane)
+/// from one.
+const TILE_SIDE: f32 = 4e-3;
+/// Tiles on each side of the axis: 8 cover the view, 2 more beyond each edge.
+const TILES_PER_SIDE: i32 = 6;
+
+/// A smooth (roughness 0) thin-walled white pane (ior 1.5) at z = 0 in front of an emissive
+/// checkerboard at z = -3, seen head-on from z = 2 by a 16 x 16 camera whose pixels are 2e-3
+/// wide at the tiles.
+fn smooth_pane_over_tiles() -> Scene {
+    let mut pane = glass(0.0, 1.5, Vec3::ZERO);
+    pane.transmission.thickness = 0.0;
+    pane.double_sided = true;
+    let mut builder = MeshScene::default();
+    let pane_material = builder.material(pane);
+    let s = 2.0;
+    builder.quad(
+        [
+            Vec3::new(-s, -s, 0.0),
+            Vec3::new(s, -s, 0.0),
+            Vec3::new(s, s, 0.0),
+            Vec3::new(-s, s, 0.0),
+        ],
+        pane_material,
+    );
+    let bright = builder.material(PbrMaterial::lambertian(
+        Vec3::ZERO,
+        Vec3::splat(BRIGHT_TILE),
+        false,
+    ));
+    let dark = builder.material(PbrMaterial::lambertian(
+        Vec3::ZERO,
+        Vec3::splat(DARK_TILE),
+        false,
+    ));
+    for i in -TILES_PER_SIDE..TILES_PER_SIDE {
+        for j in -TILES_PER_SIDE..TILES_PER_SIDE {
+            let (x, y) = (i as f32 * TILE_SIDE, j as f32 * TILE_SIDE);
+            let material = if (i + j).rem_euclid(2) == 0 {
+                bright
+            } else {
+                dark
+            };
+            builder.quad(
+                [
+                    Vec3::new(x, y, -3.0),
+                    Vec3::new(x + TILE_SIDE, y, -3.0),
+                    Vec3::new(x + TILE_SIDE, y + TILE_SIDE, -3.0),
+                    Vec3::new(x, y + TILE_SIDE, -3.0),
+                ],
+                material,
+            );
+        }
+    }
+    // Pixel height at z = -3: 5 * 2 tan(fov / 2) / 16 = 2e-3.
+    let fov = 2.0 * (2e-3f32 * 16.0 / 10.0).atan();
+    let camera = Camera::look_at(Vec3::new(0.0, 0.0, 2.0), Vec3::ZERO, Vec3::Y, fov);
+    builder.build(camera, None)
+}
+
+#[test]
+fn a_smooth_thin_pane_transmits_one_minus_f_at_every_pixel_tile_edges_included() {
+    // Roughness 0 is a delta lobe: every camera ray (pixel centres) goes straight through
+    // the pane to the tile behind its pixel centre, with probability 1 - P_r and weight
+    // (1 - F) / (1 - P_r) = 1 (white: P_r = F = F0 = 0.04 head-on), or reflects (weight 1,
+    // into the black background). So each pixel's mean is (1 - F) Le = 0.96 Le of its tile
+    // exactly, and a sample is Le or 0: the mean of n samples has sigma
+    // Le sqrt(0.96 * 0.04 / n). A GGX lobe of alpha 1e-4 in place of the delta spreads
+    // light over a few 1e-4 rad, which at 3.3e-4 rad from an edge moved dark pixels next to
+    // bright ones by several times their own radiance.
+    let scene = smooth_pane_over_tiles();
+    let spp = 256u32;
+    let sigma_per_radiance = (0.96f64 * 0.04 / f64::from(spp)).sqrt();
+    for integrator in [
+        Integrator::Mis,
+        Integrator::Nee,
+        Integrator::Cosine,
+        Integrator::PathTracing,
+    ] {
+        let image = render(
+            &scene,
+            RenderSettings {
+                width: 16,
+                height: 16,
+                spp,
+                max_path_length: 4,
+                integrator,
+                pixel_filter: PixelFilter::Center,
+                seed: 4,
+                ..Default::default()
+            },
+        );
+        let mut worst_z = 0.0f64;
+        for (index, pixel) in image.mean.iter().enumerate() {
+            let (column, row) = ((index % 16) as i32, (index / 16) as i32);
+            // Pixel (0, 0) is the top left; the tile behind a pixel centre is 2 pixels wide.
+            let (i, j) = ((column - 8).div_euclid(2), (7 - row).div_euclid(2));
+            let radiance = if (i + j).rem_euclid(2) == 0 {
+                BRIGHT_TILE
+            } else {
+                DARK_TILE
+            };
+            let expected = 0.96 * f64::from(radiance);
+            let sigma = f64::from(radiance) * sigma_per_radiance;
+            for (channel, &value) in pixel.iter().take(3).enumerate() {
+                let z = (f64::from(value) - expected) / sigma;
+                worst_z = worst_z.max(z.abs());
+                // 256 pixels (the channels are equal): a count of reflections among 256
+                // samples is binomial (mean 10.2, sd 3.1); 5 sd (26 or more, Poisson tail
+                // 2e-5 per pixel) keeps a false alarm below 1 % for the image.
+                assert!(
+                    z.abs() < 5.0,
+                    "{integrator:?}: pixel ({column}, {row}) channel {channel}: {value} vs (1 - F) Le = {expected} ({z:.1} sigma)"
+                );
+            }
+        }
+        println!("smooth pane over tiles, {integrator:?}: worst |z| {worst_z:.2}");
+    }
+}

@@ -49,6 +49,8 @@ mod material_aov;
 mod materials_render;
 #[path = "punctual_twins.rs"]
 mod punctual_twins;
+#[path = "smooth_render.rs"]
+mod smooth_render;
 #[path = "specializations_agree.rs"]
 mod specializations_agree;
 #[path = "surface_twins.rs"]

@@ -23,11 +23,11 @@ use vkpath::stats::ztest::{z_test_images, MeanImage};
 use vkpath::{Integrator, PixelFilter, RenderSettings, RenderedImage, Scene};
 
 /// Half the side of `QuadScene::plane_in_furnace`'s square.
-const PLANE_HALF_SIZE: f32 = 2.0;
+pub(crate) const PLANE_HALF_SIZE: f32 = 2.0;
 
 /// Builds a scene of quads (two triangles each) with materials.
 #[derive(Default)]
-struct QuadScene {
+pub(crate) struct QuadScene {
     triangles: Vec<Triangle>,
     shading: Vec<TriangleShading>,
     materials: Vec<PbrMaterial>,
@@ -86,7 +86,7 @@ impl QuadScene {
 
     /// The furnace of the white-metal and coat tests: an inward-emitting cube of radiance 1
     /// (half size 10 m) around a 4 m square at z = 0 facing +z with `material`.
-    fn plane_in_furnace(&mut self, material: PbrMaterial) {
+    pub(crate) fn plane_in_furnace(&mut self, material: PbrMaterial) {
         self.furnace_walls(10.0, 1.0);
         let s = PLANE_HALF_SIZE;
         self.quad(
@@ -100,7 +100,7 @@ impl QuadScene {
         );
     }
 
-    fn build(self, camera: Camera) -> Scene {
+    pub(crate) fn build(self, camera: Camera) -> Scene {
         Scene {
             triangles: self.triangles,
             camera: Some(camera),
@@ -121,7 +121,7 @@ impl QuadScene {
 use common::render_scene as render;
 
 /// The camera ray through pixel (x, y) (rows top-down) with the centre pixel filter.
-fn pixel_ray(camera: &Camera, width: u32, height: u32, x: u32, y: u32) -> Vec3 {
+pub(crate) fn pixel_ray(camera: &Camera, width: u32, height: u32, x: u32, y: u32) -> Vec3 {
     let plane = camera.image_plane(width as f32 / height as f32);
     let u = (x as f32 + 0.5) / width as f32;
     let v = ((height - 1 - y) as f32 + 0.5) / height as f32;
@@ -212,7 +212,8 @@ fn white_metal_in_a_white_furnace_reflects_its_numerical_albedo() {
     }
 }
 
-fn block_means(image: &RenderedImage) -> MeanImage {
+/// An image's 8 x 8 block means with their variances (for `z_test_images`).
+pub(crate) fn block_means(image: &RenderedImage) -> MeanImage {
     let variance: Vec<[f64; 3]> = image
         .variance_of_mean()
         .iter()

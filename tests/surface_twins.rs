@@ -13,8 +13,10 @@ use crate::common;
 
 use glam::{UVec2, Vec2, Vec3};
 use vkpath::cpu::gltf_surface::{
-    get_bsdf, get_bsdf_density, get_surface, get_triangle, is_opaque_hit, sample_bsdf,
+    get_bsdf, get_bsdf_density, get_surface, get_triangle, has_delta_lobe, is_opaque_hit,
+    sample_bsdf,
 };
+use vkpath::cpu::surface::{BSDF_LOBE_DELTA, BSDF_LOBE_TRANSMIT};
 use vkpath::probe::inputs::InputRng;
 use vkpath::probe::surface_probe::{
     SurfaceProbeInput, SurfaceProbeOutput, SurfaceProbeRunner, SurfaceWords,
@@ -262,6 +264,7 @@ fn layered_surfaces_match_their_twins_on_the_gpu() {
     let (mut worst_value, mut worst_bsdf, mut worst_angle, mut worst_sample) =
         (0f32, 0f32, 0f32, 0f32);
     let (mut transmitted, mut coated, mut sheened, mut unlit, mut other_lobe) = (0, 0, 0, 0, 0);
+    let (mut smooth, mut delta) = (0, 0);
     let relative = |gpu: f32, cpu: f32| (gpu - cpu).abs() / gpu.abs().max(cpu.abs()).max(1e-3);
     for (input, gpu) in inputs.iter().zip(&outputs) {
         let triangle_index = input.triangle_seed[0];
@@ -292,6 +295,12 @@ fn layered_surfaces_match_their_twins_on_the_gpu() {
         let value = values.into_iter().fold(0.0, f32::max);
         assert!(value <= VALUE_TOLERANCE, "{context}: {values:?}");
         worst_value = worst_value.max(value);
+        assert_eq!(
+            gpu.factors[3] == 1.0,
+            has_delta_lobe(&surface),
+            "{context}: has_delta_lobe"
+        );
+        smooth += usize::from(has_delta_lobe(&surface));
         coated += usize::from(material.clearcoat > 0.0);
         // The velvet ball: its sheen shows in the BSDF and its density compared below.
         sheened += usize::from(material.sheen_color != Vec3::ZERO);
@@ -324,9 +333,18 @@ fn layered_surfaces_match_their_twins_on_the_gpu() {
             continue;
         }
         worst_angle = worst_angle.max(angle);
-        transmitted += usize::from(sample.lobes == 2);
-        // The density of a narrow lobe near its peak (roughness 0: alpha 10^-4, densities up
-        // to 10^10 at grazing views; the scene's clear coat: alpha 9e-4) turns the half
+        transmitted += usize::from(sample.lobes & BSDF_LOBE_TRANSMIT != 0);
+        delta += usize::from(sample.lobes & BSDF_LOBE_DELTA != 0);
+        // A delta pick (the smooth glass and pane): density 0 on both, weight its own f / p
+        assert!(
+            sample.lobes & BSDF_LOBE_DELTA == 0 || (sample.density == 0.0 && gpu.sampled[3] == 0.0),
+            "{context}: a delta pick's density {} vs {}",
+            gpu.sampled[3],
+            sample.density
+        );
+        // The density of a narrow lobe near its peak (alpha 10^-4 had densities up to 10^10
+        // at grazing views before roughness 0 became a delta lobe; the scene's clear coat:
+        // alpha 9e-4) turns the half
         // vector's ulps into per cent or more (measured: 3% at 4.7e4, a factor 3 at 8.7e9),
         // so densities are compared only below 10^3; the weight, the
         // estimator's factor (f / p with both huge), agrees to LAYERED_TOLERANCE everywhere.
@@ -347,15 +365,15 @@ fn layered_surfaces_match_their_twins_on_the_gpu() {
         worst_sample = worst_sample.max(sample_error);
     }
     println!(
-        "{} inputs ({transmitted} transmitted samples, {coated} coated, {sheened} with sheen, {unlit} \
-         unlit, {other_lobe} \
+        "{} inputs ({transmitted} transmitted samples, {delta} delta picks at {smooth} surfaces \
+         with a delta lobe, {coated} coated, {sheened} with sheen, {unlit} unlit, {other_lobe} \
          other lobe); largest GPU-CPU differences: values {worst_value:.2e}, bsdf and density \
          {worst_bsdf:.2e}, sampled direction {worst_angle:.2e} rad, sample {worst_sample:.2e}",
         inputs.len()
     );
     assert!(
-        transmitted >= 100 && coated >= 20 && sheened >= 20 && unlit >= 10,
-        "{transmitted} {coated} {sheened} {unlit}"
+        transmitted >= 100 && coated >= 20 && sheened >= 20 && unlit >= 10 && delta >= 100,
+        "{transmitted} {coated} {sheened} {unlit} {delta}"
     );
     // Lobe choices that rounding flips: a few per ten thousand.
     assert!(

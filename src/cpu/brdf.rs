@@ -16,7 +16,8 @@ pub struct MaterialSample {
     pub base_color: Vec3,
     /// 0: dielectric, 1: metal.
     pub metallic: f32,
-    /// Perceptual roughness in [0, 1] (GGX alpha = roughness^2, at least `MIN_GGX_ALPHA`).
+    /// Perceptual roughness in [0, 1] (GGX alpha = roughness^2, at least `MIN_GGX_ALPHA`;
+    /// 0 exactly: a delta lobe).
     pub roughness: f32,
     /// KHR_materials_specular's specularFactor (0 with metallic 0: Lambertian).
     pub specular: f32,
@@ -76,9 +77,14 @@ pub fn get_base_material(
     }
 }
 
-/// Twin of `get_ggx_alpha`: max(roughness^2, `MIN_GGX_ALPHA`).
+/// Twin of `get_ggx_alpha`: max(roughness^2, `MIN_GGX_ALPHA`), and 0 for roughness 0
+/// exactly: a delta (perfectly specular) lobe, which `get_ggx_distribution` gives no value.
 pub fn get_ggx_alpha(roughness: f32) -> f32 {
-    (roughness * roughness).max(MIN_GGX_ALPHA)
+    if roughness == 0.0 {
+        0.0
+    } else {
+        (roughness * roughness).max(MIN_GGX_ALPHA)
+    }
 }
 
 /// GLSL's `vector * matrix`: the vector in the basis's local coordinates.
@@ -86,9 +92,10 @@ pub(crate) fn to_local(basis: Mat3, vector: Vec3) -> Vec3 {
     basis.transpose() * vector
 }
 
-/// Twin of `get_ggx_distribution`: GGX's D(h) from the local half vector, 0 below.
+/// Twin of `get_ggx_distribution`: GGX's D(h) from the local half vector, 0 below and 0
+/// for alpha 0 (a delta lobe).
 pub fn get_ggx_distribution(alpha: f32, local_half: Vec3) -> f32 {
-    if local_half.z <= 0.0 {
+    if local_half.z <= 0.0 || alpha == 0.0 {
         return 0.0;
     }
     let stretched = (local_half.x * local_half.x + local_half.y * local_half.y) / (alpha * alpha)
@@ -164,6 +171,35 @@ pub fn get_specular_probability(material: &MaterialSample, normal_dot_view: f32)
     } else {
         0.5
     }
+}
+
+/// Twin of `get_mirror_reflectance`: what the delta specular lobe's peak carries,
+/// mix(F_d, F_m, metallic) at v.h = n.v.
+pub fn get_mirror_reflectance(material: &MaterialSample, normal_dot_view: f32) -> Vec3 {
+    let dielectric_fresnel = get_schlick_fresnel(
+        get_dielectric_f0(material),
+        Vec3::splat(material.specular),
+        normal_dot_view,
+    );
+    let metal_fresnel = get_schlick_fresnel(material.base_color, Vec3::ONE, normal_dot_view);
+    dielectric_fresnel.lerp(metal_fresnel, material.metallic)
+}
+
+/// Twin of `get_brdf_mirror_probability`: the chance that `sample_brdf` returns the mirror
+/// direction of a delta specular lobe (roughness 0), 0 for roughness above 0.
+pub fn get_brdf_mirror_probability(material: &MaterialSample, normal: Vec3, view: Vec3) -> f32 {
+    if get_ggx_alpha(material.roughness) != 0.0 {
+        return 0.0;
+    }
+    let local_view = to_local(get_shading_basis(normal), view);
+    get_specular_probability(material, local_view.z)
+}
+
+/// Twin of `get_brdf_mirror_weight`: f / p of `sample_brdf`'s mirror pick alone.
+pub fn get_brdf_mirror_weight(material: &MaterialSample, normal: Vec3, view: Vec3) -> Vec3 {
+    let local_view = to_local(get_shading_basis(normal), view);
+    get_mirror_reflectance(material, local_view.z)
+        / get_specular_probability(material, local_view.z)
 }
 
 /// Twin of `sample_ggx_visible_normal`: Dupuy and Benyoub's (2023) spherical caps.

@@ -1,6 +1,6 @@
 //! Rust twins of the functions of the surface seam's glTF model (`glsl/gltf_surface.glsl`
 //! over `glsl/materials.glsl`) that read the scene's texel buffers:
-//! `get_surface`, `get_bsdf`, `get_bsdf_density`, `sample_bsdf`, `is_opaque_hit` and the
+//! `get_surface`, `get_bsdf`, `get_bsdf_density`, `sample_bsdf`, `has_delta_lobe`, `is_opaque_hit` and the
 //! lookups they are made of, reading the same words the GPU reads (the packed triangles, `GpuTriangleShading`,
 //! `GpuMaterial` and the texture atlas of `crate::render`), with the same maths. The pure
 //! functions they call are twins too: `crate::cpu::materials`, `crate::cpu::textures`,
@@ -22,14 +22,15 @@ use crate::contract::{
     SHADING_TEXEL_COUNT, TRIANGLE_FLAG_DOUBLE_SIDED, TRIANGLE_TEXEL_COUNT,
 };
 use crate::cpu::brdf::{
-    get_base_material, get_brdf, get_brdf_density, sample_brdf, MaterialSample,
+    get_base_material, get_brdf, get_brdf_density, get_brdf_mirror_probability,
+    get_brdf_mirror_weight, get_ggx_alpha, sample_brdf, MaterialSample,
 };
 use crate::cpu::layered_bsdf::{
     get_absorption, get_layered_bsdf, get_layered_density, is_layered, is_refracting,
     sample_layered_bsdf,
 };
 use crate::cpu::materials::{apply_normal_map, get_barycentrics};
-use crate::cpu::surface::{BsdfSample, BSDF_LOBE_REFLECT, BSDF_LOBE_TRANSMIT};
+use crate::cpu::surface::{BsdfSample, BSDF_LOBE_DELTA, BSDF_LOBE_REFLECT, BSDF_LOBE_TRANSMIT};
 use crate::cpu::texels::{fetch_float_texel, fetch_texel, uint_bits_to_float};
 use crate::cpu::textures::{sample_texture, unpack_texture_slot};
 use crate::cpu::workshop::get_random_numbers;
@@ -628,7 +629,23 @@ pub fn get_bsdf_density(surface: &Surface, view: Vec3, light: Vec3) -> f32 {
     get_brdf_density(&surface.material, surface.shading_normal, view, light)
 }
 
-/// Twin of `sample_bsdf` (glTF): a direction, its density, weight, lobes and eta.
+/// Twin of `has_delta_lobe` (glTF; the twin has no `SCENE_HAS_SPECULAR`: its materials are
+/// as the scene gives them): a specular lobe or a transmission of roughness 0, or a smooth
+/// clear coat.
+pub fn has_delta_lobe(surface: &Surface) -> bool {
+    let material = &surface.material;
+    if get_ggx_alpha(material.roughness) == 0.0
+        && (material.metallic > 0.0 || material.specular > 0.0 || is_transmissive(surface))
+    {
+        return true;
+    }
+    has_layers(surface)
+        && material.clearcoat > 0.0
+        && get_ggx_alpha(material.clearcoat_roughness) == 0.0
+}
+
+/// Twin of `sample_bsdf` (glTF): a direction, its density, weight, lobes and eta; a delta
+/// pick is marked `BSDF_LOBE_DELTA`, density 0, weight its own f / p.
 pub fn sample_bsdf(
     surface: &Surface,
     view: Vec3,
@@ -637,8 +654,8 @@ pub fn sample_bsdf(
 ) -> BsdfSample {
     let mut lobes = BSDF_LOBE_REFLECT;
     let mut eta = 1.0;
-    let direction = if has_layers(surface) {
-        let direction = sample_layered_bsdf(
+    let (direction, delta_weight) = if has_layers(surface) {
+        let (direction, delta_weight) = sample_layered_bsdf(
             random_numbers,
             lobe_random,
             &surface.material,
@@ -653,21 +670,37 @@ pub fn sample_bsdf(
                 eta = surface.eta;
             }
         }
-        direction
+        (direction, delta_weight)
     } else {
-        sample_brdf(
+        let direction = sample_brdf(
             random_numbers,
             &surface.material,
             surface.shading_normal,
             view,
-        )
+        );
+        let delta = random_numbers[0]
+            < get_brdf_mirror_probability(&surface.material, surface.shading_normal, view);
+        let delta_weight =
+            delta.then(|| get_brdf_mirror_weight(&surface.material, surface.shading_normal, view));
+        (direction, delta_weight)
     };
-    let density = get_bsdf_density(surface, view, direction);
-    let weight = if density > 0.0 {
+    let mut density = get_bsdf_density(surface, view, direction);
+    let mut weight = if density > 0.0 {
         get_bsdf(surface, view, direction) / density
     } else {
         Vec3::ZERO
     };
+    if let Some(delta_weight) = delta_weight {
+        let sides_agree = (surface.geometric_normal.dot(direction) > 0.0)
+            == (surface.shading_normal.dot(direction) > 0.0);
+        lobes |= BSDF_LOBE_DELTA;
+        density = 0.0;
+        weight = if sides_agree {
+            delta_weight
+        } else {
+            Vec3::ZERO
+        };
+    }
     BsdfSample {
         direction,
         density,

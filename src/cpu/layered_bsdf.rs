@@ -16,8 +16,9 @@
 use glam::{Vec2, Vec3};
 
 use crate::cpu::brdf::{
-    get_brdf_density, get_dielectric_f0, get_ggx_alpha, get_ggx_distribution, get_schlick_fresnel,
-    get_smith_visibility, sample_brdf, to_local, MaterialSample,
+    get_brdf_density, get_brdf_mirror_probability, get_dielectric_f0, get_ggx_alpha,
+    get_ggx_distribution, get_schlick_fresnel, get_smith_visibility, get_specular_probability,
+    sample_brdf, to_local, MaterialSample,
 };
 use crate::cpu::importance_sampling::sample_hemisphere_cosine;
 use crate::cpu::shading_basis::get_shading_basis;
@@ -27,8 +28,8 @@ pub use crate::cpu::lobe_clearcoat::{
     get_clearcoat_brdf, get_clearcoat_density, get_clearcoat_weight, sample_clearcoat,
 };
 pub use crate::cpu::lobe_dielectric::{
-    get_refraction_half, get_rough_dielectric_bsdf, get_rough_dielectric_density, refract,
-    sample_rough_dielectric,
+    get_refraction_half, get_rough_dielectric_bsdf, get_rough_dielectric_density,
+    get_smooth_dielectric_transmittance, refract, sample_rough_dielectric,
 };
 pub use crate::cpu::lobe_sheen::{
     get_charlie_distribution, get_sheen_albedo, get_sheen_albedo_entry, get_sheen_alpha,
@@ -36,8 +37,9 @@ pub use crate::cpu::lobe_sheen::{
     has_sheen,
 };
 pub use crate::cpu::lobe_thin_wall::{
-    get_thin_wall_btdf, get_thin_wall_density, get_thin_wall_fresnel,
-    get_thin_wall_reflection_probability, mirror_through_surface, sample_thin_wall,
+    get_smooth_thin_wall_transmittance, get_thin_wall_btdf, get_thin_wall_density,
+    get_thin_wall_fresnel, get_thin_wall_reflection_probability, mirror_through_surface,
+    sample_thin_wall,
 };
 
 /// Twin of `get_dielectric_fresnel`: the exact unpolarised Fresnel reflectance of a smooth
@@ -143,7 +145,50 @@ pub fn get_transmissive_density(
     density
 }
 
-/// Twin of `sample_transmissive_bsdf`.
+/// Twin of `get_transmissive_delta_weight`: f / p of a delta pick of
+/// `sample_transmissive_bsdf` (roughness 0), its transmission (`transmitted`) or its
+/// reflection, whose probability sums the two routes to the mirror direction.
+pub fn get_transmissive_delta_weight(
+    material: &MaterialSample,
+    eta: f32,
+    local_view: Vec3,
+    transmitted: bool,
+) -> Vec3 {
+    let normal_dot_view = local_view.z;
+    let refracting = is_refracting(material);
+    let reflection_probability = if refracting {
+        get_dielectric_fresnel(normal_dot_view, eta)
+    } else {
+        get_thin_wall_reflection_probability(material, normal_dot_view)
+    };
+    if transmitted {
+        let transmittance = if refracting {
+            get_smooth_dielectric_transmittance(eta, normal_dot_view) * material.base_color
+        } else {
+            get_smooth_thin_wall_transmittance(material, normal_dot_view)
+        };
+        return transmittance / (1.0 - reflection_probability);
+    }
+    let schlick_fresnel = get_thin_wall_fresnel(material, normal_dot_view);
+    let dielectric = if refracting {
+        (1.0 - material.transmission) * schlick_fresnel
+            + material.transmission * get_dielectric_fresnel(normal_dot_view, eta)
+    } else {
+        schlick_fresnel
+    };
+    let reflectance = dielectric.lerp(
+        get_schlick_fresnel(material.base_color, Vec3::ONE, normal_dot_view),
+        material.metallic,
+    );
+    let transmission_probability = get_transmission_probability(material);
+    reflectance
+        / (transmission_probability * reflection_probability
+            + (1.0 - transmission_probability)
+                * get_specular_probability(material, normal_dot_view))
+}
+
+/// Twin of `sample_transmissive_bsdf`: the direction, and for a delta pick (roughness 0; the
+/// shader's `out_delta`) its weight `get_transmissive_delta_weight` (`out_delta_weight`).
 pub fn sample_transmissive_bsdf(
     random_numbers: Vec2,
     lobe_random: f32,
@@ -151,13 +196,13 @@ pub fn sample_transmissive_bsdf(
     eta: f32,
     shading_normal: Vec3,
     view: Vec3,
-) -> Vec3 {
+) -> (Vec3, Option<Vec3>) {
     let transmission_probability = get_transmission_probability(material);
+    let basis = get_shading_basis(shading_normal);
+    let local_view = to_local(basis, view);
+    let alpha = get_ggx_alpha(material.roughness);
     if lobe_random < transmission_probability {
         let reflection_random = lobe_random / transmission_probability;
-        let basis = get_shading_basis(shading_normal);
-        let local_view = to_local(basis, view);
-        let alpha = get_ggx_alpha(material.roughness);
         let local_light = if is_refracting(material) {
             sample_rough_dielectric(random_numbers, reflection_random, alpha, eta, local_view)
         } else {
@@ -169,9 +214,17 @@ pub fn sample_transmissive_bsdf(
                 local_view,
             )
         };
-        return (basis * local_light).normalize();
+        let delta_weight = (alpha == 0.0)
+            .then(|| get_transmissive_delta_weight(material, eta, local_view, local_light.z < 0.0));
+        return ((basis * local_light).normalize(), delta_weight);
     }
-    sample_brdf(random_numbers, material, shading_normal, view)
+    let delta_weight = (random_numbers[0]
+        < get_brdf_mirror_probability(material, shading_normal, view))
+    .then(|| get_transmissive_delta_weight(material, eta, local_view, false));
+    (
+        sample_brdf(random_numbers, material, shading_normal, view),
+        delta_weight,
+    )
 }
 
 /// Twin of `get_layered_base_cosine`.
@@ -246,7 +299,9 @@ pub fn get_layered_density(
     density
 }
 
-/// Twin of `sample_layered_bsdf`.
+/// Twin of `sample_layered_bsdf`: the direction, and for a delta pick (a smooth coat, or the
+/// base's as `sample_transmissive_bsdf` says; the shader's `out_delta`) its weight f / p
+/// (`out_delta_weight`: 1 for the coat).
 pub fn sample_layered_bsdf(
     random_numbers: Vec2,
     lobe_random: f32,
@@ -255,19 +310,27 @@ pub fn sample_layered_bsdf(
     shading_normal: Vec3,
     clearcoat_normal: Vec3,
     view: Vec3,
-) -> Vec3 {
+) -> (Vec3, Option<Vec3>) {
     let mut lobe_random = lobe_random;
     if material.clearcoat > 0.0 {
         let coat_weight = get_clearcoat_weight(material, clearcoat_normal.dot(view));
         if lobe_random < coat_weight {
-            return sample_clearcoat(random_numbers, material, clearcoat_normal, view);
+            let delta_weight =
+                (get_ggx_alpha(material.clearcoat_roughness) == 0.0).then_some(Vec3::ONE);
+            return (
+                sample_clearcoat(random_numbers, material, clearcoat_normal, view),
+                delta_weight,
+            );
         }
         lobe_random = (lobe_random - coat_weight) / (1.0 - coat_weight);
     }
     if has_sheen(material) {
         let sheen_weight = get_sheen_weight(material, shading_normal.dot(view));
         if lobe_random < sheen_weight {
-            return sample_hemisphere_cosine(random_numbers, shading_normal);
+            return (
+                sample_hemisphere_cosine(random_numbers, shading_normal),
+                None,
+            );
         }
         lobe_random = (lobe_random - sheen_weight) / (1.0 - sheen_weight);
     }

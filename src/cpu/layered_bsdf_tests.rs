@@ -7,6 +7,7 @@ use glam::{UVec2, Vec2, Vec3};
 
 use super::*;
 use crate::contract::SHEEN_ALBEDO_SIZE;
+use crate::cpu::brdf::get_luminance;
 use crate::cpu::workshop::get_random_numbers;
 use crate::stats::chi2::{chi2_direction_test, Chi2Config};
 use crate::stats::sphere_histogram::{SphereFrame, TargetDensity};
@@ -48,6 +49,7 @@ fn layered_samples(material: &MaterialSample, eta: f32, view: Vec3, count: usize
                 Vec3::Z,
                 view,
             )
+            .0
         })
         .collect()
 }
@@ -242,7 +244,7 @@ fn kept_energy(material: &MaterialSample, eta: f32, view: Vec3, count: usize) ->
     for _ in 0..count {
         let random_numbers: Vec2 = get_random_numbers(&mut seed);
         let lobe_random = get_random_numbers(&mut seed)[0];
-        let light = sample_layered_bsdf(
+        let (light, delta_weight) = sample_layered_bsdf(
             random_numbers,
             lobe_random,
             material,
@@ -253,12 +255,15 @@ fn kept_energy(material: &MaterialSample, eta: f32, view: Vec3, count: usize) ->
         );
         let density = get_layered_density(material, eta, Vec3::Z, Vec3::Z, view, light);
         let mut weight = 0.0;
-        if density > 0.0 {
+        if let Some(delta_weight) = delta_weight {
+            // A delta pick (roughness 0): its own f / p
+            weight = f64::from(delta_weight.x);
+        } else if density > 0.0 {
             let bsdf = get_layered_bsdf(material, eta, Vec3::Z, Vec3::Z, Vec3::Z, view, light);
             weight = f64::from(bsdf.x / density);
-            if light.z < 0.0 && is_refracting(material) {
-                weight *= f64::from(eta * eta);
-            }
+        }
+        if light.z < 0.0 && is_refracting(material) {
+            weight *= f64::from(eta * eta);
         }
         sum += weight;
         sum_of_squares += weight * weight;
@@ -288,27 +293,158 @@ fn a_dielectric_keeps_at_most_all_energy_and_smooth_glass_all_of_it() {
 }
 
 #[test]
-fn a_smooth_thin_pane_seen_head_on_transmits_one_minus_f() {
+fn smooth_lobes_have_no_value_and_no_density_for_any_direction() {
+    // Roughness 0 is a delta lobe: get_ggx_alpha() 0, and every GGX lobe's value and density
+    // are exactly 0 whatever the direction (light samples find nothing), the directions
+    // closest to the peaks included; a rough lobe (roughness 0.01, alpha 1e-4) has them.
+    assert_eq!(get_ggx_alpha(0.0), 0.0);
+    assert_eq!(get_ggx_alpha(0.001), crate::contract::MIN_GGX_ALPHA);
+    let mut thin = glass(0.0, 1.5);
+    thin.thickness = 0.0;
+    let mut coated = MaterialSample::gltf(Vec3::new(0.5, 0.2, 0.1), 1.0, 0.0);
+    coated.clearcoat = 1.0;
+    let view = view_at(30.0);
+    let mirror = Vec3::new(-view.x, -view.y, view.z);
+    let refracted = refract(-view, Vec3::Z, 1.0 / 1.5);
+    let tilted = |direction: Vec3| (direction + Vec3::new(1e-4, 0.0, 0.0)).normalize();
+    for (name, material) in [
+        ("glass", glass(0.0, 1.5)),
+        ("thin wall", thin),
+        ("coated metal", coated),
+    ] {
+        for light in [
+            mirror,
+            -view,
+            refracted,
+            tilted(mirror),
+            tilted(-view),
+            Vec3::Z,
+            -Vec3::Z,
+        ] {
+            let bsdf = get_layered_bsdf(&material, 1.5, Vec3::Z, Vec3::Z, Vec3::Z, view, light);
+            let density = get_layered_density(&material, 1.5, Vec3::Z, Vec3::Z, view, light);
+            assert_eq!((bsdf, density), (Vec3::ZERO, 0.0), "{name} towards {light}");
+        }
+    }
+    let mut rough_thin = thin;
+    rough_thin.roughness = 0.01;
+    assert!(get_layered_density(&rough_thin, 1.5, Vec3::Z, Vec3::Z, view, -view) > 1e3);
+}
+
+#[test]
+fn a_smooth_thin_pane_passes_straight_through_with_weight_one_minus_f_over_its_pick() {
+    // Tinted base colour c, ior 1.5, thickness 0: every pick is one of two peaks, the mirror
+    // direction (weight F / P_r) or -v itself (weight (1 - F) c / (1 - P_r)), with F
+    // Schlick's at n.v and P_r = lum(F) / (lum(F) + lum((1 - F) c)). Head-on F = F0 = 0.04,
+    // so the transmitted light, the mean of the transmitted picks' weights, is 0.96 c.
+    let tint = Vec3::new(0.9, 0.6, 0.3);
     let mut pane = glass(0.0, 1.5);
     pane.thickness = 0.0;
-    let alpha = get_ggx_alpha(0.0);
-    // Straight through, the mirrored GGX lobe's peak weighted by (1 - F) = 0.96.
-    let mut seed = UVec2::new(1, 2);
-    let (mut transmitted, mut count) = (0.0f64, 0);
-    for _ in 0..20_000 {
-        let random_numbers: Vec2 = get_random_numbers(&mut seed);
-        let light = sample_thin_wall(random_numbers, 0.999, &pane, alpha, Vec3::Z);
-        // Straight through: the lobe of alpha 10^-4 (its far tail reaches a few 10^-3 rad).
-        assert!(light.z < -0.999, "{light}");
-        let bsdf = get_transmissive_bsdf(&pane, 1.5, Vec3::Z, light) * -light.z;
-        let density = get_thin_wall_density(&pane, alpha, Vec3::Z, light);
-        let probability = 1.0 - get_thin_wall_reflection_probability(&pane, 1.0);
-        transmitted += f64::from(bsdf.x / (density / probability));
-        count += 1;
+    pane.base_color = tint;
+    for degrees in [0.0f32, 50.0] {
+        let view = view_at(degrees);
+        let fresnel = get_schlick_fresnel(Vec3::splat(0.04), Vec3::ONE, view.z);
+        let reflected = get_luminance(fresnel);
+        let probability = reflected / (reflected + get_luminance((1.0 - fresnel) * tint));
+        let mut seed = UVec2::new(1, 2);
+        let (mut transmitted, count) = (Vec3::ZERO, 40_000);
+        for _ in 0..count {
+            let random_numbers: Vec2 = get_random_numbers(&mut seed);
+            let lobe_random = get_random_numbers(&mut seed)[0];
+            let (light, delta_weight) = sample_layered_bsdf(
+                random_numbers,
+                lobe_random,
+                &pane,
+                1.5,
+                Vec3::Z,
+                Vec3::Z,
+                view,
+            );
+            let weight = delta_weight.expect("every pick of a smooth thin wall is a delta");
+            if light.z < 0.0 {
+                assert!((light + view).length() < 1e-6, "{degrees}: {light} not -v");
+                let expected = (1.0 - fresnel) * tint / (1.0 - probability);
+                assert!(
+                    (weight - expected).abs().max_element() < 1e-6,
+                    "{weight} vs {expected}"
+                );
+                transmitted += weight;
+            } else {
+                assert!((light - Vec3::new(-view.x, -view.y, view.z)).length() < 1e-6);
+                assert!((weight - fresnel / probability).abs().max_element() < 1e-6);
+            }
+        }
+        let mean = transmitted / count as f32;
+        let closed_form = (1.0 - fresnel) * tint;
+        // A transmitted pick is Bernoulli(1 - P_r) times its fixed weight: 4 standard
+        // errors of that (at most 0.9 sqrt(0.05 / 40000) = 1e-3).
+        let error = (closed_form / (1.0 - probability))
+            * ((1.0 - probability) * probability / count as f32).sqrt();
+        println!("smooth thin pane {degrees} deg: transmits {mean} (closed form {closed_form})");
+        assert!(
+            ((mean - closed_form).abs() - 4.0 * error).max_element() < 1e-6,
+            "{mean}"
+        );
     }
-    let mean = transmitted / f64::from(count);
-    println!("thin pane head-on: transmits {mean:.6}");
-    assert!((mean - 0.96).abs() < 1e-3, "{mean}");
+}
+
+#[test]
+fn a_smooth_dielectric_refracts_and_reflects_with_exact_fresnel_weights() {
+    // Refracting glass (transmission 1, ior 1.5), entering and leaving: a reflection pick
+    // has weight F / F = 1, a refraction's (1 - F) / eta^2 / (1 - F) = 1 / eta^2 and lies
+    // along Snell's direction; past the critical angle (leaving at 50 degrees) every pick
+    // reflects.
+    let material = glass(0.0, 1.5);
+    for (eta, degrees) in [
+        (1.5f32, 0.0f32),
+        (1.5, 60.0),
+        (1.0 / 1.5, 30.0),
+        (1.0 / 1.5, 50.0),
+    ] {
+        let view = view_at(degrees);
+        let fresnel = get_dielectric_fresnel(view.z, eta);
+        let mut seed = UVec2::new(3, 4);
+        let mut refracted_count = 0;
+        for _ in 0..4_000 {
+            let random_numbers: Vec2 = get_random_numbers(&mut seed);
+            let lobe_random = get_random_numbers(&mut seed)[0];
+            let (light, delta_weight) = sample_layered_bsdf(
+                random_numbers,
+                lobe_random,
+                &material,
+                eta,
+                Vec3::Z,
+                Vec3::Z,
+                view,
+            );
+            let weight = delta_weight.expect("smooth glass picks only peaks");
+            if light.z < 0.0 {
+                refracted_count += 1;
+                let snell = refract(-view, Vec3::Z, 1.0 / eta);
+                assert!((light - snell).length() < 1e-5, "{light} vs {snell}");
+                assert!(
+                    (weight - Vec3::splat(1.0 / (eta * eta)))
+                        .abs()
+                        .max_element()
+                        < 1e-5
+                );
+            } else {
+                assert!((weight - Vec3::ONE).abs().max_element() < 1e-5, "{weight}");
+            }
+        }
+        println!("smooth glass eta {eta:.3} {degrees} deg: F {fresnel:.4}, {refracted_count} of 4000 refracted");
+        if fresnel == 1.0 {
+            assert_eq!(refracted_count, 0);
+        } else {
+            // Binomial(4000, 1 - F): within 5 standard deviations.
+            let mean = 4000.0 * (1.0 - fresnel);
+            let sd = (4000.0 * fresnel * (1.0 - fresnel)).sqrt();
+            assert!(
+                (refracted_count as f32 - mean).abs() < 5.0 * sd + 1.0,
+                "{refracted_count} vs {mean}"
+            );
+        }
+    }
 }
 
 #[test]

@@ -1,7 +1,8 @@
 //! Rust twins of `glsl/lobe_clearcoat.glsl`: the clear-coat lobe of KHR_materials_clearcoat
 //! (fresnel_coat: a GGX coat of ior `CLEARCOAT_IOR` with its own normal). Its quartet: value
 //! `get_clearcoat_brdf`, density `get_clearcoat_density`, sample `sample_clearcoat`, weight
-//! `get_clearcoat_weight`. Same names, same maths.
+//! `get_clearcoat_weight`. A smooth coat (roughness 0) is a delta lobe whose pick
+//! `sample_layered_bsdf` weighs 1. Same names, same maths.
 
 use crate::contract::CLEARCOAT_IOR;
 use crate::cpu::brdf::{

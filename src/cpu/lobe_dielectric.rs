@@ -3,8 +3,9 @@
 //! reflectance). Its quartet: value `get_rough_dielectric_bsdf`, density
 //! `get_rough_dielectric_density`, sample `sample_rough_dielectric`; no weight of its own (the
 //! layered mix picks it with `get_transmission_probability` and `is_refracting`,
-//! `crate::cpu::layered_bsdf`). `refract` is GLSL's built-in, twinned here. Same names, same
-//! maths.
+//! `crate::cpu::layered_bsdf`). `refract` is GLSL's built-in, twinned here. Smooth
+//! (roughness 0): a delta lobe, whose peaks carry `get_dielectric_fresnel` and
+//! `get_smooth_dielectric_transmittance` at n.v. Same names, same maths.
 
 use crate::cpu::brdf::{
     get_ggx_distribution, get_ggx_reflection_density, get_smith_visibility, reflect,
@@ -65,6 +66,12 @@ pub fn get_rough_dielectric_bsdf(
             * view_dot_half
             / (denominator * denominator),
     )
+}
+
+/// Twin of `get_smooth_dielectric_transmittance`: what a smooth dielectric's refracted peak
+/// carries for radiance, (1 - F) / eta^2 with F the exact Fresnel at n.v.
+pub fn get_smooth_dielectric_transmittance(eta: f32, normal_dot_view: f32) -> f32 {
+    (1.0 - get_dielectric_fresnel(normal_dot_view, eta)) / (eta * eta)
 }
 
 /// Twin of `get_rough_dielectric_density`: the density of `sample_rough_dielectric`,

@@ -2,8 +2,9 @@
 //! (the GGX lobe mirrored through the surface, weighted by Schlick's Fresnel). Its quartet:
 //! value `get_thin_wall_btdf`, density `get_thin_wall_density`, sample `sample_thin_wall`,
 //! weight `get_thin_wall_reflection_probability` (reflection against transmission; the layered
-//! mix picks the lobe with `get_transmission_probability` and `is_refracting`). Same names,
-//! same maths.
+//! mix picks the lobe with `get_transmission_probability` and `is_refracting`). Smooth
+//! (roughness 0): a delta lobe, whose peaks carry `get_thin_wall_fresnel` and
+//! `get_smooth_thin_wall_transmittance` at n.v. Same names, same maths.
 
 use crate::cpu::brdf::{
     get_dielectric_f0, get_ggx_distribution, get_ggx_reflection_density, get_luminance,
@@ -54,6 +55,12 @@ pub fn get_thin_wall_btdf(
         * material.base_color
         * get_ggx_distribution(alpha, local_half)
         * get_smith_visibility(alpha, local_view.z, mirrored.z)
+}
+
+/// Twin of `get_smooth_thin_wall_transmittance`: what a smooth thin wall's straight-through
+/// peak carries, (1 - F) base_color at v.h = n.v.
+pub fn get_smooth_thin_wall_transmittance(material: &MaterialSample, normal_dot_view: f32) -> Vec3 {
+    (1.0 - get_thin_wall_fresnel(material, normal_dot_view)) * material.base_color
 }
 
 /// Twin of `get_thin_wall_density`: both branches summed whichever side the light is on.

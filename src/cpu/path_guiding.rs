@@ -10,13 +10,15 @@ use std::sync::atomic::{AtomicU32, Ordering};
 
 use glam::{Vec2, Vec3};
 
-use crate::contract::{GUIDE_BIN_COUNT, GUIDE_TRAINING_VERTEX_COUNT};
+use crate::contract::{GUIDE_BIN_COUNT, GUIDE_BSDF_FRACTION, GUIDE_TRAINING_VERTEX_COUNT};
 use crate::cpu::brdf::get_luminance;
 use crate::cpu::guiding::{
     get_guide_bin_index, get_guide_cell_index, get_guide_density, get_guide_splat_units,
     get_guided_mixture_density, is_guided_cell, sample_guide_direction, GuideTexels, GUIDE_NO_CELL,
 };
-use crate::cpu::surface::{get_bsdf, get_bsdf_density, BsdfSample, Surface, BSDF_LOBE_REFLECT};
+use crate::cpu::surface::{
+    get_bsdf, get_bsdf_density, BsdfSample, Surface, BSDF_LOBE_DELTA, BSDF_LOBE_REFLECT,
+};
 use crate::cpu::texels::fetch_texel;
 use crate::cpu::workshop::M_PI;
 
@@ -73,7 +75,8 @@ pub fn get_path_direction_density(
 
 /// Twin of `get_guided_direction`: the one-sample mixture's direction at a guided vertex,
 /// the BSDF's sample (`bsdf_sample`, drawn only when chosen) or the guide's, with the
-/// balance heuristic's weight.
+/// balance heuristic's weight; a delta pick (`BSDF_LOBE_DELTA`) keeps its own weight over
+/// `GUIDE_BSDF_FRACTION` and density 0.
 pub fn get_guided_direction(
     texels: GuideTexels,
     surface: &Surface,
@@ -83,6 +86,13 @@ pub fn get_guided_direction(
     bsdf_chosen: bool,
     guide_random_numbers: Vec2,
 ) -> BsdfSample {
+    // A delta pick bypasses the mixture: its own f / p over the BSDF's turn.
+    if bsdf_chosen && bsdf_sample.lobes & BSDF_LOBE_DELTA != 0 {
+        return BsdfSample {
+            weight: bsdf_sample.weight / GUIDE_BSDF_FRACTION,
+            ..bsdf_sample
+        };
+    }
     let mut guided = bsdf_sample;
     let mut sampled = 0.0;
     if !bsdf_chosen {
@@ -256,6 +266,37 @@ mod tests {
             GUIDE_NO_CELL
         );
         assert_eq!(get_path_guide_cell(None, 0, &surface), GUIDE_NO_CELL);
+    }
+
+    #[test]
+    fn a_delta_pick_bypasses_the_guide_mixture() {
+        // The guide never proposes a delta lobe's peak: a BSDF sample of one keeps its
+        // direction, lobes and density 0 (the path loop then counts what it finds in full),
+        // and its weight f / p is divided by the BSDF's turn, GUIDE_BSDF_FRACTION. Had it
+        // gone through the mixture, its weight would be 0 (f / p scaled by 0 / p~).
+        let guide = lobe_guide();
+        let view = Vec3::new(0.3, 0.0, 1.0).normalize();
+        let delta = BsdfSample {
+            direction: Vec3::new(-view.x, -view.y, view.z),
+            density: 0.0,
+            weight: Vec3::new(0.6, 0.5, 0.4),
+            lobes: BSDF_LOBE_REFLECT | BSDF_LOBE_DELTA,
+            eta: 1.0,
+        };
+        let guided = get_guided_direction(
+            guide.texels(),
+            &floor_surface(),
+            view,
+            0,
+            delta,
+            true,
+            Vec2::ZERO,
+        );
+        assert_eq!(
+            (guided.direction, guided.density, guided.lobes, guided.eta),
+            (delta.direction, 0.0, delta.lobes, 1.0)
+        );
+        assert_eq!(guided.weight, delta.weight / GUIDE_BSDF_FRACTION);
     }
 
     #[test]

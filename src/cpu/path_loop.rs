@@ -24,8 +24,8 @@ use crate::cpu::path_guiding::{
 };
 use crate::cpu::surface::{
     get_camera_emission, get_departure_origin, get_light_sample_origin, get_surface,
-    get_volume_transmittance, has_layers, is_transmissive, sample_bsdf, sample_cosine_direction,
-    sample_uniform_direction, BsdfSample, Surface,
+    get_volume_transmittance, has_delta_lobe, has_layers, is_transmissive, sample_bsdf,
+    sample_cosine_direction, sample_uniform_direction, BsdfSample, Surface, BSDF_LOBE_DELTA,
 };
 use crate::cpu::workshop::get_random_numbers;
 
@@ -46,7 +46,8 @@ pub struct FoundEmission<'a> {
     pub t: f32,
     /// Density of the direction sample that found it.
     pub direction_density: f32,
-    /// Whether the previous vertex took light samples.
+    /// Whether the previous vertex took light samples that could find this emission (not
+    /// after a delta pick).
     pub light_sampled: bool,
     /// Where that vertex took its light sample, and the light tree's normal there.
     pub light_origin: Vec3,
@@ -92,7 +93,7 @@ pub fn sample_path_direction(
     view: Vec3,
     seed: &mut UVec2,
 ) -> BsdfSample {
-    let transmissive = is_transmissive(surface);
+    let transmissive = is_transmissive(surface) || has_delta_lobe(surface);
     if samples_uniform_directions(integrator) && !transmissive {
         return sample_uniform_direction(surface, view, get_random_numbers(seed));
     }
@@ -236,6 +237,10 @@ pub fn get_path_radiance(
         }
         ray_direction = direction.direction;
         direction_density = direction.density;
+        // A delta pick: no light sample finds what it finds, which counts in full
+        if direction.lobes & BSDF_LOBE_DELTA != 0 {
+            light_sampled = false;
+        }
         eta_scale *= direction.eta * direction.eta;
         throughput_weight *= direction.weight;
         ray_origin = get_departure_origin(&surface, ray_origin, direction.lobes);

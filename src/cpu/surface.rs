@@ -55,6 +55,11 @@ pub fn is_transmissive(_surface: &Surface) -> bool {
     false
 }
 
+/// Twin of `has_delta_lobe` (Lambert: never).
+pub fn has_delta_lobe(_surface: &Surface) -> bool {
+    false
+}
+
 /// Twin of `get_camera_emission` (Lambert: the emission).
 pub fn get_camera_emission(surface: &Surface) -> Vec3 {
     surface.emission

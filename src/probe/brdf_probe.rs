@@ -9,8 +9,9 @@ use bytemuck::{Pod, Zeroable};
 use glam::{Vec2, Vec3, Vec4};
 
 use crate::cpu::brdf::{
-    get_base_material, get_brdf, get_brdf_density, get_ggx_alpha, get_specular_probability,
-    sample_brdf, sample_ggx_visible_normal, MaterialSample,
+    get_base_material, get_brdf, get_brdf_density, get_brdf_mirror_probability,
+    get_brdf_mirror_weight, get_ggx_alpha, get_specular_probability, sample_brdf,
+    sample_ggx_visible_normal, MaterialSample,
 };
 use crate::error::Result;
 use crate::kernels;
@@ -102,7 +103,7 @@ impl BrdfProbeInput {
     }
 }
 
-/// `probe_output_t` of `glsl/probe_brdf.comp` (48 bytes).
+/// `probe_output_t` of `glsl/probe_brdf.comp` (64 bytes).
 #[repr(C)]
 #[derive(Clone, Copy, Debug, PartialEq, Pod, Zeroable)]
 pub struct BrdfProbeOutput {
@@ -113,6 +114,9 @@ pub struct BrdfProbeOutput {
     /// xyz: `sample_ggx_visible_normal(randoms, get_ggx_alpha(roughness), local_view)`;
     /// w: `get_specular_probability(material, dot(normal, view))`.
     pub visible_normal: [f32; 4],
+    /// rgb: `get_brdf_mirror_weight(material, normal, view)` where the mirror probability is
+    /// above 0, else 0; a: `get_brdf_mirror_probability(material, normal, view)`.
+    pub mirror: [f32; 4],
 }
 
 impl BrdfProbeOutput {
@@ -131,11 +135,28 @@ impl BrdfProbeOutput {
             input.local_view(),
         );
         let specular_probability = get_specular_probability(&material, normal.dot(view));
+        let mirror_probability = get_brdf_mirror_probability(&material, normal, view);
+        let mirror_weight = if mirror_probability > 0.0 {
+            get_brdf_mirror_weight(&material, normal, view)
+        } else {
+            Vec3::ZERO
+        };
         BrdfProbeOutput {
             brdf: brdf.extend(density).into(),
             sampled: sampled.extend(sampled_density).into(),
             visible_normal: visible_normal.extend(specular_probability).into(),
+            mirror: mirror_weight.extend(mirror_probability).into(),
         }
+    }
+
+    /// `get_brdf_mirror_weight` (0 where the mirror probability is 0).
+    pub fn mirror_weight(&self) -> Vec3 {
+        Vec4::from_array(self.mirror).truncate()
+    }
+
+    /// `get_brdf_mirror_probability`.
+    pub fn mirror_probability(&self) -> f32 {
+        self.mirror[3]
     }
 
     /// `get_brdf`'s value.
@@ -204,7 +225,7 @@ mod tests {
         assert_eq!(offset_of!(BrdfProbeInput, view), 64);
         assert_eq!(offset_of!(BrdfProbeInput, light), 80);
         // vec4 brdf; vec4 sampled; vec4 visible_normal
-        assert_eq!(size_of::<BrdfProbeOutput>(), 48);
+        assert_eq!(size_of::<BrdfProbeOutput>(), 64);
         assert_eq!(offset_of!(BrdfProbeOutput, sampled), 16);
         assert_eq!(offset_of!(BrdfProbeOutput, visible_normal), 32);
     }

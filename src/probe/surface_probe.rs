@@ -77,7 +77,7 @@ pub struct SurfaceProbeOutput {
     pub shading_normal: [f32; 4],
     /// rgb: the material's base colour; a: its metallic.
     pub base_color: [f32; 4],
-    /// The material's roughness, specular, ior; w: 0.
+    /// The material's roughness, specular, ior; w: `has_delta_lobe` as 0 or 1.
     pub factors: [f32; 4],
     /// rgb: the material's specular colour; a: 0.
     pub specular_color: [f32; 4],
