@@ -355,7 +355,8 @@ fn device_faults_name_the_device_and_keep_the_checkpoint() {
     // dispatch over no pixels); then batches and their checkpoints' read-backs alternate,
     // how many of each before the first checkpoint depending on the loop budget's timing
     // (seen: 5 and 6, or 4 and 5 under load). Submission 9 comes after a first checkpoint
-    // in every order seen, and long before the 64 spp are done (batches of 1, 4, 16, ...).
+    // in every order seen alone, and long before the 64 spp are done (batches of 1, 4, 16,
+    // ...).
     for fault in ["device-lost:9", "out-of-memory:9", "fence-timeout:9"] {
         let dir = tempfile::tempdir().unwrap();
         let path = dir.path();
@@ -388,8 +389,18 @@ fn device_faults_name_the_device_and_keep_the_checkpoint() {
             "{fault} names the device: {}",
             errors[0]
         );
+        // A lost device stays lost (no final read-back, so no final checkpoint): under load
+        // the loss may come before the first periodic checkpoint, and the line says so.
+        if fault.starts_with("device-lost") && !path.join("ck.exr").exists() {
+            assert!(
+                errors[0].contains("no checkpoint had been written yet"),
+                "{fault}: {}",
+                errors[0]
+            );
+            continue;
+        }
         assert!(
-            errors[0].contains("--resume") || errors[0].contains("smaller"),
+            errors[0].contains("--resume 'ck.exr'"),
             "{fault} says what to do: {}",
             errors[0]
         );

@@ -897,7 +897,11 @@ impl Renderer {
                 image_and_state
             }
             (Err(error), _) if self.samples_done == 0 => return Err(error),
-            // A device that failed (lost) cannot give back what it holds either.
+            // A device that failed (lost) cannot give back what it holds either; any other
+            // error of the read-back (a loop limit's flagged pixels) is the render's own.
+            (Err(read_back), None) if !matches!(read_back, Error::Vulkan(_)) => {
+                return Err(read_back)
+            }
             (Err(read_back), failure) => {
                 return Err(Error::RenderLost {
                     samples: self.samples_done,
