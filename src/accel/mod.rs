@@ -57,6 +57,48 @@ pub fn build_bytes(context: &Context, plan: &StructurePlan, opaque: bool) -> u64
     bottom + top.structure + top.scratch
 }
 
+/// Why a device's structures cannot hold a scene (`check_fits`), in words that follow "the
+/// scene's acceleration structures do not fit 'DEVICE': ".
+#[derive(Clone, Debug, PartialEq, Eq, thiserror::Error)]
+pub enum StructureFitError {
+    /// The device has no ray queries.
+    #[error("it has no ray queries")]
+    NoRayQueries,
+    /// One structure holds more triangles than the device's structures may.
+    #[error(
+        "the scene's {triangles} triangles in one structure exceed its acceleration structures' limit of {limit}"
+    )]
+    Triangles {
+        /// Triangles of the largest bottom level.
+        triangles: u64,
+        /// The device's `maxPrimitiveCount`.
+        limit: u64,
+    },
+    /// More instances than the device's top level may hold.
+    #[error(
+        "the scene's {instances} instances exceed its acceleration structures' limit of {limit}"
+    )]
+    Instances {
+        /// Instances in the top level.
+        instances: u64,
+        /// The device's `maxInstanceCount`.
+        limit: u64,
+    },
+    /// An instance's first triangle beyond the 24-bit custom index.
+    #[error("an instance starts at triangle {0}, beyond the 24-bit custom index")]
+    CustomIndex(u64),
+    /// The structures and the scene's other buffers need more than the device's memory.
+    #[error(
+        "the scene's acceleration structures and buffers need about {needed_mb} MB, more than its {available_mb} MB"
+    )]
+    Memory {
+        /// What they need, in MiB (rounded down).
+        needed_mb: u64,
+        /// The device's memory, in MiB (rounded down).
+        available_mb: u64,
+    },
+}
+
 /// Why the device's structures cannot hold `scene` as `plan` lays it out (its limits on
 /// triangles per structure, instances and custom indices; its memory beside the scene's other
 /// buffers), or `Ok` where they can. The device must have ray queries.
@@ -64,9 +106,9 @@ pub fn check_fits(
     context: &Context,
     scene: &Scene,
     plan: &StructurePlan,
-) -> std::result::Result<(), String> {
+) -> std::result::Result<(), StructureFitError> {
     let Some(limits) = context.ray_queries.limits() else {
-        return Err("it has no ray queries".into());
+        return Err(StructureFitError::NoRayQueries);
     };
     let largest = plan
         .bottom_levels
@@ -75,32 +117,30 @@ pub fn check_fits(
         .max()
         .unwrap_or(0);
     if largest > limits.max_primitive_count {
-        return Err(format!(
-            "the scene's {largest} triangles in one structure exceed its acceleration structures' limit of {}",
-            limits.max_primitive_count
-        ));
+        return Err(StructureFitError::Triangles {
+            triangles: largest,
+            limit: limits.max_primitive_count,
+        });
     }
     let instances = plan.instance_count() as u64;
     if instances > limits.max_instance_count {
-        return Err(format!(
-            "the scene's {instances} instances exceed its acceleration structures' limit of {}",
-            limits.max_instance_count
-        ));
+        return Err(StructureFitError::Instances {
+            instances,
+            limit: limits.max_instance_count,
+        });
     }
     if plan.largest_first_triangle() > u64::from(MAX_CUSTOM_INDEX) {
-        return Err(format!(
-            "an instance starts at triangle {}, beyond the 24-bit custom index",
-            plan.largest_first_triangle()
+        return Err(StructureFitError::CustomIndex(
+            plan.largest_first_triangle(),
         ));
     }
     let needed = build_bytes(context, plan, !scene.uses_alpha()) + scene_bytes(scene);
     let available = context.device_memory_bytes();
     if available > 0 && needed > available {
-        return Err(format!(
-            "the scene's acceleration structures and buffers need about {} MB, more than its {} MB",
-            needed >> 20,
-            available >> 20
-        ));
+        return Err(StructureFitError::Memory {
+            needed_mb: needed >> 20,
+            available_mb: available >> 20,
+        });
     }
     Ok(())
 }

@@ -102,6 +102,45 @@ impl GpuCompressedBvhNode {
     }
 }
 
+/// Why a list of triangles has no compressed BVH, in one line (the renderer refuses the
+/// render with it under `--accel compressed-bvh`, and under `--accel auto` warns with it and
+/// takes the 4-wide tree).
+#[derive(Clone, Debug, PartialEq, thiserror::Error)]
+pub enum CompressedBvhError {
+    /// More triangles than the packed triangles' 32-bit word indices address.
+    #[error("{0} triangles are too many for the compressed BVH")]
+    TooManyTriangles(usize),
+    /// The scene's extent (1e15 or more, or not finite) would overflow the collapse's costs.
+    #[error(
+        "the scene spans {0}, too far for the compressed BVH's quantised boxes; use --accel bvh"
+    )]
+    TooFar(Vec3),
+    /// Interior nodes deeper than the traversal's stack (`CWBVH_STACK_SIZE`) can follow.
+    #[error(
+        "the compressed BVH of these {triangle_count} triangles is {levels} levels deep, more \
+         than its traversal's stack of {} allows; use --accel bvh",
+        CWBVH_STACK_SIZE
+    )]
+    TooDeep {
+        /// Triangles in the tree.
+        triangle_count: usize,
+        /// Levels of interior nodes (the deepest's depth + 1).
+        levels: u32,
+    },
+    /// More nodes than a traversal's stack entry addresses (`CWBVH_MAX_NODE_COUNT`).
+    #[error(
+        "the compressed BVH of these {triangle_count} triangles has {nodes} nodes, more than \
+         its traversal's stack entries address ({}); use --accel bvh",
+        CWBVH_MAX_NODE_COUNT
+    )]
+    TooManyNodes {
+        /// Triangles in the tree.
+        triangle_count: usize,
+        /// Nodes in the tree.
+        nodes: usize,
+    },
+}
+
 /// A compressed wide BVH over a list of triangles, ready for the GPU.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct CompressedBvh {
@@ -127,18 +166,18 @@ impl CompressedBvh {
     /// (`CWBVH_STACK_SIZE`) can follow, which takes a chain of leaves at the depth limit
     /// (never seen), when the scene spans 1e15 or more (obvhs's collapse costs would
     /// overflow), or when there are more triangles than the packed triangles address.
-    pub fn build(triangles: &[Triangle]) -> Result<CompressedBvh, String> {
+    pub fn build(triangles: &[Triangle]) -> Result<CompressedBvh, CompressedBvhError> {
         CompressedBvh::from_binary(&Bvh::build(triangles), triangles)
     }
 
     /// `build` from a binary BVH already built over `triangles`.
-    pub fn from_binary(binary: &Bvh, triangles: &[Triangle]) -> Result<CompressedBvh, String> {
+    pub fn from_binary(
+        binary: &Bvh,
+        triangles: &[Triangle],
+    ) -> Result<CompressedBvh, CompressedBvhError> {
         // 9 words per packed triangle must index a u32 (`get_packed_traversal_triangle`)
         if triangles.len() >= (u32::MAX / PACKED_TRIANGLE_WORD_COUNT) as usize {
-            return Err(format!(
-                "{} triangles are too many for the compressed BVH",
-                triangles.len()
-            ));
+            return Err(CompressedBvhError::TooManyTriangles(triangles.len()));
         }
         // obvhs's collapse sums surface areas times costs over subtrees in f32: areas of
         // 1e30 (extents of 1e15) leave 1e8 of headroom below f32::MAX; beyond, infinite
@@ -146,10 +185,7 @@ impl CompressedBvh {
         if let Some(root) = binary.nodes.first() {
             let extent = root.bounds().extent();
             if !(extent.is_finite() && extent.max_element() < 1e15) {
-                return Err(format!(
-                    "the scene spans {extent}, too far for the compressed BVH's quantised boxes; \
-                     use --accel bvh"
-                ));
+                return Err(CompressedBvhError::TooFar(extent));
             }
         }
         let ordered = binary.reorder(triangles);
@@ -187,23 +223,20 @@ impl CompressedBvh {
         nodes: Vec<GpuCompressedBvhNode>,
         triangle_order: Vec<u32>,
         triangle_count: usize,
-    ) -> Result<CompressedBvh, String> {
+    ) -> Result<CompressedBvh, CompressedBvhError> {
         // A traversal's stack entry keeps a node's index in 24 bits (`cwbvh_stack_entry`)
         if nodes.len() > CWBVH_MAX_NODE_COUNT as usize {
-            return Err(format!(
-                "the compressed BVH of these {triangle_count} triangles has {} nodes, more \
-                 than its traversal's stack entries address ({CWBVH_MAX_NODE_COUNT}); use \
-                 --accel bvh",
-                nodes.len()
-            ));
+            return Err(CompressedBvhError::TooManyNodes {
+                triangle_count,
+                nodes: nodes.len(),
+            });
         }
         let max_interior_depth = max_interior_depth(&nodes);
         if max_interior_depth >= CWBVH_STACK_SIZE {
-            return Err(format!(
-                "the compressed BVH of these {triangle_count} triangles is {} levels deep, more \
-                 than its traversal's stack of {CWBVH_STACK_SIZE} allows; use --accel bvh",
-                max_interior_depth + 1
-            ));
+            return Err(CompressedBvhError::TooDeep {
+                triangle_count,
+                levels: max_interior_depth + 1,
+            });
         }
         Ok(CompressedBvh {
             nodes,

@@ -270,7 +270,9 @@ fn a_tree_deeper_than_the_stack_is_refused_with_one_line() {
             node
         })
         .collect();
-    let message = CompressedBvh::checked(chain.clone(), (0..40).collect(), 40).unwrap_err();
+    let message = CompressedBvh::checked(chain.clone(), (0..40).collect(), 40)
+        .unwrap_err()
+        .to_string();
     assert!(
         message.contains("40 levels deep") && !message.contains('\n'),
         "{message}"
@@ -294,7 +296,9 @@ fn a_scene_too_large_to_quantise_is_refused_with_one_line() {
         ],
         ..plain()
     };
-    let message = CompressedBvh::build(&[far, plain()]).unwrap_err();
+    let message = CompressedBvh::build(&[far, plain()])
+        .unwrap_err()
+        .to_string();
     assert!(
         message.contains("too far") && !message.contains('\n'),
         "{message}"

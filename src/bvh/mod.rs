@@ -31,7 +31,8 @@ pub use build::{
     BIN_COUNT, INTERSECTION_COST, LEAF_SIZE, MAX_DEPTH, MAX_LEAF_SIZE, TRAVERSAL_COST,
 };
 pub use compressed::{
-    compressed_child_node, packed_traversal_triangles, CompressedBvh, GpuCompressedBvhNode,
+    compressed_child_node, packed_traversal_triangles, CompressedBvh, CompressedBvhError,
+    GpuCompressedBvhNode,
 };
 pub use stats::BvhStats;
 pub use traversal::{

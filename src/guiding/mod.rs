@@ -490,7 +490,8 @@ impl Guide {
         if sparse.len() < header_words {
             return Err(invalid(format!("{} words, no header", sparse.len())));
         }
-        let resolution = checked_resolution(&sparse[..3]).map_err(invalid)?;
+        let resolution =
+            checked_resolution(&sparse[..3]).map_err(|error| invalid(error.to_string()))?;
         let table_words = cell_table_word_count(resolution).expect("a checked resolution");
         let cells_start = header_words + table_words;
         if sparse.len() < cells_start || !(sparse.len() - cells_start).is_multiple_of(bins + 1) {
@@ -530,7 +531,8 @@ impl Guide {
         if words.len() < header_words {
             return Err(invalid(format!("{} words, no header", words.len())));
         }
-        let resolution = checked_resolution(&words[..3]).map_err(invalid)?;
+        let resolution =
+            checked_resolution(&words[..3]).map_err(|error| invalid(error.to_string()))?;
         let table_words = cell_table_word_count(resolution).expect("a checked resolution");
         let float = |i: usize| f32::from_bits(words[i]);
         let cell_count = words[3] as usize;
@@ -598,15 +600,17 @@ impl Guide {
     }
 }
 
+/// A guide's grid resolution outside 1..=`GUIDE_MAX_CELLS_PER_AXIS` on some axis.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, thiserror::Error)]
+#[error("a {}x{}x{} grid", .0.x, .0.y, .0.z)]
+struct GridResolutionError(UVec3);
+
 /// The grid resolution of a guide's first three header words, if each lies in
 /// 1..=`GUIDE_MAX_CELLS_PER_AXIS`.
-fn checked_resolution(words: &[u32]) -> std::result::Result<UVec3, String> {
+fn checked_resolution(words: &[u32]) -> std::result::Result<UVec3, GridResolutionError> {
     let resolution = UVec3::new(words[0], words[1], words[2]);
     if resolution.min_element() == 0 || resolution.max_element() > GUIDE_MAX_CELLS_PER_AXIS {
-        return Err(format!(
-            "a {}x{}x{} grid",
-            resolution.x, resolution.y, resolution.z
-        ));
+        return Err(GridResolutionError(resolution));
     }
     Ok(resolution)
 }

@@ -545,6 +545,10 @@ fn a_guide_survives_its_sparse_words_and_broken_words_are_refused() {
     let mut resolution = sparse.clone();
     resolution[0] = 3;
     assert!(refused(resolution).contains("not a guide"));
+    let mut no_cells = sparse.clone();
+    no_cells[0] = 0;
+    let grid = format!("not a guide: a 0x{}x{} grid", sparse[1], sparse[2]);
+    assert!(refused(no_cells).ends_with(&grid));
     let mut skipping = sparse.clone();
     skipping[header + 1] = 2;
     assert!(refused(skipping).contains("does not number its cells in order"));

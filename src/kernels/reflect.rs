@@ -82,10 +82,21 @@ enum Type {
     Pointer(u32),
 }
 
+/// Why words are not a SPIR-V module that `declarations` can read.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, thiserror::Error)]
+pub enum SpirvError {
+    /// No header, or not SPIR-V's magic number.
+    #[error("not a SPIR-V module (no magic number)")]
+    NoMagicNumber,
+    /// An instruction whose length runs past the last word (or is 0).
+    #[error("instruction at word {0} runs past the module's end")]
+    Truncated(usize),
+}
+
 /// Reads the declarations of a SPIR-V module (words, header included).
-pub fn declarations(spirv: &[u32]) -> Result<Declarations, String> {
+pub fn declarations(spirv: &[u32]) -> Result<Declarations, SpirvError> {
     if spirv.len() < 5 || spirv[0] != 0x0723_0203 {
-        return Err("not a SPIR-V module (no magic number)".into());
+        return Err(SpirvError::NoMagicNumber);
     }
     let mut names: HashMap<u32, String> = HashMap::new();
     let mut decorations: HashMap<u32, Vec<(u32, u32)>> = HashMap::new();
@@ -100,9 +111,7 @@ pub fn declarations(spirv: &[u32]) -> Result<Declarations, String> {
     while index < spirv.len() {
         let (length, opcode) = ((spirv[index] >> 16) as usize, spirv[index] & 0xffff);
         let Some(operands) = spirv.get(index + 1..index + length).filter(|_| length > 0) else {
-            return Err(format!(
-                "instruction at word {index} runs past the module's end"
-            ));
+            return Err(SpirvError::Truncated(index));
         };
         let word = |i: usize| operands.get(i).copied().unwrap_or(0);
         match opcode {
@@ -279,6 +288,20 @@ fn descriptor_type(t: Type, types: &HashMap<u32, Type>) -> Option<vk::Descriptor
 mod tests {
     use super::*;
     use crate::kernels::{Build, Kernel, ALL_KERNELS};
+
+    #[test]
+    fn words_that_are_not_a_module_are_refused_in_one_line() {
+        assert_eq!(
+            declarations(&[]).unwrap_err().to_string(),
+            "not a SPIR-V module (no magic number)"
+        );
+        // The header, then an instruction of 3 words with 1 left
+        let cut = [0x0723_0203, 0x0001_0000, 0, 8, 0, 3 << 16];
+        assert_eq!(
+            declarations(&cut).unwrap_err().to_string(),
+            "instruction at word 5 runs past the module's end"
+        );
+    }
 
     /// A module's declarations, failing the test with the build's name.
     fn declared(build: &Build) -> Declarations {

@@ -17,7 +17,7 @@ use crate::image_io::error::ImageError;
 use crate::image_io::exr_input::plain_cause;
 use crate::scene::error::io_message;
 use crate::scene::files::{read_bounded, MAX_SCENE_FILE_BYTES};
-use crate::scene::printable;
+use crate::scene::{printable, SceneError};
 
 /// The environment's radiance (linear RGB) per texel, rows top-down.
 #[derive(Clone, Debug, PartialEq)]
@@ -66,17 +66,58 @@ impl Environment {
     }
 }
 
+/// Why an environment map could not be read (`load_environment_map`), in one line that
+/// names the file once (`shown`: its path as printed).
+#[derive(Debug, thiserror::Error)]
+pub enum EnvironmentMapError {
+    /// The file could not be read or decoded.
+    #[error("cannot read environment map '{shown}': {cause}")]
+    Unreadable {
+        /// The file's path as printed.
+        shown: String,
+        /// The cause in plain words.
+        cause: String,
+    },
+    /// The file could not be read within the scene files' size limit.
+    #[error(transparent)]
+    File(Box<SceneError>),
+    /// Neither a .hdr nor an .exr file: the path as printed.
+    #[error("environment map '{0}' must be a .hdr (Radiance) or .exr (OpenEXR) file")]
+    Format(String),
+    /// No texels, or more than vkpath reads.
+    #[error(
+        "environment map '{shown}' has {width}x{height} texels; vkpath reads 1 to {} texels",
+        MAX_ENVIRONMENT_TEXELS
+    )]
+    Size {
+        /// The file's path as printed.
+        shown: String,
+        /// Texels per row.
+        width: u32,
+        /// Rows.
+        height: u32,
+    },
+    /// A texel of negative or non-finite radiance.
+    #[error("environment map '{shown}' has a negative or non-finite texel at ({x}, {y})")]
+    Texel {
+        /// The file's path as printed.
+        shown: String,
+        /// Its column.
+        x: usize,
+        /// Its row, from the top.
+        y: usize,
+    },
+}
+
 /// Reads an equirectangular map from a Radiance `.hdr` or OpenEXR `.exr` file; non-finite or
 /// negative radiance is an error naming the texel.
-pub fn load_environment_map(path: &Path) -> Result<EnvironmentMap, String> {
+pub fn load_environment_map(path: &Path) -> Result<EnvironmentMap, EnvironmentMapError> {
     let shown = printable(&path.display().to_string());
     // Every message about the file names it once, as the environment map it was meant to
     // be, with the cause in plain words.
-    let fail = |cause: &dyn std::fmt::Display| {
-        format!(
-            "cannot read environment map '{shown}': {}",
-            plain_cause(cause)
-        )
+    let fail = |cause: &dyn std::fmt::Display| EnvironmentMapError::Unreadable {
+        shown: shown.clone(),
+        cause: plain_cause(cause),
     };
     let metadata = std::fs::metadata(path).map_err(|e| fail(&io_message(&e)))?;
     if metadata.is_dir() {
@@ -101,7 +142,8 @@ pub fn load_environment_map(path: &Path) -> Result<EnvironmentMap, String> {
             (image.width, image.height, texels)
         }
         Some("hdr") => {
-            let bytes = read_bounded(path, MAX_SCENE_FILE_BYTES).map_err(|e| e.to_string())?;
+            let bytes = read_bounded(path, MAX_SCENE_FILE_BYTES)
+                .map_err(|e| EnvironmentMapError::File(Box::new(e)))?;
             let image = image::load_from_memory_with_format(&bytes, image::ImageFormat::Hdr)
                 .map_err(|e| fail(&e))?
                 .into_rgb32f();
@@ -109,26 +151,24 @@ pub fn load_environment_map(path: &Path) -> Result<EnvironmentMap, String> {
             let texels: Vec<Vec3> = image.pixels().map(|p| Vec3::from(p.0)).collect();
             (width, height, texels)
         }
-        _ => {
-            return Err(format!(
-                "environment map '{shown}' must be a .hdr (Radiance) or .exr (OpenEXR) file"
-            ))
-        }
+        _ => return Err(EnvironmentMapError::Format(shown)),
     };
     if u64::from(width) * u64::from(height) > MAX_ENVIRONMENT_TEXELS || width == 0 || height == 0 {
-        return Err(format!(
-            "environment map '{shown}' has {width}x{height} texels; vkpath reads 1 to {MAX_ENVIRONMENT_TEXELS} texels"
-        ));
+        return Err(EnvironmentMapError::Size {
+            shown,
+            width,
+            height,
+        });
     }
     if let Some(index) = texels
         .iter()
         .position(|t: &Vec3| !t.is_finite() || t.min_element() < 0.0)
     {
-        return Err(format!(
-            "environment map '{shown}' has a negative or non-finite texel at ({}, {})",
-            index % width as usize,
-            index / width as usize
-        ));
+        return Err(EnvironmentMapError::Texel {
+            shown,
+            x: index % width as usize,
+            y: index / width as usize,
+        });
     }
     Ok(EnvironmentMap {
         width,
@@ -159,13 +199,13 @@ mod tests {
         let dir = tempfile::tempdir().unwrap();
         let missing = dir.path().join("nope.hdr");
         assert_eq!(
-            load_environment_map(&missing).unwrap_err(),
+            load_environment_map(&missing).unwrap_err().to_string(),
             format!(
                 "cannot read environment map '{}': No such file or directory",
                 missing.display()
             )
         );
-        let message = load_environment_map(dir.path()).unwrap_err();
+        let message = load_environment_map(dir.path()).unwrap_err().to_string();
         assert!(
             message.ends_with("it is a directory, not a file"),
             "{message}"
@@ -173,7 +213,7 @@ mod tests {
         // A PNG named .exr: the path once, what the file is.
         let not_exr = dir.path().join("sky.exr");
         std::fs::write(&not_exr, b"\x89PNG\r\n\x1a\n0000").unwrap();
-        let message = load_environment_map(&not_exr).unwrap_err();
+        let message = load_environment_map(&not_exr).unwrap_err().to_string();
         assert_eq!(message.matches("sky.exr").count(), 1, "{message}");
         assert!(message.contains("not an OpenEXR file"), "{message}");
         // A Radiance header whose pixels are missing: truncated, in those words.
@@ -183,7 +223,7 @@ mod tests {
             b"#?RADIANCE\nFORMAT=32-bit_rle_rgbe\n\n-Y 4 +X 4\n",
         )
         .unwrap();
-        let message = load_environment_map(&truncated).unwrap_err();
+        let message = load_environment_map(&truncated).unwrap_err().to_string();
         assert!(
             message.starts_with("cannot read environment map '")
                 && message.ends_with("the file is truncated (it ends before its image data does)"),

@@ -154,7 +154,7 @@ impl SceneTrees {
                     log::warn!("the 4-wide BVH instead of the compressed one: {reason}");
                     trees.traversal = Traversal::Bvh;
                 }
-                Err(reason) => return Err(Error::InvalidSettings(reason)),
+                Err(reason) => return Err(Error::InvalidSettings(reason.to_string())),
             }
         }
         trees.bvh = bvh;

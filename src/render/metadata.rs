@@ -85,6 +85,27 @@ impl RenderOutcome {
     }
 }
 
+/// Why header attributes hold no render metadata (`RenderMetadata::from_attributes`), in
+/// words that follow the file's name.
+#[derive(Clone, Debug, PartialEq, Eq, thiserror::Error)]
+pub enum MetadataError {
+    /// No `vkpath` attribute.
+    #[error("it has no vkpath attribute (not written by vkpath render)")]
+    NoAttribute,
+    /// The attribute lacks its sample range.
+    #[error("its vkpath attribute has no sample_range")]
+    NoSampleRange,
+    /// A sample range that is not START..END: the text.
+    #[error("its sample_range '{0}' is not START..END")]
+    SampleRange(String),
+    /// The attribute lacks a setting: its name.
+    #[error("its vkpath attribute has no {0}")]
+    NoSetting(&'static str),
+    /// A requested sample count that is not a number: the text.
+    #[error("its {field} '{0}' is not a number", field = SPP_REQUESTED_FIELD)]
+    SppRequested(String),
+}
+
 impl RenderMetadata {
     /// The metadata of a render of `scene` seen by `camera` with `settings`, holding
     /// `samples`.
@@ -212,24 +233,22 @@ impl RenderMetadata {
     /// Reads the metadata back from header attributes (other attributes are ignored).
     pub fn from_attributes(
         attributes: &BTreeMap<String, String>,
-    ) -> Result<RenderMetadata, String> {
+    ) -> Result<RenderMetadata, MetadataError> {
         let text = attributes
             .get(ATTRIBUTE_NAME)
-            .ok_or("it has no vkpath attribute (not written by vkpath render)")?;
+            .ok_or(MetadataError::NoAttribute)?;
         let fields: BTreeMap<&str, &str> = text
             .split(FIELD_SEPARATOR)
             .filter_map(|field| field.split_once('='))
             .collect();
         let range = fields
             .get("sample_range")
-            .ok_or("its vkpath attribute has no sample_range")?;
-        let samples = parse_range(range)
-            .ok_or_else(|| format!("its sample_range '{range}' is not START..END"))?;
+            .ok_or(MetadataError::NoSampleRange)?;
+        let samples =
+            parse_range(range).ok_or_else(|| MetadataError::SampleRange(range.to_string()))?;
         let mut settings = Vec::new();
         for name in SETTING_NAMES {
-            let value = fields
-                .get(name)
-                .ok_or_else(|| format!("its vkpath attribute has no {name}"))?;
+            let value = fields.get(name).ok_or(MetadataError::NoSetting(name))?;
             settings.push((name.to_string(), current_name(value).to_string()));
         }
         for name in OPTIONAL_SETTING_NAMES {
@@ -239,9 +258,9 @@ impl RenderMetadata {
         }
         let outcome = match (fields.get(SPP_REQUESTED_FIELD), fields.get(STOP_FIELD)) {
             (Some(requested), Some(stop)) => Some(RenderOutcome {
-                spp_requested: requested.parse().map_err(|_| {
-                    format!("its {SPP_REQUESTED_FIELD} '{requested}' is not a number")
-                })?,
+                spp_requested: requested
+                    .parse()
+                    .map_err(|_| MetadataError::SppRequested(requested.to_string()))?,
                 stop: stop.to_string(),
             }),
             _ => None,
@@ -398,6 +417,35 @@ pub fn scene_hash(scene: &Scene, camera: &Camera) -> String {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn attributes_without_metadata_are_refused_in_words() {
+        let refused = |text: Option<&str>| {
+            let attributes: BTreeMap<String, String> = text
+                .map(|t| (ATTRIBUTE_NAME.to_string(), t.to_string()))
+                .into_iter()
+                .collect();
+            RenderMetadata::from_attributes(&attributes)
+                .unwrap_err()
+                .to_string()
+        };
+        assert_eq!(
+            refused(None),
+            "it has no vkpath attribute (not written by vkpath render)"
+        );
+        assert_eq!(
+            refused(Some("spp=4")),
+            "its vkpath attribute has no sample_range"
+        );
+        assert_eq!(
+            refused(Some("sample_range=4")),
+            "its sample_range '4' is not START..END"
+        );
+        assert_eq!(
+            refused(Some("sample_range=0..4")),
+            format!("its vkpath attribute has no {}", SETTING_NAMES[0])
+        );
+    }
 
     #[test]
     fn a_plain_scenes_hash_is_what_earlier_versions_wrote() {

@@ -162,7 +162,8 @@ fn decode<'a>(key: &PipelineCacheKey, file: &'a [u8]) -> Result<&'a [u8], Unusab
     if Sha256::digest(reader.bytes).as_slice() != checksum {
         return Err(Unusable::Corrupt("its checksum does not match".into()));
     }
-    key.check_header(reader.bytes).map_err(Unusable::Corrupt)?;
+    key.check_header(reader.bytes)
+        .map_err(|error| Unusable::Corrupt(error.to_string()))?;
     Ok(reader.bytes)
 }
 

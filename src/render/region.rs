@@ -21,6 +21,14 @@ pub struct PixelRegion {
     pub y1: u32,
 }
 
+/// A `--region` that is not four whole numbers (`PixelRegion::parse`): the text given.
+#[derive(Clone, Debug, PartialEq, Eq, thiserror::Error)]
+#[error(
+    "'{0}' is not X0,Y0,X1,Y1 (four whole numbers >= 0: columns X0..X1 and rows Y0..Y1 from \
+     the top-left, the ends excluded)"
+)]
+pub struct RegionSyntaxError(pub String);
+
 impl PixelRegion {
     /// The whole of a `width` x `height` image.
     pub fn whole(width: u32, height: u32) -> PixelRegion {
@@ -33,14 +41,11 @@ impl PixelRegion {
     }
 
     /// Parses `X0,Y0,X1,Y1` (four integers, the ends excluded), as `--region` takes it.
-    pub fn parse(text: &str) -> std::result::Result<PixelRegion, String> {
+    pub fn parse(text: &str) -> std::result::Result<PixelRegion, RegionSyntaxError> {
         let parsed: Option<Vec<u32>> = text.split(',').map(|n| n.trim().parse().ok()).collect();
         match parsed.as_deref() {
             Some(&[x0, y0, x1, y1]) => Ok(PixelRegion { x0, y0, x1, y1 }),
-            _ => Err(format!(
-                "'{text}' is not X0,Y0,X1,Y1 (four whole numbers >= 0: columns X0..X1 and rows \
-                 Y0..Y1 from the top-left, the ends excluded)"
-            )),
+            _ => Err(RegionSyntaxError(text.to_string())),
         }
     }
 

@@ -108,7 +108,7 @@ pub fn write_state(path: &Path, state: &Accumulation, metadata: &RenderMetadata)
 pub fn read_metadata(path: &Path) -> Result<RenderMetadata> {
     let attributes = read_text_attributes(path)?;
     let fail = |message: String| Error::from(ImageError::read(path, message));
-    RenderMetadata::from_attributes(&attributes).map_err(&fail)
+    RenderMetadata::from_attributes(&attributes).map_err(|e| fail(e.to_string()))
 }
 
 /// The render metadata of an image that `vkpath render` may have written, EXR or PNG (its
@@ -125,7 +125,7 @@ pub fn read_image_metadata(path: &Path) -> Result<Option<RenderMetadata>> {
     }
     RenderMetadata::from_attributes(&attributes)
         .map(Some)
-        .map_err(&fail)
+        .map_err(|e| fail(e.to_string()))
 }
 
 /// The text attributes of an EXR's headers (name to text), read from the headers alone: no
@@ -186,7 +186,7 @@ pub fn read_state(path: &Path) -> Result<(Accumulation, RenderMetadata)> {
             _ => {}
         }
     }
-    let metadata = RenderMetadata::from_attributes(&attributes).map_err(&fail)?;
+    let metadata = RenderMetadata::from_attributes(&attributes).map_err(|e| fail(e.to_string()))?;
     let layer = &file.layer_data;
     let (width, height) = (layer.size.width(), layer.size.height());
     let pixels = width * height;

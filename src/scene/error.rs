@@ -214,8 +214,8 @@ pub enum SceneError {
     },
     /// The environment asked for could not be loaded (`crate::lights::EnvironmentSource`):
     /// the message names the map's file.
-    #[error("{0}")]
-    Environment(String),
+    #[error(transparent)]
+    Environment(#[from] crate::lights::environment::EnvironmentMapError),
     /// A scene from arrays (`Scene::from_arrays`) whose arrays do not fit together.
     #[error("scene from arrays: {0}")]
     Arrays(String),

@@ -54,12 +54,9 @@ impl PipelineCacheKey {
     /// (`VkPipelineCacheHeaderVersionOne`, in the host's byte order) against this device:
     /// `Err` says why data are not this device's (too short, another header version, another
     /// vendor, device or cache UUID).
-    pub fn check_header(&self, data: &[u8]) -> Result<(), String> {
+    pub fn check_header(&self, data: &[u8]) -> Result<(), CacheHeaderError> {
         if data.len() < VULKAN_CACHE_HEADER_BYTES {
-            return Err(format!(
-                "{} bytes, shorter than Vulkan's {VULKAN_CACHE_HEADER_BYTES}-byte cache header",
-                data.len()
-            ));
+            return Err(CacheHeaderError::Short(data.len()));
         }
         let word = |i: usize| {
             let bytes = [
@@ -74,22 +71,53 @@ impl PipelineCacheKey {
         if (length as usize) < VULKAN_CACHE_HEADER_BYTES
             || version != vk::PipelineCacheHeaderVersion::ONE.as_raw() as u32
         {
-            return Err(format!(
-                "an unknown Vulkan cache header (length {length}, version {version})"
-            ));
+            return Err(CacheHeaderError::Unknown { length, version });
         }
         let (vendor, device) = (word(2), word(3));
         if (vendor, device) != (self.vendor_id, self.device_id) {
-            return Err(format!(
-                "made for device {vendor:04x}:{device:04x}, not this {:04x}:{:04x}",
-                self.vendor_id, self.device_id
-            ));
+            return Err(CacheHeaderError::OtherDevice {
+                made_for: (vendor, device),
+                this: (self.vendor_id, self.device_id),
+            });
         }
         if data[16..VULKAN_CACHE_HEADER_BYTES] != self.pipeline_cache_uuid {
-            return Err("made by another driver (its pipeline cache UUID differs)".into());
+            return Err(CacheHeaderError::OtherDriver);
         }
         Ok(())
     }
+}
+
+/// Why pipeline cache data are not this device's (`PipelineCacheKey::check_header`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, thiserror::Error)]
+pub enum CacheHeaderError {
+    /// Fewer bytes than Vulkan's header.
+    #[error(
+        "{0} bytes, shorter than Vulkan's {header}-byte cache header",
+        header = VULKAN_CACHE_HEADER_BYTES
+    )]
+    Short(usize),
+    /// A header of another length or version than `VkPipelineCacheHeaderVersionOne`.
+    #[error("an unknown Vulkan cache header (length {length}, version {version})")]
+    Unknown {
+        /// The header's length word.
+        length: u32,
+        /// The header's version word.
+        version: u32,
+    },
+    /// Another vendor or device: (vendor, device) ids.
+    #[error(
+        "made for device {:04x}:{:04x}, not this {:04x}:{:04x}",
+        made_for.0, made_for.1, this.0, this.1
+    )]
+    OtherDevice {
+        /// The data's (vendor, device) ids.
+        made_for: (u32, u32),
+        /// This device's.
+        this: (u32, u32),
+    },
+    /// Another driver (another pipeline cache UUID).
+    #[error("made by another driver (its pipeline cache UUID differs)")]
+    OtherDriver,
 }
 
 /// Where a context's pipeline cache lives between processes, and whom it tells that a build
@@ -202,11 +230,11 @@ mod tests {
         with_payload.extend_from_slice(&[9; 100]);
         assert_eq!(key.check_header(&with_payload), Ok(()));
         let other_device = key.check_header(&header(0x10de, 0x2330, [3; 16]));
-        assert!(other_device.unwrap_err().contains("10de:2330"));
+        assert!(other_device.unwrap_err().to_string().contains("10de:2330"));
         let other_vendor = key.check_header(&header(0x1002, 0x2335, [3; 16]));
         assert!(other_vendor.is_err());
         let other_driver = key.check_header(&header(0x10de, 0x2335, [4; 16]));
-        assert!(other_driver.unwrap_err().contains("UUID"));
+        assert!(other_driver.unwrap_err().to_string().contains("UUID"));
         assert!(key
             .check_header(&header(0x10de, 0x2335, [3; 16])[..31])
             .is_err());
@@ -215,8 +243,18 @@ mod tests {
         assert!(key
             .check_header(&version_two)
             .unwrap_err()
+            .to_string()
             .contains("unknown"));
-        assert!(key.check_header(&[]).is_err());
+        assert_eq!(
+            key.check_header(&[]).unwrap_err().to_string(),
+            format!("0 bytes, shorter than Vulkan's {VULKAN_CACHE_HEADER_BYTES}-byte cache header")
+        );
+        assert_eq!(
+            key.check_header(&header(0x1002, 0x2335, [3; 16]))
+                .unwrap_err()
+                .to_string(),
+            "made for device 1002:2335, not this 10de:2335"
+        );
     }
 
     #[test]
