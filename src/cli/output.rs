@@ -655,18 +655,11 @@ fn what_a_failure_kept(
     outputs: &[PathBuf],
     checkpoint: Option<&PathBuf>,
 ) -> String {
-    let quoted = |paths: &[PathBuf]| {
-        let names: Vec<String> = paths.iter().map(|p| format!("'{}'", p.display())).collect();
-        names.join(", ")
-    };
-    let images = match outputs == request.outputs {
-        true => format!("the samples taken are in {}", quoted(outputs)),
-        false => format!(
-            "the samples taken are in {} ({} left as it was)",
-            quoted(outputs),
-            quoted(request.outputs)
-        ),
-    };
+    let images = format!(
+        "the samples taken are in {}{}",
+        quoted_paths(outputs),
+        left_as_they_were(request, outputs)
+    );
     match checkpoint {
         Some(checkpoint) => format!(
             "{images}; add --resume '{}' to go on from its last checkpoint",
@@ -675,6 +668,21 @@ fn what_a_failure_kept(
         None => format!(
             "{images}; without --checkpoint a render cannot resume, so a new one starts over"
         ),
+    }
+}
+
+/// Paths as the lines name them: `'a.png', 'b.exr'`.
+fn quoted_paths(paths: &[PathBuf]) -> String {
+    let names: Vec<String> = paths.iter().map(|p| format!("'{}'", p.display())).collect();
+    names.join(", ")
+}
+
+/// What a line adds where a stopped render wrote beside its outputs (`written`, their
+/// `.partial` siblings): ` ('out.png' left as it was)`; nothing where it wrote the outputs.
+fn left_as_they_were(request: &RenderRequest, written: &[PathBuf]) -> String {
+    match written == request.outputs {
+        true => String::new(),
+        false => format!(" ({} left as it was)", quoted_paths(request.outputs)),
     }
 }
 
@@ -952,16 +960,7 @@ fn end_after_report(
                 true => last,
                 false => format!("{} and {last}", saved.join(", ")),
             };
-            let kept = if outputs == request.outputs {
-                String::new()
-            } else {
-                let names: Vec<String> = request
-                    .outputs
-                    .iter()
-                    .map(|p| format!("'{}'", p.display()))
-                    .collect();
-                format!(" ({} left as it was)", names.join(", "))
-            };
+            let kept = left_as_they_were(request, outputs);
             eprintln!(
                 "vkpath: stopped by {name} after {done} of {total} spp; saved to {saved}{kept}"
             );
