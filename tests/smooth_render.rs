@@ -7,7 +7,7 @@
 //! (a delta pick bypasses the guide's mixture).
 
 use crate::common;
-use crate::materials_render::{block_means, pixel_ray, QuadScene, PLANE_HALF_SIZE};
+use crate::materials_render::{block_means, isotropic_albedo, square_albedos, QuadScene};
 
 use common::scenes::{glossy_box, white_metal};
 
@@ -25,21 +25,12 @@ use common::render_scene as render;
 const COLOR: Vec3 = Vec3::new(0.9, 0.5, 0.2);
 
 /// The albedo of `material`'s continuous lobes (without the delta peak, which get_brdf()
-/// gives nothing) at `view`: the integral of f (n.l) by the midpoint rule in
-/// (cos theta, phi) on 400 x 800 cells (a smooth integrand: error ~1e-5).
-fn continuous_albedo(material: &MaterialSample, view: Vec3) -> DVec3 {
-    let n = 400;
-    let mut sum = DVec3::ZERO;
-    for i in 0..n {
-        let cos_theta = (i as f64 + 0.5) / n as f64;
-        let sin_theta = (1.0 - cos_theta * cos_theta).sqrt();
-        for j in 0..2 * n {
-            let phi = std::f64::consts::PI * (j as f64 + 0.5) / n as f64;
-            let light = DVec3::new(sin_theta * phi.cos(), sin_theta * phi.sin(), cos_theta);
-            sum += get_brdf(material, Vec3::Z, view, light.as_vec3()).as_dvec3() * cos_theta;
-        }
-    }
-    sum * 2.0 * std::f64::consts::PI / (2 * n * n) as f64
+/// gives nothing) at `cos_view`: `isotropic_albedo` of f (n.l) on 400 x 800 cells (a smooth
+/// integrand: error ~1e-5).
+fn continuous_albedo(material: &MaterialSample, cos_view: f64) -> DVec3 {
+    isotropic_albedo(400, cos_view, |view, light| {
+        get_brdf(material, Vec3::Z, view, light).as_dvec3() * f64::from(light.z)
+    })
 }
 
 #[test]
@@ -72,6 +63,11 @@ fn smooth_surfaces_in_a_furnace_reflect_their_closed_form() {
         let mut builder = QuadScene::default();
         builder.plane_in_furnace(material);
         let scene = builder.build(camera);
+        // What each pixel on the square must show, the same for every integrator.
+        let albedos = square_albedos(&camera, width, height, |cos_view| {
+            get_mirror_reflectance(&sample, cos_view as f32).as_dvec3()
+                + continuous_albedo(&sample, cos_view)
+        });
         for integrator in [
             Integrator::Mis,
             Integrator::Nee,
@@ -100,20 +96,12 @@ fn smooth_surfaces_in_a_furnace_reflect_their_closed_form() {
             let mut residuals: [Vec<f64>; 3] = Default::default();
             for y in 0..height {
                 for x in 0..width {
-                    let direction = pixel_ray(&camera, width, height, x, y);
-                    let t = -position.z / direction.z;
-                    let hit = position + t * direction;
-                    let on_square =
-                        t > 0.0 && hit.x.abs() < PLANE_HALF_SIZE && hit.y.abs() < PLANE_HALF_SIZE;
-                    let view = -direction;
-                    let expected = if on_square {
-                        square_pixels += 1;
-                        get_mirror_reflectance(&sample, view.z).as_dvec3()
-                            + continuous_albedo(&sample, view)
-                    } else {
-                        DVec3::ONE
-                    };
                     let index = (y * width + x) as usize;
+                    let on_square = albedos[index].is_some();
+                    if on_square {
+                        square_pixels += 1;
+                    }
+                    let expected = albedos[index].unwrap_or(DVec3::ONE);
                     for channel in 0..3 {
                         let mean = f64::from(image.mean[index][channel]);
                         let error = (mean - expected[channel]).abs();
