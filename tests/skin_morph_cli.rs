@@ -177,8 +177,12 @@ fn write_morphed(dir: &Path) {
     buffer.write(dir, "morph", rest, 1);
 }
 
-/// Small, quick renders: 32 x 32 at 2 spp, lit by a white background.
-const SMALL: [&str; 8] = [
+/// Small, quick renders: 32 x 32 at 2 spp, lit by a white background, traced through a BVH
+/// (`--accel bvh`): under `auto` the strips' few triangles would be compiled into the kernel,
+/// a new kernel (seconds on lavapipe) for every pose (`frames_cli` renders poses that way).
+const SMALL: [&str; 10] = [
+    "--accel",
+    "bvh",
     "--width",
     "32",
     "--height",
