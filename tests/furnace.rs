@@ -72,6 +72,8 @@ fn check_furnace(albedo: f32, emission: f32, max_path_length: u32) {
     }
 }
 
+// One furnace, each of its settings a parameter: a struct would only name them again.
+#[allow(clippy::too_many_arguments)]
 fn check_furnace_with(
     integrator: Integrator,
     accel: Accel,

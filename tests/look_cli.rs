@@ -253,9 +253,8 @@ fn bad_look_options_are_one_line_usage_errors() {
             "{bad:?}: {stderr}"
         );
     }
-    for bad in [&["merge", "a.exr", "-o", "m.png", "--tonemap", "foo"][..]] {
-        assert_eq!(common::vkpath(dir.path(), bad).status.code(), Some(2));
-    }
+    let bad = ["merge", "a.exr", "-o", "m.png", "--tonemap", "foo"];
+    assert_eq!(common::vkpath(dir.path(), &bad).status.code(), Some(2));
     // A preview is a picture: an .exr preview is refused before rendering.
     let mut args = render.to_vec();
     args.extend_from_slice(&["--preview", "p.exr"]);

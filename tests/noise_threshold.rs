@@ -206,7 +206,7 @@ fn the_summary_and_the_exr_say_how_many_samples_were_taken() {
     let after = |label: &str| -> f64 {
         let start = summary.find(label).unwrap_or_else(|| panic!("{summary}")) + label.len();
         summary[start..]
-            .split(|c: char| c == ' ' || c == ',')
+            .split([' ', ','])
             .next()
             .and_then(|n| n.parse().ok())
             .unwrap_or_else(|| panic!("no number after '{label}': {summary}"))

@@ -115,6 +115,8 @@ fn a_checkpoint_must_be_an_exr() {
 
 /// Starts `vkpath render` with `args` in `dir`, waits until it has printed `marker` on
 /// stderr, and returns it with the lines so far and the rest of stderr's reader.
+// The caller waits for the child it is given; a child that ends early is waited for here.
+#[allow(clippy::zombie_processes)]
 fn spawn_until(
     dir: &Path,
     args: &[&str],
@@ -136,10 +138,10 @@ fn spawn_until(
     let mut lines = Vec::new();
     loop {
         let mut line = String::new();
-        assert!(
-            reader.read_line(&mut line).unwrap() > 0,
-            "vkpath ended before printing '{marker}': {lines:?}"
-        );
+        if reader.read_line(&mut line).unwrap_or(0) == 0 {
+            let status = child.wait();
+            panic!("vkpath ended ({status:?}) before printing '{marker}': {lines:?}");
+        }
         let found = line.contains(marker);
         lines.push(line);
         if found {

@@ -195,7 +195,7 @@ const REC2020_TO_SRGB: [[f32; 3]; 3] = [
 /// colours reach white through the sigmoid ("path to white"). Rows sum to 1.
 const AGX_INSET: [[f32; 3]; 3] = [
     [0.856_627_15, 0.095_121_24, 0.048_251_61],
-    [0.137_318_97, 0.761_241_99, 0.101_439_04],
+    [0.137_318_97, 0.761_242, 0.101_439_04],
     [0.111_898_21, 0.076_799_42, 0.811_302_37],
 ];
 /// AgX's outset: restores saturation after the sigmoid (Blender 4's, as three.js r160 has

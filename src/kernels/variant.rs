@@ -345,9 +345,12 @@ const PATH_TRACER_MACROS: &[BuildMacro] = &[
     },
 ];
 
+/// A specialization constant's id and its value for a scene.
+type SceneFlag = (u32, fn(&SceneSummary) -> u32);
+
 /// The scene's flags as specialization constants of the material kernels (what they compile
 /// out where the scene lacks it).
-const SCENE_FLAGS: &[(u32, fn(&SceneSummary) -> u32)] = &[
+const SCENE_FLAGS: &[SceneFlag] = &[
     (contract::SPEC_SCENE_HAS_ALPHA, |s| u32::from(s.alpha)),
     (contract::SPEC_SCENE_TEXTURE_SLOTS, |s| s.texture_slots),
     (contract::SPEC_SCENE_HAS_LAYERS, |s| u32::from(s.layers)),

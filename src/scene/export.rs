@@ -210,7 +210,7 @@ impl ManifestMaterial {
                 thickness: transmission.thickness,
                 attenuation_coefficient: transmission.attenuation.to_array(),
             }),
-            clearcoat: (clearcoat.factor > 0.0).then(|| ManifestClearcoat {
+            clearcoat: (clearcoat.factor > 0.0).then_some(ManifestClearcoat {
                 factor: clearcoat.factor,
                 roughness: clearcoat.roughness,
             }),
