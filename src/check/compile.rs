@@ -125,7 +125,7 @@ pub fn compile_kernel(
             spirv: compiled.spirv,
             warnings: rewrite(compiled.warnings),
         }),
-        Err(messages) => Err(CompileError::Compiler(rewrite(messages))),
+        Err(error) => Err(CompileError::Compiler(rewrite(error.to_string()))),
     }
 }
 

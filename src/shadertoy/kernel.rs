@@ -235,8 +235,8 @@ pub fn compile_pass(common: Option<&UserTab>, tab: &UserTab) -> Result<CompiledS
             spirv: compiled.spirv,
             warnings: rewrite(compiled.warnings),
         }),
-        Err(messages) => Err(PassError::Compiler(with_missing_tab_hint(
-            rewrite(messages),
+        Err(error) => Err(PassError::Compiler(with_missing_tab_hint(
+            rewrite(error.to_string()),
             common,
             tab,
         ))),
