@@ -86,7 +86,8 @@ fn main() {
                 )
                 .unwrap();
                 }
-                Err(message) => {
+                Err(error) => {
+                    let message = error.to_string();
                     eprintln!("{message}");
                     for line in message.lines() {
                         println!("cargo:warning={line}");

@@ -10,6 +10,21 @@ pub struct CompiledShader {
     pub warnings: String,
 }
 
+/// Why a shader did not compile: shaderc could not be set up, or its messages.
+#[derive(Debug, thiserror::Error)]
+#[non_exhaustive]
+pub enum ShaderError {
+    /// shaderc could not create a compiler.
+    #[error("shaderc: cannot create a compiler: {0}")]
+    CreateCompiler(shaderc::Error),
+    /// shaderc could not create compile options.
+    #[error("shaderc: cannot create compile options: {0}")]
+    CreateOptions(shaderc::Error),
+    /// The source did not compile: shaderc's messages, which name file and line.
+    #[error("{0}")]
+    Compile(shaderc::Error),
+}
+
 /// Compiles one GLSL compute shader for Vulkan 1.2.
 ///
 /// `resolve_include` maps an include's name (as written between the quotes) to its text; a
@@ -22,11 +37,9 @@ pub fn compile_compute_shader(
     resolve_include: &dyn Fn(&str) -> Option<String>,
     macros: &[(&str, &str)],
     optimize: bool,
-) -> Result<CompiledShader, String> {
-    let compiler =
-        shaderc::Compiler::new().map_err(|e| format!("shaderc: cannot create a compiler: {e}"))?;
-    let mut options = shaderc::CompileOptions::new()
-        .map_err(|e| format!("shaderc: cannot create compile options: {e}"))?;
+) -> Result<CompiledShader, ShaderError> {
+    let compiler = shaderc::Compiler::new().map_err(ShaderError::CreateCompiler)?;
+    let mut options = shaderc::CompileOptions::new().map_err(ShaderError::CreateOptions)?;
     options.set_target_env(
         shaderc::TargetEnv::Vulkan,
         shaderc::EnvVersion::Vulkan1_2 as u32,
@@ -57,7 +70,7 @@ pub fn compile_compute_shader(
             "main",
             Some(&options),
         )
-        .map_err(|error| error.to_string())?;
+        .map_err(ShaderError::Compile)?;
     Ok(CompiledShader {
         spirv: artifact.as_binary().to_vec(),
         warnings: artifact.get_warning_messages(),

@@ -377,7 +377,7 @@ pub fn render<'py>(
         background.map(Vec3::from),
         &PYTHON_NAMES,
     )
-    .map_err(message)?;
+    .map_err(|e| message(e.to_string()))?;
     let (world, camera) = scene.at_time(time, settings.aspect())?;
     let world = world
         .with_environment(environment.as_ref())

@@ -15,6 +15,29 @@ use crate::shaders::GLSL_SOURCES;
 
 pub use crate::glsl_intake::USER_FUNCTIONS_FILE;
 
+/// Why a kernel with a user's code does not compile.
+#[derive(Debug, thiserror::Error)]
+#[non_exhaustive]
+pub enum CompileError {
+    /// The kernel named is not among the embedded `glsl/` sources.
+    #[error("{kernel_file} is not among the embedded GLSL sources")]
+    NotEmbedded {
+        /// The kernel's file name.
+        kernel_file: String,
+    },
+    /// The compiler's messages (`file:line: error: …`, one a line), rewritten to name the
+    /// user's file.
+    #[error("{0}")]
+    Compiler(String),
+    /// Setting aside the functions that do not compile took more rounds than
+    /// `UserFunctions::find_broken_functions` allows.
+    #[error("{file}: too many functions do not compile")]
+    TooManyBrokenFunctions {
+        /// The user's file, as messages name it.
+        file: String,
+    },
+}
+
 /// The user's code as one kernel includes it: the prepared file with only `active` of its
 /// workshop functions, between the prelude and the epilogue.
 #[derive(Clone, Debug)]
@@ -72,9 +95,10 @@ pub fn compile_kernel(
     kernel_file: &str,
     user: Option<&UserCode>,
     extra_macros: &[(&str, &str)],
-) -> Result<CompiledShader, String> {
-    let source = embedded_source(kernel_file)
-        .ok_or_else(|| format!("{kernel_file} is not among the embedded GLSL sources"))?;
+) -> Result<CompiledShader, CompileError> {
+    let source = embedded_source(kernel_file).ok_or_else(|| CompileError::NotEmbedded {
+        kernel_file: kernel_file.to_string(),
+    })?;
     // The user's file is included once; any other request for it (there is none in the
     // kernels) is refused rather than recursing.
     let included = std::cell::Cell::new(false);
@@ -101,7 +125,7 @@ pub fn compile_kernel(
             spirv: compiled.spirv,
             warnings: rewrite(compiled.warnings),
         }),
-        Err(messages) => Err(rewrite(messages)),
+        Err(error) => Err(CompileError::Compiler(rewrite(error.to_string()))),
     }
 }
 

@@ -371,7 +371,7 @@ impl Kernel {
             macros.push(("IGNORE_START_SURFACE", "1"));
         }
         let compiled = compile_kernel(PATH_TRACER.source, code.as_ref(), &macros)
-            .map_err(Error::ShaderCompilation)?;
+            .map_err(|error| Error::ShaderCompilation(error.to_string()))?;
         Ok(Kernel {
             spirv: compiled.spirv,
             traversal,

@@ -236,7 +236,7 @@ fn nothing_to_judge(paths: &[PathBuf], units: &[UserFunctions]) -> Option<LoadEr
 fn compile_unit(user: &mut UserFunctions) {
     match user.find_broken_functions() {
         Ok(warnings) => user.compile_warnings = warnings,
-        Err(messages) => user.compile_errors = Some(messages),
+        Err(messages) => user.compile_errors = Some(messages.to_string()),
     }
 }
 
@@ -342,7 +342,7 @@ impl Session<'_> {
         })?;
         let code = self.user.code(&[function]);
         let compiled = compile::compile_kernel(&kind.source_file(), Some(&code), &[])
-            .map_err(Error::ShaderCompilation)?;
+            .map_err(|error| Error::ShaderCompilation(error.to_string()))?;
         ProbePipeline::from_spirv(&self.context, kind, &compiled.spirv, PROBE_MAX_PATH_LENGTH)
     }
 

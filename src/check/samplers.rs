@@ -291,7 +291,7 @@ fn draw_samples(session: &Session, function: WorkshopFunction) -> Result<Vec<Str
         Some(&session.user.code(&[function])),
         &[],
     )
-    .map_err(Error::ShaderCompilation)?;
+    .map_err(|error| Error::ShaderCompilation(error.to_string()))?;
     let yours =
         render_sample_display_with(&session.context, &compiled.spirv, sampler, size, size, 0)?;
     session.save_pngs(&[(

@@ -6,7 +6,7 @@
 use std::collections::BTreeSet;
 use std::ops::Range;
 
-use crate::check::compile::{compile_kernel, UserCode};
+use crate::check::compile::{compile_kernel, CompileError, UserCode};
 use crate::check::detect::{
     find_functions, Definition, FoundFunction, Signature, WorkshopFunction,
 };
@@ -510,13 +510,14 @@ impl UserFunctions {
     /// are dropped (recorded in `broken`, with the compiler's messages) and the rest compiled
     /// again. Returns the compiler's warnings, or its messages when an error lies outside
     /// every function (then nothing can be judged).
-    pub fn find_broken_functions(&mut self) -> Result<String, String> {
+    pub fn find_broken_functions(&mut self) -> Result<String, CompileError> {
         for _ in 0..MAX_COMPILE_ROUNDS {
             let code = self.whole();
-            let messages = match compile_kernel("probe_get_random_numbers.comp", Some(&code), &[]) {
+            let error = match compile_kernel("probe_get_random_numbers.comp", Some(&code), &[]) {
                 Ok(compiled) => return Ok(compiled.warnings),
-                Err(messages) => messages,
+                Err(error) => error,
             };
+            let messages = error.to_string();
             let functions = find_functions(&self.prepared.text);
             // Where each line starts, found once per round: each error message then finds its
             // function by binary search instead of counting the file's lines again.
@@ -569,14 +570,13 @@ impl UserFunctions {
                 }
             }
             if outside || newly_broken.is_empty() && !dropped_declaration {
-                return Err(messages);
+                return Err(error);
             }
             self.broken.extend(newly_broken);
         }
-        Err(format!(
-            "{}: too many functions do not compile",
-            self.display_name
-        ))
+        Err(CompileError::TooManyBrokenFunctions {
+            file: self.display_name.clone(),
+        })
     }
 
     /// Drops (blanks) the global declaration of the prepared text that covers `line`, with a
@@ -727,6 +727,7 @@ mod tests {
         else {
             panic!("a missing semicolon must not compile");
         };
+        let error = error.to_string();
         assert!(error.contains("mine.glsl:4:"), "{error}");
         assert!(!error.contains(USER_FUNCTIONS_FILE), "{error}");
         // The function is dropped, and with it nothing is left to judge.

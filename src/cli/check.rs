@@ -15,6 +15,7 @@ use std::io::Write as _;
 use std::path::PathBuf;
 use std::time::Duration;
 
+use super::value_error::ValueError;
 use super::DeviceArgs;
 use crate::check::isolation::{self, Outcome, WorkerEvent, WorkerJob, WorkerLauncher};
 use crate::check::program::{
@@ -103,12 +104,12 @@ pub struct CheckWorkerArgs {
 }
 
 /// A positive multiple of 8 up to 1024 (the renders are compared in 8 x 8 blocks).
-fn parse_image_size(text: &str) -> Result<u32, String> {
+fn parse_image_size(text: &str) -> Result<u32, ValueError> {
     let size: u32 = text
         .parse()
-        .map_err(|_| format!("'{text}' is not a whole number"))?;
+        .map_err(|_| ValueError::NotWholeNumber { text: text.into() })?;
     if size == 0 || !size.is_multiple_of(8) || size > 1024 {
-        return Err(format!("{size} is not a multiple of 8 in 8..=1024"));
+        return Err(ValueError::NotBlockSize { size });
     }
     Ok(size)
 }

@@ -7,6 +7,7 @@ use glam::{UVec2, Vec3};
 
 use super::options::{parse_spp, SaveArgs};
 use super::output::{fail_on_validation_messages, render_and_save, Reporting};
+use super::value_error::ValueError;
 use super::{parse_vec3, DeviceArgs};
 use crate::exercise::{
     render_brdf_sample_display, render_guide_cell_display, render_sample_display,
@@ -105,14 +106,14 @@ pub struct GuideCellArgs {
 const GUIDE_CELL_VIEW_SIDE: u32 = 64;
 
 /// Parses "x,y" as a pixel.
-fn parse_pixel(text: &str) -> Result<UVec2, String> {
+fn parse_pixel(text: &str) -> Result<UVec2, ValueError> {
     let parts: Vec<&str> = text.split(',').map(str::trim).collect();
     let [x, y] = parts[..] else {
-        return Err(format!("'{text}' is not X,Y"));
+        return Err(ValueError::NotPixel { text: text.into() });
     };
     let number = |s: &str| {
         s.parse::<u32>()
-            .map_err(|_| format!("'{s}' is not a pixel index"))
+            .map_err(|_| ValueError::NotPixelIndex { text: s.into() })
     };
     Ok(UVec2::new(number(x)?, number(y)?))
 }
@@ -169,36 +170,34 @@ impl BrdfArgs {
 }
 
 /// Parses a number in [0, 1].
-fn parse_fraction(text: &str) -> Result<f32, String> {
+fn parse_fraction(text: &str) -> Result<f32, ValueError> {
     let value: f32 = text
         .trim()
         .parse()
-        .map_err(|_| format!("'{text}' is not a number"))?;
+        .map_err(|_| ValueError::NotNumber { text: text.into() })?;
     if !(0.0..=1.0).contains(&value) {
-        return Err(format!("{value} is outside [0, 1]"));
+        return Err(ValueError::OutsideUnitInterval { value });
     }
     Ok(value)
 }
 
 /// Parses a view angle in degrees in [0, 90): `sample_brdf` needs the view above the surface.
-fn parse_view_angle(text: &str) -> Result<f32, String> {
+fn parse_view_angle(text: &str) -> Result<f32, ValueError> {
     let value: f32 = text
         .trim()
         .parse()
-        .map_err(|_| format!("'{text}' is not a number"))?;
+        .map_err(|_| ValueError::NotNumber { text: text.into() })?;
     if !(0.0..90.0).contains(&value) {
-        return Err(format!(
-            "{value} is outside [0, 90) degrees: the view must be above the surface"
-        ));
+        return Err(ValueError::ViewBelowSurface { value });
     }
     Ok(value)
 }
 
 /// Parses "r,g,b" with every component in [0, 1].
-fn parse_color(text: &str) -> Result<Vec3, String> {
+fn parse_color(text: &str) -> Result<Vec3, ValueError> {
     let color = parse_vec3(text)?;
     if color.cmplt(Vec3::ZERO).any() || color.cmpgt(Vec3::ONE).any() {
-        return Err(format!("{color} has a component outside [0, 1]"));
+        return Err(ValueError::ColorOutsideUnitInterval { color });
     }
     Ok(color)
 }

@@ -6,6 +6,8 @@
 use clap::{Parser, Subcommand};
 use glam::Vec3;
 
+use value_error::ValueError;
+
 pub mod bench;
 pub mod check;
 pub mod compare;
@@ -21,6 +23,7 @@ pub mod shadertoy;
 pub mod signals;
 pub mod summary;
 pub mod tev;
+pub mod value_error;
 
 /// Headless progressive path tracer: the Path Tracing Workshop's GLSL on Vulkan.
 #[derive(Debug, Parser)]
@@ -174,20 +177,20 @@ impl DeviceArgs {
 }
 
 /// Parses "x,y,z" into a vector.
-pub fn parse_vec3(text: &str) -> Result<Vec3, String> {
+pub fn parse_vec3(text: &str) -> Result<Vec3, ValueError> {
     let parts: Vec<&str> = text.split(',').map(str::trim).collect();
     if parts.len() != 3 {
-        return Err(format!(
-            "expected three comma-separated numbers x,y,z, got '{text}'"
-        ));
+        return Err(ValueError::NotThreeNumbers { text: text.into() });
     }
     let mut values = [0.0f32; 3];
     for (value, part) in values.iter_mut().zip(&parts) {
-        *value = part
-            .parse::<f32>()
-            .map_err(|_| format!("'{part}' is not a number"))?;
+        *value = part.parse::<f32>().map_err(|_| ValueError::NotNumber {
+            text: part.to_string(),
+        })?;
         if !value.is_finite() {
-            return Err(format!("'{part}' is not finite"));
+            return Err(ValueError::NotFinite {
+                text: part.to_string(),
+            });
         }
     }
     Ok(Vec3::from_array(values))

@@ -6,6 +6,7 @@ use std::path::PathBuf;
 use std::time::{Duration, Instant};
 
 use super::output::Reporting;
+use super::value_error::ValueError;
 use crate::render::job::{
     shard_range, JobOptions, PreviewOptions, DEFAULT_CHECKPOINT_INTERVAL, DEFAULT_PREVIEW_INTERVAL,
 };
@@ -275,57 +276,51 @@ impl JobArgs {
 }
 
 /// A positive, finite number of seconds.
-pub(crate) fn parse_seconds(text: &str) -> Result<f64, String> {
+pub(crate) fn parse_seconds(text: &str) -> Result<f64, ValueError> {
     let seconds: f64 = text
         .parse()
-        .map_err(|_| format!("'{text}' is not a number of seconds"))?;
+        .map_err(|_| ValueError::NotSeconds { text: text.into() })?;
     if !(seconds > 0.0 && seconds < 1e9) {
-        return Err(format!("{text} is not a positive number of seconds"));
+        return Err(ValueError::NotPositiveSeconds { text: text.into() });
     }
     Ok(seconds)
 }
 
 /// A sample count per pixel for `--spp`: a whole number in 1..=`MAX_SPP`. Parsed here, so
 /// that `--spp 0` is a usage error (exit status 2) as every other malformed option is.
-pub(crate) fn parse_spp(text: &str) -> Result<u32, String> {
+pub(crate) fn parse_spp(text: &str) -> Result<u32, ValueError> {
     match text.trim().parse::<u32>() {
         Ok(spp) if (1..=MAX_SPP).contains(&spp) => Ok(spp),
-        _ => Err(format!(
-            "'{text}' is not a number of samples per pixel in 1..={MAX_SPP}"
-        )),
+        _ => Err(ValueError::NotSpp { text: text.into() }),
     }
 }
 
 /// START..END with START < END.
-fn parse_sample_range(text: &str) -> Result<Range<u32>, String> {
+fn parse_sample_range(text: &str) -> Result<Range<u32>, ValueError> {
     parse_range(text)
         .filter(|r| !r.is_empty())
-        .ok_or_else(|| format!("'{text}' is not START..END with START < END"))
+        .ok_or_else(|| ValueError::NotSampleRange { text: text.into() })
 }
 
 /// INDEX/COUNT with INDEX < COUNT.
-fn parse_shard(text: &str) -> Result<(u32, u32), String> {
+fn parse_shard(text: &str) -> Result<(u32, u32), ValueError> {
     let parsed = text
         .split_once('/')
         .and_then(|(i, c)| Some((i.trim().parse::<u32>().ok()?, c.trim().parse::<u32>().ok()?)));
     match parsed {
         Some((index, count)) if index < count => Ok((index, count)),
-        _ => Err(format!(
-            "'{text}' is not INDEX/COUNT with 0 <= INDEX < COUNT"
-        )),
+        _ => Err(ValueError::NotShard { text: text.into() }),
     }
 }
 
 /// `auto`, or a finite number of stops.
-fn parse_exposure(text: &str) -> Result<Exposure, String> {
+fn parse_exposure(text: &str) -> Result<Exposure, ValueError> {
     if text.eq_ignore_ascii_case("auto") {
         return Ok(Exposure::Auto);
     }
     match text.parse::<f32>() {
         Ok(value) if value.is_finite() => Ok(Exposure::Stops(value)),
-        _ => Err(format!(
-            "'{text}' is neither 'auto' nor a finite number of stops"
-        )),
+        _ => Err(ValueError::NotExposure { text: text.into() }),
     }
 }
 

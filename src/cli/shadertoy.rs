@@ -16,6 +16,7 @@ use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 
 use super::options::parse_seconds;
 use super::output::fail_on_validation_messages;
+use super::value_error::ValueError;
 use super::{signals, DeviceArgs};
 use crate::image_io::output::{check_writable, ImageFormat};
 use crate::shadertoy::display::save_pass_image;
@@ -84,18 +85,19 @@ pub struct ShadertoyArgs {
 }
 
 /// `a=A.exr` or `buffer-b=B.exr`.
-fn parse_save_buffer(text: &str) -> Result<(PassKind, PathBuf), String> {
+fn parse_save_buffer(text: &str) -> Result<(PassKind, PathBuf), ValueError> {
     let (name, path) = text
         .split_once('=')
-        .ok_or_else(|| format!("'{text}': expected BUFFER=FILE.exr, e.g. a=A.exr"))?;
+        .ok_or_else(|| ValueError::NotBufferFile { text: text.into() })?;
     let kind = PassKind::from_name(name)
         .filter(|k| k.buffer_index().is_some())
-        .ok_or_else(|| {
-            format!("'{text}': '{name}' is not a buffer (a, b, c, d or buffer-a … buffer-d)")
+        .ok_or_else(|| ValueError::NotABuffer {
+            text: text.into(),
+            name: name.into(),
         })?;
     let path = PathBuf::from(path);
     if ImageFormat::from_path(&path).ok() != Some(ImageFormat::Exr) {
-        return Err(format!("'{text}': buffers are saved as .exr"));
+        return Err(ValueError::BufferNotExr { text: text.into() });
     }
     Ok((kind, path))
 }

@@ -41,30 +41,58 @@ enum TevMessage {
     Recreate(TevImage),
 }
 
+/// Why the live view could not start: one line, for a warning.
+#[derive(Debug, thiserror::Error)]
+#[non_exhaustive]
+pub enum TevError {
+    /// The address did not resolve, the connection failed, or creating the image failed.
+    #[error("no live view: cannot reach tev at {address}: {error}")]
+    Unreachable {
+        /// HOST:PORT as given.
+        address: String,
+        /// What the system said.
+        error: std::io::Error,
+    },
+    /// The address resolved to no socket address.
+    #[error("no live view: cannot reach tev at {address}: the address resolves to nothing")]
+    NoAddress {
+        /// HOST:PORT as given.
+        address: String,
+    },
+}
+
 /// A connection to tev showing one image, named after the render's first output.
 pub struct TevView {
     address: String,
     queue: Option<SyncSender<TevMessage>>,
-    sender: Option<JoinHandle<Result<(), String>>>,
+    sender: Option<JoinHandle<std::io::Result<()>>>,
 }
 
 impl TevView {
     /// Connects to tev at `address` (HOST:PORT) and creates the image `name`, `width` x
     /// `height`, with channels R, G and B. An error says why in one line (the caller warns
     /// and renders without the view).
-    pub fn connect(address: &str, name: &str, width: u32, height: u32) -> Result<TevView, String> {
-        let fail = |why: String| format!("no live view: cannot reach tev at {address}: {why}");
+    pub fn connect(
+        address: &str,
+        name: &str,
+        width: u32,
+        height: u32,
+    ) -> Result<TevView, TevError> {
+        let fail = |error: std::io::Error| TevError::Unreachable {
+            address: address.to_string(),
+            error,
+        };
         let target = address
             .to_socket_addrs()
-            .map_err(|e| fail(e.to_string()))?
+            .map_err(fail)?
             .next()
-            .ok_or_else(|| fail("the address resolves to nothing".into()))?;
-        let socket = TcpStream::connect_timeout(&target, CONNECT_TIMEOUT)
-            .map_err(|e| fail(e.to_string()))?;
+            .ok_or_else(|| TevError::NoAddress {
+                address: address.to_string(),
+            })?;
+        let socket = TcpStream::connect_timeout(&target, CONNECT_TIMEOUT).map_err(fail)?;
         let _ = socket.set_nodelay(true);
         let mut client = TevClient::wrap(socket);
-        create(&mut client, name, width, height, &["R", "G", "B"])
-            .map_err(|e| fail(e.to_string()))?;
+        create(&mut client, name, width, height, &["R", "G", "B"]).map_err(fail)?;
         let (queue, updates) = sync_channel::<TevMessage>(1);
         let name = name.to_string();
         let sender = std::thread::spawn(move || {
@@ -78,7 +106,7 @@ impl TevView {
                             .and_then(|()| update(&mut client, &name, &image))
                     }
                 };
-                sent.map_err(|e| e.to_string())?;
+                sent?;
             }
             Ok(())
         });

@@ -6,6 +6,7 @@
 //! written, never a device, FIFO, socket or directory, even through a symbolic link.
 
 use std::collections::BTreeMap;
+use std::fmt::Display;
 use std::path::{Path, PathBuf};
 use std::sync::Mutex;
 
@@ -16,6 +17,82 @@ use exr::prelude::{
 use crate::image_io::data::RenderedImage;
 use crate::image_io::error::{ImageError, ImageResult as Result};
 use crate::image_io::tonemap::{tone_map, Exposure, ToneMap};
+
+/// Why an image (or another output file) could not be written: the cause that
+/// `ImageError::Write` names after the path. Messages are a cause alone (no path), in one
+/// line; the underlying error's message is part of the text, not a `source()`, so that a
+/// printed chain does not repeat it.
+#[derive(Debug, thiserror::Error)]
+#[non_exhaustive]
+pub enum OutputError {
+    /// Looking at the path (or a link on the way) failed.
+    #[error("{0}")]
+    Inspect(std::io::Error),
+    /// The path names something other than a regular file (a directory, a device, ...).
+    #[error("it is {what}, not a regular file")]
+    NotAFile {
+        /// What it is, in words ("a directory", "a FIFO (named pipe)", ...).
+        what: &'static str,
+    },
+    /// The path is a symbolic link to something other than a regular file.
+    #[error("it is a symbolic link to '{}', {what}, not a regular file", target.display())]
+    LinkToNotAFile {
+        /// Where the links lead.
+        target: PathBuf,
+        /// What is there, in words.
+        what: &'static str,
+    },
+    /// The file exists and its mode does not let its owner write it.
+    #[error("the file exists and is read-only")]
+    ReadOnly,
+    /// More symbolic links than `MAX_SYMLINK_HOPS` (a loop, most likely).
+    #[error("more than {MAX_SYMLINK_HOPS} symbolic links (a loop?)")]
+    LinkLoop,
+    /// The folder a new file would go into is something else.
+    #[error("'{}' is not a folder", folder.display())]
+    NotAFolder {
+        /// The would-be folder.
+        folder: PathBuf,
+    },
+    /// The path is a symbolic link to a name in a folder that does not exist.
+    #[error("it is a symbolic link to '{}', in a folder that does not exist", target.display())]
+    LinkIntoMissingFolder {
+        /// Where the links lead.
+        target: PathBuf,
+    },
+    /// The folder a new file would go into does not exist.
+    #[error("the folder '{}' does not exist", folder.display())]
+    MissingFolder {
+        /// The missing folder.
+        folder: PathBuf,
+    },
+    /// The finished temporary file could not be renamed over the target.
+    #[error("renaming into place: {0}")]
+    Rename(std::io::Error),
+    /// A text attribute that EXR's text type cannot hold.
+    #[error("attribute {name} = {value} cannot be stored in EXR text")]
+    ExrText {
+        /// The attribute's name.
+        name: String,
+        /// Its value.
+        value: String,
+    },
+    /// A bytes attribute whose name or type hint EXR's text type cannot hold.
+    #[error("attribute {name} cannot be stored in EXR")]
+    ExrBytes {
+        /// The attribute's name.
+        name: String,
+    },
+    /// The `exr` crate failed to write the file.
+    #[error("{0}")]
+    Exr(exr::error::Error),
+    /// The file could not be created or opened.
+    #[error("{0}")]
+    File(std::io::Error),
+    /// The `png` crate failed to encode the image or its texts.
+    #[error("{0}")]
+    PngEncoding(png::EncodingError),
+}
 
 /// The file formats vkpath writes.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -90,7 +167,7 @@ pub fn check_writable(path: &Path) -> Result<ImageFormat> {
 /// `check_writable` for a file of any format (a checkpoint, a manifest): the path and its
 /// folder, not the extension.
 pub fn check_writable_file(path: &Path) -> Result<()> {
-    let target = resolve_output(path).map_err(|message| ImageError::write(path, message))?;
+    let target = resolve_output(path).map_err(|error| ImageError::write(path, error))?;
     let probe = temporary_path(&target);
     let _pending = PendingTemporary::register(&probe);
     std::fs::write(&probe, b"")
@@ -198,22 +275,21 @@ pub fn save_image_with_layers(
 /// Writes a file through `write` into a temporary file in the same folder, then renames it
 /// into place: readers never see a partial file, and an interrupted write leaves the old
 /// file as it was. Like `cp`, a symbolic link is written through (its target is replaced)
-/// and an existing file that its owner cannot write is refused.
-pub(crate) fn write_atomically(
+/// and an existing file that its owner cannot write is refused. `write`'s error is the
+/// cause that the returned `ImageError::Write` names.
+pub(crate) fn write_atomically<E: Display>(
     path: &Path,
-    write: impl FnOnce(&Path) -> std::result::Result<(), String>,
+    write: impl FnOnce(&Path) -> std::result::Result<(), E>,
 ) -> Result<()> {
-    let fail = |message: String| ImageError::write(path, message);
-    let target = resolve_output(path).map_err(fail)?;
+    let target = resolve_output(path).map_err(|error| ImageError::write(path, error))?;
     let temporary = temporary_path(&target);
     let _pending = PendingTemporary::register(&temporary);
-    let written = write(&temporary).and_then(|()| {
-        std::fs::rename(&temporary, &target).map_err(|e| format!("renaming into place: {e}"))
-    });
-    written.map_err(|message| {
+    let fail = |cause: &dyn Display| {
         let _ = std::fs::remove_file(&temporary);
-        fail(message)
-    })
+        ImageError::write(path, cause)
+    };
+    write(&temporary).map_err(|error| fail(&error))?;
+    std::fs::rename(&temporary, &target).map_err(|error| fail(&OutputError::Rename(error)))
 }
 
 /// Most symbolic links followed to find what an output replaces (Linux's own limit).
@@ -224,7 +300,7 @@ const MAX_SYMLINK_HOPS: usize = 40;
 /// write, or a name that does not exist yet in an existing folder. Anything else is refused:
 /// a directory, a device, a FIFO or a socket (renaming a new file over it would destroy it,
 /// and writing into it makes no image), and a read-only file, as `cp` refuses it.
-fn resolve_output(path: &Path) -> std::result::Result<PathBuf, String> {
+fn resolve_output(path: &Path) -> std::result::Result<PathBuf, OutputError> {
     let mut target = path.to_path_buf();
     for _ in 0..=MAX_SYMLINK_HOPS {
         let metadata = match std::fs::symlink_metadata(&target) {
@@ -232,11 +308,11 @@ fn resolve_output(path: &Path) -> std::result::Result<PathBuf, String> {
             Err(error) if error.kind() == std::io::ErrorKind::NotFound => {
                 return new_name_in_a_folder(path, target);
             }
-            Err(error) => return Err(error.to_string()),
+            Err(error) => return Err(OutputError::Inspect(error)),
         };
         let file_type = metadata.file_type();
         if file_type.is_symlink() {
-            let link = std::fs::read_link(&target).map_err(|e| e.to_string())?;
+            let link = std::fs::read_link(&target).map_err(OutputError::Inspect)?;
             target = match target.parent() {
                 Some(parent) if link.is_relative() => parent.join(link),
                 _ => link,
@@ -246,39 +322,31 @@ fn resolve_output(path: &Path) -> std::result::Result<PathBuf, String> {
         if !file_type.is_file() {
             let what = file_type_name(file_type);
             return Err(if target == path {
-                format!("it is {what}, not a regular file")
+                OutputError::NotAFile { what }
             } else {
-                format!(
-                    "it is a symbolic link to '{}', {what}, not a regular file",
-                    target.display()
-                )
+                OutputError::LinkToNotAFile { target, what }
             });
         }
         if metadata.permissions().readonly() {
-            return Err("the file exists and is read-only".into());
+            return Err(OutputError::ReadOnly);
         }
         return Ok(target);
     }
-    Err(format!(
-        "more than {MAX_SYMLINK_HOPS} symbolic links (a loop?)"
-    ))
+    Err(OutputError::LinkLoop)
 }
 
 /// `target` (what `path` names, after its links), which does not exist yet: it must be a new
 /// name in an existing folder.
-fn new_name_in_a_folder(path: &Path, target: PathBuf) -> std::result::Result<PathBuf, String> {
+fn new_name_in_a_folder(path: &Path, target: PathBuf) -> std::result::Result<PathBuf, OutputError> {
     let folder = match target.parent() {
-        Some(parent) if !parent.as_os_str().is_empty() => parent,
-        _ => Path::new("."),
+        Some(parent) if !parent.as_os_str().is_empty() => parent.to_path_buf(),
+        _ => PathBuf::from("."),
     };
-    match std::fs::metadata(folder) {
+    match std::fs::metadata(&folder) {
         Ok(metadata) if metadata.is_dir() => Ok(target),
-        Ok(_) => Err(format!("'{}' is not a folder", folder.display())),
-        Err(_) if target != path => Err(format!(
-            "it is a symbolic link to '{}', in a folder that does not exist",
-            target.display()
-        )),
-        Err(_) => Err(format!("the folder '{}' does not exist", folder.display())),
+        Ok(_) => Err(OutputError::NotAFolder { folder }),
+        Err(_) if target != path => Err(OutputError::LinkIntoMissingFolder { target }),
+        Err(_) => Err(OutputError::MissingFolder { folder }),
     }
 }
 
@@ -389,7 +457,7 @@ pub(crate) fn write_exr_channels(
     attributes: &[(String, String)],
     byte_attributes: &[ByteAttribute],
     window: Option<ImageWindow>,
-) -> std::result::Result<(), String> {
+) -> std::result::Result<(), OutputError> {
     let channels: Vec<AnyChannel<FlatSamples>> = channels
         .into_iter()
         .map(|(name, values)| AnyChannel::new(name.as_str(), FlatSamples::F32(values)))
@@ -407,9 +475,10 @@ pub(crate) fn write_exr_channels(
     }
     for (name, value) in attributes {
         let (Some(name), Some(value)) = (Text::new_or_none(name), Text::new_or_none(value)) else {
-            return Err(format!(
-                "attribute {name} = {value} cannot be stored in EXR text"
-            ));
+            return Err(OutputError::ExrText {
+                name: name.clone(),
+                value: value.clone(),
+            });
         };
         exr_image
             .attributes
@@ -423,10 +492,9 @@ pub(crate) fn write_exr_channels(
             Text::new_or_none(&attribute.name),
             Text::new_or_none(&attribute.type_hint),
         ) else {
-            return Err(format!(
-                "attribute {} cannot be stored in EXR",
-                attribute.name
-            ));
+            return Err(OutputError::ExrBytes {
+                name: attribute.name.clone(),
+            });
         };
         exr_image.layer_data.attributes.other.insert(
             name,
@@ -440,7 +508,7 @@ pub(crate) fn write_exr_channels(
         .write()
         .non_parallel()
         .to_file(path)
-        .map_err(|e| e.to_string())
+        .map_err(OutputError::Exr)
 }
 
 /// The sRGB transfer function (IEC 61966-2-1) of a linear value in [0, 1].
@@ -485,7 +553,7 @@ fn write_png(
     exposure: Exposure,
     map: ToneMap,
     texts: &[(String, String)],
-) -> std::result::Result<(), String> {
+) -> std::result::Result<(), OutputError> {
     let bytes = tone_mapped_srgb8(image, exposure, map);
     write_rgb8_png_with_texts(path, image.width, image.height, &bytes, texts)
 }
@@ -497,7 +565,7 @@ pub fn write_rgb8_png(
     width: u32,
     height: u32,
     bytes: &[u8],
-) -> std::result::Result<(), String> {
+) -> std::result::Result<(), OutputError> {
     write_rgb8_png_with_texts(path, width, height, bytes, &[])
 }
 
@@ -508,8 +576,8 @@ pub fn write_rgb8_png_with_texts(
     height: u32,
     bytes: &[u8],
     texts: &[(String, String)],
-) -> std::result::Result<(), String> {
-    let file = std::fs::File::create(path).map_err(|e| e.to_string())?;
+) -> std::result::Result<(), OutputError> {
+    let file = std::fs::File::create(path).map_err(OutputError::File)?;
     let mut encoder = png::Encoder::new(std::io::BufWriter::new(file), width, height);
     encoder.set_color(png::ColorType::Rgb);
     encoder.set_depth(png::BitDepth::Eight);
@@ -520,11 +588,13 @@ pub fn write_rgb8_png_with_texts(
     for (keyword, text) in texts {
         encoder
             .add_text_chunk(keyword.clone(), text.clone())
-            .map_err(|e| e.to_string())?;
+            .map_err(OutputError::PngEncoding)?;
     }
-    let mut writer = encoder.write_header().map_err(|e| e.to_string())?;
-    writer.write_image_data(bytes).map_err(|e| e.to_string())?;
-    writer.finish().map_err(|e| e.to_string())
+    let mut writer = encoder.write_header().map_err(OutputError::PngEncoding)?;
+    writer
+        .write_image_data(bytes)
+        .map_err(OutputError::PngEncoding)?;
+    writer.finish().map_err(OutputError::PngEncoding)
 }
 
 /// The tEXt chunks of the PNG at `path` (keyword to text), read without decoding a pixel.

@@ -27,6 +27,41 @@ pub enum EnvironmentSource {
     },
 }
 
+/// Environment options that do not go together or are out of range: one line, naming the
+/// option as the front end names it (`EnvironmentOptionNames`).
+#[derive(Clone, Debug, PartialEq, thiserror::Error)]
+#[non_exhaustive]
+pub enum EnvironmentOptionError {
+    /// A strength that is negative, infinite or NaN.
+    #[error("{option} must be a finite number >= 0, not {strength}")]
+    Strength {
+        /// The strength's option.
+        option: &'static str,
+        /// The value given.
+        strength: f32,
+    },
+    /// A rotation that is infinite or NaN.
+    #[error("{option} must be finite")]
+    Rotation {
+        /// The rotation's option.
+        option: &'static str,
+    },
+    /// Both a map and a constant colour.
+    #[error("{map} and {background} exclude each other: give one")]
+    MapAndBackground {
+        /// The map's option.
+        map: &'static str,
+        /// The constant colour's option.
+        background: &'static str,
+    },
+    /// A constant colour with a negative or non-finite component.
+    #[error("{option} must be three finite numbers >= 0")]
+    Background {
+        /// The constant colour's option.
+        option: &'static str,
+    },
+}
+
 /// How a front end names the environment's options, for its error messages.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct EnvironmentOptionNames {
@@ -59,27 +94,28 @@ impl EnvironmentSource {
         rotation_degrees: f32,
         background: Option<Vec3>,
         names: &EnvironmentOptionNames,
-    ) -> Result<Option<EnvironmentSource>, String> {
+    ) -> Result<Option<EnvironmentSource>, EnvironmentOptionError> {
         if !(strength >= 0.0 && strength.is_finite()) {
-            return Err(format!(
-                "{} must be a finite number >= 0, not {strength}",
-                names.strength
-            ));
+            return Err(EnvironmentOptionError::Strength {
+                option: names.strength,
+                strength,
+            });
         }
         if !rotation_degrees.is_finite() {
-            return Err(format!("{} must be finite", names.rotation));
+            return Err(EnvironmentOptionError::Rotation {
+                option: names.rotation,
+            });
         }
         match (map, background) {
-            (Some(_), Some(_)) => Err(format!(
-                "{} and {} exclude each other: give one",
-                names.map, names.background
-            )),
+            (Some(_), Some(_)) => Err(EnvironmentOptionError::MapAndBackground {
+                map: names.map,
+                background: names.background,
+            }),
             (None, Some(background)) => {
                 if !(background.is_finite() && background.min_element() >= 0.0) {
-                    return Err(format!(
-                        "{} must be three finite numbers >= 0",
-                        names.background
-                    ));
+                    return Err(EnvironmentOptionError::Background {
+                        option: names.background,
+                    });
                 }
                 Ok(Some(EnvironmentSource::Background(background)))
             }
@@ -119,7 +155,7 @@ mod tests {
         strength: f32,
         rotation: f32,
         background: Option<Vec3>,
-    ) -> Result<Option<EnvironmentSource>, String> {
+    ) -> Result<Option<EnvironmentSource>, EnvironmentOptionError> {
         EnvironmentSource::from_options(
             map.map(Path::new),
             strength,
@@ -145,19 +181,23 @@ mod tests {
             }))
         );
         assert_eq!(
-            options(None, -1.0, 0.0, None).unwrap_err(),
+            options(None, -1.0, 0.0, None).unwrap_err().to_string(),
             "--environment-strength must be a finite number >= 0, not -1"
         );
         assert_eq!(
-            options(None, 1.0, f32::NAN, None).unwrap_err(),
+            options(None, 1.0, f32::NAN, None).unwrap_err().to_string(),
             "--environment-rotation must be finite"
         );
         assert_eq!(
-            options(None, 1.0, 0.0, Some(Vec3::new(1.0, -1.0, 0.0))).unwrap_err(),
+            options(None, 1.0, 0.0, Some(Vec3::new(1.0, -1.0, 0.0)))
+                .unwrap_err()
+                .to_string(),
             "--background must be three finite numbers >= 0"
         );
         assert_eq!(
-            options(Some("sky.exr"), 1.0, 0.0, Some(Vec3::ONE)).unwrap_err(),
+            options(Some("sky.exr"), 1.0, 0.0, Some(Vec3::ONE))
+                .unwrap_err()
+                .to_string(),
             "--environment and --background exclude each other: give one"
         );
     }

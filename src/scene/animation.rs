@@ -278,6 +278,30 @@ impl NodePose {
     }
 }
 
+/// An `--animation` that names none of the file's animations: one line, naming what there is.
+#[derive(Clone, Debug, PartialEq, Eq, thiserror::Error)]
+#[non_exhaustive]
+pub enum AnimationPickError {
+    /// The file has no animations at all.
+    #[error("--animation {wanted}: the scene has no animations")]
+    NoAnimations {
+        /// The name or index asked for.
+        wanted: String,
+    },
+    /// No animation has that name, and it is no index of one.
+    #[error(
+        "--animation {wanted}: no animation of that name or index; the scene has {} ({}), numbered from 0",
+        names.len(),
+        names.join(", ")
+    )]
+    NotFound {
+        /// The name or index asked for.
+        wanted: String,
+        /// The file's animations' names, in order.
+        names: Vec<String>,
+    },
+}
+
 /// Which of a file's animations play.
 #[derive(Clone, Debug, Default, PartialEq, Eq)]
 pub enum AnimationPick {
@@ -290,7 +314,10 @@ pub enum AnimationPick {
 
 impl AnimationPick {
     /// The animations of `animations` this pick selects, or an error line naming what there is.
-    pub fn select<'a>(&self, animations: &'a [Animation]) -> Result<Vec<&'a Animation>, String> {
+    pub fn select<'a>(
+        &self,
+        animations: &'a [Animation],
+    ) -> Result<Vec<&'a Animation>, AnimationPickError> {
         let AnimationPick::One(wanted) = self else {
             return Ok(animations.iter().collect());
         };
@@ -300,15 +327,14 @@ impl AnimationPick {
         if let Some(found) = wanted.parse::<usize>().ok().and_then(|i| animations.get(i)) {
             return Ok(vec![found]);
         }
-        let names: Vec<&str> = animations.iter().map(|a| a.name.as_str()).collect();
-        Err(if names.is_empty() {
-            format!("--animation {wanted}: the scene has no animations")
+        let wanted = wanted.clone();
+        Err(if animations.is_empty() {
+            AnimationPickError::NoAnimations { wanted }
         } else {
-            format!(
-                "--animation {wanted}: no animation of that name or index; the scene has {} ({}), numbered from 0",
-                names.len(),
-                names.join(", ")
-            )
+            AnimationPickError::NotFound {
+                wanted,
+                names: animations.iter().map(|a| a.name.clone()).collect(),
+            }
         })
     }
 }
@@ -446,7 +472,7 @@ mod tests {
         let pick = |s: &str| AnimationPick::One(s.into()).select(&all);
         assert_eq!(pick("run").unwrap()[0].name, "run");
         assert_eq!(pick("0").unwrap()[0].name, "walk");
-        let error = pick("jump").unwrap_err();
+        let error = pick("jump").unwrap_err().to_string();
         assert!(error.contains("walk, run"), "{error}");
     }
 }

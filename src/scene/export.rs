@@ -333,10 +333,8 @@ pub fn export_scene(
     for (index, (material, triangles)) in groups.iter().enumerate() {
         let file = format!("mesh_{index}.ply");
         let path = directory.join(&file);
-        write_atomically(&path, |temporary| {
-            write_ply(temporary, triangles).map_err(|e| e.to_string())
-        })
-        .map_err(|e| ExportError::Refused(e.to_string()))?;
+        write_atomically(&path, |temporary| write_ply(temporary, triangles))
+            .map_err(|e| ExportError::Refused(e.to_string()))?;
         files.push(path);
         let first = triangles[0];
         let material = material
@@ -372,10 +370,8 @@ pub fn export_scene(
     let path = directory.join("scene.json");
     let json = serde_json::to_string_pretty(&manifest)
         .map_err(|e| ExportError::Refused(format!("cannot describe the scene as JSON: {e}")))?;
-    write_atomically(&path, |temporary| {
-        fs::write(temporary, &json).map_err(|e| e.to_string())
-    })
-    .map_err(|e| ExportError::Refused(e.to_string()))?;
+    write_atomically(&path, |temporary| fs::write(temporary, &json))
+        .map_err(|e| ExportError::Refused(e.to_string()))?;
     Ok(ExportedFiles {
         manifest: path,
         meshes: files,

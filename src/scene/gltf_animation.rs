@@ -49,12 +49,13 @@ pub fn read_animations(
                     format!("animation '{name}' channel {}: {reason}", channel.index()),
                 )
             };
-            check_accessor(&input, Dimensions::Scalar, &[DataType::F32]).map_err(&bad)?;
+            check_accessor(&input, Dimensions::Scalar, &[DataType::F32])
+                .map_err(|reason| bad(reason.to_string()))?;
             let (dimensions, types): (Dimensions, &[DataType]) = match property {
                 Property::Rotation => (Dimensions::Vec4, &FLOAT_OR_NORMALISED),
                 _ => (Dimensions::Vec3, &[DataType::F32]),
             };
-            check_accessor(&output, dimensions, types).map_err(&bad)?;
+            check_accessor(&output, dimensions, types).map_err(|reason| bad(reason.to_string()))?;
             let reader = channel.reader(|buffer| buffers.get(buffer.index()).map(|d| &d[..]));
             let cut_off = |accessor: &gltf::Accessor| bad(outside_its_buffer(accessor));
             let times: Vec<f32> = reader
@@ -183,8 +184,10 @@ fn read_weights_channel(
             label(node.name(), node.index())
         )));
     }
-    check_accessor(&input, Dimensions::Scalar, &[DataType::F32]).map_err(&bad)?;
-    check_accessor(&output, Dimensions::Scalar, &FLOAT_OR_NORMALISED).map_err(&bad)?;
+    check_accessor(&input, Dimensions::Scalar, &[DataType::F32])
+        .map_err(|reason| bad(reason.to_string()))?;
+    check_accessor(&output, Dimensions::Scalar, &FLOAT_OR_NORMALISED)
+        .map_err(|reason| bad(reason.to_string()))?;
     let reader = channel.reader(|buffer| buffers.get(buffer.index()).map(|d| &d[..]));
     let cut_off = |accessor: &gltf::Accessor| bad(outside_its_buffer(accessor));
     let times: Vec<f32> = reader
@@ -268,7 +271,7 @@ pub fn pose_at(
     let animations = read_animations(path, document, buffers)?;
     let picked = pick
         .select(&animations)
-        .map_err(|reason| malformed_pick(path, reason))?;
+        .map_err(|reason| malformed_pick(path, reason.to_string()))?;
     let mut morph_weights = HashMap::new();
     for channel in picked.iter().flat_map(|a| &a.weights) {
         morph_weights.insert(channel.node, channel.sampler.sample(time));

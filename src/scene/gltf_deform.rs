@@ -220,7 +220,8 @@ impl<'a> Deformer<'a> {
                     format!("{context}: morph target {target} {what}: {reason}"),
                 )
             };
-            check_accessor(&accessor, Dimensions::Vec3, &[DataType::F32]).map_err(&bad)?;
+            check_accessor(&accessor, Dimensions::Vec3, &[DataType::F32])
+                .map_err(|reason| bad(reason.to_string()))?;
             if accessor.count() != vertex_count {
                 return Err(bad(format!(
                     "accessor '{name}' holds {} elements for {vertex_count} vertices",

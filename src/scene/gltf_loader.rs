@@ -800,6 +800,33 @@ struct VertexAttributes {
     tangents: Option<Vec<Vec4>>,
 }
 
+/// An accessor that the `gltf` crate's reader cannot be trusted with: the reason, naming
+/// the accessor, for a message about the mesh, skin or animation that reads it.
+#[derive(Clone, Debug, PartialEq, Eq, thiserror::Error)]
+#[non_exhaustive]
+pub enum AccessorError {
+    /// Elements of another type than the reader expects.
+    #[error("accessor '{name}' holds {found_dimensions:?} of {found_type:?}, expected {dimensions:?} of {data_types:?}")]
+    WrongType {
+        /// The accessor's name, or `#index`.
+        name: String,
+        /// Its element's shape.
+        found_dimensions: Dimensions,
+        /// Its component type.
+        found_type: DataType,
+        /// The shape expected.
+        dimensions: Dimensions,
+        /// The component types accepted.
+        data_types: Vec<DataType>,
+    },
+    /// No elements, strides smaller than an element, or byte ranges beyond a `usize`.
+    #[error("accessor '{name}' has an empty or impossible byte layout")]
+    ImpossibleLayout {
+        /// The accessor's name, or `#index`.
+        name: String,
+    },
+}
+
 /// Checks what the `gltf` crate's accessor reader assumes but does not check (it asserts or
 /// overflows otherwise): the element type, a non-zero count, strides no smaller than an
 /// element, and byte ranges that fit in a `usize`. Whether the range lies inside the buffer
@@ -808,14 +835,17 @@ pub(super) fn check_accessor(
     accessor: &gltf::Accessor,
     dimensions: Dimensions,
     data_types: &[DataType],
-) -> Result<(), String> {
+) -> Result<(), AccessorError> {
     let name = label(accessor.name(), accessor.index());
     let (found_dimensions, found_type) = (accessor.dimensions(), accessor.data_type());
     if found_dimensions != dimensions || !data_types.contains(&found_type) {
-        return Err(format!(
-            "accessor '{name}' holds {found_dimensions:?} of {found_type:?}, expected \
-             {dimensions:?} of {data_types:?}"
-        ));
+        return Err(AccessorError::WrongType {
+            name,
+            found_dimensions,
+            found_type,
+            dimensions,
+            data_types: data_types.to_vec(),
+        });
     }
     let size = accessor.size();
     let fits = |view: gltf::buffer::View, offset: usize, count: usize, element_size: usize| {
@@ -845,9 +875,7 @@ pub(super) fn check_accessor(
     if base_fits && sparse_fits {
         Ok(())
     } else {
-        Err(format!(
-            "accessor '{name}' has an empty or impossible byte layout"
-        ))
+        Err(AccessorError::ImpossibleLayout { name })
     }
 }
 

@@ -18,6 +18,7 @@ use glam::{Vec3, Vec4};
 use super::files::{resolve_reference, LoadOptions, MAX_SCENE_FILE_BYTES};
 use super::material_factors::MaterialFactors;
 use super::materials::{AlphaMode, Clearcoat, PbrMaterial, Sheen, TextureBinding, Transmission};
+use super::texture_source::TextureSourceError;
 use super::textures::{decode_texture, Texture, TextureTransform, WrapMode};
 
 /// Converts materials and loads their textures, each once.
@@ -282,24 +283,24 @@ impl<'a> MaterialReader<'a> {
         index
     }
 
-    fn load_texture(&self, texture: &gltf::Texture) -> Result<Texture, String> {
+    fn load_texture(&self, texture: &gltf::Texture) -> Result<Texture, TextureSourceError> {
         let image = texture.source();
         let (bytes, mime_type) = match image.source() {
             gltf::image::Source::View { view, mime_type } => {
                 let buffer = self
                     .buffers
                     .get(view.buffer().index())
-                    .ok_or("its buffer view's buffer is missing")?;
+                    .ok_or(TextureSourceError::MissingBuffer)?;
                 let end = view
                     .offset()
                     .checked_add(view.length())
                     .filter(|&end| end <= buffer.len())
-                    .ok_or("its buffer view lies outside its buffer")?;
+                    .ok_or(TextureSourceError::ViewOutsideBuffer)?;
                 (buffer[view.offset()..end].to_vec(), Some(mime_type))
             }
             gltf::image::Source::Uri { uri, mime_type } => (self.read_image_uri(uri)?, mime_type),
         };
-        let decoded = decode_texture(&bytes, mime_type).map_err(|e| e.to_string())?;
+        let decoded = decode_texture(&bytes, mime_type).map_err(TextureSourceError::Decode)?;
         let sampler = texture.sampler();
         let nearest = sampler.mag_filter() == Some(gltf::texture::MagFilter::Nearest);
         Ok(Texture::new(
@@ -311,41 +312,44 @@ impl<'a> MaterialReader<'a> {
     }
 
     /// An image's bytes from a data URI or a file next to the glTF (bounded as buffers are).
-    fn read_image_uri(&self, uri: &str) -> Result<Vec<u8>, String> {
+    fn read_image_uri(&self, uri: &str) -> Result<Vec<u8>, TextureSourceError> {
         if let Some(rest) = uri.strip_prefix("data:") {
             let (_, encoded) = rest
                 .split_once(";base64,")
-                .ok_or("its data URI is not base64")?;
-            return base64::decode(encoded).map_err(|e| format!("bad base64 data: {e}"));
+                .ok_or(TextureSourceError::NotBase64)?;
+            return base64::decode(encoded).map_err(TextureSourceError::BadBase64);
         }
         if uri
             .split_once(':')
             .is_some_and(|(scheme, _)| scheme.len() > 1)
             && !uri.starts_with("file:")
         {
-            return Err(format!(
-                "it is at '{}'; vkpath reads local files only",
-                super::printable(uri)
-            ));
+            return Err(TextureSourceError::Remote {
+                uri: super::printable(uri),
+            });
         }
         let file_name = uri
             .strip_prefix("file://")
             .or_else(|| uri.strip_prefix("file:"))
             .unwrap_or(uri);
-        let decoded =
-            urlencoding::decode(file_name).map_err(|_| "its URI is not valid UTF-8".to_owned())?;
-        let file =
-            resolve_reference(self.path, &decoded, self.options).map_err(|e| e.to_string())?;
+        let decoded = urlencoding::decode(file_name).map_err(|_| TextureSourceError::UriNotUtf8)?;
+        let file = resolve_reference(self.path, &decoded, self.options)
+            .map_err(TextureSourceError::Reference)?;
         let shown = super::printable(&file.display().to_string());
-        let metadata =
-            std::fs::metadata(&file).map_err(|e| format!("cannot read '{shown}': {e}"))?;
+        let unreadable = |error| TextureSourceError::Unreadable {
+            file: shown.clone(),
+            error,
+        };
+        let metadata = std::fs::metadata(&file).map_err(unreadable)?;
         if !metadata.is_file() {
-            return Err(format!("'{shown}' is not a regular file"));
+            return Err(TextureSourceError::NotAFile {
+                file: shown.clone(),
+            });
         }
         let mut bytes = Vec::new();
         std::fs::File::open(&file)
             .and_then(|f| f.take(MAX_SCENE_FILE_BYTES).read_to_end(&mut bytes))
-            .map_err(|e| format!("cannot read '{shown}': {e}"))?;
+            .map_err(unreadable)?;
         Ok(bytes)
     }
 }

@@ -30,6 +30,7 @@ pub mod procedural;
 pub mod skinning;
 pub mod source;
 pub mod tangents;
+mod texture_source;
 pub mod textures;
 
 pub use arrays::SceneArrays;

@@ -59,6 +59,18 @@ pub fn apply_morph_targets(
     }
 }
 
+/// A node's or mesh's `weights` list whose length is not its mesh's morph-target count.
+#[derive(Clone, Debug, PartialEq, Eq, thiserror::Error)]
+#[error("the {whose}'s weights list {found} values for {target_count} morph targets")]
+pub struct WeightCountError {
+    /// Whose list it is: "node" or "mesh".
+    pub whose: &'static str,
+    /// How many values it lists.
+    pub found: usize,
+    /// The number of morph targets.
+    pub target_count: usize,
+}
+
 /// The morph weights a node draws its mesh with, when no animation drives them: the node's
 /// `weights`, else the mesh's, else zeros, `target_count` of them. `Err` names the list whose
 /// length is not the target count.
@@ -66,17 +78,18 @@ pub fn default_weights(
     node_weights: Option<&[f32]>,
     mesh_weights: Option<&[f32]>,
     target_count: usize,
-) -> Result<Vec<f32>, String> {
+) -> Result<Vec<f32>, WeightCountError> {
     let (list, whose) = match (node_weights, mesh_weights) {
         (Some(list), _) => (list, "node"),
         (None, Some(list)) => (list, "mesh"),
         (None, None) => return Ok(vec![0.0; target_count]),
     };
     if list.len() != target_count {
-        return Err(format!(
-            "the {whose}'s weights list {} values for {target_count} morph targets",
-            list.len()
-        ));
+        return Err(WeightCountError {
+            whose,
+            found: list.len(),
+            target_count,
+        });
     }
     Ok(list.to_vec())
 }
@@ -228,7 +241,9 @@ mod tests {
             default_weights(Some(&[1.0, 0.0]), Some(&[0.3, 0.7]), 2),
             Ok(vec![1.0, 0.0])
         );
-        let error = default_weights(None, Some(&[0.3]), 2).unwrap_err();
+        let error = default_weights(None, Some(&[0.3]), 2)
+            .unwrap_err()
+            .to_string();
         assert!(
             error.contains("mesh's weights list 1 values for 2"),
             "{error}"

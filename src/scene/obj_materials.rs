@@ -15,6 +15,7 @@ use glam::Vec3;
 use super::files::{read_bounded, resolve_reference, LoadOptions, MAX_SCENE_FILE_BYTES};
 use super::materials::{PbrMaterial, TextureBinding};
 use super::obj_loader::DEFAULT_ALBEDO;
+use super::texture_source::TextureSourceError;
 use super::textures::{decode_texture, Texture, TextureTransform, WrapMode};
 use super::{Material, SceneError};
 
@@ -131,23 +132,24 @@ fn convert_material(material: &tobj::Material) -> Material {
 }
 
 /// A texture file next to the OBJ, decoded; the reason in words when it cannot be used.
-fn load_texture(obj_path: &Path, file_name: &str) -> Result<super::textures::DecodedImage, String> {
+fn load_texture(
+    obj_path: &Path,
+    file_name: &str,
+) -> Result<super::textures::DecodedImage, TextureSourceError> {
     let file = resolve_reference(obj_path, file_name, &LoadOptions::default()).map_err(
         |error| match error {
-            SceneError::ExternalPath { .. } => {
-                "it lies outside the OBJ file's folder, where vkpath does not read".to_owned()
-            }
-            other => other.to_string(),
+            SceneError::ExternalPath { .. } => TextureSourceError::OutsideObjFolder,
+            other => TextureSourceError::Reference(other),
         },
     )?;
     let bytes = read_bounded(&file, MAX_SCENE_FILE_BYTES).map_err(|error| match error {
-        SceneError::Read { error, .. } => format!(
-            "cannot read '{}': {error}",
-            super::printable(&file.display().to_string())
-        ),
-        other => other.to_string(),
+        SceneError::Read { error, .. } => TextureSourceError::Unreadable {
+            file: super::printable(&file.display().to_string()),
+            error,
+        },
+        other => TextureSourceError::Reference(other),
     })?;
-    decode_texture(&bytes, None).map_err(|error| error.to_string())
+    decode_texture(&bytes, None).map_err(TextureSourceError::Decode)
 }
 
 /// A `map_Kd` statement after the keyword: its options and its file name.

@@ -11,6 +11,36 @@ use crate::glsl_intake::{
 };
 use crate::shader_compiler::{compile_compute_shader, CompiledShader};
 
+/// Why a ShaderToy program's pass does not compile: one or more lines that name the user's
+/// files and lines.
+#[derive(Debug, thiserror::Error)]
+#[non_exhaustive]
+pub enum PassError {
+    /// The tab has neither `mainImage` nor a page shader's `main()`.
+    #[error(
+        "{tab}: defines no mainImage(out vec4 fragColor, in vec2 fragCoord) (nor a page shader's main()); \
+         if it is your Common tab, pass it first among the files (or with --common)"
+    )]
+    NoEntryPoint {
+        /// The tab's name in messages.
+        tab: String,
+    },
+    /// A buffer that is a page shader (its `main()` runs only as the Image pass).
+    #[error(
+        "{tab}: a buffer needs mainImage(out vec4 fragColor, in vec2 fragCoord); a page shader's main() runs only as the Image pass"
+    )]
+    PageShaderBuffer {
+        /// The tab's name in messages.
+        tab: String,
+    },
+    /// The tabs read what a pass cannot supply: one line per name (`UserTab::unavailable`).
+    #[error("{0}")]
+    Unavailable(String),
+    /// The compiler's messages, rewritten to name the user's files and lines.
+    #[error("{0}")]
+    Compiler(String),
+}
+
 /// The pass kernel's source.
 const PASS_KERNEL: &str = include_str!("pass.comp");
 /// Its name in compiler messages.
@@ -169,19 +199,17 @@ impl UserTab {
 /// every pass. The user's macros end after both (their epilogues), so that they cannot
 /// change the kernel's own code. On failure the error is the compiler's messages, naming the
 /// user's files and lines.
-pub fn compile_pass(common: Option<&UserTab>, tab: &UserTab) -> Result<CompiledShader, String> {
+pub fn compile_pass(common: Option<&UserTab>, tab: &UserTab) -> Result<CompiledShader, PassError> {
     if !tab.has_main_image && tab.page_shader_output.is_none() {
-        return Err(format!(
-            "{}: defines no mainImage(out vec4 fragColor, in vec2 fragCoord) (nor a page shader's main()); \
-             if it is your Common tab, pass it first among the files (or with --common)",
-            tab.display_name
-        ));
+        return Err(PassError::NoEntryPoint {
+            tab: tab.display_name.clone(),
+        });
     }
     if let Some(message) = common
         .and_then(UserTab::unavailable)
         .or_else(|| tab.unavailable())
     {
-        return Err(message);
+        return Err(PassError::Unavailable(message));
     }
     let epilogues = format!(
         "{}{}",
@@ -207,7 +235,11 @@ pub fn compile_pass(common: Option<&UserTab>, tab: &UserTab) -> Result<CompiledS
             spirv: compiled.spirv,
             warnings: rewrite(compiled.warnings),
         }),
-        Err(messages) => Err(with_missing_tab_hint(rewrite(messages), common, tab)),
+        Err(error) => Err(PassError::Compiler(with_missing_tab_hint(
+            rewrite(error.to_string()),
+            common,
+            tab,
+        ))),
     }
 }
 
@@ -301,7 +333,10 @@ mod tests {
             "void mainImage(out vec4 c, in vec2 p) { c = vec4(shade(p / iResolution.xy), 1.0) + texture(iChannel0, p); }\n",
         );
         assert!(compile_pass(Some(&common), &image).is_ok());
-        let message = compile_pass(None, &image).err().expect("an error");
+        let message = compile_pass(None, &image)
+            .err()
+            .expect("an error")
+            .to_string();
         assert!(message.starts_with("image.glsl:1:"), "{message}");
         assert!(
             message.ends_with("image.glsl: 'shade' is not defined in any of your files; if your program has a Common tab, pass it first"),
@@ -319,7 +354,10 @@ mod tests {
              void mainImage(out vec4 c, in vec2 p) { hit_t h; h.t = p.x; c = vec4(distance_of(h)); }\n",
         );
         assert!(compile_pass(Some(&common), &image).is_ok());
-        let message = compile_pass(None, &image).err().expect("an error");
+        let message = compile_pass(None, &image)
+            .err()
+            .expect("an error")
+            .to_string();
         assert!(message.starts_with("image.glsl:2:"), "{message}");
         assert!(
             message.ends_with("image.glsl: 'hit_t' is not defined in any of your files; if your program has a Common tab, pass it first"),
@@ -337,18 +375,23 @@ mod tests {
             "image.glsl",
             "void mainImage(out vec4 c, in vec2 p) { c = vec4(1.0); }\n",
         );
-        let message = compile_pass(Some(&common), &image).err().expect("an error");
+        let message = compile_pass(Some(&common), &image)
+            .err()
+            .expect("an error")
+            .to_string();
         assert!(message.contains("my/common.glsl:3:"), "{message}");
         let message = compile_pass(None, &tab("notes.glsl", "float f() { return 1.0; }\n"))
             .err()
-            .expect("an error");
+            .expect("an error")
+            .to_string();
         assert!(
             message.contains("notes.glsl: defines no mainImage"),
             "{message}"
         );
         let message = compile_pass(None, &tab("bad.glsl", "void mainImage(vec2 p) { }\n"))
             .err()
-            .expect("an error");
+            .expect("an error")
+            .to_string();
         assert!(
             message.starts_with("bad.glsl: in vkpath's code"),
             "{message}"
@@ -378,7 +421,10 @@ mod tests {
             "page.glsl",
             "uniform sampler2D u_scene;\nout vec4 color;\nvoid main() { color = texture(u_scene, vec2(0.5)); }\n",
         );
-        let message = compile_pass(None, &read).err().expect("an error");
+        let message = compile_pass(None, &read)
+            .err()
+            .expect("an error")
+            .to_string();
         assert!(
             message.starts_with("page.glsl:1: 'uniform sampler2D u_scene' cannot be supplied"),
             "{message}"

@@ -21,5 +21,5 @@ pub mod kernel;
 pub mod program;
 pub mod runner;
 
-pub use program::{ChannelBinding, ChannelSource, Pass, PassKind, Program};
+pub use program::{ChannelBinding, ChannelSource, Pass, PassKind, Program, ProgramError};
 pub use runner::ShadertoyRunner;

@@ -3,6 +3,114 @@
 
 use std::path::{Path, PathBuf};
 
+/// The usage of `--channel`, which its syntax errors end with.
+const CHANNEL_USAGE: &str = "expected PASS.N=SOURCE, e.g. image.1=buffer-b (PASS: buffer-a..buffer-d or image, N: 0..3, SOURCE: buffer-a..buffer-d or an image file)";
+
+/// What is wrong with a ShaderToy program's files or channels: one line, naming the file
+/// (and line) or the `--channel` argument.
+#[derive(Debug, thiserror::Error)]
+#[non_exhaustive]
+pub enum ProgramError {
+    /// A `--channel` argument that is not `PASS.N=SOURCE`.
+    #[error("'{text}': {CHANNEL_USAGE}")]
+    ChannelSyntax {
+        /// The argument as given.
+        text: String,
+    },
+    /// A `--channel` argument whose PASS names no pass.
+    #[error("'{text}': '{pass}' is not a pass; {CHANNEL_USAGE}")]
+    NotAPass {
+        /// The argument as given.
+        text: String,
+        /// Its PASS part.
+        pass: String,
+    },
+    /// A `--channel` argument whose N is not 0..3.
+    #[error("'{text}': channel '{channel}' is not 0..3")]
+    NotAChannel {
+        /// The argument as given.
+        text: String,
+        /// Its N part.
+        channel: String,
+    },
+    /// A `--channel` argument whose SOURCE is the Image pass.
+    #[error("'{text}': the Image pass cannot be read by a channel (as in ShaderToy)")]
+    ImageAsSource {
+        /// The argument as given.
+        text: String,
+    },
+    /// A tab's file could not be read.
+    #[error("cannot read '{}': {error}", path.display())]
+    Unreadable {
+        /// The file.
+        path: PathBuf,
+        /// What the system said.
+        error: std::io::Error,
+    },
+    /// The same buffer was given two files.
+    #[error("{} is given twice", kind.name())]
+    GivenTwice {
+        /// The buffer.
+        kind: PassKind,
+    },
+    /// The Image tab's `#iChannelN "self"` directive.
+    #[error(
+        "{}:{line}: #iChannel{channel} \"self\": the Image pass cannot read itself (as in ShaderToy)",
+        path.display()
+    )]
+    ImageReadsItself {
+        /// The Image tab's file.
+        path: PathBuf,
+        /// The directive's line (from 1).
+        line: usize,
+        /// Its channel.
+        channel: usize,
+    },
+    /// A channel directive that names a `.glsl` file that is none of the buffers given.
+    #[error(
+        "{}:{line}: #iChannel{channel} reads {target}, which is not one of the buffers given (give it as a buffer tab)",
+        path.display()
+    )]
+    NotABufferTab {
+        /// The tab's file.
+        path: PathBuf,
+        /// The directive's line (from 1).
+        line: usize,
+        /// Its channel.
+        channel: usize,
+        /// The file it names.
+        target: String,
+    },
+    /// A binding that reads a buffer the program lacks.
+    #[error(
+        "--channel {}.{channel}={}: the program has no {} (give it with --{})",
+        pass.name(),
+        reads.name(),
+        reads.name(),
+        reads.name()
+    )]
+    MissingSource {
+        /// The pass whose channel it sets.
+        pass: PassKind,
+        /// The channel.
+        channel: usize,
+        /// The buffer it reads.
+        reads: PassKind,
+    },
+    /// A binding that sets a channel of a pass the program lacks.
+    #[error(
+        "--channel {}.{channel}: the program has no {} pass",
+        pass.name(),
+        pass.name()
+    )]
+    MissingPass {
+        /// The pass.
+        pass: PassKind,
+        /// The channel.
+        channel: usize,
+    },
+}
+
 /// A pass of a ShaderToy program, in the order ShaderToy runs them each frame.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Hash)]
 pub enum PassKind {
@@ -102,32 +210,30 @@ pub struct ChannelBinding {
 }
 
 impl std::str::FromStr for ChannelBinding {
-    type Err = String;
+    type Err = ProgramError;
 
     /// Parses `image.1=buffer-b`, `buffer-a.2=buffer-a` or `image.3=noise.png`.
-    fn from_str(text: &str) -> Result<ChannelBinding, String> {
-        let usage = "expected PASS.N=SOURCE, e.g. image.1=buffer-b (PASS: buffer-a..buffer-d or image, N: 0..3, SOURCE: buffer-a..buffer-d or an image file)";
-        let (target, source) = text
-            .split_once('=')
-            .ok_or_else(|| format!("'{text}': {usage}"))?;
-        let (pass, channel) = target
-            .rsplit_once('.')
-            .ok_or_else(|| format!("'{text}': {usage}"))?;
-        let pass = PassKind::from_name(pass)
-            .ok_or_else(|| format!("'{text}': '{pass}' is not a pass; {usage}"))?;
-        let channel: usize = channel
-            .parse()
-            .ok()
-            .filter(|c| *c < 4)
-            .ok_or_else(|| format!("'{text}': channel '{channel}' is not 0..3"))?;
+    fn from_str(text: &str) -> Result<ChannelBinding, ProgramError> {
+        let syntax = || ProgramError::ChannelSyntax { text: text.into() };
+        let (target, source) = text.split_once('=').ok_or_else(syntax)?;
+        let (pass, channel) = target.rsplit_once('.').ok_or_else(syntax)?;
+        let pass = PassKind::from_name(pass).ok_or_else(|| ProgramError::NotAPass {
+            text: text.into(),
+            pass: pass.into(),
+        })?;
+        let channel: usize =
+            channel
+                .parse()
+                .ok()
+                .filter(|c| *c < 4)
+                .ok_or_else(|| ProgramError::NotAChannel {
+                    text: text.into(),
+                    channel: channel.into(),
+                })?;
         let source = match PassKind::from_name(source) {
-            Some(PassKind::Image) => {
-                return Err(format!(
-                    "'{text}': the Image pass cannot be read by a channel (as in ShaderToy)"
-                ))
-            }
+            Some(PassKind::Image) => return Err(ProgramError::ImageAsSource { text: text.into() }),
             Some(buffer) => ChannelSource::Buffer(buffer),
-            None if source.is_empty() => return Err(format!("'{text}': {usage}")),
+            None if source.is_empty() => return Err(syntax()),
             None => ChannelSource::File(PathBuf::from(source)),
         };
         Ok(ChannelBinding {
@@ -154,9 +260,11 @@ pub fn channel_directives(text: &str) -> Vec<(usize, usize, String)> {
 }
 
 /// Reads a user's file as text: a byte-order mark dropped, Windows line ends made `\n`.
-pub fn read_source(path: &Path) -> Result<String, String> {
-    let bytes =
-        std::fs::read(path).map_err(|e| format!("cannot read '{}': {e}", path.display()))?;
+pub fn read_source(path: &Path) -> Result<String, ProgramError> {
+    let bytes = std::fs::read(path).map_err(|error| ProgramError::Unreadable {
+        path: path.to_path_buf(),
+        error,
+    })?;
     Ok(String::from_utf8_lossy(&bytes)
         .trim_start_matches('\u{feff}')
         .replace("\r\n", "\n"))
@@ -174,7 +282,7 @@ impl Program {
         common: Option<&Path>,
         buffers: &[(PassKind, PathBuf)],
         channels: &[ChannelBinding],
-    ) -> Result<Program, String> {
+    ) -> Result<Program, ProgramError> {
         let common = match common {
             Some(path) => Some((path.to_path_buf(), read_source(path)?)),
             None => None,
@@ -184,7 +292,7 @@ impl Program {
             let mut files = buffers.iter().filter(|(k, _)| *k == kind);
             if let Some((_, path)) = files.next() {
                 if files.next().is_some() {
-                    return Err(format!("{} is given twice", kind.name()));
+                    return Err(ProgramError::GivenTwice { kind });
                 }
                 let mut defaults: [Option<ChannelSource>; 4] = Default::default();
                 defaults[0] = Some(ChannelSource::Buffer(kind));
@@ -220,17 +328,18 @@ impl Program {
     /// a `.glsl` file is the pass given with that file name, anything else an image file
     /// beside the tab. The intake drops the directive lines themselves. An error names a tab
     /// that the program was not given.
-    pub fn wire_channel_directives(&mut self) -> Result<(), String> {
+    pub fn wire_channel_directives(&mut self) -> Result<(), ProgramError> {
         let mut bindings = Vec::new();
         for pass in &self.passes {
             for (line, channel, target) in channel_directives(&pass.text) {
                 let target = target.strip_prefix("file://").unwrap_or(&target);
                 let source = if target == "self" {
                     if pass.kind == PassKind::Image {
-                        return Err(format!(
-                            "{}:{line}: #iChannel{channel} \"self\": the Image pass cannot read itself (as in ShaderToy)",
-                            pass.path.display()
-                        ));
+                        return Err(ProgramError::ImageReadsItself {
+                            path: pass.path.clone(),
+                            line,
+                            channel,
+                        });
                     }
                     ChannelSource::Buffer(pass.kind)
                 } else if target.ends_with(".glsl") {
@@ -242,10 +351,12 @@ impl Program {
                     match reader {
                         Some(buffer) => ChannelSource::Buffer(buffer.kind),
                         None => {
-                            return Err(format!(
-                                "{}:{line}: #iChannel{channel} reads {target}, which is not one of the buffers given (give it as a buffer tab)",
-                                pass.path.display()
-                            ))
+                            return Err(ProgramError::NotABufferTab {
+                                path: pass.path.clone(),
+                                line,
+                                channel,
+                                target: target.to_string(),
+                            })
                         }
                     }
                 } else {
@@ -266,30 +377,23 @@ impl Program {
     }
 
     /// Applies one `--channel` override.
-    pub fn bind(&mut self, binding: &ChannelBinding) -> Result<(), String> {
+    pub fn bind(&mut self, binding: &ChannelBinding) -> Result<(), ProgramError> {
         if let ChannelSource::Buffer(source) = binding.source {
             if !self.passes.iter().any(|p| p.kind == source) {
-                return Err(format!(
-                    "--channel {}.{}={}: the program has no {} (give it with --{})",
-                    binding.pass.name(),
-                    binding.channel,
-                    source.name(),
-                    source.name(),
-                    source.name()
-                ));
+                return Err(ProgramError::MissingSource {
+                    pass: binding.pass,
+                    channel: binding.channel,
+                    reads: source,
+                });
             }
         }
         let pass = self
             .passes
             .iter_mut()
             .find(|p| p.kind == binding.pass)
-            .ok_or_else(|| {
-                format!(
-                    "--channel {}.{}: the program has no {} pass",
-                    binding.pass.name(),
-                    binding.channel,
-                    binding.pass.name()
-                )
+            .ok_or(ProgramError::MissingPass {
+                pass: binding.pass,
+                channel: binding.channel,
             })?;
         pass.channels[binding.channel] = Some(binding.source.clone());
         Ok(())

@@ -15,7 +15,7 @@ use ash::vk;
 use crate::error::{Error, Result};
 use crate::image_io::data::RenderedImage;
 use crate::shadertoy::inputs::{FramePushConstants, PassConstants};
-use crate::shadertoy::kernel::{compile_pass, UserTab};
+use crate::shadertoy::kernel::{compile_pass, PassError, UserTab};
 use crate::shadertoy::program::{reads_previous_frame, ChannelSource, PassKind, Program};
 use crate::vk::{
     Buffer, CommandRunner, ComputePipeline, Context, DescriptorSet, Sampler, StorageImage,
@@ -91,6 +91,10 @@ pub struct ShadertoyRunner {
     pub notes: Vec<String>,
 }
 
+/// A compiled program: the SPIR-V of each pass (in the program's order), the compiler's
+/// warnings and the intake's notes (one line each, naming the file).
+pub type CompiledPasses = (Vec<Vec<u32>>, String, Vec<String>);
+
 /// Compiles every pass of `program` for `resolution` (width, height) pixels, each pass on
 /// its own after the Common tab; the first failure is the compiler's messages (naming the
 /// user's file and line). Returns the SPIR-V of each pass, the warnings and the intake's
@@ -98,7 +102,7 @@ pub struct ShadertoyRunner {
 pub fn compile_program(
     program: &Program,
     resolution: (u32, u32),
-) -> std::result::Result<(Vec<Vec<u32>>, String, Vec<String>), String> {
+) -> std::result::Result<CompiledPasses, PassError> {
     let common = program
         .common
         .as_ref()
@@ -113,10 +117,9 @@ pub fn compile_program(
         let tab = UserTab::new(&pass.path, &pass.text, resolution);
         notes.extend(tab.notes());
         if pass.kind != PassKind::Image && tab.page_shader_output.is_some() {
-            return Err(format!(
-                "{}: a buffer needs mainImage(out vec4 fragColor, in vec2 fragCoord); a page shader's main() runs only as the Image pass",
-                tab.display_name
-            ));
+            return Err(PassError::PageShaderBuffer {
+                tab: tab.display_name.clone(),
+            });
         }
         let compiled = compile_pass(common.as_ref(), &tab)?;
         if !compiled.warnings.trim().is_empty() && !warnings.contains(&compiled.warnings) {
@@ -183,8 +186,8 @@ impl ShadertoyRunner {
                 "{width}x{height} pixels: width and height must be 1..={MAX_SIDE}"
             )));
         }
-        let (spirv, warnings, notes) =
-            compile_program(program, (width, height)).map_err(Error::ShaderCompilation)?;
+        let (spirv, warnings, notes) = compile_program(program, (width, height))
+            .map_err(|error| Error::ShaderCompilation(error.to_string()))?;
         let loop_limit = loop_limit(context);
         let loop_report = Buffer::with_data(
             context,
