@@ -4,6 +4,7 @@
 use std::ops::Range;
 use std::path::{Path, PathBuf};
 
+use crate::cli::value_error::ValueError;
 use crate::render::metadata::parse_range;
 use crate::render::state_exr::read_image_metadata;
 use crate::scene::animation::AnimationPick;
@@ -207,26 +208,26 @@ pub fn frame_path(path: &Path, frame: Option<u32>) -> PathBuf {
 }
 
 /// A time in seconds: finite and not negative.
-fn parse_time(text: &str) -> Result<f64, String> {
+fn parse_time(text: &str) -> Result<f64, ValueError> {
     match text.trim().parse::<f64>() {
         Ok(time) if time.is_finite() && time >= 0.0 => Ok(time),
-        _ => Err(format!("'{text}' is not a time in seconds at or after 0")),
+        _ => Err(ValueError::NotTime { text: text.into() }),
     }
 }
 
 /// Frames per second: finite and above 0.
-fn parse_fps(text: &str) -> Result<f64, String> {
+fn parse_fps(text: &str) -> Result<f64, ValueError> {
     match text.trim().parse::<f64>() {
         Ok(fps) if fps.is_finite() && fps > 0.0 => Ok(fps),
-        _ => Err(format!("'{text}' is not a frame rate above 0")),
+        _ => Err(ValueError::NotFrameRate { text: text.into() }),
     }
 }
 
 /// START..END with START < END.
-fn parse_frames(text: &str) -> Result<Range<u32>, String> {
+fn parse_frames(text: &str) -> Result<Range<u32>, ValueError> {
     parse_range(text)
         .filter(|r| !r.is_empty())
-        .ok_or_else(|| format!("'{text}' is not START..END with START < END (END excluded)"))
+        .ok_or_else(|| ValueError::NotFrameRange { text: text.into() })
 }
 
 #[cfg(test)]

@@ -125,6 +125,24 @@ pub enum ValueError {
         /// The value as given.
         text: String,
     },
+    /// Not a time in seconds at or after 0 (`--time`).
+    #[error("'{text}' is not a time in seconds at or after 0")]
+    NotTime {
+        /// The value as given.
+        text: String,
+    },
+    /// Not a frame rate above 0 (`--fps`).
+    #[error("'{text}' is not a frame rate above 0")]
+    NotFrameRate {
+        /// The value as given.
+        text: String,
+    },
+    /// Not START..END with START < END (`--frames`).
+    #[error("'{text}' is not START..END with START < END (END excluded)")]
+    NotFrameRange {
+        /// The value as given.
+        text: String,
+    },
 }
 
 #[cfg(test)]

@@ -117,7 +117,7 @@ pub fn read_exr(path: &Path) -> Result<ExrImage> {
 fn read_checked_first_layer(path: &Path) -> Result<Image<Layer<AnyChannels<FlatSamples>>>> {
     let fail = |message: String| ImageError::read(path, message);
     check_exr_file(path, None)?;
-    check_exr_size(path).map_err(&fail)?;
+    check_exr_size(path).map_err(|e| fail(e.to_string()))?;
     read_first_flat_layer_from_file(path).map_err(|e| fail(plain_cause(&e)))
 }
 
@@ -246,19 +246,36 @@ pub fn plain_cause(error: &dyn std::fmt::Display) -> String {
 /// any pixel is read): 2^28, a 16384 x 16384 image.
 pub const MAX_EXR_PIXELS: usize = 1 << 28;
 
+/// Why `check_exr_size` refuses an EXR's header, in the words that follow the file's name.
+#[derive(Debug, thiserror::Error)]
+pub enum ExrHeaderError {
+    /// The header cannot be read: the exr crate's cause, plainly (`plain_cause`).
+    #[error("{0}")]
+    Unreadable(String),
+    /// The header claims more than `MAX_EXR_PIXELS` pixels.
+    #[error(
+        "its header claims {width}x{height} pixels, more than the {MAX_EXR_PIXELS} vkpath reads"
+    )]
+    TooLarge {
+        /// The claimed width.
+        width: usize,
+        /// The claimed height.
+        height: usize,
+    },
+}
+
 /// Refuses an EXR whose header claims more than `MAX_EXR_PIXELS` (read before any pixel,
 /// so that a hostile header cannot make vkpath allocate terabytes).
-pub fn check_exr_size(path: &Path) -> std::result::Result<(), String> {
-    let meta = exr::meta::MetaData::read_from_file(path, false).map_err(|e| plain_cause(&e))?;
+pub fn check_exr_size(path: &Path) -> std::result::Result<(), ExrHeaderError> {
+    let meta = exr::meta::MetaData::read_from_file(path, false)
+        .map_err(|e| ExrHeaderError::Unreadable(plain_cause(&e)))?;
     for header in meta.headers.iter() {
         let (width, height) = (header.layer_size.width(), header.layer_size.height());
         if width
             .checked_mul(height)
             .is_none_or(|pixels| pixels > MAX_EXR_PIXELS)
         {
-            return Err(format!(
-                "its header claims {width}x{height} pixels, more than the {MAX_EXR_PIXELS} vkpath reads"
-            ));
+            return Err(ExrHeaderError::TooLarge { width, height });
         }
     }
     Ok(())

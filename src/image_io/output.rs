@@ -597,11 +597,23 @@ pub fn write_rgb8_png_with_texts(
     writer.finish().map_err(OutputError::PngEncoding)
 }
 
+/// Why `read_png_texts` cannot read a PNG's text chunks, in the words that follow the file's
+/// name.
+#[derive(Debug, thiserror::Error)]
+pub enum PngTextError {
+    /// The file does not open.
+    #[error("{0}")]
+    Open(#[from] std::io::Error),
+    /// Its signature or header chunks do not decode.
+    #[error("{0}")]
+    Decode(#[from] png::DecodingError),
+}
+
 /// The tEXt chunks of the PNG at `path` (keyword to text), read without decoding a pixel.
-pub fn read_png_texts(path: &Path) -> std::result::Result<BTreeMap<String, String>, String> {
-    let file = std::fs::File::open(path).map_err(|e| e.to_string())?;
+pub fn read_png_texts(path: &Path) -> std::result::Result<BTreeMap<String, String>, PngTextError> {
+    let file = std::fs::File::open(path)?;
     let decoder = png::Decoder::new(std::io::BufReader::new(file));
-    let reader = decoder.read_info().map_err(|e| e.to_string())?;
+    let reader = decoder.read_info()?;
     Ok(reader
         .info()
         .uncompressed_latin1_text

@@ -118,7 +118,7 @@ pub fn read_image_metadata(path: &Path) -> Result<Option<RenderMetadata>> {
     let fail = |message: String| Error::from(ImageError::read(path, message));
     let attributes = match ImageFormat::from_path(path)? {
         ImageFormat::Exr => read_text_attributes(path)?,
-        ImageFormat::Png => read_png_texts(path).map_err(&fail)?,
+        ImageFormat::Png => read_png_texts(path).map_err(|e| fail(e.to_string()))?,
     };
     if !attributes.contains_key(ATTRIBUTE_NAME) {
         return Ok(None);
@@ -151,13 +151,25 @@ pub fn read_text_attributes(path: &Path) -> Result<BTreeMap<String, String>> {
     Ok(attributes)
 }
 
+/// Why a state channel of a file that `read_state` reads is unusable, in the words that
+/// follow the file's name.
+#[derive(Debug, thiserror::Error)]
+enum StateChannelError {
+    /// The file lacks the channel.
+    #[error("it has no {0} channel (not a checkpoint or shard of vkpath render)")]
+    Missing(String),
+    /// The channel has fewer or more values than the image has pixels.
+    #[error("its {0} channel does not cover the image")]
+    Short(String),
+}
+
 /// Reads a file that `write_state` wrote: the state and its metadata. Files without the
 /// state channels or the metadata, or claiming more than `MAX_EXR_PIXELS`, are refused
 /// with a message that says so.
 pub fn read_state(path: &Path) -> Result<(Accumulation, RenderMetadata)> {
     let fail = |message: String| Error::from(ImageError::read(path, message));
     check_exr_file(path, None)?;
-    check_exr_size(path).map_err(&fail)?;
+    check_exr_size(path).map_err(|e| fail(e.to_string()))?;
     let file = read_first_flat_layer_from_file(path).map_err(|e| fail(plain_cause(&e)))?;
     let mut attributes = BTreeMap::new();
     let mut guide = None;
@@ -190,28 +202,27 @@ pub fn read_state(path: &Path) -> Result<(Accumulation, RenderMetadata)> {
     let layer = &file.layer_data;
     let (width, height) = (layer.size.width(), layer.size.height());
     let pixels = width * height;
-    let channel = |name: &str| -> std::result::Result<Vec<f32>, String> {
+    let channel = |name: &str| -> std::result::Result<Vec<f32>, StateChannelError> {
         let values: Vec<f32> = layer
             .channel_data
             .list
             .iter()
             .find(|c| c.name.eq(name))
-            .ok_or_else(|| {
-                format!("it has no {name} channel (not a checkpoint or shard of vkpath render)")
-            })?
+            .ok_or_else(|| StateChannelError::Missing(name.into()))?
             .sample_data
             .values_as_f32()
             .collect();
         if values.len() == pixels {
             Ok(values)
         } else {
-            Err(format!("its {name} channel does not cover the image"))
+            Err(StateChannelError::Short(name.into()))
         }
     };
     let mut texels = vec![[0.0f32; 4]; pixels * contract::ACCUMULATION_LAYER_COUNT as usize];
     for (layer_index, names) in STATE_CHANNELS.iter().enumerate() {
         for (c, name) in names.iter().enumerate() {
-            for (pixel, value) in channel(name).map_err(&fail)?.into_iter().enumerate() {
+            let values = channel(name).map_err(|e| fail(e.to_string()))?;
+            for (pixel, value) in values.into_iter().enumerate() {
                 texels[layer_index * pixels + pixel][c] = value;
             }
         }
