@@ -35,6 +35,8 @@ pub struct Cli {
 }
 
 /// The subcommands.
+// One is parsed per process: the size of the largest (`render`'s options) costs nothing.
+#[allow(clippy::large_enum_variant)]
 #[derive(Debug, Subcommand)]
 pub enum Command {
     /// Render a scene (the workshop's Cornell box when none is given) to an EXR or PNG image.
