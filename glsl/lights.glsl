@@ -22,7 +22,9 @@
 // environment's (none when black, one for a constant colour, two for a map: texel, then
 // point); the punctual light's pair (only when there are punctual lights). The order decides
 // every output bit, with PCG2D and with Sobol's dimension pairs alike, so keep it. The kinds'
-// files draw none themselves: the samplers here draw each kind's pairs.
+// files draw none themselves: the samplers here draw each kind's pairs, and
+// skip_direct_light_random_numbers() draws the same where no light sample can count (change
+// both together).
 //
 // Rust twins: src/cpu/lights.rs (emissive triangles and the estimator),
 // src/cpu/environment.rs, src/cpu/punctual_lights.rs. Needs INTEGRATOR, SAMPLER,
