@@ -13,8 +13,9 @@
 // inner mask, beside the index of its first interior child. On the stack a group is one word,
 // the node's index (bits 8-31) and the children still to visit (bits 0-7); a pop fetches the
 // node's first interior child and inner mask again (cwbvh_node_group_of_entry()). Half the
-// registers of a stack of whole groups: on a GPU the stack lives in registers, and they bound
-// how many subgroups a SIMD keeps in flight. A node's entered leaves form a
+// registers of a stack of whole groups: on a GPU the stack's top entries live in registers
+// (the deeper ones in shared memory, CWBVH_PUSH), and they bound how many subgroups a SIMD
+// keeps in flight. A node's entered leaves form a
 // triangle group (bits 0-23: the triangles' offsets from the node's first triangle), tested
 // before the next node. Children are visited in slot order xor the ray's octant: the builder
 // sorted the slots so that the highest bit is the child nearest along the ray's direction.
@@ -68,40 +69,42 @@ uint cwbvh_octant_inverse(vec3 ray_direction) {
     return (ray_direction.x < 0.0 ? 0u : 4u) | (ray_direction.y < 0.0 ? 0u : 2u) | (ray_direction.z < 0.0 ? 0u : 1u);
 }
 
-// Tests four children of a node (slots 0-3 or 4-7): the slab test of
-// bvh_ray_box_intersection() on their dequantised boxes, in the node's grid (plane q at
-// t = q * (scale / d) + (origin - o) / d), exits padded by BVH_SLAB_PADDING.
-// \param lower_x .. upper_z Their quantised planes, a byte per child (child k: bits 8k ..)
-// \param meta Their meta bytes, likewise
+// Tests child `slot` (0-7) of a node: the slab test of bvh_ray_box_intersection() on its
+// dequantised box, in the node's grid (plane q at t = q * (scale / d) + (origin - o) / d), exit
+// padded by BVH_SLAB_PADDING. One child at a time, so that only its six planes' values are
+// live beside the node's texels (RDNA3: 144 -> 120 VGPRs for workshop and cosine against two
+// vectors of four children, scripts/kernel-statistics.sh; the same arithmetic per child).
+// \param planes_x, planes_y, planes_z Per axis the lower planes of slots 0-3, of 4-7, the
+//        upper planes of slots 0-3, of 4-7, a byte per child (slot k: bits 8 (k & 3) ..)
+// \param meta_words The children's meta bytes, slots 0-3 then 4-7, likewise
 // \param scaled_inverse The grid's cell size times bvh_inverse_direction(ray_direction)
 // \param shifted_origin (The grid's origin - ray_origin) * bvh_inverse_direction(ray_direction)
 // \param octant_inverse cwbvh_octant_inverse(ray_direction)
 // \param t_max Entries past this do not count
-// \return The hit bits of those entered: bit 24 + (slot ^ octant_inverse) for an interior
+// \return Its hit bits if entered (else 0): bit 24 + (slot ^ octant_inverse) for an interior
 //         child, the offsets of a leaf's triangles from the node's first triangle
-uint cwbvh_intersect_four_children(uint lower_x, uint upper_x, uint lower_y, uint upper_y, uint lower_z, uint upper_z, uint meta_bytes, vec3 scaled_inverse, vec3 shifted_origin, uint octant_inverse, float t_max) {
-    uvec4 shifts = uvec4(0u, 8u, 16u, 24u);
-    vec4 t_lower_x = vec4((uvec4(lower_x) >> shifts) & 255u) * scaled_inverse.x + shifted_origin.x;
-    vec4 t_upper_x = vec4((uvec4(upper_x) >> shifts) & 255u) * scaled_inverse.x + shifted_origin.x;
-    vec4 t_lower_y = vec4((uvec4(lower_y) >> shifts) & 255u) * scaled_inverse.y + shifted_origin.y;
-    vec4 t_upper_y = vec4((uvec4(upper_y) >> shifts) & 255u) * scaled_inverse.y + shifted_origin.y;
-    vec4 t_lower_z = vec4((uvec4(lower_z) >> shifts) & 255u) * scaled_inverse.z + shifted_origin.z;
-    vec4 t_upper_z = vec4((uvec4(upper_z) >> shifts) & 255u) * scaled_inverse.z + shifted_origin.z;
-    vec4 t_entry = max(max(min(t_lower_x, t_upper_x), min(t_lower_y, t_upper_y)), max(min(t_lower_z, t_upper_z), vec4(0.0)));
-    vec4 t_exit = min(min(max(t_lower_x, t_upper_x), max(t_lower_y, t_upper_y)), max(t_lower_z, t_upper_z)) * BVH_SLAB_PADDING;
-    bvec4 entered = lessThanEqual(t_entry, min(t_exit, vec4(t_max)));
-    uvec4 meta = (uvec4(meta_bytes) >> shifts) & 255u;
+uint cwbvh_intersect_child(uint slot, uvec4 planes_x, uvec4 planes_y, uvec4 planes_z, uvec2 meta_words, vec3 scaled_inverse, vec3 shifted_origin, uint octant_inverse, float t_max) {
+    uint half_index = slot >> 2u;
+    uint shift = 8u * (slot & 3u);
+    float t_lower_x = float((planes_x[half_index] >> shift) & 255u) * scaled_inverse.x + shifted_origin.x;
+    float t_upper_x = float((planes_x[2u + half_index] >> shift) & 255u) * scaled_inverse.x + shifted_origin.x;
+    float t_lower_y = float((planes_y[half_index] >> shift) & 255u) * scaled_inverse.y + shifted_origin.y;
+    float t_upper_y = float((planes_y[2u + half_index] >> shift) & 255u) * scaled_inverse.y + shifted_origin.y;
+    float t_lower_z = float((planes_z[half_index] >> shift) & 255u) * scaled_inverse.z + shifted_origin.z;
+    float t_upper_z = float((planes_z[2u + half_index] >> shift) & 255u) * scaled_inverse.z + shifted_origin.z;
+    float t_entry = max(max(min(t_lower_x, t_upper_x), min(t_lower_y, t_upper_y)), max(min(t_lower_z, t_upper_z), 0.0));
+    float t_exit = min(min(max(t_lower_x, t_upper_x), max(t_lower_y, t_upper_y)), max(t_lower_z, t_upper_z)) * BVH_SLAB_PADDING;
+    uint meta = (meta_words[half_index] >> shift) & 255u;
     // Interior children's meta is 24 + slot (bits 3 and 4 both set, never in a leaf's): one
     // bit at 24 + (slot ^ octant_inverse). A leaf's: its triangles in unary (bits 5-7)
     // shifted to its first triangle's offset (bits 0-4). An empty slot's is 0: no bits.
-    bvec4 inner = notEqual(meta & (meta << 1u) & 16u, uvec4(0u));
-    uvec4 child_bits = mix(meta >> 5u, uvec4(1u), inner);
-    uvec4 bit_index = mix(meta & 31u, (meta & 31u) ^ octant_inverse, inner);
-    uvec4 child_hits = mix(uvec4(0u), child_bits << bit_index, entered);
-    return (child_hits.x | child_hits.y) | (child_hits.z | child_hits.w);
+    bool inner = (meta & (meta << 1u) & 16u) != 0u;
+    uint child_bits = inner ? 1u : (meta >> 5u);
+    uint bit_index = inner ? ((meta & 31u) ^ octant_inverse) : (meta & 31u);
+    return t_entry <= min(t_exit, t_max) ? (child_bits << bit_index) : 0u;
 }
 
-// Tests the children of node i (cwbvh_intersect_four_children() for slots 0-3 and 4-7).
+// Tests the children of node i (cwbvh_intersect_child() for slots 0-7).
 // \param out_node_group x: the node's first interior child, y: bit 24 + (slot ^
 //        octant_inverse) for each interior child entered | the node's inner mask
 // \param out_triangle_group x: the node's first triangle, y: the offsets of the triangles of
@@ -122,8 +125,9 @@ void cwbvh_intersect_node(out uvec2 out_node_group, out uvec2 out_triangle_group
     vec3 scale = uintBitsToFloat(((uvec3(header.w) >> uvec3(0u, 8u, 16u)) & 255u) << 23u);
     vec3 scaled_inverse = scale * inverse_direction;
     vec3 shifted_origin = (uintBitsToFloat(header.xyz) - ray_origin) * inverse_direction;
-    uint hits = cwbvh_intersect_four_children(planes_x.x, planes_x.z, planes_y.x, planes_y.z, planes_z.x, planes_z.z, indices.z, scaled_inverse, shifted_origin, octant_inverse, t_max)
-        | cwbvh_intersect_four_children(planes_x.y, planes_x.w, planes_y.y, planes_y.w, planes_z.y, planes_z.w, indices.w, scaled_inverse, shifted_origin, octant_inverse, t_max);
+    uint hits = 0u;
+    for (uint slot = 0u; slot != 8u; ++slot)
+        hits |= cwbvh_intersect_child(slot, planes_x, planes_y, planes_z, indices.zw, scaled_inverse, shifted_origin, octant_inverse, t_max);
     out_node_group = uvec2(indices.x, (hits & 0xFF000000u) | (header.w >> 24u));
     out_triangle_group = uvec2(indices.y, hits & 0x00FFFFFFu);
 }
@@ -152,6 +156,44 @@ uint cwbvh_step_bound() {
     return 2u * node_count + triangle_count + 1u;
 }
 
+// The stack's first CWBVH_REGISTER_STACK_SIZE entries are an array of the traversal's (in
+// registers on a GPU); the rest, to CWBVH_STACK_SIZE, are g_cwbvh_stack_overflow, this
+// invocation's column of workgroup-shared memory. Registers bound how many subgroups a GPU
+// keeps in flight, shared memory too (RDNA3, scripts/kernel-statistics.sh: 8 entries in
+// registers and 24 shared, 6 KB per workgroup of 64, keep 12 subgroups per SIMD for every
+// integrator, where 32 in registers kept 8 to 10; docs/performance.md). Shallow traversals
+// never touch the shared part. A kernel may define CWBVH_REGISTER_STACK_SIZE before it
+// includes this file (probe_bvh.comp takes 2, so that its tests reach the shared part).
+#ifndef CWBVH_REGISTER_STACK_SIZE
+#define CWBVH_REGISTER_STACK_SIZE 8
+#endif
+#define CWBVH_WORKGROUP_INVOCATIONS (gl_WorkGroupSize.x * gl_WorkGroupSize.y * gl_WorkGroupSize.z)
+shared uint g_cwbvh_stack_overflow[(CWBVH_STACK_SIZE - CWBVH_REGISTER_STACK_SIZE) * CWBVH_WORKGROUP_INVOCATIONS];
+
+// Where stack entry `entry_index` (CWBVH_REGISTER_STACK_SIZE or more) lies in
+// g_cwbvh_stack_overflow: entries in rows, invocations in columns.
+uint cwbvh_overflow_index(uint entry_index) {
+    return (entry_index - uint(CWBVH_REGISTER_STACK_SIZE)) * CWBVH_WORKGROUP_INVOCATIONS + gl_LocalInvocationIndex;
+}
+
+// Pushes `entry` (stack_size < CWBVH_STACK_SIZE) onto the stack of registers and shared memory.
+#define CWBVH_PUSH(stack, stack_size, entry) { \
+    if (stack_size < uint(CWBVH_REGISTER_STACK_SIZE)) \
+        stack[stack_size] = entry; \
+    else \
+        g_cwbvh_stack_overflow[cwbvh_overflow_index(stack_size)] = entry; \
+    ++stack_size; \
+}
+
+// Pops the top entry (stack_size > 0) into out_entry.
+#define CWBVH_POP(stack, stack_size, out_entry) { \
+    --stack_size; \
+    if (stack_size < uint(CWBVH_REGISTER_STACK_SIZE)) \
+        out_entry = stack[stack_size]; \
+    else \
+        out_entry = g_cwbvh_stack_overflow[cwbvh_overflow_index(stack_size)]; \
+}
+
 // The next node of a node group (node group_node_index's) whose bits 24-31 are not all 0:
 // clears its bit, pushes what is left of the group (the stack cannot overflow: it holds one
 // group per interior level below the root, and src/bvh/compressed.rs refuses trees deeper
@@ -162,8 +204,7 @@ uint cwbvh_step_bound() {
     uint bit = uint(findMSB(hits_inner)); \
     node_group.y &= ~(1u << bit); \
     if ((node_group.y & 0xFF000000u) != 0u && stack_size < uint(CWBVH_STACK_SIZE)) { \
-        stack[stack_size] = cwbvh_stack_entry(group_node_index, node_group); \
-        ++stack_size; \
+        CWBVH_PUSH(stack, stack_size, cwbvh_stack_entry(group_node_index, node_group)) \
     } \
     uint slot = (bit - 24u) ^ octant_inverse; \
     out_node_index = node_group.x + uint(bitCount(hits_inner & ((1u << slot) - 1u))); \
@@ -189,7 +230,7 @@ bool cwbvh_closest_hit(out float out_t, out uint out_triangle_index, vec3 ray_or
     // The node whose group node_group is (the root's group has none: it is never pushed)
     uint group_node_index = 0u;
     uvec2 triangle_group = uvec2(0u);
-    uint stack[CWBVH_STACK_SIZE];
+    uint stack[CWBVH_REGISTER_STACK_SIZE];
     uint stack_size = 0u;
     uint step_bound = cwbvh_step_bound();
     for (uint step = 0u; step != step_bound; ++step) {
@@ -216,9 +257,10 @@ bool cwbvh_closest_hit(out float out_t, out uint out_triangle_index, vec3 ray_or
             if (stack_size == 0u)
                 break;
             ++g_path.traversal_iterations;
-            --stack_size;
-            group_node_index = stack[stack_size] >> 8u;
-            node_group = cwbvh_node_group_of_entry(stack[stack_size]);
+            uint entry;
+            CWBVH_POP(stack, stack_size, entry)
+            group_node_index = entry >> 8u;
+            node_group = cwbvh_node_group_of_entry(entry);
         }
         ++g_path.traversal_iterations;
         uint node_index;
@@ -243,7 +285,7 @@ bool cwbvh_any_hit(vec3 ray_origin, vec3 ray_direction, float t_max) {
     // The node whose group node_group is (the root's group has none: it is never pushed)
     uint group_node_index = 0u;
     uvec2 triangle_group = uvec2(0u);
-    uint stack[CWBVH_STACK_SIZE];
+    uint stack[CWBVH_REGISTER_STACK_SIZE];
     uint stack_size = 0u;
     uint step_bound = cwbvh_step_bound();
     for (uint step = 0u; step != step_bound; ++step) {
@@ -263,9 +305,10 @@ bool cwbvh_any_hit(vec3 ray_origin, vec3 ray_direction, float t_max) {
             if (stack_size == 0u)
                 break;
             ++g_path.traversal_iterations;
-            --stack_size;
-            group_node_index = stack[stack_size] >> 8u;
-            node_group = cwbvh_node_group_of_entry(stack[stack_size]);
+            uint entry;
+            CWBVH_POP(stack, stack_size, entry)
+            group_node_index = entry >> 8u;
+            node_group = cwbvh_node_group_of_entry(entry);
         }
         ++g_path.traversal_iterations;
         uint node_index;

@@ -36,6 +36,17 @@ bool has_delta_lobe(surface_t surface) {
     return has_layers(surface) && material.clearcoat > 0.0 && get_ggx_alpha(material.clearcoat_roughness) == 0.0;
 }
 
+// Whether every lobe of the surface's BSDF is delta, so that get_bsdf() is 0 for every
+// direction and no light sample can reflect off it: a smooth (roughness 0) full metal
+// without layers (get_brdf()'s dielectric weighs 1 - metallic = 0, its GGX lobe has no value).
+// Transmissive surfaces take no light samples at all (glsl/path_loop.glsl).
+bool has_only_delta_lobes(surface_t surface) {
+    if (!SCENE_HAS_SPECULAR)
+        return false;
+    material_t material = surface.material;
+    return get_ggx_alpha(material.roughness) == 0.0 && material.metallic == 1.0 && !has_layers(surface);
+}
+
 // Everything the integrators need at a hit: normals, the material after textures, emission.
 // \param triangle_index The hit triangle (g_hit_triangle_index)
 // \param triangle The hit triangle as ray_mesh_intersection() returned it (not oriented)

@@ -21,6 +21,11 @@ bool has_delta_lobe(surface_t surface) {
     return false;
 }
 
+// Whether every lobe of the surface's BSDF is delta: never for Lambert.
+bool has_only_delta_lobes(surface_t surface) {
+    return false;
+}
+
 // Everything the integrators need at a hit: normals, the material after textures, emission.
 // \param triangle_index The hit triangle (g_hit_triangle_index)
 // \param triangle The hit triangle as ray_mesh_intersection() returned it (not oriented)

@@ -22,7 +22,9 @@
 // environment's (none when black, one for a constant colour, two for a map: texel, then
 // point); the punctual light's pair (only when there are punctual lights). The order decides
 // every output bit, with PCG2D and with Sobol's dimension pairs alike, so keep it. The kinds'
-// files draw none themselves: the samplers here draw each kind's pairs.
+// files draw none themselves: the samplers here draw each kind's pairs, and
+// skip_direct_light_random_numbers() draws the same where no light sample can count (change
+// both together).
 //
 // Rust twins: src/cpu/lights.rs (emissive triangles and the estimator),
 // src/cpu/environment.rs, src/cpu/punctual_lights.rs. Needs INTEGRATOR, SAMPLER,
@@ -198,11 +200,35 @@ layout(constant_id = SPEC_SCENE_HAS_EMISSIVE_TRIANGLES) const bool SCENE_HAS_EMI
 const bool SCENE_HAS_EMISSIVE_TRIANGLES = true;
 #endif
 
+// Draws the random numbers of sample_direct_light()'s samplers, in their order, and drops
+// them: at a surface that no light sample can reflect off (has_only_delta_lobes()), the
+// path's later numbers stay the ones they were, and so does every image.
+void skip_direct_light_random_numbers(inout uvec2 seed) {
+    // The emissive triangle's selection and point pairs
+    get_path_random_numbers(seed);
+    get_path_random_numbers(seed);
+#ifdef USE_MATERIALS
+    // The environment's (SCENE_SAMPLES_ENVIRONMENT), the punctual light's
+    uint kind = SCENE_SAMPLES_ENVIRONMENT ? get_environment_kind() : ENVIRONMENT_NONE;
+    if (kind != ENVIRONMENT_NONE)
+        get_path_random_numbers(seed);
+    if (kind == ENVIRONMENT_MAP)
+        get_path_random_numbers(seed);
+    if (SCENE_HAS_PUNCTUAL_LIGHTS && get_punctual_light_count() != 0u)
+        get_path_random_numbers(seed);
+#endif
+}
+
 // Next event estimation: one sample of each kind of light at a surface point, whose sum
 // estimates all the direct light arriving there (the path loop's light-samples step).
 // \param position The surface point, world space
 // \param seed The pixel's PCG2D random state (see get_path_random_numbers())
 vec3 sample_direct_light(vec3 position, surface_t surface, vec3 view, inout uvec2 seed) {
+    // Every sample's get_bsdf() would be 0 (a smooth metal): its numbers, not its maths
+    if (has_only_delta_lobes(surface)) {
+        skip_direct_light_random_numbers(seed);
+        return vec3(0.0);
+    }
     vec3 origin = get_light_sample_origin(surface, position);
     light_sample_t emissive_sample = sample_emissive_triangle_light(origin, get_light_selection_normal(surface), seed);
     vec3 direct = SCENE_HAS_EMISSIVE_TRIANGLES ? estimate_light_sample(surface, view, origin, emissive_sample) : vec3(0.0);

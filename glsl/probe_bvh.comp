@@ -15,6 +15,9 @@
 layout(local_size_x = PROBE_WORKGROUP_SIZE, local_size_y = 1, local_size_z = 1) in;
 
 #include "scene.glsl"
+// Two stack entries of the compressed tree's traversal in registers, not the path tracer's 8:
+// the test trees are shallow, and the rest of the stack, in shared memory, is tested too.
+#define CWBVH_REGISTER_STACK_SIZE 2
 #include "bvh.glsl"
 
 // Whether to run the brute-force ray_mesh_intersection() too (0 or 1): it costs a test of

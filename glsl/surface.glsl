@@ -7,7 +7,8 @@
 //
 // This file holds the interface: the types, and the rules every model shares. The model is
 // chosen once, when the kernel is built, and lives in a file of its own that defines the
-// interface's functions (has_layers, is_transmissive, has_delta_lobe, get_surface, get_front_emission,
+// interface's functions (has_layers, is_transmissive, has_delta_lobe, has_only_delta_lobes,
+// get_surface, get_front_emission,
 // get_bsdf, get_reflected_radiance, get_bsdf_density, sample_bsdf, sample_cosine_direction,
 // get_camera_emission, get_volume_transmittance):
 // - glsl/lambert_surface.glsl, the workshop's (kernels without USE_MATERIALS): albedo / pi,

@@ -76,61 +76,62 @@ pub fn cwbvh_octant_inverse(ray_direction: Vec3) -> u32 {
         | (if ray_direction.z < 0.0 { 0 } else { 1 })
 }
 
-/// Twin of GLSL `cwbvh_intersect_four_children`: the slab test of `bvh_ray_box_intersection`
-/// on four children's dequantised boxes (slots 0-3 or 4-7), in the node's grid (plane `q` at
-/// `t = q * scaled_inverse + shifted_origin`), exits padded by `BVH_SLAB_PADDING`.
-/// \param planes Their quantised lower x, upper x, lower y, upper y, lower z, upper z
-///        planes, a byte per child (child k: bits 8k ..)
-/// \param meta_bytes Their meta bytes, likewise
-/// \return The hit bits of those entered: bit `24 + (slot ^ octant_inverse)` for an interior
-///         child, the offsets of a leaf's triangles from the node's first triangle
-pub fn cwbvh_intersect_four_children(
-    planes: [u32; 6],
-    meta_bytes: u32,
+/// Twin of GLSL `cwbvh_intersect_child`: the slab test of `bvh_ray_box_intersection` on the
+/// dequantised box of child `slot` (0-7), in the node's grid (plane `q` at `t = q *
+/// scaled_inverse + shifted_origin`), exit padded by `BVH_SLAB_PADDING`.
+/// \param planes Per axis (x, y, z) the lower planes of slots 0-3, of 4-7, the upper planes
+///        of slots 0-3, of 4-7, a byte per child (slot k: bits `8 (k & 3)` ..)
+/// \param meta_words The children's meta bytes, slots 0-3 then 4-7, likewise
+/// \return Its hit bits if entered (else 0): bit `24 + (slot ^ octant_inverse)` for an
+///         interior child, the offsets of a leaf's triangles from the node's first triangle
+pub fn cwbvh_intersect_child(
+    slot: u32,
+    planes: [[u32; 4]; 3],
+    meta_words: [u32; 2],
     scaled_inverse: Vec3,
     shifted_origin: Vec3,
     octant_inverse: u32,
     t_max: f32,
 ) -> u32 {
-    let mut hits = 0;
-    for k in 0..4 {
-        let byte = |word: u32| (word >> (8 * k)) & 255;
-        let plane = |word: u32, axis: usize| {
-            byte(word) as f32 * scaled_inverse[axis] + shifted_origin[axis]
-        };
-        let t_lower_x = plane(planes[0], 0);
-        let t_upper_x = plane(planes[1], 0);
-        let t_lower_y = plane(planes[2], 1);
-        let t_upper_y = plane(planes[3], 1);
-        let t_lower_z = plane(planes[4], 2);
-        let t_upper_z = plane(planes[5], 2);
-        let t_entry = t_lower_x
-            .min(t_upper_x)
-            .max(t_lower_y.min(t_upper_y))
-            .max(t_lower_z.min(t_upper_z).max(0.0));
-        let t_exit = t_lower_x
-            .max(t_upper_x)
-            .min(t_lower_y.max(t_upper_y))
-            .min(t_lower_z.max(t_upper_z))
-            * BVH_SLAB_PADDING;
-        let meta = byte(meta_bytes);
-        // Interior children's meta is 24 + slot: bits 3 and 4 both set, never in a leaf's
-        let inner = meta & (meta << 1) & 16 != 0;
-        let child_bits = if inner { 1 } else { meta >> 5 };
-        let bit_index = if inner {
-            (meta & 31) ^ octant_inverse
-        } else {
-            meta & 31
-        };
-        if t_entry <= t_exit.min(t_max) {
-            hits |= child_bits << bit_index;
-        }
+    let half = (slot >> 2) as usize;
+    let shift = 8 * (slot & 3);
+    let plane = |axis: usize, upper: usize| {
+        ((planes[axis][2 * upper + half] >> shift) & 255) as f32 * scaled_inverse[axis]
+            + shifted_origin[axis]
+    };
+    let t_lower_x = plane(0, 0);
+    let t_upper_x = plane(0, 1);
+    let t_lower_y = plane(1, 0);
+    let t_upper_y = plane(1, 1);
+    let t_lower_z = plane(2, 0);
+    let t_upper_z = plane(2, 1);
+    let t_entry = t_lower_x
+        .min(t_upper_x)
+        .max(t_lower_y.min(t_upper_y))
+        .max(t_lower_z.min(t_upper_z).max(0.0));
+    let t_exit = t_lower_x
+        .max(t_upper_x)
+        .min(t_lower_y.max(t_upper_y))
+        .min(t_lower_z.max(t_upper_z))
+        * BVH_SLAB_PADDING;
+    let meta = (meta_words[half] >> shift) & 255;
+    // Interior children's meta is 24 + slot: bits 3 and 4 both set, never in a leaf's
+    let inner = meta & (meta << 1) & 16 != 0;
+    let child_bits = if inner { 1 } else { meta >> 5 };
+    let bit_index = if inner {
+        (meta & 31) ^ octant_inverse
+    } else {
+        meta & 31
+    };
+    if t_entry <= t_exit.min(t_max) {
+        child_bits << bit_index
+    } else {
+        0
     }
-    hits
 }
 
 /// Twin of GLSL `cwbvh_intersect_node`: which children of node `node_index` the ray enters
-/// before `t_max` (`cwbvh_intersect_four_children` for slots 0-3 and 4-7).
+/// before `t_max` (`cwbvh_intersect_child` for slots 0-7).
 /// \return The node group (x: the node's first interior child; y: bit `24 + (slot ^
 ///         octant_inverse)` for each interior child entered | the node's inner mask) and the
 ///         triangle group (x: the node's first triangle; y: the offsets from it of the
@@ -146,7 +147,7 @@ pub fn cwbvh_intersect_node(
     let node = &nodes[node_index as usize];
     let scaled_inverse = node.scale() * inverse_direction;
     let shifted_origin = (Vec3::from(node.origin) - ray_origin) * inverse_direction;
-    // Bytes `4 half ..` of each plane array: the words of texels 2-4 (and of the meta)
+    // Bytes `4 half ..` of an array of 8 bytes: a word of texels 1-4
     let word = |bytes: &[u8; 8], half: usize| {
         u32::from_le_bytes([
             bytes[4 * half],
@@ -155,26 +156,33 @@ pub fn cwbvh_intersect_node(
             bytes[4 * half + 3],
         ])
     };
-    let four = |half: usize| {
-        let planes = [
-            &node.lower_x,
-            &node.upper_x,
-            &node.lower_y,
-            &node.upper_y,
-            &node.lower_z,
-            &node.upper_z,
+    // Texels 2-4 as the shader reads them: lower 0-3, lower 4-7, upper 0-3, upper 4-7
+    let texel = |lower: &[u8; 8], upper: &[u8; 8]| {
+        [
+            word(lower, 0),
+            word(lower, 1),
+            word(upper, 0),
+            word(upper, 1),
         ]
-        .map(|bytes| word(bytes, half));
-        cwbvh_intersect_four_children(
+    };
+    let planes = [
+        texel(&node.lower_x, &node.upper_x),
+        texel(&node.lower_y, &node.upper_y),
+        texel(&node.lower_z, &node.upper_z),
+    ];
+    let meta_words = [word(&node.child_meta, 0), word(&node.child_meta, 1)];
+    let mut hits = 0;
+    for slot in 0..8 {
+        hits |= cwbvh_intersect_child(
+            slot,
             planes,
-            word(&node.child_meta, half),
+            meta_words,
             scaled_inverse,
             shifted_origin,
             octant_inverse,
             t_max,
-        )
-    };
-    let hits = four(0) | four(1);
+        );
+    }
     (
         [
             node.child_base,
@@ -214,7 +222,9 @@ struct Groups {
     group_node_index: u32,
     /// x: the first triangle; y: bits 0-23 the triangles still to test (offsets from x).
     triangle_group: [u32; 2],
-    /// Node groups as `cwbvh_stack_entry` packs them.
+    /// Node groups as `cwbvh_stack_entry` packs them: one array, where the shader keeps the
+    /// first `CWBVH_REGISTER_STACK_SIZE` in registers and the rest in shared memory
+    /// (`CWBVH_PUSH`, `CWBVH_POP`: where an entry is kept is no maths).
     stack: [u32; STACK_SIZE],
     stack_size: usize,
 }

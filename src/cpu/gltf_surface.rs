@@ -629,6 +629,13 @@ pub fn get_bsdf_density(surface: &Surface, view: Vec3, light: Vec3) -> f32 {
     get_brdf_density(&surface.material, surface.shading_normal, view, light)
 }
 
+/// Twin of `has_only_delta_lobes` (glTF; no `SCENE_HAS_SPECULAR`, as `has_delta_lobe`): a
+/// smooth full metal without layers, whose `get_bsdf` is 0 for every direction.
+pub fn has_only_delta_lobes(surface: &Surface) -> bool {
+    let material = &surface.material;
+    get_ggx_alpha(material.roughness) == 0.0 && material.metallic == 1.0 && !has_layers(surface)
+}
+
 /// Twin of `has_delta_lobe` (glTF; the twin has no `SCENE_HAS_SPECULAR`: its materials are
 /// as the scene gives them): a specular lobe or a transmission of roughness 0, or a smooth
 /// clear coat.

@@ -20,7 +20,8 @@ use crate::cpu::light_tree::{
 };
 use crate::cpu::path_guiding::get_path_direction_density;
 use crate::cpu::surface::{
-    get_bsdf, get_front_emission, get_light_sample_origin, get_reflected_radiance, Surface,
+    get_bsdf, get_front_emission, get_light_sample_origin, get_reflected_radiance,
+    has_only_delta_lobes, Surface,
 };
 use crate::cpu::workshop::{get_random_numbers, ray_triangle_intersection};
 use crate::lights::EmissiveTriangles;
@@ -329,6 +330,14 @@ pub fn estimate_light_sample(
     contribution
 }
 
+/// Twin of GLSL `skip_direct_light_random_numbers`: draws the random numbers of
+/// `sample_direct_light`'s samplers (the emissive triangle's selection and point pairs) and
+/// drops them, so that the path's later numbers stay the ones they were.
+pub fn skip_direct_light_random_numbers(seed: &mut UVec2) {
+    get_random_numbers(seed);
+    get_random_numbers(seed);
+}
+
 /// Twin of `sample_direct_light` (the workshop's scenes: emissive triangles only);
 /// `guide_cell` as for `estimate_light_sample`.
 pub fn sample_direct_light(
@@ -339,6 +348,11 @@ pub fn sample_direct_light(
     guide_cell: u32,
     seed: &mut UVec2,
 ) -> Vec3 {
+    // Every sample's `get_bsdf` would be 0 (a smooth metal): its numbers, not its maths
+    if has_only_delta_lobes(surface) {
+        skip_direct_light_random_numbers(seed);
+        return Vec3::ZERO;
+    }
     let origin = get_light_sample_origin(surface, position);
     let sample =
         sample_emissive_triangle_light(scene, origin, get_light_selection_normal(surface), seed);

@@ -60,6 +60,11 @@ pub fn has_delta_lobe(_surface: &Surface) -> bool {
     false
 }
 
+/// Twin of `has_only_delta_lobes` (Lambert: never).
+pub fn has_only_delta_lobes(_surface: &Surface) -> bool {
+    false
+}
+
 /// Twin of `get_camera_emission` (Lambert: the emission).
 pub fn get_camera_emission(surface: &Surface) -> Vec3 {
     surface.emission
