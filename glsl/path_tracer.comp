@@ -128,13 +128,12 @@ void main() {
     // Image rows run top-down; ShaderToy counts pixels from the bottom-left.
     uvec2 pixel = uvec2(image_texel.x, resolution.y - 1u - image_texel.y);
 
+    // Only what the samples change is held across them; what they leave as it was (the ray
+    // count, the loop-limit flag, the sample count before them) is loaded again after the
+    // loop, so that fewer registers live through the path tracer (GPU occupancy).
     vec4 sum = imageLoad(g_accumulation, ivec3(texel, LAYER_SUM));
-    vec4 compensation_and_rays = imageLoad(g_accumulation, ivec3(texel, LAYER_COMPENSATION));
-    precise vec3 compensation = compensation_and_rays.rgb;
-    vec4 sum_of_squares_and_flag = imageLoad(g_accumulation, ivec3(texel, LAYER_SUM_OF_SQUARES));
-    vec3 sum_of_squares = sum_of_squares_and_flag.rgb;
-    float sum_of_squares_flag = sum_of_squares_and_flag.a;
-    float samples_before = sum.a;
+    precise vec3 compensation = imageLoad(g_accumulation, ivec3(texel, LAYER_COMPENSATION)).rgb;
+    vec3 sum_of_squares = imageLoad(g_accumulation, ivec3(texel, LAYER_SUM_OF_SQUARES)).rgb;
     // Not unrolled: one copy of the path tracer compiles faster and runs as fast.
     [[dont_unroll]] for (int i = 0; i != SAMPLE_COUNT; ++i) {
         uint sample_index = g_first_sample_index + uint(i);
@@ -166,6 +165,9 @@ void main() {
         sum.a += 1.0;
         sum_of_squares += radiance * radiance;
     }
+    float samples_before = imageLoad(g_accumulation, ivec3(texel, LAYER_SUM)).a;
+    float rays_before = imageLoad(g_accumulation, ivec3(texel, LAYER_COMPENSATION)).a;
+    float sum_of_squares_flag = imageLoad(g_accumulation, ivec3(texel, LAYER_SUM_OF_SQUARES)).a;
     // --noise-threshold: a pixel whose samples in this dispatch made it converged counts once
     // (BINDING_CONVERGED_PIXELS); from the next dispatch on it takes no sample, so never again.
     if (g_noise_threshold > 0.0 && sum.a > samples_before && is_noise_check_due(sum.a, g_noise_min_samples)
@@ -193,6 +195,6 @@ void main() {
 #endif
     imageStore(g_accumulation, ivec3(texel, LAYER_SUM), sum);
     // Ray counts are exact in a float up to 2^24 per pixel, far beyond what a benchmark takes.
-    imageStore(g_accumulation, ivec3(texel, LAYER_COMPENSATION), vec4(compensation, compensation_and_rays.a + float(g_path.ray_count)));
+    imageStore(g_accumulation, ivec3(texel, LAYER_COMPENSATION), vec4(compensation, rays_before + float(g_path.ray_count)));
     imageStore(g_accumulation, ivec3(texel, LAYER_SUM_OF_SQUARES), vec4(sum_of_squares, sum_of_squares_flag));
 }
