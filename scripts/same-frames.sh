@@ -6,8 +6,10 @@
 # guided; compressed BVH; no BVH), tests/data/RiggedSimple.gltf (a side view and its own
 # framing, which follows the moving bounds; and on two devices, `--device 0,0`),
 # tests/data/BoxAnimated.gltf and tests/data/SimpleMorph.gltf (Khronos' keyframed and
-# morphed samples), the Cornell box, tests/data/emissive_quad.gltf and `--generated 100000`
-# (static). A render that fails counts as different.
+# morphed samples), scenes/materials.gltf with a sphere sliding (textured: its geometry
+# moves, its materials and textures do not; scripts/make_moving_scenes.py), the Cornell box,
+# tests/data/emissive_quad.gltf and `--generated 100000` (static). A render that fails counts
+# as different.
 # Usage: scripts/same-frames.sh OLD_VKPATH NEW_VKPATH [WORK_DIR]
 set -euo pipefail
 # As scripts/same-images.sh: both binaries compile every kernel afresh (llvmpipe's kernels
@@ -16,7 +18,11 @@ export MESA_SHADER_CACHE_DISABLE=true
 old=$(realpath "$1")
 new=$(realpath "$2")
 work=${3:-$(mktemp -d)}
-data=$(cd "$(dirname "$0")/.." && pwd)/tests/data
+root=$(cd "$(dirname "$0")/.." && pwd)
+data=$root/tests/data
+mkdir -p "$work"
+python3 "$root/scripts/make_moving_scenes.py" slide "$root/scenes/materials.gltf" "sphere gold" \
+  "$work/moving_materials.gltf" >/dev/null
 small=(--width 64 --height 48 --spp 8 --background 1,1,1 --quiet)
 sequences=(
   "sk $data/skinned_morphed.gltf --frames 0..8 --fps 8"
@@ -29,6 +35,7 @@ sequences=(
   "rsd $data/RiggedSimple.gltf --frames 0..4 --fps 4 --device 0,0"
   "ba $data/BoxAnimated.gltf --frames 0..6 --fps 1.6 --camera-position 2.8,2.7,3.9 --look-at 0,1.5,0"
   "sm $data/SimpleMorph.gltf --frames 0..5 --fps 1.5 --camera-position 0.5,1.25,4.2 --look-at 0.5,1.25,0"
+  "mm $work/moving_materials.gltf --frames 0..3 --fps 2"
   "cb --frames 0..3"
   "eq $data/emissive_quad.gltf --frames 0..3"
   "gen --generated 100000 --frames 0..3"
