@@ -336,8 +336,7 @@ impl Renderer {
             None => KeptUpload::Parts(KeptParts::default()),
         };
         let gpu_scene = match kept {
-            KeptUpload::Whole(gpu_scene) => {
-                let mut gpu_scene = *gpu_scene;
+            KeptUpload::Whole(mut gpu_scene) => {
                 gpu_scene.aim(scene, camera, &settings);
                 gpu_scene
             }

@@ -108,9 +108,11 @@ impl ReuseCounts {
 /// What a render takes of the upload before: all of it (the scene's data are the same; only
 /// the camera is written again), or some of its parts for a new upload (none where nothing
 /// is kept).
+// One value per render, moved once: the variants' sizes do not matter.
+#[allow(clippy::large_enum_variant)]
 pub(crate) enum KeptUpload {
-    /// The whole upload (boxed: it is several times the size of the parts).
-    Whole(Box<GpuScene>),
+    /// The whole upload.
+    Whole(GpuScene),
     /// The parts that did not change, for `GpuScene::upload`.
     Parts(KeptParts),
 }
@@ -235,7 +237,7 @@ impl SequenceCache {
         };
         if kept.key == key && kept.digest == digest {
             self.reused.scenes += 1;
-            return KeptUpload::Whole(Box::new(gpu));
+            return KeptUpload::Whole(gpu);
         }
         let parts = gpu.into_kept(kept.digest.same_parts(&digest));
         self.reused.count_parts(&parts);
