@@ -496,6 +496,7 @@ fn render(args: &RenderArgs) -> anyhow::Result<()> {
         let scene = match (still.take(), &gltf_path) {
             (Some(scene), _) => scene,
             (None, Some(path)) => {
+                let started = Instant::now();
                 let file = match &mut gltf_file {
                     Some(file) => file,
                     None => gltf_file.insert(GltfFile::open(
@@ -507,6 +508,11 @@ fn render(args: &RenderArgs) -> anyhow::Result<()> {
                     )?),
                 };
                 let scene = file.pose(frame.time as f32, &args.frames.pick())?;
+                log::debug!(
+                    "scene {}posed in {:.3} s",
+                    if first { "read and " } else { "" },
+                    started.elapsed().as_secs_f64()
+                );
                 for warning in scene.warnings.iter().filter(|_| first) {
                     eprintln!("vkpath: warning: {warning}");
                 }

@@ -332,18 +332,20 @@ impl MaterialBuffers {
 }
 
 /// The per-triangle shading words of `scene_materials` in the order of the BVH's leaves
-/// (`triangle_order`) where there is one.
+/// (`triangle_order`) where there is one (gathered as they are made: a reordered copy of
+/// the shading data first took 112 MB and ~0.1 s more at 10^6 triangles).
 fn shading_words(
     scene_materials: &SceneMaterials,
     triangle_order: Option<&[u32]>,
 ) -> Vec<GpuTriangleShading> {
+    let triangles = &scene_materials.triangles;
     match triangle_order {
-        Some(order) => reorder_by(order, &scene_materials.triangles),
-        None => scene_materials.triangles.clone(),
+        Some(order) => order
+            .iter()
+            .map(|&index| GpuTriangleShading::new(&triangles[index as usize]))
+            .collect(),
+        None => triangles.iter().map(GpuTriangleShading::new).collect(),
     }
-    .iter()
-    .map(GpuTriangleShading::new)
-    .collect()
 }
 
 /// Buffers of an earlier upload that `GpuScene::upload` takes instead of uploading them

@@ -222,7 +222,12 @@ impl SequenceCache {
     /// same words (`UploadDigest::same_parts`; the rest of the kept upload is freed).
     /// Remembers the digest and `key` for the upload the caller makes.
     pub(crate) fn take_scene(&mut self, scene: &Scene, key: UploadKey) -> KeptUpload {
+        let started = std::time::Instant::now();
         let digest = UploadDigest::of(scene, key.traversal);
+        log::debug!(
+            "scene upload: digests made in {:.3} s",
+            started.elapsed().as_secs_f64()
+        );
         let kept = self.scene.take();
         self.scene = digest.map(|digest| UploadedScene {
             digest,
