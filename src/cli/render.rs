@@ -466,6 +466,9 @@ fn render(args: &RenderArgs) -> anyhow::Result<()> {
     let mut sequences: Vec<SequenceCache> = Vec::new();
     let mut still: Option<Scene> = None;
     let mut gltf_file: Option<GltfFile> = None;
+    // The environment as the first frame loaded it (a map is read and decoded once), for
+    // the frames of a glTF file after it.
+    let mut loaded_environment: Option<Option<crate::lights::Environment>> = None;
     let mut first = true;
     for frame in args.frames.frame_times() {
         let frame_started = if first {
@@ -516,7 +519,17 @@ fn render(args: &RenderArgs) -> anyhow::Result<()> {
                 for warning in scene.warnings.iter().filter(|_| first) {
                     eprintln!("vkpath: warning: {warning}");
                 }
-                scene.with_environment(environment.as_ref())?
+                match &loaded_environment {
+                    Some(loaded) => Scene {
+                        environment: loaded.clone(),
+                        ..scene
+                    },
+                    None => {
+                        let scene = scene.with_environment(environment.as_ref())?;
+                        loaded_environment = Some(scene.environment.clone());
+                        scene
+                    }
+                }
             }
             (None, None) => args
                 .scene
