@@ -13,12 +13,41 @@ use crate::common::runs::run;
 /// slides LINEAR from x = -1 at 0 s to x = 1 at 1 s (animation "slide"), seen by a camera at
 /// z = 3 looking down -Z.
 pub(crate) fn write_animated_quad(dir: &Path) {
+    let document = animated_quad(dir);
+    std::fs::write(dir.join("animated.gltf"), document.to_string()).unwrap();
+}
+
+/// Writes `textured.gltf` (with `animated.bin` and `checker.png`) into `dir`: the quad of
+/// `write_animated_quad` with a 2 x 2 red and blue checker as its base colour texture.
+fn write_textured_quad(dir: &Path) {
+    let mut document = animated_quad(dir);
+    document["meshes"][0]["primitives"][0]["attributes"]["TEXCOORD_0"] = json!(4);
+    document["meshes"][0]["primitives"][0]["material"] = json!(0);
+    document["materials"] = json!([{"pbrMetallicRoughness": {"baseColorTexture": {"index": 0}}}]);
+    document["textures"] = json!([{"source": 0}]);
+    document["images"] = json!([{"uri": "checker.png"}]);
+    let red_blue = [255, 0, 0, 0, 0, 255, 0, 0, 255, 255, 0, 0];
+    vkpath::image_io::output::write_rgb8_png_with_texts(
+        &dir.join("checker.png"),
+        2,
+        2,
+        &red_blue,
+        &[],
+    )
+    .unwrap();
+    std::fs::write(dir.join("textured.gltf"), document.to_string()).unwrap();
+}
+
+/// The document of `write_animated_quad` (written with its `animated.bin`), whose buffer
+/// also holds the quad's texture coordinates (accessor 4).
+fn animated_quad(dir: &Path) -> serde_json::Value {
     let positions: [f32; 12] = [
         -0.5, -0.5, 0.0, 0.5, -0.5, 0.0, 0.5, 0.5, 0.0, -0.5, 0.5, 0.0,
     ];
     let indices: [u16; 6] = [0, 1, 2, 0, 2, 3];
     let times: [f32; 2] = [0.0, 1.0];
     let translations: [f32; 6] = [-1.0, 0.0, 0.0, 1.0, 0.0, 0.0];
+    let tex_coords: [f32; 8] = [0.0, 1.0, 1.0, 1.0, 1.0, 0.0, 0.0, 0.0];
     let mut bytes: Vec<u8> = Vec::new();
     let mut view = |data: Vec<u8>| {
         let offset = bytes.len();
@@ -34,6 +63,7 @@ pub(crate) fn write_animated_quad(dir: &Path) {
         view(indices.iter().flat_map(|i| i.to_le_bytes()).collect()),
         view(floats(&times)),
         view(floats(&translations)),
+        view(floats(&tex_coords)),
     ];
     let document = json!({
         "asset": {"version": "2.0"},
@@ -59,10 +89,11 @@ pub(crate) fn write_animated_quad(dir: &Path) {
             {"bufferView": 2, "componentType": 5126, "count": 2, "type": "SCALAR",
              "min": [0.0], "max": [1.0]},
             {"bufferView": 3, "componentType": 5126, "count": 2, "type": "VEC3"},
+            {"bufferView": 4, "componentType": 5126, "count": 4, "type": "VEC2"},
         ],
     });
     std::fs::write(dir.join("animated.bin"), &bytes).unwrap();
-    std::fs::write(dir.join("animated.gltf"), document.to_string()).unwrap();
+    document
 }
 
 /// Small, quick renders: 32 x 32 at 2 spp, lit by a white background.
@@ -149,19 +180,18 @@ fn each_device_of_a_sequence_keeps_its_own_kernels_and_frames_equal_their_stills
         .lines()
         .map(|line| serde_json::from_str::<serde_json::Value>(line).unwrap()["reused"].clone())
         .collect();
-    // Every frame after the first found its kernel and accumulation image on both devices
-    // (the quad moves: the scene is uploaded again). Before each device kept a cache, no
-    // frame on several devices reused anything (`reused` was absent: null).
-    assert_eq!(
-        reused,
-        [
-            json!([]),
-            json!(["kernel", "accumulation"]),
-            json!(["kernel", "accumulation"])
-        ],
-        "{}",
-        frames.stdout
-    );
+    // Every frame after the first found its kernel and accumulation image on both devices,
+    // and the parts of its upload that did not move (the quad moves: its geometry is
+    // uploaded again). Before each device kept a cache, no frame on several devices reused
+    // anything (`reused` was absent: null).
+    let kept = json!([
+        "kernel",
+        "accumulation",
+        "materials",
+        "environment",
+        "punctual_lights"
+    ]);
+    assert_eq!(reused, [json!([]), kept.clone(), kept], "{}", frames.stdout);
     // And a frame that took them is the still of its time on the same devices, bit for bit.
     let mut still = vec!["render", "animated.gltf", "--time", "1", "-o", "t.exr"];
     still.extend(devices);
@@ -174,6 +204,66 @@ fn each_device_of_a_sequence_keeps_its_own_kernels_and_frames_equal_their_stills
         "--time 1 on two devices differs from frame 2"
     );
     assert_ne!(read("d_0.exr"), read("d_2.exr"));
+}
+
+#[test]
+fn a_textured_quad_that_moves_keeps_its_materials_and_frames_equal_their_stills() {
+    let dir = tempfile::tempdir().unwrap();
+    write_textured_quad(dir.path());
+    let small = [
+        "--width", "16", "--height", "16", "--spp", "1", "--accel", "bvh",
+    ];
+    let mut args = vec![
+        "render",
+        "textured.gltf",
+        "--frames",
+        "0..2",
+        "--fps",
+        "2",
+        "-o",
+        "q_#.exr",
+        "--json",
+        "--background",
+        "1,1,1",
+    ];
+    args.extend(small);
+    let frames = run(dir.path(), &args, &[]);
+    assert_eq!(frames.code, Some(0), "{}", frames.stderr);
+    let last: serde_json::Value =
+        serde_json::from_str(frames.stdout.lines().last().unwrap()).unwrap();
+    // The geometry moved ("scene" is not reused); the texture atlas and material words,
+    // the background and the (no) punctual lights were taken from frame 0's upload.
+    assert_eq!(
+        last["reused"],
+        json!([
+            "kernel",
+            "accumulation",
+            "materials",
+            "environment",
+            "punctual_lights"
+        ]),
+        "{}",
+        frames.stdout
+    );
+    let mut still = vec![
+        "render",
+        "textured.gltf",
+        "--time",
+        "0.5",
+        "-o",
+        "t.exr",
+        "--background",
+        "1,1,1",
+    ];
+    still.extend(small);
+    let still = run(dir.path(), &still, &[]);
+    assert_eq!(still.code, Some(0), "{}", still.stderr);
+    let read = |name: &str| std::fs::read(dir.path().join(name)).unwrap();
+    assert!(
+        read("t.exr") == read("q_1.exr"),
+        "--time 0.5 differs from frame 1"
+    );
+    assert_ne!(read("q_0.exr"), read("q_1.exr"));
 }
 
 #[test]

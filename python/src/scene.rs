@@ -2,12 +2,15 @@
 //! a render uses, which Python may replace.
 
 use std::path::PathBuf;
+use std::sync::Mutex;
 
 use glam::Vec3;
 use pyo3::prelude::*;
 use vkpath::camera::DEFAULT_VERTICAL_FOV_DEGREES;
+use vkpath::scene::animation::AnimationPick;
 use vkpath::scene::arrays::ARRAYS_DESCRIPTION;
 use vkpath::scene::files::LoadOptions;
+use vkpath::scene::gltf_file::{is_gltf_path, GltfFile};
 use vkpath::scene::{SceneArrays, SceneError, SceneSource};
 
 use crate::arrays::{
@@ -115,6 +118,9 @@ pub struct Scene {
     /// The file's camera chosen by `use_camera`, by index: at another time its animated
     /// place.
     pub camera_index: Option<usize>,
+    /// A glTF file read once for the renders at other times (`at_time`, e.g. each frame of
+    /// `render_frames`), opened by the first of them and posed by each.
+    pub file: Mutex<Option<GltfFile>>,
 }
 
 impl Scene {
@@ -132,6 +138,7 @@ impl Scene {
             description: source.description(),
             source: Some((source, allow_external_paths)),
             camera_index: None,
+            file: Mutex::new(None),
         })
     }
 
@@ -149,6 +156,21 @@ impl Scene {
                 return Err(argument_error(format!(
                     "time={time} is not a time in seconds at or after 0"
                 )))
+            }
+            (Some(time), Some((SceneSource::File(path), allow_external_paths)))
+                if is_gltf_path(path) =>
+            {
+                let options = LoadOptions {
+                    allow_external_paths: *allow_external_paths,
+                    ..LoadOptions::default()
+                };
+                // A render that panicked holding the lock left the file as it was.
+                let mut file = self.file.lock().unwrap_or_else(|e| e.into_inner());
+                let file = match &mut *file {
+                    Some(file) => file,
+                    None => file.insert(GltfFile::open(path, &options).map_err(to_py)?),
+                };
+                Some(file.pose(time as f32, &AnimationPick::All).map_err(to_py)?)
             }
             (Some(time), Some((source @ SceneSource::File(_), allow_external_paths))) => {
                 let options = LoadOptions {
@@ -269,6 +291,7 @@ impl Scene {
             description: ARRAYS_DESCRIPTION.to_owned(),
             source: None,
             camera_index: None,
+            file: Mutex::new(None),
         })
     }
 

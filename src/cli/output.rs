@@ -156,8 +156,9 @@ pub struct RenderReport {
     pub time: Option<f64>,
     /// What a frame of `--frames` took from the frames before it instead of building it:
     /// `kernel` (the path tracer's pipeline), `accumulation` (the image and its buffers),
-    /// `scene` (the upload, when the scene's data did not change); absent without
-    /// `--frames` or on several devices.
+    /// `scene` (the upload, when the scene's data did not change), or where the scene moved
+    /// the parts of its upload that did not: `materials` (material words and texture
+    /// texels), `environment`, `punctual_lights`; absent without `--frames`.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub reused: Option<Vec<&'static str>>,
 }

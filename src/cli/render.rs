@@ -24,6 +24,8 @@ use crate::render::metadata::sampler_name;
 use crate::render::region::PixelRegion;
 use crate::render::sequence::SequenceCache;
 use crate::render::settings::{Integrator, PixelFilter, RenderSettings};
+use crate::scene::files::LoadOptions;
+use crate::scene::gltf_file::{is_gltf_path, GltfFile};
 use crate::scene::Scene;
 
 /// What `--resume` reads, for the error about a file that is not one.
@@ -444,8 +446,11 @@ fn render(args: &RenderArgs) -> anyhow::Result<()> {
             bail!("--aov and --denoise work with one device");
         }
     }
-    let gltf = matches!(args.scene.source(), crate::scene::source::SceneSource::File(path)
-        if path.extension().is_some_and(|e| e.eq_ignore_ascii_case("gltf") || e.eq_ignore_ascii_case("glb")));
+    let gltf_path = match args.scene.source() {
+        crate::scene::source::SceneSource::File(path) if is_gltf_path(&path) => Some(path),
+        _ => None,
+    };
+    let gltf = gltf_path.is_some();
     if let Some(animation) = &args.frames.animation {
         if !gltf {
             bail!("--animation {animation}: only glTF scenes (.gltf, .glb) have animations");
@@ -455,10 +460,15 @@ fn render(args: &RenderArgs) -> anyhow::Result<()> {
     // The devices are opened once, with the first frame's scene loaded: every frame after
     // it reuses them, and on each device what the frames before it left in that device's
     // `sequences` cache (pipelines, accumulation image, the scene upload while the scene's
-    // data stay the same). Only glTF files move with time: any other scene is loaded once.
+    // data stay the same). Only glTF files move with time: one is read once and posed for
+    // each frame (`GltfFile`); any other scene is loaded once.
     let mut devices: Option<Devices> = None;
     let mut sequences: Vec<SequenceCache> = Vec::new();
     let mut still: Option<Scene> = None;
+    let mut gltf_file: Option<GltfFile> = None;
+    // The environment as the first frame loaded it (a map is read and decoded once), for
+    // the frames of a glTF file after it.
+    let mut loaded_environment: Option<Option<crate::lights::Environment>> = None;
     let mut first = true;
     for frame in args.frames.frame_times() {
         let frame_started = if first {
@@ -486,9 +496,42 @@ fn render(args: &RenderArgs) -> anyhow::Result<()> {
         signals::RENDERING.store(false, std::sync::atomic::Ordering::SeqCst);
         let files: Vec<&std::path::Path> = outputs.iter().map(PathBuf::as_path).collect();
         signals::install(&files)?;
-        let scene = match still.take() {
-            Some(scene) => scene,
-            None => args
+        let scene = match (still.take(), &gltf_path) {
+            (Some(scene), _) => scene,
+            (None, Some(path)) => {
+                let started = Instant::now();
+                let file = match &mut gltf_file {
+                    Some(file) => file,
+                    None => gltf_file.insert(GltfFile::open(
+                        path,
+                        &LoadOptions {
+                            allow_external_paths: args.scene.allow_external_paths,
+                            ..LoadOptions::default()
+                        },
+                    )?),
+                };
+                let scene = file.pose(frame.time as f32, &args.frames.pick())?;
+                log::debug!(
+                    "scene {}posed in {:.3} s",
+                    if first { "read and " } else { "" },
+                    started.elapsed().as_secs_f64()
+                );
+                for warning in scene.warnings.iter().filter(|_| first) {
+                    eprintln!("vkpath: warning: {warning}");
+                }
+                match &loaded_environment {
+                    Some(loaded) => Scene {
+                        environment: loaded.clone(),
+                        ..scene
+                    },
+                    None => {
+                        let scene = scene.with_environment(environment.as_ref())?;
+                        loaded_environment = Some(scene.environment.clone());
+                        scene
+                    }
+                }
+            }
+            (None, None) => args
                 .scene
                 .load_at(
                     "vkpath render",

@@ -26,15 +26,27 @@ pub struct LightBuffers {
     pub punctual: Option<TexelBufferView>,
 }
 
+/// The environment's and punctual lights' buffers of an earlier upload, which an upload
+/// takes instead of uploading them again (the caller knows they hold the same words: a
+/// sequence of renders compares digests of them). `Default`: none.
+#[derive(Default)]
+pub struct KeptLightBuffers {
+    /// The environment's buffer, if kept.
+    pub environment: Option<TexelBufferView>,
+    /// The punctual lights' buffer, if kept.
+    pub punctual: Option<TexelBufferView>,
+}
+
 impl LightBuffers {
     /// Uploads `lights`: the emissive triangles and their selection words always, the
     /// environment and punctual lights when the kernel reads them (`material_kernels`: the
-    /// builds with `USE_MATERIALS`).
+    /// builds with `USE_MATERIALS`), each taken from `kept` where it holds one.
     pub fn upload(
         context: &Arc<Context>,
         commands: &CommandRunner,
         lights: &SceneLights,
         material_kernels: bool,
+        kept: KeptLightBuffers,
     ) -> VkResult<LightBuffers> {
         let upload = |name: &str, bytes: &[u8]| {
             TexelBufferView::upload_rgba32_uint(context, commands, name, bytes)
@@ -47,16 +59,21 @@ impl LightBuffers {
             &lights.selection_words(),
         )?;
         let (environment, punctual) = if material_kernels {
-            (
-                Some(upload(
+            let environment = match kept.environment {
+                Some(kept) => kept,
+                None => upload(
                     "environment",
                     bytemuck::cast_slice(&lights.environment_words()),
-                )?),
-                Some(upload(
+                )?,
+            };
+            let punctual = match kept.punctual {
+                Some(kept) => kept,
+                None => upload(
                     "punctual lights",
                     bytemuck::cast_slice(&lights.punctual_words()),
-                )?),
-            )
+                )?,
+            };
+            (Some(environment), Some(punctual))
         } else {
             (None, None)
         };
@@ -78,6 +95,15 @@ impl LightBuffers {
             Resource::Environment => self.environment.as_ref(),
             Resource::PunctualLights => self.punctual.as_ref(),
             _ => None,
+        }
+    }
+
+    /// The environment's buffer (where `environment`) and the punctual lights' (where
+    /// `punctual`) for a later upload (`upload`'s `kept`); the rest is freed.
+    pub fn into_kept(self, environment: bool, punctual: bool) -> KeptLightBuffers {
+        KeptLightBuffers {
+            environment: self.environment.filter(|_| environment),
+            punctual: self.punctual.filter(|_| punctual),
         }
     }
 

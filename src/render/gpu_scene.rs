@@ -20,7 +20,7 @@ use crate::kernels::variant::{
 };
 use crate::kernels::Build;
 use crate::kernels::{Bound, Resource};
-use crate::lights::gpu_buffers::LightBuffers;
+use crate::lights::gpu_buffers::{KeptLightBuffers, LightBuffers};
 use crate::lights::SceneLights;
 use crate::render::gpu_materials::{
     material_texel_words, scene_texture_slots, GpuMaterial, GpuTriangleShading,
@@ -33,7 +33,7 @@ use crate::scene::{Scene, Triangle};
 use crate::vk::{Buffer, CommandRunner, Context, TexelBufferView, VkResult};
 
 mod upload_digest;
-pub use upload_digest::UploadDigest;
+pub use upload_digest::{SameParts, UploadDigest};
 
 /// Whether a render of `scene` with `settings` can take the lean builds of the path tracer
 /// (`crate::kernels::variant::fits_lean_builds`: no light tree, no path guiding, no
@@ -222,6 +222,7 @@ struct SceneBuffers<'a> {
     bvh_nodes: Option<&'a TexelBufferView>,
     traversal_triangles: Option<&'a TexelBufferView>,
     structures: Option<&'a SceneStructures>,
+    shading: Option<&'a TexelBufferView>,
     materials: Option<&'a MaterialBuffers>,
     lights: &'a LightBuffers,
 }
@@ -235,9 +236,10 @@ impl SceneMemory {
         let traversal_triangle_bytes = bytes(buffers.traversal_triangles);
         let structures = buffers.structures;
         let hardware_structure_bytes = structures.map_or(0, SceneStructures::bytes);
-        let material_bytes = buffers.materials.map_or(0, |m| {
-            m.shading.byte_size() + m.materials.byte_size() + m.texture_texels.byte_size()
-        });
+        let material_bytes = bytes(buffers.shading)
+            + buffers.materials.map_or(0, |m| {
+                m.materials.byte_size() + m.texture_texels.byte_size()
+            });
         let scene_bytes = buffers.triangles.byte_size()
             + buffers.uniforms.size
             + bvh_node_bytes
@@ -274,9 +276,9 @@ fn gpu_materials(scene_materials: &SceneMaterials, atlas: &TextureAtlas) -> Vec<
         .collect()
 }
 
-/// The buffers of `glsl/materials.glsl`.
+/// The buffers of `glsl/materials.glsl` that do not depend on the triangles: the materials'
+/// words and their textures' texels (the per-triangle shading words are the geometry's).
 struct MaterialBuffers {
-    shading: TexelBufferView,
     materials: TexelBufferView,
     texture_texels: TexelBufferView,
     /// `SCENE_TEXTURE_SLOTS`, set with the materials' words.
@@ -284,21 +286,13 @@ struct MaterialBuffers {
 }
 
 impl MaterialBuffers {
-    /// Uploads `scene_materials`, their per-triangle shading data in the order of the BVH's
-    /// leaves (`triangle_order`) where there is one; an error when the textures do not fit the device.
+    /// Uploads the materials of `scene_materials` and their textures; an error when the
+    /// textures do not fit the device.
     fn upload(
         context: &Arc<Context>,
         commands: &CommandRunner,
         scene_materials: &SceneMaterials,
-        triangle_order: Option<&[u32]>,
     ) -> Result<MaterialBuffers> {
-        let shading: Vec<GpuTriangleShading> = match triangle_order {
-            Some(order) => reorder_by(order, &scene_materials.triangles),
-            None => scene_materials.triangles.clone(),
-        }
-        .iter()
-        .map(GpuTriangleShading::new)
-        .collect();
         let limit = u64::from(context.limits.max_texel_buffer_elements);
         let atlas = TextureAtlas::new(&scene_materials.textures, limit).map_err(|e| {
             Error::MissingInput(format!("the scene's textures do not fit this device: {e}"))
@@ -320,12 +314,10 @@ impl MaterialBuffers {
             bytemuck::cast_slice(&atlas.texels),
             vk::BufferUsageFlags::UNIFORM_TEXEL_BUFFER,
         )?;
-        let upload = |name: &str, bytes: &[u8]| {
-            TexelBufferView::upload_rgba32_uint(context, commands, name, bytes)
-        };
         Ok(MaterialBuffers {
-            shading: upload("shading data", bytemuck::cast_slice(&shading))?,
-            materials: upload(
+            materials: TexelBufferView::upload_rgba32_uint(
+                context,
+                commands,
                 "materials",
                 bytemuck::cast_slice(&material_texel_words(&gpu_materials)),
             )?,
@@ -336,6 +328,50 @@ impl MaterialBuffers {
             )?,
             texture_slots: scene_texture_slots(&gpu_materials),
         })
+    }
+}
+
+/// The per-triangle shading words of `scene_materials` in the order of the BVH's leaves
+/// (`triangle_order`) where there is one (gathered as they are made: a reordered copy of
+/// the shading data first took 112 MB and ~0.1 s more at 10^6 triangles).
+fn shading_words(
+    scene_materials: &SceneMaterials,
+    triangle_order: Option<&[u32]>,
+) -> Vec<GpuTriangleShading> {
+    let triangles = &scene_materials.triangles;
+    match triangle_order {
+        Some(order) => order
+            .iter()
+            .map(|&index| GpuTriangleShading::new(&triangles[index as usize]))
+            .collect(),
+        None => triangles.iter().map(GpuTriangleShading::new).collect(),
+    }
+}
+
+/// Buffers of an earlier upload that `GpuScene::upload` takes instead of uploading them
+/// again: each where that part of the new upload writes the same words
+/// (`UploadDigest::same_parts`), e.g. the materials and textures of a scene that moved.
+/// `Default`: none.
+#[derive(Default)]
+pub struct KeptParts {
+    /// The materials' words and texture texels.
+    materials: Option<MaterialBuffers>,
+    /// The environment's and the punctual lights' buffers.
+    lights: KeptLightBuffers,
+}
+
+impl KeptParts {
+    /// Which parts these are, by the names `render --json` reports them with
+    /// (`materials`, `environment`, `punctual_lights`).
+    pub fn names(&self) -> Vec<&'static str> {
+        [
+            (self.materials.is_some(), "materials"),
+            (self.lights.environment.is_some(), "environment"),
+            (self.lights.punctual.is_some(), "punctual_lights"),
+        ]
+        .into_iter()
+        .filter_map(|(kept, name)| kept.then_some(name))
+        .collect()
     }
 }
 
@@ -415,7 +451,9 @@ pub struct GpuScene {
     traversal_triangles: Option<TexelBufferView>,
     /// The device's acceleration structures (`Traversal::RayQuery` only).
     structures: Option<SceneStructures>,
-    /// Shading data, materials and texture texels (scenes with materials only).
+    /// Per-triangle shading data, in leaf order (scenes with materials only).
+    shading: Option<TexelBufferView>,
+    /// Materials and texture texels (scenes with materials only).
     materials: Option<MaterialBuffers>,
     /// What the variant room (`crate::kernels::variant`) reads of the scene.
     pub summary: SceneSummary,
@@ -438,7 +476,8 @@ pub struct GpuScene {
 
 impl GpuScene {
     /// Uploads `scene` as `traversal` reads it, with the camera's image plane for the
-    /// settings' aspect ratio and their seed in the render uniforms.
+    /// settings' aspect ratio and their seed in the render uniforms, taking the buffers in
+    /// `kept` instead of uploading those parts again.
     pub fn upload(
         context: &Arc<Context>,
         commands: &CommandRunner,
@@ -446,7 +485,9 @@ impl GpuScene {
         camera: &Camera,
         settings: &RenderSettings,
         traversal: Traversal,
+        kept: KeptParts,
     ) -> Result<GpuScene> {
+        let started = std::time::Instant::now();
         // With a BVH, triangles are stored in the order its leaves reference them; light
         // indices then refer to that order too.
         // The compressed tree collapses the binary one (`CompressedBvh::from_binary`).
@@ -455,9 +496,13 @@ impl GpuScene {
         let trees = SceneTrees::build(scene, settings.accel, traversal)?;
         let traversal = trees.traversal;
         let triangle_order = trees.triangle_order();
+        log::debug!(
+            "scene upload: trees built in {:.3} s",
+            started.elapsed().as_secs_f64()
+        );
         let ordered_triangles = match triangle_order {
-            Some(order) => reorder_by(order, &scene.triangles),
-            None => scene.triangles.clone(),
+            Some(order) => Cow::Owned(reorder_by(order, &scene.triangles)),
+            None => Cow::Borrowed(&scene.triangles[..]),
         };
         let gpu_triangles: Vec<GpuTriangle> =
             ordered_triangles.iter().map(GpuTriangle::new).collect();
@@ -485,16 +530,26 @@ impl GpuScene {
         };
         let scene_materials = kernel_materials(scene);
         let scene_materials = scene_materials.as_deref();
-        let lights =
-            LightBuffers::upload(context, commands, &scene_lights, scene_materials.is_some())?;
-        let materials = match scene_materials {
-            Some(scene_materials) => Some(MaterialBuffers::upload(
-                context,
-                commands,
-                scene_materials,
-                triangle_order,
+        let lights = LightBuffers::upload(
+            context,
+            commands,
+            &scene_lights,
+            scene_materials.is_some(),
+            kept.lights,
+        )?;
+        let shading = match scene_materials {
+            Some(scene_materials) => Some(upload(
+                "shading data",
+                bytemuck::cast_slice(&shading_words(scene_materials, triangle_order)),
             )?),
             None => None,
+        };
+        let materials = match (scene_materials, kept.materials) {
+            (Some(_), Some(kept)) => Some(kept),
+            (Some(scene_materials), None) => {
+                Some(MaterialBuffers::upload(context, commands, scene_materials)?)
+            }
+            (None, _) => None,
         };
         let texture_slots = materials.as_ref().map_or(0, |m| m.texture_slots);
         let summary = scene_summary(scene, scene_materials, &scene_lights, texture_slots);
@@ -507,11 +562,17 @@ impl GpuScene {
                 bvh_nodes: bvh_nodes.as_ref(),
                 traversal_triangles: traversal_triangles.as_ref(),
                 structures: structures.as_ref(),
+                shading: shading.as_ref(),
                 materials: materials.as_ref(),
                 lights: &lights,
             },
         );
         let bvh_stats = trees.stats();
+        log::debug!(
+            "scene upload: {} triangles uploaded in {:.3} s",
+            scene.triangles.len(),
+            started.elapsed().as_secs_f64()
+        );
         Ok(GpuScene {
             triangles,
             uniforms,
@@ -519,6 +580,7 @@ impl GpuScene {
             bvh_nodes,
             traversal_triangles,
             structures,
+            shading,
             materials,
             summary,
             variant_settings,
@@ -531,6 +593,17 @@ impl GpuScene {
             memory,
             traversal,
         })
+    }
+
+    /// The parts of this upload that `same` says a new one writes alike, for that upload
+    /// (`upload`'s `kept`); the rest (the geometry among them) is freed.
+    pub fn into_kept(self, same: SameParts) -> KeptParts {
+        KeptParts {
+            materials: self.materials.filter(|_| same.materials),
+            lights: self
+                .lights
+                .into_kept(same.environment, same.punctual_lights),
+        }
     }
 
     /// Writes the render uniforms again for `camera` and `settings`' image size and seed:
@@ -556,7 +629,7 @@ impl GpuScene {
             }
             Resource::BvhNodes => self.bvh_nodes.as_ref()?,
             Resource::TraversalTriangles => self.traversal_triangles.as_ref()?,
-            Resource::Shading => &materials?.shading,
+            Resource::Shading => self.shading.as_ref()?,
             Resource::Materials => &materials?.materials,
             Resource::TextureTexels => &materials?.texture_texels,
             // The lights' own buffers, one per kind, and the emissive kind's selection words

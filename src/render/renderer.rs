@@ -23,11 +23,11 @@ use crate::kernels::{Bound, KernelPipeline, Resource, PATH_TRACER};
 use crate::render::accumulation::Accumulation;
 use crate::render::adaptive::NoiseThreshold;
 use crate::render::converged_pixels::{converged_pixel_count, ConvergedPixels};
-use crate::render::gpu_scene::{GpuScene, SceneMemory};
+use crate::render::gpu_scene::{GpuScene, KeptParts, SceneMemory};
 use crate::render::gpu_types::FramePushConstants;
 use crate::render::guide_buffers::GuideBuffers;
 use crate::render::region::{PixelRegion, ACCUMULATION_BYTES_PER_PIXEL, ACCUMULATION_COPIES};
-use crate::render::sequence::{AccumulationImages, SequenceCache, UploadKey};
+use crate::render::sequence::{AccumulationImages, KeptUpload, SequenceCache, UploadKey};
 use crate::render::settings::RenderSettings;
 use crate::render::tiles::{
     area_texel_count, scene_bytes, tile_layout, TileDevice, Tiles, TilesEnd,
@@ -329,16 +329,20 @@ impl Renderer {
                 choice.traversal
             }
         };
-        // A sequence's earlier upload of the same data needs only the camera written again.
-        let kept = sequence
-            .as_deref_mut()
-            .and_then(|s| s.take_scene(scene, UploadKey::new(&settings, traversal)));
+        // A sequence's earlier upload of the same data needs only the camera written again;
+        // of a scene that moved, the parts that did not are kept.
+        let kept = match sequence.as_deref_mut() {
+            Some(sequence) => sequence.take_scene(scene, UploadKey::new(&settings, traversal)),
+            None => KeptUpload::Parts(KeptParts::default()),
+        };
         let gpu_scene = match kept {
-            Some(mut gpu_scene) => {
+            KeptUpload::Whole(mut gpu_scene) => {
                 gpu_scene.aim(scene, camera, &settings);
                 gpu_scene
             }
-            None => GpuScene::upload(context, &commands, scene, camera, &settings, traversal)?,
+            KeptUpload::Parts(parts) => GpuScene::upload(
+                context, &commands, scene, camera, &settings, traversal, parts,
+            )?,
         };
         // (`auto`'s compressed tree may have made way for the 4-wide one)
         let traversal = gpu_scene.traversal;

@@ -3,18 +3,20 @@
 //! their build and specialization constants (a frame whose variant is unchanged takes the
 //! same pipeline; a flag that flips builds the other one, once), the accumulation image
 //! with its read-back and tile-upload buffers (cleared by every render), and the uploaded
-//! scene when the next scene's upload would write the same words (the same `UploadDigest`:
-//! a static scene, or a camera flight; the scene itself is not kept): then only the render uniforms (the camera) are written again. A scene whose geometry
-//! moved is uploaded afresh, BVH built anew: a refitted BVH would have other bounds and
-//! another leaf order than the rebuilt one (the triangles, shading data and light indices
-//! are stored in that order), so its images would not be those of a render of that frame
-//! alone.
+//! scene. Where the next scene's upload would write the same words (the same
+//! `UploadDigest`: a static scene, or a camera flight; the scene itself is not kept), only
+//! the render uniforms (the camera) are written again. A scene whose geometry moved is
+//! uploaded afresh, BVH built anew (a refitted BVH would have other bounds and another leaf
+//! order than the rebuilt one; the triangles, shading data and light indices are stored in
+//! that order, so its images would not be those of a render of that frame alone), but the
+//! parts whose words did not change (`UploadDigest::same_parts`: the materials and texture
+//! texels, the environment, the punctual lights) are taken from the kept upload.
 
 use std::sync::Arc;
 
 use crate::kernels::variant::Traversal;
 use crate::kernels::{Build, KernelPipeline};
-use crate::render::gpu_scene::{GpuScene, UploadDigest};
+use crate::render::gpu_scene::{GpuScene, KeptParts, UploadDigest};
 use crate::render::settings::{Accel, LightSelection, RenderSettings};
 use crate::scene::Scene;
 use crate::vk::{Buffer, StorageImage};
@@ -60,21 +62,59 @@ pub struct ReuseCounts {
     pub images: u32,
     /// Renders whose scene upload was reused (only the camera written again).
     pub scenes: u32,
+    /// Renders that uploaded their scene's geometry again but took the materials' words and
+    /// texture texels from the upload before.
+    pub materials: u32,
+    /// Likewise the environment's buffer.
+    pub environment: u32,
+    /// Likewise the punctual lights' buffer.
+    pub punctual_lights: u32,
 }
 
 impl ReuseCounts {
     /// What was reused since `before` (for one render: what it took from the ones before
-    /// it), by name: `kernel`, `accumulation`, `scene`.
+    /// it), by name: `kernel`, `accumulation`, `scene`, or where the scene moved the parts
+    /// of its upload that did not: `materials`, `environment`, `punctual_lights`.
     pub fn since(self, before: ReuseCounts) -> Vec<&'static str> {
         [
             (self.pipelines > before.pipelines, "kernel"),
             (self.images > before.images, "accumulation"),
             (self.scenes > before.scenes, "scene"),
+            (self.materials > before.materials, "materials"),
+            (self.environment > before.environment, "environment"),
+            (
+                self.punctual_lights > before.punctual_lights,
+                "punctual_lights",
+            ),
         ]
         .into_iter()
         .filter_map(|(reused, name)| reused.then_some(name))
         .collect()
     }
+
+    /// Counts the parts a render took from the upload before (`KeptParts::names`).
+    fn count_parts(&mut self, parts: &KeptParts) {
+        for name in parts.names() {
+            match name {
+                "materials" => self.materials += 1,
+                "environment" => self.environment += 1,
+                "punctual_lights" => self.punctual_lights += 1,
+                _ => {}
+            }
+        }
+    }
+}
+
+/// What a render takes of the upload before: all of it (the scene's data are the same; only
+/// the camera is written again), or some of its parts for a new upload (none where nothing
+/// is kept).
+// One value per render, moved once: the variants' sizes do not matter.
+#[allow(clippy::large_enum_variant)]
+pub(crate) enum KeptUpload {
+    /// The whole upload.
+    Whole(GpuScene),
+    /// The parts that did not change, for `GpuScene::upload`.
+    Parts(KeptParts),
 }
 
 /// A pipeline and what it was built from.
@@ -177,26 +217,36 @@ impl SequenceCache {
         fits.then_some(images)
     }
 
-    /// The kept upload of a scene whose upload writes the same words as `scene`'s for
-    /// `key` (the same `UploadDigest`), if there is one; otherwise remembers the digest and
-    /// `key` for the upload the caller makes (and frees the kept one).
-    pub(crate) fn take_scene(&mut self, scene: &Scene, key: UploadKey) -> Option<GpuScene> {
+    /// What the render of `scene` for `key` takes of the kept upload: all of it where its
+    /// upload writes the same words (the same `UploadDigest`), else the parts that write the
+    /// same words (`UploadDigest::same_parts`; the rest of the kept upload is freed).
+    /// Remembers the digest and `key` for the upload the caller makes.
+    pub(crate) fn take_scene(&mut self, scene: &Scene, key: UploadKey) -> KeptUpload {
+        let started = std::time::Instant::now();
         let digest = UploadDigest::of(scene, key.traversal);
-        if let (Some(kept), Some(digest)) = (self.scene.as_mut(), digest) {
-            if kept.key == key && kept.digest == digest {
-                let gpu = kept.gpu.take();
-                if gpu.is_some() {
-                    self.reused.scenes += 1;
-                }
-                return gpu;
-            }
-        }
+        log::debug!(
+            "scene upload: digests made in {:.3} s",
+            started.elapsed().as_secs_f64()
+        );
+        let kept = self.scene.take();
         self.scene = digest.map(|digest| UploadedScene {
             digest,
             key,
             gpu: None,
         });
-        None
+        let (Some(kept), Some(digest)) = (kept, digest) else {
+            return KeptUpload::Parts(KeptParts::default());
+        };
+        let Some(gpu) = kept.gpu else {
+            return KeptUpload::Parts(KeptParts::default());
+        };
+        if kept.key == key && kept.digest == digest {
+            self.reused.scenes += 1;
+            return KeptUpload::Whole(gpu);
+        }
+        let parts = gpu.into_kept(kept.digest.same_parts(&digest));
+        self.reused.count_parts(&parts);
+        KeptUpload::Parts(parts)
     }
 
     /// Keeps what a finished renderer held for the next render.

@@ -260,17 +260,17 @@ pub struct Pose {
     pub morph_weights: HashMap<usize, Vec<f32>>,
 }
 
-/// Reads the file's animations and picks some (`pick`): the pose they give at `time`.
+/// Picks some (`pick`) of the file's animations (`read_animations`): the pose they give at
+/// `time`.
 pub fn pose_at(
     path: &Path,
     document: &Document,
-    buffers: &[gltf::buffer::Data],
+    animations: &[Animation],
     pick: &AnimationPick,
     time: f32,
 ) -> Result<Pose, SceneError> {
-    let animations = read_animations(path, document, buffers)?;
     let picked = pick
-        .select(&animations)
+        .select(animations)
         .map_err(|reason| malformed_pick(path, reason.to_string()))?;
     let mut morph_weights = HashMap::new();
     for channel in picked.iter().flat_map(|a| &a.weights) {

@@ -8,21 +8,21 @@
 //! accessor types and extents, and camera types.
 
 use std::collections::{HashMap, HashSet};
-use std::io::Read as _;
 use std::path::Path;
 
 use glam::{Mat3, Mat4, Vec2, Vec3, Vec4};
 use gltf::accessor::{DataType, Dimensions};
 use gltf::json::camera::Type as CameraType;
-use gltf::json::validation::{Checked, Validate};
+use gltf::json::validation::Checked;
 use gltf::mesh::Mode;
-use gltf::{Document, Gltf, Node};
+use gltf::{Document, Node};
 
-use super::files::{read_bounded, resolve_reference, LoadOptions, MAX_SCENE_FILE_BYTES};
-use super::gltf_animation::pose_at;
+use super::files::LoadOptions;
+use super::gltf_animation::Pose;
 use super::gltf_deform::{Deformer, NodeDeformation};
 use super::gltf_extensions::unsupported_extension_warnings;
-use super::gltf_materials::MaterialReader;
+use super::gltf_file::GltfFile;
+use super::gltf_materials::{ConvertedMaterials, MaterialReader};
 use super::instances::InstanceRecorder;
 use super::materials::TriangleShading;
 use super::skinning::skin_mirrors;
@@ -39,288 +39,53 @@ pub fn load_gltf(path: &Path) -> Result<Scene, SceneError> {
     load_gltf_with(path, &LoadOptions::default())
 }
 
-/// `load_gltf` with options: whether buffers outside the file's folder may be read.
+/// `load_gltf` with options: whether buffers outside the file's folder may be read, and
+/// the time and animations of its pose. The file is opened and posed once
+/// (`GltfFile::open`, `GltfFile::pose`), as a sequence of frames does for each.
 pub fn load_gltf_with(path: &Path, options: &LoadOptions) -> Result<Scene, SceneError> {
-    let bytes = read_bounded(path, MAX_SCENE_FILE_BYTES)?;
-    let gltf_error = |error| SceneError::Gltf {
-        path: path.to_owned(),
-        error,
-    };
-    check_format(path, &bytes)?;
-    check_glb_header(path, &bytes)?;
-    let Gltf { document, blob } =
-        Gltf::from_slice_without_validation(&bytes).map_err(gltf_error)?;
-    check_required_extensions(path, &document)?;
-    validate(path, &document)?;
-    let buffers = load_buffers(path, &document, blob, options)?;
+    GltfFile::open(path, options)?.pose(options.time, &options.animation)
+}
 
-    let pose = pose_at(path, &document, &buffers, &options.animation, options.time)?;
+/// The scene of a file read (`document`, `buffers`, read with `options`) in `pose`, its
+/// materials converted by a reader that takes up from `converted`; with what that reader
+/// converted by the end.
+pub(super) fn posed_scene(
+    path: &Path,
+    document: &Document,
+    buffers: &[gltf::buffer::Data],
+    options: &LoadOptions,
+    pose: Pose,
+    converted: ConvertedMaterials,
+) -> Result<(Scene, ConvertedMaterials), SceneError> {
     let mut loader = Loader {
-        document: &document,
-        buffers: &buffers,
+        document,
+        buffers,
         builder: SceneBuilder::new(path),
-        materials: MaterialReader::new(path, &document, &buffers, options),
+        materials: MaterialReader::new(path, document, buffers, options, converted),
         orthographic_camera: None,
         instances: InstanceRecorder::default(),
-        deformer: Deformer::new(path, &document, &buffers, pose),
+        deformer: Deformer::new(path, document, buffers, pose),
     };
     for warning in unsupported_extension_warnings(document.extensions_used()) {
         loader.builder.warn(warning);
     }
-    for (node, world) in flatten_hierarchy(path, &document, loader.deformer.local_transforms())? {
+    for (node, world) in flatten_hierarchy(path, document, loader.deformer.local_transforms())? {
         loader.visit(&node, world)?;
     }
-    let MaterialReader {
-        materials,
-        textures,
-        warnings,
-        ..
-    } = loader.materials;
-    for warning in warnings {
-        loader.builder.warn(warning);
+    let converted = loader.materials.converted;
+    for warning in &converted.warnings {
+        loader.builder.warn(warning.clone());
     }
-    loader.builder.set_materials(materials, textures);
+    loader
+        .builder
+        .set_materials(converted.materials.clone(), converted.textures.clone());
     if let (false, Some(camera)) = (loader.builder.has_camera(), loader.orthographic_camera) {
         return Err(SceneError::OrthographicCamera {
             path: path.to_owned(),
             camera,
         });
     }
-    loader.builder.finish()
-}
-
-/// Refuses a file that is neither a GLB (magic `glTF`) nor JSON (`{` after whitespace),
-/// saying what it seems to be.
-fn check_format(path: &Path, bytes: &[u8]) -> Result<(), SceneError> {
-    let text = bytes.strip_prefix(b"\xef\xbb\xbf").unwrap_or(bytes);
-    let first = text.iter().position(|b| !b.is_ascii_whitespace());
-    if bytes.starts_with(b"glTF") || first.is_some_and(|i| text[i] == b'{') {
-        return Ok(());
-    }
-    let start = &text[first.unwrap_or(0)..];
-    let what = if start.is_empty() {
-        "it is empty".to_string()
-    } else if start.starts_with(b"<") {
-        "it looks like HTML or XML (a web page saved instead of the file?)".to_string()
-    } else if start.starts_with(b"\x89PNG") {
-        "it is a PNG image".to_string()
-    } else if start.starts_with(&[0xff, 0xd8, 0xff]) {
-        "it is a JPEG image".to_string()
-    } else if start.starts_with(b"PK\x03\x04") {
-        "it is a ZIP archive (unpack it first)".to_string()
-    } else {
-        let head: Vec<String> = start.iter().take(8).map(|b| format!("{b:02x}")).collect();
-        format!("it starts with the bytes {}", head.join(" "))
-    };
-    Err(SceneError::NotGltf {
-        path: path.to_owned(),
-        what,
-    })
-}
-
-/// Checks a GLB header against the file before anything is read from it: the declared total
-/// length (the `gltf` crate computes `length - 12` unchecked) and each chunk's length must
-/// fit in the file, so that a header claiming gigabytes is refused at once.
-fn check_glb_header(path: &Path, bytes: &[u8]) -> Result<(), SceneError> {
-    if !bytes.starts_with(b"glTF") {
-        return Ok(());
-    }
-    let word = |at: usize| -> Option<u64> {
-        bytes
-            .get(at..at + 4)
-            .map(|w| u64::from(u32::from_le_bytes([w[0], w[1], w[2], w[3]])))
-    };
-    let Some(length) = word(8) else {
-        return Err(malformed(path, "GLB header is cut off".into()));
-    };
-    if length < 12 {
-        return Err(malformed(
-            path,
-            format!("GLB header declares {length} bytes, fewer than the header's own 12"),
-        ));
-    }
-    if length > bytes.len() as u64 {
-        return Err(malformed(
-            path,
-            format!(
-                "GLB header declares {length} bytes, but the file has {}",
-                bytes.len()
-            ),
-        ));
-    }
-    let mut at = 12u64;
-    while at + 8 <= length {
-        let chunk = word(at as usize).unwrap_or(0);
-        if at + 8 + chunk > length {
-            return Err(malformed(
-                path,
-                format!(
-                    "GLB chunk at byte {at} declares {chunk} bytes, beyond the {length} the file declares"
-                ),
-            ));
-        }
-        at += 8 + chunk;
-    }
-    Ok(())
-}
-
-/// Refuses a file whose `extensionsRequired` lists extensions vkpath does not implement,
-/// naming them (a file that needs Draco compression is not "malformed").
-fn check_required_extensions(path: &Path, document: &Document) -> Result<(), SceneError> {
-    let unsupported: Vec<String> = document
-        .extensions_required()
-        .filter(|e| !SUPPORTED_EXTENSIONS.contains(e))
-        .map(super::printable)
-        .collect();
-    if unsupported.is_empty() {
-        Ok(())
-    } else {
-        Err(SceneError::RequiredExtension {
-            path: path.to_owned(),
-            extensions: unsupported,
-        })
-    }
-}
-
-/// Every buffer's bytes: the GLB's binary chunk, a base64 data URI, or a file relative to
-/// the glTF's folder (others only with `allow_external_paths`), of which at most its
-/// `byteLength` bytes are read; fewer than `byteLength` is an error.
-fn load_buffers(
-    path: &Path,
-    document: &Document,
-    mut blob: Option<Vec<u8>>,
-    options: &LoadOptions,
-) -> Result<Vec<gltf::buffer::Data>, SceneError> {
-    let mut buffers = Vec::new();
-    for buffer in document.buffers() {
-        let name = label(buffer.name(), buffer.index());
-        let length = buffer.length() as u64;
-        if length > MAX_SCENE_FILE_BYTES {
-            return Err(SceneError::TooLarge {
-                path: path.to_owned(),
-                bytes: length,
-                limit: MAX_SCENE_FILE_BYTES,
-            });
-        }
-        let mut data = match buffer.source() {
-            gltf::buffer::Source::Bin => blob.take().ok_or_else(|| {
-                malformed(
-                    path,
-                    format!("buffer '{name}' refers to a GLB binary chunk that is missing"),
-                )
-            })?,
-            gltf::buffer::Source::Uri(uri) => read_uri(path, &name, uri, length, options)?,
-        };
-        if (data.len() as u64) < length {
-            return Err(malformed(
-                path,
-                format!(
-                    "buffer '{name}' has {} bytes, fewer than its byteLength {length}",
-                    data.len()
-                ),
-            ));
-        }
-        // As the gltf crate does: the reader expects 4-byte alignment.
-        while data.len() % 4 != 0 {
-            data.push(0);
-        }
-        buffers.push(gltf::buffer::Data(data));
-    }
-    Ok(buffers)
-}
-
-/// The bytes a buffer URI names, at most `length` of them.
-fn read_uri(
-    path: &Path,
-    name: &str,
-    uri: &str,
-    length: u64,
-    options: &LoadOptions,
-) -> Result<Vec<u8>, SceneError> {
-    if let Some(rest) = uri.strip_prefix("data:") {
-        let (_, encoded) = rest.split_once(";base64,").ok_or_else(|| {
-            malformed(
-                path,
-                format!("buffer '{name}' has a data URI that is not base64"),
-            )
-        })?;
-        return base64::decode(encoded)
-            .map_err(|e| malformed(path, format!("buffer '{name}': bad base64 data: {e}")));
-    }
-    let file_name = if let Some(rest) = uri
-        .strip_prefix("file://")
-        .or_else(|| uri.strip_prefix("file:"))
-    {
-        rest
-    } else if uri.split_once(':').is_some_and(|(scheme, _)| {
-        scheme.len() > 1
-            && scheme
-                .chars()
-                .all(|c| c.is_ascii_alphanumeric() || "+-.".contains(c))
-    }) {
-        return Err(malformed(
-            path,
-            format!("buffer '{name}' is at '{uri}'; vkpath reads local files only"),
-        ));
-    } else {
-        uri
-    };
-    let decoded = urlencoding::decode(file_name).map_err(|_| {
-        malformed(
-            path,
-            format!("buffer '{name}': its URI is not valid UTF-8 when decoded"),
-        )
-    })?;
-    let file = resolve_reference(path, &decoded, options)?;
-    let missing = |error| SceneError::MissingBuffer {
-        path: path.to_owned(),
-        buffer: format!("'{name}'"),
-        file: super::printable(&file.display().to_string()),
-        error,
-    };
-    let metadata = std::fs::metadata(&file).map_err(missing)?;
-    if !metadata.is_file() {
-        return Err(missing(std::io::Error::other("it is not a regular file")));
-    }
-    let mut bytes = Vec::new();
-    std::io::Read::take(std::fs::File::open(&file).map_err(missing)?, length)
-        .read_to_end(&mut bytes)
-        .map_err(missing)?;
-    Ok(bytes)
-}
-
-/// The `gltf` crate's validation, preceded by the one check its validation needs but does
-/// not make: its POSITION hook indexes the accessor list with the unchecked index.
-fn validate(path: &Path, document: &Document) -> Result<(), SceneError> {
-    let root = document.as_json();
-    for (mesh_index, mesh) in root.meshes.iter().enumerate() {
-        for (primitive_index, primitive) in mesh.primitives.iter().enumerate() {
-            for accessor in primitive.attributes.values() {
-                if accessor.value() >= root.accessors.len() {
-                    return Err(malformed(
-                        path,
-                        format!(
-                            "mesh {mesh_index} primitive {primitive_index} refers to accessor \
-                             {}, which does not exist",
-                            accessor.value()
-                        ),
-                    ));
-                }
-            }
-        }
-    }
-    let mut errors = Vec::new();
-    root.validate(root, gltf::json::Path::new, &mut |path, error| {
-        errors.push((path(), error))
-    });
-    if errors.is_empty() {
-        Ok(())
-    } else {
-        Err(SceneError::Gltf {
-            path: path.to_owned(),
-            error: gltf::Error::Validation(errors),
-        })
-    }
+    Ok((loader.builder.finish()?, converted))
 }
 
 /// Every node of the default scene (else the first scene, else all root nodes) with its
@@ -503,7 +268,7 @@ impl Loader<'_> {
             let context = format!("mesh '{name}' primitive {primitive_index}");
             let (mut positions, indices) = self.read_geometry(&primitive, &context)?;
             let material_index = self.materials.material_index(&primitive.material());
-            let pbr = self.materials.materials[material_index as usize];
+            let pbr = self.materials.converted.materials[material_index as usize];
             let material =
                 Material::sanitized(pbr.base_color.truncate(), pbr.emission, pbr.double_sided);
             let mut attributes = self.read_attributes(&primitive, &context, positions.len())?;

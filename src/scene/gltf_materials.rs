@@ -27,6 +27,15 @@ pub(crate) struct MaterialReader<'a> {
     document: &'a gltf::Document,
     buffers: &'a [gltf::buffer::Data],
     options: &'a LoadOptions,
+    /// What it converted so far.
+    pub converted: ConvertedMaterials,
+}
+
+/// What a `MaterialReader` converted: kept by a file read once (`GltfFile`) for its next
+/// pose, whose reader then converts nothing again (every pose meets the same materials in
+/// the same order: the hierarchy and its meshes do not move with time).
+#[derive(Clone, Debug, Default)]
+pub(crate) struct ConvertedMaterials {
     /// glTF material index (None: the default material) -> index in `materials`.
     material_indices: HashMap<Option<usize>, u32>,
     /// glTF texture index -> index in `textures`, or None when it could not be loaded.
@@ -40,35 +49,35 @@ pub(crate) struct MaterialReader<'a> {
 }
 
 impl<'a> MaterialReader<'a> {
-    /// A reader for the glTF file at `path` with its loaded `buffers`.
+    /// A reader for the glTF file at `path` with its loaded `buffers`, which takes up where
+    /// an earlier reader of the same file left off (`converted`; `Default` for none).
     pub fn new(
         path: &'a Path,
         document: &'a gltf::Document,
         buffers: &'a [gltf::buffer::Data],
         options: &'a LoadOptions,
+        converted: ConvertedMaterials,
     ) -> MaterialReader<'a> {
         MaterialReader {
             path,
             document,
             buffers,
             options,
-            material_indices: HashMap::new(),
-            texture_indices: HashMap::new(),
-            materials: Vec::new(),
-            textures: Vec::new(),
-            warnings: Vec::new(),
+            converted,
         }
     }
 
     /// The index of `material` among the converted materials, converting it on first use.
     pub fn material_index(&mut self, material: &gltf::Material) -> u32 {
-        if let Some(&index) = self.material_indices.get(&material.index()) {
+        if let Some(&index) = self.converted.material_indices.get(&material.index()) {
             return index;
         }
         let converted = self.convert(material);
-        let index = self.materials.len() as u32;
-        self.materials.push(converted);
-        self.material_indices.insert(material.index(), index);
+        let index = self.converted.materials.len() as u32;
+        self.converted.materials.push(converted);
+        self.converted
+            .material_indices
+            .insert(material.index(), index);
         index
     }
 
@@ -182,7 +191,7 @@ impl<'a> MaterialReader<'a> {
             .and_then(serde_json::Value::as_u64)
             .and_then(|index| self.document.textures().nth(index as usize));
         let Some(texture) = texture else {
-            self.warnings.push(format!(
+            self.converted.warnings.push(format!(
                 "material '{material}': {slot} names no texture of the file, so it is ignored"
             ));
             return None;
@@ -247,7 +256,7 @@ impl<'a> MaterialReader<'a> {
         transform: TextureTransform,
     ) -> Option<TextureBinding> {
         if tex_coord != 0 {
-            self.warnings.push(format!(
+            self.converted.warnings.push(format!(
                 "material '{material}': {slot} uses TEXCOORD_{tex_coord}; only TEXCOORD_0 is read, so the texture is ignored"
             ));
             return None;
@@ -261,25 +270,27 @@ impl<'a> MaterialReader<'a> {
 
     /// Decodes a texture on first use; None (with a warning) when it cannot be used.
     fn texture_index(&mut self, texture: &gltf::Texture) -> Option<u32> {
-        if let Some(&index) = self.texture_indices.get(&texture.index()) {
+        if let Some(&index) = self.converted.texture_indices.get(&texture.index()) {
             return index;
         }
         let index = match self.load_texture(texture) {
             Ok(loaded) => {
-                self.textures.push(loaded);
-                Some(self.textures.len() as u32 - 1)
+                self.converted.textures.push(loaded);
+                Some(self.converted.textures.len() as u32 - 1)
             }
             Err(reason) => {
                 let name = texture
                     .name()
                     .map_or_else(|| format!("#{}", texture.index()), super::printable);
-                self.warnings.push(format!(
+                self.converted.warnings.push(format!(
                     "texture '{name}' is ignored (the material uses its factor instead): {reason}"
                 ));
                 None
             }
         };
-        self.texture_indices.insert(texture.index(), index);
+        self.converted
+            .texture_indices
+            .insert(texture.index(), index);
         index
     }
 

@@ -17,6 +17,7 @@ pub mod files;
 mod gltf_animation;
 mod gltf_deform;
 mod gltf_extensions;
+pub mod gltf_file;
 pub mod gltf_loader;
 mod gltf_materials;
 pub mod instances;

@@ -1,34 +1,64 @@
-//! What a scene's upload is made of, as one digest (`UploadDigest`): a sequence of renders
-//! (`crate::render::sequence`) keeps the upload while the next scene's digest is the same,
-//! without keeping the scene itself (a copy of a scene of 10^6 triangles takes ~200 MB).
+//! What a scene's upload is made of, as digests of its parts (`UploadDigest`): a sequence
+//! of renders (`crate::render::sequence`) keeps the upload while the next scene's digests
+//! are the same, without keeping the scene itself (a copy of a scene of 10^6 triangles takes
+//! ~200 MB), and where only some parts are the same (a moving scene), their buffers.
 //!
-//! The digest hashes the words `GpuScene::upload` writes, or the words it derives the rest
-//! from, made by the functions the upload makes them with, in the scene's order: every
-//! `GpuTriangle` (the BVH, the traversal's triangles, the emissive lights, their selection
-//! words and light tree are functions of these and of the settings in the sequence's
-//! `UploadKey`); the material kernels' shading, material and texture words; the environment's
-//! and punctual lights' words; and with ray queries the acceleration structures' plan. Two
-//! scenes with the same digest therefore get the same upload, whatever else differs in them.
+//! Each part's digest hashes the words `GpuScene::upload` writes into that part's buffers,
+//! or the words it derives them from, made by the functions the upload makes them with, in
+//! the scene's order:
+//! - the geometry: every `GpuTriangle` (the BVH, the traversal's triangles, the emissive
+//!   lights, their selection words and light tree are functions of these and of the
+//!   settings in the sequence's `UploadKey`), the material kernels' per-triangle shading
+//!   words, and with ray queries the acceleration structures' plan;
+//! - the materials: the material kernels' material words and texture atlas, or that the
+//!   workshop kernels read none;
+//! - the environment (what its words are made of: the map, its strength and turn) and the
+//!   punctual lights' words, which only the material kernels read (for the workshop kernels,
+//!   a word that says so).
+//!
+//! Two scenes whose part digests are the same get the same words in that part's buffers,
+//! whatever else differs in them.
 
 use sha2::{Digest, Sha256};
 
 use super::{gpu_materials, kernel_materials};
 use crate::accel::plan::StructurePlan;
 use crate::kernels::variant::Traversal;
-use crate::lights::gpu_environment::gpu_environment_words;
 use crate::lights::gpu_punctual::gpu_punctual_light_words;
+use crate::lights::{Environment, EnvironmentMap};
 use crate::render::gpu_materials::{material_texel_words, GpuTriangleShading};
 use crate::render::gpu_textures::TextureAtlas;
 use crate::render::gpu_types::GpuTriangle;
 use crate::scene::Scene;
 
-/// The SHA-256 digest of what `GpuScene::upload` writes for a scene, the render uniforms
-/// (camera, image size, seed) aside. SHA-256 is collision resistant: two scenes that upload
-/// different words get the same digest with a probability of about 2^-256 (2^-128 among
-/// every pair of a sequence of 2^64 scenes), so a sequence that reuses an upload by its
-/// digest renders the image a fresh upload would.
+/// The SHA-256 digests of what `GpuScene::upload` writes for a scene, part by part, the
+/// render uniforms (camera, image size, seed) aside. SHA-256 is collision resistant: two
+/// scenes that upload different words in a part get the same digest with a probability of
+/// about 2^-256 (2^-128 among every pair of a sequence of 2^64 scenes), so a sequence that
+/// reuses a part by its digest renders the image a fresh upload would.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub struct UploadDigest([u8; 32]);
+pub struct UploadDigest {
+    /// The triangles and everything stored in their (leaf) order.
+    geometry: [u8; 32],
+    /// The materials' words and texture texels (`MaterialBuffers`).
+    materials: [u8; 32],
+    /// The environment's words.
+    environment: [u8; 32],
+    /// The punctual lights' words.
+    punctual_lights: [u8; 32],
+}
+
+/// Which parts of two uploads write the same words (`UploadDigest::same_parts`), apart from
+/// the geometry: the parts a new upload of a moved scene can take from the kept one.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct SameParts {
+    /// The materials' words and texture texels.
+    pub materials: bool,
+    /// The environment's words.
+    pub environment: bool,
+    /// The punctual lights' words.
+    pub punctual_lights: bool,
+}
 
 /// Items hashed at once: their words go to the hasher in one slice, without a copy of the
 /// whole scene's words.
@@ -39,6 +69,11 @@ const CHUNK: usize = 4096;
 struct Parts(Sha256);
 
 impl Parts {
+    /// A hasher with nothing hashed yet.
+    fn new() -> Parts {
+        Parts(Sha256::new())
+    }
+
     /// Hashes one part: `bytes`.
     fn part(&mut self, bytes: &[u8]) {
         self.0.update((bytes.len() as u64).to_le_bytes());
@@ -57,10 +92,50 @@ impl Parts {
             self.0.update(bytemuck::cast_slice(&chunk));
         }
     }
+
+    /// The digest of what was hashed.
+    fn finish(self) -> [u8; 32] {
+        self.0.finalize().into()
+    }
+}
+
+/// Hashes what the environment's words (`gpu_environment_words`) are made of: the
+/// environment itself, every field, rather than the words, whose importance table takes
+/// longer to make than the map to hash (0.18 s a frame for a 2048 x 1024 map). The same
+/// environment makes the same words.
+fn hash_environment(part: &mut Parts, environment: Option<&Environment>) {
+    let Some(Environment {
+        map,
+        background,
+        strength,
+        rotation_degrees,
+    }) = environment
+    else {
+        part.part(b"none");
+        return;
+    };
+    part.part(bytemuck::cast_slice(&[
+        background.x,
+        background.y,
+        background.z,
+        *strength,
+        *rotation_degrees,
+    ]));
+    match map {
+        Some(EnvironmentMap {
+            width,
+            height,
+            texels,
+        }) => {
+            part.part(bytemuck::cast_slice(&[*width, *height]));
+            part.words_of(texels, |texel| texel.to_array());
+        }
+        None => part.part(b"constant"),
+    }
 }
 
 impl UploadDigest {
-    /// The digest of what `GpuScene::upload` writes for `scene` traced by `traversal`;
+    /// The digests of what `GpuScene::upload` writes for `scene` traced by `traversal`;
     /// `None` where the upload would fail on the scene's own data (textures beyond the 2^32
     /// texels an atlas can index), which is then never kept.
     pub fn of(scene: &Scene, traversal: Traversal) -> Option<UploadDigest> {
@@ -79,35 +154,61 @@ impl UploadDigest {
             // Read by the structures' plan
             mesh_instances,
         } = scene;
-        let mut parts = Parts(Sha256::new());
-        parts.words_of(triangles, GpuTriangle::new);
-        match kernel_materials(scene) {
-            Some(materials) => {
-                parts.part(b"materials");
-                parts.words_of(&materials.triangles, GpuTriangleShading::new);
-                let atlas = TextureAtlas::new(&materials.textures, u64::MAX).ok()?;
-                let words = material_texel_words(&gpu_materials(&materials, &atlas));
-                parts.part(bytemuck::cast_slice(&words));
-                parts.part(bytemuck::cast_slice(&atlas.texels));
+        let kernel_materials = kernel_materials(scene);
+        let mut geometry = Parts::new();
+        geometry.words_of(triangles, GpuTriangle::new);
+        let mut materials = Parts::new();
+        match &kernel_materials {
+            Some(kernel_materials) => {
+                geometry.part(b"shading");
+                geometry.words_of(&kernel_materials.triangles, GpuTriangleShading::new);
+                materials.part(b"materials");
+                let atlas = TextureAtlas::new(&kernel_materials.textures, u64::MAX).ok()?;
+                let words = material_texel_words(&gpu_materials(kernel_materials, &atlas));
+                materials.part(bytemuck::cast_slice(&words));
+                materials.part(bytemuck::cast_slice(&atlas.texels));
             }
-            None => parts.part(b"workshop"),
+            None => materials.part(b"workshop"),
         }
-        parts.part(bytemuck::cast_slice(&gpu_environment_words(
-            environment.as_ref(),
-        )));
-        parts.part(bytemuck::cast_slice(&gpu_punctual_light_words(
-            punctual_lights,
-        )));
         if traversal == Traversal::RayQuery {
             let plan = StructurePlan::of(triangles, mesh_instances);
-            parts.part(&(plan.bottom_levels.len() as u64).to_le_bytes());
+            geometry.part(&(plan.bottom_levels.len() as u64).to_le_bytes());
             for level in &plan.bottom_levels {
-                parts.part(bytemuck::cast_slice(&level.positions));
-                parts.words_of(&level.instances, |instance| instance.transform);
-                parts.words_of(&level.instances, |instance| instance.first_triangle);
+                geometry.part(bytemuck::cast_slice(&level.positions));
+                geometry.words_of(&level.instances, |instance| instance.transform);
+                geometry.words_of(&level.instances, |instance| instance.first_triangle);
             }
         }
-        Some(UploadDigest(parts.0.finalize().into()))
+        // Only the material kernels read the environment and the punctual lights
+        // (`LightBuffers::upload`).
+        let read = |hash: &dyn Fn(&mut Parts)| {
+            let mut part = Parts::new();
+            if kernel_materials.is_some() {
+                hash(&mut part);
+            } else {
+                part.part(b"workshop");
+            }
+            part.finish()
+        };
+        Some(UploadDigest {
+            geometry: geometry.finish(),
+            materials: materials.finish(),
+            environment: read(&|part| hash_environment(part, environment.as_ref())),
+            punctual_lights: read(&|part| {
+                part.part(bytemuck::cast_slice(&gpu_punctual_light_words(
+                    punctual_lights,
+                )))
+            }),
+        })
+    }
+
+    /// Which parts besides the geometry `self` and `other` write alike.
+    pub fn same_parts(&self, other: &UploadDigest) -> SameParts {
+        SameParts {
+            materials: self.materials == other.materials,
+            environment: self.environment == other.environment,
+            punctual_lights: self.punctual_lights == other.punctual_lights,
+        }
     }
 }
 
@@ -158,6 +259,36 @@ mod tests {
             materials.triangles[0].normals[1] = Vec3::Y;
         }
         assert_ne!(digest(&shaded), digest(&smooth));
+    }
+
+    #[test]
+    fn a_moved_scene_keeps_the_parts_that_did_not_move() {
+        let lit = |x: f32| {
+            let mut scene = scene(x);
+            scene.materials = Some(SceneMaterials::from_plain(&scene.triangles));
+            scene.environment = Some(crate::lights::Environment::constant(Vec3::ONE));
+            scene
+        };
+        let (before, after) = (digest(&lit(0.0)), digest(&lit(0.25)));
+        assert_ne!(before, after);
+        let all = SameParts {
+            materials: true,
+            environment: true,
+            punctual_lights: true,
+        };
+        assert_eq!(before.same_parts(&after), all);
+        let mut brighter = lit(0.25);
+        brighter.environment = Some(crate::lights::Environment::constant(Vec3::splat(2.0)));
+        let environment_changed = SameParts {
+            environment: false,
+            ..all
+        };
+        assert_eq!(before.same_parts(&digest(&brighter)), environment_changed);
+        // The workshop kernels read no materials, environment or punctual lights.
+        assert_eq!(
+            digest(&scene(0.0)).same_parts(&before),
+            SameParts::default()
+        );
     }
 
     #[test]
