@@ -179,11 +179,14 @@ pub struct RenderControl<'a> {
     pub deadline: Option<Instant>,
     /// Called with the state every `checkpoint_interval` (not at the end: the caller has the
     /// final state in the outcome).
-    pub checkpoint: Option<(Duration, &'a mut dyn FnMut(&Accumulation) -> Result<()>)>,
+    pub checkpoint: Option<(Duration, StateCallback<'a>)>,
     /// Called with the state every interval, like `checkpoint` (e.g. to write a preview
     /// image); when both are due, the state is read back once for both.
-    pub preview: Option<(Duration, &'a mut dyn FnMut(&Accumulation) -> Result<()>)>,
+    pub preview: Option<(Duration, StateCallback<'a>)>,
 }
+
+/// What a render calls with its read-back state (`RenderControl`'s checkpoint and preview).
+pub type StateCallback<'a> = &'a mut dyn FnMut(&Accumulation) -> Result<()>;
 
 /// How a render that `Renderer::render_to_end` ran ended.
 #[derive(Debug)]
