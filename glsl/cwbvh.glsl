@@ -125,9 +125,17 @@ void cwbvh_intersect_node(out uvec2 out_node_group, out uvec2 out_triangle_group
     vec3 scale = uintBitsToFloat(((uvec3(header.w) >> uvec3(0u, 8u, 16u)) & 255u) << 23u);
     vec3 scaled_inverse = scale * inverse_direction;
     vec3 shifted_origin = (uintBitsToFloat(header.xyz) - ray_origin) * inverse_direction;
-    uint hits = 0u;
-    for (uint slot = 0u; slot != 8u; ++slot)
-        hits |= cwbvh_intersect_child(slot, planes_x, planes_y, planes_z, indices.zw, scaled_inverse, shifted_origin, octant_inverse, t_max);
+    // The slots one after another, written out rather than looped over: a loop here would
+    // add nine trips per node visit to llvmpipe's loop limiter (src/kernels/loops.rs), and
+    // one child's plane values are dead before the next child's are loaded.
+    uint hits = cwbvh_intersect_child(0u, planes_x, planes_y, planes_z, indices.zw, scaled_inverse, shifted_origin, octant_inverse, t_max);
+    hits |= cwbvh_intersect_child(1u, planes_x, planes_y, planes_z, indices.zw, scaled_inverse, shifted_origin, octant_inverse, t_max);
+    hits |= cwbvh_intersect_child(2u, planes_x, planes_y, planes_z, indices.zw, scaled_inverse, shifted_origin, octant_inverse, t_max);
+    hits |= cwbvh_intersect_child(3u, planes_x, planes_y, planes_z, indices.zw, scaled_inverse, shifted_origin, octant_inverse, t_max);
+    hits |= cwbvh_intersect_child(4u, planes_x, planes_y, planes_z, indices.zw, scaled_inverse, shifted_origin, octant_inverse, t_max);
+    hits |= cwbvh_intersect_child(5u, planes_x, planes_y, planes_z, indices.zw, scaled_inverse, shifted_origin, octant_inverse, t_max);
+    hits |= cwbvh_intersect_child(6u, planes_x, planes_y, planes_z, indices.zw, scaled_inverse, shifted_origin, octant_inverse, t_max);
+    hits |= cwbvh_intersect_child(7u, planes_x, planes_y, planes_z, indices.zw, scaled_inverse, shifted_origin, octant_inverse, t_max);
     out_node_group = uvec2(indices.x, (hits & 0xFF000000u) | (header.w >> 24u));
     out_triangle_group = uvec2(indices.y, hits & 0x00FFFFFFu);
 }
