@@ -20,6 +20,10 @@ const WITHOUT_TWINS: &[(&str, &str)] = &[
     ("pack_triangle", "the probes' inverse of unpack_triangle: probe output plumbing"),
     ("get_probe_index", "which input a probe invocation reads: probe plumbing, no maths"),
     ("get_display_material", "the exercise display's push constants into a material_t: plumbing"),
+    (
+        "cwbvh_overflow_index",
+        "where a stack entry lies in workgroup-shared memory (gl_LocalInvocationIndex): the CPU traversal's stack is one array",
+    ),
     // The device's own traversal (VK_KHR_ray_query): the hardware walks its acceleration
     // structures; the reference is the software BVH (whose twins are tested), and
     // tests/ray_query_cli.rs checks the ray-query renders against the BVH's, image for image.
