@@ -57,13 +57,20 @@ float get_light_cumulative_probability(uint light_index) {
 uint sample_light_index(float random_number) {
     uint low = 0u;
     uint high = get_light_count() - 1u;
-    // At most 32 halvings for any uint count.
-    for (int i = 0; i != 32 && low < high; ++i) {
-        uint middle = (low + high) / 2u;
-        if (random_number < get_light_cumulative_probability(middle))
-            high = middle;
-        else
-            low = middle + 1u;
+    // ceil(log2(count)) halvings, findMSB(count - 1) + 1 (32 at most, for any uint count),
+    // a trip count the same in every lane: a lane whose search has ended skips the rest.
+    // A divergent exit (`low < high` in the loop's condition) made GPU compilers unroll the
+    // loop into 32 nested branches, each holding its exec mask in scalar registers (RDNA3,
+    // mis on materials.gltf: 142 scalar registers, 32 spilled into a vector register).
+    int iterations = findMSB(high) + 1;
+    for (int i = 0; i != iterations; ++i) {
+        if (low < high) {
+            uint middle = (low + high) / 2u;
+            if (random_number < get_light_cumulative_probability(middle))
+                high = middle;
+            else
+                low = middle + 1u;
+        }
     }
     return low;
 }

@@ -83,15 +83,16 @@ pub fn get_light_selection_probability(
 /// Twin of `sample_light_index`: binary search for the first CDF entry above the number.
 pub fn sample_light_index(lights: &EmissiveTriangles, random_number: f32) -> usize {
     let (mut low, mut high) = (0usize, lights.cdf.len().saturating_sub(1));
-    for _ in 0..32 {
-        if low >= high {
-            break;
-        }
-        let middle = (low + high) / 2;
-        if random_number < lights.cdf[middle] {
-            high = middle;
-        } else {
-            low = middle + 1;
+    // The GLSL's trip count, `findMSB(high) + 1`, with the end of the search inside the loop
+    let iterations = usize::BITS - high.leading_zeros();
+    for _ in 0..iterations {
+        if low < high {
+            let middle = (low + high) / 2;
+            if random_number < lights.cdf[middle] {
+                high = middle;
+            } else {
+                low = middle + 1;
+            }
         }
     }
     low
