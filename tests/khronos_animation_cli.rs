@@ -8,9 +8,8 @@
 use std::path::Path;
 
 use serde_json::{json, Value};
-use vkpath::image_io::exr_input::read_exr;
 
-use crate::common::runs::run;
+use crate::common::runs::{exr_pixels as pixels, render_small};
 
 /// Khronos' BoxAnimated: a small box (node 2, mesh "inner_box") rises out of a larger hollow
 /// one, flips over and sinks. Its animations, LINEAR: node 0's translation keys (0, 0, 0) at
@@ -31,35 +30,9 @@ const RISEN: f32 = 2.52;
 /// The half turn about +X that BoxAnimated's rotation reaches at 2.5 s, x y z w as stored.
 const FLIPPED: [f32; 4] = [1.0, 0.0, 0.0, 4.489_659_3e-11];
 
-/// Small, quick renders: 40 x 40 at 2 spp, lit by a white background, traced through a BVH
-/// (`--accel bvh`): under `auto` the samples' few triangles would be compiled into the kernel,
-/// a new kernel (seconds on lavapipe) for every pose, where the BVH's kernel is one for all
-/// of them and comes from the tests' pipeline cache after its first build.
-const SMALL: [&str; 10] = [
-    "--accel",
-    "bvh",
-    "--width",
-    "40",
-    "--height",
-    "40",
-    "--spp",
-    "2",
-    "--background",
-    "1,1,1",
-];
-
-/// Renders `scene` with `extra` options to `output` in `dir`.
+/// Renders `scene` with `extra` options to `output` in `dir`, small (`render_small`, 40 x 40).
 fn render(dir: &Path, scene: &str, extra: &[&str], output: &str) {
-    let mut args = vec!["render", scene, "-o", output];
-    args.extend(extra);
-    args.extend(SMALL);
-    let result = run(dir, &args, &[]);
-    assert_eq!(result.code, Some(0), "{args:?}: {}", result.stderr);
-}
-
-/// The mean radiance of an EXR written by `render`.
-fn pixels(dir: &Path, name: &str) -> Vec<[f32; 4]> {
-    read_exr(&dir.join(name)).unwrap().image.mean
+    render_small(dir, scene, extra, output, "40");
 }
 
 /// The glTF document at `path` without its animations.

@@ -6,9 +6,8 @@
 use std::path::Path;
 
 use serde_json::{json, Value};
-use vkpath::image_io::exr_input::read_exr;
 
-use crate::common::runs::run;
+use crate::common::runs::{exr_pixels as pixels, render_small, run, small_render_options};
 
 /// A glTF document's buffer, views and accessors, written beside it as `NAME.bin`.
 #[derive(Default)]
@@ -177,39 +176,15 @@ fn write_morphed(dir: &Path) {
     buffer.write(dir, "morph", rest, 1);
 }
 
-/// Small, quick renders: 32 x 32 at 2 spp, lit by a white background, traced through a BVH
-/// (`--accel bvh`): under `auto` the strips' few triangles would be compiled into the kernel,
-/// a new kernel (seconds on lavapipe) for every pose (`frames_cli` renders poses that way).
-const SMALL: [&str; 10] = [
-    "--accel",
-    "bvh",
-    "--width",
-    "32",
-    "--height",
-    "32",
-    "--spp",
-    "2",
-    "--background",
-    "1,1,1",
-];
-
-/// Renders `scene` with `extra` options to `output` in `dir`.
+/// Renders `scene` with `extra` options to `output` in `dir`, small (`render_small`, 32 x 32),
+/// and fails where vkpath says something is not supported.
 fn render(dir: &Path, scene: &str, extra: &[&str], output: &str) {
-    let mut args = vec!["render", scene, "-o", output];
-    args.extend(extra);
-    args.extend(SMALL);
-    let result = run(dir, &args, &[]);
-    assert_eq!(result.code, Some(0), "{args:?}: {}", result.stderr);
+    let result = render_small(dir, scene, extra, output, "32");
     assert!(
         !result.stderr.contains("not supported"),
         "{}",
         result.stderr
     );
-}
-
-/// The mean radiance of an EXR written by `render`.
-fn pixels(dir: &Path, name: &str) -> Vec<[f32; 4]> {
-    read_exr(&dir.join(name)).unwrap().image.mean
 }
 
 #[test]
@@ -294,7 +269,7 @@ fn khronos_rigged_simple_bends_and_a_sequence_frame_equals_its_still() {
     let mut frames = vec!["render", RIGGED_SIMPLE, "-o", "r_#.exr", "--frames", "0..3"];
     frames.extend(["--fps", "2", "--json"]);
     frames.extend(SIDE_VIEW);
-    frames.extend(SMALL);
+    frames.extend(small_render_options("32"));
     let sequence = run(d, &frames, &[]);
     assert_eq!(sequence.code, Some(0), "{}", sequence.stderr);
     // Each frame after the first keeps the kernel and the accumulation image; the scene

@@ -1,6 +1,7 @@
 //! Running the `vkpath` binary and reading what it printed, for the tests of `check` and
 //! `shadertoy` (tests/check_cli.rs, tests/shadertoy_cli.rs): the exit code, stdout, stderr,
-//! the JSON report of `--json`, and `check` with the small renders those tests use.
+//! the JSON report of `--json`, and `check` with the small renders those tests use; and the
+//! small renders of posed geometry (tests/skin_morph_cli.rs, tests/khronos_animation_cli.rs).
 
 use std::path::Path;
 
@@ -67,4 +68,50 @@ pub fn verdict(report: &Value, function: &str) -> Option<Value> {
             .find(|f| f["function"] == function)
             .cloned()
     })
+}
+
+/// The options of the posed-geometry tests' small, quick renders (`skin_morph_cli`,
+/// `khronos_animation_cli`): `size` x `size` pixels at 2 spp, lit by a white background,
+/// traced through a BVH (`--accel bvh`): under `auto` a scene of a few triangles is compiled
+/// into the kernel, a new kernel (seconds on lavapipe) for every pose, where the BVH's kernel
+/// is one for all poses and comes from the tests' pipeline cache after its first build
+/// (`frames_cli` renders poses the compiled-in way).
+pub fn small_render_options(size: &'static str) -> [&'static str; 10] {
+    [
+        "--accel",
+        "bvh",
+        "--width",
+        size,
+        "--height",
+        size,
+        "--spp",
+        "2",
+        "--background",
+        "1,1,1",
+    ]
+}
+
+/// Renders `scene` with `extra` options and `small_render_options(size)` to `output` in
+/// `dir`; fails the test unless the render succeeds. Returns the run.
+pub fn render_small(
+    dir: &Path,
+    scene: &str,
+    extra: &[&str],
+    output: &str,
+    size: &'static str,
+) -> Run {
+    let mut args = vec!["render", scene, "-o", output];
+    args.extend(extra);
+    args.extend(small_render_options(size));
+    let result = run(dir, &args, &[]);
+    assert_eq!(result.code, Some(0), "{args:?}: {}", result.stderr);
+    result
+}
+
+/// The mean radiance of the EXR `name` in `dir`.
+pub fn exr_pixels(dir: &Path, name: &str) -> Vec<[f32; 4]> {
+    vkpath::image_io::exr_input::read_exr(&dir.join(name))
+        .unwrap()
+        .image
+        .mean
 }
