@@ -2,7 +2,8 @@
 // KHR_materials_specular and KHR_materials_ior, and its importance sampling: the workshop's
 // closing slide's "BRDF importance sampling" for real materials. Functions come in pairs
 // sample_x / get_x_density as in Peters' renderers. Rust twins: src/cpu/brdf.rs (same names,
-// same maths); change both together.
+// same maths); change both together. Its Fresnel terms come from glsl/fresnel.glsl (the
+// Fresnel room, included after material_t).
 //
 // Conventions: every direction is a unit vector, world space unless named local_; `view`
 // points from the surface towards the viewer (the reverse of the incoming ray), `light`
@@ -44,6 +45,8 @@ struct material_t {
     vec3 sheen_color;
     float sheen_roughness;
 };
+
+#include "fresnel.glsl"
 
 // The one constructor of a material_t: the metallic-roughness model's factors, every layer
 // of glsl/layered_bsdf.glsl off (0). A new field of material_t gets its "off" value here and
@@ -106,20 +109,11 @@ float get_smith_visibility(float alpha, float normal_dot_view, float normal_dot_
     return 0.5 / (view_term + light_term);
 }
 
-// Schlick's Fresnel approximation F = f0 + (f90 - f0) (1 - |v.h|)^5.
-vec3 get_schlick_fresnel(vec3 f0, vec3 f90, float view_dot_half) {
-    // max(): |v.h| may round above 1
-    float weight = max(0.0, 1.0 - abs(view_dot_half));
-    float weight_squared = weight * weight;
-    return f0 + (f90 - f0) * (weight_squared * weight_squared * weight);
-}
-
-// The dielectric's reflectance at normal incidence F0 = min(((ior - 1)/(ior + 1))^2
-// specular_color, 1) specular and at grazing incidence F90 = specular
-// (KHR_materials_specular with KHR_materials_ior); glTF's defaults give 0.04 and 1.
-vec3 get_dielectric_f0(material_t material) {
-    float reflectance = (material.ior - 1.0) / (material.ior + 1.0);
-    return min(reflectance * reflectance * material.specular_color, vec3(1.0)) * material.specular;
+// Smith's masking function G_1 of GGX for a direction whose cosine with the normal is
+// `cos_theta` (> 0): 2 cos / (cos + sqrt(alpha^2 + (1 - alpha^2) cos^2)).
+float get_smith_masking(float alpha, float cos_theta) {
+    float alpha_squared = alpha * alpha;
+    return 2.0 * cos_theta / (cos_theta + sqrt(alpha_squared + (1.0 - alpha_squared) * cos_theta * cos_theta));
 }
 
 // The glTF BRDF (Appendix B), without the cosine:
@@ -139,9 +133,9 @@ vec3 get_brdf(material_t material, vec3 normal, vec3 view, vec3 light) {
     float view_dot_half = dot(view, basis * local_half);
     float alpha = get_ggx_alpha(material.roughness);
     float specular = get_ggx_distribution(alpha, local_half) * get_smith_visibility(alpha, normal_dot_view, normal_dot_light);
-    vec3 dielectric_fresnel = get_schlick_fresnel(get_dielectric_f0(material), vec3(material.specular), view_dot_half);
+    vec3 dielectric_fresnel = get_dielectric_schlick_fresnel(material, view_dot_half);
     vec3 dielectric = (1.0 - dielectric_fresnel) * material.base_color / M_PI + dielectric_fresnel * specular;
-    vec3 metal = get_schlick_fresnel(material.base_color, vec3(1.0), view_dot_half) * specular;
+    vec3 metal = get_metal_schlick_fresnel(material, view_dot_half) * specular;
     return mix(dielectric, metal, material.metallic);
 }
 
@@ -155,8 +149,8 @@ float get_luminance(vec3 color) {
 // angle (Fresnel at v.h = n.v). 0 where the specular lobe vanishes (specular 0 and not
 // metallic), 1 where the diffuse one does (metals, black base colours).
 float get_specular_probability(material_t material, float normal_dot_view) {
-    vec3 dielectric_fresnel = get_schlick_fresnel(get_dielectric_f0(material), vec3(material.specular), normal_dot_view);
-    vec3 metal_fresnel = get_schlick_fresnel(material.base_color, vec3(1.0), normal_dot_view);
+    vec3 dielectric_fresnel = get_dielectric_schlick_fresnel(material, normal_dot_view);
+    vec3 metal_fresnel = get_metal_schlick_fresnel(material, normal_dot_view);
     float specular = get_luminance(mix(dielectric_fresnel, metal_fresnel, material.metallic));
     float diffuse = (1.0 - material.metallic) * get_luminance((1.0 - dielectric_fresnel) * material.base_color);
     return (specular + diffuse > 0.0) ? specular / (specular + diffuse) : 0.5;
@@ -167,8 +161,8 @@ float get_specular_probability(material_t material, float normal_dot_view) {
 // mix(F_d, F_m, metallic) with the dielectric's and the metal's Schlick Fresnel at
 // v.h = n.v (the specular terms of get_brdf() with D V replaced by delta(l - r) / (n.l)).
 vec3 get_mirror_reflectance(material_t material, float normal_dot_view) {
-    vec3 dielectric_fresnel = get_schlick_fresnel(get_dielectric_f0(material), vec3(material.specular), normal_dot_view);
-    vec3 metal_fresnel = get_schlick_fresnel(material.base_color, vec3(1.0), normal_dot_view);
+    vec3 dielectric_fresnel = get_dielectric_schlick_fresnel(material, normal_dot_view);
+    vec3 metal_fresnel = get_metal_schlick_fresnel(material, normal_dot_view);
     return mix(dielectric_fresnel, metal_fresnel, material.metallic);
 }
 

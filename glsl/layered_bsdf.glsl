@@ -20,9 +20,9 @@
 // across the surface: the other side's over the view's (entering glass: ior; leaving: 1/ior).
 // Each lobe's functions (its quartet: value, density, sample, weight) live in its own file,
 // included below where they stood: glsl/lobe_dielectric.glsl, glsl/lobe_thin_wall.glsl,
-// glsl/lobe_sheen.glsl, glsl/lobe_clearcoat.glsl. This file keeps the helpers they share
-// (get_dielectric_fresnel(), get_smith_masking()) and the layered mix (is_layered(),
-// get_transmissive_*(), get_layered_*(), sample_layered_bsdf()).
+// glsl/lobe_sheen.glsl, glsl/lobe_clearcoat.glsl. Their Fresnel terms come from
+// glsl/fresnel.glsl and their GGX terms from glsl/brdf.glsl; this file keeps the layered mix
+// (is_layered(), get_transmissive_*(), get_layered_*(), sample_layered_bsdf()).
 // Rust twins: src/cpu/layered_bsdf.rs (same names, same maths).
 #ifndef VKPATH_LAYERED_BSDF_GLSL
 #define VKPATH_LAYERED_BSDF_GLSL
@@ -34,33 +34,6 @@
 // sample_hemisphere_cosine() (glsl/importance_sampling.glsl) and g_material_texels
 // (glsl/materials.glsl) come from the includer (glsl/gltf_surface.glsl), which includes
 // them first.
-
-// The exact Fresnel reflectance of a smooth dielectric interface for unpolarised light,
-// the mean of the s- and p-polarised reflectances; 1 under total internal reflection.
-// \param cos_theta_i Cosine of the angle between the incident direction and the normal on
-//        its side (a negative one comes from the other side: eta is inverted)
-// \param eta Index of refraction of the far side over that of the incident side
-float get_dielectric_fresnel(float cos_theta_i, float eta) {
-    cos_theta_i = clamp(cos_theta_i, -1.0, 1.0);
-    if (cos_theta_i < 0.0) {
-        eta = 1.0 / eta;
-        cos_theta_i = -cos_theta_i;
-    }
-    float sin2_theta_t = (1.0 - cos_theta_i * cos_theta_i) / (eta * eta);
-    if (sin2_theta_t >= 1.0)
-        return 1.0;
-    float cos_theta_t = sqrt(max(0.0, 1.0 - sin2_theta_t));
-    float r_parallel = (eta * cos_theta_i - cos_theta_t) / (eta * cos_theta_i + cos_theta_t);
-    float r_perpendicular = (cos_theta_i - eta * cos_theta_t) / (cos_theta_i + eta * cos_theta_t);
-    return 0.5 * (r_parallel * r_parallel + r_perpendicular * r_perpendicular);
-}
-
-// Smith's masking function G_1 of GGX for a direction whose cosine with the normal is
-// `cos_theta` (> 0): 2 cos / (cos + sqrt(alpha^2 + (1 - alpha^2) cos^2)).
-float get_smith_masking(float alpha, float cos_theta) {
-    float alpha_squared = alpha * alpha;
-    return 2.0 * cos_theta / (cos_theta + sqrt(alpha_squared + (1.0 - alpha_squared) * cos_theta * cos_theta));
-}
 
 #include "lobe_dielectric.glsl"
 
@@ -102,14 +75,14 @@ vec3 get_transmissive_bsdf(material_t material, float eta, vec3 local_view, vec3
         vec3 local_half = normalize(local_view + local_light);
         float view_dot_half = dot(local_view, local_half);
         float specular = get_ggx_distribution(alpha, local_half) * get_smith_visibility(alpha, local_view.z, local_light.z);
-        vec3 dielectric_fresnel = get_schlick_fresnel(get_dielectric_f0(material), vec3(material.specular), view_dot_half);
+        vec3 dielectric_fresnel = get_dielectric_schlick_fresnel(material, view_dot_half);
         vec3 diffuse = (1.0 - dielectric_fresnel) * material.base_color / M_PI;
         vec3 dielectric;
         if (is_refracting(material))
             dielectric = (1.0 - material.transmission) * (diffuse + dielectric_fresnel * specular) + material.transmission * get_dielectric_fresnel(view_dot_half, eta) * specular;
         else
             dielectric = dielectric_fresnel * specular + (1.0 - material.transmission) * diffuse;
-        vec3 metal = get_schlick_fresnel(material.base_color, vec3(1.0), view_dot_half) * specular;
+        vec3 metal = get_metal_schlick_fresnel(material, view_dot_half) * specular;
         return mix(dielectric, metal, material.metallic);
     }
     vec3 transmitted = is_refracting(material)
@@ -156,9 +129,9 @@ vec3 get_transmissive_delta_weight(material_t material, float eta, vec3 local_vi
         vec3 transmittance = refracting ? get_smooth_dielectric_transmittance(eta, normal_dot_view) * material.base_color : get_smooth_thin_wall_transmittance(material, normal_dot_view);
         return transmittance / (1.0 - reflection_probability);
     }
-    vec3 schlick_fresnel = get_thin_wall_fresnel(material, normal_dot_view);
+    vec3 schlick_fresnel = get_dielectric_schlick_fresnel(material, normal_dot_view);
     vec3 dielectric = refracting ? (1.0 - material.transmission) * schlick_fresnel + material.transmission * get_dielectric_fresnel(normal_dot_view, eta) : schlick_fresnel;
-    vec3 reflectance = mix(dielectric, get_schlick_fresnel(material.base_color, vec3(1.0), normal_dot_view), material.metallic);
+    vec3 reflectance = mix(dielectric, get_metal_schlick_fresnel(material, normal_dot_view), material.metallic);
     float transmission_probability = get_transmission_probability(material);
     return reflectance / (transmission_probability * reflection_probability + (1.0 - transmission_probability) * get_specular_probability(material, normal_dot_view));
 }

@@ -11,8 +11,8 @@
 // refracted direction itself, and what the two peaks carry is get_dielectric_fresnel() at n.v
 // (reflection) and get_smooth_dielectric_transmittance() (refraction), which
 // get_transmissive_delta_weight() (glsl/layered_bsdf.glsl) turns into a pick's weight.
-// Included by glsl/layered_bsdf.glsl, after get_dielectric_fresnel() and get_smith_masking(),
-// which it uses. Rust twin: src/cpu/lobe_dielectric.rs (same names, same maths).
+// Included by glsl/layered_bsdf.glsl; get_dielectric_fresnel() comes from glsl/fresnel.glsl
+// and get_smith_masking() from glsl/brdf.glsl. Rust twin: src/cpu/lobe_dielectric.rs (same names, same maths).
 #ifndef VKPATH_LOBE_DIELECTRIC_GLSL
 #define VKPATH_LOBE_DIELECTRIC_GLSL
 

@@ -5,12 +5,13 @@
 // - density: get_thin_wall_density();
 // - sample:  sample_thin_wall();
 // - weight:  get_thin_wall_reflection_probability() splits reflection from transmission
-//            (Fresnel get_thin_wall_fresnel()); the layered mix picks the lobe itself with
-//            get_transmission_probability() and is_refracting() (glsl/layered_bsdf.glsl).
+//            (Fresnel get_dielectric_schlick_fresnel(), glsl/fresnel.glsl); the layered
+//            mix picks the lobe itself with get_transmission_probability() and
+//            is_refracting() (glsl/layered_bsdf.glsl).
 // Smooth (roughness 0, GGX alpha 0): a delta lobe. Its value and density are 0 for any
 // direction (get_ggx_distribution() is), sample_thin_wall() returns the mirror direction or
-// -v itself, and what the two peaks carry is get_thin_wall_fresnel() at n.v (reflection) and
-// get_smooth_thin_wall_transmittance() (transmission), which
+// -v itself, and what the two peaks carry is get_dielectric_schlick_fresnel() at n.v
+// (reflection) and get_smooth_thin_wall_transmittance() (transmission), which
 // get_transmissive_delta_weight() (glsl/layered_bsdf.glsl) turns into a pick's weight.
 // Included by glsl/layered_bsdf.glsl. Rust twin: src/cpu/lobe_thin_wall.rs (same names,
 // same maths).
@@ -23,15 +24,10 @@ vec3 mirror_through_surface(vec3 local_direction) {
     return vec3(local_direction.xy, -local_direction.z);
 }
 
-// Schlick's Fresnel of a material's dielectric (get_dielectric_f0(), F90 = specular) at v.h.
-vec3 get_thin_wall_fresnel(material_t material, float view_dot_half) {
-    return get_schlick_fresnel(get_dielectric_f0(material), vec3(material.specular), view_dot_half);
-}
-
 // The probability that sample_thin_wall() reflects at a microfacet h: the reflection's
 // share of luminance, F against (1 - F) times the base colour; 1 where neither has any.
 float get_thin_wall_reflection_probability(material_t material, float view_dot_half) {
-    vec3 fresnel = get_thin_wall_fresnel(material, view_dot_half);
+    vec3 fresnel = get_dielectric_schlick_fresnel(material, view_dot_half);
     float reflected = get_luminance(fresnel);
     float transmitted = get_luminance((1.0 - fresnel) * material.base_color);
     return (reflected + transmitted > 0.0) ? reflected / (reflected + transmitted) : 1.0;
@@ -45,14 +41,14 @@ vec3 get_thin_wall_btdf(material_t material, float alpha, vec3 local_view, vec3 
         return vec3(0.0);
     vec3 mirrored = mirror_through_surface(local_light);
     vec3 local_half = normalize(local_view + mirrored);
-    vec3 fresnel = get_thin_wall_fresnel(material, dot(local_view, local_half));
+    vec3 fresnel = get_dielectric_schlick_fresnel(material, dot(local_view, local_half));
     return (1.0 - fresnel) * material.base_color * get_ggx_distribution(alpha, local_half) * get_smith_visibility(alpha, local_view.z, mirrored.z);
 }
 
 // What a smooth thin wall's straight-through peak carries (f |n.l| integrated over it):
-// (1 - F) base_color, F get_thin_wall_fresnel() at v.h = n.v.
+// (1 - F) base_color, F get_dielectric_schlick_fresnel() at v.h = n.v.
 vec3 get_smooth_thin_wall_transmittance(material_t material, float normal_dot_view) {
-    return (1.0 - get_thin_wall_fresnel(material, normal_dot_view)) * material.base_color;
+    return (1.0 - get_dielectric_schlick_fresnel(material, normal_dot_view)) * material.base_color;
 }
 
 // Density of sample_thin_wall(), whichever side the light is on: the visible-normal

@@ -1,7 +1,8 @@
 #version 460
 // Probe of the glTF BRDF and its sampling (glsl/brdf.glsl): for each input, get_brdf(),
 // get_brdf_density(), sample_brdf() and the density at the sampled direction,
-// sample_ggx_visible_normal() and get_specular_probability() on the input's material,
+// sample_ggx_visible_normal(), get_specular_probability() and the Fresnel room's terms
+// (glsl/fresnel.glsl) on the input's material,
 // normal, view, light and random numbers. Host side: vkpath::probe::brdf_probe
 // (BrdfProbeInput, BrdfProbeOutput), tests/brdf_twins.rs.
 //
@@ -43,6 +44,9 @@ struct probe_output_t {
     vec4 mirror;         // rgb: get_brdf_mirror_weight(material, normal, view) where the
                          // mirror probability is above 0, else 0;
                          // a: get_brdf_mirror_probability(material, normal, view)
+    vec4 fresnel;        // rgb: get_dielectric_schlick_fresnel(material, dot(normal, view));
+                         // a: get_dielectric_fresnel(dot(normal, view), material.ior)
+    vec4 metal_fresnel;  // rgb: get_metal_schlick_fresnel(material, dot(normal, view)); a: 0
 };
 
 layout(std430, set = 0, binding = PROBE_BINDING_INPUTS) readonly buffer probe_inputs {
@@ -80,5 +84,9 @@ void main() {
         get_specular_probability(material, dot(normal, view)));
     float mirror_probability = get_brdf_mirror_probability(material, normal, view);
     result.mirror = vec4((mirror_probability > 0.0) ? get_brdf_mirror_weight(material, normal, view) : vec3(0.0), mirror_probability);
+    float normal_dot_view = dot(normal, view);
+    result.fresnel = vec4(get_dielectric_schlick_fresnel(material, normal_dot_view),
+                          get_dielectric_fresnel(normal_dot_view, material.ior));
+    result.metal_fresnel = vec4(get_metal_schlick_fresnel(material, normal_dot_view), 0.0);
     g_outputs[index] = result;
 }

@@ -180,6 +180,19 @@ fn error_units(gpu: f32, cpu: f32, condition: f64, absolute_scale: f64) -> f64 {
     difference / (ULP * (f64::from(cpu).abs() * condition + absolute_scale))
 }
 
+/// The condition of `get_dielectric_fresnel(cos_theta_i, eta)`: 1 + 1 / cos_t, with cos_t the
+/// refracted direction's cosine (in f64; 1e-6 at and beyond the critical angle, where the
+/// reflectance is 1 and its rounding near the angle is the square root's).
+fn fresnel_condition(cos_theta_i: f32, eta: f32) -> f64 {
+    let (mut cos_i, mut eta) = (f64::from(cos_theta_i).clamp(-1.0, 1.0), f64::from(eta));
+    if cos_i < 0.0 {
+        cos_i = -cos_i;
+        eta = 1.0 / eta;
+    }
+    let sin2_t = (1.0 - cos_i * cos_i) / (eta * eta);
+    1.0 + 1.0 / (1.0 - sin2_t).max(1e-12).sqrt()
+}
+
 /// Beyond this first-order relative error (ULP times the condition), a comparison of
 /// values says nothing: the half vector's rounding alone moves it across a narrow lobe. Such
 /// cases (alpha = 1e-4 with |v + l| < 0.24, i.e. roughness 0 and 0.01 away from normal
@@ -238,6 +251,7 @@ fn brdf_matches_its_twins_on_random_cases() {
     let mut visible_normal_interior = Worst::default();
     let mut mirror_probability = Worst::default();
     let mut mirror_weight = Worst::default();
+    let mut fresnel = Worst::default();
     let mut smooth_cases = 0usize;
     let mut flips = [0usize; 3];
     let (mut near_lobe_boundary, mut ill_conditioned) = (0, 0);
@@ -272,6 +286,18 @@ fn brdf_matches_its_twins_on_random_cases() {
         }
         let (gpu_p, cpu_p) = (gpu.specular_probability(), cpu.specular_probability());
         probability.add(error_units(gpu_p, cpu_p, 1.0, 0.0), index);
+        // The Fresnel room at n.v (either side): Schlick's terms are well conditioned; the
+        // exact dielectric's moves by about ULP / cos_t near the critical angle (cos_t is the
+        // square root of 1 - sin^2), hence its condition 1 + 1 / cos_t.
+        let (gpu_f, cpu_f) = (gpu.fresnel_terms(), cpu.fresnel_terms());
+        let exact_condition = fresnel_condition(normal.dot(view), input.material().ior);
+        let error = (0..7)
+            .map(|i| {
+                let condition = if i == 6 { exact_condition } else { 1.0 };
+                error_units(gpu_f[i], cpu_f[i], condition, 1.0)
+            })
+            .fold(0.0, f64::max);
+        fresnel.add(error, index);
         // get_brdf_mirror_probability and get_brdf_mirror_weight: a mirror pick exactly where
         // the roughness is 0 (views above the normal: their contract)
         if normal.dot(view) > 0.0 {
@@ -356,6 +382,10 @@ fn brdf_matches_its_twins_on_random_cases() {
         &mirror_probability,
     );
     report("get_brdf_mirror_weight, error units", &mirror_weight);
+    report(
+        "the Fresnel room (glsl/fresnel.glsl) at n.v, error units",
+        &fresnel,
+    );
     println!("{smooth_cases} cases of roughness 0 above the normal");
     assert!(smooth_cases > CASE_COUNT / 20, "{smooth_cases}");
     report("sample_ggx_visible_normal, angle (rad)", &visible_normal);
@@ -383,6 +413,7 @@ fn brdf_matches_its_twins_on_random_cases() {
         ("specular probability", &probability),
         ("mirror probability", &mirror_probability),
         ("mirror weight", &mirror_weight),
+        ("Fresnel room", &fresnel),
         ("sampled density", &sampled_density),
     ] {
         assert!(

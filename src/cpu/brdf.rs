@@ -7,6 +7,7 @@ use glam::{Mat3, Vec2, Vec3};
 
 use crate::contract::MIN_GGX_ALPHA;
 use crate::cpu::shading_basis::get_shading_basis;
+use crate::cpu::fresnel::{get_dielectric_schlick_fresnel, get_metal_schlick_fresnel};
 use crate::cpu::workshop::M_PI;
 
 /// Twin of `material_t`: a surface point's material after texture lookups.
@@ -113,17 +114,11 @@ pub fn get_smith_visibility(alpha: f32, normal_dot_view: f32, normal_dot_light: 
     0.5 / (view_term + light_term)
 }
 
-/// Twin of `get_schlick_fresnel`: f0 + (f90 - f0) (1 - |v.h|)^5.
-pub fn get_schlick_fresnel(f0: Vec3, f90: Vec3, view_dot_half: f32) -> Vec3 {
-    let weight = (1.0 - view_dot_half.abs()).max(0.0);
-    let weight_squared = weight * weight;
-    f0 + (f90 - f0) * (weight_squared * weight_squared * weight)
-}
-
-/// Twin of `get_dielectric_f0`: min(((ior - 1)/(ior + 1))^2 specular_color, 1) specular.
-pub fn get_dielectric_f0(material: &MaterialSample) -> Vec3 {
-    let reflectance = (material.ior - 1.0) / (material.ior + 1.0);
-    (reflectance * reflectance * material.specular_color).min(Vec3::ONE) * material.specular
+/// Twin of `get_smith_masking`: GGX's G_1 for a direction of cosine `cos_theta` > 0.
+pub fn get_smith_masking(alpha: f32, cos_theta: f32) -> f32 {
+    let alpha_squared = alpha * alpha;
+    2.0 * cos_theta
+        / (cos_theta + (alpha_squared + (1.0 - alpha_squared) * cos_theta * cos_theta).sqrt())
 }
 
 /// Twin of `get_brdf`: the glTF BRDF without the cosine, 0 below either horizon.
@@ -139,14 +134,10 @@ pub fn get_brdf(material: &MaterialSample, normal: Vec3, view: Vec3, light: Vec3
     let alpha = get_ggx_alpha(material.roughness);
     let specular = get_ggx_distribution(alpha, local_half)
         * get_smith_visibility(alpha, normal_dot_view, normal_dot_light);
-    let dielectric_fresnel = get_schlick_fresnel(
-        get_dielectric_f0(material),
-        Vec3::splat(material.specular),
-        view_dot_half,
-    );
+    let dielectric_fresnel = get_dielectric_schlick_fresnel(material, view_dot_half);
     let dielectric =
         (1.0 - dielectric_fresnel) * material.base_color / M_PI + dielectric_fresnel * specular;
-    let metal = get_schlick_fresnel(material.base_color, Vec3::ONE, view_dot_half) * specular;
+    let metal = get_metal_schlick_fresnel(material, view_dot_half) * specular;
     dielectric.lerp(metal, material.metallic)
 }
 
@@ -157,12 +148,8 @@ pub fn get_luminance(color: Vec3) -> f32 {
 
 /// Twin of `get_specular_probability`: the chance that `sample_brdf` takes the GGX lobe.
 pub fn get_specular_probability(material: &MaterialSample, normal_dot_view: f32) -> f32 {
-    let dielectric_fresnel = get_schlick_fresnel(
-        get_dielectric_f0(material),
-        Vec3::splat(material.specular),
-        normal_dot_view,
-    );
-    let metal_fresnel = get_schlick_fresnel(material.base_color, Vec3::ONE, normal_dot_view);
+    let dielectric_fresnel = get_dielectric_schlick_fresnel(material, normal_dot_view);
+    let metal_fresnel = get_metal_schlick_fresnel(material, normal_dot_view);
     let specular = get_luminance(dielectric_fresnel.lerp(metal_fresnel, material.metallic));
     let diffuse =
         (1.0 - material.metallic) * get_luminance((1.0 - dielectric_fresnel) * material.base_color);
@@ -176,12 +163,8 @@ pub fn get_specular_probability(material: &MaterialSample, normal_dot_view: f32)
 /// Twin of `get_mirror_reflectance`: what the delta specular lobe's peak carries,
 /// mix(F_d, F_m, metallic) at v.h = n.v.
 pub fn get_mirror_reflectance(material: &MaterialSample, normal_dot_view: f32) -> Vec3 {
-    let dielectric_fresnel = get_schlick_fresnel(
-        get_dielectric_f0(material),
-        Vec3::splat(material.specular),
-        normal_dot_view,
-    );
-    let metal_fresnel = get_schlick_fresnel(material.base_color, Vec3::ONE, normal_dot_view);
+    let dielectric_fresnel = get_dielectric_schlick_fresnel(material, normal_dot_view);
+    let metal_fresnel = get_metal_schlick_fresnel(material, normal_dot_view);
     dielectric_fresnel.lerp(metal_fresnel, material.metallic)
 }
 

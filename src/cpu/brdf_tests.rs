@@ -5,6 +5,7 @@
 use glam::{DVec3, UVec2, Vec2, Vec3};
 
 use super::*;
+use crate::cpu::fresnel::get_schlick_fresnel;
 use crate::cpu::workshop::get_random_numbers;
 use crate::stats::chi2::{chi2_direction_test, Chi2Config};
 use crate::stats::sphere_histogram::{SphereFrame, TargetDensity};
@@ -367,18 +368,6 @@ fn roughness_zero_is_a_mirror_whose_pick_weighs_its_reflectance() {
     assert_eq!(get_brdf_mirror_probability(&nearly, Vec3::Z, view), 0.0);
     let mirror = Vec3::new(-view.x, -view.y, view.z);
     assert!(get_brdf_density(&nearly, Vec3::Z, view, mirror) > 1e6);
-}
-
-#[test]
-fn fresnel_and_f0_by_hand() {
-    let material = MaterialSample::gltf(Vec3::ONE, 0.0, 1.0);
-    let f0 = get_dielectric_f0(&material);
-    assert!((f0 - Vec3::splat(0.04)).abs().max_element() < 1e-7);
-    assert_eq!(get_schlick_fresnel(f0, Vec3::ONE, 1.0), f0);
-    assert_eq!(get_schlick_fresnel(f0, Vec3::ONE, 0.0), Vec3::ONE);
-    let half_way = get_schlick_fresnel(Vec3::ZERO, Vec3::ONE, 0.5);
-    assert!((half_way.x - 1.0 / 32.0).abs() < 1e-7);
-    assert!(Vec2::ZERO.is_finite());
 }
 
 #[test]

@@ -10,15 +10,17 @@
 //! side's index of refraction over the view's side's.
 //!
 //! Each lobe's twins live in their own module (`cpu::lobe_dielectric`, `cpu::lobe_thin_wall`,
-//! `cpu::lobe_sheen`, `cpu::lobe_clearcoat`), re-exported here; this module keeps the shared
-//! helpers (`get_dielectric_fresnel`, `get_smith_masking`) and the layered mix.
+//! `cpu::lobe_sheen`, `cpu::lobe_clearcoat`), re-exported here; their Fresnel terms come from
+//! `cpu::fresnel` and their GGX terms from `cpu::brdf`; this module keeps the layered mix.
 
 use glam::{Vec2, Vec3};
 
 use crate::cpu::brdf::{
-    get_brdf_density, get_brdf_mirror_probability, get_dielectric_f0, get_ggx_alpha,
-    get_ggx_distribution, get_schlick_fresnel, get_smith_visibility, get_specular_probability,
-    sample_brdf, to_local, MaterialSample,
+    get_brdf_density, get_brdf_mirror_probability, get_ggx_alpha, get_ggx_distribution,
+    get_smith_visibility, get_specular_probability, sample_brdf, to_local, MaterialSample,
+};
+use crate::cpu::fresnel::{
+    get_dielectric_fresnel, get_dielectric_schlick_fresnel, get_metal_schlick_fresnel,
 };
 use crate::cpu::importance_sampling::sample_hemisphere_cosine;
 use crate::cpu::shading_basis::get_shading_basis;
@@ -38,35 +40,8 @@ pub use crate::cpu::lobe_sheen::{
 };
 pub use crate::cpu::lobe_thin_wall::{
     get_smooth_thin_wall_transmittance, get_thin_wall_btdf, get_thin_wall_density,
-    get_thin_wall_fresnel, get_thin_wall_reflection_probability, mirror_through_surface,
-    sample_thin_wall,
+    get_thin_wall_reflection_probability, mirror_through_surface, sample_thin_wall,
 };
-
-/// Twin of `get_dielectric_fresnel`: the exact unpolarised Fresnel reflectance of a smooth
-/// dielectric interface (1 under total internal reflection).
-pub fn get_dielectric_fresnel(cos_theta_i: f32, eta: f32) -> f32 {
-    let mut cos_theta_i = cos_theta_i.clamp(-1.0, 1.0);
-    let mut eta = eta;
-    if cos_theta_i < 0.0 {
-        eta = 1.0 / eta;
-        cos_theta_i = -cos_theta_i;
-    }
-    let sin2_theta_t = (1.0 - cos_theta_i * cos_theta_i) / (eta * eta);
-    if sin2_theta_t >= 1.0 {
-        return 1.0;
-    }
-    let cos_theta_t = (1.0 - sin2_theta_t).max(0.0).sqrt();
-    let r_parallel = (eta * cos_theta_i - cos_theta_t) / (eta * cos_theta_i + cos_theta_t);
-    let r_perpendicular = (cos_theta_i - eta * cos_theta_t) / (cos_theta_i + eta * cos_theta_t);
-    0.5 * (r_parallel * r_parallel + r_perpendicular * r_perpendicular)
-}
-
-/// Twin of `get_smith_masking`: GGX's G_1 for a direction of cosine `cos_theta` > 0.
-pub fn get_smith_masking(alpha: f32, cos_theta: f32) -> f32 {
-    let alpha_squared = alpha * alpha;
-    2.0 * cos_theta
-        / (cos_theta + (alpha_squared + (1.0 - alpha_squared) * cos_theta * cos_theta).sqrt())
-}
 
 /// Twin of `is_layered`: transmission, a clear coat or sheen.
 pub fn is_layered(material: &MaterialSample) -> bool {
@@ -97,11 +72,7 @@ pub fn get_transmissive_bsdf(
         let view_dot_half = local_view.dot(local_half);
         let specular = get_ggx_distribution(alpha, local_half)
             * get_smith_visibility(alpha, local_view.z, local_light.z);
-        let dielectric_fresnel = get_schlick_fresnel(
-            get_dielectric_f0(material),
-            Vec3::splat(material.specular),
-            view_dot_half,
-        );
+        let dielectric_fresnel = get_dielectric_schlick_fresnel(material, view_dot_half);
         let diffuse = (1.0 - dielectric_fresnel) * material.base_color / M_PI;
         let dielectric = if is_refracting(material) {
             (1.0 - material.transmission) * (diffuse + dielectric_fresnel * specular)
@@ -109,7 +80,7 @@ pub fn get_transmissive_bsdf(
         } else {
             dielectric_fresnel * specular + (1.0 - material.transmission) * diffuse
         };
-        let metal = get_schlick_fresnel(material.base_color, Vec3::ONE, view_dot_half) * specular;
+        let metal = get_metal_schlick_fresnel(material, view_dot_half) * specular;
         return dielectric.lerp(metal, material.metallic);
     }
     let transmitted = if is_refracting(material) {
@@ -169,7 +140,7 @@ pub fn get_transmissive_delta_weight(
         };
         return transmittance / (1.0 - reflection_probability);
     }
-    let schlick_fresnel = get_thin_wall_fresnel(material, normal_dot_view);
+    let schlick_fresnel = get_dielectric_schlick_fresnel(material, normal_dot_view);
     let dielectric = if refracting {
         (1.0 - material.transmission) * schlick_fresnel
             + material.transmission * get_dielectric_fresnel(normal_dot_view, eta)
@@ -177,7 +148,7 @@ pub fn get_transmissive_delta_weight(
         schlick_fresnel
     };
     let reflectance = dielectric.lerp(
-        get_schlick_fresnel(material.base_color, Vec3::ONE, normal_dot_view),
+        get_metal_schlick_fresnel(material, normal_dot_view),
         material.metallic,
     );
     let transmission_probability = get_transmission_probability(material);

@@ -6,6 +6,7 @@
 use glam::{UVec2, Vec2, Vec3};
 
 use super::*;
+use crate::cpu::fresnel::get_schlick_fresnel;
 use crate::contract::SHEEN_ALBEDO_SIZE;
 use crate::cpu::brdf::get_luminance;
 use crate::cpu::workshop::get_random_numbers;
@@ -166,32 +167,6 @@ fn sample_layered_bsdf_follows_get_layered_density() {
         }
     }
     assert!(failed.is_empty(), "{failed:#?}");
-}
-
-#[test]
-fn fresnel_by_hand() {
-    // Normal incidence: ((n - 1) / (n + 1))^2, 0.04 for glass, from either side.
-    assert!((get_dielectric_fresnel(1.0, 1.5) - 0.04).abs() < 1e-6);
-    assert!((get_dielectric_fresnel(1.0, 1.0 / 1.5) - 0.04).abs() < 1e-6);
-    assert!((get_dielectric_fresnel(1.0, 1.33) - (0.33f32 / 2.33).powi(2)).abs() < 1e-6);
-    // Total internal reflection beyond the critical angle asin(1 / 1.5) = 41.8 degrees.
-    let beyond = 45.0f32.to_radians().cos();
-    assert_eq!(get_dielectric_fresnel(beyond, 1.0 / 1.5), 1.0);
-    let before = 40.0f32.to_radians().cos();
-    assert!(get_dielectric_fresnel(before, 1.0 / 1.5) < 1.0);
-    // Grazing incidence reflects everything; Brewster's angle atan(1.5) has R_p = 0, so
-    // R = R_s / 2, with R_s = ((cos_i - n cos_t) / (cos_i + n cos_t))^2.
-    assert!((get_dielectric_fresnel(0.0, 1.5) - 1.0).abs() < 1e-6);
-    let brewster = 1.5f32.atan();
-    let (cos_i, sin_t) = (brewster.cos(), brewster.sin() / 1.5);
-    let cos_t = (1.0 - sin_t * sin_t).sqrt();
-    let r_s = ((cos_i - 1.5 * cos_t) / (cos_i + 1.5 * cos_t)).powi(2);
-    assert!((get_dielectric_fresnel(cos_i, 1.5) - r_s / 2.0).abs() < 1e-6);
-    // A negative cosine is the same interface seen from the other side.
-    assert_eq!(
-        get_dielectric_fresnel(-0.7, 1.5),
-        get_dielectric_fresnel(0.7, 1.0 / 1.5)
-    );
 }
 
 #[test]

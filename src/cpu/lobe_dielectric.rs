@@ -8,10 +8,10 @@
 //! `get_smooth_dielectric_transmittance` at n.v. Same names, same maths.
 
 use crate::cpu::brdf::{
-    get_ggx_distribution, get_ggx_reflection_density, get_smith_visibility, reflect,
-    sample_ggx_visible_normal,
+    get_ggx_distribution, get_ggx_reflection_density, get_smith_masking, get_smith_visibility,
+    reflect, sample_ggx_visible_normal,
 };
-use crate::cpu::layered_bsdf::{get_dielectric_fresnel, get_smith_masking};
+use crate::cpu::fresnel::get_dielectric_fresnel;
 use glam::{Vec2, Vec3};
 
 /// Twin of `get_refraction_half`: normalize(eta l + v) facing the normal, 0 where none.

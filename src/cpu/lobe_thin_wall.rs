@@ -3,13 +3,14 @@
 //! value `get_thin_wall_btdf`, density `get_thin_wall_density`, sample `sample_thin_wall`,
 //! weight `get_thin_wall_reflection_probability` (reflection against transmission; the layered
 //! mix picks the lobe with `get_transmission_probability` and `is_refracting`). Smooth
-//! (roughness 0): a delta lobe, whose peaks carry `get_thin_wall_fresnel` and
-//! `get_smooth_thin_wall_transmittance` at n.v. Same names, same maths.
+//! (roughness 0): a delta lobe, whose peaks carry `get_dielectric_schlick_fresnel`
+//! (`cpu::fresnel`) and `get_smooth_thin_wall_transmittance` at n.v. Same names, same maths.
 
 use crate::cpu::brdf::{
-    get_dielectric_f0, get_ggx_distribution, get_ggx_reflection_density, get_luminance,
-    get_schlick_fresnel, get_smith_visibility, reflect, sample_ggx_visible_normal, MaterialSample,
+    get_ggx_distribution, get_ggx_reflection_density, get_luminance, get_smith_visibility,
+    reflect, sample_ggx_visible_normal, MaterialSample,
 };
+use crate::cpu::fresnel::get_dielectric_schlick_fresnel;
 use glam::{Vec2, Vec3};
 
 /// Twin of `mirror_through_surface`.
@@ -17,18 +18,9 @@ pub fn mirror_through_surface(local_direction: Vec3) -> Vec3 {
     Vec3::new(local_direction.x, local_direction.y, -local_direction.z)
 }
 
-/// Twin of `get_thin_wall_fresnel`: Schlick's F of the material's dielectric at v.h.
-pub fn get_thin_wall_fresnel(material: &MaterialSample, view_dot_half: f32) -> Vec3 {
-    get_schlick_fresnel(
-        get_dielectric_f0(material),
-        Vec3::splat(material.specular),
-        view_dot_half,
-    )
-}
-
 /// Twin of `get_thin_wall_reflection_probability`.
 pub fn get_thin_wall_reflection_probability(material: &MaterialSample, view_dot_half: f32) -> f32 {
-    let fresnel = get_thin_wall_fresnel(material, view_dot_half);
+    let fresnel = get_dielectric_schlick_fresnel(material, view_dot_half);
     let reflected = get_luminance(fresnel);
     let transmitted = get_luminance((1.0 - fresnel) * material.base_color);
     if reflected + transmitted > 0.0 {
@@ -50,7 +42,7 @@ pub fn get_thin_wall_btdf(
     }
     let mirrored = mirror_through_surface(local_light);
     let local_half = (local_view + mirrored).normalize();
-    let fresnel = get_thin_wall_fresnel(material, local_view.dot(local_half));
+    let fresnel = get_dielectric_schlick_fresnel(material, local_view.dot(local_half));
     (1.0 - fresnel)
         * material.base_color
         * get_ggx_distribution(alpha, local_half)
@@ -60,7 +52,7 @@ pub fn get_thin_wall_btdf(
 /// Twin of `get_smooth_thin_wall_transmittance`: what a smooth thin wall's straight-through
 /// peak carries, (1 - F) base_color at v.h = n.v.
 pub fn get_smooth_thin_wall_transmittance(material: &MaterialSample, normal_dot_view: f32) -> Vec3 {
-    (1.0 - get_thin_wall_fresnel(material, normal_dot_view)) * material.base_color
+    (1.0 - get_dielectric_schlick_fresnel(material, normal_dot_view)) * material.base_color
 }
 
 /// Twin of `get_thin_wall_density`: both branches summed whichever side the light is on.

@@ -5,6 +5,7 @@
 pub mod brdf;
 pub mod camera;
 pub mod environment;
+pub mod fresnel;
 pub mod gltf_surface;
 pub mod guiding;
 pub mod image;

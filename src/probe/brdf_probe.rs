@@ -13,6 +13,9 @@ use crate::cpu::brdf::{
     get_brdf_mirror_weight, get_ggx_alpha, get_specular_probability, sample_brdf,
     sample_ggx_visible_normal, MaterialSample,
 };
+use crate::cpu::fresnel::{
+    get_dielectric_fresnel, get_dielectric_schlick_fresnel, get_metal_schlick_fresnel,
+};
 use crate::error::Result;
 use crate::kernels;
 use crate::probe::runner::Probe;
@@ -103,7 +106,7 @@ impl BrdfProbeInput {
     }
 }
 
-/// `probe_output_t` of `glsl/probe_brdf.comp` (64 bytes).
+/// `probe_output_t` of `glsl/probe_brdf.comp` (96 bytes).
 #[repr(C)]
 #[derive(Clone, Copy, Debug, PartialEq, Pod, Zeroable)]
 pub struct BrdfProbeOutput {
@@ -117,6 +120,11 @@ pub struct BrdfProbeOutput {
     /// rgb: `get_brdf_mirror_weight(material, normal, view)` where the mirror probability is
     /// above 0, else 0; a: `get_brdf_mirror_probability(material, normal, view)`.
     pub mirror: [f32; 4],
+    /// rgb: `get_dielectric_schlick_fresnel(material, dot(normal, view))`;
+    /// a: `get_dielectric_fresnel(dot(normal, view), material.ior)`.
+    pub fresnel: [f32; 4],
+    /// rgb: `get_metal_schlick_fresnel(material, dot(normal, view))`; a: 0.
+    pub metal_fresnel: [f32; 4],
 }
 
 impl BrdfProbeOutput {
@@ -141,11 +149,17 @@ impl BrdfProbeOutput {
         } else {
             Vec3::ZERO
         };
+        let normal_dot_view = normal.dot(view);
+        let dielectric_fresnel = get_dielectric_schlick_fresnel(&material, normal_dot_view);
+        let exact_fresnel = get_dielectric_fresnel(normal_dot_view, material.ior);
+        let metal_fresnel = get_metal_schlick_fresnel(&material, normal_dot_view);
         BrdfProbeOutput {
             brdf: brdf.extend(density).into(),
             sampled: sampled.extend(sampled_density).into(),
             visible_normal: visible_normal.extend(specular_probability).into(),
             mirror: mirror_weight.extend(mirror_probability).into(),
+            fresnel: dielectric_fresnel.extend(exact_fresnel).into(),
+            metal_fresnel: metal_fresnel.extend(0.0).into(),
         }
     }
 
@@ -188,6 +202,14 @@ impl BrdfProbeOutput {
     pub fn specular_probability(&self) -> f32 {
         self.visible_normal[3]
     }
+
+    /// The Fresnel room's terms at n.v: `get_dielectric_schlick_fresnel` (rgb), then
+    /// `get_metal_schlick_fresnel` (rgb), then `get_dielectric_fresnel` with the material's ior.
+    pub fn fresnel_terms(&self) -> [f32; 7] {
+        let [d0, d1, d2, exact] = self.fresnel;
+        let [m0, m1, m2, _] = self.metal_fresnel;
+        [d0, d1, d2, m0, m1, m2, exact]
+    }
 }
 
 /// Runs the BRDF probe.
@@ -225,9 +247,12 @@ mod tests {
         assert_eq!(offset_of!(BrdfProbeInput, view), 64);
         assert_eq!(offset_of!(BrdfProbeInput, light), 80);
         // vec4 brdf; vec4 sampled; vec4 visible_normal
-        assert_eq!(size_of::<BrdfProbeOutput>(), 64);
+        assert_eq!(size_of::<BrdfProbeOutput>(), 96);
         assert_eq!(offset_of!(BrdfProbeOutput, sampled), 16);
         assert_eq!(offset_of!(BrdfProbeOutput, visible_normal), 32);
+        assert_eq!(offset_of!(BrdfProbeOutput, mirror), 48);
+        assert_eq!(offset_of!(BrdfProbeOutput, fresnel), 64);
+        assert_eq!(offset_of!(BrdfProbeOutput, metal_fresnel), 80);
     }
 
     #[test]
