@@ -724,7 +724,13 @@ fn a_vscode_file_that_reads_itself_runs_as_a_hidden_buffer() {
         "{stderr}"
     );
     let shown = program("show_buffer_a.glsl");
-    let mut as_buffer = vec![shown.as_str(), "--buffer-a", file.as_str(), "-o", "buffer.exr"];
+    let mut as_buffer = vec![
+        shown.as_str(),
+        "--buffer-a",
+        file.as_str(),
+        "-o",
+        "buffer.exr",
+    ];
     as_buffer.extend_from_slice(&size);
     let (code, stderr) = shadertoy(dir.path(), &as_buffer);
     assert_eq!(code, Some(0), "{stderr}");
@@ -764,7 +770,8 @@ fn a_cube_map_channel_is_sampled_by_direction() {
     for (f, name) in ["px", "nx", "py", "ny", "pz", "nz"].iter().enumerate() {
         let f = f as u32;
         let face = image::RgbImage::from_fn(2, 2, |c, r| image::Rgb([byte(f, c, r), 200, 100]));
-        face.save(dir.path().join(format!("cube_{name}.png"))).unwrap();
+        face.save(dir.path().join(format!("cube_{name}.png")))
+            .unwrap();
     }
     let tab = tab.to_string_lossy().to_string();
     let size = ["--frames", "1", "--width", "14", "--height", "1"];
@@ -824,7 +831,14 @@ fn a_cube_map_channel_is_sampled_by_direction() {
     let (code, stderr) = shadertoy(dir.path(), &args);
     assert_eq!(code, Some(0), "{stderr}");
     let image = rgba(&dir.path().join("equirect.exr"));
-    for (x, axis_code) in [(8, 1.0), (9, 2.0), (10, 3.0), (11, 4.0), (12, 5.0), (13, 6.0)] {
+    for (x, axis_code) in [
+        (8, 1.0),
+        (9, 2.0),
+        (10, 3.0),
+        (11, 4.0),
+        (12, 5.0),
+        (13, 6.0),
+    ] {
         assert_eq!(
             at(&image, x, 0),
             [axis_code, 10.0 * axis_code, 0.5, 1.0],

@@ -212,7 +212,11 @@ pub fn run(args: &ShadertoyArgs) -> anyhow::Result<()> {
         Err(error) => return Err(error).context("setting up the program"),
     };
     if !args.quiet {
-        for note in program.hidden_buffer_note().into_iter().chain(program.setting_notes()) {
+        for note in program
+            .hidden_buffer_note()
+            .into_iter()
+            .chain(program.setting_notes())
+        {
             eprintln!("note: {note}");
         }
         for note in &runner.notes {

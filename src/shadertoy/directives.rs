@@ -49,9 +49,9 @@ pub const AUDIO_EXTENSIONS: [&str; 4] = ["mp3", "wav", "ogg", "flac"];
 
 /// Whether `text` says its channel `channel` is a cube map (`#iChannelN::Type "CubeMap"`).
 pub fn is_cube_map(text: &str, channel: usize) -> bool {
-    channel_settings(text)
-        .iter()
-        .any(|(_, c, key, value)| *c == channel && key == "Type" && value.eq_ignore_ascii_case("CubeMap"))
+    channel_settings(text).iter().any(|(_, c, key, value)| {
+        *c == channel && key == "Type" && value.eq_ignore_ascii_case("CubeMap")
+    })
 }
 
 /// Whether a channel directive's target is the pass itself (`self`, as the extension's own
@@ -62,12 +62,13 @@ pub fn is_self(target: &str) -> bool {
 
 /// The line (from 1) of the extension's `#iVertex` directive in `text`, if any.
 pub fn vertex_shader_line(text: &str) -> Option<usize> {
-    text.lines().position(|line| {
-        line.trim_start()
-            .strip_prefix('#')
-            .is_some_and(|rest| rest.trim_start().starts_with("iVertex"))
-    })
-    .map(|index| index + 1)
+    text.lines()
+        .position(|line| {
+            line.trim_start()
+                .strip_prefix('#')
+                .is_some_and(|rest| rest.trim_start().starts_with("iVertex"))
+        })
+        .map(|index| index + 1)
 }
 
 /// `text` with the extension's custom uniforms (`#iUniform float gain = 1.0 in { 0.0, 5.0 }`,
@@ -145,7 +146,12 @@ mod tests {
             channel_settings(text),
             [
                 (2, 0, "Type".to_string(), "CubeMap".to_string()),
-                (3, 0, "MinFilter".to_string(), "LinearMipMapLinear".to_string())
+                (
+                    3,
+                    0,
+                    "MinFilter".to_string(),
+                    "LinearMipMapLinear".to_string()
+                )
             ]
         );
         assert!(is_cube_map(text, 0) && !is_cube_map(text, 1));

@@ -100,7 +100,8 @@ mod tests {
 
     #[test]
     fn a_discard_in_a_function_with_a_value_returns_an_unread_one() {
-        let text = "highp vec3 shade(float x) {\n    if (x < 0.0) discard ;\n    return vec3(x);\n}\n";
+        let text =
+            "highp vec3 shade(float x) {\n    if (x < 0.0) discard ;\n    return vec3(x);\n}\n";
         let (out, count) = rewrite_discards(text);
         assert_eq!(count, 1);
         assert!(

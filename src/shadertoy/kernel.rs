@@ -417,18 +417,26 @@ mod tests {
             .expect("an error")
             .to_string();
         assert!(message.contains("my/common.glsl:3:"), "{message}");
-        let message = compile_pass(None, &tab("notes.glsl", "float f() { return 1.0; }\n"), [false; 4])
-            .err()
-            .expect("an error")
-            .to_string();
+        let message = compile_pass(
+            None,
+            &tab("notes.glsl", "float f() { return 1.0; }\n"),
+            [false; 4],
+        )
+        .err()
+        .expect("an error")
+        .to_string();
         assert!(
             message.contains("notes.glsl: defines no mainImage"),
             "{message}"
         );
-        let message = compile_pass(None, &tab("bad.glsl", "void mainImage(vec2 p) { }\n"), [false; 4])
-            .err()
-            .expect("an error")
-            .to_string();
+        let message = compile_pass(
+            None,
+            &tab("bad.glsl", "void mainImage(vec2 p) { }\n"),
+            [false; 4],
+        )
+        .err()
+        .expect("an error")
+        .to_string();
         assert!(
             message.starts_with("bad.glsl: in vkpath's code"),
             "{message}"

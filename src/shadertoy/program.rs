@@ -284,7 +284,8 @@ impl std::str::FromStr for ChannelBinding {
 
 /// The Image tab of vkpath's that shows a hidden buffer (`Program::hidden_buffer`): the
 /// buffer's texels as they are, alpha included.
-const SHOW_HIDDEN_BUFFER: &str = "// vkpath's Image pass: shows the hidden buffer that your Image tab runs as.\n\
+const SHOW_HIDDEN_BUFFER: &str =
+    "// vkpath's Image pass: shows the hidden buffer that your Image tab runs as.\n\
 void mainImage(out vec4 fragColor, in vec2 fragCoord) {\n\
     fragColor = texelFetch(iChannel0, ivec2(fragCoord), 0);\n\
 }\n";
@@ -467,7 +468,9 @@ impl Program {
                         path: pass.path.clone(),
                         line,
                         channel,
-                        what: format!(" reads the audio file '{target}': vkpath runs no audio input"),
+                        what: format!(
+                            " reads the audio file '{target}': vkpath runs no audio input"
+                        ),
                     });
                 } else {
                     let folder = pass.path.parent().unwrap_or(Path::new(""));
@@ -488,7 +491,9 @@ impl Program {
         for pass in &self.passes {
             for (line, channel, key, value) in channel_settings(&pass.text) {
                 let cube = key == "Type" && value.eq_ignore_ascii_case("CubeMap");
-                let wired = bindings.iter().find(|b| b.pass == pass.kind && b.channel == channel);
+                let wired = bindings
+                    .iter()
+                    .find(|b| b.pass == pass.kind && b.channel == channel);
                 if cube && !wired.is_some_and(|b| matches!(b.source, ChannelSource::Cube(_))) {
                     return Err(ProgramError::UnsupportedChannel {
                         path: pass.path.clone(),
@@ -590,8 +595,11 @@ mod tests {
             .iter()
             .map(|kind| {
                 let path = dir.path().join(format!("{}.glsl", kind.name()));
-                std::fs::write(&path, "void mainImage(out vec4 c, in vec2 p) { c = vec4(1.0); }\n")
-                    .unwrap();
+                std::fs::write(
+                    &path,
+                    "void mainImage(out vec4 c, in vec2 p) { c = vec4(1.0); }\n",
+                )
+                .unwrap();
                 (*kind, path)
             })
             .collect();
@@ -617,13 +625,19 @@ mod tests {
         );
         // After two buffers it is Buffer C; with all four there is no room.
         let program = program_of(text, 2).unwrap();
-        assert_eq!(program.hidden_buffer().map(|p| p.kind), Some(PassKind::BufferC));
-        let message = program_of(text, 4).err().expect("an error").to_string();
+        assert_eq!(
+            program.hidden_buffer().map(|p| p.kind),
+            Some(PassKind::BufferC)
+        );
+        let message = program_of(text, 4).expect_err("an error").to_string();
         assert!(message.contains("image.glsl:1: #iChannel0 \"self\": the Image pass cannot read itself (it would run"), "{message}");
-        assert!(program_of("void mainImage(out vec4 c, in vec2 p) { c = vec4(0.0); }\n", 1)
-            .unwrap()
-            .hidden_buffer()
-            .is_none());
+        assert!(program_of(
+            "void mainImage(out vec4 c, in vec2 p) { c = vec4(0.0); }\n",
+            1
+        )
+        .unwrap()
+        .hidden_buffer()
+        .is_none());
     }
 
     #[test]
@@ -646,14 +660,16 @@ mod tests {
                 "image.glsl:1: #iChannel1::Type \"CubeMap\" needs an #iChannel1 \"file://…\" line",
             ),
         ] {
-            let message = program_of(text, 0).err().expect("an error").to_string();
+            let message = program_of(text, 0).expect_err("an error").to_string();
             assert!(message.contains(expected), "{message}");
             assert_eq!(message.lines().count(), 1, "{message}");
         }
         let text = "#iChannel1 \"file://sky_{}.png\"\n#iChannel1::Type \"CubeMap\"\n#iChannel1::WrapMode \"Repeat\"\n";
         let program = program_of(text, 0).unwrap();
         let image = program.pass(PassKind::Image).unwrap();
-        assert!(matches!(&image.channels[1], Some(ChannelSource::Cube(p)) if p.ends_with("sky_{}.png")));
+        assert!(
+            matches!(&image.channels[1], Some(ChannelSource::Cube(p)) if p.ends_with("sky_{}.png"))
+        );
         let notes = program.setting_notes();
         assert_eq!(notes.len(), 1);
         assert!(notes[0].ends_with("image.glsl:3: #iChannel1::WrapMode \"Repeat\" is not applied: vkpath samples every channel with linear filtering and clamp to edge"), "{notes:?}");

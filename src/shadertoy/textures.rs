@@ -196,7 +196,10 @@ mod tests {
             for (s, t) in [(0.5, 0.5), (0.2, 0.7), (0.9, 0.1)] {
                 let (selected, s2, t2) = select_face(cube_face_direction(face, s, t));
                 assert_eq!(selected, face);
-                assert!((s - s2).abs() < 1e-6 && (t - t2).abs() < 1e-6, "{face} {s} {t}");
+                assert!(
+                    (s - s2).abs() < 1e-6 && (t - t2).abs() < 1e-6,
+                    "{face} {s} {t}"
+                );
             }
         }
     }
