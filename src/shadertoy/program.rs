@@ -307,7 +307,10 @@ impl Program {
     /// buffer's `iChannel0` is its own previous frame, the Image pass's `iChannel0` is
     /// Buffer A (when there is one); all others are black until `channels` sets them. A
     /// channel that names a buffer the program lacks, or a pass the program lacks, is an
-    /// error.
+    /// error. An Image tab with `#iChannelN "self"` (VS Code Shader Toy's single-file
+    /// feedback) runs as a hidden buffer after the buffers given, with the Image tab's
+    /// default channels and its `--channel image.N` overrides, and an Image pass of vkpath's
+    /// shows it (`hidden_buffer`); with Buffer D given there is no room, which is an error.
     pub fn from_files(
         image: &Path,
         common: Option<&Path>,
