@@ -662,3 +662,187 @@ fn shadertoy_and_check_take_the_same_files_in_the_same_order() {
         );
     }
 }
+
+#[test]
+fn a_discarded_texel_keeps_what_its_target_held() {
+    // tests/solutions/programs/discard_buffer_a.glsl discards the left half from frame 3 on
+    // (in a helper that returns a value, called in a loop) and the bottom row from frame 4
+    // on (in mainImage). As in ShaderToy, whose buffers are two render targets written in
+    // turn and never cleared after frame 0, a discarded texel keeps its target's value: the
+    // one of two frames before. The Image pass sees this frame's Buffer A.
+    let dir = tempfile::tempdir().unwrap();
+    let (code, stderr) = shadertoy(
+        dir.path(),
+        &[
+            &program("show_buffer_a.glsl"),
+            "--buffer-a",
+            &program("discard_buffer_a.glsl"),
+            "--frames",
+            "6",
+            "--width",
+            "4",
+            "--height",
+            "2",
+            "-o",
+            "image.exr",
+            "--save-buffer",
+            "a=a.exr",
+        ],
+    );
+    assert_eq!(code, Some(0), "{stderr}");
+    let buffer = rgba(&dir.path().join("a.exr"));
+    let image = rgba(&dir.path().join("image.exr"));
+    for (x, y, expected) in [
+        (2, 1, [6.0, 4.0, 0.0, 1.0]),
+        (3, 1, [6.0, 4.0, 0.0, 1.0]),
+        (3, 0, [4.0, 4.0, 0.0, 1.0]),
+        (0, 0, [2.0, 4.0, 0.0, 1.0]),
+        (1, 1, [2.0, 4.0, 0.0, 1.0]),
+    ] {
+        assert_eq!(at(&buffer, x, y), expected, "A at ({x}, {y})");
+        assert_eq!(at(&image, x, y), expected, "Image at ({x}, {y})");
+    }
+}
+
+#[test]
+fn a_vscode_file_that_reads_itself_runs_as_a_hidden_buffer() {
+    // VS Code Shader Toy's single-file accumulation (#iChannel0 "self", void main(),
+    // gl_FragColor): alone, it runs as a hidden buffer that vkpath's Image pass shows; as
+    // --buffer-a (a page shader may be a buffer) with an Image tab that shows Buffer A, the
+    // same. Five frames: each pixel holds the running mean it computes.
+    let dir = tempfile::tempdir().unwrap();
+    let file = program("vscode_self_accumulation.glsl");
+    let size = ["--frames", "5", "--width", "4", "--height", "2"];
+    let mut alone = vec![file.as_str(), "-o", "alone.exr"];
+    alone.extend_from_slice(&size);
+    let (code, stderr) = shadertoy(dir.path(), &alone);
+    assert_eq!(code, Some(0), "{stderr}");
+    assert!(
+        stderr.contains(&format!(
+            "note: {file}: reads itself (#iChannel0 \"self\"): it runs as a hidden buffer-a"
+        )),
+        "{stderr}"
+    );
+    let shown = program("show_buffer_a.glsl");
+    let mut as_buffer = vec![
+        shown.as_str(),
+        "--buffer-a",
+        file.as_str(),
+        "-o",
+        "buffer.exr",
+    ];
+    as_buffer.extend_from_slice(&size);
+    let (code, stderr) = shadertoy(dir.path(), &as_buffer);
+    assert_eq!(code, Some(0), "{stderr}");
+    let n = 5.0f32;
+    for output in ["alone.exr", "buffer.exr"] {
+        let image = rgba(&dir.path().join(output));
+        for (x, y) in [(0, 0), (3, 1), (2, 0)] {
+            let expected = [
+                x as f32 + 0.5 + (n - 1.0) / 2.0,
+                (n - 1.0) * (2.0 * n - 1.0) / 6.0,
+                1.0,
+                1.0,
+            ];
+            let got = at(&image, x, y);
+            // A running mean in float: a few ulps from the exact mean.
+            for c in 0..4 {
+                assert!(
+                    (got[c] - expected[c]).abs() <= 1e-5 * expected[c].abs().max(1.0),
+                    "{output} at ({x}, {y}): {got:?} against {expected:?}"
+                );
+            }
+        }
+    }
+}
+
+#[test]
+fn a_cube_map_channel_is_sampled_by_direction() {
+    // tests/solutions/programs/cube_directions.glsl writes texture(iChannel1, direction) for
+    // 14 directions. First the VS Code Shader Toy way: #iChannel1 "file://cube_{}.png" with
+    // ::Type "CubeMap", six 2 x 2 PNG faces whose texels all differ; each of the first eight
+    // directions points at one texel's centre and gets it exactly (value / 255).
+    let dir = tempfile::tempdir().unwrap();
+    let tab = dir.path().join("cube_directions.glsl");
+    std::fs::copy(program("cube_directions.glsl"), &tab).unwrap();
+    // Face f's texel (column c, row r from the top): red 40 f + 10 c + 5 r + 10.
+    let byte = |f: u32, c: u32, r: u32| (40 * f + 10 * c + 5 * r + 10) as u8;
+    for (f, name) in ["px", "nx", "py", "ny", "pz", "nz"].iter().enumerate() {
+        let f = f as u32;
+        let face = image::RgbImage::from_fn(2, 2, |c, r| image::Rgb([byte(f, c, r), 200, 100]));
+        face.save(dir.path().join(format!("cube_{name}.png")))
+            .unwrap();
+    }
+    let tab = tab.to_string_lossy().to_string();
+    let size = ["--frames", "1", "--width", "14", "--height", "1"];
+    let mut args = vec![tab.as_str(), "-o", "faces.exr"];
+    args.extend_from_slice(&size);
+    let (code, stderr) = shadertoy(dir.path(), &args);
+    assert_eq!(code, Some(0), "{stderr}");
+    let image = rgba(&dir.path().join("faces.exr"));
+    // (face, column, row) of each of the first eight directions.
+    let texels = [
+        (0, 0, 0),
+        (0, 1, 1),
+        (1, 0, 0),
+        (2, 0, 0),
+        (3, 1, 1),
+        (4, 0, 0),
+        (5, 0, 0),
+        (5, 0, 1),
+    ];
+    for (x, (f, c, r)) in texels.into_iter().enumerate() {
+        let expected = [
+            f32::from(byte(f, c, r)) / 255.0,
+            200.0 / 255.0,
+            100.0 / 255.0,
+            1.0,
+        ];
+        assert_eq!(at(&image, x as u32, 0), expected, "direction {x}");
+    }
+
+    // Then an equirectangular EXR as --environment reads it, given on the command line
+    // (which wins over the directive): 8 x 4 texels, the top row +Y's code 3, the bottom
+    // row -Y's 4, the two middle rows by azimuth (u = 0.5 + atan2(x, -z) / 2 pi): columns
+    // 7 and 0 +Z's 5, 1-2 -X's 2, 3-4 -Z's 6, 5-6 +X's 1. Resampled into 2 x 2 faces, every
+    // texel around an axis has that axis's code, so each axis direction gets it exactly.
+    let code_at = |x: usize, y: usize| -> f32 {
+        match (y, x) {
+            (0, _) => 3.0,
+            (3, _) => 4.0,
+            (_, 7 | 0) => 5.0,
+            (_, 1 | 2) => 2.0,
+            (_, 3 | 4) => 6.0,
+            _ => 1.0,
+        }
+    };
+    exr::prelude::write_rgb_file(dir.path().join("sky.exr"), 8, 4, |x, y| {
+        (code_at(x, y), 10.0 * code_at(x, y), 0.5)
+    })
+    .unwrap();
+    let mut args = vec![
+        tab.as_str(),
+        "--channel",
+        "image.1=cube:sky.exr",
+        "-o",
+        "equirect.exr",
+    ];
+    args.extend_from_slice(&size);
+    let (code, stderr) = shadertoy(dir.path(), &args);
+    assert_eq!(code, Some(0), "{stderr}");
+    let image = rgba(&dir.path().join("equirect.exr"));
+    for (x, axis_code) in [
+        (8, 1.0),
+        (9, 2.0),
+        (10, 3.0),
+        (11, 4.0),
+        (12, 5.0),
+        (13, 6.0),
+    ] {
+        assert_eq!(
+            at(&image, x, 0),
+            [axis_code, 10.0 * axis_code, 0.5, 1.0],
+            "axis direction {x}"
+        );
+    }
+}

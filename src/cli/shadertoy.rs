@@ -51,9 +51,10 @@ pub struct ShadertoyArgs {
     /// The Buffer D tab.
     #[arg(long)]
     pub buffer_d: Option<PathBuf>,
-    /// What a channel reads, PASS.N=SOURCE (e.g. image.1=buffer-b, buffer-a.2=noise.png);
-    /// by default a buffer's iChannel0 is its own previous frame and the Image pass's
-    /// iChannel0 is Buffer A.
+    /// What a channel reads, PASS.N=SOURCE (e.g. image.1=buffer-b, buffer-a.2=noise.png, or
+    /// a cube map: image.1=cube:sky_{}.png for six faces sky_px.png … sky_nz.png,
+    /// image.1=cube:sky.exr for an equirectangular .exr/.hdr map); by default a buffer's
+    /// iChannel0 is its own previous frame and the Image pass's iChannel0 is Buffer A.
     #[arg(long = "channel")]
     pub channels: Vec<ChannelBinding>,
     /// Frames to run (iFrame 0 .. N-1, iTime in steps of 1/60 s).
@@ -211,6 +212,13 @@ pub fn run(args: &ShadertoyArgs) -> anyhow::Result<()> {
         Err(error) => return Err(error).context("setting up the program"),
     };
     if !args.quiet {
+        for note in program
+            .hidden_buffer_note()
+            .into_iter()
+            .chain(program.setting_notes())
+        {
+            eprintln!("note: {note}");
+        }
         for note in &runner.notes {
             eprintln!("note: {note}");
         }

@@ -10,6 +10,8 @@ use crate::glsl_intake::{
     find_entry_point, prepare_with, EntryPoint, IntakeOptions, PreparedSource, LOOP_GUARD_NAMES,
 };
 use crate::shader_compiler::{compile_compute_shader, CompiledShader};
+use crate::shadertoy::directives::rewrite_custom_uniforms;
+use crate::shadertoy::discard::rewrite_discards;
 
 /// Why a ShaderToy program's pass does not compile: one or more lines that name the user's
 /// files and lines.
@@ -22,14 +24,6 @@ pub enum PassError {
          if it is your Common tab, pass it first among the files (or with --common)"
     )]
     NoEntryPoint {
-        /// The tab's name in messages.
-        tab: String,
-    },
-    /// A buffer that is a page shader (its `main()` runs only as the Image pass).
-    #[error(
-        "{tab}: a buffer needs mainImage(out vec4 fragColor, in vec2 fragCoord); a page shader's main() runs only as the Image pass"
-    )]
-    PageShaderBuffer {
         /// The tab's name in messages.
         tab: String,
     },
@@ -56,6 +50,14 @@ const PAGE_SHADER_MAIN: &str = "vkpath_user_main";
 /// The colour a page shader writes when it declares no `out vec4` (its `gl_FragColor`,
 /// which the intake renames).
 const PAGE_SHADER_FRAG_COLOR: &str = "vkpath_FragColor";
+
+/// The macros that make `iChannel0`–`3` cube maps in pass.comp.
+const CUBE_CHANNEL_MACROS: [&str; 4] = [
+    "VKPATH_CHANNEL0_CUBE",
+    "VKPATH_CHANNEL1_CUBE",
+    "VKPATH_CHANNEL2_CUBE",
+    "VKPATH_CHANNEL3_CUBE",
+];
 
 /// ShaderToy's inputs, which the pass kernel declares (a tab that declares them itself, as
 /// exported or page-shader files do, has its declarations dropped).
@@ -115,6 +117,9 @@ pub struct UserTab {
     pub prepared: PreparedSource,
     /// Whether the tab defines `mainImage`.
     pub has_main_image: bool,
+    /// Whether the tab asks for VS Code Shader Toy's keyboard queries (`#iKeyboard`), which
+    /// the kernel then declares (no key is ever down).
+    pub keyboard: bool,
     /// For a page shader (`main()` and no `mainImage`): the expression of its colour, its
     /// `out vec4` variable or `vkpath_FragColor` (its `gl_FragColor`).
     pub page_shader_output: Option<String>,
@@ -125,7 +130,13 @@ impl UserTab {
     pub fn new(path: &Path, text: &str, resolution: (u32, u32)) -> UserTab {
         let entry = find_entry_point(text);
         let page_shader = entry == Some(EntryPoint::Main);
-        let prepared = prepare_with(text, &shadertoy_intake_options(page_shader, resolution));
+        // VS Code Shader Toy's custom uniforms, before the intake drops their lines.
+        let (text, uniform_notes) = rewrite_custom_uniforms(text);
+        let text = text.as_str();
+        let mut prepared = prepare_with(text, &shadertoy_intake_options(page_shader, resolution));
+        prepared.notes.extend(uniform_notes);
+        // A fragment shader's `discard`, which a compute kernel lacks (see `discard`).
+        prepared.text = rewrite_discards(&prepared.text).0;
         let page_shader_output = page_shader.then(|| {
             prepared
                 .outputs
@@ -140,11 +151,24 @@ impl UserTab {
             display_name: path.display().to_string(),
             prepared,
             has_main_image: entry == Some(EntryPoint::MainImage),
+            keyboard: false,
             page_shader_output,
         };
+        let keyboard_line = text.lines().position(|line| {
+            line.trim_start()
+                .strip_prefix('#')
+                .is_some_and(|rest| rest.trim_start().starts_with("iKeyboard"))
+        });
+        if let Some(index) = keyboard_line {
+            tab.keyboard = true;
+            tab.prepared.notes.push(format!(
+                "line {}: #iKeyboard: isKeyDown, isKeyPressed, isKeyToggled, isKeyReleased and the Key_* codes are declared; no key is ever down (headless)",
+                index + 1
+            ));
+        }
         if page_shader {
             tab.prepared.notes.push(
-                "your main() runs once per pixel as the Image pass (gl_FragCoord at pixel centres)"
+                "your main() runs once per pixel as a mainImage would (gl_FragCoord at pixel centres)"
                     .into(),
             );
         }
@@ -199,7 +223,14 @@ impl UserTab {
 /// every pass. The user's macros end after both (their epilogues), so that they cannot
 /// change the kernel's own code. On failure the error is the compiler's messages, naming the
 /// user's files and lines.
-pub fn compile_pass(common: Option<&UserTab>, tab: &UserTab) -> Result<CompiledShader, PassError> {
+///
+/// `cube_channels[N]` makes `iChannelN` a `samplerCube` (a cube-map channel) instead of a
+/// `sampler2D`.
+pub fn compile_pass(
+    common: Option<&UserTab>,
+    tab: &UserTab,
+    cube_channels: [bool; 4],
+) -> Result<CompiledShader, PassError> {
     if !tab.has_main_image && tab.page_shader_output.is_none() {
         return Err(PassError::NoEntryPoint {
             tab: tab.display_name.clone(),
@@ -228,6 +259,12 @@ pub fn compile_pass(common: Option<&UserTab>, tab: &UserTab) -> Result<CompiledS
     if let Some(output) = &output {
         macros.push(("VKPATH_PAGE_SHADER", "1"));
         macros.push(("VKPATH_PAGE_SHADER_OUTPUT", output.as_str()));
+    }
+    for (channel, _) in cube_channels.iter().enumerate().filter(|(_, cube)| **cube) {
+        macros.push((CUBE_CHANNEL_MACROS[channel], "1"));
+    }
+    if common.is_some_and(|c| c.keyboard) || tab.keyboard {
+        macros.push(("VKPATH_KEYBOARD", "1"));
     }
     let rewrite = |messages: String| rewrite_messages(&messages, common, tab);
     match compile_compute_shader(PASS_KERNEL, PASS_KERNEL_NAME, &resolve, &macros, false) {
@@ -332,8 +369,8 @@ mod tests {
             "image.glsl",
             "void mainImage(out vec4 c, in vec2 p) { c = vec4(shade(p / iResolution.xy), 1.0) + texture(iChannel0, p); }\n",
         );
-        assert!(compile_pass(Some(&common), &image).is_ok());
-        let message = compile_pass(None, &image)
+        assert!(compile_pass(Some(&common), &image, [false; 4]).is_ok());
+        let message = compile_pass(None, &image, [false; 4])
             .err()
             .expect("an error")
             .to_string();
@@ -353,8 +390,8 @@ mod tests {
             "// uses the Common tab's type\nfloat distance_of(hit_t hit) { return hit.t; }\n\
              void mainImage(out vec4 c, in vec2 p) { hit_t h; h.t = p.x; c = vec4(distance_of(h)); }\n",
         );
-        assert!(compile_pass(Some(&common), &image).is_ok());
-        let message = compile_pass(None, &image)
+        assert!(compile_pass(Some(&common), &image, [false; 4]).is_ok());
+        let message = compile_pass(None, &image, [false; 4])
             .err()
             .expect("an error")
             .to_string();
@@ -375,23 +412,31 @@ mod tests {
             "image.glsl",
             "void mainImage(out vec4 c, in vec2 p) { c = vec4(1.0); }\n",
         );
-        let message = compile_pass(Some(&common), &image)
+        let message = compile_pass(Some(&common), &image, [false; 4])
             .err()
             .expect("an error")
             .to_string();
         assert!(message.contains("my/common.glsl:3:"), "{message}");
-        let message = compile_pass(None, &tab("notes.glsl", "float f() { return 1.0; }\n"))
-            .err()
-            .expect("an error")
-            .to_string();
+        let message = compile_pass(
+            None,
+            &tab("notes.glsl", "float f() { return 1.0; }\n"),
+            [false; 4],
+        )
+        .err()
+        .expect("an error")
+        .to_string();
         assert!(
             message.contains("notes.glsl: defines no mainImage"),
             "{message}"
         );
-        let message = compile_pass(None, &tab("bad.glsl", "void mainImage(vec2 p) { }\n"))
-            .err()
-            .expect("an error")
-            .to_string();
+        let message = compile_pass(
+            None,
+            &tab("bad.glsl", "void mainImage(vec2 p) { }\n"),
+            [false; 4],
+        )
+        .err()
+        .expect("an error")
+        .to_string();
         assert!(
             message.starts_with("bad.glsl: in vkpath's code"),
             "{message}"
@@ -406,7 +451,7 @@ mod tests {
             "struct triangle_t {\n    vec3 positions[3];\n    vec3 normal;\n    vec3 color;\n    vec3 emission;\n};\n\
              void mainImage(out vec4 c, in vec2 p) { triangle_t t; t.color = vec3(1.0); c = vec4(t.color, 1.0); }\n",
         );
-        let compiled = compile_pass(None, &image);
+        let compiled = compile_pass(None, &image, [false; 4]);
         assert!(compiled.is_ok(), "{:?}", compiled.err());
     }
 
@@ -416,12 +461,12 @@ mod tests {
             "page.glsl",
             "uniform sampler2D u_unused;\nout vec4 color;\nvoid main() { color = vec4(1.0); }\n",
         );
-        assert!(compile_pass(None, &unused).is_ok());
+        assert!(compile_pass(None, &unused, [false; 4]).is_ok());
         let read = tab(
             "page.glsl",
             "uniform sampler2D u_scene;\nout vec4 color;\nvoid main() { color = texture(u_scene, vec2(0.5)); }\n",
         );
-        let message = compile_pass(None, &read)
+        let message = compile_pass(None, &read, [false; 4])
             .err()
             .expect("an error")
             .to_string();
@@ -438,9 +483,9 @@ mod tests {
             "#version 300 es\nprecision highp float;\nuniform vec2 u_resolution;\nout vec4 color;\nvoid main() { color = vec4(gl_FragCoord.xy, 0.0, 1.0); }\n",
         );
         assert!(
-            compile_pass(None, &page).is_ok(),
+            compile_pass(None, &page, [false; 4]).is_ok(),
             "{:?}",
-            compile_pass(None, &page).err()
+            compile_pass(None, &page, [false; 4]).err()
         );
     }
 }

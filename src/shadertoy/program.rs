@@ -3,8 +3,11 @@
 
 use std::path::{Path, PathBuf};
 
+pub use crate::shadertoy::directives::{channel_directives, channel_settings};
+use crate::shadertoy::directives::{is_cube_map, is_self, vertex_shader_line, AUDIO_EXTENSIONS};
+
 /// The usage of `--channel`, which its syntax errors end with.
-const CHANNEL_USAGE: &str = "expected PASS.N=SOURCE, e.g. image.1=buffer-b (PASS: buffer-a..buffer-d or image, N: 0..3, SOURCE: buffer-a..buffer-d or an image file)";
+const CHANNEL_USAGE: &str = "expected PASS.N=SOURCE, e.g. image.1=buffer-b (PASS: buffer-a..buffer-d or image, N: 0..3, SOURCE: buffer-a..buffer-d, an image file, or cube:FILE for a cube map: six images sky_{}.png or an equirectangular .exr/.hdr)";
 
 /// What is wrong with a ShaderToy program's files or channels: one line, naming the file
 /// (and line) or the `--channel` argument.
@@ -53,9 +56,10 @@ pub enum ProgramError {
         /// The buffer.
         kind: PassKind,
     },
-    /// The Image tab's `#iChannelN "self"` directive.
+    /// The Image tab's `#iChannelN "self"` directive, where it cannot run as a hidden buffer
+    /// (`wire_channel_directives` alone, or Buffer D already given).
     #[error(
-        "{}:{line}: #iChannel{channel} \"self\": the Image pass cannot read itself (as in ShaderToy)",
+        "{}:{line}: #iChannel{channel} \"self\": the Image pass cannot read itself ({reason})",
         path.display()
     )]
     ImageReadsItself {
@@ -65,6 +69,8 @@ pub enum ProgramError {
         line: usize,
         /// Its channel.
         channel: usize,
+        /// Why it cannot run as a hidden buffer.
+        reason: &'static str,
     },
     /// A channel directive that names a `.glsl` file that is none of the buffers given.
     #[error(
@@ -80,6 +86,30 @@ pub enum ProgramError {
         channel: usize,
         /// The file it names.
         target: String,
+    },
+    /// A channel directive that vkpath cannot supply (a URL, audio, a cube map without its
+    /// file).
+    #[error("{}:{line}: #iChannel{channel}{what}", path.display())]
+    UnsupportedChannel {
+        /// The tab's file.
+        path: PathBuf,
+        /// The directive's line (from 1).
+        line: usize,
+        /// Its channel.
+        channel: usize,
+        /// What it asks and why it cannot be, in words (from the text after `#iChannelN`).
+        what: String,
+    },
+    /// The extension's `#iVertex` (a vertex shader whose outputs the fragment shader reads).
+    #[error(
+        "{}:{line}: #iVertex: vkpath runs no vertex shaders (each pass is one full-screen compute dispatch), so what it outputs cannot be supplied",
+        path.display()
+    )]
+    VertexShader {
+        /// The tab's file.
+        path: PathBuf,
+        /// The directive's line (from 1).
+        line: usize,
     },
     /// A binding that reads a buffer the program lacks.
     #[error(
@@ -173,6 +203,9 @@ pub enum ChannelSource {
     /// An image file (PNG or JPEG as 8-bit values / 255, EXR as its floats), flipped so that
     /// texture coordinate (0, 0) is its bottom-left corner, as ShaderToy loads textures.
     File(PathBuf),
+    /// A cube map (`samplerCube`): six images named by a pattern with `{}`, or an
+    /// equirectangular `.exr`/`.hdr` map (`crate::shadertoy::textures`).
+    Cube(PathBuf),
 }
 
 /// One pass: its kind, its file and what its four channels read (`None`: black).
@@ -212,7 +245,8 @@ pub struct ChannelBinding {
 impl std::str::FromStr for ChannelBinding {
     type Err = ProgramError;
 
-    /// Parses `image.1=buffer-b`, `buffer-a.2=buffer-a` or `image.3=noise.png`.
+    /// Parses `image.1=buffer-b`, `buffer-a.2=buffer-a`, `image.3=noise.png` or
+    /// `image.1=cube:sky_{}.png`.
     fn from_str(text: &str) -> Result<ChannelBinding, ProgramError> {
         let syntax = || ProgramError::ChannelSyntax { text: text.into() };
         let (target, source) = text.split_once('=').ok_or_else(syntax)?;
@@ -234,7 +268,11 @@ impl std::str::FromStr for ChannelBinding {
             Some(PassKind::Image) => return Err(ProgramError::ImageAsSource { text: text.into() }),
             Some(buffer) => ChannelSource::Buffer(buffer),
             None if source.is_empty() => return Err(syntax()),
-            None => ChannelSource::File(PathBuf::from(source)),
+            None => match source.strip_prefix("cube:") {
+                Some("") => return Err(syntax()),
+                Some(cube) => ChannelSource::Cube(PathBuf::from(cube)),
+                None => ChannelSource::File(PathBuf::from(source)),
+            },
         };
         Ok(ChannelBinding {
             pass,
@@ -244,20 +282,13 @@ impl std::str::FromStr for ChannelBinding {
     }
 }
 
-/// The VS Code Shader Toy extension's channel directives of a tab, `#iChannelN "TARGET"`:
-/// (line from 1, N, TARGET) each.
-pub fn channel_directives(text: &str) -> Vec<(usize, usize, String)> {
-    text.lines()
-        .enumerate()
-        .filter_map(|(index, line)| {
-            let rest = line.trim_start().strip_prefix('#')?.trim_start();
-            let rest = rest.strip_prefix("iChannel")?;
-            let channel = rest.get(..1)?.parse::<usize>().ok().filter(|c| *c < 4)?;
-            let target = rest[1..].trim().trim_matches('"').to_string();
-            Some((index + 1, channel, target))
-        })
-        .collect()
-}
+/// The Image tab of vkpath's that shows a hidden buffer (`Program::hidden_buffer`): the
+/// buffer's texels as they are, alpha included.
+const SHOW_HIDDEN_BUFFER: &str =
+    "// vkpath's Image pass: shows the hidden buffer that your Image tab runs as.\n\
+void mainImage(out vec4 fragColor, in vec2 fragCoord) {\n\
+    fragColor = texelFetch(iChannel0, ivec2(fragCoord), 0);\n\
+}\n";
 
 /// Reads a user's file as text: a byte-order mark dropped, Windows line ends made `\n`.
 pub fn read_source(path: &Path) -> Result<String, ProgramError> {
@@ -276,7 +307,10 @@ impl Program {
     /// buffer's `iChannel0` is its own previous frame, the Image pass's `iChannel0` is
     /// Buffer A (when there is one); all others are black until `channels` sets them. A
     /// channel that names a buffer the program lacks, or a pass the program lacks, is an
-    /// error.
+    /// error. An Image tab with `#iChannelN "self"` (VS Code Shader Toy's single-file
+    /// feedback) runs as a hidden buffer after the buffers given, with the Image tab's
+    /// default channels and its `--channel image.N` overrides, and an Image pass of vkpath's
+    /// shows it (`hidden_buffer`); with Buffer D given there is no room, which is an error.
     pub fn from_files(
         image: &Path,
         common: Option<&Path>,
@@ -308,18 +342,71 @@ impl Program {
         if passes.iter().any(|p| p.kind == PassKind::BufferA) {
             image_channels[0] = Some(ChannelSource::Buffer(PassKind::BufferA));
         }
+        let text = read_source(image)?;
+        // The VS Code Shader Toy extension's single-file feedback: an Image tab that reads
+        // itself runs as a hidden buffer after the others, and vkpath's Image pass shows it.
+        let hidden = match channel_directives(&text)
+            .into_iter()
+            .find(|(_, _, target)| is_self(target))
+        {
+            None => None,
+            Some((line, channel, _)) => {
+                let after_last = passes
+                    .iter()
+                    .filter_map(|p| p.kind.buffer_index())
+                    .max()
+                    .map_or(0, |last| last + 1);
+                Some(*PassKind::BUFFERS.get(after_last).ok_or_else(|| {
+                    ProgramError::ImageReadsItself {
+                        path: image.to_path_buf(),
+                        line,
+                        channel,
+                        reason: "it would run as a hidden buffer after Buffer D, and a program has four",
+                    }
+                })?)
+            }
+        };
         passes.push(Pass {
-            kind: PassKind::Image,
+            kind: hidden.unwrap_or(PassKind::Image),
             path: image.to_path_buf(),
-            text: read_source(image)?,
+            text,
             channels: image_channels,
         });
+        if let Some(buffer) = hidden {
+            let mut channels: [Option<ChannelSource>; 4] = Default::default();
+            channels[0] = Some(ChannelSource::Buffer(buffer));
+            passes.push(Pass {
+                kind: PassKind::Image,
+                path: PathBuf::from(format!("(vkpath's Image pass showing {})", buffer.name())),
+                text: SHOW_HIDDEN_BUFFER.to_string(),
+                channels,
+            });
+        }
         let mut program = Program { common, passes };
         program.wire_channel_directives()?;
         for binding in channels {
-            program.bind(binding)?;
+            // `image.N` is the user's Image tab, wherever it runs.
+            let mut binding = binding.clone();
+            if let Some(buffer) = hidden.filter(|_| binding.pass == PassKind::Image) {
+                binding.pass = buffer;
+            }
+            program.bind(&binding)?;
         }
         Ok(program)
+    }
+
+    /// The hidden buffer that the user's Image tab runs as when it reads itself (VS Code
+    /// Shader Toy's `#iChannel0 "self"` in the file previewed), shown by vkpath's Image pass;
+    /// `None` for other programs.
+    pub fn hidden_buffer(&self) -> Option<&Pass> {
+        let image = self.pass(PassKind::Image)?;
+        if image.text != SHOW_HIDDEN_BUFFER {
+            return None;
+        }
+        match &image.channels[0] {
+            Some(ChannelSource::Buffer(buffer)) => self.pass(*buffer),
+            _ => None,
+        }
     }
 
     /// Wires the channels that the VS Code Shader Toy extension's directives name in each
@@ -331,14 +418,21 @@ impl Program {
     pub fn wire_channel_directives(&mut self) -> Result<(), ProgramError> {
         let mut bindings = Vec::new();
         for pass in &self.passes {
+            if let Some(line) = vertex_shader_line(&pass.text) {
+                return Err(ProgramError::VertexShader {
+                    path: pass.path.clone(),
+                    line,
+                });
+            }
             for (line, channel, target) in channel_directives(&pass.text) {
                 let target = target.strip_prefix("file://").unwrap_or(&target);
-                let source = if target == "self" {
+                let source = if is_self(target) {
                     if pass.kind == PassKind::Image {
                         return Err(ProgramError::ImageReadsItself {
                             path: pass.path.clone(),
                             line,
                             channel,
+                            reason: "as in ShaderToy",
                         });
                     }
                     ChannelSource::Buffer(pass.kind)
@@ -359,9 +453,36 @@ impl Program {
                             })
                         }
                     }
+                } else if target.contains("://") {
+                    return Err(ProgramError::UnsupportedChannel {
+                        path: pass.path.clone(),
+                        line,
+                        channel,
+                        what: format!(
+                            " reads '{target}': vkpath reads no URLs; download it and name the file (\"file://name.png\")"
+                        ),
+                    });
+                } else if AUDIO_EXTENSIONS.iter().any(|e| {
+                    Path::new(target)
+                        .extension()
+                        .is_some_and(|x| x.eq_ignore_ascii_case(e))
+                }) {
+                    return Err(ProgramError::UnsupportedChannel {
+                        path: pass.path.clone(),
+                        line,
+                        channel,
+                        what: format!(
+                            " reads the audio file '{target}': vkpath runs no audio input"
+                        ),
+                    });
                 } else {
                     let folder = pass.path.parent().unwrap_or(Path::new(""));
-                    ChannelSource::File(folder.join(target))
+                    let file = folder.join(target);
+                    if is_cube_map(&pass.text, channel) {
+                        ChannelSource::Cube(file)
+                    } else {
+                        ChannelSource::File(file)
+                    }
                 };
                 bindings.push(ChannelBinding {
                     pass: pass.kind,
@@ -370,10 +491,63 @@ impl Program {
                 });
             }
         }
+        for pass in &self.passes {
+            for (line, channel, key, value) in channel_settings(&pass.text) {
+                let cube = key == "Type" && value.eq_ignore_ascii_case("CubeMap");
+                let wired = bindings
+                    .iter()
+                    .find(|b| b.pass == pass.kind && b.channel == channel);
+                if cube && !wired.is_some_and(|b| matches!(b.source, ChannelSource::Cube(_))) {
+                    return Err(ProgramError::UnsupportedChannel {
+                        path: pass.path.clone(),
+                        line,
+                        channel,
+                        what: format!(
+                            "::Type \"CubeMap\" needs an #iChannel{channel} \"file://…\" line in the same file naming six images with {{}} (sky_{{}}.png) or an equirectangular .exr/.hdr map"
+                        ),
+                    });
+                }
+            }
+        }
         for binding in &bindings {
             self.bind(binding)?;
         }
         Ok(())
+    }
+
+    /// One note per channel setting of the extension's that vkpath does not apply
+    /// (`#iChannelN::MinFilter`, `::MagFilter`, `::WrapMode`: every channel is sampled with
+    /// linear filtering and clamp to edge), naming the file and line.
+    pub fn setting_notes(&self) -> Vec<String> {
+        self.passes
+            .iter()
+            .flat_map(|pass| {
+                channel_settings(&pass.text)
+                    .into_iter()
+                    .filter(|(_, _, key, _)| key != "Type")
+                    .map(|(line, channel, key, value)| {
+                        format!(
+                            "{}:{line}: #iChannel{channel}::{key} \"{value}\" is not applied: vkpath samples every channel with linear filtering and clamp to edge",
+                            pass.path.display()
+                        )
+                    })
+            })
+            .collect()
+    }
+
+    /// The note that says the user's Image tab runs as a hidden buffer
+    /// (`hidden_buffer`), naming the file and the directive's channel.
+    pub fn hidden_buffer_note(&self) -> Option<String> {
+        let pass = self.hidden_buffer()?;
+        let channel = channel_directives(&pass.text)
+            .into_iter()
+            .find(|(_, _, target)| is_self(target))
+            .map_or(0, |(_, channel, _)| channel);
+        Some(format!(
+            "{}: reads itself (#iChannel{channel} \"self\"): it runs as a hidden {}, which vkpath's Image pass shows, as VS Code Shader Toy runs it",
+            pass.path.display(),
+            pass.kind.name()
+        ))
     }
 
     /// Applies one `--channel` override.
@@ -416,16 +590,92 @@ pub fn reads_previous_frame(reader: PassKind, source: PassKind) -> bool {
 mod tests {
     use super::*;
 
+    fn program_of(text: &str, buffers: usize) -> Result<Program, ProgramError> {
+        let dir = tempfile::tempdir().unwrap();
+        let image = dir.path().join("image.glsl");
+        std::fs::write(&image, text).unwrap();
+        let buffers: Vec<(PassKind, PathBuf)> = PassKind::BUFFERS[..buffers]
+            .iter()
+            .map(|kind| {
+                let path = dir.path().join(format!("{}.glsl", kind.name()));
+                std::fs::write(
+                    &path,
+                    "void mainImage(out vec4 c, in vec2 p) { c = vec4(1.0); }\n",
+                )
+                .unwrap();
+                (*kind, path)
+            })
+            .collect();
+        Program::from_files(&image, None, &buffers, &[])
+    }
+
     #[test]
-    fn channel_directives_are_read_with_their_line() {
-        let text = "// tab\n#iChannel0 \"self\"\n  # iChannel3 \"file://textures/noise.png\"\n#iChannel7 \"x\"\n";
+    fn an_image_tab_that_reads_itself_runs_as_the_buffer_after_the_others() {
+        let text = "#iChannel0 \"file://self\"\nvoid main() { gl_FragColor = texture(iChannel0, vec2(0.5)); }\n";
+        let program = program_of(text, 0).unwrap();
+        let kinds: Vec<PassKind> = program.passes.iter().map(|p| p.kind).collect();
+        assert_eq!(kinds, [PassKind::BufferA, PassKind::Image]);
+        let hidden = program.hidden_buffer().expect("a hidden buffer");
+        assert_eq!(hidden.text, text);
         assert_eq!(
-            channel_directives(text),
-            [
-                (2, 0, "self".to_string()),
-                (3, 3, "file://textures/noise.png".to_string())
-            ]
+            hidden.channels[0],
+            Some(ChannelSource::Buffer(PassKind::BufferA))
         );
+        let note = program.hidden_buffer_note().unwrap_or_default();
+        assert!(
+            note.ends_with("image.glsl: reads itself (#iChannel0 \"self\"): it runs as a hidden buffer-a, which vkpath's Image pass shows, as VS Code Shader Toy runs it"),
+            "{note}"
+        );
+        // After two buffers it is Buffer C; with all four there is no room.
+        let program = program_of(text, 2).unwrap();
+        assert_eq!(
+            program.hidden_buffer().map(|p| p.kind),
+            Some(PassKind::BufferC)
+        );
+        let message = program_of(text, 4).expect_err("an error").to_string();
+        assert!(message.contains("image.glsl:1: #iChannel0 \"self\": the Image pass cannot read itself (it would run"), "{message}");
+        assert!(program_of(
+            "void mainImage(out vec4 c, in vec2 p) { c = vec4(0.0); }\n",
+            1
+        )
+        .unwrap()
+        .hidden_buffer()
+        .is_none());
+    }
+
+    #[test]
+    fn channels_vkpath_cannot_supply_are_one_line_each() {
+        for (text, expected) in [
+            (
+                "#iChannel2 \"https://example.com/duck.png\"\n",
+                "image.glsl:1: #iChannel2 reads 'https://example.com/duck.png': vkpath reads no URLs",
+            ),
+            (
+                "\n#iChannel3 \"file://music/epic.mp3\"\n",
+                "image.glsl:2: #iChannel3 reads the audio file 'music/epic.mp3': vkpath runs no audio input",
+            ),
+            (
+                "\n\n#iVertex \"file://vertex.glsl\"\n",
+                "image.glsl:3: #iVertex: vkpath runs no vertex shaders",
+            ),
+            (
+                "#iChannel1::Type \"CubeMap\"\n",
+                "image.glsl:1: #iChannel1::Type \"CubeMap\" needs an #iChannel1 \"file://…\" line",
+            ),
+        ] {
+            let message = program_of(text, 0).expect_err("an error").to_string();
+            assert!(message.contains(expected), "{message}");
+            assert_eq!(message.lines().count(), 1, "{message}");
+        }
+        let text = "#iChannel1 \"file://sky_{}.png\"\n#iChannel1::Type \"CubeMap\"\n#iChannel1::WrapMode \"Repeat\"\n";
+        let program = program_of(text, 0).unwrap();
+        let image = program.pass(PassKind::Image).unwrap();
+        assert!(
+            matches!(&image.channels[1], Some(ChannelSource::Cube(p)) if p.ends_with("sky_{}.png"))
+        );
+        let notes = program.setting_notes();
+        assert_eq!(notes.len(), 1);
+        assert!(notes[0].ends_with("image.glsl:3: #iChannel1::WrapMode \"Repeat\" is not applied: vkpath samples every channel with linear filtering and clamp to edge"), "{notes:?}");
     }
 
     #[test]
@@ -441,12 +691,15 @@ mod tests {
         );
         let binding: ChannelBinding = "buffer-a.3=noise.png".parse().unwrap();
         assert_eq!(binding.source, ChannelSource::File("noise.png".into()));
+        let binding: ChannelBinding = "image.1=cube:sky_{}.png".parse().unwrap();
+        assert_eq!(binding.source, ChannelSource::Cube("sky_{}.png".into()));
         for bad in [
             "image.4=buffer-a",
             "image=buffer-a",
             "sound.0=buffer-a",
             "image.0=image",
             "image.0=",
+            "image.0=cube:",
         ] {
             assert!(bad.parse::<ChannelBinding>().is_err(), "{bad}");
         }

@@ -17,6 +17,7 @@ use crate::image_io::data::RenderedImage;
 use crate::shadertoy::inputs::{FramePushConstants, PassConstants};
 use crate::shadertoy::kernel::{compile_pass, PassError, UserTab};
 use crate::shadertoy::program::{reads_previous_frame, ChannelSource, PassKind, Program};
+use crate::shadertoy::textures::{flip_rows, read_channel_file, read_cube_channel};
 use crate::vk::{
     Buffer, CommandRunner, ComputePipeline, Context, DescriptorSet, Sampler, StorageImage,
 };
@@ -116,12 +117,11 @@ pub fn compile_program(
     for pass in &program.passes {
         let tab = UserTab::new(&pass.path, &pass.text, resolution);
         notes.extend(tab.notes());
-        if pass.kind != PassKind::Image && tab.page_shader_output.is_some() {
-            return Err(PassError::PageShaderBuffer {
-                tab: tab.display_name.clone(),
-            });
-        }
-        let compiled = compile_pass(common.as_ref(), &tab)?;
+        let cube_channels = pass
+            .channels
+            .each_ref()
+            .map(|c| matches!(c, Some(ChannelSource::Cube(_))));
+        let compiled = compile_pass(common.as_ref(), &tab, cube_channels)?;
         if !compiled.warnings.trim().is_empty() && !warnings.contains(&compiled.warnings) {
             warnings.push_str(&compiled.warnings);
             warnings.push('\n');
@@ -129,46 +129,6 @@ pub fn compile_program(
         spirv.push(compiled.spirv);
     }
     Ok((spirv, warnings, notes))
-}
-
-/// Reads an image file for a channel as `rgba32f` texels, rows bottom-up (ShaderToy flips
-/// textures so that (0, 0) is the bottom-left corner): PNG and JPEG as their 8-bit (or
-/// 16-bit) values scaled to [0, 1], EXR as its floats (alpha 1).
-fn read_channel_file(path: &std::path::Path) -> Result<(u32, u32, Vec<[f32; 4]>)> {
-    let is_exr = path
-        .extension()
-        .is_some_and(|e| e.eq_ignore_ascii_case("exr"));
-    let (width, height, top_down): (u32, u32, Vec<[f32; 4]>) = if is_exr {
-        let image = crate::image_io::exr_input::read_exr(path)?.image;
-        (image.width, image.height, image.mean)
-    } else {
-        let image = image::open(path)
-            .map_err(|e| {
-                Error::Image(format!(
-                    "cannot read the channel image '{}': {e}",
-                    path.display()
-                ))
-            })?
-            .to_rgba32f();
-        let (width, height) = image.dimensions();
-        (width, height, image.pixels().map(|p| p.0).collect())
-    };
-    if width == 0 || height == 0 || width > MAX_SIDE || height > MAX_SIDE {
-        return Err(Error::Image(format!(
-            "the channel image '{}' is {width}x{height}; channels take 1..={MAX_SIDE} texels a side",
-            path.display()
-        )));
-    }
-    Ok((width, height, flip_rows(&top_down, width, height)))
-}
-
-/// The rows of a `width` x `height` image in the opposite order.
-fn flip_rows(texels: &[[f32; 4]], width: u32, height: u32) -> Vec<[f32; 4]> {
-    let width = width as usize;
-    (0..height as usize)
-        .rev()
-        .flat_map(|row| texels[row * width..(row + 1) * width].iter().copied())
-        .collect()
 }
 
 impl ShadertoyRunner {
@@ -219,18 +179,26 @@ impl ShadertoyRunner {
         let image_target = StorageImage::sampled_2d(context, "image", width, height)?;
         commands.run(|r| r.clear_storage_image(&image_target))?;
 
-        // Channel files, each loaded once.
-        let mut files: Vec<(std::path::PathBuf, usize, (u32, u32))> = Vec::new();
+        // Channel files (2D textures and cube maps), each loaded once.
+        let mut files: Vec<(&ChannelSource, usize, (u32, u32))> = Vec::new();
         for pass in &program.passes {
             for source in pass.channels.iter().flatten() {
-                let ChannelSource::File(path) = source else {
-                    continue;
-                };
-                if files.iter().any(|(p, _, _)| p == path) {
+                if files.iter().any(|(s, _, _)| *s == source) {
                     continue;
                 }
-                let (w, h, texels) = read_channel_file(path)?;
-                let texture = StorageImage::sampled_2d(context, "channel image", w, h)?;
+                let (texture, (w, h), texels) = match source {
+                    ChannelSource::Cube(path) => {
+                        let (side, texels) = read_cube_channel(path)?;
+                        let cube = StorageImage::sampled_cube(context, "channel cube map", side)?;
+                        (cube, (side, side), texels)
+                    }
+                    ChannelSource::File(path) => {
+                        let (w, h, texels) = read_channel_file(path)?;
+                        let image = StorageImage::sampled_2d(context, "channel image", w, h)?;
+                        (image, (w, h), texels)
+                    }
+                    ChannelSource::Buffer(_) => continue,
+                };
                 let staging = Buffer::with_data(
                     context,
                     "channel staging",
@@ -242,7 +210,7 @@ impl ShadertoyRunner {
                     r.copy_buffer_to_image(&staging, &texture);
                     r.compute_barrier();
                 })?;
-                files.push((path.clone(), textures.len(), (w, h)));
+                files.push((source, textures.len(), (w, h)));
                 textures.push(texture);
             }
         }
@@ -281,10 +249,10 @@ impl ShadertoyRunner {
             let channel = |c: usize, parity: usize| -> (&StorageImage, (u32, u32)) {
                 match &pass.channels[c] {
                     None => (&textures[0], (1, 1)),
-                    Some(ChannelSource::File(path)) => {
+                    Some(source @ (ChannelSource::File(_) | ChannelSource::Cube(_))) => {
                         let (_, index, size) = files
                             .iter()
-                            .find(|(p, _, _)| p == path)
+                            .find(|(s, _, _)| *s == source)
                             .expect("loaded above");
                         (&textures[*index], *size)
                     }

@@ -1,5 +1,6 @@
 //! A 2D array storage image of rgba32f texels with its view and memory, freed on drop; or,
-//! made with `StorageImage::sampled_2d`, a 2D one that shaders also sample.
+//! made with `StorageImage::sampled_2d` or `StorageImage::sampled_cube`, a 2D or cube-map
+//! one that shaders also sample.
 
 use std::sync::Arc;
 
@@ -19,7 +20,7 @@ pub struct StorageImage {
     /// The image handle.
     pub handle: vk::Image,
     /// A view of all its layers (`image2DArray` in GLSL; `image2D` and `sampler2D` for an
-    /// image made with `sampled_2d`).
+    /// image made with `sampled_2d`, `samplerCube` for one made with `sampled_cube`).
     pub view: vk::ImageView,
     allocation: Option<Allocation>,
     /// Width in texels.
@@ -65,7 +66,21 @@ impl StorageImage {
         )
     }
 
-    /// The image of `new` and `sampled_2d`, with `extra_usage` and a view of `view_type`.
+    /// Creates a cube map of six `side` x `side` layers (+X, -X, +Y, -Y, +Z, -Z, as Vulkan
+    /// and OpenGL order a cube's faces) that shaders sample (`samplerCube`, through a
+    /// combined image sampler in GENERAL layout), with a cube view, in layout UNDEFINED.
+    pub fn sampled_cube(context: &Arc<Context>, name: &str, side: u32) -> VkResult<StorageImage> {
+        Self::create(
+            context,
+            name,
+            (side, side, 6),
+            vk::ImageUsageFlags::SAMPLED,
+            vk::ImageViewType::CUBE,
+        )
+    }
+
+    /// The image of `new`, `sampled_2d` and `sampled_cube`, with `extra_usage` and a view
+    /// of `view_type`.
     fn create(
         context: &Arc<Context>,
         name: &str,
@@ -74,7 +89,13 @@ impl StorageImage {
         view_type: vk::ImageViewType,
     ) -> VkResult<StorageImage> {
         let device = &context.device;
+        let flags = if view_type == vk::ImageViewType::CUBE {
+            vk::ImageCreateFlags::CUBE_COMPATIBLE
+        } else {
+            vk::ImageCreateFlags::empty()
+        };
         let info = vk::ImageCreateInfo::default()
+            .flags(flags)
             .image_type(vk::ImageType::TYPE_2D)
             .format(STORAGE_IMAGE_FORMAT)
             .extent(vk::Extent3D {
