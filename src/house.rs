@@ -167,7 +167,10 @@ fn tokens(code: &str) -> Vec<(usize, String)> {
 /// triangles with the light tree over them, the environment and the punctual lights. A new
 /// kind is a new row here.
 const LIGHT_KINDS: &[(&str, &[&str])] = &[
-    ("emissive triangles", &["emissive", "light_tree", "lighttree"]),
+    (
+        "emissive triangles",
+        &["emissive", "light_tree", "lighttree"],
+    ),
     ("environment", &["environment"]),
     ("punctual lights", &["punctual"]),
 ];
@@ -175,7 +178,10 @@ const LIGHT_KINDS: &[(&str, &[&str])] = &[
 /// Identifiers of `src/render/` that contain a kind's word but name no kind of light: a
 /// material's emission factor and texture slot (`gpu_materials.rs` writes them).
 const NOT_A_LIGHT_KIND: &[(&str, &str)] = &[
-    ("src/render/gpu_materials.rs", "MATERIAL_TEXEL_EMISSIVE_METALLIC"),
+    (
+        "src/render/gpu_materials.rs",
+        "MATERIAL_TEXEL_EMISSIVE_METALLIC",
+    ),
     ("src/render/gpu_materials.rs", "MATERIAL_TEXTURE_EMISSIVE"),
     ("src/render/gpu_materials.rs", "emissive_texture"),
     ("src/render/gpu_materials.rs", "EMISSIVE"),
@@ -319,11 +325,22 @@ fn check_cost(name: &str, spelled: BTreeSet<String>) {
         "docs/house.md's {name}: the count and the list disagree"
     );
     let new = listed.iter().filter(|(_, new)| *new).count();
-    assert_eq!(new, stated(&block, "new"), "docs/house.md's {name}: new files");
-    assert_eq!(beside.len(), stated(&beside_block, "files"), "{name} beside");
+    assert_eq!(
+        new,
+        stated(&block, "new"),
+        "docs/house.md's {name}: new files"
+    );
+    assert_eq!(
+        beside.len(),
+        stated(&beside_block, "files"),
+        "{name} beside"
+    );
     let every: Vec<&String> = listed.iter().map(|(path, _)| path).chain(&beside).collect();
     for path in every {
-        assert!(root().join(path).is_file(), "docs/house.md's {name}: no {path}");
+        assert!(
+            root().join(path).is_file(),
+            "docs/house.md's {name}: no {path}"
+        );
     }
     let edited: BTreeSet<String> = listed
         .iter()
@@ -359,14 +376,21 @@ fn the_variant_rooms_inputs_are_the_ones_house_md_names() {
         .expect("path_tracer_variant");
     let signature = &code[signature_start..];
     let signature = &signature[..signature.find('{').unwrap()];
-    let inputs: Vec<String> = signature[signature.find('(').unwrap() + 1..signature.rfind(')').unwrap()]
+    let inputs: Vec<String> = signature
+        [signature.find('(').unwrap() + 1..signature.rfind(')').unwrap()]
         .split(',')
         .filter_map(|parameter| parameter.split(':').nth(1))
         .map(|ty| ty.trim().trim_start_matches('&').to_owned())
         .collect();
-    let output = signature[signature.rfind("->").unwrap() + 2..].trim().to_owned();
+    let output = signature[signature.rfind("->").unwrap() + 2..]
+        .trim()
+        .to_owned();
     let doc = read("docs/house.md");
-    let claim = format!("`path_tracer_variant({}) -> {}", inputs.join(", "), output.trim_start_matches("Result<").trim_end_matches('>'));
+    let claim = format!(
+        "`path_tracer_variant({}) -> {}",
+        inputs.join(", "),
+        output.trim_start_matches("Result<").trim_end_matches('>')
+    );
     assert!(
         doc.contains(&claim),
         "docs/house.md should name the variant room's inputs as {claim}`"
@@ -379,7 +403,11 @@ fn the_variant_rooms_inputs_are_the_ones_house_md_names() {
     };
     let block = house_block("variant inputs");
     assert_eq!(fields("SceneSummary"), stated(&block, "scene"), "{block}");
-    assert_eq!(fields("VariantSettings"), stated(&block, "settings"), "{block}");
+    assert_eq!(
+        fields("VariantSettings"),
+        stated(&block, "settings"),
+        "{block}"
+    );
 }
 
 /// The `crate::` paths a Rust source's code uses, braces expanded

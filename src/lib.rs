@@ -59,9 +59,9 @@ pub mod denoise;
 mod digest;
 pub mod error;
 #[doc(hidden)]
-pub mod files;
-#[doc(hidden)]
 pub mod exercise;
+#[doc(hidden)]
+pub mod files;
 #[doc(hidden)]
 pub mod guiding;
 pub mod image_io;

@@ -164,7 +164,6 @@ impl<'a> SceneLights<'a> {
     }
 }
 
-
 /// Feeds `update` what a scene's lights add to its hash in a render's metadata
 /// (`crate::render::metadata::scene_hash`): the punctual lights and the environment, as
 /// described (the emissive triangles are the triangles').

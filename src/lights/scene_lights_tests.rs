@@ -46,8 +46,7 @@ fn the_list_packs_each_kind_as_its_own_module_does() {
 #[test]
 fn only_an_environment_map_that_gives_light_is_light_sampled() {
     let mut scene = Scene::builtin_cornell_box().unwrap();
-    let samples =
-        |scene: &Scene| SceneLights::new(scene, &scene.triangles).samples_environment();
+    let samples = |scene: &Scene| SceneLights::new(scene, &scene.triangles).samples_environment();
     assert!(!samples(&scene), "no environment");
     scene.environment = Some(Environment::constant(Vec3::ONE));
     assert!(
@@ -80,7 +79,10 @@ fn a_kind_is_kept_while_its_words_are_the_same() {
     };
     let digest = |scene: &Scene| LightsDigest::of(scene, true);
     assert_eq!(digest(&lit(1.0)), digest(&lit(1.0)));
-    assert_eq!(digest(&lit(1.0)).same(&digest(&lit(1.0))), SameLights::all());
+    assert_eq!(
+        digest(&lit(1.0)).same(&digest(&lit(1.0))),
+        SameLights::all()
+    );
     // A brighter environment: the punctual lights (none) are still the same.
     let brighter = digest(&lit(1.0)).same(&digest(&lit(2.0)));
     assert_eq!(
@@ -91,13 +93,8 @@ fn a_kind_is_kept_while_its_words_are_the_same() {
         }
     );
     let mut pointed = lit(1.0);
-    pointed.punctual_lights = vec![PunctualLight::new(
-        PunctualKind::Point,
-        Vec3::ONE,
-        3.0,
-        Mat4::IDENTITY,
-    )
-    .unwrap()];
+    pointed.punctual_lights =
+        vec![PunctualLight::new(PunctualKind::Point, Vec3::ONE, 3.0, Mat4::IDENTITY).unwrap()];
     assert_eq!(
         digest(&lit(1.0)).same(&digest(&pointed)),
         SameLights {

@@ -136,9 +136,7 @@ fn rays_per_sample(settings: &RenderSettings, light_samples: u64) -> u64 {
     let vertices = u64::from(settings.max_path_length);
     match settings.integrator {
         Integrator::DirectIllumination => vertices.max(2),
-        Integrator::Nee | Integrator::Mis => {
-            vertices + vertices.saturating_sub(1) * light_samples
-        }
+        Integrator::Nee | Integrator::Mis => vertices + vertices.saturating_sub(1) * light_samples,
         _ => vertices,
     }
 }
