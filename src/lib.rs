@@ -56,9 +56,12 @@ pub mod camera;
 pub mod cli;
 pub mod compare;
 pub mod denoise;
+mod digest;
 pub mod error;
 #[doc(hidden)]
 pub mod exercise;
+#[doc(hidden)]
+pub mod files;
 #[doc(hidden)]
 pub mod guiding;
 pub mod image_io;
@@ -71,6 +74,9 @@ pub mod scene;
 pub mod shadertoy;
 #[doc(hidden)]
 pub mod vk;
+
+#[cfg(test)]
+mod house;
 
 pub use camera::Camera;
 pub use compare::{compare_images, CompareOptions, CompareReport};

@@ -217,12 +217,10 @@ pub struct SampleWork {
     pub rays: u64,
     /// Triangles of the scene (the linear traversal's loop).
     pub triangle_count: u64,
-    /// Emissive triangles (the light search's count).
-    pub light_count: u64,
-    /// With a light tree, its light searches' iterations per ray
-    /// (`crate::lights::SceneLights::light_search_iterations`), which replace the binary
-    /// search's over `light_count`; `None`: the power CDF's search.
-    pub light_tree_iterations: Option<u64>,
+    /// Iterations of one light search (`crate::lights::SceneLights::light_search_iterations`:
+    /// the power CDF's binary search over the lights, `light_search_iterations`, or the light
+    /// tree's walks).
+    pub light_search_iterations: u64,
     /// Most traversal iterations one ray can count in the scene's BVH
     /// (`bvh_iterations_per_ray_at_most`); `None` without a BVH or bound.
     pub bvh_iterations_per_ray: Option<u64>,
@@ -320,10 +318,7 @@ impl LoopCoefficients {
             0
         };
         let per_ray = u64::from(self.per_ray)
-            + u64::from(self.light_searches_per_ray)
-                * work
-                    .light_tree_iterations
-                    .unwrap_or(light_search_iterations(work.light_count))
+            + u64::from(self.light_searches_per_ray) * work.light_search_iterations
             + u64::from(self.triangle_loops_per_ray) * work.triangle_count
             + traversal;
         u64::from(self.per_sample) + work.rays * per_ray
@@ -413,8 +408,7 @@ mod tests {
         let work = SampleWork {
             rays: 10,
             triangle_count: 100,
-            light_count: u64::from(u32::MAX),
-            light_tree_iterations: None,
+            light_search_iterations: light_search_iterations(u64::from(u32::MAX)),
             bvh_iterations_per_ray: None,
         };
         assert_eq!(linear.iterations_per_sample(&work), 1 + 10 * 133);
@@ -449,8 +443,7 @@ mod tests {
         let work = SampleWork {
             rays: 95,
             triangle_count: 30,
-            light_count: 2,
-            light_tree_iterations: None,
+            light_search_iterations: light_search_iterations(2),
             bvh_iterations_per_ray: Some(44),
         };
         assert_eq!(bvh.iterations_per_sample(&work), 1 + 95 * 47);

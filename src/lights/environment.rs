@@ -13,11 +13,9 @@ use std::path::Path;
 
 use glam::Vec3;
 
+use crate::files::{io_message, printable, read_at_most, MAX_FILE_BYTES};
 use crate::image_io::error::ImageError;
 use crate::image_io::exr_input::plain_cause;
-use crate::scene::error::io_message;
-use crate::scene::files::{read_bounded, MAX_SCENE_FILE_BYTES};
-use crate::scene::{printable, SceneError};
 
 /// The environment's radiance (linear RGB) per texel, rows top-down.
 #[derive(Clone, Debug, PartialEq)]
@@ -78,9 +76,6 @@ pub enum EnvironmentMapError {
         /// The cause in plain words.
         cause: String,
     },
-    /// The file could not be read within the scene files' size limit.
-    #[error(transparent)]
-    File(Box<SceneError>),
     /// Neither a .hdr nor an .exr file: the path as printed.
     #[error("environment map '{0}' must be a .hdr (Radiance) or .exr (OpenEXR) file")]
     Format(String),
@@ -142,8 +137,7 @@ pub fn load_environment_map(path: &Path) -> Result<EnvironmentMap, EnvironmentMa
             (image.width, image.height, texels)
         }
         Some("hdr") => {
-            let bytes = read_bounded(path, MAX_SCENE_FILE_BYTES)
-                .map_err(|e| EnvironmentMapError::File(Box::new(e)))?;
+            let bytes = read_at_most(path, MAX_FILE_BYTES).map_err(|e| fail(&e))?;
             let image = image::load_from_memory_with_format(&bytes, image::ImageFormat::Hdr)
                 .map_err(|e| fail(&e))?
                 .into_rgb32f();

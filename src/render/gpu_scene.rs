@@ -20,8 +20,7 @@ use crate::kernels::variant::{
 };
 use crate::kernels::Build;
 use crate::kernels::{Bound, Resource};
-use crate::lights::gpu_buffers::{KeptLightBuffers, LightBuffers};
-use crate::lights::SceneLights;
+use crate::lights::{KeptLightBuffers, LightBuffers, SceneLights};
 use crate::render::gpu_materials::{
     material_texel_words, scene_texture_slots, GpuMaterial, GpuTriangleShading,
 };
@@ -36,8 +35,7 @@ mod upload_digest;
 pub use upload_digest::{SameParts, UploadDigest};
 
 /// Whether a render of `scene` with `settings` can take the lean builds of the path tracer
-/// (`crate::kernels::variant::fits_lean_builds`: no light tree, no path guiding, no
-/// environment map to sample).
+/// (`crate::kernels::variant::fits_lean_builds`).
 pub fn fits_lean_builds(scene: &Scene, settings: &RenderSettings) -> bool {
     let lights = SceneLights::new(scene, &scene.triangles);
     let summary = scene_summary(scene, None, &lights, 0);
@@ -84,7 +82,8 @@ fn kernel_materials(scene: &Scene) -> Option<Cow<'_, SceneMaterials>> {
 }
 
 /// What the variant room reads of `scene`, of the materials the kernels read (`None`: the
-/// workshop kernels), of its lights and of the texture slots its materials use.
+/// workshop kernels), of its lights (`SceneLights::summary`) and of the texture slots its
+/// materials use.
 fn scene_summary(
     scene: &Scene,
     materials: Option<&SceneMaterials>,
@@ -98,20 +97,16 @@ fn scene_summary(
         alpha: materials.is_some_and(|m| m.uses_alpha()),
         specular: materials.is_some_and(|m| m.uses_specular()),
         texture_slots,
-        environment: lights.has_environment(),
-        samples_environment: lights.samples_environment(),
-        punctual_lights: !lights.punctual.is_empty(),
-        emissive_triangles: !lights.emissive.triangle_indices.is_empty(),
+        ..lights.summary()
     }
 }
 
-/// What the variant room reads of `settings`, for a scene with `lights`.
+/// What the variant room reads of `settings`, for a scene with `lights`
+/// (`SceneLights::variant_settings` reads the light selection).
 fn variant_settings(settings: &RenderSettings, lights: &SceneLights) -> VariantSettings {
     VariantSettings {
         guiding: settings.guiding.is_some(),
-        light_tree: settings
-            .light_selection
-            .uses_tree(lights.emissive.triangle_indices.len()),
+        ..lights.variant_settings(settings.light_selection)
     }
 }
 
@@ -356,22 +351,19 @@ fn shading_words(
 pub struct KeptParts {
     /// The materials' words and texture texels.
     materials: Option<MaterialBuffers>,
-    /// The environment's and the punctual lights' buffers.
+    /// The lights' buffers that did not change (`crate::lights::LightBuffers::into_kept`).
     lights: KeptLightBuffers,
 }
 
 impl KeptParts {
-    /// Which parts these are, by the names `render --json` reports them with
-    /// (`materials`, `environment`, `punctual_lights`).
-    pub fn names(&self) -> Vec<&'static str> {
-        [
-            (self.materials.is_some(), "materials"),
-            (self.lights.environment.is_some(), "environment"),
-            (self.lights.punctual.is_some(), "punctual_lights"),
-        ]
-        .into_iter()
-        .filter_map(|(kept, name)| kept.then_some(name))
-        .collect()
+    /// Whether the materials' words and texture texels are kept.
+    pub fn materials(&self) -> bool {
+        self.materials.is_some()
+    }
+
+    /// The lights' kept buffers.
+    pub fn lights(&self) -> &KeptLightBuffers {
+        &self.lights
     }
 }
 
@@ -444,7 +436,7 @@ impl SceneMemory {
 pub struct GpuScene {
     triangles: TexelBufferView,
     uniforms: Buffer,
-    /// The lights, one buffer per kind (`crate::lights::gpu_buffers`).
+    /// The lights, one buffer per kind (`crate::lights::LightBuffers`).
     lights: LightBuffers,
     bvh_nodes: Option<TexelBufferView>,
     /// The vertex positions alone, in leaf order, for the traversal (with a BVH only).
@@ -459,12 +451,12 @@ pub struct GpuScene {
     pub summary: SceneSummary,
     /// What the variant room reads of the settings.
     pub variant_settings: VariantSettings,
-    /// Emissive triangles, the count that the kernel's light search halves
-    /// (`get_light_count()`).
-    pub light_count: u64,
-    /// With a light tree, the light searches' iterations per ray
-    /// (`SceneLights::light_search_iterations`); `None`: the power CDF's.
-    pub light_tree_iterations: Option<u64>,
+    /// Iterations of one light search (`SceneLights::light_search_iterations`), for the
+    /// loop budget.
+    pub light_search_iterations: u64,
+    /// Light samples a path vertex draws at most (`SceneLights::light_samples_per_vertex`),
+    /// for the loop budget.
+    pub light_samples_per_vertex: u64,
     /// The BVH's shape, for bounding a traversal's loop iterations (`None` without a BVH).
     pub bvh_stats: Option<BvhStats>,
     /// What the scene takes on the device.
@@ -506,11 +498,9 @@ impl GpuScene {
         };
         let gpu_triangles: Vec<GpuTriangle> =
             ordered_triangles.iter().map(GpuTriangle::new).collect();
-        let mut scene_lights = SceneLights::new(scene, &ordered_triangles);
+        let scene_lights = SceneLights::new(scene, &ordered_triangles)
+            .with_selection(settings.light_selection, &ordered_triangles);
         let variant_settings = variant_settings(settings, &scene_lights);
-        if variant_settings.light_tree {
-            scene_lights = scene_lights.with_light_tree(&ordered_triangles);
-        }
         let upload = |name: &str, bytes: &[u8]| {
             TexelBufferView::upload_rgba32_uint(context, commands, name, bytes)
         };
@@ -584,11 +574,8 @@ impl GpuScene {
             materials,
             summary,
             variant_settings,
-            light_count: scene_lights.emissive.triangle_indices.len() as u64,
-            light_tree_iterations: scene_lights
-                .tree
-                .as_ref()
-                .map(|_| scene_lights.light_search_iterations()),
+            light_search_iterations: scene_lights.light_search_iterations(),
+            light_samples_per_vertex: scene_lights.light_samples_per_vertex(),
             bvh_stats,
             memory,
             traversal,
@@ -600,9 +587,7 @@ impl GpuScene {
     pub fn into_kept(self, same: SameParts) -> KeptParts {
         KeptParts {
             materials: self.materials.filter(|_| same.materials),
-            lights: self
-                .lights
-                .into_kept(same.environment, same.punctual_lights),
+            lights: self.lights.into_kept(same.lights),
         }
     }
 

@@ -23,7 +23,7 @@ pub struct GpuTriangle {
     pub positions: [[f32; 4]; 3],
     /// xyz: unit normal (world space, the side the vertices are counter-clockwise from);
     /// w: unused, 0 (MIS reads a triangle's light-selection probability from the lights'
-    /// own buffer, `crate::lights::gpu_buffers::LightBuffers::selection`).
+    /// own buffer, `crate::lights::LightBuffers`).
     pub normal: [f32; 4],
     /// rgb: albedo, linear RGB in [0, 1]; a: unused, 0.
     pub color: [f32; 4],

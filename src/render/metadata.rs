@@ -147,8 +147,7 @@ impl RenderMetadata {
             settings_list.push(("noise_threshold".into(), noise.threshold.to_string()));
             settings_list.push(("noise_min_spp".into(), noise.min_spp.to_string()));
         }
-        let light_count = crate::lights::emissive::emissive_triangle_count(&scene.triangles);
-        if settings.light_selection.uses_tree(light_count) {
+        if settings.light_selection.uses_tree_over(&scene.triangles) {
             settings_list.push(("light_selection".into(), "tree".into()));
         }
         if let Some(training) = settings.guiding {
@@ -384,22 +383,7 @@ pub fn scene_hash(scene: &Scene, camera: &Camera) -> String {
         }
         hasher.update(&bytes);
     }
-    if !scene.punctual_lights.is_empty() {
-        hasher.update(format!("{:?}", scene.punctual_lights).as_bytes());
-    }
-    if let Some(environment) = &scene.environment {
-        hasher.update(
-            format!(
-                "{:?} {} {}",
-                environment.background, environment.strength, environment.rotation_degrees
-            )
-            .as_bytes(),
-        );
-        if let Some(map) = &environment.map {
-            hasher.update(format!("{}x{}", map.width, map.height).as_bytes());
-            hasher.update(bytemuck::cast_slice::<_, u8>(&map.texels));
-        }
-    }
+    crate::lights::hash_description(scene, &mut |bytes| hasher.update(bytes));
     bytes.clear();
     for vector in [
         camera.position,

@@ -10,12 +10,14 @@
 //! order than the rebuilt one; the triangles, shading data and light indices are stored in
 //! that order, so its images would not be those of a render of that frame alone), but the
 //! parts whose words did not change (`UploadDigest::same_parts`: the materials and texture
-//! texels, the environment, the punctual lights) are taken from the kept upload.
+//! texels, and the lights' buffers that `crate::lights::LightsDigest` finds the same) are
+//! taken from the kept upload.
 
 use std::sync::Arc;
 
 use crate::kernels::variant::Traversal;
 use crate::kernels::{Build, KernelPipeline};
+use crate::lights::LightReuse;
 use crate::render::gpu_scene::{GpuScene, KeptParts, UploadDigest};
 use crate::render::settings::{Accel, LightSelection, RenderSettings};
 use crate::scene::Scene;
@@ -65,43 +67,32 @@ pub struct ReuseCounts {
     /// Renders that uploaded their scene's geometry again but took the materials' words and
     /// texture texels from the upload before.
     pub materials: u32,
-    /// Likewise the environment's buffer.
-    pub environment: u32,
-    /// Likewise the punctual lights' buffer.
-    pub punctual_lights: u32,
+    /// Likewise the lights' buffers, kind by kind.
+    pub lights: LightReuse,
 }
 
 impl ReuseCounts {
     /// What was reused since `before` (for one render: what it took from the ones before
     /// it), by name: `kernel`, `accumulation`, `scene`, or where the scene moved the parts
-    /// of its upload that did not: `materials`, `environment`, `punctual_lights`.
+    /// of its upload that did not: `materials`, then the lights' kinds by their names
+    /// (`LightReuse::since`).
     pub fn since(self, before: ReuseCounts) -> Vec<&'static str> {
         [
             (self.pipelines > before.pipelines, "kernel"),
             (self.images > before.images, "accumulation"),
             (self.scenes > before.scenes, "scene"),
             (self.materials > before.materials, "materials"),
-            (self.environment > before.environment, "environment"),
-            (
-                self.punctual_lights > before.punctual_lights,
-                "punctual_lights",
-            ),
         ]
         .into_iter()
         .filter_map(|(reused, name)| reused.then_some(name))
+        .chain(self.lights.since(before.lights))
         .collect()
     }
 
-    /// Counts the parts a render took from the upload before (`KeptParts::names`).
+    /// Counts the parts a render took from the upload before.
     fn count_parts(&mut self, parts: &KeptParts) {
-        for name in parts.names() {
-            match name {
-                "materials" => self.materials += 1,
-                "environment" => self.environment += 1,
-                "punctual_lights" => self.punctual_lights += 1,
-                _ => {}
-            }
-        }
+        self.materials += u32::from(parts.materials());
+        self.lights.count(parts.lights());
     }
 }
 

@@ -221,29 +221,9 @@ pub enum SceneError {
     Arrays(String),
 }
 
-/// Text from a file (a name, a URI), made safe for a one-line message: control characters
-/// (newlines, carriage returns, ...) are written as escapes.
-pub fn printable(text: &str) -> String {
-    text.chars()
-        .map(|c| {
-            if c.is_control() {
-                c.escape_default().to_string()
-            } else {
-                c.to_string()
-            }
-        })
-        .collect()
-}
-
-/// An I/O error's message without the "(os error N)" suffix that `std` appends, which means
-/// nothing to a user reading one line of output.
-pub(crate) fn io_message(error: &std::io::Error) -> String {
-    let message = error.to_string();
-    match message.rfind(" (os error ") {
-        Some(start) if message.ends_with(')') => message[..start].to_owned(),
-        _ => message,
-    }
-}
+// A file's name and an I/O error in one line: the scene's messages and the lights' share them.
+pub(crate) use crate::files::io_message;
+pub use crate::files::printable;
 
 #[cfg(test)]
 mod tests {

@@ -10,7 +10,7 @@ use super::SceneError;
 /// The most bytes vkpath reads from one scene file or one file that a scene refers to
 /// (1 GiB): more than any scene it renders needs (10^6 triangles take 96 MB on the GPU),
 /// and a bound that a hostile or broken file cannot push memory past.
-pub const MAX_SCENE_FILE_BYTES: u64 = 1 << 30;
+pub const MAX_SCENE_FILE_BYTES: u64 = crate::files::MAX_FILE_BYTES;
 
 /// How scene files may be read.
 #[derive(Clone, Debug, Default, PartialEq)]

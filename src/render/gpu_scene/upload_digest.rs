@@ -6,26 +6,23 @@
 //! Each part's digest hashes the words `GpuScene::upload` writes into that part's buffers,
 //! or the words it derives them from, made by the functions the upload makes them with, in
 //! the scene's order:
-//! - the geometry: every `GpuTriangle` (the BVH, the traversal's triangles, the emissive
-//!   lights, their selection words and light tree are functions of these and of the
-//!   settings in the sequence's `UploadKey`), the material kernels' per-triangle shading
-//!   words, and with ray queries the acceleration structures' plan;
+//! - the geometry: every `GpuTriangle` (the BVH, the traversal's triangles and the lights
+//!   made of triangles are functions of these and of the settings in the sequence's
+//!   `UploadKey`), the material kernels' per-triangle shading words, and with ray queries
+//!   the acceleration structures' plan;
 //! - the materials: the material kernels' material words and texture atlas, or that the
 //!   workshop kernels read none;
-//! - the environment (what its words are made of: the map, its strength and turn) and the
-//!   punctual lights' words, which only the material kernels read (for the workshop kernels,
-//!   a word that says so).
+//! - the lights' own parts, digested by the lights' room (`crate::lights::LightsDigest`,
+//!   one digest per kind whose buffer an upload can keep).
 //!
 //! Two scenes whose part digests are the same get the same words in that part's buffers,
 //! whatever else differs in them.
 
-use sha2::{Digest, Sha256};
-
 use super::{gpu_materials, kernel_materials};
 use crate::accel::plan::StructurePlan;
+use crate::digest::Parts;
 use crate::kernels::variant::Traversal;
-use crate::lights::gpu_punctual::gpu_punctual_light_words;
-use crate::lights::{Environment, EnvironmentMap};
+use crate::lights::{LightsDigest, SameLights};
 use crate::render::gpu_materials::{material_texel_words, GpuTriangleShading};
 use crate::render::gpu_textures::TextureAtlas;
 use crate::render::gpu_types::GpuTriangle;
@@ -42,10 +39,8 @@ pub struct UploadDigest {
     geometry: [u8; 32],
     /// The materials' words and texture texels (`MaterialBuffers`).
     materials: [u8; 32],
-    /// The environment's words.
-    environment: [u8; 32],
-    /// The punctual lights' words.
-    punctual_lights: [u8; 32],
+    /// The lights' own parts, kind by kind.
+    lights: LightsDigest,
 }
 
 /// Which parts of two uploads write the same words (`UploadDigest::same_parts`), apart from
@@ -54,84 +49,8 @@ pub struct UploadDigest {
 pub struct SameParts {
     /// The materials' words and texture texels.
     pub materials: bool,
-    /// The environment's words.
-    pub environment: bool,
-    /// The punctual lights' words.
-    pub punctual_lights: bool,
-}
-
-/// Items hashed at once: their words go to the hasher in one slice, without a copy of the
-/// whole scene's words.
-const CHUNK: usize = 4096;
-
-/// A SHA-256 hasher of parts, each prefixed by its length in bytes, so that no two lists
-/// of parts give the same stream.
-struct Parts(Sha256);
-
-impl Parts {
-    /// A hasher with nothing hashed yet.
-    fn new() -> Parts {
-        Parts(Sha256::new())
-    }
-
-    /// Hashes one part: `bytes`.
-    fn part(&mut self, bytes: &[u8]) {
-        self.0.update((bytes.len() as u64).to_le_bytes());
-        self.0.update(bytes);
-    }
-
-    /// Hashes one part: the words `words` makes of each of `items`, in their order (chunk by
-    /// chunk).
-    fn words_of<T, W: bytemuck::Pod>(&mut self, items: &[T], words: impl Fn(&T) -> W) {
-        let bytes = items.len() as u64 * std::mem::size_of::<W>() as u64;
-        self.0.update(bytes.to_le_bytes());
-        let mut chunk = Vec::with_capacity(CHUNK.min(items.len()));
-        for items in items.chunks(CHUNK) {
-            chunk.clear();
-            chunk.extend(items.iter().map(&words));
-            self.0.update(bytemuck::cast_slice(&chunk));
-        }
-    }
-
-    /// The digest of what was hashed.
-    fn finish(self) -> [u8; 32] {
-        self.0.finalize().into()
-    }
-}
-
-/// Hashes what the environment's words (`gpu_environment_words`) are made of: the
-/// environment itself, every field, rather than the words, whose importance table takes
-/// longer to make than the map to hash (0.18 s a frame for a 2048 x 1024 map). The same
-/// environment makes the same words.
-fn hash_environment(part: &mut Parts, environment: Option<&Environment>) {
-    let Some(Environment {
-        map,
-        background,
-        strength,
-        rotation_degrees,
-    }) = environment
-    else {
-        part.part(b"none");
-        return;
-    };
-    part.part(bytemuck::cast_slice(&[
-        background.x,
-        background.y,
-        background.z,
-        *strength,
-        *rotation_degrees,
-    ]));
-    match map {
-        Some(EnvironmentMap {
-            width,
-            height,
-            texels,
-        }) => {
-            part.part(bytemuck::cast_slice(&[*width, *height]));
-            part.words_of(texels, |texel| texel.to_array());
-        }
-        None => part.part(b"constant"),
-    }
+    /// The lights' kinds that are the same (`LightsDigest::same`).
+    pub lights: SameLights,
 }
 
 impl UploadDigest {
@@ -139,8 +58,10 @@ impl UploadDigest {
     /// `None` where the upload would fail on the scene's own data (textures beyond the 2^32
     /// texels an atlas can index), which is then never kept.
     pub fn of(scene: &Scene, traversal: Traversal) -> Option<UploadDigest> {
-        // Every field by name: a field added to `Scene` does not compile here until it is
-        // hashed, or said to be none of the upload's.
+        // Every field by name but the lights', which `LightsDigest::of` hashes: it names
+        // every field of `Scene`, so a field added to `Scene` does not compile there until it
+        // is said to be a light's or this upload's (and then hashed here, or said to be none
+        // of the upload's).
         let Scene {
             triangles,
             // The render uniforms, written for every render (`GpuScene::aim`)
@@ -149,10 +70,9 @@ impl UploadDigest {
             warnings: _,
             // Read as the kernels read them (`kernel_materials`)
             materials: _,
-            punctual_lights,
-            environment,
             // Read by the structures' plan
             mesh_instances,
+            ..
         } = scene;
         let kernel_materials = kernel_materials(scene);
         let mut geometry = Parts::new();
@@ -179,26 +99,10 @@ impl UploadDigest {
                 geometry.words_of(&level.instances, |instance| instance.first_triangle);
             }
         }
-        // Only the material kernels read the environment and the punctual lights
-        // (`LightBuffers::upload`).
-        let read = |hash: &dyn Fn(&mut Parts)| {
-            let mut part = Parts::new();
-            if kernel_materials.is_some() {
-                hash(&mut part);
-            } else {
-                part.part(b"workshop");
-            }
-            part.finish()
-        };
         Some(UploadDigest {
             geometry: geometry.finish(),
             materials: materials.finish(),
-            environment: read(&|part| hash_environment(part, environment.as_ref())),
-            punctual_lights: read(&|part| {
-                part.part(bytemuck::cast_slice(&gpu_punctual_light_words(
-                    punctual_lights,
-                )))
-            }),
+            lights: LightsDigest::of(scene, kernel_materials.is_some()),
         })
     }
 
@@ -206,8 +110,7 @@ impl UploadDigest {
     pub fn same_parts(&self, other: &UploadDigest) -> SameParts {
         SameParts {
             materials: self.materials == other.materials,
-            environment: self.environment == other.environment,
-            punctual_lights: self.punctual_lights == other.punctual_lights,
+            lights: self.lights.same(&other.lights),
         }
     }
 }
@@ -263,28 +166,20 @@ mod tests {
 
     #[test]
     fn a_moved_scene_keeps_the_parts_that_did_not_move() {
-        let lit = |x: f32| {
+        let shaded = |x: f32| {
             let mut scene = scene(x);
             scene.materials = Some(SceneMaterials::from_plain(&scene.triangles));
-            scene.environment = Some(crate::lights::Environment::constant(Vec3::ONE));
             scene
         };
-        let (before, after) = (digest(&lit(0.0)), digest(&lit(0.25)));
+        let (before, after) = (digest(&shaded(0.0)), digest(&shaded(0.25)));
         assert_ne!(before, after);
         let all = SameParts {
             materials: true,
-            environment: true,
-            punctual_lights: true,
+            lights: SameLights::all(),
         };
         assert_eq!(before.same_parts(&after), all);
-        let mut brighter = lit(0.25);
-        brighter.environment = Some(crate::lights::Environment::constant(Vec3::splat(2.0)));
-        let environment_changed = SameParts {
-            environment: false,
-            ..all
-        };
-        assert_eq!(before.same_parts(&digest(&brighter)), environment_changed);
-        // The workshop kernels read no materials, environment or punctual lights.
+        // (`crate::lights::LightsDigest`'s tests change the lights kind by kind.)
+        // The workshop kernels read no materials, nor the lights' own parts.
         assert_eq!(
             digest(&scene(0.0)).same_parts(&before),
             SameParts::default()

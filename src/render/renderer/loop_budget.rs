@@ -38,10 +38,9 @@ impl LoopBudget {
         );
         let limit = LoopLimit::of(context);
         let work = SampleWork {
-            rays: rays_per_sample(settings, scene),
+            rays: rays_per_sample(settings, gpu_scene.light_samples_per_vertex),
             triangle_count: scene.triangles.len() as u64,
-            light_count: gpu_scene.light_count,
-            light_tree_iterations: gpu_scene.light_tree_iterations,
+            light_search_iterations: gpu_scene.light_search_iterations,
             bvh_iterations_per_ray: gpu_scene
                 .bvh_stats
                 .as_ref()
@@ -131,19 +130,13 @@ pub(super) fn loop_limit_advice(traversal: Traversal, rendered: bool) -> &'stati
 /// Rays one sample traces at most, for the loop-limit estimate: one closest-hit ray per path
 /// vertex (two for direct illumination: the camera ray and its one bounce), and for nee and
 /// mis a shadow ray per vertex but the last (the path loop ends there before its light
-/// samples) for each kind of light the scene has (`sample_direct_light` in
-/// `glsl/lights.glsl`: emissive triangles, and in the material kernels the environment and
-/// punctual lights).
-fn rays_per_sample(settings: &RenderSettings, scene: &Scene) -> u64 {
+/// samples) for each of the `light_samples` a vertex draws
+/// (`crate::lights::SceneLights::light_samples_per_vertex`).
+fn rays_per_sample(settings: &RenderSettings, light_samples: u64) -> u64 {
     let vertices = u64::from(settings.max_path_length);
     match settings.integrator {
         Integrator::DirectIllumination => vertices.max(2),
-        Integrator::Nee | Integrator::Mis => {
-            let kinds = 1
-                + u64::from(scene.environment.as_ref().is_some_and(|e| e.emits_light()))
-                + u64::from(!scene.punctual_lights.is_empty());
-            vertices + vertices.saturating_sub(1) * kinds
-        }
+        Integrator::Nee | Integrator::Mis => vertices + vertices.saturating_sub(1) * light_samples,
         _ => vertices,
     }
 }
