@@ -478,8 +478,13 @@ pub fn render<'py>(
                         .filter(|a| !aovs.contains(a)),
                 );
             }
+            // The samples the colour took (fewer than asked after the time limit).
+            let taken = RenderSettings {
+                spp: outcome.samples,
+                ..settings.clone()
+            };
             for aov in wanted {
-                let pixels = render_aov(&context, &world, &camera, &settings, aov)?;
+                let pixels = render_aov(&context, &world, &camera, &taken, aov)?;
                 post.aovs.push((aov, pixels));
             }
             post.denoise_requested = denoise;

@@ -91,7 +91,7 @@ impl FramePattern {
 #[derive(Debug, PartialEq, thiserror::Error)]
 pub enum NotFinished {
     /// It does not read as an image (empty, truncated, not EXR or PNG inside).
-    #[error("cannot be read ({0})")]
+    #[error("is unreadable ({0})")]
     Unreadable(String),
     /// It has no vkpath metadata.
     #[error("has no vkpath metadata (not written by vkpath render)")]
@@ -124,9 +124,14 @@ pub fn finished_image(
     asked: &mut dyn FnMut() -> RenderMetadata,
     samples: &Range<u32>,
 ) -> Result<(), NotFinished> {
-    read_whole_image(output).map_err(NotFinished::Unreadable)?;
+    // The reader's words without its "cannot read 'NAME': ", which the line says already.
+    let unreadable = |error: String| {
+        let prefix = format!("cannot read '{}': ", output.display());
+        NotFinished::Unreadable(error.strip_prefix(&prefix).unwrap_or(&error).to_string())
+    };
+    read_whole_image(output).map_err(unreadable)?;
     let held = read_image_metadata(output)
-        .map_err(|e| NotFinished::Unreadable(e.to_string()))?
+        .map_err(|e| unreadable(e.to_string()))?
         .ok_or(NotFinished::NoMetadata)?;
     let outcome = held.outcome.as_ref().ok_or(NotFinished::NoOutcome)?;
     if outcome.stop != "done" {
@@ -217,7 +222,7 @@ impl FrameArgs {
                 names.join(", ")
             );
         }
-        remove_stale_partials(outputs, frame, !quiet && !json);
+        remove_stale_partials(outputs, frame, !quiet);
         true
     }
 }

@@ -1042,13 +1042,16 @@ fn save_outputs(
     let Some(context) = contexts.first() else {
         return Ok(None);
     };
-    let (processed, layers) = request.post.apply(
-        context,
-        request.scene,
-        request.camera,
-        request.settings,
-        image,
-    )?;
+    // The layers take the samples the colour took: all of them, or those before the time
+    // limit (not the million asked, which would take far longer than the render did).
+    let taken = RenderSettings {
+        spp: metadata.samples.len() as u32,
+        ..request.settings.clone()
+    };
+    let (processed, layers) =
+        request
+            .post
+            .apply(context, request.scene, request.camera, &taken, image)?;
     let mut metadata = metadata.clone();
     request.post.record(&mut metadata);
     for output in outputs {

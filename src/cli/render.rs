@@ -627,7 +627,7 @@ fn render(args: &RenderArgs) -> anyhow::Result<()> {
         // The frame is finished (a stop by a signal ended the command): what a stopped
         // render of it left beside its outputs is stale.
         if frame.frame.is_some() {
-            remove_stale_partials(&outputs, frame, reporting.talks());
+            remove_stale_partials(&outputs, frame, !args.job.quiet);
         }
         tally.rendered.push(frame_started.elapsed().as_secs_f64());
         if !gltf {
