@@ -256,3 +256,46 @@ fn every_frames_output_is_checked_before_the_first_sample() {
         result.stderr
     );
 }
+
+#[test]
+fn a_stopped_sequence_says_which_frame_stopped_and_which_remain() {
+    use std::io::{BufRead, BufReader, Read};
+    use std::process::{Command, Stdio};
+    let dir = tempfile::tempdir().unwrap();
+    // A million spp: the frame is still rendering (or setting up) when the signal comes.
+    let mut child = Command::new(env!("CARGO_BIN_EXE_vkpath"))
+        .args([
+            "render", "--frames", "0..3", "-o", "s_#.png", "--spp", "1048576",
+        ])
+        .args(TINY)
+        .current_dir(dir.path())
+        .env("VKPATH_CACHE_DIR", crate::common::test_cache_dir())
+        .env_remove("RUST_LOG")
+        .stderr(Stdio::piped())
+        .stdout(Stdio::null())
+        .spawn()
+        .unwrap();
+    let mut stderr = BufReader::new(child.stderr.take().unwrap());
+    let mut line = String::new();
+    while !line.contains("vkpath: device") {
+        line.clear();
+        assert!(stderr.read_line(&mut line).unwrap() > 0, "no device line");
+    }
+    let killed = Command::new("kill")
+        .args(["-INT", &child.id().to_string()])
+        .status()
+        .unwrap();
+    assert!(killed.success());
+    assert_eq!(child.wait().unwrap().code(), Some(130));
+    let mut rest = String::new();
+    stderr.read_to_string(&mut rest).unwrap();
+    // Stopped in set-up (nothing written) or after some samples (saved beside): either way
+    // the line names the frame and what remains.
+    assert!(
+        rest.contains(
+            "; frame 0 of 0..3 stopped: frames 0..3 remain (--frames 0..3 --skip-existing renders them)"
+        ),
+        "{rest}"
+    );
+    assert!(!dir.path().join("s_1.png").exists());
+}
