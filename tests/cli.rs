@@ -19,6 +19,8 @@ mod determinism;
 mod devices_cli;
 #[path = "exercise_cli.rs"]
 mod exercise_cli;
+#[path = "farm_cli.rs"]
+mod farm_cli;
 #[path = "frames_cli.rs"]
 mod frames_cli;
 #[path = "hostile_input.rs"]

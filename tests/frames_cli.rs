@@ -7,7 +7,7 @@ use std::path::Path;
 
 use serde_json::json;
 
-use crate::common::runs::run;
+use crate::common::runs::{exr_bits, run};
 
 /// Writes `animated.gltf` (and `animated.bin`) into `dir`: a unit quad facing +Z whose node
 /// slides LINEAR from x = -1 at 0 s to x = 1 at 1 s (animation "slide"), seen by a camera at
@@ -138,7 +138,7 @@ fn frames_render_the_motion_and_time_equals_its_frame() {
         assert_eq!(report["time"], json!(index as f64 / 2.0));
         assert_eq!(report["outputs"], json!([format!("f_{index:02}.exr")]));
     }
-    let read = |name: &str| std::fs::read(dir.path().join(name)).unwrap();
+    let read = |name: &str| exr_bits(dir.path(), name);
     // Frame 0 (x = -1) and frame 2 (x = 1) see the quad in different places.
     assert_ne!(read("f_00.exr"), read("f_02.exr"));
     // --time 1 is frame 2 at 2 fps, bit for bit.
@@ -198,7 +198,7 @@ fn each_device_of_a_sequence_keeps_its_own_kernels_and_frames_equal_their_stills
     still.extend(SMALL);
     let still = run(dir.path(), &still, &[]);
     assert_eq!(still.code, Some(0), "{}", still.stderr);
-    let read = |name: &str| std::fs::read(dir.path().join(name)).unwrap();
+    let read = |name: &str| exr_bits(dir.path(), name);
     assert!(
         read("t.exr") == read("d_2.exr"),
         "--time 1 on two devices differs from frame 2"
@@ -258,7 +258,7 @@ fn a_textured_quad_that_moves_keeps_its_materials_and_frames_equal_their_stills(
     still.extend(small);
     let still = run(dir.path(), &still, &[]);
     assert_eq!(still.code, Some(0), "{}", still.stderr);
-    let read = |name: &str| std::fs::read(dir.path().join(name)).unwrap();
+    let read = |name: &str| exr_bits(dir.path(), name);
     assert!(
         read("t.exr") == read("q_1.exr"),
         "--time 0.5 differs from frame 1"
@@ -269,8 +269,6 @@ fn a_textured_quad_that_moves_keeps_its_materials_and_frames_equal_their_stills(
 #[test]
 fn a_static_scene_is_the_same_every_frame_and_existing_frames_are_skipped() {
     let dir = tempfile::tempdir().unwrap();
-    // Frame 1's output exists: --skip-existing leaves it as it is, and says so.
-    std::fs::write(dir.path().join("c_1.exr"), b"finished before").unwrap();
     let mut args = vec![
         "render",
         "--frames",
@@ -281,12 +279,19 @@ fn a_static_scene_is_the_same_every_frame_and_existing_frames_are_skipped() {
         "--json",
     ];
     args.extend(&SMALL[..6]);
+    // Frame 1 finished in an earlier run: --skip-existing leaves it as it is, and says so.
+    let mut earlier = args.clone();
+    earlier[2] = "1..2";
+    let before = run(dir.path(), &earlier, &[]);
+    assert_eq!(before.code, Some(0), "{}", before.stderr);
+    let read = |name: &str| std::fs::read(dir.path().join(name)).unwrap();
+    let finished_before = read("c_1.exr");
     let frames = run(dir.path(), &args, &[]);
     assert_eq!(frames.code, Some(0), "{}", frames.stderr);
     assert!(
         frames
             .stderr
-            .contains("frame 1: 'c_1.exr' already exist(s), skipped"),
+            .contains("frame 1: 'c_1.exr' already finished, skipped"),
         "{}",
         frames.stderr
     );
@@ -302,9 +307,14 @@ fn a_static_scene_is_the_same_every_frame_and_existing_frames_are_skipped() {
     let last: serde_json::Value =
         serde_json::from_str(frames.stdout.lines().last().unwrap()).unwrap();
     assert_eq!(last["reused"], json!(["kernel", "accumulation", "scene"]));
-    let read = |name: &str| std::fs::read(dir.path().join(name)).unwrap();
-    assert_eq!(read("c_1.exr"), b"finished before");
-    assert!(read("c_0.exr") == read("c_2.exr"), "a static scene changed");
+    assert!(
+        read("c_1.exr") == finished_before,
+        "frame 1 was rendered again"
+    );
+    assert!(
+        exr_bits(dir.path(), "c_0.exr") == exr_bits(dir.path(), "c_2.exr"),
+        "a static scene changed"
+    );
     // A frame that holds fewer samples than asked (as a stop leaves it) is rendered again.
     let whole = read("c_2.exr");
     let partial = run(
@@ -358,18 +368,22 @@ fn a_static_scene_is_the_same_every_frame_and_existing_frames_are_skipped() {
     assert!(
         again
             .stderr
-            .contains("frame 1: 'p_1.png' is partial (its render stopped (signal))"),
+            .contains("frame 1: 'p_1.png' is partial (its render stopped: signal)"),
         "{}",
         again.stderr
     );
     assert!(
         again
             .stderr
-            .contains("frame 0: 'p_0.png' already exist(s), skipped"),
+            .contains("frame 0: 'p_0.png' already finished, skipped"),
         "{}",
         again.stderr
     );
-    assert!(read("p_1.png") == read("p_0.png"), "frame 1 rendered again");
+    let pixels = |name: &str| image::open(dir.path().join(name)).unwrap().to_rgb8();
+    assert!(
+        pixels("p_1.png") == pixels("p_0.png"),
+        "frame 1 rendered again"
+    );
 }
 
 #[test]

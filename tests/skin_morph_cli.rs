@@ -216,7 +216,7 @@ fn a_skinned_strip_turns_with_its_joint_and_time_equals_its_frame() {
     assert!(pixels(d, "f_1.exr") != pixels(d, "f_2.exr"));
     assert!(pixels(d, "f_1.exr") != pixels(d, "f_0.exr"));
     // --time 1 is frame 2 at 2 fps, bit for bit.
-    let read = |name: &str| std::fs::read(d.join(name)).unwrap();
+    let read = |name: &str| crate::common::runs::exr_bits(d, name);
     assert!(
         read("t.exr") == read("f_2.exr"),
         "--time 1 differs from frame 2"
@@ -315,7 +315,7 @@ fn khronos_rigged_simple_bends_and_a_sequence_frame_equals_its_still() {
     assert!(images[1] != images[2], "frames 1 and 2 are the same pose");
     // Frame 2 came from a sequence that kept its kernel and accumulation image from frame 1
     // (and uploaded the moved scene again); `--time 1` renders it alone: bit for bit the same.
-    let read = |name: &str| std::fs::read(d.join(name)).unwrap();
+    let read = |name: &str| crate::common::runs::exr_bits(d, name);
     assert!(
         read("t.exr") == read("r_2.exr"),
         "--time 1 differs from frame 2"

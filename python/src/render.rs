@@ -465,10 +465,11 @@ pub fn render<'py>(
                 outcome.state.as_ref(),
             );
         }
-        // As `--aov` and `--denoise` (which renders the albedo and normal it needs): only
-        // after a whole render; one stopped early is returned as it is.
+        // As `--aov` and `--denoise` (which renders the albedo and normal it needs): after a
+        // finished render (every sample, or the time limit reached); one stopped early (the
+        // callback, Ctrl-C) is returned as it is.
         let mut post = PostProcessed::default();
-        if outcome.stop == StopReason::Done && outcome.failure.is_none() {
+        if outcome.stop.is_finished() && outcome.failure.is_none() {
             let mut wanted = aovs.clone();
             if denoise {
                 wanted.extend(
@@ -477,8 +478,13 @@ pub fn render<'py>(
                         .filter(|a| !aovs.contains(a)),
                 );
             }
+            // The samples the colour took (fewer than asked after the time limit).
+            let taken = RenderSettings {
+                spp: outcome.samples,
+                ..settings.clone()
+            };
             for aov in wanted {
-                let pixels = render_aov(&context, &world, &camera, &settings, aov)?;
+                let pixels = render_aov(&context, &world, &camera, &taken, aov)?;
                 post.aovs.push((aov, pixels));
             }
             post.denoise_requested = denoise;
@@ -538,8 +544,12 @@ pub fn render<'py>(
             pixel[..3].copy_from_slice(value);
         }
         layers.set_item("noisy", PyByteArray::new(py, bytemuck::cast_slice(&noisy)))?;
-    } else if denoise {
-        warnings.push("the render stopped early: returned without aovs= and denoise=".to_owned());
+    }
+    if (denoise || !aovs.is_empty()) && post.aovs.is_empty() {
+        warnings.push(format!(
+            "the render stopped early ({}): returned without aovs= and denoise=",
+            outcome.stop.name()
+        ));
     }
     dict.set_item("layers", layers)?;
     let image = &image;

@@ -54,6 +54,21 @@ def test_aovs_and_denoise_equal_the_command_lines_layers(cli, tmp_path):
         vkpath.render(width=4, height=4, spp=1, aovs=["shadow"])
 
 
+def test_a_time_limited_render_is_finished_and_keeps_its_aovs_and_denoising():
+    # A million spp: the time limit stops it long before its end (issue 58: it used to
+    # return the noisy image without its layers, as after a stop).
+    result = vkpath.render_result(width=8, height=8, spp=1 << 20, time_limit=0.3,
+                                  aovs=["albedo"], denoise=True)
+    assert result.stop == "time-limit" and result.spp < 1 << 20
+    assert sorted(result.layers) == ["albedo", "noisy"]
+    assert not np.array_equal(result.image[..., :3], result.layers["noisy"])
+    # A render the callback stopped is returned as it is, with a warning.
+    with pytest.warns(UserWarning, match="stopped early"):
+        stopped = vkpath.render_result(width=8, height=8, spp=1 << 20, aovs=["albedo"],
+                                       progress=lambda done, total: False)
+    assert stopped.stop == "stopped" and stopped.layers == {}
+
+
 def test_read_exr_with_layers_returns_every_layer(cli, tmp_path):
     output = tmp_path / "layers.exr"
     run_cli(cli, "render", *SIZE, "--spp", "2", "--aov", "albedo", "--aov", "depth",

@@ -361,7 +361,7 @@ def render(
     ``image_so_far()`` for the estimate of those samples, (H, W, 4) (the state is then
     read back from the device after every batch, which costs time on large images). Ctrl-C stops it after the current
     batch and raises KeyboardInterrupt. ``time_limit`` (seconds) stops it and returns what it
-    has. ``device`` is an index, a UUID (``GPU-...``, or a unique prefix) or part of a name, as
+    has: a finished render, which ``aovs=`` and ``denoise=`` still apply to. ``device`` is an index, a UUID (``GPU-...``, or a unique prefix) or part of a name, as
     ``vkpath devices`` lists them; without it, ``VKPATH_DEVICE`` and then
     ``CUDA_VISIBLE_DEVICES`` (as Ray sets it for a task with ``num_gpus``) choose, as for the CLI.
 
@@ -381,7 +381,8 @@ def render(
     default 16; ``spp`` is the cap). ``aovs=["albedo", "normal", "depth", "material"]`` is
     ``--aov`` (the arrays come in :func:`render_result`'s ``layers``), ``denoise=True`` is
     ``--denoise`` (Open Image Denoise with the albedo and normal; the image before is
-    ``layers["noisy"]``); both only after a whole render.
+    ``layers["noisy"]``); both after a render that took every sample or reached
+    ``time_limit``, not after one the callback or Ctrl-C stopped.
 
     ``guiding=True`` (nee and mis) is ``--guiding``: path guiding, a guide trained on
     ``guide_training_spp`` samples per pixel (default: about a million paths in all, at least

@@ -6,7 +6,6 @@ use std::path::{Path, PathBuf};
 
 use crate::cli::value_error::ValueError;
 use crate::render::metadata::parse_range;
-use crate::render::state_exr::read_image_metadata;
 use crate::scene::animation::AnimationPick;
 
 /// The default of `--fps`.
@@ -33,8 +32,10 @@ pub struct FrameArgs {
     /// all of them play at once by default.
     #[arg(long, value_name = "NAME|INDEX")]
     pub animation: Option<String>,
-    /// Leave alone every frame whose outputs all exist already (saying so), rendering the
-    /// others: for re-queued farm tasks.
+    /// Leave alone every frame whose outputs are all finished images of this render (read
+    /// whole; metadata with stop=done, the same scene digest and settings, at least the
+    /// samples asked), saying so; render the others again (a line says why): for re-queued
+    /// farm tasks.
     #[arg(long)]
     pub skip_existing: bool,
 }
@@ -102,77 +103,6 @@ impl FrameArgs {
             )));
         }
         Ok(())
-    }
-}
-
-impl FrameArgs {
-    /// Whether `--skip-existing` skips `frame`, whose outputs are `outputs`: all of them exist
-    /// and none is a vkpath image (EXR, or PNG with its tEXt metadata) that a stop left
-    /// partial: one holding other samples than `samples`, or whose render did not end `done`
-    /// (a Ctrl-C's `.partial` files never count: they have other names). Those are rendered
-    /// again, as a line says; other files (EXR or PNG without vkpath's metadata) count as
-    /// finished. Says so on stderr (unless `quiet`) and, with `json`, prints the frame's
-    /// object (`stop: skipped`) so that a script reads one object per frame.
-    pub fn skip(
-        &self,
-        frame: FrameTime,
-        outputs: &[PathBuf],
-        samples: &Range<u32>,
-        json: bool,
-        quiet: bool,
-    ) -> bool {
-        if !self.skip_existing || !outputs.iter().all(|o| o.is_file()) {
-            return false;
-        }
-        let partial = outputs.iter().find_map(|output| {
-            let metadata = read_image_metadata(output).ok().flatten()?;
-            let stopped = metadata.outcome.as_ref().filter(|o| !o.is_finished());
-            match stopped {
-                Some(outcome) => Some((output, format!("its render stopped ({})", outcome.stop))),
-                None => (metadata.samples != *samples).then(|| {
-                    let held = &metadata.samples;
-                    (
-                        output,
-                        format!(
-                            "it holds samples {}..{} of {}..{}",
-                            held.start, held.end, samples.start, samples.end
-                        ),
-                    )
-                }),
-            }
-        });
-        if let Some((output, why)) = partial {
-            if !quiet {
-                eprintln!(
-                    "vkpath render: {}: '{}' is partial ({why}): rendering it again",
-                    frame.name(),
-                    output.display(),
-                );
-            }
-            return false;
-        }
-        if json {
-            let skipped = serde_json::json!({
-                "schema_version": super::output::RENDER_REPORT_SCHEMA_VERSION,
-                "outputs": outputs.iter().map(|o| o.display().to_string()).collect::<Vec<_>>(),
-                "frame": frame.frame,
-                "time": frame.time,
-                "stop": "skipped",
-            });
-            println!("{skipped}");
-        }
-        if !quiet {
-            let names: Vec<String> = outputs
-                .iter()
-                .map(|o| format!("'{}'", o.display()))
-                .collect();
-            eprintln!(
-                "vkpath render: {}: {} already exist(s), skipped (--skip-existing)",
-                frame.name(),
-                names.join(", ")
-            );
-        }
-        true
     }
 }
 

@@ -14,6 +14,7 @@ pub mod compare;
 pub mod devices;
 pub mod exercise;
 pub mod export;
+pub mod frame_files;
 pub mod frames;
 pub mod merge;
 pub mod options;

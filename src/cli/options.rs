@@ -174,7 +174,8 @@ pub const DEFAULT_TEV_INTERVAL: Duration = Duration::from_secs(2);
 #[derive(Debug, Clone, clap::Args)]
 pub struct JobArgs {
     /// Stop after this many seconds (after the current batch, within about a second) and
-    /// write the samples taken so far; the EXR header says how many.
+    /// write the samples taken so far; the EXR header says how many. A time-limited render
+    /// is a finished one: --denoise and --aov still apply.
     #[arg(long, value_parser = parse_seconds)]
     pub time_limit: Option<f64>,
     /// Write the render state (sums, compensations, counts, metadata) to this EXR every

@@ -11,7 +11,7 @@ use anyhow::bail;
 use serde::Serialize;
 
 use super::signals;
-use super::summary::{summary_line, RenderProgress, Summary};
+use super::summary::{summary_line, RenderProgress, SequencePosition, Summary};
 use super::tev::TevView;
 use crate::camera::Camera;
 use crate::image_io::output::{
@@ -21,7 +21,9 @@ use crate::render::accumulation::Accumulation;
 use crate::render::aov::{render_aov, Aov};
 use crate::render::gpu_scene::SceneMemory;
 use crate::render::job::{run_job, JobOptions, LiveImage};
-use crate::render::metadata::{sampler_name, RenderMetadata, RenderOutcome};
+use crate::render::metadata::{
+    sampler_name, RenderMetadata, RenderOutcome, AOV_FIELD, DENOISER_NAME, DENOISE_FIELD,
+};
 use crate::render::multi::run_on_devices;
 use crate::render::renderer::GuideReport;
 use crate::render::sequence::{ReuseCounts, SequenceCache};
@@ -76,6 +78,9 @@ pub struct RenderRequest<'a> {
     pub command_started: Instant,
     /// The frame and time rendered, when the command line gave `--time` or `--frames`.
     pub frame: Option<super::frames::FrameTime>,
+    /// Where the frame stands in a sequence of several frames (the progress bar's and the
+    /// summary's frame counter, the sequence's time left); `None` for one image.
+    pub position: Option<SequencePosition>,
     /// Where a live view goes (`--tev HOST:PORT`) and how often, if anywhere.
     pub tev: Option<(String, std::time::Duration)>,
     /// What the frames of a sequence keep for the next: one cache per device, in the order
@@ -366,6 +371,7 @@ pub fn render_and_save(
             post: PostProcess::default(),
             command_started: Instant::now(),
             frame: None,
+            position: None,
             tev: None,
             sequences: &mut [],
         },
@@ -392,6 +398,18 @@ impl PostProcess {
     /// Whether there is anything to do.
     pub fn is_empty(&self) -> bool {
         self.aovs.is_empty() && !self.denoise
+    }
+
+    /// Records in `metadata` what this does to an image (`denoise`, `aov`), as the files
+    /// it post-processed say.
+    pub fn record(&self, metadata: &mut RenderMetadata) {
+        if self.denoise {
+            metadata.set_image_field(DENOISE_FIELD, DENOISER_NAME.to_string());
+        }
+        if !self.aovs.is_empty() {
+            let names: Vec<&str> = self.aovs.iter().map(|aov| aov.name()).collect();
+            metadata.set_image_field(AOV_FIELD, names.join(","));
+        }
     }
 
     /// The image to save and its extra layers.
@@ -472,10 +490,10 @@ pub fn render_job_and_save(context: &Arc<Context>, request: RenderRequest) -> an
             show: &show,
         });
     }
-    let mut progress = request
-        .reporting
-        .talks()
-        .then(|| RenderProgress::new(total, request.settings.noise_threshold.is_some()));
+    let mut progress = request.reporting.talks().then(|| {
+        RenderProgress::new(total, request.settings.noise_threshold.is_some())
+            .in_sequence(request.position.clone())
+    });
     let before = request.sequences.first().map(|s| s.reused);
     let outcome = run_job(
         context,
@@ -700,6 +718,9 @@ fn finish(
         spp_requested: request.job.samples.len() as u32,
         stop: finished.stop.name().to_string(),
     });
+    if let Some(frame) = request.frame {
+        finished.metadata.set_frame(frame.frame, frame.time);
+    }
     let outputs = written_outputs(request.outputs, finished.stop);
     let image = std::mem::replace(&mut finished.image, RenderedImage::empty(0, 0));
     warn_about_non_finite_pixels(&image);
@@ -757,7 +778,8 @@ fn refuse_when_nothing_was_taken(finished: &Finished) -> anyhow::Result<()> {
         eprintln!(
             "vkpath: stopped by {name} before the last tile: a render finishing its tiles one \
              at a time has no sample of those it did not reach, so nothing was written \
-             (--checkpoint keeps what a stopped render took)"
+             (--checkpoint keeps what a stopped render took){}",
+            signals::frames_left()
         );
         std::process::exit(status);
     }
@@ -858,8 +880,13 @@ fn print_summary(
         .map(|(context, report)| (context.info.clone(), report.spp))
         .collect();
     let area = request.settings.area();
+    let counter = request
+        .position
+        .as_ref()
+        .map(|p| format!("{}: ", p.counter()))
+        .unwrap_or_default();
     eprintln!(
-        "{}",
+        "{counter}{}",
         summary_line(&Summary {
             devices: &devices,
             width: area.width(),
@@ -962,8 +989,9 @@ fn end_after_report(
                 false => format!("{} and {last}", saved.join(", ")),
             };
             let kept = left_as_they_were(request, outputs);
+            let frames_left = signals::frames_left();
             eprintln!(
-                "vkpath: stopped by {name} after {done} of {total} spp; saved to {saved}{kept}"
+                "vkpath: stopped by {name} after {done} of {total} spp; saved to {saved}{kept}{frames_left}"
             );
             std::process::exit(status);
         }
@@ -979,8 +1007,8 @@ fn end_after_report(
 }
 
 /// Writes the finished render to every output: the render state for a shard; otherwise the
-/// image as rendered, then (for a complete render) again after `request.post`, so that
-/// nothing is lost if post-processing fails.
+/// image as rendered, then (for a finished render: every sample taken, or the time limit
+/// reached) again after `request.post`, so that nothing is lost if post-processing fails.
 fn save_outputs(
     request: &RenderRequest,
     outputs: &[PathBuf],
@@ -1004,22 +1032,30 @@ fn save_outputs(
     if request.post.is_empty() {
         return Ok(None);
     }
-    if finished.stop != StopReason::Done {
-        eprintln!("vkpath: warning: the render stopped early: saved without --aov/--denoise");
+    if !finished.stop.is_finished() {
+        eprintln!(
+            "vkpath: warning: the render stopped early ({}): saved without --aov/--denoise",
+            finished.stop.name()
+        );
         return Ok(None);
     }
     let Some(context) = contexts.first() else {
         return Ok(None);
     };
-    let (processed, layers) = request.post.apply(
-        context,
-        request.scene,
-        request.camera,
-        request.settings,
-        image,
-    )?;
+    // The layers take the samples the colour took: all of them, or those before the time
+    // limit (not the million asked, which would take far longer than the render did).
+    let taken = RenderSettings {
+        spp: metadata.samples.len() as u32,
+        ..request.settings.clone()
+    };
+    let (processed, layers) =
+        request
+            .post
+            .apply(context, request.scene, request.camera, &taken, image)?;
+    let mut metadata = metadata.clone();
+    request.post.record(&mut metadata);
     for output in outputs {
-        save_or_rescue(output, &processed, &request.save, metadata, &layers)?;
+        save_or_rescue(output, &processed, &request.save, &metadata, &layers)?;
     }
     if request.post.denoise && request.reporting.talks() {
         eprintln!("vkpath: {}", DENOISED_LINE);

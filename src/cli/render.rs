@@ -6,12 +6,14 @@ use std::time::Instant;
 use anyhow::bail;
 use glam::Vec3;
 
+use super::frame_files::{check_frame_outputs, remove_stale_partials};
 use super::frames::{frame_path, FrameArgs};
 use super::options::{parse_spp, JobArgs, RenderOptions, SaveArgs, SceneArgs};
 use super::output::{
     render_job_and_save, render_on_devices_and_save, PostProcess, RenderFailure, RenderRequest,
     ReportPrinted,
 };
+use super::summary::SequencePosition;
 use super::{parse_vec3, signals, DeviceArgs};
 use crate::camera::{Camera, DEFAULT_VERTICAL_FOV_DEGREES};
 use crate::image_io::exr_input::check_exr_file;
@@ -20,7 +22,7 @@ use crate::image_io::tonemap::RENDER_PNG_TONE_MAP;
 use crate::lights::environment_source::{EnvironmentSource, COMMAND_LINE_NAMES};
 use crate::render::adaptive::{NoiseThreshold, DEFAULT_MIN_SPP};
 use crate::render::job::{production_settings, JobOptions, DEFAULT_CHECKPOINT_INTERVAL};
-use crate::render::metadata::sampler_name;
+use crate::render::metadata::{sampler_name, RenderMetadata};
 use crate::render::region::PixelRegion;
 use crate::render::sequence::SequenceCache;
 use crate::render::settings::{Integrator, PixelFilter, RenderSettings};
@@ -407,6 +409,9 @@ fn render(args: &RenderArgs) -> anyhow::Result<()> {
     let job = args.job.options(settings.spp, save)?;
     args.frames.check_outputs(&args.outputs)?;
     args.check_files(&job)?;
+    if let Some(frames) = &args.frames.frames {
+        check_frame_outputs(&args.outputs, frames)?;
+    }
     if args.frames.frames.as_ref().is_some_and(|f| f.len() > 1)
         && (job.checkpoint.is_some() || job.resume.is_some())
     {
@@ -470,6 +475,7 @@ fn render(args: &RenderArgs) -> anyhow::Result<()> {
     // the frames of a glTF file after it.
     let mut loaded_environment: Option<Option<crate::lights::Environment>> = None;
     let mut first = true;
+    let mut tally = SequenceTally::default();
     for frame in args.frames.frame_times() {
         let frame_started = if first {
             command_started
@@ -481,15 +487,6 @@ fn render(args: &RenderArgs) -> anyhow::Result<()> {
             .iter()
             .map(|o| frame_path(o, frame.frame))
             .collect();
-        if args.frames.skip(
-            frame,
-            &outputs,
-            &job.samples,
-            reporting.json,
-            args.job.quiet,
-        ) {
-            continue;
-        }
         // Each frame starts as the command does: a signal before its first sample ends the
         // command at once, writing nothing of this frame (earlier frames are complete), so
         // that a re-queued task with --skip-existing renders it again.
@@ -546,7 +543,41 @@ fn render(args: &RenderArgs) -> anyhow::Result<()> {
             warn_about_lights(&scene, &settings);
         }
         let camera = args.camera(&scene, reporting.talks() && first)?;
+        if first && !args.job.quiet {
+            note_a_still_sequence(args, gltf_file.as_ref());
+        }
         first = false;
+        let asked = || {
+            let mut asked = RenderMetadata::new(&settings, &scene, &camera, job.samples.clone());
+            if args.frames.timed() {
+                asked.set_frame(frame.frame, frame.time);
+            }
+            post.record(&mut asked);
+            asked
+        };
+        if args.frames.skip(
+            frame,
+            &outputs,
+            asked,
+            &job.samples,
+            reporting.json,
+            args.job.quiet,
+        ) {
+            tally.skipped += 1;
+            if !gltf {
+                still = Some(scene);
+            }
+            continue;
+        }
+        let position = args
+            .frames
+            .frames
+            .clone()
+            .filter(|f| f.len() > 1)
+            .zip(frame.frame);
+        if let Some((frames, number)) = &position {
+            signals::set_frames_left(*number, frames);
+        }
         let devices = match &mut devices {
             Some(devices) => devices,
             None => devices.insert(match &several {
@@ -576,6 +607,11 @@ fn render(args: &RenderArgs) -> anyhow::Result<()> {
             post: post.clone(),
             command_started: frame_started,
             frame: args.frames.timed().then_some(frame),
+            position: position.map(|(frames, frame)| SequencePosition {
+                frame,
+                frames,
+                seconds_per_frame: tally.seconds_per_frame(),
+            }),
             tev: args.job.tev.clone().map(|address| {
                 (
                     address,
@@ -588,11 +624,83 @@ fn render(args: &RenderArgs) -> anyhow::Result<()> {
             Devices::Several(contexts) => render_on_devices_and_save(contexts, request)?,
             Devices::One(context) => render_job_and_save(context, request)?,
         }
+        // The frame is finished (a stop by a signal ended the command): what a stopped
+        // render of it left beside its outputs is stale.
+        if frame.frame.is_some() {
+            remove_stale_partials(&outputs, frame, !args.job.quiet);
+        }
+        tally.rendered.push(frame_started.elapsed().as_secs_f64());
         if !gltf {
             still = Some(scene);
         }
     }
+    if let (Some(frames), true) = (&args.frames.frames, reporting.talks()) {
+        if frames.len() > 1 {
+            eprintln!(
+                "{}",
+                tally.line(frames, command_started.elapsed().as_secs_f64())
+            );
+        }
+    }
     Ok(())
+}
+
+/// What the frames of a sequence did, for the time left and its closing line.
+#[derive(Default)]
+struct SequenceTally {
+    /// Seconds each rendered frame took, set-up included, in order.
+    rendered: Vec<f64>,
+    /// Frames `--skip-existing` left alone.
+    skipped: u32,
+}
+
+impl SequenceTally {
+    /// What a frame takes: the mean over the rendered frames after the first (which opened
+    /// the device and built the kernels), else the first's; `None` before any.
+    fn seconds_per_frame(&self) -> Option<f64> {
+        let later = self.rendered.get(1..).filter(|later| !later.is_empty());
+        let frames = later.or(self.rendered.get(..1).filter(|f| !f.is_empty()))?;
+        Some(frames.iter().sum::<f64>() / frames.len() as f64)
+    }
+
+    /// The sequence's closing line: "vkpath: frames 0..10: 10 in 12.34 s (8 rendered,
+    /// 1.45 s a frame after the first; 2 skipped)".
+    fn line(&self, frames: &std::ops::Range<u32>, seconds: f64) -> String {
+        let per_frame = match self.seconds_per_frame() {
+            Some(each) if self.rendered.len() > 1 => {
+                format!(", {each:.2} s a frame after the first")
+            }
+            Some(each) => format!(", {each:.2} s"),
+            None => String::new(),
+        };
+        let skipped = match self.skipped {
+            0 => String::new(),
+            n => format!("; {n} skipped"),
+        };
+        format!(
+            "vkpath: frames {}..{}: {} in {seconds:.2} s ({} rendered{per_frame}{skipped})",
+            frames.start,
+            frames.end,
+            frames.len(),
+            self.rendered.len()
+        )
+    }
+}
+
+/// Says once, for `--frames`, that the scene does not move: it has no animation (not a glTF
+/// file, or one without animations), so every frame is the same image.
+fn note_a_still_sequence(args: &RenderArgs, gltf: Option<&GltfFile>) {
+    let Some(frames) = &args.frames.frames else {
+        return;
+    };
+    if gltf.is_some_and(GltfFile::has_animations) {
+        return;
+    }
+    let same = match frames.len() {
+        1 => "its frame is the scene as it stands".to_string(),
+        n => format!("its {n} frames are the same image"),
+    };
+    eprintln!("vkpath: note: --frames: the scene has no animation, so {same}");
 }
 
 /// The devices a sequence renders on, opened for its first frame.

@@ -30,6 +30,32 @@ pub static RENDERING: AtomicBool = AtomicBool::new(false);
 static SIGNAL: AtomicI32 = AtomicI32::new(0);
 /// What a stop before the first sample leaves alone, for its line (e.g. "'out.png'").
 static OUTPUTS: Mutex<String> = Mutex::new(String::new());
+/// What a stop leaves of a sequence, for the end of its line (`set_frames_left`); empty
+/// for one image.
+static FRAMES_LEFT: Mutex<String> = Mutex::new(String::new());
+
+/// Records which frame of a sequence (`render --frames`) renders now: a stop's line then
+/// ends with the frame that stopped and those that remain ("; frame 7 of 0..10 stopped:
+/// frames 7..10 remain (--frames 7..10 --skip-existing renders them)").
+pub fn set_frames_left(frame: u32, frames: &std::ops::Range<u32>) {
+    let left = frame..frames.end;
+    let remain = match left.len() {
+        1 => format!("frame {frame} remains"),
+        _ => format!("frames {}..{} remain", left.start, left.end),
+    };
+    *FRAMES_LEFT.lock().unwrap_or_else(|e| e.into_inner()) = format!(
+        "; frame {frame} of {}..{} stopped: {remain} (--frames {}..{} --skip-existing renders them)",
+        frames.start, frames.end, left.start, left.end
+    );
+}
+
+/// The end of a stop's line in a sequence (`set_frames_left`); empty for one image.
+pub fn frames_left() -> String {
+    FRAMES_LEFT
+        .lock()
+        .unwrap_or_else(|e| e.into_inner())
+        .clone()
+}
 
 /// Installs the handlers (once per process); `outputs` names the files the command would
 /// write, for the line a stop before the first sample prints.
@@ -80,13 +106,14 @@ fn handle(signal: i32) {
 fn nothing_written_line(signal: i32) -> String {
     let outputs = OUTPUTS.lock().unwrap_or_else(|e| e.into_inner()).clone();
     format!(
-        "vkpath: stopped by {} before the first sample: nothing written ({} left as it was)",
+        "vkpath: stopped by {} before the first sample: nothing written ({} left as it was){}",
         name(signal),
         if outputs.is_empty() {
             "every file"
         } else {
             &outputs
-        }
+        },
+        frames_left()
     )
 }
 
@@ -121,5 +148,22 @@ fn name(signal: i32) -> &'static str {
         SIGTERM => "SIGTERM",
         SIGHUP => "SIGHUP",
         _ => "a signal",
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_stop_in_a_sequence_says_which_frame_stopped_and_which_remain() {
+        set_frames_left(7, &(0..10));
+        assert_eq!(
+            frames_left(),
+            "; frame 7 of 0..10 stopped: frames 7..10 remain (--frames 7..10 --skip-existing renders them)"
+        );
+        set_frames_left(9, &(0..10));
+        assert!(frames_left().contains("stopped: frame 9 remains (--frames 9..10"));
+        assert!(nothing_written_line(SIGINT).ends_with(&frames_left()));
     }
 }

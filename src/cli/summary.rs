@@ -19,6 +19,58 @@ pub struct RenderProgress {
     adaptive: bool,
     /// The first batch's end and its samples per pixel: where the rate is measured from.
     first_batch: Option<(Instant, u32)>,
+    /// Where the frame stands in its sequence, for the frame counter and the estimate of
+    /// the whole sequence's time left.
+    sequence: Option<SequencePosition>,
+}
+
+/// Where a frame stands in a sequence of several (`render --frames`): the frame counter
+/// of the progress bar and the summary, the sequence's time left, and what a stop leaves.
+#[derive(Clone, Debug, PartialEq)]
+pub struct SequencePosition {
+    /// The frame number.
+    pub frame: u32,
+    /// The sequence's frames (`--frames START..END`).
+    pub frames: std::ops::Range<u32>,
+    /// What one frame took (set-up included) in the frames rendered before it, excluding
+    /// the first, which opened the device (the first's alone when it is the only one);
+    /// `None` before any.
+    pub seconds_per_frame: Option<f64>,
+}
+
+impl SequencePosition {
+    /// "frame 7 (3/10)": the frame and its place among the sequence's frames.
+    pub fn counter(&self) -> String {
+        format!(
+            "frame {} ({}/{})",
+            self.frame,
+            self.frame - self.frames.start + 1,
+            self.frames.len()
+        )
+    }
+
+    /// The frames after this one.
+    pub fn frames_after(&self) -> u32 {
+        self.frames.end - self.frame - 1
+    }
+
+    /// The sequence's time left: this frame's `frame_left` and, for each frame after it,
+    /// what a frame took so far (`seconds_per_frame`, else this frame's `frame_elapsed`
+    /// plus what it has left); none while this frame's estimate is unknown.
+    pub fn time_left(
+        &self,
+        frame_elapsed: Duration,
+        frame_left: Option<Duration>,
+    ) -> Option<Duration> {
+        let frame_left = frame_left?;
+        let per_frame = self
+            .seconds_per_frame
+            .unwrap_or_else(|| (frame_elapsed + frame_left).as_secs_f64());
+        Some(
+            frame_left
+                + Duration::from_secs_f64(per_frame.max(0.0) * f64::from(self.frames_after())),
+        )
+    }
 }
 
 impl RenderProgress {
@@ -39,6 +91,16 @@ impl RenderProgress {
             total,
             adaptive,
             first_batch: None,
+            sequence: None,
+        }
+    }
+
+    /// The bar of a frame of a sequence: it adds the frame counter and the sequence's time
+    /// left ("frame 7 (3/10), eta 2s, sequence eta 1m 05s").
+    pub fn in_sequence(self, position: Option<SequencePosition>) -> RenderProgress {
+        RenderProgress {
+            sequence: position,
+            ..self
         }
     }
 
@@ -63,6 +125,18 @@ impl RenderProgress {
         );
         let limit_left = deadline.map(|d| d.saturating_duration_since(now));
         let mut message = eta_text(samples_left, limit_left, self.adaptive);
+        if let Some(sequence) = &self.sequence {
+            let frame_left = match (samples_left, limit_left) {
+                (Some(s), Some(l)) => Some(s.min(l)),
+                (s, l) => s.or(l),
+            };
+            let left = sequence.time_left(self.started.elapsed(), frame_left);
+            message = format!(
+                "{}, {message}, sequence eta {}",
+                sequence.counter(),
+                left.map_or("?".to_string(), short_duration)
+            );
+        }
         if let Some(share) = converged_share {
             message.push_str(&format!(", {}", converged_text(share)));
         }
@@ -243,6 +317,25 @@ mod tests {
         assert_eq!(eta_text(None, None, false), "eta ?");
         assert_eq!(short_duration(Duration::from_millis(7200)), "8s");
         assert_eq!(short_duration(s(3725)), "1h 02m");
+    }
+
+    #[test]
+    fn a_sequence_counts_its_frames_and_estimates_the_time_left_of_all() {
+        let s = Duration::from_secs;
+        let mut position = SequencePosition {
+            frame: 12,
+            frames: 10..20,
+            seconds_per_frame: None,
+        };
+        assert_eq!(position.counter(), "frame 12 (3/10)");
+        assert_eq!(position.frames_after(), 7);
+        // The first frames: this one's 4 s + 6 s left, for each of the 7 after it.
+        assert_eq!(position.time_left(s(4), Some(s(6))), Some(s(76)));
+        assert_eq!(position.time_left(s(4), None), None);
+        position.seconds_per_frame = Some(2.0);
+        assert_eq!(position.time_left(s(4), Some(s(1))), Some(s(15)));
+        position.frame = 19;
+        assert_eq!(position.time_left(s(4), Some(s(1))), Some(s(1)));
     }
 
     #[test]

@@ -25,6 +25,22 @@ pub const SPP_MEAN_FIELD: &str = "spp_mean";
 pub const SPP_REQUESTED_FIELD: &str = "spp_requested";
 /// The field of a finished image's attribute that says why its render stopped.
 pub const STOP_FIELD: &str = "stop";
+/// The field of an image of a sequence that holds its frame number (`--frames`).
+pub const FRAME_FIELD: &str = "frame";
+/// The field of an image rendered at a given time that holds the scene time in seconds
+/// (`--time`, or frame / `--fps`).
+pub const TIME_FIELD: &str = "time";
+/// The field of a denoised image (`--denoise`) that names the denoiser.
+pub const DENOISE_FIELD: &str = "denoise";
+/// The field of an image with output layers (`--aov`) that lists them, comma-separated.
+pub const AOV_FIELD: &str = "aov";
+/// What an image records beside its samples, outcome and settings, none of which decides
+/// its samples (resuming and merging ignore them; `render --skip-existing` compares them),
+/// in order, each only when it applies: the frame and the scene time, then what was done
+/// to the finished image (`--denoise`, `--aov`).
+pub const IMAGE_FIELD_NAMES: [&str; 4] = [FRAME_FIELD, TIME_FIELD, DENOISE_FIELD, AOV_FIELD];
+/// How `DENOISE_FIELD` names the denoiser: Open Image Denoise's `RT` filter.
+pub const DENOISER_NAME: &str = "oidn-rt";
 /// What separates the fields in the attribute's text.
 const FIELD_SEPARATOR: &str = "; ";
 /// The settings recorded, in order.
@@ -66,6 +82,9 @@ pub struct RenderMetadata {
     /// How the render that wrote the file ended, for finished images (`render`'s outputs);
     /// none for checkpoints, shards and merged files, whose samples say what they hold.
     pub outcome: Option<RenderOutcome>,
+    /// (name, value) of the image's fields that do not decide its samples, in the order of
+    /// `IMAGE_FIELD_NAMES`: its frame and time, and its post-processing (`denoise`, `aov`).
+    pub image_fields: Vec<(String, String)>,
 }
 
 /// How a render ended, as an image records it beside its samples: the samples per pixel
@@ -157,7 +176,54 @@ impl RenderMetadata {
             settings: settings_list,
             samples,
             outcome: None,
+            image_fields: Vec::new(),
         }
+    }
+
+    /// Records the image field `name` (one of `IMAGE_FIELD_NAMES`) as `value`, replacing
+    /// what it held, in the order of `IMAGE_FIELD_NAMES`.
+    pub fn set_image_field(&mut self, name: &str, value: String) {
+        self.image_fields.retain(|(n, _)| n != name);
+        self.image_fields.push((name.to_string(), value));
+        let rank = |n: &str| IMAGE_FIELD_NAMES.iter().position(|&f| f == n);
+        self.image_fields.sort_by_key(|(n, _)| rank(n));
+    }
+
+    /// Records where the image lies in time: `frame` (when it is a frame of `--frames`)
+    /// and the scene `time` in seconds.
+    pub fn set_frame(&mut self, frame: Option<u32>, time: f64) {
+        if let Some(frame) = frame {
+            self.set_image_field(FRAME_FIELD, frame.to_string());
+        }
+        self.set_image_field(TIME_FIELD, time.to_string());
+    }
+
+    /// The value of image field `name`, if recorded.
+    pub fn image_field(&self, name: &str) -> Option<&str> {
+        self.image_fields
+            .iter()
+            .find(|(n, _)| n == name)
+            .map(|(_, v)| v.as_str())
+    }
+
+    /// The first setting or image field in which this image differs from `asked`, the one a
+    /// render would write: (name, this value, the asked value; `none` where unrecorded).
+    pub fn first_difference_from(
+        &self,
+        asked: &RenderMetadata,
+    ) -> Option<(String, String, String)> {
+        let value = |v: Option<&str>| v.unwrap_or("none").to_string();
+        let settings = SETTING_NAMES
+            .iter()
+            .chain(&OPTIONAL_SETTING_NAMES)
+            .map(|&name| (name, self.setting(name), asked.setting(name)));
+        let fields = IMAGE_FIELD_NAMES
+            .iter()
+            .map(|&name| (name, self.image_field(name), asked.image_field(name)));
+        settings
+            .chain(fields)
+            .find(|(_, held, wanted)| held != wanted)
+            .map(|(name, held, wanted)| (name.to_string(), value(held), value(wanted)))
     }
 
     /// The value of setting `name`, if recorded.
@@ -180,7 +246,8 @@ impl RenderMetadata {
     }
 
     /// The fields: `spp` (samples per pixel taken), `sample_range` ("start..end"), for a
-    /// finished image `spp_requested` and `stop`, and the settings.
+    /// finished image `spp_requested` and `stop`, the image fields (`frame`, `time`,
+    /// `denoise`, `aov`, those recorded), and the settings.
     pub fn fields(&self) -> Vec<(String, String)> {
         let mut fields = vec![
             ("spp".to_string(), self.samples.len().to_string()),
@@ -196,6 +263,7 @@ impl RenderMetadata {
             ));
             fields.push((STOP_FIELD.to_string(), outcome.stop.clone()));
         }
+        fields.extend(self.image_fields.iter().cloned());
         fields.extend(self.settings.iter().cloned());
         fields
     }
@@ -255,6 +323,10 @@ impl RenderMetadata {
                 settings.push((name.to_string(), value.to_string()));
             }
         }
+        let image_fields = IMAGE_FIELD_NAMES
+            .iter()
+            .filter_map(|name| Some((name.to_string(), fields.get(name)?.to_string())))
+            .collect();
         let outcome = match (fields.get(SPP_REQUESTED_FIELD), fields.get(STOP_FIELD)) {
             (Some(requested), Some(stop)) => Some(RenderOutcome {
                 spp_requested: requested
@@ -268,6 +340,7 @@ impl RenderMetadata {
             settings,
             samples,
             outcome,
+            image_fields,
         })
     }
 
@@ -542,6 +615,48 @@ mod tests {
         assert_eq!(parse_range("3..9"), Some(3..9));
         assert_eq!(parse_range("9..3"), None);
         assert_eq!(parse_range("x"), None);
+    }
+
+    #[test]
+    fn frame_time_and_post_processing_are_read_back_and_compared_but_not_by_merges() {
+        let scene = Scene::builtin_cornell_box().unwrap();
+        let camera = scene.camera.unwrap();
+        let plain = RenderMetadata::new(&RenderSettings::default(), &scene, &camera, 0..4);
+        let mut framed = RenderMetadata {
+            outcome: Some(RenderOutcome {
+                spp_requested: 4,
+                stop: "done".into(),
+            }),
+            ..plain.clone()
+        };
+        // Set out of order, written in IMAGE_FIELD_NAMES' order after the outcome.
+        framed.set_image_field(DENOISE_FIELD, DENOISER_NAME.into());
+        framed.set_frame(Some(7), 0.291_666_666_666_666_7);
+        let attributes: BTreeMap<String, String> = framed.attributes().into_iter().collect();
+        assert!(
+            attributes["vkpath"].starts_with(
+                "spp=4; sample_range=0..4; spp_requested=4; stop=done; frame=7; \
+                 time=0.2916666666666667; denoise=oidn-rt; version="
+            ),
+            "{}",
+            attributes["vkpath"]
+        );
+        let read = RenderMetadata::from_attributes(&attributes).unwrap();
+        assert_eq!(read, framed);
+        assert_eq!(read.image_field(FRAME_FIELD), Some("7"));
+        // Shards and checkpoints compare settings only; an image is compared field by field.
+        assert_eq!(plain.first_difference(&framed), None);
+        assert_eq!(
+            plain.first_difference_from(&framed),
+            Some(("frame".into(), "none".into(), "7".into()))
+        );
+        let mut other = framed.clone();
+        other.set_frame(Some(8), 0.3333);
+        assert_eq!(
+            framed.first_difference_from(&other),
+            Some(("frame".into(), "7".into(), "8".into()))
+        );
+        assert_eq!(framed.first_difference_from(&read), None);
     }
 
     #[test]

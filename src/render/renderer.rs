@@ -167,6 +167,13 @@ impl StopReason {
             StopReason::Failed => "failed",
         }
     }
+
+    /// Whether the render ended as it was asked to: every sample taken, or its time limit
+    /// reached (a time-limited render is a finished one, which `--denoise` and `--aov` still
+    /// post-process); not stopped by a signal or a failure.
+    pub fn is_finished(self) -> bool {
+        matches!(self, StopReason::Done | StopReason::TimeLimit)
+    }
 }
 
 /// What may stop a render early, and what to do on the way.

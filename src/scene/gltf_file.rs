@@ -72,6 +72,11 @@ impl GltfFile {
         })
     }
 
+    /// Whether the file has any animation (without one, every time poses the same scene).
+    pub fn has_animations(&self) -> bool {
+        !self.animations.is_empty()
+    }
+
     /// The scene with the animations `pick` chooses at `time` seconds: what
     /// `load_gltf_with` gives with that time and pick, bit for bit, warnings included
     /// (textures the first pose could not use are said again by each).

@@ -115,3 +115,15 @@ pub fn exr_pixels(dir: &Path, name: &str) -> Vec<[f32; 4]> {
         .image
         .mean
 }
+
+/// The bits of every channel of the EXR `name` in `dir`, by name, without its header: what
+/// "bit for bit the same image" compares now that a frame's metadata records its frame and
+/// time (a `--time` still's records no frame, so the files differ in their headers).
+pub fn exr_bits(dir: &Path, name: &str) -> Vec<(String, Vec<u32>)> {
+    let exr = vkpath::image_io::exr_input::read_exr_channels(&dir.join(name))
+        .unwrap_or_else(|e| panic!("{name}: {e}"));
+    exr.channels
+        .into_iter()
+        .map(|(channel, values)| (channel, values.iter().map(|v| v.to_bits()).collect()))
+        .collect()
+}
