@@ -77,6 +77,18 @@ impl DeviceKind {
         )
     }
 
+    /// How JSON reports name it (`render --json`'s and `devices --json`'s `type`):
+    /// `discrete-gpu`, `integrated-gpu`, `virtual-gpu`, `cpu` or `other`.
+    pub fn report_name(self) -> &'static str {
+        match self {
+            DeviceKind::DiscreteGpu => "discrete-gpu",
+            DeviceKind::IntegratedGpu => "integrated-gpu",
+            DeviceKind::VirtualGpu => "virtual-gpu",
+            DeviceKind::Cpu => "cpu",
+            DeviceKind::Other => "other",
+        }
+    }
+
     /// Preference when no device is named: lower is better.
     pub(crate) fn rank(self) -> u32 {
         match self {
