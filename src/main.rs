@@ -5,7 +5,10 @@ use clap::Parser;
 
 fn main() {
     env_logger::Builder::from_env(env_logger::Env::default().default_filter_or("warn"))
-        .format(log_line)
+        .format(|out, record| {
+            use std::io::Write;
+            writeln!(out, "{}", vkpath::cli::log_line(record))
+        })
         .init();
     let cli = vkpath::cli::Cli::parse();
     if let Err(error) = vkpath::cli::run(cli) {
@@ -16,14 +19,3 @@ fn main() {
     }
 }
 
-/// How a log record reaches the terminal: a warning or an error as the command's own lines
-/// are written ("vkpath: warning: ..."), not as "[WARN vkpath::render::renderer] ..."; the
-/// levels only `RUST_LOG` shows keep their level and module, for whoever asked for them.
-fn log_line(out: &mut env_logger::fmt::Formatter, record: &log::Record) -> std::io::Result<()> {
-    use std::io::Write;
-    match record.level() {
-        log::Level::Error => writeln!(out, "vkpath: error: {}", record.args()),
-        log::Level::Warn => writeln!(out, "vkpath: warning: {}", record.args()),
-        level => writeln!(out, "[{level} {}] {}", record.target(), record.args()),
-    }
-}

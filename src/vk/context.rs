@@ -551,9 +551,13 @@ impl Context {
             .map_or(vk::PipelineCache::null(), |cache| cache.handle)
     }
 
-    /// The store of the pipeline cache, if there is one (to tell it that a build is slow).
-    pub(crate) fn pipeline_cache_store(&self) -> Option<&dyn PipelineCacheStore> {
-        self.pipeline_cache.as_ref().map(|cache| &*cache.store)
+    /// The store of the pipeline cache, if there is one and it started cold (no data for
+    /// this device): to tell it that a build is slow (`PipelineCacheStore::building_slowly`).
+    pub(crate) fn cold_pipeline_cache_store(&self) -> Option<&dyn PipelineCacheStore> {
+        self.pipeline_cache
+            .as_ref()
+            .filter(|cache| cache.cold)
+            .map(|cache| &*cache.store)
     }
 
     /// Saves the pipeline cache through its store if a build changed it (after each
