@@ -18,4 +18,3 @@ fn main() {
         std::process::exit(if usage { 2 } else { 1 });
     }
 }
-

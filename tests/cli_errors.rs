@@ -376,8 +376,16 @@ fn absurd_frame_ranges_and_bad_tev_addresses_are_usage_errors() {
         "{line}"
     );
     for address in ["localhost", "127.0.0.1:99999", "[::1:14158"] {
-        let line = expect_error(dir.path(), &["render", "-o", "out.png", "--tev", address], &[], 2);
-        assert!(line.contains(&format!("'{address}' is not HOST:PORT")), "{line}");
+        let line = expect_error(
+            dir.path(),
+            &["render", "-o", "out.png", "--tev", address],
+            &[],
+            2,
+        );
+        assert!(
+            line.contains(&format!("'{address}' is not HOST:PORT")),
+            "{line}"
+        );
     }
 }
 
@@ -387,18 +395,37 @@ fn options_that_exclude_each_other_are_usage_errors() {
     let dir = tempfile::tempdir().unwrap();
     let line = expect_error(
         dir.path(),
-        &["render", "-o", "out.png", "--device", "all", "--tev", "127.0.0.1:14158"],
+        &[
+            "render",
+            "-o",
+            "out.png",
+            "--device",
+            "all",
+            "--tev",
+            "127.0.0.1:14158",
+        ],
         &[],
         2,
     );
     assert!(line.contains("--tev works with one device"), "{line}");
     let line = expect_error(
         dir.path(),
-        &["render", "-o", "f_#.png", "--frames", "0..2", "--checkpoint", "ck.exr"],
+        &[
+            "render",
+            "-o",
+            "f_#.png",
+            "--frames",
+            "0..2",
+            "--checkpoint",
+            "ck.exr",
+        ],
         &[],
         2,
     );
-    assert!(line.contains("--checkpoint and --resume belong to one frame"), "{line}");
+    assert!(
+        line.contains("--checkpoint and --resume belong to one frame"),
+        "{line}"
+    );
 }
 
 #[test]

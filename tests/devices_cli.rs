@@ -99,7 +99,11 @@ fn an_unknown_uuid_is_one_line_and_exit_1() {
         assert_eq!(status, Some(1), "{stderr}");
         assert_eq!(stderr.lines().count(), 1, "{stderr}");
         // A wrong VKPATH_DEVICE is named (issue 58): no --device shows on the command line.
-        let source = if env.is_empty() { "" } else { "VKPATH_DEVICE=GPU-00000000-dead: " };
+        let source = if env.is_empty() {
+            ""
+        } else {
+            "VKPATH_DEVICE=GPU-00000000-dead: "
+        };
         assert!(
             stderr.starts_with(&format!(
                 "vkpath: error: {source}no Vulkan device matches 'GPU-00000000-dead'"

@@ -252,6 +252,10 @@ fn a_mesh_under_a_chain_of_100000_nodes_renders() {
     // The triangle (-1..1 wide, seen from 3 away) covers the middle, not the corners.
     let image = vkpath::image_io::exr_input::read_exr(&dir.path().join("out.exr")).unwrap();
     let pixel = |x: usize, y: usize| image.image.mean[y * 8 + x];
-    assert!(pixel(4, 4)[0] > 0.5, "the middle sees the triangle: {:?}", pixel(4, 4));
+    assert!(
+        pixel(4, 4)[0] > 0.5,
+        "the middle sees the triangle: {:?}",
+        pixel(4, 4)
+    );
     assert_eq!(pixel(0, 0)[0], 0.0, "a corner sees nothing");
 }

@@ -265,7 +265,10 @@ mod tests {
         assert!(parse_frames("0..4000000000").is_err());
         assert!(parse_frames("7..1000008").is_err());
         assert_eq!(parse_frames("7..1000007"), Ok(7..1_000_007));
-        assert_eq!(parse_frames("4294967000..4294967295"), Ok(4_294_967_000..4_294_967_295));
+        assert_eq!(
+            parse_frames("4294967000..4294967295"),
+            Ok(4_294_967_000..4_294_967_295)
+        );
     }
 
     #[test]
@@ -279,9 +282,19 @@ mod tests {
         };
         let last = args.frame_times().last().map(|f| f.frame);
         assert_eq!(last, Some(Some(MAX_FRAMES - 1)));
-        let still = FrameArgs { frames: None, time: Some(0.5), ..args };
+        let still = FrameArgs {
+            frames: None,
+            time: Some(0.5),
+            ..args
+        };
         let times: Vec<FrameTime> = still.frame_times().collect();
-        assert_eq!(times, vec![FrameTime { frame: None, time: 0.5 }]);
+        assert_eq!(
+            times,
+            vec![FrameTime {
+                frame: None,
+                time: 0.5
+            }]
+        );
     }
 
     #[test]

@@ -422,10 +422,24 @@ mod tests {
 
     #[test]
     fn tev_addresses_are_host_and_port() {
-        for good in ["127.0.0.1:14158", "localhost:1", "[::1]:14158", "viewer.lan:65535"] {
+        for good in [
+            "127.0.0.1:14158",
+            "localhost:1",
+            "[::1]:14158",
+            "viewer.lan:65535",
+        ] {
             assert_eq!(super::parse_host_port(good).as_deref(), Ok(good));
         }
-        for bad in ["localhost", "127.0.0.1", ":14158", "host:0", "host:70000", "host:port", "::1:14158", "a b:1"] {
+        for bad in [
+            "localhost",
+            "127.0.0.1",
+            ":14158",
+            "host:0",
+            "host:70000",
+            "host:port",
+            "::1:14158",
+            "a b:1",
+        ] {
             assert!(super::parse_host_port(bad).is_err(), "{bad}");
         }
     }

@@ -104,7 +104,9 @@ impl TevView {
         let socket = TcpStream::connect_timeout(&target, CONNECT_TIMEOUT).map_err(fail)?;
         let _ = socket.set_nodelay(true);
         // A tev that stops reading must not hold a write (and so the command) for ever.
-        socket.set_write_timeout(Some(WRITE_TIMEOUT)).map_err(fail)?;
+        socket
+            .set_write_timeout(Some(WRITE_TIMEOUT))
+            .map_err(fail)?;
         let mut client = TevClient::wrap(socket);
         create(&mut client, name, width, height, &["R", "G", "B"]).map_err(fail)?;
         let (queue, updates) = sync_channel::<TevMessage>(1);
@@ -196,10 +198,9 @@ impl TevView {
 /// A failed write to tev in words: a timeout says that tev stopped reading.
 fn describe(error: &std::io::Error) -> String {
     match error.kind() {
-        std::io::ErrorKind::WouldBlock | std::io::ErrorKind::TimedOut => format!(
-            "it read nothing for {} s",
-            WRITE_TIMEOUT.as_secs()
-        ),
+        std::io::ErrorKind::WouldBlock | std::io::ErrorKind::TimedOut => {
+            format!("it read nothing for {} s", WRITE_TIMEOUT.as_secs())
+        }
         _ => error.to_string(),
     }
 }

@@ -124,12 +124,12 @@ impl Scene {
             Some("gltf") | Some("glb") => gltf_loader::load_gltf_with(path, options),
             Some("obj") => obj_loader::load_obj(path),
             // A folder has no format: say what it is, not that its "extension" is unknown.
-            _ => Err(files::existing_non_file(path).unwrap_or(
-                SceneError::UnsupportedExtension {
+            _ => Err(
+                files::existing_non_file(path).unwrap_or(SceneError::UnsupportedExtension {
                     path: path.to_owned(),
                     extension,
-                },
-            )),
+                }),
+            ),
         }
     }
 
@@ -467,7 +467,10 @@ mod tests {
             let error = Scene::load(&path).unwrap_err();
             assert_eq!(
                 error.to_string(),
-                format!("cannot read scene '{}': it is a directory, not a file", path.display())
+                format!(
+                    "cannot read scene '{}': it is a directory, not a file",
+                    path.display()
+                )
             );
         }
     }

@@ -129,14 +129,26 @@ fn an_unknown_uuid_is_one_line_naming_the_devices() {
 #[test]
 fn a_name_that_matches_two_devices_names_both() {
     // Issue 58: two lavapipe ICDs (Mesa 22 and 25) took the first, silently.
-    let devices = [lavapipe(0), lavapipe(1), nvidia(2, "NVIDIA H100", 0xaa, None)];
+    let devices = [
+        lavapipe(0),
+        lavapipe(1),
+        nvidia(2, "NVIDIA H100", 0xaa, None),
+    ];
     let message = error(&devices, Some("llvmpipe"), &env(None));
-    assert!(message.contains("'llvmpipe' matches 2 devices"), "{message}");
-    assert!(message.contains("0 llvmpipe") && message.contains("1 llvmpipe"), "{message}");
+    assert!(
+        message.contains("'llvmpipe' matches 2 devices"),
+        "{message}"
+    );
+    assert!(
+        message.contains("0 llvmpipe") && message.contains("1 llvmpipe"),
+        "{message}"
+    );
     assert_eq!(chosen(&devices, Some("h100"), &env(None)), [2]);
     // A whole name given exactly picks that device, even where it is part of another's.
-    let devices = [device(0, "GPU X", DeviceKind::DiscreteGpu, 1, 1),
-        device(1, "GPU X Pro", DeviceKind::DiscreteGpu, 1, 2)];
+    let devices = [
+        device(0, "GPU X", DeviceKind::DiscreteGpu, 1, 1),
+        device(1, "GPU X Pro", DeviceKind::DiscreteGpu, 1, 2),
+    ];
     assert_eq!(chosen(&devices, Some("gpu x"), &env(None)), [0]);
 }
 
@@ -153,7 +165,10 @@ fn a_wrong_vkpath_device_is_named() {
     );
     // --device overrides it, and speaks for itself.
     let message = error(&node(), Some("quadro"), &environment);
-    assert!(message.starts_with("no Vulkan device matches 'quadro'"), "{message}");
+    assert!(
+        message.starts_with("no Vulkan device matches 'quadro'"),
+        "{message}"
+    );
 }
 
 #[test]
