@@ -102,6 +102,6 @@ def test_frames_take_the_command_lines_range_or_refuse_in_words(tmp_path):
     as_text = [frame for frame, _ in vkpath.render_frames(scene, frames="2..4", fps=4, **SMALL)]
     assert as_text == [2, 3]
     for bad, words in [("3..3", "is not 'START..END'"), ("0-3", "is not 'START..END'"),
-                       ([0, 1.5], "1.5 is not a whole frame number"), (7, "is not frame numbers")]:
+                       ([1.5, 0], "1.5 is not a whole frame number"), (7, "is not frame numbers")]:
         with pytest.raises(vkpath.ArgumentError, match=words):
             next(vkpath.render_frames(scene, frames=bad, fps=4, **SMALL))
