@@ -5,7 +5,10 @@ use clap::Parser;
 
 fn main() {
     env_logger::Builder::from_env(env_logger::Env::default().default_filter_or("warn"))
-        .format_timestamp(None)
+        .format(|out, record| {
+            use std::io::Write;
+            writeln!(out, "{}", vkpath::cli::log_line(record))
+        })
         .init();
     let cli = vkpath::cli::Cli::parse();
     if let Err(error) = vkpath::cli::run(cli) {

@@ -359,3 +359,80 @@ fn obj_errors_give_file_and_line() {
         &format!("malformed OBJ '{}:4': position parse error", obj.display()),
     );
 }
+
+#[test]
+fn absurd_frame_ranges_and_bad_tev_addresses_are_usage_errors() {
+    // Issue 58: 0..4000000000 aborted allocating 64 GB (exit 134); a bad --tev address was a
+    // warning with exit 0.
+    let dir = tempfile::tempdir().unwrap();
+    let line = expect_error(
+        dir.path(),
+        &["render", "-o", "f_#.png", "--frames", "0..4000000000"],
+        &[],
+        2,
+    );
+    assert!(
+        line.contains("'0..4000000000' holds 4000000000 frames; one render takes at most 1000000"),
+        "{line}"
+    );
+    for address in ["localhost", "127.0.0.1:99999", "[::1:14158"] {
+        let line = expect_error(
+            dir.path(),
+            &["render", "-o", "out.png", "--tev", address],
+            &[],
+            2,
+        );
+        assert!(
+            line.contains(&format!("'{address}' is not HOST:PORT")),
+            "{line}"
+        );
+    }
+}
+
+#[test]
+fn options_that_exclude_each_other_are_usage_errors() {
+    // Issue 58: both exited 1, as a failure would.
+    let dir = tempfile::tempdir().unwrap();
+    let line = expect_error(
+        dir.path(),
+        &[
+            "render",
+            "-o",
+            "out.png",
+            "--device",
+            "all",
+            "--tev",
+            "127.0.0.1:14158",
+        ],
+        &[],
+        2,
+    );
+    assert!(line.contains("--tev works with one device"), "{line}");
+    let line = expect_error(
+        dir.path(),
+        &[
+            "render",
+            "-o",
+            "f_#.png",
+            "--frames",
+            "0..2",
+            "--checkpoint",
+            "ck.exr",
+        ],
+        &[],
+        2,
+    );
+    assert!(
+        line.contains("--checkpoint and --resume belong to one frame"),
+        "{line}"
+    );
+}
+
+#[test]
+fn a_directory_as_scene_is_called_a_directory() {
+    // Issue 58: it was "unsupported file extension (expected .gltf, .glb or .obj)".
+    let folder = tempfile::tempdir().unwrap();
+    let scene = folder.path().join("scenes");
+    std::fs::create_dir(&scene).unwrap();
+    render_error(&[scene.to_str().unwrap()], "it is a directory, not a file");
+}

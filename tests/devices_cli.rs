@@ -20,11 +20,14 @@ fn run(dir: &Path, args: &[&str], env: &[(&str, &str)]) -> (Option<i32>, String,
     )
 }
 
-/// The first device's UUID, from `vkpath devices --json`, checked to be NVIDIA's form.
-fn first_uuid(dir: &Path) -> String {
+/// The first device's UUID, from `vkpath devices --json`, checked to be NVIDIA's form, and
+/// its type as the list names it.
+fn first_device(dir: &Path) -> (String, String) {
     let (status, stdout, stderr) = run(dir, &["devices", "--json"], &[]);
     assert_eq!(status, Some(0), "{stderr}");
     let devices: serde_json::Value = serde_json::from_str(&stdout).unwrap();
+    let kind = devices[0]["type"].as_str().expect("a type").to_string();
+    assert!(devices[0].get("kind").is_none(), "{devices}");
     let uuid = devices[0]["uuid"].as_str().expect("a uuid").to_string();
     let groups: Vec<&str> = uuid.split('-').collect();
     assert_eq!(groups[0], "GPU", "{uuid}");
@@ -36,7 +39,7 @@ fn first_uuid(dir: &Path) -> String {
             .all(|c| c.is_ascii_hexdigit() && !c.is_ascii_uppercase())),
         "{uuid}"
     );
-    uuid
+    (uuid, kind)
 }
 
 /// A tiny render's arguments with `extra` appended.
@@ -51,11 +54,13 @@ fn tiny<'a>(extra: &[&'a str]) -> Vec<&'a str> {
 #[test]
 fn device_and_vkpath_device_take_a_uuid_and_say_so() {
     let dir = tempfile::tempdir().unwrap();
-    let uuid = first_uuid(dir.path());
+    let (uuid, kind) = first_device(dir.path());
     let (status, stdout, stderr) = run(dir.path(), &tiny(&["--device", &uuid, "--json"]), &[]);
     assert_eq!(status, Some(0), "{stderr}");
     let report: serde_json::Value = serde_json::from_str(stdout.trim()).unwrap();
     assert_eq!(report["devices"][0]["uuid"], uuid.as_str(), "{report}");
+    // Issue 58: `devices --json` said "kind": "Cpu" where the render said "type": "cpu".
+    assert_eq!(report["devices"][0]["type"], kind.as_str(), "{report}");
     assert_eq!(
         report["devices"][0]["chosen_because"],
         format!("--device {uuid}").as_str()
@@ -93,8 +98,16 @@ fn an_unknown_uuid_is_one_line_and_exit_1() {
         let (status, _, stderr) = run(dir.path(), &args, env);
         assert_eq!(status, Some(1), "{stderr}");
         assert_eq!(stderr.lines().count(), 1, "{stderr}");
+        // A wrong VKPATH_DEVICE is named (issue 58): no --device shows on the command line.
+        let source = if env.is_empty() {
+            ""
+        } else {
+            "VKPATH_DEVICE=GPU-00000000-dead: "
+        };
         assert!(
-            stderr.starts_with("vkpath: error: no Vulkan device matches 'GPU-00000000-dead'"),
+            stderr.starts_with(&format!(
+                "vkpath: error: {source}no Vulkan device matches 'GPU-00000000-dead'"
+            )),
             "{stderr}"
         );
     }

@@ -223,3 +223,39 @@ fn huge_and_tiny_triangles_keep_their_normals() {
         assert!(!stderr.contains("degenerate"), "scale {scale}: {stderr}");
     }
 }
+
+#[test]
+fn a_mesh_under_a_chain_of_100000_nodes_renders() {
+    // Issue 58: 0.45 s at 444540f, still loading after 300 s at 2d68d8d (the pose's world
+    // matrices climbed each node's chain: quadratic in the depth). The root moves by
+    // -99,999 in x and each node under it by +1, so the emissive triangle lands in front of
+    // the camera, exactly. Were the quadratic walk (or a recursion 100,000 deep) to return,
+    // this test would take minutes or crash.
+    const DEPTH: usize = 100_000;
+    let text = gltf("triangle.bin", |document| {
+        let mut nodes: Vec<Value> = (0..DEPTH)
+            .map(|i| {
+                let x = if i == 0 { -(DEPTH as f64 - 1.0) } else { 1.0 };
+                match i + 1 < DEPTH {
+                    true => json!({"translation": [x, 0.0, 0.0], "children": [i + 1]}),
+                    false => json!({"translation": [x, 0.0, 0.0], "mesh": 0}),
+                }
+            })
+            .collect();
+        nodes.push(json!({"camera": 0, "translation": [0.0, 0.0, 3.0]}));
+        document["nodes"] = Value::Array(nodes);
+        document["scenes"] = json!([{"nodes": [0, DEPTH]}]);
+    });
+    let dir = tempfile::tempdir().unwrap();
+    let (code, stderr) = render(dir.path(), &text, &["-o", "out.exr"]);
+    assert_eq!(code, Some(0), "{stderr}");
+    // The triangle (-1..1 wide, seen from 3 away) covers the middle, not the corners.
+    let image = vkpath::image_io::exr_input::read_exr(&dir.path().join("out.exr")).unwrap();
+    let pixel = |x: usize, y: usize| image.image.mean[y * 8 + x];
+    assert!(
+        pixel(4, 4)[0] > 0.5,
+        "the middle sees the triangle: {:?}",
+        pixel(4, 4)
+    );
+    assert_eq!(pixel(0, 0)[0], 0.0, "a corner sees nothing");
+}

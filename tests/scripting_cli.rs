@@ -279,6 +279,18 @@ fn every_file_written_is_named_and_metadata_uses_command_line_names() {
         .filter(|mesh| mesh["material"]["transmission"]["factor"].as_f64() > Some(0.0))
         .count();
     assert!(transmitting > 0, "{manifest}");
+    // Issue 58: an animated file's export was silent about its animations; one note says
+    // which were dropped and which pose the meshes hold.
+    let animated = common::fixture("BoxAnimated.gltf");
+    let (_, stderr) = vkpath_ok(path, &["export", &animated, "--output-dir", "animated"]);
+    let notes: Vec<&str> = stderr.lines().filter(|l| l.contains("note")).collect();
+    assert_eq!(notes.len(), 1, "{stderr}");
+    assert!(
+        notes[0].contains("2 animations are ('#0', '#1') not exported")
+            && notes[0].contains("time 0 s"),
+        "{}",
+        notes[0]
+    );
 }
 
 #[test]

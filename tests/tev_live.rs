@@ -8,6 +8,7 @@ use std::collections::BTreeMap;
 use std::io::Read;
 use std::net::TcpListener;
 use std::thread::JoinHandle;
+use std::time::{Duration, Instant};
 
 /// What the server saw: the images created (name, width, height, channels) and, per image,
 /// its channels' values after every update, with how many updates came.
@@ -191,4 +192,114 @@ fn an_unreachable_tev_is_one_warning_and_the_render_goes_on() {
         warnings[0]
     );
     assert!(dir.path().join("out.png").is_file());
+}
+
+/// Runs `vkpath ARGS` in `dir`, killing it and failing the test if it runs past `limit`: a
+/// render held by its live view must show as a failure, not as a hung suite.
+fn vkpath_within(dir: &std::path::Path, args: &[&str], limit: Duration) -> std::process::Output {
+    let mut child = std::process::Command::new(env!("CARGO_BIN_EXE_vkpath"))
+        .args(args)
+        .current_dir(dir)
+        .env_remove("RUST_LOG")
+        .env("VKPATH_CACHE_DIR", common::test_cache_dir())
+        .stdout(std::process::Stdio::piped())
+        .stderr(std::process::Stdio::piped())
+        .spawn()
+        .expect("the vkpath binary runs");
+    let started = Instant::now();
+    while child.try_wait().unwrap().is_none() {
+        if started.elapsed() > limit {
+            child.kill().unwrap();
+            let output = child.wait_with_output().unwrap();
+            panic!(
+                "vkpath {args:?} still ran after {limit:?} (killed): {}",
+                String::from_utf8_lossy(&output.stderr)
+            );
+        }
+        std::thread::sleep(Duration::from_millis(50));
+    }
+    child.wait_with_output().unwrap()
+}
+
+/// A render whose live view takes megabytes: 640 x 480 with an AOV layer is 7.4 MB for the
+/// finished image alone, more than a loopback socket holds for a peer that reads nothing
+/// (its receive window stays at its first ~128 KB, the sender's buffer at most 4 MB).
+fn render_with_a_big_view(dir: &std::path::Path, address: &str) -> std::process::Output {
+    // The render itself takes a few seconds at most; before issue 58's fix the command
+    // never ended.
+    vkpath_within(
+        dir,
+        &[
+            "render",
+            "--width",
+            "640",
+            "--height",
+            "480",
+            "--spp",
+            "2",
+            "--integrator",
+            "workshop",
+            "--aov",
+            "albedo",
+            "-o",
+            "out.exr",
+            "--tev",
+            address,
+            "--tev-interval",
+            "0.05",
+        ],
+        Duration::from_secs(90),
+    )
+}
+
+#[test]
+fn a_live_view_that_never_reads_does_not_hold_the_render() {
+    let dir = tempfile::tempdir().unwrap();
+    let listener = TcpListener::bind("127.0.0.1:0").unwrap();
+    let address = listener.local_addr().unwrap().to_string();
+    // Accepts, then holds the connection open without reading until the test ends.
+    let (done, wait) = std::sync::mpsc::channel::<()>();
+    let server = std::thread::spawn(move || {
+        let (socket, _) = listener.accept().unwrap();
+        let _ = wait.recv();
+        drop(socket);
+    });
+    let output = render_with_a_big_view(dir.path(), &address);
+    done.send(()).unwrap();
+    server.join().unwrap();
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    assert_eq!(output.status.code(), Some(0), "{stderr}");
+    let warnings: Vec<&str> = stderr.lines().filter(|l| l.contains("warning")).collect();
+    assert_eq!(warnings.len(), 1, "{stderr}");
+    assert!(
+        warnings[0].contains(&format!("the live view at {address}")),
+        "{}",
+        warnings[0]
+    );
+    assert!(dir.path().join("out.exr").is_file(), "{stderr}");
+}
+
+#[test]
+fn a_live_view_that_closes_mid_image_costs_one_warning() {
+    let dir = tempfile::tempdir().unwrap();
+    let listener = TcpListener::bind("127.0.0.1:0").unwrap();
+    let address = listener.local_addr().unwrap().to_string();
+    // Reads the start of the stream (CreateImage and part of the first image), then closes.
+    let server = std::thread::spawn(move || {
+        let (mut socket, _) = listener.accept().unwrap();
+        let mut start = vec![0u8; 100_000];
+        let _ = socket.read_exact(&mut start);
+    });
+    let output = render_with_a_big_view(dir.path(), &address);
+    server.join().unwrap();
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    assert_eq!(output.status.code(), Some(0), "{stderr}");
+    let warnings: Vec<&str> = stderr.lines().filter(|l| l.contains("warning")).collect();
+    assert_eq!(warnings.len(), 1, "{stderr}");
+    assert!(
+        warnings[0].contains(&format!("the live view at {address} stopped")),
+        "{}",
+        warnings[0]
+    );
+    assert!(dir.path().join("out.exr").is_file(), "{stderr}");
 }

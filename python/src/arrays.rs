@@ -200,9 +200,44 @@ fn get<'py, T: for<'a> FromPyObjectOwned<'py>>(
     }
 }
 
-/// An RGB or XYZ value for `key`.
+/// An RGB or XYZ value for `key`: any sequence of three numbers (a tuple, a list, a NumPy
+/// array).
 fn vec3(dict: &Bound<'_, PyDict>, what: &str, key: &str) -> PyResult<Option<Vec3>> {
-    Ok(get::<(f32, f32, f32)>(dict, what, key, "three numbers")?.map(Vec3::from))
+    let Some(value) = dict.get_item(key)? else {
+        return Ok(None);
+    };
+    match numbers(&value).as_deref() {
+        Some(&[x, y, z]) => Ok(Some(Vec3::new(x, y, z))),
+        _ => Err(argument_error(format!(
+            "{what}: {key}={} is not three numbers",
+            value.repr().map_or_else(|_| "?".into(), |r| r.to_string())
+        ))),
+    }
+}
+
+/// The numbers of a sequence (a tuple, a list, a NumPy array; not a string); `None` when
+/// `value` is not one.
+fn numbers(value: &Bound<'_, PyAny>) -> Option<Vec<f32>> {
+    if value.is_instance_of::<PyString>() {
+        return None;
+    }
+    value
+        .try_iter()
+        .ok()?
+        .map(|item| item.ok()?.extract::<f32>().ok())
+        .collect()
+}
+
+/// A colour factor that is not finite and at least 0 in every component: an error naming
+/// the key (a negative emission would subtract light).
+fn check_colour(what: &str, key: &str, colour: Vec3) -> PyResult<()> {
+    if colour.is_finite() && colour.min_element() >= 0.0 {
+        return Ok(());
+    }
+    Err(argument_error(format!(
+        "{what}: {key}=({}, {}, {}) has a negative or non-finite component: a colour factor is at least 0",
+        colour.x, colour.y, colour.z
+    )))
 }
 
 /// A number for `key`.
@@ -219,14 +254,14 @@ pub fn material_factors(value: &Bound<'_, PyAny>, index: usize) -> PyResult<Mate
     check_keys(dict, &what, &MATERIAL_KEYS)?;
     let mut factors = MaterialFactors::default();
     if let Some(color) = dict.get_item("base_color")? {
-        factors.base_color = match color.extract::<(f32, f32, f32, f32)>() {
-            Ok(rgba) => Vec4::from(rgba),
-            Err(_) => color
-                .extract::<(f32, f32, f32)>()
-                .map(|rgb| Vec3::from(rgb).extend(1.0))
-                .map_err(|_| {
-                    argument_error(format!("{what}: base_color is not RGB or RGBA numbers"))
-                })?,
+        factors.base_color = match numbers(&color).as_deref() {
+            Some(&[r, g, b, a]) => Vec4::new(r, g, b, a),
+            Some(&[r, g, b]) => Vec4::new(r, g, b, 1.0),
+            _ => {
+                return Err(argument_error(format!(
+                    "{what}: base_color is not RGB or RGBA numbers"
+                )))
+            }
         };
     }
     let numbers: [(&str, &mut f32); 11] = [
@@ -253,8 +288,15 @@ pub fn material_factors(value: &Bound<'_, PyAny>, index: usize) -> PyResult<Mate
         ("attenuation_color", &mut factors.attenuation_color),
         ("sheen_color", &mut factors.sheen_color),
     ];
+    if !(factors.emissive_strength.is_finite() && factors.emissive_strength >= 0.0) {
+        return Err(argument_error(format!(
+            "{what}: emissive_strength={} is not a number at least 0",
+            factors.emissive_strength
+        )));
+    }
     for (key, out_value) in colours {
         if let Some(value) = vec3(dict, &what, key)? {
+            check_colour(&what, key, value)?;
             *out_value = value;
         }
     }

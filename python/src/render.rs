@@ -27,7 +27,7 @@ use vkpath::render::{RenderControl, Renderer};
 use vkpath::{Context, ContextOptions, Integrator, RenderSettings};
 
 use crate::errors::{argument_error, message, to_py};
-use crate::names::{name_of, parse, parse_optional};
+use crate::names::{in_python_words, name_of, parse, parse_optional};
 use crate::scene::Scene;
 
 /// The outputs rendered beside the colour (`aovs=`, and those `denoise=` needs).
@@ -143,7 +143,9 @@ impl Choices<'_> {
                 .then(|| settings.guide_training(self.guide_training_spp)),
             ..settings
         };
-        settings.validate().map_err(to_py)?;
+        settings
+            .validate()
+            .map_err(|error| argument_error(in_python_words(&error.to_string())))?;
         // As `vkpath render` does: the workshop's integrators always use PCG2D, so a render
         // with one of them records (and reports) "pcg", and a sampler chosen for it is
         // ignored with a warning.

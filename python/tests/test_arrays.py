@@ -199,6 +199,11 @@ def test_without_material_indices_every_triangle_takes_material_0():
         (dict(uvs=np.zeros((4, 3))), "uvs must have shape (N, 2), not (4, 3)"),
         (dict(lights=[{"type": "area"}]), "lights[0]: type='area' is not one of"),
         (dict(lights=[{"type": "point", "power": 3}]), "lights[0]: unknown key 'power'"),
+        # Issue 58: a negative emission would subtract light.
+        (dict(materials=[{"emission": [-1, 0, 0]}]), "materials[0]: emission=(-1, 0, 0) has a"),
+        (dict(materials=[{"emissive_strength": -2}]), "materials[0]: emissive_strength=-2"),
+        (dict(materials=[{"emission": [1, 2]}]), "materials[0]: emission=[1, 2] is not three"),
+        (dict(materials=[{"emission": "red"}]), "materials[0]: emission='red' is not three"),
     ],
 )
 def test_wrong_shapes_and_unknown_keys_are_value_errors_that_name_them(change, words):
@@ -221,3 +226,18 @@ def test_every_material_key_is_accepted():
     scene = vkpath.Scene.from_arrays([(0, 0, 0), (1, 0, 0), (0, 1, 0)], [0, 1, 2],
                                      materials=[values])
     assert scene.triangle_count == 1 and scene.description == "arrays"
+
+
+def test_colours_are_any_sequence_of_numbers():
+    """Issue 58: a list (as JSON gives) or an array is as good as a tuple."""
+    positions = [(0, 0, 0), (1, 0, 0), (1, 1, 0), (0, 1, 0)]
+    flat = [0, 1, 2, 0, 2, 3]
+    as_tuples = {"base_color": (0, 0, 0), "emission": (4, 4, 4)}
+    images = []
+    for emissive in (as_tuples, {"base_color": [0, 0, 0, 1], "emission": [4, 4, 4]},
+                     {"base_color": np.zeros(3), "emission": np.full(3, 4.0, np.float32)}):
+        scene = vkpath.Scene.from_arrays(positions, flat, materials=[emissive])
+        images.append(vkpath.render(scene, width=8, height=8, spp=1, integrator="workshop"))
+    assert images[0][4, 4, 0] == 4.0
+    for image in images[1:]:
+        assert np.array_equal(image, images[0])

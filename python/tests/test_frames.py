@@ -94,3 +94,14 @@ def test_a_sample_range_equals_the_command_lines_shard_bit_for_bit(cli, tmp_path
     assert not np.array_equal(first, result.image)
     with pytest.raises(vkpath.ArgumentError, match=r"sample_range=\(5, 5\)"):
         vkpath.render(width=16, height=12, sample_range=(5, 5))
+
+
+def test_frames_take_the_command_lines_range_or_refuse_in_words(tmp_path):
+    """Issue 58: frames="0..3" was a raw ValueError (int('.')); it is the CLI's range now."""
+    scene = write_animated_quad(tmp_path)
+    as_text = [frame for frame, _ in vkpath.render_frames(scene, frames="2..4", fps=4, **SMALL)]
+    assert as_text == [2, 3]
+    for bad, words in [("3..3", "is not 'START..END'"), ("0-3", "is not 'START..END'"),
+                       ([1.5, 0], "1.5 is not a whole frame number"), (7, "is not frame numbers")]:
+        with pytest.raises(vkpath.ArgumentError, match=words):
+            next(vkpath.render_frames(scene, frames=bad, fps=4, **SMALL))

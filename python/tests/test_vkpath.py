@@ -219,8 +219,13 @@ def test_a_bad_path_raises_the_command_lines_one_line_message(cli, tmp_path):
 def test_bad_settings_raise_with_the_names_to_use():
     with pytest.raises(vkpath.VkpathError, match="workshop, cosine, nee, mis"):
         vkpath.render(width=8, height=8, spp=1, integrator="bdpt")
-    with pytest.raises(vkpath.VkpathError, match="--spp 0"):
+    # Python's keywords, not the command line's options (issue 58).
+    with pytest.raises(vkpath.ArgumentError, match="spp=0 is outside"):
         vkpath.render(width=8, height=8, spp=0)
+    with pytest.raises(vkpath.ArgumentError, match="noise_threshold=-1 must be"):
+        vkpath.render(width=8, height=8, spp=4, noise_threshold=-1)
+    with pytest.raises(vkpath.ArgumentError, match=r"max_path_length=0 is outside"):
+        vkpath.render(width=8, height=8, spp=1, max_path_length=0)
     with pytest.raises(vkpath.VkpathError, match="fov"):
         vkpath.Camera((0, 0, 0), (0, 0, -1), fov=180)
     with pytest.raises(vkpath.VkpathError, match="background"):

@@ -19,6 +19,7 @@ import contextvars
 import inspect
 import json
 import math
+import numbers
 import os
 import warnings
 from dataclasses import dataclass, field
@@ -427,12 +428,14 @@ def render(
 def render_frames(
     scene: Union[None, PathLike, Scene] = None,
     *,
-    frames: Iterable[int] = range(1),
+    frames: Union[str, Iterable[int]] = range(1),
     fps: float = 24.0,
     **settings: Any,
 ) -> Iterator[Tuple[int, np.ndarray]]:
     """Renders frames of an animation, one after the other, yielding ``(frame, image)``:
-    ``vkpath render --frames START..END --fps FPS``, frame f at time f / fps. ``settings``
+    ``vkpath render --frames START..END --fps FPS``, frame f at time f / fps. ``frames``
+    is any iterable of whole numbers at least 0 (``range(2, 5)``, a list), or the command
+    line's ``"START..END"`` string (END excluded: ``"2..5"`` is frames 2, 3 and 4). ``settings``
     are :func:`render`'s (``time`` aside). The scene file is read once per frame at its
     time; the device (``device=``, ``validate=``) is opened once for all frames, as the
     command line does, and so are the kernels: each frame takes the kernel, the
@@ -441,6 +444,7 @@ def render_frames(
     those of :func:`render` at each frame's time."""
     if "time" in settings:
         raise ArgumentError("render_frames takes frames= and fps=, not time=")
+    frames = _frame_numbers(frames)
     fps = float(fps)
     if not (fps > 0.0 and math.isfinite(fps)):
         raise ArgumentError(f"fps={fps} is not a frame rate above 0")
@@ -448,15 +452,45 @@ def render_frames(
     device = _device_of(settings.pop("device", None))
     session = _vkpath.Session(device=device, validate=bool(settings.pop("validate", False)))
     for frame in frames:
-        frame = int(frame)
-        if frame < 0:
-            raise ArgumentError(f"frames: frame {frame} is negative")
         token = _SESSION.set(session)
         try:
             image = render(world, time=frame / fps, **settings)
         finally:
             _SESSION.reset(token)
         yield frame, image
+
+
+def _frame_numbers(frames: Union[str, Iterable[int]]) -> Iterator[int]:
+    """The frame numbers of ``frames``: whole numbers of at least 0, or the command line's
+    ``"START..END"`` (END excluded, START < END); anything else raises ArgumentError."""
+    if isinstance(frames, str):
+        start, dots, end = frames.partition("..")
+        try:
+            first, last = int(start), int(end)
+        except ValueError:
+            first, last = 0, -1
+        if not dots or not 0 <= first < last:
+            raise ArgumentError(
+                f"frames={frames!r} is not 'START..END' with 0 <= START < END (END excluded), "
+                "nor frame numbers (e.g. range(0, 3))"
+            )
+        return iter(range(first, last))
+    try:
+        given = iter(frames)
+    except TypeError:
+        raise ArgumentError(
+            f"frames={frames!r} is not frame numbers (e.g. range(0, 3) or '0..3')"
+        ) from None
+
+    def checked() -> Iterator[int]:
+        for frame in given:
+            if isinstance(frame, bool) or not isinstance(frame, numbers.Integral):
+                raise ArgumentError(f"frames: {frame!r} is not a whole frame number")
+            if frame < 0:
+                raise ArgumentError(f"frames: frame {frame} is negative")
+            yield int(frame)
+
+    return checked()
 
 
 ImageLike = Union[np.ndarray, RenderResult]

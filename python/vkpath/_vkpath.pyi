@@ -70,8 +70,10 @@ class Scene:
         ``uvs`` (N, 2) per vertex; ``camera`` (default: renders frame the scene);
         ``lights`` dicts of KHR_lights_punctual's values (``LIGHT_KEYS``: type "point",
         "spot" or "directional", color, intensity, position, direction, inner_cone_angle,
-        outer_cone_angle). Renders bit for bit as the same data written as a glTF file.
-        A wrong shape, type or key raises ArgumentError (a ValueError) naming it."""
+        outer_cone_angle). Colours and vectors are any sequence of numbers (a tuple, a list,
+        a numpy array). Renders bit for bit as the same data written as a glTF file.
+        A wrong shape, type or key, or a negative colour factor or emissive_strength,
+        raises ArgumentError (a ValueError) naming it."""
     @staticmethod
     def cornell_box() -> "Scene":
         """The workshop's Cornell box (the command line's scene when none is given)."""

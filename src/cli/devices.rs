@@ -3,7 +3,7 @@
 /// Arguments of `vkpath devices`.
 #[derive(Debug, Clone, clap::Args)]
 pub struct DevicesArgs {
-    /// Print a JSON array (index, name, kind, API version, UUID, vendor ID, PCI address,
+    /// Print a JSON array (index, name, type, API version, UUID, vendor ID, PCI address,
     /// ray queries) instead of one line per device.
     #[arg(long)]
     pub json: bool,
@@ -19,7 +19,8 @@ pub fn run(args: &DevicesArgs) -> anyhow::Result<()> {
                 serde_json::json!({
                     "index": device.index,
                     "name": device.name,
-                    "kind": format!("{:?}", device.kind),
+                    // As `render --json` names it (issue 58: "Cpu" here, "cpu" there).
+                    "type": device.kind.report_name(),
                     "api_version": device.api_version,
                     "compute": device.compute_queue_family.is_some(),
                     "uuid": crate::vk::format_uuid(&device.uuid),

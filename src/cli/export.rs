@@ -4,6 +4,9 @@ use std::path::PathBuf;
 
 use super::options::SceneArgs;
 use crate::scene::export::{export_scene, layers_of};
+use crate::scene::files::LoadOptions;
+use crate::scene::gltf_file::{is_gltf_path, GltfFile};
+use crate::scene::source::SceneSource;
 
 /// Arguments of `vkpath export`.
 #[derive(Debug, Clone, clap::Args)]
@@ -32,7 +35,39 @@ pub fn run(args: &ExportArgs) -> anyhow::Result<()> {
     if let Some(note) = layers_note(&scene) {
         eprintln!("{note}");
     }
+    if let Some(note) = animations_note(args)? {
+        eprintln!("{note}");
+    }
     Ok(())
+}
+
+/// One line saying that a glTF file's animations are not exported (PLY meshes hold one
+/// pose: time 0, as `render` without `--time` shows), naming them. None for a file
+/// without animations or a scene that is no glTF file.
+fn animations_note(args: &ExportArgs) -> anyhow::Result<Option<String>> {
+    let SceneSource::File(path) = args.scene.source() else {
+        return Ok(None);
+    };
+    if !is_gltf_path(&path) {
+        return Ok(None);
+    }
+    let file = GltfFile::open(
+        &path,
+        &LoadOptions {
+            allow_external_paths: args.scene.allow_external_paths,
+            ..LoadOptions::default()
+        },
+    )?;
+    let names = file.animation_names();
+    Ok((!names.is_empty()).then(|| {
+        let quoted: Vec<String> = names.iter().map(|n| format!("'{n}'")).collect();
+        format!(
+            "vkpath export: note: {} animation{} ({}) not exported: the meshes hold the pose at time 0 s",
+            names.len(),
+            if names.len() == 1 { " is" } else { "s are" },
+            quoted.join(", ")
+        )
+    }))
 }
 
 /// One line naming the materials that use layers beyond metallic-roughness (glass, coats,

@@ -11,6 +11,10 @@ use crate::scene::animation::AnimationPick;
 /// The default of `--fps`.
 pub const DEFAULT_FPS: f64 = 24.0;
 
+/// The most frames one `--frames` range may hold: a million (11.6 hours at 24 fps, far
+/// beyond any one farm task); a longer range is a typo, refused before anything renders.
+pub const MAX_FRAMES: u32 = 1_000_000;
+
 /// When the scene is rendered: one time, or a range of frames.
 #[derive(Debug, Clone, clap::Args)]
 pub struct FrameArgs {
@@ -63,20 +67,17 @@ pub struct FrameTime {
 
 impl FrameArgs {
     /// The images to render, in order: each frame of `--frames`, else one at `--time` (or 0).
-    pub fn frame_times(&self) -> Vec<FrameTime> {
-        match &self.frames {
-            Some(frames) => frames
-                .clone()
-                .map(|frame| FrameTime {
-                    frame: Some(frame),
-                    time: f64::from(frame) / self.fps,
-                })
-                .collect(),
-            None => vec![FrameTime {
-                frame: None,
-                time: self.time.unwrap_or(0.0),
-            }],
-        }
+    /// Lazily: a long range holds no list of its frames.
+    pub fn frame_times(&self) -> impl Iterator<Item = FrameTime> + '_ {
+        let still = self.frames.is_none().then(|| FrameTime {
+            frame: None,
+            time: self.time.unwrap_or(0.0),
+        });
+        let frames = self.frames.clone().unwrap_or(0..0);
+        still.into_iter().chain(frames.map(|frame| FrameTime {
+            frame: Some(frame),
+            time: f64::from(frame) / self.fps,
+        }))
     }
 
     /// The animations `--animation` picks.
@@ -153,11 +154,18 @@ fn parse_fps(text: &str) -> Result<f64, ValueError> {
     }
 }
 
-/// START..END with START < END.
+/// START..END with START < END, at most `MAX_FRAMES` frames.
 fn parse_frames(text: &str) -> Result<Range<u32>, ValueError> {
-    parse_range(text)
+    let frames = parse_range(text)
         .filter(|r| !r.is_empty())
-        .ok_or_else(|| ValueError::NotFrameRange { text: text.into() })
+        .ok_or_else(|| ValueError::NotFrameRange { text: text.into() })?;
+    if frames.len() > MAX_FRAMES as usize {
+        return Err(ValueError::TooManyFrames {
+            text: text.into(),
+            count: u64::from(frames.end - frames.start),
+        });
+    }
+    Ok(frames)
 }
 
 #[cfg(test)]
@@ -184,6 +192,39 @@ mod tests {
         assert!(parse_frames("5..2").is_err());
         assert!(parse_frames("3..3").is_err());
         assert_eq!(parse_frames("2..5"), Ok(2..5));
+        assert!(parse_frames("0..4000000000").is_err());
+        assert!(parse_frames("7..1000008").is_err());
+        assert_eq!(parse_frames("7..1000007"), Ok(7..1_000_007));
+        assert_eq!(
+            parse_frames("4294967000..4294967295"),
+            Ok(4_294_967_000..4_294_967_295)
+        );
+    }
+
+    #[test]
+    fn a_long_range_is_iterated_lazily() {
+        let args = FrameArgs {
+            time: None,
+            frames: Some(0..MAX_FRAMES),
+            fps: 24.0,
+            animation: None,
+            skip_existing: false,
+        };
+        let last = args.frame_times().last().map(|f| f.frame);
+        assert_eq!(last, Some(Some(MAX_FRAMES - 1)));
+        let still = FrameArgs {
+            frames: None,
+            time: Some(0.5),
+            ..args
+        };
+        let times: Vec<FrameTime> = still.frame_times().collect();
+        assert_eq!(
+            times,
+            vec![FrameTime {
+                frame: None,
+                time: 0.5
+            }]
+        );
     }
 
     #[test]
@@ -195,7 +236,7 @@ mod tests {
             animation: None,
             skip_existing: false,
         };
-        let times: Vec<f64> = args.frame_times().iter().map(|f| f.time).collect();
+        let times: Vec<f64> = args.frame_times().map(|f| f.time).collect();
         assert_eq!(times, vec![1.5, 2.0]);
         assert!(args.check_outputs(&[PathBuf::from("a.png")]).is_err());
         assert!(args.check_outputs(&[PathBuf::from("a_#.png")]).is_ok());

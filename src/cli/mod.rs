@@ -215,9 +215,43 @@ pub fn run(cli: Cli) -> anyhow::Result<()> {
     }
 }
 
+/// How a log record reads on the terminal: a warning or an error as the command's own lines
+/// are written (`vkpath: warning: ...`), not as env_logger's `[WARN vkpath::render::renderer]
+/// ...` (issue 58); the levels only `RUST_LOG` shows keep their level and module, for whoever
+/// asked for them.
+pub fn log_line(record: &log::Record) -> String {
+    match record.level() {
+        log::Level::Error => format!("vkpath: error: {}", record.args()),
+        log::Level::Warn => format!("vkpath: warning: {}", record.args()),
+        level => format!("[{level} {}] {}", record.target(), record.args()),
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn warnings_from_the_log_read_as_the_commands_own() {
+        let line = |level, text: &str| {
+            log_line(
+                &log::Record::builder()
+                    .level(level)
+                    .target("vkpath::render::renderer")
+                    .args(format_args!("{text}"))
+                    .build(),
+            )
+        };
+        assert_eq!(
+            line(log::Level::Warn, "no ray queries: the BVH"),
+            "vkpath: warning: no ray queries: the BVH"
+        );
+        assert_eq!(line(log::Level::Error, "lost"), "vkpath: error: lost");
+        assert_eq!(
+            line(log::Level::Debug, "posed"),
+            "[DEBUG vkpath::render::renderer] posed"
+        );
+    }
 
     #[test]
     fn vec3_parsing_accepts_triples_and_rejects_the_rest() {

@@ -209,8 +209,8 @@ pub struct JobArgs {
     /// Show the render live in tev (the HDR viewer) listening at HOST:PORT (tev's default is
     /// 127.0.0.1:14158): the image so far every --tev-interval seconds, the finished one
     /// with its AOVs at the end. The render never waits for tev; an unreachable tev costs a
-    /// warning.
-    #[arg(long, value_name = "HOST:PORT")]
+    /// warning; an address that is not HOST:PORT is a usage error.
+    #[arg(long, value_name = "HOST:PORT", value_parser = parse_host_port)]
     pub tev: Option<String>,
     /// Seconds between live updates.
     #[arg(long, value_parser = parse_seconds, default_value_t = DEFAULT_TEV_INTERVAL.as_secs_f64(), requires = "tev")]
@@ -285,6 +285,27 @@ pub(crate) fn parse_seconds(text: &str) -> Result<f64, ValueError> {
         return Err(ValueError::NotPositiveSeconds { text: text.into() });
     }
     Ok(seconds)
+}
+
+/// HOST:PORT for `--tev`: a host (a name, an IPv4 address or a bracketed IPv6 one) and a
+/// port in 1..=65535. Only the form is checked here; whether tev listens there is the
+/// render's business (a warning).
+pub(crate) fn parse_host_port(text: &str) -> Result<String, ValueError> {
+    let bad = |why| ValueError::NotHostPort {
+        text: text.into(),
+        why,
+    };
+    let (host, port) = text.rsplit_once(':').ok_or_else(|| bad("no ':PORT'"))?;
+    if host.is_empty() || host.contains(char::is_whitespace) {
+        return Err(bad("no host before ':'"));
+    }
+    if host.contains(':') && !(host.starts_with('[') && host.ends_with(']')) {
+        return Err(bad("an IPv6 address goes in brackets, [::1]:14158"));
+    }
+    match port.parse::<u16>() {
+        Ok(port) if port > 0 => Ok(text.to_string()),
+        _ => Err(bad("the port is not a number in 1..=65535")),
+    }
 }
 
 /// A sample count per pixel for `--spp`: a whole number in 1..=`MAX_SPP`. Parsed here, so
@@ -399,6 +420,30 @@ mod tests {
 
     use crate::image_io::tonemap::ToneMap;
     use crate::render::settings::{Integrator, LightSampling, LightSelection};
+
+    #[test]
+    fn tev_addresses_are_host_and_port() {
+        for good in [
+            "127.0.0.1:14158",
+            "localhost:1",
+            "[::1]:14158",
+            "viewer.lan:65535",
+        ] {
+            assert_eq!(super::parse_host_port(good).as_deref(), Ok(good));
+        }
+        for bad in [
+            "localhost",
+            "127.0.0.1",
+            ":14158",
+            "host:0",
+            "host:70000",
+            "host:port",
+            "::1:14158",
+            "a b:1",
+        ] {
+            assert!(super::parse_host_port(bad).is_err(), "{bad}");
+        }
+    }
 
     /// The library spells some names itself (in reports, without clap); they must be the
     /// command line's.

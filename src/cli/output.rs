@@ -31,7 +31,7 @@ use crate::render::settings::{RenderSettings, SamplerKind};
 use crate::render::state_exr::write_state;
 use crate::render::StopReason;
 use crate::scene::Scene;
-use crate::vk::{Context, DeviceInfo, DeviceKind};
+use crate::vk::{Context, DeviceInfo};
 use crate::RenderedImage;
 
 /// How a command reports.
@@ -300,13 +300,7 @@ impl DeviceReport {
             chosen_because: context.chosen_because.clone(),
             index: device.index,
             name: device.name.clone(),
-            kind: match device.kind {
-                DeviceKind::DiscreteGpu => "discrete-gpu",
-                DeviceKind::IntegratedGpu => "integrated-gpu",
-                DeviceKind::VirtualGpu => "virtual-gpu",
-                DeviceKind::Cpu => "cpu",
-                DeviceKind::Other => "other",
-            },
+            kind: device.kind.report_name(),
             spp,
         }
     }
@@ -697,12 +691,22 @@ fn quoted_paths(paths: &[PathBuf]) -> String {
 }
 
 /// What a line adds where a stopped render wrote beside its outputs (`written`, their
-/// `.partial` siblings): ` ('out.png' left as it was)`; nothing where it wrote the outputs.
+/// `.partial` siblings): ` ('out.png' left as it was)` for the outputs that exist, `'out.exr'
+/// not written` for those that do not; nothing where it wrote the outputs.
 fn left_as_they_were(request: &RenderRequest, written: &[PathBuf]) -> String {
-    match written == request.outputs {
-        true => String::new(),
-        false => format!(" ({} left as it was)", quoted_paths(request.outputs)),
+    if written == request.outputs {
+        return String::new();
     }
+    let (kept, absent): (Vec<PathBuf>, Vec<PathBuf>) =
+        request.outputs.iter().cloned().partition(|o| o.exists());
+    let mut parts = Vec::new();
+    if !kept.is_empty() {
+        parts.push(format!("{} left as it was", quoted_paths(&kept)));
+    }
+    if !absent.is_empty() {
+        parts.push(format!("{} not written", quoted_paths(&absent)));
+    }
+    format!(" ({})", parts.join("; "))
 }
 
 /// Saves a finished render to every output, reports it and ends the command as its stop

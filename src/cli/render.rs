@@ -7,7 +7,7 @@ use anyhow::bail;
 use glam::Vec3;
 
 use super::frame_files::{check_frame_outputs, remove_stale_partials};
-use super::frames::{frame_path, FrameArgs};
+use super::frames::{frame_path, FrameArgs, UsageError};
 use super::options::{parse_spp, JobArgs, RenderOptions, SaveArgs, SceneArgs};
 use super::output::{
     render_job_and_save, render_on_devices_and_save, PostProcess, RenderFailure, RenderRequest,
@@ -415,7 +415,7 @@ fn render(args: &RenderArgs) -> anyhow::Result<()> {
     if args.frames.frames.as_ref().is_some_and(|f| f.len() > 1)
         && (job.checkpoint.is_some() || job.resume.is_some())
     {
-        bail!("--checkpoint and --resume belong to one frame: render frames one at a time to use them");
+        return Err(UsageError("--checkpoint and --resume belong to one frame: render frames one at a time to use them".into()).into());
     }
     // From here a signal ends the command at once, writing nothing, until the first sample.
     let files: Vec<&std::path::Path> = args.outputs.iter().map(PathBuf::as_path).collect();
@@ -445,7 +445,7 @@ fn render(args: &RenderArgs) -> anyhow::Result<()> {
             bail!("--checkpoint, --resume and --preview work with one device; render on several with shards instead");
         }
         if args.job.tev.is_some() {
-            bail!("--tev works with one device");
+            return Err(UsageError("--tev works with one device".into()).into());
         }
         if !post.is_empty() {
             bail!("--aov and --denoise work with one device");

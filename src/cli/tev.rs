@@ -7,11 +7,17 @@
 //! one, and an update that finds the thread still sending the last one is dropped (the next
 //! one carries newer pixels anyway). A tev that cannot be reached, or that closes, costs one
 //! warning line; the render and its outputs go on as without `--tev`.
+//!
+//! Nor does the end of the command wait for a tev that does not read (issue 58: a listener
+//! that accepted and never read held the command for ever): every write to the socket gives
+//! up after `WRITE_TIMEOUT`, which drops the view, and the finished image gets
+//! `FINISH_TIMEOUT` in all to reach tev; after that the sending thread is left behind (it
+//! ends with its next write's timeout, or with the process) and one warning says so.
 
 use std::net::{TcpStream, ToSocketAddrs};
 use std::sync::mpsc::{sync_channel, SyncSender, TrySendError};
 use std::thread::JoinHandle;
-use std::time::Duration;
+use std::time::{Duration, Instant};
 
 use tev_client::{PacketCreateImage, PacketUpdateImage, TevClient};
 
@@ -20,6 +26,12 @@ use crate::RenderedImage;
 
 /// How long connecting to tev may take before the render goes on without it.
 const CONNECT_TIMEOUT: Duration = Duration::from_secs(2);
+/// How long one write to tev may stall (tev reads nothing) before the view is dropped.
+const WRITE_TIMEOUT: Duration = Duration::from_secs(2);
+/// How long the end of the command waits for the finished image to reach tev, in all.
+const FINISH_TIMEOUT: Duration = Duration::from_secs(4);
+/// How often the end of the command looks whether the sending thread is done.
+const FINISH_POLL: Duration = Duration::from_millis(10);
 /// Most values (pixels times channels) one UpdateImage packet carries: bands of rows keep
 /// each packet a few MB, whatever the image's size.
 const VALUES_PER_PACKET: usize = 1 << 20;
@@ -91,6 +103,10 @@ impl TevView {
             })?;
         let socket = TcpStream::connect_timeout(&target, CONNECT_TIMEOUT).map_err(fail)?;
         let _ = socket.set_nodelay(true);
+        // A tev that stops reading must not hold a write (and so the command) for ever.
+        socket
+            .set_write_timeout(Some(WRITE_TIMEOUT))
+            .map_err(fail)?;
         let mut client = TevClient::wrap(socket);
         create(&mut client, name, width, height, &["R", "G", "B"]).map_err(fail)?;
         let (queue, updates) = sync_channel::<TevMessage>(1);
@@ -127,11 +143,13 @@ impl TevView {
         }
     }
 
-    /// Shows the finished `image` with its `layers` (waiting until it is sent), closes the
-    /// connection, and returns a warning if tev went away during the render.
+    /// Shows the finished `image` with its `layers` (waiting until it is sent, at most
+    /// `FINISH_TIMEOUT`), closes the connection, and returns a warning if tev went away
+    /// during the render or did not take the image in time.
     pub fn finish(mut self, image: &RenderedImage, layers: &[ImageLayer]) -> Option<String> {
+        let deadline = Instant::now() + FINISH_TIMEOUT;
         let mut final_image = colour_of(image);
-        let message = if layers.is_empty() {
+        let mut message = if layers.is_empty() {
             TevMessage::Update(final_image)
         } else {
             for layer in layers {
@@ -139,18 +157,51 @@ impl TevView {
             }
             TevMessage::Recreate(final_image)
         };
+        // The queue may still hold an update while the thread sends another: wait for room,
+        // but not past the deadline.
         if let Some(queue) = self.queue.take() {
-            let _ = queue.send(message);
+            loop {
+                match queue.try_send(message) {
+                    Ok(()) | Err(TrySendError::Disconnected(_)) => break,
+                    Err(TrySendError::Full(back)) if Instant::now() < deadline => {
+                        message = back;
+                        std::thread::sleep(FINISH_POLL);
+                    }
+                    Err(TrySendError::Full(_)) => break,
+                }
+            }
         }
-        let outcome = self.sender.take()?.join();
-        match outcome {
+        let sender = self.sender.take()?;
+        while !sender.is_finished() {
+            if Instant::now() >= deadline {
+                // Left behind: its next write gives up, or the process ends first.
+                return Some(format!(
+                    "the live view at {} did not take the finished image within {} s: dropped it",
+                    self.address,
+                    FINISH_TIMEOUT.as_secs()
+                ));
+            }
+            std::thread::sleep(FINISH_POLL);
+        }
+        match sender.join() {
             Ok(Ok(())) => None,
             Ok(Err(error)) => Some(format!(
-                "the live view at {} stopped: {error} (the render went on)",
-                self.address
+                "the live view at {} stopped: {} (the render went on)",
+                self.address,
+                describe(&error)
             )),
             Err(_) => Some(format!("the live view at {} failed", self.address)),
         }
+    }
+}
+
+/// A failed write to tev in words: a timeout says that tev stopped reading.
+fn describe(error: &std::io::Error) -> String {
+    match error.kind() {
+        std::io::ErrorKind::WouldBlock | std::io::ErrorKind::TimedOut => {
+            format!("it read nothing for {} s", WRITE_TIMEOUT.as_secs())
+        }
+        _ => error.to_string(),
     }
 }
 

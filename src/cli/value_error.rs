@@ -143,6 +143,22 @@ pub enum ValueError {
         /// The value as given.
         text: String,
     },
+    /// Not HOST:PORT (`--tev`).
+    #[error("'{text}' is not HOST:PORT (e.g. 127.0.0.1:14158): {why}")]
+    NotHostPort {
+        /// The value as given.
+        text: String,
+        /// What is wrong with it.
+        why: &'static str,
+    },
+    /// A `--frames` range longer than `MAX_FRAMES`.
+    #[error("'{text}' holds {count} frames; one render takes at most {max} (split the range over several tasks)", max = crate::cli::frames::MAX_FRAMES)]
+    TooManyFrames {
+        /// The value as given.
+        text: String,
+        /// How many frames it holds.
+        count: u64,
+    },
 }
 
 #[cfg(test)]

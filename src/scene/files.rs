@@ -63,6 +63,16 @@ pub fn read_bounded(path: &Path, limit: u64) -> Result<Vec<u8>, SceneError> {
 }
 
 /// What kind of file system object a non-regular file is, in words.
+/// The error of a path that exists but is no regular file (a directory given as a scene):
+/// said before its extension is judged, since a folder has no format.
+pub(super) fn existing_non_file(path: &Path) -> Option<SceneError> {
+    let metadata = std::fs::metadata(path).ok()?;
+    (!metadata.is_file()).then(|| SceneError::NotAFile {
+        path: path.to_owned(),
+        kind: file_kind(&metadata),
+    })
+}
+
 fn file_kind(metadata: &std::fs::Metadata) -> &'static str {
     use std::os::unix::fs::FileTypeExt;
     let kind = metadata.file_type();

@@ -329,37 +329,67 @@ type JointSet = (Vec<[u16; 4]>, Vec<[f32; 4]>);
 
 /// Every node's local-to-world matrix with the pose's local transforms: the product of the
 /// local matrices from its root down (as the loader's walk multiplies them); `None` for a
-/// node whose parent chain loops.
+/// node whose parent chain loops. Each node's matrix is its parent's times its own, found
+/// once: linear in the node count, however deep the hierarchy (a chain of 100,000 nodes),
+/// and without recursion.
 fn node_to_world(document: &Document, pose: &Pose) -> Vec<Option<Mat4>> {
     let count = document.nodes().len();
     let mut parent: Vec<Option<usize>> = vec![None; count];
     for node in document.nodes() {
         for child in node.children() {
-            parent[child.index()].get_or_insert(node.index());
+            if let Some(slot) = parent.get_mut(child.index()) {
+                slot.get_or_insert(node.index());
+            }
         }
     }
-    let local = |node: &Node| {
-        pose.local_transforms
-            .get(&node.index())
-            .copied()
-            .unwrap_or_else(|| Mat4::from_cols_array_2d(&node.transform().matrix()))
-    };
     let nodes: Vec<Node> = document.nodes().collect();
-    (0..count)
-        .map(|start| {
-            let mut chain = vec![start];
-            while let Some(&up) = parent[*chain.last()?].as_ref() {
-                if chain.len() > count {
-                    return None;
+    let local = |i: usize| {
+        pose.local_transforms
+            .get(&i)
+            .copied()
+            .unwrap_or_else(|| Mat4::from_cols_array_2d(&nodes[i].transform().matrix()))
+    };
+    /// Where a node's matrix stands while the walk finds them.
+    #[derive(Clone, Copy)]
+    enum Found {
+        /// Not reached yet.
+        No,
+        /// On the chain being climbed now: reaching it again means a cycle.
+        Climbing,
+        /// Found: the matrix, or `None` on or under a cycle.
+        Yes(Option<Mat4>),
+    }
+    let mut found = vec![Found::No; count];
+    let mut chain = Vec::new();
+    for start in 0..count {
+        // Climb from `start` to a root or to a node already found, then multiply down.
+        chain.clear();
+        let mut at = start;
+        let base = loop {
+            match found[at] {
+                Found::Yes(world) => break world,
+                Found::Climbing => break None,
+                Found::No => {
+                    found[at] = Found::Climbing;
+                    chain.push(at);
+                    match parent[at] {
+                        Some(up) => at = up,
+                        None => break Some(Mat4::IDENTITY),
+                    }
                 }
-                chain.push(up);
             }
-            Some(
-                chain
-                    .iter()
-                    .rev()
-                    .fold(Mat4::IDENTITY, |world, &i| world * local(&nodes[i])),
-            )
+        };
+        let mut world = base;
+        for &i in chain.iter().rev() {
+            world = world.map(|w| w * local(i));
+            found[i] = Found::Yes(world);
+        }
+    }
+    found
+        .into_iter()
+        .map(|f| match f {
+            Found::Yes(world) => world,
+            Found::No | Found::Climbing => None,
         })
         .collect()
 }

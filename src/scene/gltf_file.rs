@@ -77,6 +77,12 @@ impl GltfFile {
         !self.animations.is_empty()
     }
 
+    /// The names of the file's animations (`#index` for one without a name), in file
+    /// order.
+    pub fn animation_names(&self) -> Vec<String> {
+        self.animations.iter().map(|a| a.name.clone()).collect()
+    }
+
     /// The scene with the animations `pick` chooses at `time` seconds: what
     /// `load_gltf_with` gives with that time and pick, bit for bit, warnings included
     /// (textures the first pose could not use are said again by each).

@@ -123,10 +123,13 @@ impl Scene {
         match extension.as_deref() {
             Some("gltf") | Some("glb") => gltf_loader::load_gltf_with(path, options),
             Some("obj") => obj_loader::load_obj(path),
-            _ => Err(SceneError::UnsupportedExtension {
-                path: path.to_owned(),
-                extension,
-            }),
+            // A folder has no format: say what it is, not that its "extension" is unknown.
+            _ => Err(
+                files::existing_non_file(path).unwrap_or(SceneError::UnsupportedExtension {
+                    path: path.to_owned(),
+                    extension,
+                }),
+            ),
         }
     }
 
@@ -453,6 +456,23 @@ mod tests {
                 ..
             }
         ));
+    }
+
+    #[test]
+    fn a_directory_is_called_a_directory_not_an_extension() {
+        let dir = tempfile::tempdir().unwrap();
+        for name in ["scenes", "scenes.v2"] {
+            let path = dir.path().join(name);
+            std::fs::create_dir(&path).unwrap();
+            let error = Scene::load(&path).unwrap_err();
+            assert_eq!(
+                error.to_string(),
+                format!(
+                    "cannot read scene '{}': it is a directory, not a file",
+                    path.display()
+                )
+            );
+        }
     }
 
     #[test]

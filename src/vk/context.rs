@@ -77,6 +77,18 @@ impl DeviceKind {
         )
     }
 
+    /// How JSON reports name it (`render --json`'s and `devices --json`'s `type`):
+    /// `discrete-gpu`, `integrated-gpu`, `virtual-gpu`, `cpu` or `other`.
+    pub fn report_name(self) -> &'static str {
+        match self {
+            DeviceKind::DiscreteGpu => "discrete-gpu",
+            DeviceKind::IntegratedGpu => "integrated-gpu",
+            DeviceKind::VirtualGpu => "virtual-gpu",
+            DeviceKind::Cpu => "cpu",
+            DeviceKind::Other => "other",
+        }
+    }
+
     /// Preference when no device is named: lower is better.
     pub(crate) fn rank(self) -> u32 {
         match self {
@@ -539,9 +551,13 @@ impl Context {
             .map_or(vk::PipelineCache::null(), |cache| cache.handle)
     }
 
-    /// The store of the pipeline cache, if there is one (to tell it that a build is slow).
-    pub(crate) fn pipeline_cache_store(&self) -> Option<&dyn PipelineCacheStore> {
-        self.pipeline_cache.as_ref().map(|cache| &*cache.store)
+    /// The store of the pipeline cache, if there is one and it started cold (no data for
+    /// this device): to tell it that a build is slow (`PipelineCacheStore::building_slowly`).
+    pub(crate) fn cold_pipeline_cache_store(&self) -> Option<&dyn PipelineCacheStore> {
+        self.pipeline_cache
+            .as_ref()
+            .filter(|cache| cache.cold)
+            .map(|cache| &*cache.store)
     }
 
     /// Saves the pipeline cache through its store if a build changed it (after each

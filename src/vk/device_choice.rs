@@ -157,10 +157,15 @@ fn choose_unchecked(
             });
         }
         let several = selector.contains(',');
+        // A wrong VKPATH_DEVICE is named as such: the command line shows no --device.
         let indices = selector
             .split(',')
             .map(|part| find_one(devices, part.trim()))
-            .collect::<Result<Vec<_>, _>>()?;
+            .collect::<Result<Vec<_>, _>>()
+            .map_err(|error| match device {
+                Some(_) => error,
+                None => VkError::Choice(format!("{source}: {error}")),
+            })?;
         return Ok(DeviceChoice {
             indices,
             several,
@@ -354,12 +359,31 @@ fn find_one(devices: &[DeviceInfo], selector: &str) -> Result<usize, VkError> {
             return Ok(device.index);
         }
     }
+    // A part of a name must name one device: two lavapipes (two ICDs) are told apart by
+    // index or UUID, never by whichever comes first. A whole name, given exactly, wins.
     let needle = selector.to_lowercase();
-    devices
+    let matching: Vec<&DeviceInfo> = devices
         .iter()
-        .find(|d| !needle.is_empty() && d.name.to_lowercase().contains(&needle))
-        .map(|d| d.index)
-        .ok_or_else(not_found)
+        .filter(|d| !needle.is_empty() && d.name.to_lowercase().contains(&needle))
+        .collect();
+    let exact: Vec<&DeviceInfo> = matching
+        .iter()
+        .copied()
+        .filter(|d| d.name.to_lowercase() == needle)
+        .collect();
+    match (matching.as_slice(), exact.as_slice()) {
+        ([one], _) | (_, [one]) => Ok(one.index),
+        ([], _) => Err(not_found()),
+        _ => Err(VkError::Choice(format!(
+            "'{selector}' matches {} devices ({}); give its index or UUID (`vkpath devices` lists them)",
+            matching.len(),
+            matching
+                .iter()
+                .map(|d| format!("{} {} {}", d.index, d.name, format_uuid(&d.uuid)))
+                .collect::<Vec<_>>()
+                .join(", ")
+        ))),
+    }
 }
 
 /// The devices, "0 NAME, 1 NAME", for error messages.

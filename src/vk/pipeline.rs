@@ -58,9 +58,10 @@ fn declared_workgroup_size(spirv: &[u32]) -> Option<[u32; 3]> {
 
 /// Runs `build`, and calls the pipeline cache store's `building_slowly` from another thread
 /// if it takes longer than `SLOW_BUILD_NOTICE_AFTER` (a driver compiles while `build` runs,
-/// so the notice comes while the wait is on, not after it).
+/// so the notice comes while the wait is on, not after it); only where the cache started
+/// cold (the first run on the device).
 fn build_telling_when_slow<T>(context: &Context, build: impl FnOnce() -> T) -> T {
-    let Some(store) = context.pipeline_cache_store() else {
+    let Some(store) = context.cold_pipeline_cache_store() else {
         return build();
     };
     let (done, finished) = std::sync::mpsc::channel::<()>();

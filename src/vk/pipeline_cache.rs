@@ -130,8 +130,10 @@ pub trait PipelineCacheStore: Send + Sync + fmt::Debug {
     /// Saves the cache's data (all of it, not a difference) for `key`'s device.
     fn save(&self, key: &PipelineCacheKey, data: &[u8]);
     /// Called once per pipeline, from another thread, when building it has taken longer
-    /// than `SLOW_BUILD_NOTICE_AFTER` (e.g. to say that the first run on a device builds
-    /// its kernels).
+    /// than `SLOW_BUILD_NOTICE_AFTER` in a process that found no cache data for its device
+    /// (`load` gave none: the first run on a device builds its kernels). A warm cache does
+    /// not call it, even where the driver keeps nothing in it (lavapipe 22.3 saves a bare
+    /// header and compiles every run): "first run" would be untrue there.
     fn building_slowly(&self) {}
 }
 
@@ -145,6 +147,9 @@ pub(crate) struct PersistentPipelineCache {
     pub(crate) handle: vk::PipelineCache,
     /// Hash of the data last loaded or saved, so that unchanged data are not written again.
     saved: Mutex<u64>,
+    /// Whether the store had no usable data for this device when the cache was created
+    /// (the first run on it, or its data were another driver's).
+    pub(crate) cold: bool,
 }
 
 fn hash_of(data: &[u8]) -> u64 {
@@ -181,6 +186,7 @@ impl PersistentPipelineCache {
             key,
             handle,
             saved: Mutex::new(hash_of(&initial)),
+            cold: initial.is_empty(),
         })
     }
 

@@ -109,8 +109,11 @@ fn device_takes_an_index_a_name_a_uuid_or_a_unique_prefix() {
     assert_eq!(chosen(&devices, Some("GPU-aaaa"), &env(None)), [0]);
     // An index is an index, not a digit of a name ("LLVM 15.0.1" contains a 1).
     assert_eq!(chosen(&devices, Some("1"), &env(None)), [1]);
-    // A number that is no index may still be part of a name.
-    assert_eq!(chosen(&devices, Some("100"), &env(None)), [0]);
+    // A number that is no index may still be part of a name ("LLVM 15.0.1"); one that is
+    // part of two (H100, A100) names both (issue 58: it took the first).
+    assert_eq!(chosen(&devices, Some("15"), &env(None)), [2]);
+    let message = error(&devices, Some("100"), &env(None));
+    assert!(message.contains("'100' matches 2 devices"), "{message}");
 }
 
 #[test]
@@ -121,6 +124,51 @@ fn an_unknown_uuid_is_one_line_naming_the_devices() {
         "{message}"
     );
     assert!(message.contains(&uuid(0xaa)), "{message}");
+}
+
+#[test]
+fn a_name_that_matches_two_devices_names_both() {
+    // Issue 58: two lavapipe ICDs (Mesa 22 and 25) took the first, silently.
+    let devices = [
+        lavapipe(0),
+        lavapipe(1),
+        nvidia(2, "NVIDIA H100", 0xaa, None),
+    ];
+    let message = error(&devices, Some("llvmpipe"), &env(None));
+    assert!(
+        message.contains("'llvmpipe' matches 2 devices"),
+        "{message}"
+    );
+    assert!(
+        message.contains("0 llvmpipe") && message.contains("1 llvmpipe"),
+        "{message}"
+    );
+    assert_eq!(chosen(&devices, Some("h100"), &env(None)), [2]);
+    // A whole name given exactly picks that device, even where it is part of another's.
+    let devices = [
+        device(0, "GPU X", DeviceKind::DiscreteGpu, 1, 1),
+        device(1, "GPU X Pro", DeviceKind::DiscreteGpu, 1, 2),
+    ];
+    assert_eq!(chosen(&devices, Some("gpu x"), &env(None)), [0]);
+}
+
+#[test]
+fn a_wrong_vkpath_device_is_named() {
+    let environment = DeviceEnvironment {
+        vkpath_device: Some("quadro".into()),
+        ..DeviceEnvironment::default()
+    };
+    let message = error(&node(), None, &environment);
+    assert!(
+        message.starts_with("VKPATH_DEVICE=quadro: no Vulkan device matches 'quadro'"),
+        "{message}"
+    );
+    // --device overrides it, and speaks for itself.
+    let message = error(&node(), Some("quadro"), &environment);
+    assert!(
+        message.starts_with("no Vulkan device matches 'quadro'"),
+        "{message}"
+    );
 }
 
 #[test]
