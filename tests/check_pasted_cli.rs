@@ -10,7 +10,10 @@ use crate::common;
 use serde_json::Value;
 
 fn pasted(name: &str) -> String {
-    format!("{}/tests/solutions/pasted/{name}", env!("CARGO_MANIFEST_DIR"))
+    format!(
+        "{}/tests/solutions/pasted/{name}",
+        env!("CARGO_MANIFEST_DIR")
+    )
 }
 
 /// Checks `name` with `--json`, expects exit status `exit` and returns the report.

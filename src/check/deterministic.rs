@@ -109,7 +109,12 @@ struct RandomNumbersMistakes {
 }
 
 impl RandomNumbersMistakes {
-    fn add(&mut self, seed: glam::UVec2, expected: &RandomNumbersOutput, actual: &RandomNumbersOutput) {
+    fn add(
+        &mut self,
+        seed: glam::UVec2,
+        expected: &RandomNumbersOutput,
+        actual: &RandomNumbersOutput,
+    ) {
         let numbers_agree = expected.seed_and_numbers[2..] == actual.seed_and_numbers[2..];
         let seed_agrees = expected.seed() == actual.seed();
         match (numbers_agree, seed_agrees) {

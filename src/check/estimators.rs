@@ -242,7 +242,11 @@ pub fn blame_failing_intersections(report: &mut FunctionReport, failing: &[&str]
         _ => return,
     };
     let function = report.function.clone();
-    let verb = if failing.len() > 1 { "fail each" } else { "fails" };
+    let verb = if failing.len() > 1 {
+        "fail each"
+    } else {
+        "fails"
+    };
     for warning in &mut report.warnings {
         if warning.contains("self-intersection") {
             *warning = format!(

@@ -576,7 +576,9 @@ fn cause(functions: &[FunctionReport], yours: f64, reference: f64) -> String {
     let mut cause = cause_from_radiance(functions, yours, reference);
     let others: Vec<&str> = others
         .into_iter()
-        .filter(|name| !cause.contains(&format!("your {name}")) && !cause.contains(&format!(" and {name}")))
+        .filter(|name| {
+            !cause.contains(&format!("your {name}")) && !cause.contains(&format!(" and {name}"))
+        })
         .collect();
     if !others.is_empty() {
         cause.push_str(&format!(
@@ -769,7 +771,10 @@ mod tests {
         ];
         let text = cause(&functions, 0.8, 1.0);
         assert!(!text.contains("self-intersection"), "{text}");
-        assert!(text.contains("your ray_mesh_intersection fails on its own"), "{text}");
+        assert!(
+            text.contains("your ray_mesh_intersection fails on its own"),
+            "{text}"
+        );
         assert_eq!(text.matches("ray_mesh_intersection").count(), 1, "{text}");
         // With intersections that pass, the darker image is self-intersection.
         let functions = [

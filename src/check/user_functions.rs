@@ -30,7 +30,6 @@ pub fn check_intake_options() -> IntakeOptions {
     }
 }
 
-
 /// A workshop name in the user's file that cannot be judged, and why.
 #[derive(Clone, Debug, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
 pub struct NotJudged {
@@ -374,7 +373,9 @@ impl UserFunctions {
         // (name, item) of each definition kept so far.
         let mut kept: Vec<(&str, &Item)> = Vec::new();
         for item in &items {
-            let Some(name_index) = item.name.filter(|_| item.kind == ItemKind::FunctionDefinition)
+            let Some(name_index) = item
+                .name
+                .filter(|_| item.kind == ItemKind::FunctionDefinition)
             else {
                 continue;
             };
@@ -684,12 +685,19 @@ fn reached_functions(
     };
     for function in active {
         reach(function.name(), &mut reached, &mut pending);
-        reach(&format!("user_{}", function.name()), &mut reached, &mut pending);
+        reach(
+            &format!("user_{}", function.name()),
+            &mut reached,
+            &mut pending,
+        );
     }
     for token in tokens.iter().filter(|t| t.in_directive) {
         reach(&token.text, &mut reached, &mut pending);
     }
-    for item in items.iter().filter(|i| i.kind != ItemKind::FunctionDefinition) {
+    for item in items
+        .iter()
+        .filter(|i| i.kind != ItemKind::FunctionDefinition)
+    {
         for token in &structure[item.first..=item.last] {
             reach(&token.text, &mut reached, &mut pending);
         }

@@ -10,6 +10,14 @@
 //! that GLSL never shows (a fence line, a front-matter line 1, a backtick outside comments,
 //! a character GLSL does not have, three words in a row that are no GLSL).
 
+mod items;
+mod lines;
+mod scripts;
+
+use items::close_braces_and_drop_statements;
+use lines::{code_of_line, not_glsl};
+use scripts::{in_script_expression, looks_like_glsl, template_strings};
+
 /// A note of `glsl_of_paste`: the line it is about (from 1, of the file given) and what was
 /// done, without the place ("dropped ...").
 #[derive(Clone, Debug, PartialEq, Eq)]
@@ -34,8 +42,25 @@ pub struct PastedGlsl {
 /// Fence languages whose blocks are GLSL, or may be (a block without a language, the C-like
 /// names people give GLSL for its highlighting).
 const GLSL_FENCES: [&str; 19] = [
-    "", "glsl", "glsl450", "glslang", "gl", "opengl", "webgl", "shader", "shadertoy", "frag",
-    "vert", "comp", "fs", "vs", "c", "cpp", "c++", "cc", "h",
+    "",
+    "glsl",
+    "glsl450",
+    "glslang",
+    "gl",
+    "opengl",
+    "webgl",
+    "shader",
+    "shadertoy",
+    "frag",
+    "vert",
+    "comp",
+    "fs",
+    "vs",
+    "c",
+    "cpp",
+    "c++",
+    "cc",
+    "h",
 ];
 
 /// Fence languages whose blocks are scripts that may hold GLSL in template strings.
@@ -89,114 +114,6 @@ pub fn glsl_of_paste(text: &str) -> PastedGlsl {
         notes,
         from_script_strings: state.from_script_strings,
     }
-}
-
-/// The top-level items of `text` that are no declaration are blanked (a statement such as
-/// the slides' `seed = ...;` or an unfinished `if (hit) {` pasted at file scope, a fence, a
-/// word alone: GLSL allows none of them there), and the braces another item leaves open
-/// (`Item::unclosed_braces`: a function without its last `}`) are closed at its end, each
-/// with a note; in one pass, so that check's compile rounds are spared one round each and
-/// the definitions after an open brace are read as the file's own.
-fn close_braces_and_drop_statements(text: &str, notes: &mut Vec<PasteNote>) -> String {
-    use crate::glsl_intake::syntax::{structural_tokens, tokenize, top_level_items, ItemKind};
-    let tokens = tokenize(text);
-    let macros: Vec<&str> = tokens
-        .windows(3)
-        .filter(|w| w[0].starts_directive && w[1].text == "define")
-        .map(|w| w[2].text.as_str())
-        .collect();
-    let structure = structural_tokens(&tokens);
-    // (byte range, replacement), in order.
-    let mut edits: Vec<(std::ops::Range<usize>, String)> = Vec::new();
-    for item in top_level_items(&structure) {
-        let item_tokens = &structure[item.first..=item.last];
-        let range = item_tokens[0].start..item_tokens[item_tokens.len() - 1].end;
-        let next = match structure.get(item.last + 1) {
-            Some(token) => format!("the definition at line {}", token.line),
-            None => "the end of the file".into(),
-        };
-        if item.kind == ItemKind::Declaration && !is_declaration(item_tokens, &macros) {
-            let written: Vec<&str> = text[range.clone()].split_whitespace().collect();
-            let written = written.join(" ");
-            let quoted: String = written.chars().take(50).collect();
-            let cut = if quoted.len() < written.len() { "…" } else { "" };
-            let open = if item.unclosed_braces > 0 {
-                format!("; its '{{' is never closed before {next}")
-            } else {
-                String::new()
-            };
-            notes.push(PasteNote {
-                line: item_tokens[0].line,
-                text: format!(
-                    "dropped '{quoted}{cut}' (a statement or text outside any function, which GLSL does not allow there{open})"
-                ),
-            });
-            let blank: String = text[range.clone()]
-                .chars()
-                .map(|c| if c == '\n' { '\n' } else { ' ' })
-                .collect();
-            edits.push((range, blank));
-            continue;
-        }
-        if item.unclosed_braces == 0 {
-            continue;
-        }
-        // The outermost `{` left open: the bottom of the stack of open braces.
-        let mut open: Vec<usize> = Vec::new();
-        for (index, token) in item_tokens.iter().enumerate() {
-            match token.text.as_str() {
-                "{" => open.push(index),
-                "}" => {
-                    open.pop();
-                }
-                _ => {}
-            }
-        }
-        let Some(&outermost) = open.first() else {
-            continue;
-        };
-        notes.push(PasteNote {
-            line: item_tokens[outermost].line,
-            text: format!(
-                "this '{{' is never closed before {next}; check closes it there, so that what follows is read as your own functions"
-            ),
-        });
-        edits.push((range.end..range.end, "}".repeat(item.unclosed_braces)));
-    }
-    if edits.is_empty() {
-        return text.to_string();
-    }
-    let mut result = String::with_capacity(text.len() + edits.len());
-    let mut position = 0;
-    for (range, replacement) in edits {
-        result.push_str(&text[position..range.start]);
-        result.push_str(&replacement);
-        position = range.end;
-    }
-    result.push_str(&text[position..]);
-    result
-}
-
-/// Whether the tokens of a top-level item without a body begin as a declaration does: a
-/// qualifier or `struct`, two names (`float x`, `triangle_t tri`), an array type (`float[3]
-/// x`), or a macro of the user's (`macros`, which may expand to anything).
-fn is_declaration(tokens: &[crate::glsl_intake::syntax::Token], macros: &[&str]) -> bool {
-    const STARTS: [&str; 24] = [
-        "struct", "layout", "const", "shared", "attribute", "varying", "subroutine",
-        "coherent", "readonly", "writeonly", "uniform", "in", "out", "buffer", "flat",
-        "smooth", "noperspective", "centroid", "invariant", "highp", "mediump", "lowp",
-        "precise", "precision",
-    ];
-    let Some(head) = tokens.first() else {
-        return true;
-    };
-    let second = tokens.get(1);
-    head.text == ";"
-        || STARTS.contains(&head.text.as_str())
-        || macros.contains(&head.text.as_str())
-        || head.is_identifier()
-            && !crate::glsl_intake::syntax::is_statement_word(&head.text)
-            && second.is_some_and(|t| t.is_identifier() || t.text == "[")
 }
 
 /// The byte range of each line, without its `\n`.
@@ -327,7 +244,9 @@ impl Paste<'_> {
             };
             let close = (index + 1..self.lines.len()).find(|&i| {
                 fence(&self.text[self.lines[i].clone()]).is_some_and(|f| {
-                    f.character == open.character && f.length >= open.length && f.language.is_empty()
+                    f.character == open.character
+                        && f.length >= open.length
+                        && f.language.is_empty()
                         && self.text[self.lines[i].clone()]
                             .trim()
                             .bytes()
@@ -561,241 +480,6 @@ impl Paste<'_> {
     }
 }
 
-/// The code of one line: its text with comments replaced by spaces (`in_block_comment` says
-/// whether the line starts inside a `/* */` comment, and is updated), or empty for a
-/// preprocessor directive.
-fn code_of_line(line: &str, in_block_comment: &mut bool) -> String {
-    let bytes = line.as_bytes();
-    let mut code = String::with_capacity(line.len());
-    let mut i = 0;
-    while i < bytes.len() {
-        if *in_block_comment {
-            if bytes[i] == b'*' && bytes.get(i + 1) == Some(&b'/') {
-                *in_block_comment = false;
-                code.push_str("  ");
-                i += 2;
-            } else {
-                i += 1;
-                code.push(' ');
-            }
-        } else if bytes[i] == b'/' && bytes.get(i + 1) == Some(&b'/') {
-            break;
-        } else if bytes[i] == b'/' && bytes.get(i + 1) == Some(&b'*') {
-            *in_block_comment = true;
-            code.push_str("  ");
-            i += 2;
-        } else {
-            let length = line[i..].chars().next().map_or(1, char::len_utf8);
-            code.push_str(&line[i..i + length]);
-            i += length;
-        }
-    }
-    if code.trim_start().starts_with('#') {
-        // A directive (or a Markdown heading, which the intake drops as an unknown
-        // directive, with its note).
-        return String::new();
-    }
-    code
-}
-
-/// Why a line's code (comments blanked) is not GLSL, if it is visibly not.
-fn not_glsl(code: &str) -> Option<&'static str> {
-    let trimmed = code.trim();
-    if trimmed.is_empty() {
-        return None;
-    }
-    let bytes = trimmed.as_bytes();
-    if bytes[0] == b'<'
-        && bytes
-            .get(1)
-            .is_some_and(|b| b.is_ascii_alphabetic() || *b == b'/' || *b == b'!')
-        && trimmed.contains('>')
-    {
-        return Some("an HTML tag");
-    }
-    if trimmed.bytes().all(|b| b == b'.' || b.is_ascii_whitespace()) && trimmed.len() >= 2 {
-        return Some("an ellipsis");
-    }
-    let backslash_inside = trimmed
-        .char_indices()
-        .any(|(at, c)| c == '\\' && at + 1 < trimmed.len());
-    if trimmed
-        .chars()
-        .any(|c| matches!(c, '`' | '$' | '@' | '\'' | '"') || !c.is_ascii())
-        || backslash_inside
-    {
-        return Some("characters GLSL does not have");
-    }
-    let words = words_of(trimmed);
-    // Three words in a row, none of them GLSL's, are a sentence: GLSL puts at most a type
-    // and a name side by side (`triangle_t tri`) after its own qualifiers.
-    let mut run = 0;
-    let mut previous_end = None;
-    for (start, end, word) in &words {
-        let adjacent = previous_end.is_some_and(|e: usize| trimmed[e..*start].trim().is_empty());
-        run = match (adjacent, is_glsl_word(word)) {
-            (_, true) => 0,
-            (true, false) => run + 1,
-            (false, false) => 1,
-        };
-        if run >= 3 {
-            return Some("prose");
-        }
-        previous_end = Some(*end);
-    }
-    // Words that end in ':' (a heading, "Result:") or '.' (a sentence's end).
-    let last = trimmed.chars().last().unwrap_or(' ');
-    let before_last = trimmed[..trimmed.len() - 1].trim_end();
-    let ends_in_word = before_last.ends_with(|c: char| c.is_ascii_alphabetic());
-    let first_word = words.first().map_or("", |w| w.2);
-    if ends_in_word
-        && (last == ':' && !trimmed.contains('?') && !matches!(first_word, "case" | "default")
-            || last == '.' && !trimmed.contains(['=', '(', ';', '{', '}']))
-    {
-        return Some("prose");
-    }
-    None
-}
-
-/// The words (identifiers and numbers) of a line, each (start, end, text).
-fn words_of(text: &str) -> Vec<(usize, usize, &str)> {
-    let bytes = text.as_bytes();
-    let mut words = Vec::new();
-    let mut i = 0;
-    while i < bytes.len() {
-        if bytes[i].is_ascii_alphanumeric() || bytes[i] == b'_' {
-            let start = i;
-            while i < bytes.len() && (bytes[i].is_ascii_alphanumeric() || bytes[i] == b'_' || bytes[i] == b'.' && bytes[start].is_ascii_digit()) {
-                i += 1;
-            }
-            words.push((start, i, &text[start..i]));
-        } else {
-            i += 1;
-        }
-    }
-    words
-}
-
-/// Whether a word is GLSL's: a keyword, a qualifier, a built-in type.
-fn is_glsl_word(word: &str) -> bool {
-    const WORDS: [&str; 48] = [
-        "void", "bool", "int", "uint", "float", "double", "in", "out", "inout", "const",
-        "uniform", "buffer", "shared", "highp", "mediump", "lowp", "precise", "invariant",
-        "flat", "smooth", "noperspective", "centroid", "sample", "patch", "coherent",
-        "volatile", "restrict", "readonly", "writeonly", "return", "else", "case", "struct",
-        "layout", "precision", "attribute", "varying", "discard", "if", "for", "while", "do",
-        "switch", "default", "break", "continue", "true", "false",
-    ];
-    const FAMILIES: [&str; 14] = [
-        "vec", "ivec", "uvec", "bvec", "dvec", "mat", "dmat", "sampler", "isampler",
-        "usampler", "image", "iimage", "uimage", "texture",
-    ];
-    WORDS.contains(&word)
-        || FAMILIES.iter().any(|family| {
-            word.strip_prefix(family)
-                .is_some_and(|rest| rest.starts_with(|c: char| c.is_ascii_digit() || c.is_ascii_uppercase()))
-        })
-}
-
-/// Whether a backtick after `before` opens a template string of a script (not inline code
-/// in prose): it follows `=`, `(`, `,`, `:`, `[`, `?`, `+`, `{`, `return` or a comment
-/// (`/* glsl */`), or a tag written against it (`glsl\``).
-fn in_script_expression(before: &str) -> bool {
-    let tagged = before.ends_with(|c: char| c.is_ascii_alphanumeric() || c == '_');
-    let trimmed = before.trim_end();
-    tagged
-        || trimmed.ends_with(['=', '(', ',', ':', '[', '?', '+', '{'])
-        || trimmed.ends_with("return")
-        || trimmed.ends_with("*/")
-}
-
-/// Whether a string's text looks like GLSL: a function definition (`type name(...) {`), a
-/// `#version`, a `precision` statement or `gl_FragColor`/`mainImage`.
-fn looks_like_glsl(text: &str) -> bool {
-    if text.contains("#version")
-        || text.contains("precision highp")
-        || text.contains("precision mediump")
-        || text.contains("gl_FragColor")
-        || text.contains("mainImage")
-        || text.contains("void main")
-    {
-        return true;
-    }
-    let tokens = crate::glsl_intake::syntax::structural_tokens(&crate::glsl_intake::syntax::tokenize(text));
-    crate::glsl_intake::syntax::top_level_items(&tokens)
-        .iter()
-        .any(|item| item.kind == crate::glsl_intake::syntax::ItemKind::FunctionDefinition)
-}
-
-/// The template strings of a script: each string's text (between its backticks) and the
-/// `${...}` substitutions in it, as byte ranges of `script`. Comments and quoted strings
-/// are skipped.
-fn template_strings(
-    script: &str,
-) -> Vec<(std::ops::Range<usize>, Vec<std::ops::Range<usize>>)> {
-    let bytes = script.as_bytes();
-    let mut strings = Vec::new();
-    let mut i = 0;
-    while i < bytes.len() {
-        match bytes[i] {
-            b'/' if bytes.get(i + 1) == Some(&b'/') => {
-                while i < bytes.len() && bytes[i] != b'\n' {
-                    i += 1;
-                }
-            }
-            b'/' if bytes.get(i + 1) == Some(&b'*') => {
-                i += 2;
-                while i < bytes.len() && !(bytes[i] == b'*' && bytes.get(i + 1) == Some(&b'/')) {
-                    i += 1;
-                }
-                i += 2;
-            }
-            quote @ (b'\'' | b'"') => {
-                i += 1;
-                while i < bytes.len() && bytes[i] != quote && bytes[i] != b'\n' {
-                    i += if bytes[i] == b'\\' { 2 } else { 1 };
-                }
-                i += 1;
-            }
-            b'`' => {
-                let start = i + 1;
-                let mut holes = Vec::new();
-                i = start;
-                while i < bytes.len() && bytes[i] != b'`' {
-                    if bytes[i] == b'\\' {
-                        i += 2;
-                    } else if bytes[i] == b'$' && bytes.get(i + 1) == Some(&b'{') {
-                        let hole_start = i;
-                        let mut depth = 0usize;
-                        while i < bytes.len() {
-                            match bytes[i] {
-                                b'{' => depth += 1,
-                                b'}' => {
-                                    depth -= 1;
-                                    if depth == 0 {
-                                        break;
-                                    }
-                                }
-                                _ => {}
-                            }
-                            i += 1;
-                        }
-                        holes.push(hole_start..(i + 1).min(bytes.len()));
-                        i += 1;
-                    } else {
-                        i += 1;
-                    }
-                }
-                let end = i.min(bytes.len());
-                strings.push((start..end, holes));
-                i += 1;
-            }
-            _ => i += 1,
-        }
-    }
-    strings
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -826,10 +510,27 @@ mod tests {
                 assert!(line.trim().is_empty(), "line {}: {line}", index + 1);
             }
         }
-        let notes: Vec<String> = pasted.notes.iter().map(|n| format!("{}: {}", n.line, n.text)).collect();
-        assert!(notes.iter().any(|n| n.starts_with("1: dropped the front matter")), "{notes:?}");
-        assert!(notes.iter().any(|n| n.starts_with("7: read as Markdown")), "{notes:?}");
-        assert!(notes.iter().any(|n| n.starts_with("15: dropped a ```python block")), "{notes:?}");
+        let notes: Vec<String> = pasted
+            .notes
+            .iter()
+            .map(|n| format!("{}: {}", n.line, n.text))
+            .collect();
+        assert!(
+            notes
+                .iter()
+                .any(|n| n.starts_with("1: dropped the front matter")),
+            "{notes:?}"
+        );
+        assert!(
+            notes.iter().any(|n| n.starts_with("7: read as Markdown")),
+            "{notes:?}"
+        );
+        assert!(
+            notes
+                .iter()
+                .any(|n| n.starts_with("15: dropped a ```python block")),
+            "{notes:?}"
+        );
     }
 
     #[test]
@@ -845,7 +546,11 @@ mod tests {
             "Here is my sampler, as on the slides\n$$2{{\\pi}}\\frac{{1}}{{N}}$$\n<!-- a\ncomment -->\n<br>\nResult:\n{SPHERE}...\nThat is all.\n"
         );
         let pasted = glsl_of_paste(&text);
-        let kept: Vec<&str> = pasted.text.split('\n').filter(|l| !l.trim().is_empty()).collect();
+        let kept: Vec<&str> = pasted
+            .text
+            .split('\n')
+            .filter(|l| !l.trim().is_empty())
+            .collect();
         assert_eq!(kept.join("\n") + "\n", SPHERE);
         assert_eq!(pasted.text.split('\n').count(), text.split('\n').count());
     }
@@ -857,10 +562,20 @@ mod tests {
         );
         let pasted = glsl_of_paste(&text);
         assert!(pasted.from_script_strings);
-        let kept: Vec<&str> = pasted.text.split('\n').filter(|l| !l.trim().is_empty()).collect();
+        let kept: Vec<&str> = pasted
+            .text
+            .split('\n')
+            .filter(|l| !l.trim().is_empty())
+            .collect();
         assert_eq!(kept[0], "vec3 sample_sphere(vec2 random_numbers) {");
         assert_eq!(kept.last().map(|l| l.trim()), Some("float k =     ;"));
-        assert!(pasted.notes[0].text.starts_with("GLSL inside a JS/TS template string"), "{:?}", pasted.notes);
+        assert!(
+            pasted.notes[0]
+                .text
+                .starts_with("GLSL inside a JS/TS template string"),
+            "{:?}",
+            pasted.notes
+        );
         assert_eq!(pasted.notes[0].line, 3);
     }
 }

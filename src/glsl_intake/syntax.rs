@@ -265,9 +265,27 @@ fn block_end(tokens: &[Token], open: usize) -> BlockEnd {
 
 /// Words that begin a statement or declaration, never a function definition.
 const NOT_A_DEFINITION: [&str; 21] = [
-    "if", "for", "while", "switch", "return", "else", "do", "case", "default", "struct",
-    "layout", "precision", "uniform", "buffer", "in", "out", "inout", "const", "discard",
-    "break", "continue",
+    "if",
+    "for",
+    "while",
+    "switch",
+    "return",
+    "else",
+    "do",
+    "case",
+    "default",
+    "struct",
+    "layout",
+    "precision",
+    "uniform",
+    "buffer",
+    "in",
+    "out",
+    "inout",
+    "const",
+    "discard",
+    "break",
+    "continue",
 ];
 
 /// Whether a word begins a statement (`if`, `for`, `return`, …) rather than a declaration.
