@@ -98,7 +98,9 @@ fn notes_with_twenty_snippets_between_the_functions_lose_only_the_snippets() {
     );
     let notes = notes(&report);
     assert!(
-        notes.contains("notes_between_functions.glsl:7: dropped 'seed = uvec2(pixel_coord)")
+        notes.contains("notes_between_functions.glsl:5: dropped 'Exercise 1' (prose, not GLSL)")
+            && notes.contains("notes_between_functions.glsl:7: dropped 'seed = uvec2(pixel_coord)")
+            && notes.contains("notes_between_functions.glsl:31: dropped 'for (int i = 0; i != TRIANGLE_COUNT; ++i)")
             && notes.contains("(a statement or text outside any function"),
         "{notes}"
     );

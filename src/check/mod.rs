@@ -102,12 +102,15 @@ pub enum LoadError {
     /// The file defines none of the workshop functions.
     #[error(
         "'{path}' defines none of the workshop functions ({}); a definition is the \
-         function's name, its parameter list and '{{'",
+         function's name, its parameter list and '{{'{hint}",
         WorkshopFunction::ALL.map(WorkshopFunction::name).join(", ")
     )]
     NoWorkshopFunction {
         /// The file.
         path: PathBuf,
+        /// Why a definition was not read, when the reading knows (": line 3: this '{' is
+        /// never closed ..."), else empty.
+        hint: String,
     },
     /// The file is WGSL (WebGPU's shading language), not GLSL.
     #[error(
@@ -283,7 +286,14 @@ fn nothing_to_judge(paths: &[PathBuf], units: &[UserFunctions]) -> Option<LoadEr
         })
         .collect();
     Some(if reasons.is_empty() {
-        LoadError::NoWorkshopFunction { path }
+        // A definition hidden inside a brace never closed: the note of the reading says
+        // where.
+        let hint = units
+            .iter()
+            .flat_map(|u| u.prepared.notes.iter().map(move |note| u.localize(note)))
+            .find(|note| note.contains("stands inside it and is not read"))
+            .map_or_else(String::new, |note| format!(": {note}"));
+        LoadError::NoWorkshopFunction { path, hint }
     } else {
         LoadError::NothingToJudge {
             path,

@@ -497,6 +497,33 @@ mod tests {
     }
 
     #[test]
+    fn every_glsl_file_of_the_tests_comes_back_unchanged() {
+        // The solutions and programs check's tests judge: GLSL as attendees write it,
+        // ShaderToy tabs, page shaders, Vulkan shaders, snippets at file scope.
+        let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/solutions");
+        let mut files = Vec::new();
+        for directory in [root.clone(), root.join("programs")] {
+            for entry in std::fs::read_dir(&directory).expect("tests/solutions") {
+                let path = entry.expect("entry").path();
+                if path.extension().is_some_and(|e| e == "glsl") {
+                    files.push(path);
+                }
+            }
+        }
+        assert!(files.len() > 40, "{}", files.len());
+        for path in files {
+            let text = crate::glsl_intake::read_source_file(&path).expect("read");
+            let pasted = glsl_of_paste(&text);
+            assert!(
+                pasted.text == text && pasted.notes.is_empty(),
+                "{}: {:?}",
+                path.display(),
+                pasted.notes
+            );
+        }
+    }
+
+    #[test]
     fn markdown_keeps_only_its_glsl_blocks_on_their_lines() {
         let text = format!(
             "---\ntitle: My path tracer\n---\n# Exercise 3\n<p align=\"center\"><img src=\"x.png\"></p>\nThe sampler from the slides:\n```glsl\n{SPHERE}```\n```python\nprint(1)\n```\nDone.\n"
@@ -553,6 +580,58 @@ mod tests {
             .collect();
         assert_eq!(kept.join("\n") + "\n", SPHERE);
         assert_eq!(pasted.text.split('\n').count(), text.split('\n').count());
+    }
+
+    #[test]
+    fn snippets_at_file_scope_go_in_one_pass_and_open_braces_are_closed_or_named() {
+        let text = format!(
+            "Exercise 1\nfor (int i = 0; i != SAMPLE_COUNT; ++i) {{\n    if (hit) {{\n        // ...\n{SPHERE}color += c;\nfloat k = 1.0;\n"
+        );
+        let pasted = glsl_of_paste(&text);
+        let notes: Vec<String> = pasted
+            .notes
+            .iter()
+            .map(|n| format!("{}: {}", n.line, n.text))
+            .collect();
+        assert_eq!(notes.len(), 3, "{notes:?}");
+        assert!(
+            notes[0].starts_with("1: dropped 'Exercise 1' (prose"),
+            "{notes:?}"
+        );
+        assert!(
+            notes[1].starts_with("2: dropped 'for (int i = 0; i != SAMPLE_COUNT; ++i) { if (h")
+                && notes[1].ends_with("its '{' is never closed before the definition at line 5)"),
+            "{notes:?}"
+        );
+        assert!(
+            notes[2].starts_with("11: dropped 'color += c;'"),
+            "{notes:?}"
+        );
+        let kept: Vec<&str> = pasted
+            .text
+            .split('\n')
+            .filter(|l| !l.trim().is_empty() && !l.trim_start().starts_with("//"))
+            .collect();
+        assert_eq!(kept.join("\n") + "\n", format!("{SPHERE}float k = 1.0;\n"));
+        // An indented definition inside a brace never closed is not read; the note says so.
+        let hidden = "struct s {\n    vec3 sample_sphere(vec2 u) { return vec3(u, 0.0); }\n";
+        let notes = glsl_of_paste(hidden).notes;
+        assert!(
+            notes[0].text.contains(
+                "the definition of sample_sphere at line 2 stands inside it and is not read"
+            ),
+            "{notes:?}"
+        );
+        // A function without its last brace gets it.
+        let unfinished = "vec2 f(vec2 u) {\n    return u;\n\nvec2 g(vec2 u) {\n    return u;\n}\n";
+        let pasted = glsl_of_paste(unfinished);
+        assert_eq!(
+            pasted.text,
+            "vec2 f(vec2 u) {\n    return u;}\n\nvec2 g(vec2 u) {\n    return u;\n}\n"
+        );
+        assert!(pasted.notes[0]
+            .text
+            .starts_with("this '{' is never closed before the definition at line 4"));
     }
 
     #[test]

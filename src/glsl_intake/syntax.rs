@@ -182,6 +182,13 @@ pub fn top_level_items(tokens: &[Token]) -> Vec<Item> {
     let mut i = 0;
     while i < tokens.len() {
         match tokens[i].text.as_str() {
+            // A `for` header at file scope (a pasted loop) is one statement, not three
+            // items: its semicolons are skipped.
+            "for" if tokens.get(i + 1).is_some_and(|t| t.text == "(") => {
+                if let Some(close) = bounded_close(tokens, i + 1) {
+                    i = close;
+                }
+            }
             ";" => {
                 items.push(classify(tokens, first, i));
                 first = i + 1;
@@ -308,7 +315,7 @@ pub fn is_statement_word(word: &str) -> bool {
 
 /// Whether a function definition starts at `at`: two or more identifiers (qualifiers, the
 /// return type, the name), `(`, parameters closed within a few hundred tokens, `{`.
-fn is_definition_header(tokens: &[Token], at: usize) -> bool {
+pub fn is_definition_header(tokens: &[Token], at: usize) -> bool {
     let mut end = at;
     while end < tokens.len() && end - at < 6 && tokens[end].is_identifier() {
         end += 1;
@@ -335,6 +342,25 @@ fn is_definition_header(tokens: &[Token], at: usize) -> bool {
         }
     }
     false
+}
+
+/// The `)` that closes the `(` at `open` within a few hundred tokens and before any brace.
+fn bounded_close(tokens: &[Token], open: usize) -> Option<usize> {
+    let mut depth = 0usize;
+    for index in open..tokens.len().min(open + 256) {
+        match tokens[index].text.as_str() {
+            "(" => depth += 1,
+            ")" => {
+                depth -= 1;
+                if depth == 0 {
+                    return Some(index);
+                }
+            }
+            "{" | "}" => return None,
+            _ => {}
+        }
+    }
+    None
 }
 
 /// Qualifiers that may stand before a function's return type, on another line.

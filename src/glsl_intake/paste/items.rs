@@ -25,7 +25,14 @@ pub(super) fn close_braces_and_drop_statements(text: &str, notes: &mut Vec<Paste
         let range = item_tokens[0].start..item_tokens[item_tokens.len() - 1].end;
         let next = match structure.get(item.last + 1) {
             Some(token) => format!("the definition at line {}", token.line),
-            None => "the end of the file".into(),
+            None => match hidden_definition(&structure, item.first, item.last) {
+                // Not at the start of its line, a definition inside is no sign of where the
+                // brace should have closed: it stays inside, unread.
+                Some((name, line)) => format!(
+                    "the end of the file, so the definition of {name} at line {line} stands inside it and is not read (close the '{{', or start the definition at the beginning of its line)"
+                ),
+                None => "the end of the file".into(),
+            },
         };
         if item.kind == ItemKind::Declaration && !is_declaration(item_tokens, &macros) {
             let written: Vec<&str> = text[range.clone()].split_whitespace().collect();
@@ -91,6 +98,24 @@ pub(super) fn close_braces_and_drop_statements(text: &str, notes: &mut Vec<Paste
     }
     result.push_str(&text[position..]);
     result
+}
+
+/// The first function definition (name, line) among `tokens[first..=last]` after its first
+/// token, if any.
+fn hidden_definition(
+    tokens: &[crate::glsl_intake::syntax::Token],
+    first: usize,
+    last: usize,
+) -> Option<(String, usize)> {
+    (first + 1..=last)
+        .filter(|&at| crate::glsl_intake::syntax::is_definition_header(tokens, at))
+        .find_map(|at| {
+            let name = tokens[at..=last]
+                .windows(2)
+                .find(|pair| pair[1].text == "(")
+                .map(|pair| &pair[0])?;
+            Some((name.text.clone(), name.line))
+        })
 }
 
 /// Whether the tokens of a top-level item without a body begin as a declaration does: a

@@ -75,6 +75,7 @@ pub(super) fn not_glsl(code: &str) -> Option<&'static str> {
     // and a name side by side (`triangle_t tri`) after its own qualifiers.
     let mut run = 0;
     let mut previous_end = None;
+    let mut previous_word: Option<&str> = None;
     for (start, end, word) in &words {
         let adjacent = previous_end.is_some_and(|e: usize| trimmed[e..*start].trim().is_empty());
         run = match (adjacent, is_glsl_word(word)) {
@@ -85,6 +86,16 @@ pub(super) fn not_glsl(code: &str) -> Option<&'static str> {
         if run >= 3 {
             return Some("prose");
         }
+        // A word that is no GLSL word before a number ("Exercise 1", "Step 2:"): GLSL never
+        // writes a number right after a name.
+        let number_after_name = adjacent
+            && word.starts_with(|c: char| c.is_ascii_digit())
+            && run >= 2
+            && previous_word.is_some_and(|w: &str| !w.starts_with(|c: char| c.is_ascii_digit()));
+        if number_after_name {
+            return Some("prose");
+        }
+        previous_word = Some(word);
         previous_end = Some(*end);
     }
     // Words that end in ':' (a heading, "Result:") or '.' (a sentence's end).
