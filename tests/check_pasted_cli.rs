@@ -98,7 +98,7 @@ fn notes_with_twenty_snippets_between_the_functions_lose_only_the_snippets() {
     );
     let notes = notes(&report);
     assert!(
-        notes.contains("notes_between_functions.glsl:5: dropped 'Exercise 1' (prose, not GLSL)")
+        notes.contains("notes_between_functions.glsl:5: dropped 2 lines from 'Exercise 1' on (prose, not GLSL)")
             && notes.contains("notes_between_functions.glsl:7: dropped 'seed = uvec2(pixel_coord)")
             && notes.contains("notes_between_functions.glsl:31: dropped 'for (int i = 0; i != TRIANGLE_COUNT; ++i)")
             && notes.contains("(a statement or text outside any function"),
@@ -111,29 +111,31 @@ fn an_open_brace_latex_or_a_script_string_hides_no_definition() {
     // Before, each was "defines none of the workshop functions" (exit 2): the snippet's `{`
     // was never closed, the LaTeX's braces made the definition part of the prose, the
     // object literal's `{` around the template string held everything.
-    for (name, expected) in [
+    let cases: [(&str, &[&str]); 3] = [
         (
             "unclosed_snippet.glsl",
-            [
+            &[
                 "unclosed_snippet.glsl:3: dropped 'for (int i = 0; i != SAMPLE_COUNT; ++i) {",
-                "its '{' is never closed before the definition at unclosed_snippet.glsl:7",
+                "its '{' is never closed before the definition at ",
+                "unclosed_snippet.glsl:7)",
             ],
         ),
         (
             "latex_notes.glsl",
-            [
+            &[
                 "latex_notes.glsl:2: dropped 'Monte Carlo: $$L",
                 "(characters GLSL does not have, not GLSL)",
             ],
         ),
         (
             "shaders.ts",
-            [
+            &[
                 "shaders.ts:7: GLSL inside a JS/TS template string: the text of its 1 GLSL string is read",
                 "each of the 1 ${...} in it blanked",
             ],
         ),
-    ] {
+    ];
+    for (name, expected) in cases {
         let report = check_json(name, 0);
         assert_eq!(
             verdicts(&report),

@@ -30,6 +30,11 @@ pub fn check_intake_options() -> IntakeOptions {
     }
 }
 
+/// The most function definitions a file may have for its compile rounds to compile every
+/// helper (and report each one that does not compile); beyond, they compile only what the
+/// workshop functions reach, as the kernels do.
+const WHOLE_FILE_FUNCTIONS: usize = 1000;
+
 /// A workshop name in the user's file that cannot be judged, and why.
 #[derive(Clone, Debug, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
 pub struct NotJudged {
@@ -548,9 +553,22 @@ impl UserFunctions {
         // Every round sets aside at least one function or declaration, or ends: rounds go on
         // while they make progress, so a file with many broken items (notes with snippets
         // between the functions) loses only those. The bound is one round per item.
-        let items = top_level_items(&structural_tokens(&tokenize(&self.prepared.text))).len();
-        for _ in 0..=items {
-            let code = self.whole();
+        let items = top_level_items(&structural_tokens(&tokenize(&self.prepared.text)));
+        let definitions = items
+            .iter()
+            .filter(|i| i.kind == ItemKind::FunctionDefinition)
+            .count();
+        // A long paste is compiled as the kernels compile it, without the helpers nothing
+        // reaches: glslang's call-graph check grows with the square of the functions given
+        // (a 2 MB paste of 13 000 helpers spent a third of its time there).
+        let prune = definitions > WHOLE_FILE_FUNCTIONS;
+        if prune {
+            self.prepared.notes.push(format!(
+                "your file defines {definitions} functions: those that no workshop function of yours calls, directly or through others, are left out of every compile"
+            ));
+        }
+        for _ in 0..=items.len() {
+            let code = self.code_with(&self.judged_functions(), prune);
             let error = match compile_kernel("probe_get_random_numbers.comp", Some(&code), &[]) {
                 Ok(compiled) => return Ok(compiled.warnings),
                 Err(error) => error,
@@ -859,6 +877,35 @@ mod tests {
         assert!(!code.include.contains("return vec3(0.0, 0.0, 1.0)"));
         assert!(code.include.contains("return sample_sphere(u)"));
         assert!(compile_kernel("probe_sample_hemisphere.comp", Some(&code), &[]).is_ok());
+    }
+
+    #[test]
+    fn kernels_leave_out_the_helpers_nothing_they_call_reaches() {
+        let user = UserFunctions::new(
+            "notes.glsl",
+            "#define SCALE scale_of()\nfloat scale_of() { return 1.0; }\nfloat twice(float x) { return 2.0 * x; }\n\
+             float unused_é(float x) { return x; }\nfloat unused_helper(float x) { return unused_é(x); }\n\
+             float offset() { return 0.5; }\nconst float K = offset();\n\
+             vec3 sample_sphere(vec2 u) {\n    float z = twice(u.x) * SCALE - 1.0;\n    return vec3(0.0, 0.0, z);\n}\n"
+                .into(),
+        );
+        let code = user.code(&[WorkshopFunction::SampleSphere]);
+        for kept in [
+            "float twice(",
+            "float scale_of(",
+            "float offset(",
+            "vec3 sample_sphere(",
+        ] {
+            assert!(code.include.contains(kept), "{kept}: {}", code.include);
+        }
+        assert!(!code.include.contains("unused_helper("), "{}", code.include);
+        // Blanked byte for byte: every line stays where it was.
+        assert_eq!(
+            code.include.matches('\n').count(),
+            user.whole().include.matches('\n').count()
+        );
+        assert!(user.whole().include.contains("unused_helper("));
+        assert!(compile_kernel("probe_sample_sphere.comp", Some(&code), &[]).is_ok());
     }
 
     #[test]
