@@ -884,8 +884,8 @@ mod tests {
         let user = UserFunctions::new(
             "notes.glsl",
             "#define SCALE scale_of()\nfloat scale_of() { return 1.0; }\nfloat twice(float x) { return 2.0 * x; }\n\
-             float unused_é(float x) { return x; }\nfloat unused_helper(float x) { return unused_é(x); }\n\
-             float offset() { return 0.5; }\nconst float K = offset();\n\
+             float unused(float x) { /* é */ return x; }\nfloat unused_helper(float x) { return unused(x); }\n\
+             float offset() { return 0.5; }\nfloat K = offset();\n\
              vec3 sample_sphere(vec2 u) {\n    float z = twice(u.x) * SCALE - 1.0;\n    return vec3(0.0, 0.0, z);\n}\n"
                 .into(),
         );
