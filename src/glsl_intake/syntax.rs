@@ -347,8 +347,8 @@ pub fn is_definition_header(tokens: &[Token], at: usize) -> bool {
 /// The `)` that closes the `(` at `open` within a few hundred tokens and before any brace.
 fn bounded_close(tokens: &[Token], open: usize) -> Option<usize> {
     let mut depth = 0usize;
-    for index in open..tokens.len().min(open + 256) {
-        match tokens[index].text.as_str() {
+    for (index, token) in tokens.iter().enumerate().skip(open).take(256) {
+        match token.text.as_str() {
             "(" => depth += 1,
             ")" => {
                 depth -= 1;
