@@ -117,6 +117,35 @@ fn pcg2d_with_a_typo_fails() {
 }
 
 #[test]
+fn pcg2d_that_never_writes_its_seed_back_is_told_so() {
+    // PCG2D on a local copy of the seed (written for this test, a mistake attendees make):
+    // the numbers are the reference's, the seed never advances. The hint says that, not
+    // "compare the constants" (issue 58).
+    let dir = tempfile::tempdir().expect("temporary directory");
+    let path = dir.path().join("pcg2d_local_copy.glsl");
+    std::fs::write(
+        &path,
+        "vec2 get_random_numbers(inout uvec2 seed) {\n    uvec2 state = 1664525u * seed + 1013904223u;\n    state.x += 1664525u * state.y;\n    state.y += 1664525u * state.x;\n    state ^= (state >> 16u);\n    state.x += 1664525u * state.y;\n    state.y += 1664525u * state.x;\n    state ^= (state >> 16u);\n    return vec2(state) * 2.32830643654e-10;\n}\n",
+    )
+    .expect("write");
+    let outcome = common::runs::check(dir.path(), &[path.display().to_string()], &["--json"], &[]);
+    assert_eq!(
+        outcome.code,
+        Some(1),
+        "{}\n{}",
+        outcome.stdout,
+        outcome.stderr
+    );
+    let report = outcome.json();
+    let verdict = common::runs::verdict(&report, "get_random_numbers").expect("verdict");
+    let hint = verdict["hint"].as_str().expect("hint");
+    assert!(
+        hint.contains("leaves seed as it was") && !hint.contains("constants"),
+        "{hint}"
+    );
+}
+
+#[test]
 fn sphere_sampler_written_differently_passes() {
     expect_verdicts(
         "sample_sphere_alternative.glsl",

@@ -9,6 +9,8 @@ mod common;
 mod bench_cli;
 #[path = "check_cli.rs"]
 mod check_cli;
+#[path = "check_pasted_cli.rs"]
+mod check_pasted_cli;
 #[path = "cli_errors.rs"]
 mod cli_errors;
 #[path = "compare_cli.rs"]

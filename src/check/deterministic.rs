@@ -71,8 +71,10 @@ pub fn check_random_numbers(session: &Session) -> Result<FunctionReport> {
             vec2_text(output.numbers())
         )
     };
+    let mut kinds = RandomNumbersMistakes::default();
     for ((seed, expected), actual) in seeds.iter().zip(&expected).zip(&actual) {
         if expected != actual {
+            kinds.add(*seed, expected, actual);
             report.add_mismatch(
                 format!("seed = uvec2({}u, {}u)", seed.x, seed.y),
                 describe(expected),
@@ -83,18 +85,80 @@ pub fn check_random_numbers(session: &Session) -> Result<FunctionReport> {
     report.cases = seeds.len();
     report.passed = report.failures == 0;
     if !report.passed {
-        report.hint = Some(
-            "this is not PCG2D as on the slides: compare the constants (1664525u, \
-             1013904223u), the order of the updates of seed.x and seed.y, the two shifts by 16 \
-             and the final scale 2^-32 (2.32830643654e-10)"
-                .into(),
-        );
+        report.hint = Some(kinds.hint());
     }
     report.summary = format!(
         "{} of {} seeds give different bits",
         report.failures, report.cases
     );
     Ok(report)
+}
+
+/// How the user's PCG2D outputs differ from the reference's, counted over the seeds where
+/// they differ: the hint follows what the evidence shows.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+struct RandomNumbersMistakes {
+    /// The numbers are the reference's, and the seed comes back as it went in.
+    seed_not_written_back: usize,
+    /// The numbers are the reference's, the seed written back is another.
+    other_seed: usize,
+    /// The seed is the reference's updated seed, the numbers are not.
+    other_numbers: usize,
+    /// Both differ.
+    both: usize,
+}
+
+impl RandomNumbersMistakes {
+    fn add(
+        &mut self,
+        seed: glam::UVec2,
+        expected: &RandomNumbersOutput,
+        actual: &RandomNumbersOutput,
+    ) {
+        let numbers_agree = expected.seed_and_numbers[2..] == actual.seed_and_numbers[2..];
+        let seed_agrees = expected.seed() == actual.seed();
+        match (numbers_agree, seed_agrees) {
+            (true, false) if actual.seed() == seed => self.seed_not_written_back += 1,
+            (true, false) => self.other_seed += 1,
+            (false, true) => self.other_numbers += 1,
+            _ => self.both += 1,
+        }
+    }
+
+    /// The likely mistake, from the largest count.
+    fn hint(&self) -> String {
+        let largest = self
+            .seed_not_written_back
+            .max(self.other_seed)
+            .max(self.other_numbers)
+            .max(self.both);
+        if largest == self.seed_not_written_back {
+            format!(
+                "your function returns the right numbers but leaves seed as it was ({} seeds): \
+                 write the updated seed back to the inout parameter (seed = ...), or every call \
+                 with that seed returns the same numbers",
+                self.seed_not_written_back
+            )
+        } else if largest == self.other_seed {
+            format!(
+                "your function returns the right numbers but writes back another seed than the \
+                 updated one ({} seeds): the seed after the call must be PCG2D's updated state, \
+                 from which the numbers are taken",
+                self.other_seed
+            )
+        } else if largest == self.other_numbers {
+            format!(
+                "your seed is updated right, but the numbers returned from it are not ({} \
+                 seeds): return vec2(seed) * 2.32830643654e-10 (2^-32) of the updated seed",
+                self.other_numbers
+            )
+        } else {
+            "this is not PCG2D as on the slides: compare the constants (1664525u, \
+             1013904223u), the order of the updates of seed.x and seed.y, the two shifts by 16 \
+             and the final scale 2^-32 (2.32830643654e-10)"
+                .into()
+        }
+    }
 }
 
 /// Ray-triangle intersection: the same hit or miss and t within `T_TOLERANCE_UNITS` error
@@ -337,4 +401,35 @@ pub fn check_primary_ray(session: &Session) -> Result<FunctionReport> {
         report.failures, report.cases
     );
     Ok(report)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn output(seed: [u32; 2], numbers: [u32; 2]) -> RandomNumbersOutput {
+        RandomNumbersOutput {
+            seed_and_numbers: [seed[0], seed[1], numbers[0], numbers[1]],
+        }
+    }
+
+    #[test]
+    fn a_pcg2d_hint_follows_what_differs() {
+        let input = glam::UVec2::new(3, 4);
+        let expected = output([10, 20], [1, 2]);
+        // The right numbers, the seed as it went in: not written back (not the constants).
+        let mut kinds = RandomNumbersMistakes::default();
+        kinds.add(input, &expected, &output([3, 4], [1, 2]));
+        let hint = kinds.hint();
+        assert!(hint.contains("leaves seed as it was"), "{hint}");
+        assert!(!hint.contains("constants"), "{hint}");
+        // The right seed, other numbers: the scale.
+        let mut kinds = RandomNumbersMistakes::default();
+        kinds.add(input, &expected, &output([10, 20], [5, 2]));
+        assert!(kinds.hint().contains("2^-32"), "{}", kinds.hint());
+        // Both differ: not PCG2D.
+        let mut kinds = RandomNumbersMistakes::default();
+        kinds.add(input, &expected, &output([11, 20], [5, 2]));
+        assert!(kinds.hint().contains("compare the constants"));
+    }
 }

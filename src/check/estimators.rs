@@ -225,6 +225,44 @@ fn self_intersection_warning(session: &Session, function: WorkshopFunction, dark
     }
 }
 
+/// An estimator's self-intersection warning (`self_intersection_warning`) rewritten when
+/// intersection functions of the user's that fail on their own (`failing`, judged before
+/// it) took part in the render as the file runs it: a triangle they miss (a loop that stops
+/// one short) darkens that image as much as self-intersection would, so the warning names
+/// them instead. Other verdicts are left as they are.
+pub fn blame_failing_intersections(report: &mut FunctionReport, failing: &[&str]) {
+    if failing.is_empty() {
+        return;
+    }
+    let darker = match (
+        report.measurements.get("as_your_file_runs_average"),
+        report.measurements.get("reference_average"),
+    ) {
+        (Some(&yours), Some(&reference)) if reference > 0.0 => 100.0 * (1.0 - yours / reference),
+        _ => return,
+    };
+    let function = report.function.clone();
+    let verb = if failing.len() > 1 {
+        "fail each"
+    } else {
+        "fails"
+    };
+    for warning in &mut report.warnings {
+        if warning.contains("self-intersection") {
+            *warning = format!(
+                "together with your own {names}, which {verb} on its own (see its verdict), \
+                 your {function} renders {amount:.0}% {direction} than the reference: fix {names} \
+                 first (a triangle it misses is missing from the image too). Your {function} \
+                 itself is correct: judged with intersections that ignore the surface a ray \
+                 starts on, it passes.",
+                names = failing.join(" and "),
+                amount = darker.abs(),
+                direction = if darker >= 0.0 { "darker" } else { "brighter" },
+            );
+        }
+    }
+}
+
 /// The likely cause of a biased estimate, from the median ratio of the user's block means
 /// to the reference's (a heuristic for the report; the verdict comes from the z-tests).
 fn likely_cause(function: WorkshopFunction, ratio: f64) -> String {
@@ -533,6 +571,28 @@ pub const DIFFERENCE_LEGEND: &str = "red where yours is brighter, blue where it 
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn a_failing_mesh_takes_the_blame_from_self_intersection() {
+        let mut report = FunctionReport::new("get_ray_radiance", 9, "render", String::new());
+        report.passed = true;
+        report.measure("reference_average", 0.5);
+        report.measure("as_your_file_runs_average", 0.4);
+        report.warnings.push(
+            "together with your own ray_mesh_intersection, your get_ray_radiance renders 20% darker than the reference: a ray that leaves a surface hits that same surface again at t ≈ 0 through rounding (self-intersection) ...".into(),
+        );
+        let unchanged = report.clone();
+        blame_failing_intersections(&mut report, &[]);
+        assert_eq!(report, unchanged);
+        blame_failing_intersections(&mut report, &["ray_mesh_intersection"]);
+        let warning = &report.warnings[0];
+        assert!(!warning.contains("self-intersection"), "{warning}");
+        assert!(
+            warning.contains("ray_mesh_intersection, which fails on its own")
+                && warning.contains("renders 20% darker"),
+            "{warning}"
+        );
+    }
 
     fn flat(width: u32, height: u32, value: f32) -> RenderedImage {
         let count = (width * height) as usize;

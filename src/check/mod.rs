@@ -102,12 +102,15 @@ pub enum LoadError {
     /// The file defines none of the workshop functions.
     #[error(
         "'{path}' defines none of the workshop functions ({}); a definition is the \
-         function's name, its parameter list and '{{'",
+         function's name, its parameter list and '{{'{hint}",
         WorkshopFunction::ALL.map(WorkshopFunction::name).join(", ")
     )]
     NoWorkshopFunction {
         /// The file.
         path: PathBuf,
+        /// Why a definition was not read, when the reading knows (": line 3: this '{' is
+        /// never closed ..."), else empty.
+        hint: String,
     },
     /// The file is WGSL (WebGPU's shading language), not GLSL.
     #[error(
@@ -158,6 +161,57 @@ pub fn read_tabs(paths: &[PathBuf]) -> std::result::Result<Vec<(String, String)>
     Ok(commons.into_iter().chain(passes).collect())
 }
 
+/// One of the user's files as check reads it: its GLSL (`crate::glsl_intake::glsl_of_paste`:
+/// a Markdown post's code blocks, a page's shader tags, a script's template strings, with
+/// prose, front matter and HTML blanked on their lines) and the notes on what was dropped.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct PastedTab {
+    /// The file as the user named it.
+    pub name: String,
+    /// Its GLSL, every line where the user wrote it.
+    pub text: String,
+    /// What was dropped, with the file's own lines.
+    pub notes: Vec<crate::glsl_intake::PasteNote>,
+}
+
+/// `read_tabs` for `check`: each file's GLSL as published around it is read
+/// (`PastedTab`), then the files are put in ShaderToy's order. A file whose GLSL defines no
+/// function and that has a line only WGSL writes is WGSL.
+pub fn read_pasted_tabs(paths: &[PathBuf]) -> std::result::Result<Vec<PastedTab>, LoadError> {
+    let mut files = Vec::new();
+    for path in paths {
+        let raw =
+            crate::glsl_intake::read_source_file(path).map_err(|source| LoadError::Unreadable {
+                path: path.to_owned(),
+                source,
+            })?;
+        let pasted = crate::glsl_intake::glsl_of_paste(&raw);
+        let wgsl = wgsl_line(&pasted.text).or_else(|| {
+            wgsl_line(&raw).filter(|_| {
+                !crate::glsl_intake::find_functions(&pasted.text)
+                    .iter()
+                    .any(|f| f.has_body)
+            })
+        });
+        if let Some((line, seen)) = wgsl {
+            return Err(LoadError::Wgsl {
+                path: path.to_owned(),
+                line,
+                seen,
+            });
+        }
+        files.push(PastedTab {
+            name: path.display().to_string(),
+            text: pasted.text,
+            notes: pasted.notes,
+        });
+    }
+    let (commons, passes): (Vec<_>, Vec<_>) = files
+        .into_iter()
+        .partition(|tab| crate::glsl_intake::find_entry_point(&tab.text).is_none());
+    Ok(commons.into_iter().chain(passes).collect())
+}
+
 /// The first line (from 1, and its first words) that only WGSL writes: a function
 /// declared with `fn`, an attribute such as `@fragment` or `@group(0)`, a `var<...>`
 /// declaration or a `struct` member typed `name: vec3<f32>`; `None` for GLSL.
@@ -184,27 +238,36 @@ pub fn wgsl_line(text: &str) -> Option<(usize, String)> {
 }
 
 /// The user's functions in `files` read as one text, whose lines are mapped back to each
-/// file's (`UserFunctions::sources`); not compiled yet.
-fn read_unit(files: &[(String, String)]) -> UserFunctions {
+/// file's (`UserFunctions::sources`); not compiled yet. The notes on what each file's
+/// reading dropped come first.
+fn read_unit(files: &[PastedTab]) -> UserFunctions {
     let display_name = files
         .iter()
-        .map(|(name, _)| name.as_str())
+        .map(|tab| tab.name.as_str())
         .collect::<Vec<_>>()
         .join(" + ");
     let mut text = String::new();
     let mut sources = Vec::new();
-    for (name, file_text) in files {
+    let mut notes = Vec::new();
+    for tab in files {
+        let first_line = text.matches('\n').count() + 1;
         sources.push(user_functions::SourceFile {
-            name: name.clone(),
-            first_line: text.matches('\n').count() + 1,
+            name: tab.name.clone(),
+            first_line,
         });
-        text.push_str(file_text);
+        notes.extend(
+            tab.notes
+                .iter()
+                .map(|note| format!("line {}: {}", first_line - 1 + note.line, note.text)),
+        );
+        text.push_str(&tab.text);
         if !text.ends_with('\n') {
             text.push('\n');
         }
     }
     let mut user = UserFunctions::new(&display_name, text);
     user.sources = sources;
+    user.prepared.notes.splice(0..0, notes);
     user
 }
 
@@ -223,7 +286,14 @@ fn nothing_to_judge(paths: &[PathBuf], units: &[UserFunctions]) -> Option<LoadEr
         })
         .collect();
     Some(if reasons.is_empty() {
-        LoadError::NoWorkshopFunction { path }
+        // A definition hidden inside a brace never closed: the note of the reading says
+        // where.
+        let hint = units
+            .iter()
+            .flat_map(|u| u.prepared.notes.iter().map(move |note| u.localize(note)))
+            .find(|note| note.contains("stands inside it and is not read"))
+            .map_or_else(String::new, |note| format!(": {note}"));
+        LoadError::NoWorkshopFunction { path, hint }
     } else {
         LoadError::NothingToJudge {
             path,
@@ -246,7 +316,7 @@ fn compile_unit(user: &mut UserFunctions) {
 /// program (`read_tabs`), read here as one text, Common first; `vkpath check` compiles each
 /// pass on its own instead (`load_user_passes`).
 pub fn load_user_functions(paths: &[PathBuf]) -> std::result::Result<UserFunctions, LoadError> {
-    let files = read_tabs(paths)?;
+    let files = read_pasted_tabs(paths)?;
     let mut user = read_unit(&files);
     if let Some(error) = nothing_to_judge(paths, std::slice::from_ref(&user)) {
         return Err(error);
@@ -262,10 +332,10 @@ pub fn load_user_functions(paths: &[PathBuf]) -> std::result::Result<UserFunctio
 /// the others judge only their pass's functions. Files without a second pass are one unit,
 /// as `load_user_functions` reads them.
 pub fn load_user_passes(paths: &[PathBuf]) -> std::result::Result<Vec<UserFunctions>, LoadError> {
-    let files = read_tabs(paths)?;
-    let commons: Vec<(String, String)> = files
+    let files = read_pasted_tabs(paths)?;
+    let commons: Vec<PastedTab> = files
         .iter()
-        .filter(|(_, text)| crate::glsl_intake::find_entry_point(text).is_none())
+        .filter(|tab| crate::glsl_intake::find_entry_point(&tab.text).is_none())
         .cloned()
         .collect();
     let passes = &files[commons.len()..];
@@ -281,7 +351,7 @@ pub fn load_user_passes(paths: &[PathBuf]) -> std::result::Result<Vec<UserFuncti
                 let mut unit = read_unit(&tabs);
                 if index > 0 {
                     // The Common tab's functions are judged in the first unit.
-                    let pass_name = pass.0.clone();
+                    let pass_name = pass.name.clone();
                     let in_pass =
                         |unit: &UserFunctions, line: usize| unit.locate(line).0 == pass_name;
                     let keep: Vec<bool> = unit
@@ -534,6 +604,9 @@ pub fn judge_functions(
         scene,
         test_alpha,
     };
+    // The intersections judged so far that fail on their own (they come before the
+    // estimators): an estimator's darker image with them is theirs, not self-intersection.
+    let mut failing_intersections: Vec<&'static str> = Vec::new();
     for &function in functions {
         before(function);
         let verdict = match verdict_without_device(user, function) {
@@ -545,6 +618,17 @@ pub fn judge_functions(
                 verdict => verdict.map(|v| user.annotate(function, v)),
             },
         };
+        let verdict = verdict.map(|mut report| {
+            let intersection = matches!(
+                function,
+                WorkshopFunction::RayTriangleIntersection | WorkshopFunction::RayMeshIntersection
+            );
+            if intersection && !report.passed {
+                failing_intersections.push(function.name());
+            }
+            estimators::blame_failing_intersections(&mut report, &failing_intersections);
+            report
+        });
         on_verdict(function, verdict)?;
     }
     Ok(())

@@ -297,6 +297,10 @@ pub struct FrameStatistics {
     last: Vec<[f32; 4]>,
     /// Recovered estimates below -NEGATIVE_TOLERANCE x the largest value.
     pub negative: usize,
+    /// Running means below -NEGATIVE_TOLERANCE x the largest value: the program's own
+    /// estimates are negative (a mean of non-negative values never is, nor is any one of
+    /// them), whether it keeps a running mean or not.
+    pub negative_means: usize,
     /// Largest value of any running mean seen.
     largest: f64,
 }
@@ -315,6 +319,9 @@ impl FrameStatistics {
             for (c, &channel) in current.iter().take(3).enumerate() {
                 let value = f64::from(channel);
                 self.largest = self.largest.max(value.abs());
+                if value < -NEGATIVE_TOLERANCE * self.largest {
+                    self.negative_means += 1;
+                }
                 let estimate = (f + 1.0) * value - f * f64::from(self.last[i][c]);
                 if estimate < -NEGATIVE_TOLERANCE * self.largest {
                     self.negative += 1;
@@ -462,7 +469,10 @@ pub fn judge_program(
         );
         return Ok(report);
     }
-    if statistics.negative > 0 {
+    // Negative running means are negative radiance, which the z-tests judge (and which
+    // fails whatever they say); only negative frame estimates behind non-negative means
+    // tell a program that does not average its frames.
+    if statistics.negative > 0 && statistics.negative_means == 0 {
         report.method = NOT_JUDGED_METHOD.into();
         report.summary = format!(
             "not judged: {} recovered frame estimates are negative, so your program does not keep \
@@ -503,7 +513,23 @@ pub fn judge_program(
     report.measure("worst_z", z.worst_z);
     report.measure("your_average", your_average);
     report.measure("reference_average", reference_average);
-    report.summary = if z.passed {
+    report.measure("negative_values", statistics.negative_means as f64);
+    report.summary = if statistics.negative_means > 0 {
+        // Radiance is never negative: biased, whatever the block tests say.
+        report.passed = false;
+        report.failures = report.failures.max(1);
+        report.hint = Some(
+            "radiance is never negative: look at the factors of the path weight (a cosine \
+             taken with a normal that faces away, dot(normal, direction) where the slides have \
+             dot(tri.normal, direction) after the normal is turned towards the ray) and at \
+             the sign of what get_ray_radiance and mainImage write"
+                .into(),
+        );
+        format!(
+            "biased: {} values of your program's image went negative over its frames, and radiance never is ({} of {} block tests reject; average radiance {your_average:.4}, reference {reference_average:.4})",
+            statistics.negative_means, z.rejected_count, z.test_count
+        )
+    } else if z.passed {
         format!(
             "consistent with the reference: all {} block tests pass (average radiance {your_average:.4} vs {reference_average:.4})",
             z.test_count
@@ -548,6 +574,12 @@ fn cause(functions: &[FunctionReport], yours: f64, reference: f64) -> String {
         .map(|f| f.function.as_str())
         .collect();
     let mut cause = cause_from_radiance(functions, yours, reference);
+    let others: Vec<&str> = others
+        .into_iter()
+        .filter(|name| {
+            !cause.contains(&format!("your {name}")) && !cause.contains(&format!(" and {name}"))
+        })
+        .collect();
     if !others.is_empty() {
         cause.push_str(&format!(
             "; the program also uses functions of yours that fail on their own (see above): {}",
@@ -557,14 +589,32 @@ fn cause(functions: &[FunctionReport], yours: f64, reference: f64) -> String {
     cause
 }
 
-/// `cause` from get_ray_radiance's verdict and the brightness alone.
+/// `cause` from get_ray_radiance's verdict, the intersections' and the brightness alone.
 fn cause_from_radiance(functions: &[FunctionReport], yours: f64, reference: f64) -> String {
     let ratio = yours / reference.max(1e-12);
     let radiance = functions.iter().find(|f| f.function == "get_ray_radiance");
     let darker = 100.0 * (1.0 - ratio);
+    let failing_intersections: Vec<&str> = functions
+        .iter()
+        .filter(|f| {
+            !f.passed
+                && matches!(
+                    f.function.as_str(),
+                    "ray_triangle_intersection" | "ray_mesh_intersection"
+                )
+        })
+        .map(|f| f.function.as_str())
+        .collect();
     match radiance {
         Some(f) if !f.passed => format!(
             "your program's image is {ratio:.2} times as bright as the reference, and your get_ray_radiance fails on its own (see its verdict): fix it first"
+        ),
+        // An intersection that fails on its own (a loop that misses a triangle, hits
+        // behind the origin) changes the image by itself: no sign of self-intersection.
+        _ if !failing_intersections.is_empty() => format!(
+            "your program's image is {ratio:.2} times as bright as the reference, and your {} {} on its own (see its verdict): a triangle it misses is missing from the image too; fix it first",
+            failing_intersections.join(" and "),
+            if failing_intersections.len() > 1 { "fail each" } else { "fails" }
         ),
         Some(f) if ratio < 1.0 && f.warnings.iter().any(|w| w.contains("self-intersection")) => format!(
             "self-intersection: your program renders {darker:.0}% darker than the reference. Your \
@@ -685,6 +735,53 @@ mod tests {
             statistics.add(&[[value, value, value, 1.0]]);
         }
         assert!(statistics.negative > 0);
+        assert_eq!(statistics.negative_means, 0);
+    }
+
+    #[test]
+    fn negative_radiance_is_told_from_a_missing_running_mean() {
+        // A running mean of negative estimates (an estimator that returns negative
+        // radiance): its recovered estimates are negative too, and so are the means.
+        let mut statistics = FrameStatistics::default();
+        let mut mean = 0.0f32;
+        for f in 0..8 {
+            let x = if f % 2 == 0 { -2.0 } else { 1.0 };
+            mean += (x - mean) / (f as f32 + 1.0);
+            statistics.add(&[[mean, mean, mean, 1.0], [0.5, 0.5, 0.5, 1.0]]);
+        }
+        assert!(statistics.negative > 0);
+        assert!(statistics.negative_means > 0);
+    }
+
+    #[test]
+    fn a_failing_intersection_is_named_before_self_intersection() {
+        let verdict = |function: &str, passed: bool, warning: &str| {
+            let mut report = FunctionReport::new(function, 1, "render", String::new());
+            report.passed = passed;
+            if !warning.is_empty() {
+                report.warnings.push(warning.into());
+            }
+            report
+        };
+        // An off-by-one loop over the mesh: the mesh fails on its own, the estimator passes
+        // but renders darker with it (which its warning would call self-intersection).
+        let functions = [
+            verdict("ray_mesh_intersection", false, ""),
+            verdict("get_ray_radiance", true, "... (self-intersection) ..."),
+        ];
+        let text = cause(&functions, 0.8, 1.0);
+        assert!(!text.contains("self-intersection"), "{text}");
+        assert!(
+            text.contains("your ray_mesh_intersection fails on its own"),
+            "{text}"
+        );
+        assert_eq!(text.matches("ray_mesh_intersection").count(), 1, "{text}");
+        // With intersections that pass, the darker image is self-intersection.
+        let functions = [
+            verdict("ray_mesh_intersection", true, ""),
+            verdict("get_ray_radiance", true, "... (self-intersection) ..."),
+        ];
+        assert!(cause(&functions, 0.6, 1.0).starts_with("self-intersection"));
     }
 
     #[test]

@@ -12,7 +12,9 @@ use crate::check::detect::{
 };
 use crate::check::report::FunctionReport;
 use crate::check::unavailable::leave_out_unavailable;
-use crate::glsl_intake::syntax::{structural_tokens, tokenize, top_level_items, ItemKind};
+use crate::glsl_intake::syntax::{
+    structural_tokens, tokenize, top_level_items, Item, ItemKind, Token,
+};
 use crate::glsl_intake::{prepare_with, IntakeOptions, PreparedSource};
 
 /// The intake options of `check`: the user's code goes into vkpath's kernels, its entry
@@ -28,9 +30,10 @@ pub fn check_intake_options() -> IntakeOptions {
     }
 }
 
-/// How many rounds of dropping functions that do not compile are tried before the whole
-/// file is reported as not compiling.
-const MAX_COMPILE_ROUNDS: usize = 12;
+/// The most function definitions a file may have for its compile rounds to compile every
+/// helper (and report each one that does not compile); beyond, they compile only what the
+/// workshop functions reach, as the kernels do.
+const WHOLE_FILE_FUNCTIONS: usize = 1000;
 
 /// A workshop name in the user's file that cannot be judged, and why.
 #[derive(Clone, Debug, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
@@ -356,16 +359,48 @@ impl UserFunctions {
     }
 
     /// The code a kernel includes to take `active` from the user (the user's other workshop
-    /// functions and the functions that do not compile are left out; its helpers stay).
+    /// functions and the functions that do not compile are left out; of its helpers, those
+    /// that the active functions, the global declarations or the macros name, directly or
+    /// through other helpers).
     pub fn code(&self, active: &[WorkshopFunction]) -> UserCode {
+        self.code_with(active, true)
+    }
+
+    /// `code`, with every helper kept when `prune` is false (to find all that do not
+    /// compile). Pruning is what keeps a long paste fast: glslang and the driver translate
+    /// every function they are given, called or not, and each judged function compiles its
+    /// own kernels (a 2 MB paste of 14 000 helpers spent most of its time there).
+    fn code_with(&self, active: &[WorkshopFunction], prune: bool) -> UserCode {
+        let tokens = tokenize(&self.prepared.text);
+        let structure = structural_tokens(&tokens);
+        let items = top_level_items(&structure);
         let mut left_out: Vec<Range<usize>> = Vec::new();
-        for found in find_functions(&self.prepared.text) {
-            let workshop = self.workshop_function_of(&found.name);
+        // (name, item) of each definition kept so far.
+        let mut kept: Vec<(&str, &Item)> = Vec::new();
+        for item in &items {
+            let Some(name_index) = item
+                .name
+                .filter(|_| item.kind == ItemKind::FunctionDefinition)
+            else {
+                continue;
+            };
+            let found = structure[name_index].text.as_str();
+            let workshop = self.workshop_function_of(found);
             let inactive = workshop.is_some_and(|f| !active.contains(&f));
-            let name = workshop.map_or(found.name.clone(), |f| f.name().to_string());
+            let name = workshop.map_or(found.to_string(), |f| f.name().to_string());
             let broken = self.broken.iter().any(|b| b.name == name);
             if inactive || broken {
-                left_out.push(found.span.clone());
+                left_out.push(structure[item.first].start..structure[item.last].end);
+            } else {
+                kept.push((found, item));
+            }
+        }
+        if prune {
+            let reached = reached_functions(&tokens, &structure, &items, &kept, active);
+            for (name, item) in &kept {
+                if !reached.contains(*name) {
+                    left_out.push(structure[item.first].start..structure[item.last].end);
+                }
             }
         }
         // A function with other qualifiers is the user's `user_<name>`: where it is taken
@@ -384,14 +419,17 @@ impl UserFunctions {
                 after.push_str(&format!("#undef user_{name}\n"));
             }
         }
-        let mut text = self.prepared.text.clone();
+        // Blanked byte for byte, so that every range stays where it was (a character of
+        // several bytes becomes as many spaces) and the lines stay the user's.
+        let mut bytes = self.prepared.text.clone().into_bytes();
         for range in left_out {
-            let blank: String = text[range.clone()]
-                .chars()
-                .map(|c| if c == '\n' { '\n' } else { ' ' })
-                .collect();
-            text.replace_range(range, &blank);
+            for byte in &mut bytes[range] {
+                if *byte != b'\n' {
+                    *byte = b' ';
+                }
+            }
         }
+        let text = String::from_utf8_lossy(&bytes);
         UserCode {
             include: format!(
                 "{}{before}#line 1\n{}{}{after}",
@@ -501,9 +539,10 @@ impl UserFunctions {
         })
     }
 
-    /// The code with every judged function taken from the user, as the file runs on its own.
+    /// The code with every judged function taken from the user, as the file runs on its own,
+    /// and every helper (called or not).
     pub fn whole(&self) -> UserCode {
-        self.code(&self.judged_functions())
+        self.code_with(&self.judged_functions(), false)
     }
 
     /// Compiles the file with all its functions; functions whose code the compiler rejects
@@ -511,8 +550,25 @@ impl UserFunctions {
     /// again. Returns the compiler's warnings, or its messages when an error lies outside
     /// every function (then nothing can be judged).
     pub fn find_broken_functions(&mut self) -> Result<String, CompileError> {
-        for _ in 0..MAX_COMPILE_ROUNDS {
-            let code = self.whole();
+        // Every round sets aside at least one function or declaration, or ends: rounds go on
+        // while they make progress, so a file with many broken items (notes with snippets
+        // between the functions) loses only those. The bound is one round per item.
+        let items = top_level_items(&structural_tokens(&tokenize(&self.prepared.text)));
+        let definitions = items
+            .iter()
+            .filter(|i| i.kind == ItemKind::FunctionDefinition)
+            .count();
+        // A long paste is compiled as the kernels compile it, without the helpers nothing
+        // reaches: glslang's call-graph check grows with the square of the functions given
+        // (a 2 MB paste of 13 000 helpers spent a third of its time there).
+        let prune = definitions > WHOLE_FILE_FUNCTIONS;
+        if prune {
+            self.prepared.notes.push(format!(
+                "your file defines {definitions} functions: those that no workshop function of yours calls, directly or through others, are left out of every compile"
+            ));
+        }
+        for _ in 0..=items.len() {
+            let code = self.code_with(&self.judged_functions(), prune);
             let error = match compile_kernel("probe_get_random_numbers.comp", Some(&code), &[]) {
                 Ok(compiled) => return Ok(compiled.warnings),
                 Err(error) => error,
@@ -623,6 +679,61 @@ impl UserFunctions {
         let rest = message.strip_prefix(&format!("{}:", self.display_name))?;
         rest.split(':').next()?.trim().parse().ok()
     }
+}
+
+/// The names of the kept functions (`kept`: (name, definition)) that a kernel taking
+/// `active` from the user can call: the active workshop functions (under their name or as
+/// `user_<name>`), and what any global declaration or macro names, then whatever the
+/// functions reached name, until nothing new is reached (overloads go together, by name).
+fn reached_functions(
+    tokens: &[Token],
+    structure: &[Token],
+    items: &[Item],
+    kept: &[(&str, &Item)],
+    active: &[WorkshopFunction],
+) -> BTreeSet<String> {
+    let defined: BTreeSet<&str> = kept.iter().map(|(name, _)| *name).collect();
+    let mut reached: BTreeSet<String> = BTreeSet::new();
+    let mut pending: Vec<String> = Vec::new();
+    let reach = |name: &str, reached: &mut BTreeSet<String>, pending: &mut Vec<String>| {
+        if defined.contains(name) && !reached.contains(name) {
+            reached.insert(name.to_string());
+            pending.push(name.to_string());
+        }
+    };
+    for function in active {
+        reach(function.name(), &mut reached, &mut pending);
+        reach(
+            &format!("user_{}", function.name()),
+            &mut reached,
+            &mut pending,
+        );
+    }
+    for token in tokens.iter().filter(|t| t.in_directive) {
+        reach(&token.text, &mut reached, &mut pending);
+    }
+    for item in items
+        .iter()
+        .filter(|i| i.kind != ItemKind::FunctionDefinition)
+    {
+        for token in &structure[item.first..=item.last] {
+            reach(&token.text, &mut reached, &mut pending);
+        }
+    }
+    let mut definitions: std::collections::BTreeMap<&str, Vec<&Item>> =
+        std::collections::BTreeMap::new();
+    for (name, item) in kept {
+        definitions.entry(name).or_default().push(item);
+    }
+    while let Some(name) = pending.pop() {
+        for item in definitions.get(name.as_str()).into_iter().flatten() {
+            let body = item.name.map_or(item.first, |n| n + 1)..=item.last;
+            for token in &structure[body] {
+                reach(&token.text, &mut reached, &mut pending);
+            }
+        }
+    }
+    reached
 }
 
 /// The workshop functions of `text` whose body is only `return <constant>;` (no identifier
@@ -766,6 +877,35 @@ mod tests {
         assert!(!code.include.contains("return vec3(0.0, 0.0, 1.0)"));
         assert!(code.include.contains("return sample_sphere(u)"));
         assert!(compile_kernel("probe_sample_hemisphere.comp", Some(&code), &[]).is_ok());
+    }
+
+    #[test]
+    fn kernels_leave_out_the_helpers_nothing_they_call_reaches() {
+        let user = UserFunctions::new(
+            "notes.glsl",
+            "#define SCALE scale_of()\nfloat scale_of() { return 1.0; }\nfloat twice(float x) { return 2.0 * x; }\n\
+             float unused(float x) { /* é */ return x; }\nfloat unused_helper(float x) { return unused(x); }\n\
+             float offset() { return 0.5; }\nfloat K = offset();\n\
+             vec3 sample_sphere(vec2 u) {\n    float z = twice(u.x) * SCALE - 1.0;\n    return vec3(0.0, 0.0, z);\n}\n"
+                .into(),
+        );
+        let code = user.code(&[WorkshopFunction::SampleSphere]);
+        for kept in [
+            "float twice(",
+            "float scale_of(",
+            "float offset(",
+            "vec3 sample_sphere(",
+        ] {
+            assert!(code.include.contains(kept), "{kept}: {}", code.include);
+        }
+        assert!(!code.include.contains("unused_helper("), "{}", code.include);
+        // Blanked byte for byte: every line stays where it was.
+        assert_eq!(
+            code.include.matches('\n').count(),
+            user.whole().include.matches('\n').count()
+        );
+        assert!(user.whole().include.contains("unused_helper("));
+        assert!(compile_kernel("probe_sample_sphere.comp", Some(&code), &[]).is_ok());
     }
 
     #[test]

@@ -25,7 +25,7 @@ use crate::check::report::{
     describe_function, describe_header, describe_not_judged, describe_summary, CheckReport,
 };
 use crate::check::{
-    judge_functions, load_user_passes, read_tabs, test_alpha_of_units, units_header,
+    judge_functions, load_user_passes, read_pasted_tabs, test_alpha_of_units, units_header,
     verdict_without_device, CheckOptions, UserFunctions, WorkshopFunction,
 };
 
@@ -127,7 +127,7 @@ fn print_now(text: &str) {
 /// report so far.
 pub fn run(args: &CheckArgs) -> anyhow::Result<()> {
     let loaded =
-        load_user_passes(&args.files).and_then(|units| Ok((units, read_tabs(&args.files)?)));
+        load_user_passes(&args.files).and_then(|units| Ok((units, read_pasted_tabs(&args.files)?)));
     let (units, tabs) = match loaded {
         Ok(loaded) => loaded,
         Err(error) => {
@@ -148,7 +148,7 @@ pub fn run(args: &CheckArgs) -> anyhow::Result<()> {
     };
     let tabs: Vec<(PathBuf, String)> = tabs
         .into_iter()
-        .map(|(name, text)| (PathBuf::from(name), text))
+        .map(|tab| (PathBuf::from(tab.name), tab.text))
         .collect();
     let mut report = units_header(&units, "");
     if !args.json {

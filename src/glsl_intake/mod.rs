@@ -5,6 +5,9 @@
 //! user's lines.
 //!
 //! - `syntax`: a tokenizer and the top-level items of a file (functions, declarations);
+//! - `paste`: the GLSL of a file published around it (a Markdown post's code blocks, a web
+//!   page's shader tags, a script's template strings, notes with prose lines), the rest
+//!   blanked on its lines;
 //! - `functions`: the functions a file defines, with normalized signatures;
 //! - `prepare`: what is dropped, renamed and supplied (`prepare_with` and its options).
 //!
@@ -24,12 +27,14 @@
 //! a file of functions (a Common tab, notes).
 
 pub mod functions;
+pub mod paste;
 pub mod prepare;
 pub mod syntax;
 
 use std::path::Path;
 
 pub use functions::{find_functions, FoundFunction, Signature};
+pub use paste::{glsl_of_paste, PasteNote, PastedGlsl};
 pub use prepare::{
     declared_globals, loop_guard_declarations, prepare, prepare_with, IntakeOptions,
     PreparedSource, Unavailable, UniformValue, LOOP_GUARD_NAMES, USER_LOOP_LIMIT,
