@@ -869,6 +869,7 @@ fn print_summary(
             new_samples: counts.new_samples,
             setup_seconds: counts.setup_seconds,
             seconds: finished.render_seconds,
+            traversal: finished.scene_memory.map(|memory| memory.traversal),
         })
     );
     if let Some(guide) = &finished.guide {
