@@ -166,7 +166,9 @@ fn alpha_tested_materials_render_as_on_the_bvh() {
 
 #[test]
 fn auto_keeps_the_bvh_on_a_cpu_device_and_hardware_takes_its_ray_queries() {
-    let Some(icd) = ray_query_icd("auto_keeps_the_bvh_on_a_cpu_device_and_hardware_takes_its_ray_queries") else {
+    let Some(icd) =
+        ray_query_icd("auto_keeps_the_bvh_on_a_cpu_device_and_hardware_takes_its_ray_queries")
+    else {
         return;
     };
     let dir = tempfile::tempdir().unwrap();

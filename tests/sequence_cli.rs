@@ -97,7 +97,11 @@ fn auto_takes_one_traversal_for_every_frame_of_a_moving_small_mesh() {
         );
         // One kernel for the sequence: every frame after the first takes it
         let reused = report["reused"].as_array().unwrap();
-        assert_eq!(reused.contains(&json!("kernel")), index > 0, "frame {index}: {reused:?}");
+        assert_eq!(
+            reused.contains(&json!("kernel")),
+            index > 0,
+            "frame {index}: {reused:?}"
+        );
     }
     // A still of the same scene keeps the constant triangles (compiled in: the fastest
     // samples where one kernel serves), and its summary line names the traversal that ran

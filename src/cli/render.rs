@@ -382,7 +382,9 @@ impl RenderArgs {
                     };
                     if talk {
                         let sphere = match animation {
-                            Some(_) => "the bounding sphere of its whole animation, for every frame",
+                            Some(_) => {
+                                "the bounding sphere of its whole animation, for every frame"
+                            }
                             None => "its bounding sphere",
                         };
                         eprintln!(

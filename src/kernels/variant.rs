@@ -532,10 +532,7 @@ mod tests {
             ..TraversalContext::default()
         };
         let on_device = |count, accel, materials, alpha, ray_queries: bool| {
-            let on = TraversalContext {
-                ray_queries,
-                ..gpu
-            };
+            let on = TraversalContext { ray_queries, ..gpu };
             Traversal::choose_on_device(count, accel, materials, alpha, on)
         };
         let capacity = contract::CONSTANT_TRIANGLE_CAPACITY as usize;
@@ -589,11 +586,18 @@ mod tests {
         };
         // A small mesh that the constant triangles would compile in, frame after frame
         for materials in [false, true] {
-            let auto = |count| Traversal::choose_on_device(count, Accel::Auto, materials, false, moving);
+            let auto =
+                |count| Traversal::choose_on_device(count, Accel::Auto, materials, false, moving);
             assert_eq!(auto(3), Traversal::CompressedBvh);
             assert_eq!(auto(12), Traversal::CompressedBvh);
             // still: the constant triangles
-            let still = Traversal::choose_on_device(12, Accel::Auto, materials, false, TraversalContext::default());
+            let still = Traversal::choose_on_device(
+                12,
+                Accel::Auto,
+                materials,
+                false,
+                TraversalContext::default(),
+            );
             assert_eq!(still, Traversal::ConstantTriangles);
             // asked for: kept
             let none = Traversal::choose_on_device(12, Accel::None, materials, false, moving);

@@ -75,7 +75,8 @@ pub fn read_animations(
             if property == Property::Rotation {
                 let keys = rotation_keys.mend(&mut values, interpolation_of(&sampler));
                 if keys > 0 && rotation_keys.first.is_none() {
-                    rotation_keys.first = Some(format!("animation '{name}' channel {}", channel.index()));
+                    rotation_keys.first =
+                        Some(format!("animation '{name}' channel {}", channel.index()));
                 }
             }
             if times.len() != input.count() || values.len() != output.count() {

@@ -1037,7 +1037,11 @@ fn a_skin_with_more_inverse_bind_matrices_than_joints_takes_the_first() {
         let name = format!("{inverse_binds}.gltf");
         let scene = load_gltf(&write(&dir, &name, text)).unwrap();
         assert!(scene.warnings.is_empty(), "{:?}", scene.warnings);
-        scene.triangles.iter().map(|t| t.positions).collect::<Vec<_>>()
+        scene
+            .triangles
+            .iter()
+            .map(|t| t.positions)
+            .collect::<Vec<_>>()
     };
     assert_eq!(positions(3), positions(2));
     assert_eq!(positions(5), positions(2));
@@ -1083,14 +1087,20 @@ fn animation_pointer_channels_are_skipped_with_one_warning() {
     let turn = [[0.0, 0.0, 0.0, 1.0], [0.0, 0.0, S, S]];
     let pointer = json!([{"sampler": 1, "target": {"path": "pointer", "extensions": {
         "KHR_animation_pointer": {"pointer": "/materials/0/pbrMetallicRoughness/baseColorFactor"}}}}]);
-    for (name, used) in [("named.gltf", json!(["KHR_animation_pointer"])), ("bare.gltf", json!([]))] {
+    for (name, used) in [
+        ("named.gltf", json!(["KHR_animation_pointer"])),
+        ("bare.gltf", json!([])),
+    ] {
         let path = write(&dir, name, turning_triangle(turn, pointer.clone(), used));
         let scene = load_gltf(&path).unwrap();
         assert_eq!(scene.warnings.len(), 1, "{name}: {:?}", scene.warnings);
         let warning = &scene.warnings[0];
         assert!(warning.contains("KHR_animation_pointer"), "{warning}");
         if name == "bare.gltf" {
-            assert!(warning.contains("/materials/0/pbrMetallicRoughness/baseColorFactor"), "{warning}");
+            assert!(
+                warning.contains("/materials/0/pbrMetallicRoughness/baseColorFactor"),
+                "{warning}"
+            );
         }
         // The node's own channel plays: (1, 0, 0) turned a quarter about +Z at 1 s
         assert!((second_corner(&path, 1.0) - Vec3::Y).length() < 1e-5);
@@ -1123,15 +1133,32 @@ fn rotation_keys_that_are_no_rotations_warn_once() {
         (path, scene.warnings)
     };
     // NaN, zero: no rotation, said once for the file
-    for (name, bad) in [("nan.gltf", [f32::NAN, 0.0, 0.0, 1.0]), ("zero.gltf", [0.0; 4])] {
+    for (name, bad) in [
+        ("nan.gltf", [f32::NAN, 0.0, 0.0, 1.0]),
+        ("zero.gltf", [0.0; 4]),
+    ] {
         let (path, warnings) = load(name, [bad, bad]);
         assert_eq!(warnings.len(), 1, "{name}: {warnings:?}");
-        assert!(warnings[0].contains("2 are NaN, infinite or of length 0"), "{}", warnings[0]);
-        assert!(warnings[0].contains("animation 'turn' channel 0"), "{}", warnings[0]);
-        assert!((second_corner(&path, 1.0) - Vec3::X).length() < 1e-6, "{name}");
+        assert!(
+            warnings[0].contains("2 are NaN, infinite or of length 0"),
+            "{}",
+            warnings[0]
+        );
+        assert!(
+            warnings[0].contains("animation 'turn' channel 0"),
+            "{}",
+            warnings[0]
+        );
+        assert!(
+            (second_corner(&path, 1.0) - Vec3::X).length() < 1e-6,
+            "{name}"
+        );
     }
     // Too long to normalise in floats (its squared length overflows): still the rotation
-    let (path, warnings) = load("huge.gltf", [[0.0, 0.0, 0.0, 1.0], turned.map(|v| v * 1e30)]);
+    let (path, warnings) = load(
+        "huge.gltf",
+        [[0.0, 0.0, 0.0, 1.0], turned.map(|v| v * 1e30)],
+    );
     assert_eq!(warnings.len(), 1, "{warnings:?}");
     assert!(warnings[0].contains("scaled first"), "{}", warnings[0]);
     assert!((second_corner(&path, 1.0) - Vec3::Y).length() < 1e-5);

@@ -44,7 +44,6 @@ fn without_node_less_channels(bytes: &[u8]) -> Option<Result<(Gltf, Option<Strin
         .is_some_and(|used| used.iter().any(|e| e == "KHR_animation_pointer"));
     let warning = (!named).then(|| skipped_warning(&pointers));
     let parsed = serde_json::to_vec(&root)
-        .map_err(gltf::json::Error::from)
         .and_then(|json| gltf::json::deserialize::from_slice(&json))
         .map(|json| Gltf {
             document: Document::from_json_without_validation(json),

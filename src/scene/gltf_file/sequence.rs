@@ -19,15 +19,22 @@ impl GltfFile {
     /// The last key time of the animations `pick` chooses (seconds; 0 without any): from
     /// then on every pose is the same.
     pub fn end_time(&self, pick: &AnimationPick) -> Result<f32, SceneError> {
-        Ok(self.key_times(pick)?.last().copied().unwrap_or(0.0).max(0.0))
+        Ok(self
+            .key_times(pick)?
+            .last()
+            .copied()
+            .unwrap_or(0.0)
+            .max(0.0))
     }
 
     /// Every key time of the animations `pick` chooses, sorted, each once.
     fn key_times(&self, pick: &AnimationPick) -> Result<Vec<f32>, SceneError> {
-        let picked = pick.select(&self.animations).map_err(|reason| SceneError::Animation {
-            path: self.path.clone(),
-            reason: reason.to_string(),
-        })?;
+        let picked = pick
+            .select(&self.animations)
+            .map_err(|reason| SceneError::Animation {
+                path: self.path.clone(),
+                reason: reason.to_string(),
+            })?;
         let mut times: Vec<f32> = picked
             .iter()
             .flat_map(|animation| {
@@ -80,10 +87,12 @@ impl GltfFile {
     /// skin that a mesh node uses (or one of its ancestors). Cameras and lights alone do
     /// not move geometry.
     pub fn moves_geometry(&self, pick: &AnimationPick) -> Result<bool, SceneError> {
-        let picked = pick.select(&self.animations).map_err(|reason| SceneError::Animation {
-            path: self.path.clone(),
-            reason: reason.to_string(),
-        })?;
+        let picked = pick
+            .select(&self.animations)
+            .map_err(|reason| SceneError::Animation {
+                path: self.path.clone(),
+                reason: reason.to_string(),
+            })?;
         if picked.iter().any(|a| !a.weights.is_empty()) {
             return Ok(true);
         }
@@ -168,7 +177,9 @@ mod tests {
     use std::path::Path;
 
     fn open(name: &str) -> GltfFile {
-        let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data").join(name);
+        let path = Path::new(env!("CARGO_MANIFEST_DIR"))
+            .join("tests/data")
+            .join(name);
         GltfFile::open(&path, &LoadOptions::default()).unwrap()
     }
 
@@ -200,10 +211,15 @@ mod tests {
     #[test]
     fn skins_morphs_and_moving_meshes_move_geometry() {
         for name in ["BoxAnimated.gltf", "RiggedSimple.gltf", "SimpleMorph.gltf"] {
-            assert!(open(name).moves_geometry(&AnimationPick::All).unwrap(), "{name}");
+            assert!(
+                open(name).moves_geometry(&AnimationPick::All).unwrap(),
+                "{name}"
+            );
         }
         // No animations: nothing moves
-        assert!(!open("emissive_quad.gltf").moves_geometry(&AnimationPick::All).unwrap());
+        assert!(!open("emissive_quad.gltf")
+            .moves_geometry(&AnimationPick::All)
+            .unwrap());
     }
 
     #[test]
