@@ -49,6 +49,8 @@ mod ray_query_cli;
 mod region_tiles;
 #[path = "scripting_cli.rs"]
 mod scripting_cli;
+#[path = "sequence_cli.rs"]
+mod sequence_cli;
 #[path = "shadertoy_cli.rs"]
 mod shadertoy_cli;
 #[path = "skin_morph_cli.rs"]

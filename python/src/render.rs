@@ -28,7 +28,7 @@ use vkpath::{Context, ContextOptions, Integrator, RenderSettings};
 
 use crate::errors::{argument_error, message, to_py};
 use crate::names::{in_python_words, name_of, parse, parse_optional};
-use crate::scene::Scene;
+use crate::scene::{Scene, SequenceFacts};
 
 /// The outputs rendered beside the colour (`aovs=`, and those `denoise=` needs).
 #[derive(Default)]
@@ -235,6 +235,8 @@ pub struct Session {
     context: Arc<Context>,
     /// What the session's renders keep for the next (one render at a time holds it).
     sequence: Arc<Mutex<SequenceCache>>,
+    /// What the sequence decides once, on its first frame (`Scene::at_time`).
+    facts: Mutex<Option<SequenceFacts>>,
 }
 
 #[pymethods]
@@ -249,6 +251,7 @@ impl Session {
         Ok(Session {
             context,
             sequence: Arc::default(),
+            facts: Mutex::new(None),
         })
     }
 }
@@ -380,7 +383,11 @@ pub fn render<'py>(
         &PYTHON_NAMES,
     )
     .map_err(|e| message(e.to_string()))?;
-    let (world, camera) = scene.at_time(time, settings.aspect())?;
+    let facts = session.as_ref().map(|s| &s.facts);
+    let (world, camera) = scene.at_time(time, settings.aspect(), facts)?;
+    let moving_geometry = facts
+        .and_then(|f| *f.lock().unwrap_or_else(|e| e.into_inner()))
+        .is_some_and(|f| f.moving_geometry);
     let world = world
         .with_environment(environment.as_ref())
         .map_err(|e| message(e.to_string()))?;
@@ -404,11 +411,13 @@ pub fn render<'py>(
         // A session's renders take what the one before left (a poisoned lock: a render
         // that panicked; its cache is dropped for a fresh one).
         let mut sequence = sequence.as_ref().map(|s| {
-            s.lock().unwrap_or_else(|poisoned| {
+            let mut guard = s.lock().unwrap_or_else(|poisoned| {
                 let mut guard = poisoned.into_inner();
                 *guard = SequenceCache::default();
                 guard
-            })
+            });
+            guard.moving_geometry = moving_geometry;
+            guard
         });
         // What `run_job` does for a whole render without checkpoints, previews or resuming
         // (the Renderer itself, so that Python needs none of the command line's job options).

@@ -11,7 +11,7 @@ use vkpath::scene::animation::AnimationPick;
 use vkpath::scene::arrays::ARRAYS_DESCRIPTION;
 use vkpath::scene::files::LoadOptions;
 use vkpath::scene::gltf_file::{is_gltf_path, GltfFile};
-use vkpath::scene::{SceneArrays, SceneError, SceneSource};
+use vkpath::scene::{framing_camera_of, SceneArrays, SceneError, SceneSource};
 
 use crate::arrays::{
     float_rows, index_triples, material_factors, punctual_light, vec2s, vec3s, whole_number_list,
@@ -103,6 +103,32 @@ impl Camera {
     }
 }
 
+/// What a sequence of renders of a glTF file (`render_frames`) decides once, from the file
+/// alone, as `vkpath render --frames` does.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct SequenceFacts {
+    /// Whether its geometry moves (`SequenceCache::moving_geometry`: `accel="auto"` keeps
+    /// one traversal for every frame).
+    pub moving_geometry: bool,
+    /// For a file without a camera, the box of its whole animation
+    /// (`GltfFile::animation_bounds`), which frames every frame.
+    pub animation_box: Option<(Vec3, Vec3)>,
+}
+
+impl SequenceFacts {
+    /// What `file`'s animations decide; its animation's box where it is `framed`.
+    fn of(file: &mut GltfFile, framed: bool) -> Result<SequenceFacts, SceneError> {
+        let pick = AnimationPick::All;
+        Ok(SequenceFacts {
+            moving_geometry: file.moves_geometry(&pick)?,
+            animation_box: match framed {
+                true => file.animation_bounds(&pick)?,
+                false => None,
+            },
+        })
+    }
+}
+
 /// A scene ready to render: triangles, materials, lights, and the camera renders use.
 #[pyclass(module = "vkpath")]
 pub struct Scene {
@@ -145,12 +171,17 @@ impl Scene {
     /// The scene at `time` seconds (a glTF file's animations then, as `--time` loads it)
     /// with the camera renders use then: the file's camera of `use_camera`'s index at that
     /// time, else `render_camera`'s choice. Without a time, or for a scene that has no file,
-    /// the scene as it is.
+    /// the scene as it is. For a frame of a sequence (`sequence`: `render_frames`'
+    /// session), what the sequence decides once is decided by its first frame and kept
+    /// there: whether the geometry moves, and for a file without a camera the box of its
+    /// whole animation, which frames every frame (as `vkpath render --frames` does).
     pub fn at_time(
         &self,
         time: Option<f64>,
         aspect: f32,
+        sequence: Option<&Mutex<Option<SequenceFacts>>>,
     ) -> PyResult<(vkpath::Scene, vkpath::Camera)> {
+        let mut facts = None;
         let reloaded = match (time, &self.source) {
             (Some(time), _) if !(time.is_finite() && time >= 0.0) => {
                 return Err(argument_error(format!(
@@ -170,7 +201,18 @@ impl Scene {
                     Some(file) => file,
                     None => file.insert(GltfFile::open(path, &options).map_err(to_py)?),
                 };
-                Some(file.pose(time as f32, &AnimationPick::All).map_err(to_py)?)
+                let scene = file.pose(time as f32, &AnimationPick::All).map_err(to_py)?;
+                if let Some(sequence) = sequence {
+                    let mut kept = sequence.lock().unwrap_or_else(|e| e.into_inner());
+                    if kept.is_none() {
+                        let framed = self.camera_index.is_none()
+                            && self.camera.is_none()
+                            && scene.camera.is_none();
+                        *kept = Some(SequenceFacts::of(file, framed).map_err(to_py)?);
+                    }
+                    facts = *kept;
+                }
+                Some(scene)
             }
             (Some(time), Some((source @ SceneSource::File(_), allow_external_paths))) => {
                 let options = LoadOptions {
@@ -189,9 +231,11 @@ impl Scene {
             Some(index) => scene.cameras.get(index).copied(),
             None => self.camera.or(scene.camera),
         };
-        let camera = match camera {
-            Some(camera) => camera,
-            None => scene
+        let animation_box = facts.and_then(|f| f.animation_box);
+        let camera = match (camera, animation_box) {
+            (Some(camera), _) => camera,
+            (None, Some((low, high))) => framing_camera_of(low, high, aspect).0,
+            (None, None) => scene
                 .framing_camera(aspect)
                 .map(|(camera, _, _)| camera)
                 .ok_or_else(|| message("the scene has no camera and nothing to frame"))?,

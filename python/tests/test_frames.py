@@ -82,6 +82,29 @@ def test_render_frames_yields_each_frame_at_frame_over_fps(tmp_path):
         next(vkpath.render_frames(scene, frames=[0], fps=0))
 
 
+def write_camera_less(directory):
+    """The animated quad without its camera, in front of a static quad twice its size."""
+    document = json.loads(write_animated_quad(directory).read_text())
+    document["nodes"][1] = {"name": "wall", "mesh": 0, "scale": [2, 2, 1],
+                            "translation": [0, 0, -0.5]}
+    del document["cameras"]
+    path = directory / "framed.gltf"
+    path.write_text(json.dumps(document))
+    return path
+
+
+def test_render_frames_frames_a_camera_less_file_once_for_all_frames(tmp_path):
+    # Issue 58: each frame was framed by its own pose, so the view zoomed and jumped. Now
+    # the whole animation frames every frame: frame 1 is the same image in any sequence
+    # (a farm's task of one frame included), and not the still at its time, which frames
+    # its own pose.
+    scene = write_camera_less(tmp_path)
+    (_, _), (_, last) = vkpath.render_frames(scene, frames=range(2), fps=1, **SMALL)
+    [(_, alone)] = list(vkpath.render_frames(scene, frames=[1], fps=1, **SMALL))
+    assert np.array_equal(bits(alone), bits(last))
+    assert not np.array_equal(last, vkpath.render(scene, time=1.0, **SMALL))
+
+
 def test_a_sample_range_equals_the_command_lines_shard_bit_for_bit(cli, tmp_path):
     output = tmp_path / "shard.exr"
     run_cli(cli, "render", "--width", "16", "--height", "12", "--seed", "1",

@@ -440,8 +440,13 @@ def render_frames(
     time; the device (``device=``, ``validate=``) is opened once for all frames, as the
     command line does, and so are the kernels: each frame takes the kernel, the
     accumulation image and (while the scene's data do not change) the scene upload that
-    the frame before it left, building only what changed; the images are bit for bit
-    those of :func:`render` at each frame's time."""
+    the frame before it left, building only what changed. As the command line does, the
+    sequence decides two things once, from the file: a file without a camera is framed by
+    the bounding sphere of its whole animation (the same camera in every frame, where
+    :func:`render` frames each time's pose), and where the animation moves geometry
+    ``accel="auto"`` takes the BVH for every frame (not the constant triangles, whose
+    kernel each frame would build again). With a camera, the images are bit for bit those
+    of :func:`render` at each frame's time."""
     if "time" in settings:
         raise ArgumentError("render_frames takes frames= and fps=, not time=")
     frames = _frame_numbers(frames)

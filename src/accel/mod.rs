@@ -16,13 +16,13 @@ pub mod plan;
 use std::sync::Arc;
 
 use crate::error::{Error, Result};
-use crate::kernels::variant::{Accel, Traversal};
+use crate::kernels::variant::{Accel, Traversal, TraversalContext};
 use crate::render::tiles::scene_bytes;
 use crate::scene::Scene;
 use crate::vk::acceleration_structure::{
     bottom_level_sizes, top_level_sizes, InstanceDescription, MAX_CUSTOM_INDEX,
 };
-use crate::vk::{AccelerationStructure, CommandRunner, Context, RayQuerySupport};
+use crate::vk::{AccelerationStructure, CommandRunner, Context, DeviceKind, RayQuerySupport};
 use plan::StructurePlan;
 
 /// Bytes of the bottom level's vertex input per triangle (three `[f32; 3]`), held on the
@@ -145,19 +145,29 @@ pub fn check_fits(
     Ok(())
 }
 
-/// The traversal of `scene` for `accel` on `context`'s device (`Traversal::choose_on_device`),
-/// checked against the device: `Accel::Hardware` on a device without ray queries, or with a
+/// The traversal of `scene` for `accel` on `context`'s device (`Traversal::choose_on_device`:
+/// `auto` takes ray queries on a hardware device, not on a CPU one), for one frame of a
+/// sequence whose geometry moves where `moving_geometry`, checked against the device: `Accel::Hardware` on a device without ray queries, or with a
 /// scene beyond its structures' limits, is an error of one line naming the device and what it
 /// lacks; `Accel::Auto` falls back to the BVH there, with one warning where the structures
 /// cannot hold the scene.
-pub fn choose_traversal(context: &Context, scene: &Scene, accel: Accel) -> Result<TraversalChoice> {
-    let ray_queries = context.ray_queries.is_available();
+pub fn choose_traversal(
+    context: &Context,
+    scene: &Scene,
+    accel: Accel,
+    moving_geometry: bool,
+) -> Result<TraversalChoice> {
+    let on = TraversalContext {
+        ray_queries: context.ray_queries.is_available(),
+        cpu: context.info.kind == DeviceKind::Cpu,
+        moving_geometry,
+    };
     let traversal = Traversal::choose_on_device(
         scene.triangles.len(),
         accel,
         scene.needs_material_kernels(),
         scene.uses_alpha(),
-        ray_queries,
+        on,
     );
     let device = &context.info.name;
     if traversal != Traversal::RayQuery {

@@ -344,7 +344,7 @@ pub fn run_bench(
         scene: setup.scene_name.clone(),
         triangle_count: scene.triangles.len(),
         // As the renders chose it, on this device (its ray queries, where it has them)
-        traversal: crate::accel::choose_traversal(context, scene, setup.settings.accel)?
+        traversal: crate::accel::choose_traversal(context, scene, setup.settings.accel, false)?
             .traversal
             .name()
             .to_string(),

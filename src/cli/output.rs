@@ -153,6 +153,10 @@ pub struct RenderReport {
     /// traversal triangles, or the device's structures) and every buffer's, in all and per
     /// triangle (`null` when the render stopped before its renderer was made).
     pub scene_memory: Option<SceneMemory>,
+    /// The camera that saw the image (world space): `position` (the pinhole),
+    /// `image_plane_middle`, `up` and `right_per_unit_aspect` (the image plane's edges), so
+    /// that a script can tell that the frames of a sequence share one view.
+    pub camera: CameraReport,
     /// The frame number (`--frames`); absent for a still, `null` with `--time`.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub frame: Option<Option<u32>>,
@@ -166,6 +170,31 @@ pub struct RenderReport {
     /// texels), `environment`, `punctual_lights`; absent without `--frames`.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub reused: Option<Vec<&'static str>>,
+}
+
+/// A camera as `render --json` reports it: `Camera`'s vectors as `[x, y, z]`.
+#[derive(Serialize)]
+pub struct CameraReport {
+    /// The pinhole.
+    pub position: [f32; 3],
+    /// The centre of the image plane.
+    pub image_plane_middle: [f32; 3],
+    /// The image plane's full-height edge vector, pointing up in the image.
+    pub up: [f32; 3],
+    /// The image plane's full-width edge vector for an aspect ratio of 1.
+    pub right_per_unit_aspect: [f32; 3],
+}
+
+impl CameraReport {
+    /// The report of `camera`.
+    pub fn of(camera: &Camera) -> CameraReport {
+        CameraReport {
+            position: camera.position.to_array(),
+            image_plane_middle: camera.image_plane_middle.to_array(),
+            up: camera.up.to_array(),
+            right_per_unit_aspect: camera.right_per_unit_aspect.to_array(),
+        }
+    }
 }
 
 /// The JSON object `render --json` prints on stdout when it fails before its report: the
@@ -900,6 +929,7 @@ fn print_summary(
             new_samples: counts.new_samples,
             setup_seconds: counts.setup_seconds,
             seconds: finished.render_seconds,
+            traversal: finished.scene_memory.map(|memory| memory.traversal),
         })
     );
     if let Some(guide) = &finished.guide {
@@ -956,6 +986,7 @@ fn render_report(
         guide: finished.guide.as_ref().map(GuideSummary::new),
         accel: finished.scene_memory.map(|memory| memory.accel),
         scene_memory: finished.scene_memory,
+        camera: CameraReport::of(request.camera),
         frame: request.frame.map(|f| f.frame),
         time: request.frame.map(|f| f.time),
         reused: finished.reused.take(),

@@ -28,7 +28,7 @@ use crate::render::sequence::SequenceCache;
 use crate::render::settings::{Integrator, PixelFilter, RenderSettings};
 use crate::scene::files::LoadOptions;
 use crate::scene::gltf_file::{is_gltf_path, GltfFile};
-use crate::scene::Scene;
+use crate::scene::{framing_camera_of, Scene};
 
 /// What `--resume` reads, for the error about a file that is not one.
 pub const RESUME_READS: &str =
@@ -340,8 +340,15 @@ impl RenderArgs {
     }
 
     /// The camera from the command line, else the scene's, else one that frames the scene
-    /// (which one line says when `talk` is set).
-    pub fn camera(&self, scene: &Scene, talk: bool) -> anyhow::Result<Camera> {
+    /// (which one line says when `talk` is set): `animation`'s box where a sequence gives
+    /// one (`GltfFile::animation_bounds`: every frame takes the same camera), else the
+    /// scene's own bounds.
+    pub fn camera(
+        &self,
+        scene: &Scene,
+        talk: bool,
+        animation: Option<(Vec3, Vec3)>,
+    ) -> anyhow::Result<Camera> {
         let CameraArgs {
             camera_position,
             look_at,
@@ -368,12 +375,22 @@ impl RenderArgs {
                 Some(camera) => Ok(camera),
                 None => {
                     let aspect = self.width as f32 / self.height as f32;
-                    let Some((camera, centre, radius)) = scene.framing_camera(aspect) else {
+                    let framed = match animation {
+                        Some((low, high)) => Some(framing_camera_of(low, high, aspect)),
+                        None => scene.framing_camera(aspect),
+                    };
+                    let Some((camera, centre, radius)) = framed else {
                         bail!("the scene has no camera and nothing to frame");
                     };
                     if talk {
+                        let sphere = match animation {
+                            Some(_) => {
+                                "the bounding sphere of its whole animation, for every frame"
+                            }
+                            None => "its bounding sphere",
+                        };
                         eprintln!(
-                        "vkpath: the scene has no camera: framing its bounding sphere (centre {:.3},{:.3},{:.3}, radius {radius:.3}) from +Z, 20 degrees above, vertical field of view {DEFAULT_VERTICAL_FOV_DEGREES} degrees",
+                        "vkpath: the scene has no camera: framing {sphere} (centre {:.3},{:.3},{:.3}, radius {radius:.3}) from +Z, 20 degrees above, vertical field of view {DEFAULT_VERTICAL_FOV_DEGREES} degrees",
                         centre.x, centre.y, centre.z
                     );
                     }
@@ -381,6 +398,13 @@ impl RenderArgs {
                 }
             },
         }
+    }
+
+    /// Whether the camera comes from the command line (`--camera`, `--camera-position`).
+    fn camera_given(&self) -> bool {
+        self.camera.camera_index.is_some()
+            || self.camera.camera_position.is_some()
+            || self.camera.look_at.is_some()
     }
 }
 
@@ -474,6 +498,12 @@ fn render(args: &RenderArgs) -> anyhow::Result<()> {
     // The environment as the first frame loaded it (a map is read and decoded once), for
     // the frames of a glTF file after it.
     let mut loaded_environment: Option<Option<crate::lights::Environment>> = None;
+    // What `--frames` decides once for a glTF file's whole sequence (on its first frame
+    // rendered, from the file alone, so that every task of a farm decides alike): whether
+    // its geometry moves (`--accel auto` then keeps the BVH: `SequenceCache`), and for a
+    // file without a camera the box of its whole animation, which frames every frame.
+    let mut moving_geometry = false;
+    let mut animation_box: Option<(Vec3, Vec3)> = None;
     let mut first = true;
     let mut tally = SequenceTally::default();
     for frame in args.frames.frame_times() {
@@ -516,6 +546,13 @@ fn render(args: &RenderArgs) -> anyhow::Result<()> {
                 for warning in scene.warnings.iter().filter(|_| first) {
                     eprintln!("vkpath: warning: {warning}");
                 }
+                if first && args.frames.frames.is_some() {
+                    let pick = args.frames.pick();
+                    moving_geometry = file.moves_geometry(&pick)?;
+                    if scene.camera.is_none() && !args.camera_given() {
+                        animation_box = file.animation_bounds(&pick)?;
+                    }
+                }
                 match &loaded_environment {
                     Some(loaded) => Scene {
                         environment: loaded.clone(),
@@ -542,7 +579,7 @@ fn render(args: &RenderArgs) -> anyhow::Result<()> {
         if first {
             warn_about_lights(&scene, &settings);
         }
-        let camera = args.camera(&scene, reporting.talks() && first)?;
+        let camera = args.camera(&scene, reporting.talks() && first, animation_box)?;
         if first && !args.job.quiet {
             note_a_still_sequence(args, gltf_file.as_ref());
         }
@@ -594,6 +631,9 @@ fn render(args: &RenderArgs) -> anyhow::Result<()> {
             Devices::One(_) => 1,
         };
         sequences.resize_with(device_count, SequenceCache::default);
+        for sequence in &mut sequences {
+            sequence.moving_geometry = moving_geometry;
+        }
         let request = RenderRequest {
             scene: &scene,
             scene_name: args.scene.name(),

@@ -246,11 +246,15 @@ pub struct Summary<'a> {
     pub setup_seconds: f64,
     /// Seconds of rendering.
     pub seconds: f64,
+    /// How rays found hits (`Traversal::name`: "compressed BVH", "ray queries", ...), where
+    /// known.
+    pub traversal: Option<&'a str>,
 }
 
-/// "device NAME [KIND], WxH, N spp, setup T s, render S s, M M samples/s" for one device
-/// ("mean N spp, cap C" with `--noise-threshold`); for several, "K devices, WxH, ...
-/// M M samples/s (NAME: N1 spp, ...)".
+/// "device NAME [KIND], traversal T, WxH, N spp, setup T s, render S s, M M samples/s" for
+/// one device ("mean N spp, cap C" with `--noise-threshold`; the traversal that ran, where
+/// known); for several, "K devices, traversal T, WxH, ... M M samples/s (NAME: N1 spp,
+/// ...)".
 pub fn summary_line(summary: &Summary) -> String {
     let Summary {
         devices,
@@ -261,14 +265,16 @@ pub fn summary_line(summary: &Summary) -> String {
         new_samples,
         setup_seconds,
         seconds,
+        traversal,
     } = *summary;
     let rate = new_samples / seconds.max(1e-9) / 1e6;
     let samples = match spp_mean {
         Some(mean) => format!("mean {} spp, cap {spp}", format_spp_mean(mean)),
         None => format!("{spp} spp"),
     };
+    let traversal = traversal.map_or(String::new(), |t| format!("traversal {t}, "));
     let common = format!(
-        "{width}x{height}, {samples}, setup {setup_seconds:.2} s, render {seconds:.2} s, {rate:.3} M samples/s"
+        "{traversal}{width}x{height}, {samples}, setup {setup_seconds:.2} s, render {seconds:.2} s, {rate:.3} M samples/s"
     );
     match devices {
         [(device, _)] => format!("device {} [{}], {common}", device.name, device.kind),
@@ -376,6 +382,7 @@ mod tests {
             new_samples: 128.0 * 128.0 * 256.0,
             setup_seconds: 0.5,
             seconds: 2.0,
+            traversal: Some("compressed BVH"),
         };
         let line = summary_line(&summary);
         assert!(
@@ -389,6 +396,11 @@ mod tests {
             ..summary
         });
         assert!(uniform.contains("128x128, 1024 spp, setup"), "{uniform}");
+        // The traversal that ran, named (issue 58)
+        assert!(
+            uniform.contains("], traversal compressed BVH, 128x128"),
+            "{uniform}"
+        );
         assert_eq!(format_spp_mean(3.26), "3.3");
     }
 }

@@ -332,7 +332,8 @@ impl Renderer {
         let traversal = match kernel {
             Some((_, traversal)) => traversal,
             None => {
-                let choice = choose_traversal(context, scene, settings.accel)?;
+                let moving = sequence.as_ref().is_some_and(|s| s.moving_geometry);
+                let choice = choose_traversal(context, scene, settings.accel, moving)?;
                 if let Some(warning) = &choice.warning {
                     log::warn!("{warning}");
                 }

@@ -41,6 +41,11 @@ pub struct SequenceCache {
     scene: Option<UploadedScene>,
     /// How often each part was reused (for tests and reports).
     pub reused: ReuseCounts,
+    /// Whether the sequence's geometry moves from frame to frame (set by its caller before
+    /// the first render, e.g. `GltfFile::moves_geometry`): `--accel auto` then takes one
+    /// traversal for every frame, never the constant triangles, whose kernel each frame
+    /// would build again (`Traversal::choose_on_device`).
+    pub moving_geometry: bool,
 }
 
 impl std::fmt::Debug for SequenceCache {
@@ -50,6 +55,7 @@ impl std::fmt::Debug for SequenceCache {
             .field("images", &self.images.is_some())
             .field("scene", &self.scene.is_some())
             .field("reused", &self.reused)
+            .field("moving_geometry", &self.moving_geometry)
             .finish()
     }
 }

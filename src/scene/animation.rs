@@ -111,6 +111,11 @@ impl Sampler {
         })
     }
 
+    /// The key times in seconds, strictly increasing.
+    pub fn times(&self) -> &[f32] {
+        &self.times
+    }
+
     /// The time span of the keys, first to last, in seconds.
     pub fn span(&self) -> (f32, f32) {
         (self.times[0], self.times[self.times.len() - 1])

@@ -19,14 +19,16 @@ use super::SceneError;
 
 /// Every animation of the file, checked: each sampler's input scalar floats, strictly
 /// increasing, and as many outputs as its interpolation needs (for morph target weights,
-/// times the number of targets of the node's mesh).
+/// times the number of targets of the node's mesh); with the warning about rotation keys
+/// that are no rotations (`RotationKeys`), if any.
 pub fn read_animations(
     path: &Path,
     document: &Document,
     buffers: &[gltf::buffer::Data],
-) -> Result<Vec<Animation>, SceneError> {
+) -> Result<(Vec<Animation>, Option<String>), SceneError> {
     check_channels(path, document)?;
     let mut animations = Vec::new();
+    let mut rotation_keys = RotationKeys::default();
     for animation in document.animations() {
         let name = label(animation.name(), animation.index());
         let mut channels = Vec::new();
@@ -62,13 +64,21 @@ pub fn read_animations(
                 .read_inputs()
                 .ok_or_else(|| cut_off(&input))?
                 .collect();
-            let values: Vec<Vec4> = match reader.read_outputs().ok_or_else(|| cut_off(&output))? {
-                ReadOutputs::Translations(t) | ReadOutputs::Scales(t) => {
-                    t.map(|v| Vec3::from(v).extend(0.0)).collect()
+            let mut values: Vec<Vec4> =
+                match reader.read_outputs().ok_or_else(|| cut_off(&output))? {
+                    ReadOutputs::Translations(t) | ReadOutputs::Scales(t) => {
+                        t.map(|v| Vec3::from(v).extend(0.0)).collect()
+                    }
+                    ReadOutputs::Rotations(r) => r.into_f32().map(Vec4::from).collect(),
+                    ReadOutputs::MorphTargetWeights(_) => continue,
+                };
+            if property == Property::Rotation {
+                let keys = rotation_keys.mend(&mut values, interpolation_of(&sampler));
+                if keys > 0 && rotation_keys.first.is_none() {
+                    rotation_keys.first =
+                        Some(format!("animation '{name}' channel {}", channel.index()));
                 }
-                ReadOutputs::Rotations(r) => r.into_f32().map(Vec4::from).collect(),
-                ReadOutputs::MorphTargetWeights(_) => continue,
-            };
+            }
             if times.len() != input.count() || values.len() != output.count() {
                 return Err(cut_off(&output));
             }
@@ -96,7 +106,71 @@ pub fn read_animations(
             weights,
         });
     }
-    Ok(animations)
+    Ok((animations, rotation_keys.warning()))
+}
+
+/// Rotation keys that are no rotations: NaN or infinite components, or length zero (a
+/// quaternion that cannot be normalised), which are taken as no rotation (the identity)
+/// and said in one warning for the file; and keys whose squared length overflows (or
+/// underflows) a float, which are scaled to a normalisable length first (they are
+/// rotations). Before, all of these became the identity in silence (issue 58).
+#[derive(Debug, Default)]
+struct RotationKeys {
+    /// Keys taken as no rotation.
+    unusable: usize,
+    /// Keys scaled to a normalisable length.
+    rescaled: usize,
+    /// The first channel with such a key ("animation 'walk' channel 3").
+    first: Option<String>,
+}
+
+impl RotationKeys {
+    /// Mends the keys of one rotation sampler's outputs in place (a cubic spline's middle
+    /// values; its tangents are no rotations), counting them; returns how many it mended.
+    fn mend(&mut self, values: &mut [Vec4], interpolation: Interpolation) -> usize {
+        let (first, step) = match interpolation {
+            Interpolation::CubicSpline => (1, 3),
+            _ => (0, 1),
+        };
+        let mut mended = 0;
+        for key in values.iter_mut().skip(first).step_by(step) {
+            let largest = key.abs().max_element();
+            if !key.is_finite() || largest == 0.0 {
+                *key = Vec4::W;
+                self.unusable += 1;
+            } else if !(key.length_squared().is_normal()) {
+                // Dividing by the largest component brings the length into [1, 2].
+                *key /= largest;
+                self.rescaled += 1;
+            } else {
+                continue;
+            }
+            mended += 1;
+        }
+        mended
+    }
+
+    /// The one warning for the file, if a key was mended.
+    fn warning(&self) -> Option<String> {
+        let first = self.first.as_ref()?;
+        let mut parts = Vec::new();
+        if self.unusable > 0 {
+            parts.push(format!(
+                "{} are NaN, infinite or of length 0 and are taken as no rotation",
+                self.unusable
+            ));
+        }
+        if self.rescaled > 0 {
+            parts.push(format!(
+                "{} are too long or too short to normalise in floats and were scaled first",
+                self.rescaled
+            ));
+        }
+        Some(format!(
+            "rotation keys that are not unit quaternions (the first in {first}): {}",
+            parts.join("; ")
+        ))
+    }
 }
 
 /// The component types an animation output may have: floats, or normalised integers

@@ -114,21 +114,24 @@ impl<'a> Deformer<'a> {
                 let accessor_name = label(accessor.name(), accessor.index());
                 check_accessor(&accessor, Dimensions::Mat4, &[DataType::F32])
                     .map_err(|reason| bad(format!("inverseBindMatrices {reason}")))?;
-                if accessor.count() != joints.len() {
+                // glTF 2.0 § 5.28.2: at least one matrix per joint; more are valid (the
+                // first `joints.len()` are the joints')
+                let count = accessor.count();
+                if count < joints.len() {
                     return Err(bad(format!(
-                        "inverseBindMatrices accessor '{accessor_name}' holds {} matrices for {} joints",
-                        accessor.count(),
+                        "inverseBindMatrices accessor '{accessor_name}' holds {count} matrices for {} joints",
                         joints.len()
                     )));
                 }
-                let matrices: Vec<Mat4> = Iter::<[[f32; 4]; 4]>::new(accessor, self.buffer())
+                let mut matrices: Vec<Mat4> = Iter::<[[f32; 4]; 4]>::new(accessor, self.buffer())
                     .map(|iter| iter.map(|m| Mat4::from_cols_array_2d(&m)).collect())
                     .unwrap_or_default();
-                if matrices.len() != joints.len() {
+                if matrices.len() != count {
                     return Err(bad(format!(
                         "inverseBindMatrices accessor '{accessor_name}' lies outside its buffer"
                     )));
                 }
+                matrices.truncate(joints.len());
                 matrices
             }
         };

@@ -64,7 +64,10 @@ const WHAT_IS_LOST: &[(&str, &str)] = &[
         "EXT_mesh_gpu_instancing",
         "instanced copies of meshes are not drawn (only the node itself)",
     ),
-    ("KHR_animation_pointer", "animations are ignored"),
+    (
+        "KHR_animation_pointer",
+        "its channels (animated material factors, lights, cameras) are skipped; node animations play",
+    ),
     ("KHR_xmp_json_ld", "metadata only; nothing is lost"),
 ];
 

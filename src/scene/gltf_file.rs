@@ -21,6 +21,10 @@ use super::gltf_loader::{label, malformed, posed_scene};
 use super::gltf_materials::ConvertedMaterials;
 use super::{Scene, SceneError};
 
+mod node_less;
+mod sequence;
+pub use sequence::MAX_FRAMING_POSES;
+
 /// Whether `path` names a glTF file by its extension (`.gltf` or `.glb`, in any case), as
 /// `Scene::load` chooses its loader.
 pub fn is_gltf_path(path: &Path) -> bool {
@@ -42,6 +46,9 @@ pub struct GltfFile {
     /// The materials and textures the last pose converted, for the next (`None` before the
     /// first pose, and after one that failed).
     converted: Option<ConvertedMaterials>,
+    /// What reading the file found to warn about (skipped channels, unusable rotation
+    /// keys): each pose's scene says it.
+    warnings: Vec<String>,
 }
 
 impl GltfFile {
@@ -56,12 +63,11 @@ impl GltfFile {
         };
         check_format(path, &bytes)?;
         check_glb_header(path, &bytes)?;
-        let Gltf { document, blob } =
-            Gltf::from_slice_without_validation(&bytes).map_err(gltf_error)?;
+        let (Gltf { document, blob }, skipped) = node_less::parse(&bytes).map_err(gltf_error)?;
         check_required_extensions(path, &document)?;
         validate(path, &document)?;
         let buffers = load_buffers(path, &document, blob, options)?;
-        let animations = read_animations(path, &document, &buffers)?;
+        let (animations, animation_warnings) = read_animations(path, &document, &buffers)?;
         Ok(GltfFile {
             path: path.to_owned(),
             options: options.clone(),
@@ -69,6 +75,7 @@ impl GltfFile {
             buffers,
             animations,
             converted: None,
+            warnings: skipped.into_iter().chain(animation_warnings).collect(),
         })
     }
 
@@ -97,6 +104,8 @@ impl GltfFile {
             self.converted.take().unwrap_or_default(),
         )?;
         self.converted = Some(converted);
+        let mut scene = scene;
+        scene.warnings.extend(self.warnings.iter().cloned());
         Ok(scene)
     }
 }

@@ -1018,13 +1018,153 @@ fn broken_skins_name_the_skin_and_the_accessor() {
         past.contains("JOINTS_0 accessor '#2'") && past.contains("joint 2"),
         "{past}"
     );
-    let count = error("count.gltf", skinned([1, 0, 0, 0], ELBOW, 3, true));
+    let count = error("count.gltf", skinned([1, 0, 0, 0], ELBOW, 1, true));
     assert!(
-        count.contains("inverseBindMatrices accessor '#4' holds 3 matrices for 2 joints"),
+        count.contains("inverseBindMatrices accessor '#4' holds 1 matrices for 2 joints"),
         "{count}"
     );
     let bare = error("bare.gltf", skinned([1, 0, 0, 0], ELBOW, 2, false));
     assert!(bare.contains("no JOINTS_0"), "{bare}");
+}
+
+#[test]
+fn a_skin_with_more_inverse_bind_matrices_than_joints_takes_the_first() {
+    // glTF 2.0: inverseBindMatrices holds at least one matrix per joint (issue 58: three
+    // for two joints was refused)
+    let dir = tempfile::tempdir().unwrap();
+    let positions = |inverse_binds| {
+        let text = skinned([1, 0, 0, 0], ELBOW, inverse_binds, true);
+        let name = format!("{inverse_binds}.gltf");
+        let scene = load_gltf(&write(&dir, &name, text)).unwrap();
+        assert!(scene.warnings.is_empty(), "{:?}", scene.warnings);
+        scene
+            .triangles
+            .iter()
+            .map(|t| t.positions)
+            .collect::<Vec<_>>()
+    };
+    assert_eq!(positions(3), positions(2));
+    assert_eq!(positions(5), positions(2));
+}
+
+/// A triangle whose node turns about +Z by the rotation keys `keys` (LINEAR, at 0 s and
+/// 1 s), with `rest` added to the document's animation (more channels and samplers).
+fn turning_triangle(keys: [[f32; 4]; 2], extra_channels: Value, extensions_used: Value) -> String {
+    let mut buffer = TestBuffer::default();
+    let triangle = buffer.positions(&[[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]]);
+    let input = buffer.floats("SCALAR", &[0.0, 1.0]);
+    let output = buffer.floats("VEC4", &keys.concat());
+    let factor = buffer.floats("VEC4", &[1.0, 0.0, 0.0, 1.0, 0.0, 1.0, 0.0, 1.0]);
+    let mut channels = vec![json!({"sampler": 0, "target": {"node": 0, "path": "rotation"}})];
+    channels.extend(extra_channels.as_array().cloned().unwrap_or_default());
+    buffer.embedded(json!({
+        "extensionsUsed": extensions_used,
+        "nodes": [{"mesh": 0}],
+        "materials": [{}],
+        "meshes": [{"primitives": [{"attributes": {"POSITION": triangle}, "material": 0}]}],
+        "animations": [{
+            "name": "turn",
+            "channels": channels,
+            "samplers": [{"input": input, "output": output}, {"input": input, "output": factor}],
+        }],
+    }))
+}
+
+/// The second corner ((1, 0, 0) unposed) of the triangle, posed at `time`.
+fn second_corner(path: &std::path::Path, time: f32) -> Vec3 {
+    let options = LoadOptions {
+        time,
+        ..LoadOptions::default()
+    };
+    load_gltf_with(path, &options).unwrap().triangles[0].positions[1]
+}
+
+#[test]
+fn animation_pointer_channels_are_skipped_with_one_warning() {
+    // KHR_animation_pointer: a channel without a node, targeting a material's factor. It
+    // was "malformed ... missing field `node`" (issue 58); the node channel still plays.
+    let dir = tempfile::tempdir().unwrap();
+    let turn = [[0.0, 0.0, 0.0, 1.0], [0.0, 0.0, S, S]];
+    let pointer = json!([{"sampler": 1, "target": {"path": "pointer", "extensions": {
+        "KHR_animation_pointer": {"pointer": "/materials/0/pbrMetallicRoughness/baseColorFactor"}}}}]);
+    for (name, used) in [
+        ("named.gltf", json!(["KHR_animation_pointer"])),
+        ("bare.gltf", json!([])),
+    ] {
+        let path = write(&dir, name, turning_triangle(turn, pointer.clone(), used));
+        let scene = load_gltf(&path).unwrap();
+        assert_eq!(scene.warnings.len(), 1, "{name}: {:?}", scene.warnings);
+        let warning = &scene.warnings[0];
+        assert!(warning.contains("KHR_animation_pointer"), "{warning}");
+        if name == "bare.gltf" {
+            assert!(
+                warning.contains("/materials/0/pbrMetallicRoughness/baseColorFactor"),
+                "{warning}"
+            );
+        }
+        // The node's own channel plays: (1, 0, 0) turned a quarter about +Z at 1 s
+        assert!((second_corner(&path, 1.0) - Vec3::Y).length() < 1e-5);
+    }
+    // The same in a GLB
+    let mut buffer = TestBuffer::default();
+    let triangle = buffer.positions(&[[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]]);
+    let input = buffer.floats("SCALAR", &[0.0, 1.0]);
+    let fov = buffer.floats("SCALAR", &[0.5, 0.9]);
+    let glb = buffer.glb(json!({
+        "extensionsUsed": ["KHR_animation_pointer"],
+        "nodes": [{"mesh": 0}],
+        "meshes": [{"primitives": [{"attributes": {"POSITION": triangle}}]}],
+        "animations": [{"channels": [{"sampler": 0, "target": {"path": "pointer", "extensions": {
+            "KHR_animation_pointer": {"pointer": "/cameras/0/perspective/yfov"}}}}],
+            "samplers": [{"input": input, "output": fov}]}],
+    }));
+    let scene = load_gltf(&write(&dir, "pointer.glb", glb)).unwrap();
+    assert_eq!(scene.triangles.len(), 1);
+    assert_eq!(scene.warnings.len(), 1, "{:?}", scene.warnings);
+}
+
+#[test]
+fn rotation_keys_that_are_no_rotations_warn_once() {
+    let dir = tempfile::tempdir().unwrap();
+    let turned = [0.0, 0.0, S, S];
+    let load = |name: &str, keys: [[f32; 4]; 2]| {
+        let path = write(&dir, name, turning_triangle(keys, json!([]), json!([])));
+        let scene = load_gltf(&path).unwrap();
+        (path, scene.warnings)
+    };
+    // NaN, zero: no rotation, said once for the file
+    for (name, bad) in [
+        ("nan.gltf", [f32::NAN, 0.0, 0.0, 1.0]),
+        ("zero.gltf", [0.0; 4]),
+    ] {
+        let (path, warnings) = load(name, [bad, bad]);
+        assert_eq!(warnings.len(), 1, "{name}: {warnings:?}");
+        assert!(
+            warnings[0].contains("2 are NaN, infinite or of length 0"),
+            "{}",
+            warnings[0]
+        );
+        assert!(
+            warnings[0].contains("animation 'turn' channel 0"),
+            "{}",
+            warnings[0]
+        );
+        assert!(
+            (second_corner(&path, 1.0) - Vec3::X).length() < 1e-6,
+            "{name}"
+        );
+    }
+    // Too long to normalise in floats (its squared length overflows): still the rotation
+    let (path, warnings) = load(
+        "huge.gltf",
+        [[0.0, 0.0, 0.0, 1.0], turned.map(|v| v * 1e30)],
+    );
+    assert_eq!(warnings.len(), 1, "{warnings:?}");
+    assert!(warnings[0].contains("scaled first"), "{}", warnings[0]);
+    assert!((second_corner(&path, 1.0) - Vec3::Y).length() < 1e-5);
+    // Unit keys: no warning
+    let (_, warnings) = load("unit.gltf", [[0.0, 0.0, 0.0, 1.0], turned]);
+    assert!(warnings.is_empty(), "{warnings:?}");
 }
 
 #[test]

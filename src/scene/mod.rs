@@ -156,11 +156,9 @@ impl Scene {
         Ok(self)
     }
 
-    /// A camera that frames the scene's bounding sphere for an image of `aspect` (width /
-    /// height), for files without one: from the +Z side, 20 degrees above (+Y is up), with
-    /// the default vertical field of view (45 degrees), at the distance where the sphere fits
-    /// both the vertical and the horizontal field of view, plus 5%. `None` without triangles.
-    pub fn framing_camera(&self, aspect: f32) -> Option<(Camera, Vec3, f32)> {
+    /// The smallest box (lowest corner, highest corner) that holds every triangle, world
+    /// space; `None` without triangles (or with non-finite positions).
+    pub fn bounds(&self) -> Option<(Vec3, Vec3)> {
         let mut low = Vec3::splat(f32::INFINITY);
         let mut high = Vec3::splat(f32::NEG_INFINITY);
         for triangle in &self.triangles {
@@ -169,22 +167,15 @@ impl Scene {
                 high = high.max(position);
             }
         }
-        if !low.is_finite() || !high.is_finite() {
-            return None;
-        }
-        let centre = 0.5 * (low + high);
-        let radius = (0.5 * (high - low).length()).max(1e-6);
-        let vertical = crate::camera::DEFAULT_VERTICAL_FOV_DEGREES.to_radians();
-        let half_vertical = 0.5 * vertical;
-        let half_horizontal = (half_vertical.tan() * aspect).atan();
-        let distance = 1.05 * radius / half_vertical.min(half_horizontal).sin();
-        let elevation = 20f32.to_radians();
-        let position = centre + distance * Vec3::new(0.0, elevation.sin(), elevation.cos());
-        Some((
-            Camera::look_at(position, centre, Vec3::Y, vertical),
-            centre,
-            radius,
-        ))
+        (low.is_finite() && high.is_finite()).then_some((low, high))
+    }
+
+    /// A camera that frames the scene's bounding sphere for an image of `aspect` (width /
+    /// height), for files without one (`framing_camera_of` its `bounds`). `None` without
+    /// triangles.
+    pub fn framing_camera(&self, aspect: f32) -> Option<(Camera, Vec3, f32)> {
+        let (low, high) = self.bounds()?;
+        Some(framing_camera_of(low, high, aspect))
     }
 
     /// Whether the scene needs the kernels built with USE_MATERIALS: glTF materials, an
@@ -428,6 +419,26 @@ impl SceneBuilder {
         }
         Ok(self.scene)
     }
+}
+
+/// A camera that frames the bounding sphere of the box `low`..`high` for an image of `aspect`
+/// (width / height): from the +Z side, 20 degrees above (+Y is up), with the default vertical
+/// field of view (45 degrees), at the distance where the sphere fits both the vertical and
+/// the horizontal field of view, plus 5%; with the sphere's centre and radius.
+pub fn framing_camera_of(low: Vec3, high: Vec3, aspect: f32) -> (Camera, Vec3, f32) {
+    let centre = 0.5 * (low + high);
+    let radius = (0.5 * (high - low).length()).max(1e-6);
+    let vertical = crate::camera::DEFAULT_VERTICAL_FOV_DEGREES.to_radians();
+    let half_vertical = 0.5 * vertical;
+    let half_horizontal = (half_vertical.tan() * aspect).atan();
+    let distance = 1.05 * radius / half_vertical.min(half_horizontal).sin();
+    let elevation = 20f32.to_radians();
+    let position = centre + distance * Vec3::new(0.0, elevation.sin(), elevation.cos());
+    (
+        Camera::look_at(position, centre, Vec3::Y, vertical),
+        centre,
+        radius,
+    )
 }
 
 #[cfg(test)]
