@@ -6,8 +6,8 @@
 use glam::{Mat3, Vec2, Vec3};
 
 use crate::contract::MIN_GGX_ALPHA;
-use crate::cpu::shading_basis::get_shading_basis;
 use crate::cpu::fresnel::{get_dielectric_schlick_fresnel, get_metal_schlick_fresnel};
+use crate::cpu::shading_basis::get_shading_basis;
 use crate::cpu::workshop::M_PI;
 
 /// Twin of `material_t`: a surface point's material after texture lookups.

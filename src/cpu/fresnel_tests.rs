@@ -64,7 +64,10 @@ fn the_base_terms_are_schlicks_with_the_materials_end_points() {
         ..material
     };
     for cosine in [0.0, 0.3, 1.0] {
-        assert_eq!(get_dielectric_schlick_fresnel(&lambertian, cosine), Vec3::ZERO);
+        assert_eq!(
+            get_dielectric_schlick_fresnel(&lambertian, cosine),
+            Vec3::ZERO
+        );
     }
     // |v.h| enters: a cosine from below the surface gives the same reflectance.
     assert_eq!(

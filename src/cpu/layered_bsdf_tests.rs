@@ -6,9 +6,9 @@
 use glam::{UVec2, Vec2, Vec3};
 
 use super::*;
-use crate::cpu::fresnel::get_schlick_fresnel;
 use crate::contract::SHEEN_ALBEDO_SIZE;
 use crate::cpu::brdf::get_luminance;
+use crate::cpu::fresnel::get_schlick_fresnel;
 use crate::cpu::workshop::get_random_numbers;
 use crate::stats::chi2::{chi2_direction_test, Chi2Config};
 use crate::stats::sphere_histogram::{SphereFrame, TargetDensity};

@@ -6,8 +6,8 @@
 
 use crate::contract::CLEARCOAT_IOR;
 use crate::cpu::brdf::{
-    get_ggx_alpha, get_ggx_distribution, get_ggx_reflection_density, get_smith_visibility,
-    reflect, sample_ggx_visible_normal, to_local, MaterialSample,
+    get_ggx_alpha, get_ggx_distribution, get_ggx_reflection_density, get_smith_visibility, reflect,
+    sample_ggx_visible_normal, to_local, MaterialSample,
 };
 use crate::cpu::fresnel::get_schlick_fresnel;
 use crate::cpu::shading_basis::get_shading_basis;

@@ -7,8 +7,8 @@
 //! (`cpu::fresnel`) and `get_smooth_thin_wall_transmittance` at n.v. Same names, same maths.
 
 use crate::cpu::brdf::{
-    get_ggx_distribution, get_ggx_reflection_density, get_luminance, get_smith_visibility,
-    reflect, sample_ggx_visible_normal, MaterialSample,
+    get_ggx_distribution, get_ggx_reflection_density, get_luminance, get_smith_visibility, reflect,
+    sample_ggx_visible_normal, MaterialSample,
 };
 use crate::cpu::fresnel::get_dielectric_schlick_fresnel;
 use glam::{Vec2, Vec3};
