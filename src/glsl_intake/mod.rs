@@ -151,7 +151,7 @@ pub fn undeclared_types(messages: &str, tabs: &[(&str, &str)], texts: &[&str]) -
 }
 
 /// Whether a word is GLSL's own: a keyword, a qualifier or a built-in type.
-fn is_glsl_word(word: &str) -> bool {
+pub(crate) fn is_glsl_word(word: &str) -> bool {
     const WORDS: [&str; 40] = [
         "void",
         "bool",

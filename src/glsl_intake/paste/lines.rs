@@ -135,66 +135,12 @@ fn words_of(text: &str) -> Vec<(usize, usize, &str)> {
     words
 }
 
-/// Whether a word is GLSL's: a keyword, a qualifier, a built-in type.
+/// Whether a word is GLSL's: a keyword, a qualifier or a built-in type
+/// (`glsl_intake::is_glsl_word`), or a word of GLSL's statements and literals.
 fn is_glsl_word(word: &str) -> bool {
-    const WORDS: [&str; 48] = [
-        "void",
-        "bool",
-        "int",
-        "uint",
-        "float",
-        "double",
-        "in",
-        "out",
-        "inout",
-        "const",
-        "uniform",
-        "buffer",
-        "shared",
-        "highp",
-        "mediump",
-        "lowp",
-        "precise",
-        "invariant",
-        "flat",
-        "smooth",
-        "noperspective",
-        "centroid",
-        "sample",
-        "patch",
-        "coherent",
-        "volatile",
-        "restrict",
-        "readonly",
-        "writeonly",
-        "return",
+    const STATEMENT_WORDS: [&str; 11] = [
+        "if", "for", "while", "do", "switch", "default", "break", "continue", "true", "false",
         "else",
-        "case",
-        "struct",
-        "layout",
-        "precision",
-        "attribute",
-        "varying",
-        "discard",
-        "if",
-        "for",
-        "while",
-        "do",
-        "switch",
-        "default",
-        "break",
-        "continue",
-        "true",
-        "false",
     ];
-    const FAMILIES: [&str; 14] = [
-        "vec", "ivec", "uvec", "bvec", "dvec", "mat", "dmat", "sampler", "isampler", "usampler",
-        "image", "iimage", "uimage", "texture",
-    ];
-    WORDS.contains(&word)
-        || FAMILIES.iter().any(|family| {
-            word.strip_prefix(family).is_some_and(|rest| {
-                rest.starts_with(|c: char| c.is_ascii_digit() || c.is_ascii_uppercase())
-            })
-        })
+    crate::glsl_intake::is_glsl_word(word) || STATEMENT_WORDS.contains(&word)
 }
