@@ -51,6 +51,7 @@ use serde::Serialize;
 use crate::camera::Camera;
 use crate::image_io::output::write_atomically;
 use crate::lights::{PunctualKind, PunctualLight};
+use crate::scene::material_params::MATERIAL_TEXTURES;
 use crate::scene::materials::{AlphaMode, PbrMaterial};
 use crate::scene::{Scene, Triangle};
 
@@ -157,42 +158,6 @@ impl ManifestMaterial {
             AlphaMode::Mask { cutoff } => ("mask", Some(cutoff)),
             AlphaMode::Blend => ("blend", None),
         };
-        let textures = [
-            ("baseColorTexture", material.base_color_texture.is_some()),
-            (
-                "metallicRoughnessTexture",
-                material.metallic_roughness_texture.is_some(),
-            ),
-            ("normalTexture", material.normal_texture.is_some()),
-            ("emissiveTexture", material.emissive_texture.is_some()),
-            ("specularTexture", material.specular_texture.is_some()),
-            (
-                "specularColorTexture",
-                material.specular_color_texture.is_some(),
-            ),
-            (
-                "transmissionTexture",
-                material.transmission.texture.is_some(),
-            ),
-            (
-                "thicknessTexture",
-                material.transmission.thickness_texture.is_some(),
-            ),
-            ("clearcoatTexture", material.clearcoat.texture.is_some()),
-            (
-                "clearcoatRoughnessTexture",
-                material.clearcoat.roughness_texture.is_some(),
-            ),
-            (
-                "clearcoatNormalTexture",
-                material.clearcoat.normal_texture.is_some(),
-            ),
-            ("sheenColorTexture", material.sheen.color_texture.is_some()),
-            (
-                "sheenRoughnessTexture",
-                material.sheen.roughness_texture.is_some(),
-            ),
-        ];
         let transmission = &material.transmission;
         let clearcoat = &material.clearcoat;
         let sheen = &material.sheen;
@@ -219,10 +184,10 @@ impl ManifestMaterial {
                 roughness: sheen.roughness,
             }),
             unlit: material.unlit,
-            textures_not_exported: textures
+            textures_not_exported: MATERIAL_TEXTURES
                 .iter()
-                .filter(|(_, used)| *used)
-                .map(|(name, _)| *name)
+                .filter(|texture| (texture.get)(material).is_some())
+                .map(|texture| texture.name)
                 .collect(),
         }
     }
