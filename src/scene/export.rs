@@ -138,18 +138,22 @@ struct ManifestSheen {
 /// The names of the layers (glTF extensions) `material` uses beyond metallic-roughness, for
 /// the export's one note: their factors are in the manifest, which a consumer may not read.
 pub fn layers_of(material: &PbrMaterial) -> Vec<&'static str> {
-    let layers = [
-        ("transmission", material.transmission.factor > 0.0),
-        ("clearcoat", material.clearcoat.factor > 0.0),
-        ("sheen", material.sheen.color.max_element() > 0.0),
-        ("unlit", material.unlit),
+    let used = [
+        material.transmission.factor > 0.0,
+        material.clearcoat.factor > 0.0,
+        material.sheen.color.max_element() > 0.0,
+        material.unlit,
     ];
-    layers
+    LAYERS
         .iter()
+        .zip(used)
         .filter(|(_, used)| *used)
         .map(|(name, _)| *name)
         .collect()
 }
+
+/// The manifest's keys of the layers beyond metallic-roughness (`layers_of`'s names).
+pub const LAYERS: [&str; 4] = ["transmission", "clearcoat", "sheen", "unlit"];
 
 impl ManifestMaterial {
     fn new(material: &PbrMaterial) -> ManifestMaterial {
