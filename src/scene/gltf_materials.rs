@@ -390,3 +390,87 @@ fn material_label(material: &gltf::Material) -> String {
         (None, None) => "default".to_owned(),
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::scene::materials::AlphaMode;
+    use glam::{Vec3, Vec4};
+
+    /// The factors of the first material of a glTF document whose `materials` is `json`,
+    /// read as the loader reads them (through gltf's parse and the table's paths).
+    fn factors_of(materials: &str, used: &str) -> MaterialFactors {
+        let text = format!(
+            r#"{{"asset": {{"version": "2.0"}}, "extensionsUsed": [{used}], "materials": {materials}}}"#
+        );
+        let gltf = gltf::Gltf::from_slice(text.as_bytes()).unwrap();
+        let material = gltf.document.materials().next().unwrap();
+        material_factors(&material_json(&gltf.document, &material))
+    }
+
+    #[test]
+    fn every_factor_is_read_where_gltf_writes_it() {
+        // Written as the specification spells each key, not from the table.
+        let factors = factors_of(
+            r#"[{
+                "pbrMetallicRoughness": {"baseColorFactor": [0.1, 0.2, 0.3, 0.4],
+                                         "metallicFactor": 0.5, "roughnessFactor": 0.6},
+                "emissiveFactor": [0.7, 0.8, 0.9],
+                "alphaMode": "MASK", "alphaCutoff": 0.25, "doubleSided": true,
+                "extensions": {
+                    "KHR_materials_emissive_strength": {"emissiveStrength": 3.0},
+                    "KHR_materials_specular": {"specularFactor": 0.3,
+                                               "specularColorFactor": [0.4, 0.5, 0.6]},
+                    "KHR_materials_ior": {"ior": 1.7},
+                    "KHR_materials_transmission": {"transmissionFactor": 0.8},
+                    "KHR_materials_volume": {"thicknessFactor": 0.05,
+                                             "attenuationColor": [0.9, 0.8, 0.7],
+                                             "attenuationDistance": 2.5},
+                    "KHR_materials_clearcoat": {"clearcoatFactor": 0.35,
+                                                "clearcoatRoughnessFactor": 0.45},
+                    "KHR_materials_sheen": {"sheenColorFactor": [0.15, 0.25, 0.35],
+                                            "sheenRoughnessFactor": 0.55},
+                    "KHR_materials_unlit": {}
+                }
+            }]"#,
+            r#""KHR_materials_emissive_strength", "KHR_materials_specular", "KHR_materials_ior",
+               "KHR_materials_transmission", "KHR_materials_volume", "KHR_materials_clearcoat",
+               "KHR_materials_sheen", "KHR_materials_unlit""#,
+        );
+        let expected = MaterialFactors {
+            base_color: Vec4::new(0.1, 0.2, 0.3, 0.4),
+            metallic: 0.5,
+            roughness: 0.6,
+            emission: Vec3::new(0.7, 0.8, 0.9),
+            emissive_strength: 3.0,
+            specular: 0.3,
+            specular_color: Vec3::new(0.4, 0.5, 0.6),
+            ior: 1.7,
+            transmission: 0.8,
+            thickness: 0.05,
+            attenuation_color: Vec3::new(0.9, 0.8, 0.7),
+            attenuation_distance: 2.5,
+            clearcoat: 0.35,
+            clearcoat_roughness: 0.45,
+            sheen_color: Vec3::new(0.15, 0.25, 0.35),
+            sheen_roughness: 0.55,
+            alpha_mode: AlphaMode::Mask { cutoff: 0.25 },
+            double_sided: true,
+            unlit: true,
+        };
+        assert_eq!(factors, expected);
+    }
+
+    #[test]
+    fn a_volume_without_transmission_and_a_bare_material_keep_the_defaults() {
+        let volume_only = factors_of(
+            r#"[{"extensions": {"KHR_materials_volume": {"thicknessFactor": 1.0,
+                                                          "attenuationDistance": 1.0}}}]"#,
+            r#""KHR_materials_volume""#,
+        );
+        assert_eq!(volume_only, MaterialFactors::default());
+        let masked = factors_of(r#"[{"alphaMode": "MASK"}]"#, "");
+        assert_eq!(masked.alpha_mode, AlphaMode::Mask { cutoff: 0.5 });
+        assert_eq!(factors_of("[{}]", ""), MaterialFactors::default());
+    }
+}
