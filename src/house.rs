@@ -1,5 +1,5 @@
 //! `docs/house.md`'s claims, held by tests that read the sources: which rooms may name a
-//! light kind, which files a new light kind and a new lobe touch (the doc's lists and counts
+//! light kind, which files a new light kind, a new lobe and a new material factor touch (the doc's lists and counts
 //! against the files that spell each list), the variant room's inputs, and that no import
 //! circle runs between two of `src/`'s top-level folders. The doc cannot go stale: a change
 //! that moves one of these numbers fails here until the doc says the new one.
@@ -175,17 +175,10 @@ const LIGHT_KINDS: &[(&str, &[&str])] = &[
     ("punctual lights", &["punctual"]),
 ];
 
-/// Identifiers of `src/render/` that contain a kind's word but name no kind of light: a
-/// material's emission factor and texture slot (`gpu_materials.rs` writes them).
-const NOT_A_LIGHT_KIND: &[(&str, &str)] = &[
-    (
-        "src/render/gpu_materials.rs",
-        "MATERIAL_TEXEL_EMISSIVE_METALLIC",
-    ),
-    ("src/render/gpu_materials.rs", "MATERIAL_TEXTURE_EMISSIVE"),
-    ("src/render/gpu_materials.rs", "emissive_texture"),
-    ("src/render/gpu_materials.rs", "EMISSIVE"),
-];
+/// Identifiers of `src/render/` that contain a kind's word but name no kind of light: none
+/// since `GpuMaterial` packs by the material parameter table (before, its emission factor
+/// and texture slot, `MATERIAL_TEXEL_EMISSIVE_METALLIC` and `MATERIAL_TEXTURE_EMISSIVE`).
+const NOT_A_LIGHT_KIND: &[(&str, &str)] = &[];
 
 /// The places in `files` where an identifier or string literal of the code names a kind of
 /// light (contains one of `LIGHT_KINDS`' words, case aside), `allowed` aside: "file:line
@@ -366,6 +359,31 @@ fn a_new_lobe_touches_the_files_house_md_counts() {
     // The lobes with glTF factors of their own: every place that spells both spells the
     // list a lobe with factors (iridescence) joins.
     check_cost("lobe", files_naming_all(&[&["sheen"], &["clearcoat"]]));
+}
+
+/// Two factors that a new factor joins the list of, each by the words that name it in code
+/// (lower case: snake case, glTF's camel case, a nested field): factors with a texture slot
+/// that a lobe reads, as a lobe's factors have (iridescence's thickness and ior).
+const FACTORS: &[(&str, &[&str])] = &[
+    (
+        "clearcoat roughness",
+        &[
+            "clearcoat_roughness",
+            "clearcoatroughness",
+            "clearcoat.roughness",
+        ],
+    ),
+    (
+        "sheen roughness",
+        &["sheen_roughness", "sheenroughness", "sheen.roughness"],
+    ),
+];
+
+#[test]
+fn a_new_factor_touches_the_files_house_md_counts() {
+    // Every place whose code names both factors spells the list a new factor joins.
+    let groups: Vec<&[&str]> = FACTORS.iter().map(|(_, words)| *words).collect();
+    check_cost("factor", files_naming_all(&groups));
 }
 
 #[test]

@@ -1,12 +1,13 @@
 //! `vkpath.Scene.from_arrays`'s inputs: numpy arrays (or anything `numpy.asarray` takes)
 //! checked for shape and type, materials as dicts of glTF's factors (`MaterialFactors`,
-//! by `MATERIAL_KEYS`) and punctual lights as dicts of KHR_lights_punctual's values. Every
+//! by `material_keys`, the parameter table's factors) and punctual lights as dicts of KHR_lights_punctual's values. Every
 //! mistake is a `vkpath.ArgumentError` (a `ValueError`) that names the parameter or key.
 
-use glam::{Vec2, Vec3, Vec4};
+use glam::{Vec2, Vec3};
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyString};
 use vkpath::lights::{PunctualKind, PunctualLight};
+use vkpath::scene::material_params::{self, ParamKind, MATERIAL_PARAMS};
 use vkpath::scene::materials::AlphaMode;
 use vkpath::scene::MaterialFactors;
 
@@ -14,29 +15,11 @@ use crate::errors::argument_error;
 
 /// A material dict's keys: glTF's factor names in snake case (`baseColorFactor` is
 /// `base_color`, `emissiveFactor` is `emission`, KHR_materials_*'s factors by their
-/// extension's words).
-pub const MATERIAL_KEYS: [&str; 20] = [
-    "base_color",
-    "metallic",
-    "roughness",
-    "emission",
-    "emissive_strength",
-    "specular",
-    "specular_color",
-    "ior",
-    "transmission",
-    "thickness",
-    "attenuation_color",
-    "attenuation_distance",
-    "clearcoat",
-    "clearcoat_roughness",
-    "sheen_color",
-    "sheen_roughness",
-    "alpha_mode",
-    "alpha_cutoff",
-    "double_sided",
-    "unlit",
-];
+/// extension's words), the factors of the material parameter table
+/// (`vkpath::scene::material_params::MATERIAL_PARAMS`), in its order.
+pub fn material_keys() -> Vec<&'static str> {
+    material_params::material_keys()
+}
 
 /// A light dict's keys (KHR_lights_punctual's, with the node's placement as `position` and
 /// `direction`).
@@ -251,53 +234,48 @@ pub fn material_factors(value: &Bound<'_, PyAny>, index: usize) -> PyResult<Mate
     let dict = value
         .cast::<PyDict>()
         .map_err(|_| argument_error(format!("{what} is not a dict of glTF factors")))?;
-    check_keys(dict, &what, &MATERIAL_KEYS)?;
+    check_keys(dict, &what, &material_keys())?;
     let mut factors = MaterialFactors::default();
-    if let Some(color) = dict.get_item("base_color")? {
-        factors.base_color = match numbers(&color).as_deref() {
-            Some(&[r, g, b, a]) => Vec4::new(r, g, b, a),
-            Some(&[r, g, b]) => Vec4::new(r, g, b, 1.0),
-            _ => {
-                return Err(argument_error(format!(
-                    "{what}: base_color is not RGB or RGBA numbers"
-                )))
-            }
-        };
-    }
-    let numbers: [(&str, &mut f32); 11] = [
-        ("metallic", &mut factors.metallic),
-        ("roughness", &mut factors.roughness),
-        ("emissive_strength", &mut factors.emissive_strength),
-        ("specular", &mut factors.specular),
-        ("ior", &mut factors.ior),
-        ("transmission", &mut factors.transmission),
-        ("thickness", &mut factors.thickness),
-        ("attenuation_distance", &mut factors.attenuation_distance),
-        ("clearcoat", &mut factors.clearcoat),
-        ("clearcoat_roughness", &mut factors.clearcoat_roughness),
-        ("sheen_roughness", &mut factors.sheen_roughness),
-    ];
-    for (key, out_value) in numbers {
-        if let Some(value) = number(dict, &what, key)? {
-            *out_value = value;
+    let factor_rows = || {
+        MATERIAL_PARAMS
+            .iter()
+            .filter_map(|param| Some((param, param.factor?)))
+    };
+    // RGBA first, then the numbers, the multipliers' check, the colours (each checked).
+    for (param, factor) in factor_rows().filter(|(p, _)| p.kind == ParamKind::Rgba) {
+        if let Some(color) = dict.get_item(param.name)? {
+            let value = match numbers(&color).as_deref() {
+                Some(&[r, g, b, a]) => [r, g, b, a],
+                Some(&[r, g, b]) => [r, g, b, 1.0],
+                _ => {
+                    return Err(argument_error(format!(
+                        "{what}: {} is not RGB or RGBA numbers",
+                        param.name
+                    )))
+                }
+            };
+            (factor.set)(&mut factors, value);
         }
     }
-    let colours: [(&str, &mut Vec3); 4] = [
-        ("emission", &mut factors.emission),
-        ("specular_color", &mut factors.specular_color),
-        ("attenuation_color", &mut factors.attenuation_color),
-        ("sheen_color", &mut factors.sheen_color),
-    ];
-    if !(factors.emissive_strength.is_finite() && factors.emissive_strength >= 0.0) {
-        return Err(argument_error(format!(
-            "{what}: emissive_strength={} is not a number at least 0",
-            factors.emissive_strength
-        )));
+    let is_number = |kind| matches!(kind, ParamKind::Number | ParamKind::NonNegative);
+    for (param, factor) in factor_rows().filter(|(p, _)| is_number(p.kind)) {
+        if let Some(value) = number(dict, &what, param.name)? {
+            (factor.set)(&mut factors, [value, 0.0, 0.0, 0.0]);
+        }
     }
-    for (key, out_value) in colours {
-        if let Some(value) = vec3(dict, &what, key)? {
-            check_colour(&what, key, value)?;
-            *out_value = value;
+    for (param, factor) in factor_rows().filter(|(p, _)| p.kind == ParamKind::NonNegative) {
+        let value = (factor.get)(&factors)[0];
+        if !(value.is_finite() && value >= 0.0) {
+            return Err(argument_error(format!(
+                "{what}: {}={value} is not a number at least 0",
+                param.name
+            )));
+        }
+    }
+    for (param, factor) in factor_rows().filter(|(p, _)| p.kind == ParamKind::Rgb) {
+        if let Some(value) = vec3(dict, &what, param.name)? {
+            check_colour(&what, param.name, value)?;
+            (factor.set)(&mut factors, value.extend(0.0).to_array());
         }
     }
     let cutoff = number(dict, &what, "alpha_cutoff")?;
@@ -313,8 +291,11 @@ pub fn material_factors(value: &Bound<'_, PyAny>, index: usize) -> PyResult<Mate
             )))
         }
     };
-    factors.double_sided = get(dict, &what, "double_sided", "True or False")?.unwrap_or(false);
-    factors.unlit = get(dict, &what, "unlit", "True or False")?.unwrap_or(false);
+    for (param, factor) in factor_rows().filter(|(p, _)| p.kind == ParamKind::Bool) {
+        if let Some(value) = get::<bool>(dict, &what, param.name, "True or False")? {
+            (factor.set)(&mut factors, [f32::from(u8::from(value)), 0.0, 0.0, 0.0]);
+        }
+    }
     Ok(factors)
 }
 

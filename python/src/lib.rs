@@ -28,7 +28,7 @@ mod _vkpath {
     #[pymodule_init]
     fn init(m: &pyo3::Bound<'_, pyo3::types::PyModule>) -> pyo3::PyResult<()> {
         use pyo3::types::PyModuleMethods as _;
-        m.add("MATERIAL_KEYS", crate::arrays::MATERIAL_KEYS.to_vec())?;
+        m.add("MATERIAL_KEYS", crate::arrays::material_keys())?;
         m.add("LIGHT_KEYS", crate::arrays::LIGHT_KEYS.to_vec())?;
         m.add("__version__", env!("CARGO_PKG_VERSION"))
     }

@@ -3,7 +3,7 @@
 use std::path::PathBuf;
 
 use super::options::SceneArgs;
-use crate::scene::export::{export_scene, layers_of};
+use crate::scene::export::{export_scene, layers_of, LAYERS};
 use crate::scene::files::LoadOptions;
 use crate::scene::gltf_file::{is_gltf_path, GltfFile};
 use crate::scene::source::SceneSource;
@@ -85,8 +85,34 @@ fn layers_note(scene: &crate::scene::Scene) -> Option<String> {
         .collect();
     (!layered.is_empty()).then(|| {
         format!(
-            "vkpath export: note: layers beyond metallic-roughness are in scene.json's \"transmission\", \"clearcoat\", \"sheen\" and \"unlit\" ({}); a reader of the base factors alone renders them as opaque plastic",
+            "vkpath export: note: layers beyond metallic-roughness are in scene.json's {} ({}); a reader of the base factors alone renders them as opaque plastic",
+            quoted_list(&LAYERS),
             layered.join("; ")
         )
     })
+}
+
+/// Names quoted and listed as a sentence says them: `"a", "b" and "c"`.
+fn quoted_list(names: &[&str]) -> String {
+    let quoted: Vec<String> = names.iter().map(|name| format!("\"{name}\"")).collect();
+    match quoted.split_last() {
+        Some((last, rest)) if !rest.is_empty() => format!("{} and {last}", rest.join(", ")),
+        _ => quoted.join(""),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_layers_note_names_the_layers_as_before() {
+        // The note's words from before the layers were one list (scene::export::LAYERS).
+        assert_eq!(
+            quoted_list(&LAYERS),
+            r#""transmission", "clearcoat", "sheen" and "unlit""#
+        );
+        assert_eq!(quoted_list(&["a"]), r#""a""#);
+        assert_eq!(quoted_list(&[]), "");
+    }
 }

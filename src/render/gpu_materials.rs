@@ -6,18 +6,13 @@
 use bytemuck::{Pod, Zeroable};
 
 use crate::contract::{
-    ALPHA_MODE_BLEND, ALPHA_MODE_MASK, ALPHA_MODE_OPAQUE, MATERIAL_FLAG_UNLIT,
-    MATERIAL_TEXTURE_BASE_COLOR, MATERIAL_TEXTURE_CLEARCOAT, MATERIAL_TEXTURE_CLEARCOAT_NORMAL,
-    MATERIAL_TEXTURE_CLEARCOAT_ROUGHNESS, MATERIAL_TEXTURE_EMISSIVE,
-    MATERIAL_TEXTURE_METALLIC_ROUGHNESS, MATERIAL_TEXTURE_NORMAL, MATERIAL_TEXTURE_SHEEN_COLOR,
-    MATERIAL_TEXTURE_SHEEN_ROUGHNESS, MATERIAL_TEXTURE_SLOT_COUNT, MATERIAL_TEXTURE_SPECULAR,
-    MATERIAL_TEXTURE_SPECULAR_COLOR, MATERIAL_TEXTURE_THICKNESS, MATERIAL_TEXTURE_TRANSMISSION,
+    MATERIAL_FACTOR_TEXEL_COUNT, MATERIAL_TEXEL_ALPHA_MODE_TEXTURE_MASK,
+    MATERIAL_TEXTURE_SLOT_COUNT,
 };
 use crate::cpu::sheen_albedo_table::SHEEN_ALBEDO;
 use crate::render::gpu_textures::{GpuTextureSlot, TextureAtlas};
-use crate::scene::materials::{
-    AlphaMode, PbrMaterial, SceneMaterials, TextureBinding, TriangleShading,
-};
+use crate::scene::material_params::{MATERIAL_PARAMS, MATERIAL_TEXTURES};
+use crate::scene::materials::{PbrMaterial, SceneMaterials, TextureBinding, TriangleShading};
 
 /// One triangle's shading data as `get_shading_texel()` reads it (128 bytes).
 #[repr(C)]
@@ -37,24 +32,9 @@ pub struct GpuTriangleShading {
 #[repr(C)]
 #[derive(Clone, Copy, Debug, PartialEq, Pod, Zeroable)]
 pub struct GpuMaterial {
-    /// Base colour factor (linear RGB, alpha).
-    pub base_color: [f32; 4],
-    /// rgb: emission factor; a: metallic factor.
-    pub emission_metallic: [f32; 4],
-    /// Roughness factor, specular factor, ior, normal scale.
-    pub roughness_specular_ior_normal_scale: [f32; 4],
-    /// rgb: specular colour factor; a: alpha cutoff.
-    pub specular_color_alpha_cutoff: [f32; 4],
-    /// x: ALPHA_MODE_*; y: bit (1 << MATERIAL_TEXTURE_*) per texture present; zw: 0.
-    pub alpha_mode_texture_flags: [u32; 4],
-    /// Transmission factor, thickness factor, clearcoat factor, clearcoat roughness factor.
-    pub transmission_thickness_clearcoat: [f32; 4],
-    /// rgb: the volume's absorption coefficient per unit length; a: clearcoat normal scale.
-    pub attenuation_clearcoat_normal_scale: [f32; 4],
-    /// x: MATERIAL_FLAG_* bits; yzw: 0.
-    pub flags: [u32; 4],
-    /// rgb: the sheen colour; a: the sheen roughness.
-    pub sheen: [f32; 4],
+    /// The factor texels: each parameter of `MATERIAL_PARAMS` at its `gpu` words (texel
+    /// `MATERIAL_TEXEL_*`, components), 0 where none is.
+    pub factors: [[u32; 4]; MATERIAL_FACTOR_TEXEL_COUNT as usize],
     /// The texture slots in MATERIAL_TEXTURE_* order (zeros where absent).
     pub textures: [GpuTextureSlot; MATERIAL_TEXTURE_SLOT_COUNT as usize],
 }
@@ -78,125 +58,43 @@ impl GpuTriangleShading {
 }
 
 impl GpuMaterial {
-    /// Packs a material; `atlas` gives where each texture's texels start.
+    /// Packs a material by the parameter table; `atlas` gives where each texture's texels
+    /// start.
     pub fn new(
         material: &PbrMaterial,
         scene: &SceneMaterials,
         atlas: &TextureAtlas,
     ) -> GpuMaterial {
-        let (alpha_mode, cutoff) = match material.alpha_mode {
-            AlphaMode::Opaque => (ALPHA_MODE_OPAQUE, 0.0),
-            AlphaMode::Mask { cutoff } => (ALPHA_MODE_MASK, cutoff),
-            AlphaMode::Blend => (ALPHA_MODE_BLEND, 0.0),
-        };
-        let mut flags = 0;
+        let mut factors = [[0; 4]; MATERIAL_FACTOR_TEXEL_COUNT as usize];
+        for gpu in MATERIAL_PARAMS
+            .iter()
+            .filter_map(|param| param.gpu.as_ref())
+        {
+            let words = (gpu.pack)(material);
+            let texel = &mut factors[gpu.texel as usize];
+            for k in 0..gpu.count as usize {
+                texel[gpu.component as usize + k] = words[k];
+            }
+        }
         let mut textures = [GpuTextureSlot::zeroed(); MATERIAL_TEXTURE_SLOT_COUNT as usize];
-        let slots = [
-            (
-                MATERIAL_TEXTURE_BASE_COLOR,
-                material.base_color_texture,
-                true,
-            ),
-            (
-                MATERIAL_TEXTURE_METALLIC_ROUGHNESS,
-                material.metallic_roughness_texture,
-                false,
-            ),
-            (MATERIAL_TEXTURE_NORMAL, material.normal_texture, false),
-            (MATERIAL_TEXTURE_EMISSIVE, material.emissive_texture, true),
-            (
-                MATERIAL_TEXTURE_TRANSMISSION,
-                material.transmission.texture,
-                false,
-            ),
-            (
-                MATERIAL_TEXTURE_THICKNESS,
-                material.transmission.thickness_texture,
-                false,
-            ),
-            (
-                MATERIAL_TEXTURE_CLEARCOAT,
-                material.clearcoat.texture,
-                false,
-            ),
-            (
-                MATERIAL_TEXTURE_CLEARCOAT_ROUGHNESS,
-                material.clearcoat.roughness_texture,
-                false,
-            ),
-            (
-                MATERIAL_TEXTURE_CLEARCOAT_NORMAL,
-                material.clearcoat.normal_texture,
-                false,
-            ),
-            (MATERIAL_TEXTURE_SPECULAR, material.specular_texture, false),
-            (
-                MATERIAL_TEXTURE_SPECULAR_COLOR,
-                material.specular_color_texture,
-                true,
-            ),
-            (
-                MATERIAL_TEXTURE_SHEEN_COLOR,
-                material.sheen.color_texture,
-                true,
-            ),
-            (
-                MATERIAL_TEXTURE_SHEEN_ROUGHNESS,
-                material.sheen.roughness_texture,
-                false,
-            ),
-        ];
-        for (slot, binding, srgb) in slots {
-            if let Some(TextureBinding { texture, transform }) = binding {
+        for slot in MATERIAL_TEXTURES {
+            if let Some(TextureBinding { texture, transform }) = (slot.get)(material) {
                 let index = texture as usize;
-                flags |= 1 << slot;
-                textures[slot as usize] = GpuTextureSlot::new(
+                textures[slot.slot as usize] = GpuTextureSlot::new(
                     atlas.first_texels[index],
                     &scene.textures[index],
-                    srgb,
+                    slot.srgb,
                     &transform,
                 );
             }
         }
-        GpuMaterial {
-            base_color: material.base_color.to_array(),
-            emission_metallic: material.emission.extend(material.metallic).to_array(),
-            roughness_specular_ior_normal_scale: [
-                material.roughness,
-                material.specular,
-                material.ior,
-                material.normal_scale,
-            ],
-            specular_color_alpha_cutoff: material.specular_color.extend(cutoff).to_array(),
-            alpha_mode_texture_flags: [alpha_mode, flags, 0, 0],
-            transmission_thickness_clearcoat: [
-                material.transmission.factor,
-                material.transmission.thickness,
-                material.clearcoat.factor,
-                material.clearcoat.roughness,
-            ],
-            attenuation_clearcoat_normal_scale: material
-                .transmission
-                .attenuation
-                .extend(material.clearcoat.normal_scale)
-                .to_array(),
-            flags: [
-                if material.unlit {
-                    MATERIAL_FLAG_UNLIT
-                } else {
-                    0
-                },
-                0,
-                0,
-                0,
-            ],
-            sheen: material
-                .sheen
-                .color
-                .extend(material.sheen.roughness)
-                .to_array(),
-            textures,
-        }
+        GpuMaterial { factors, textures }
+    }
+
+    /// Bit (1 << `MATERIAL_TEXTURE_*`) per texture slot that holds a texture (the
+    /// `texture_mask` parameter's word).
+    pub fn texture_mask(&self) -> u32 {
+        self.factors[MATERIAL_TEXEL_ALPHA_MODE_TEXTURE_MASK as usize][1]
     }
 }
 
@@ -212,9 +110,9 @@ pub fn material_texel_words(materials: &[GpuMaterial]) -> Vec<u32> {
 /// `SCENE_TEXTURE_SLOTS` (`glsl/materials.glsl`): the texture slots (bit
 /// 1 << `MATERIAL_TEXTURE_*`) in which some of `materials` has a texture; 0 for none.
 pub fn scene_texture_slots(materials: &[GpuMaterial]) -> u32 {
-    materials.iter().fold(0, |slots, material| {
-        slots | material.alpha_mode_texture_flags[1]
-    })
+    materials
+        .iter()
+        .fold(0, |slots, material| slots | material.texture_mask())
 }
 
 #[cfg(test)]
@@ -237,65 +135,15 @@ mod tests {
 
     #[test]
     fn material_matches_get_material_texel() {
-        use crate::contract::{
-            MATERIAL_TEXEL_ALPHA_MODE_TEXTURE_MASK as ALPHA_MODE,
-            MATERIAL_TEXEL_ATTENUATION_CLEARCOAT_NORMAL_SCALE as ATTENUATION,
-            MATERIAL_TEXEL_BASE_COLOR as BASE_COLOR, MATERIAL_TEXEL_EMISSIVE_METALLIC as EMISSIVE,
-            MATERIAL_TEXEL_FLAGS as FLAGS,
-            MATERIAL_TEXEL_ROUGHNESS_SPECULAR_IOR_NORMAL_SCALE as ROUGHNESS,
-            MATERIAL_TEXEL_SHEEN as SHEEN, MATERIAL_TEXEL_SPECULAR_COLOR_ALPHA_CUTOFF as SPECULAR,
-            MATERIAL_TEXEL_TRANSMISSION_THICKNESS_CLEARCOAT as TRANSMISSION,
-        };
-        // The layout of glsl/shared.h: each field at its MATERIAL_TEXEL_* texel, the texture
-        // slots after the factors, three texels each.
+        // The layout of glsl/shared.h: the factor texels, then the texture slots, three
+        // texels each (where each parameter lies is `material_params`' tests').
         let texel = |t: u32| 16 * t as usize;
         assert_eq!(
             MATERIAL_TEXEL_COUNT,
             MATERIAL_FACTOR_TEXEL_COUNT + 3 * MATERIAL_TEXTURE_SLOT_COUNT
         );
         assert_eq!(size_of::<GpuMaterial>(), texel(MATERIAL_TEXEL_COUNT));
-        assert_eq!(offset_of!(GpuMaterial, base_color), texel(BASE_COLOR));
-        assert_eq!(offset_of!(GpuMaterial, emission_metallic), texel(EMISSIVE));
-        assert_eq!(
-            offset_of!(GpuMaterial, roughness_specular_ior_normal_scale),
-            texel(ROUGHNESS)
-        );
-        assert_eq!(
-            offset_of!(GpuMaterial, specular_color_alpha_cutoff),
-            texel(SPECULAR)
-        );
-        assert_eq!(
-            offset_of!(GpuMaterial, alpha_mode_texture_flags),
-            texel(ALPHA_MODE)
-        );
-        assert_eq!(
-            offset_of!(GpuMaterial, transmission_thickness_clearcoat),
-            texel(TRANSMISSION)
-        );
-        assert_eq!(
-            offset_of!(GpuMaterial, attenuation_clearcoat_normal_scale),
-            texel(ATTENUATION)
-        );
-        assert_eq!(offset_of!(GpuMaterial, flags), texel(FLAGS));
-        assert_eq!(offset_of!(GpuMaterial, sheen), texel(SHEEN));
-        // The factors fill their texels with no gap: the last factor texel is the last one.
-        assert_eq!(
-            [
-                BASE_COLOR,
-                EMISSIVE,
-                ROUGHNESS,
-                SPECULAR,
-                ALPHA_MODE,
-                TRANSMISSION,
-                ATTENUATION,
-                FLAGS,
-                SHEEN
-            ]
-            .iter()
-            .max()
-            .map(|last| last + 1),
-            Some(MATERIAL_FACTOR_TEXEL_COUNT)
-        );
+        assert_eq!(offset_of!(GpuMaterial, factors), 0);
         assert_eq!(
             offset_of!(GpuMaterial, textures),
             texel(MATERIAL_FACTOR_TEXEL_COUNT)
@@ -308,8 +156,9 @@ mod tests {
         use crate::contract::{MATERIAL_TEXTURE_BASE_COLOR, MATERIAL_TEXTURE_NORMAL};
         let mut materials = [GpuMaterial::zeroed(); 3];
         assert_eq!(scene_texture_slots(&materials), 0);
-        materials[0].alpha_mode_texture_flags[1] = 1 << MATERIAL_TEXTURE_BASE_COLOR;
-        materials[2].alpha_mode_texture_flags = [
+        let mask = MATERIAL_TEXEL_ALPHA_MODE_TEXTURE_MASK as usize;
+        materials[0].factors[mask][1] = 1 << MATERIAL_TEXTURE_BASE_COLOR;
+        materials[2].factors[mask] = [
             crate::contract::ALPHA_MODE_MASK,
             1 << MATERIAL_TEXTURE_BASE_COLOR | 1 << MATERIAL_TEXTURE_NORMAL,
             0,

@@ -51,6 +51,7 @@ use serde::Serialize;
 use crate::camera::Camera;
 use crate::image_io::output::write_atomically;
 use crate::lights::{PunctualKind, PunctualLight};
+use crate::scene::material_params::MATERIAL_TEXTURES;
 use crate::scene::materials::{AlphaMode, PbrMaterial};
 use crate::scene::{Scene, Triangle};
 
@@ -137,18 +138,22 @@ struct ManifestSheen {
 /// The names of the layers (glTF extensions) `material` uses beyond metallic-roughness, for
 /// the export's one note: their factors are in the manifest, which a consumer may not read.
 pub fn layers_of(material: &PbrMaterial) -> Vec<&'static str> {
-    let layers = [
-        ("transmission", material.transmission.factor > 0.0),
-        ("clearcoat", material.clearcoat.factor > 0.0),
-        ("sheen", material.sheen.color.max_element() > 0.0),
-        ("unlit", material.unlit),
+    let used = [
+        material.transmission.factor > 0.0,
+        material.clearcoat.factor > 0.0,
+        material.sheen.color.max_element() > 0.0,
+        material.unlit,
     ];
-    layers
+    LAYERS
         .iter()
+        .zip(used)
         .filter(|(_, used)| *used)
         .map(|(name, _)| *name)
         .collect()
 }
+
+/// The manifest's keys of the layers beyond metallic-roughness (`layers_of`'s names).
+pub const LAYERS: [&str; 4] = ["transmission", "clearcoat", "sheen", "unlit"];
 
 impl ManifestMaterial {
     fn new(material: &PbrMaterial) -> ManifestMaterial {
@@ -157,42 +162,6 @@ impl ManifestMaterial {
             AlphaMode::Mask { cutoff } => ("mask", Some(cutoff)),
             AlphaMode::Blend => ("blend", None),
         };
-        let textures = [
-            ("baseColorTexture", material.base_color_texture.is_some()),
-            (
-                "metallicRoughnessTexture",
-                material.metallic_roughness_texture.is_some(),
-            ),
-            ("normalTexture", material.normal_texture.is_some()),
-            ("emissiveTexture", material.emissive_texture.is_some()),
-            ("specularTexture", material.specular_texture.is_some()),
-            (
-                "specularColorTexture",
-                material.specular_color_texture.is_some(),
-            ),
-            (
-                "transmissionTexture",
-                material.transmission.texture.is_some(),
-            ),
-            (
-                "thicknessTexture",
-                material.transmission.thickness_texture.is_some(),
-            ),
-            ("clearcoatTexture", material.clearcoat.texture.is_some()),
-            (
-                "clearcoatRoughnessTexture",
-                material.clearcoat.roughness_texture.is_some(),
-            ),
-            (
-                "clearcoatNormalTexture",
-                material.clearcoat.normal_texture.is_some(),
-            ),
-            ("sheenColorTexture", material.sheen.color_texture.is_some()),
-            (
-                "sheenRoughnessTexture",
-                material.sheen.roughness_texture.is_some(),
-            ),
-        ];
         let transmission = &material.transmission;
         let clearcoat = &material.clearcoat;
         let sheen = &material.sheen;
@@ -219,10 +188,10 @@ impl ManifestMaterial {
                 roughness: sheen.roughness,
             }),
             unlit: material.unlit,
-            textures_not_exported: textures
+            textures_not_exported: MATERIAL_TEXTURES
                 .iter()
-                .filter(|(_, used)| *used)
-                .map(|(name, _)| *name)
+                .filter(|texture| (texture.get)(material).is_some())
+                .map(|texture| texture.name)
                 .collect(),
         }
     }

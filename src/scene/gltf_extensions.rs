@@ -1,21 +1,27 @@
 //! Which glTF extensions vkpath implements, and one warning for each extension a file uses
 //! that it does not (so nothing a file asks for is ignored in silence).
 
-/// The glTF extensions whose meaning vkpath implements (a file that requires others is
-/// refused with their names).
-pub const SUPPORTED_EXTENSIONS: [&str; 11] = [
-    "KHR_materials_emissive_strength",
-    "KHR_materials_specular",
-    "KHR_materials_ior",
-    "KHR_materials_transmission",
-    "KHR_materials_volume",
-    "KHR_materials_clearcoat",
-    "KHR_materials_sheen",
-    "KHR_materials_unlit",
+use super::material_params::{MATERIAL_PARAMS, MATERIAL_TEXTURES};
+
+/// The glTF extensions whose meaning vkpath implements beyond the material's: those are the
+/// ones the material parameter table reads (`super::material_params`).
+const OTHER_SUPPORTED_EXTENSIONS: [&str; 3] = [
     "KHR_texture_transform",
     "KHR_mesh_quantization",
     "KHR_lights_punctual",
 ];
+
+/// Whether vkpath implements the meaning of glTF extension `name` (a file that requires
+/// others is refused with their names): the material parameter table's extensions and
+/// `OTHER_SUPPORTED_EXTENSIONS`.
+pub fn is_supported_extension(name: &str) -> bool {
+    OTHER_SUPPORTED_EXTENSIONS.contains(&name)
+        || MATERIAL_PARAMS
+            .iter()
+            .filter_map(|param| param.gltf)
+            .chain(MATERIAL_TEXTURES.iter().map(|texture| texture.gltf))
+            .any(|source| source.extension == Some(name))
+}
 
 /// What a render loses when vkpath ignores a known extension: (extension, what is lost).
 /// Extensions not listed here get a generic sentence.
@@ -80,7 +86,7 @@ pub fn unsupported_extension_warnings<'a>(
     let mut seen: Vec<&str> = Vec::new();
     let mut warnings = Vec::new();
     for extension in extensions_used {
-        if SUPPORTED_EXTENSIONS.contains(&extension) || seen.contains(&extension) {
+        if is_supported_extension(extension) || seen.contains(&extension) {
             continue;
         }
         seen.push(extension);
@@ -120,7 +126,31 @@ mod tests {
     #[test]
     fn the_table_names_no_supported_extension() {
         for (name, _) in WHAT_IS_LOST {
-            assert!(!SUPPORTED_EXTENSIONS.contains(name), "{name}");
+            assert!(!is_supported_extension(name), "{name}");
+        }
+    }
+
+    #[test]
+    fn the_supported_extensions_are_the_material_tables_and_three_more() {
+        // The eleven vkpath implemented before the material table named them.
+        let supported = [
+            "KHR_materials_emissive_strength",
+            "KHR_materials_specular",
+            "KHR_materials_ior",
+            "KHR_materials_transmission",
+            "KHR_materials_volume",
+            "KHR_materials_clearcoat",
+            "KHR_materials_sheen",
+            "KHR_materials_unlit",
+            "KHR_texture_transform",
+            "KHR_mesh_quantization",
+            "KHR_lights_punctual",
+        ];
+        for name in supported {
+            assert!(is_supported_extension(name), "{name}");
+        }
+        for name in ["KHR_materials_iridescence", "KHR_materials", "", "VENDOR_x"] {
+            assert!(!is_supported_extension(name), "{name}");
         }
     }
 }

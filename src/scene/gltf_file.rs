@@ -16,7 +16,7 @@ use gltf::{Document, Gltf};
 use super::animation::{Animation, AnimationPick};
 use super::files::{read_bounded, resolve_reference, LoadOptions, MAX_SCENE_FILE_BYTES};
 use super::gltf_animation::{pose_at, read_animations};
-use super::gltf_extensions::SUPPORTED_EXTENSIONS;
+use super::gltf_extensions::is_supported_extension;
 use super::gltf_loader::{label, malformed, posed_scene};
 use super::gltf_materials::ConvertedMaterials;
 use super::{Scene, SceneError};
@@ -190,7 +190,7 @@ fn check_glb_header(path: &Path, bytes: &[u8]) -> Result<(), SceneError> {
 fn check_required_extensions(path: &Path, document: &Document) -> Result<(), SceneError> {
     let unsupported: Vec<String> = document
         .extensions_required()
-        .filter(|e| !SUPPORTED_EXTENSIONS.contains(e))
+        .filter(|e| !is_supported_extension(e))
         .map(super::printable)
         .collect();
     if unsupported.is_empty() {

@@ -31,7 +31,7 @@ use super::{Material, Scene, SceneBuilder, SceneError};
 use crate::camera::Camera;
 use crate::lights::{PunctualKind, PunctualLight};
 
-pub use super::gltf_extensions::SUPPORTED_EXTENSIONS;
+pub use super::gltf_extensions::is_supported_extension;
 
 /// Loads a glTF 2.0 file (JSON or binary), resolving external buffers relative to its
 /// directory. Textures are ignored with a warning per material.

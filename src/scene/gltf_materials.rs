@@ -1,8 +1,7 @@
-//! glTF materials as vkpath renders them: the metallic-roughness factors with
-//! KHR_materials_emissive_strength, KHR_materials_specular, KHR_materials_ior,
-//! KHR_materials_transmission, KHR_materials_volume, KHR_materials_clearcoat,
-//! KHR_materials_unlit and KHR_texture_transform, and the textures they use, decoded once
-//! each.
+//! glTF materials as vkpath renders them: the factors and texture slots of the material
+//! parameter table (`super::material_params`: the metallic-roughness model and the
+//! KHR_materials_* extensions it names), with KHR_texture_transform, and the textures they
+//! use, decoded once each. Each is read where its row says glTF writes it.
 //!
 //! A texture that cannot be used (a missing or unreadable image, a format other than PNG
 //! or JPEG, an image larger than `MAX_TEXTURE_SIZE` per side, a second texture coordinate
@@ -13,13 +12,17 @@ use std::collections::HashMap;
 use std::io::Read as _;
 use std::path::Path;
 
-use glam::{Vec3, Vec4};
-
 use super::files::{resolve_reference, LoadOptions, MAX_SCENE_FILE_BYTES};
 use super::material_factors::MaterialFactors;
-use super::materials::{AlphaMode, Clearcoat, PbrMaterial, Sheen, TextureBinding, Transmission};
+use super::material_params::{
+    GltfSource, MaterialParam, MaterialTexture, ParamKind, MATERIAL_PARAMS, MATERIAL_TEXTURES,
+};
+use super::materials::{PbrMaterial, TextureBinding};
 use super::texture_source::TextureSourceError;
 use super::textures::{decode_texture, Texture, TextureTransform, WrapMode};
+use crate::contract::{
+    ALPHA_MODE_BLEND, ALPHA_MODE_MASK, ALPHA_MODE_OPAQUE, MATERIAL_TEXTURE_NORMAL,
+};
 
 /// Converts materials and loads their textures, each once.
 pub(crate) struct MaterialReader<'a> {
@@ -81,99 +84,39 @@ impl<'a> MaterialReader<'a> {
         index
     }
 
-    /// The material: its factors (`material_factors`, the conversion `Scene::from_arrays`
-    /// shares) with its textures. Textures are bound in a fixed order (specular, specular
-    /// colour, transmission, thickness, clear coat, sheen, base colour, metallic-roughness,
-    /// emissive, normal), which numbers them.
+    /// The material: its factors and textures, each read where its row of the parameter
+    /// table (`MATERIAL_PARAMS`, `MATERIAL_TEXTURES`) says glTF writes it, then converted as
+    /// `Scene::from_arrays` converts (`MaterialFactors::material`). Textures are bound in a
+    /// fixed order, which numbers them: the extensions' slots (specular, specular colour,
+    /// transmission, thickness, clear coat, sheen) in the table's order, then the core's
+    /// (base colour, metallic-roughness, emissive), the normal texture last.
     fn convert(&mut self, material: &gltf::Material) -> PbrMaterial {
         let name = material_label(material);
-        let mut converted = material_factors(material).material();
-        let pbr = material.pbr_metallic_roughness();
-        if let Some(specular) = material.specular() {
-            converted.specular_texture = specular
-                .specular_texture()
-                .and_then(|info| self.binding(&name, "specularTexture", &info));
-            converted.specular_color_texture = specular
-                .specular_color_texture()
-                .and_then(|info| self.binding(&name, "specularColorTexture", &info));
+        let json = material_json(self.document, material);
+        let mut converted = material_factors(&json).material();
+        let mut order: Vec<&MaterialTexture> = MATERIAL_TEXTURES.iter().collect();
+        order.sort_by_key(|t| {
+            (
+                t.gltf.extension.is_none(),
+                t.slot == MATERIAL_TEXTURE_NORMAL,
+            )
+        });
+        for texture in order {
+            if let Some(info) = gltf_value(&json, &texture.gltf) {
+                let binding = self.json_binding(&name, texture.name, Some(info));
+                (texture.set)(&mut converted, binding);
+            }
         }
-        self.transmission_textures(&name, material, &mut converted.transmission);
-        self.clearcoat_textures(&name, material, &mut converted.clearcoat);
-        self.sheen_textures(&name, material, &mut converted.sheen);
-        converted.base_color_texture = pbr
-            .base_color_texture()
-            .and_then(|info| self.binding(&name, "baseColorTexture", &info));
-        converted.metallic_roughness_texture = pbr
-            .metallic_roughness_texture()
-            .and_then(|info| self.binding(&name, "metallicRoughnessTexture", &info));
-        converted.emissive_texture = material
-            .emissive_texture()
-            .and_then(|info| self.binding(&name, "emissiveTexture", &info));
-        if let Some(normal) = material.normal_texture() {
-            converted.normal_texture = self.normal_binding(&name, &normal);
-            converted.normal_scale = normal.scale();
-        }
+        // The texture infos' scales (glTF's default 1).
+        let scale = |name: &str| {
+            let param = MATERIAL_PARAMS.iter().find(|p| p.name == name);
+            param
+                .and_then(|p| parameter_value(&json, p))
+                .map_or(1.0, |value| value[0])
+        };
+        converted.normal_scale = scale("normal_scale");
+        converted.clearcoat.normal_scale = scale("clearcoat_normal_scale");
         converted.sanitized()
-    }
-
-    /// KHR_materials_transmission's and KHR_materials_volume's textures.
-    fn transmission_textures(
-        &mut self,
-        name: &str,
-        material: &gltf::Material,
-        out_transmission: &mut Transmission,
-    ) {
-        let Some(transmission) = material.transmission() else {
-            return;
-        };
-        out_transmission.texture = transmission
-            .transmission_texture()
-            .and_then(|info| self.binding(name, "transmissionTexture", &info));
-        if let Some(volume) = material.volume() {
-            out_transmission.thickness_texture = volume
-                .thickness_texture()
-                .and_then(|info| self.binding(name, "thicknessTexture", &info));
-        }
-    }
-
-    /// KHR_materials_clearcoat's textures and normal scale, read from the JSON (gltf 1.4 has
-    /// no accessors for it).
-    fn clearcoat_textures(
-        &mut self,
-        name: &str,
-        material: &gltf::Material,
-        out_clearcoat: &mut Clearcoat,
-    ) {
-        let Some(json) = material.extension_value("KHR_materials_clearcoat") else {
-            return;
-        };
-        out_clearcoat.texture =
-            self.json_binding(name, "clearcoatTexture", json.get("clearcoatTexture"));
-        out_clearcoat.roughness_texture = self.json_binding(
-            name,
-            "clearcoatRoughnessTexture",
-            json.get("clearcoatRoughnessTexture"),
-        );
-        let normal = json.get("clearcoatNormalTexture");
-        out_clearcoat.normal_texture = self.json_binding(name, "clearcoatNormalTexture", normal);
-        out_clearcoat.normal_scale = normal
-            .and_then(|n| n.get("scale"))
-            .and_then(serde_json::Value::as_f64)
-            .map_or(1.0, |v| v as f32);
-    }
-
-    /// KHR_materials_sheen's textures, read from the JSON.
-    fn sheen_textures(&mut self, name: &str, material: &gltf::Material, out_sheen: &mut Sheen) {
-        let Some(json) = material.extension_value("KHR_materials_sheen") else {
-            return;
-        };
-        out_sheen.color_texture =
-            self.json_binding(name, "sheenColorTexture", json.get("sheenColorTexture"));
-        out_sheen.roughness_texture = self.json_binding(
-            name,
-            "sheenRoughnessTexture",
-            json.get("sheenRoughnessTexture"),
-        );
     }
 
     /// The binding of a texture reference written in an extension's JSON (`{"index": i,
@@ -208,43 +151,6 @@ impl<'a> MaterialReader<'a> {
             })
             .unwrap_or(0);
         self.bind(material, slot, &texture, tex_coord, transform_matrix)
-    }
-
-    /// The binding of a texture slot, with its KHR_texture_transform.
-    fn binding(
-        &mut self,
-        material: &str,
-        slot: &str,
-        info: &gltf::texture::Info,
-    ) -> Option<TextureBinding> {
-        let transform = info.texture_transform();
-        let tex_coord = transform
-            .as_ref()
-            .and_then(|t| t.tex_coord())
-            .unwrap_or(info.tex_coord());
-        let transform = transform.map_or_else(TextureTransform::identity, |t| {
-            TextureTransform::from_gltf(t.offset(), t.rotation(), t.scale())
-        });
-        self.bind(material, slot, &info.texture(), tex_coord, transform)
-    }
-
-    /// The normal texture's binding; gltf 1.4 exposes no KHR_texture_transform on it, so
-    /// the extension is read from the JSON.
-    fn normal_binding(
-        &mut self,
-        material: &str,
-        normal: &gltf::material::NormalTexture,
-    ) -> Option<TextureBinding> {
-        let (transform_matrix, transform_tex_coord) =
-            json_texture_transform(normal.extension_value("KHR_texture_transform"));
-        let tex_coord = transform_tex_coord.unwrap_or(normal.tex_coord());
-        self.bind(
-            material,
-            "normalTexture",
-            &normal.texture(),
-            tex_coord,
-            transform_matrix,
-        )
     }
 
     fn bind(
@@ -396,65 +302,83 @@ fn json_texture_transform(
     (matrix, tex_coord)
 }
 
-/// A glTF material's constant factors, glTF's defaults where the file says nothing (the
-/// volume's only with transmission, as before: a volume without transmission is ignored).
-fn material_factors(material: &gltf::Material) -> MaterialFactors {
-    let pbr = material.pbr_metallic_roughness();
-    let mut factors = MaterialFactors {
-        base_color: Vec4::from(pbr.base_color_factor()),
-        metallic: pbr.metallic_factor(),
-        roughness: pbr.roughness_factor(),
-        emission: Vec3::from(material.emissive_factor()),
-        emissive_strength: material.emissive_strength().unwrap_or(1.0),
-        ior: material.ior().unwrap_or(1.5),
-        alpha_mode: match material.alpha_mode() {
-            gltf::material::AlphaMode::Opaque => AlphaMode::Opaque,
-            gltf::material::AlphaMode::Mask => AlphaMode::Mask {
-                cutoff: material.alpha_cutoff().unwrap_or(0.5),
-            },
-            gltf::material::AlphaMode::Blend => AlphaMode::Blend,
-        },
-        double_sided: material.double_sided(),
-        unlit: material.unlit(),
-        ..MaterialFactors::default()
-    };
-    if let Some(specular) = material.specular() {
-        factors.specular = specular.specular_factor();
-        factors.specular_color = Vec3::from(specular.specular_color_factor());
+/// The material's JSON as the file has it (gltf's typed extensions written back under
+/// their names); null for glTF's default material.
+fn material_json(document: &gltf::Document, material: &gltf::Material) -> serde_json::Value {
+    material
+        .index()
+        .and_then(|index| document.as_json().materials.get(index))
+        .and_then(|json| serde_json::to_value(json).ok())
+        .unwrap_or(serde_json::Value::Null)
+}
+
+/// The value at `source` in a material's JSON: None where the material lacks its extension
+/// (or the one it requires) or the value.
+fn gltf_value<'j>(
+    json: &'j serde_json::Value,
+    source: &GltfSource,
+) -> Option<&'j serde_json::Value> {
+    let extension = |name: &str| json.get("extensions")?.get(name);
+    if let Some(required) = source.requires {
+        extension(required)?;
     }
-    if let Some(transmission) = material.transmission() {
-        factors.transmission = transmission.transmission_factor();
-        if let Some(volume) = material.volume() {
-            factors.thickness = volume.thickness_factor();
-            factors.attenuation_color = Vec3::from(volume.attenuation_color());
-            factors.attenuation_distance = volume.attenuation_distance();
+    let object = match source.extension {
+        Some(name) => extension(name)?,
+        None => json,
+    };
+    source
+        .path
+        .iter()
+        .try_fold(object, |value, key| value.get(key))
+}
+
+/// A parameter's value in a material's JSON, as four floats (`ParamKind`'s encoding); None
+/// where the file does not write it, or writes something else than its type (glTF's
+/// default then holds). A colour's missing component is the default's.
+fn parameter_value(json: &serde_json::Value, param: &MaterialParam) -> Option<[f32; 4]> {
+    let value = gltf_value(json, param.gltf.as_ref()?)?;
+    let number = |v: &serde_json::Value| v.as_f64().map(|x| x as f32);
+    match param.kind {
+        ParamKind::Number | ParamKind::NonNegative | ParamKind::AlphaCutoff => {
+            Some([number(value)?, 0.0, 0.0, 0.0])
         }
+        ParamKind::Rgb | ParamKind::Rgba => {
+            let components = value.as_array()?;
+            let mut out = param.default;
+            let count = if param.kind == ParamKind::Rgb { 3 } else { 4 };
+            for (k, slot) in out.iter_mut().enumerate().take(count) {
+                if let Some(x) = components.get(k).and_then(number) {
+                    *slot = x;
+                }
+            }
+            Some(out)
+        }
+        // An extension without fields (KHR_materials_unlit) is true by its presence.
+        ParamKind::Bool => {
+            let on = value.as_bool().unwrap_or(value.is_object());
+            Some([f32::from(u8::from(on)), 0.0, 0.0, 0.0])
+        }
+        ParamKind::AlphaMode => {
+            let code = match value.as_str()? {
+                "MASK" => ALPHA_MODE_MASK,
+                "BLEND" => ALPHA_MODE_BLEND,
+                _ => ALPHA_MODE_OPAQUE,
+            };
+            Some([code as f32, 0.0, 0.0, 0.0])
+        }
+        ParamKind::Derived => None,
     }
-    // KHR_materials_clearcoat and KHR_materials_sheen from the JSON (gltf 1.4 has no
-    // accessors for them).
-    let number = |json: &serde_json::Value, key: &str| {
-        json.get(key)
-            .and_then(serde_json::Value::as_f64)
-            .map_or(0.0, |v| v as f32)
-    };
-    if let Some(json) = material.extension_value("KHR_materials_clearcoat") {
-        factors.clearcoat = number(json, "clearcoatFactor");
-        factors.clearcoat_roughness = number(json, "clearcoatRoughnessFactor");
-    }
-    if let Some(json) = material.extension_value("KHR_materials_sheen") {
-        factors.sheen_color = json
-            .get("sheenColorFactor")
-            .and_then(serde_json::Value::as_array)
-            .map_or(Vec3::ZERO, |values| {
-                let component = |i: usize| {
-                    values
-                        .get(i)
-                        .and_then(serde_json::Value::as_f64)
-                        .map_or(0.0, |v| v as f32)
-                };
-                Vec3::new(component(0), component(1), component(2))
-            });
-        factors.sheen_roughness = number(json, "sheenRoughnessFactor");
+}
+
+/// A glTF material's constant factors, each where its row says, glTF's defaults where the
+/// file says nothing (the volume's only with transmission: a volume without transmission is
+/// ignored).
+fn material_factors(json: &serde_json::Value) -> MaterialFactors {
+    let mut factors = MaterialFactors::default();
+    for param in MATERIAL_PARAMS {
+        if let (Some(factor), Some(value)) = (param.factor, parameter_value(json, param)) {
+            (factor.set)(&mut factors, value);
+        }
     }
     factors
 }
@@ -464,5 +388,89 @@ fn material_label(material: &gltf::Material) -> String {
         (Some(name), _) => super::printable(name),
         (None, Some(index)) => format!("#{index}"),
         (None, None) => "default".to_owned(),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::scene::materials::AlphaMode;
+    use glam::{Vec3, Vec4};
+
+    /// The factors of the first material of a glTF document whose `materials` is `json`,
+    /// read as the loader reads them (through gltf's parse and the table's paths).
+    fn factors_of(materials: &str, used: &str) -> MaterialFactors {
+        let text = format!(
+            r#"{{"asset": {{"version": "2.0"}}, "extensionsUsed": [{used}], "materials": {materials}}}"#
+        );
+        let gltf = gltf::Gltf::from_slice(text.as_bytes()).unwrap();
+        let material = gltf.document.materials().next().unwrap();
+        material_factors(&material_json(&gltf.document, &material))
+    }
+
+    #[test]
+    fn every_factor_is_read_where_gltf_writes_it() {
+        // Written as the specification spells each key, not from the table.
+        let factors = factors_of(
+            r#"[{
+                "pbrMetallicRoughness": {"baseColorFactor": [0.1, 0.2, 0.3, 0.4],
+                                         "metallicFactor": 0.5, "roughnessFactor": 0.6},
+                "emissiveFactor": [0.7, 0.8, 0.9],
+                "alphaMode": "MASK", "alphaCutoff": 0.25, "doubleSided": true,
+                "extensions": {
+                    "KHR_materials_emissive_strength": {"emissiveStrength": 3.0},
+                    "KHR_materials_specular": {"specularFactor": 0.3,
+                                               "specularColorFactor": [0.4, 0.5, 0.6]},
+                    "KHR_materials_ior": {"ior": 1.7},
+                    "KHR_materials_transmission": {"transmissionFactor": 0.8},
+                    "KHR_materials_volume": {"thicknessFactor": 0.05,
+                                             "attenuationColor": [0.9, 0.8, 0.7],
+                                             "attenuationDistance": 2.5},
+                    "KHR_materials_clearcoat": {"clearcoatFactor": 0.35,
+                                                "clearcoatRoughnessFactor": 0.45},
+                    "KHR_materials_sheen": {"sheenColorFactor": [0.15, 0.25, 0.35],
+                                            "sheenRoughnessFactor": 0.55},
+                    "KHR_materials_unlit": {}
+                }
+            }]"#,
+            r#""KHR_materials_emissive_strength", "KHR_materials_specular", "KHR_materials_ior",
+               "KHR_materials_transmission", "KHR_materials_volume", "KHR_materials_clearcoat",
+               "KHR_materials_sheen", "KHR_materials_unlit""#,
+        );
+        let expected = MaterialFactors {
+            base_color: Vec4::new(0.1, 0.2, 0.3, 0.4),
+            metallic: 0.5,
+            roughness: 0.6,
+            emission: Vec3::new(0.7, 0.8, 0.9),
+            emissive_strength: 3.0,
+            specular: 0.3,
+            specular_color: Vec3::new(0.4, 0.5, 0.6),
+            ior: 1.7,
+            transmission: 0.8,
+            thickness: 0.05,
+            attenuation_color: Vec3::new(0.9, 0.8, 0.7),
+            attenuation_distance: 2.5,
+            clearcoat: 0.35,
+            clearcoat_roughness: 0.45,
+            sheen_color: Vec3::new(0.15, 0.25, 0.35),
+            sheen_roughness: 0.55,
+            alpha_mode: AlphaMode::Mask { cutoff: 0.25 },
+            double_sided: true,
+            unlit: true,
+        };
+        assert_eq!(factors, expected);
+    }
+
+    #[test]
+    fn a_volume_without_transmission_and_a_bare_material_keep_the_defaults() {
+        let volume_only = factors_of(
+            r#"[{"extensions": {"KHR_materials_volume": {"thicknessFactor": 1.0,
+                                                          "attenuationDistance": 1.0}}}]"#,
+            r#""KHR_materials_volume""#,
+        );
+        assert_eq!(volume_only, MaterialFactors::default());
+        let masked = factors_of(r#"[{"alphaMode": "MASK"}]"#, "");
+        assert_eq!(masked.alpha_mode, AlphaMode::Mask { cutoff: 0.5 });
+        assert_eq!(factors_of("[{}]", ""), MaterialFactors::default());
     }
 }

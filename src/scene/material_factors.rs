@@ -3,9 +3,13 @@
 //! factors into `MaterialFactors` (and adds its textures), `Scene::from_arrays` (Python's
 //! `Scene.from_arrays`) takes them from its caller, so that the same factors give the same
 //! material, and the same pixels, by construction.
+//!
+//! Each factor's name, type, glTF source and default are its row of
+//! `super::material_params::MATERIAL_PARAMS`; `Default` is made from it.
 
 use glam::{Vec3, Vec4};
 
+use super::material_params::MATERIAL_PARAMS;
 use super::materials::{AlphaMode, Clearcoat, PbrMaterial, Sheen, Transmission};
 
 /// The factors of a glTF metallic-roughness material and its extensions, without textures.
@@ -53,20 +57,21 @@ pub struct MaterialFactors {
 }
 
 impl Default for MaterialFactors {
+    /// glTF's default material: every factor at its row's `default` in `MATERIAL_PARAMS`.
     fn default() -> MaterialFactors {
-        MaterialFactors {
-            base_color: Vec4::ONE,
-            metallic: 1.0,
-            roughness: 1.0,
+        let mut factors = MaterialFactors {
+            base_color: Vec4::ZERO,
+            metallic: 0.0,
+            roughness: 0.0,
             emission: Vec3::ZERO,
-            emissive_strength: 1.0,
-            specular: 1.0,
-            specular_color: Vec3::ONE,
-            ior: 1.5,
+            emissive_strength: 0.0,
+            specular: 0.0,
+            specular_color: Vec3::ZERO,
+            ior: 0.0,
             transmission: 0.0,
             thickness: 0.0,
-            attenuation_color: Vec3::ONE,
-            attenuation_distance: f32::INFINITY,
+            attenuation_color: Vec3::ZERO,
+            attenuation_distance: 0.0,
             clearcoat: 0.0,
             clearcoat_roughness: 0.0,
             sheen_color: Vec3::ZERO,
@@ -74,7 +79,13 @@ impl Default for MaterialFactors {
             alpha_mode: AlphaMode::Opaque,
             double_sided: false,
             unlit: false,
+        };
+        for param in MATERIAL_PARAMS {
+            if let Some(factor) = &param.factor {
+                (factor.set)(&mut factors, param.default);
+            }
         }
+        factors
     }
 }
 

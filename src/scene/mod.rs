@@ -22,6 +22,7 @@ pub mod gltf_loader;
 mod gltf_materials;
 pub mod instances;
 pub mod material_factors;
+pub mod material_params;
 pub mod materials;
 pub mod meshes;
 pub mod morph_targets;
