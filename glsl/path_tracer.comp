@@ -81,6 +81,7 @@ layout(push_constant) uniform frame_push_constants {
 #include "ray_query.glsl"
 #endif
 #include "camera.glsl"
+#include "thin_lens.glsl"
 #include "adaptive_sampling.glsl"
 #include "path_loop.glsl"
 #ifdef USER_FUNCTIONS
@@ -94,8 +95,8 @@ layout(set = 0, binding = BINDING_CONVERGED_PIXELS, std430) buffer converged_pix
 
 
 // One sample of the radiance through a pixel with the chosen integrator.
-vec3 get_sample_radiance(vec3 ray_direction, inout uvec2 seed) {
-    vec3 camera_position = g_camera_position.xyz;
+// \param camera_position Origin of the camera ray: the pinhole, or a point of the lens
+vec3 get_sample_radiance(vec3 camera_position, vec3 ray_direction, inout uvec2 seed) {
 #ifdef USE_MATERIALS
     // The sample's alpha coverage (glsl/materials.glsl)
     g_path.alpha_seed = seed;
@@ -155,7 +156,14 @@ void main() {
             ? (vec2(pixel) + get_path_random_numbers(seed)) / vec2(resolution)
             : get_sample_tex_coord(pixel, resolution, seed);
         vec3 ray_direction = get_primary_ray_direction(tex_coord.x, tex_coord.y, g_camera_position.xyz, g_left_bottom.xyz, g_right.xyz, g_up.xyz);
-        vec3 radiance = get_sample_radiance(ray_direction, seed);
+        vec3 ray_origin = g_camera_position.xyz;
+        // Depth of field (glsl/thin_lens.glsl): the lens's ray instead of the pinhole's
+        if (g_camera_position.w > 0.0) {
+            vec2 lens_random_numbers = get_lens_random_numbers(get_sample_seed(pixel, sample_index, g_resolution_triangle_count_seed.w), sample_index, g_path.pixel_seed, is_importance_sampled() && SAMPLER == SAMPLER_SOBOL);
+            vec3 image_plane_middle = g_left_bottom.xyz + 0.5 * (g_right.xyz + g_up.xyz);
+            apply_thin_lens(ray_origin, ray_direction, g_right.xyz, g_up.xyz, image_plane_middle, g_camera_position.w, g_left_bottom.w, uint(g_right.w), g_up.w, lens_random_numbers);
+        }
+        vec3 radiance = get_sample_radiance(ray_origin, ray_direction, seed);
         // Kahan summation: the sum stays within a few ulps however many samples it holds.
         // `precise` forbids the compiler to reassociate or fuse these operations.
         precise vec3 corrected = radiance - compensation;

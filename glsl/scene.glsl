@@ -45,7 +45,10 @@ packed_triangle_t get_packed_triangle(uint index) {
 
 // What stays fixed during a render. Mirrors `vkpath::render::gpu_types::RenderUniforms`.
 layout(std140, set = 0, binding = BINDING_RENDER_UNIFORMS) uniform render_uniforms {
-    // The pinhole camera (see get_primary_ray_direction()), world space; w unused.
+    // The pinhole camera (see get_primary_ray_direction()), world space, and in the w
+    // components its thin lens (glsl/thin_lens.glsl): g_camera_position.w the aperture radius
+    // (0: a pinhole), g_left_bottom.w the focus distance, g_right.w the number of aperture
+    // blades (0: a disc), g_up.w the aperture's rotation in radians.
     vec4 g_camera_position;
     vec4 g_left_bottom;
     vec4 g_right;

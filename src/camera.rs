@@ -23,6 +23,44 @@ pub enum CameraError {
     NoViewDirection,
 }
 
+/// A thin lens in front of the pinhole (depth of field): rays leave from a point of the
+/// aperture and pass through the point of the focus plane that the pinhole's ray meets, as in
+/// Mitsuba's `thinlens` and pbrt's perspective camera. `Lens::PINHOLE` (radius 0) is the
+/// workshop's pinhole, bit for bit.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Lens {
+    /// Radius of the aperture, world units (0: a pinhole). A polygonal aperture's corners
+    /// lie on this circle.
+    pub aperture_radius: f32,
+    /// Distance from the pinhole to the plane in focus, along the view axis, world units.
+    pub focus_distance: f32,
+    /// Number of aperture blades: 0 for a disc, else 3 or more (a regular polygon).
+    pub blades: u32,
+    /// Rotation of a polygonal aperture about the view axis, radians (0: a corner points up).
+    pub rotation: f32,
+}
+
+impl Lens {
+    /// No lens: the pinhole camera.
+    pub const PINHOLE: Lens = Lens {
+        aperture_radius: 0.0,
+        focus_distance: 1.0,
+        blades: 0,
+        rotation: 0.0,
+    };
+
+    /// Whether this is the pinhole (no depth of field).
+    pub fn is_pinhole(&self) -> bool {
+        self.aperture_radius == 0.0
+    }
+}
+
+impl Default for Lens {
+    fn default() -> Lens {
+        Lens::PINHOLE
+    }
+}
+
 /// A pinhole camera, independent of the image's aspect ratio (world space, metres).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Camera {
@@ -35,6 +73,8 @@ pub struct Camera {
     /// The image plane's full-width edge vector for an aspect ratio (width / height) of 1,
     /// pointing right in the image.
     pub right_per_unit_aspect: Vec3,
+    /// The lens in front of the pinhole (`Lens::PINHOLE`: none).
+    pub lens: Lens,
 }
 
 /// The image plane of a camera for one aspect ratio: what `get_primary_ray_direction` takes.
@@ -48,6 +88,8 @@ pub struct ImagePlane {
     pub right: Vec3,
     /// Full-height edge vector, world space.
     pub up: Vec3,
+    /// The camera's lens (`Lens::PINHOLE`: none).
+    pub lens: Lens,
 }
 
 impl Camera {
@@ -65,6 +107,7 @@ impl Camera {
             image_plane_middle: position + forward,
             up: height * up_direction,
             right_per_unit_aspect: height * right_direction,
+            lens: Lens::PINHOLE,
         }
     }
 
@@ -106,6 +149,7 @@ impl Camera {
             left_bottom: self.image_plane_middle - 0.5 * right - 0.5 * self.up,
             right,
             up: self.up,
+            lens: self.lens,
         }
     }
 }

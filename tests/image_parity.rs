@@ -13,11 +13,11 @@ use crate::common;
 use std::path::PathBuf;
 
 use glam::{UVec2, Vec3};
-use vkpath::camera::ImagePlane;
+use vkpath::camera::{ImagePlane, Lens};
 use vkpath::cpu::camera::{get_sample_seed, get_sample_tex_coord};
 use vkpath::cpu::integrator::{offset_ray_origin, orient_towards_ray, ray_mesh_intersection};
-use vkpath::cpu::workshop::{get_primary_ray_direction, get_random_numbers, sample_sphere};
-use vkpath::cpu::{add_cpu_samples, CpuImage, CpuRenderSettings};
+use vkpath::cpu::workshop::{get_random_numbers, sample_sphere};
+use vkpath::cpu::{add_cpu_samples, get_camera_ray, CpuImage, CpuRenderSettings};
 use vkpath::image_io::output::{save_image, SaveOptions};
 use vkpath::scene::Triangle;
 use vkpath::stats::ztest::{z_test_images, MeanImage};
@@ -131,15 +131,8 @@ fn pixel_has_near_tie(
     (first_sample..first_sample + settings.spp).any(|sample| {
         let mut seed = get_sample_seed(pixel, sample, settings.seed);
         let tex_coord = get_sample_tex_coord(pixel, resolution, settings.pixel_filter, &mut seed);
-        let mut origin = plane.camera_position;
-        let mut direction = get_primary_ray_direction(
-            tex_coord.x,
-            tex_coord.y,
-            origin,
-            plane.left_bottom,
-            plane.right,
-            plane.up,
-        );
+        let (mut origin, mut direction) =
+            get_camera_ray(plane, pixel, sample, settings.seed, tex_coord);
         for bounce in 1..=bounces {
             if ray_nearly_ties(triangles, origin, direction) {
                 return true;
@@ -233,12 +226,27 @@ fn parity(integrator: Integrator, pixel_filter: PixelFilter) {
 
 /// GPU against CPU for samples `first_sample..first_sample + SPP` of every pixel.
 fn parity_from_sample(integrator: Integrator, pixel_filter: PixelFilter, first_sample: u32) {
+    parity_through(integrator, pixel_filter, first_sample, Lens::PINHOLE);
+}
+
+/// `parity_from_sample` with `lens` in front of the box's camera.
+fn parity_through(
+    integrator: Integrator,
+    pixel_filter: PixelFilter,
+    first_sample: u32,
+    lens: Lens,
+) {
     let relative_tolerance = match integrator {
         Integrator::Nee | Integrator::Mis => LIGHT_SAMPLED_RELATIVE_TOLERANCE,
         _ => RELATIVE_TOLERANCE,
     };
-    let name = format!("{integrator:?}-{pixel_filter:?}-from-{first_sample}").to_lowercase();
-    let scene = Scene::builtin_cornell_box().unwrap();
+    let lens_name = if lens.is_pinhole() { "" } else { "-lens" };
+    let name =
+        format!("{integrator:?}-{pixel_filter:?}-from-{first_sample}{lens_name}").to_lowercase();
+    let mut scene = Scene::builtin_cornell_box().unwrap();
+    if let Some(camera) = scene.camera.as_mut() {
+        camera.lens = lens;
+    }
     let settings = RenderSettings {
         width: WIDTH,
         height: HEIGHT,
@@ -435,6 +443,26 @@ fn samples_past_two_to_the_sixteen_match_the_cpu_and_have_their_own_random_numbe
         "only {differing} of {} pixels differ from sample 0 and from sample 2^16",
         early.mean.len()
     );
+}
+
+#[test]
+fn thin_lenses_match_the_cpu() {
+    // A disc through the workshop's path tracer (PCG2D lens numbers), a hexagon through mis
+    // (its Sobol lens numbers are the CPU's PCG2D's only with --sampler pcg, which
+    // `cpu_settings`' RenderSettings default gives), both focused inside the box.
+    let disc = Lens {
+        aperture_radius: 0.4,
+        focus_distance: 3.0,
+        blades: 0,
+        rotation: 0.0,
+    };
+    parity_through(Integrator::PathTracing, PixelFilter::Box, 0, disc);
+    let hexagon = Lens {
+        blades: 6,
+        rotation: 0.3,
+        ..disc
+    };
+    parity_through(Integrator::Mis, PixelFilter::Box, 0, hexagon);
 }
 
 #[test]

@@ -30,35 +30,48 @@ pub struct Camera {
 impl Camera {
     /// A camera at `position` looking at `look_at`, `up` giving the image's up direction
     /// (not parallel to the view direction) and `fov` the vertical field of view in degrees,
-    /// in (0, 180): the command line's --camera-position, --look-at, --up and --fov.
+    /// in (0, 180): the command line's --camera-position, --look-at, --up and --fov. With an
+    /// `aperture_radius` above 0 (world units), a thin lens focused at `focus_distance` (along
+    /// the view axis) gives depth of field; `blades` shapes its aperture (0: a disc, else a
+    /// regular polygon of 3 or more corners, turned by `aperture_rotation` degrees): the
+    /// command line's --aperture-radius, --focus-distance, --aperture-blades and
+    /// --aperture-rotation.
     #[new]
-    #[pyo3(signature = (position, look_at, up = (0.0, 1.0, 0.0), fov = DEFAULT_VERTICAL_FOV_DEGREES),
-        text_signature = "(position, look_at, up=(0.0, 1.0, 0.0), fov=45.0)")]
+    #[pyo3(signature = (position, look_at, up = (0.0, 1.0, 0.0), fov = DEFAULT_VERTICAL_FOV_DEGREES,
+        aperture_radius = 0.0, focus_distance = None, blades = 0, aperture_rotation = 0.0),
+        text_signature = "(position, look_at, up=(0.0, 1.0, 0.0), fov=45.0, aperture_radius=0.0, focus_distance=None, blades=0, aperture_rotation=0.0)")]
+    #[allow(clippy::too_many_arguments)]
     fn new(
         position: (f32, f32, f32),
         look_at: (f32, f32, f32),
         up: (f32, f32, f32),
         fov: f32,
+        aperture_radius: f32,
+        focus_distance: Option<f32>,
+        blades: u32,
+        aperture_rotation: f32,
     ) -> PyResult<Camera> {
-        let [position, look_at, up] = [position, look_at, up].map(Vec3::from);
-        if !(position.is_finite() && look_at.is_finite() && up.is_finite()) {
-            return Err(argument_error(
-                "the camera's position, look_at and up must be finite",
-            ));
-        }
-        // Checked here to name Python's parameters (the library's message names the
-        // command line's --fov, --look-at and --up).
-        if !(fov > 0.0 && fov < 180.0) {
-            return Err(argument_error(format!(
-                "fov={fov} is outside (0, 180) degrees"
-            )));
-        }
-        let inner = vkpath::Camera::look_at_checked(position, look_at, up, fov).map_err(|_| {
-            argument_error(
-                "position, look_at and up do not define a view (the view direction is zero or parallel to up)",
-            )
-        })?;
-        Ok(Camera { inner })
+        let mut camera = Camera::pinhole(position, look_at, up, fov)?;
+        camera.inner.lens = lens(aperture_radius, focus_distance, blades, aperture_rotation)?;
+        Ok(camera)
+    }
+
+    /// The thin lens's aperture radius, world units (0: a pinhole).
+    #[getter]
+    fn aperture_radius(&self) -> f32 {
+        self.inner.lens.aperture_radius
+    }
+
+    /// The distance in focus along the view axis (None for a pinhole).
+    #[getter]
+    fn focus_distance(&self) -> Option<f32> {
+        (!self.inner.lens.is_pinhole()).then_some(self.inner.lens.focus_distance)
+    }
+
+    /// The aperture's blades (0: a disc).
+    #[getter]
+    fn blades(&self) -> u32 {
+        self.inner.lens.blades
     }
 
     /// The pinhole, world space.
@@ -101,6 +114,77 @@ impl Camera {
             self.fov()
         )
     }
+}
+
+impl Camera {
+    /// The pinhole camera of `Camera(position, look_at, up, fov)`, checked.
+    fn pinhole(
+        position: (f32, f32, f32),
+        look_at: (f32, f32, f32),
+        up: (f32, f32, f32),
+        fov: f32,
+    ) -> PyResult<Camera> {
+        let [position, look_at, up] = [position, look_at, up].map(Vec3::from);
+        if !(position.is_finite() && look_at.is_finite() && up.is_finite()) {
+            return Err(argument_error(
+                "the camera's position, look_at and up must be finite",
+            ));
+        }
+        // Checked here to name Python's parameters (the library's message names the
+        // command line's --fov, --look-at and --up).
+        if !(fov > 0.0 && fov < 180.0) {
+            return Err(argument_error(format!(
+                "fov={fov} is outside (0, 180) degrees"
+            )));
+        }
+        let inner = vkpath::Camera::look_at_checked(position, look_at, up, fov).map_err(|_| {
+            argument_error(
+                "position, look_at and up do not define a view (the view direction is zero or parallel to up)",
+            )
+        })?;
+        Ok(Camera { inner })
+    }
+}
+
+/// The thin lens of `Camera(...)`'s lens parameters, checked (a pinhole for radius 0).
+fn lens(
+    aperture_radius: f32,
+    focus_distance: Option<f32>,
+    blades: u32,
+    aperture_rotation: f32,
+) -> PyResult<vkpath::camera::Lens> {
+    if !(aperture_radius.is_finite() && aperture_radius >= 0.0) {
+        return Err(argument_error(format!(
+            "aperture_radius={aperture_radius} is not a finite number at or above 0"
+        )));
+    }
+    if aperture_radius == 0.0 {
+        return Ok(vkpath::camera::Lens::PINHOLE);
+    }
+    let Some(focus_distance) = focus_distance else {
+        return Err(argument_error(
+            "aperture_radius above 0 needs focus_distance (the distance in focus)",
+        ));
+    };
+    if !(focus_distance.is_finite() && focus_distance > 0.0) {
+        return Err(argument_error(format!(
+            "focus_distance={focus_distance} is not a finite number above 0"
+        )));
+    }
+    if blades == 1 || blades == 2 || blades > 64 {
+        return Err(argument_error(format!(
+            "blades={blades} is not 0 (a disc) or 3 to 64"
+        )));
+    }
+    if !aperture_rotation.is_finite() {
+        return Err(argument_error("aperture_rotation must be finite"));
+    }
+    Ok(vkpath::camera::Lens {
+        aperture_radius,
+        focus_distance,
+        blades,
+        rotation: aperture_rotation.to_radians(),
+    })
 }
 
 /// What a sequence of renders of a glTF file (`render_frames`) decides once, from the file

@@ -103,6 +103,32 @@ def test_a_scene_file_and_a_look_at_camera_equal_the_command_line(cli, tmp_path)
                                              integrator="mis")), bits(own))
 
 
+def test_a_thin_lens_camera_equals_the_command_lines_depth_of_field(cli, tmp_path):
+    scene_file = REPO / "scenes" / "materials.gltf"
+    output = tmp_path / "cli.exr"
+    position, target = (0.5, 1.5, 4.0), (0.0, 0.5, 0.0)
+    run_cli(cli, "render", str(scene_file), "--width", "24", "--height", "16", "--spp", "2",
+            "--integrator", "mis", "--camera-position", "0.5,1.5,4", "--look-at", "0,0.5,0",
+            "--fov", "50", "--aperture-radius", "0.2", "--focus-distance", "2.5",
+            "--aperture-blades", "6", "--aperture-rotation", "15", "-o", str(output))
+    scene = vkpath.Scene.load(scene_file)
+    scene.camera = vkpath.Camera(position, target, fov=50.0, aperture_radius=0.2,
+                                 focus_distance=2.5, blades=6, aperture_rotation=15.0)
+    assert scene.camera.aperture_radius == pytest.approx(0.2)
+    assert scene.camera.focus_distance == pytest.approx(2.5) and scene.camera.blades == 6
+    blurred = vkpath.render(scene, width=24, height=16, spp=2, integrator="mis")
+    assert np.array_equal(bits(blurred), bits(read_exr_rgba(output)))
+    scene.look_at(position, target, fov=50.0)
+    assert scene.camera.focus_distance is None
+    assert not np.array_equal(bits(vkpath.render(scene, width=24, height=16, spp=2,
+                                                 integrator="mis")), bits(blurred))
+    for bad in ({"aperture_radius": 0.1}, {"aperture_radius": -1.0, "focus_distance": 1.0},
+                {"aperture_radius": 0.1, "focus_distance": 0.0},
+                {"aperture_radius": 0.1, "focus_distance": 1.0, "blades": 2}):
+        with pytest.raises(vkpath.VkpathError):
+            vkpath.Camera(position, target, **bad)
+
+
 def test_progress_is_called_and_false_stops_without_losing_samples():
     calls = []
 

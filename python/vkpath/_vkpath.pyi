@@ -23,11 +23,32 @@ class Camera:
     """A pinhole camera (world space)."""
 
     def __init__(
-        self, position: _Vec3, look_at: _Vec3, up: _Vec3 = (0.0, 1.0, 0.0), fov: float = 45.0
+        self,
+        position: _Vec3,
+        look_at: _Vec3,
+        up: _Vec3 = (0.0, 1.0, 0.0),
+        fov: float = 45.0,
+        aperture_radius: float = 0.0,
+        focus_distance: Optional[float] = None,
+        blades: int = 0,
+        aperture_rotation: float = 0.0,
     ) -> None:
         """A camera at ``position`` looking at ``look_at``; ``up`` is the image's up direction
         (not parallel to the view), ``fov`` the vertical field of view in degrees, in (0, 180).
-        Raises VkpathError for a field of view out of range or no view direction."""
+        Depth of field: a thin lens of ``aperture_radius`` (world units; 0 is a pinhole)
+        focused at ``focus_distance`` along the view axis, its aperture a disc (``blades`` 0)
+        or a regular polygon of 3 to 64 corners turned by ``aperture_rotation`` degrees.
+        Raises VkpathError for a field of view out of range, no view direction, or a lens
+        without a focus distance or with bad values."""
+    @property
+    def aperture_radius(self) -> float:
+        """The thin lens's aperture radius (0: a pinhole)."""
+    @property
+    def focus_distance(self) -> Optional[float]:
+        """The distance in focus along the view axis (None for a pinhole)."""
+    @property
+    def blades(self) -> int:
+        """The aperture's blades (0: a disc)."""
     @property
     def position(self) -> _Vec3:
         """The pinhole."""

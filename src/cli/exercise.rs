@@ -8,7 +8,7 @@ use glam::{UVec2, Vec3};
 use super::options::{parse_spp, SaveArgs};
 use super::output::{fail_on_validation_messages, render_and_save, Reporting};
 use super::value_error::ValueError;
-use super::{parse_vec3, DeviceArgs};
+use super::{parse_pixel, parse_vec3, DeviceArgs};
 use crate::exercise::{
     render_brdf_sample_display, render_guide_cell_display, render_sample_display,
     workshop_frame_settings, BrdfDisplaySetup, Exercise, ExerciseKind, ExerciseSampler,
@@ -104,19 +104,6 @@ pub struct GuideCellArgs {
 
 /// Side of the square view through which `guide-cell` trains and picks its point.
 const GUIDE_CELL_VIEW_SIDE: u32 = 64;
-
-/// Parses "x,y" as a pixel.
-fn parse_pixel(text: &str) -> Result<UVec2, ValueError> {
-    let parts: Vec<&str> = text.split(',').map(str::trim).collect();
-    let [x, y] = parts[..] else {
-        return Err(ValueError::NotPixel { text: text.into() });
-    };
-    let number = |s: &str| {
-        s.parse::<u32>()
-            .map_err(|_| ValueError::NotPixelIndex { text: s.into() })
-    };
-    Ok(UVec2::new(number(x)?, number(y)?))
-}
 
 /// The material (glTF's metallic-roughness parameters) and view angle whose `sample_brdf`
 /// samples `vkpath exercise brdf-samples` draws; what is not given is

@@ -4,7 +4,7 @@
 //! end of a render) and `summary`, never in one another.
 
 use clap::{Parser, Subcommand};
-use glam::Vec3;
+use glam::{UVec2, Vec3};
 
 use value_error::ValueError;
 
@@ -16,6 +16,7 @@ pub mod exercise;
 pub mod export;
 pub mod frame_files;
 pub mod frames;
+pub mod lens;
 pub mod merge;
 pub mod options;
 pub mod output;
@@ -197,6 +198,19 @@ pub fn parse_vec3(text: &str) -> Result<Vec3, ValueError> {
         }
     }
     Ok(Vec3::from_array(values))
+}
+
+/// Parses "x,y" as a pixel (column, row).
+pub fn parse_pixel(text: &str) -> Result<UVec2, ValueError> {
+    let parts: Vec<&str> = text.split(',').map(str::trim).collect();
+    let [x, y] = parts[..] else {
+        return Err(ValueError::NotPixel { text: text.into() });
+    };
+    let number = |s: &str| {
+        s.parse::<u32>()
+            .map_err(|_| ValueError::NotPixelIndex { text: s.into() })
+    };
+    Ok(UVec2::new(number(x)?, number(y)?))
 }
 
 /// Runs the command line; returns the process exit code.

@@ -99,6 +99,9 @@ pub struct RenderArgs {
     /// The camera, when not the scene's.
     #[command(flatten)]
     pub camera: CameraArgs,
+    /// Depth of field.
+    #[command(flatten)]
+    pub lens: crate::cli::lens::LensArgs,
     /// Light from beyond the scene.
     #[command(flatten)]
     pub lights: LightArgs,
@@ -252,6 +255,11 @@ impl RenderArgs {
                 warn("--environment-rotation has no effect without --environment".into());
             }
         }
+        for option in self.lens.unused_without_aperture() {
+            warn(format!(
+                "{option} has no effect without --aperture-radius or --f-stop"
+            ));
+        }
         if self.camera.camera_position.is_none() {
             if self.camera.fov != DEFAULT_VERTICAL_FOV_DEGREES {
                 warn("--fov has no effect without --camera-position and --look-at".into());
@@ -342,8 +350,24 @@ impl RenderArgs {
     /// The camera from the command line, else the scene's, else one that frames the scene
     /// (which one line says when `talk` is set): `animation`'s box where a sequence gives
     /// one (`GltfFile::animation_bounds`: every frame takes the same camera), else the
-    /// scene's own bounds.
+    /// scene's own bounds; with the lens of the depth-of-field options (`LensArgs::apply`;
+    /// `talk` says the focus distance autofocus found).
     pub fn camera(
+        &self,
+        scene: &Scene,
+        talk: bool,
+        animation: Option<(Vec3, Vec3)>,
+    ) -> anyhow::Result<Camera> {
+        let pinhole = self.pinhole_camera(scene, talk, animation)?;
+        let (camera, autofocus) = self.lens.apply(pinhole, scene, self.width, self.height)?;
+        if let (Some(distance), true) = (autofocus, talk) {
+            eprintln!("vkpath: autofocus: focus distance {distance:.4}");
+        }
+        Ok(camera)
+    }
+
+    /// `camera` without the lens.
+    fn pinhole_camera(
         &self,
         scene: &Scene,
         talk: bool,

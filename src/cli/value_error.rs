@@ -151,6 +151,24 @@ pub enum ValueError {
         /// What is wrong with it.
         why: &'static str,
     },
+    /// Not a finite number at or above 0.
+    #[error("'{text}' is not a finite number at or above 0")]
+    NotNonNegative {
+        /// The value as given.
+        text: String,
+    },
+    /// Not a finite number above 0.
+    #[error("'{text}' is not a finite number above 0")]
+    NotPositive {
+        /// The value as given.
+        text: String,
+    },
+    /// Not a number of aperture blades: 0 (round) or 3..=64.
+    #[error("'{text}' is not a number of aperture blades: 0 (round) or 3 to 64")]
+    NotBlades {
+        /// The value as given.
+        text: String,
+    },
     /// A `--frames` range longer than `MAX_FRAMES`.
     #[error("'{text}' holds {count} frames; one render takes at most {max} (split the range over several tasks)", max = crate::cli::frames::MAX_FRAMES)]
     TooManyFrames {

@@ -30,6 +30,7 @@ pub mod sobol;
 pub mod surface;
 pub mod texels;
 pub mod textures;
+pub mod thin_lens;
 pub mod workshop;
 
 #[cfg(test)]
@@ -37,6 +38,6 @@ mod furnace_tests;
 
 pub use image::{CpuImage, PixelAccumulator};
 pub use renderer::{
-    add_cpu_guided_samples, add_cpu_samples, render_cpu, train_cpu_guide, CpuGuiding,
-    CpuRenderSettings,
+    add_cpu_guided_samples, add_cpu_samples, get_camera_ray, render_cpu, train_cpu_guide,
+    CpuGuiding, CpuRenderSettings,
 };

@@ -5,7 +5,7 @@
 
 use std::sync::atomic::{AtomicU32, Ordering};
 
-use glam::UVec2;
+use glam::{UVec2, Vec2, Vec3};
 use rayon::prelude::*;
 
 use crate::camera::ImagePlane;
@@ -18,6 +18,8 @@ use crate::cpu::integrators::is_importance_sampled;
 use crate::cpu::light_tree::LightTexels;
 use crate::cpu::lights::LightScene;
 use crate::cpu::path_loop::get_path_radiance;
+use crate::cpu::sobol::get_sobol_pixel_seed;
+use crate::cpu::thin_lens::{apply_thin_lens, get_lens_random_numbers};
 use crate::cpu::workshop::get_primary_ray_direction;
 use crate::error::Result;
 use crate::guiding::training::{GuideTrainer, GuideTraining, GUIDE_TRAINING_FIRST_SAMPLE};
@@ -160,6 +162,37 @@ pub fn add_cpu_guided_samples(
         });
 }
 
+/// The camera ray of sample `sample_index` of `pixel` through the image point `tex_coord`, as
+/// `main()` in `path_tracer.comp` makes it: the pinhole's (`get_primary_ray_direction`), or
+/// with a lens (`plane.lens`) the thin lens's, whose numbers come from PCG2D (the CPU
+/// renderer's sampler). Returns (origin, direction).
+pub fn get_camera_ray(
+    plane: &ImagePlane,
+    pixel: UVec2,
+    sample_index: u32,
+    user_seed: u32,
+    tex_coord: Vec2,
+) -> (Vec3, Vec3) {
+    let direction = get_primary_ray_direction(
+        tex_coord.x,
+        tex_coord.y,
+        plane.camera_position,
+        plane.left_bottom,
+        plane.right,
+        plane.up,
+    );
+    if plane.lens.is_pinhole() {
+        return (plane.camera_position, direction);
+    }
+    let random_numbers = get_lens_random_numbers(
+        get_sample_seed(pixel, sample_index, user_seed),
+        sample_index,
+        get_sobol_pixel_seed(pixel, user_seed),
+        false,
+    );
+    apply_thin_lens(plane.camera_position, direction, plane, random_numbers)
+}
+
 /// The body of `main()` in `path_tracer.comp` for one pixel (counted from the bottom-left).
 #[allow(clippy::too_many_arguments)]
 fn add_pixel_samples(
@@ -177,14 +210,8 @@ fn add_pixel_samples(
     for sample_index in samples {
         let mut seed = get_sample_seed(pixel, sample_index, settings.seed);
         let tex_coord = get_sample_tex_coord(pixel, resolution, settings.pixel_filter, &mut seed);
-        let ray_direction = get_primary_ray_direction(
-            tex_coord.x,
-            tex_coord.y,
-            plane.camera_position,
-            plane.left_bottom,
-            plane.right,
-            plane.up,
-        );
+        let (camera_position, ray_direction) =
+            get_camera_ray(plane, pixel, sample_index, settings.seed, tex_coord);
         let radiance = if is_importance_sampled(settings.integrator) {
             let scene = LightScene {
                 scene_triangles,
@@ -196,7 +223,7 @@ fn add_pixel_samples(
             };
             get_path_radiance(
                 &scene,
-                plane.camera_position,
+                camera_position,
                 ray_direction,
                 &mut seed,
                 settings.max_path_length,
@@ -206,7 +233,7 @@ fn add_pixel_samples(
         } else {
             get_sample_radiance(
                 scene_triangles,
-                plane.camera_position,
+                camera_position,
                 ray_direction,
                 &mut seed,
                 settings.integrator,

@@ -35,13 +35,13 @@ pub struct GpuTriangle {
 #[repr(C)]
 #[derive(Clone, Copy, Debug, PartialEq, Pod, Zeroable)]
 pub struct RenderUniforms {
-    /// xyz: the pinhole, world space.
+    /// xyz: the pinhole, world space; w: the lens's aperture radius (0: a pinhole).
     pub camera_position: [f32; 4],
-    /// xyz: the image plane's left-bottom corner, world space.
+    /// xyz: the image plane's left-bottom corner, world space; w: the lens's focus distance.
     pub left_bottom: [f32; 4],
-    /// xyz: the image plane's full-width edge vector.
+    /// xyz: the image plane's full-width edge vector; w: the aperture's blades (0: a disc).
     pub right: [f32; 4],
-    /// xyz: the image plane's full-height edge vector.
+    /// xyz: the image plane's full-height edge vector; w: the aperture's rotation, radians.
     pub up: [f32; 4],
     /// Image width and height in pixels, triangle count, user seed.
     pub resolution_triangle_count_seed: [u32; 4],
@@ -77,11 +77,23 @@ impl RenderUniforms {
         triangle_count: u32,
         seed: u32,
     ) -> Self {
+        // The lens rides in the w components (glsl/scene.glsl); a pinhole leaves them 0.
+        let lens = &plane.lens;
+        let (radius, focus, blades, rotation) = if lens.is_pinhole() {
+            (0.0, 0.0, 0.0, 0.0)
+        } else {
+            (
+                lens.aperture_radius,
+                lens.focus_distance,
+                lens.blades as f32,
+                lens.rotation,
+            )
+        };
         RenderUniforms {
-            camera_position: extend(plane.camera_position, 0.0),
-            left_bottom: extend(plane.left_bottom, 0.0),
-            right: extend(plane.right, 0.0),
-            up: extend(plane.up, 0.0),
+            camera_position: extend(plane.camera_position, radius),
+            left_bottom: extend(plane.left_bottom, focus),
+            right: extend(plane.right, blades),
+            up: extend(plane.up, rotation),
             resolution_triangle_count_seed: [width, height, triangle_count, seed],
         }
     }

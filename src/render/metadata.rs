@@ -60,13 +60,18 @@ const SETTING_NAMES: [&str; 10] = [
 /// none), in order: `--region`, `--noise-threshold` and its minimum spp, and
 /// `light_selection=tree` where the light tree chose the lights (power, the selection of
 /// every render before the tree, is not recorded, so those files' metadata stays as it was),
-/// and `--guiding`'s training samples per pixel (which, with the rest, decide the guide).
-const OPTIONAL_SETTING_NAMES: [&str; 5] = [
+/// and `--guiding`'s training samples per pixel (which, with the rest, decide the guide),
+/// and a thin lens's aperture radius, focus distance, blades and rotation (depth of field).
+const OPTIONAL_SETTING_NAMES: [&str; 9] = [
     "region",
     "noise_threshold",
     "noise_min_spp",
     "light_selection",
     "guide_training_spp",
+    "aperture_radius",
+    "focus_distance",
+    "aperture_blades",
+    "aperture_rotation_degrees",
 ];
 
 /// What a render was.
@@ -171,6 +176,16 @@ impl RenderMetadata {
         }
         if let Some(training) = settings.guiding {
             settings_list.push(("guide_training_spp".into(), training.samples.to_string()));
+        }
+        let lens = &camera.lens;
+        if !lens.is_pinhole() {
+            settings_list.push(("aperture_radius".into(), lens.aperture_radius.to_string()));
+            settings_list.push(("focus_distance".into(), lens.focus_distance.to_string()));
+            settings_list.push(("aperture_blades".into(), lens.blades.to_string()));
+            settings_list.push((
+                "aperture_rotation_degrees".into(),
+                lens.rotation.to_degrees().to_string(),
+            ));
         }
         RenderMetadata {
             settings: settings_list,
@@ -465,6 +480,20 @@ pub fn scene_hash(scene: &Scene, camera: &Camera) -> String {
         camera.right_per_unit_aspect,
     ] {
         add(&mut bytes, &vector.to_array());
+    }
+    // A lens only where there is one (pinhole renders keep their hashes), so that a frame
+    // rendered without depth of field is not taken for one with it (--skip-existing).
+    let lens = &camera.lens;
+    if !lens.is_pinhole() {
+        add(
+            &mut bytes,
+            &[
+                lens.aperture_radius,
+                lens.focus_distance,
+                lens.blades as f32,
+                lens.rotation,
+            ],
+        );
     }
     hasher.update(&bytes);
     let digest = hasher.finalize();

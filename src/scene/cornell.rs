@@ -59,6 +59,7 @@ pub fn workshop_cornell_box() -> Result<Scene, SceneError> {
         image_plane_middle: Vec3::from(file.camera.middle),
         up: Vec3::from(file.camera.up),
         right_per_unit_aspect: Vec3::from(file.camera.right_per_unit_aspect),
+        lens: crate::camera::Lens::PINHOLE,
     };
     Ok(Scene {
         triangles,

@@ -87,6 +87,19 @@ struct ManifestCamera {
     target: [f32; 3],
     up: [f32; 3],
     fov_y_degrees: f64,
+    /// The thin lens (depth of field), only where the camera has one.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    lens: Option<ManifestLens>,
+}
+
+/// A camera's thin lens, as the manifest stores it (`crate::camera::Lens`; the rotation in
+/// degrees).
+#[derive(Debug, Serialize)]
+struct ManifestLens {
+    aperture_radius: f32,
+    focus_distance: f32,
+    aperture_blades: u32,
+    aperture_rotation_degrees: f32,
 }
 
 /// A glTF material's factors, as the manifest stores them.
@@ -328,6 +341,12 @@ pub fn export_scene(
                     (camera.image_plane_middle - camera.position).length(),
                 )))
             .to_degrees(),
+            lens: (!camera.lens.is_pinhole()).then(|| ManifestLens {
+                aperture_radius: camera.lens.aperture_radius,
+                focus_distance: camera.lens.focus_distance,
+                aperture_blades: camera.lens.blades,
+                aperture_rotation_degrees: camera.lens.rotation.to_degrees(),
+            }),
         }),
         meshes,
         lights: scene
