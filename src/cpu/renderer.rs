@@ -9,7 +9,7 @@ use glam::UVec2;
 use rayon::prelude::*;
 
 use crate::camera::ImagePlane;
-use crate::contract::LIGHT_SELECTION_TREE;
+use crate::contract::{LIGHT_SELECTION_TREE, PIXEL_FILTER_BOX};
 use crate::cpu::camera::{get_sample_seed, get_sample_tex_coord};
 use crate::cpu::guiding::GuideTexels;
 use crate::cpu::image::{CpuImage, PixelAccumulator};
@@ -18,6 +18,8 @@ use crate::cpu::integrators::is_importance_sampled;
 use crate::cpu::light_tree::LightTexels;
 use crate::cpu::lights::LightScene;
 use crate::cpu::path_loop::get_path_radiance;
+use crate::cpu::sample_dimensions::CAMERA_PAIR_PIXEL;
+use crate::cpu::sobol::{get_path_random_numbers, PathSample};
 use crate::cpu::workshop::get_primary_ray_direction;
 use crate::error::Result;
 use crate::guiding::training::{GuideTrainer, GuideTraining, GUIDE_TRAINING_FIRST_SAMPLE};
@@ -46,6 +48,9 @@ pub struct CpuRenderSettings {
     pub integrator: u32,
     /// `RUSSIAN_ROULETTE_START` (importance-sampled integrators only; 0: off).
     pub russian_roulette_start: u32,
+    /// `SAMPLER_PCG` or `SAMPLER_SOBOL` of `crate::contract` (importance-sampled integrators
+    /// only; the workshop's draw PCG2D whatever it is).
+    pub sampler: u32,
     /// `LIGHT_SAMPLING_*` of `crate::contract` (nee and mis only).
     pub light_sampling: u32,
     /// `LIGHT_SELECTION_*` of `crate::contract` (nee and mis only): the power CDF, or the
@@ -176,7 +181,17 @@ fn add_pixel_samples(
 ) {
     for sample_index in samples {
         let mut seed = get_sample_seed(pixel, sample_index, settings.seed);
-        let tex_coord = get_sample_tex_coord(pixel, resolution, settings.pixel_filter, &mut seed);
+        let sample = PathSample::new(settings.sampler, pixel, sample_index, settings.seed);
+        // The importance-sampled integrators' jitter at its dimension pair, the workshop's
+        // from PCG2D.
+        let tex_coord = if is_importance_sampled(settings.integrator)
+            && settings.pixel_filter == PIXEL_FILTER_BOX
+        {
+            (pixel.as_vec2() + get_path_random_numbers(&sample, CAMERA_PAIR_PIXEL))
+                / resolution.as_vec2()
+        } else {
+            get_sample_tex_coord(pixel, resolution, settings.pixel_filter, &mut seed)
+        };
         let ray_direction = get_primary_ray_direction(
             tex_coord.x,
             tex_coord.y,
@@ -198,6 +213,7 @@ fn add_pixel_samples(
                 &scene,
                 plane.camera_position,
                 ray_direction,
+                &sample,
                 &mut seed,
                 settings.max_path_length,
                 settings.russian_roulette_start,
