@@ -9,7 +9,8 @@
 #include "shared.h"
 
 // cosine, nee and mis: directions by importance sampling (the workshop's closing slide),
-// drawn with get_path_random_numbers() (PCG2D or Sobol), and Russian roulette.
+// drawn with get_path_random_numbers() at fixed dimension pairs (hashed PCG or Sobol,
+// glsl/sample_dimensions.glsl), and Russian roulette.
 bool is_importance_sampled() {
     return INTEGRATOR == INTEGRATOR_COSINE || INTEGRATOR == INTEGRATOR_NEE || INTEGRATOR == INTEGRATOR_MIS;
 }

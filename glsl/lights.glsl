@@ -17,14 +17,13 @@
 // included here, a light_sample_t sampler here and a term of sample_direct_light() (and the
 // host's src/lights/ that writes its words).
 //
-// Random numbers, in the order drawn, each a get_path_random_numbers() pair: the emissive
-// triangle's selection pair and point pair (drawn even without emissive triangles); the
-// environment's (none when black, one for a constant colour, two for a map: texel, then
-// point); the punctual light's pair (only when there are punctual lights). The order decides
-// every output bit, with PCG2D and with Sobol's dimension pairs alike, so keep it. The kinds'
-// files draw none themselves: the samplers here draw each kind's pairs, and
-// skip_direct_light_random_numbers() draws the same where no light sample can count (change
-// both together).
+// Random numbers: each kind's sampler here draws its get_path_random_numbers() pairs at the
+// vertex's fixed dimension pairs (glsl/sample_dimensions.glsl): the emissive triangle's
+// VERTEX_PAIR_LIGHT_SELECTION and VERTEX_PAIR_LIGHT_POINT, the environment's
+// VERTEX_PAIR_ENVIRONMENT_TEXEL and (a map) VERTEX_PAIR_ENVIRONMENT_POINT, the punctual
+// light's VERTEX_PAIR_PUNCTUAL_SELECTION. Which kinds draw, and in which order, moves no other
+// number of the path; a new kind of light takes a new row there. The kinds' files draw none
+// themselves.
 //
 // Rust twins: src/cpu/lights.rs (emissive triangles and the estimator),
 // src/cpu/environment.rs, src/cpu/punctual_lights.rs. Needs INTEGRATOR, SAMPLER,
@@ -85,9 +84,10 @@ bool is_visible(vec3 origin, vec3 direction, float distance) {
 // emitter.
 // \param origin Where the shadow ray starts (get_light_sample_origin())
 // \param normal The light tree's bound at origin (get_light_selection_normal())
-light_sample_t sample_emissive_triangle_light(vec3 origin, vec3 normal, inout uvec2 seed) {
-    vec2 selection = get_path_random_numbers(seed);
-    vec2 point_randoms = get_path_random_numbers(seed);
+// \param vertex_pairs The vertex's first dimension pair (get_vertex_dimension_pair())
+light_sample_t sample_emissive_triangle_light(vec3 origin, vec3 normal, uint vertex_pairs) {
+    vec2 selection = get_path_random_numbers(vertex_pairs + VERTEX_PAIR_LIGHT_SELECTION);
+    vec2 point_randoms = get_path_random_numbers(vertex_pairs + VERTEX_PAIR_LIGHT_POINT);
     light_sample_t light_sample = get_no_light_sample();
     if (get_light_count() == 0u)
         return light_sample;
@@ -128,15 +128,16 @@ float get_emissive_triangle_density(uint triangle_index, triangle_t triangle, ve
 #ifdef USE_MATERIALS
 // A direction towards the environment by its own sampler (sample_environment()), with its
 // radiance and density.
-light_sample_t sample_environment_light(inout uvec2 seed) {
+// \param vertex_pairs The vertex's first dimension pair (get_vertex_dimension_pair())
+light_sample_t sample_environment_light(uint vertex_pairs) {
     light_sample_t light_sample = get_no_light_sample();
     uint kind = get_environment_kind();
     if (kind == ENVIRONMENT_NONE)
         return light_sample;
-    vec2 texel_randoms = get_path_random_numbers(seed);
+    vec2 texel_randoms = get_path_random_numbers(vertex_pairs + VERTEX_PAIR_ENVIRONMENT_TEXEL);
     vec2 point_randoms = vec2(0.0);
     if (kind == ENVIRONMENT_MAP)
-        point_randoms = get_path_random_numbers(seed);
+        point_randoms = get_path_random_numbers(vertex_pairs + VERTEX_PAIR_ENVIRONMENT_POINT);
     light_sample.direction = sample_environment(texel_randoms, point_randoms);
     light_sample.distance = NO_HIT_T;
     light_sample.density = get_environment_density(light_sample.direction);
@@ -151,12 +152,13 @@ layout(constant_id = SPEC_SCENE_HAS_PUNCTUAL_LIGHTS) const bool SCENE_HAS_PUNCTU
 // One punctual light, chosen uniformly (delta_weight: their count): delta lights have no
 // density to weigh against, so no MIS. No sample where it gives no light (outside a spot's
 // cone).
-light_sample_t sample_punctual_light(vec3 origin, inout uvec2 seed) {
+// \param vertex_pairs The vertex's first dimension pair (get_vertex_dimension_pair())
+light_sample_t sample_punctual_light(vec3 origin, uint vertex_pairs) {
     light_sample_t light_sample = get_no_light_sample();
     uint count = SCENE_HAS_PUNCTUAL_LIGHTS ? get_punctual_light_count() : 0u;
     if (count == 0u)
         return light_sample;
-    uint index = min(uint(get_path_random_numbers(seed)[0] * float(count)), count - 1u);
+    uint index = min(uint(get_path_random_numbers(vertex_pairs + VERTEX_PAIR_PUNCTUAL_SELECTION)[0] * float(count)), count - 1u);
     light_sample.radiance = get_punctual_irradiance(get_punctual_light(index), origin, light_sample.direction, light_sample.distance);
     if (light_sample.radiance != vec3(0.0))
         light_sample.delta_weight = float(count);
@@ -200,43 +202,22 @@ layout(constant_id = SPEC_SCENE_HAS_EMISSIVE_TRIANGLES) const bool SCENE_HAS_EMI
 const bool SCENE_HAS_EMISSIVE_TRIANGLES = true;
 #endif
 
-// Draws the random numbers of sample_direct_light()'s samplers, in their order, and drops
-// them: at a surface that no light sample can reflect off (has_only_delta_lobes()), the
-// path's later numbers stay the ones they were, and so does every image.
-void skip_direct_light_random_numbers(inout uvec2 seed) {
-    // The emissive triangle's selection and point pairs
-    get_path_random_numbers(seed);
-    get_path_random_numbers(seed);
-#ifdef USE_MATERIALS
-    // The environment's (SCENE_SAMPLES_ENVIRONMENT), the punctual light's
-    uint kind = SCENE_SAMPLES_ENVIRONMENT ? get_environment_kind() : ENVIRONMENT_NONE;
-    if (kind != ENVIRONMENT_NONE)
-        get_path_random_numbers(seed);
-    if (kind == ENVIRONMENT_MAP)
-        get_path_random_numbers(seed);
-    if (SCENE_HAS_PUNCTUAL_LIGHTS && get_punctual_light_count() != 0u)
-        get_path_random_numbers(seed);
-#endif
-}
-
 // Next event estimation: one sample of each kind of light at a surface point, whose sum
 // estimates all the direct light arriving there (the path loop's light-samples step).
 // \param position The surface point, world space
-// \param seed The pixel's PCG2D random state (see get_path_random_numbers())
-vec3 sample_direct_light(vec3 position, surface_t surface, vec3 view, inout uvec2 seed) {
-    // Every sample's get_bsdf() would be 0 (a smooth metal): its numbers, not its maths
-    if (has_only_delta_lobes(surface)) {
-        skip_direct_light_random_numbers(seed);
+// \param vertex_pairs The vertex's first dimension pair (get_vertex_dimension_pair())
+vec3 sample_direct_light(vec3 position, surface_t surface, vec3 view, uint vertex_pairs) {
+    // Every sample's get_bsdf() would be 0 (a smooth metal)
+    if (has_only_delta_lobes(surface))
         return vec3(0.0);
-    }
     vec3 origin = get_light_sample_origin(surface, position);
-    light_sample_t emissive_sample = sample_emissive_triangle_light(origin, get_light_selection_normal(surface), seed);
+    light_sample_t emissive_sample = sample_emissive_triangle_light(origin, get_light_selection_normal(surface), vertex_pairs);
     vec3 direct = SCENE_HAS_EMISSIVE_TRIANGLES ? estimate_light_sample(surface, view, origin, emissive_sample) : vec3(0.0);
 #ifdef USE_MATERIALS
     if (SCENE_SAMPLES_ENVIRONMENT)
-        direct += estimate_light_sample(surface, view, origin, sample_environment_light(seed));
+        direct += estimate_light_sample(surface, view, origin, sample_environment_light(vertex_pairs));
     if (SCENE_HAS_PUNCTUAL_LIGHTS)
-        direct += estimate_light_sample(surface, view, origin, sample_punctual_light(origin, seed));
+        direct += estimate_light_sample(surface, view, origin, sample_punctual_light(origin, vertex_pairs));
 #endif
     return direct;
 }

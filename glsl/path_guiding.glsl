@@ -12,10 +12,10 @@
 // get_bsdf_density(), no random number is drawn, nothing is recorded, and images keep
 // every bit.
 //
-// Random numbers, in the order drawn, at a guided vertex (in place of the direction's pair
-// of glsl/path_loop.glsl): one get_path_random_numbers() pair whose first number chooses
-// BSDF (below GUIDE_BSDF_FRACTION) or guide; then the BSDF's pairs as sample_path_direction()
-// draws them, or one pair for sample_guide_direction().
+// Random numbers at a guided vertex (glsl/sample_dimensions.glsl): the first number of its
+// VERTEX_PAIR_GUIDE_CHOICE pair chooses BSDF (below GUIDE_BSDF_FRACTION) or guide; then the
+// BSDF's pairs as sample_path_direction() draws them, or the VERTEX_PAIR_GUIDE_DIRECTION pair
+// for sample_guide_direction(). Unguided vertices draw neither.
 //
 // Needs GUIDING (SPEC_GUIDING) declared by the includer, and glsl/surface.glsl's and
 // glsl/sobol.glsl's functions.

@@ -27,19 +27,21 @@
 // throughput with the refractions' eta^2 divided out (as pbrt does), so that a path inside
 // glass, whose radiance is scaled by 1 / eta^2, is not killed for it.
 //
-// Random numbers, in the order drawn (the order decides every output bit, with PCG2D and
-// with Sobol's dimension pairs alike, so keep it): the pixel jitter (main(): a
-// get_path_random_numbers() pair for the importance-sampled integrators with the box filter,
-// else the workshop's get_sample_tex_coord()); then at each vertex that is not the last:
-// nee and mis: the light samples' pairs (glsl/lights.glsl lists them); the direction: one
-// get_random_numbers() pair for Exercises 6 and 7 (PCG2D even with SAMPLER_SOBOL), one
-// get_path_random_numbers() pair for cosine, nee and mis (with --guiding, at a guided vertex,
-// the pairs glsl/path_guiding.glsl lists instead), and at a layered material's
-// surface (has_layers(), sampled by its BSDF whatever the integrator) a second pair whose
-// first number chooses the lobe; cosine, nee and mis past
-// RUSSIAN_ROULETTE_START: the survival pair (its first number). Alpha coverage
-// (ALPHA_MODE_BLEND) hashes g_path.alpha_seed with the ray count instead and draws nothing, so
-// the rays traced, and their order, must stay as they are too.
+// Random numbers: cosine, nee and mis draw each at a fixed dimension pair
+// (glsl/sample_dimensions.glsl, the table): the pixel jitter at CAMERA_PAIR_PIXEL (main(),
+// box filter); at vertex i (0: the camera ray's hit) that is not the last, in the block that
+// starts at get_vertex_dimension_pair(i): nee's and mis's light samples (glsl/lights.glsl
+// names their rows), the direction at VERTEX_PAIR_DIRECTION and a layered material's lobe
+// choice at VERTEX_PAIR_LOBE (has_layers()), the guide's pairs (glsl/path_guiding.glsl), and
+// past RUSSIAN_ROULETTE_START the survival number at VERTEX_PAIR_RUSSIAN_ROULETTE. So no
+// number depends on which others were drawn or in which order: the loop takes the light
+// samples before or after the direction as suits the registers (SAMPLES_DIRECTION_FIRST). The
+// workshop's Exercises 6 and 7 draw the workshop's PCG2D stream from `seed` in their order
+// (main()'s get_sample_tex_coord(), then at each vertex the direction, and at a layered or
+// transmissive surface sampled by its BSDF the direction's and the lobe's pairs): keep that
+// order, which decides their every output bit. Alpha coverage (ALPHA_MODE_BLEND) hashes
+// g_path.alpha_seed with the ray count instead and draws nothing, so the rays traced, and
+// their order, must stay as they are.
 //
 // Rust twin: src/cpu/path_loop.rs (Lambert). Needs MAX_PATH_LENGTH, INTEGRATOR,
 // RUSSIAN_ROULETTE_START, SAMPLER and LIGHT_SAMPLING defined by the includer.
@@ -93,16 +95,25 @@ const bool SAMPLES_DIRECTION_FIRST = true;
 const bool SAMPLES_DIRECTION_FIRST = false;
 #endif
 
+// The numbers of a direction sample: dimension pair `dimension_pair` for the
+// importance-sampled integrators; the workshop's next PCG2D pair for Exercises 6 and 7,
+// which draw in their order.
+vec2 get_direction_random_numbers(uint dimension_pair, inout uvec2 seed) {
+    return is_importance_sampled() ? get_path_random_numbers(dimension_pair) : get_random_numbers(seed);
+}
+
 // Step 3: the direction the path continues in, as the integrator samples it (by the BSDF
 // at transmissive surfaces and at delta lobes whatever the integrator).
-bsdf_sample_t sample_path_direction(surface_t surface, vec3 view, inout uvec2 seed) {
+// \param vertex_pairs The vertex's first dimension pair (get_vertex_dimension_pair())
+// \param seed The workshop's PCG2D state (Exercises 6 and 7 only)
+bsdf_sample_t sample_path_direction(surface_t surface, vec3 view, uint vertex_pairs, inout uvec2 seed) {
     bool transmissive = is_transmissive(surface) || has_delta_lobe(surface);
     if (samples_uniform_directions() && !transmissive)
         return sample_uniform_direction(surface, view, get_random_numbers(seed));
-    vec2 random_numbers = get_path_random_numbers(seed);
+    vec2 random_numbers = get_direction_random_numbers(vertex_pairs + VERTEX_PAIR_DIRECTION, seed);
     if (samples_cosine_directions() && !transmissive)
         return sample_cosine_direction(surface, view, random_numbers);
-    float lobe_random = has_layers(surface) ? get_path_random_numbers(seed)[0] : 0.0;
+    float lobe_random = has_layers(surface) ? get_direction_random_numbers(vertex_pairs + VERTEX_PAIR_LOBE, seed)[0] : 0.0;
     return sample_bsdf(surface, view, random_numbers, lobe_random);
 }
 
@@ -111,15 +122,17 @@ bsdf_sample_t sample_path_direction(surface_t surface, vec3 view, inout uvec2 se
 // (GUIDE_NO_CELL, always without guiding) sample_path_direction() alone. One function for
 // both, so that sample_path_direction() appears once: on lavapipe both sides of a branch
 // run, and a guided and an unguided call would each pay for the BSDF's sampling.
-bsdf_sample_t sample_guided_path_direction(surface_t surface, vec3 view, uint guide_cell, inout uvec2 seed) {
+// Only nee and mis guide (at vertices with light samples), so the guide's numbers are always
+// at their dimension pairs.
+bsdf_sample_t sample_guided_path_direction(surface_t surface, vec3 view, uint guide_cell, uint vertex_pairs, inout uvec2 seed) {
     bool guided = guide_cell != GUIDE_NO_CELL;
-    bool bsdf_chosen = !guided || get_path_random_numbers(seed)[0] < GUIDE_BSDF_FRACTION;
+    bool bsdf_chosen = !guided || get_path_random_numbers(vertex_pairs + VERTEX_PAIR_GUIDE_CHOICE)[0] < GUIDE_BSDF_FRACTION;
     bsdf_sample_t bsdf_sample;
     vec2 guide_random_numbers = vec2(0.0);
     if (bsdf_chosen)
-        bsdf_sample = sample_path_direction(surface, view, seed);
+        bsdf_sample = sample_path_direction(surface, view, vertex_pairs, seed);
     else
-        guide_random_numbers = get_path_random_numbers(seed);
+        guide_random_numbers = get_path_random_numbers(vertex_pairs + VERTEX_PAIR_GUIDE_DIRECTION);
     if (!guided)
         return bsdf_sample;
     return get_guided_direction(surface, view, guide_cell, bsdf_sample, bsdf_chosen, guide_random_numbers);
@@ -149,7 +162,8 @@ vec3 get_first_hit_view(surface_t surface, float t) {
 // A Monte Carlo estimate of the radiance arriving along a ray: the loop of the file's
 // comment. L_{j+1} = L_j + T_j (found emission + light samples), T_{j+1} = T_j weight_j.
 // \param ray_origin, ray_direction The camera ray, world space
-// \param seed The pixel's PCG2D random state (see get_path_random_numbers())
+// \param seed The sample's PCG2D state: the workshop's Exercises 6 and 7 draw from it (the
+//        others at fixed dimension pairs, get_path_random_numbers())
 vec3 get_path_radiance(vec3 ray_origin, vec3 ray_direction, inout uvec2 seed) {
     vec3 radiance = vec3(0.0);
     vec3 throughput_weight = vec3(1.0);
@@ -194,36 +208,22 @@ vec3 get_path_radiance(vec3 ray_origin, vec3 ray_direction, inout uvec2 seed) {
         uint guide_grid_cell = get_path_guide_grid_cell(ray_origin, surface.geometric_normal, light_sampled);
         g_path.guide_cell = get_path_guide_cell(guide_grid_cell, surface);
         // 3. Continue the path: with glTF materials (SAMPLES_DIRECTION_FIRST), the direction
-        // is sampled before the light samples, from the numbers that follow theirs, so that
-        // the shadow rays hold the direction sample, not the material (RDNA3, nee and mis on
-        // materials.gltf: 192 -> 144 VGPRs, 8 -> 10 subgroups per SIMD); the Lambertian
-        // kernels keep the order, where it would hold more (constant-triangle mis: 96 -> 108).
-        // Each draws the same numbers as before, so every output bit is the same.
-        uvec2 light_seed = seed;
-        uint light_dimension_pair = g_path.dimension_pair;
+        // is sampled before the light samples, so that the shadow rays hold the direction
+        // sample, not the material (RDNA3, nee and mis on materials.gltf: 192 -> 144 VGPRs, 8
+        // -> 10 subgroups per SIMD); the Lambertian kernels take the light samples first,
+        // where the other order would hold more (constant-triangle mis: 96 -> 108). Each draws
+        // at its own dimension pairs, so the order changes no number.
+        uint vertex_pairs = get_vertex_dimension_pair(i);
         bsdf_sample_t direction;
-        if (SAMPLES_DIRECTION_FIRST) {
-            if (light_sampled)
-                skip_direct_light_random_numbers(seed);
-            direction = sample_guided_path_direction(surface, view, g_path.guide_cell, seed);
-        }
+        if (SAMPLES_DIRECTION_FIRST)
+            direction = sample_guided_path_direction(surface, view, g_path.guide_cell, vertex_pairs, seed);
         if (light_sampled) {
-            uvec2 path_seed = seed;
-            uint path_dimension_pair = g_path.dimension_pair;
-            if (SAMPLES_DIRECTION_FIRST) {
-                seed = light_seed;
-                g_path.dimension_pair = light_dimension_pair;
-            }
             light_origin = get_light_sample_origin(surface, ray_origin);
             light_normal = get_light_selection_normal(surface);
-            radiance += throughput_weight * sample_direct_light(ray_origin, surface, view, seed);
-            if (SAMPLES_DIRECTION_FIRST) {
-                seed = path_seed;
-                g_path.dimension_pair = path_dimension_pair;
-            }
+            radiance += throughput_weight * sample_direct_light(ray_origin, surface, view, vertex_pairs);
         }
         if (!SAMPLES_DIRECTION_FIRST)
-            direction = sample_guided_path_direction(surface, view, g_path.guide_cell, seed);
+            direction = sample_guided_path_direction(surface, view, g_path.guide_cell, vertex_pairs, seed);
         vec3 departure_origin = get_departure_origin(surface, ray_origin, direction.lobes);
         if (direction.weight == vec3(0.0))
             break;
@@ -240,7 +240,7 @@ vec3 get_path_radiance(vec3 ray_origin, vec3 ray_direction, inout uvec2 seed) {
         // times eta_scale) and divide by q, which keeps the estimate unbiased.
         if (is_importance_sampled() && RUSSIAN_ROULETTE_START > 0 && i + 1 >= RUSSIAN_ROULETTE_START) {
             float survival = min(1.0, max(throughput_weight.r, max(throughput_weight.g, throughput_weight.b)) * eta_scale);
-            if (get_path_random_numbers(seed)[0] >= survival)
+            if (get_path_random_numbers(vertex_pairs + VERTEX_PAIR_RUSSIAN_ROULETTE)[0] >= survival)
                 break;
             throughput_weight /= survival;
         }

@@ -18,11 +18,10 @@ struct path_state_t {
     // an invocation after LLVMPIPE_LOOP_LIMIT iterations, see path_tracer.comp). Counted by
     // glsl/bvh.glsl.
     uint traversal_iterations;
-    // The current sample's Sobol state (glsl/sobol.glsl), set by main() before each sample:
-    // its index, the pixel's seed, and the next dimension pair to draw (from 0).
+    // The current sample (glsl/sobol.glsl's get_path_random_numbers()), set by main() before
+    // each sample: its index and the pixel's seed (get_sobol_pixel_seed()).
     uint sample_index;
     uint pixel_seed;
-    uint dimension_pair;
     // The sample's random state for stochastic alpha (ALPHA_MODE_BLEND, glsl/materials.glsl),
     // set by the kernel once per sample: a hit's coverage hashes it with ray_count and the
     // triangle's index.
@@ -33,7 +32,7 @@ struct path_state_t {
     uint guide_cell;
 };
 
-path_state_t g_path = path_state_t(0u, 0u, 0u, 0u, 0u, 0u, uvec2(0u), 0xffffffffu);
+path_state_t g_path = path_state_t(0u, 0u, 0u, 0u, 0u, uvec2(0u), 0xffffffffu);
 
 // The hit triangle's index under the name the workshop's estimators and exercise files use:
 // is_double_sided(g_hit_triangle_index).

@@ -146,20 +146,20 @@ void main() {
             && is_pixel_converged(sum.rgb - compensation, sum.a, sum_of_squares, g_noise_threshold))
             break;
         uvec2 seed = get_sample_seed(pixel, sample_index, g_resolution_triangle_count_seed.w);
-        // The Sobol state of this sample (glsl/sobol.glsl); unused with SAMPLER_PCG.
+        // The sample that the importance-sampled integrators' numbers belong to
+        // (glsl/sobol.glsl); the workshop's integrators draw from `seed`.
         g_path.sample_index = sample_index;
         g_path.pixel_seed = get_sobol_pixel_seed(pixel, g_resolution_triangle_count_seed.w);
-        g_path.dimension_pair = 0u;
-        // The importance-sampled integrators draw their jitter through get_path_random_numbers()
-        // (the first dimension pair with SAMPLER_SOBOL); the workshop's stay on PCG2D, exactly.
+        // The importance-sampled integrators draw their jitter at CAMERA_PAIR_PIXEL
+        // (glsl/sample_dimensions.glsl); the workshop's stay on PCG2D, exactly.
         vec2 tex_coord = (is_importance_sampled() && PIXEL_FILTER == PIXEL_FILTER_BOX)
-            ? (vec2(pixel) + get_path_random_numbers(seed)) / vec2(resolution)
+            ? (vec2(pixel) + get_path_random_numbers(CAMERA_PAIR_PIXEL)) / vec2(resolution)
             : get_sample_tex_coord(pixel, resolution, seed);
         vec3 ray_direction = get_primary_ray_direction(tex_coord.x, tex_coord.y, g_camera_position.xyz, g_left_bottom.xyz, g_right.xyz, g_up.xyz);
         vec3 ray_origin = g_camera_position.xyz;
         // Depth of field (glsl/thin_lens.glsl): the lens's ray instead of the pinhole's
         if (g_camera_position.w > 0.0) {
-            vec2 lens_random_numbers = get_lens_random_numbers(get_sample_seed(pixel, sample_index, g_resolution_triangle_count_seed.w), sample_index, g_path.pixel_seed, is_importance_sampled() && SAMPLER == SAMPLER_SOBOL);
+            vec2 lens_random_numbers = get_lens_random_numbers(get_sample_seed(pixel, sample_index, g_resolution_triangle_count_seed.w));
             vec3 image_plane_middle = g_left_bottom.xyz + 0.5 * (g_right.xyz + g_up.xyz);
             apply_thin_lens(ray_origin, ray_direction, g_right.xyz, g_up.xyz, image_plane_middle, g_camera_position.w, g_left_bottom.w, uint(g_right.w), g_up.w, lens_random_numbers);
         }

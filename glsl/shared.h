@@ -217,7 +217,8 @@
 #define PIXEL_FILTER_CENTER 1
 
 // Values of SPEC_SAMPLER (glsl/sobol.glsl). The workshop integrators always use PCG2D.
-// The workshop's PCG2D, get_random_numbers().
+// Independent numbers hashed from (pixel, sample, dimension pair) with PCG2D
+// (get_pcg_sample_2d()).
 #define SAMPLER_PCG 0
 // Owen-scrambled, shuffled 2D Sobol points per dimension pair (Burley 2020).
 #define SAMPLER_SOBOL 1

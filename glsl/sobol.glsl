@@ -1,15 +1,19 @@
-// Low-discrepancy samples for the importance-sampled integrators: the first two dimensions of
-// the Sobol sequence with hash-based Owen scrambling and index shuffling, after Brent Burley
-// 2020, "Practical Hash-based Owen Scrambling", JCGT 9(4), https://jcgt.org/published/0009/04/01/
-// Each pair of random numbers of a path (a "dimension pair": the pixel jitter, then the light
-// sample, the cosine direction, Russian roulette, ... in the order they are drawn) is its own
-// scrambled 2D Sobol sequence, decorrelated from the others and from other pixels by seeds.
+// The random numbers of the importance-sampled integrators (cosine, nee, mis), one pair per
+// sample dimension pair of glsl/sample_dimensions.glsl, whichever order the path loop draws
+// them in: with SAMPLER_SOBOL the first two dimensions of the Sobol sequence with hash-based
+// Owen scrambling and index shuffling, after Brent Burley 2020, "Practical Hash-based Owen
+// Scrambling", JCGT 9(4), https://jcgt.org/published/0009/04/01/ (each dimension pair is its
+// own scrambled 2D Sobol sequence, decorrelated from the others and from other pixels by
+// seeds); with SAMPLER_PCG independent numbers hashed from the pixel, the sample index and the
+// dimension pair (get_pcg_sample_2d()). The workshop's integrators draw the workshop's PCG2D
+// stream instead (get_random_numbers(), glsl/workshop.glsl).
 // Rust twins: src/cpu/sobol.rs. Needs SAMPLER defined by the includer (SAMPLER_PCG or
-// SAMPLER_SOBOL), and get_random_numbers() (workshop.glsl) for SAMPLER_PCG.
+// SAMPLER_SOBOL).
 #ifndef VKPATH_SOBOL_GLSL
 #define VKPATH_SOBOL_GLSL
 
 #include "shared.h"
+#include "sample_dimensions.glsl"
 
 // The bits of x in reverse order (bit 0 becomes bit 31).
 uint sobol_reverse_bits(uint x) {
@@ -97,7 +101,7 @@ float sobol_to_float(uint x) {
 // each pixel and dimension pair visits the points in a different order (decorrelating the
 // pairs of one path), and each output dimension gets its own Owen scramble.
 // \param sample_index Index of the sample within the pixel, from 0
-// \param dimension_pair Which pair of random numbers of the path (0: the first drawn)
+// \param dimension_pair Which pair of random numbers of the sample (glsl/sample_dimensions.glsl)
 // \param pixel_seed get_sobol_pixel_seed() of the pixel
 // \return Two numbers in [0,1); for sample indices 0..2^k-1 they form a (0,k,2)-net
 vec2 get_sobol_sample_2d(uint sample_index, uint dimension_pair, uint pixel_seed) {
@@ -108,17 +112,48 @@ vec2 get_sobol_sample_2d(uint sample_index, uint dimension_pair, uint pixel_seed
     return vec2(sobol_to_float(x), sobol_to_float(y));
 }
 
-// The current sample's Sobol state: g_path.sample_index, .pixel_seed, .dimension_pair
+// PCG2D (Jarzynski and Olano 2020, "Hash Functions for GPU Rendering", JCGT 9(3)) as a hash
+// of two words: the workshop's get_random_numbers() state update, a bijection of uvec2 whose
+// every output bit depends on every input bit. Written out here so that a user's
+// get_random_numbers() (vkpath check) cannot change the importance-sampled integrators.
+uvec2 pcg2d_hash(uvec2 v) {
+    v = 1664525u * v + 1013904223u;
+    v.x += 1664525u * v.y;
+    v.y += 1664525u * v.x;
+    v ^= (v >> 16u);
+    v.x += 1664525u * v.y;
+    v.y += 1664525u * v.x;
+    v ^= (v >> 16u);
+    return v;
+}
+
+// Independent uniform numbers for one sample and dimension pair of one pixel, as
+// get_sobol_sample_2d() is called: the pair's seed (a hash of the pixel's seed and the pair,
+// as Sobol's), then the sample index hashed with it, both words through PCG2D. Unlike the
+// workshop's per-sample seeds (get_sample_seed(), which differ from sample to sample only in
+// their high bits), both input words are full 32-bit hashes, so that samples, pixels and pairs
+// are independent (src/cpu/sobol.rs tests it).
+// \param sample_index Index of the sample within the pixel, from 0
+// \param dimension_pair Which pair of random numbers of the sample (glsl/sample_dimensions.glsl)
+// \param pixel_seed get_sobol_pixel_seed() of the pixel
+// \return Two numbers in [0,1) (24 bits each, sobol_to_float())
+vec2 get_pcg_sample_2d(uint sample_index, uint dimension_pair, uint pixel_seed) {
+    uint pair_seed = sobol_hash(sobol_hash_combine(pixel_seed, dimension_pair));
+    uvec2 hashed = pcg2d_hash(uvec2(pair_seed, sobol_hash(sobol_hash_combine(pair_seed, sample_index))));
+    return vec2(sobol_to_float(hashed.x), sobol_to_float(hashed.y));
+}
+
+// The current sample: g_path.sample_index, .pixel_seed
 #include "path_state.glsl"
 
-// The random numbers of the importance-sampled integrators: the next dimension pair of the
-// sample's scrambled Sobol sequence with SAMPLER_SOBOL, the workshop's PCG2D otherwise.
-// \param seed The PCG2D state of the sample (untouched with SAMPLER_SOBOL)
+// The random numbers of the importance-sampled integrators at dimension pair `dimension_pair`
+// of the current sample (glsl/sample_dimensions.glsl): Sobol's with SAMPLER_SOBOL, hashed PCG
+// otherwise. The same numbers however many others the path drew before, and in which order.
 // \return Two uniform numbers in [0,1)
-vec2 get_path_random_numbers(inout uvec2 seed) {
+vec2 get_path_random_numbers(uint dimension_pair) {
     if (SAMPLER == SAMPLER_SOBOL)
-        return get_sobol_sample_2d(g_path.sample_index, g_path.dimension_pair++, g_path.pixel_seed);
-    return get_random_numbers(seed);
+        return get_sobol_sample_2d(g_path.sample_index, dimension_pair, g_path.pixel_seed);
+    return get_pcg_sample_2d(g_path.sample_index, dimension_pair, g_path.pixel_seed);
 }
 
 #endif

@@ -6,31 +6,28 @@
 // towards that point. Points on the focus plane stay sharp; a point at depth Z images to the
 // aperture's shape scaled by aperture_radius |Z - focus_distance| / Z on the focus plane.
 // An aperture of radius 0 is not applied at all: the pinhole's image, bit for bit.
-// Rust twins: src/cpu/thin_lens.rs. Needs SAMPLER defined by the includer.
+// Rust twins: src/cpu/thin_lens.rs. Needs SAMPLER defined and glsl/integrators.glsl included
+// by the includer.
 #ifndef VKPATH_THIN_LENS_GLSL
 #define VKPATH_THIN_LENS_GLSL
 
 #include "workshop.glsl"
 #include "sobol.glsl"
+#include "sample_dimensions.glsl"
 
-// The Sobol dimension pair of the lens sample: a pair of its own, far from the path's pairs
-// (numbered from 0 in the order drawn), so that the lens draws nothing any other sample
-// dimension sees.
-const uint LENS_DIMENSION_PAIR = 0x80000001u;
-// XORed into a sample's PCG2D seed to give the lens sample a stream of its own.
+// XORed into a sample's PCG2D seed to give the workshop integrators' lens sample a stream of
+// its own.
 const uvec2 LENS_SEED_MASK = uvec2(0x6c656e73u, 0x44f3a5c1u);
 
 // The two random numbers of a sample's point on the aperture, at a dimension of their own:
-// with SAMPLER_SOBOL (importance-sampled integrators), LENS_DIMENSION_PAIR of the pixel's
-// scrambled Sobol sequence; otherwise PCG2D of the sample's seed XOR LENS_SEED_MASK, which
-// leaves the sample's own PCG2D stream (and so the workshop's draws) as it was.
+// for the importance-sampled integrators, the fixed pair CAMERA_PAIR_LENS
+// (glsl/sample_dimensions.glsl: Sobol, or hashed PCG); for the workshop's, PCG2D of the
+// sample's seed XOR LENS_SEED_MASK, which leaves the sample's own PCG2D stream (and so the
+// workshop's draws) as it was.
 // \param sample_seed get_sample_seed() of the sample
-// \param sample_index Index of the sample within the pixel
-// \param pixel_seed get_sobol_pixel_seed() of the pixel
-// \param sobol Whether the sample's integrator draws Sobol points
-vec2 get_lens_random_numbers(uvec2 sample_seed, uint sample_index, uint pixel_seed, bool sobol) {
-    if (sobol)
-        return get_sobol_sample_2d(sample_index, LENS_DIMENSION_PAIR, pixel_seed);
+vec2 get_lens_random_numbers(uvec2 sample_seed) {
+    if (is_importance_sampled())
+        return get_path_random_numbers(CAMERA_PAIR_LENS);
     uvec2 lens_seed = sample_seed ^ LENS_SEED_MASK;
     return get_random_numbers(lens_seed);
 }

@@ -18,7 +18,7 @@
 # seconds to build on lavapipe, so not every pair for every scene). Then guided renders
 # (--guiding: nee and mis on the box, mis on the showcase). Small images, few samples; the
 # two binaries render each case at once, one per core. A render that fails counts as
-# different (its file is removed before each case).
+# different (its file is removed before each case). The scenes: scripts/same-images-scenes.sh.
 set -euo pipefail
 # Both binaries compile every kernel afresh: llvmpipe's kernels loaded from Mesa's shader
 # cache can differ in the last bits from the same kernels compiled in the process (material
@@ -30,7 +30,8 @@ new=$(realpath "$2")
 work=${3:-$(mktemp -d)}
 top=$(cd "$(dirname "$0")/.." && pwd)
 mkdir -p "$work/old" "$work/new"
-gltf="$top/tests/data/emissive_quad.gltf"
+# shellcheck source=same-images-scenes.sh
+source "$top/scripts/same-images-scenes.sh"
 cases=()
 for scene in builtin gltf; do
   for integrator in workshop cosine nee mis; do
@@ -91,7 +92,7 @@ for case in "${cases[@]}"; do
   read -r scene integrator sampler accel filter <<<"$case"
   args=(render --width 24 --height 16 --spp 8 --integrator "$integrator" --accel "$accel" --pixel-filter "$filter" --seed 3)
   [ "$integrator" = workshop ] || args+=(--sampler "$sampler")
-  [ "$scene" = gltf ] && args+=("$gltf")
+  same_images_scene_args "$scene" "$work"
   render_both "$scene-$integrator-$sampler-$accel-$filter.exr" "${args[@]}"
 done
 for exercise in ray-tracing sample-sphere sample-hemisphere spherical-coords direct-illumination path-tracing; do
@@ -108,10 +109,7 @@ for exercise in ray-tracing sample-sphere sample-hemisphere spherical-coords dir
   fi
 done
 # The material kernels.
-python3 "$top/scripts/make_same_images_scenes.py" "$work/scenes"
-# An environment map with a sharp peak (the Cornell box's ceiling light), rendered once.
-"$old" render --width 32 --height 16 --spp 4 --seed 5 -o "$work/scenes/environment.exr" >/dev/null 2>&1
-environment=(--environment "$work/scenes/environment.exr" --environment-strength 3 --environment-rotation 30)
+same_images_make_scenes "$old" "$work"
 material_cases=(
   "showcase workshop pcg" "showcase cosine pcg" "showcase cosine sobol" "showcase nee pcg"
   "showcase nee sobol" "showcase mis pcg" "showcase mis sobol"
@@ -130,12 +128,7 @@ for case in "${material_cases[@]}"; do
   [ "$scene" = showcase ] && size=(--width 32 --height 24)
   args=(render "${size[@]}" --spp 4 --moments --integrator "$integrator" --seed 7)
   [ "$integrator" = workshop ] || args+=(--sampler "$sampler")
-  case $scene in
-    showcase) args+=("${SAME_IMAGES_SHOWCASE:-$top/scenes/materials.gltf}") ;;
-    environment) args+=("$work/scenes/open.gltf" "${environment[@]}") ;;
-    background) args+=("$work/scenes/open.gltf" --background 0.4,0.5,0.7) ;;
-    *) args+=("$work/scenes/$scene.gltf") ;;
-  esac
+  same_images_scene_args "$scene" "$work"
   render_both "material-$scene-$integrator-$sampler.exr" "${args[@]}"
 done
 # Path guiding (--guiding): training and the guided render, on the box and the showcase.

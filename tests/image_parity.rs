@@ -16,12 +16,15 @@ use glam::{UVec2, Vec3};
 use vkpath::camera::{ImagePlane, Lens};
 use vkpath::cpu::camera::{get_sample_seed, get_sample_tex_coord};
 use vkpath::cpu::integrator::{offset_ray_origin, orient_towards_ray, ray_mesh_intersection};
+use vkpath::cpu::sobol::PathSample;
 use vkpath::cpu::workshop::{get_random_numbers, sample_sphere};
 use vkpath::cpu::{add_cpu_samples, get_camera_ray, CpuImage, CpuRenderSettings};
 use vkpath::image_io::output::{save_image, SaveOptions};
 use vkpath::scene::Triangle;
 use vkpath::stats::ztest::{z_test_images, MeanImage};
-use vkpath::{Integrator, PixelFilter, RenderSettings, RenderedImage, Renderer, Scene};
+use vkpath::{
+    Integrator, PixelFilter, RenderSettings, RenderedImage, Renderer, SamplerKind, Scene,
+};
 
 /// Small and few samples: 64x48 pixels, 8 spp, 3072 pixels per image.
 const WIDTH: u32 = 64;
@@ -129,10 +132,13 @@ fn pixel_has_near_tie(
         _ => settings.max_path_length,
     };
     (first_sample..first_sample + settings.spp).any(|sample| {
-        let mut seed = get_sample_seed(pixel, sample, settings.seed);
+        let sample_seed = get_sample_seed(pixel, sample, settings.seed);
+        let mut seed = sample_seed;
         let tex_coord = get_sample_tex_coord(pixel, resolution, settings.pixel_filter, &mut seed);
+        let path_sample = PathSample::new(settings.sampler, pixel, sample, settings.seed);
+        let importance_sampled = vkpath::cpu::integrators::is_importance_sampled(settings.integrator);
         let (mut origin, mut direction) =
-            get_camera_ray(plane, pixel, sample, settings.seed, tex_coord);
+            get_camera_ray(plane, sample_seed, &path_sample, importance_sampled, tex_coord);
         for bounce in 1..=bounces {
             if ray_nearly_ties(triangles, origin, direction) {
                 return true;
@@ -226,14 +232,22 @@ fn parity(integrator: Integrator, pixel_filter: PixelFilter) {
 
 /// GPU against CPU for samples `first_sample..first_sample + SPP` of every pixel.
 fn parity_from_sample(integrator: Integrator, pixel_filter: PixelFilter, first_sample: u32) {
-    parity_through(integrator, pixel_filter, first_sample, Lens::PINHOLE);
+    parity_through(
+        integrator,
+        pixel_filter,
+        first_sample,
+        SamplerKind::Pcg,
+        Lens::PINHOLE,
+    );
 }
 
-/// `parity_from_sample` with `lens` in front of the box's camera.
+/// `parity_from_sample` with the importance-sampled integrators' `sampler` and `lens` in
+/// front of the box's camera.
 fn parity_through(
     integrator: Integrator,
     pixel_filter: PixelFilter,
     first_sample: u32,
+    sampler: SamplerKind,
     lens: Lens,
 ) {
     let relative_tolerance = match integrator {
@@ -241,8 +255,8 @@ fn parity_through(
         _ => RELATIVE_TOLERANCE,
     };
     let lens_name = if lens.is_pinhole() { "" } else { "-lens" };
-    let name =
-        format!("{integrator:?}-{pixel_filter:?}-from-{first_sample}{lens_name}").to_lowercase();
+    let name = format!("{integrator:?}-{pixel_filter:?}-{sampler:?}-from-{first_sample}{lens_name}")
+        .to_lowercase();
     let mut scene = Scene::builtin_cornell_box().unwrap();
     if let Some(camera) = scene.camera.as_mut() {
         camera.lens = lens;
@@ -255,6 +269,7 @@ fn parity_through(
         seed: SEED,
         pixel_filter,
         integrator,
+        sampler,
         samples_per_frame: 4,
         ..Default::default()
     };
@@ -447,22 +462,34 @@ fn samples_past_two_to_the_sixteen_match_the_cpu_and_have_their_own_random_numbe
 
 #[test]
 fn thin_lenses_match_the_cpu() {
-    // A disc through the workshop's path tracer (PCG2D lens numbers), a hexagon through mis
-    // (its Sobol lens numbers are the CPU's PCG2D's only with --sampler pcg, which
-    // `cpu_settings`' RenderSettings default gives), both focused inside the box.
+    // A disc through the workshop's path tracer (its own PCG2D lens stream), a hexagon
+    // through mis with Sobol points (the lens at CAMERA_PAIR_LENS), both focused inside the
+    // box.
     let disc = Lens {
         aperture_radius: 0.4,
         focus_distance: 3.0,
         blades: 0,
         rotation: 0.0,
     };
-    parity_through(Integrator::PathTracing, PixelFilter::Box, 0, disc);
+    parity_through(
+        Integrator::PathTracing,
+        PixelFilter::Box,
+        0,
+        SamplerKind::Pcg,
+        disc,
+    );
     let hexagon = Lens {
         blades: 6,
         rotation: 0.3,
         ..disc
     };
-    parity_through(Integrator::Mis, PixelFilter::Box, 0, hexagon);
+    parity_through(
+        Integrator::Mis,
+        PixelFilter::Box,
+        0,
+        SamplerKind::Sobol,
+        hexagon,
+    );
 }
 
 #[test]
@@ -474,4 +501,18 @@ fn importance_sampled_integrators_match_the_cpu() {
     for integrator in [Integrator::Cosine, Integrator::Nee, Integrator::Mis] {
         parity(integrator, PixelFilter::Box);
     }
+}
+
+#[test]
+fn sobol_samples_match_the_cpu() {
+    // The Sobol points at their fixed dimension pairs (glsl/sample_dimensions.glsl) are the
+    // CPU twin's, bit for bit: mis draws every kind of pair there is on the box (jitter, light
+    // selection and point, direction, Russian roulette).
+    parity_through(
+        Integrator::Mis,
+        PixelFilter::Box,
+        0,
+        SamplerKind::Sobol,
+        Lens::PINHOLE,
+    );
 }

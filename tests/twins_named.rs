@@ -40,7 +40,6 @@ const WITHOUT_TWINS: &[(&str, &str)] = &[
     ("get_found_environment", "MIS weight of get_environment_density and get_power_heuristic_weight, both twinned"),
     ("sample_environment_light", "sample_environment, get_environment_density and _radiance, all twinned"),
     ("sample_punctual_light", "uniform choice + get_punctual_irradiance, which is twinned"),
-    ("get_path_random_numbers", "dispatches to get_sobol_sample_2d or get_random_numbers, both twinned"),
     // A gap, not a design: the CPU reference does not skip the start triangle this way.
     ("starts_on_triangle_plane", "gap: the CPU reference offsets rays instead; to be twinned with a probe"),
 ];

@@ -9,7 +9,9 @@ use crate::camera::{Camera, Lens};
 use crate::cli::frames::UsageError;
 use crate::cli::parse_pixel;
 use crate::cli::value_error::ValueError;
+use crate::contract::SAMPLER_PCG;
 use crate::cpu::get_camera_ray;
+use crate::cpu::sobol::PathSample;
 use crate::cpu::integrator::ray_mesh_intersection;
 use crate::scene::Scene;
 
@@ -153,7 +155,9 @@ impl LensArgs {
             (pixel.x as f32 + 0.5) / width as f32,
             1.0 - (pixel.y as f32 + 0.5) / height as f32,
         );
-        let (origin, direction) = get_camera_ray(&plane, UVec2::ZERO, 0, 0, tex_coord);
+        // A pinhole's ray draws no numbers: any sample will do.
+        let sample = PathSample::new(SAMPLER_PCG, UVec2::ZERO, 0, 0);
+        let (origin, direction) = get_camera_ray(&plane, UVec2::ZERO, &sample, false, tex_coord);
         let Some(hit) = ray_mesh_intersection(&scene.triangles, origin, direction) else {
             return Err(UsageError(format!(
                 "{option} the camera ray through pixel {},{} hits nothing to focus on: give --focus-distance",

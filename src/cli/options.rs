@@ -118,9 +118,9 @@ pub struct RenderOptions {
     /// e.g. Mesa 25's lavapipe; an error without them).
     #[arg(long, value_enum, default_value_t = RenderSettings::default().accel)]
     pub accel: Accel,
-    /// Random numbers of cosine, nee and mis: the workshop's PCG2D (pcg) or Owen-scrambled
-    /// Sobol points (sobol). The workshop integrator always uses PCG2D
-    /// [default: render: sobol; bench: pcg].
+    /// Random numbers of cosine, nee and mis: independent PCG2D hashes (pcg) or
+    /// Owen-scrambled Sobol points (sobol), each at a fixed sample dimension. The workshop
+    /// integrator always uses the workshop's PCG2D stream [default: render: sobol; bench: pcg].
     #[arg(long, value_enum)]
     pub sampler: Option<SamplerKind>,
     /// How nee and mis sample a point on the chosen light: uniformly in the solid angle it

@@ -65,6 +65,8 @@ fn settings(integrator: u32, max_path_length: u32) -> CpuRenderSettings {
         pixel_filter: PIXEL_FILTER_BOX,
         integrator,
         russian_roulette_start: 0,
+        // Independent samples: the z-tests below assume them (docs: Sobol's are not)
+        sampler: crate::contract::SAMPLER_PCG,
         light_sampling: LIGHT_SAMPLING_SOLID_ANGLE,
         light_selection: crate::contract::LIGHT_SELECTION_POWER,
     }

@@ -2,10 +2,10 @@
 //! the emissive triangles (the environment's twins are `crate::cpu::environment`): choosing
 //! a light, sampling a point of it, the density MIS weighs by (`emissive_lights.glsl`), and
 //! the estimator that turns a light sample into reflected light through the surface seam
-//! (`crate::cpu::surface`; `lights.glsl`). Same names, same maths, same random-number
-//! consumption.
+//! (`crate::cpu::surface`; `lights.glsl`). Same names, same maths, the same random numbers at
+//! the same dimension pairs (`crate::cpu::sample_dimensions`).
 
-use glam::{UVec2, Vec2, Vec3};
+use glam::{Vec2, Vec3};
 
 use crate::contract::{MIN_LIGHT_COSINE, NO_HIT_T, SHADOW_RAY_MARGIN};
 use crate::cpu::guiding::GuideTexels;
@@ -19,11 +19,13 @@ use crate::cpu::light_tree::{
     get_light_tree_probability, sample_light_tree, LightTexels, NO_LIGHT,
 };
 use crate::cpu::path_guiding::get_path_direction_density;
+use crate::cpu::sample_dimensions::{VERTEX_PAIR_LIGHT_POINT, VERTEX_PAIR_LIGHT_SELECTION};
+use crate::cpu::sobol::{get_path_random_numbers, PathSample};
 use crate::cpu::surface::{
     get_bsdf, get_front_emission, get_light_sample_origin, get_reflected_radiance,
     has_only_delta_lobes, Surface,
 };
-use crate::cpu::workshop::{get_random_numbers, ray_triangle_intersection};
+use crate::cpu::workshop::ray_triangle_intersection;
 use crate::lights::EmissiveTriangles;
 use crate::scene::Triangle;
 
@@ -196,15 +198,17 @@ pub fn is_visible(
 
 /// Twin of `sample_emissive_triangle_light`: a light by the power CDF or, with
 /// `scene.light_tree`, by the tree's importance to `origin` with `normal` (the twins of
-/// `crate::cpu::light_tree`).
+/// `crate::cpu::light_tree`), from the numbers of `sample` at the vertex's dimension pairs
+/// `vertex_pairs` (`get_vertex_dimension_pair`).
 pub fn sample_emissive_triangle_light(
     scene: &LightScene,
     origin: Vec3,
     normal: Vec3,
-    seed: &mut UVec2,
+    sample: &PathSample,
+    vertex_pairs: u32,
 ) -> LightSample {
-    let selection = get_random_numbers(seed);
-    let point_randoms = get_random_numbers(seed);
+    let selection = get_path_random_numbers(sample, vertex_pairs + VERTEX_PAIR_LIGHT_SELECTION);
+    let point_randoms = get_path_random_numbers(sample, vertex_pairs + VERTEX_PAIR_LIGHT_POINT);
     let lights = scene.lights;
     if lights.triangle_indices.is_empty() {
         return get_no_light_sample();
@@ -331,33 +335,32 @@ pub fn estimate_light_sample(
     contribution
 }
 
-/// Twin of GLSL `skip_direct_light_random_numbers`: draws the random numbers of
-/// `sample_direct_light`'s samplers (the emissive triangle's selection and point pairs) and
-/// drops them, so that the path's later numbers stay the ones they were.
-pub fn skip_direct_light_random_numbers(seed: &mut UVec2) {
-    get_random_numbers(seed);
-    get_random_numbers(seed);
-}
-
 /// Twin of `sample_direct_light` (the workshop's scenes: emissive triangles only);
-/// `guide_cell` as for `estimate_light_sample`.
+/// `guide_cell` as for `estimate_light_sample`, `sample` and `vertex_pairs` as for
+/// `sample_emissive_triangle_light`.
+#[allow(clippy::too_many_arguments)]
 pub fn sample_direct_light(
     scene: &LightScene,
     position: Vec3,
     surface: &Surface,
     view: Vec3,
     guide_cell: u32,
-    seed: &mut UVec2,
+    sample: &PathSample,
+    vertex_pairs: u32,
 ) -> Vec3 {
-    // Every sample's `get_bsdf` would be 0 (a smooth metal): its numbers, not its maths
+    // Every sample's `get_bsdf` would be 0 (a smooth metal)
     if has_only_delta_lobes(surface) {
-        skip_direct_light_random_numbers(seed);
         return Vec3::ZERO;
     }
     let origin = get_light_sample_origin(surface, position);
-    let sample =
-        sample_emissive_triangle_light(scene, origin, get_light_selection_normal(surface), seed);
-    estimate_light_sample(scene, surface, view, origin, guide_cell, &sample)
+    let light_sample = sample_emissive_triangle_light(
+        scene,
+        origin,
+        get_light_selection_normal(surface),
+        sample,
+        vertex_pairs,
+    );
+    estimate_light_sample(scene, surface, view, origin, guide_cell, &light_sample)
 }
 
 #[cfg(test)]

@@ -1,7 +1,9 @@
 //! Rust twin of `glsl/path_loop.glsl` on the workshop's diffuse triangles (the Lambert
 //! model): the one path loop of the importance-sampled integrators (cosine, nee, mis), its
 //! named steps over the surface seam (`crate::cpu::surface`) and the lights room
-//! (`crate::cpu::lights`). Same names, same maths, same random-number consumption (PCG2D).
+//! (`crate::cpu::lights`). Same names, same maths, the same random numbers at the same
+//! dimension pairs (`crate::cpu::sample_dimensions`; the workshop's PCG2D from `seed` for the
+//! uniform directions of Exercises 6 and 7).
 
 use std::sync::atomic::AtomicU32;
 
@@ -22,6 +24,11 @@ use crate::cpu::lights::{
 use crate::cpu::path_guiding::{
     get_guided_direction, get_path_guide_cell, get_path_guide_grid_cell, GuideRecords,
 };
+use crate::cpu::sample_dimensions::{
+    get_vertex_dimension_pair, VERTEX_PAIR_DIRECTION, VERTEX_PAIR_GUIDE_CHOICE,
+    VERTEX_PAIR_GUIDE_DIRECTION, VERTEX_PAIR_LOBE, VERTEX_PAIR_RUSSIAN_ROULETTE,
+};
+use crate::cpu::sobol::{get_path_random_numbers, PathSample};
 use crate::cpu::surface::{
     get_camera_emission, get_departure_origin, get_light_sample_origin, get_surface,
     get_volume_transmittance, has_delta_lobe, has_layers, is_transmissive, sample_bsdf,
@@ -86,23 +93,46 @@ pub fn get_found_emission(
     Vec3::ZERO
 }
 
-/// Twin of `sample_path_direction`.
+/// Twin of `get_direction_random_numbers`: the numbers at `dimension_pair` of `sample` for
+/// the importance-sampled integrators, the workshop's next PCG2D pair from `seed` otherwise.
+pub fn get_direction_random_numbers(
+    integrator: u32,
+    sample: &PathSample,
+    dimension_pair: u32,
+    seed: &mut UVec2,
+) -> Vec2 {
+    if is_importance_sampled(integrator) {
+        get_path_random_numbers(sample, dimension_pair)
+    } else {
+        get_random_numbers(seed)
+    }
+}
+
+/// Twin of `sample_path_direction`, at the vertex whose first dimension pair is
+/// `vertex_pairs` (`get_vertex_dimension_pair`).
 pub fn sample_path_direction(
     integrator: u32,
     surface: &Surface,
     view: Vec3,
+    sample: &PathSample,
+    vertex_pairs: u32,
     seed: &mut UVec2,
 ) -> BsdfSample {
     let transmissive = is_transmissive(surface) || has_delta_lobe(surface);
     if samples_uniform_directions(integrator) && !transmissive {
         return sample_uniform_direction(surface, view, get_random_numbers(seed));
     }
-    let random_numbers: Vec2 = get_random_numbers(seed);
+    let random_numbers = get_direction_random_numbers(
+        integrator,
+        sample,
+        vertex_pairs + VERTEX_PAIR_DIRECTION,
+        seed,
+    );
     if samples_cosine_directions(integrator) && !transmissive {
         return sample_cosine_direction(surface, view, random_numbers);
     }
     let lobe_random = if has_layers(surface) {
-        get_random_numbers(seed)[0]
+        get_direction_random_numbers(integrator, sample, vertex_pairs + VERTEX_PAIR_LOBE, seed)[0]
     } else {
         0.0
     };
@@ -112,19 +142,23 @@ pub fn sample_path_direction(
 /// Twin of `sample_guided_path_direction`: at a vertex that path guiding guides (cell
 /// `guide_cell` of `guide`), one number chooses between `sample_path_direction` and the
 /// guide; elsewhere (no guide, or `GUIDE_NO_CELL`) `sample_path_direction` alone.
+#[allow(clippy::too_many_arguments)]
 pub fn sample_guided_path_direction(
     integrator: u32,
     guide: Option<GuideTexels>,
     surface: &Surface,
     view: Vec3,
     guide_cell: u32,
+    sample: &PathSample,
+    vertex_pairs: u32,
     seed: &mut UVec2,
 ) -> BsdfSample {
     let texels = match guide {
         Some(texels) if guide_cell != GUIDE_NO_CELL => texels,
-        _ => return sample_path_direction(integrator, surface, view, seed),
+        _ => return sample_path_direction(integrator, surface, view, sample, vertex_pairs, seed),
     };
-    let bsdf_chosen = get_random_numbers(seed)[0] < GUIDE_BSDF_FRACTION;
+    let bsdf_chosen = get_path_random_numbers(sample, vertex_pairs + VERTEX_PAIR_GUIDE_CHOICE)[0]
+        < GUIDE_BSDF_FRACTION;
     // The shader leaves its bsdf_sample unset where the guide samples: every member that
     // get_guided_direction() returns is then overwritten.
     let mut bsdf_sample = BsdfSample {
@@ -136,9 +170,10 @@ pub fn sample_guided_path_direction(
     };
     let mut guide_random_numbers = Vec2::ZERO;
     if bsdf_chosen {
-        bsdf_sample = sample_path_direction(integrator, surface, view, seed);
+        bsdf_sample = sample_path_direction(integrator, surface, view, sample, vertex_pairs, seed);
     } else {
-        guide_random_numbers = get_random_numbers(seed);
+        guide_random_numbers =
+            get_path_random_numbers(sample, vertex_pairs + VERTEX_PAIR_GUIDE_DIRECTION);
     }
     get_guided_direction(
         texels,
@@ -154,11 +189,14 @@ pub fn sample_guided_path_direction(
 /// Twin of `get_path_radiance`; `max_path_length` and `russian_roulette_start` are the
 /// kernel's `MAX_PATH_LENGTH` and `RUSSIAN_ROULETTE_START`. A training frame of a guided
 /// render (`is_guide_training()`) passes the words its splats go to as `guide_splats`
-/// (`scene.guide` must then be set).
+/// (`scene.guide` must then be set). `sample` names the numbers of the importance-sampled
+/// integrators, `seed` the workshop's PCG2D state of Exercises 6 and 7.
+#[allow(clippy::too_many_arguments)]
 pub fn get_path_radiance(
     scene: &LightScene,
     mut ray_origin: Vec3,
     mut ray_direction: Vec3,
+    sample: &PathSample,
     seed: &mut UVec2,
     max_path_length: u32,
     russian_roulette_start: u32,
@@ -217,11 +255,22 @@ pub fn get_path_radiance(
             light_sampled,
         );
         let guide_cell = get_path_guide_cell(scene.guide, guide_grid_cell, &surface);
+        // The Lambertian kernel's order: light samples, then the direction (each at its own
+        // dimension pairs, so the order changes no number).
+        let vertex_pairs = get_vertex_dimension_pair(i);
         if light_sampled {
             light_origin = get_light_sample_origin(&surface, ray_origin);
             light_normal = get_light_selection_normal(&surface);
             radiance += throughput_weight
-                * sample_direct_light(scene, ray_origin, &surface, view, guide_cell, seed);
+                * sample_direct_light(
+                    scene,
+                    ray_origin,
+                    &surface,
+                    view,
+                    guide_cell,
+                    sample,
+                    vertex_pairs,
+                );
         }
         // 3. Continue the path
         let direction = sample_guided_path_direction(
@@ -230,6 +279,8 @@ pub fn get_path_radiance(
             &surface,
             view,
             guide_cell,
+            sample,
+            vertex_pairs,
             seed,
         );
         if direction.weight == Vec3::ZERO {
@@ -250,7 +301,9 @@ pub fn get_path_radiance(
             && i + 1 >= russian_roulette_start
         {
             let survival = (throughput_weight.max_element() * eta_scale).min(1.0);
-            if get_random_numbers(seed)[0] >= survival {
+            if get_path_random_numbers(sample, vertex_pairs + VERTEX_PAIR_RUSSIAN_ROULETTE)[0]
+                >= survival
+            {
                 break;
             }
             throughput_weight /= survival;
@@ -271,4 +324,104 @@ pub fn get_path_radiance(
         guide_records.splat_guide_records(texels, words, radiance);
     }
     radiance
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::contract::{INTEGRATOR_MIS, INTEGRATOR_NEE, SAMPLER_PCG, SAMPLER_SOBOL};
+    use crate::cpu::sample_dimensions::{CAMERA_PAIRS, VERTEX_PAIRS};
+    use crate::lights::EmissiveTriangles;
+    use crate::scene::Scene;
+
+    /// The point of fixed sample dimensions: the light samples that nee and mis take at a
+    /// vertex, the direction and Russian roulette each draw at their own pairs, so drawing
+    /// one moves none of the others, in either order (the Lambertian kernel takes the light
+    /// samples first, the glTF kernel the direction). With the draw-order sampler before (one
+    /// PCG2D stream, or Sobol's next pair), the direction drawn after `sample_direct_light`
+    /// came from the pairs after the light's two, and differed from the one drawn alone.
+    #[test]
+    fn light_samples_move_no_other_number() {
+        let scene_triangles = Scene::builtin_cornell_box().unwrap().triangles;
+        let lights = EmissiveTriangles::new(&scene_triangles);
+        // A point of the floor (the box's lowest, upward-facing, non-emissive triangle),
+        // seen from above.
+        let (floor_index, floor) = scene_triangles
+            .iter()
+            .enumerate()
+            .filter(|(_, t)| t.emission == Vec3::ZERO && t.normal.y.abs() > 0.99)
+            .min_by(|(_, a), (_, b)| a.positions[0].y.total_cmp(&b.positions[0].y))
+            .unwrap();
+        let position = (floor.positions[0] + floor.positions[1] + floor.positions[2]) / 3.0;
+        let ray_direction = Vec3::new(0.1, -1.0, 0.2).normalize();
+        let surface = get_surface(&scene_triangles, floor_index, ray_direction);
+        let view = -ray_direction;
+        let mut lit = 0;
+        for integrator in [INTEGRATOR_NEE, INTEGRATOR_MIS] {
+            let scene = LightScene {
+                scene_triangles: &scene_triangles,
+                lights: &lights,
+                integrator,
+                light_sampling: crate::contract::LIGHT_SAMPLING_SOLID_ANGLE,
+                guide: None,
+                light_tree: None,
+            };
+            for sampler in [SAMPLER_PCG, SAMPLER_SOBOL] {
+                for sample_index in 0..32 {
+                    let sample = PathSample::new(sampler, UVec2::new(5, 9), sample_index, 3);
+                    for vertex in 0..4 {
+                        let pairs = get_vertex_dimension_pair(vertex);
+                        let direction = |seed: &mut UVec2| {
+                            sample_guided_path_direction(
+                                integrator,
+                                None,
+                                &surface,
+                                view,
+                                GUIDE_NO_CELL,
+                                &sample,
+                                pairs,
+                                seed,
+                            )
+                        };
+                        let light = || {
+                            sample_direct_light(
+                                &scene,
+                                position,
+                                &surface,
+                                view,
+                                GUIDE_NO_CELL,
+                                &sample,
+                                pairs,
+                            )
+                        };
+                        // One PCG2D state for all draws, as the path loop threads it; the
+                        // importance-sampled integrators must leave it untouched.
+                        let mut seed = UVec2::new(11, 13);
+                        let alone = direction(&mut seed);
+                        let light_first = light();
+                        let after_light = direction(&mut seed);
+                        let light_after = light();
+                        assert_eq!(seed, UVec2::new(11, 13));
+                        assert_eq!(alone.direction, after_light.direction);
+                        assert_eq!(alone.weight, after_light.weight);
+                        assert_eq!(light_first, light_after);
+                        // The direction's and the light's numbers are other pairs.
+                        let direction_numbers =
+                            get_path_random_numbers(&sample, pairs + VERTEX_PAIR_DIRECTION);
+                        assert_ne!(direction_numbers, get_path_random_numbers(&sample, pairs));
+                        if light_first != Vec3::ZERO {
+                            lit += 1;
+                        }
+                    }
+                }
+            }
+        }
+        // Not vacuous: most light samples reach the ceiling's light.
+        assert!(
+            lit > 2 * 2 * 32 * 4 / 2,
+            "{lit} light samples lit the floor"
+        );
+        // The table leaves a vertex's block to it alone.
+        assert_eq!(get_vertex_dimension_pair(1) - CAMERA_PAIRS, VERTEX_PAIRS);
+    }
 }

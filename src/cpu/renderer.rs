@@ -9,7 +9,7 @@ use glam::{UVec2, Vec2, Vec3};
 use rayon::prelude::*;
 
 use crate::camera::ImagePlane;
-use crate::contract::LIGHT_SELECTION_TREE;
+use crate::contract::{LIGHT_SELECTION_TREE, PIXEL_FILTER_BOX};
 use crate::cpu::camera::{get_sample_seed, get_sample_tex_coord};
 use crate::cpu::guiding::GuideTexels;
 use crate::cpu::image::{CpuImage, PixelAccumulator};
@@ -18,7 +18,8 @@ use crate::cpu::integrators::is_importance_sampled;
 use crate::cpu::light_tree::LightTexels;
 use crate::cpu::lights::LightScene;
 use crate::cpu::path_loop::get_path_radiance;
-use crate::cpu::sobol::get_sobol_pixel_seed;
+use crate::cpu::sample_dimensions::CAMERA_PAIR_PIXEL;
+use crate::cpu::sobol::{get_path_random_numbers, PathSample};
 use crate::cpu::thin_lens::{apply_thin_lens, get_lens_random_numbers};
 use crate::cpu::workshop::get_primary_ray_direction;
 use crate::error::Result;
@@ -48,6 +49,9 @@ pub struct CpuRenderSettings {
     pub integrator: u32,
     /// `RUSSIAN_ROULETTE_START` (importance-sampled integrators only; 0: off).
     pub russian_roulette_start: u32,
+    /// `SAMPLER_PCG` or `SAMPLER_SOBOL` of `crate::contract` (importance-sampled integrators
+    /// only; the workshop's draw PCG2D whatever it is).
+    pub sampler: u32,
     /// `LIGHT_SAMPLING_*` of `crate::contract` (nee and mis only).
     pub light_sampling: u32,
     /// `LIGHT_SELECTION_*` of `crate::contract` (nee and mis only): the power CDF, or the
@@ -162,15 +166,17 @@ pub fn add_cpu_guided_samples(
         });
 }
 
-/// The camera ray of sample `sample_index` of `pixel` through the image point `tex_coord`, as
-/// `main()` in `path_tracer.comp` makes it: the pinhole's (`get_primary_ray_direction`), or
-/// with a lens (`plane.lens`) the thin lens's, whose numbers come from PCG2D (the CPU
-/// renderer's sampler). Returns (origin, direction).
+/// The camera ray of a sample through the image point `tex_coord`, as `main()` in
+/// `path_tracer.comp` makes it: the pinhole's (`get_primary_ray_direction`), or with a lens
+/// (`plane.lens`) the thin lens's, whose numbers are `get_lens_random_numbers`' (the fixed pair
+/// `CAMERA_PAIR_LENS` of `sample` for the importance-sampled integrators, a PCG2D stream of
+/// `sample_seed`, the sample's `get_sample_seed`, for the workshop's). Returns (origin,
+/// direction).
 pub fn get_camera_ray(
     plane: &ImagePlane,
-    pixel: UVec2,
-    sample_index: u32,
-    user_seed: u32,
+    sample_seed: UVec2,
+    sample: &PathSample,
+    importance_sampled: bool,
     tex_coord: Vec2,
 ) -> (Vec3, Vec3) {
     let direction = get_primary_ray_direction(
@@ -184,12 +190,7 @@ pub fn get_camera_ray(
     if plane.lens.is_pinhole() {
         return (plane.camera_position, direction);
     }
-    let random_numbers = get_lens_random_numbers(
-        get_sample_seed(pixel, sample_index, user_seed),
-        sample_index,
-        get_sobol_pixel_seed(pixel, user_seed),
-        false,
-    );
+    let random_numbers = get_lens_random_numbers(sample_seed, sample, importance_sampled);
     apply_thin_lens(plane.camera_position, direction, plane, random_numbers)
 }
 
@@ -209,9 +210,19 @@ fn add_pixel_samples(
 ) {
     for sample_index in samples {
         let mut seed = get_sample_seed(pixel, sample_index, settings.seed);
-        let tex_coord = get_sample_tex_coord(pixel, resolution, settings.pixel_filter, &mut seed);
+        let sample = PathSample::new(settings.sampler, pixel, sample_index, settings.seed);
+        let importance_sampled = is_importance_sampled(settings.integrator);
+        // The importance-sampled integrators' jitter at its dimension pair, the workshop's
+        // from PCG2D.
+        let tex_coord = if importance_sampled && settings.pixel_filter == PIXEL_FILTER_BOX {
+            (pixel.as_vec2() + get_path_random_numbers(&sample, CAMERA_PAIR_PIXEL))
+                / resolution.as_vec2()
+        } else {
+            get_sample_tex_coord(pixel, resolution, settings.pixel_filter, &mut seed)
+        };
+        let sample_seed = get_sample_seed(pixel, sample_index, settings.seed);
         let (camera_position, ray_direction) =
-            get_camera_ray(plane, pixel, sample_index, settings.seed, tex_coord);
+            get_camera_ray(plane, sample_seed, &sample, importance_sampled, tex_coord);
         let radiance = if is_importance_sampled(settings.integrator) {
             let scene = LightScene {
                 scene_triangles,
@@ -225,6 +236,7 @@ fn add_pixel_samples(
                 &scene,
                 camera_position,
                 ray_direction,
+                &sample,
                 &mut seed,
                 settings.max_path_length,
                 settings.russian_roulette_start,

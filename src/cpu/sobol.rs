@@ -1,10 +1,13 @@
-//! Rust twins of `glsl/sobol.glsl`: the first two Sobol dimensions with Burley's hash-based
-//! Owen scrambling and index shuffling (Brent Burley 2020, "Practical Hash-based Owen
-//! Scrambling", JCGT 9(4)). Same names, parameters and maths as the GLSL, operation for
-//! operation; everything is integer arithmetic plus one exact conversion to float, so the
-//! twins agree bit for bit. Change both together.
+//! Rust twins of `glsl/sobol.glsl`, the random numbers of the importance-sampled integrators
+//! at fixed dimension pairs (`crate::cpu::sample_dimensions`): the first two Sobol dimensions
+//! with Burley's hash-based Owen scrambling and index shuffling (Brent Burley 2020, "Practical
+//! Hash-based Owen Scrambling", JCGT 9(4)), and the hashed PCG of `--sampler pcg`. Same names,
+//! parameters and maths as the GLSL, operation for operation; everything is integer arithmetic
+//! plus one exact conversion to float, so the twins agree bit for bit. Change both together.
 
 use glam::{UVec2, Vec2};
+
+use crate::contract::SAMPLER_SOBOL;
 
 /// Twin of GLSL `sobol_reverse_bits` (`bitfieldReverse`): bit 0 becomes bit 31.
 pub fn sobol_reverse_bits(x: u32) -> u32 {
@@ -87,7 +90,8 @@ pub fn sobol_to_float(x: u32) -> f32 {
 /// Twin of GLSL `get_sobol_sample_2d`: sample `sample_index` of the shuffled, Owen-scrambled
 /// 2D Sobol sequence of one dimension pair of one pixel (Burley 2020, listing 3).
 /// \param sample_index Index of the sample within the pixel, from 0
-/// \param dimension_pair Which pair of random numbers of the path (0: the first drawn)
+/// \param dimension_pair Which pair of random numbers of the sample
+///        (`crate::cpu::sample_dimensions`)
 /// \param pixel_seed `get_sobol_pixel_seed` of the pixel
 /// \return Two numbers in [0, 1); for sample indices 0..2^k they form a (0,k,2)-net
 pub fn get_sobol_sample_2d(sample_index: u32, dimension_pair: u32, pixel_seed: u32) -> Vec2 {
@@ -96,6 +100,73 @@ pub fn get_sobol_sample_2d(sample_index: u32, dimension_pair: u32, pixel_seed: u
     let x = nested_uniform_scramble(sobol_dimension_0(index), sobol_hash_combine(seed, 0));
     let y = nested_uniform_scramble(sobol_dimension_1(index), sobol_hash_combine(seed, 1));
     Vec2::new(sobol_to_float(x), sobol_to_float(y))
+}
+
+/// Twin of GLSL `pcg2d_hash`: PCG2D (Jarzynski and Olano 2020, JCGT 9(3)) as a hash of two
+/// words, the state update of `crate::cpu::workshop::get_random_numbers`.
+pub fn pcg2d_hash(v: UVec2) -> UVec2 {
+    const MULTIPLIER: u32 = 1_664_525;
+    let mut x = MULTIPLIER.wrapping_mul(v.x).wrapping_add(1_013_904_223);
+    let mut y = MULTIPLIER.wrapping_mul(v.y).wrapping_add(1_013_904_223);
+    x = x.wrapping_add(MULTIPLIER.wrapping_mul(y));
+    y = y.wrapping_add(MULTIPLIER.wrapping_mul(x));
+    x ^= x >> 16;
+    y ^= y >> 16;
+    x = x.wrapping_add(MULTIPLIER.wrapping_mul(y));
+    y = y.wrapping_add(MULTIPLIER.wrapping_mul(x));
+    x ^= x >> 16;
+    y ^= y >> 16;
+    UVec2::new(x, y)
+}
+
+/// Twin of GLSL `get_pcg_sample_2d`: independent uniform numbers for one sample and
+/// dimension pair of one pixel, hashed from the pair's seed and the sample index.
+/// \param sample_index Index of the sample within the pixel, from 0
+/// \param dimension_pair Which pair of random numbers of the sample
+/// \param pixel_seed `get_sobol_pixel_seed` of the pixel
+/// \return Two numbers in [0, 1) (24 bits each, `sobol_to_float`)
+pub fn get_pcg_sample_2d(sample_index: u32, dimension_pair: u32, pixel_seed: u32) -> Vec2 {
+    let pair_seed = sobol_hash(sobol_hash_combine(pixel_seed, dimension_pair));
+    let hashed = pcg2d_hash(UVec2::new(
+        pair_seed,
+        sobol_hash(sobol_hash_combine(pair_seed, sample_index)),
+    ));
+    Vec2::new(sobol_to_float(hashed.x), sobol_to_float(hashed.y))
+}
+
+/// The sample whose random numbers the importance-sampled integrators draw: the shader's
+/// `SAMPLER` and `g_path.sample_index`, `g_path.pixel_seed`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct PathSample {
+    /// `SAMPLER_PCG` or `SAMPLER_SOBOL` of `crate::contract`.
+    pub sampler: u32,
+    /// Index of the sample within the pixel, from 0.
+    pub sample_index: u32,
+    /// `get_sobol_pixel_seed` of the pixel.
+    pub pixel_seed: u32,
+}
+
+impl PathSample {
+    /// Sample `sample_index` of `pixel` (from the bottom-left) with the user's seed, as
+    /// `main()` sets `g_path` up before each sample.
+    pub fn new(sampler: u32, pixel: UVec2, sample_index: u32, user_seed: u32) -> PathSample {
+        PathSample {
+            sampler,
+            sample_index,
+            pixel_seed: get_sobol_pixel_seed(pixel, user_seed),
+        }
+    }
+}
+
+/// Twin of GLSL `get_path_random_numbers`: the numbers at dimension pair `dimension_pair` of
+/// `sample` (`crate::cpu::sample_dimensions`), Sobol's or hashed PCG's: the same however many
+/// others were drawn before, and in which order.
+pub fn get_path_random_numbers(sample: &PathSample, dimension_pair: u32) -> Vec2 {
+    if sample.sampler == SAMPLER_SOBOL {
+        get_sobol_sample_2d(sample.sample_index, dimension_pair, sample.pixel_seed)
+    } else {
+        get_pcg_sample_2d(sample.sample_index, dimension_pair, sample.pixel_seed)
+    }
 }
 
 #[cfg(test)]
@@ -346,5 +417,123 @@ mod tests {
             sobol_errors[last],
             pcg_errors[last]
         );
+    }
+
+    #[test]
+    fn hashed_pcg_converges_as_independent_samples() {
+        // --sampler pcg at a fixed pair: over sample indices, the error of independent samples
+        // (slope -1/2, bound as in the test above), unlike Sobol's.
+        let reference = reference_integral();
+        let counts = [16u32, 64, 256, 1024];
+        let pixels: Vec<UVec2> = (0..64).map(|i| UVec2::new(i % 8, i / 8)).collect();
+        let errors: Vec<f64> = counts
+            .iter()
+            .map(|&n| {
+                let squared: f64 = pixels
+                    .iter()
+                    .map(|&pixel| {
+                        let pixel_seed = get_sobol_pixel_seed(pixel, 7);
+                        let mean = (0..n)
+                            .map(|s| {
+                                let u = get_pcg_sample_2d(s, 5, pixel_seed);
+                                integrand(f64::from(u.x), f64::from(u.y))
+                            })
+                            .sum::<f64>()
+                            / f64::from(n);
+                        (mean - reference).powi(2)
+                    })
+                    .sum();
+                (squared / pixels.len() as f64).sqrt()
+            })
+            .collect();
+        let slope = log_log_slope(&counts, &errors);
+        println!("hashed PCG: RMS errors {errors:?}, slope {slope:.3}");
+        assert!((slope + 0.5).abs() <= 0.15, "hashed PCG slope {slope}");
+    }
+
+    /// Pearson's correlation of two equally long series.
+    fn correlation(a: &[f64], b: &[f64]) -> f64 {
+        let n = a.len() as f64;
+        let mean_a = a.iter().sum::<f64>() / n;
+        let mean_b = b.iter().sum::<f64>() / n;
+        let covariance: f64 = a
+            .iter()
+            .zip(b)
+            .map(|(x, y)| (x - mean_a) * (y - mean_b))
+            .sum();
+        let variance_a: f64 = a.iter().map(|x| (x - mean_a).powi(2)).sum();
+        let variance_b: f64 = b.iter().map(|y| (y - mean_b).powi(2)).sum();
+        covariance / (variance_a * variance_b).sqrt()
+    }
+
+    #[test]
+    fn hashed_pcg_is_independent_across_samples_pixels_and_pairs() {
+        // 64 pixels x 64 samples: the numbers of one (pixel, sample, pair) against those of
+        // the next sample, the next pixel, the next pair, and its own second number. For
+        // independent uniforms each correlation is about N(0, 1/N): 4/sqrt(N) = 0.0625 is four
+        // standard errors, while the structured seeds that differ only in a few bits (what a
+        // weak hash would leave) correlate far more.
+        let numbers = |pixel: UVec2, sample: u32, pair: u32| {
+            get_pcg_sample_2d(sample, pair, get_sobol_pixel_seed(pixel, 3))
+        };
+        let mut keys = Vec::new();
+        for i in 0..64u32 {
+            for sample in 0..64u32 {
+                keys.push((UVec2::new(i % 8, i / 8), sample));
+            }
+        }
+        let bound = 4.0 / (keys.len() as f64).sqrt();
+        let series = |f: &dyn Fn(UVec2, u32) -> f32| -> Vec<f64> {
+            keys.iter().map(|&(p, s)| f64::from(f(p, s))).collect()
+        };
+        for pair in [0u32, 3, 14, 50] {
+            let base = series(&|p, s| numbers(p, s, pair).x);
+            let others: [(&str, Vec<f64>); 5] = [
+                ("its second number", series(&|p, s| numbers(p, s, pair).y)),
+                ("the next sample", series(&|p, s| numbers(p, s + 1, pair).x)),
+                (
+                    "the next pixel",
+                    series(&|p, s| numbers(p + UVec2::X, s, pair).x),
+                ),
+                ("the next pair", series(&|p, s| numbers(p, s, pair + 1).x)),
+                (
+                    "the next pair's second",
+                    series(&|p, s| numbers(p, s, pair + 1).y),
+                ),
+            ];
+            let mean = base.iter().sum::<f64>() / base.len() as f64;
+            // The mean of N uniforms has standard error sqrt(1/12/N).
+            assert!(
+                (mean - 0.5).abs() < 4.0 * (1.0 / 12.0 / base.len() as f64).sqrt(),
+                "pair {pair}: mean {mean}"
+            );
+            for (name, other) in &others {
+                let r = correlation(&base, other);
+                assert!(r.abs() < bound, "pair {pair} against {name}: r = {r:.4}");
+            }
+        }
+    }
+
+    #[test]
+    fn path_random_numbers_follow_the_sampler() {
+        let pcg = PathSample::new(crate::contract::SAMPLER_PCG, UVec2::new(2, 3), 17, 9);
+        let sobol = PathSample {
+            sampler: SAMPLER_SOBOL,
+            ..pcg
+        };
+        for pair in [0u32, 4, 40] {
+            assert_eq!(
+                get_path_random_numbers(&sobol, pair),
+                get_sobol_sample_2d(17, pair, get_sobol_pixel_seed(UVec2::new(2, 3), 9))
+            );
+            assert_eq!(
+                get_path_random_numbers(&pcg, pair),
+                get_pcg_sample_2d(17, pair, pcg.pixel_seed)
+            );
+        }
+        // PCG2D as a hash is the workshop's state update.
+        let mut state = UVec2::new(123, 456);
+        crate::cpu::workshop::get_random_numbers(&mut state);
+        assert_eq!(pcg2d_hash(UVec2::new(123, 456)), state);
     }
 }

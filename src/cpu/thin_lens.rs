@@ -6,26 +6,25 @@
 use glam::{UVec2, Vec2, Vec3};
 
 use crate::camera::ImagePlane;
-use crate::cpu::sobol::get_sobol_sample_2d;
+use crate::cpu::sample_dimensions::CAMERA_PAIR_LENS;
+use crate::cpu::sobol::{get_path_random_numbers, PathSample};
 use crate::cpu::workshop::{get_random_numbers, M_PI};
 
-/// The Sobol dimension pair of the lens sample, twin of GLSL `LENS_DIMENSION_PAIR`: far from
-/// the path's pairs, which are numbered from 0 in the order drawn.
-pub const LENS_DIMENSION_PAIR: u32 = 0x8000_0001;
-/// XORed into a sample's PCG2D seed for the lens's own stream, twin of `LENS_SEED_MASK`.
+/// XORed into a sample's PCG2D seed for the workshop integrators' lens stream, twin of
+/// `LENS_SEED_MASK`.
 pub const LENS_SEED_MASK: UVec2 = UVec2::new(0x6c65_6e73, 0x44f3_a5c1);
 
 /// Twin of GLSL `get_lens_random_numbers`: the two numbers of a sample's aperture point, at a
-/// dimension of their own (Sobol pair `LENS_DIMENSION_PAIR`, or PCG2D of the sample's seed XOR
-/// `LENS_SEED_MASK`), so that the sample's other numbers are what they were without a lens.
+/// dimension of their own: `CAMERA_PAIR_LENS` of `sample` (Sobol or hashed PCG) for the
+/// importance-sampled integrators, else PCG2D of the sample's seed XOR `LENS_SEED_MASK`, so
+/// that the sample's other numbers are what they were without a lens.
 pub fn get_lens_random_numbers(
     sample_seed: UVec2,
-    sample_index: u32,
-    pixel_seed: u32,
-    sobol: bool,
+    sample: &PathSample,
+    importance_sampled: bool,
 ) -> Vec2 {
-    if sobol {
-        return get_sobol_sample_2d(sample_index, LENS_DIMENSION_PAIR, pixel_seed);
+    if importance_sampled {
+        return get_path_random_numbers(sample, CAMERA_PAIR_LENS);
     }
     let mut lens_seed = sample_seed ^ LENS_SEED_MASK;
     get_random_numbers(&mut lens_seed)
@@ -182,13 +181,16 @@ mod tests {
 
     #[test]
     fn lens_numbers_leave_the_sample_stream_alone_and_differ_from_it() {
+        use crate::contract::{SAMPLER_PCG, SAMPLER_SOBOL};
         let seed = UVec2::new(12, 34);
         let mut stream = seed;
         let first = get_random_numbers(&mut stream);
-        let lens = get_lens_random_numbers(seed, 5, 77, false);
-        assert_ne!(first, lens);
-        let sobol = get_lens_random_numbers(seed, 5, 77, true);
-        assert_eq!(sobol, get_sobol_sample_2d(5, LENS_DIMENSION_PAIR, 77));
-        assert_ne!(sobol, get_sobol_sample_2d(5, 0, 77));
+        let pcg = PathSample::new(SAMPLER_PCG, UVec2::new(3, 4), 5, 7);
+        let workshop = get_lens_random_numbers(seed, &pcg, false);
+        assert_ne!(first, workshop);
+        let sobol = PathSample::new(SAMPLER_SOBOL, UVec2::new(3, 4), 5, 7);
+        let lens = get_lens_random_numbers(seed, &sobol, true);
+        assert_eq!(lens, get_path_random_numbers(&sobol, CAMERA_PAIR_LENS));
+        assert_ne!(lens, get_path_random_numbers(&sobol, 0));
     }
 }

@@ -126,16 +126,18 @@ impl Integrator {
     }
 }
 
-/// Where the importance-sampled integrators (cosine, nee, mis) get their random numbers; the
-/// workshop integrators always use the workshop's PCG2D.
+/// Where the importance-sampled integrators (cosine, nee, mis) get their random numbers, one
+/// pair per fixed sample dimension (`glsl/sample_dimensions.glsl`); the workshop integrators
+/// always draw the workshop's PCG2D stream.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
 #[cfg_attr(feature = "cli", derive(clap::ValueEnum))]
 pub enum SamplerKind {
-    /// The workshop's PCG2D hash, `get_random_numbers()`: independent random numbers.
+    /// PCG2D as a hash of the pixel, the sample index and the dimension pair
+    /// (`get_pcg_sample_2d()`): independent random numbers.
     #[default]
     #[cfg_attr(
         feature = "cli",
-        value(help = "The workshop's PCG2D: independent random numbers")
+        value(help = "PCG2D hashed per pixel, sample and dimension: independent random numbers")
     )]
     Pcg,
     /// Owen-scrambled, shuffled 2D Sobol points per dimension pair (Burley 2020,

@@ -84,6 +84,7 @@ pub fn cpu_settings(settings: &RenderSettings, light_selection: u32) -> CpuRende
         pixel_filter: settings.pixel_filter.spec_constant(),
         integrator: settings.integrator.spec_constant(),
         russian_roulette_start: settings.russian_roulette_start,
+        sampler: settings.sampler.spec_constant(),
         light_sampling: settings.light_sampling.spec_constant(),
         light_selection,
     }
