@@ -17,6 +17,7 @@ pub mod job;
 pub mod metadata;
 pub mod multi;
 pub mod pipeline_cache;
+pub mod post_process;
 pub mod region;
 pub mod renderer;
 pub mod sequence;
