@@ -11,14 +11,16 @@ use super::signals;
 use super::summary::{RenderProgress, SequencePosition};
 use super::tev::TevView;
 use crate::camera::Camera;
+use crate::error::Error;
 use crate::image_io::output::SaveOptions;
 use crate::render::accumulation::Accumulation;
 use crate::render::gpu_scene::SceneMemory;
-use crate::render::job::{run_job, JobOptions, LiveImage};
+use crate::render::job::{JobOptions, LiveImage};
 use crate::render::metadata::{RenderMetadata, RenderOutcome};
 use crate::render::multi::run_on_devices;
 use crate::render::renderer::GuideReport;
 use crate::render::sequence::{ReuseCounts, SequenceCache};
+use crate::render::session::RenderSession;
 use crate::render::settings::RenderSettings;
 use crate::render::StopReason;
 use crate::scene::Scene;
@@ -188,25 +190,19 @@ pub fn render_job_and_save(context: &Arc<Context>, request: RenderRequest) -> an
         RenderProgress::new(total, request.settings.noise_threshold.is_some())
             .in_sequence(request.position.clone())
     });
-    let before = request.sequences.first().map(|s| s.reused);
-    let outcome = run_job(
-        context,
-        request.scene,
-        request.camera,
-        request.settings,
-        &job,
-        |done| {
+    let mut session = RenderSession {
+        job,
+        post: request.post.clone(),
+        sequence: request.sequences.first_mut(),
+        ..RenderSession::new(context, request.scene, request.camera, request.settings)
+    };
+    let outcome = session
+        .run(|done| {
             if let Some(progress) = progress.as_mut() {
                 progress.update(done.samples_done, done.deadline, done.converged_share);
             }
-        },
-        request.sequences.first_mut(),
-    )?;
-    let reused = request
-        .sequences
-        .first()
-        .zip(before)
-        .map(|(sequence, before)| sequence.reused.since(before));
+        })
+        .map_err(say_nothing_was_kept)?;
     if let Some(progress) = progress {
         progress.finish();
     }
@@ -223,13 +219,33 @@ pub fn render_job_and_save(context: &Arc<Context>, request: RenderRequest) -> an
         preview_failure: outcome.preview_failure.map(|e| e.to_string()),
         guide: result.guide,
         scene_memory: Some(result.scene_memory),
-        reused: reused.filter(|_| request.frame.is_some_and(|f| f.frame.is_some())),
+        reused: outcome
+            .reused
+            .filter(|_| request.frame.is_some_and(|f| f.frame.is_some())),
         image: result.image,
         tile_by_tile: result.state.is_none(),
         state: result.state.filter(|_| request.shard),
     };
-    drop(job);
+    drop(session);
     finish(&request, std::slice::from_ref(context), finished, tev)
+}
+
+/// Completes the error of a render whose device failed and could not give back what it held
+/// (`Error::RenderLost`), where the session said nothing of what was kept (no checkpoint was
+/// asked for, nor resumed from): nothing of it is.
+fn say_nothing_was_kept(error: Error) -> Error {
+    match error {
+        Error::RenderLost {
+            samples,
+            error,
+            kept,
+        } if kept.is_empty() => Error::RenderLost {
+            samples,
+            error,
+            kept: "; without --checkpoint nothing of it is kept".to_string(),
+        },
+        other => other,
+    }
 }
 
 /// Connects the live view the request asks for (`--tev`), named after its first output; a
@@ -269,7 +285,8 @@ pub fn render_on_devices_and_save(
         Some(&signals::STOP_REQUESTED),
         Some(&signals::RENDERING),
         &mut *request.sequences,
-    )?;
+    )
+    .map_err(say_nothing_was_kept)?;
     let job = &request.job;
     // What every device took from the frames before it.
     let reused = (!before.is_empty()).then(|| {
