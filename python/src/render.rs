@@ -1,7 +1,7 @@
 //! `vkpath.render`: the command line's `vkpath render` as a function. The settings a call
 //! leaves out are the library's `production_settings()`, which `vkpath render` starts from
-//! too, and the render runs through the library's `Renderer` as `vkpath render`'s `run_job`
-//! does, so the same settings give the same pixels bit for bit.
+//! too, and the render runs through the library's `RenderSession`, as every render of
+//! `vkpath render` does, so the same settings give the same pixels bit for bit.
 //! The GIL is released while rendering; a progress callback and Ctrl-C stop it after the
 //! current batch (about 250 ms).
 
