@@ -34,6 +34,9 @@ pub enum Error {
     /// results cannot be trusted.
     #[error("{0}")]
     LoopLimit(String),
+    /// Denoising failed (or Open Image Denoise is missing).
+    #[error(transparent)]
+    Denoise(#[from] crate::denoise::DenoiseError),
     /// A render failed after taking samples, and its device could not give back what it
     /// held (a lost device), so there is no image of them.
     #[error("rendering stopped after {samples} spp: {error}; the device could not give back what it rendered, so no image was written{kept}")]

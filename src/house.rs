@@ -54,6 +54,27 @@ fn read(path: &str) -> String {
 /// string and character literals kept as they are (a message that lists the kinds of light
 /// lists them).
 fn code_of(text: &str) -> String {
+    strip_comments(text, false)
+}
+
+/// `code_of`, with the insides of string and character literals blanked too (quotes, and
+/// newlines, kept): what is left of braces is the code's own.
+fn code_without_literals(text: &str) -> String {
+    strip_comments(text, true)
+}
+
+/// Appends a literal to `out`: as it is, or with `blank` every character but the quotes and
+/// newlines as a space.
+fn push_literal(out: &mut String, literal: &[char], blank: bool) {
+    let last = literal.len().saturating_sub(1);
+    for (i, &c) in literal.iter().enumerate() {
+        let keep = !blank || c == '\n' || ((i == 0 || i == last) && (c == '"' || c == '\''));
+        out.push(if keep { c } else { ' ' });
+    }
+}
+
+/// `code_of` and `code_without_literals`: comments blanked, literals kept or blanked.
+fn strip_comments(text: &str, blank_literals: bool) -> String {
     let chars: Vec<char> = text.chars().collect();
     let mut out = String::with_capacity(text.len());
     let mut i = 0;
@@ -106,7 +127,7 @@ fn code_of(text: &str) -> String {
                 end += 1;
             }
             let end = (end + 1 + hashes).min(chars.len());
-            out.extend(&chars[i..end]);
+            push_literal(&mut out, &chars[i..end], blank_literals);
             i = end;
         } else if c == '"' {
             let mut end = i + 1;
@@ -114,7 +135,7 @@ fn code_of(text: &str) -> String {
                 end += if chars[end] == '\\' { 2 } else { 1 };
             }
             let end = (end + 1).min(chars.len());
-            out.extend(&chars[i..end]);
+            push_literal(&mut out, &chars[i..end], blank_literals);
             i = end;
         } else if c == '\'' && (at(i + 1) == '\\' || at(i + 2) == '\'') {
             // A character literal ('"', '\n', '\''); a lifetime has no closing quote.
@@ -123,7 +144,7 @@ fn code_of(text: &str) -> String {
                 end += 1;
             }
             let end = (end + 1).min(chars.len());
-            out.extend(&chars[i..end]);
+            push_literal(&mut out, &chars[i..end], blank_literals);
             i = end;
         } else {
             out.push(c);
@@ -494,6 +515,177 @@ fn crate_paths_expand_groups() {
     assert_eq!(
         crate_paths(code),
         ["a::b", "a::c::d", "a::c::e", "a::g", "h::i", "j::K"]
+    );
+}
+
+/// The most lines `src/render/renderer.rs` may hold (`docs/house.md`, "Small rooms").
+const RENDERER_MAX_LINES: usize = 600;
+
+/// The most lines a function of `src/render/` or `src/cli/` may take, from its `fn` line to
+/// its closing brace (`docs/house.md`, "Small rooms").
+const FUNCTION_MAX_LINES: usize = 120;
+
+/// The functions with a body in a Rust source: each one's name, the line of its `fn` (from
+/// 1) and its lines from there to its closing brace. Braces are counted in the code without
+/// comments and literals (`code_without_literals`), so a `"{"` or a `// }` is not one; a
+/// function declared without a body (a trait's, `fn(u32)` types) is none; a function nested
+/// in another is counted on its own too.
+fn functions_of(text: &str) -> Vec<(String, usize, usize)> {
+    let code: Vec<char> = code_without_literals(text).chars().collect();
+    let word_at = |i: usize| {
+        let mut end = i;
+        while end < code.len() && (code[end].is_alphanumeric() || code[end] == '_') {
+            end += 1;
+        }
+        end
+    };
+    let line_of = |i: usize| code[..i].iter().filter(|&&c| c == '\n').count() + 1;
+    let mut functions = Vec::new();
+    let mut i = 0;
+    while i < code.len() {
+        let starts_word = i == 0 || !(code[i - 1].is_alphanumeric() || code[i - 1] == '_');
+        let end = word_at(i);
+        if !starts_word || end == i {
+            i += 1;
+            continue;
+        }
+        if code[i..end].iter().collect::<String>() != "fn" {
+            i = end;
+            continue;
+        }
+        // `fn`, blanks, a name: a function (`fn(` is a pointer type).
+        let mut name_start = end;
+        while name_start < code.len() && code[name_start].is_whitespace() {
+            name_start += 1;
+        }
+        let name_end = word_at(name_start);
+        if name_end == name_start || name_start == end {
+            i = end;
+            continue;
+        }
+        // Its body is the first `{` before any `;` (a declaration without one).
+        let mut open = name_end;
+        while open < code.len() && code[open] != '{' && code[open] != ';' {
+            open += 1;
+        }
+        if open < code.len() && code[open] == '{' {
+            let mut depth = 0;
+            let mut close = open;
+            while close < code.len() {
+                match code[close] {
+                    '{' => depth += 1,
+                    '}' => {
+                        depth -= 1;
+                        if depth == 0 {
+                            break;
+                        }
+                    }
+                    _ => {}
+                }
+                close += 1;
+            }
+            let first = line_of(i);
+            let name = code[name_start..name_end].iter().collect();
+            functions.push((name, first, line_of(close.min(code.len() - 1)) - first + 1));
+        }
+        i = name_end;
+    }
+    functions
+}
+
+#[test]
+fn the_renderer_and_every_function_of_render_and_cli_stay_small() {
+    // The busiest files of a round grow unless something holds them: `renderer.rs` keeps
+    // the render and its accessors (each job in a room under `renderer/`), and no function
+    // of `src/render/` or `src/cli/` takes more than a screen or two.
+    let renderer = read("src/render/renderer.rs").lines().count();
+    assert!(
+        renderer <= RENDERER_MAX_LINES,
+        "src/render/renderer.rs has {renderer} lines, more than {RENDERER_MAX_LINES}: give a job of it a room under src/render/renderer/"
+    );
+    let mut files = files_under("src/render", &[".rs"]);
+    files.extend(files_under("src/cli", &[".rs"]));
+    assert!(
+        files.len() > 40,
+        "src/render/ and src/cli/ not found: {files:?}"
+    );
+    let mut long = Vec::new();
+    let mut seen = 0;
+    for path in &files {
+        for (name, line, lines) in functions_of(&read(path)) {
+            seen += 1;
+            if lines > FUNCTION_MAX_LINES {
+                long.push(format!("{path}:{line} {name}: {lines} lines"));
+            }
+        }
+    }
+    assert!(seen > 400, "only {seen} functions found");
+    assert!(
+        long.is_empty(),
+        "functions of more than {FUNCTION_MAX_LINES} lines (split them into steps):\n{}",
+        long.join("\n")
+    );
+    // The doc says the same limits.
+    let doc = read("docs/house.md");
+    for limit in [
+        format!("`src/render/renderer.rs` holds at most {RENDERER_MAX_LINES} lines"),
+        format!(
+            "no function of `src/render/` or `src/cli/` takes more than {FUNCTION_MAX_LINES} lines"
+        ),
+    ] {
+        assert!(doc.contains(&limit), "docs/house.md does not say: {limit}");
+    }
+}
+
+#[test]
+fn the_function_scan_counts_code_braces_only() {
+    let source = r##"
+/// fn documented() { in a doc comment }
+fn first(a: u32) -> u32 {
+    let s = "}}} fn not_a_function() {";
+    let r = r#"{"#;
+    let c = '{';
+    // }
+    /* } fn also_not() { */
+    a + 1
+}
+
+trait Shape {
+    fn area(&self) -> f32;
+    fn sides(&self) -> u32 {
+        let call: fn(u32) -> u32 = |x| x;
+        call(4)
+    }
+}
+
+pub(crate) fn outer<'a>(x: &'a str) -> impl Fn() -> usize + 'a
+where
+    'a: 'a,
+{
+    fn inner() {}
+    move || x.len()
+}
+"##;
+    let functions = functions_of(source);
+    let expected = [
+        ("first", 3, 8),
+        ("sides", 14, 4),
+        ("outer", 20, 7),
+        ("inner", 24, 1),
+    ];
+    let found: Vec<(&str, usize, usize)> = functions
+        .iter()
+        .map(|(name, line, lines)| (name.as_str(), *line, *lines))
+        .collect();
+    assert_eq!(found, expected);
+    // A function of more than the limit is found as such.
+    let long = format!(
+        "fn long() {{\n{}}}\n",
+        "    step();\n".repeat(FUNCTION_MAX_LINES)
+    );
+    assert_eq!(
+        functions_of(&long),
+        [("long".to_owned(), 1, FUNCTION_MAX_LINES + 2)]
     );
 }
 

@@ -1,43 +1,33 @@
 //! `vkpath.render`: the command line's `vkpath render` as a function. The settings a call
 //! leaves out are the library's `production_settings()`, which `vkpath render` starts from
-//! too, and the render runs through the library's `Renderer` as `vkpath render`'s `run_job`
-//! does, so the same settings give the same pixels bit for bit.
+//! too, and the render runs through the library's `RenderSession`, as every render of
+//! `vkpath render` does, so the same settings give the same pixels bit for bit.
 //! The GIL is released while rendering; a progress callback and Ctrl-C stop it after the
 //! current batch (about 250 ms).
 
-use std::cell::Cell;
 use std::path::PathBuf;
-use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::atomic::{AtomicBool, AtomicU32, Ordering};
 use std::sync::{Arc, Mutex};
-use std::time::{Duration, Instant};
+use std::time::Duration;
 
 use glam::Vec3;
 use pyo3::prelude::*;
 use pyo3::types::{PyBool, PyByteArray, PyDict};
 use vkpath::lights::environment_source::{EnvironmentOptionNames, EnvironmentSource};
-use vkpath::render::accumulation::Accumulation;
 use vkpath::render::adaptive::{NoiseThreshold, DEFAULT_MIN_SPP};
-use vkpath::render::aov::{render_aov, Aov};
-use vkpath::render::job::production_settings;
+use vkpath::render::aov::Aov;
+use vkpath::render::job::{production_settings, JobOptions, LiveImage};
+use vkpath::render::post_process::PostProcess;
 use vkpath::render::region::PixelRegion;
 use vkpath::render::sequence::SequenceCache;
 use vkpath::render::settings::default_russian_roulette_start;
+use vkpath::render::RenderSession;
 use vkpath::render::StopReason;
-use vkpath::render::{RenderControl, Renderer};
-use vkpath::{Context, ContextOptions, Integrator, RenderSettings};
+use vkpath::{Context, ContextOptions, Integrator, RenderSettings, RenderedImage};
 
 use crate::errors::{argument_error, message, to_py};
 use crate::names::{in_python_words, name_of, parse, parse_optional};
 use crate::scene::{Scene, SequenceFacts};
-
-/// The outputs rendered beside the colour (`aovs=`, and those `denoise=` needs).
-#[derive(Default)]
-struct PostProcessed {
-    /// Each AOV with its pixels (RGB; depth in R, G and B).
-    aovs: Vec<(Aov, Vec<[f32; 3]>)>,
-    /// Whether the image is to be denoised (a whole render asked `denoise=True`).
-    denoise_requested: bool,
-}
 
 /// What a render may be told; `None` takes the default.
 #[derive(Default)]
@@ -179,14 +169,14 @@ fn after_batch(
     progress: Option<&Py<PyAny>>,
     done: u32,
     total: u32,
-    state: Option<&Accumulation>,
+    image: Option<&RenderedImage>,
 ) {
     Python::attach(|py| {
-        let call = |callback: &Py<PyAny>| match state {
+        let call = |callback: &Py<PyAny>| match image {
             // A callback of three parameters gets the image so far as well.
-            Some(state) => {
+            Some(image) => {
                 let so_far = ImageSoFar {
-                    state: state.clone(),
+                    image: image.clone(),
                 };
                 callback.call1(py, (done, total, so_far))
             }
@@ -261,14 +251,14 @@ impl Session {
 /// and `height`.
 #[pyclass(module = "vkpath", frozen)]
 pub struct ImageSoFar {
-    /// The accumulation state read back after the batch.
-    state: Accumulation,
+    /// The image read back after the batch.
+    image: RenderedImage,
 }
 
 #[pymethods]
 impl ImageSoFar {
     fn __call__<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
-        let image = self.state.image();
+        let image = &self.image;
         let dict = PyDict::new(py);
         dict.set_item(
             "mean",
@@ -419,92 +409,63 @@ pub fn render<'py>(
             guard.moving_geometry = moving_geometry;
             guard
         });
-        // What `run_job` does for a whole render without checkpoints, previews or resuming
-        // (the Renderer itself, so that Python needs none of the command line's job options).
-        let mut renderer = match sequence.as_deref_mut() {
-            Some(sequence) => {
-                Renderer::in_sequence(&context, &world, &camera, settings.clone(), sequence)?
-            }
-            None => Renderer::new(&context, &world, &camera, settings.clone())?,
+        // The library's render session, as `vkpath render` runs one: the whole state kept
+        // (a shard's, and as Python always has, never tile by tile), stopped by Ctrl-C or
+        // the callback through `stop`.
+        // `progress_image`: the callback is called from the live view, after every batch
+        // but the last, and once more below with the final image.
+        let (last_done, reported) = (AtomicU32::new(0), AtomicU32::new(0));
+        let with_image = |image: &RenderedImage| {
+            reported.store(last_done.load(Ordering::SeqCst), Ordering::SeqCst);
+            let done = last_done.load(Ordering::SeqCst);
+            after_batch(&stop, &raised, progress, done, total, Some(image));
         };
-        renderer.start_at_sample(first_sample)?;
-        // `progress_image`: the callback is called from the periodic hook, after every
-        // batch but the last (which the state read back after each batch gives it), and
-        // once more below with the final state.
-        let (last_done, reported) = (Cell::new(0), Cell::new(0));
-        let mut with_image = |state: &Accumulation| {
-            reported.set(last_done.get());
-            after_batch(
-                &stop,
-                &raised,
-                progress,
-                last_done.get(),
-                total,
-                Some(state),
-            );
-            Ok::<(), vkpath::Error>(())
-        };
-        let control = RenderControl {
-            cancel: Some(&stop),
-            deadline: time_limit.map(|limit| Instant::now() + limit),
-            preview: progress_image.then_some((
-                Duration::ZERO,
-                &mut with_image as &mut dyn FnMut(&Accumulation) -> vkpath::Result<()>,
-            )),
-            ..RenderControl::default()
-        };
-        let outcome = renderer.render_with(
-            |done| {
-                last_done.set(done);
-                if !progress_image {
-                    after_batch(&stop, &raised, progress, done, total, None);
-                }
+        let mut render_session = RenderSession {
+            job: JobOptions {
+                samples: first_sample..first_sample + settings.spp,
+                time_limit,
+                cancel: Some(&stop),
+                live: progress_image.then_some(LiveImage {
+                    interval: Duration::ZERO,
+                    show: &with_image,
+                }),
+                keep_state: true,
+                ..JobOptions::default()
             },
-            control,
-        )?;
-        if let Some(sequence) = sequence.as_deref_mut() {
-            renderer.keep_for_next(sequence);
-        }
+            post: PostProcess {
+                aovs: aovs.clone(),
+                denoise,
+            },
+            sequence: sequence.as_deref_mut(),
+            ..RenderSession::new(&context, &world, &camera, &settings)
+        };
+        let job = render_session.run(|done| {
+            last_done.store(done.samples_done, Ordering::SeqCst);
+            if !progress_image {
+                after_batch(&stop, &raised, progress, done.samples_done, total, None);
+            }
+        })?;
+        let outcome = &job.outcome;
         let already_raised = raised.lock().map_or(true, |raised| raised.is_some());
-        if progress_image && outcome.samples > reported.get() && !already_raised {
+        if progress_image && outcome.samples > reported.load(Ordering::SeqCst) && !already_raised {
             after_batch(
                 &stop,
                 &raised,
                 progress,
                 outcome.samples,
                 total,
-                outcome.state.as_ref(),
+                Some(&outcome.image),
             );
         }
         // As `--aov` and `--denoise` (which renders the albedo and normal it needs): after a
         // finished render (every sample, or the time limit reached); one stopped early (the
         // callback, Ctrl-C) is returned as it is.
-        let mut post = PostProcessed::default();
-        if outcome.stop.is_finished() && outcome.failure.is_none() {
-            let mut wanted = aovs.clone();
-            if denoise {
-                wanted.extend(
-                    [Aov::Albedo, Aov::Normal]
-                        .iter()
-                        .filter(|a| !aovs.contains(a)),
-                );
-            }
-            // The samples the colour took (fewer than asked after the time limit).
-            let taken = RenderSettings {
-                spp: outcome.samples,
-                ..settings.clone()
-            };
-            for aov in wanted {
-                let pixels = render_aov(&context, &world, &camera, &taken, aov)?;
-                post.aovs.push((aov, pixels));
-            }
-            post.denoise_requested = denoise;
-        }
+        let post = render_session.post_process(&job)?;
         let validation = context
             .validation_messages()
             .map(|m| m.total())
             .unwrap_or(0);
-        Ok::<_, vkpath::Error>((outcome, context.info.name.clone(), validation, post))
+        Ok::<_, vkpath::Error>((job.outcome, context.info.name.clone(), validation, post))
     });
     // An exception from the callback or Ctrl-C wins over everything else: the render has
     // stopped and freed its device by now.
@@ -529,39 +490,30 @@ pub fn render<'py>(
     // A shard's image is its state's (what `--sample-range` writes, for `vkpath merge`):
     // the mean of its sums, which may differ from the device's in the last bit.
     let shard_image = sample_range.and_then(|_| outcome.state.as_ref().map(|s| s.image()));
-    let mut image = shard_image.unwrap_or_else(|| outcome.image.clone());
     let dict = PyDict::new(py);
-    let layer = |aov: Aov| post.aovs.iter().find(|(a, _)| *a == aov).map(|(_, p)| p);
     let layers = PyDict::new(py);
-    for aov in &aovs {
-        if let Some(pixels) = layer(*aov) {
-            layers.set_item(
-                aov.name(),
-                PyByteArray::new(py, bytemuck::cast_slice(pixels)),
-            )?;
+    // The post-processed image, with its AOVs (in `aovs`' order) and the noisy original of
+    // a denoised one as layers.
+    let image = match post {
+        Some((image, post_layers)) => {
+            for layer in &post_layers {
+                layers.set_item(
+                    &layer.name,
+                    PyByteArray::new(py, bytemuck::cast_slice(&layer.pixels)),
+                )?;
+            }
+            image
         }
-    }
-    if post.denoise_requested {
-        let noisy: Vec<[f32; 3]> = image.mean.iter().map(|p| [p[0], p[1], p[2]]).collect();
-        let denoised = vkpath::denoise::denoise(
-            &noisy,
-            layer(Aov::Albedo).map(Vec::as_slice),
-            layer(Aov::Normal).map(Vec::as_slice),
-            image.width,
-            image.height,
-        )
-        .map_err(to_py)?;
-        for (pixel, value) in image.mean.iter_mut().zip(&denoised) {
-            pixel[..3].copy_from_slice(value);
+        None => {
+            if denoise || !aovs.is_empty() {
+                warnings.push(format!(
+                    "the render stopped early ({}): returned without aovs= and denoise=",
+                    outcome.stop.name()
+                ));
+            }
+            shard_image.unwrap_or_else(|| outcome.image.clone())
         }
-        layers.set_item("noisy", PyByteArray::new(py, bytemuck::cast_slice(&noisy)))?;
-    }
-    if (denoise || !aovs.is_empty()) && post.aovs.is_empty() {
-        warnings.push(format!(
-            "the render stopped early ({}): returned without aovs= and denoise=",
-            outcome.stop.name()
-        ));
-    }
+    };
     dict.set_item("layers", layers)?;
     let image = &image;
     dict.set_item(

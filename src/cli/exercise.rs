@@ -15,7 +15,7 @@ use crate::exercise::{
     GuideCellSetup,
 };
 use crate::guiding::training::GuideTraining;
-use crate::image_io::output::{check_writable, save_image};
+use crate::image_io::output::{check_writable, save_image, SaveOptions};
 use crate::image_io::tonemap::ToneMap;
 use crate::render::settings::MAX_SPP;
 use crate::render::settings::{PixelFilter, RenderSettings};
@@ -232,61 +232,7 @@ pub fn run(args: &ExerciseArgs) -> anyhow::Result<()> {
                 reporting,
             )
         }
-        ExerciseKind::GuideCell => {
-            check_writable(&args.output)?;
-            let source = SceneSource::new(args.guide.scene.as_deref(), None);
-            let scene = source.load()?;
-            let Some(camera) = scene.camera else {
-                bail!("the scene has no camera; guide-cell looks through the scene's own camera");
-            };
-            let setup = GuideCellSetup {
-                width: GUIDE_CELL_VIEW_SIDE,
-                height: GUIDE_CELL_VIEW_SIDE,
-                training: GuideTraining {
-                    samples: args.guide.guide_training_spp,
-                },
-                pixel: args
-                    .guide
-                    .pixel
-                    .unwrap_or(UVec2::splat(GUIDE_CELL_VIEW_SIDE / 2)),
-                seed: args.seed,
-            };
-            if !(1..=MAX_SPP).contains(&setup.training.samples) {
-                bail!(
-                    "--guide-training-spp {} is outside 1..={MAX_SPP}",
-                    setup.training.samples
-                );
-            }
-            if setup.pixel.x >= setup.width || setup.pixel.y >= setup.height {
-                bail!(
-                    "--pixel {},{} is outside the {}x{} view",
-                    setup.pixel.x,
-                    setup.pixel.y,
-                    setup.width,
-                    setup.height
-                );
-            }
-            let context = args.device.create_context_reporting(talk)?;
-            let view = render_guide_cell_display(
-                &context,
-                &scene,
-                &camera,
-                &setup,
-                args.width,
-                args.height,
-            )?;
-            save_image(&args.output, &view.image, &save)?;
-            if talk {
-                eprintln!(
-                    "vkpath: wrote {} (cell {} at {}, normal {}: guide left, BSDF right)",
-                    args.output.display(),
-                    view.cell,
-                    view.point,
-                    view.normal
-                );
-            }
-            fail_on_validation_messages(&context)
-        }
+        ExerciseKind::GuideCell => run_guide_cell(args, &save, talk),
         ExerciseKind::Samples(sampler) => {
             if sampler != ExerciseSampler::Brdf && args.brdf.any_given() {
                 eprintln!("vkpath: note: the material options only apply to brdf-samples");
@@ -317,4 +263,56 @@ pub fn run(args: &ExerciseArgs) -> anyhow::Result<()> {
             fail_on_validation_messages(&context)
         }
     }
+}
+
+/// `vkpath exercise guide-cell`: a trained guide's cell at the point a camera pixel sees,
+/// beside the BSDF's samples there.
+fn run_guide_cell(args: &ExerciseArgs, save: &SaveOptions, talk: bool) -> anyhow::Result<()> {
+    check_writable(&args.output)?;
+    let source = SceneSource::new(args.guide.scene.as_deref(), None);
+    let scene = source.load()?;
+    let Some(camera) = scene.camera else {
+        bail!("the scene has no camera; guide-cell looks through the scene's own camera");
+    };
+    let setup = GuideCellSetup {
+        width: GUIDE_CELL_VIEW_SIDE,
+        height: GUIDE_CELL_VIEW_SIDE,
+        training: GuideTraining {
+            samples: args.guide.guide_training_spp,
+        },
+        pixel: args
+            .guide
+            .pixel
+            .unwrap_or(UVec2::splat(GUIDE_CELL_VIEW_SIDE / 2)),
+        seed: args.seed,
+    };
+    if !(1..=MAX_SPP).contains(&setup.training.samples) {
+        bail!(
+            "--guide-training-spp {} is outside 1..={MAX_SPP}",
+            setup.training.samples
+        );
+    }
+    if setup.pixel.x >= setup.width || setup.pixel.y >= setup.height {
+        bail!(
+            "--pixel {},{} is outside the {}x{} view",
+            setup.pixel.x,
+            setup.pixel.y,
+            setup.width,
+            setup.height
+        );
+    }
+    let context = args.device.create_context_reporting(talk)?;
+    let view =
+        render_guide_cell_display(&context, &scene, &camera, &setup, args.width, args.height)?;
+    save_image(&args.output, &view.image, save)?;
+    if talk {
+        eprintln!(
+            "vkpath: wrote {} (cell {} at {}, normal {}: guide left, BSDF right)",
+            args.output.display(),
+            view.cell,
+            view.point,
+            view.normal
+        );
+    }
+    fail_on_validation_messages(&context)
 }

@@ -7,11 +7,11 @@ use anyhow::bail;
 use glam::Vec3;
 
 use super::frame_files::{check_frame_outputs, remove_stale_partials};
-use super::frames::{frame_path, FrameArgs, UsageError};
+use super::frames::{frame_path, FrameArgs, FrameTime, UsageError};
 use super::options::{parse_spp, JobArgs, RenderOptions, SaveArgs, SceneArgs};
 use super::output::{
     render_job_and_save, render_on_devices_and_save, PostProcess, RenderFailure, RenderRequest,
-    ReportPrinted,
+    ReportPrinted, Reporting,
 };
 use super::summary::SequencePosition;
 use super::{parse_vec3, signals, DeviceArgs};
@@ -451,83 +451,20 @@ pub fn run(args: &RenderArgs) -> anyhow::Result<()> {
 fn render(args: &RenderArgs) -> anyhow::Result<()> {
     let command_started = Instant::now();
     let reporting = args.job.reporting();
-    let settings = args.settings();
-    settings.validate()?;
-    let save = args.save.options(RENDER_PNG_TONE_MAP);
-    let job = args.job.options(settings.spp, save)?;
-    args.frames.check_outputs(&args.outputs)?;
-    args.check_files(&job)?;
-    if let Some(frames) = &args.frames.frames {
-        check_frame_outputs(&args.outputs, frames)?;
-    }
-    if args.frames.frames.as_ref().is_some_and(|f| f.len() > 1)
-        && (job.checkpoint.is_some() || job.resume.is_some())
-    {
-        return Err(UsageError("--checkpoint and --resume belong to one frame: render frames one at a time to use them".into()).into());
-    }
-    // From here a signal ends the command at once, writing nothing, until the first sample.
-    let files: Vec<&std::path::Path> = args.outputs.iter().map(PathBuf::as_path).collect();
-    signals::install(&files)?;
-    args.warn_unused_options();
-    let shard = args.job.is_shard();
-    let post = PostProcess {
-        aovs: args.aov.clone(),
-        denoise: args.denoise,
-    };
-    if !post.is_empty() && shard {
-        bail!("--aov and --denoise work on whole renders: merge the shards first");
-    }
-    // The devices, listed once (only `all` or a list asks Vulkan for them).
-    let several = args.device.several()?;
-    if settings.noise_threshold.is_some() && (shard || several.is_some()) {
-        bail!("--noise-threshold decides per pixel how many of all the samples it takes: it cannot be split into shards or over several devices");
-    }
-    if settings.guiding.is_some() && shard && args.render.guide_training_spp.is_none() {
-        bail!("--guiding with shards needs --guide-training-spp: every shard must train the same guide as the whole render (its default depends on --spp, which differs per shard)");
-    }
-    if args.denoise {
-        crate::denoise::available()?;
-    }
-    if several.is_some() {
-        if job.checkpoint.is_some() || job.resume.is_some() || job.preview.is_some() {
-            bail!("--checkpoint, --resume and --preview work with one device; render on several with shards instead");
-        }
-        if args.job.tev.is_some() {
-            return Err(UsageError("--tev works with one device".into()).into());
-        }
-        if !post.is_empty() {
-            bail!("--aov and --denoise work with one device");
-        }
-    }
-    let gltf_path = match args.scene.source() {
-        crate::scene::source::SceneSource::File(path) if is_gltf_path(&path) => Some(path),
-        _ => None,
-    };
-    let gltf = gltf_path.is_some();
-    if let Some(animation) = &args.frames.animation {
-        if !gltf {
-            bail!("--animation {animation}: only glTF scenes (.gltf, .glb) have animations");
-        }
-    }
-    let environment = args.lights.source()?;
+    let Prepared {
+        settings,
+        save,
+        job,
+        post,
+        several,
+    } = args.prepare()?;
+    let mut scenes = FrameScenes::new(args)?;
     // The devices are opened once, with the first frame's scene loaded: every frame after
     // it reuses them, and on each device what the frames before it left in that device's
     // `sequences` cache (pipelines, accumulation image, the scene upload while the scene's
-    // data stay the same). Only glTF files move with time: one is read once and posed for
-    // each frame (`GltfFile`); any other scene is loaded once.
+    // data stay the same).
     let mut devices: Option<Devices> = None;
     let mut sequences: Vec<SequenceCache> = Vec::new();
-    let mut still: Option<Scene> = None;
-    let mut gltf_file: Option<GltfFile> = None;
-    // The environment as the first frame loaded it (a map is read and decoded once), for
-    // the frames of a glTF file after it.
-    let mut loaded_environment: Option<Option<crate::lights::Environment>> = None;
-    // What `--frames` decides once for a glTF file's whole sequence (on its first frame
-    // rendered, from the file alone, so that every task of a farm decides alike): whether
-    // its geometry moves (`--accel auto` then keeps the BVH: `SequenceCache`), and for a
-    // file without a camera the box of its whole animation, which frames every frame.
-    let mut moving_geometry = false;
-    let mut animation_box: Option<(Vec3, Vec3)> = None;
     let mut first = true;
     let mut tally = SequenceTally::default();
     for frame in args.frames.frame_times() {
@@ -536,76 +473,14 @@ fn render(args: &RenderArgs) -> anyhow::Result<()> {
         } else {
             Instant::now()
         };
-        let outputs: Vec<PathBuf> = args
-            .outputs
-            .iter()
-            .map(|o| frame_path(o, frame.frame))
-            .collect();
-        // Each frame starts as the command does: a signal before its first sample ends the
-        // command at once, writing nothing of this frame (earlier frames are complete), so
-        // that a re-queued task with --skip-existing renders it again.
-        signals::RENDERING.store(false, std::sync::atomic::Ordering::SeqCst);
-        let files: Vec<&std::path::Path> = outputs.iter().map(PathBuf::as_path).collect();
-        signals::install(&files)?;
-        let scene = match (still.take(), &gltf_path) {
-            (Some(scene), _) => scene,
-            (None, Some(path)) => {
-                let started = Instant::now();
-                let file = match &mut gltf_file {
-                    Some(file) => file,
-                    None => gltf_file.insert(GltfFile::open(
-                        path,
-                        &LoadOptions {
-                            allow_external_paths: args.scene.allow_external_paths,
-                            ..LoadOptions::default()
-                        },
-                    )?),
-                };
-                let scene = file.pose(frame.time as f32, &args.frames.pick())?;
-                log::debug!(
-                    "scene {}posed in {:.3} s",
-                    if first { "read and " } else { "" },
-                    started.elapsed().as_secs_f64()
-                );
-                for warning in scene.warnings.iter().filter(|_| first) {
-                    eprintln!("vkpath: warning: {warning}");
-                }
-                if first && args.frames.frames.is_some() {
-                    let pick = args.frames.pick();
-                    moving_geometry = file.moves_geometry(&pick)?;
-                    if scene.camera.is_none() && !args.camera_given() {
-                        animation_box = file.animation_bounds(&pick)?;
-                    }
-                }
-                match &loaded_environment {
-                    Some(loaded) => Scene {
-                        environment: loaded.clone(),
-                        ..scene
-                    },
-                    None => {
-                        let scene = scene.with_environment(environment.as_ref())?;
-                        loaded_environment = Some(scene.environment.clone());
-                        scene
-                    }
-                }
-            }
-            (None, None) => args
-                .scene
-                .load_at(
-                    "vkpath render",
-                    reporting.talks() && first,
-                    first,
-                    frame.time as f32,
-                    args.frames.pick(),
-                )?
-                .with_environment(environment.as_ref())?,
-        };
+        let outputs = args.start_frame(frame)?;
+        let scene = scenes.scene_at(args, frame, first, reporting)?;
         if first {
             warn_about_lights(&scene, &settings);
         }
-        let camera = args.camera(&scene, reporting.talks() && first, animation_box)?;
+        let camera = args.camera(&scene, reporting.talks() && first, scenes.animation_box)?;
         if first && !args.job.quiet {
-            note_a_still_sequence(args, gltf_file.as_ref());
+            note_a_still_sequence(args, scenes.gltf_file.as_ref());
         }
         first = false;
         let asked = || {
@@ -625,9 +500,7 @@ fn render(args: &RenderArgs) -> anyhow::Result<()> {
             args.job.quiet,
         ) {
             tally.skipped += 1;
-            if !gltf {
-                still = Some(scene);
-            }
+            scenes.keep(scene);
             continue;
         }
         let position = args
@@ -641,22 +514,11 @@ fn render(args: &RenderArgs) -> anyhow::Result<()> {
         }
         let devices = match &mut devices {
             Some(devices) => devices,
-            None => devices.insert(match &several {
-                Some((selectors, reason)) => Devices::Several(args.device.create_contexts(
-                    selectors,
-                    reason,
-                    reporting.talks(),
-                )?),
-                None => Devices::One(args.device.create_context_reporting(reporting.talks())?),
-            }),
+            None => devices.insert(Devices::open(args, several.as_ref(), reporting)?),
         };
-        let device_count = match devices {
-            Devices::Several(contexts) => contexts.len(),
-            Devices::One(_) => 1,
-        };
-        sequences.resize_with(device_count, SequenceCache::default);
+        sequences.resize_with(devices.count(), SequenceCache::default);
         for sequence in &mut sequences {
-            sequence.moving_geometry = moving_geometry;
+            sequence.moving_geometry = scenes.moving_geometry;
         }
         let request = RenderRequest {
             scene: &scene,
@@ -667,7 +529,7 @@ fn render(args: &RenderArgs) -> anyhow::Result<()> {
             outputs: &outputs,
             save,
             reporting,
-            shard,
+            shard: args.job.is_shard(),
             post: post.clone(),
             command_started: frame_started,
             frame: args.frames.timed().then_some(frame),
@@ -676,12 +538,7 @@ fn render(args: &RenderArgs) -> anyhow::Result<()> {
                 frames,
                 seconds_per_frame: tally.seconds_per_frame(),
             }),
-            tev: args.job.tev.clone().map(|address| {
-                (
-                    address,
-                    std::time::Duration::from_secs_f64(args.job.tev_interval),
-                )
-            }),
+            tev: args.tev(),
             sequences: &mut sequences,
         };
         match devices {
@@ -694,19 +551,252 @@ fn render(args: &RenderArgs) -> anyhow::Result<()> {
             remove_stale_partials(&outputs, frame, !args.job.quiet);
         }
         tally.rendered.push(frame_started.elapsed().as_secs_f64());
-        if !gltf {
-            still = Some(scene);
-        }
+        scenes.keep(scene);
     }
     if let (Some(frames), true) = (&args.frames.frames, reporting.talks()) {
-        if frames.len() > 1 {
-            eprintln!(
-                "{}",
-                tally.line(frames, command_started.elapsed().as_secs_f64())
-            );
-        }
+        tally.say_closing_line(frames, command_started);
     }
     Ok(())
+}
+
+/// What a render command decides before its first frame.
+struct Prepared {
+    /// The render settings.
+    settings: RenderSettings,
+    /// How the images are written.
+    save: crate::image_io::output::SaveOptions,
+    /// The job's options (every frame's).
+    job: JobOptions<'static>,
+    /// What happens to each finished image.
+    post: PostProcess,
+    /// The devices `--device` lists, when it names several (`DeviceArgs::several`).
+    several: Option<(Vec<String>, String)>,
+}
+
+impl RenderArgs {
+    /// The settings, job and post-processing these arguments ask for, checked with every
+    /// file the render would write, before anything is loaded; installs the signal
+    /// handlers (from here a signal ends the command at once, writing nothing, until the
+    /// first sample) and warns about the options that have no effect.
+    fn prepare(&self) -> anyhow::Result<Prepared> {
+        let settings = self.settings();
+        settings.validate()?;
+        let save = self.save.options(RENDER_PNG_TONE_MAP);
+        let job = self.job.options(settings.spp, save)?;
+        self.frames.check_outputs(&self.outputs)?;
+        self.check_files(&job)?;
+        if let Some(frames) = &self.frames.frames {
+            check_frame_outputs(&self.outputs, frames)?;
+        }
+        if self.frames.frames.as_ref().is_some_and(|f| f.len() > 1)
+            && (job.checkpoint.is_some() || job.resume.is_some())
+        {
+            return Err(UsageError("--checkpoint and --resume belong to one frame: render frames one at a time to use them".into()).into());
+        }
+        // From here a signal ends the command at once, writing nothing, until the first sample.
+        let files: Vec<&std::path::Path> = self.outputs.iter().map(PathBuf::as_path).collect();
+        signals::install(&files)?;
+        self.warn_unused_options();
+        let post = PostProcess {
+            aovs: self.aov.clone(),
+            denoise: self.denoise,
+        };
+        if !post.is_empty() && self.job.is_shard() {
+            bail!("--aov and --denoise work on whole renders: merge the shards first");
+        }
+        // The devices, listed once (only `all` or a list asks Vulkan for them).
+        let several = self.device.several()?;
+        self.check_combinations(&settings, &job, &post, several.is_some())?;
+        Ok(Prepared {
+            settings,
+            save,
+            job,
+            post,
+            several,
+        })
+    }
+
+    /// The outputs of `frame`, with the signal handlers installed for them. Each frame
+    /// starts as the command does: a signal before its first sample ends the command at
+    /// once, writing nothing of this frame (earlier frames are complete), so that a
+    /// re-queued task with --skip-existing renders it again.
+    fn start_frame(&self, frame: FrameTime) -> anyhow::Result<Vec<PathBuf>> {
+        let outputs: Vec<PathBuf> = self
+            .outputs
+            .iter()
+            .map(|o| frame_path(o, frame.frame))
+            .collect();
+        signals::RENDERING.store(false, std::sync::atomic::Ordering::SeqCst);
+        let files: Vec<&std::path::Path> = outputs.iter().map(PathBuf::as_path).collect();
+        signals::install(&files)?;
+        Ok(outputs)
+    }
+
+    /// Where the live view goes (`--tev HOST:PORT`) and how often, if anywhere.
+    fn tev(&self) -> Option<(String, std::time::Duration)> {
+        self.job.tev.clone().map(|address| {
+            (
+                address,
+                std::time::Duration::from_secs_f64(self.job.tev_interval),
+            )
+        })
+    }
+
+    /// Refuses the combinations of options that cannot render together (after post-processing
+    /// with shards): adaptive sampling or guiding with shards, what several devices cannot do, a missing
+    /// denoiser, an animation of a scene that has none.
+    fn check_combinations(
+        &self,
+        settings: &RenderSettings,
+        job: &JobOptions,
+        post: &PostProcess,
+        several: bool,
+    ) -> anyhow::Result<()> {
+        let shard = self.job.is_shard();
+        if settings.noise_threshold.is_some() && (shard || several) {
+            bail!("--noise-threshold decides per pixel how many of all the samples it takes: it cannot be split into shards or over several devices");
+        }
+        if settings.guiding.is_some() && shard && self.render.guide_training_spp.is_none() {
+            bail!("--guiding with shards needs --guide-training-spp: every shard must train the same guide as the whole render (its default depends on --spp, which differs per shard)");
+        }
+        if self.denoise {
+            crate::denoise::available()?;
+        }
+        if several {
+            if job.checkpoint.is_some() || job.resume.is_some() || job.preview.is_some() {
+                bail!("--checkpoint, --resume and --preview work with one device; render on several with shards instead");
+            }
+            if self.job.tev.is_some() {
+                return Err(UsageError("--tev works with one device".into()).into());
+            }
+            if !post.is_empty() {
+                bail!("--aov and --denoise work with one device");
+            }
+        }
+        if let Some(animation) = &self.frames.animation {
+            if self.gltf_path().is_none() {
+                bail!("--animation {animation}: only glTF scenes (.gltf, .glb) have animations");
+            }
+        }
+        Ok(())
+    }
+
+    /// The scene's file when it is a glTF file (the only scenes that move with time).
+    fn gltf_path(&self) -> Option<PathBuf> {
+        match self.scene.source() {
+            crate::scene::source::SceneSource::File(path) if is_gltf_path(&path) => Some(path),
+            _ => None,
+        }
+    }
+}
+
+/// The scenes of the frames: only glTF files move with time: one is read once and posed for
+/// each frame (`GltfFile`); any other scene is loaded once and kept for every frame.
+struct FrameScenes {
+    /// The scene's glTF file, if it is one.
+    gltf_path: Option<PathBuf>,
+    /// The environment the command line asks for.
+    environment: Option<EnvironmentSource>,
+    /// The scene of the frame before, when it is not a glTF file (the same for every frame).
+    still: Option<Scene>,
+    /// The glTF file, read for the first frame.
+    gltf_file: Option<GltfFile>,
+    /// The environment as the first frame loaded it (a map is read and decoded once), for
+    /// the frames of a glTF file after it.
+    loaded_environment: Option<Option<crate::lights::Environment>>,
+    /// What `--frames` decides once for a glTF file's whole sequence (on its first frame
+    /// rendered, from the file alone, so that every task of a farm decides alike): whether
+    /// its geometry moves (`--accel auto` then keeps the BVH: `SequenceCache`) ...
+    moving_geometry: bool,
+    /// ... and for a file without a camera the box of its whole animation, which frames
+    /// every frame.
+    animation_box: Option<(Vec3, Vec3)>,
+}
+
+impl FrameScenes {
+    /// Nothing loaded yet, for the scene and environment `args` name.
+    fn new(args: &RenderArgs) -> anyhow::Result<FrameScenes> {
+        Ok(FrameScenes {
+            gltf_path: args.gltf_path(),
+            environment: args.lights.source()?,
+            still: None,
+            gltf_file: None,
+            loaded_environment: None,
+            moving_geometry: false,
+            animation_box: None,
+        })
+    }
+
+    /// Keeps a frame's scene for the next frame, unless it is posed per frame.
+    fn keep(&mut self, scene: Scene) {
+        if self.gltf_path.is_none() {
+            self.still = Some(scene);
+        }
+    }
+
+    /// The scene of `frame`, with the environment (`first`: the first frame, which reads
+    /// the file and says what it loaded).
+    fn scene_at(
+        &mut self,
+        args: &RenderArgs,
+        frame: FrameTime,
+        first: bool,
+        reporting: Reporting,
+    ) -> anyhow::Result<Scene> {
+        if let Some(scene) = self.still.take() {
+            return Ok(scene);
+        }
+        let Some(path) = &self.gltf_path else {
+            return Ok(args
+                .scene
+                .load_at(
+                    "vkpath render",
+                    reporting.talks() && first,
+                    first,
+                    frame.time as f32,
+                    args.frames.pick(),
+                )?
+                .with_environment(self.environment.as_ref())?);
+        };
+        let started = Instant::now();
+        let file = match &mut self.gltf_file {
+            Some(file) => file,
+            None => self.gltf_file.insert(GltfFile::open(
+                path,
+                &LoadOptions {
+                    allow_external_paths: args.scene.allow_external_paths,
+                    ..LoadOptions::default()
+                },
+            )?),
+        };
+        let scene = file.pose(frame.time as f32, &args.frames.pick())?;
+        log::debug!(
+            "scene {}posed in {:.3} s",
+            if first { "read and " } else { "" },
+            started.elapsed().as_secs_f64()
+        );
+        for warning in scene.warnings.iter().filter(|_| first) {
+            eprintln!("vkpath: warning: {warning}");
+        }
+        if first && args.frames.frames.is_some() {
+            let pick = args.frames.pick();
+            self.moving_geometry = file.moves_geometry(&pick)?;
+            if scene.camera.is_none() && !args.camera_given() {
+                self.animation_box = file.animation_bounds(&pick)?;
+            }
+        }
+        Ok(match &self.loaded_environment {
+            Some(loaded) => Scene {
+                environment: loaded.clone(),
+                ..scene
+            },
+            None => {
+                let scene = scene.with_environment(self.environment.as_ref())?;
+                self.loaded_environment = Some(scene.environment.clone());
+                scene
+            }
+        })
+    }
 }
 
 /// What the frames of a sequence did, for the time left and its closing line.
@@ -725,6 +815,16 @@ impl SequenceTally {
         let later = self.rendered.get(1..).filter(|later| !later.is_empty());
         let frames = later.or(self.rendered.get(..1).filter(|f| !f.is_empty()))?;
         Some(frames.iter().sum::<f64>() / frames.len() as f64)
+    }
+
+    /// Prints the closing line of a sequence of several frames (`line`).
+    fn say_closing_line(&self, frames: &std::ops::Range<u32>, command_started: Instant) {
+        if frames.len() > 1 {
+            eprintln!(
+                "{}",
+                self.line(frames, command_started.elapsed().as_secs_f64())
+            );
+        }
     }
 
     /// The sequence's closing line: "vkpath: frames 0..10: 10 in 12.34 s (8 rendered,
@@ -773,6 +873,33 @@ enum Devices {
     One(std::sync::Arc<crate::vk::Context>),
     /// `--device` named several.
     Several(Vec<std::sync::Arc<crate::vk::Context>>),
+}
+
+impl Devices {
+    /// Opens the devices `--device` names: `several`'s selectors (with why they were
+    /// chosen), else one.
+    fn open(
+        args: &RenderArgs,
+        several: Option<&(Vec<String>, String)>,
+        reporting: Reporting,
+    ) -> anyhow::Result<Devices> {
+        Ok(match several {
+            Some((selectors, reason)) => Devices::Several(args.device.create_contexts(
+                selectors,
+                reason,
+                reporting.talks(),
+            )?),
+            None => Devices::One(args.device.create_context_reporting(reporting.talks())?),
+        })
+    }
+
+    /// How many devices there are.
+    fn count(&self) -> usize {
+        match self {
+            Devices::Several(contexts) => contexts.len(),
+            Devices::One(_) => 1,
+        }
+    }
 }
 
 /// Warns that nothing lights the scene, or that its punctual lights are invisible to the

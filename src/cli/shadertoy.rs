@@ -9,6 +9,7 @@
 
 use std::path::PathBuf;
 use std::sync::atomic::Ordering;
+use std::sync::Arc;
 use std::time::{Duration, Instant};
 
 use anyhow::Context as _;
@@ -21,6 +22,7 @@ use super::{signals, DeviceArgs};
 use crate::image_io::output::{check_writable, ImageFormat};
 use crate::shadertoy::display::save_pass_image;
 use crate::shadertoy::{ChannelBinding, PassKind, Program, ShadertoyRunner};
+use crate::vk::Context;
 
 /// Exit status when a tab does not compile.
 const EXIT_FAILED: i32 = 1;
@@ -202,30 +204,7 @@ pub fn run(args: &ShadertoyArgs) -> anyhow::Result<()> {
         }
     }
     let context = args.device.create_context()?;
-    let mut runner = match ShadertoyRunner::new(&context, &program, args.width, args.height) {
-        Ok(runner) => runner,
-        Err(crate::Error::ShaderCompilation(messages)) => {
-            eprintln!("vkpath: error: the program does not compile:\n{messages}");
-            std::process::exit(EXIT_FAILED);
-        }
-        Err(crate::Error::Image(message)) => usage_error(message),
-        Err(error) => return Err(error).context("setting up the program"),
-    };
-    if !args.quiet {
-        for note in program
-            .hidden_buffer_note()
-            .into_iter()
-            .chain(program.setting_notes())
-        {
-            eprintln!("note: {note}");
-        }
-        for note in &runner.notes {
-            eprintln!("note: {note}");
-        }
-    }
-    if !runner.warnings.trim().is_empty() {
-        eprintln!("{}", runner.warnings.trim_end());
-    }
+    let mut runner = start_runner(&context, &program, args)?;
     signals::install(&[args.output.as_path()])?;
     // The passes are built: from here a first signal stops after the frame in flight.
     signals::RENDERING.store(true, Ordering::SeqCst);
@@ -238,39 +217,7 @@ pub fn run(args: &ShadertoyArgs) -> anyhow::Result<()> {
             args.height
         );
     }
-
-    let bar =
-        ProgressBar::with_draw_target(Some(u64::from(args.frames)), ProgressDrawTarget::hidden());
-    if let Ok(style) =
-        ProgressStyle::with_template("{elapsed_precise} [{bar:40}] {pos}/{len} frames, eta {eta}")
-    {
-        bar.set_style(style.progress_chars("=> "));
-    }
-    let started = Instant::now();
-    let limit = args.time_limit.map(Duration::from_secs_f64);
-    let mut stop = Stop::Done;
-    let mut failure = None;
-    while runner.frames() < args.frames {
-        if signals::STOP_REQUESTED.load(Ordering::SeqCst) {
-            stop = Stop::Signal;
-            break;
-        }
-        if limit.is_some_and(|l| started.elapsed() >= l) {
-            stop = Stop::TimeLimit;
-            break;
-        }
-        if let Err(error) = runner.run_frame() {
-            failure = Some(error);
-            break;
-        }
-        if !args.quiet && started.elapsed() > Duration::from_secs(1) && bar.is_hidden() {
-            bar.set_draw_target(ProgressDrawTarget::stderr());
-        }
-        bar.set_position(u64::from(runner.frames()));
-    }
-    bar.finish_and_clear();
-    let seconds = started.elapsed().as_secs_f64();
-
+    let (stop, failure, seconds) = run_frames(&mut runner, args);
     if let Some(crate::Error::LoopLimit(message)) = &failure {
         // The frame's images hold loops that were cut short: a wrong image is not written.
         anyhow::bail!("{message}; nothing was written");
@@ -315,6 +262,81 @@ pub fn run(args: &ShadertoyArgs) -> anyhow::Result<()> {
         }
     }
     Ok(())
+}
+
+/// Builds the program's passes on `context`, printing its notes and warnings; a program that
+/// does not compile ends the command (its messages printed), and a bad input is a usage
+/// error.
+fn start_runner(
+    context: &Arc<Context>,
+    program: &Program,
+    args: &ShadertoyArgs,
+) -> anyhow::Result<ShadertoyRunner> {
+    let runner = match ShadertoyRunner::new(context, program, args.width, args.height) {
+        Ok(runner) => runner,
+        Err(crate::Error::ShaderCompilation(messages)) => {
+            eprintln!("vkpath: error: the program does not compile:\n{messages}");
+            std::process::exit(EXIT_FAILED);
+        }
+        Err(crate::Error::Image(message)) => usage_error(message),
+        Err(error) => return Err(error).context("setting up the program"),
+    };
+    if !args.quiet {
+        for note in program
+            .hidden_buffer_note()
+            .into_iter()
+            .chain(program.setting_notes())
+        {
+            eprintln!("note: {note}");
+        }
+        for note in &runner.notes {
+            eprintln!("note: {note}");
+        }
+    }
+    if !runner.warnings.trim().is_empty() {
+        eprintln!("{}", runner.warnings.trim_end());
+    }
+    Ok(runner)
+}
+
+/// Runs the frames asked for with a progress bar (after a second), until they are done, a
+/// signal or the time limit stops them, or one fails: how they stopped, the failure and
+/// the seconds they took.
+fn run_frames(
+    runner: &mut ShadertoyRunner,
+    args: &ShadertoyArgs,
+) -> (Stop, Option<crate::Error>, f64) {
+    let bar =
+        ProgressBar::with_draw_target(Some(u64::from(args.frames)), ProgressDrawTarget::hidden());
+    if let Ok(style) =
+        ProgressStyle::with_template("{elapsed_precise} [{bar:40}] {pos}/{len} frames, eta {eta}")
+    {
+        bar.set_style(style.progress_chars("=> "));
+    }
+    let started = Instant::now();
+    let limit = args.time_limit.map(Duration::from_secs_f64);
+    let mut stop = Stop::Done;
+    let mut failure = None;
+    while runner.frames() < args.frames {
+        if signals::STOP_REQUESTED.load(Ordering::SeqCst) {
+            stop = Stop::Signal;
+            break;
+        }
+        if limit.is_some_and(|l| started.elapsed() >= l) {
+            stop = Stop::TimeLimit;
+            break;
+        }
+        if let Err(error) = runner.run_frame() {
+            failure = Some(error);
+            break;
+        }
+        if !args.quiet && started.elapsed() > Duration::from_secs(1) && bar.is_hidden() {
+            bar.set_draw_target(ProgressDrawTarget::stderr());
+        }
+        bar.set_position(u64::from(runner.frames()));
+    }
+    bar.finish_and_clear();
+    (stop, failure, started.elapsed().as_secs_f64())
 }
 
 /// Writes the Image pass's last frame and the buffers asked for.

@@ -1,23 +1,23 @@
-//! A production render: a range of every pixel's sample sequence (all of it, or a shard), a
-//! time limit, a cancel flag (signals), periodic checkpoints and resuming from one, bit for
-//! bit, and a periodic tone-mapped preview. The command line only parses these and prints
-//! what happened.
+//! A production render's options and outcome: a range of every pixel's sample sequence (all
+//! of it, or a shard), a time limit, a cancel flag (signals), periodic checkpoints and
+//! resuming from one, bit for bit, and a periodic tone-mapped preview. `RenderSession`
+//! (`session.rs`) runs them; the command line only parses these and prints what happened.
 
 use std::ops::Range;
 use std::path::PathBuf;
-use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::atomic::AtomicBool;
 use std::sync::Arc;
 use std::time::{Duration, Instant};
 
 use crate::camera::Camera;
 use crate::error::{Error, Result};
-use crate::image_io::output::{save_image, SaveOptions};
-use crate::render::accumulation::Accumulation;
+use crate::image_io::output::SaveOptions;
 use crate::render::metadata::RenderMetadata;
-use crate::render::renderer::{RenderControl, RenderOutcome, Renderer, StopReason};
+use crate::render::post_process::PostProcess;
+use crate::render::renderer::{RenderOutcome, StopReason};
 use crate::render::sequence::SequenceCache;
+use crate::render::session::RenderSession;
 use crate::render::settings::{Integrator, RenderSettings, SamplerKind};
-use crate::render::state_exr::{read_state, write_state};
 use crate::scene::Scene;
 use crate::vk::Context;
 use crate::RenderedImage;
@@ -137,6 +137,10 @@ pub struct JobOutcome {
     /// Why the preview could not be written when the render stopped, if it could not. A
     /// preview that fails never stops the render; failures on the way are logged.
     pub preview_failure: Option<Error>,
+    /// What the render took from the renders before it in its sequence instead of building
+    /// it (`ReuseCounts::since`: `kernel`, `accumulation`, `scene`, ...); `None` outside a
+    /// sequence.
+    pub reused: Option<Vec<&'static str>>,
 }
 
 /// The samples of shard `index` (from 0) of `count` of a render of `spp` samples per pixel:
@@ -164,9 +168,10 @@ pub struct JobProgress {
     pub converged_share: Option<f64>,
 }
 
-/// Runs a render as `options` say. `settings.spp` is ignored: the sample range decides.
-/// With `sequence`, one render of a sequence (`Renderer::in_sequence`): it takes what the
-/// earlier ones left there and leaves its own for the next.
+/// Runs a render as `options` say: a `RenderSession` of `options` (a shorthand kept for
+/// callers that need no post-processing). `settings.spp` is ignored: the sample range
+/// decides. With `sequence`, one render of a sequence (`Renderer::in_sequence`): it takes
+/// what the earlier ones left there and leaves its own for the next.
 pub fn run_job(
     context: &Arc<Context>,
     scene: &Scene,
@@ -176,183 +181,16 @@ pub fn run_job(
     progress: impl FnMut(JobProgress),
     sequence: Option<&mut SequenceCache>,
 ) -> Result<JobOutcome> {
-    let samples = options.samples.clone();
-    let settings = RenderSettings {
-        spp: samples.len() as u32,
-        ..settings.clone()
-    };
-    let metadata_of = |taken: Range<u32>| RenderMetadata::new(&settings, scene, camera, taken);
-    let mut sequence = sequence;
-    let mut renderer = match sequence.as_deref_mut() {
-        Some(sequence) => {
-            Renderer::in_sequence(context, scene, camera, settings.clone(), sequence)?
-        }
-        None => Renderer::new(context, scene, camera, settings.clone())?,
-    };
-    renderer.start_at_sample(samples.start)?;
-    let mut resumed_samples = 0;
-    if let Some(path) = &options.resume {
-        let (state, saved) = read_state(path)?;
-        let refuse = |why: String| {
-            Error::InvalidSettings(format!("cannot resume from '{}': {why}", path.display()))
-        };
-        if let Some(difference) = saved.first_difference(&metadata_of(samples.clone())) {
-            return Err(refuse(format!(
-                "it was rendered with another {} (checkpoint vs now)",
-                difference
-            )));
-        }
-        if state.samples.start != samples.start || state.samples.end > samples.end {
-            return Err(refuse(format!(
-                "it holds samples {}..{}, this render takes {}..{}",
-                state.samples.start, state.samples.end, samples.start, samples.end
-            )));
-        }
-        renderer.resume(&state)?;
-        resumed_samples = state.samples.len() as u32;
+    RenderSession {
+        context,
+        scene,
+        camera,
+        settings,
+        job: options.clone(),
+        post: PostProcess::default(),
+        sequence,
     }
-    // What needs the whole state as the render goes, or at its end.
-    let whole_state = options.keep_state
-        || options.time_limit.is_some()
-        || options.checkpoint.is_some()
-        || options.resume.is_some()
-        || options.preview.is_some()
-        || options.live.is_some();
-    if !whole_state {
-        renderer.tile_by_tile()?;
-    }
-    // The samples per pixel of the last checkpoint this run wrote (for a failure's line).
-    let checkpointed = std::cell::Cell::new(None);
-    let mut write_checkpoint = |state: &Accumulation| -> Result<()> {
-        match &options.checkpoint {
-            Some(path) => {
-                write_state(path, state, &metadata_of(state.samples.clone()))?;
-                checkpointed.set(Some(state.samples.len()));
-                Ok(())
-            }
-            None => Ok(()),
-        }
-    };
-    // A preview is a convenience: a failed write is logged (once) and the render goes on.
-    let mut preview_warned = false;
-    let mut write_preview = |state: &Accumulation| -> Result<()> {
-        let image = state.image();
-        if let Some(preview) = &options.preview {
-            if let Err(error) = save_image(&preview.path, &image, &preview.save) {
-                if !std::mem::replace(&mut preview_warned, true) {
-                    log::warn!("{error} (the preview; the render goes on)");
-                }
-            }
-        }
-        if let Some(live) = &options.live {
-            (live.show)(&image);
-        }
-        Ok(())
-    };
-    // The preview and the live view share the periodic hook, at the sooner interval.
-    let image_interval = [
-        options.preview.as_ref().map(|p| p.interval),
-        options.live.as_ref().map(|l| l.interval),
-    ]
-    .into_iter()
-    .flatten()
-    .min();
-    // The driver's first-dispatch compile belongs to set-up, not to the first batch (nor to
-    // the time limit, counted from the end of set-up).
-    renderer.warm_up()?;
-    let deadline = options.time_limit.map(|limit| Instant::now() + limit);
-    let control = RenderControl {
-        cancel: options.cancel,
-        deadline,
-        checkpoint: options.checkpoint.as_ref().map(|_| {
-            (
-                options.checkpoint_interval,
-                &mut write_checkpoint as &mut dyn FnMut(&_) -> Result<()>,
-            )
-        }),
-        preview: image_interval.map(|interval| {
-            (
-                interval,
-                &mut write_preview as &mut dyn FnMut(&_) -> Result<()>,
-            )
-        }),
-    };
-    let mut progress = progress;
-    let converged = renderer.converged_pixels();
-    let pixels = f64::from(settings.area().width()) * f64::from(settings.area().height());
-    let adaptive = settings.noise_threshold.is_some();
-    let progress = |samples: u32| {
-        if let Some(started) = options.started {
-            started.store(true, Ordering::SeqCst);
-        }
-        progress(JobProgress {
-            samples_done: samples,
-            deadline,
-            converged_share: adaptive
-                .then(|| converged.load(Ordering::SeqCst) as f64 / pixels.max(1.0)),
-        });
-    };
-    let rendering_started = Instant::now();
-    let outcome = renderer.render_with(progress, control).map_err(|error| {
-        say_what_a_lost_render_kept(error, options, checkpointed.get(), resumed_samples)
-    })?;
-    // A stop before this run's first sample has nothing new: it writes nothing, so that an
-    // existing checkpoint or preview stays as it was.
-    let took_samples = !stopped_before_first_sample(&outcome, resumed_samples);
-    let preview_failure = options
-        .preview
-        .as_ref()
-        .filter(|_| took_samples)
-        .and_then(|preview| save_image(&preview.path, &outcome.image, &preview.save).err())
-        .map(Error::from);
-    // Every other stop writes the checkpoint, so that nothing rendered is lost.
-    if let (Some(path), true, Some(state)) = (&options.checkpoint, took_samples, &outcome.state) {
-        write_state(path, state, &metadata_of(state.samples.clone()))?;
-    }
-    if let Some(sequence) = sequence {
-        renderer.keep_for_next(sequence);
-    }
-    let taken = samples.start..samples.start + outcome.samples;
-    Ok(JobOutcome {
-        metadata: metadata_of(taken),
-        outcome,
-        resumed_samples,
-        rendering_started,
-        preview_failure,
-    })
-}
-
-/// Completes the error of a render whose device failed and could not give back what it
-/// held (`Error::RenderLost`) with what is left of it: the last checkpoint this run wrote
-/// (and the `--resume` that goes on from it), the resumed checkpoint, or nothing.
-fn say_what_a_lost_render_kept(
-    error: Error,
-    options: &JobOptions,
-    checkpointed: Option<usize>,
-    resumed_samples: u32,
-) -> Error {
-    let Error::RenderLost { samples, error, .. } = error else {
-        return error;
-    };
-    let written = options.checkpoint.as_ref().zip(checkpointed);
-    let kept = match (written, &options.resume, &options.checkpoint) {
-        (Some((path, spp)), _, _) => format!(
-            "; '{}' holds the first {spp} spp: add --resume '{}' to go on from it",
-            path.display(),
-            path.display()
-        ),
-        (None, Some(resumed), _) => format!(
-            "; '{}' still holds the {resumed_samples} spp this run resumed from",
-            resumed.display()
-        ),
-        (None, None, Some(_)) => "; no checkpoint had been written yet".to_string(),
-        (None, None, None) => "; without --checkpoint nothing of it is kept".to_string(),
-    };
-    Error::RenderLost {
-        samples,
-        error,
-        kept,
-    }
+    .run(progress)
 }
 
 /// Whether a render stopped (by a signal, a time limit or a failure) before taking any
