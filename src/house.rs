@@ -525,8 +525,8 @@ const RENDERER_MAX_LINES: usize = 600;
 /// its closing brace (`docs/house.md`, "Small rooms").
 const FUNCTION_MAX_LINES: usize = 120;
 
-/// The functions with a body in a Rust source: each one's name, the line of its `fn` (from
-/// 1) and its lines from there to its closing brace. Braces are counted in the code without
+/// The functions with a body in a Rust source: each one's name, the line of its `fn`
+/// (counted from 1) and its lines from there to its closing brace. Braces are counted in the code without
 /// comments and literals (`code_without_literals`), so a `"{"` or a `// }` is not one; a
 /// function declared without a body (a trait's, `fn(u32)` types) is none; a function nested
 /// in another is counted on its own too.
