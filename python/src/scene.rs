@@ -486,7 +486,7 @@ impl Scene {
         up: (f32, f32, f32),
         fov: f32,
     ) -> PyResult<()> {
-        self.camera = Some(Camera::new(position, look_at, up, fov)?.inner);
+        self.camera = Some(Camera::pinhole(position, look_at, up, fov)?.inner);
         self.camera_index = None;
         Ok(())
     }
