@@ -136,9 +136,15 @@ fn pixel_has_near_tie(
         let mut seed = sample_seed;
         let tex_coord = get_sample_tex_coord(pixel, resolution, settings.pixel_filter, &mut seed);
         let path_sample = PathSample::new(settings.sampler, pixel, sample, settings.seed);
-        let importance_sampled = vkpath::cpu::integrators::is_importance_sampled(settings.integrator);
-        let (mut origin, mut direction) =
-            get_camera_ray(plane, sample_seed, &path_sample, importance_sampled, tex_coord);
+        let importance_sampled =
+            vkpath::cpu::integrators::is_importance_sampled(settings.integrator);
+        let (mut origin, mut direction) = get_camera_ray(
+            plane,
+            sample_seed,
+            &path_sample,
+            importance_sampled,
+            tex_coord,
+        );
         for bounce in 1..=bounces {
             if ray_nearly_ties(triangles, origin, direction) {
                 return true;
@@ -255,8 +261,9 @@ fn parity_through(
         _ => RELATIVE_TOLERANCE,
     };
     let lens_name = if lens.is_pinhole() { "" } else { "-lens" };
-    let name = format!("{integrator:?}-{pixel_filter:?}-{sampler:?}-from-{first_sample}{lens_name}")
-        .to_lowercase();
+    let name =
+        format!("{integrator:?}-{pixel_filter:?}-{sampler:?}-from-{first_sample}{lens_name}")
+            .to_lowercase();
     let mut scene = Scene::builtin_cornell_box().unwrap();
     if let Some(camera) = scene.camera.as_mut() {
         camera.lens = lens;

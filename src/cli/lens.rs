@@ -11,8 +11,8 @@ use crate::cli::parse_pixel;
 use crate::cli::value_error::ValueError;
 use crate::contract::SAMPLER_PCG;
 use crate::cpu::get_camera_ray;
-use crate::cpu::sobol::PathSample;
 use crate::cpu::integrator::ray_mesh_intersection;
+use crate::cpu::sobol::PathSample;
 use crate::scene::Scene;
 
 /// Depth of field: a thin lens in front of the camera.
