@@ -105,17 +105,17 @@ pub fn get_sobol_sample_2d(sample_index: u32, dimension_pair: u32, pixel_seed: u
 /// Twin of GLSL `pcg2d_hash`: PCG2D (Jarzynski and Olano 2020, JCGT 9(3)) as a hash of two
 /// words, the state update of `crate::cpu::workshop::get_random_numbers`.
 pub fn pcg2d_hash(v: UVec2) -> UVec2 {
-    const MULTIPLIER: u32 = 1_664_525;
-    let mut x = MULTIPLIER.wrapping_mul(v.x).wrapping_add(1_013_904_223);
-    let mut y = MULTIPLIER.wrapping_mul(v.y).wrapping_add(1_013_904_223);
-    x = x.wrapping_add(MULTIPLIER.wrapping_mul(y));
-    y = y.wrapping_add(MULTIPLIER.wrapping_mul(x));
-    x ^= x >> 16;
-    y ^= y >> 16;
-    x = x.wrapping_add(MULTIPLIER.wrapping_mul(y));
-    y = y.wrapping_add(MULTIPLIER.wrapping_mul(x));
-    x ^= x >> 16;
-    y ^= y >> 16;
+    use crate::cpu::workshop::{PCG_INCREMENT, PCG_MULTIPLIER};
+    // v = 1664525u * v + 1013904223u;
+    let mut x = PCG_MULTIPLIER.wrapping_mul(v.x).wrapping_add(PCG_INCREMENT);
+    let mut y = PCG_MULTIPLIER.wrapping_mul(v.y).wrapping_add(PCG_INCREMENT);
+    // v.x += 1664525u * v.y; v.y += 1664525u * v.x; v ^= (v >> 16u); twice
+    for _ in 0..2 {
+        x = x.wrapping_add(PCG_MULTIPLIER.wrapping_mul(y));
+        y = y.wrapping_add(PCG_MULTIPLIER.wrapping_mul(x));
+        x ^= x >> 16;
+        y ^= y >> 16;
+    }
     UVec2::new(x, y)
 }
 

@@ -23,9 +23,9 @@ pub const M_PI: f32 = std::f32::consts::PI;
 const TWO_TO_MINUS_32: f32 = 2.32830643654e-10;
 
 /// The LCG multiplier of PCG2D (Numerical Recipes' 1664525).
-const PCG_MULTIPLIER: u32 = 1664525;
+pub(crate) const PCG_MULTIPLIER: u32 = 1664525;
 /// The LCG increment of PCG2D (Numerical Recipes' 1013904223).
-const PCG_INCREMENT: u32 = 1013904223;
+pub(crate) const PCG_INCREMENT: u32 = 1013904223;
 
 /// A pseudo-random number generator, twin of GLSL `get_random_numbers`: PCG2D
 /// (Jarzynski and Olano, JCGT 2020, <https://jcgt.org/published/0009/03/02/>) with u32
@@ -36,24 +36,9 @@ const PCG_INCREMENT: u32 = 1013904223;
 ///         `vec2(seed) * 2^-32` rounds a u32 to the nearest f32 first, so seeds within 128
 ///         of 2^32 give exactly 1.0; the shader does the same.
 pub fn get_random_numbers(seed: &mut UVec2) -> Vec2 {
-    let mut x = seed.x;
-    let mut y = seed.y;
-    // seed = 1664525u * seed + 1013904223u;
-    x = PCG_MULTIPLIER.wrapping_mul(x).wrapping_add(PCG_INCREMENT);
-    y = PCG_MULTIPLIER.wrapping_mul(y).wrapping_add(PCG_INCREMENT);
-    // seed.x += 1664525u * seed.y; seed.y += 1664525u * seed.x;
-    x = x.wrapping_add(PCG_MULTIPLIER.wrapping_mul(y));
-    y = y.wrapping_add(PCG_MULTIPLIER.wrapping_mul(x));
-    // seed ^= (seed >> 16u);
-    x ^= x >> 16;
-    y ^= y >> 16;
-    // seed.x += 1664525u * seed.y; seed.y += 1664525u * seed.x;
-    x = x.wrapping_add(PCG_MULTIPLIER.wrapping_mul(y));
-    y = y.wrapping_add(PCG_MULTIPLIER.wrapping_mul(x));
-    // seed ^= (seed >> 16u);
-    x ^= x >> 16;
-    y ^= y >> 16;
-    *seed = UVec2::new(x, y);
+    // seed = pcg2d(seed): the state update, written once (crate::cpu::sobol::pcg2d_hash)
+    *seed = crate::cpu::sobol::pcg2d_hash(*seed);
+    let (x, y) = (seed.x, seed.y);
     // Convert to float: round to nearest, then scale by 2^-32 (exact).
     Vec2::new(x as f32, y as f32) * TWO_TO_MINUS_32
 }
