@@ -28,6 +28,8 @@ layout(constant_id = SPEC_RUSSIAN_ROULETTE_START) const int RUSSIAN_ROULETTE_STA
 layout(constant_id = SPEC_SAMPLER) const int SAMPLER = SAMPLER_PCG;
 // LIGHT_SAMPLING_AREA or LIGHT_SAMPLING_SOLID_ANGLE: how nee and mis sample their lights.
 layout(constant_id = SPEC_LIGHT_SAMPLING) const int LIGHT_SAMPLING = LIGHT_SAMPLING_SOLID_ANGLE;
+// 1 where the camera has a thin lens (glsl/thin_lens.glsl); 0 compiles the lens out.
+layout(constant_id = SPEC_THIN_LENS) const int THIN_LENS = 0;
 // LIGHT_SELECTION_POWER or LIGHT_SELECTION_TREE: how nee and mis choose the emissive
 // triangle they sample (the tree's code is compiled out of power kernels). The lean builds
 // (WITHOUT_LIGHT_TREE) hold a constant instead, so that their SPIR-V carries none of the
@@ -158,7 +160,7 @@ void main() {
         vec3 ray_direction = get_primary_ray_direction(tex_coord.x, tex_coord.y, g_camera_position.xyz, g_left_bottom.xyz, g_right.xyz, g_up.xyz);
         vec3 ray_origin = g_camera_position.xyz;
         // Depth of field (glsl/thin_lens.glsl): the lens's ray instead of the pinhole's
-        if (g_camera_position.w > 0.0) {
+        if (THIN_LENS != 0 && g_camera_position.w > 0.0) {
             vec2 lens_random_numbers = get_lens_random_numbers(get_sample_seed(pixel, sample_index, g_resolution_triangle_count_seed.w));
             vec3 image_plane_middle = g_left_bottom.xyz + 0.5 * (g_right.xyz + g_up.xyz);
             apply_thin_lens(ray_origin, ray_direction, g_right.xyz, g_up.xyz, image_plane_middle, g_camera_position.w, g_left_bottom.w, uint(g_right.w), g_up.w, lens_random_numbers);

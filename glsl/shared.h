@@ -189,6 +189,10 @@
 #define SPEC_BVH_LAYOUT 607
 #define BVH_LAYOUT_WIDE 0
 #define BVH_LAYOUT_COMPRESSED 1
+// 1 where the camera has a thin lens (depth of field, glsl/thin_lens.glsl), else 0: a pinhole
+// kernel compiles the lens out, so that its camera rays keep one origin for all invocations
+// (a lens in the kernel, even one never applied, cost lavapipe about 30 % on the Cornell box).
+#define SPEC_THIN_LENS 608
 // Most triangles that can be passed as specialization constants.
 #define CONSTANT_TRIANGLE_CAPACITY 64
 // Most constant triangles that the material kernels (USE_MATERIALS) test: their intersection

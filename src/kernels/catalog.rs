@@ -54,6 +54,7 @@ pub static PATH_TRACER: Kernel = Kernel {
         SpecConstants::one(c::SPEC_SCENE_HAS_EMISSIVE_TRIANGLES),
         SpecConstants::one(c::SPEC_SCENE_HAS_SPECULAR),
         SpecConstants::one(c::SPEC_BVH_LAYOUT),
+        SpecConstants::one(c::SPEC_THIN_LENS),
     ],
     push_constant_size: size_of::<FramePushConstants>() as u32,
 };

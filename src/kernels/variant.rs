@@ -285,6 +285,9 @@ pub struct VariantSettings {
     /// Whether the light selection is the light tree
     /// (`LightSelection::uses_tree` of the emissive triangles' count).
     pub light_tree: bool,
+    /// Whether the camera has a thin lens (`Lens::is_pinhole` is false): `SPEC_THIN_LENS`;
+    /// a pinhole's kernel compiles the lens out.
+    pub thin_lens: bool,
 }
 
 /// Where the kernel's SPIR-V comes from.
@@ -441,6 +444,10 @@ pub fn path_tracer_variant(
             contract::LIGHT_SELECTION_POWER
         },
     )];
+    // The kernels' default is the pinhole
+    if settings.thin_lens {
+        specialization.push((contract::SPEC_THIN_LENS, 1));
+    }
     // The kernels' default is the 4-wide tree
     if traversal == Traversal::CompressedBvh {
         specialization.push((contract::SPEC_BVH_LAYOUT, traversal.bvh_layout()));
@@ -835,5 +842,32 @@ mod tests {
         assert_eq!(layout(&wide), None);
         assert_eq!(layout(&compressed), Some(contract::BVH_LAYOUT_COMPRESSED));
         assert!(Traversal::CompressedBvh.uses_bvh() && Traversal::Bvh.uses_bvh());
+    }
+
+    #[test]
+    fn only_a_thin_lens_camera_specializes_the_lens_in() {
+        let scene = SceneSummary {
+            triangle_count: 30,
+            ..SceneSummary::default()
+        };
+        let lens = |thin_lens| {
+            let settings = VariantSettings {
+                thin_lens,
+                ..VariantSettings::default()
+            };
+            let variant =
+                path_tracer_variant(&scene, &settings, Traversal::Bvh, KernelSource::Embedded)
+                    .unwrap();
+            variant
+                .specialization
+                .iter()
+                .find(|(id, _)| *id == contract::SPEC_THIN_LENS)
+                .map(|(_, value)| *value)
+        };
+        // The pinhole is the kernels' default: its specialization (and so a sequence's cached
+        // pipeline) is what it was before the lens had a constant
+        assert_eq!(lens(false), None);
+        assert_eq!(lens(true), Some(1));
+        assert!(PATH_TRACER.declares_spec_constant(contract::SPEC_THIN_LENS));
     }
 }

@@ -14,7 +14,7 @@ use crate::contract;
 use crate::error::{Error, Result};
 use crate::guiding::GuideGrid;
 use crate::kernels::specialization::{path_tracer_specialization, SpecializationParts};
-use crate::kernels::variant::{path_tracer_variant, KernelSource, Traversal};
+use crate::kernels::variant::{path_tracer_variant, KernelSource, Traversal, VariantSettings};
 use crate::kernels::{Bound, KernelPipeline, Resource, PATH_TRACER};
 use crate::render::converged_pixels::ConvergedPixels;
 use crate::render::gpu_scene::{GpuScene, KeptParts};
@@ -143,8 +143,7 @@ impl Renderer {
             samples_per_dispatch,
         } = build_kernels(
             context,
-            scene,
-            &settings,
+            (scene, camera, &settings),
             &gpu_scene,
             kernel.map(|(spirv, _)| spirv),
             sequence.as_deref_mut(),
@@ -253,12 +252,12 @@ struct Kernels {
     samples_per_dispatch: u32,
 }
 
-/// Builds the kernels of rendering `scene`, uploaded as `gpu_scene`, with `settings`: the
-/// variant the scene and settings need, compiled from `given` SPIR-V or the embedded one.
+/// Builds the kernels of rendering `scene`, uploaded as `gpu_scene`, seen by `camera` with
+/// `settings`: the variant the scene, camera and settings need, compiled from `given` SPIR-V
+/// or the embedded one.
 fn build_kernels(
     context: &Arc<Context>,
-    scene: &Scene,
-    settings: &RenderSettings,
+    (scene, camera, settings): (&Scene, &Camera, &RenderSettings),
     gpu_scene: &GpuScene,
     given: Option<&[u32]>,
     sequence: Option<&mut SequenceCache>,
@@ -269,12 +268,12 @@ fn build_kernels(
         Some(_) => KernelSource::Given,
         None => KernelSource::Embedded,
     };
-    let variant = path_tracer_variant(
-        &gpu_scene.summary,
-        &gpu_scene.variant_settings,
-        traversal,
-        source,
-    )?;
+    // The camera is the render's own (a sequence's upload may be an earlier frame's)
+    let variant_settings = VariantSettings {
+        thin_lens: !camera.lens.is_pinhole(),
+        ..gpu_scene.variant_settings
+    };
+    let variant = path_tracer_variant(&gpu_scene.summary, &variant_settings, traversal, source)?;
     let build = variant.build;
     let guiding = settings.guiding.is_some();
     let budget = LoopBudget::of(context, settings, scene, gpu_scene, traversal)?;
