@@ -23,6 +23,27 @@ pub fn is_supported_extension(name: &str) -> bool {
             .any(|source| source.extension == Some(name))
 }
 
+/// Every glTF extension vkpath implements (`is_supported_extension`'s), each once.
+#[cfg(test)]
+pub fn supported_extensions() -> Vec<&'static str> {
+    let mut names: Vec<&'static str> = OTHER_SUPPORTED_EXTENSIONS
+        .into_iter()
+        .chain(
+            MATERIAL_PARAMS
+                .iter()
+                .filter_map(|param| param.gltf?.extension),
+        )
+        .chain(
+            MATERIAL_TEXTURES
+                .iter()
+                .filter_map(|texture| texture.gltf.extension),
+        )
+        .collect();
+    names.sort_unstable();
+    names.dedup();
+    names
+}
+
 /// What a render loses when vkpath ignores a known extension: (extension, what is lost).
 /// Extensions not listed here get a generic sentence.
 const WHAT_IS_LOST: &[(&str, &str)] = &[
@@ -149,6 +170,10 @@ mod tests {
         for name in supported {
             assert!(is_supported_extension(name), "{name}");
         }
+        assert_eq!(supported_extensions().len(), supported.len());
+        assert!(supported_extensions()
+            .iter()
+            .all(|name| is_supported_extension(name)));
         for name in ["KHR_materials_iridescence", "KHR_materials", "", "VENDOR_x"] {
             assert!(!is_supported_extension(name), "{name}");
         }

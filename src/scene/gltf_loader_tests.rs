@@ -9,6 +9,7 @@ use serde_json::{json, Value};
 
 use super::test_support::{project, write, TestBuffer};
 use super::*;
+use crate::scene::gltf_extensions::supported_extensions;
 use crate::scene::materials::Transmission;
 use crate::scene::Triangle;
 
@@ -1285,4 +1286,65 @@ fn a_mesh_under_a_chain_of_100000_nodes_loads() {
         [Vec3::ZERO, Vec3::X, Vec3::Y],
         "the chain's translations sum to 0"
     );
+}
+
+#[test]
+fn a_file_that_requires_extensions_vkpath_implements_loads_and_others_are_named() {
+    // The gltf crate's validation refused every required name outside its own features,
+    // clearcoat, sheen, specular, volume and mesh quantization among them (issue 59).
+    let directory = tempfile::tempdir().unwrap();
+    let names = supported_extensions();
+    assert!(names.len() >= 11, "{names:?}");
+    for name in names {
+        let text = triangle_with(
+            json!({}),
+            &[],
+            json!({"extensionsUsed": [name], "extensionsRequired": [name]}),
+        );
+        let path = write(&directory, "required.gltf", &text);
+        if let Err(error) = load_gltf(&path) {
+            panic!("a file requiring {name} is refused: {error}");
+        }
+    }
+    let both = ["KHR_materials_sheen", "KHR_draco_mesh_compression"];
+    let text = triangle_with(
+        json!({}),
+        &[],
+        json!({"extensionsUsed": both, "extensionsRequired": both}),
+    );
+    let message = error_of(&text);
+    assert!(
+        message.contains("KHR_draco_mesh_compression") && !message.contains("KHR_materials_sheen"),
+        "{message}"
+    );
+}
+
+#[test]
+fn an_emissive_texture_that_cannot_be_used_takes_its_factor_with_it() {
+    // Khronos' MultiUVTest: an emissive factor of 1 scales a texture on TEXCOORD_1; without
+    // the texture the factor alone lit the whole cube white.
+    let directory = tempfile::tempdir().unwrap();
+    let glowing = |texture: Value| {
+        let material = json!({"name": "glow", "emissiveFactor": [1.0, 1.0, 1.0],
+                              "emissiveTexture": texture});
+        let text = triangle_with(
+            material,
+            &[],
+            json!({"textures": [{"source": 0}], "images": [{"uri": "not_loaded.png"}]}),
+        );
+        load_gltf(&write(&directory, "glow.gltf", text)).unwrap()
+    };
+    for texture in [json!({"index": 0, "texCoord": 1}), json!({"index": 0})] {
+        let scene = glowing(texture.clone());
+        let emission: Vec<Vec3> = scene.triangles.iter().map(|t| t.emission).collect();
+        assert_eq!(emission, [Vec3::ZERO], "{texture}");
+        assert!(
+            scene
+                .warnings
+                .iter()
+                .any(|w| w.contains("material 'glow': its emissiveTexture cannot be used, so it emits nothing")),
+            "{:?}",
+            scene.warnings
+        );
+    }
 }

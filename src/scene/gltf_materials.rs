@@ -12,6 +12,8 @@ use std::collections::HashMap;
 use std::io::Read as _;
 use std::path::Path;
 
+use glam::Vec3;
+
 use super::files::{resolve_reference, LoadOptions, MAX_SCENE_FILE_BYTES};
 use super::material_factors::MaterialFactors;
 use super::material_params::{
@@ -21,7 +23,8 @@ use super::materials::{PbrMaterial, TextureBinding};
 use super::texture_source::TextureSourceError;
 use super::textures::{decode_texture, Texture, TextureTransform, WrapMode};
 use crate::contract::{
-    ALPHA_MODE_BLEND, ALPHA_MODE_MASK, ALPHA_MODE_OPAQUE, MATERIAL_TEXTURE_NORMAL,
+    ALPHA_MODE_BLEND, ALPHA_MODE_MASK, ALPHA_MODE_OPAQUE, MATERIAL_TEXTURE_EMISSIVE,
+    MATERIAL_TEXTURE_NORMAL,
 };
 
 /// Converts materials and loads their textures, each once.
@@ -104,6 +107,18 @@ impl<'a> MaterialReader<'a> {
         for texture in order {
             if let Some(info) = gltf_value(&json, &texture.gltf) {
                 let binding = self.json_binding(&name, texture.name, Some(info));
+                // An emissive factor is the texture's scale, mostly white: alone it would
+                // make the whole surface glow (the Khronos MultiUVTest's cube). Without its
+                // texture the material emits nothing.
+                if binding.is_none()
+                    && texture.slot == MATERIAL_TEXTURE_EMISSIVE
+                    && converted.emission != Vec3::ZERO
+                {
+                    converted.emission = Vec3::ZERO;
+                    self.converted.warnings.push(format!(
+                        "material '{name}': its emissiveTexture cannot be used, so it emits nothing (its emissiveFactor alone would light the whole surface)"
+                    ));
+                }
                 (texture.set)(&mut converted, binding);
             }
         }
