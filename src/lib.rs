@@ -67,6 +67,7 @@ pub mod guiding;
 pub mod image_io;
 #[doc(hidden)]
 pub mod kernels;
+pub mod lens_request;
 pub mod lights;
 pub mod render;
 pub mod scene;

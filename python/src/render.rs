@@ -10,9 +10,10 @@ use std::sync::atomic::{AtomicBool, AtomicU32, Ordering};
 use std::sync::{Arc, Mutex};
 use std::time::Duration;
 
-use glam::Vec3;
+use glam::{UVec2, Vec3};
 use pyo3::prelude::*;
 use pyo3::types::{PyBool, PyByteArray, PyDict};
+use vkpath::lens_request::{Focus, FocusError};
 use vkpath::lights::environment_source::{EnvironmentOptionNames, EnvironmentSource};
 use vkpath::render::adaptive::{NoiseThreshold, DEFAULT_MIN_SPP};
 use vkpath::render::aov::Aov;
@@ -281,7 +282,8 @@ impl ImageSoFar {
     environment_strength=1.0, environment_rotation=0.0, background=None, time_limit=None,
     progress=None, device=None, validate=false, region=None, guiding=false,
     guide_training_spp=None, time=None, sample_range=None, noise_threshold=None,
-    noise_min_spp=None, aovs=None, denoise=false, progress_image=false, session=None))]
+    noise_min_spp=None, aovs=None, denoise=false, progress_image=false, session=None,
+    focus_at=None))]
 #[allow(clippy::too_many_arguments)]
 pub fn render<'py>(
     py: Python<'py>,
@@ -318,6 +320,7 @@ pub fn render<'py>(
     denoise: bool,
     progress_image: bool,
     session: Option<PyRef<'py, Session>>,
+    focus_at: Option<(u32, u32)>,
 ) -> PyResult<Bound<'py, PyDict>> {
     let (settings, mut warnings) = Choices {
         width,
@@ -375,6 +378,7 @@ pub fn render<'py>(
     .map_err(|e| message(e.to_string()))?;
     let facts = session.as_ref().map(|s| &s.facts);
     let (world, camera) = scene.at_time(time, settings.aspect(), facts)?;
+    let camera = with_lens(camera, &world, &scene, focus_at, &settings)?;
     let moving_geometry = facts
         .and_then(|f| *f.lock().unwrap_or_else(|e| e.into_inner()))
         .is_some_and(|f| f.moving_geometry);
@@ -548,6 +552,46 @@ pub fn render<'py>(
     dict.set_item("settings", settings_dict(py, &settings)?)?;
     dict.set_item("warnings", warnings)?;
     Ok(dict)
+}
+
+/// `camera` with the scene's thin lens (`Camera(aperture_radius=|f_stop=, ...)`) resolved for
+/// the render's image of `world`, focused on `focus_at`'s pixel (column, row from the top)
+/// where given, as `vkpath render --focus-at` focuses.
+fn with_lens(
+    mut camera: vkpath::Camera,
+    world: &vkpath::Scene,
+    scene: &Scene,
+    focus_at: Option<(u32, u32)>,
+    settings: &RenderSettings,
+) -> PyResult<vkpath::Camera> {
+    let mut request =
+        match (scene.lens_request, focus_at) {
+            (None, None) => return Ok(camera),
+            (None, Some(_)) => return Err(argument_error(
+                "focus_at= needs a camera with a lens (Camera(..., aperture_radius= or f_stop=))",
+            )),
+            (Some(request), _) => request,
+        };
+    if let Some((x, y)) = focus_at {
+        request.focus = Focus::Pixel(UVec2::new(x, y));
+    }
+    let (width, height) = (settings.width, settings.height);
+    camera.lens = match request.resolve(&camera, &world.triangles, width, height) {
+        Ok((lens, _)) => lens,
+        Err(FocusError::OutsideImage { pixel, .. }) => {
+            return Err(argument_error(format!(
+                "focus_at=({}, {}) is outside the {width}x{height} image",
+                pixel.x, pixel.y
+            )))
+        }
+        Err(FocusError::NothingHit { pixel }) => {
+            return Err(message(format!(
+                "the camera ray through pixel ({}, {}) hits nothing to focus on: give focus_distance= or another focus_at=",
+                pixel.x, pixel.y
+            )))
+        }
+    };
+    Ok(camera)
 }
 
 /// What the command line warns about the lights before rendering.

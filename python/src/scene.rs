@@ -6,7 +6,8 @@ use std::sync::Mutex;
 
 use glam::Vec3;
 use pyo3::prelude::*;
-use vkpath::camera::DEFAULT_VERTICAL_FOV_DEGREES;
+use vkpath::camera::{Lens, DEFAULT_VERTICAL_FOV_DEGREES};
+use vkpath::lens_request::{Aperture, Focus, LensRequest, DEFAULT_SENSOR_WIDTH_MM};
 use vkpath::scene::animation::AnimationPick;
 use vkpath::scene::arrays::ARRAYS_DESCRIPTION;
 use vkpath::scene::files::LoadOptions;
@@ -18,12 +19,16 @@ use crate::arrays::{
 };
 use crate::errors::{argument_error, message, to_py};
 
-/// A pinhole camera: where it is and where it looks (world space).
+/// A camera: where it is and where it looks (world space), and its thin lens if any.
 #[pyclass(module = "vkpath", frozen, from_py_object)]
 #[derive(Clone, Copy, Debug)]
 pub struct Camera {
-    /// The library's camera.
+    /// The library's camera (its lens resolved where it needs no image: a radius and a
+    /// focus distance).
     pub inner: vkpath::Camera,
+    /// The thin lens asked for, resolved for each render's image (an f-number needs its
+    /// aspect, autofocus its pixels); `None` for a pinhole.
+    pub lens_request: Option<LensRequest>,
 }
 
 #[pymethods]
@@ -31,15 +36,18 @@ impl Camera {
     /// A camera at `position` looking at `look_at`, `up` giving the image's up direction
     /// (not parallel to the view direction) and `fov` the vertical field of view in degrees,
     /// in (0, 180): the command line's --camera-position, --look-at, --up and --fov. With an
-    /// `aperture_radius` above 0 (world units), a thin lens focused at `focus_distance` (along
-    /// the view axis) gives depth of field; `blades` shapes its aperture (0: a disc, else a
-    /// regular polygon of 3 or more corners, turned by `aperture_rotation` degrees): the
-    /// command line's --aperture-radius, --focus-distance, --aperture-blades and
-    /// --aperture-rotation.
+    /// `aperture_radius` above 0 (world units) or an f-number `f_stop` (with `sensor_width`
+    /// in millimetres across the image's longer side, as Blender takes it), a thin lens gives
+    /// depth of field, focused at `focus_distance` (along the view axis) or, without one, on
+    /// what the image's centre sees (or `render(focus_at=)`'s pixel); `blades` shapes its
+    /// aperture (0: a disc, else a regular polygon of 3 or more corners, turned by
+    /// `aperture_rotation` degrees): the command line's --aperture-radius, --f-stop,
+    /// --sensor-width, --focus-distance, --aperture-blades and --aperture-rotation.
     #[new]
     #[pyo3(signature = (position, look_at, up = (0.0, 1.0, 0.0), fov = DEFAULT_VERTICAL_FOV_DEGREES,
-        aperture_radius = 0.0, focus_distance = None, blades = 0, aperture_rotation = 0.0),
-        text_signature = "(position, look_at, up=(0.0, 1.0, 0.0), fov=45.0, aperture_radius=0.0, focus_distance=None, blades=0, aperture_rotation=0.0)")]
+        aperture_radius = 0.0, focus_distance = None, blades = 0, aperture_rotation = 0.0,
+        f_stop = None, sensor_width = DEFAULT_SENSOR_WIDTH_MM),
+        text_signature = "(position, look_at, up=(0.0, 1.0, 0.0), fov=45.0, aperture_radius=0.0, focus_distance=None, blades=0, aperture_rotation=0.0, f_stop=None, sensor_width=36.0)")]
     #[allow(clippy::too_many_arguments)]
     fn new(
         position: (f32, f32, f32),
@@ -50,28 +58,60 @@ impl Camera {
         focus_distance: Option<f32>,
         blades: u32,
         aperture_rotation: f32,
+        f_stop: Option<f32>,
+        sensor_width: f32,
     ) -> PyResult<Camera> {
         let mut camera = Camera::pinhole(position, look_at, up, fov)?;
-        camera.inner.lens = lens(aperture_radius, focus_distance, blades, aperture_rotation)?;
+        let aperture = aperture(aperture_radius, f_stop, sensor_width)?;
+        camera.lens_request = lens_request(aperture, focus_distance, blades, aperture_rotation)?;
+        if let Some(
+            request @ LensRequest {
+                aperture: Aperture::Radius(radius),
+                focus: Focus::Distance(distance),
+                ..
+            },
+        ) = camera.lens_request
+        {
+            camera.inner.lens = Lens {
+                aperture_radius: radius,
+                focus_distance: distance,
+                blades: request.blades,
+                rotation: request.rotation_degrees.to_radians(),
+            };
+        }
         Ok(camera)
     }
 
-    /// The thin lens's aperture radius, world units (0: a pinhole).
+    /// The thin lens's aperture radius, world units (0: a pinhole, or a lens given by
+    /// `f_stop`, whose radius each render's image decides).
     #[getter]
     fn aperture_radius(&self) -> f32 {
         self.inner.lens.aperture_radius
     }
 
-    /// The distance in focus along the view axis (None for a pinhole).
+    /// The lens's f-number (None unless the lens was given by one).
+    #[getter]
+    fn f_stop(&self) -> Option<f32> {
+        match self.lens_request?.aperture {
+            Aperture::FStop { f_stop, .. } => Some(f_stop),
+            Aperture::Radius(_) => None,
+        }
+    }
+
+    /// The distance in focus along the view axis (None for a pinhole, or for a lens that
+    /// focuses on what a pixel sees).
     #[getter]
     fn focus_distance(&self) -> Option<f32> {
-        (!self.inner.lens.is_pinhole()).then_some(self.inner.lens.focus_distance)
+        match self.lens_request?.focus {
+            Focus::Distance(distance) => Some(distance),
+            Focus::Pixel(_) | Focus::ImageCentre => None,
+        }
     }
 
     /// The aperture's blades (0: a disc).
     #[getter]
     fn blades(&self) -> u32 {
-        self.inner.lens.blades
+        self.lens_request.map_or(0, |request| request.blades)
     }
 
     /// The pinhole, world space.
@@ -142,35 +182,62 @@ impl Camera {
                 "position, look_at and up do not define a view (the view direction is zero or parallel to up)",
             )
         })?;
-        Ok(Camera { inner })
+        Ok(Camera {
+            inner,
+            lens_request: None,
+        })
     }
 }
 
-/// The thin lens of `Camera(...)`'s lens parameters, checked (a pinhole for radius 0).
-fn lens(
-    aperture_radius: f32,
-    focus_distance: Option<f32>,
-    blades: u32,
-    aperture_rotation: f32,
-) -> PyResult<vkpath::camera::Lens> {
+/// The aperture of `Camera(...)`'s `aperture_radius`, `f_stop` and `sensor_width`, checked.
+fn aperture(aperture_radius: f32, f_stop: Option<f32>, sensor_width: f32) -> PyResult<Aperture> {
     if !(aperture_radius.is_finite() && aperture_radius >= 0.0) {
         return Err(argument_error(format!(
             "aperture_radius={aperture_radius} is not a finite number at or above 0"
         )));
     }
-    if aperture_radius == 0.0 {
-        return Ok(vkpath::camera::Lens::PINHOLE);
-    }
-    let Some(focus_distance) = focus_distance else {
-        return Err(argument_error(
-            "aperture_radius above 0 needs focus_distance (the distance in focus)",
-        ));
+    let Some(f_stop) = f_stop else {
+        return Ok(Aperture::Radius(aperture_radius));
     };
-    if !(focus_distance.is_finite() && focus_distance > 0.0) {
-        return Err(argument_error(format!(
-            "focus_distance={focus_distance} is not a finite number above 0"
-        )));
+    if aperture_radius != 0.0 {
+        return Err(argument_error(
+            "aperture_radius= and f_stop= are two ways to give the aperture: give one",
+        ));
     }
+    for (name, value) in [("f_stop", f_stop), ("sensor_width", sensor_width)] {
+        if !(value.is_finite() && value > 0.0) {
+            return Err(argument_error(format!(
+                "{name}={value} is not a finite number above 0"
+            )));
+        }
+    }
+    Ok(Aperture::FStop {
+        f_stop,
+        sensor_width_mm: sensor_width,
+    })
+}
+
+/// The thin lens of `Camera(...)`'s lens parameters, checked (`None`: a pinhole, an aperture
+/// of radius 0). Without a focus distance the lens focuses on what the image's centre sees.
+fn lens_request(
+    aperture: Aperture,
+    focus_distance: Option<f32>,
+    blades: u32,
+    aperture_rotation: f32,
+) -> PyResult<Option<LensRequest>> {
+    // (the lens's other parameters mean nothing to a pinhole)
+    if aperture == Aperture::Radius(0.0) {
+        return Ok(None);
+    }
+    let focus = match focus_distance {
+        Some(distance) if !(distance.is_finite() && distance > 0.0) => {
+            return Err(argument_error(format!(
+                "focus_distance={distance} is not a finite number above 0"
+            )))
+        }
+        Some(distance) => Focus::Distance(distance),
+        None => Focus::ImageCentre,
+    };
     if blades == 1 || blades == 2 || blades > 64 {
         return Err(argument_error(format!(
             "blades={blades} is not 0 (a disc) or 3 to 64"
@@ -179,12 +246,12 @@ fn lens(
     if !aperture_rotation.is_finite() {
         return Err(argument_error("aperture_rotation must be finite"));
     }
-    Ok(vkpath::camera::Lens {
-        aperture_radius,
-        focus_distance,
+    Ok(Some(LensRequest {
+        aperture,
+        focus,
         blades,
-        rotation: aperture_rotation.to_radians(),
-    })
+        rotation_degrees: aperture_rotation,
+    }))
 }
 
 /// What a sequence of renders of a glTF file (`render_frames`) decides once, from the file
@@ -220,6 +287,8 @@ pub struct Scene {
     pub inner: vkpath::Scene,
     /// The camera renders use in place of the scene's own, if one was chosen.
     pub camera: Option<vkpath::Camera>,
+    /// That camera's thin lens, resolved for each render's image (`Camera::lens_request`).
+    pub lens_request: Option<LensRequest>,
     /// What reports call the scene (its path, "workshop Cornell box", ...).
     pub description: String,
     /// Where it came from and whether it may read outside its folder, to load it again at
@@ -245,6 +314,7 @@ impl Scene {
         Ok(Scene {
             inner,
             camera: None,
+            lens_request: None,
             description: source.description(),
             source: Some((source, allow_external_paths)),
             camera_index: None,
@@ -416,6 +486,8 @@ impl Scene {
         Ok(Scene {
             inner,
             camera: None,
+            // (the arrays' camera is the scene's own; its lens is kept for its renders)
+            lens_request: camera.and_then(|c| c.lens_request),
             description: ARRAYS_DESCRIPTION.to_owned(),
             source: None,
             camera_index: None,
@@ -440,9 +512,16 @@ impl Scene {
     /// scene has none (a render then frames the scene, as the command line does).
     #[getter]
     fn get_camera(&self) -> Option<Camera> {
-        self.camera
-            .or(self.inner.camera)
-            .map(|inner| Camera { inner })
+        match self.camera {
+            Some(inner) => Some(Camera {
+                inner,
+                lens_request: self.lens_request,
+            }),
+            None => self.inner.camera.map(|inner| Camera {
+                inner,
+                lens_request: None,
+            }),
+        }
     }
 
     /// Sets the camera renders use; `None` goes back to the scene's own.
@@ -450,6 +529,7 @@ impl Scene {
     fn set_camera(&mut self, camera: Option<Camera>) {
         self.camera_index = None;
         self.camera = camera.map(|c| c.inner);
+        self.lens_request = camera.and_then(|c| c.lens_request);
     }
 
     /// The file's perspective cameras, in the order of its nodes (the command line's
@@ -459,7 +539,10 @@ impl Scene {
         self.inner
             .cameras
             .iter()
-            .map(|&inner| Camera { inner })
+            .map(|&inner| Camera {
+                inner,
+                lens_request: None,
+            })
             .collect()
     }
 
@@ -473,6 +556,7 @@ impl Scene {
         })?;
         self.camera = Some(camera);
         self.camera_index = Some(index);
+        self.lens_request = None;
         Ok(())
     }
 
@@ -488,6 +572,7 @@ impl Scene {
     ) -> PyResult<()> {
         self.camera = Some(Camera::pinhole(position, look_at, up, fov)?.inner);
         self.camera_index = None;
+        self.lens_request = None;
         Ok(())
     }
 

@@ -188,6 +188,14 @@ def _progress_of(progress: Optional[Callable[..., Optional[bool]]]) -> Tuple[Any
     return call, True
 
 
+def _pixel_of(pixel: Sequence[int]) -> Tuple[int, int]:
+    values = tuple(pixel)
+    if len(values) != 2:
+        raise ArgumentError(f"focus_at={pixel!r} is not a pixel (x, y)")
+    x, y = (_whole("focus_at", value) for value in values)
+    return x, y
+
+
 def _sample_range_of(sample_range: Sequence[int]) -> Tuple[int, int]:
     """``sample_range`` as the two ints (start, end) the extension takes."""
     values = tuple(int(v) for v in sample_range)
@@ -247,6 +255,7 @@ def render_result(
     noise_min_spp: Optional[int] = None,
     aovs: Sequence[str] = (),
     denoise: bool = False,
+    focus_at: Optional[Sequence[int]] = None,
 ) -> RenderResult:
     """:func:`render`, returning the image with its moments, the samples taken and why the
     render stopped."""
@@ -286,6 +295,7 @@ def render_result(
         noise_min_spp=_whole("noise_min_spp", noise_min_spp),
         aovs=_aov_names(aovs),
         denoise=bool(denoise),
+        focus_at=None if focus_at is None else _pixel_of(focus_at),
     )
     for warning in raw["warnings"]:
         warnings.warn(warning, stacklevel=2)
@@ -341,6 +351,7 @@ def render(
     noise_min_spp: Optional[int] = None,
     aovs: Sequence[str] = (),
     denoise: bool = False,
+    focus_at: Optional[Sequence[int]] = None,
 ) -> np.ndarray:
     """Renders a scene and returns its linear RGBA image, float32, shape (height, width, 4),
     rows top-down: what ``vkpath render ... -o out.exr`` writes, bit for bit.
@@ -389,6 +400,11 @@ def render(
     ``guide_training_spp`` samples per pixel (default: about a million paths in all, at least
     4 per pixel, at most a quarter of ``spp``) before the render's ``spp``; the same seed
     gives the same bits as the command line.
+
+    ``focus_at=(x, y)`` is ``--focus-at X,Y``: the scene's camera, which must have a lens
+    (``Camera(aperture_radius=...)`` or ``f_stop=``), focuses on what the ray through that
+    pixel (column, row from the top) sees. A lens without ``focus_distance`` focuses on what
+    the image's centre sees, as the command line's does.
     """
     return render_result(
         scene,
@@ -422,6 +438,7 @@ def render(
         noise_min_spp=noise_min_spp,
         aovs=aovs,
         denoise=denoise,
+        focus_at=focus_at,
     ).image
 
 

@@ -20,7 +20,7 @@ MATERIAL_KEYS: List[str]
 LIGHT_KEYS: List[str]
 
 class Camera:
-    """A pinhole camera (world space)."""
+    """A camera (world space): a pinhole, or a thin lens for depth of field."""
 
     def __init__(
         self,
@@ -32,20 +32,27 @@ class Camera:
         focus_distance: Optional[float] = None,
         blades: int = 0,
         aperture_rotation: float = 0.0,
+        f_stop: Optional[float] = None,
+        sensor_width: float = 36.0,
     ) -> None:
         """A camera at ``position`` looking at ``look_at``; ``up`` is the image's up direction
         (not parallel to the view), ``fov`` the vertical field of view in degrees, in (0, 180).
-        Depth of field: a thin lens of ``aperture_radius`` (world units; 0 is a pinhole)
-        focused at ``focus_distance`` along the view axis, its aperture a disc (``blades`` 0)
+        Depth of field: a thin lens of ``aperture_radius`` (world units; 0 is a pinhole), or
+        of f-number ``f_stop`` with a ``sensor_width`` (mm) across the image's longer side,
+        focused at ``focus_distance`` along the view axis (without one, on what the image's
+        centre or ``render(focus_at=)``'s pixel sees), its aperture a disc (``blades`` 0)
         or a regular polygon of 3 to 64 corners turned by ``aperture_rotation`` degrees.
         Raises VkpathError for a field of view out of range, no view direction, or a lens
-        without a focus distance or with bad values."""
+        with bad values."""
     @property
     def aperture_radius(self) -> float:
-        """The thin lens's aperture radius (0: a pinhole)."""
+        """The thin lens's aperture radius (0: a pinhole, or a lens given by ``f_stop``)."""
+    @property
+    def f_stop(self) -> Optional[float]:
+        """The lens's f-number (None unless given by one)."""
     @property
     def focus_distance(self) -> Optional[float]:
-        """The distance in focus along the view axis (None for a pinhole)."""
+        """The distance in focus along the view axis (None for a pinhole or autofocus)."""
     @property
     def blades(self) -> int:
         """The aperture's blades (0: a disc)."""
@@ -165,6 +172,7 @@ def render(
     denoise: bool = False,
     progress_image: bool = False,
     session: Optional["Session"] = None,
+    focus_at: Optional[Tuple[int, int]] = None,
 ) -> Dict[str, Any]: ...
 
 class Session:

@@ -3,16 +3,13 @@
 //! sensor width as Blender takes it), its focus (a distance, or the pixel to focus on) and the
 //! aperture's shape.
 
-use glam::{UVec2, Vec2};
+use glam::UVec2;
 
-use crate::camera::{Camera, Lens};
+use crate::camera::Camera;
 use crate::cli::frames::UsageError;
 use crate::cli::parse_pixel;
 use crate::cli::value_error::ValueError;
-use crate::contract::SAMPLER_PCG;
-use crate::cpu::get_camera_ray;
-use crate::cpu::integrator::ray_mesh_intersection;
-use crate::cpu::sobol::PathSample;
+use crate::lens_request::{Aperture, Focus, FocusError, LensRequest, DEFAULT_SENSOR_WIDTH_MM};
 use crate::scene::Scene;
 
 /// Depth of field: a thin lens in front of the camera.
@@ -30,7 +27,7 @@ pub struct LensArgs {
     pub f_stop: Option<f32>,
     /// Width of the sensor in millimetres, for --f-stop: it spans the image's longer side
     /// (Blender's automatic sensor fit).
-    #[arg(long, value_name = "MM", value_parser = parse_positive, default_value_t = 36.0, allow_hyphen_values = true)]
+    #[arg(long, value_name = "MM", value_parser = parse_positive, default_value_t = DEFAULT_SENSOR_WIDTH_MM, allow_hyphen_values = true)]
     pub sensor_width: f32,
     /// Distance from the camera to the plane in focus, along the view axis, world units.
     #[arg(long, value_name = "D", value_parser = parse_positive, conflicts_with = "focus_at", allow_hyphen_values = true)]
@@ -81,10 +78,10 @@ impl LensArgs {
     }
 
     /// `camera` with the lens these options describe for a `width` x `height` image of
-    /// `scene` (unchanged without an aperture). The focus is found on the CPU by the
-    /// workshop's ray-mesh intersection for --focus-at or, without a focus option, the
-    /// image's centre; a pixel outside the image, or one whose ray hits nothing, is a usage
-    /// error. Returns the camera and, where autofocus chose it, the focus distance.
+    /// `scene` (unchanged without an aperture), resolved by `LensRequest::resolve`: the focus
+    /// is found on the CPU for --focus-at or, without a focus option, the image's centre; a
+    /// pixel outside the image, or one whose ray hits nothing, is a usage error. Returns the
+    /// camera and, where autofocus chose it, the focus distance.
     pub fn apply(
         &self,
         mut camera: Camera,
@@ -92,80 +89,62 @@ impl LensArgs {
         width: u32,
         height: u32,
     ) -> Result<(Camera, Option<f32>), UsageError> {
-        if !self.has_aperture() {
+        let Some(request) = self.request() else {
             return Ok((camera, None));
-        }
-        let aspect = width as f32 / height as f32;
-        let plane = camera.image_plane(aspect);
-        let aperture_radius = match (self.aperture_radius, self.f_stop) {
-            (_, Some(f_stop)) => {
-                // The pinhole's distance from the image plane, and the longer side's length
-                // there: focal length / sensor width = distance / side.
-                let axis = plane.right.cross(plane.up).normalize();
-                let middle = plane.left_bottom + 0.5 * (plane.right + plane.up);
-                let distance = (middle - plane.camera_position).dot(axis).abs();
-                let side = plane.right.length().max(plane.up.length());
-                let focal_length_mm = self.sensor_width * distance / side;
-                focal_length_mm / (2.0 * f_stop) / 1000.0
-            }
-            (Some(radius), None) => radius,
-            (None, None) => 0.0,
         };
-        let (focus_distance, autofocus) = match (self.focus_distance, self.focus_at) {
-            (Some(distance), _) => (distance, None),
-            (None, at) => {
-                let pixel = at.unwrap_or(UVec2::new(width / 2, height / 2));
-                let distance = self.focus_at_pixel(&camera, scene, pixel, width, height)?;
-                (distance, Some(distance))
-            }
-        };
-        camera.lens = Lens {
-            aperture_radius,
-            focus_distance,
-            blades: self.aperture_blades,
-            rotation: self.aperture_rotation.to_radians(),
-        };
+        let (lens, autofocus) = request
+            .resolve(&camera, &scene.triangles, width, height)
+            .map_err(|error| self.focus_error(error))?;
+        camera.lens = lens;
         Ok((camera, autofocus))
     }
 
-    /// The focus distance (along the view axis) of what the pinhole's ray through the centre
-    /// of `pixel` (column, row from the top) hits.
-    fn focus_at_pixel(
-        &self,
-        camera: &Camera,
-        scene: &Scene,
-        pixel: UVec2,
-        width: u32,
-        height: u32,
-    ) -> Result<f32, UsageError> {
+    /// The lens these options ask for (`None` without an aperture).
+    fn request(&self) -> Option<LensRequest> {
+        if !self.has_aperture() {
+            return None;
+        }
+        let aperture = match (self.aperture_radius, self.f_stop) {
+            (_, Some(f_stop)) => Aperture::FStop {
+                f_stop,
+                sensor_width_mm: self.sensor_width,
+            },
+            (radius, None) => Aperture::Radius(radius.unwrap_or(0.0)),
+        };
+        let focus = match (self.focus_distance, self.focus_at) {
+            (Some(distance), _) => Focus::Distance(distance),
+            (None, Some(pixel)) => Focus::Pixel(pixel),
+            (None, None) => Focus::ImageCentre,
+        };
+        Some(LensRequest {
+            aperture,
+            focus,
+            blades: self.aperture_blades,
+            rotation_degrees: self.aperture_rotation,
+        })
+    }
+
+    /// The command line's words for autofocus's `error`.
+    fn focus_error(&self, error: FocusError) -> UsageError {
         let option = if self.focus_at.is_some() {
             "--focus-at"
         } else {
             "depth of field without --focus-distance or --focus-at focuses on the image's centre, and"
         };
-        if pixel.x >= width || pixel.y >= height {
-            return Err(UsageError(format!(
+        UsageError(match error {
+            FocusError::OutsideImage {
+                pixel,
+                width,
+                height,
+            } => format!(
                 "--focus-at {},{} is outside the {width}x{height} image",
                 pixel.x, pixel.y
-            )));
-        }
-        let mut plane = camera.image_plane(width as f32 / height as f32);
-        plane.lens = Lens::PINHOLE;
-        let tex_coord = Vec2::new(
-            (pixel.x as f32 + 0.5) / width as f32,
-            1.0 - (pixel.y as f32 + 0.5) / height as f32,
-        );
-        // A pinhole's ray draws no numbers: any sample will do.
-        let sample = PathSample::new(SAMPLER_PCG, UVec2::ZERO, 0, 0);
-        let (origin, direction) = get_camera_ray(&plane, UVec2::ZERO, &sample, false, tex_coord);
-        let Some(hit) = ray_mesh_intersection(&scene.triangles, origin, direction) else {
-            return Err(UsageError(format!(
+            ),
+            FocusError::NothingHit { pixel } => format!(
                 "{option} the camera ray through pixel {},{} hits nothing to focus on: give --focus-distance",
                 pixel.x, pixel.y
-            )));
-        };
-        let axis = plane.right.cross(plane.up).normalize();
-        Ok(hit.t * direction.dot(axis).abs())
+            ),
+        })
     }
 }
 
