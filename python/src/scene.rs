@@ -300,17 +300,38 @@ pub struct Scene {
     /// A glTF file read once for the renders at other times (`at_time`, e.g. each frame of
     /// `render_frames`), opened by the first of them and posed by each.
     pub file: Mutex<Option<GltfFile>>,
+    /// The file's material variant renders take (`KHR_materials_variants`), by name.
+    pub variant: Option<String>,
+    /// The file's material variants, by name.
+    pub variants: Vec<String>,
 }
 
 impl Scene {
     /// Loads `source` as the command line does (`SceneArgs::load`), errors and all.
-    fn from_source(source: SceneSource, allow_external_paths: bool) -> PyResult<Scene> {
+    fn from_source(
+        source: SceneSource,
+        allow_external_paths: bool,
+        variant: Option<String>,
+    ) -> PyResult<Scene> {
         let inner = source
             .load_with(&LoadOptions {
                 allow_external_paths,
+                variant: variant.clone(),
                 ..LoadOptions::default()
             })
             .map_err(to_py)?;
+        let variants = match &source {
+            SceneSource::File(path) if is_gltf_path(path) => {
+                let options = LoadOptions {
+                    allow_external_paths,
+                    ..LoadOptions::default()
+                };
+                GltfFile::open(path, &options)
+                    .map_err(to_py)?
+                    .variant_names()
+            }
+            _ => Vec::new(),
+        };
         Ok(Scene {
             inner,
             camera: None,
@@ -319,6 +340,8 @@ impl Scene {
             source: Some((source, allow_external_paths)),
             camera_index: None,
             file: Mutex::new(None),
+            variant,
+            variants,
         })
     }
 
@@ -347,6 +370,7 @@ impl Scene {
             {
                 let options = LoadOptions {
                     allow_external_paths: *allow_external_paths,
+                    variant: self.variant.clone(),
                     ..LoadOptions::default()
                 };
                 // A render that panicked holding the lock left the file as it was.
@@ -372,6 +396,7 @@ impl Scene {
                 let options = LoadOptions {
                     allow_external_paths: *allow_external_paths,
                     time: time as f32,
+                    variant: self.variant.clone(),
                     ..LoadOptions::default()
                 };
                 Some(source.load_with(&options).map_err(to_py)?)
@@ -414,11 +439,24 @@ impl Scene {
 #[pymethods]
 impl Scene {
     /// Loads a scene file (.gltf, .glb or .obj). A glTF file may read buffers outside its
-    /// own folder only with `allow_external_paths`.
+    /// own folder only with `allow_external_paths`; `variant` names its material variant
+    /// (KHR_materials_variants, `Scene.variants`), as `--variant` does.
     #[staticmethod]
-    #[pyo3(signature = (path, allow_external_paths = false))]
-    fn load(path: PathBuf, allow_external_paths: bool) -> PyResult<Scene> {
-        Scene::from_source(SceneSource::File(path), allow_external_paths)
+    #[pyo3(signature = (path, allow_external_paths = false, variant = None))]
+    fn load(path: PathBuf, allow_external_paths: bool, variant: Option<String>) -> PyResult<Scene> {
+        Scene::from_source(SceneSource::File(path), allow_external_paths, variant)
+    }
+
+    /// The glTF file's material variants (KHR_materials_variants), by name, in file order.
+    #[getter]
+    fn variants(&self) -> Vec<String> {
+        self.variants.clone()
+    }
+
+    /// The material variant renders take (None: each primitive's own material).
+    #[getter]
+    fn variant(&self) -> Option<String> {
+        self.variant.clone()
     }
 
     /// A scene from arrays, as `mi.load_dict` users build one: `positions` (N, 3) and
@@ -492,20 +530,22 @@ impl Scene {
             source: None,
             camera_index: None,
             file: Mutex::new(None),
+            variant: None,
+            variants: Vec::new(),
         })
     }
 
     /// The workshop's Cornell box (the command line's scene when none is given).
     #[staticmethod]
     fn cornell_box() -> PyResult<Scene> {
-        Scene::from_source(SceneSource::CornellBox, false)
+        Scene::from_source(SceneSource::CornellBox, false, None)
     }
 
     /// The generated scale-test scene (the Cornell box with an icosphere and a displaced
     /// grid) of about `triangles` triangles: the command line's --generated.
     #[staticmethod]
     fn generated(triangles: usize) -> PyResult<Scene> {
-        Scene::from_source(SceneSource::Generated(triangles), false)
+        Scene::from_source(SceneSource::Generated(triangles), false, None)
     }
 
     /// The camera renders use: the one set here, else the scene's own; `None` when the

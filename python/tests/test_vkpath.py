@@ -150,6 +150,56 @@ def test_a_thin_lens_camera_equals_the_command_lines_depth_of_field(cli, tmp_pat
         vkpath.render(scene, focus_at=(5, 11), **size)
 
 
+def test_a_material_variant_is_chosen_by_name_as_on_the_command_line(cli, tmp_path):
+    import base64
+    import json
+    import struct
+    # One triangle facing the camera (+Z), red; blue in KHR_materials_variants' "Beach",
+    # green in "Midnight"; lit by a white background.
+    positions = struct.pack("<9f", -1, -1, 0, 1, -1, 0, 0, 1, 0)
+    uri = "data:application/octet-stream;base64," + base64.b64encode(positions).decode()
+
+    def lambert(r, g, b):
+        return {"pbrMetallicRoughness": {"baseColorFactor": [r, g, b, 1], "metallicFactor": 0}}
+
+    gltf = {
+        "asset": {"version": "2.0"},
+        "extensionsUsed": ["KHR_materials_variants"],
+        "extensions": {"KHR_materials_variants": {
+            "variants": [{"name": "Beach"}, {"name": "Midnight"}]}},
+        "buffers": [{"byteLength": 36, "uri": uri}],
+        "bufferViews": [{"buffer": 0, "byteLength": 36}],
+        "accessors": [{"bufferView": 0, "componentType": 5126, "count": 3, "type": "VEC3",
+                       "min": [-1, -1, 0], "max": [1, 1, 0]}],
+        "materials": [lambert(0.8, 0.1, 0.1), lambert(0.1, 0.1, 0.8), lambert(0.1, 0.8, 0.1)],
+        "meshes": [{"primitives": [{"attributes": {"POSITION": 0}, "material": 0,
+                                    "extensions": {"KHR_materials_variants": {"mappings": [
+                                        {"material": 1, "variants": [0]},
+                                        {"material": 2, "variants": [1]}]}}}]}],
+        "cameras": [{"type": "perspective", "perspective": {"yfov": 0.8, "znear": 0.01}}],
+        "nodes": [{"mesh": 0}, {"camera": 0, "translation": [0, 0, 3]}],
+        "scenes": [{"nodes": [0, 1]}],
+    }
+    path = tmp_path / "shoe.gltf"
+    path.write_text(json.dumps(gltf))
+    size = dict(width=8, height=8, spp=2, integrator="mis", background=(1.0, 1.0, 1.0))
+    own = vkpath.Scene.load(path)
+    assert own.variants == ["Beach", "Midnight"] and own.variant is None
+    beach = vkpath.Scene.load(path, variant="Beach")
+    assert beach.variant == "Beach"
+    centre = (slice(3, 5), slice(3, 5))
+    red = vkpath.render(own, **size)[centre][..., :3].mean(axis=(0, 1))
+    blue = vkpath.render(beach, **size)[centre][..., :3].mean(axis=(0, 1))
+    assert red[0] > 2 * red[2] and blue[2] > 2 * blue[0], (red, blue)
+    output = tmp_path / "beach.exr"
+    run_cli(cli, "render", str(path), "--width", "8", "--height", "8", "--spp", "2",
+            "--integrator", "mis", "--background", "1,1,1", "--variant", "Beach",
+            "-o", str(output))
+    assert np.array_equal(bits(vkpath.render(beach, **size)), bits(read_exr_rgba(output)))
+    with pytest.raises(vkpath.VkpathError, match="its variants: Beach, Midnight"):
+        vkpath.Scene.load(path, variant="Street")
+
+
 def test_progress_is_called_and_false_stops_without_losing_samples():
     calls = []
 

@@ -73,9 +73,19 @@ class Scene:
     """A scene ready to render: triangles, materials, lights and the camera renders use."""
 
     @staticmethod
-    def load(path: _Path, allow_external_paths: bool = False) -> "Scene":
+    def load(
+        path: _Path, allow_external_paths: bool = False, variant: Optional[str] = None
+    ) -> "Scene":
         """Loads a .gltf, .glb or .obj file; a glTF may read buffers outside its folder only
-        with ``allow_external_paths``. Raises VkpathError with the command line's message."""
+        with ``allow_external_paths``; ``variant`` picks a material variant
+        (KHR_materials_variants, ``--variant``). Raises VkpathError with the command line's
+        message (an unknown variant's lists the file's)."""
+    @property
+    def variants(self) -> List[str]:
+        """The glTF file's material variants, by name, in file order."""
+    @property
+    def variant(self) -> Optional[str]:
+        """The material variant renders take (None: each primitive's own material)."""
     @staticmethod
     def from_arrays(
         positions: Any,

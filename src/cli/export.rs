@@ -55,6 +55,7 @@ fn animations_note(args: &ExportArgs) -> anyhow::Result<Option<String>> {
         &path,
         &LoadOptions {
             allow_external_paths: args.scene.allow_external_paths,
+            variant: args.scene.variant.clone(),
             ..LoadOptions::default()
         },
     )?;

@@ -35,6 +35,10 @@ pub struct SceneArgs {
     /// URIs); off by default, so that a scene from elsewhere cannot read other files.
     #[arg(long)]
     pub allow_external_paths: bool,
+    /// A glTF file's material variant (KHR_materials_variants) by name; without it each
+    /// primitive's own material (an unknown name lists the file's variants).
+    #[arg(long, value_name = "NAME")]
+    pub variant: Option<String>,
 }
 
 impl SceneArgs {
@@ -79,6 +83,7 @@ impl SceneArgs {
             allow_external_paths: self.allow_external_paths,
             time,
             animation,
+            variant: self.variant.clone(),
         })?;
         if let (SceneSource::Generated(_), true) = (source, talk) {
             eprintln!(

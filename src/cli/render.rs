@@ -765,6 +765,7 @@ impl FrameScenes {
                 path,
                 &LoadOptions {
                     allow_external_paths: args.scene.allow_external_paths,
+                    variant: args.scene.variant.clone(),
                     ..LoadOptions::default()
                 },
             )?),

@@ -62,6 +62,20 @@ pub enum SceneError {
         /// The unsupported extensions it lists in `extensionsRequired`.
         extensions: Vec<String>,
     },
+    /// A material variant (`KHR_materials_variants`) that the file does not have was asked for.
+    #[error(
+        "glTF '{}' has no material variant '{name}' ({})",
+        path.display(),
+        if known.is_empty() { "it has no variants".to_owned() } else { format!("its variants: {}", known.join(", ")) }
+    )]
+    UnknownVariant {
+        /// The file.
+        path: PathBuf,
+        /// The variant asked for.
+        name: String,
+        /// The file's variants.
+        known: Vec<String>,
+    },
     /// A file that the scene refers to (a buffer) is missing or unreadable.
     #[error(
         "glTF '{}': cannot read its buffer {buffer} '{file}': {}",

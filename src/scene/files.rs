@@ -24,6 +24,9 @@ pub struct LoadOptions {
     pub time: f32,
     /// Which of a glTF file's animations play (all by default).
     pub animation: super::animation::AnimationPick,
+    /// The glTF file's material variant (`KHR_materials_variants`) by name; `None`: the
+    /// primitives' own materials.
+    pub variant: Option<String>,
 }
 
 /// Reads a whole regular file of at most `limit` bytes.

@@ -5,10 +5,11 @@ use super::material_params::{MATERIAL_PARAMS, MATERIAL_TEXTURES};
 
 /// The glTF extensions whose meaning vkpath implements beyond the material's: those are the
 /// ones the material parameter table reads (`super::material_params`).
-const OTHER_SUPPORTED_EXTENSIONS: [&str; 3] = [
+const OTHER_SUPPORTED_EXTENSIONS: [&str; 4] = [
     "KHR_texture_transform",
     "KHR_mesh_quantization",
     "KHR_lights_punctual",
+    "KHR_materials_variants",
 ];
 
 /// Whether vkpath implements the meaning of glTF extension `name` (a file that requires
@@ -62,10 +63,6 @@ const WHAT_IS_LOST: &[(&str, &str)] = &[
     (
         "KHR_materials_diffuse_transmission",
         "no light passes diffusely through thin surfaces",
-    ),
-    (
-        "KHR_materials_variants",
-        "only the default material of each primitive is used",
     ),
     (
         "KHR_materials_pbrSpecularGlossiness",
@@ -152,8 +149,8 @@ mod tests {
     }
 
     #[test]
-    fn the_supported_extensions_are_the_material_tables_and_three_more() {
-        // The eleven vkpath implemented before the material table named them.
+    fn the_supported_extensions_are_the_material_tables_and_four_more() {
+        // The eleven vkpath implemented before the material table named them, and variants.
         let supported = [
             "KHR_materials_emissive_strength",
             "KHR_materials_specular",
@@ -166,6 +163,7 @@ mod tests {
             "KHR_texture_transform",
             "KHR_mesh_quantization",
             "KHR_lights_punctual",
+            "KHR_materials_variants",
         ];
         for name in supported {
             assert!(is_supported_extension(name), "{name}");

@@ -19,6 +19,7 @@ use super::gltf_animation::{pose_at, read_animations};
 use super::gltf_extensions::is_supported_extension;
 use super::gltf_loader::{label, malformed, posed_scene};
 use super::gltf_materials::ConvertedMaterials;
+use super::gltf_variants;
 use super::{Scene, SceneError};
 
 mod node_less;
@@ -66,6 +67,9 @@ impl GltfFile {
         let (Gltf { document, blob }, skipped) = node_less::parse(&bytes).map_err(gltf_error)?;
         check_required_extensions(path, &document)?;
         validate(path, &document)?;
+        if let Some(name) = &options.variant {
+            gltf_variants::variant_index(path, &document, name)?;
+        }
         let buffers = load_buffers(path, &document, blob, options)?;
         let (animations, animation_warnings) = read_animations(path, &document, &buffers)?;
         Ok(GltfFile {
@@ -82,6 +86,12 @@ impl GltfFile {
     /// Whether the file has any animation (without one, every time poses the same scene).
     pub fn has_animations(&self) -> bool {
         !self.animations.is_empty()
+    }
+
+    /// The names of the file's material variants (`KHR_materials_variants`; `#index` for one
+    /// without a name), in file order.
+    pub fn variant_names(&self) -> Vec<String> {
+        gltf_variants::variant_names(&self.document)
     }
 
     /// The names of the file's animations (`#index` for one without a name), in file

@@ -23,6 +23,7 @@ use super::gltf_deform::{Deformer, NodeDeformation};
 use super::gltf_extensions::unsupported_extension_warnings;
 use super::gltf_file::GltfFile;
 use super::gltf_materials::{ConvertedMaterials, MaterialReader};
+use super::gltf_variants;
 use super::instances::InstanceRecorder;
 use super::materials::TriangleShading;
 use super::skinning::skin_mirrors;
@@ -57,9 +58,15 @@ pub(super) fn posed_scene(
     pose: Pose,
     converted: ConvertedMaterials,
 ) -> Result<(Scene, ConvertedMaterials), SceneError> {
+    let variant = options
+        .variant
+        .as_deref()
+        .map(|name| gltf_variants::variant_index(path, document, name))
+        .transpose()?;
     let mut loader = Loader {
         document,
         buffers,
+        variant,
         builder: SceneBuilder::new(path),
         materials: MaterialReader::new(path, document, buffers, options, converted),
         orthographic_camera: None,
@@ -68,6 +75,13 @@ pub(super) fn posed_scene(
     };
     for warning in unsupported_extension_warnings(document.extensions_used()) {
         loader.builder.warn(warning);
+    }
+    let variants = gltf_variants::variant_names(document);
+    if variant.is_none() && !variants.is_empty() {
+        loader.builder.warn(format!(
+            "the file has material variants ({}); the primitives' own materials render (--variant NAME, Python's variant=, picks one)",
+            variants.join(", ")
+        ));
     }
     for (node, world) in flatten_hierarchy(path, document, loader.deformer.local_transforms())? {
         loader.visit(&node, world)?;
@@ -164,6 +178,9 @@ struct Loader<'a> {
     instances: InstanceRecorder,
     /// The pose: morph targets and skins.
     deformer: Deformer<'a>,
+    /// The material variant rendered (`KHR_materials_variants`), by index; `None`: the
+    /// primitives' own materials.
+    variant: Option<usize>,
 }
 
 impl Loader<'_> {
@@ -267,7 +284,20 @@ impl Loader<'_> {
             }
             let context = format!("mesh '{name}' primitive {primitive_index}");
             let (mut positions, indices) = self.read_geometry(&primitive, &context)?;
-            let material_index = self.materials.material_index(&primitive.material());
+            let material = match gltf_variants::primitive_material(
+                self.builder.path(),
+                self.document,
+                (&primitive, &context),
+                self.variant,
+            )? {
+                Some(index) if Some(index) != primitive.material().index() => self
+                    .document
+                    .materials()
+                    .nth(index)
+                    .unwrap_or_else(|| primitive.material()),
+                _ => primitive.material(),
+            };
+            let material_index = self.materials.material_index(&material);
             let pbr = self.materials.converted.materials[material_index as usize];
             let material =
                 Material::sanitized(pbr.base_color.truncate(), pbr.emission, pbr.double_sided);

@@ -1339,12 +1339,87 @@ fn an_emissive_texture_that_cannot_be_used_takes_its_factor_with_it() {
         let emission: Vec<Vec3> = scene.triangles.iter().map(|t| t.emission).collect();
         assert_eq!(emission, [Vec3::ZERO], "{texture}");
         assert!(
-            scene
-                .warnings
-                .iter()
-                .any(|w| w.contains("material 'glow': its emissiveTexture cannot be used, so it emits nothing")),
+            scene.warnings.iter().any(|w| w.contains(
+                "material 'glow': its emissiveTexture cannot be used, so it emits nothing"
+            )),
             "{:?}",
             scene.warnings
         );
     }
+}
+
+/// A triangle whose primitive takes material 0 (red) and, in KHR_materials_variants'
+/// "Beach", material 1 (blue), in "Midnight" material `midnight`.
+fn variant_triangle(midnight: usize) -> String {
+    let mut buffer = TestBuffer::default();
+    let positions = buffer.positions(&[[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]]);
+    let lambert = |rgb: [f32; 3]| {
+        json!({"pbrMetallicRoughness": {"baseColorFactor": [rgb[0], rgb[1], rgb[2], 1.0],
+                                        "metallicFactor": 0.0}})
+    };
+    buffer.embedded(json!({
+        "extensionsUsed": ["KHR_materials_variants"],
+        "extensions": {"KHR_materials_variants": {"variants": [{"name": "Beach"}, {"name": "Midnight"}]}},
+        "scenes": [{"nodes": [0]}],
+        "nodes": [{"mesh": 0}],
+        "meshes": [{"primitives": [{
+            "attributes": {"POSITION": positions},
+            "material": 0,
+            "extensions": {"KHR_materials_variants": {"mappings": [
+                {"material": 1, "variants": [0]},
+                {"material": midnight, "variants": [1]},
+            ]}},
+        }]}],
+        "materials": [lambert([0.8, 0.1, 0.1]), lambert([0.1, 0.1, 0.8]), lambert([0.1, 0.8, 0.1])],
+    }))
+}
+
+#[test]
+fn a_material_variant_is_rendered_by_name_and_an_unknown_one_lists_the_files() {
+    let directory = tempfile::tempdir().unwrap();
+    let path = write(&directory, "shoe.gltf", variant_triangle(2));
+    let colour_of = |variant: Option<&str>| {
+        let options = LoadOptions {
+            variant: variant.map(str::to_owned),
+            ..LoadOptions::default()
+        };
+        let scene = load_gltf_with(&path, &options).unwrap();
+        (scene.triangles[0].color, scene.warnings)
+    };
+    let (own, warnings) = colour_of(None);
+    assert_eq!(own, Vec3::new(0.8, 0.1, 0.1));
+    assert!(
+        warnings
+            .iter()
+            .any(|w| w.contains("material variants (Beach, Midnight)")),
+        "{warnings:?}"
+    );
+    let (beach, warnings) = colour_of(Some("Beach"));
+    assert_eq!(beach, Vec3::new(0.1, 0.1, 0.8));
+    assert!(warnings.is_empty(), "{warnings:?}");
+    assert_eq!(colour_of(Some("Midnight")).0, Vec3::new(0.1, 0.8, 0.1));
+    let file = GltfFile::open(&path, &LoadOptions::default()).unwrap();
+    assert_eq!(file.variant_names(), ["Beach", "Midnight"]);
+    let unknown = LoadOptions {
+        variant: Some("Street".into()),
+        ..LoadOptions::default()
+    };
+    let Err(error) = GltfFile::open(&path, &unknown) else {
+        panic!("an unknown variant should be refused");
+    };
+    let message = error.to_string();
+    assert!(
+        message.contains("has no material variant 'Street' (its variants: Beach, Midnight)"),
+        "{message}"
+    );
+    let broken = write(&directory, "broken.gltf", variant_triangle(9));
+    let options = LoadOptions {
+        variant: Some("Midnight".into()),
+        ..LoadOptions::default()
+    };
+    let message = load_gltf_with(&broken, &options).unwrap_err().to_string();
+    assert!(
+        message.contains("mesh '#0' primitive 0: its KHR_materials_variants mapping for variant 1 names no material"),
+        "{message}"
+    );
 }
