@@ -94,12 +94,6 @@ float get_light_selection_probability(uint triangle_index, vec3 selection_positi
     return get_light_tree_probability(light_index, selection_position, selection_normal);
 }
 
-// The normal with which the light tree bounds what a surface receives: the geometric
-// normal on the ray's side (get_bsdf() is 0 below it); 0 (no bound) for layered materials.
-vec3 get_light_selection_normal(surface_t surface) {
-    return has_layers(surface) ? vec3(0.0) : surface.geometric_normal;
-}
-
 // Iterations of the light search per ray, as path_tracer.comp's loop bound counts them: the
 // bits of the light count (sample_light_index()), or with the tree its two walks
 // (sample_light_tree() for a light sample, get_light_tree_probability() for an MIS weight)
@@ -126,7 +120,7 @@ float get_light_density(float selection_probability, triangle_t light, spherical
 void sample_light_direction(vec2 point_randoms, triangle_t light, vec3 origin, spherical_triangle_t spherical, out vec3 out_direction, out float out_distance) {
     if (use_spherical_sampling(spherical)) {
         out_direction = sample_spherical_triangle(point_randoms, spherical);
-        // The distance from the triangle test that shadow rays run, so that is_visible()'s
+        // The distance from the triangle test that shadow rays run, so that get_shadow_transmittance()'s
         // margin excludes exactly this triangle; where rounding put the direction just
         // outside the triangle, the distance to its plane.
         if (!ray_triangle_intersection(out_distance, origin, out_direction, light))

@@ -9,9 +9,11 @@
 // the last two in kernels built with USE_MATERIALS, whose scenes may have them.
 // Here each kind's sampler becomes a light_sample_t (direction, distance, radiance, density,
 // or a delta light's weight: sample_emissive_triangle_light(), sample_environment_light(),
-// sample_punctual_light()); estimate_light_sample() turns any of them into reflected light
-// with the surface seam (glsl/surface.glsl), visibility and MIS; sample_direct_light() takes
-// one sample of each kind, whose sum estimates all the direct light. The density that MIS
+// sample_punctual_light()); estimate_light_sample() turns any of them into scattered light
+// at the path's scattering vertex (glsl/scattering_vertex.glsl: a surface point today, a
+// point in a medium later), the shadow ray's transmittance (get_shadow_transmittance()) and
+// MIS; sample_direct_light() takes one sample of each kind at a vertex, whose sum estimates
+// all the direct light. The density that MIS
 // weighs an emitter a path found by is here too (get_emissive_triangle_density(); the
 // environment's is get_environment_density()). A new kind of light is a file of its own,
 // included here, a light_sample_t sampler here and a term of sample_direct_light() (and the
@@ -34,7 +36,7 @@
 #include "integrators.glsl"
 #include "importance_sampling.glsl"
 #include "sobol.glsl"
-#include "surface.glsl"
+#include "scattering_vertex.glsl"
 #include "path_guiding.glsl"
 #ifdef USE_MATERIALS
 #include "environment.glsl"
@@ -70,12 +72,15 @@ light_sample_t get_no_light_sample() {
     return light_sample;
 }
 
-// Whether a shadow ray from `origin` leaves the scene along `direction` (distance NO_HIT_T:
-// the environment, a directional light) or reaches the light `distance` away (the light at
-// its end excluded by a relative margin of SHADOW_RAY_MARGIN = 2^-14).
-bool is_visible(vec3 origin, vec3 direction, float distance) {
+// The fraction of light that a shadow ray from `origin` carries along `direction` out of
+// the scene (distance NO_HIT_T: the environment, a directional light) or from the light
+// `distance` away (the light at its end excluded by a relative margin of SHADOW_RAY_MARGIN =
+// 2^-14): 1 where nothing blocks it, 0 where a triangle does (every surface is opaque to
+// shadow rays, glass too). A medium between would make it the medium's transmittance
+// exp(-integral of sigma_t) in [0, 1].
+float get_shadow_transmittance(vec3 origin, vec3 direction, float distance) {
     float t_max = (distance >= NO_HIT_T) ? NO_HIT_T : distance * (1.0 - SHADOW_RAY_MARGIN);
-    return !ray_mesh_any_hit(origin, direction, t_max);
+    return ray_mesh_any_hit(origin, direction, t_max) ? 0.0 : 1.0;
 }
 
 // An emissive triangle chosen by power (or by the light tree), and a point of it by solid
@@ -166,33 +171,36 @@ light_sample_t sample_punctual_light(vec3 origin, uint vertex_pairs) {
 }
 #endif
 
-// The light that a light sample brings to a surface point towards `view`, MIS-weighted
-// against BSDF sampling for mis: f (n_s . l) L(l) / p_light(l) * w_light, or
-// f (n_s . l) E * delta_weight for a delta light.
-// \param origin Where the shadow ray starts (get_light_sample_origin())
-vec3 estimate_light_sample(surface_t surface, vec3 view, vec3 origin, light_sample_t light_sample) {
+// The light that a light sample brings to a scattering vertex towards its view, times the
+// shadow ray's transmittance T, MIS-weighted against the path's direction sampling for mis:
+// f (n_s . l) L(l) T / p_light(l) * w_light, or f (n_s . l) E T * delta_weight for a delta
+// light. The shadow ray starts at vertex.light_sample_origin.
+vec3 estimate_light_sample(scattering_vertex_t vertex, light_sample_t light_sample) {
     bool delta = light_sample.delta_weight > 0.0;
     if (!delta && !(light_sample.density > 0.0))
         return vec3(0.0);
-    vec3 bsdf = get_bsdf(surface, view, light_sample.direction);
+    vec3 bsdf = get_vertex_scattering(vertex, light_sample.direction);
     if (bsdf == vec3(0.0))
         return vec3(0.0);
     // The contribution before the shadow ray, so that only it and the ray stay live while
     // the ray is traced: the same arithmetic in fewer registers (RDNA3, mis on the Cornell
     // box: 108 -> 96 VGPRs, 14 -> 16 subgroups per SIMD, scripts/kernel-statistics.sh). The
-    // early return below, not a `?:` on is_visible(), which cost lavapipe 29% more
+    // early return below, not a `?:` on the shadow ray, which cost lavapipe 29% more
     // instructions per sample.
-    vec3 reflected = get_reflected_radiance(surface, light_sample.direction, bsdf, light_sample.radiance);
+    vec3 reflected = get_vertex_scattered_radiance(vertex, light_sample.direction, bsdf, light_sample.radiance);
     vec3 contribution;
     if (delta)
         contribution = reflected * light_sample.delta_weight;
     else {
-        float weight = weighs_by_mis() ? get_power_heuristic_weight(light_sample.density, get_path_direction_density(surface, view, light_sample.direction)) : 1.0;
+        float weight = weighs_by_mis() ? get_power_heuristic_weight(light_sample.density, get_path_direction_density(vertex, light_sample.direction)) : 1.0;
         contribution = reflected / light_sample.density * weight;
     }
-    if (!is_visible(origin, light_sample.direction, light_sample.distance))
+    // The early return keeps a blocked sample's cost where it was; today T is 1 or 0, and
+    // the product with 1 is exact, so images keep every bit.
+    float transmittance = get_shadow_transmittance(vertex.light_sample_origin, light_sample.direction, light_sample.distance);
+    if (transmittance == 0.0)
         return vec3(0.0);
-    return contribution;
+    return contribution * transmittance;
 }
 
 #ifdef USE_MATERIALS
@@ -202,22 +210,21 @@ layout(constant_id = SPEC_SCENE_HAS_EMISSIVE_TRIANGLES) const bool SCENE_HAS_EMI
 const bool SCENE_HAS_EMISSIVE_TRIANGLES = true;
 #endif
 
-// Next event estimation: one sample of each kind of light at a surface point, whose sum
+// Next event estimation: one sample of each kind of light at a scattering vertex, whose sum
 // estimates all the direct light arriving there (the path loop's light-samples step).
-// \param position The surface point, world space
 // \param vertex_pairs The vertex's first dimension pair (get_vertex_dimension_pair())
-vec3 sample_direct_light(vec3 position, surface_t surface, vec3 view, uint vertex_pairs) {
-    // Every sample's get_bsdf() would be 0 (a smooth metal)
-    if (has_only_delta_lobes(surface))
+vec3 sample_direct_light(scattering_vertex_t vertex, uint vertex_pairs) {
+    // Every sample's get_vertex_scattering() would be 0 (a smooth metal)
+    if (has_only_delta_scattering(vertex))
         return vec3(0.0);
-    vec3 origin = get_light_sample_origin(surface, position);
-    light_sample_t emissive_sample = sample_emissive_triangle_light(origin, get_light_selection_normal(surface), vertex_pairs);
-    vec3 direct = SCENE_HAS_EMISSIVE_TRIANGLES ? estimate_light_sample(surface, view, origin, emissive_sample) : vec3(0.0);
+    vec3 origin = vertex.light_sample_origin;
+    light_sample_t emissive_sample = sample_emissive_triangle_light(origin, vertex.light_selection_normal, vertex_pairs);
+    vec3 direct = SCENE_HAS_EMISSIVE_TRIANGLES ? estimate_light_sample(vertex, emissive_sample) : vec3(0.0);
 #ifdef USE_MATERIALS
     if (SCENE_SAMPLES_ENVIRONMENT)
-        direct += estimate_light_sample(surface, view, origin, sample_environment_light(vertex_pairs));
+        direct += estimate_light_sample(vertex, sample_environment_light(vertex_pairs));
     if (SCENE_HAS_PUNCTUAL_LIGHTS)
-        direct += estimate_light_sample(surface, view, origin, sample_punctual_light(origin, vertex_pairs));
+        direct += estimate_light_sample(vertex, sample_punctual_light(origin, vertex_pairs));
 #endif
     return direct;
 }

@@ -17,12 +17,15 @@
 // BSDF's pairs as sample_path_direction() draws them, or the VERTEX_PAIR_GUIDE_DIRECTION pair
 // for sample_guide_direction(). Unguided vertices draw neither.
 //
-// Needs GUIDING (SPEC_GUIDING) declared by the includer, and glsl/surface.glsl's and
-// glsl/sobol.glsl's functions.
+// Every function here takes the path's scattering vertex (glsl/scattering_vertex.glsl), not
+// the surface: a point in a medium would be guided (and train) through the same functions.
+//
+// Needs GUIDING (SPEC_GUIDING) declared by the includer, and glsl/scattering_vertex.glsl's
+// and glsl/sobol.glsl's functions.
 #ifndef VKPATH_PATH_GUIDING_GLSL
 #define VKPATH_PATH_GUIDING_GLSL
 
-#include "surface.glsl"
+#include "scattering_vertex.glsl"
 #include "sobol.glsl"
 
 layout(set = 0, binding = BINDING_GUIDE) uniform utextureBuffer g_guide_texels;
@@ -37,19 +40,20 @@ bool is_guide_training() {
     return GUIDING == GUIDING_TRAINING;
 }
 
-// The cell of a vertex that takes light samples (what guides and what trains), at
-// `position` on a surface whose geometric normal on the ray's side is `normal`;
-// GUIDE_NO_CELL without guiding, where the guide has no cell or no light samples are taken.
-uint get_path_guide_grid_cell(vec3 position, vec3 normal, bool light_sampled) {
+// The cell of a vertex that takes light samples (what guides and what trains): at its
+// position, facing the surface's geometric normal on the ray's side; GUIDE_NO_CELL without
+// guiding, where the guide has no cell or no light samples are taken.
+uint get_path_guide_grid_cell(scattering_vertex_t vertex, bool light_sampled) {
     if (GUIDING == GUIDING_OFF || !light_sampled)
         return GUIDE_NO_CELL;
-    return get_guide_cell_index(position, normal);
+    return get_guide_cell_index(vertex.position, vertex.surface.geometric_normal);
 }
 
 // Whether the guide may sample directions at `surface`: Lambert always; glTF materials unless
 // glossy (a metal smoother than GUIDE_MIN_ROUGHNESS) or layered (a clear coat, sheen):
 // there half of the samples would leave the BSDF's narrow lobe for the guide, which
 // measurably raised the showcase's error (docs/guiding.md). Such vertices still train.
+// (A surface rule: is_guided_vertex() asks it of a surface vertex.)
 bool is_guided_surface(surface_t surface) {
 #ifdef USE_MATERIALS
     if (has_layers(surface))
@@ -60,19 +64,24 @@ bool is_guided_surface(surface_t surface) {
 #endif
 }
 
-// The cell that guides a vertex at `surface` in grid cell `grid_cell`: itself where the
-// guide learned it and the surface is guided, else GUIDE_NO_CELL (the BSDF samples alone).
-uint get_path_guide_cell(uint grid_cell, surface_t surface) {
+// Whether the guide may sample directions at `vertex` (a surface vertex: is_guided_surface()).
+bool is_guided_vertex(scattering_vertex_t vertex) {
+    return is_guided_surface(vertex.surface);
+}
+
+// The cell that guides `vertex` in grid cell `grid_cell`: itself where the guide learned it
+// and the vertex is guided, else GUIDE_NO_CELL (the BSDF samples alone).
+uint get_path_guide_cell(uint grid_cell, scattering_vertex_t vertex) {
     if (GUIDING == GUIDING_OFF)
         return GUIDE_NO_CELL;
-    return (is_guided_cell(grid_cell) && is_guided_surface(surface)) ? grid_cell : GUIDE_NO_CELL;
+    return (is_guided_cell(grid_cell) && is_guided_vertex(vertex)) ? grid_cell : GUIDE_NO_CELL;
 }
 
 // Density w.r.t. solid angle with which the path loop samples `direction` at the current
 // vertex (g_path.guide_cell): the BSDF's, or in a guided cell the mixture's. What MIS
 // weighs light samples and found emission against.
-float get_path_direction_density(surface_t surface, vec3 view, vec3 direction) {
-    float bsdf_density = get_bsdf_density(surface, view, direction);
+float get_path_direction_density(scattering_vertex_t vertex, vec3 direction) {
+    float bsdf_density = get_vertex_scattering_density(vertex, direction);
     if (GUIDING == GUIDING_OFF || g_path.guide_cell == GUIDE_NO_CELL)
         return bsdf_density;
     return get_guided_mixture_density(bsdf_density, get_guide_density(g_path.guide_cell, direction));
@@ -91,7 +100,7 @@ float get_path_direction_density(surface_t surface, vec3 view, vec3 direction) {
 // delta lobe (BSDF_LOBE_DELTA) bypasses the mixture: the guide never finds its peak, so its
 // weight is its own f / p over the chance GUIDE_BSDF_FRACTION of the BSDF's turn, and its
 // density stays 0.
-bsdf_sample_t get_guided_direction(surface_t surface, vec3 view, uint guide_cell, bsdf_sample_t bsdf_sample, bool bsdf_chosen, vec2 guide_random_numbers) {
+bsdf_sample_t get_guided_direction(scattering_vertex_t vertex, uint guide_cell, bsdf_sample_t bsdf_sample, bool bsdf_chosen, vec2 guide_random_numbers) {
     if (bsdf_chosen && (bsdf_sample.lobes & BSDF_LOBE_DELTA) != 0u) {
         bsdf_sample_t delta = bsdf_sample;
         delta.weight = bsdf_sample.weight / GUIDE_BSDF_FRACTION;
@@ -117,8 +126,8 @@ bsdf_sample_t get_guided_direction(surface_t surface, vec3 view, uint guide_cell
         guided.weight = (guided.density > 0.0) ? bsdf_sample.weight * (bsdf_sample.density / guided.density) : vec3(0.0);
         return guided;
     }
-    guided.density = get_guided_mixture_density(get_bsdf_density(surface, view, guided.direction), looked_up);
-    guided.weight = (guided.density > 0.0) ? get_bsdf(surface, view, guided.direction) * (looked_up / (sampled * guided.density)) : vec3(0.0);
+    guided.density = get_guided_mixture_density(get_vertex_scattering_density(vertex, guided.direction), looked_up);
+    guided.weight = (guided.density > 0.0) ? get_vertex_scattering(vertex, guided.direction) * (looked_up / (sampled * guided.density)) : vec3(0.0);
     return guided;
 }
 
@@ -134,20 +143,20 @@ uint g_guide_record_bins[GUIDE_TRAINING_VERTEX_COUNT];
 vec3 g_guide_record_radiance[GUIDE_TRAINING_VERTEX_COUNT];
 vec3 g_guide_record_scale[GUIDE_TRAINING_VERTEX_COUNT];
 
-// Records a vertex in grid cell `grid_cell`, with shading normal `normal`, whose path went on
+// Records `vertex` in grid cell `grid_cell` (theta measured from its shading normal), whose path went on
 // along `direction`, sampled with `density`, with `throughput_weight` after it, `radiance`
 // having been gathered up to and including its light samples. Only in training frames.
 // The cosine makes the guide learn incident radiance times |cos theta|, the product that a
 // diffuse BSDF's ideal sampler follows: the opening scene's guided relMSE fell from 0.00097
 // to 0.00080, the Cornell box's (256^2, 256 spp) from 0.00174 to 0.00151 (docs/guiding.md).
-void record_guide_vertex(uint grid_cell, vec3 normal, vec3 direction, float density, vec3 throughput_weight, vec3 radiance) {
+void record_guide_vertex(uint grid_cell, scattering_vertex_t vertex, vec3 direction, float density, vec3 throughput_weight, vec3 radiance) {
     if (!is_guide_training() || grid_cell == GUIDE_NO_CELL || g_guide_record_count >= uint(GUIDE_TRAINING_VERTEX_COUNT) || !(density > 0.0))
         return;
     uint k = g_guide_record_count++;
     g_guide_record_cells[k] = grid_cell;
     g_guide_record_bins[k] = get_guide_bin_index(direction);
     g_guide_record_radiance[k] = radiance;
-    float cosine = abs(dot(normal, direction));
+    float cosine = abs(dot(vertex.surface.shading_normal, direction));
     g_guide_record_scale[k] = vec3(throughput_weight.r > 0.0 ? cosine / (throughput_weight.r * density) : 0.0,
                                    throughput_weight.g > 0.0 ? cosine / (throughput_weight.g * density) : 0.0,
                                    throughput_weight.b > 0.0 ? cosine / (throughput_weight.b * density) : 0.0);

@@ -1,7 +1,10 @@
 // The path loop of every integrator but the workshop's own (which keep their teaching
 // variants, glsl/integrator.glsl): one loop of named steps over the surface seam
 // (glsl/surface.glsl) and the lights room (glsl/lights.glsl), for Lambert and glTF
-// materials alike. At each hit: 1. the emission the path found (get_found_emission()); 2. the
+// materials alike. Each hit becomes a scattering vertex (glsl/scattering_vertex.glsl:
+// get_surface_vertex()), which the light samples, MIS, guiding and the direction sampling
+// take; the hit's own terms (its emission, the first-hit views, the volume transmittance of
+// the segment before it) read its surface. At each hit: 1. the emission the path found (get_found_emission()); 2. the
 // light samples (nee, mis: sample_direct_light()); 3. continue the path: a direction
 // (sample_path_direction()), the throughput weight, Russian roulette. Each step asks
 // glsl/integrators.glsl what the integrator does:
@@ -49,7 +52,7 @@
 #define VKPATH_PATH_LOOP_GLSL
 
 #include "integrators.glsl"
-#include "surface.glsl"
+#include "scattering_vertex.glsl"
 #include "path_guiding.glsl"
 #include "lights.glsl"
 
@@ -106,7 +109,9 @@ vec2 get_direction_random_numbers(uint dimension_pair, inout uvec2 seed) {
 // at transmissive surfaces and at delta lobes whatever the integrator).
 // \param vertex_pairs The vertex's first dimension pair (get_vertex_dimension_pair())
 // \param seed The workshop's PCG2D state (Exercises 6 and 7 only)
-bsdf_sample_t sample_path_direction(surface_t surface, vec3 view, uint vertex_pairs, inout uvec2 seed) {
+bsdf_sample_t sample_path_direction(scattering_vertex_t vertex, uint vertex_pairs, inout uvec2 seed) {
+    surface_t surface = vertex.surface;
+    vec3 view = vertex.view;
     bool transmissive = is_transmissive(surface) || has_delta_lobe(surface);
     if (samples_uniform_directions() && !transmissive)
         return sample_uniform_direction(surface, view, get_random_numbers(seed));
@@ -124,18 +129,18 @@ bsdf_sample_t sample_path_direction(surface_t surface, vec3 view, uint vertex_pa
 // run, and a guided and an unguided call would each pay for the BSDF's sampling.
 // Only nee and mis guide (at vertices with light samples), so the guide's numbers are always
 // at their dimension pairs.
-bsdf_sample_t sample_guided_path_direction(surface_t surface, vec3 view, uint guide_cell, uint vertex_pairs, inout uvec2 seed) {
+bsdf_sample_t sample_guided_path_direction(scattering_vertex_t vertex, uint guide_cell, uint vertex_pairs, inout uvec2 seed) {
     bool guided = guide_cell != GUIDE_NO_CELL;
     bool bsdf_chosen = !guided || get_path_random_numbers(vertex_pairs + VERTEX_PAIR_GUIDE_CHOICE)[0] < GUIDE_BSDF_FRACTION;
     bsdf_sample_t bsdf_sample;
     vec2 guide_random_numbers = vec2(0.0);
     if (bsdf_chosen)
-        bsdf_sample = sample_path_direction(surface, view, vertex_pairs, seed);
+        bsdf_sample = sample_path_direction(vertex, vertex_pairs, seed);
     else
         guide_random_numbers = get_path_random_numbers(vertex_pairs + VERTEX_PAIR_GUIDE_DIRECTION);
     if (!guided)
         return bsdf_sample;
-    return get_guided_direction(surface, view, guide_cell, bsdf_sample, bsdf_chosen, guide_random_numbers);
+    return get_guided_direction(vertex, guide_cell, bsdf_sample, bsdf_chosen, guide_random_numbers);
 }
 
 // What the camera ray's hit shows (ray tracing: the base colour; normal: the shading
@@ -196,7 +201,7 @@ vec3 get_path_radiance(vec3 ray_origin, vec3 ray_direction, inout uvec2 seed) {
         // Ray tracing, normal, depth and material: what the camera ray's hit shows, no path
         if (shows_first_hit())
             return get_first_hit_view(surface, t);
-        vec3 view = -ray_direction;
+        scattering_vertex_t vertex = get_surface_vertex(surface, ray_origin, -ray_direction);
         throughput_weight *= get_volume_transmittance(surface, t);
         // 1. The emission found
         radiance += get_found_emission(i, throughput_weight, surface, triangle_index, triangle, previous_position, ray_direction, t, direction_density, light_sampled, light_origin, light_normal);
@@ -205,8 +210,8 @@ vec3 get_path_radiance(vec3 ray_origin, vec3 ray_direction, inout uvec2 seed) {
         // 2. Light samples (none at glass), weighed by MIS against the direction sampling of
         // step 3, guided where the guide knows the vertex's cell
         light_sampled = takes_light_samples() && !is_transmissive(surface);
-        uint guide_grid_cell = get_path_guide_grid_cell(ray_origin, surface.geometric_normal, light_sampled);
-        g_path.guide_cell = get_path_guide_cell(guide_grid_cell, surface);
+        uint guide_grid_cell = get_path_guide_grid_cell(vertex, light_sampled);
+        g_path.guide_cell = get_path_guide_cell(guide_grid_cell, vertex);
         // 3. Continue the path: with glTF materials (SAMPLES_DIRECTION_FIRST), the direction
         // is sampled before the light samples, so that the shadow rays hold the direction
         // sample, not the material (RDNA3, nee and mis on materials.gltf: 192 -> 144 VGPRs, 8
@@ -216,15 +221,15 @@ vec3 get_path_radiance(vec3 ray_origin, vec3 ray_direction, inout uvec2 seed) {
         uint vertex_pairs = get_vertex_dimension_pair(i);
         bsdf_sample_t direction;
         if (SAMPLES_DIRECTION_FIRST)
-            direction = sample_guided_path_direction(surface, view, g_path.guide_cell, vertex_pairs, seed);
+            direction = sample_guided_path_direction(vertex, g_path.guide_cell, vertex_pairs, seed);
         if (light_sampled) {
-            light_origin = get_light_sample_origin(surface, ray_origin);
-            light_normal = get_light_selection_normal(surface);
-            radiance += throughput_weight * sample_direct_light(ray_origin, surface, view, vertex_pairs);
+            light_origin = vertex.light_sample_origin;
+            light_normal = vertex.light_selection_normal;
+            radiance += throughput_weight * sample_direct_light(vertex, vertex_pairs);
         }
         if (!SAMPLES_DIRECTION_FIRST)
-            direction = sample_guided_path_direction(surface, view, g_path.guide_cell, vertex_pairs, seed);
-        vec3 departure_origin = get_departure_origin(surface, ray_origin, direction.lobes);
+            direction = sample_guided_path_direction(vertex, g_path.guide_cell, vertex_pairs, seed);
+        vec3 departure_origin = get_vertex_departure_origin(vertex, direction.lobes);
         if (direction.weight == vec3(0.0))
             break;
         ray_direction = direction.direction;
@@ -245,7 +250,7 @@ vec3 get_path_radiance(vec3 ray_origin, vec3 ray_direction, inout uvec2 seed) {
             throughput_weight /= survival;
         }
         // Training frames: where this vertex's light came from (glsl/path_guiding.glsl)
-        record_guide_vertex(guide_grid_cell, surface.shading_normal, ray_direction, direction_density, throughput_weight, radiance);
+        record_guide_vertex(guide_grid_cell, vertex, ray_direction, direction_density, throughput_weight, radiance);
     }
     if (is_guide_training())
         splat_guide_records(radiance);

@@ -20,11 +20,12 @@ use crate::cpu::light_tree::{
 };
 use crate::cpu::path_guiding::get_path_direction_density;
 use crate::cpu::sample_dimensions::{VERTEX_PAIR_LIGHT_POINT, VERTEX_PAIR_LIGHT_SELECTION};
-use crate::cpu::sobol::{get_path_random_numbers, PathSample};
-use crate::cpu::surface::{
-    get_bsdf, get_front_emission, get_light_sample_origin, get_reflected_radiance,
-    has_only_delta_lobes, Surface,
+use crate::cpu::scattering_vertex::{
+    get_vertex_scattered_radiance, get_vertex_scattering, has_only_delta_scattering,
+    ScatteringVertex,
 };
+use crate::cpu::sobol::{get_path_random_numbers, PathSample};
+use crate::cpu::surface::get_front_emission;
 use crate::cpu::workshop::ray_triangle_intersection;
 use crate::lights::EmissiveTriangles;
 use crate::scene::Triangle;
@@ -47,11 +48,6 @@ pub struct LightScene<'a> {
     /// (`gpu_light_bytes_with_tree` over `lights`) that `crate::cpu::light_tree` walks;
     /// `None`: `LIGHT_SELECTION_POWER`.
     pub light_tree: Option<LightTexels<'a>>,
-}
-
-/// Twin of `get_light_selection_normal` (Lambert: the geometric normal on the ray's side).
-pub fn get_light_selection_normal(surface: &Surface) -> Vec3 {
-    surface.geometric_normal
 }
 
 /// Twin of `get_light_selection_probability(triangle_index, selection_position,
@@ -180,20 +176,26 @@ pub fn get_no_light_sample() -> LightSample {
     }
 }
 
-/// Twin of `is_visible`: no triangle within the segment, which ends `SHADOW_RAY_MARGIN`
-/// (2^-14) short of a light at a finite distance.
-pub fn is_visible(
+/// Twin of `get_shadow_transmittance`: the fraction of light the shadow ray carries, 1
+/// where no triangle lies within the segment (which ends `SHADOW_RAY_MARGIN`, 2^-14, short
+/// of a light at a finite distance), 0 where one does (every surface is opaque to shadow
+/// rays). A medium between would make it its transmittance in [0, 1].
+pub fn get_shadow_transmittance(
     scene_triangles: &[Triangle],
     origin: Vec3,
     direction: Vec3,
     distance: f32,
-) -> bool {
+) -> f32 {
     let t_max = if distance >= NO_HIT_T {
         NO_HIT_T
     } else {
         distance * (1.0 - SHADOW_RAY_MARGIN)
     };
-    !ray_mesh_any_hit(scene_triangles, origin, direction, t_max)
+    if ray_mesh_any_hit(scene_triangles, origin, direction, t_max) {
+        0.0
+    } else {
+        1.0
+    }
 }
 
 /// Twin of `sample_emissive_triangle_light`: a light by the power CDF or, with
@@ -284,13 +286,13 @@ pub fn get_emissive_triangle_density(
     )
 }
 
-/// Twin of `estimate_light_sample`; `guide_cell` is the vertex's guided cell
-/// (`g_path.guide_cell`), whose mixture density MIS weighs against.
+/// Twin of `estimate_light_sample`: the light `sample` brings to `vertex` towards its view,
+/// times the shadow ray's transmittance (from `vertex.light_sample_origin`); `guide_cell`
+/// is the vertex's guided cell (`g_path.guide_cell`), whose mixture density MIS weighs
+/// against.
 pub fn estimate_light_sample(
     scene: &LightScene,
-    surface: &Surface,
-    view: Vec3,
-    origin: Vec3,
+    vertex: &ScatteringVertex,
     guide_cell: u32,
     sample: &LightSample,
 ) -> Vec3 {
@@ -298,75 +300,159 @@ pub fn estimate_light_sample(
     if !delta && !(sample.density > 0.0) {
         return Vec3::ZERO;
     }
-    let bsdf = get_bsdf(surface, view, sample.direction);
+    let bsdf = get_vertex_scattering(vertex, sample.direction);
     if bsdf == Vec3::ZERO {
         return Vec3::ZERO;
     }
     // The contribution before the shadow ray, as the GLSL computes it (fewer live registers
     // while the ray is traced there).
-    let reflected = get_reflected_radiance(surface, sample.direction, bsdf, sample.radiance);
+    let reflected = get_vertex_scattered_radiance(vertex, sample.direction, bsdf, sample.radiance);
     let contribution = if delta {
         reflected * sample.delta_weight
     } else {
         let weight = if weighs_by_mis(scene.integrator) {
             get_power_heuristic_weight(
                 sample.density,
-                get_path_direction_density(
-                    scene.guide,
-                    guide_cell,
-                    surface,
-                    view,
-                    sample.direction,
-                ),
+                get_path_direction_density(scene.guide, guide_cell, vertex, sample.direction),
             )
         } else {
             1.0
         };
         reflected / sample.density * weight
     };
-    if !is_visible(
+    let transmittance = get_shadow_transmittance(
         scene.scene_triangles,
-        origin,
+        vertex.light_sample_origin,
         sample.direction,
         sample.distance,
-    ) {
+    );
+    if transmittance == 0.0 {
         return Vec3::ZERO;
     }
-    contribution
+    contribution * transmittance
 }
 
-/// Twin of `sample_direct_light` (the workshop's scenes: emissive triangles only);
-/// `guide_cell` as for `estimate_light_sample`, `sample` and `vertex_pairs` as for
+/// Twin of `sample_direct_light` at `vertex` (the workshop's scenes: emissive triangles
+/// only); `guide_cell` as for `estimate_light_sample`, `sample` and `vertex_pairs` as for
 /// `sample_emissive_triangle_light`.
-#[allow(clippy::too_many_arguments)]
 pub fn sample_direct_light(
     scene: &LightScene,
-    position: Vec3,
-    surface: &Surface,
-    view: Vec3,
+    vertex: &ScatteringVertex,
     guide_cell: u32,
     sample: &PathSample,
     vertex_pairs: u32,
 ) -> Vec3 {
-    // Every sample's `get_bsdf` would be 0 (a smooth metal)
-    if has_only_delta_lobes(surface) {
+    // Every sample's `get_vertex_scattering` would be 0 (a smooth metal)
+    if has_only_delta_scattering(vertex) {
         return Vec3::ZERO;
     }
-    let origin = get_light_sample_origin(surface, position);
     let light_sample = sample_emissive_triangle_light(
         scene,
-        origin,
-        get_light_selection_normal(surface),
+        vertex.light_sample_origin,
+        vertex.light_selection_normal,
         sample,
         vertex_pairs,
     );
-    estimate_light_sample(scene, surface, view, origin, guide_cell, &light_sample)
+    estimate_light_sample(scene, vertex, guide_cell, &light_sample)
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
     use crate::contract::{LIGHT_SAMPLING_AREA, LIGHT_SAMPLING_SOLID_ANGLE};
+
+    #[test]
+    fn shadow_rays_carry_all_or_nothing_and_scale_the_light_sample() {
+        use crate::cpu::scattering_vertex::get_surface_vertex;
+        use crate::cpu::surface::Surface;
+        // A light 1 above the origin, a blocker halfway that covers only x < 0.
+        let light = Triangle::new(
+            [
+                Vec3::new(-1.0, 1.0, -1.0),
+                Vec3::new(-1.0, 1.0, 1.0),
+                Vec3::new(1.0, 1.0, 0.0),
+            ],
+            Vec3::ZERO,
+            Vec3::ONE,
+            true,
+        )
+        .unwrap();
+        let blocker = Triangle::new(
+            [
+                Vec3::new(-0.1, 0.5, -1.0),
+                Vec3::new(-0.1, 0.5, 1.0),
+                Vec3::new(-2.0, 0.5, 0.0),
+            ],
+            Vec3::ONE,
+            Vec3::ZERO,
+            true,
+        )
+        .unwrap();
+        let triangles = [light, blocker];
+        let open = Vec3::new(0.5, 0.0, 0.0);
+        let shaded = Vec3::new(-0.5, 0.0, 0.0);
+        // Segments that stop short of the light (as a light sample's, by SHADOW_RAY_MARGIN).
+        assert_eq!(
+            get_shadow_transmittance(&triangles, open, Vec3::Y, 0.99),
+            1.0
+        );
+        assert_eq!(
+            get_shadow_transmittance(&triangles, shaded, Vec3::Y, 0.99),
+            0.0
+        );
+        // A ray that leaves the scene (NO_HIT_T) is blocked by whatever lies on it.
+        assert_eq!(
+            get_shadow_transmittance(&triangles, shaded, -Vec3::Y, NO_HIT_T),
+            1.0
+        );
+        assert_eq!(
+            get_shadow_transmittance(&triangles, shaded, Vec3::Y, NO_HIT_T),
+            0.0
+        );
+        // The estimate is the unblocked contribution times the transmittance.
+        let lights = EmissiveTriangles::new(&triangles);
+        let scene = LightScene {
+            scene_triangles: &triangles,
+            lights: &lights,
+            integrator: crate::contract::INTEGRATOR_NEE,
+            light_sampling: LIGHT_SAMPLING_SOLID_ANGLE,
+            guide: None,
+            light_tree: None,
+        };
+        let floor = Surface {
+            geometric_normal: Vec3::Y,
+            shading_normal: Vec3::Y,
+            base_color: Vec3::splat(0.5),
+            emission: Vec3::ZERO,
+        };
+        let sample = LightSample {
+            direction: Vec3::Y,
+            distance: 0.99,
+            radiance: Vec3::ONE,
+            density: 2.0,
+            delta_weight: 0.0,
+        };
+        let lit = estimate_light_sample(
+            &scene,
+            &get_surface_vertex(floor, open, Vec3::Y),
+            0,
+            &sample,
+        );
+        // f cos L / p = 0.5 / pi * 1 * 1 / 2
+        assert!(
+            (lit - Vec3::splat(0.25 / crate::cpu::workshop::M_PI))
+                .abs()
+                .max_element()
+                < 1e-7
+        );
+        let dark = estimate_light_sample(
+            &scene,
+            &get_surface_vertex(floor, shaded, Vec3::Y),
+            0,
+            &sample,
+        );
+        assert_eq!(dark, Vec3::ZERO);
+    }
 
     #[test]
     fn light_density_switches_to_area_outside_the_solid_angle_range() {

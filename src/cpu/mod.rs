@@ -25,6 +25,7 @@ pub mod path_loop;
 pub mod punctual_lights;
 pub mod renderer;
 pub mod sample_dimensions;
+pub mod scattering_vertex;
 pub mod shading_basis;
 pub mod sheen_albedo_table;
 pub mod sobol;

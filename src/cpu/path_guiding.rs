@@ -16,23 +16,25 @@ use crate::cpu::guiding::{
     get_guide_bin_index, get_guide_cell_index, get_guide_density, get_guide_splat_units,
     get_guided_mixture_density, is_guided_cell, sample_guide_direction, GuideTexels, GUIDE_NO_CELL,
 };
-use crate::cpu::surface::{
-    get_bsdf, get_bsdf_density, BsdfSample, Surface, BSDF_LOBE_DELTA, BSDF_LOBE_REFLECT,
+use crate::cpu::scattering_vertex::{
+    get_vertex_scattering, get_vertex_scattering_density, ScatteringVertex,
 };
+use crate::cpu::surface::{BsdfSample, Surface, BSDF_LOBE_DELTA, BSDF_LOBE_REFLECT};
 use crate::cpu::texels::fetch_texel;
 use crate::cpu::workshop::M_PI;
 
 /// Twin of `get_path_guide_grid_cell`: the cell of a vertex that takes light samples, at
-/// `position` on a surface facing `normal`; `GUIDE_NO_CELL` without guiding, where the
-/// guide has no cell or no light samples are taken.
+/// its position, facing its surface's geometric normal; `GUIDE_NO_CELL` without guiding,
+/// where the guide has no cell or no light samples are taken.
 pub fn get_path_guide_grid_cell(
     guide: Option<GuideTexels>,
-    position: Vec3,
-    normal: Vec3,
+    vertex: &ScatteringVertex,
     light_sampled: bool,
 ) -> u32 {
     match guide {
-        Some(texels) if light_sampled => get_guide_cell_index(texels, position, normal),
+        Some(texels) if light_sampled => {
+            get_guide_cell_index(texels, vertex.position, vertex.surface.geometric_normal)
+        }
         _ => GUIDE_NO_CELL,
     }
 }
@@ -43,13 +45,20 @@ pub fn is_guided_surface(_surface: &Surface) -> bool {
     true
 }
 
-/// Twin of `get_path_guide_cell`: `grid_cell` where the guide learned it and the surface is
+/// Twin of `is_guided_vertex`: a surface vertex asks `is_guided_surface`.
+pub fn is_guided_vertex(vertex: &ScatteringVertex) -> bool {
+    is_guided_surface(&vertex.surface)
+}
+
+/// Twin of `get_path_guide_cell`: `grid_cell` where the guide learned it and the vertex is
 /// guided, else `GUIDE_NO_CELL`.
-pub fn get_path_guide_cell(guide: Option<GuideTexels>, grid_cell: u32, surface: &Surface) -> u32 {
+pub fn get_path_guide_cell(
+    guide: Option<GuideTexels>,
+    grid_cell: u32,
+    vertex: &ScatteringVertex,
+) -> u32 {
     match guide {
-        Some(texels) if is_guided_cell(texels, grid_cell) && is_guided_surface(surface) => {
-            grid_cell
-        }
+        Some(texels) if is_guided_cell(texels, grid_cell) && is_guided_vertex(vertex) => grid_cell,
         _ => GUIDE_NO_CELL,
     }
 }
@@ -59,11 +68,10 @@ pub fn get_path_guide_cell(guide: Option<GuideTexels>, grid_cell: u32, surface: 
 pub fn get_path_direction_density(
     guide: Option<GuideTexels>,
     guide_cell: u32,
-    surface: &Surface,
-    view: Vec3,
+    vertex: &ScatteringVertex,
     direction: Vec3,
 ) -> f32 {
-    let bsdf_density = get_bsdf_density(surface, view, direction);
+    let bsdf_density = get_vertex_scattering_density(vertex, direction);
     match guide {
         Some(texels) if guide_cell != GUIDE_NO_CELL => get_guided_mixture_density(
             bsdf_density,
@@ -79,8 +87,7 @@ pub fn get_path_direction_density(
 /// `GUIDE_BSDF_FRACTION` and density 0.
 pub fn get_guided_direction(
     texels: GuideTexels,
-    surface: &Surface,
-    view: Vec3,
+    vertex: &ScatteringVertex,
     guide_cell: u32,
     bsdf_sample: BsdfSample,
     bsdf_chosen: bool,
@@ -112,10 +119,12 @@ pub fn get_guided_direction(
         };
         return guided;
     }
-    guided.density =
-        get_guided_mixture_density(get_bsdf_density(surface, view, guided.direction), looked_up);
+    guided.density = get_guided_mixture_density(
+        get_vertex_scattering_density(vertex, guided.direction),
+        looked_up,
+    );
     guided.weight = if guided.density > 0.0 {
-        get_bsdf(surface, view, guided.direction) * (looked_up / (sampled * guided.density))
+        get_vertex_scattering(vertex, guided.direction) * (looked_up / (sampled * guided.density))
     } else {
         Vec3::ZERO
     };
@@ -132,11 +141,12 @@ pub struct GuideRecords {
 }
 
 impl GuideRecords {
-    /// Twin of `record_guide_vertex` in a training frame.
+    /// Twin of `record_guide_vertex` in a training frame (theta measured from the vertex's
+    /// shading normal).
     pub fn record_guide_vertex(
         &mut self,
         grid_cell: u32,
-        normal: Vec3,
+        vertex: &ScatteringVertex,
         direction: Vec3,
         density: f32,
         throughput_weight: Vec3,
@@ -148,7 +158,7 @@ impl GuideRecords {
         {
             return;
         }
-        let cosine = normal.dot(direction).abs();
+        let cosine = vertex.surface.shading_normal.dot(direction).abs();
         let scale = throughput_weight.to_array().map(|throughput| {
             if throughput > 0.0 {
                 cosine / (throughput * density)
@@ -205,6 +215,7 @@ pub fn add_guide_splat(texels: GuideTexels, words: &[AtomicU32], cell: u32, bin:
 mod tests {
     use super::*;
     use crate::contract::GUIDE_BSDF_FRACTION;
+    use crate::cpu::scattering_vertex::get_surface_vertex;
     use crate::guiding::{GuideGrid, GuideSplats};
 
     /// A guide on a 2 x 1 x 1 grid whose cell 0 (facing +x) learned a lobe around +z and the
@@ -234,26 +245,33 @@ mod tests {
         }
     }
 
+    /// A vertex of `floor_surface` at `position`, its geometric normal `normal`.
+    fn floor_vertex(position: Vec3, normal: Vec3) -> ScatteringVertex {
+        let surface = Surface {
+            geometric_normal: normal,
+            ..floor_surface()
+        };
+        get_surface_vertex(surface, position, Vec3::Z)
+    }
+
     #[test]
     fn guide_cells_follow_the_guide_and_the_light_samples() {
         let guide = lobe_guide();
         let texels = guide.texels();
-        let surface = floor_surface();
         let inside = Vec3::new(0.5, 0.5, 0.5);
+        let facing_x = floor_vertex(inside, Vec3::X);
+        let surface = floor_vertex(inside, Vec3::Z);
         assert_eq!(
-            get_path_guide_grid_cell(None, inside, Vec3::X, true),
+            get_path_guide_grid_cell(None, &facing_x, true),
             GUIDE_NO_CELL
         );
         assert_eq!(
-            get_path_guide_grid_cell(Some(texels), inside, Vec3::X, false),
+            get_path_guide_grid_cell(Some(texels), &facing_x, false),
             GUIDE_NO_CELL
         );
-        assert_eq!(
-            get_path_guide_grid_cell(Some(texels), inside, Vec3::X, true),
-            0
-        );
+        assert_eq!(get_path_guide_grid_cell(Some(texels), &facing_x, true), 0);
         // Facing +z, the same point is in another cell, which learned nothing.
-        let facing_up = get_path_guide_grid_cell(Some(texels), inside, Vec3::Z, true);
+        let facing_up = get_path_guide_grid_cell(Some(texels), &surface, true);
         assert_eq!(facing_up, 8);
         assert_eq!(
             get_path_guide_cell(Some(texels), facing_up, &surface),
@@ -285,8 +303,7 @@ mod tests {
         };
         let guided = get_guided_direction(
             guide.texels(),
-            &floor_surface(),
-            view,
+            &get_surface_vertex(floor_surface(), Vec3::ZERO, view),
             0,
             delta,
             true,
@@ -305,6 +322,7 @@ mod tests {
         let texels = guide.texels();
         let surface = floor_surface();
         let view = Vec3::new(0.3, 0.0, 1.0).normalize();
+        let vertex = get_surface_vertex(surface, Vec3::ZERO, view);
         let mut rng = crate::probe::inputs::InputRng::new(9);
         // E[weight] over the mixture = the integral of f cos = the albedo, for each channel
         // (Lambert: base_color); with 2^18 samples its standard error is below 0.3 %.
@@ -320,15 +338,13 @@ mod tests {
             );
             let sample = get_guided_direction(
                 texels,
-                &surface,
-                view,
+                &vertex,
                 0,
                 bsdf_sample,
                 chosen,
                 Vec2::new(rng.uniform(), rng.uniform()),
             );
-            let density =
-                get_path_direction_density(Some(texels), 0, &surface, view, sample.direction);
+            let density = get_path_direction_density(Some(texels), 0, &vertex, sample.direction);
             // The density is the one MIS weighs against, wherever the sample came from.
             assert!((sample.density - density).abs() <= 1e-6 * density.max(1.0));
             sum += sample.weight;

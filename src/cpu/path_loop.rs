@@ -1,7 +1,7 @@
 //! Rust twin of `glsl/path_loop.glsl` on the workshop's diffuse triangles (the Lambert
 //! model): the one path loop of the importance-sampled integrators (cosine, nee, mis), its
-//! named steps over the surface seam (`crate::cpu::surface`) and the lights room
-//! (`crate::cpu::lights`). Same names, same maths, the same random numbers at the same
+//! named steps over the surface seam (`crate::cpu::surface`), the scattering vertex
+//! (`crate::cpu::scattering_vertex`) and the lights room (`crate::cpu::lights`). Same names, same maths, the same random numbers at the same
 //! dimension pairs (`crate::cpu::sample_dimensions`; the workshop's PCG2D from `seed` for the
 //! uniform directions of Exercises 6 and 7).
 
@@ -18,9 +18,7 @@ use crate::cpu::integrators::{
     is_direct_illumination, is_importance_sampled, samples_cosine_directions,
     samples_uniform_directions, takes_light_samples, weighs_by_mis,
 };
-use crate::cpu::lights::{
-    get_emissive_triangle_density, get_light_selection_normal, sample_direct_light, LightScene,
-};
+use crate::cpu::lights::{get_emissive_triangle_density, sample_direct_light, LightScene};
 use crate::cpu::path_guiding::{
     get_guided_direction, get_path_guide_cell, get_path_guide_grid_cell, GuideRecords,
 };
@@ -28,11 +26,14 @@ use crate::cpu::sample_dimensions::{
     get_vertex_dimension_pair, VERTEX_PAIR_DIRECTION, VERTEX_PAIR_GUIDE_CHOICE,
     VERTEX_PAIR_GUIDE_DIRECTION, VERTEX_PAIR_LOBE, VERTEX_PAIR_RUSSIAN_ROULETTE,
 };
+use crate::cpu::scattering_vertex::{
+    get_surface_vertex, get_vertex_departure_origin, ScatteringVertex,
+};
 use crate::cpu::sobol::{get_path_random_numbers, PathSample};
 use crate::cpu::surface::{
-    get_camera_emission, get_departure_origin, get_light_sample_origin, get_surface,
-    get_volume_transmittance, has_delta_lobe, has_layers, is_transmissive, sample_bsdf,
-    sample_cosine_direction, sample_uniform_direction, BsdfSample, Surface, BSDF_LOBE_DELTA,
+    get_camera_emission, get_surface, get_volume_transmittance, has_delta_lobe, has_layers,
+    is_transmissive, sample_bsdf, sample_cosine_direction, sample_uniform_direction, BsdfSample,
+    Surface, BSDF_LOBE_DELTA,
 };
 use crate::cpu::workshop::get_random_numbers;
 
@@ -108,16 +109,17 @@ pub fn get_direction_random_numbers(
     }
 }
 
-/// Twin of `sample_path_direction`, at the vertex whose first dimension pair is
+/// Twin of `sample_path_direction`, at `vertex`, whose first dimension pair is
 /// `vertex_pairs` (`get_vertex_dimension_pair`).
 pub fn sample_path_direction(
     integrator: u32,
-    surface: &Surface,
-    view: Vec3,
+    vertex: &ScatteringVertex,
     sample: &PathSample,
     vertex_pairs: u32,
     seed: &mut UVec2,
 ) -> BsdfSample {
+    let surface = &vertex.surface;
+    let view = vertex.view;
     let transmissive = is_transmissive(surface) || has_delta_lobe(surface);
     if samples_uniform_directions(integrator) && !transmissive {
         return sample_uniform_direction(surface, view, get_random_numbers(seed));
@@ -142,12 +144,10 @@ pub fn sample_path_direction(
 /// Twin of `sample_guided_path_direction`: at a vertex that path guiding guides (cell
 /// `guide_cell` of `guide`), one number chooses between `sample_path_direction` and the
 /// guide; elsewhere (no guide, or `GUIDE_NO_CELL`) `sample_path_direction` alone.
-#[allow(clippy::too_many_arguments)]
 pub fn sample_guided_path_direction(
     integrator: u32,
     guide: Option<GuideTexels>,
-    surface: &Surface,
-    view: Vec3,
+    vertex: &ScatteringVertex,
     guide_cell: u32,
     sample: &PathSample,
     vertex_pairs: u32,
@@ -155,7 +155,7 @@ pub fn sample_guided_path_direction(
 ) -> BsdfSample {
     let texels = match guide {
         Some(texels) if guide_cell != GUIDE_NO_CELL => texels,
-        _ => return sample_path_direction(integrator, surface, view, sample, vertex_pairs, seed),
+        _ => return sample_path_direction(integrator, vertex, sample, vertex_pairs, seed),
     };
     let bsdf_chosen = get_path_random_numbers(sample, vertex_pairs + VERTEX_PAIR_GUIDE_CHOICE)[0]
         < GUIDE_BSDF_FRACTION;
@@ -170,15 +170,14 @@ pub fn sample_guided_path_direction(
     };
     let mut guide_random_numbers = Vec2::ZERO;
     if bsdf_chosen {
-        bsdf_sample = sample_path_direction(integrator, surface, view, sample, vertex_pairs, seed);
+        bsdf_sample = sample_path_direction(integrator, vertex, sample, vertex_pairs, seed);
     } else {
         guide_random_numbers =
             get_path_random_numbers(sample, vertex_pairs + VERTEX_PAIR_GUIDE_DIRECTION);
     }
     get_guided_direction(
         texels,
-        surface,
-        view,
+        vertex,
         guide_cell,
         bsdf_sample,
         bsdf_chosen,
@@ -223,7 +222,7 @@ pub fn get_path_radiance(
         };
         ray_origin += hit.t * ray_direction;
         let surface = get_surface(scene.scene_triangles, hit.triangle_index, ray_direction);
-        let view = -ray_direction;
+        let vertex = get_surface_vertex(surface, ray_origin, -ray_direction);
         throughput_weight *= get_volume_transmittance(&surface, hit.t);
         // 1. The emission found
         radiance += get_found_emission(
@@ -248,36 +247,22 @@ pub fn get_path_radiance(
         // 2. Light samples (none at glass), weighed by MIS against the direction sampling of
         // step 3, guided where the guide knows the vertex's cell
         light_sampled = takes_light_samples(scene.integrator) && !is_transmissive(&surface);
-        let guide_grid_cell = get_path_guide_grid_cell(
-            scene.guide,
-            ray_origin,
-            surface.geometric_normal,
-            light_sampled,
-        );
-        let guide_cell = get_path_guide_cell(scene.guide, guide_grid_cell, &surface);
+        let guide_grid_cell = get_path_guide_grid_cell(scene.guide, &vertex, light_sampled);
+        let guide_cell = get_path_guide_cell(scene.guide, guide_grid_cell, &vertex);
         // The Lambertian kernel's order: light samples, then the direction (each at its own
         // dimension pairs, so the order changes no number).
         let vertex_pairs = get_vertex_dimension_pair(i);
         if light_sampled {
-            light_origin = get_light_sample_origin(&surface, ray_origin);
-            light_normal = get_light_selection_normal(&surface);
+            light_origin = vertex.light_sample_origin;
+            light_normal = vertex.light_selection_normal;
             radiance += throughput_weight
-                * sample_direct_light(
-                    scene,
-                    ray_origin,
-                    &surface,
-                    view,
-                    guide_cell,
-                    sample,
-                    vertex_pairs,
-                );
+                * sample_direct_light(scene, &vertex, guide_cell, sample, vertex_pairs);
         }
         // 3. Continue the path
         let direction = sample_guided_path_direction(
             scene.integrator,
             scene.guide,
-            &surface,
-            view,
+            &vertex,
             guide_cell,
             sample,
             vertex_pairs,
@@ -294,7 +279,7 @@ pub fn get_path_radiance(
         }
         eta_scale *= direction.eta * direction.eta;
         throughput_weight *= direction.weight;
-        ray_origin = get_departure_origin(&surface, ray_origin, direction.lobes);
+        ray_origin = get_vertex_departure_origin(&vertex, direction.lobes);
         previous_position = ray_origin;
         if is_importance_sampled(scene.integrator)
             && russian_roulette_start > 0
@@ -312,7 +297,7 @@ pub fn get_path_radiance(
         if guide_splats.is_some() {
             guide_records.record_guide_vertex(
                 guide_grid_cell,
-                surface.shading_normal,
+                &vertex,
                 ray_direction,
                 direction_density,
                 throughput_weight,
@@ -355,7 +340,7 @@ mod tests {
         let position = (floor.positions[0] + floor.positions[1] + floor.positions[2]) / 3.0;
         let ray_direction = Vec3::new(0.1, -1.0, 0.2).normalize();
         let surface = get_surface(&scene_triangles, floor_index, ray_direction);
-        let view = -ray_direction;
+        let floor_vertex = get_surface_vertex(surface, position, -ray_direction);
         let mut lit = 0;
         for integrator in [INTEGRATOR_NEE, INTEGRATOR_MIS] {
             let scene = LightScene {
@@ -375,8 +360,7 @@ mod tests {
                             sample_guided_path_direction(
                                 integrator,
                                 None,
-                                &surface,
-                                view,
+                                &floor_vertex,
                                 GUIDE_NO_CELL,
                                 &sample,
                                 pairs,
@@ -386,9 +370,7 @@ mod tests {
                         let light = || {
                             sample_direct_light(
                                 &scene,
-                                position,
-                                &surface,
-                                view,
+                                &floor_vertex,
                                 GUIDE_NO_CELL,
                                 &sample,
                                 pairs,
