@@ -189,6 +189,18 @@
 #define SPEC_BVH_LAYOUT 607
 #define BVH_LAYOUT_WIDE 0
 #define BVH_LAYOUT_COMPRESSED 1
+// Motion blur (--shutter): how many keys across the shutter the scene was evaluated at
+// (--motion-steps, 2 to MAX_MOTION_STEPS), or 0 for a render without motion blur, whose
+// kernels read the triangles and the camera as before (the motion code folds away). With
+// keys, BINDING_TRIANGLES holds after its triangle_count * TRIANGLE_TEXEL_COUNT texels the
+// keys' triangles, MOTION_TRIANGLE_TEXEL_COUNT texels each (v_0, v_1, v_2, normal; key-major:
+// key k's triangle i at record k * triangle_count + i, in the triangles' order), then the
+// keys' cameras, MOTION_CAMERA_TEXEL_COUNT texels each (the four render_uniforms camera
+// vectors). glsl/scene.glsl reads them; src/render/gpu_motion.rs writes them.
+#define SPEC_MOTION_STEPS 608
+#define MAX_MOTION_STEPS 64
+#define MOTION_TRIANGLE_TEXEL_COUNT 4
+#define MOTION_CAMERA_TEXEL_COUNT 4
 // Most triangles that can be passed as specialization constants.
 #define CONSTANT_TRIANGLE_CAPACITY 64
 // Most constant triangles that the material kernels (USE_MATERIALS) test: their intersection

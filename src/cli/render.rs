@@ -28,6 +28,7 @@ use crate::render::sequence::SequenceCache;
 use crate::render::settings::{Integrator, PixelFilter, RenderSettings};
 use crate::scene::files::LoadOptions;
 use crate::scene::gltf_file::{is_gltf_path, GltfFile};
+use crate::scene::motion::SceneMotion;
 use crate::scene::{framing_camera_of, Scene};
 
 /// What `--resume` reads, for the error about a file that is not one.
@@ -125,6 +126,9 @@ pub struct RenderArgs {
     /// The time or frames rendered.
     #[command(flatten)]
     pub frames: FrameArgs,
+    /// Motion blur.
+    #[command(flatten)]
+    pub shutter: crate::cli::shutter::ShutterArgs,
 }
 
 /// An environment map or a constant background around the scene.
@@ -271,8 +275,14 @@ impl RenderArgs {
         if self.job.sample_range.is_some() && self.spp != defaults.spp {
             warn("--spp has no effect with --sample-range: the range decides the samples".into());
         }
-        if self.frames.frames.is_none() && self.frames.fps != super::frames::DEFAULT_FPS {
-            warn("--fps has no effect without --frames".into());
+        if self.frames.frames.is_none()
+            && self.shutter.shutter.is_none()
+            && self.frames.fps != super::frames::DEFAULT_FPS
+        {
+            warn("--fps has no effect without --frames or --shutter".into());
+        }
+        for warning in self.shutter.warnings() {
+            warn(warning);
         }
         if self.job.checkpoint.is_none()
             && self.job.checkpoint_interval != DEFAULT_CHECKPOINT_INTERVAL.as_secs_f64()
@@ -479,6 +489,7 @@ fn render(args: &RenderArgs) -> anyhow::Result<()> {
             warn_about_lights(&scene, &settings);
         }
         let camera = args.camera(&scene, reporting.talks() && first, scenes.animation_box)?;
+        let scene = scenes.with_motion(args, frame, scene, &camera, first)?;
         if first && !args.job.quiet {
             note_a_still_sequence(args, scenes.gltf_file.as_ref());
         }
@@ -714,6 +725,54 @@ struct FrameScenes {
 }
 
 impl FrameScenes {
+    /// `scene`, the frame's, with motion blur's keys when `--shutter` asks for them and the
+    /// scene moves across the shutter: the glTF file posed at each key's time, each key with
+    /// its own camera (the command line's or the file's at that time; a camera that frames
+    /// the scene keeps `camera`'s framing). A scene that does not move gets none, and the
+    /// first frame says so once (the image is the still one).
+    fn with_motion(
+        &mut self,
+        args: &RenderArgs,
+        frame: FrameTime,
+        scene: Scene,
+        camera: &Camera,
+        first: bool,
+    ) -> anyhow::Result<Scene> {
+        let Some(shutter) = args.shutter.shutter() else {
+            return Ok(scene);
+        };
+        let note = |why: &str| {
+            if first && !args.job.quiet {
+                eprintln!("vkpath: note: --shutter: {why}, so the image is the still one");
+            }
+        };
+        let Some(file) = self.gltf_file.as_mut().filter(|file| file.has_animations()) else {
+            note("the scene has no animation");
+            return Ok(scene);
+        };
+        let times = shutter.key_times(frame.time, args.frames.fps);
+        let own_camera = scene.camera.is_some() || args.camera_given();
+        let mut poses = Vec::with_capacity(times.len());
+        for &time in &times {
+            let key = file.pose(time as f32, &args.frames.pick())?;
+            let key_camera = if own_camera {
+                args.camera(&key, false, self.animation_box)?
+            } else {
+                *camera
+            };
+            poses.push((key, key_camera));
+        }
+        let motion = SceneMotion::new(shutter, poses, &times)?;
+        if motion.is_still() {
+            note("nothing in the scene moves across the shutter");
+            return Ok(scene);
+        }
+        Ok(Scene {
+            motion: Some(motion),
+            ..scene
+        })
+    }
+
     /// Nothing loaded yet, for the scene and environment `args` name.
     fn new(args: &RenderArgs) -> anyhow::Result<FrameScenes> {
         Ok(FrameScenes {

@@ -10,6 +10,7 @@ use std::sync::Arc;
 use ash::vk;
 
 use crate::accel::SceneStructures;
+use crate::render::gpu_motion::motion_texels;
 use crate::bvh::{
     packed_traversal_triangles, reorder_by, traversal_triangles, Bvh, BvhStats, CompressedBvh,
 };
@@ -136,7 +137,11 @@ impl SceneTrees {
     /// refuses (deeper than its stack, or beyond its quantisation's range) takes the 4-wide
     /// tree, with a warning; under `--accel compressed-bvh` it is refused.
     fn build(scene: &Scene, accel: Accel, traversal: Traversal) -> Result<SceneTrees> {
-        let bvh = traversal.uses_bvh().then(|| Bvh::build(&scene.triangles));
+        // Motion blur: each triangle's box holds it at every key of the shutter
+        let bvh = traversal.uses_bvh().then(|| match &scene.motion {
+            Some(motion) => Bvh::build_over_boxes(&motion.bounds()),
+            None => Bvh::build(&scene.triangles),
+        });
         let mut trees = SceneTrees {
             traversal,
             bvh: None,
@@ -504,7 +509,16 @@ impl GpuScene {
         let upload = |name: &str, bytes: &[u8]| {
             TexelBufferView::upload_rgba32_uint(context, commands, name, bytes)
         };
-        let triangles = upload("triangles", bytemuck::cast_slice(&gpu_triangles))?;
+        let triangles = match &scene.motion {
+            // Motion blur: the keys follow the triangles at the same binding
+            Some(motion) => {
+                let mut bytes: Vec<u8> = bytemuck::cast_slice(&gpu_triangles).to_vec();
+                let keys = motion_texels(motion, triangle_order, settings.aspect());
+                bytes.extend_from_slice(bytemuck::cast_slice(&keys));
+                upload("triangles", &bytes)?
+            }
+            None => upload("triangles", bytemuck::cast_slice(&gpu_triangles))?,
+        };
         let uniforms = Buffer::with_data(
             context,
             "render uniforms",
