@@ -7,7 +7,6 @@
 
 use std::path::Path;
 
-use base64::Engine as _;
 use serde_json::json;
 
 use crate::common::runs::{exr_bits, exr_pixels, run};
@@ -86,7 +85,7 @@ fn write_scene(dir: &Path, camera_moves: bool) {
         }],
         "buffers": [{
             "byteLength": data.len(),
-            "uri": format!("data:application/octet-stream;base64,{}", base64::engine::general_purpose::STANDARD.encode(&data)),
+            "uri": format!("data:application/octet-stream;base64,{}", base64::encode(&data)),
         }],
         "bufferViews": views,
         "accessors": [
@@ -156,15 +155,34 @@ fn blur_equals_the_mean_of_stills(dir: &Path) {
     render(
         dir,
         &[
-            "-o", "blurred.exr", "--spp", "256", "--time", &time, "--shutter", "1",
-            "--shutter-position", "start", "--fps", &blur_fps,
+            "-o",
+            "blurred.exr",
+            "--spp",
+            "256",
+            "--time",
+            &time,
+            "--shutter",
+            "1",
+            "--shutter-position",
+            "start",
+            "--fps",
+            &blur_fps,
         ],
     );
     let frames = format!("1..{}", STILLS + 1);
     let still_fps = STILL_FPS.to_string();
     render(
         dir,
-        &["-o", "still_##.exr", "--spp", "32", "--frames", &frames, "--fps", &still_fps],
+        &[
+            "-o",
+            "still_##.exr",
+            "--spp",
+            "32",
+            "--frames",
+            &frames,
+            "--fps",
+            &still_fps,
+        ],
     );
     let blurred = column_profile(&exr_pixels(dir, "blurred.exr"));
     let mut mean = vec![0.0; WIDTH];
@@ -180,14 +198,20 @@ fn blur_equals_the_mean_of_stills(dir: &Path) {
     // stratum's travel. 0.08 is 4.3 standard deviations of the difference plus that; without
     // blur the edges differ by up to 0.5.
     for (x, (b, m)) in blurred.iter().zip(&mean).enumerate() {
-        assert!((b - m).abs() < 0.08, "column {x}: blurred {b}, stills' mean {m}\n{blurred:?}\n{mean:?}");
+        assert!(
+            (b - m).abs() < 0.08,
+            "column {x}: blurred {b}, stills' mean {m}\n{blurred:?}\n{mean:?}"
+        );
     }
     // The left edge's 10-90 % ramp: 0.8 × the travel (the pixel's box filter leaves the
     // ramp's middle linear). 0.5 px: the noise moves a crossing by about 0.013 / slope
     // (0.13 px) and the column centres' interpolation a little more.
     let travel = SPEED * shutter_seconds() * pixels_per_unit();
     let ramp = rising_crossing(&blurred, 0.9) - rising_crossing(&blurred, 0.1);
-    assert!((ramp - 0.8 * travel).abs() < 0.5, "ramp {ramp} px, travel {travel} px: {blurred:?}");
+    assert!(
+        (ramp - 0.8 * travel).abs() < 0.5,
+        "ramp {ramp} px, travel {travel} px: {blurred:?}"
+    );
 }
 
 #[test]
@@ -216,7 +240,11 @@ fn a_shutter_on_a_still_scene_is_the_still_image_and_bad_shutters_are_usage_erro
     shutter.extend(small);
     let result = run(path, &shutter, &[]);
     assert_eq!(result.code, Some(0), "{}", result.stderr);
-    let notes: Vec<&str> = result.stderr.lines().filter(|l| l.contains("--shutter")).collect();
+    let notes: Vec<&str> = result
+        .stderr
+        .lines()
+        .filter(|l| l.contains("--shutter"))
+        .collect();
     assert_eq!(notes.len(), 1, "{}", result.stderr);
     assert!(notes[0].contains("no animation"), "{}", notes[0]);
     assert_eq!(exr_bits(path, "plain.exr"), exr_bits(path, "shutter.exr"));
@@ -224,20 +252,117 @@ fn a_shutter_on_a_still_scene_is_the_still_image_and_bad_shutters_are_usage_erro
         (vec!["--shutter", "-0.5"], "not a shutter"),
         (vec!["--shutter", "2.5"], "not a shutter"),
         (vec!["--shutter", "1", "--motion-steps", "1"], "motion keys"),
-        (vec!["--shutter", "1", "--motion-steps", "65"], "motion keys"),
-        (vec!["--shutter", "1", "--shutter-position", "middle"], "middle"),
+        (
+            vec!["--shutter", "1", "--motion-steps", "65"],
+            "motion keys",
+        ),
+        (
+            vec!["--shutter", "1", "--shutter-position", "middle"],
+            "middle",
+        ),
     ] {
         let mut args = vec!["render", "-o", "bad.exr"];
         args.extend(small);
         args.extend(&bad);
         let result = run(path, &args, &[]);
         assert_eq!(result.code, Some(2), "{bad:?}: {}", result.stderr);
-        assert!(result.stderr.contains(expected), "{bad:?}: {}", result.stderr);
+        assert!(
+            result.stderr.contains(expected),
+            "{bad:?}: {}",
+            result.stderr
+        );
     }
     // Above one frame interval: a warning, and the render goes on
     let mut long = vec!["render", "-o", "long.exr", "--shutter", "1.5"];
     long.extend(small);
     let result = run(path, &long, &[]);
     assert_eq!(result.code, Some(0), "{}", result.stderr);
-    assert!(result.stderr.contains("longer than a frame interval"), "{}", result.stderr);
+    assert!(
+        result.stderr.contains("longer than a frame interval"),
+        "{}",
+        result.stderr
+    );
+}
+
+/// The `depth.Z` layer (`--aov depth`: the first hit's distance, averaged over the pixel's
+/// samples, 0 where rays escape) of an EXR.
+fn depth_layer(dir: &Path, name: &str) -> Vec<f32> {
+    let exr = vkpath::image_io::exr_input::read_exr_channels(&dir.join(name))
+        .unwrap_or_else(|e| panic!("{name}: {e}"));
+    exr.channels
+        .into_iter()
+        .find(|(channel, _)| channel == "depth.Z")
+        .map(|(_, values)| values)
+        .unwrap_or_else(|| panic!("{name} has no depth.Z"))
+}
+
+/// The means of the 4 x 4 blocks of a `side` x `side` layer.
+fn block_means(layer: &[f32], side: usize) -> Vec<f32> {
+    let blocks = side / 4;
+    (0..blocks * blocks)
+        .map(|b| {
+            let (bx, by) = (4 * (b % blocks), 4 * (b / blocks));
+            let sum: f32 = (0..16).map(|i| layer[(by + i / 4) * side + bx + i % 4]).sum();
+            sum / 16.0
+        })
+        .collect()
+}
+
+/// Deformation blur of glTF file `scene` seen by `camera`: the first hit's depth of a blurred
+/// render (shutter [1/16 s, 17/16 s], 8 keys) against the mean of 8 stills at the midpoints
+/// of its eighths, in 4 x 4 blocks.
+fn deformation_blurs_as_the_mean_of_stills(scene: &str, camera: &[&str]) {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let common = [
+        "--width", "32", "--height", "32", "--aov", "depth", "--background", "1,1,1",
+        "--sampler", "pcg", "--max-path-length", "1", "--quiet",
+    ];
+    let mut blurred = vec![
+        "render", scene, "-o", "blurred.exr", "--spp", "128", "--time", "0.0625", "--shutter",
+        "2", "--shutter-position", "start", "--fps", "2", "--motion-steps", "8",
+    ];
+    blurred.extend(common);
+    blurred.extend(camera);
+    let result = run(d, &blurred, &[]);
+    assert_eq!(result.code, Some(0), "{}", result.stderr);
+    let mut stills = vec![
+        "render", scene, "-o", "still_#.exr", "--spp", "16", "--frames", "1..9", "--fps", "8",
+    ];
+    stills.extend(common);
+    stills.extend(camera);
+    let result = run(d, &stills, &[]);
+    assert_eq!(result.code, Some(0), "{}", result.stderr);
+    let blurred = block_means(&depth_layer(d, "blurred.exr"), 32);
+    let stills: Vec<Vec<f32>> = (1..9)
+        .map(|frame| block_means(&depth_layer(d, &format!("still_{frame}.exr")), 32))
+        .collect();
+    let mean: Vec<f32> = (0..blurred.len())
+        .map(|b| stills.iter().map(|s| s[b]).sum::<f32>() / 8.0)
+        .collect();
+    let far = blurred.iter().chain(&mean).fold(0.0f32, |m, &v| m.max(v));
+    // A block's mean depth is a coverage average of values in [0, far]: its standard
+    // deviation at most far sqrt(0.25 / (16 x 128)), for the blur and for the stills' mean
+    // alike (8 x 16 samples), 0.0156 far for their difference; 0.1 far is 6.4 of them, with
+    // room for the linear interpolation between keys 1/8 s apart.
+    let tolerance = 0.1 * far;
+    for (b, (blur, still_mean)) in blurred.iter().zip(&mean).enumerate() {
+        assert!((blur - still_mean).abs() < tolerance, "block {b}: blurred {blur}, stills' mean {still_mean} (far {far})");
+    }
+    // The test has teeth: the first still (what an unblurred render sees) is far from the mean
+    let first_off = stills[0].iter().zip(&mean).fold(0.0f32, |m, (s, a)| m.max((s - a).abs()));
+    assert!(first_off > 2.0 * tolerance, "the scene hardly moves: {first_off} (far {far})");
+}
+
+#[test]
+fn a_skinned_joint_and_a_morph_target_blur_as_the_mean_of_stills() {
+    let data = concat!(env!("CARGO_MANIFEST_DIR"), "/tests/data/");
+    deformation_blurs_as_the_mean_of_stills(
+        &format!("{data}RiggedSimple.gltf"),
+        &["--camera-position", "18,0,0", "--look-at", "0,0,0"],
+    );
+    deformation_blurs_as_the_mean_of_stills(
+        &format!("{data}SimpleMorph.gltf"),
+        &["--camera-position", "0.5,0.5,3", "--look-at", "0.5,0.5,0"],
+    );
 }

@@ -178,7 +178,10 @@ impl Primitive {
 }
 
 /// `build_tree` over `primitives`; `None` when there are none.
-fn build_tree_of_primitives(primitives: Vec<Primitive>, max_depth: u32) -> Option<(BuildNode, Vec<u32>)> {
+fn build_tree_of_primitives(
+    primitives: Vec<Primitive>,
+    max_depth: u32,
+) -> Option<(BuildNode, Vec<u32>)> {
     if primitives.is_empty() {
         return None;
     }

@@ -13,6 +13,7 @@ use super::output::{
     render_job_and_save, render_on_devices_and_save, PostProcess, RenderFailure, RenderRequest,
     ReportPrinted, Reporting,
 };
+use super::shutter::{pose_keys, KeyTimes};
 use super::summary::SequencePosition;
 use super::{parse_vec3, signals, DeviceArgs};
 use crate::camera::{Camera, DEFAULT_VERTICAL_FOV_DEGREES};
@@ -28,7 +29,6 @@ use crate::render::sequence::SequenceCache;
 use crate::render::settings::{Integrator, PixelFilter, RenderSettings};
 use crate::scene::files::LoadOptions;
 use crate::scene::gltf_file::{is_gltf_path, GltfFile};
-use crate::scene::motion::SceneMotion;
 use crate::scene::{framing_camera_of, Scene};
 
 /// What `--resume` reads, for the error about a file that is not one.
@@ -750,23 +750,19 @@ impl FrameScenes {
             note("the scene has no animation");
             return Ok(scene);
         };
-        let times = shutter.key_times(frame.time, args.frames.fps);
         let own_camera = scene.camera.is_some() || args.camera_given();
-        let mut poses = Vec::with_capacity(times.len());
-        for &time in &times {
-            let key = file.pose(time as f32, &args.frames.pick())?;
-            let key_camera = if own_camera {
-                args.camera(&key, false, self.animation_box)?
-            } else {
-                *camera
-            };
-            poses.push((key, key_camera));
-        }
-        let motion = SceneMotion::new(shutter, poses, &times)?;
-        if motion.is_still() {
+        let key_camera = |key: &Scene| match own_camera {
+            true => args.camera(key, false, self.animation_box),
+            false => Ok(*camera),
+        };
+        let keys = KeyTimes {
+            time: frame.time,
+            fps: args.frames.fps,
+        };
+        let Some(motion) = pose_keys(file, shutter, keys, &args.frames.pick(), key_camera)? else {
             note("nothing in the scene moves across the shutter");
             return Ok(scene);
-        }
+        };
         Ok(Scene {
             motion: Some(motion),
             ..scene

@@ -2,10 +2,15 @@
 //! (Blender's Shutter and Position; Cycles' motion steps), and the scene posed at the
 //! shutter's keys (`SceneMotion`).
 
+use crate::camera::Camera;
 use crate::cli::value_error::ValueError;
+use crate::scene::animation::AnimationPick;
+use crate::scene::gltf_file::GltfFile;
 use crate::scene::motion::{
-    Shutter, ShutterPosition, DEFAULT_MOTION_STEPS, MAX_MOTION_STEPS, MAX_SHUTTER_FRAMES,
+    SceneMotion, Shutter, ShutterPosition, DEFAULT_MOTION_STEPS, MAX_MOTION_STEPS,
+    MAX_SHUTTER_FRAMES,
 };
+use crate::scene::Scene;
 
 /// Motion blur's options.
 #[derive(Debug, Clone, clap::Args)]
@@ -51,6 +56,36 @@ impl ShutterArgs {
         }
         warnings
     }
+}
+
+/// Where a shutter lies in time: around the frame at `time` seconds, played at `fps`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct KeyTimes {
+    /// The frame's time in seconds.
+    pub time: f64,
+    /// Frames per second (a frame interval is 1 / fps).
+    pub fps: f64,
+}
+
+/// `file`'s animations `pick` chooses posed at `shutter`'s keys around `at`, each key with
+/// the camera `camera_at` gives for its scene; `None` where nothing moves across the
+/// shutter (the still image is the blurred one).
+pub fn pose_keys(
+    file: &mut GltfFile,
+    shutter: Shutter,
+    at: KeyTimes,
+    pick: &AnimationPick,
+    mut camera_at: impl FnMut(&Scene) -> anyhow::Result<Camera>,
+) -> anyhow::Result<Option<SceneMotion>> {
+    let times = shutter.key_times(at.time, at.fps);
+    let mut poses = Vec::with_capacity(times.len());
+    for &time in &times {
+        let key = file.pose(time as f32, pick)?;
+        let camera = camera_at(&key)?;
+        poses.push((key, camera));
+    }
+    let motion = SceneMotion::new(shutter, poses, &times)?;
+    Ok((!motion.is_still()).then_some(motion))
 }
 
 /// A shutter in frame intervals: finite, 0 to `MAX_SHUTTER_FRAMES`.

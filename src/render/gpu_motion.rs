@@ -3,6 +3,7 @@
 //! triangle and key, key-major, then `MOTION_CAMERA_TEXEL_COUNT` per key's camera), read by
 //! `get_packed_triangle()` and `get_camera_at_time()` of `glsl/scene.glsl`.
 
+use crate::bvh::Aabb;
 use crate::contract;
 use crate::render::gpu_types::RenderUniforms;
 use crate::scene::motion::SceneMotion;
@@ -37,6 +38,21 @@ pub fn motion_texels(motion: &SceneMotion, order: Option<&[u32]>, aspect: f32) -
     texels
 }
 
+/// Each triangle's box over all of `motion`'s keys, in the scene's order: the BVH is built
+/// over these (`Bvh::build_over_boxes`), so that a node holds its triangles at every time of
+/// the shutter (between two keys a vertex lies on the segment joining its key positions,
+/// inside the box).
+pub fn motion_bounds(motion: &SceneMotion) -> Vec<Aabb> {
+    let count = motion.triangles.first().map_or(0, Vec::len);
+    (0..count)
+        .map(|i| {
+            motion.triangles.iter().fold(Aabb::EMPTY, |bounds, key| {
+                bounds.union(Aabb::of_triangle(&key[i].positions))
+            })
+        })
+        .collect()
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -53,7 +69,10 @@ mod tests {
         let camera = Camera::look_at(Vec3::ZERO, Vec3::NEG_Z, Vec3::Y, 1.0);
         let motion = SceneMotion {
             shutter: Shutter::new(1.0, ShutterPosition::Center, 2).unwrap(),
-            triangles: vec![vec![triangle(0.0), triangle(1.0)], vec![triangle(2.0), triangle(3.0)]],
+            triangles: vec![
+                vec![triangle(0.0), triangle(1.0)],
+                vec![triangle(2.0), triangle(3.0)],
+            ],
             cameras: vec![camera, camera],
         };
         let texels = motion_texels(&motion, Some(&[1, 0]), 1.0);

@@ -10,7 +10,6 @@ use std::sync::Arc;
 use ash::vk;
 
 use crate::accel::SceneStructures;
-use crate::render::gpu_motion::motion_texels;
 use crate::bvh::{
     packed_traversal_triangles, reorder_by, traversal_triangles, Bvh, BvhStats, CompressedBvh,
 };
@@ -25,6 +24,7 @@ use crate::lights::{KeptLightBuffers, LightBuffers, SceneLights};
 use crate::render::gpu_materials::{
     material_texel_words, scene_texture_slots, GpuMaterial, GpuTriangleShading,
 };
+use crate::render::gpu_motion::{motion_bounds, motion_texels};
 use crate::render::gpu_textures::TextureAtlas;
 use crate::render::gpu_types::{GpuTriangle, RenderUniforms};
 use crate::render::settings::{Accel, RenderSettings};
@@ -139,7 +139,7 @@ impl SceneTrees {
     fn build(scene: &Scene, accel: Accel, traversal: Traversal) -> Result<SceneTrees> {
         // Motion blur: each triangle's box holds it at every key of the shutter
         let bvh = traversal.uses_bvh().then(|| match &scene.motion {
-            Some(motion) => Bvh::build_over_boxes(&motion.bounds()),
+            Some(motion) => Bvh::build_over_boxes(&motion_bounds(motion)),
             None => Bvh::build(&scene.triangles),
         });
         let mut trees = SceneTrees {

@@ -9,7 +9,6 @@
 use glam::Vec3;
 use thiserror::Error;
 
-use crate::bvh::Aabb;
 use crate::camera::Camera;
 use crate::contract;
 use crate::scene::Scene;
@@ -76,7 +75,9 @@ pub enum MotionError {
     #[error("--motion-steps {0}: give 2 to {MAX_MOTION_STEPS} keys across the shutter")]
     Steps(u32),
     /// `--shutter` out of its range.
-    #[error("--shutter {0}: give a shutter above 0 and at most {MAX_SHUTTER_FRAMES} frame intervals")]
+    #[error(
+        "--shutter {0}: give a shutter above 0 and at most {MAX_SHUTTER_FRAMES} frame intervals"
+    )]
     Length(f64),
     /// The keys' scenes do not have the same triangles (one degenerate at some key).
     #[error("motion blur: the scene has {found} triangles at {time} s and {expected} at the shutter's opening (a triangle of zero area at one key?); its keys cannot be paired")]
@@ -187,34 +188,15 @@ impl SceneMotion {
     /// Whether nothing moves: every key's triangles and camera are the first key's, bit for
     /// bit (a shutter on a still scene then renders the still image).
     pub fn is_still(&self) -> bool {
-        let first = (&self.triangles[0], &self.cameras[0]);
+        let (Some(first_triangles), Some(first_camera)) =
+            (self.triangles.first(), self.cameras.first())
+        else {
+            return true;
+        };
         self.triangles
             .iter()
             .zip(&self.cameras)
-            .all(|(triangles, camera)| triangles == first.0 && camera == first.1)
-    }
-
-    /// Whether `triangle_count` triangles have these keys (a scene's own motion).
-    pub fn fits(&self, triangle_count: usize) -> bool {
-        self.triangles
-            .first()
-            .is_some_and(|key| key.len() == triangle_count)
-    }
-
-    /// Each triangle's box over all its keys, in the scene's order: the BVH is built over
-    /// these, so that a node holds its triangles at every time of the shutter (between two
-    /// keys a vertex lies on the segment joining its key positions, inside the box).
-    pub fn bounds(&self) -> Vec<Aabb> {
-        let count = self.triangles.first().map_or(0, Vec::len);
-        (0..count)
-            .map(|i| {
-                self.triangles
-                    .iter()
-                    .fold(Aabb::EMPTY, |bounds, key| {
-                        bounds.union(Aabb::of_triangle(&key[i].positions))
-                    })
-            })
-            .collect()
+            .all(|(triangles, camera)| triangles == first_triangles && camera == first_camera)
     }
 }
 
