@@ -366,3 +366,27 @@ fn a_skinned_joint_and_a_morph_target_blur_as_the_mean_of_stills() {
         &["--camera-position", "0.5,0.5,3", "--look-at", "0.5,0.5,0"],
     );
 }
+
+#[test]
+fn skip_existing_takes_a_still_frame_for_unfinished_and_a_blurred_one_for_finished() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    write_scene(d, false);
+    let frame = |shutter: &[&str]| {
+        let mut args = vec![
+            "render", "moving.gltf", "--frames", "1..2", "-o", "f_#.exr", "--skip-existing",
+            "--width", "8", "--height", "8", "--spp", "2",
+        ];
+        args.extend_from_slice(shutter);
+        let result = run(d, &args, &[]);
+        assert_eq!(result.code, Some(0), "{args:?}: {}", result.stderr);
+        result.stderr
+    };
+    frame(&[]);
+    let blurred = frame(&["--shutter", "1"]);
+    assert!(blurred.contains("rendering it again"), "{blurred}");
+    let again = frame(&["--shutter", "1"]);
+    assert!(again.contains("already finished, skipped"), "{again}");
+    let longer = frame(&["--shutter", "1", "--motion-steps", "3"]);
+    assert!(longer.contains("rendering it again"), "{longer}");
+}
