@@ -30,13 +30,9 @@ struct path_state_t {
     // the BSDF samples alone), set by the path loop before its light samples, read by
     // get_path_direction_density() (glsl/path_guiding.glsl).
     uint guide_cell;
-    // Motion blur: the sample's time within the shutter, in [0, 1] (0: the shutter opens),
-    // set by main() before each sample when MOTION_STEPS != 0; the whole path (camera,
-    // bounces, shadow rays, light samples) sees the scene at this time (get_packed_triangle()).
-    float time;
 };
 
-path_state_t g_path = path_state_t(0u, 0u, 0u, 0u, 0u, uvec2(0u), 0xffffffffu, 0.0);
+path_state_t g_path = path_state_t(0u, 0u, 0u, 0u, 0u, uvec2(0u), 0xffffffffu);
 
 // The hit triangle's index under the name the workshop's estimators and exercise files use:
 // is_double_sided(g_hit_triangle_index).

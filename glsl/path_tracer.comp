@@ -151,25 +151,23 @@ void main() {
         // (glsl/sobol.glsl); the workshop's integrators draw from `seed`.
         g_path.sample_index = sample_index;
         g_path.pixel_seed = get_sobol_pixel_seed(pixel, g_resolution_triangle_count_seed.w);
-        // Motion blur (glsl/motion_time.glsl): the sample's time in the shutter, which the
-        // camera, the triangles and the lights are read at
-        if (MOTION_STEPS != 0u)
-            g_path.time = get_time_random_number(get_sample_seed(pixel, sample_index, g_resolution_triangle_count_seed.w));
-        vec4 camera_position, left_bottom, right, up;
-        get_camera_at_time(camera_position, left_bottom, right, up);
         // The importance-sampled integrators draw their jitter at CAMERA_PAIR_PIXEL
         // (glsl/sample_dimensions.glsl); the workshop's stay on PCG2D, exactly.
         vec2 tex_coord = (is_importance_sampled() && PIXEL_FILTER == PIXEL_FILTER_BOX)
             ? (vec2(pixel) + get_path_random_numbers(CAMERA_PAIR_PIXEL)) / vec2(resolution)
             : get_sample_tex_coord(pixel, resolution, seed);
-        vec3 ray_direction = get_primary_ray_direction(tex_coord.x, tex_coord.y, camera_position.xyz, left_bottom.xyz, right.xyz, up.xyz);
-        vec3 ray_origin = camera_position.xyz;
+        vec3 ray_direction = get_primary_ray_direction(tex_coord.x, tex_coord.y, g_camera_position.xyz, g_left_bottom.xyz, g_right.xyz, g_up.xyz);
+        vec3 ray_origin = g_camera_position.xyz;
         // Depth of field (glsl/thin_lens.glsl): the lens's ray instead of the pinhole's
-        if (camera_position.w > 0.0) {
+        if (g_camera_position.w > 0.0) {
             vec2 lens_random_numbers = get_lens_random_numbers(get_sample_seed(pixel, sample_index, g_resolution_triangle_count_seed.w));
-            vec3 image_plane_middle = left_bottom.xyz + 0.5 * (right.xyz + up.xyz);
-            apply_thin_lens(ray_origin, ray_direction, right.xyz, up.xyz, image_plane_middle, camera_position.w, left_bottom.w, uint(right.w), up.w, lens_random_numbers);
+            vec3 image_plane_middle = g_left_bottom.xyz + 0.5 * (g_right.xyz + g_up.xyz);
+            apply_thin_lens(ray_origin, ray_direction, g_right.xyz, g_up.xyz, image_plane_middle, g_camera_position.w, g_left_bottom.w, uint(g_right.w), g_up.w, lens_random_numbers);
         }
+        // Motion blur (glsl/motion_time.glsl): the sample's time in the shutter, which the
+        // triangles and the lights are read at, and the camera's ray at that time instead
+        if (MOTION_STEPS != 0u)
+            get_moving_camera_ray(ray_origin, ray_direction, tex_coord, get_sample_seed(pixel, sample_index, g_resolution_triangle_count_seed.w));
         vec3 radiance = get_sample_radiance(ray_origin, ray_direction, seed);
         // Kahan summation: the sum stays within a few ulps however many samples it holds.
         // `precise` forbids the compiler to reassociate or fuse these operations.

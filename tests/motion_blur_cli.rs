@@ -58,7 +58,7 @@ fn write_scene(dir: &Path, camera_moves: bool) {
     ] {
         views.push(json!({"buffer": 0, "byteOffset": data.len(), "byteLength": blob.len()}));
         data.extend(blob);
-        while data.len() % 4 != 0 {
+        while !data.len().is_multiple_of(4) {
             data.push(0);
         }
     }
