@@ -302,7 +302,9 @@ fn block_means(layer: &[f32], side: usize) -> Vec<f32> {
     (0..blocks * blocks)
         .map(|b| {
             let (bx, by) = (4 * (b % blocks), 4 * (b / blocks));
-            let sum: f32 = (0..16).map(|i| layer[(by + i / 4) * side + bx + i % 4]).sum();
+            let sum: f32 = (0..16)
+                .map(|i| layer[(by + i / 4) * side + bx + i % 4])
+                .sum();
             sum / 16.0
         })
         .collect()
@@ -315,19 +317,53 @@ fn deformation_blurs_as_the_mean_of_stills(scene: &str, camera: &[&str]) {
     let dir = tempfile::tempdir().unwrap();
     let d = dir.path();
     let common = [
-        "--width", "32", "--height", "32", "--aov", "depth", "--background", "1,1,1",
-        "--sampler", "pcg", "--max-path-length", "1", "--quiet",
+        "--width",
+        "32",
+        "--height",
+        "32",
+        "--aov",
+        "depth",
+        "--background",
+        "1,1,1",
+        "--sampler",
+        "pcg",
+        "--max-path-length",
+        "1",
+        "--quiet",
     ];
     let mut blurred = vec![
-        "render", scene, "-o", "blurred.exr", "--spp", "128", "--time", "0.0625", "--shutter",
-        "2", "--shutter-position", "start", "--fps", "2", "--motion-steps", "8",
+        "render",
+        scene,
+        "-o",
+        "blurred.exr",
+        "--spp",
+        "128",
+        "--time",
+        "0.0625",
+        "--shutter",
+        "2",
+        "--shutter-position",
+        "start",
+        "--fps",
+        "2",
+        "--motion-steps",
+        "8",
     ];
     blurred.extend(common);
     blurred.extend(camera);
     let result = run(d, &blurred, &[]);
     assert_eq!(result.code, Some(0), "{}", result.stderr);
     let mut stills = vec![
-        "render", scene, "-o", "still_#.exr", "--spp", "16", "--frames", "1..9", "--fps", "8",
+        "render",
+        scene,
+        "-o",
+        "still_#.exr",
+        "--spp",
+        "16",
+        "--frames",
+        "1..9",
+        "--fps",
+        "8",
     ];
     stills.extend(common);
     stills.extend(camera);
@@ -347,11 +383,20 @@ fn deformation_blurs_as_the_mean_of_stills(scene: &str, camera: &[&str]) {
     // room for the linear interpolation between keys 1/8 s apart.
     let tolerance = 0.1 * far;
     for (b, (blur, still_mean)) in blurred.iter().zip(&mean).enumerate() {
-        assert!((blur - still_mean).abs() < tolerance, "block {b}: blurred {blur}, stills' mean {still_mean} (far {far})");
+        assert!(
+            (blur - still_mean).abs() < tolerance,
+            "block {b}: blurred {blur}, stills' mean {still_mean} (far {far})"
+        );
     }
     // The test has teeth: the first still (what an unblurred render sees) is far from the mean
-    let first_off = stills[0].iter().zip(&mean).fold(0.0f32, |m, (s, a)| m.max((s - a).abs()));
-    assert!(first_off > 2.0 * tolerance, "the scene hardly moves: {first_off} (far {far})");
+    let first_off = stills[0]
+        .iter()
+        .zip(&mean)
+        .fold(0.0f32, |m, (s, a)| m.max((s - a).abs()));
+    assert!(
+        first_off > 2.0 * tolerance,
+        "the scene hardly moves: {first_off} (far {far})"
+    );
 }
 
 #[test]
@@ -374,8 +419,19 @@ fn skip_existing_takes_a_still_frame_for_unfinished_and_a_blurred_one_for_finish
     write_scene(d, false);
     let frame = |shutter: &[&str]| {
         let mut args = vec![
-            "render", "moving.gltf", "--frames", "1..2", "-o", "f_#.exr", "--skip-existing",
-            "--width", "8", "--height", "8", "--spp", "2",
+            "render",
+            "moving.gltf",
+            "--frames",
+            "1..2",
+            "-o",
+            "f_#.exr",
+            "--skip-existing",
+            "--width",
+            "8",
+            "--height",
+            "8",
+            "--spp",
+            "2",
         ];
         args.extend_from_slice(shutter);
         let result = run(d, &args, &[]);
