@@ -40,6 +40,10 @@ triangle_t get_traversal_triangle(uint index) {
 #ifdef USER_DEFINES_RAY_TRIANGLE_INTERSECTION
     return get_triangle(index);
 #else
+    // Motion blur: the compact positions are the still scene's; the keys' are interpolated
+    // at the ray's time (the nodes' boxes hold every key's triangle, src/render/gpu_motion.rs)
+    if (MOTION_STEPS != 0u)
+        return get_triangle(index);
     int first = int(uint(TRAVERSAL_TRIANGLE_TEXEL_COUNT) * index);
     triangle_t triangle;
     triangle.positions[0] = uintBitsToFloat(texelFetch(g_traversal_triangle_texels, first).xyz);

@@ -84,6 +84,7 @@ layout(push_constant) uniform frame_push_constants {
 #endif
 #include "camera.glsl"
 #include "thin_lens.glsl"
+#include "motion_time.glsl"
 #include "adaptive_sampling.glsl"
 #include "path_loop.glsl"
 #ifdef USER_FUNCTIONS
@@ -165,6 +166,10 @@ void main() {
             vec3 image_plane_middle = g_left_bottom.xyz + 0.5 * (g_right.xyz + g_up.xyz);
             apply_thin_lens(ray_origin, ray_direction, g_right.xyz, g_up.xyz, image_plane_middle, g_camera_position.w, g_left_bottom.w, uint(g_right.w), g_up.w, lens_random_numbers);
         }
+        // Motion blur (glsl/motion_time.glsl): the sample's time in the shutter, which the
+        // triangles and the lights are read at, and the camera's ray at that time instead
+        if (MOTION_STEPS != 0u)
+            get_moving_camera_ray(ray_origin, ray_direction, tex_coord, get_sample_seed(pixel, sample_index, g_resolution_triangle_count_seed.w));
         vec3 radiance = get_sample_radiance(ray_origin, ray_direction, seed);
         // Kahan summation: the sum stays within a few ulps however many samples it holds.
         // `precise` forbids the compiler to reassociate or fuse these operations.

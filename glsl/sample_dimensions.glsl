@@ -20,7 +20,7 @@
 const uint CAMERA_PAIR_PIXEL = 0u;
 // Reserved: the point on the lens (depth of field)
 const uint CAMERA_PAIR_LENS = 1u;
-// Reserved: the time within the shutter interval (motion blur; its first number)
+// The time within the shutter interval (motion blur, glsl/motion_time.glsl; its first number)
 const uint CAMERA_PAIR_TIME = 2u;
 // How many pairs the camera has: the first vertex's pairs start here
 const uint CAMERA_PAIRS = 3u;

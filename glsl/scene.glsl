@@ -29,9 +29,24 @@ struct packed_triangle_t {
 // scalar loads (docs/performance.md).
 layout(set = 0, binding = BINDING_TRIANGLES) uniform utextureBuffer g_triangle_texels;
 
+// Motion blur: the number of keys across the shutter (SPEC_MOTION_STEPS in glsl/shared.h), 0
+// without motion blur (the keys' code then folds away and every triangle is read as before).
+layout(constant_id = SPEC_MOTION_STEPS) const uint MOTION_STEPS = 0u;
+
+// Motion blur: the sample's time within the shutter, in [0, 1] (0: the shutter opens), set
+// by main() before each sample when MOTION_STEPS != 0 (glsl/motion_time.glsl); the whole
+// path (camera, bounces, shadow rays, light samples) sees the scene at this time.
+float g_motion_time = 0.0;
+
+// Defined below: triangle i at g_motion_time (motion blur).
+packed_triangle_t get_moving_packed_triangle(uint index);
+
 // Triangle i of the scene as stored on the GPU. Members that the caller does not use are
-// never read (the compiler drops their loads).
+// never read (the compiler drops their loads). With motion blur, at g_motion_time
+// (get_moving_packed_triangle()).
 packed_triangle_t get_packed_triangle(uint index) {
+    if (MOTION_STEPS != 0u)
+        return get_moving_packed_triangle(index);
     int first = int(uint(TRIANGLE_TEXEL_COUNT) * index);
     packed_triangle_t packed;
     packed.positions[0] = uintBitsToFloat(texelFetch(g_triangle_texels, first));
@@ -81,6 +96,57 @@ bool is_double_sided(uint index) {
 
 // The hit triangle's index, the ray count and the traversal's iterations
 #include "path_state.glsl"
+
+// The two keys around a time of the shutter and the fraction between them: the keys are
+// evenly spread, key k at time k / (MOTION_STEPS - 1), and the scene moves linearly between
+// two keys (Embree's and Cycles' linear motion blur).
+// \param time The time within the shutter, in [0, 1]
+// \param out_key The key at or before the time, 0 .. MOTION_STEPS - 2
+// \return The fraction of the way from key out_key to key out_key + 1, in [0, 1]
+float get_motion_segment(float time, out uint out_key) {
+    float scaled = clamp(time, 0.0, 1.0) * float(MOTION_STEPS - 1u);
+    out_key = min(uint(scaled), MOTION_STEPS - 2u);
+    return scaled - float(out_key);
+}
+
+// The texel of BINDING_TRIANGLES where the motion records start (see glsl/shared.h).
+int get_motion_texel_offset(uint triangle_count) {
+    return int(uint(TRIANGLE_TEXEL_COUNT) * triangle_count);
+}
+
+// Motion blur: triangle i as stored on the GPU with its vertices and normal those of the
+// keys around g_motion_time, interpolated linearly (the normal renormalized).
+packed_triangle_t get_moving_packed_triangle(uint index) {
+    int first = int(uint(TRIANGLE_TEXEL_COUNT) * index);
+    packed_triangle_t packed;
+    packed.color = uintBitsToFloat(texelFetch(g_triangle_texels, first + 4));
+    packed.emission = uintBitsToFloat(texelFetch(g_triangle_texels, first + 5));
+    uint key;
+    float fraction = get_motion_segment(g_motion_time, key);
+    uint triangle_count = g_resolution_triangle_count_seed.z;
+    int before = get_motion_texel_offset(triangle_count) + MOTION_TRIANGLE_TEXEL_COUNT * int(key * triangle_count + index);
+    int after = before + MOTION_TRIANGLE_TEXEL_COUNT * int(triangle_count);
+    packed.positions[0] = mix(uintBitsToFloat(texelFetch(g_triangle_texels, before)), uintBitsToFloat(texelFetch(g_triangle_texels, after)), fraction);
+    packed.positions[1] = mix(uintBitsToFloat(texelFetch(g_triangle_texels, before + 1)), uintBitsToFloat(texelFetch(g_triangle_texels, after + 1)), fraction);
+    packed.positions[2] = mix(uintBitsToFloat(texelFetch(g_triangle_texels, before + 2)), uintBitsToFloat(texelFetch(g_triangle_texels, after + 2)), fraction);
+    vec3 normal = mix(uintBitsToFloat(texelFetch(g_triangle_texels, before + 3)).xyz, uintBitsToFloat(texelFetch(g_triangle_texels, after + 3)).xyz, fraction);
+    packed.normal = vec4(normalize(normal), 0.0);
+    return packed;
+}
+
+// Motion blur: the camera at g_motion_time, interpolated linearly between the keys' cameras
+// (glsl/shared.h's motion records), as render_uniforms holds it (w: the lens).
+void get_camera_at_time(out vec4 out_position, out vec4 out_left_bottom, out vec4 out_right, out vec4 out_up) {
+    uint key;
+    float fraction = get_motion_segment(g_motion_time, key);
+    uint triangle_count = g_resolution_triangle_count_seed.z;
+    int before = get_motion_texel_offset(triangle_count) + MOTION_TRIANGLE_TEXEL_COUNT * int(MOTION_STEPS * triangle_count) + MOTION_CAMERA_TEXEL_COUNT * int(key);
+    int after = before + MOTION_CAMERA_TEXEL_COUNT;
+    out_position = mix(uintBitsToFloat(texelFetch(g_triangle_texels, before)), uintBitsToFloat(texelFetch(g_triangle_texels, after)), fraction);
+    out_left_bottom = mix(uintBitsToFloat(texelFetch(g_triangle_texels, before + 1)), uintBitsToFloat(texelFetch(g_triangle_texels, after + 1)), fraction);
+    out_right = mix(uintBitsToFloat(texelFetch(g_triangle_texels, before + 2)), uintBitsToFloat(texelFetch(g_triangle_texels, after + 2)), fraction);
+    out_up = mix(uintBitsToFloat(texelFetch(g_triangle_texels, before + 3)), uintBitsToFloat(texelFetch(g_triangle_texels, after + 3)), fraction);
+}
 
 #include "constant_triangles.glsl"
 

@@ -193,6 +193,18 @@
 // kernel compiles the lens out, so that its camera rays keep one origin for all invocations
 // (a lens in the kernel, even one never applied, cost lavapipe about 30 % on the Cornell box).
 #define SPEC_THIN_LENS 608
+// Motion blur (--shutter): how many keys across the shutter the scene was evaluated at
+// (--motion-steps, 2 to MAX_MOTION_STEPS), or 0 for a render without motion blur, whose
+// kernels read the triangles and the camera as before (the motion code folds away). With
+// keys, BINDING_TRIANGLES holds after its triangle_count * TRIANGLE_TEXEL_COUNT texels the
+// keys' triangles, MOTION_TRIANGLE_TEXEL_COUNT texels each (v_0, v_1, v_2, normal; key-major:
+// key k's triangle i at record k * triangle_count + i, in the triangles' order), then the
+// keys' cameras, MOTION_CAMERA_TEXEL_COUNT texels each (the four render_uniforms camera
+// vectors). glsl/scene.glsl reads them; src/render/gpu_motion.rs writes them.
+#define SPEC_MOTION_STEPS 609
+#define MAX_MOTION_STEPS 64
+#define MOTION_TRIANGLE_TEXEL_COUNT 4
+#define MOTION_CAMERA_TEXEL_COUNT 4
 // Most triangles that can be passed as specialization constants.
 #define CONSTANT_TRIANGLE_CAPACITY 64
 // Most constant triangles that the material kernels (USE_MATERIALS) test: their intersection

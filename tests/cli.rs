@@ -37,6 +37,8 @@ mod look_cli;
 mod materials_cli;
 #[path = "messages_cli.rs"]
 mod messages_cli;
+#[path = "motion_blur_cli.rs"]
+mod motion_blur_cli;
 #[path = "noise_threshold.rs"]
 mod noise_threshold;
 #[path = "nothing_lost.rs"]

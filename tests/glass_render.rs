@@ -138,6 +138,7 @@ impl MeshScene {
             environment: None,
             cameras: Vec::new(),
             mesh_instances: Vec::new(),
+            motion: None,
             materials: Some(SceneMaterials {
                 materials: self.materials,
                 textures: Vec::new(),

@@ -106,6 +106,7 @@ fn quad_scene(material: Option<(PbrMaterial, Vec<Texture>)>, camera: Camera) -> 
         environment: None,
         cameras: Vec::new(),
         mesh_instances: Vec::new(),
+        motion: None,
         materials: material.map(|(material, textures)| SceneMaterials {
             materials: vec![material],
             textures,

@@ -109,6 +109,7 @@ impl QuadScene {
             environment: None,
             cameras: Vec::new(),
             mesh_instances: Vec::new(),
+            motion: None,
             materials: Some(SceneMaterials {
                 materials: self.materials,
                 textures: self.textures,

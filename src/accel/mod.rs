@@ -160,7 +160,7 @@ pub fn choose_traversal(
     let on = TraversalContext {
         ray_queries: context.ray_queries.is_available(),
         cpu: context.info.kind == DeviceKind::Cpu,
-        moving_geometry,
+        moving_geometry: moving_geometry || scene.motion.is_some(),
     };
     let traversal = Traversal::choose_on_device(
         scene.triangles.len(),
@@ -169,6 +169,9 @@ pub fn choose_traversal(
         scene.uses_alpha(),
         on,
     );
+    if scene.motion.is_some() {
+        return Ok(motion_blur_traversal(traversal, accel));
+    }
     let device = &context.info.name;
     if traversal != Traversal::RayQuery {
         return Ok(TraversalChoice {
@@ -197,6 +200,29 @@ pub fn choose_traversal(
             )),
         }),
     }
+}
+
+/// What traces a motion-blurred scene (`Scene::motion`): the 4-wide BVH over the triangles'
+/// boxes across the shutter, or the loop over all triangles read from the buffer, which
+/// both interpolate the keys (`glsl/scene.glsl`). The device's ray queries (no motion
+/// extension is used) and the compressed tree (whose leaves hold the still triangles' tight
+/// boxes) make way for the BVH, with one line where the command asked for them; the
+/// constant triangles (compiled in, still) for the loop.
+fn motion_blur_traversal(traversal: Traversal, accel: Accel) -> TraversalChoice {
+    let (traversal, warning) = match traversal {
+        Traversal::RayQuery | Traversal::CompressedBvh => (
+            Traversal::Bvh,
+            (accel != Accel::Auto).then(|| {
+                format!(
+                    "motion blur: the 4-wide BVH instead of the {}, which holds the scene at one time",
+                    traversal.name()
+                )
+            }),
+        ),
+        Traversal::ConstantTriangles => (Traversal::Linear, None),
+        traversal => (traversal, None),
+    };
+    TraversalChoice { traversal, warning }
 }
 
 /// The device's structures over a scene's triangles, as `glsl/ray_query.glsl` reads them.

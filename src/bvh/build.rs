@@ -154,20 +154,38 @@ struct Split {
 /// the triangles in leaf order (see `Bvh::triangle_order`).
 /// `max_depth` is `MAX_DEPTH` but for tests, which lower it to see the limit at work.
 pub(super) fn build_tree(triangles: &[Triangle], max_depth: u32) -> Option<(BuildNode, Vec<u32>)> {
-    if triangles.is_empty() {
-        return None;
-    }
     let primitives: Vec<Primitive> = triangles
         .par_iter()
-        .map(|triangle| {
-            let bounds = Aabb::of_triangle(&triangle.positions);
-            Primitive {
-                bounds,
-                centroid: bounds.centre(),
-            }
-        })
+        .map(|triangle| Primitive::of(Aabb::of_triangle(&triangle.positions)))
         .collect();
-    let mut order: Vec<u32> = (0..triangles.len() as u32).collect();
+    build_tree_of_primitives(primitives, max_depth)
+}
+
+/// `build_tree` over primitives given by their boxes (a moving triangle's box over the
+/// shutter, `Bvh::build_over_boxes`).
+pub(super) fn build_tree_of_boxes(boxes: &[Aabb], max_depth: u32) -> Option<(BuildNode, Vec<u32>)> {
+    build_tree_of_primitives(boxes.iter().map(|&b| Primitive::of(b)).collect(), max_depth)
+}
+
+impl Primitive {
+    /// A primitive of box `bounds`, split by the box's centre.
+    fn of(bounds: Aabb) -> Primitive {
+        Primitive {
+            bounds,
+            centroid: bounds.centre(),
+        }
+    }
+}
+
+/// `build_tree` over `primitives`; `None` when there are none.
+fn build_tree_of_primitives(
+    primitives: Vec<Primitive>,
+    max_depth: u32,
+) -> Option<(BuildNode, Vec<u32>)> {
+    if primitives.is_empty() {
+        return None;
+    }
+    let mut order: Vec<u32> = (0..primitives.len() as u32).collect();
     let root_bounds = primitives
         .par_chunks(BINNING_CHUNK)
         .map(|chunk| chunk.iter().fold(NodeBounds::EMPTY, NodeBounds::add))

@@ -168,9 +168,21 @@ impl Bvh {
         Bvh::build_with_max_depth(triangles, MAX_DEPTH)
     }
 
+    /// `build` over primitives given by their boxes alone: a moving triangle's box over
+    /// every key of the shutter (`SceneMotion::bounds`), so that each node holds its
+    /// triangles at any time of it. Leaf `i` references primitive `triangle_order[i]`.
+    pub fn build_over_boxes(boxes: &[Aabb]) -> Bvh {
+        Bvh::from_tree(build::build_tree_of_boxes(boxes, MAX_DEPTH))
+    }
+
     /// `build` with a lower depth limit, for tests of the limit.
     pub(crate) fn build_with_max_depth(triangles: &[Triangle], max_depth: u32) -> Bvh {
-        match build::build_tree(triangles, max_depth.min(MAX_DEPTH)) {
+        Bvh::from_tree(build::build_tree(triangles, max_depth.min(MAX_DEPTH)))
+    }
+
+    /// The flattened and widened tree of a built one.
+    fn from_tree(tree: Option<(build::BuildNode, Vec<u32>)>) -> Bvh {
+        match tree {
             Some((root, triangle_order)) => {
                 let nodes = build::flatten(&root);
                 Bvh {

@@ -64,6 +64,10 @@ pub struct BenchArgs {
     /// Device selection and validation.
     #[command(flatten)]
     pub device: DeviceArgs,
+    /// Motion blur: the glTF scene's shutter around time 0 at 24 frames per second (each
+    /// key's camera the file's), to measure what the blur costs.
+    #[command(flatten)]
+    pub shutter: super::shutter::ShutterArgs,
 }
 
 /// `BenchSetup::default().integrators` as `--integrators` spells them: "workshop,cosine,...".
@@ -175,6 +179,7 @@ pub fn run(args: &BenchArgs) -> anyhow::Result<()> {
     let Some(camera) = scene.camera else {
         bail!("the scene has no camera; bench needs a scene with its own camera (glTF or the built-in one)");
     };
+    let scene = with_motion(args, scene)?;
     let stored_reference = match &args.reference {
         Some(path) => {
             let read = crate::image_io::exr_input::read_exr(path)?;
@@ -206,4 +211,55 @@ pub fn run(args: &BenchArgs) -> anyhow::Result<()> {
         print!("{}", format_table(&report));
     }
     Ok(())
+}
+
+/// `scene` with motion blur's keys where `--shutter` asks for them: its glTF file posed
+/// across the shutter around time 0 at `DEFAULT_FPS`, each key seen by the file's camera
+/// then. A scene that is not an animated glTF file, or does not move, stays still (a note
+/// says so).
+fn with_motion(
+    args: &BenchArgs,
+    scene: crate::scene::Scene,
+) -> anyhow::Result<crate::scene::Scene> {
+    use crate::scene::gltf_file::{is_gltf_path, GltfFile};
+    use crate::scene::source::SceneSource;
+    let Some(shutter) = args.shutter.shutter() else {
+        return Ok(scene);
+    };
+    for warning in args.shutter.warnings() {
+        eprintln!("vkpath: warning: {warning}");
+    }
+    let path = match args.scene.source() {
+        SceneSource::File(path) if is_gltf_path(&path) => path,
+        _ => {
+            eprintln!(
+                "vkpath: note: --shutter: the scene has no animation, so it is measured still"
+            );
+            return Ok(scene);
+        }
+    };
+    let options = crate::scene::files::LoadOptions {
+        allow_external_paths: args.scene.allow_external_paths,
+        ..Default::default()
+    };
+    let mut file = GltfFile::open(&path, &options)?;
+    let at = super::shutter::KeyTimes {
+        time: 0.0,
+        fps: super::frames::DEFAULT_FPS,
+    };
+    let pick = crate::scene::animation::AnimationPick::All;
+    let camera_at = |key: &crate::scene::Scene| {
+        key.camera
+            .ok_or_else(|| anyhow::anyhow!("--shutter: the scene has no camera at a key"))
+    };
+    match super::shutter::pose_keys(&mut file, shutter, at, &pick, camera_at)? {
+        Some(motion) => Ok(crate::scene::Scene {
+            motion: Some(motion),
+            ..scene
+        }),
+        None => {
+            eprintln!("vkpath: note: --shutter: nothing in the scene moves across the shutter, so it is measured still");
+            Ok(scene)
+        }
+    }
 }

@@ -22,6 +22,7 @@ pub mod options;
 pub mod output;
 pub mod render;
 pub mod shadertoy;
+pub mod shutter;
 pub mod signals;
 pub mod summary;
 pub mod tev;

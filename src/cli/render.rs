@@ -13,6 +13,7 @@ use super::output::{
     render_job_and_save, render_on_devices_and_save, PostProcess, RenderFailure, RenderRequest,
     ReportPrinted, Reporting,
 };
+use super::shutter::{pose_keys, KeyTimes};
 use super::summary::SequencePosition;
 use super::{parse_vec3, signals, DeviceArgs};
 use crate::camera::{Camera, DEFAULT_VERTICAL_FOV_DEGREES};
@@ -125,6 +126,9 @@ pub struct RenderArgs {
     /// The time or frames rendered.
     #[command(flatten)]
     pub frames: FrameArgs,
+    /// Motion blur.
+    #[command(flatten)]
+    pub shutter: crate::cli::shutter::ShutterArgs,
 }
 
 /// An environment map or a constant background around the scene.
@@ -271,8 +275,14 @@ impl RenderArgs {
         if self.job.sample_range.is_some() && self.spp != defaults.spp {
             warn("--spp has no effect with --sample-range: the range decides the samples".into());
         }
-        if self.frames.frames.is_none() && self.frames.fps != super::frames::DEFAULT_FPS {
-            warn("--fps has no effect without --frames".into());
+        if self.frames.frames.is_none()
+            && self.shutter.shutter.is_none()
+            && self.frames.fps != super::frames::DEFAULT_FPS
+        {
+            warn("--fps has no effect without --frames or --shutter".into());
+        }
+        for warning in self.shutter.warnings() {
+            warn(warning);
         }
         if self.job.checkpoint.is_none()
             && self.job.checkpoint_interval != DEFAULT_CHECKPOINT_INTERVAL.as_secs_f64()
@@ -479,6 +489,7 @@ fn render(args: &RenderArgs) -> anyhow::Result<()> {
             warn_about_lights(&scene, &settings);
         }
         let camera = args.camera(&scene, reporting.talks() && first, scenes.animation_box)?;
+        let scene = scenes.with_motion(args, frame, scene, &camera, first)?;
         if first && !args.job.quiet {
             note_a_still_sequence(args, scenes.gltf_file.as_ref());
         }
@@ -714,6 +725,50 @@ struct FrameScenes {
 }
 
 impl FrameScenes {
+    /// `scene`, the frame's, with motion blur's keys when `--shutter` asks for them and the
+    /// scene moves across the shutter: the glTF file posed at each key's time, each key with
+    /// its own camera (the command line's or the file's at that time; a camera that frames
+    /// the scene keeps `camera`'s framing). A scene that does not move gets none, and the
+    /// first frame says so once (the image is the still one).
+    fn with_motion(
+        &mut self,
+        args: &RenderArgs,
+        frame: FrameTime,
+        scene: Scene,
+        camera: &Camera,
+        first: bool,
+    ) -> anyhow::Result<Scene> {
+        let Some(shutter) = args.shutter.shutter() else {
+            return Ok(scene);
+        };
+        let note = |why: &str| {
+            if first && !args.job.quiet {
+                eprintln!("vkpath: note: --shutter: {why}, so the image is the still one");
+            }
+        };
+        let Some(file) = self.gltf_file.as_mut().filter(|file| file.has_animations()) else {
+            note("the scene has no animation");
+            return Ok(scene);
+        };
+        let own_camera = scene.camera.is_some() || args.camera_given();
+        let key_camera = |key: &Scene| match own_camera {
+            true => args.camera(key, false, self.animation_box),
+            false => Ok(*camera),
+        };
+        let keys = KeyTimes {
+            time: frame.time,
+            fps: args.frames.fps,
+        };
+        let Some(motion) = pose_keys(file, shutter, keys, &args.frames.pick(), key_camera)? else {
+            note("nothing in the scene moves across the shutter");
+            return Ok(scene);
+        };
+        Ok(Scene {
+            motion: Some(motion),
+            ..scene
+        })
+    }
+
     /// Nothing loaded yet, for the scene and environment `args` name.
     fn new(args: &RenderArgs) -> anyhow::Result<FrameScenes> {
         Ok(FrameScenes {

@@ -131,6 +131,18 @@ pub enum ValueError {
         /// The value as given.
         text: String,
     },
+    /// Not a shutter of 0 to 2 frame intervals (`--shutter`).
+    #[error("'{text}' is not a shutter of 0 to 2 frame intervals")]
+    NotShutter {
+        /// The value as given.
+        text: String,
+    },
+    /// Not a number of motion keys from 2 to 64 (`--motion-steps`).
+    #[error("'{text}' is not a number of motion keys from 2 to 64")]
+    NotMotionSteps {
+        /// The value as given.
+        text: String,
+    },
     /// Not a frame rate above 0 (`--fps`).
     #[error("'{text}' is not a frame rate above 0")]
     NotFrameRate {

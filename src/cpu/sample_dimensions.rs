@@ -10,7 +10,7 @@
 pub const CAMERA_PAIR_PIXEL: u32 = 0;
 /// Reserved: the point on the lens (depth of field).
 pub const CAMERA_PAIR_LENS: u32 = 1;
-/// Reserved: the time within the shutter interval (motion blur; its first number).
+/// The time within the shutter interval (motion blur, `glsl/motion_time.glsl`; its first number).
 pub const CAMERA_PAIR_TIME: u32 = 2;
 /// How many pairs the camera has: the first vertex's pairs start here.
 pub const CAMERA_PAIRS: u32 = 3;

@@ -13,13 +13,14 @@ use crate::kernels::{Kernel, SpecConstants};
 
 /// The specialization constants of `glsl/scene.glsl` and `glsl/constant_triangles.glsl`,
 /// which every kernel that traces rays declares.
-const SCENE_SPEC: [SpecConstants; 3] = [
+const SCENE_SPEC: [SpecConstants; 4] = [
     SpecConstants::one(c::SPEC_CONSTANT_TRIANGLE_COUNT),
     SpecConstants {
         first_id: c::SPEC_CONSTANT_TRIANGLES,
         count: 9 * c::CONSTANT_TRIANGLE_CAPACITY,
     },
     SpecConstants::one(c::SPEC_SCENE_HAS_ALPHA),
+    SpecConstants::one(c::SPEC_MOTION_STEPS),
 ];
 
 /// The progressive path tracer (`crate::render::Renderer`), in the builds of
@@ -32,6 +33,7 @@ pub static PATH_TRACER: Kernel = Kernel {
         SCENE_SPEC[0],
         SCENE_SPEC[1],
         SCENE_SPEC[2],
+        SCENE_SPEC[3],
         SpecConstants::one(c::SPEC_SAMPLE_COUNT),
         SpecConstants::one(c::SPEC_MAX_PATH_LENGTH),
         SpecConstants::one(c::SPEC_PIXEL_FILTER),
@@ -61,10 +63,11 @@ pub static PATH_TRACER: Kernel = Kernel {
 
 /// The specialization constants of the probes of the workshop's functions (and of the
 /// sample display, which includes the same files).
-const SCENE_PROBE_SPEC: [SpecConstants; 4] = [
+const SCENE_PROBE_SPEC: [SpecConstants; 5] = [
     SCENE_SPEC[0],
     SCENE_SPEC[1],
     SCENE_SPEC[2],
+    SCENE_SPEC[3],
     SpecConstants::one(c::SPEC_MAX_PATH_LENGTH),
 ];
 
@@ -149,6 +152,7 @@ pub static PROBE_SURFACE: Kernel = Kernel {
         SCENE_SPEC[0],
         SCENE_SPEC[1],
         SCENE_SPEC[2],
+        SCENE_SPEC[3],
         SpecConstants::one(c::SPEC_SCENE_TEXTURE_SLOTS),
         SpecConstants::one(c::SPEC_SCENE_HAS_LAYERS),
         SpecConstants::one(c::SPEC_SCENE_HAS_SPECULAR),
@@ -165,6 +169,7 @@ pub static PROBE_BVH: Kernel = Kernel {
         SCENE_SPEC[0],
         SCENE_SPEC[1],
         SCENE_SPEC[2],
+        SCENE_SPEC[3],
         SpecConstants::one(c::BVH_PROBE_SPEC_BRUTE_FORCE),
         SpecConstants::one(c::SPEC_BVH_LAYOUT),
     ],

@@ -268,6 +268,9 @@ impl LightsDigest {
             warnings: _,
             materials: _,
             mesh_instances: _,
+            // The upload's: the keys ride in the triangle buffer (the light buffers are
+            // the still triangles')
+            motion: _,
             punctual_lights,
             environment,
         } = scene;

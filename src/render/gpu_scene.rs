@@ -24,6 +24,7 @@ use crate::lights::{KeptLightBuffers, LightBuffers, SceneLights};
 use crate::render::gpu_materials::{
     material_texel_words, scene_texture_slots, GpuMaterial, GpuTriangleShading,
 };
+use crate::render::gpu_motion::{motion_bounds, motion_texels};
 use crate::render::gpu_textures::TextureAtlas;
 use crate::render::gpu_types::{GpuTriangle, RenderUniforms};
 use crate::render::settings::{Accel, RenderSettings};
@@ -136,7 +137,11 @@ impl SceneTrees {
     /// refuses (deeper than its stack, or beyond its quantisation's range) takes the 4-wide
     /// tree, with a warning; under `--accel compressed-bvh` it is refused.
     fn build(scene: &Scene, accel: Accel, traversal: Traversal) -> Result<SceneTrees> {
-        let bvh = traversal.uses_bvh().then(|| Bvh::build(&scene.triangles));
+        // Motion blur: each triangle's box holds it at every key of the shutter
+        let bvh = traversal.uses_bvh().then(|| match &scene.motion {
+            Some(motion) => Bvh::build_over_boxes(&motion_bounds(motion)),
+            None => Bvh::build(&scene.triangles),
+        });
         let mut trees = SceneTrees {
             traversal,
             bvh: None,
@@ -504,7 +509,16 @@ impl GpuScene {
         let upload = |name: &str, bytes: &[u8]| {
             TexelBufferView::upload_rgba32_uint(context, commands, name, bytes)
         };
-        let triangles = upload("triangles", bytemuck::cast_slice(&gpu_triangles))?;
+        let triangles = match &scene.motion {
+            // Motion blur: the keys follow the triangles at the same binding
+            Some(motion) => {
+                let mut bytes: Vec<u8> = bytemuck::cast_slice(&gpu_triangles).to_vec();
+                let keys = motion_texels(motion, triangle_order, settings.aspect());
+                bytes.extend_from_slice(bytemuck::cast_slice(&keys));
+                upload("triangles", &bytes)?
+            }
+            None => upload("triangles", bytemuck::cast_slice(&gpu_triangles))?,
+        };
         let uniforms = Buffer::with_data(
             context,
             "render uniforms",

@@ -61,8 +61,10 @@ const SETTING_NAMES: [&str; 10] = [
 /// `light_selection=tree` where the light tree chose the lights (power, the selection of
 /// every render before the tree, is not recorded, so those files' metadata stays as it was),
 /// and `--guiding`'s training samples per pixel (which, with the rest, decide the guide),
-/// and a thin lens's aperture radius, focus distance, blades and rotation (depth of field).
-const OPTIONAL_SETTING_NAMES: [&str; 9] = [
+/// and a thin lens's aperture radius, focus distance, blades and rotation (depth of field),
+/// and motion blur's shutter (frame intervals), its position and its keys (`--motion-steps`)
+/// where the scene moves across it.
+const OPTIONAL_SETTING_NAMES: [&str; 12] = [
     "region",
     "noise_threshold",
     "noise_min_spp",
@@ -72,6 +74,9 @@ const OPTIONAL_SETTING_NAMES: [&str; 9] = [
     "focus_distance",
     "aperture_blades",
     "aperture_rotation_degrees",
+    "shutter",
+    "shutter_position",
+    "motion_steps",
 ];
 
 /// What a render was.
@@ -186,6 +191,12 @@ impl RenderMetadata {
                 "aperture_rotation_degrees".into(),
                 lens.rotation.to_degrees().to_string(),
             ));
+        }
+        if let Some(motion) = &scene.motion {
+            let shutter = &motion.shutter;
+            settings_list.push(("shutter".into(), shutter.frames.to_string()));
+            settings_list.push(("shutter_position".into(), shutter.position.name().into()));
+            settings_list.push(("motion_steps".into(), shutter.steps.to_string()));
         }
         RenderMetadata {
             settings: settings_list,
@@ -494,6 +505,22 @@ pub fn scene_hash(scene: &Scene, camera: &Camera) -> String {
                 lens.rotation,
             ],
         );
+    }
+    // Motion blur's keys only where there are some (still renders keep their hashes)
+    if let Some(motion) = &scene.motion {
+        for key in &motion.triangles {
+            for triangle in key {
+                for position in triangle.positions {
+                    add(&mut bytes, &position.to_array());
+                }
+            }
+        }
+        for key_camera in &motion.cameras {
+            add(&mut bytes, &key_camera.position.to_array());
+            add(&mut bytes, &key_camera.image_plane_middle.to_array());
+            add(&mut bytes, &key_camera.up.to_array());
+            add(&mut bytes, &key_camera.right_per_unit_aspect.to_array());
+        }
     }
     hasher.update(&bytes);
     let digest = hasher.finalize();

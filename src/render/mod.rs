@@ -10,6 +10,7 @@ pub mod adaptive;
 pub mod aov;
 pub mod converged_pixels;
 pub mod gpu_materials;
+pub mod gpu_motion;
 pub mod gpu_scene;
 pub mod gpu_textures;
 pub mod gpu_types;

@@ -70,6 +70,7 @@ pub fn workshop_cornell_box() -> Result<Scene, SceneError> {
         environment: None,
         cameras: vec![camera],
         mesh_instances: Vec::new(),
+        motion: None,
     })
 }
 

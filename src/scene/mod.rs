@@ -27,6 +27,7 @@ pub mod material_params;
 pub mod materials;
 pub mod meshes;
 pub mod morph_targets;
+pub mod motion;
 pub mod obj_loader;
 mod obj_materials;
 pub mod procedural;
@@ -82,6 +83,9 @@ pub struct Scene {
     /// The ranges of `triangles` that are copies of a mesh (glTF nodes; empty for other
     /// formats): what the device's acceleration structures instance.
     pub mesh_instances: Vec<MeshInstance>,
+    /// Motion blur: the scene at the shutter's keys (`motion::SceneMotion`, its triangles in
+    /// the order of `triangles`), or `None` for a scene seen at one instant.
+    pub motion: Option<motion::SceneMotion>,
 }
 
 impl Triangle {

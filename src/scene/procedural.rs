@@ -63,6 +63,7 @@ pub fn furnace(albedo: f32, emission: f32) -> Scene {
         environment: None,
         cameras: Vec::new(),
         mesh_instances: Vec::new(),
+        motion: None,
     }
 }
 

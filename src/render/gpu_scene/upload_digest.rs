@@ -72,11 +72,24 @@ impl UploadDigest {
             materials: _,
             // Read by the structures' plan
             mesh_instances,
+            // Written after the triangles, at the same binding (`motion_texels`)
+            motion,
             ..
         } = scene;
         let kernel_materials = kernel_materials(scene);
         let mut geometry = Parts::new();
         geometry.words_of(triangles, GpuTriangle::new);
+        if let Some(motion) = motion {
+            geometry.part(b"motion");
+            geometry.part(&motion.steps().to_le_bytes());
+            for key in &motion.triangles {
+                geometry.words_of(key, |t| {
+                    [t.positions[0], t.positions[1], t.positions[2], t.normal].map(|v| v.to_array())
+                });
+            }
+            // Every field of each key's camera, its lens too (the Debug text prints them all)
+            geometry.part(format!("{:?}", motion.cameras).as_bytes());
+        }
         let mut materials = Parts::new();
         match &kernel_materials {
             Some(kernel_materials) => {

@@ -277,7 +277,12 @@ fn build_kernels(
     let build = variant.build;
     let guiding = settings.guiding.is_some();
     let budget = LoopBudget::of(context, settings, scene, gpu_scene, traversal)?;
-    let settings_specialization = settings.specialization();
+    let mut settings_specialization = settings.specialization();
+    // Motion blur: the keys' count (glsl/scene.glsl); a still render passes none, so its
+    // kernels are the still ones, bit for bit
+    if let Some(motion) = &scene.motion {
+        settings_specialization.push((contract::SPEC_MOTION_STEPS, motion.steps()));
+    }
     let (loop_limit, loops) = budget.limit_and_loops();
     let parts = SpecializationParts {
         settings: &settings_specialization,

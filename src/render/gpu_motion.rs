@@ -1,0 +1,85 @@
+//! Motion blur on the device: the keys of a `SceneMotion` as the kernels read them after the
+//! triangles at `BINDING_TRIANGLES` (`glsl/shared.h`: `MOTION_TRIANGLE_TEXEL_COUNT` texels per
+//! triangle and key, key-major, then `MOTION_CAMERA_TEXEL_COUNT` per key's camera), read by
+//! `get_packed_triangle()` and `get_camera_at_time()` of `glsl/scene.glsl`.
+
+use crate::bvh::Aabb;
+use crate::contract;
+use crate::render::gpu_types::RenderUniforms;
+use crate::scene::motion::SceneMotion;
+
+/// The texels (RGBA32, as float bits) of `motion`'s keys, the triangles in `order` (the
+/// BVH's leaf order: `order[i]` is the scene's index of stored triangle i; `None`: the
+/// scene's order), the cameras' image planes at `aspect` (width / height) with their lens in
+/// the w components as `RenderUniforms` holds them.
+pub fn motion_texels(motion: &SceneMotion, order: Option<&[u32]>, aspect: f32) -> Vec<[f32; 4]> {
+    let count = motion.triangles.first().map_or(0, Vec::len);
+    let mut texels = Vec::with_capacity(
+        contract::MOTION_TRIANGLE_TEXEL_COUNT as usize * count * motion.triangles.len()
+            + contract::MOTION_CAMERA_TEXEL_COUNT as usize * motion.cameras.len(),
+    );
+    for key in &motion.triangles {
+        for stored in 0..count {
+            let triangle = &key[order.map_or(stored, |order| order[stored] as usize)];
+            let [a, b, c] = triangle.positions.map(|p| p.extend(0.0).to_array());
+            texels.extend([a, b, c, triangle.normal.extend(0.0).to_array()]);
+        }
+    }
+    for camera in &motion.cameras {
+        // The uniforms' camera vectors, lens included (size, count and seed unused here)
+        let uniforms = RenderUniforms::new(&camera.image_plane(aspect), 0, 0, 0, 0);
+        texels.extend([
+            uniforms.camera_position,
+            uniforms.left_bottom,
+            uniforms.right,
+            uniforms.up,
+        ]);
+    }
+    texels
+}
+
+/// Each triangle's box over all of `motion`'s keys, in the scene's order: the BVH is built
+/// over these (`Bvh::build_over_boxes`), so that a node holds its triangles at every time of
+/// the shutter (between two keys a vertex lies on the segment joining its key positions,
+/// inside the box).
+pub fn motion_bounds(motion: &SceneMotion) -> Vec<Aabb> {
+    let count = motion.triangles.first().map_or(0, Vec::len);
+    (0..count)
+        .map(|i| {
+            motion.triangles.iter().fold(Aabb::EMPTY, |bounds, key| {
+                bounds.union(Aabb::of_triangle(&key[i].positions))
+            })
+        })
+        .collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::camera::Camera;
+    use crate::scene::motion::{KeyTriangle, SceneMotion, Shutter, ShutterPosition};
+    use glam::Vec3;
+
+    #[test]
+    fn keys_are_key_major_in_leaf_order_then_the_cameras() {
+        let triangle = |x: f32| KeyTriangle {
+            positions: [Vec3::new(x, 0.0, 0.0), Vec3::Y, Vec3::Z],
+            normal: Vec3::X,
+        };
+        let camera = Camera::look_at(Vec3::ZERO, Vec3::NEG_Z, Vec3::Y, 1.0);
+        let motion = SceneMotion {
+            shutter: Shutter::new(1.0, ShutterPosition::Center, 2).unwrap(),
+            triangles: vec![
+                vec![triangle(0.0), triangle(1.0)],
+                vec![triangle(2.0), triangle(3.0)],
+            ],
+            cameras: vec![camera, camera],
+        };
+        let texels = motion_texels(&motion, Some(&[1, 0]), 1.0);
+        assert_eq!(texels.len(), 4 * 2 * 2 + 4 * 2);
+        let first_xs: Vec<f32> = (0..4).map(|record| texels[4 * record][0]).collect();
+        assert_eq!(first_xs, vec![1.0, 0.0, 3.0, 2.0]);
+        assert_eq!(texels[3], [1.0, 0.0, 0.0, 0.0]);
+        assert_eq!(texels[16], [0.0, 0.0, 0.0, 0.0]);
+    }
+}
