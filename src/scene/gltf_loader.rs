@@ -23,7 +23,7 @@ use super::gltf_deform::{Deformer, NodeDeformation};
 use super::gltf_extensions::unsupported_extension_warnings;
 use super::gltf_file::GltfFile;
 use super::gltf_materials::{ConvertedMaterials, MaterialReader};
-use super::instances::InstanceRecorder;
+use super::instances::{InstanceRecorder, NodeLabel};
 use super::materials::TriangleShading;
 use super::skinning::skin_mirrors;
 use super::tangents::generate_tangents;
@@ -69,8 +69,10 @@ pub(super) fn posed_scene(
     for warning in unsupported_extension_warnings(document.extensions_used()) {
         loader.builder.warn(warning);
     }
-    for (node, world) in flatten_hierarchy(path, document, loader.deformer.local_transforms())? {
-        loader.visit(&node, world)?;
+    for (node, world, node_path) in
+        flatten_hierarchy(path, document, loader.deformer.local_transforms())?
+    {
+        loader.visit(&node, world, node_path)?;
     }
     let converted = loader.materials.converted;
     for warning in &converted.warnings {
@@ -95,7 +97,7 @@ fn flatten_hierarchy<'a>(
     path: &Path,
     document: &'a Document,
     animated: &HashMap<usize, Mat4>,
-) -> Result<Vec<(Node<'a>, Mat4)>, SceneError> {
+) -> Result<Vec<(Node<'a>, Mat4, String)>, SceneError> {
     let roots: Vec<Node<'a>> = match document
         .default_scene()
         .or_else(|| document.scenes().next())
@@ -115,13 +117,14 @@ fn flatten_hierarchy<'a>(
     // An explicit stack, and each node visited once: a cyclic "hierarchy" in a broken file
     // must not recurse forever.
     let mut visited = vec![false; document.as_json().nodes.len()];
-    let mut stack: Vec<(Node<'a>, Mat4)> = roots
+    // Each entry carries its parent's path in the node tree (`NodeLabel::path`).
+    let mut stack: Vec<(Node<'a>, Mat4, String)> = roots
         .into_iter()
         .rev()
-        .map(|node| (node, Mat4::IDENTITY))
+        .map(|node| (node, Mat4::IDENTITY, String::new()))
         .collect();
     let mut flattened = Vec::new();
-    while let Some((node, parent_to_world)) = stack.pop() {
+    while let Some((node, parent_to_world, parent_path)) = stack.pop() {
         match visited.get_mut(node.index()) {
             Some(seen) if !*seen => *seen = true,
             _ => {
@@ -139,14 +142,15 @@ fn flatten_hierarchy<'a>(
             .copied()
             .unwrap_or_else(|| Mat4::from_cols_array_2d(&node.transform().matrix()));
         let local_to_world = parent_to_world * local_to_parent;
+        let node_path = format!("{parent_path}/{}", label(node.name(), node.index()));
         let children: Vec<Node<'a>> = node.children().collect();
         stack.extend(
             children
                 .into_iter()
                 .rev()
-                .map(|child| (child, local_to_world)),
+                .map(|child| (child, local_to_world, node_path.clone())),
         );
-        flattened.push((node, local_to_world));
+        flattened.push((node, local_to_world, node_path));
     }
     Ok(flattened)
 }
@@ -167,11 +171,23 @@ struct Loader<'a> {
 }
 
 impl Loader<'_> {
-    /// Adds a node's mesh and, if it is the first perspective one, its camera.
-    fn visit(&mut self, node: &Node, local_to_world: Mat4) -> Result<(), SceneError> {
+    /// Adds a node's mesh and, if it is the first perspective one, its camera; `node_path`
+    /// is its path in the node tree (`NodeLabel::path`).
+    fn visit(
+        &mut self,
+        node: &Node,
+        local_to_world: Mat4,
+        node_path: String,
+    ) -> Result<(), SceneError> {
         if let Some(mesh) = node.mesh() {
             let deformation = self.deformer.node(node, &mesh)?;
-            self.add_mesh(&mesh, local_to_world, &deformation)?;
+            let node_label = NodeLabel {
+                index: node.index(),
+                name: label(node.name(), node.index()),
+                path: node_path,
+                mesh: mesh.index(),
+            };
+            self.add_mesh(&mesh, local_to_world, &deformation, node_label)?;
         }
         if let Some(camera) = node.camera() {
             if !self.builder.has_camera() {
@@ -234,12 +250,14 @@ impl Loader<'_> {
         }
     }
 
-    /// Adds every primitive of a mesh, posed (`deformation`) and transformed to world space.
+    /// Adds every primitive of a mesh, posed (`deformation`) and transformed to world space,
+    /// drawn by the node `node`.
     fn add_mesh(
         &mut self,
         mesh: &gltf::Mesh,
         local_to_world: Mat4,
         deformation: &NodeDeformation,
+        node: NodeLabel,
     ) -> Result<(), SceneError> {
         let name = label(mesh.name(), mesh.index());
         // Skinning puts vertices in world space: the skinned node's transform is ignored.
@@ -374,12 +392,13 @@ impl Loader<'_> {
                 }
             }
         }
-        if let Some(instance) = self.instances.instance(
+        if let Some(mut instance) = self.instances.instance(
             mesh.index(),
             first_triangle,
             local_to_world,
             kept_object_positions,
         ) {
+            instance.node = Some(std::sync::Arc::new(node));
             self.builder.add_mesh_instance(instance);
         }
         Ok(())
