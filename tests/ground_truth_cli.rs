@@ -143,6 +143,7 @@ fn ids_and_points_are_exact_through_an_alpha_masked_leaf() {
         "--aov",
         LAYERS,
         "--json",
+        "--camera-data",
         "--validate",
     ];
     let run = common::vkpath(dir.path(), &args);
@@ -214,6 +215,40 @@ fn ids_and_points_are_exact_through_an_alpha_masked_leaf() {
     assert_eq!(objects[2]["name"], "leaf");
     assert_eq!(objects[2]["bbox"], json!([8, 0, 16, 16]));
     assert_eq!(report["visible_fraction"], 1.0);
+    // The camera data: K and the camera-to-world matrix (OpenCV) project each pixel's
+    // world point onto the pixel's centre, and a known corner where the geometry says
+    let camera: Value =
+        serde_json::from_str(&std::fs::read_to_string(dir.path().join("truth.json")).unwrap())
+            .unwrap();
+    assert_eq!(camera, report["camera_data"]);
+    let project = |point: [f64; 3]| -> [f64; 2] {
+        let k = |r: usize, c: usize| camera["k"][r][c].as_f64().unwrap();
+        let m = |r: usize, c: usize| camera["camera_to_world_opencv"][r][c].as_f64().unwrap();
+        // world to camera: the rotation's transpose applied to (point - position)
+        let d: Vec<f64> = (0..3).map(|r| point[r] - m(r, 3)).collect();
+        let axis = |c: usize| (0..3).map(|r| m(r, c) * d[r]).sum::<f64>();
+        let (x, y, z) = (axis(0), axis(1), axis(2));
+        [k(0, 0) * x / z + k(0, 2), k(1, 1) * y / z + k(1, 2)]
+    };
+    for row in 0..SIZE {
+        for column in 0..SIZE {
+            let i = (row * SIZE + column) as usize;
+            let point = ["R", "G", "B"].map(|c| f64::from(layer(&format!("position.{c}"))[i]));
+            let [u, v] = project(point);
+            let at = format!("pixel ({column}, {row}) sees {point:?} at ({u}, {v})");
+            assert!((u - f64::from(column)).abs() < 1e-3, "{at}");
+            assert!((v - f64::from(row)).abs() < 1e-3, "{at}");
+        }
+    }
+    // The front quad's corner (1, 1, 1) is 4/3 right of and above the centre in the plane
+    // z = 0, 16/3 pixels: u = 7.5 + 16/3, v = 7.5 - 16/3
+    let [u, v] = project([1.0, 1.0, 1.0]);
+    assert!((u - (7.5 + 16.0 / 3.0)).abs() < 1e-4 && (v - (7.5 - 16.0 / 3.0)).abs() < 1e-4);
+    let fov_y = camera["fov_y_degrees"].as_f64().unwrap();
+    assert!(
+        (fov_y - 2.0 * 0.5f64.atan().to_degrees()).abs() < 1e-4,
+        "{fov_y}"
+    );
 }
 
 #[test]

@@ -13,6 +13,7 @@ use std::time::Duration;
 use glam::Vec3;
 use pyo3::prelude::*;
 use pyo3::types::{PyBool, PyByteArray, PyDict};
+use vkpath::camera_data::CameraData;
 use vkpath::lights::environment_source::{EnvironmentOptionNames, EnvironmentSource};
 use vkpath::render::adaptive::{NoiseThreshold, DEFAULT_MIN_SPP};
 use vkpath::render::aov::Aov;
@@ -546,6 +547,10 @@ pub fn render<'py>(
     dict.set_item("seconds", outcome.seconds)?;
     dict.set_item("device", device_name)?;
     dict.set_item("settings", settings_dict(py, &settings)?)?;
+    // The camera as datasets take it (`render --json`'s `camera_data`), as JSON text
+    let camera_data = CameraData::of(&camera, settings.width, settings.height);
+    let camera_json = serde_json::to_string(&camera_data).map_err(|e| message(e.to_string()))?;
+    dict.set_item("camera", camera_json)?;
     dict.set_item("warnings", warnings)?;
     Ok(dict)
 }
