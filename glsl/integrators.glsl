@@ -43,9 +43,10 @@ bool is_direct_illumination() {
     return INTEGRATOR == INTEGRATOR_DIRECT_ILLUMINATION;
 }
 
-// ray tracing (the base colour), normal, depth and material: what the first hit shows, no path.
+// ray tracing (the base colour), normal, depth, material and the hit triangle: what the first
+// hit shows, no path.
 bool shows_first_hit() {
-    return INTEGRATOR == INTEGRATOR_RAY_TRACING || INTEGRATOR == INTEGRATOR_NORMAL || INTEGRATOR == INTEGRATOR_DEPTH || INTEGRATOR == INTEGRATOR_MATERIAL;
+    return INTEGRATOR == INTEGRATOR_RAY_TRACING || INTEGRATOR == INTEGRATOR_NORMAL || INTEGRATOR == INTEGRATOR_DEPTH || INTEGRATOR == INTEGRATOR_MATERIAL || INTEGRATOR == INTEGRATOR_TRIANGLE;
 }
 
 #endif

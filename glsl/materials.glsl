@@ -14,18 +14,6 @@ layout(set = 0, binding = BINDING_SHADING) uniform utextureBuffer g_shading_texe
 layout(set = 0, binding = BINDING_MATERIALS) uniform utextureBuffer g_material_texels;
 
 
-// Barycentric coordinates (b_0, b_1, b_2) of a point in a triangle's plane.
-vec3 get_barycentrics(vec3 position, triangle_t triangle) {
-    vec3 edge_1 = triangle.positions[1] - triangle.positions[0];
-    vec3 edge_2 = triangle.positions[2] - triangle.positions[0];
-    vec3 offset = position - triangle.positions[0];
-    vec3 normal = cross(edge_1, edge_2);
-    float inverse_squared_area = 1.0 / dot(normal, normal);
-    float b_1 = dot(cross(offset, edge_2), normal) * inverse_squared_area;
-    float b_2 = dot(cross(edge_1, offset), normal) * inverse_squared_area;
-    return vec3(1.0 - b_1 - b_2, b_1, b_2);
-}
-
 // Texel j of triangle i's shading data.
 uvec4 get_shading_texel(uint triangle_index, int texel) {
     return texelFetch(g_shading_texels, int(uint(SHADING_TEXEL_COUNT) * triangle_index) + texel);

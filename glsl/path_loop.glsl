@@ -146,10 +146,13 @@ bsdf_sample_t sample_guided_path_direction(scattering_vertex_t vertex, uint guid
 // What the camera ray's hit shows (ray tracing: the base colour; normal: the shading
 // normal; depth: the ray parameter t; material: (metallic, roughness, 0) after texture
 // lookups, (0, 1, 0) for the Lambertian triangles of kernels without USE_MATERIALS, which
-// leave them unset). The path loop returns it at its first hit (0 where the ray hits
+// leave them unset; triangle: (triangle_index + 1, b_1, b_2), the barycentrics of `position`).
+// The path loop returns it at its first hit (0 where the ray hits
 // nothing): one intersection and one get_surface() in the kernel serve every integrator,
 // which lavapipe translates and optimises once instead of twice.
-vec3 get_first_hit_view(surface_t surface, float t) {
+vec3 get_first_hit_view(surface_t surface, float t, uint triangle_index, triangle_t triangle, vec3 position) {
+    if (INTEGRATOR == INTEGRATOR_TRIANGLE)
+        return vec3(float(triangle_index + 1u), get_barycentrics(position, triangle).yz);
     if (INTEGRATOR == INTEGRATOR_RAY_TRACING)
         return surface.material.base_color;
     if (INTEGRATOR == INTEGRATOR_NORMAL)
@@ -200,7 +203,7 @@ vec3 get_path_radiance(vec3 ray_origin, vec3 ray_direction, inout uvec2 seed) {
         surface_t surface = get_surface(triangle_index, triangle, ray_origin, ray_direction);
         // Ray tracing, normal, depth and material: what the camera ray's hit shows, no path
         if (shows_first_hit())
-            return get_first_hit_view(surface, t);
+            return get_first_hit_view(surface, t, triangle_index, triangle, ray_origin);
         scattering_vertex_t vertex = get_surface_vertex(surface, ray_origin, -ray_direction);
         throughput_weight *= get_volume_transmittance(surface, t);
         // 1. The emission found

@@ -94,6 +94,19 @@ bool is_double_sided(uint index) {
     return (floatBitsToUint(get_packed_triangle(index).emission.a) & TRIANGLE_FLAG_DOUBLE_SIDED) != 0u;
 }
 
+// Barycentric coordinates (b_0, b_1, b_2) of a point in a triangle's plane (the material
+// kernels' texture coordinates and normals, the ground-truth pass INTEGRATOR_TRIANGLE).
+vec3 get_barycentrics(vec3 position, triangle_t triangle) {
+    vec3 edge_1 = triangle.positions[1] - triangle.positions[0];
+    vec3 edge_2 = triangle.positions[2] - triangle.positions[0];
+    vec3 offset = position - triangle.positions[0];
+    vec3 normal = cross(edge_1, edge_2);
+    float inverse_squared_area = 1.0 / dot(normal, normal);
+    float b_1 = dot(cross(offset, edge_2), normal) * inverse_squared_area;
+    float b_2 = dot(cross(edge_1, offset), normal) * inverse_squared_area;
+    return vec3(1.0 - b_1 - b_2, b_1, b_2);
+}
+
 // The hit triangle's index, the ray count and the traversal's iterations
 #include "path_state.glsl"
 

@@ -287,6 +287,12 @@
 // USE_MATERIALS, whose Lambertian triangles are glTF's metallic 0, roughness 1 (0 where the
 // ray escapes).
 #define INTEGRATOR_MATERIAL 8
+// --aov object_id, instance_id, material_id, position, uv, object_position, z (ground
+// truth, src/render/ground_truth.rs): the first hit's triangle as (index + 1, b_1, b_2), its
+// index in the uploaded (leaf) order plus one, exact in a float up to 2^24, and the hit's
+// barycentrics; (0, 0, 0) where the ray escapes. Rendered with one sample through the pixel
+// centre, so that the host reads each pixel's triangle and point exactly, never averaged.
+#define INTEGRATOR_TRIANGLE 9
 
 // ---- Triangles ----
 

@@ -51,6 +51,7 @@ pub mod bench;
 #[doc(hidden)]
 pub mod bvh;
 pub mod camera;
+pub mod camera_data;
 #[cfg(feature = "cli")]
 #[doc(hidden)]
 pub mod cli;

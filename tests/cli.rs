@@ -27,6 +27,8 @@ mod exercise_cli;
 mod farm_cli;
 #[path = "frames_cli.rs"]
 mod frames_cli;
+#[path = "ground_truth_cli.rs"]
+mod ground_truth_cli;
 #[path = "hostile_input.rs"]
 mod hostile_input;
 #[path = "khronos_animation_cli.rs"]

@@ -106,19 +106,26 @@ fn assert_part_of(part: &Exr, full: &Exr, what: &str) {
 #[test]
 fn region_pixels_equal_the_full_renders_bit_for_bit() {
     let dir = tempfile::tempdir().unwrap();
-    render(dir.path(), "full.exr", &[]);
+    // With ground-truth layers beside the colour: a region's are the full image's too
+    const TRUTH: [&str; 2] = ["--aov", "material_id,position"];
+    render(dir.path(), "full.exr", &TRUTH);
     let full = read(&dir.path().join("full.exr"));
     assert_eq!(
         (full.origin, full.size, full.display),
         ((0, 0), (24, 16), (24, 16))
     );
+    assert!(full.channels.contains_key("material_id.Z"));
     // Inside, and along the bottom-right edge (rows run top-down, as in the file).
     for (region, origin, size) in [
         ("5,3,19,11", (5, 3), (14, 8)),
         ("17,9,24,16", (17, 9), (7, 7)),
     ] {
         let name = format!("region-{}.exr", region.replace(',', "-"));
-        render(dir.path(), &name, &["--region", region]);
+        render(
+            dir.path(),
+            &name,
+            &[&TRUTH[..], &["--region", region]].concat(),
+        );
         let part = read(&dir.path().join(&name));
         assert_eq!(
             part.origin, origin,
@@ -136,7 +143,7 @@ fn region_pixels_equal_the_full_renders_bit_for_bit() {
     render(
         dir.path(),
         "region-tiled.exr",
-        &["--region", "3,2,20,13", "--tile-size", "4"],
+        &[&TRUTH[..], &["--region", "3,2,20,13", "--tile-size", "4"]].concat(),
     );
     let part = read(&dir.path().join("region-tiled.exr"));
     assert_eq!((part.origin, part.size), ((3, 2), (17, 11)));
@@ -260,7 +267,8 @@ fn a_tiled_render_stopped_by_a_fault_resumes_bit_for_bit() {
 
 #[test]
 fn tiles_finished_one_at_a_time_equal_the_untiled_render_bit_for_bit() {
-    // Light samples (nee) with PCG2D, and the albedo and normal layers beside the colour:
+    // Light samples (nee) with PCG2D, and the albedo and normal layers beside the colour
+    // (and the ground truth's material_id and position, from the pixel centres' first hits):
     // untiled, in 7x7 tiles finished one at a time (a plain render in tiles: 4 by 3 of
     // them, the last column 3 wide and the last row 2 high), and in the same tiles visited
     // every frame (a checkpoint keeps the whole state), every channel is the same bits.
@@ -272,7 +280,7 @@ fn tiles_finished_one_at_a_time_equal_the_untiled_render_bit_for_bit() {
         "--sampler",
         "pcg",
         "--aov",
-        "albedo,normal",
+        "albedo,normal,material_id,position",
     ];
     let with = |extra: &[&'static str]| -> Vec<&'static str> {
         let mut args = settings.to_vec();
@@ -288,7 +296,9 @@ fn tiles_finished_one_at_a_time_equal_the_untiled_render_bit_for_bit() {
     );
     let untiled = read(&path.join("untiled.exr"));
     assert!(
-        untiled.channels.contains_key("albedo.R"),
+        untiled.channels.contains_key("albedo.R")
+            && untiled.channels.contains_key("material_id.Z")
+            && untiled.channels.contains_key("position.R"),
         "the layers are there"
     );
     for name in ["one-at-a-time.exr", "every-frame.exr"] {

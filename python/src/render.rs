@@ -13,6 +13,7 @@ use std::time::Duration;
 use glam::{UVec2, Vec3};
 use pyo3::prelude::*;
 use pyo3::types::{PyBool, PyByteArray, PyDict};
+use vkpath::camera_data::CameraData;
 use vkpath::lens_request::{Focus, FocusError};
 use vkpath::lights::environment_source::{EnvironmentOptionNames, EnvironmentSource};
 use vkpath::render::adaptive::{NoiseThreshold, DEFAULT_MIN_SPP};
@@ -550,6 +551,10 @@ pub fn render<'py>(
     dict.set_item("seconds", outcome.seconds)?;
     dict.set_item("device", device_name)?;
     dict.set_item("settings", settings_dict(py, &settings)?)?;
+    // The camera as datasets take it (`render --json`'s `camera_data`), as JSON text
+    let camera_data = CameraData::of(&camera, settings.width, settings.height);
+    let camera_json = serde_json::to_string(&camera_data).map_err(|e| message(e.to_string()))?;
+    dict.set_item("camera", camera_json)?;
     dict.set_item("warnings", warnings)?;
     Ok(dict)
 }

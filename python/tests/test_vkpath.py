@@ -452,3 +452,35 @@ def test_guiding_equals_the_command_lines_guided_render_bit_for_bit(cli, tmp_pat
     assert not np.array_equal(bits(plain), bits(result.image))
     with pytest.raises(vkpath.VkpathError, match="guides nee and mis"):
         vkpath.render(width=8, height=8, spp=1, integrator="cosine", guiding=True)
+
+
+def test_ground_truth_ids_are_integers_and_the_camera_projects_positions(cli, tmp_path):
+    # The material showcase: overlapping objects (spheres before walls) and an alpha-masked
+    # leaf. IDs come back as uint32 arrays equal to the command line's EXR layers, and the
+    # camera's K with its OpenCV camera-to-world matrix projects every hit point onto its
+    # pixel's centre (ground truth from the ray through the pixel centre).
+    scene = str(REPO / "scenes" / "materials.gltf")
+    output = tmp_path / "truth.exr"
+    aovs = ["object_id", "material_id", "position"]
+    run_cli(cli, "render", scene, "--width", "24", "--height", "18", "--spp", "1",
+            "--aov", ",".join(aovs), "-o", str(output))
+    result = vkpath.render_result(scene, width=24, height=18, spp=1, aovs=aovs)
+    with OpenEXR.File(str(output), separate_channels=True) as exr:
+        channels = exr.channels()
+        for name in ("object_id", "material_id"):
+            ids = result.layers[name]
+            assert ids.dtype == np.uint32 and ids.shape == (18, 24)
+            assert np.array_equal(ids, channels[f"{name}.Z"].pixels.astype(np.uint32))
+    names = json.loads((tmp_path / "truth.ids.json").read_text())
+    leaf = [o["id"] for o in names["objects"] if o["name"] == "alpha-mask leaf"]
+    assert leaf and leaf[0] in result.layers["object_id"], "the leaf is seen"
+    assert len(np.unique(result.layers["object_id"])) > 5, "overlapping objects"
+    camera = result.camera
+    k, to_world = camera["k"], camera["camera_to_world_opencv"]
+    assert k.shape == (3, 3) and to_world.shape == (4, 4)
+    points = result.layers["position"].reshape(-1, 3).astype(np.float64)
+    hit = result.layers["object_id"].reshape(-1) != 0
+    local = (points - to_world[:3, 3]) @ to_world[:3, :3]
+    projected = (local @ k.T)[:, :2] / local[:, 2:3]
+    rows, columns = np.divmod(np.arange(24 * 18), 24)
+    assert np.abs(projected[hit] - np.stack([columns, rows], axis=-1)[hit]).max() < 2e-3

@@ -89,10 +89,19 @@ class RenderResult:
     device: str
     #: The settings it was rendered with, by the command line's names.
     settings: Dict[str, Any]
-    #: What ``aovs=`` asked for, by name ("albedo", "normal", "material": (H, W, 3);
-    #: "depth": (H, W)), and with ``denoise=True`` the image before denoising ("noisy",
-    #: (H, W, 3)): the EXR layers ``--aov`` and ``--denoise`` write.
+    #: What ``aovs=`` asked for, by name ("albedo", "normal", "material", "position",
+    #: "uv", "object_position": (H, W, 3) float32; "depth", "z": (H, W) float32;
+    #: "object_id", "instance_id", "material_id": (H, W) uint32, 0 where nothing is hit),
+    #: and with ``denoise=True`` the image before denoising ("noisy", (H, W, 3)): the EXR
+    #: layers ``--aov`` and ``--denoise`` write.
     layers: Dict[str, np.ndarray] = field(default_factory=dict)
+    #: The camera as datasets take it (``render --json``'s ``camera_data``): "k" (3x3,
+    #: pixels, OpenCV: the top-left pixel's centre at (0, 0)), "camera_to_world_opencv"
+    #: (4x4, x right, y down, z forward), "camera_to_world_opengl" (4x4, x right, y up,
+    #: z backward), "near", "far" (None: infinite), "fov_x_degrees", "fov_y_degrees",
+    #: "sensor_width_mm", "sensor_height_mm", "focal_length_mm", "aperture_radius",
+    #: "focus_distance", "width", "height"; matrices as numpy arrays.
+    camera: Dict[str, Any] = field(default_factory=dict)
 
 
 def default_settings() -> Dict[str, Any]:
@@ -311,11 +320,32 @@ def render_result(
         seconds=raw["seconds"],
         device=raw["device"],
         settings=dict(raw["settings"]),
-        layers={
-            name: _array(pixels, h, w, 3)[..., 0] if name == "depth" else _array(pixels, h, w, 3)
-            for name, pixels in raw["layers"].items()
-        },
+        layers={name: _layer(name, pixels, h, w) for name, pixels in raw["layers"].items()},
+        camera=_camera(raw["camera"]),
     )
+
+
+#: The layers with one channel, and of those the integer IDs (exact in the float layer).
+_SINGLE_CHANNEL_LAYERS = ("depth", "z")
+_ID_LAYERS = ("object_id", "instance_id", "material_id")
+
+
+def _layer(name: str, pixels: Any, h: int, w: int) -> np.ndarray:
+    """A layer's array: (H, W, 3) float32, (H, W) float32 for one channel, (H, W) uint32 IDs."""
+    array = _array(pixels, h, w, 3)
+    if name in _ID_LAYERS:
+        return array[..., 0].astype(np.uint32)
+    if name in _SINGLE_CHANNEL_LAYERS:
+        return array[..., 0]
+    return array
+
+
+def _camera(text: str) -> Dict[str, Any]:
+    """The extension's camera data (JSON text) with its matrices as numpy arrays."""
+    camera = json.loads(text)
+    for key in ("k", "camera_to_world_opencv", "camera_to_world_opengl"):
+        camera[key] = np.array(camera[key], dtype=np.float64)
+    return camera
 
 
 def render(
@@ -391,7 +421,9 @@ def render(
     ``noise_threshold=T`` is ``--noise-threshold T`` (adaptive sampling: a pixel stops once
     its relative standard error is at most T, judged every ``noise_min_spp`` samples,
     default 16; ``spp`` is the cap). ``aovs=["albedo", "normal", "depth", "material"]`` is
-    ``--aov`` (the arrays come in :func:`render_result`'s ``layers``), ``denoise=True`` is
+    ``--aov`` (the arrays come in :func:`render_result`'s ``layers``; the ground truth's
+    "object_id", "instance_id", "material_id" as uint32, "position", "uv",
+    "object_position", "z" from the ray through each pixel's centre), ``denoise=True`` is
     ``--denoise`` (Open Image Denoise with the albedo and normal; the image before is
     ``layers["noisy"]``); both after a render that took every sample or reached
     ``time_limit``, not after one the callback or Ctrl-C stopped.

@@ -160,6 +160,7 @@ mod tests {
             first_triangle: first,
             object_to_world: Mat4::from_translation(Vec3::new(x, 0.0, 0.0)),
             object_positions: mesh.clone(),
+            node: None,
         };
         // Triangles 0 (loose), 1..3 and 3..5 (copies of one mesh), 5..7 (loose)
         let plan = StructurePlan::of(&triangles, &[copy(3, 2.0), copy(1, 1.0)]);

@@ -26,11 +26,11 @@ use crate::render::StopReason;
 use crate::scene::Scene;
 use crate::vk::Context;
 use crate::RenderedImage;
-use files::{save_outputs, written_outputs};
+use files::{save_outputs, write_camera_data, written_outputs};
 use lines::{
     end_after_report, print_summary, refuse_when_nothing_was_taken, warn_about_non_finite_pixels,
 };
-use report::{render_report, RunCounts, WrittenFiles};
+use report::{object_report, render_report, RunCounts, WrittenFiles};
 
 mod files;
 mod lines;
@@ -84,6 +84,9 @@ pub struct RenderRequest<'a> {
     pub shard: bool,
     /// What happens to the finished image before it is saved.
     pub post: PostProcess,
+    /// Whether to write the frame's camera (`crate::camera_data::CameraData`) beside each
+    /// output as `NAME.json` (`--camera-data`).
+    pub camera_data: bool,
     /// When the command began: set-up time (loading, device, kernels) counts from here.
     pub command_started: Instant,
     /// The frame and time rendered, when the command line gave `--time` or `--frames`.
@@ -155,6 +158,7 @@ pub fn render_and_save(
             reporting,
             shard: false,
             post: PostProcess::default(),
+            camera_data: false,
             command_started: Instant::now(),
             frame: None,
             position: None,
@@ -366,6 +370,9 @@ fn finish(
     let image = std::mem::replace(&mut finished.image, RenderedImage::empty(0, 0));
     warn_about_non_finite_pixels(&image);
     let processed = save_outputs(request, &outputs, contexts, &finished, &image)?;
+    if request.camera_data {
+        write_camera_data(request, &outputs)?;
+    }
     if let Some(view) = tev {
         let (shown, layers) = match &processed {
             Some((processed, layers)) => (processed, layers.as_slice()),
@@ -393,7 +400,14 @@ fn finish(
         print_summary(request, contexts, &finished, &files, &counts);
     }
     if request.reporting.json {
-        let report = render_report(request, &mut finished, &files, &counts);
+        let mut report = render_report(request, &mut finished, &files, &counts);
+        if let Some((objects, visible)) = processed
+            .as_ref()
+            .and_then(|(image, layers)| object_report(request, image.width, layers))
+        {
+            report.objects = Some(objects);
+            report.visible_fraction = Some(visible);
+        }
         println!("{}", serde_json::to_string(&report)?);
     }
     end_after_report(request, &outputs, contexts, &finished, files.checkpoint).map_err(|error| {

@@ -109,7 +109,11 @@ pub struct RenderArgs {
     /// Outputs beside the colour, as EXR layers: albedo (the first hit's base colour),
     /// normal (its shading normal, world space), depth (its distance from the camera),
     /// material (its metallic and roughness after textures, in R and G), each averaged over
-    /// the pixel's samples.
+    /// the pixel's samples; and ground truth from one ray through each pixel's centre,
+    /// exact: object_id (the glTF node's index + 1), instance_id (the mesh copy's + 1),
+    /// material_id (the material's + 1), 0 where nothing is hit, as float-exact integers
+    /// (with a sidecar NAME.ids.json naming them); position (world space), uv (the first UV
+    /// set), object_position (the object's own frame), z (camera-space depth).
     #[arg(long, value_enum, value_delimiter = ',')]
     pub aov: Vec<crate::render::aov::Aov>,
     /// Denoise the image with Intel Open Image Denoise (the RT filter, HDR, guided by the
@@ -117,6 +121,12 @@ pub struct RenderArgs {
     /// original; a PNG gets the denoised image.
     #[arg(long)]
     pub denoise: bool,
+    /// Write each frame's camera beside each output as NAME.json: the intrinsics K (pixels)
+    /// and the camera-to-world matrix in OpenCV's convention (x right, y down, z forward)
+    /// and OpenGL's (x right, y up, z backward), near/far, fields of view and sensor (as
+    /// `--json`'s `camera_data`).
+    #[arg(long)]
+    pub camera_data: bool,
     /// Time limit, checkpoints, shards and reporting.
     #[command(flatten)]
     pub job: JobArgs,
@@ -217,7 +227,7 @@ impl RenderArgs {
             .outputs
             .iter()
             .any(|p| ImageFormat::from_path(p).ok() == Some(ImageFormat::Exr));
-        if !self.aov.is_empty() && !exr {
+        if !self.aov.is_empty() && !exr && !self.aov.iter().any(|aov| aov.is_id()) {
             warn(
                 "--aov has no effect: its layers go into EXR files, and no output is an EXR".into(),
             );
@@ -542,6 +552,7 @@ fn render(args: &RenderArgs) -> anyhow::Result<()> {
             reporting,
             shard: args.job.is_shard(),
             post: post.clone(),
+            camera_data: args.camera_data,
             command_started: frame_started,
             frame: args.frames.timed().then_some(frame),
             position: position.map(|(frames, frame)| SequencePosition {
@@ -672,6 +683,15 @@ impl RenderArgs {
         }
         if self.denoise {
             crate::denoise::available()?;
+        }
+        if let Some(id) = self.aov.iter().find(|aov| aov.is_id()) {
+            let exr = self
+                .outputs
+                .iter()
+                .any(|p| ImageFormat::from_path(p).ok() == Some(ImageFormat::Exr));
+            if !exr {
+                return Err(UsageError(format!("--aov {}: IDs are exact integers, which a PNG cannot hold: write an EXR output (-o NAME.exr) or use Python's vkpath.render", id.name())).into());
+            }
         }
         if several {
             if job.checkpoint.is_some() || job.resume.is_some() || job.preview.is_some() {

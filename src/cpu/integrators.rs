@@ -4,7 +4,7 @@
 use crate::contract::{
     INTEGRATOR_COSINE, INTEGRATOR_DEPTH, INTEGRATOR_DIRECT_ILLUMINATION, INTEGRATOR_MATERIAL,
     INTEGRATOR_MIS, INTEGRATOR_NEE, INTEGRATOR_NORMAL, INTEGRATOR_PATH_TRACING,
-    INTEGRATOR_RAY_TRACING,
+    INTEGRATOR_RAY_TRACING, INTEGRATOR_TRIANGLE,
 };
 
 /// Twin of `is_importance_sampled`: cosine, nee and mis.
@@ -43,11 +43,15 @@ pub fn is_direct_illumination(integrator: u32) -> bool {
     integrator == INTEGRATOR_DIRECT_ILLUMINATION
 }
 
-/// Twin of `shows_first_hit`: ray tracing, normal, depth and material.
+/// Twin of `shows_first_hit`: ray tracing, normal, depth, material and the hit triangle.
 pub fn shows_first_hit(integrator: u32) -> bool {
     matches!(
         integrator,
-        INTEGRATOR_RAY_TRACING | INTEGRATOR_NORMAL | INTEGRATOR_DEPTH | INTEGRATOR_MATERIAL
+        INTEGRATOR_RAY_TRACING
+            | INTEGRATOR_NORMAL
+            | INTEGRATOR_DEPTH
+            | INTEGRATOR_MATERIAL
+            | INTEGRATOR_TRIANGLE
     )
 }
 
@@ -59,7 +63,7 @@ mod tests {
     fn every_integrator_is_in_exactly_one_family() {
         // Each integrator is a first-hit view, a workshop estimator or importance sampled;
         // light samples only for importance-sampled ones, MIS only with light samples.
-        for integrator in 0..=INTEGRATOR_MATERIAL {
+        for integrator in 0..=INTEGRATOR_TRIANGLE {
             let families = [
                 shows_first_hit(integrator),
                 samples_uniform_directions(integrator),

@@ -469,6 +469,10 @@ pub struct GpuScene {
     /// How rays find hits in it: the traversal asked for, or the 4-wide BVH where `auto`'s
     /// compressed tree could not hold the scene (`upload`).
     pub traversal: Traversal,
+    /// Which triangle of the scene each uploaded triangle is (the tree's leaf order, the
+    /// kernels' triangle indices); `None`: the scene's own order. The ground-truth AOVs
+    /// (`crate::render::ground_truth`) map the kernels' indices back through it.
+    pub triangle_order: Option<Vec<u32>>,
 }
 
 impl GpuScene {
@@ -593,6 +597,7 @@ impl GpuScene {
             bvh_stats,
             memory,
             traversal,
+            triangle_order: triangle_order.map(<[u32]>::to_vec),
         })
     }
 

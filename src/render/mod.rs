@@ -14,6 +14,7 @@ pub mod gpu_motion;
 pub mod gpu_scene;
 pub mod gpu_textures;
 pub mod gpu_types;
+pub mod ground_truth;
 pub mod guide_buffers;
 pub mod job;
 pub mod metadata;

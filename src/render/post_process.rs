@@ -8,7 +8,8 @@ use std::sync::Arc;
 use crate::camera::Camera;
 use crate::error::Result;
 use crate::image_io::output::ImageLayer;
-use crate::render::aov::{render_aov, Aov};
+use crate::render::aov::{ground_truth_pixels, render_aov, Aov};
+use crate::render::ground_truth::render_first_hits;
 use crate::render::metadata::{RenderMetadata, AOV_FIELD, DENOISER_NAME, DENOISE_FIELD};
 use crate::render::settings::RenderSettings;
 use crate::scene::Scene;
@@ -64,8 +65,21 @@ impl PostProcess {
             }
         }
         let mut rendered = Vec::new();
+        // One render of the pixel centres' first hits serves every ground-truth layer
+        let mut first_hits = None;
         for aov in wanted {
-            rendered.push((aov, render_aov(context, scene, camera, settings, aov)?));
+            let pixels = if aov.is_ground_truth() {
+                let hits = match first_hits.take() {
+                    Some(hits) => hits,
+                    None => render_first_hits(context, scene, camera, settings)?,
+                };
+                let pixels = ground_truth_pixels(scene, camera, &hits, aov)?;
+                first_hits = Some(hits);
+                pixels
+            } else {
+                render_aov(context, scene, camera, settings, aov)?
+            };
+            rendered.push((aov, pixels));
         }
         let layer_of = |aov: Aov| rendered.iter().find(|(a, _)| *a == aov).map(|(_, p)| p);
         let mut layers: Vec<ImageLayer> = self
@@ -75,7 +89,7 @@ impl PostProcess {
                 layer_of(aov).map(|pixels| ImageLayer {
                     name: aov.name().to_owned(),
                     pixels: pixels.clone(),
-                    single_channel: aov == Aov::Depth,
+                    single_channel: aov.is_single_channel(),
                 })
             })
             .collect();

@@ -88,6 +88,12 @@ impl Renderer {
         self.scene.memory
     }
 
+    /// Which scene triangle each of the kernels' triangle indices is
+    /// (`GpuScene::triangle_order`; `None`: the scene's own order).
+    pub fn triangle_order(&self) -> Option<&[u32]> {
+        self.scene.triangle_order.as_deref()
+    }
+
     /// The settings this render was made with.
     pub fn settings(&self) -> &RenderSettings {
         &self.settings

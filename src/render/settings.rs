@@ -80,6 +80,10 @@ pub enum Integrator {
     /// The first hit's (metallic, roughness, 0) after texture lookups, for `--aov material`.
     #[cfg_attr(feature = "cli", value(skip))]
     Material,
+    /// The first hit's triangle (index + 1 in the uploaded order) and barycentrics, for the
+    /// ground-truth AOVs (`--aov object_id`, `position`, ...).
+    #[cfg_attr(feature = "cli", value(skip))]
+    Triangle,
 }
 
 impl Integrator {
@@ -95,6 +99,7 @@ impl Integrator {
             Integrator::Normal => contract::INTEGRATOR_NORMAL,
             Integrator::Depth => contract::INTEGRATOR_DEPTH,
             Integrator::Material => contract::INTEGRATOR_MATERIAL,
+            Integrator::Triangle => contract::INTEGRATOR_TRIANGLE,
         }
     }
 
@@ -111,6 +116,7 @@ impl Integrator {
             Integrator::Normal => "normal",
             Integrator::Depth => "depth",
             Integrator::Material => "material",
+            Integrator::Triangle => "triangle",
         }
     }
 

@@ -24,7 +24,7 @@ use super::gltf_extensions::unsupported_extension_warnings;
 use super::gltf_file::GltfFile;
 use super::gltf_materials::{ConvertedMaterials, MaterialReader};
 use super::gltf_variants;
-use super::instances::InstanceRecorder;
+use super::instances::{InstanceRecorder, NodeLabel};
 use super::materials::TriangleShading;
 use super::skinning::skin_mirrors;
 use super::tangents::generate_tangents;
@@ -83,8 +83,13 @@ pub(super) fn posed_scene(
             variants.join(", ")
         ));
     }
-    for (node, world) in flatten_hierarchy(path, document, loader.deformer.local_transforms())? {
-        loader.visit(&node, world)?;
+    let flattened = flatten_hierarchy(path, document, loader.deformer.local_transforms())?;
+    let mut parents = vec![None; document.as_json().nodes.len()];
+    for (node, _, parent) in &flattened {
+        parents[node.index()] = *parent;
+    }
+    for (node, world, _) in flattened {
+        loader.visit(&node, world, &parents)?;
     }
     let converted = loader.materials.converted;
     for warning in &converted.warnings {
@@ -109,7 +114,7 @@ fn flatten_hierarchy<'a>(
     path: &Path,
     document: &'a Document,
     animated: &HashMap<usize, Mat4>,
-) -> Result<Vec<(Node<'a>, Mat4)>, SceneError> {
+) -> Result<Vec<(Node<'a>, Mat4, Option<usize>)>, SceneError> {
     let roots: Vec<Node<'a>> = match document
         .default_scene()
         .or_else(|| document.scenes().next())
@@ -129,13 +134,14 @@ fn flatten_hierarchy<'a>(
     // An explicit stack, and each node visited once: a cyclic "hierarchy" in a broken file
     // must not recurse forever.
     let mut visited = vec![false; document.as_json().nodes.len()];
-    let mut stack: Vec<(Node<'a>, Mat4)> = roots
+    // Each entry carries its parent's index (for `NodeLabel::path`).
+    let mut stack: Vec<(Node<'a>, Mat4, Option<usize>)> = roots
         .into_iter()
         .rev()
-        .map(|node| (node, Mat4::IDENTITY))
+        .map(|node| (node, Mat4::IDENTITY, None))
         .collect();
     let mut flattened = Vec::new();
-    while let Some((node, parent_to_world)) = stack.pop() {
+    while let Some((node, parent_to_world, parent)) = stack.pop() {
         match visited.get_mut(node.index()) {
             Some(seen) if !*seen => *seen = true,
             _ => {
@@ -158,9 +164,9 @@ fn flatten_hierarchy<'a>(
             children
                 .into_iter()
                 .rev()
-                .map(|child| (child, local_to_world)),
+                .map(|child| (child, local_to_world, Some(node.index()))),
         );
-        flattened.push((node, local_to_world));
+        flattened.push((node, local_to_world, parent));
     }
     Ok(flattened)
 }
@@ -184,11 +190,23 @@ struct Loader<'a> {
 }
 
 impl Loader<'_> {
-    /// Adds a node's mesh and, if it is the first perspective one, its camera.
-    fn visit(&mut self, node: &Node, local_to_world: Mat4) -> Result<(), SceneError> {
+    /// Adds a node's mesh and, if it is the first perspective one, its camera; `parents`
+    /// holds each node's parent (for its path in the node tree, `NodeLabel::path`).
+    fn visit(
+        &mut self,
+        node: &Node,
+        local_to_world: Mat4,
+        parents: &[Option<usize>],
+    ) -> Result<(), SceneError> {
         if let Some(mesh) = node.mesh() {
             let deformation = self.deformer.node(node, &mesh)?;
-            self.add_mesh(&mesh, local_to_world, &deformation)?;
+            let node_label = NodeLabel {
+                index: node.index(),
+                name: label(node.name(), node.index()),
+                path: node_path(self.document, parents, node.index()),
+                mesh: mesh.index(),
+            };
+            self.add_mesh(&mesh, local_to_world, &deformation, node_label)?;
         }
         if let Some(camera) = node.camera() {
             if !self.builder.has_camera() {
@@ -251,12 +269,14 @@ impl Loader<'_> {
         }
     }
 
-    /// Adds every primitive of a mesh, posed (`deformation`) and transformed to world space.
+    /// Adds every primitive of a mesh, posed (`deformation`) and transformed to world space,
+    /// drawn by the node `node`.
     fn add_mesh(
         &mut self,
         mesh: &gltf::Mesh,
         local_to_world: Mat4,
         deformation: &NodeDeformation,
+        node: NodeLabel,
     ) -> Result<(), SceneError> {
         let name = label(mesh.name(), mesh.index());
         // Skinning puts vertices in world space: the skinned node's transform is ignored.
@@ -404,12 +424,13 @@ impl Loader<'_> {
                 }
             }
         }
-        if let Some(instance) = self.instances.instance(
+        if let Some(mut instance) = self.instances.instance(
             mesh.index(),
             first_triangle,
             local_to_world,
             kept_object_positions,
         ) {
+            instance.node = Some(std::sync::Arc::new(node));
             self.builder.add_mesh_instance(instance);
         }
         Ok(())
@@ -689,6 +710,36 @@ fn triangle_corners(mode: Mode, vertex_count: usize) -> Vec<[usize; 3]> {
         Mode::TriangleFan => (0..strip_or_fan_count).map(|i| [i + 1, i + 2, 0]).collect(),
         _ => Vec::new(),
     }
+}
+
+/// Most ancestors a node's path (`NodeLabel::path`) names: a deeper node's path starts with
+/// `/...`, so that a chain of 10^5 nodes does not take 10^10 bytes of paths.
+const MAX_PATH_DEPTH: usize = 32;
+
+/// The path of node `index` in the node tree: `/` and the labels of its ancestors and its
+/// own, `/` between (`parents`: each node's parent).
+fn node_path(document: &Document, parents: &[Option<usize>], index: usize) -> String {
+    let nodes = &document.as_json().nodes;
+    let mut chain = vec![index];
+    while let Some(Some(parent)) = parents.get(*chain.last().unwrap_or(&index)) {
+        if chain.len() > MAX_PATH_DEPTH {
+            break;
+        }
+        chain.push(*parent);
+    }
+    let cut = chain.len() > MAX_PATH_DEPTH;
+    chain.truncate(MAX_PATH_DEPTH);
+    let mut path = if cut {
+        "/...".to_owned()
+    } else {
+        String::new()
+    };
+    for &node in chain.iter().rev() {
+        let name = nodes.get(node).and_then(|n| n.name.as_deref());
+        path.push('/');
+        path.push_str(&label(name, node));
+    }
+    path
 }
 
 /// An object's name (printable), or `#index` when it has none (names are optional in glTF).

@@ -23,6 +23,24 @@ pub struct MeshInstance {
     /// the loader dropped as degenerate left out), shared by every copy of the same mesh
     /// whose triangles are the same.
     pub object_positions: Arc<Vec<[Vec3; 3]>>,
+    /// The glTF node that draws the copy (`None` for other sources, e.g. Python's arrays):
+    /// what the ground-truth AOVs (`--aov object_id`) name.
+    pub node: Option<Arc<NodeLabel>>,
+}
+
+/// A glTF node as the ground-truth outputs name it: its index in the file, its name
+/// (`#index` where it has none) and its path in the node tree (`/` then the names of its
+/// ancestors and its own, `/` between).
+#[derive(Clone, Debug, Default, PartialEq, Eq)]
+pub struct NodeLabel {
+    /// Index in the file's `nodes`.
+    pub index: usize,
+    /// Its name, printable, or `#index`.
+    pub name: String,
+    /// Its path from the scene's root, e.g. `/Tree/Leaf`.
+    pub path: String,
+    /// Index in the file's `meshes` of the mesh it draws.
+    pub mesh: usize,
 }
 
 impl MeshInstance {
@@ -67,6 +85,7 @@ impl InstanceRecorder {
             first_triangle,
             object_to_world,
             object_positions: shared,
+            node: None,
         })
     }
 }

@@ -9,10 +9,13 @@ use std::sync::Arc;
 use anyhow::bail;
 
 use super::{Finished, RenderRequest};
+use crate::camera_data::CameraData;
 use crate::cli::signals;
 use crate::image_io::output::{
-    save_image_with_attributes, save_image_with_layers, ImageLayer, SaveOptions,
+    save_image_with_attributes, save_image_with_layers, write_atomically, ImageFormat, ImageLayer,
+    SaveOptions,
 };
+use crate::render::ground_truth::IdNames;
 use crate::render::metadata::RenderMetadata;
 use crate::render::settings::RenderSettings;
 use crate::render::state_exr::write_state;
@@ -107,10 +110,52 @@ pub(super) fn save_outputs(
     for output in outputs {
         save_or_rescue(output, &processed, &request.save, &metadata, &layers)?;
     }
+    if request.post.aovs.iter().any(|aov| aov.is_id()) {
+        write_id_names(outputs, request.scene)?;
+    }
     if request.post.denoise && request.reporting.talks() {
         eprintln!("vkpath: {}", DENOISED_LINE);
     }
     Ok(Some((processed, layers)))
+}
+
+/// The sidecar of `--camera-data`: `NAME.json` beside `NAME.exr` (or `.png`).
+pub fn camera_data_path(output: &Path) -> PathBuf {
+    output.with_extension("json")
+}
+
+/// Writes the request's camera (`CameraData`, for the full image) beside every output.
+pub(super) fn write_camera_data(
+    request: &RenderRequest,
+    outputs: &[PathBuf],
+) -> anyhow::Result<()> {
+    let settings = request.settings;
+    let data = CameraData::of(request.camera, settings.width, settings.height);
+    let text = serde_json::to_string_pretty(&data)?;
+    for output in outputs {
+        write_atomically(&camera_data_path(output), |temporary| {
+            std::fs::write(temporary, &text)
+        })?;
+    }
+    Ok(())
+}
+
+/// The sidecar that names the IDs of an EXR's ID layers: `NAME.ids.json` beside `NAME.exr`.
+pub fn id_names_path(output: &Path) -> PathBuf {
+    output.with_extension("ids.json")
+}
+
+/// Writes `IdNames::of(scene)` beside every EXR output (`id_names_path`).
+fn write_id_names(outputs: &[PathBuf], scene: &crate::scene::Scene) -> anyhow::Result<()> {
+    let text = serde_json::to_string_pretty(&IdNames::of(scene))?;
+    for output in outputs {
+        if ImageFormat::from_path(output).ok() != Some(ImageFormat::Exr) {
+            continue;
+        }
+        let path = id_names_path(output);
+        write_atomically(&path, |temporary| std::fs::write(temporary, &text))?;
+    }
+    Ok(())
 }
 
 /// Saves `image` to `output` with the render's metadata in its header; when that fails,

@@ -8,7 +8,11 @@ use serde::Serialize;
 
 use super::{Finished, RenderRequest};
 use crate::camera::Camera;
+use crate::camera_data::CameraData;
+use crate::image_io::output::ImageLayer;
+use crate::render::aov::Aov;
 use crate::render::gpu_scene::SceneMemory;
+use crate::render::ground_truth::{object_summaries, IdNames, ObjectSummary};
 use crate::render::metadata::sampler_name;
 use crate::render::renderer::GuideReport;
 use crate::render::settings::SamplerKind;
@@ -84,6 +88,10 @@ pub struct RenderReport {
     /// `image_plane_middle`, `up` and `right_per_unit_aspect` (the image plane's edges), so
     /// that a script can tell that the frames of a sequence share one view.
     pub camera: CameraReport,
+    /// The same camera as datasets take it (`crate::camera_data::CameraData`): `k` (pixels,
+    /// OpenCV), `camera_to_world_opencv`, `camera_to_world_opengl`, `near`, `far`,
+    /// `fov_x_degrees`, `fov_y_degrees`, the sensor and the lens.
+    pub camera_data: CameraData,
     /// The frame number (`--frames`); absent for a still, `null` with `--time`.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub frame: Option<Option<u32>>,
@@ -97,6 +105,13 @@ pub struct RenderReport {
     /// texels), `environment`, `punctual_lights`; absent without `--frames`.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub reused: Option<Vec<&'static str>>,
+    /// With `--aov object_id`: each visible object (`id`, `name`, `pixels`, `bbox` [x0, y0,
+    /// x1, y1) and `visible_fraction`), by ID; absent without the layer.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub objects: Option<Vec<ObjectSummary>>,
+    /// With `--aov object_id`: the fraction of pixels whose centre ray hits an object.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub visible_fraction: Option<f64>,
 }
 
 /// A camera as `render --json` reports it: `Camera`'s vectors as `[x, y, z]`.
@@ -353,8 +368,36 @@ pub(super) fn render_report(
         accel: finished.scene_memory.map(|memory| memory.accel),
         scene_memory: finished.scene_memory,
         camera: CameraReport::of(request.camera),
+        camera_data: CameraData::of(request.camera, settings.width, settings.height),
         frame: request.frame.map(|f| f.frame),
         time: request.frame.map(|f| f.time),
         reused: finished.reused.take(),
+        objects: None,
+        visible_fraction: None,
     }
+}
+
+/// `objects` and `visible_fraction` of a report, from the post-processed `layers` of an
+/// image `width` pixels wide (`None` without an `object_id` layer); boxes in the full
+/// image's pixels (a region's offset added).
+pub(super) fn object_report(
+    request: &RenderRequest,
+    width: u32,
+    layers: &[ImageLayer],
+) -> Option<(Vec<ObjectSummary>, f64)> {
+    let layer = layers.iter().find(|l| l.name == Aov::ObjectId.name())?;
+    let mut objects = object_summaries(&layer.pixels, width, &IdNames::of(request.scene));
+    if let Some(region) = request.settings.region {
+        for object in &mut objects {
+            let [x0, y0, x1, y1] = object.bbox;
+            object.bbox = [
+                x0 + region.x0,
+                y0 + region.y0,
+                x1 + region.x0,
+                y1 + region.y0,
+            ];
+        }
+    }
+    let visible = objects.iter().map(|o| o.visible_fraction).sum();
+    Some((objects, visible))
 }

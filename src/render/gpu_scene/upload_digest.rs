@@ -217,6 +217,7 @@ mod tests {
                 first_triangle: 0,
                 object_to_world: Mat4::from_translation(Vec3::new(x, 0.0, 0.0)),
                 object_positions: Arc::new(vec![scene.triangles[0].positions]),
+                node: None,
             }];
             scene
         };
