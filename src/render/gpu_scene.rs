@@ -102,6 +102,26 @@ fn scene_summary(
     }
 }
 
+/// The words of the triangles' binding: the triangles (in the traversal's order) and, for
+/// motion blur, the keys after them (`motion_texels`, at the image's `aspect`).
+fn triangle_texels<'a>(
+    gpu_triangles: &'a [GpuTriangle],
+    scene: &Scene,
+    triangle_order: Option<&[u32]>,
+    aspect: f32,
+) -> Cow<'a, [u8]> {
+    let triangles: &[u8] = bytemuck::cast_slice(gpu_triangles);
+    match &scene.motion {
+        Some(motion) => {
+            let mut bytes = triangles.to_vec();
+            let keys = motion_texels(motion, triangle_order, aspect);
+            bytes.extend_from_slice(bytemuck::cast_slice(&keys));
+            Cow::Owned(bytes)
+        }
+        None => Cow::Borrowed(triangles),
+    }
+}
+
 /// What the variant room reads of `settings`, for a scene with `lights`
 /// (`SceneLights::variant_settings` reads the light selection).
 fn variant_settings(settings: &RenderSettings, lights: &SceneLights) -> VariantSettings {
@@ -513,16 +533,10 @@ impl GpuScene {
         let upload = |name: &str, bytes: &[u8]| {
             TexelBufferView::upload_rgba32_uint(context, commands, name, bytes)
         };
-        let triangles = match &scene.motion {
-            // Motion blur: the keys follow the triangles at the same binding
-            Some(motion) => {
-                let mut bytes: Vec<u8> = bytemuck::cast_slice(&gpu_triangles).to_vec();
-                let keys = motion_texels(motion, triangle_order, settings.aspect());
-                bytes.extend_from_slice(bytemuck::cast_slice(&keys));
-                upload("triangles", &bytes)?
-            }
-            None => upload("triangles", bytemuck::cast_slice(&gpu_triangles))?,
-        };
+        let triangles = upload(
+            "triangles",
+            &triangle_texels(&gpu_triangles, scene, triangle_order, settings.aspect()),
+        )?;
         let uniforms = Buffer::with_data(
             context,
             "render uniforms",
