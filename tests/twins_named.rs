@@ -16,6 +16,17 @@ const WITHOUT_TWINS: &[(&str, &str)] = &[
     ("get_light_triangle_index", "a texel read of the light list; Rust indexes the list"),
     ("get_light_cumulative_probability", "a texel read of the light CDF; Rust indexes the CDF"),
     ("get_packed_triangle", "a texel read of the triangle buffer; Rust indexes the triangles"),
+    // Motion blur's reads of the keys after the triangles (glsl/scene.glsl): texel reads and
+    // a lerp between two keys; the host's keys are scene::motion's slices.
+    ("get_motion_texel_offset", "where the keys start in the triangle buffer: a texel offset"),
+    ("get_motion_segment", "the two keys around the sample's time and the weight between them: texel bookkeeping"),
+    ("get_moving_packed_triangle", "get_packed_triangle of the keys, lerped at the sample's time"),
+    ("get_camera_at_time", "the keys' cameras read from the triangle buffer and lerped"),
+    // Open work, not a reason to keep: the CPU renderer has no motion blur yet, so the time
+    // draw and the moving camera have no twins; tests/motion_blur_cli.rs checks the blur
+    // against the mean of still renders instead.
+    ("get_time_random_number", "no twin yet: the CPU renderer has no motion blur (open)"),
+    ("get_moving_camera_ray", "no twin yet: the CPU renderer has no motion blur (open)"),
     ("unpack_triangle", "copies std430 fields into the workshop's struct; Rust's GpuTriangle layout is tested instead"),
     ("pack_triangle", "the probes' inverse of unpack_triangle: probe output plumbing"),
     ("get_probe_index", "which input a probe invocation reads: probe plumbing, no maths"),
