@@ -111,6 +111,17 @@ impl LensRequest {
         Ok((self.lens(aperture_radius, distance), Some(distance)))
     }
 
+    /// The lens where it needs no image: an aperture given by its radius and a focus by its
+    /// distance (`None` for an f-number or autofocus, which `resolve` decides per image).
+    pub fn lens_without_image(&self) -> Option<Lens> {
+        match (self.aperture, self.focus) {
+            (Aperture::Radius(radius), Focus::Distance(distance)) => {
+                Some(self.lens(radius, distance))
+            }
+            _ => None,
+        }
+    }
+
     /// This request's lens with its aperture and focus resolved.
     fn lens(&self, aperture_radius: f32, focus_distance: f32) -> Lens {
         Lens {

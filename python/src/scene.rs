@@ -6,7 +6,7 @@ use std::sync::Mutex;
 
 use glam::Vec3;
 use pyo3::prelude::*;
-use vkpath::camera::{Lens, DEFAULT_VERTICAL_FOV_DEGREES};
+use vkpath::camera::DEFAULT_VERTICAL_FOV_DEGREES;
 use vkpath::lens_request::{Aperture, Focus, LensRequest, DEFAULT_SENSOR_WIDTH_MM};
 use vkpath::scene::animation::AnimationPick;
 use vkpath::scene::arrays::ARRAYS_DESCRIPTION;
@@ -64,20 +64,8 @@ impl Camera {
         let mut camera = Camera::pinhole(position, look_at, up, fov)?;
         let aperture = aperture(aperture_radius, f_stop, sensor_width)?;
         camera.lens_request = lens_request(aperture, focus_distance, blades, aperture_rotation)?;
-        if let Some(
-            request @ LensRequest {
-                aperture: Aperture::Radius(radius),
-                focus: Focus::Distance(distance),
-                ..
-            },
-        ) = camera.lens_request
-        {
-            camera.inner.lens = Lens {
-                aperture_radius: radius,
-                focus_distance: distance,
-                blades: request.blades,
-                rotation: request.rotation_degrees.to_radians(),
-            };
+        if let Some(lens) = camera.lens_request.and_then(|r| r.lens_without_image()) {
+            camera.inner.lens = lens;
         }
         Ok(camera)
     }
@@ -313,24 +301,20 @@ impl Scene {
         allow_external_paths: bool,
         variant: Option<String>,
     ) -> PyResult<Scene> {
-        let inner = source
-            .load_with(&LoadOptions {
-                allow_external_paths,
-                variant: variant.clone(),
-                ..LoadOptions::default()
-            })
-            .map_err(to_py)?;
-        let variants = match &source {
+        let options = LoadOptions {
+            allow_external_paths,
+            variant: variant.clone(),
+            ..LoadOptions::default()
+        };
+        // A glTF file is read once for its scene and its variants' names (what
+        // `Scene::load_with` does for it: open, then pose at the options' time).
+        let (inner, variants) = match &source {
             SceneSource::File(path) if is_gltf_path(path) => {
-                let options = LoadOptions {
-                    allow_external_paths,
-                    ..LoadOptions::default()
-                };
-                GltfFile::open(path, &options)
-                    .map_err(to_py)?
-                    .variant_names()
+                let mut file = GltfFile::open(path, &options).map_err(to_py)?;
+                let scene = file.pose(options.time, &options.animation).map_err(to_py)?;
+                (scene, file.variant_names())
             }
-            _ => Vec::new(),
+            _ => (source.load_with(&options).map_err(to_py)?, Vec::new()),
         };
         Ok(Scene {
             inner,
