@@ -158,18 +158,22 @@ void main() {
         vec2 tex_coord = (is_importance_sampled() && PIXEL_FILTER == PIXEL_FILTER_BOX)
             ? (vec2(pixel) + get_path_random_numbers(CAMERA_PAIR_PIXEL)) / vec2(resolution)
             : get_sample_tex_coord(pixel, resolution, seed);
-        vec3 ray_direction = get_primary_ray_direction(tex_coord.x, tex_coord.y, g_camera_position.xyz, g_left_bottom.xyz, g_right.xyz, g_up.xyz);
-        vec3 ray_origin = g_camera_position.xyz;
-        // Depth of field (glsl/thin_lens.glsl): the lens's ray instead of the pinhole's
-        if (THIN_LENS != 0 && g_camera_position.w > 0.0) {
-            vec2 lens_random_numbers = get_lens_random_numbers(get_sample_seed(pixel, sample_index, g_resolution_triangle_count_seed.w));
-            vec3 image_plane_middle = g_left_bottom.xyz + 0.5 * (g_right.xyz + g_up.xyz);
-            apply_thin_lens(ray_origin, ray_direction, g_right.xyz, g_up.xyz, image_plane_middle, g_camera_position.w, g_left_bottom.w, uint(g_right.w), g_up.w, lens_random_numbers);
-        }
+        vec3 ray_origin;
+        vec3 ray_direction;
         // Motion blur (glsl/motion_time.glsl): the sample's time in the shutter, which the
-        // triangles and the lights are read at, and the camera's ray at that time instead
+        // triangles and the lights are read at, and the camera's ray (lens and all) at that time
         if (MOTION_STEPS != 0u)
             get_moving_camera_ray(ray_origin, ray_direction, tex_coord, get_sample_seed(pixel, sample_index, g_resolution_triangle_count_seed.w));
+        else {
+            ray_direction = get_primary_ray_direction(tex_coord.x, tex_coord.y, g_camera_position.xyz, g_left_bottom.xyz, g_right.xyz, g_up.xyz);
+            ray_origin = g_camera_position.xyz;
+            // Depth of field (glsl/thin_lens.glsl): the lens's ray instead of the pinhole's
+            if (THIN_LENS != 0 && g_camera_position.w > 0.0) {
+                vec2 lens_random_numbers = get_lens_random_numbers(get_sample_seed(pixel, sample_index, g_resolution_triangle_count_seed.w));
+                vec3 image_plane_middle = g_left_bottom.xyz + 0.5 * (g_right.xyz + g_up.xyz);
+                apply_thin_lens(ray_origin, ray_direction, g_right.xyz, g_up.xyz, image_plane_middle, g_camera_position.w, g_left_bottom.w, uint(g_right.w), g_up.w, lens_random_numbers);
+            }
+        }
         vec3 radiance = get_sample_radiance(ray_origin, ray_direction, seed);
         // Kahan summation: the sum stays within a few ulps however many samples it holds.
         // `precise` forbids the compiler to reassociate or fuse these operations.
