@@ -21,9 +21,13 @@ fn main() {
     let manifest_dir = std::env::var("CARGO_MANIFEST_DIR").expect("cargo sets CARGO_MANIFEST_DIR");
     let glsl_dir = Path::new(&manifest_dir).join("glsl");
     let out_dir = PathBuf::from(std::env::var("OUT_DIR").expect("cargo sets OUT_DIR"));
-    let optimize = std::env::var("PROFILE")
-        .map(|p| p == "release")
-        .unwrap_or(false);
+    // Every profile's kernels are optimized (shaderc's `Performance`, spirv-opt): lavapipe
+    // turns unoptimized SPIR-V into NIR about 3 times slower (a glTF-material kernel's
+    // pipeline took 2.6-2.8 s of CPU against 0.5-1.0 s), and the tests create hundreds of
+    // pipelines. `VKPATH_UNOPTIMIZED_KERNELS=1` at build time keeps them as written, to read
+    // the SPIR-V against the GLSL line by line.
+    println!("cargo:rerun-if-env-changed=VKPATH_UNOPTIMIZED_KERNELS");
+    let optimize = std::env::var_os("VKPATH_UNOPTIMIZED_KERNELS").is_none_or(|v| v != "1");
     println!("cargo:rerun-if-changed=glsl");
     println!("cargo:rerun-if-changed=src/shader_compiler.rs");
     println!("cargo:rerun-if-changed=src/kernels/builds.rs");
@@ -46,9 +50,8 @@ fn main() {
         std::fs::read_to_string(path).ok()
     };
 
-    let mut shaders_rs = String::new();
-    let mut build_names = Vec::new();
-    let mut failed = false;
+    // Every build of every kernel: (file name, build name, source, macros).
+    let mut jobs: Vec<(String, String, String, &[(&str, &str)])> = Vec::new();
     for file in files
         .iter()
         .filter(|f| f.extension().is_some_and(|e| e == "comp"))
@@ -56,16 +59,53 @@ fn main() {
         let stem = file.file_stem().unwrap().to_string_lossy().to_string();
         let file_name = file.file_name().unwrap().to_string_lossy().to_string();
         let source = std::fs::read_to_string(file).expect("shader is readable");
-        let mut kernel_builds: Vec<(String, &[(&str, &str)])> = vec![(stem.clone(), &[])];
+        jobs.push((file_name.clone(), stem.clone(), source.clone(), &[]));
         for build in builds::EXTRA_BUILDS {
             if build.source == stem {
-                kernel_builds.push((build.name.to_string(), build.macros));
+                jobs.push((
+                    file_name.clone(),
+                    build.name.to_string(),
+                    source.clone(),
+                    build.macros,
+                ));
             }
         }
-        for (name, macros) in kernel_builds {
-            match shader_compiler::compile_compute_shader(
-                &source, &file_name, &resolve, macros, optimize,
-            ) {
+    }
+    // Compiled on every core (optimizing the kernels takes minutes on one), each thread
+    // taking every n-th job; the results are written in the jobs' order.
+    let threads = std::thread::available_parallelism().map_or(1, usize::from);
+    let mut compiled: Vec<Option<_>> = (0..jobs.len()).map(|_| None).collect();
+    std::thread::scope(|scope| {
+        let workers: Vec<_> = (0..threads)
+            .map(|first| {
+                let (jobs, resolve) = (&jobs, &resolve);
+                scope.spawn(move || {
+                    (first..jobs.len())
+                        .step_by(threads)
+                        .map(|index| {
+                            let (file_name, _, source, macros) = &jobs[index];
+                            let result = shader_compiler::compile_compute_shader(
+                                source, file_name, resolve, macros, optimize,
+                            );
+                            (index, result)
+                        })
+                        .collect::<Vec<_>>()
+                })
+            })
+            .collect();
+        for worker in workers {
+            for (index, result) in worker.join().expect("a kernel compile thread") {
+                compiled[index] = Some(result);
+            }
+        }
+    });
+
+    let mut shaders_rs = String::new();
+    let mut build_names = Vec::new();
+    let mut failed = false;
+    for ((file_name, name, _, _), result) in jobs.iter().zip(compiled) {
+        {
+            match result.expect("every job compiled") {
                 Ok(compiled) => {
                     for line in compiled.warnings.lines() {
                         println!("cargo:warning={line}");

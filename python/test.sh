@@ -3,10 +3,11 @@
 # user does, `pip install ./python` (pip fetches maturin and numpy from PyPI), and runs its
 # tests (python/tests) against the command line's binary, target/debug/vkpath.
 #
-# The extension is built with Cargo's `dev` profile, whose dependencies' settings are those
-# `cargo test` built them with, so after `cargo test` most of them are reused (not the
-# `test` profile itself: maturin builds with `cargo rustc`, which with `--profile test` makes
-# a test harness, not a library). Users' `pip install ./python` builds the release profile.
+# The extension is built with Cargo's `dev` profile, whose settings are the `test`
+# profile's (Cargo.toml), so after `cargo test` its dependencies and the vkpath library
+# itself are reused (not the `test` profile itself: maturin builds with `cargo rustc`, which
+# with `--profile test` makes a test harness, not a library). Users' `pip install ./python`
+# builds the release profile.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 venv=target/python-venv
