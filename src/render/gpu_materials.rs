@@ -243,6 +243,39 @@ mod tests {
     }
 
     #[test]
+    fn the_twin_of_get_vertex_color_reads_the_packed_colors_back() {
+        use crate::cpu::gltf_surface::{get_vertex_color, SurfaceTexels};
+        use glam::{Vec3, Vec4};
+        let mut shading = crate::scene::materials::SceneMaterials::from_plain(&[
+            crate::scene::Triangle::new([Vec3::ZERO, Vec3::X, Vec3::Y], Vec3::ONE, Vec3::ZERO, false)
+                .expect("a triangle"),
+        ])
+        .triangles;
+        shading[0].extra.colors = [Vec4::new(1.0, 0.0, 0.0, 1.0), Vec4::new(0.0, 1.0, 0.0, 0.5), Vec4::new(0.0, 0.0, 1.0, 0.0)];
+        let words = shading_texel_words(shading.iter(), VERTEX_ATTRIBUTE_COLOR);
+        let texels = SurfaceTexels {
+            triangles: &[],
+            shading: &words,
+            materials: &[],
+            texture_texels: &[],
+            scene_texture_slots: 0,
+            scene_has_layers: false,
+            scene_vertex_attributes: VERTEX_ATTRIBUTE_COLOR,
+        };
+        assert_eq!(get_vertex_color(&texels, 0, Vec3::X), shading[0].extra.colors[0]);
+        let middle = get_vertex_color(&texels, 0, Vec3::splat(1.0 / 3.0));
+        // 0.5 is 32768 / 65535 after packing
+        let expected = Vec4::new(1.0, 1.0, 1.0, 1.0 + 32768.0 / 65535.0) / 3.0;
+        assert!(middle.abs_diff_eq(expected, 1e-6), "{middle}");
+        // A scene without vertex colours: white, whatever the words hold
+        let plain = SurfaceTexels {
+            scene_vertex_attributes: 0,
+            ..texels
+        };
+        assert_eq!(get_vertex_color(&plain, 0, Vec3::X), Vec4::ONE);
+    }
+
+    #[test]
     fn material_matches_get_material_texel() {
         // The layout of glsl/shared.h: the factor texels, then the texture slots, three
         // texels each (where each parameter lies is `material_params`' tests').
