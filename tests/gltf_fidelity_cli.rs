@@ -34,8 +34,10 @@ fn quad(
         }
         views.push(json!({"buffer": 0, "byteOffset": bytes.len(), "byteLength": data.len()}));
         bytes.extend_from_slice(data);
-        accessors.push(json!({"bufferView": views.len() - 1, "componentType": component_type,
-                              "normalized": normalized, "count": 4, "type": kind}));
+        accessors.push(
+            json!({"bufferView": views.len() - 1, "componentType": component_type,
+                              "normalized": normalized, "count": 4, "type": kind}),
+        );
         primitive_attributes[*semantic] = json!(accessors.len() - 1);
     }
     let indices: Vec<u8> = [0u16, 1, 2, 0, 2, 3]
@@ -44,7 +46,9 @@ fn quad(
         .collect();
     views.push(json!({"buffer": 0, "byteOffset": bytes.len(), "byteLength": 12}));
     bytes.extend_from_slice(&indices);
-    accessors.push(json!({"bufferView": views.len() - 1, "componentType": 5123, "count": 6, "type": "SCALAR"}));
+    accessors.push(
+        json!({"bufferView": views.len() - 1, "componentType": 5123, "count": 6, "type": "SCALAR"}),
+    );
     // glTF cameras look along their node's -z: turned half round about y to look at +z
     let rotation = if camera_z < 0.0 {
         json!([0, 1, 0, 0])
@@ -93,7 +97,10 @@ fn vertex_colors_multiply_the_base_color() {
     let pixels = exr_pixels(dir.path(), "colors.exr");
     for (i, [r, g, b, _]) in pixels.iter().copied().enumerate() {
         // Interpolated linearly: red and blue always sum to the base colour's 0.5; no green
-        assert!((r + b - 0.5).abs() < 1e-4 && g == 0.0, "pixel {i}: {r} {g} {b}");
+        assert!(
+            (r + b - 0.5).abs() < 1e-4 && g == 0.0,
+            "pixel {i}: {r} {g} {b}"
+        );
     }
     // Left of the middle redder than blue, right of it bluer (row 1, columns 0 and 3)
     let [left, right] = [pixels[4], pixels[7]];
@@ -115,6 +122,10 @@ fn a_vertex_color_of_a_forbidden_type_is_one_line_naming_the_mesh() {
     assert_eq!(run.code, Some(1), "{}", run.stderr);
     let lines: Vec<&str> = run.stderr.lines().collect();
     assert_eq!(lines.len(), 1, "{}", run.stderr);
-    assert!(lines[0].contains("mesh 'quad' primitive 0: COLOR_0"), "{}", run.stderr);
+    assert!(
+        lines[0].contains("mesh 'quad' primitive 0: COLOR_0"),
+        "{}",
+        run.stderr
+    );
     assert!(!dir.path().join("bytes.exr").exists());
 }

@@ -404,7 +404,9 @@ const SCENE_FLAGS: &[SceneFlag] = &[
         u32::from(s.samples_environment)
     }),
     (contract::SPEC_SCENE_HAS_SPECULAR, |s| u32::from(s.specular)),
-    (contract::SPEC_SCENE_VERTEX_ATTRIBUTES, |s| s.vertex_attributes),
+    (contract::SPEC_SCENE_VERTEX_ATTRIBUTES, |s| {
+        s.vertex_attributes
+    }),
     (contract::SPEC_SCENE_HAS_EMISSIVE_TRIANGLES, |s| {
         u32::from(s.emissive_triangles)
     }),

@@ -6,8 +6,8 @@
 use bytemuck::{Pod, Zeroable};
 
 use crate::contract::{
-    EXTRA_SHADING_TEXEL_COUNT, MATERIAL_FACTOR_TEXEL_COUNT,
-    MATERIAL_TEXEL_ALPHA_MODE_TEXTURE_MASK, MATERIAL_TEXTURE_SLOT_COUNT, SHADING_TEXEL_COUNT,
+    EXTRA_SHADING_TEXEL_COUNT, MATERIAL_FACTOR_TEXEL_COUNT, MATERIAL_TEXEL_ALPHA_MODE_TEXTURE_MASK,
+    MATERIAL_TEXTURE_SLOT_COUNT, SHADING_TEXEL_COUNT,
 };
 use crate::cpu::sheen_albedo_table::SHEEN_ALBEDO;
 use crate::render::gpu_textures::{GpuTextureSlot, TextureAtlas};
@@ -221,17 +221,27 @@ mod tests {
         // Out of range: clamped
         assert_eq!(packed.color_2_tex_coord_1_0[0], 0xFFFF);
         assert_eq!(packed.color_2_tex_coord_1_0[1], 0x4000);
-        assert_eq!(packed.color_2_tex_coord_1_0[2..], [0.5f32.to_bits(), 0.25f32.to_bits()]);
-        assert_eq!(packed.tex_coords_1_12, [1.0f32, 0.0, 0.0, 1.0].map(f32::to_bits));
+        assert_eq!(
+            packed.color_2_tex_coord_1_0[2..],
+            [0.5f32.to_bits(), 0.25f32.to_bits()]
+        );
+        assert_eq!(
+            packed.tex_coords_1_12,
+            [1.0f32, 0.0, 0.0, 1.0].map(f32::to_bits)
+        );
     }
 
     #[test]
     fn shading_words_hold_the_extra_texels_only_where_asked() {
-        let triangles = crate::scene::materials::SceneMaterials::from_plain(&[
-            crate::scene::Triangle::new([glam::Vec3::ZERO, glam::Vec3::X, glam::Vec3::Y], glam::Vec3::ONE, glam::Vec3::ZERO, false)
-                .expect("a triangle"),
-        ])
-        .triangles;
+        let triangles =
+            crate::scene::materials::SceneMaterials::from_plain(&[crate::scene::Triangle::new(
+                [glam::Vec3::ZERO, glam::Vec3::X, glam::Vec3::Y],
+                glam::Vec3::ONE,
+                glam::Vec3::ZERO,
+                false,
+            )
+            .expect("a triangle")])
+            .triangles;
         let plain = shading_texel_words(triangles.iter(), 0);
         assert_eq!(plain.len(), 4 * SHADING_TEXEL_COUNT as usize);
         let extended = shading_texel_words(triangles.iter(), VERTEX_ATTRIBUTE_COLOR);
@@ -246,12 +256,20 @@ mod tests {
     fn the_twin_of_get_vertex_color_reads_the_packed_colors_back() {
         use crate::cpu::gltf_surface::{get_vertex_color, SurfaceTexels};
         use glam::{Vec3, Vec4};
-        let mut shading = crate::scene::materials::SceneMaterials::from_plain(&[
-            crate::scene::Triangle::new([Vec3::ZERO, Vec3::X, Vec3::Y], Vec3::ONE, Vec3::ZERO, false)
-                .expect("a triangle"),
-        ])
-        .triangles;
-        shading[0].extra.colors = [Vec4::new(1.0, 0.0, 0.0, 1.0), Vec4::new(0.0, 1.0, 0.0, 0.5), Vec4::new(0.0, 0.0, 1.0, 0.0)];
+        let mut shading =
+            crate::scene::materials::SceneMaterials::from_plain(&[crate::scene::Triangle::new(
+                [Vec3::ZERO, Vec3::X, Vec3::Y],
+                Vec3::ONE,
+                Vec3::ZERO,
+                false,
+            )
+            .expect("a triangle")])
+            .triangles;
+        shading[0].extra.colors = [
+            Vec4::new(1.0, 0.0, 0.0, 1.0),
+            Vec4::new(0.0, 1.0, 0.0, 0.5),
+            Vec4::new(0.0, 0.0, 1.0, 0.0),
+        ];
         let words = shading_texel_words(shading.iter(), VERTEX_ATTRIBUTE_COLOR);
         let texels = SurfaceTexels {
             triangles: &[],
@@ -262,7 +280,10 @@ mod tests {
             scene_has_layers: false,
             scene_vertex_attributes: VERTEX_ATTRIBUTE_COLOR,
         };
-        assert_eq!(get_vertex_color(&texels, 0, Vec3::X), shading[0].extra.colors[0]);
+        assert_eq!(
+            get_vertex_color(&texels, 0, Vec3::X),
+            shading[0].extra.colors[0]
+        );
         let middle = get_vertex_color(&texels, 0, Vec3::splat(1.0 / 3.0));
         // 0.5 is 32768 / 65535 after packing
         let expected = Vec4::new(1.0, 1.0, 1.0, 1.0 + 32768.0 / 65535.0) / 3.0;

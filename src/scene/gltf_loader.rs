@@ -592,7 +592,8 @@ impl Loader<'_> {
                 if accessor.normalized() { " (normalized)" } else { "" },
             )));
         }
-        check_accessor(&accessor, dimensions, &types).map_err(|reason| wrong(reason.to_string()))?;
+        check_accessor(&accessor, dimensions, &types)
+            .map_err(|reason| wrong(reason.to_string()))?;
         if accessor.count() != vertex_count {
             return Err(wrong(format!(
                 "has {} elements for {vertex_count} vertices",

@@ -40,7 +40,11 @@ fn vertex_colors_are_read_as_float_and_normalized_integers() {
     let colors = loaded_colors(triangle_with_colors(|b| {
         b.accessor("VEC3", 5121, true, 3, &bytes)
     }));
-    assert!(colors[0].abs_diff_eq(Vec4::new(1.0, 0.0, 0.2, 1.0), 1e-6), "{}", colors[0]);
+    assert!(
+        colors[0].abs_diff_eq(Vec4::new(1.0, 0.0, 0.2, 1.0), 1e-6),
+        "{}",
+        colors[0]
+    );
     assert_eq!(colors[2], Vec4::new(0.0, 0.0, 1.0, 1.0));
     // VEC4 of normalized shorts
     let shorts: Vec<u8> = [65535u16, 0, 0, 32768, 0, 65535, 0, 65535, 0, 0, 65535, 0]
@@ -54,7 +58,9 @@ fn vertex_colors_are_read_as_float_and_normalized_integers() {
     assert!((colors[0].w - 0.5).abs() < 1e-4, "{}", colors[0]);
     assert_eq!(colors[2], Vec4::new(0.0, 0.0, 1.0, 0.0));
     // VEC4 of floats
-    let floats = [0.5, 0.25, 0.125, 0.75, 1.0, 1.0, 1.0, 1.0, 0.0, 0.0, 0.0, 0.0];
+    let floats = [
+        0.5, 0.25, 0.125, 0.75, 1.0, 1.0, 1.0, 1.0, 0.0, 0.0, 0.0, 0.0,
+    ];
     let colors = loaded_colors(triangle_with_colors(|b| b.floats("VEC4", &floats)));
     assert_eq!(colors[0], Vec4::new(0.5, 0.25, 0.125, 0.75));
     assert_eq!(colors[1], Vec4::ONE);
@@ -92,7 +98,9 @@ fn a_vertex_color_of_a_forbidden_type_is_one_line_naming_the_mesh() {
     ];
     for text in forbidden {
         let path = write(&directory, "bad.gltf", &text);
-        let error = load_gltf(&path).expect_err("a forbidden COLOR_0").to_string();
+        let error = load_gltf(&path)
+            .expect_err("a forbidden COLOR_0")
+            .to_string();
         assert!(!error.contains('\n'), "{error}");
         assert!(error.contains("mesh 'm' primitive 0: COLOR_0"), "{error}");
         assert!(error.contains("glTF allows VEC3 or VEC4"), "{error}");
@@ -102,7 +110,10 @@ fn a_vertex_color_of_a_forbidden_type_is_one_line_naming_the_mesh() {
     let error = load_gltf(&write(&directory, "short.gltf", &text))
         .expect_err("a short COLOR_0")
         .to_string();
-    assert!(error.contains("COLOR_0 has 2 elements for 3 vertices"), "{error}");
+    assert!(
+        error.contains("COLOR_0 has 2 elements for 3 vertices"),
+        "{error}"
+    );
 }
 
 #[test]
