@@ -29,7 +29,7 @@ fn quad(
     ];
     let mut primitive_attributes = json!({"POSITION": 0});
     for (semantic, kind, component_type, normalized, data) in attributes {
-        while bytes.len() % 4 != 0 {
+        while !bytes.len().is_multiple_of(4) {
             bytes.push(0);
         }
         views.push(json!({"buffer": 0, "byteOffset": bytes.len(), "byteLength": data.len()}));
