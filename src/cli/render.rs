@@ -116,7 +116,9 @@ pub struct RenderArgs {
     /// exact: object_id (the glTF node's index + 1), instance_id (the mesh copy's + 1),
     /// material_id (the material's + 1), 0 where nothing is hit, as float-exact integers
     /// (with a sidecar NAME.ids.json naming them); position (world space), uv (the first UV
-    /// set), object_position (the object's own frame), z (camera-space depth).
+    /// set), object_position (the object's own frame), z (camera-space depth); motion
+    /// (layers motion_forward and motion_backward: where the hit point is seen one frame,
+    /// 1 / --fps, later and earlier, minus where it is now, in pixels, x right, y down).
     #[arg(long, value_enum, value_delimiter = ',')]
     pub aov: Vec<crate::render::aov::Aov>,
     /// Denoise the image with Intel Open Image Denoise (the RT filter, HDR, guided by the
