@@ -55,6 +55,7 @@ def write_dataset(scene: str, frames: str, out: Path, fps: float = 24.0, size: i
     annotations = {"scene": scene, "fps": fps, "frames": []}
     outputs = vkpath.render_frames(
         scene, frames=frames, fps=fps, width=size, height=size, spp=spp,
+        background=(1.0, 1.0, 1.0),  # a white sky, for files without lights
         aovs=["instance_id", "motion"],
     )
     for frame, layers in outputs:

@@ -506,10 +506,7 @@ fn render(args: &RenderArgs) -> anyhow::Result<()> {
         }
         let camera = args.camera(&scene, reporting.talks() && first, scenes.animation_box)?;
         let scene = scenes.with_motion(args, frame, scene, &camera, first)?;
-        let post = PostProcess {
-            neighbours: scenes.neighbours(args, frame, &scene, &camera, &post, first)?,
-            ..post.clone()
-        };
+        let post = scenes.with_neighbours(args, frame, (&scene, &camera), &post, first)?;
         if first && !args.job.quiet {
             note_a_still_sequence(args, scenes.gltf_file.as_ref());
         }
@@ -800,6 +797,22 @@ impl FrameScenes {
         })
     }
 
+    /// `post` for the frame (`scene` seen by `camera`), with its neighbours for `--aov
+    /// motion` (`neighbours`).
+    fn with_neighbours(
+        &mut self,
+        args: &RenderArgs,
+        frame: FrameTime,
+        (scene, camera): (&Scene, &Camera),
+        post: &PostProcess,
+        first: bool,
+    ) -> anyhow::Result<PostProcess> {
+        Ok(PostProcess {
+            neighbours: self.neighbours(args, frame, (scene, camera), post, first)?,
+            ..post.clone()
+        })
+    }
+
     /// The frame's scene one frame interval before and after it, for `--aov motion` (`None`
     /// without it, or where nothing moves: the first frame then says once that the motion
     /// vectors are 0). Each neighbour has its own camera as `with_motion`'s keys have.
@@ -807,8 +820,7 @@ impl FrameScenes {
         &mut self,
         args: &RenderArgs,
         frame: FrameTime,
-        scene: &Scene,
-        camera: &Camera,
+        (scene, camera): (&Scene, &Camera),
         post: &PostProcess,
         first: bool,
     ) -> anyhow::Result<Option<Arc<FrameNeighbours>>> {
