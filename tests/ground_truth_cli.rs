@@ -122,7 +122,7 @@ fn channels(dir: &Path, name: &str) -> std::collections::HashMap<String, Vec<f32
         .collect()
 }
 
-const LAYERS: &str = "object_id,instance_id,material_id,position,uv,object_position,z";
+const LAYERS: &str = "object_id,instance_id,material_id,position,uv,object_position,z,motion";
 
 #[test]
 fn ids_and_points_are_exact_through_an_alpha_masked_leaf() {
@@ -282,4 +282,151 @@ fn ids_in_a_png_are_refused_and_unknown_layers_list_the_known_ones() {
     for name in LAYERS.split(',') {
         assert!(stderr.contains(name), "{name}: {stderr}");
     }
+}
+
+/// The motion test's scene: a 10 x 10 quad in the plane z = 0 whose node slides along +x at
+/// 1 unit/s (translation (t, 0, 0), LINEAR from 0 to 2 s), and a camera looking down -z
+/// (tan(yfov / 2) = 1/2) whose node rises and comes closer, (0, t / 2, 4 - t / 2).
+fn write_moving_scene(dir: &Path) -> String {
+    let half = 5.0f32;
+    let positions = [
+        -half, -half, 0.0, half, -half, 0.0, half, half, 0.0, -half, half, 0.0,
+    ];
+    let times = [0.0f32, 2.0];
+    let slide = [0.0f32, 0.0, 0.0, 2.0, 0.0, 0.0];
+    let rise = [0.0f32, 0.0, 4.0, 0.0, 1.0, 3.0];
+    let indices: Vec<u16> = vec![0, 1, 2, 0, 2, 3];
+    let mut bytes: Vec<u8> = Vec::new();
+    for floats in [&positions[..], &times[..], &slide[..], &rise[..]] {
+        bytes.extend(floats.iter().flat_map(|x| x.to_le_bytes()));
+    }
+    bytes.extend(indices.iter().flat_map(|i| i.to_le_bytes()));
+    let document = json!({
+        "asset": {"version": "2.0"},
+        "scene": 0,
+        "scenes": [{"nodes": [0, 1]}],
+        "nodes": [
+            {"name": "quad", "mesh": 0},
+            {"name": "camera", "camera": 0, "translation": [0, 0, 4]}
+        ],
+        "cameras": [{"type": "perspective", "perspective": {"yfov": 2.0 * 0.5f64.atan(), "aspectRatio": 1.0, "znear": 0.1}}],
+        "meshes": [{"primitives": [{"attributes": {"POSITION": 0}, "indices": 4}]}],
+        "animations": [{"channels": [
+            {"sampler": 0, "target": {"node": 0, "path": "translation"}},
+            {"sampler": 1, "target": {"node": 1, "path": "translation"}}
+        ], "samplers": [{"input": 1, "output": 2}, {"input": 1, "output": 3}]}],
+        "buffers": [{"byteLength": bytes.len(), "uri": format!("data:application/octet-stream;base64,{}", base64::encode(&bytes))}],
+        "bufferViews": [
+            {"buffer": 0, "byteOffset": 0, "byteLength": 48},
+            {"buffer": 0, "byteOffset": 48, "byteLength": 8},
+            {"buffer": 0, "byteOffset": 56, "byteLength": 24},
+            {"buffer": 0, "byteOffset": 80, "byteLength": 24},
+            {"buffer": 0, "byteOffset": 104, "byteLength": 12}
+        ],
+        "accessors": [
+            {"bufferView": 0, "componentType": 5126, "count": 4, "type": "VEC3", "min": [-half, -half, 0], "max": [half, half, 0]},
+            {"bufferView": 1, "componentType": 5126, "count": 2, "type": "SCALAR", "min": [0.0], "max": [2.0]},
+            {"bufferView": 2, "componentType": 5126, "count": 2, "type": "VEC3"},
+            {"bufferView": 3, "componentType": 5126, "count": 2, "type": "VEC3"},
+            {"bufferView": 4, "componentType": 5123, "count": 6, "type": "SCALAR"}
+        ]
+    });
+    let path = dir.join("moving.gltf");
+    std::fs::write(&path, document.to_string()).unwrap();
+    path.display().to_string()
+}
+
+/// The flow of pixel (column, row) of `write_moving_scene` at time `t`, `dt` later (a
+/// negative `dt`: earlier), worked out by hand: the pixel centre's ray meets the plane at
+/// (X, Y, 0); the quad's point moves by dt along x; the camera (cx, cy, cz) sees (X', Y', 0)
+/// at u = 16 (X' - cx) / cz + 7.5, v = 16 (cy - Y') / cz + 7.5 (16 pixels per unit at
+/// distance 1: the image is 16 wide and tan(yfov / 2) = 1/2).
+fn expected_flow(column: u32, row: u32, t: f64, dt: f64) -> [f64; 2] {
+    let camera = |t: f64| (0.0, t / 2.0, 4.0 - t / 2.0);
+    let (cx, cy, cz) = camera(t);
+    let x = cx + cz * (f64::from(column) + 0.5 - 8.0) / 16.0 + dt;
+    let y = cy - cz * (f64::from(row) + 0.5 - 8.0) / 16.0;
+    let (cx, cy, cz) = camera(t + dt);
+    let u = 16.0 * (x - cx) / cz + 7.5;
+    let v = 16.0 * (cy - y) / cz + 7.5;
+    [u - f64::from(column), v - f64::from(row)]
+}
+
+#[test]
+fn motion_vectors_match_the_analytic_flow_and_regions_keep_them_bit_for_bit() {
+    let dir = tempfile::tempdir().unwrap();
+    let scene = write_moving_scene(dir.path());
+    let size = SIZE.to_string();
+    let render = |output: &str, extra: &[&str]| {
+        let mut args = vec![
+            "render", &scene, "-o", output, "--width", &size, "--height", &size, "--spp", "1",
+            "--time", "1", "--fps", "4", "--aov", "motion",
+        ];
+        args.extend_from_slice(extra);
+        let run = common::vkpath(dir.path(), &args);
+        let stderr = String::from_utf8_lossy(&run.stderr).to_string();
+        assert!(run.status.success(), "{stderr}");
+        stderr
+    };
+    let stderr = render("flow.exr", &[]);
+    assert!(!stderr.contains("note: --aov motion"), "{stderr}");
+    let layers = channels(dir.path(), "flow.exr");
+    for row in 0..SIZE {
+        for column in 0..SIZE {
+            let i = (row * SIZE + column) as usize;
+            for (layer, dt) in [("motion_forward", 0.25), ("motion_backward", -0.25)] {
+                let want = expected_flow(column, row, 1.0, dt);
+                let got = [
+                    layers[&format!("{layer}.R")][i],
+                    layers[&format!("{layer}.G")][i],
+                ];
+                let at = format!("pixel ({column}, {row}) {layer}: {got:?} != {want:?}");
+                // The hit point's rounding (positions up to 5, f32) moves its projection by
+                // about 1e-5 px; 0.05 px is the bound.
+                assert!((f64::from(got[0]) - want[0]).abs() < 0.05, "{at}");
+                assert!((f64::from(got[1]) - want[1]).abs() < 0.05, "{at}");
+                assert_eq!(layers[&format!("{layer}.B")][i], 1.0, "{at}");
+            }
+        }
+    }
+    // The slide is 1 px a frame to the right; the camera's rise moves the image down
+    assert!(layers["motion_forward.R"].iter().all(|&u| u > 0.5));
+    // A region's layer is the full image's, bit for bit
+    render("part.exr", &["--region", "3,2,11,9"]);
+    let part = channels(dir.path(), "part.exr");
+    for name in ["motion_forward.R", "motion_forward.G", "motion_backward.G"] {
+        for y in 0..7u32 {
+            for x in 0..8u32 {
+                let whole = layers[name][((y + 2) * SIZE + x + 3) as usize];
+                assert_eq!(
+                    part[name][(y * 8 + x) as usize].to_bits(),
+                    whole.to_bits(),
+                    "{name} ({x}, {y})"
+                );
+            }
+        }
+    }
+    // A still scene's motion vectors are 0, with one note
+    let still = common::vkpath(
+        dir.path(),
+        &[
+            "render",
+            "-o",
+            "still.exr",
+            "--width",
+            "4",
+            "--height",
+            "4",
+            "--spp",
+            "1",
+            "--aov",
+            "motion",
+        ],
+    );
+    let stderr = String::from_utf8_lossy(&still.stderr);
+    assert!(still.status.success(), "{stderr}");
+    assert_eq!(stderr.matches("note: --aov motion").count(), 1, "{stderr}");
+    let still = channels(dir.path(), "still.exr");
+    assert!(still["motion_forward.R"].iter().all(|&u| u == 0.0));
+    assert!(still["motion_backward.G"].iter().all(|&v| v == 0.0));
 }

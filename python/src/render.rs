@@ -14,11 +14,13 @@ use glam::{UVec2, Vec3};
 use pyo3::prelude::*;
 use pyo3::types::{PyBool, PyByteArray, PyDict};
 use vkpath::camera_data::CameraData;
+use vkpath::cli::frames::DEFAULT_FPS;
 use vkpath::lens_request::{Focus, FocusError};
 use vkpath::lights::environment_source::{EnvironmentOptionNames, EnvironmentSource};
 use vkpath::render::adaptive::{NoiseThreshold, DEFAULT_MIN_SPP};
 use vkpath::render::aov::Aov;
 use vkpath::render::job::{production_settings, JobOptions, LiveImage};
+use vkpath::render::motion_vectors::{FrameNeighbours, NeighbourPose};
 use vkpath::render::post_process::PostProcess;
 use vkpath::render::region::PixelRegion;
 use vkpath::render::sequence::SequenceCache;
@@ -284,7 +286,7 @@ impl ImageSoFar {
     progress=None, device=None, validate=false, region=None, guiding=false,
     guide_training_spp=None, time=None, sample_range=None, noise_threshold=None,
     noise_min_spp=None, aovs=None, denoise=false, progress_image=false, session=None,
-    focus_at=None))]
+    focus_at=None, fps=None))]
 #[allow(clippy::too_many_arguments)]
 pub fn render<'py>(
     py: Python<'py>,
@@ -322,6 +324,7 @@ pub fn render<'py>(
     progress_image: bool,
     session: Option<PyRef<'py, Session>>,
     focus_at: Option<(u32, u32)>,
+    fps: Option<f64>,
 ) -> PyResult<Bound<'py, PyDict>> {
     let (settings, mut warnings) = Choices {
         width,
@@ -380,6 +383,16 @@ pub fn render<'py>(
     let facts = session.as_ref().map(|s| &s.facts);
     let (world, camera) = scene.at_time(time, settings.aspect(), facts)?;
     let camera = with_lens(camera, &world, &scene, focus_at, &settings)?;
+    let neighbours = match aovs.contains(&Aov::Motion) {
+        true => motion_neighbours(&scene, (&world, &camera), time, fps, &settings, facts)?,
+        false => None,
+    };
+    if aovs.contains(&Aov::Motion) && neighbours.is_none() {
+        warnings.push(
+            "aovs=['motion']: nothing in the scene moves around this time, so the motion vectors are 0"
+                .into(),
+        );
+    }
     let moving_geometry = facts
         .and_then(|f| *f.lock().unwrap_or_else(|e| e.into_inner()))
         .is_some_and(|f| f.moving_geometry);
@@ -440,6 +453,7 @@ pub fn render<'py>(
             post: PostProcess {
                 aovs: aovs.clone(),
                 denoise,
+                neighbours,
             },
             sequence: sequence.as_deref_mut(),
             ..RenderSession::new(&context, &world, &camera, &settings)
@@ -557,6 +571,47 @@ pub fn render<'py>(
     dict.set_item("camera", camera_json)?;
     dict.set_item("warnings", warnings)?;
     Ok(dict)
+}
+
+/// For `aovs=["motion"]`: the scene one frame interval (1 / `fps`, default 24 fps) before
+/// and after `time` (default 0), each with the camera `Scene::at_time` gives then (a
+/// camera that frames a file without one: the frame's own), as
+/// `vkpath render --aov motion` poses them; `None` where nothing moves (no animation, or
+/// the same triangles and camera). A time before 0 is posed at 0: glTF's animations hold
+/// their first key before it, so the pose is the same.
+fn motion_neighbours(
+    scene: &Scene,
+    (world, camera): (&vkpath::Scene, &vkpath::Camera),
+    time: Option<f64>,
+    fps: Option<f64>,
+    settings: &RenderSettings,
+    facts: Option<&Mutex<Option<SequenceFacts>>>,
+) -> PyResult<Option<Arc<FrameNeighbours>>> {
+    let fps = fps.unwrap_or(DEFAULT_FPS);
+    if !(fps > 0.0 && fps.is_finite()) {
+        return Err(argument_error(format!(
+            "fps={fps} is not a frame rate above 0"
+        )));
+    }
+    if !scene.is_animated()? {
+        return Ok(None);
+    }
+    let time = time.unwrap_or(0.0);
+    // A camera that frames the scene keeps the frame's framing (as the command line's keys)
+    let own_camera =
+        world.camera.is_some() || scene.camera.is_some() || scene.camera_index.is_some();
+    let pose = |at: f64| -> PyResult<NeighbourPose> {
+        let (posed, posed_camera) = scene.at_time(Some(at.max(0.0)), settings.aspect(), facts)?;
+        let seen_by = if own_camera { posed_camera } else { *camera };
+        Ok(NeighbourPose::new(at, &posed, seen_by))
+    };
+    let neighbours = FrameNeighbours::new(
+        world.triangles.len(),
+        pose(time - 1.0 / fps)?,
+        pose(time + 1.0 / fps)?,
+    )
+    .map_err(|e| message(e.to_string()))?;
+    Ok((!neighbours.is_still(world, camera)).then(|| Arc::new(neighbours)))
 }
 
 /// `camera` with the scene's thin lens (`Camera(aperture_radius=|f_stop=, ...)`) resolved for

@@ -329,6 +329,28 @@ impl Scene {
         })
     }
 
+    /// Whether the scene is a glTF file with animations (the only scenes that move with
+    /// `time=`); opens the file that `at_time` poses if no render has yet.
+    pub fn is_animated(&self) -> PyResult<bool> {
+        let Some((SceneSource::File(path), allow_external_paths)) = &self.source else {
+            return Ok(false);
+        };
+        if !is_gltf_path(path) {
+            return Ok(false);
+        }
+        let options = LoadOptions {
+            allow_external_paths: *allow_external_paths,
+            variant: self.variant.clone(),
+            ..LoadOptions::default()
+        };
+        let mut file = self.file.lock().unwrap_or_else(|e| e.into_inner());
+        let file = match &mut *file {
+            Some(file) => file,
+            None => file.insert(GltfFile::open(path, &options).map_err(to_py)?),
+        };
+        Ok(file.has_animations())
+    }
+
     /// The scene at `time` seconds (a glTF file's animations then, as `--time` loads it)
     /// with the camera renders use then: the file's camera of `use_camera`'s index at that
     /// time, else `render_camera`'s choice. Without a time, or for a scene that has no file,

@@ -82,6 +82,35 @@ def test_render_frames_yields_each_frame_at_frame_over_fps(tmp_path):
         next(vkpath.render_frames(scene, frames=[0], fps=0))
 
 
+def test_render_frames_yields_ground_truth_and_flow_per_frame(tmp_path):
+    """Issue 56: with aovs=, each frame is a dict of arrays with the camera data. The quad
+    slides 2 units/s along x, 3 units in front of the camera: at 8 fps a frame moves it 0.25
+    units, fx * 0.25 / 3 pixels to the right (forward flow) and as far left (backward)."""
+    scene = write_animated_quad(tmp_path)
+    frames = list(vkpath.render_frames(scene, frames=range(3, 5), fps=8,
+                                       aovs=["object_id", "motion"], **SMALL))
+    assert [frame for frame, _ in frames] == [3, 4]
+    for frame, outputs in frames:
+        assert set(outputs) == {"image", "object_id", "motion_forward", "motion_backward",
+                                "camera"}
+        assert outputs["image"].shape == (16, 16, 4)
+        ids = outputs["object_id"]
+        assert ids.dtype == np.uint32 and ids.shape == (16, 16)
+        hit = ids == 1
+        assert 0 < hit.sum() < ids.size, "the quad and the background are both seen"
+        shift = outputs["camera"]["k"][0, 0] * 0.25 / 3.0
+        forward, backward = outputs["motion_forward"][hit], outputs["motion_backward"][hit]
+        assert np.allclose(forward[:, 0], shift, atol=0.05), (frame, forward[:, 0], shift)
+        assert np.allclose(backward[:, 0], -shift, atol=0.05), (frame, backward[:, 0])
+        assert np.allclose(forward[:, 1], 0.0, atol=0.05)
+        assert np.all(forward[:, 2] == 1.0)
+        assert not outputs["motion_forward"][~hit].any()
+    # A scene that does not move (the Cornell box): 0, with a warning
+    with pytest.warns(UserWarning, match="motion vectors are 0"):
+        still = vkpath.render_result(width=4, height=4, spp=1, aovs=["motion"])
+    assert not still.layers["motion_forward"][..., :2].any()
+
+
 def write_camera_less(directory):
     """The animated quad without its camera, in front of a static quad twice its size."""
     document = json.loads(write_animated_quad(directory).read_text())

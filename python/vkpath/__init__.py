@@ -90,7 +90,8 @@ class RenderResult:
     #: The settings it was rendered with, by the command line's names.
     settings: Dict[str, Any]
     #: What ``aovs=`` asked for, by name ("albedo", "normal", "material", "position",
-    #: "uv", "object_position": (H, W, 3) float32; "depth", "z": (H, W) float32;
+    #: "uv", "object_position", and "motion_forward" and "motion_backward" for "motion":
+    #: (H, W, 3) float32; "depth", "z": (H, W) float32;
     #: "object_id", "instance_id", "material_id": (H, W) uint32, 0 where nothing is hit),
     #: and with ``denoise=True`` the image before denoising ("noisy", (H, W, 3)): the EXR
     #: layers ``--aov`` and ``--denoise`` write.
@@ -265,6 +266,7 @@ def render_result(
     aovs: Sequence[str] = (),
     denoise: bool = False,
     focus_at: Optional[Sequence[int]] = None,
+    fps: Optional[float] = None,
 ) -> RenderResult:
     """:func:`render`, returning the image with its moments, the samples taken and why the
     render stopped."""
@@ -305,6 +307,7 @@ def render_result(
         aovs=_aov_names(aovs),
         denoise=bool(denoise),
         focus_at=None if focus_at is None else _pixel_of(focus_at),
+        fps=None if fps is None else float(fps),
     )
     for warning in raw["warnings"]:
         warnings.warn(warning, stacklevel=2)
@@ -382,6 +385,7 @@ def render(
     aovs: Sequence[str] = (),
     denoise: bool = False,
     focus_at: Optional[Sequence[int]] = None,
+    fps: Optional[float] = None,
 ) -> np.ndarray:
     """Renders a scene and returns its linear RGBA image, float32, shape (height, width, 4),
     rows top-down: what ``vkpath render ... -o out.exr`` writes, bit for bit.
@@ -423,7 +427,10 @@ def render(
     default 16; ``spp`` is the cap). ``aovs=["albedo", "normal", "depth", "material"]`` is
     ``--aov`` (the arrays come in :func:`render_result`'s ``layers``; the ground truth's
     "object_id", "instance_id", "material_id" as uint32, "position", "uv",
-    "object_position", "z" from the ray through each pixel's centre), ``denoise=True`` is
+    "object_position", "z" from the ray through each pixel's centre; "motion": the layers
+    "motion_forward" and "motion_backward", (H, W, 3) float32 (du, dv, defined), where the
+    pixel's surface point is seen one frame later and earlier, in pixels, x right, y down,
+    frames 1 / ``fps`` apart (default 24), 0 where nothing moves), ``denoise=True`` is
     ``--denoise`` (Open Image Denoise with the albedo and normal; the image before is
     ``layers["noisy"]``); both after a render that took every sample or reached
     ``time_limit``, not after one the callback or Ctrl-C stopped.
@@ -471,6 +478,7 @@ def render(
         aovs=aovs,
         denoise=denoise,
         focus_at=focus_at,
+        fps=fps,
     ).image
 
 
@@ -480,7 +488,7 @@ def render_frames(
     frames: Union[str, Iterable[int]] = range(1),
     fps: float = 24.0,
     **settings: Any,
-) -> Iterator[Tuple[int, np.ndarray]]:
+) -> Iterator[Tuple[int, Any]]:
     """Renders frames of an animation, one after the other, yielding ``(frame, image)``:
     ``vkpath render --frames START..END --fps FPS``, frame f at time f / fps. ``frames``
     is any iterable of whole numbers at least 0 (``range(2, 5)``, a list), or the command
@@ -495,7 +503,13 @@ def render_frames(
     :func:`render` frames each time's pose), and where the animation moves geometry
     ``accel="auto"`` takes the BVH for every frame (not the constant triangles, whose
     kernel each frame would build again). With a camera, the images are bit for bit those
-    of :func:`render` at each frame's time."""
+    of :func:`render` at each frame's time.
+
+    With ``aovs=[...]`` (a dataset's ground truth), each frame yields ``(frame, outputs)``
+    instead: a dict of numpy arrays, "image" (H, W, 4) and each layer of
+    :class:`RenderResult`'s ``layers`` by name (the IDs as uint32; ``aovs=["motion"]``
+    gives "motion_forward" and "motion_backward", the flow to frame + 1 and frame - 1 at
+    ``fps``), and "camera", the frame's camera data (:class:`RenderResult`'s ``camera``)."""
     if "time" in settings:
         raise ArgumentError("render_frames takes frames= and fps=, not time=")
     frames = _frame_numbers(frames)
@@ -505,13 +519,17 @@ def render_frames(
     world = _scene_of(scene)
     device = _device_of(settings.pop("device", None))
     session = _vkpath.Session(device=device, validate=bool(settings.pop("validate", False)))
+    with_layers = bool(settings.get("aovs"))
     for frame in frames:
         token = _SESSION.set(session)
         try:
-            image = render(world, time=frame / fps, **settings)
+            result = render_result(world, time=frame / fps, fps=fps, **settings)
         finally:
             _SESSION.reset(token)
-        yield frame, image
+        if with_layers:
+            yield frame, {"image": result.image, **result.layers, "camera": result.camera}
+        else:
+            yield frame, result.image
 
 
 def _frame_numbers(frames: Union[str, Iterable[int]]) -> Iterator[int]:

@@ -183,6 +183,7 @@ def render(
     progress_image: bool = False,
     session: Optional["Session"] = None,
     focus_at: Optional[Tuple[int, int]] = None,
+    fps: Optional[float] = None,
 ) -> Dict[str, Any]: ...
 
 class Session:

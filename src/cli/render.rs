@@ -1,6 +1,7 @@
 //! `vkpath render`: loads a scene, renders it progressively and writes the image.
 
 use std::path::PathBuf;
+use std::sync::Arc;
 use std::time::Instant;
 
 use anyhow::bail;
@@ -22,8 +23,10 @@ use crate::image_io::output::{check_writable, ImageFormat};
 use crate::image_io::tonemap::RENDER_PNG_TONE_MAP;
 use crate::lights::environment_source::{EnvironmentSource, COMMAND_LINE_NAMES};
 use crate::render::adaptive::{NoiseThreshold, DEFAULT_MIN_SPP};
+use crate::render::aov::Aov;
 use crate::render::job::{production_settings, JobOptions, DEFAULT_CHECKPOINT_INTERVAL};
 use crate::render::metadata::{sampler_name, RenderMetadata};
+use crate::render::motion_vectors::{FrameNeighbours, NeighbourPose};
 use crate::render::region::PixelRegion;
 use crate::render::sequence::SequenceCache;
 use crate::render::settings::{Integrator, PixelFilter, RenderSettings};
@@ -113,7 +116,9 @@ pub struct RenderArgs {
     /// exact: object_id (the glTF node's index + 1), instance_id (the mesh copy's + 1),
     /// material_id (the material's + 1), 0 where nothing is hit, as float-exact integers
     /// (with a sidecar NAME.ids.json naming them); position (world space), uv (the first UV
-    /// set), object_position (the object's own frame), z (camera-space depth).
+    /// set), object_position (the object's own frame), z (camera-space depth); motion
+    /// (layers motion_forward and motion_backward: where the hit point is seen one frame,
+    /// 1 / --fps, later and earlier, minus where it is now, in pixels, x right, y down).
     #[arg(long, value_enum, value_delimiter = ',')]
     pub aov: Vec<crate::render::aov::Aov>,
     /// Denoise the image with Intel Open Image Denoise (the RT filter, HDR, guided by the
@@ -287,9 +292,10 @@ impl RenderArgs {
         }
         if self.frames.frames.is_none()
             && self.shutter.shutter.is_none()
+            && !self.aov.contains(&Aov::Motion)
             && self.frames.fps != super::frames::DEFAULT_FPS
         {
-            warn("--fps has no effect without --frames or --shutter".into());
+            warn("--fps has no effect without --frames, --shutter or --aov motion".into());
         }
         for warning in self.shutter.warnings() {
             warn(warning);
@@ -500,6 +506,7 @@ fn render(args: &RenderArgs) -> anyhow::Result<()> {
         }
         let camera = args.camera(&scene, reporting.talks() && first, scenes.animation_box)?;
         let scene = scenes.with_motion(args, frame, scene, &camera, first)?;
+        let post = scenes.with_neighbours(args, frame, (&scene, &camera), &post, first)?;
         if first && !args.job.quiet {
             note_a_still_sequence(args, scenes.gltf_file.as_ref());
         }
@@ -622,6 +629,7 @@ impl RenderArgs {
         let post = PostProcess {
             aovs: self.aov.clone(),
             denoise: self.denoise,
+            neighbours: None,
         };
         if !post.is_empty() && self.job.is_shard() {
             bail!("--aov and --denoise work on whole renders: merge the shards first");
@@ -787,6 +795,65 @@ impl FrameScenes {
             motion: Some(motion),
             ..scene
         })
+    }
+
+    /// `post` for the frame (`scene` seen by `camera`), with its neighbours for `--aov
+    /// motion` (`neighbours`).
+    fn with_neighbours(
+        &mut self,
+        args: &RenderArgs,
+        frame: FrameTime,
+        (scene, camera): (&Scene, &Camera),
+        post: &PostProcess,
+        first: bool,
+    ) -> anyhow::Result<PostProcess> {
+        Ok(PostProcess {
+            neighbours: self.neighbours(args, frame, (scene, camera), post, first)?,
+            ..post.clone()
+        })
+    }
+
+    /// The frame's scene one frame interval before and after it, for `--aov motion` (`None`
+    /// without it, or where nothing moves: the first frame then says once that the motion
+    /// vectors are 0). Each neighbour has its own camera as `with_motion`'s keys have.
+    fn neighbours(
+        &mut self,
+        args: &RenderArgs,
+        frame: FrameTime,
+        (scene, camera): (&Scene, &Camera),
+        post: &PostProcess,
+        first: bool,
+    ) -> anyhow::Result<Option<Arc<FrameNeighbours>>> {
+        if !post.aovs.contains(&Aov::Motion) {
+            return Ok(None);
+        }
+        let note = |why: &str| {
+            if first && !args.job.quiet {
+                eprintln!("vkpath: note: --aov motion: {why}, so the motion vectors are 0");
+            }
+        };
+        let Some(file) = self.gltf_file.as_mut().filter(|file| file.has_animations()) else {
+            note("the scene has no animation");
+            return Ok(None);
+        };
+        let own_camera = scene.camera.is_some() || args.camera_given();
+        let mut pose = |time: f64| -> anyhow::Result<NeighbourPose> {
+            let posed = file.pose(time as f32, &args.frames.pick())?;
+            let at = match own_camera {
+                true => args.camera(&posed, false, self.animation_box)?,
+                false => *camera,
+            };
+            Ok(NeighbourPose::new(time, &posed, at))
+        };
+        let interval = 1.0 / args.frames.fps;
+        let previous = pose(frame.time - interval)?;
+        let next = pose(frame.time + interval)?;
+        let neighbours = FrameNeighbours::new(scene.triangles.len(), previous, next)?;
+        if neighbours.is_still(scene, camera) {
+            note("nothing in the scene moves between the frames around it");
+            return Ok(None);
+        }
+        Ok(Some(Arc::new(neighbours)))
     }
 
     /// Nothing loaded yet, for the scene and environment `args` name.

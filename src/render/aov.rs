@@ -7,7 +7,8 @@
 //!
 //! The ground-truth outputs (`object_id`, `instance_id`, `material_id`, `position`, `uv`,
 //! `object_position`, `z`) are not averaged: they come from one sample through each pixel's
-//! centre (`crate::render::ground_truth`), so that IDs are exact integers.
+//! centre (`crate::render::ground_truth`), so that IDs are exact integers. So do the motion
+//! vectors (`motion`: two layers, `crate::render::motion_vectors`).
 
 use std::sync::Arc;
 
@@ -55,6 +56,10 @@ pub enum Aov {
     /// Ground truth: the hit's camera-space z, its distance along the optical axis (positive
     /// in front of the camera; `depth` is the distance along the ray).
     Z,
+    /// Ground truth: motion vectors, where the hit point is seen one frame later and one
+    /// earlier, in pixels (`crate::render::motion_vectors`): two layers, `motion_forward`
+    /// and `motion_backward`, each (du, dv, defined).
+    Motion,
 }
 
 impl Aov {
@@ -72,6 +77,7 @@ impl Aov {
             Aov::Uv => "uv",
             Aov::ObjectPosition => "object_position",
             Aov::Z => "z",
+            Aov::Motion => "motion",
         }
     }
 
@@ -104,13 +110,15 @@ impl Aov {
             | Aov::Position
             | Aov::Uv
             | Aov::ObjectPosition
-            | Aov::Z => Integrator::Triangle,
+            | Aov::Z
+            | Aov::Motion => Integrator::Triangle,
         }
     }
 }
 
 /// The pixels of a ground-truth `aov` (`Aov::is_ground_truth`) from each pixel's first hit,
 /// rows top-down (one-channel layers in all three components); 0 where nothing was hit.
+/// `Aov::Motion`'s two layers come from `motion_vectors::motion_pixels` (here: 0).
 pub fn ground_truth_pixels(
     scene: &Scene,
     camera: &Camera,
@@ -135,7 +143,8 @@ pub fn ground_truth_pixels(
             Aov::Uv => ids.uv(hit).extend(0.0).to_array(),
             Aov::ObjectPosition => ids.object_position(hit).to_array(),
             Aov::Z => [(ids.position(hit) - camera.position).dot(forward); 3],
-            _ => ids.position(hit).to_array(),
+            Aov::Position => ids.position(hit).to_array(),
+            Aov::Albedo | Aov::Normal | Aov::Depth | Aov::Material | Aov::Motion => [0.0; 3],
         }
     };
     Ok(hits

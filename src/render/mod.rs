@@ -18,6 +18,7 @@ pub mod ground_truth;
 pub mod guide_buffers;
 pub mod job;
 pub mod metadata;
+pub mod motion_vectors;
 pub mod multi;
 pub mod pipeline_cache;
 pub mod post_process;

@@ -11,6 +11,9 @@ use crate::image_io::output::ImageLayer;
 use crate::render::aov::{ground_truth_pixels, render_aov, Aov};
 use crate::render::ground_truth::render_first_hits;
 use crate::render::metadata::{RenderMetadata, AOV_FIELD, DENOISER_NAME, DENOISE_FIELD};
+use crate::render::motion_vectors::{
+    motion_pixels, FrameNeighbours, BACKWARD_LAYER, FORWARD_LAYER,
+};
 use crate::render::settings::RenderSettings;
 use crate::scene::Scene;
 use crate::vk::Context;
@@ -25,6 +28,9 @@ pub struct PostProcess {
     /// Whether to denoise the colour with Open Image Denoise (the EXR keeps the original in a
     /// `noisy` layer).
     pub denoise: bool,
+    /// For `Aov::Motion`: the frame's scene one frame before and after (`None`: a still
+    /// render, whose motion vectors are 0). Set per frame.
+    pub neighbours: Option<Arc<FrameNeighbours>>,
 }
 
 impl PostProcess {
@@ -64,34 +70,47 @@ impl PostProcess {
                 }
             }
         }
-        let mut rendered = Vec::new();
+        let mut rendered: Vec<(Aov, Vec<ImageLayer>)> = Vec::new();
+        let layer = |name: &str, pixels: Vec<[f32; 3]>, single_channel: bool| ImageLayer {
+            name: name.to_owned(),
+            pixels,
+            single_channel,
+        };
         // One render of the pixel centres' first hits serves every ground-truth layer
         let mut first_hits = None;
         for aov in wanted {
-            let pixels = if aov.is_ground_truth() {
+            let layers = if aov.is_ground_truth() {
                 let hits = match first_hits.take() {
                     Some(hits) => hits,
                     None => render_first_hits(context, scene, camera, settings)?,
                 };
-                let pixels = ground_truth_pixels(scene, camera, &hits, aov)?;
+                let layers = if aov == Aov::Motion {
+                    let size = (settings.width, settings.height);
+                    let neighbours = self.neighbours.as_deref();
+                    let [forward, backward] = motion_pixels(scene, camera, &hits, neighbours, size);
+                    vec![
+                        layer(FORWARD_LAYER, forward, false),
+                        layer(BACKWARD_LAYER, backward, false),
+                    ]
+                } else {
+                    let pixels = ground_truth_pixels(scene, camera, &hits, aov)?;
+                    vec![layer(aov.name(), pixels, aov.is_single_channel())]
+                };
                 first_hits = Some(hits);
-                pixels
+                layers
             } else {
-                render_aov(context, scene, camera, settings, aov)?
+                let pixels = render_aov(context, scene, camera, settings, aov)?;
+                vec![layer(aov.name(), pixels, aov.is_single_channel())]
             };
-            rendered.push((aov, pixels));
+            rendered.push((aov, layers));
         }
-        let layer_of = |aov: Aov| rendered.iter().find(|(a, _)| *a == aov).map(|(_, p)| p);
+        let layers_of = |aov: Aov| rendered.iter().find(|(a, _)| *a == aov).map(|(_, l)| l);
+        let layer_of = |aov: Aov| layers_of(aov).and_then(|l| l.first()).map(|l| &l.pixels);
         let mut layers: Vec<ImageLayer> = self
             .aovs
             .iter()
-            .filter_map(|&aov| {
-                layer_of(aov).map(|pixels| ImageLayer {
-                    name: aov.name().to_owned(),
-                    pixels: pixels.clone(),
-                    single_channel: aov.is_single_channel(),
-                })
-            })
+            .filter_map(|&aov| layers_of(aov).cloned())
+            .flatten()
             .collect();
         let mut result = image.clone();
         if self.denoise {
