@@ -112,6 +112,15 @@ pub static PROBE_BRDF: Kernel = Kernel {
     push_constant_size: size_of::<ProbePushConstants>() as u32,
 };
 
+/// The medium's probe (`crate::probe::medium_probe`): inputs and outputs only, as the
+/// BRDF's.
+pub static PROBE_MEDIUM: Kernel = Kernel {
+    source: "probe_medium.comp",
+    bindings: bindings::BRDF_PROBE,
+    specialization: &[],
+    push_constant_size: size_of::<ProbePushConstants>() as u32,
+};
+
 /// The texture functions' probe (`crate::probe::texture_probe`).
 pub static PROBE_SAMPLE_TEXTURE: Kernel = Kernel {
     source: "probe_sample_texture.comp",
@@ -185,7 +194,7 @@ pub static EXERCISE_SAMPLES: Kernel = Kernel {
 };
 
 /// Every kernel.
-pub static ALL_KERNELS: [&Kernel; 18] = [
+pub static ALL_KERNELS: [&Kernel; 19] = [
     &PATH_TRACER,
     &PROBE_GET_RANDOM_NUMBERS,
     &PROBE_SAMPLE_SPHERE,
@@ -197,6 +206,7 @@ pub static ALL_KERNELS: [&Kernel; 18] = [
     &PROBE_COMPUTE_DIRECT_ILLUMINATION,
     &PROBE_GET_RAY_RADIANCE,
     &PROBE_BRDF,
+    &PROBE_MEDIUM,
     &PROBE_SAMPLE_TEXTURE,
     &PROBE_PUNCTUAL_LIGHTS,
     &PROBE_LIGHT_TREE,
