@@ -43,6 +43,8 @@ mod light_tree_twins;
 mod lights_render;
 #[path = "long_paths.rs"]
 mod long_paths;
+#[path = "medium_render.rs"]
+mod medium_render;
 #[path = "medium_twins.rs"]
 mod medium_twins;
 #[path = "material_aov.rs"]

@@ -37,6 +37,15 @@ const ABSOLUTE_FLOOR: f64 = 1e-6;
 /// better, which the printed maximum shows.
 const ANGLE_TOLERANCE: f64 = 1e-3;
 
+/// Vulkan's absolute error bound of log(x) for x in [0.5, 2]: 2^-21. The sampled distance
+/// -log(1 - u_1) / sigma_t,c takes the log of a number near 1 for small u_1, whose relative
+/// error is then unbounded (measured: 5e-4 at u_1 = 4e-5), so the distance is allowed 4 times
+/// this bound divided by sigma_t,c besides the relative tolerance.
+const LOG_ABSOLUTE_ERROR: f64 = 1.0 / (1u64 << 21) as f64;
+
+/// The index of the sampled distance among `MediumProbeOutput::values`.
+const DISTANCE_VALUE: usize = 3;
+
 /// A random medium: each channel's coefficient 0 one time in five, else in [0, 2].
 fn random_medium(rng: &mut InputRng) -> Medium {
     let mut coefficients = || {
@@ -109,7 +118,14 @@ fn the_medium_functions_match_their_twins() {
             }
             let (g, c) = (f64::from(*g), f64::from(c));
             assert!(g.is_finite(), "case {case}, value {k}: GPU {g} ({input:?})");
-            let error = (g - c).abs() / c.abs().max(ABSOLUTE_FLOOR);
+            let mut error = (g - c).abs() / c.abs().max(ABSOLUTE_FLOOR);
+            if k == DISTANCE_VALUE {
+                let channel = ((input.random_numbers[0] * 3.0) as usize).min(2);
+                let medium = input.medium();
+                let sigma = f64::from((medium.absorption + medium.scattering)[channel]);
+                let log_error = 4.0 * LOG_ABSOLUTE_ERROR / sigma.max(f64::MIN_POSITIVE);
+                error = (error - log_error / c.abs().max(ABSOLUTE_FLOOR)).max(0.0);
+            }
             worst[k] = worst[k].max(error);
             assert!(
                 error <= RELATIVE_TOLERANCE,
@@ -120,7 +136,7 @@ fn the_medium_functions_match_their_twins() {
         worst_angle = worst_angle.max(angle);
         assert!(angle <= ANGLE_TOLERANCE, "case {case}: sampled directions {angle} rad apart");
     }
-    println!("worst relative errors per value: {worst:.2e?}; worst angle {worst_angle:.2e} rad");
+    println!("worst relative errors per value: {worst:?}; worst angle {worst_angle:.2e} rad");
     common::assert_validation_silent(&context);
 }
 

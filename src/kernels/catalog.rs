@@ -57,6 +57,11 @@ pub static PATH_TRACER: Kernel = Kernel {
         SpecConstants::one(c::SPEC_SCENE_HAS_SPECULAR),
         SpecConstants::one(c::SPEC_BVH_LAYOUT),
         SpecConstants::one(c::SPEC_THIN_LENS),
+        SpecConstants::one(c::SPEC_MEDIUM),
+        SpecConstants {
+            first_id: c::SPEC_MEDIUM_COEFFICIENTS,
+            count: c::MEDIUM_COEFFICIENT_COUNT,
+        },
     ],
     push_constant_size: size_of::<FramePushConstants>() as u32,
 };
