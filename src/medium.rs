@@ -92,7 +92,10 @@ impl Medium {
             .chain(self.scattering.to_array())
             .chain([self.anisotropy]);
         for (k, value) in values.enumerate() {
-            constants.push((contract::SPEC_MEDIUM_COEFFICIENTS + k as u32, value.to_bits()));
+            constants.push((
+                contract::SPEC_MEDIUM_COEFFICIENTS + k as u32,
+                value.to_bits(),
+            ));
         }
         constants
     }
@@ -137,12 +140,11 @@ impl FromStr for Medium {
                 "sigma_a" => medium.absorption = parse_coefficients(key, value)?,
                 "sigma_s" => medium.scattering = parse_coefficients(key, value)?,
                 "g" => {
-                    medium.anisotropy =
-                        value.trim().parse().map_err(|_| MediumError::BadValue {
-                            key: key.to_string(),
-                            value: value.to_string(),
-                            expected: "a number in (-1, 1)",
-                        })?
+                    medium.anisotropy = value.trim().parse().map_err(|_| MediumError::BadValue {
+                        key: key.to_string(),
+                        value: value.to_string(),
+                        expected: "a number in (-1, 1)",
+                    })?
                 }
                 _ => return Err(MediumError::UnknownPart(part.to_string())),
             }
@@ -178,7 +180,10 @@ mod tests {
         assert_eq!(medium.to_string().parse::<Medium>().unwrap(), medium);
         // Missing parts are 0
         let absorber: Medium = "sigma_a=1".parse().unwrap();
-        assert_eq!((absorber.scattering, absorber.anisotropy), (Vec3::ZERO, 0.0));
+        assert_eq!(
+            (absorber.scattering, absorber.anisotropy),
+            (Vec3::ZERO, 0.0)
+        );
     }
 
     #[test]

@@ -43,14 +43,14 @@ mod light_tree_twins;
 mod lights_render;
 #[path = "long_paths.rs"]
 mod long_paths;
-#[path = "medium_render.rs"]
-mod medium_render;
-#[path = "medium_twins.rs"]
-mod medium_twins;
 #[path = "material_aov.rs"]
 mod material_aov;
 #[path = "materials_render.rs"]
 mod materials_render;
+#[path = "medium_render.rs"]
+mod medium_render;
+#[path = "medium_twins.rs"]
+mod medium_twins;
 #[path = "punctual_twins.rs"]
 mod punctual_twins;
 #[path = "smooth_render.rs"]

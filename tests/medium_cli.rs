@@ -7,7 +7,9 @@ use crate::common;
 /// Runs `render` with `args` in a fresh directory and expects the usage error `needle`.
 fn expect_usage_error(args: &[&str], needle: &str) {
     let dir = tempfile::tempdir().unwrap();
-    let mut full = vec!["render", "-o", "out.exr", "--width", "8", "--height", "8", "--spp", "1"];
+    let mut full = vec![
+        "render", "-o", "out.exr", "--width", "8", "--height", "8", "--spp", "1",
+    ];
     full.extend_from_slice(args);
     let output = common::vkpath(dir.path(), &full);
     let stderr = String::from_utf8_lossy(&output.stderr);
@@ -15,7 +17,10 @@ fn expect_usage_error(args: &[&str], needle: &str) {
     let errors: Vec<&str> = stderr.lines().filter(|l| l.contains("error")).collect();
     assert_eq!(errors.len(), 1, "{args:?}: one error line, got {stderr}");
     assert!(errors[0].contains(needle), "{args:?}: {stderr}");
-    assert!(std::fs::read_dir(dir.path()).unwrap().next().is_none(), "{args:?} wrote a file");
+    assert!(
+        std::fs::read_dir(dir.path()).unwrap().next().is_none(),
+        "{args:?} wrote a file"
+    );
 }
 
 #[test]
@@ -43,8 +48,19 @@ fn a_fog_render_records_its_medium() {
     let output = common::vkpath(
         dir.path(),
         &[
-            "render", "-o", "fog.exr", "--width", "8", "--height", "8", "--spp", "2",
-            "--integrator", "mis", "--medium", "sigma_a=0.1:sigma_s=1,2,3:g=0.5",
+            "render",
+            "-o",
+            "fog.exr",
+            "--width",
+            "8",
+            "--height",
+            "8",
+            "--spp",
+            "2",
+            "--integrator",
+            "mis",
+            "--medium",
+            "sigma_a=0.1:sigma_s=1,2,3:g=0.5",
         ],
     );
     let stderr = String::from_utf8_lossy(&output.stderr);

@@ -61,9 +61,16 @@ fn mean_and_standard_error(image: &RenderedImage, spp: u32) -> [(f64, f64); 3] {
 fn assert_mean(image: &RenderedImage, spp: u32, expected: Vec3, what: &str) {
     for (channel, (mean, error)) in mean_and_standard_error(image, spp).into_iter().enumerate() {
         let z = (mean - f64::from(expected[channel])) / error;
-        println!("{what} channel {channel}: mean {mean:.5}, expected {:.5}, SE {error:.2e}, z {z:.2}", expected[channel]);
+        println!(
+            "{what} channel {channel}: mean {mean:.5}, expected {:.5}, SE {error:.2e}, z {z:.2}",
+            expected[channel]
+        );
         assert!(error > 0.0, "{what}: the estimate should be noisy");
-        assert!(z.abs() < 4.0, "{what} channel {channel}: mean {mean} vs {}, z = {z}", expected[channel]);
+        assert!(
+            z.abs() < 4.0,
+            "{what} channel {channel}: mean {mean} vs {}, z = {z}",
+            expected[channel]
+        );
     }
 }
 
@@ -91,7 +98,12 @@ fn a_pure_absorber_transmits_beer_lambert() {
     for integrator in INTEGRATORS {
         let spp = 64;
         let image = common::render_scene(&scene, settings(integrator, medium, spp));
-        assert_mean(&image, spp, expected, &format!("Beer-Lambert {integrator:?}"));
+        assert_mean(
+            &image,
+            spp,
+            expected,
+            &format!("Beer-Lambert {integrator:?}"),
+        );
     }
 }
 
@@ -115,7 +127,12 @@ fn a_scattering_furnace_shows_one_everywhere() {
     for integrator in INTEGRATORS {
         let spp = 32;
         let image = common::render_scene(&scene, settings(integrator, medium, spp));
-        assert_mean(&image, spp, Vec3::ONE, &format!("medium furnace {integrator:?}"));
+        assert_mean(
+            &image,
+            spp,
+            Vec3::ONE,
+            &format!("medium furnace {integrator:?}"),
+        );
     }
 }
 
@@ -159,6 +176,9 @@ fn nee_mis_and_cosine_agree_in_fog() {
         // 1% significance, Šidák-corrected over all blocks and channels inside z_test_images
         let report = z_test_images(&render(integrator, seed), &mis, 0.01).unwrap();
         println!("{integrator:?} vs mis in fog: {report:?}");
-        assert!(report.passed, "{integrator:?} disagrees with mis in fog: {report:?}");
+        assert!(
+            report.passed,
+            "{integrator:?} disagrees with mis in fog: {report:?}"
+        );
     }
 }

@@ -134,7 +134,10 @@ fn the_medium_functions_match_their_twins() {
         }
         let angle = f64::from(gpu.sampled().dot(cpu.sampled()).clamp(-1.0, 1.0)).acos();
         worst_angle = worst_angle.max(angle);
-        assert!(angle <= ANGLE_TOLERANCE, "case {case}: sampled directions {angle} rad apart");
+        assert!(
+            angle <= ANGLE_TOLERANCE,
+            "case {case}: sampled directions {angle} rad apart"
+        );
     }
     println!("worst relative errors per value: {worst:?}; worst angle {worst_angle:.2e} rad");
     common::assert_validation_silent(&context);

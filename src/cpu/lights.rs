@@ -15,11 +15,10 @@ use crate::cpu::importance_sampling::{
 };
 use crate::cpu::integrator::is_double_sided;
 use crate::cpu::integrators::weighs_by_mis;
-use crate::cpu::medium::get_medium_transmittance;
-use crate::medium::Medium;
 use crate::cpu::light_tree::{
     get_light_tree_probability, sample_light_tree, LightTexels, NO_LIGHT,
 };
+use crate::cpu::medium::get_medium_transmittance;
 use crate::cpu::path_guiding::get_path_direction_density;
 use crate::cpu::sample_dimensions::{VERTEX_PAIR_LIGHT_POINT, VERTEX_PAIR_LIGHT_SELECTION};
 use crate::cpu::scattering_vertex::{
@@ -30,6 +29,7 @@ use crate::cpu::sobol::{get_path_random_numbers, PathSample};
 use crate::cpu::surface::get_front_emission;
 use crate::cpu::workshop::ray_triangle_intersection;
 use crate::lights::EmissiveTriangles;
+use crate::medium::Medium;
 use crate::scene::Triangle;
 
 /// What the light estimators read of a scene: its triangles, its emissive triangles and the
@@ -198,7 +198,9 @@ pub fn get_shadow_transmittance(
     if ray_mesh_any_hit(scene_triangles, origin, direction, t_max) {
         return Vec3::ZERO;
     }
-    medium.map_or(Vec3::ONE, |medium| get_medium_transmittance(medium, distance))
+    medium.map_or(Vec3::ONE, |medium| {
+        get_medium_transmittance(medium, distance)
+    })
 }
 
 /// Twin of `sample_emissive_triangle_light`: a light by the power CDF or, with

@@ -197,10 +197,16 @@ mod tests {
                 );
         }
         let passing = f64::from(get_medium_passing_probability(&medium, d as f32));
-        assert!((integral + passing - 1.0).abs() < 1e-4, "{integral} + {passing}");
+        assert!(
+            (integral + passing - 1.0).abs() < 1e-4,
+            "{integral} + {passing}"
+        );
         // A vacuum never scatters and always passes with weight 1
         let vacuum = Medium::VACUUM;
-        assert_eq!(sample_medium_distance(&vacuum, Vec2::new(0.5, 0.5)), NO_HIT_T);
+        assert_eq!(
+            sample_medium_distance(&vacuum, Vec2::new(0.5, 0.5)),
+            NO_HIT_T
+        );
         assert_eq!(get_medium_passing_weight(&vacuum, NO_HIT_T), Vec3::ONE);
     }
 }

@@ -82,7 +82,8 @@ mod tests {
             let mut seed = UVec2::new(57, 611);
             let samples =
                 (0..500_000).map(|_| sample_phase_function(get_random_numbers(&mut seed), view, g));
-            let density = |direction: Vec3| f64::from(get_phase_function_density(view, direction, g));
+            let density =
+                |direction: Vec3| f64::from(get_phase_function_density(view, direction, g));
             let result = chi2_direction_test(
                 samples,
                 TargetDensity::SolidAngle(&density),

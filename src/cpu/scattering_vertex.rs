@@ -88,7 +88,11 @@ pub fn is_medium_vertex(vertex: &ScatteringVertex) -> bool {
 /// Twin of `get_vertex_scattering`: the BSDF f for light from `direction` towards the view.
 pub fn get_vertex_scattering(vertex: &ScatteringVertex, direction: Vec3) -> Vec3 {
     if is_medium_vertex(vertex) {
-        return Vec3::splat(get_phase_function(vertex.view, direction, vertex.anisotropy));
+        return Vec3::splat(get_phase_function(
+            vertex.view,
+            direction,
+            vertex.anisotropy,
+        ));
     }
     get_bsdf(&vertex.surface, vertex.view, direction)
 }
