@@ -10,8 +10,8 @@
 // Here each kind's sampler becomes a light_sample_t (direction, distance, radiance, density,
 // or a delta light's weight: sample_emissive_triangle_light(), sample_environment_light(),
 // sample_punctual_light()); estimate_light_sample() turns any of them into scattered light
-// at the path's scattering vertex (glsl/scattering_vertex.glsl: a surface point today, a
-// point in a medium later), the shadow ray's transmittance (get_shadow_transmittance()) and
+// at the path's scattering vertex (glsl/scattering_vertex.glsl: a surface point or a point
+// in the global medium), the shadow ray's transmittance (get_shadow_transmittance()) and
 // MIS; sample_direct_light() takes one sample of each kind at a vertex, whose sum estimates
 // all the direct light. The density that MIS
 // weighs an emitter a path found by is here too (get_emissive_triangle_density(); the
@@ -72,15 +72,20 @@ light_sample_t get_no_light_sample() {
     return light_sample;
 }
 
-// The fraction of light that a shadow ray from `origin` carries along `direction` out of
-// the scene (distance NO_HIT_T: the environment, a directional light) or from the light
-// `distance` away (the light at its end excluded by a relative margin of SHADOW_RAY_MARGIN =
-// 2^-14): 1 where nothing blocks it, 0 where a triangle does (every surface is opaque to
-// shadow rays, glass too). A medium between would make it the medium's transmittance
-// exp(-integral of sigma_t) in [0, 1].
-float get_shadow_transmittance(vec3 origin, vec3 direction, float distance) {
+// The fraction of light per channel that a shadow ray from `origin` carries along
+// `direction` out of the scene (distance NO_HIT_T: the environment, a directional light) or
+// from the light `distance` away (the light at its end excluded by a relative margin of
+// SHADOW_RAY_MARGIN = 2^-14): 0 where a triangle blocks it (every surface is opaque to
+// shadow rays, glass too), else the global medium's transmittance exp(-sigma_t distance)
+// (glsl/medium.glsl: 0 towards infinity where sigma_t > 0), 1 without a medium. The medium is
+// taken to fill the whole segment: a shadow ray inside a refracting volume is blocked by its
+// walls anyway, but for a light inside the same closed volume as the vertex it would be
+// attenuated wrongly (docs/media.md).
+vec3 get_shadow_transmittance(vec3 origin, vec3 direction, float distance) {
     float t_max = (distance >= NO_HIT_T) ? NO_HIT_T : distance * (1.0 - SHADOW_RAY_MARGIN);
-    return ray_mesh_any_hit(origin, direction, t_max) ? 0.0 : 1.0;
+    if (ray_mesh_any_hit(origin, direction, t_max))
+        return vec3(0.0);
+    return SCENE_HAS_MEDIUM ? get_medium_transmittance(get_global_medium(), distance) : vec3(1.0);
 }
 
 // An emissive triangle chosen by power (or by the light tree), and a point of it by solid
@@ -195,10 +200,10 @@ vec3 estimate_light_sample(scattering_vertex_t vertex, light_sample_t light_samp
         float weight = weighs_by_mis() ? get_power_heuristic_weight(light_sample.density, get_path_direction_density(vertex, light_sample.direction)) : 1.0;
         contribution = reflected / light_sample.density * weight;
     }
-    // The early return keeps a blocked sample's cost where it was; today T is 1 or 0, and
-    // the product with 1 is exact, so images keep every bit.
-    float transmittance = get_shadow_transmittance(vertex.light_sample_origin, light_sample.direction, light_sample.distance);
-    if (transmittance == 0.0)
+    // The early return keeps a blocked sample's cost where it was; without a medium T is 1
+    // or 0, and the product with 1 is exact, so images keep every bit.
+    vec3 transmittance = get_shadow_transmittance(vertex.light_sample_origin, light_sample.direction, light_sample.distance);
+    if (transmittance == vec3(0.0))
         return vec3(0.0);
     return contribution * transmittance;
 }

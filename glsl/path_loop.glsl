@@ -46,7 +46,18 @@
 // g_path.alpha_seed with the ray count instead and draws nothing, so the rays traced, and
 // their order, must stay as they are.
 //
-// Rust twin: src/cpu/path_loop.rs (Lambert). Needs MAX_PATH_LENGTH, INTEGRATOR,
+// The global medium (render --medium, glsl/medium.glsl; compiled out without one,
+// SCENE_HAS_MEDIUM): it fills the space outside closed refracting volumes (the path leaves it
+// where it refracts into a volume's front and comes back where it refracts out of its back).
+// On each segment in it, cosine, nee and mis sample a distance (sample_medium_distance(), at
+// VERTEX_PAIR_MEDIUM_DISTANCE of the segment's vertex): short of the hit, the path scatters
+// there (step_into_medium()) and that point is the path's vertex i instead of the hit, with
+// the light samples of nee and mis (the phase function in place of the BSDF, MIS against the
+// phase function's density), the phase function's direction (its own density, weight 1) and
+// Russian roulette; else the path goes on to the hit, weighted by get_medium_passing_weight().
+// A medium vertex counts towards MAX_PATH_LENGTH as a hit does, and takes no guide cell.
+//
+// Rust twin: src/cpu/path_loop.rs (Lambert, without media). Needs MAX_PATH_LENGTH, INTEGRATOR,
 // RUSSIAN_ROULETTE_START, SAMPLER and LIGHT_SAMPLING defined by the includer.
 #ifndef VKPATH_PATH_LOOP_GLSL
 #define VKPATH_PATH_LOOP_GLSL
@@ -143,6 +154,20 @@ bsdf_sample_t sample_guided_path_direction(scattering_vertex_t vertex, uint guid
     return get_guided_direction(vertex, guide_cell, bsdf_sample, bsdf_chosen, guide_random_numbers);
 }
 
+// Russian roulette after vertex `vertex` (past RUSSIAN_ROULETTE_START, importance-sampled
+// integrators only): the path continues with probability q = min(1, max throughput component
+// times eta_scale), and its throughput is divided by q, which keeps the estimate unbiased.
+// \return Whether the path continues
+bool survives_russian_roulette(int vertex, uint vertex_pairs, inout vec3 throughput_weight, float eta_scale) {
+    if (is_importance_sampled() && RUSSIAN_ROULETTE_START > 0 && vertex + 1 >= RUSSIAN_ROULETTE_START) {
+        float survival = min(1.0, max(throughput_weight.r, max(throughput_weight.g, throughput_weight.b)) * eta_scale);
+        if (get_path_random_numbers(vertex_pairs + VERTEX_PAIR_RUSSIAN_ROULETTE)[0] >= survival)
+            return false;
+        throughput_weight /= survival;
+    }
+    return true;
+}
+
 // What the camera ray's hit shows (ray tracing: the base colour; normal: the shading
 // normal; depth: the ray parameter t; material: (metallic, roughness, 0) after texture
 // lookups, (0, 1, 0) for the Lambertian triangles of kernels without USE_MATERIALS, which
@@ -188,10 +213,43 @@ vec3 get_path_radiance(vec3 ray_origin, vec3 ray_direction, inout uvec2 seed) {
     vec3 light_origin = vec3(0.0);
     vec3 light_normal = vec3(0.0);
     int vertex_count = is_direct_illumination() ? 2 : MAX_PATH_LENGTH;
+    // Whether the ray travels through the global medium (not inside a refracting volume)
+    bool in_medium = true;
     for (int i = 0; i != vertex_count; ++i) {
         float t;
         triangle_t triangle;
-        if (!ray_mesh_intersection(t, triangle, ray_origin, ray_direction)) {
+        bool hit = ray_mesh_intersection(t, triangle, ray_origin, ray_direction);
+        // The global medium before the hit: a scattering event there is vertex i
+        if (SCENE_HAS_MEDIUM && in_medium && is_importance_sampled()) {
+            medium_t medium = get_global_medium();
+            uint vertex_pairs = get_vertex_dimension_pair(i);
+            float segment = hit ? t : NO_HIT_T;
+            float distance = sample_medium_distance(medium, get_path_random_numbers(vertex_pairs + VERTEX_PAIR_MEDIUM_DISTANCE));
+            if (distance < segment) {
+                throughput_weight *= get_medium_scattering_weight(medium, distance);
+                ray_origin += distance * ray_direction;
+                scattering_vertex_t vertex = get_medium_vertex(ray_origin, -ray_direction, medium.anisotropy);
+                if (i + 1 == vertex_count)
+                    break;
+                // 2. Light samples, weighed by MIS against the phase function's directions
+                light_sampled = takes_light_samples();
+                g_path.guide_cell = GUIDE_NO_CELL;
+                if (light_sampled) {
+                    light_origin = vertex.light_sample_origin;
+                    light_normal = vertex.light_selection_normal;
+                    radiance += throughput_weight * sample_direct_light(vertex, vertex_pairs);
+                }
+                // 3. The phase function's direction: weight p / p = 1
+                ray_direction = sample_phase_function(get_path_random_numbers(vertex_pairs + VERTEX_PAIR_DIRECTION), vertex.view, medium.anisotropy);
+                direction_density = get_phase_function_density(vertex.view, ray_direction, medium.anisotropy);
+                previous_position = ray_origin;
+                if (!survives_russian_roulette(i, vertex_pairs, throughput_weight, eta_scale))
+                    break;
+                continue;
+            }
+            throughput_weight *= get_medium_passing_weight(medium, segment);
+        }
+        if (!hit) {
 #ifdef USE_MATERIALS
             if (!shows_first_hit())
                 radiance += get_found_environment(i, throughput_weight, ray_direction, direction_density, light_sampled);
@@ -244,14 +302,14 @@ vec3 get_path_radiance(vec3 ray_origin, vec3 ray_direction, inout uvec2 seed) {
         throughput_weight *= direction.weight;
         ray_origin = departure_origin;
         previous_position = ray_origin;
-        // Russian roulette: continue with probability q = min(1, max throughput component
-        // times eta_scale) and divide by q, which keeps the estimate unbiased.
-        if (is_importance_sampled() && RUSSIAN_ROULETTE_START > 0 && i + 1 >= RUSSIAN_ROULETTE_START) {
-            float survival = min(1.0, max(throughput_weight.r, max(throughput_weight.g, throughput_weight.b)) * eta_scale);
-            if (get_path_random_numbers(vertex_pairs + VERTEX_PAIR_RUSSIAN_ROULETTE)[0] >= survival)
-                break;
-            throughput_weight /= survival;
-        }
+#ifdef USE_MATERIALS
+        // A refraction into a volume's front leaves the global medium, one out of its back
+        // returns to it
+        if (SCENE_HAS_MEDIUM && (direction.lobes & BSDF_LOBE_TRANSMIT) != 0u && is_refracting(surface.material))
+            in_medium = surface.back_face;
+#endif
+        if (!survives_russian_roulette(i, vertex_pairs, throughput_weight, eta_scale))
+            break;
         // Training frames: where this vertex's light came from (glsl/path_guiding.glsl)
         record_guide_vertex(guide_grid_cell, vertex, ray_direction, direction_density, throughput_weight, radiance);
     }

@@ -46,7 +46,8 @@ const uint VERTEX_PAIR_GUIDE_CHOICE = 7u;
 const uint VERTEX_PAIR_GUIDE_DIRECTION = 8u;
 // Russian roulette's survival (its first number)
 const uint VERTEX_PAIR_RUSSIAN_ROULETTE = 9u;
-// Reserved: a medium's distance sample (participating media)
+// The global medium's distance sample on the segment that ends at this vertex: its channel
+// (first number) and distance (second) (glsl/path_loop.glsl, glsl/medium.glsl)
 const uint VERTEX_PAIR_MEDIUM_DISTANCE = 10u;
 // How many pairs each vertex has
 const uint VERTEX_PAIRS = 11u;

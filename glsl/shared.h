@@ -216,6 +216,14 @@
 #define VERTEX_ATTRIBUTE_TEX_COORD_1 2
 #define EXTRA_SHADING_TEXEL_COUNT 3
 #define MAX_MOTION_STEPS 64
+// A global homogeneous medium (render --medium, glsl/medium.glsl): 1 where the render has
+// one, else 0, which compiles the medium out of the path loop, the scattering vertex and the
+// shadow rays (every other render keeps its kernel and its image bit for bit). With 1, the
+// seven constants from SPEC_MEDIUM_COEFFICIENTS hold the float bits of sigma_a (r, g, b),
+// sigma_s (r, g, b) and the Henyey-Greenstein g, in that order (src/medium.rs).
+#define SPEC_MEDIUM 611
+#define SPEC_MEDIUM_COEFFICIENTS 612
+#define MEDIUM_COEFFICIENT_COUNT 7
 #define MOTION_TRIANGLE_TEXEL_COUNT 4
 #define MOTION_CAMERA_TEXEL_COUNT 4
 // Most triangles that can be passed as specialization constants.

@@ -70,6 +70,7 @@ pub mod image_io;
 pub mod kernels;
 pub mod lens_request;
 pub mod lights;
+pub mod medium;
 pub mod render;
 pub mod scene;
 #[doc(hidden)]

@@ -39,6 +39,8 @@ mod khronos_animation_cli;
 mod look_cli;
 #[path = "materials_cli.rs"]
 mod materials_cli;
+#[path = "medium_cli.rs"]
+mod medium_cli;
 #[path = "messages_cli.rs"]
 mod messages_cli;
 #[path = "motion_blur_cli.rs"]

@@ -47,6 +47,10 @@ mod long_paths;
 mod material_aov;
 #[path = "materials_render.rs"]
 mod materials_render;
+#[path = "medium_render.rs"]
+mod medium_render;
+#[path = "medium_twins.rs"]
+mod medium_twins;
 #[path = "punctual_twins.rs"]
 mod punctual_twins;
 #[path = "smooth_render.rs"]

@@ -51,6 +51,9 @@ const WITHOUT_TWINS: &[(&str, &str)] = &[
     ("get_found_environment", "MIS weight of get_environment_density and get_power_heuristic_weight, both twinned"),
     ("sample_environment_light", "sample_environment, get_environment_density and _radiance, all twinned"),
     ("sample_punctual_light", "uniform choice + get_punctual_irradiance, which is twinned"),
+    // The global medium's plumbing (glsl/scattering_vertex.glsl, glsl/path_loop.glsl).
+    ("get_global_medium", "reads the medium's specialization constants into a medium_t; the host holds crate::medium::Medium"),
+    ("survives_russian_roulette", "the path loop's roulette step, inline in cpu/path_loop.rs's loop and checked whole by the CPU reference renders"),
     // A gap, not a design: the CPU reference does not skip the start triangle this way.
     ("starts_on_triangle_plane", "gap: the CPU reference offsets rays instead; to be twinned with a probe"),
 ];

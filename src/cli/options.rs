@@ -14,6 +14,7 @@ use crate::render::metadata::parse_range;
 
 use crate::image_io::output::{ImageFormat, SaveOptions};
 use crate::image_io::tonemap::{Exposure, ToneMap};
+use crate::medium::Medium;
 use crate::render::settings::{
     default_russian_roulette_start, Accel, LightSampling, LightSelection, RenderSettings,
     SamplerKind, MAX_SPP,
@@ -148,6 +149,12 @@ pub struct RenderOptions {
     /// --spp].
     #[arg(long, value_name = "N")]
     pub guide_training_spp: Option<u32>,
+    /// A homogeneous medium (fog, haze) filling the space outside closed refracting volumes:
+    /// sigma_a=R,G,B:sigma_s=R,G,B:g=G, absorption and scattering per scene unit (one value
+    /// for all three channels allowed; a part left out is 0) and the Henyey-Greenstein g in
+    /// (-1, 1). cosine, nee and mis render it; docs/media.md.
+    #[arg(long, value_name = "sigma_a=R,G,B:sigma_s=R,G,B:g=G")]
+    pub medium: Option<Medium>,
 }
 
 impl RenderOptions {
@@ -167,6 +174,7 @@ impl RenderOptions {
             guiding: self
                 .guiding
                 .then(|| settings.guide_training(self.guide_training_spp)),
+            medium: self.medium,
             ..settings
         }
     }

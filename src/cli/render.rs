@@ -609,6 +609,9 @@ impl RenderArgs {
     /// first sample) and warns about the options that have no effect.
     fn prepare(&self) -> anyhow::Result<Prepared> {
         let settings = self.settings();
+        if settings.medium.is_some() && !settings.integrator.is_importance_sampled() {
+            return Err(UsageError(format!("--medium: --integrator {} renders no media (the workshop's integrator stays the workshop's): use cosine, nee or mis", settings.integrator.name())).into());
+        }
         settings.validate()?;
         let save = self.save.options(RENDER_PNG_TONE_MAP);
         let job = self.job.options(settings.spp, save)?;

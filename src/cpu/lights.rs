@@ -18,6 +18,7 @@ use crate::cpu::integrators::weighs_by_mis;
 use crate::cpu::light_tree::{
     get_light_tree_probability, sample_light_tree, LightTexels, NO_LIGHT,
 };
+use crate::cpu::medium::get_medium_transmittance;
 use crate::cpu::path_guiding::get_path_direction_density;
 use crate::cpu::sample_dimensions::{VERTEX_PAIR_LIGHT_POINT, VERTEX_PAIR_LIGHT_SELECTION};
 use crate::cpu::scattering_vertex::{
@@ -28,6 +29,7 @@ use crate::cpu::sobol::{get_path_random_numbers, PathSample};
 use crate::cpu::surface::get_front_emission;
 use crate::cpu::workshop::ray_triangle_intersection;
 use crate::lights::EmissiveTriangles;
+use crate::medium::Medium;
 use crate::scene::Triangle;
 
 /// What the light estimators read of a scene: its triangles, its emissive triangles and the
@@ -176,26 +178,29 @@ pub fn get_no_light_sample() -> LightSample {
     }
 }
 
-/// Twin of `get_shadow_transmittance`: the fraction of light the shadow ray carries, 1
-/// where no triangle lies within the segment (which ends `SHADOW_RAY_MARGIN`, 2^-14, short
-/// of a light at a finite distance), 0 where one does (every surface is opaque to shadow
-/// rays). A medium between would make it its transmittance in [0, 1].
+/// Twin of `get_shadow_transmittance`: the fraction of light per channel that the shadow ray
+/// carries: 0 where a triangle lies within the segment (which ends `SHADOW_RAY_MARGIN`,
+/// 2^-14, short of a light at a finite distance; every surface is opaque to shadow rays),
+/// else the global medium's transmittance over `distance` (`medium`: the GLSL's
+/// `get_global_medium()` where `SCENE_HAS_MEDIUM`, here `None` without one), else 1.
 pub fn get_shadow_transmittance(
     scene_triangles: &[Triangle],
+    medium: Option<&Medium>,
     origin: Vec3,
     direction: Vec3,
     distance: f32,
-) -> f32 {
+) -> Vec3 {
     let t_max = if distance >= NO_HIT_T {
         NO_HIT_T
     } else {
         distance * (1.0 - SHADOW_RAY_MARGIN)
     };
     if ray_mesh_any_hit(scene_triangles, origin, direction, t_max) {
-        0.0
-    } else {
-        1.0
+        return Vec3::ZERO;
     }
+    medium.map_or(Vec3::ONE, |medium| {
+        get_medium_transmittance(medium, distance)
+    })
 }
 
 /// Twin of `sample_emissive_triangle_light`: a light by the power CDF or, with
@@ -320,13 +325,15 @@ pub fn estimate_light_sample(
         };
         reflected / sample.density * weight
     };
+    // The CPU reference renders no media
     let transmittance = get_shadow_transmittance(
         scene.scene_triangles,
+        None,
         vertex.light_sample_origin,
         sample.direction,
         sample.distance,
     );
-    if transmittance == 0.0 {
+    if transmittance == Vec3::ZERO {
         return Vec3::ZERO;
     }
     contribution * transmittance
@@ -393,21 +400,39 @@ mod tests {
         let shaded = Vec3::new(-0.5, 0.0, 0.0);
         // Segments that stop short of the light (as a light sample's, by SHADOW_RAY_MARGIN).
         assert_eq!(
-            get_shadow_transmittance(&triangles, open, Vec3::Y, 0.99),
-            1.0
+            get_shadow_transmittance(&triangles, None, open, Vec3::Y, 0.99),
+            Vec3::ONE
         );
         assert_eq!(
-            get_shadow_transmittance(&triangles, shaded, Vec3::Y, 0.99),
-            0.0
+            get_shadow_transmittance(&triangles, None, shaded, Vec3::Y, 0.99),
+            Vec3::ZERO
         );
         // A ray that leaves the scene (NO_HIT_T) is blocked by whatever lies on it.
         assert_eq!(
-            get_shadow_transmittance(&triangles, shaded, -Vec3::Y, NO_HIT_T),
-            1.0
+            get_shadow_transmittance(&triangles, None, shaded, -Vec3::Y, NO_HIT_T),
+            Vec3::ONE
         );
         assert_eq!(
-            get_shadow_transmittance(&triangles, shaded, Vec3::Y, NO_HIT_T),
-            0.0
+            get_shadow_transmittance(&triangles, None, shaded, Vec3::Y, NO_HIT_T),
+            Vec3::ZERO
+        );
+        // A medium attenuates an open segment by Beer-Lambert, and one to infinity to 0
+        // where it has extinction (here in two channels), not a blocked one
+        let medium = Medium {
+            absorption: Vec3::new(0.5, 0.0, 0.0),
+            scattering: Vec3::new(0.0, 1.0, 0.0),
+            anisotropy: 0.0,
+        };
+        let open_fog = get_shadow_transmittance(&triangles, Some(&medium), open, Vec3::Y, 0.99);
+        assert_eq!(open_fog, (Vec3::new(-0.5, -1.0, -0.0) * 0.99).exp());
+        assert_eq!(open_fog.z, 1.0);
+        assert_eq!(
+            get_shadow_transmittance(&triangles, Some(&medium), shaded, -Vec3::Y, NO_HIT_T),
+            Vec3::new(0.0, 0.0, 1.0)
+        );
+        assert_eq!(
+            get_shadow_transmittance(&triangles, Some(&medium), shaded, Vec3::Y, 0.99),
+            Vec3::ZERO
         );
         // The estimate is the unblocked contribution times the transmittance.
         let lights = EmissiveTriangles::new(&triangles);

@@ -35,7 +35,8 @@ pub const VERTEX_PAIR_GUIDE_CHOICE: u32 = 7;
 pub const VERTEX_PAIR_GUIDE_DIRECTION: u32 = 8;
 /// Russian roulette's survival (its first number).
 pub const VERTEX_PAIR_RUSSIAN_ROULETTE: u32 = 9;
-/// Reserved: a medium's distance sample (participating media).
+/// The global medium's distance sample on the segment that ends at this vertex: its
+/// channel (first number) and distance (second).
 pub const VERTEX_PAIR_MEDIUM_DISTANCE: u32 = 10;
 /// How many pairs each vertex has.
 pub const VERTEX_PAIRS: u32 = 11;

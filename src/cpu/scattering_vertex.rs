@@ -1,25 +1,29 @@
 //! Rust twin of `glsl/scattering_vertex.glsl` over the Lambert surface
 //! (`crate::cpu::surface`): the point where a path scatters, as the light estimator
 //! (`crate::cpu::lights`), MIS, path guiding (`crate::cpu::path_guiding`) and the path loop
-//! (`crate::cpu::path_loop`) see it. Today every vertex is a surface point
-//! (`SCATTERING_VERTEX_SURFACE`); the kind leaves room for a point in a medium, whose
-//! scattering would be a phase function. Same names, same maths as the GLSL.
+//! (`crate::cpu::path_loop`) see it: a surface point (`SCATTERING_VERTEX_SURFACE`) or a
+//! point in a medium (`SCATTERING_VERTEX_MEDIUM`), whose scattering is the phase function
+//! (`crate::cpu::phase_function`). Same names, same maths as the GLSL (where
+//! `SCENE_HAS_MEDIUM` is true: the GPU folds the medium's branches away without one).
 
 use glam::Vec3;
 
+use crate::cpu::phase_function::{get_phase_function, get_phase_function_density};
 use crate::cpu::surface::{
     get_bsdf, get_bsdf_density, get_departure_origin, get_light_sample_origin,
     get_reflected_radiance, has_only_delta_lobes, Surface,
 };
 
-/// `SCATTERING_VERTEX_SURFACE`: the vertex is a surface point (the only kind today).
+/// `SCATTERING_VERTEX_SURFACE`: the vertex is a surface point.
 pub const SCATTERING_VERTEX_SURFACE: u32 = 0;
+/// `SCATTERING_VERTEX_MEDIUM`: the vertex is a point in a medium.
+pub const SCATTERING_VERTEX_MEDIUM: u32 = 1;
 
 /// Twin of `scattering_vertex_t`: a point where a path scatters, with what the light
 /// estimator needs of it.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct ScatteringVertex {
-    /// `SCATTERING_VERTEX_*`: what scatters here (today always `SCATTERING_VERTEX_SURFACE`).
+    /// `SCATTERING_VERTEX_*`: what scatters here.
     pub kind: u32,
     /// The point, world space (on the surface).
     pub position: Vec3,
@@ -31,7 +35,10 @@ pub struct ScatteringVertex {
     /// The normal with which the light tree bounds what the vertex receives, unit or 0 (no
     /// bound): `get_light_selection_normal`.
     pub light_selection_normal: Vec3,
-    /// The surface hit (kind `SCATTERING_VERTEX_SURFACE`).
+    /// The phase function's g, in (-1, 1) (kind `SCATTERING_VERTEX_MEDIUM`; 0 at a surface).
+    pub anisotropy: f32,
+    /// The surface hit (kind `SCATTERING_VERTEX_SURFACE`; all zero in a medium, where the
+    /// GLSL leaves it undefined).
     pub surface: Surface,
 }
 
@@ -49,18 +56,53 @@ pub fn get_surface_vertex(surface: Surface, position: Vec3, view: Vec3) -> Scatt
         view,
         light_sample_origin: get_light_sample_origin(&surface, position),
         light_selection_normal: get_light_selection_normal(&surface),
+        anisotropy: 0.0,
         surface,
     }
 }
 
+/// Twin of `get_medium_vertex`: a scattering event at `position` in a medium of phase
+/// function g = `anisotropy`, seen along `view`: shadow rays start at the point, no bound.
+pub fn get_medium_vertex(position: Vec3, view: Vec3, anisotropy: f32) -> ScatteringVertex {
+    ScatteringVertex {
+        kind: SCATTERING_VERTEX_MEDIUM,
+        position,
+        view,
+        light_sample_origin: position,
+        light_selection_normal: Vec3::ZERO,
+        anisotropy,
+        surface: Surface {
+            geometric_normal: Vec3::ZERO,
+            shading_normal: Vec3::ZERO,
+            base_color: Vec3::ZERO,
+            emission: Vec3::ZERO,
+        },
+    }
+}
+
+/// Twin of `is_medium_vertex`: whether the vertex lies in a medium.
+pub fn is_medium_vertex(vertex: &ScatteringVertex) -> bool {
+    vertex.kind == SCATTERING_VERTEX_MEDIUM
+}
+
 /// Twin of `get_vertex_scattering`: the BSDF f for light from `direction` towards the view.
 pub fn get_vertex_scattering(vertex: &ScatteringVertex, direction: Vec3) -> Vec3 {
+    if is_medium_vertex(vertex) {
+        return Vec3::splat(get_phase_function(
+            vertex.view,
+            direction,
+            vertex.anisotropy,
+        ));
+    }
     get_bsdf(&vertex.surface, vertex.view, direction)
 }
 
 /// Twin of `get_vertex_scattering_density`: the density w.r.t. solid angle with which the
 /// vertex's own sampler finds `direction`.
 pub fn get_vertex_scattering_density(vertex: &ScatteringVertex, direction: Vec3) -> f32 {
+    if is_medium_vertex(vertex) {
+        return get_phase_function_density(vertex.view, direction, vertex.anisotropy);
+    }
     get_bsdf_density(&vertex.surface, vertex.view, direction)
 }
 
@@ -72,17 +114,26 @@ pub fn get_vertex_scattered_radiance(
     scattering: Vec3,
     radiance: Vec3,
 ) -> Vec3 {
+    if is_medium_vertex(vertex) {
+        return scattering * radiance;
+    }
     get_reflected_radiance(&vertex.surface, direction, scattering, radiance)
 }
 
 /// Twin of `has_only_delta_scattering`: whether the vertex scatters only into Dirac peaks.
 pub fn has_only_delta_scattering(vertex: &ScatteringVertex) -> bool {
+    if is_medium_vertex(vertex) {
+        return false;
+    }
     has_only_delta_lobes(&vertex.surface)
 }
 
 /// Twin of `get_vertex_departure_origin`: where a path continues from after sampling a
 /// direction with `lobes` (`BSDF_LOBE_*`).
 pub fn get_vertex_departure_origin(vertex: &ScatteringVertex, lobes: u32) -> Vec3 {
+    if is_medium_vertex(vertex) {
+        return vertex.position;
+    }
     get_departure_origin(&vertex.surface, vertex.position, lobes)
 }
 
@@ -172,10 +223,36 @@ mod tests {
     fn shadow_rays_return_a_transmittance() {
         let lights = glsl("lights.glsl");
         assert!(lights.contains(
-            "float get_shadow_transmittance(vec3 origin, vec3 direction, float distance) {"
+            "vec3 get_shadow_transmittance(vec3 origin, vec3 direction, float distance) {"
         ));
         assert!(lights.contains("return contribution * transmittance;"));
         assert!(!lights.contains("bool is_visible("));
+    }
+
+    /// A medium vertex scatters by the phase function: value = density, no cosine, never
+    /// delta, shadow rays and departures from the point itself, no light tree bound.
+    #[test]
+    fn a_medium_vertex_scatters_by_its_phase_function() {
+        let position = Vec3::new(1.0, 2.0, 3.0);
+        let view = Vec3::new(0.0, 0.6, 0.8);
+        let vertex = get_medium_vertex(position, view, 0.6);
+        assert_eq!(vertex.kind, SCATTERING_VERTEX_MEDIUM);
+        assert_eq!(vertex.light_sample_origin, position);
+        assert_eq!(vertex.light_selection_normal, Vec3::ZERO);
+        assert_eq!(get_vertex_departure_origin(&vertex, 0), position);
+        assert!(!has_only_delta_scattering(&vertex));
+        // Forwards (the ray's own direction, -view) and backwards
+        for direction in [-view, view, Vec3::X] {
+            let p = get_phase_function(view, direction, 0.6);
+            assert_eq!(get_vertex_scattering(&vertex, direction), Vec3::splat(p));
+            assert_eq!(get_vertex_scattering_density(&vertex, direction), p);
+            let radiance = Vec3::new(1.0, 2.0, 4.0);
+            assert_eq!(
+                get_vertex_scattered_radiance(&vertex, direction, Vec3::splat(p), radiance),
+                p * radiance
+            );
+        }
+        assert!(get_vertex_scattering(&vertex, -view).x > get_vertex_scattering(&vertex, view).x);
     }
 
     #[test]

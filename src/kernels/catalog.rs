@@ -58,6 +58,11 @@ pub static PATH_TRACER: Kernel = Kernel {
         SpecConstants::one(c::SPEC_SCENE_VERTEX_ATTRIBUTES),
         SpecConstants::one(c::SPEC_BVH_LAYOUT),
         SpecConstants::one(c::SPEC_THIN_LENS),
+        SpecConstants::one(c::SPEC_MEDIUM),
+        SpecConstants {
+            first_id: c::SPEC_MEDIUM_COEFFICIENTS,
+            count: c::MEDIUM_COEFFICIENT_COUNT,
+        },
     ],
     push_constant_size: size_of::<FramePushConstants>() as u32,
 };
@@ -108,6 +113,15 @@ pub static PROBE_GET_RAY_RADIANCE: Kernel = scene_probe("probe_get_ray_radiance.
 /// The glTF BRDF's probe (`crate::probe::brdf_probe`).
 pub static PROBE_BRDF: Kernel = Kernel {
     source: "probe_brdf.comp",
+    bindings: bindings::BRDF_PROBE,
+    specialization: &[],
+    push_constant_size: size_of::<ProbePushConstants>() as u32,
+};
+
+/// The medium's probe (`crate::probe::medium_probe`): inputs and outputs only, as the
+/// BRDF's.
+pub static PROBE_MEDIUM: Kernel = Kernel {
+    source: "probe_medium.comp",
     bindings: bindings::BRDF_PROBE,
     specialization: &[],
     push_constant_size: size_of::<ProbePushConstants>() as u32,
@@ -187,7 +201,7 @@ pub static EXERCISE_SAMPLES: Kernel = Kernel {
 };
 
 /// Every kernel.
-pub static ALL_KERNELS: [&Kernel; 18] = [
+pub static ALL_KERNELS: [&Kernel; 19] = [
     &PATH_TRACER,
     &PROBE_GET_RANDOM_NUMBERS,
     &PROBE_SAMPLE_SPHERE,
@@ -199,6 +213,7 @@ pub static ALL_KERNELS: [&Kernel; 18] = [
     &PROBE_COMPUTE_DIRECT_ILLUMINATION,
     &PROBE_GET_RAY_RADIANCE,
     &PROBE_BRDF,
+    &PROBE_MEDIUM,
     &PROBE_SAMPLE_TEXTURE,
     &PROBE_PUNCTUAL_LIGHTS,
     &PROBE_LIGHT_TREE,

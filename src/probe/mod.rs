@@ -12,6 +12,8 @@
 //!   inputs and outputs;
 //! - `guiding_probe`: path guiding's guide (`glsl/probe_guiding.comp`);
 //! - `light_tree_probe`: the light tree's probe (`glsl/probe_light_tree.comp`);
+//! - `medium_probe`: a homogeneous medium and its phase function (`glsl/probe_medium.comp`),
+//!   which binds only its inputs and outputs;
 //! - `punctual_probe`: the punctual lights' probe (`glsl/probe_punctual_lights.comp`),
 //!   which binds the lights' words instead of a scene;
 //! - `surface_probe`: the surface functions' probe (`glsl/probe_surface.comp`), which
@@ -28,6 +30,7 @@ pub mod inputs;
 pub mod kernel;
 pub mod layout;
 pub mod light_tree_probe;
+pub mod medium_probe;
 pub mod punctual_probe;
 pub mod runner;
 pub mod surface_probe;

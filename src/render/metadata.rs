@@ -63,8 +63,8 @@ const SETTING_NAMES: [&str; 10] = [
 /// and `--guiding`'s training samples per pixel (which, with the rest, decide the guide),
 /// and a thin lens's aperture radius, focus distance, blades and rotation (depth of field),
 /// and motion blur's shutter (frame intervals), its position and its keys (`--motion-steps`)
-/// where the scene moves across it.
-const OPTIONAL_SETTING_NAMES: [&str; 12] = [
+/// where the scene moves across it, and the global medium (`--medium`, as its text).
+const OPTIONAL_SETTING_NAMES: [&str; 13] = [
     "region",
     "noise_threshold",
     "noise_min_spp",
@@ -77,6 +77,7 @@ const OPTIONAL_SETTING_NAMES: [&str; 12] = [
     "shutter",
     "shutter_position",
     "motion_steps",
+    "medium",
 ];
 
 /// What a render was.
@@ -197,6 +198,9 @@ impl RenderMetadata {
             settings_list.push(("shutter".into(), shutter.frames.to_string()));
             settings_list.push(("shutter_position".into(), shutter.position.name().into()));
             settings_list.push(("motion_steps".into(), shutter.steps.to_string()));
+        }
+        if let Some(medium) = &settings.medium {
+            settings_list.push(("medium".into(), medium.to_string()));
         }
         RenderMetadata {
             settings: settings_list,

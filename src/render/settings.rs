@@ -3,6 +3,7 @@
 use crate::contract;
 use crate::error::{Error, Result};
 use crate::guiding::training::GuideTraining;
+use crate::medium::Medium;
 use crate::render::adaptive::NoiseThreshold;
 use crate::render::region::PixelRegion;
 
@@ -267,6 +268,9 @@ pub struct RenderSettings {
     /// Path guiding (`--guiding`, nee and mis only): a guide trained with this budget before
     /// the render's `spp` samples (`crate::guiding::training`); `None`: BSDF sampling alone.
     pub guiding: Option<GuideTraining>,
+    /// A homogeneous medium filling the space outside closed refracting volumes
+    /// (`--medium`; cosine, nee and mis only); `None`: a vacuum, and kernels without media.
+    pub medium: Option<Medium>,
 }
 
 /// Russian roulette's start where none is given: from vertex 3, or never with path guiding.
@@ -303,6 +307,7 @@ impl Default for RenderSettings {
             tile_size: None,
             noise_threshold: None,
             guiding: None,
+            medium: None,
         }
     }
 }
@@ -376,6 +381,17 @@ impl RenderSettings {
                 ));
             }
         }
+        if let Some(medium) = &self.medium {
+            if !self.integrator.is_importance_sampled() {
+                return bad(format!(
+                    "--medium: --integrator {} renders no media: use cosine, nee or mis",
+                    self.integrator.name()
+                ));
+            }
+            medium
+                .validate()
+                .map_err(|error| Error::InvalidSettings(format!("--medium: {error}")))?;
+        }
         Ok(())
     }
 
@@ -408,7 +424,7 @@ impl RenderSettings {
     /// The path tracer's specialization constants for these settings, as
     /// (`SPEC_*` id, value).
     pub fn specialization(&self) -> Vec<(u32, u32)> {
-        vec![
+        let mut constants = vec![
             (contract::SPEC_SAMPLE_COUNT, self.samples_per_frame),
             (contract::SPEC_MAX_PATH_LENGTH, self.max_path_length),
             (
@@ -425,7 +441,12 @@ impl RenderSettings {
                 contract::SPEC_LIGHT_SAMPLING,
                 self.light_sampling.spec_constant(),
             ),
-        ]
+        ];
+        // Without a medium none: the kernel's default compiles media out, bit for bit
+        if let Some(medium) = &self.medium {
+            constants.extend(medium.specialization());
+        }
+        constants
     }
 }
 
