@@ -95,7 +95,8 @@ pub(super) fn widen_with_sources(nodes: &[GpuBvhNode]) -> (Vec<GpuWideBvhNode>, 
     }
 }
 
-/// `widen` with nodes of up to `width` children and no fallback.
+/// `widen` with nodes of up to `width` children and no fallback (for the tests).
+#[cfg(test)]
 pub(super) fn widen_to(nodes: &[GpuBvhNode], width: usize) -> Vec<GpuWideBvhNode> {
     widen_to_with_sources(nodes, width).0
 }
