@@ -99,7 +99,7 @@ fn write_scene(dir: &Path, camera_moves: bool) {
         "nodes": [
             {"name": "square", "mesh": 0, "translation": square_translation},
             {"name": "camera", "camera": 0, "translation": camera_translation},
-            {"name": "spinner", "mesh": 0, "translation": SPINNER_CENTRE, "scale": [SPINNER_SCALE; 3]},
+            {"name": "spinner", "mesh": 0, "translation": SPINNER_CENTRE, "scale": [SPINNER_SCALE, SPINNER_SCALE, SPINNER_SCALE]},
         ],
         "cameras": [{"type": "perspective", "perspective": {"yfov": FOV_DEGREES.to_radians(), "znear": 0.01}}],
         "meshes": [{"primitives": [{"attributes": {"POSITION": 0}, "indices": 1, "material": 0}]}],
@@ -264,7 +264,10 @@ fn spinner_blurs_as_the_mean_of_stills(blurred: &[[f32; 4]], stills: &[Vec<[f32;
     // midpoint rule in time (over 336 pixels, a false alarm about once in 400 runs)
     for i in pixels.clone() {
         let (b, m) = (blurred[i][0], mean(i));
-        assert!((b - m).abs() < 0.2, "spinner pixel {i}: blurred {b}, stills' mean {m}");
+        assert!(
+            (b - m).abs() < 0.2,
+            "spinner pixel {i}: blurred {b}, stills' mean {m}"
+        );
     }
     // The test has teeth: the first still (an unblurred spinner) is far from the mean where
     // it covers a pixel wholly or not at all (exactly 1 or 0: no noise) and the turn covers
