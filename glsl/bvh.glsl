@@ -41,7 +41,7 @@ triangle_t get_traversal_triangle(uint index) {
     return get_triangle(index);
 #else
     // Motion blur: the compact positions are the still scene's; the keys' are interpolated
-    // at the ray's time (the nodes' boxes hold every key's triangle, src/render/gpu_motion.rs)
+    // at the ray's time (as the nodes' boxes are, bvh_enter_moving_children())
     if (MOTION_STEPS != 0u)
         return get_triangle(index);
     int first = int(uint(TRAVERSAL_TRIANGLE_TEXEL_COUNT) * index);
@@ -61,8 +61,17 @@ triangle_t get_traversal_triangle(uint index) {
 // cwbvh.glsl, which bvh_closest_hit() and bvh_any_hit() then hand the ray to.
 layout(constant_id = SPEC_BVH_LAYOUT) const int BVH_LAYOUT = BVH_LAYOUT_WIDE;
 
+// Motion blur's tree (MOTION_STEPS != 0): texels of one node, MOTION_BVH_KEY_TEXEL_COUNT per
+// key (the six box texels of the still node's layout), then the child references
+// (glsl/shared.h; src/bvh/motion.rs writes them).
+int get_motion_bvh_node_texel_count() {
+    return MOTION_BVH_KEY_TEXEL_COUNT * int(MOTION_STEPS) + 1;
+}
+
 // Number of nodes in the BVH.
 uint get_bvh_node_count() {
+    if (MOTION_STEPS != 0u)
+        return uint(textureSize(g_bvh_node_texels)) / uint(get_motion_bvh_node_texel_count());
     return uint(textureSize(g_bvh_node_texels)) / uint(WIDE_BVH_NODE_TEXEL_COUNT);
 }
 
@@ -134,19 +143,19 @@ void order_bvh_children(inout float entry_a, inout uint child_a, inout float ent
     child_b = swap ? child : child_b;
 }
 
-// The children of interior node i whose boxes the ray enters before t_max, nearest first:
-// how many (0 .. WIDE_BVH_WIDTH); out_children holds them in its first components, with
-// the parameters where the ray enters them in out_entries (the slab test of
+// The children of a node whose boxes the ray enters before t_max, nearest first: how many
+// (0 .. WIDE_BVH_WIDTH); out_children holds them in its first components, with the
+// parameters where the ray enters them in out_entries (the slab test of
 // bvh_ray_box_intersection() for four boxes at once, component by component).
-uint bvh_enter_children(uint node_index, vec3 ray_origin, vec3 inverse_direction, float t_max, out uvec4 out_children, out vec4 out_entries) {
-    int first = WIDE_BVH_NODE_TEXEL_COUNT * int(node_index);
-    vec4 t_lower_x = (uintBitsToFloat(texelFetch(g_bvh_node_texels, first)) - ray_origin.x) * inverse_direction.x;
-    vec4 t_upper_x = (uintBitsToFloat(texelFetch(g_bvh_node_texels, first + 1)) - ray_origin.x) * inverse_direction.x;
-    vec4 t_lower_y = (uintBitsToFloat(texelFetch(g_bvh_node_texels, first + 2)) - ray_origin.y) * inverse_direction.y;
-    vec4 t_upper_y = (uintBitsToFloat(texelFetch(g_bvh_node_texels, first + 3)) - ray_origin.y) * inverse_direction.y;
-    vec4 t_lower_z = (uintBitsToFloat(texelFetch(g_bvh_node_texels, first + 4)) - ray_origin.z) * inverse_direction.z;
-    vec4 t_upper_z = (uintBitsToFloat(texelFetch(g_bvh_node_texels, first + 5)) - ray_origin.z) * inverse_direction.z;
-    uvec4 children = texelFetch(g_bvh_node_texels, first + 6);
+// \param lower_x, upper_x, lower_y, upper_y, lower_z, upper_z The four children's boxes, world space
+// \param children Their references (WIDE_BVH_EMPTY_CHILD: an unused slot)
+uint bvh_enter_boxes(vec4 lower_x, vec4 upper_x, vec4 lower_y, vec4 upper_y, vec4 lower_z, vec4 upper_z, uvec4 children, vec3 ray_origin, vec3 inverse_direction, float t_max, out uvec4 out_children, out vec4 out_entries) {
+    vec4 t_lower_x = (lower_x - ray_origin.x) * inverse_direction.x;
+    vec4 t_upper_x = (upper_x - ray_origin.x) * inverse_direction.x;
+    vec4 t_lower_y = (lower_y - ray_origin.y) * inverse_direction.y;
+    vec4 t_upper_y = (upper_y - ray_origin.y) * inverse_direction.y;
+    vec4 t_lower_z = (lower_z - ray_origin.z) * inverse_direction.z;
+    vec4 t_upper_z = (upper_z - ray_origin.z) * inverse_direction.z;
     vec4 t_entry = max(max(min(t_lower_x, t_upper_x), min(t_lower_y, t_upper_y)), max(min(t_lower_z, t_upper_z), vec4(0.0)));
     vec4 t_exit = min(min(max(t_lower_x, t_upper_x), max(t_lower_y, t_upper_y)), max(t_lower_z, t_upper_z)) * BVH_SLAB_PADDING;
     bvec4 entered = bvec4(uvec4(lessThanEqual(t_entry, min(t_exit, vec4(t_max)))) & uvec4(notEqual(children, uvec4(WIDE_BVH_EMPTY_CHILD))));
@@ -160,6 +169,45 @@ uint bvh_enter_children(uint node_index, vec3 ray_origin, vec3 inverse_direction
     order_bvh_children(out_entries.y, out_children.y, out_entries.z, out_children.z);
     uvec4 counted = uvec4(entered);
     return counted.x + counted.y + counted.z + counted.w;
+}
+
+// Motion blur: bvh_enter_boxes() of interior node i's children's boxes at g_motion_time, each
+// lerped between its boxes at the two keys around the time. The lerped box holds the
+// children's triangles at that time: a box at key k holds its triangles' vertices at key k,
+// the kernel places a vertex at the same lerp of its two keys' positions
+// (get_moving_packed_triangle()), and a lerp with one weight keeps the order of corners and
+// points; a node's box at a key is the union of its children's at that key (src/bvh/motion.rs).
+uint bvh_enter_moving_children(uint node_index, vec3 ray_origin, vec3 inverse_direction, float t_max, out uvec4 out_children, out vec4 out_entries) {
+    uint key;
+    float fraction = get_motion_segment(g_motion_time, key);
+    int first = get_motion_bvh_node_texel_count() * int(node_index);
+    int before = first + MOTION_BVH_KEY_TEXEL_COUNT * int(key);
+    int after = before + MOTION_BVH_KEY_TEXEL_COUNT;
+    vec4 lower_x = mix(uintBitsToFloat(texelFetch(g_bvh_node_texels, before)), uintBitsToFloat(texelFetch(g_bvh_node_texels, after)), fraction);
+    vec4 upper_x = mix(uintBitsToFloat(texelFetch(g_bvh_node_texels, before + 1)), uintBitsToFloat(texelFetch(g_bvh_node_texels, after + 1)), fraction);
+    vec4 lower_y = mix(uintBitsToFloat(texelFetch(g_bvh_node_texels, before + 2)), uintBitsToFloat(texelFetch(g_bvh_node_texels, after + 2)), fraction);
+    vec4 upper_y = mix(uintBitsToFloat(texelFetch(g_bvh_node_texels, before + 3)), uintBitsToFloat(texelFetch(g_bvh_node_texels, after + 3)), fraction);
+    vec4 lower_z = mix(uintBitsToFloat(texelFetch(g_bvh_node_texels, before + 4)), uintBitsToFloat(texelFetch(g_bvh_node_texels, after + 4)), fraction);
+    vec4 upper_z = mix(uintBitsToFloat(texelFetch(g_bvh_node_texels, before + 5)), uintBitsToFloat(texelFetch(g_bvh_node_texels, after + 5)), fraction);
+    uvec4 children = texelFetch(g_bvh_node_texels, first + MOTION_BVH_KEY_TEXEL_COUNT * int(MOTION_STEPS));
+    return bvh_enter_boxes(lower_x, upper_x, lower_y, upper_y, lower_z, upper_z, children, ray_origin, inverse_direction, t_max, out_children, out_entries);
+}
+
+// The children of interior node i whose boxes the ray enters before t_max, nearest first
+// (bvh_enter_boxes()); with motion blur, their boxes at the ray's time
+// (bvh_enter_moving_children()).
+uint bvh_enter_children(uint node_index, vec3 ray_origin, vec3 inverse_direction, float t_max, out uvec4 out_children, out vec4 out_entries) {
+    if (MOTION_STEPS != 0u)
+        return bvh_enter_moving_children(node_index, ray_origin, inverse_direction, t_max, out_children, out_entries);
+    int first = WIDE_BVH_NODE_TEXEL_COUNT * int(node_index);
+    vec4 lower_x = uintBitsToFloat(texelFetch(g_bvh_node_texels, first));
+    vec4 upper_x = uintBitsToFloat(texelFetch(g_bvh_node_texels, first + 1));
+    vec4 lower_y = uintBitsToFloat(texelFetch(g_bvh_node_texels, first + 2));
+    vec4 upper_y = uintBitsToFloat(texelFetch(g_bvh_node_texels, first + 3));
+    vec4 lower_z = uintBitsToFloat(texelFetch(g_bvh_node_texels, first + 4));
+    vec4 upper_z = uintBitsToFloat(texelFetch(g_bvh_node_texels, first + 5));
+    uvec4 children = texelFetch(g_bvh_node_texels, first + 6);
+    return bvh_enter_boxes(lower_x, upper_x, lower_y, upper_y, lower_z, upper_z, children, ray_origin, inverse_direction, t_max, out_children, out_entries);
 }
 
 // Pushes the entered children but the nearest (components 1 .. count - 1 of

@@ -49,7 +49,8 @@
 // batch and adds it up after, for the progress bar's share of converged pixels.
 #define BINDING_CONVERGED_PIXELS 26
 // Builds with USE_BVH: the BVH's nodes, a texel buffer of RGBA32_UINT: the 4-wide tree's
-// (WIDE_BVH_NODE_TEXEL_COUNT texels each, glsl/bvh.glsl) or, with SPEC_BVH_LAYOUT
+// (WIDE_BVH_NODE_TEXEL_COUNT texels each, glsl/bvh.glsl; with motion blur the motion tree's,
+// MOTION_BVH_KEY_TEXEL_COUNT * SPEC_MOTION_STEPS + 1 texels each) or, with SPEC_BVH_LAYOUT
 // BVH_LAYOUT_COMPRESSED, the compressed tree's (CWBVH_NODE_TEXEL_COUNT, glsl/cwbvh.glsl).
 #define BINDING_BVH_NODES 3
 // Builds with USE_BVH: the triangles' vertex positions alone, for the traversal's triangle
@@ -556,6 +557,12 @@
 // an unused slot: 0, the root's index, which is no node's child.
 #define WIDE_BVH_WIDTH 4
 #define WIDE_BVH_NODE_TEXEL_COUNT 7
+// Motion blur's 4-wide BVH (SPEC_MOTION_STEPS != 0; src/bvh/motion.rs, Embree's linear motion
+// blur): the still tree's node with its six box texels once per key, so a node takes
+// MOTION_BVH_KEY_TEXEL_COUNT * MOTION_STEPS + 1 texels: key 0's six (lower x, upper x, lower y,
+// upper y, lower z, upper z of the four children), key 1's, ..., then the child references.
+// The traversal lerps the two keys' boxes around the ray's time (glsl/bvh.glsl).
+#define MOTION_BVH_KEY_TEXEL_COUNT 6
 #define WIDE_BVH_LEAF_COUNT_SHIFT 24
 #define WIDE_BVH_INDEX_MASK 16777215
 #define WIDE_BVH_EMPTY_CHILD 0

@@ -19,7 +19,6 @@ const WITHOUT_TWINS: &[(&str, &str)] = &[
     // Motion blur's reads of the keys after the triangles (glsl/scene.glsl): texel reads and
     // a lerp between two keys; the host's keys are scene::motion's slices.
     ("get_motion_texel_offset", "where the keys start in the triangle buffer: a texel offset"),
-    ("get_motion_segment", "the two keys around the sample's time and the weight between them: texel bookkeeping"),
     ("get_moving_packed_triangle", "get_packed_triangle of the keys, lerped at the sample's time"),
     ("get_camera_at_time", "the keys' cameras read from the triangle buffer and lerped"),
     // Open work, not a reason to keep: the CPU renderer has no motion blur yet, so the time

@@ -161,8 +161,8 @@ pub(super) fn build_tree(triangles: &[Triangle], max_depth: u32) -> Option<(Buil
     build_tree_of_primitives(primitives, max_depth)
 }
 
-/// `build_tree` over primitives given by their boxes (a moving triangle's box over the
-/// shutter, `Bvh::build_over_boxes`).
+/// `build_tree` over primitives given by their boxes (`Bvh::build_over_boxes`; motion blur's
+/// mean box of each triangle over the keys, `MotionBvh::build`).
 pub(super) fn build_tree_of_boxes(boxes: &[Aabb], max_depth: u32) -> Option<(BuildNode, Vec<u32>)> {
     build_tree_of_primitives(boxes.iter().map(|&b| Primitive::of(b)).collect(), max_depth)
 }

@@ -17,12 +17,15 @@ mod aabb;
 mod build;
 mod compressed;
 pub mod compressed_traversal;
+pub mod motion;
 mod stats;
 pub mod traversal;
 mod wide;
 
 #[cfg(test)]
 mod compressed_tests;
+#[cfg(test)]
+mod motion_tests;
 #[cfg(test)]
 mod tests;
 
@@ -34,10 +37,11 @@ pub use compressed::{
     compressed_child_node, packed_traversal_triangles, CompressedBvh, CompressedBvhError,
     GpuCompressedBvhNode,
 };
+pub use motion::MotionBvh;
 pub use stats::BvhStats;
 pub use traversal::{
-    bvh_any_hit, bvh_closest_hit, bvh_enter_children, bvh_inverse_direction,
-    bvh_ray_box_intersection, get_bvh_child_box, get_traversal_triangle,
+    bvh_any_hit, bvh_closest_hit, bvh_enter_boxes, bvh_enter_children, bvh_inverse_direction,
+    bvh_ray_box_intersection, get_bvh_child_box, get_traversal_triangle, EnteredChildren,
 };
 pub use wide::{leaf_reference, most_pushes, widen, GpuWideBvhNode};
 
@@ -168,9 +172,9 @@ impl Bvh {
         Bvh::build_with_max_depth(triangles, MAX_DEPTH)
     }
 
-    /// `build` over primitives given by their boxes alone: a moving triangle's box over
-    /// every key of the shutter (`SceneMotion::bounds`), so that each node holds its
-    /// triangles at any time of it. Leaf `i` references primitive `triangle_order[i]`.
+    /// `build` over primitives given by their boxes alone. Leaf `i` references primitive
+    /// `triangle_order[i]`. (Motion blur's tree is `MotionBvh`, whose nodes hold a box per
+    /// key.)
     pub fn build_over_boxes(boxes: &[Aabb]) -> Bvh {
         Bvh::from_tree(build::build_tree_of_boxes(boxes, MAX_DEPTH))
     }

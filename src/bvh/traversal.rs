@@ -113,8 +113,7 @@ pub struct EnteredChildren {
 }
 
 /// Twin of GLSL `bvh_enter_children`: the children of interior node `node_index` whose boxes
-/// the ray enters before `t_max` (`bvh_ray_box_intersection`'s slab test, four boxes at
-/// once), nearest first by a sorting network.
+/// the ray enters before `t_max` (`bvh_enter_boxes`), nearest first.
 pub fn bvh_enter_children(
     nodes: &[GpuWideBvhNode],
     node_index: u32,
@@ -122,7 +121,24 @@ pub fn bvh_enter_children(
     inverse_direction: Vec3,
     t_max: f32,
 ) -> EnteredChildren {
-    let node = &nodes[node_index as usize];
+    bvh_enter_boxes(
+        &nodes[node_index as usize],
+        ray_origin,
+        inverse_direction,
+        t_max,
+    )
+}
+
+/// Twin of GLSL `bvh_enter_boxes`: the children of a wide node (its four boxes and references,
+/// which the GLSL twin takes as seven vectors) whose boxes the ray enters before `t_max`
+/// (`bvh_ray_box_intersection`'s slab test, four boxes at once), nearest first by a sorting
+/// network.
+pub fn bvh_enter_boxes(
+    node: &GpuWideBvhNode,
+    ray_origin: Vec3,
+    inverse_direction: Vec3,
+    t_max: f32,
+) -> EnteredChildren {
     let slab = |values: [f32; 4], origin: f32, inverse: f32| values.map(|v| (v - origin) * inverse);
     let t_lower_x = slab(node.lower_x, ray_origin.x, inverse_direction.x);
     let t_upper_x = slab(node.upper_x, ray_origin.x, inverse_direction.x);

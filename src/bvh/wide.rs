@@ -48,7 +48,8 @@ impl GpuWideBvhNode {
         }
     }
 
-    fn set_child(&mut self, slot: usize, bounds: &Aabb, child: u32) {
+    /// Sets child `slot`: its box (world space) and its reference.
+    pub(super) fn set_child(&mut self, slot: usize, bounds: &Aabb, child: u32) {
         self.lower_x[slot] = bounds.lower.x;
         self.lower_y[slot] = bounds.lower.y;
         self.lower_z[slot] = bounds.lower.z;
@@ -73,22 +74,39 @@ pub fn leaf_reference(first: u32, count: u32) -> u32 {
 /// binary tree itself is returned in the wide layout (two children per node), whose paths
 /// push at most its depth. Empty for an empty tree.
 pub fn widen(nodes: &[GpuBvhNode]) -> Vec<GpuWideBvhNode> {
+    widen_with_sources(nodes).0
+}
+
+/// Which binary node each child of a wide node is (`sources[w][slot]`, an index into the
+/// binary nodes; 0 for an unused slot): motion blur's tree gives each wide child the boxes
+/// its binary node has at each key (`super::motion`).
+pub(super) type WideSources = Vec<[u32; WIDTH]>;
+
+/// `widen`, and where its children come from.
+pub(super) fn widen_with_sources(nodes: &[GpuBvhNode]) -> (Vec<GpuWideBvhNode>, WideSources) {
     if nodes.is_empty() {
-        return Vec::new();
+        return (Vec::new(), Vec::new());
     }
-    let wide = widen_to(nodes, WIDTH);
-    if most_pushes(&wide) <= WIDE_BVH_STACK_SIZE as usize {
+    let wide = widen_to_with_sources(nodes, WIDTH);
+    if most_pushes(&wide.0) <= WIDE_BVH_STACK_SIZE as usize {
         wide
     } else {
-        widen_to(nodes, 2)
+        widen_to_with_sources(nodes, 2)
     }
 }
 
-/// `widen` with nodes of up to `width` children and no fallback.
+/// `widen` with nodes of up to `width` children and no fallback (for the tests).
+#[cfg(test)]
 pub(super) fn widen_to(nodes: &[GpuBvhNode], width: usize) -> Vec<GpuWideBvhNode> {
+    widen_to_with_sources(nodes, width).0
+}
+
+/// `widen_to`, and where its children come from.
+fn widen_to_with_sources(nodes: &[GpuBvhNode], width: usize) -> (Vec<GpuWideBvhNode>, WideSources) {
     let mut wide = vec![GpuWideBvhNode::default()];
-    fill(nodes, 0, 0, width, &mut wide);
-    wide
+    let mut sources = vec![[0; WIDTH]];
+    fill(nodes, 0, 0, width, &mut wide, &mut sources);
+    (wide, sources)
 }
 
 /// The binary nodes that become the children of binary node `index`'s wide node (just
@@ -125,8 +143,10 @@ fn fill(
     slot: usize,
     width: usize,
     wide: &mut Vec<GpuWideBvhNode>,
+    sources: &mut WideSources,
 ) {
     let mut node = GpuWideBvhNode::default();
+    let mut node_sources = [0; WIDTH];
     for (k, &child) in collapsed_children(nodes, index, width).iter().enumerate() {
         let binary = &nodes[child];
         let reference = if binary.is_leaf() {
@@ -135,12 +155,15 @@ fn fill(
             let child_slot = wide.len();
             debug_assert!(child_slot as u32 <= WIDE_BVH_INDEX_MASK);
             wide.push(GpuWideBvhNode::default());
-            fill(nodes, child, child_slot, width, wide);
+            sources.push([0; WIDTH]);
+            fill(nodes, child, child_slot, width, wide, sources);
             child_slot as u32
         };
         node.set_child(k, &binary.bounds(), reference);
+        node_sources[k] = child as u32;
     }
     wide[slot] = node;
+    sources[slot] = node_sources;
 }
 
 /// The most stack entries that a traversal of `wide` can hold: over all paths from the root,

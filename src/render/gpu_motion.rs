@@ -38,17 +38,17 @@ pub fn motion_texels(motion: &SceneMotion, order: Option<&[u32]>, aspect: f32) -
     texels
 }
 
-/// Each triangle's box over all of `motion`'s keys, in the scene's order: the BVH is built
-/// over these (`Bvh::build_over_boxes`), so that a node holds its triangles at every time of
-/// the shutter (between two keys a vertex lies on the segment joining its key positions,
-/// inside the box).
-pub fn motion_bounds(motion: &SceneMotion) -> Vec<Aabb> {
-    let count = motion.triangles.first().map_or(0, Vec::len);
-    (0..count)
-        .map(|i| {
-            motion.triangles.iter().fold(Aabb::EMPTY, |bounds, key| {
-                bounds.union(Aabb::of_triangle(&key[i].positions))
-            })
+/// Each triangle's box at each of `motion`'s keys (`[k][i]`: triangle i of the scene's order
+/// at key k): motion blur's tree is built over these (`MotionBvh::build`), its nodes holding
+/// a box per key that the kernels lerp at a ray's time.
+pub fn motion_key_boxes(motion: &SceneMotion) -> Vec<Vec<Aabb>> {
+    motion
+        .triangles
+        .iter()
+        .map(|key| {
+            key.iter()
+                .map(|triangle| Aabb::of_triangle(&triangle.positions))
+                .collect()
         })
         .collect()
 }

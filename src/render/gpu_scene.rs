@@ -12,6 +12,7 @@ use ash::vk;
 use crate::accel::SceneStructures;
 use crate::bvh::{
     packed_traversal_triangles, reorder_by, traversal_triangles, Bvh, BvhStats, CompressedBvh,
+    MotionBvh,
 };
 use crate::camera::Camera;
 use crate::error::{Error, Result};
@@ -24,7 +25,7 @@ use crate::lights::{KeptLightBuffers, LightBuffers, SceneLights};
 use crate::render::gpu_materials::{
     material_texel_words, scene_texture_slots, shading_texel_words, GpuMaterial,
 };
-use crate::render::gpu_motion::{motion_bounds, motion_texels};
+use crate::render::gpu_motion::{motion_key_boxes, motion_texels};
 use crate::render::gpu_textures::TextureAtlas;
 use crate::render::gpu_types::{GpuTriangle, RenderUniforms};
 use crate::render::settings::{Accel, RenderSettings};
@@ -151,6 +152,9 @@ struct SceneTrees {
     traversal: Traversal,
     bvh: Option<Bvh>,
     compressed: Option<CompressedBvh>,
+    /// Motion blur: the nodes of `MotionBvh` (a box per key), whose shape and order `bvh`
+    /// holds, as the kernels read them instead of `bvh.wide_nodes`.
+    motion_nodes: Option<Vec<[u32; 4]>>,
 }
 
 impl SceneTrees {
@@ -158,15 +162,21 @@ impl SceneTrees {
     /// refuses (deeper than its stack, or beyond its quantisation's range) takes the 4-wide
     /// tree, with a warning; under `--accel compressed-bvh` it is refused.
     fn build(scene: &Scene, accel: Accel, traversal: Traversal) -> Result<SceneTrees> {
-        // Motion blur: each triangle's box holds it at every key of the shutter
-        let bvh = traversal.uses_bvh().then(|| match &scene.motion {
-            Some(motion) => Bvh::build_over_boxes(&motion_bounds(motion)),
-            None => Bvh::build(&scene.triangles),
-        });
+        // Motion blur: a tree whose nodes hold a box per key, lerped at the ray's time
+        let (bvh, motion_nodes) = match (traversal.uses_bvh(), &scene.motion) {
+            (false, _) => (None, None),
+            (true, None) => (Some(Bvh::build(&scene.triangles)), None),
+            (true, Some(motion)) => {
+                let motion_bvh = MotionBvh::build(&motion_key_boxes(motion));
+                let nodes = motion_bvh.texels();
+                (Some(motion_bvh.bvh), Some(nodes))
+            }
+        };
         let mut trees = SceneTrees {
             traversal,
             bvh: None,
             compressed: None,
+            motion_nodes,
         };
         if let (Some(bvh), Traversal::CompressedBvh) = (&bvh, traversal) {
             match CompressedBvh::from_binary(bvh, &scene.triangles) {
@@ -210,7 +220,10 @@ impl SceneTrees {
                 )?,
             )),
             (None, Some(bvh)) => Some((
-                upload("BVH nodes", bytemuck::cast_slice(&bvh.wide_nodes))?,
+                match &self.motion_nodes {
+                    Some(nodes) => upload("motion BVH nodes", bytemuck::cast_slice(nodes))?,
+                    None => upload("BVH nodes", bytemuck::cast_slice(&bvh.wide_nodes))?,
+                },
                 upload(
                     "traversal triangles",
                     bytemuck::cast_slice(&traversal_triangles(ordered_triangles)),
