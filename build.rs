@@ -16,6 +16,14 @@ mod shader_compiler;
 )]
 mod builds;
 
+/// One build of one kernel: its GLSL file, the build's name and the macros it defines.
+struct KernelJob {
+    file_name: String,
+    name: String,
+    source: String,
+    macros: &'static [(&'static str, &'static str)],
+}
+
 fn main() {
     // Read at run time: a build script compiled for one checkout may run for another.
     let manifest_dir = std::env::var("CARGO_MANIFEST_DIR").expect("cargo sets CARGO_MANIFEST_DIR");
@@ -50,8 +58,7 @@ fn main() {
         std::fs::read_to_string(path).ok()
     };
 
-    // Every build of every kernel: (file name, build name, source, macros).
-    let mut jobs: Vec<(String, String, String, &[(&str, &str)])> = Vec::new();
+    let mut jobs: Vec<KernelJob> = Vec::new();
     for file in files
         .iter()
         .filter(|f| f.extension().is_some_and(|e| e == "comp"))
@@ -59,15 +66,20 @@ fn main() {
         let stem = file.file_stem().unwrap().to_string_lossy().to_string();
         let file_name = file.file_name().unwrap().to_string_lossy().to_string();
         let source = std::fs::read_to_string(file).expect("shader is readable");
-        jobs.push((file_name.clone(), stem.clone(), source.clone(), &[]));
+        jobs.push(KernelJob {
+            file_name: file_name.clone(),
+            name: stem.clone(),
+            source: source.clone(),
+            macros: &[],
+        });
         for build in builds::EXTRA_BUILDS {
             if build.source == stem {
-                jobs.push((
-                    file_name.clone(),
-                    build.name.to_string(),
-                    source.clone(),
-                    build.macros,
-                ));
+                jobs.push(KernelJob {
+                    file_name: file_name.clone(),
+                    name: build.name.to_string(),
+                    source: source.clone(),
+                    macros: build.macros,
+                });
             }
         }
     }
@@ -83,9 +95,13 @@ fn main() {
                     (first..jobs.len())
                         .step_by(threads)
                         .map(|index| {
-                            let (file_name, _, source, macros) = &jobs[index];
+                            let job = &jobs[index];
                             let result = shader_compiler::compile_compute_shader(
-                                source, file_name, resolve, macros, optimize,
+                                &job.source,
+                                &job.file_name,
+                                resolve,
+                                job.macros,
+                                optimize,
                             );
                             (index, result)
                         })
@@ -100,10 +116,20 @@ fn main() {
         }
     });
 
-    let mut shaders_rs = String::new();
+    let mut shaders_rs = format!(
+        "/// Whether the kernels' SPIR-V is optimized (spirv-opt drops what a build never reads);\n\
+         /// false only when built with `VKPATH_UNOPTIMIZED_KERNELS=1`.\n\
+         pub const KERNELS_OPTIMIZED: bool = {optimize};\n"
+    );
     let mut build_names = Vec::new();
     let mut failed = false;
-    for ((file_name, name, _, _), result) in jobs.iter().zip(compiled) {
+    for (
+        KernelJob {
+            file_name, name, ..
+        },
+        result,
+    ) in jobs.iter().zip(compiled)
+    {
         {
             match result.expect("every job compiled") {
                 Ok(compiled) => {
