@@ -155,8 +155,6 @@ impl SurfaceWords {
             texture_texels: &self.atlas.texels,
             scene_texture_slots: self.texture_slots,
             scene_has_layers: self.has_layers,
-            // The probe's kernel is not specialized for vertex attributes
-            scene_vertex_attributes: 0,
         }
     }
 }
