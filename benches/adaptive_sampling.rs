@@ -8,6 +8,10 @@
 //! Counts samples, not seconds: a pixel that stopped still costs its SIMD lanes' idle time.
 //!
 //! `cargo bench --profile dev --bench adaptive_sampling -- [SCENE] [--size 48] [--reference-spp 8192] [--pcg]`
+//!
+//! Run without `--bench` (as `cargo test --all-targets` runs every bench target), it is a
+//! smoke test at 8 x 8 pixels, a 64-spp reference, two uniform renders and one threshold,
+//! so the suite checks it still runs without paying for the table.
 
 use std::path::Path;
 
@@ -26,6 +30,7 @@ const CAP: u32 = 512;
 const MIN_SPP: u32 = 16;
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
+    let benchmarking = std::env::args().any(|a| a == "--bench");
     let args: Vec<String> = std::env::args()
         .skip(1)
         .filter(|a| a != "--bench")
@@ -37,8 +42,14 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             .and_then(|v| v.parse().ok())
             .unwrap_or(default)
     };
-    let size = value_of("--size", 48);
-    let reference_spp = value_of("--reference-spp", 8192);
+    let (size, reference_spp) = match benchmarking {
+        true => (value_of("--size", 48), value_of("--reference-spp", 8192)),
+        false => (8, 64),
+    };
+    let (uniform_spp, thresholds) = match benchmarking {
+        true => (&UNIFORM_SPP[..], &THRESHOLDS[..]),
+        false => (&UNIFORM_SPP[..2], &THRESHOLDS[..1]),
+    };
     let scene_path = args
         .iter()
         .enumerate()
@@ -77,7 +88,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         ..base.clone()
     })?;
     let (mut curve, mut tail_curve) = (Vec::new(), Vec::new());
-    for spp in UNIFORM_SPP {
+    for &spp in uniform_spp {
         let image = render(RenderSettings {
             spp,
             ..base.clone()
@@ -89,7 +100,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         tail_curve.push((f64::from(spp), tail));
     }
     println!("threshold  mean spp  relMSE      uniform spp at it (saved)  p99 pixel relMSE  uniform spp at it (saved)");
-    for threshold in THRESHOLDS {
+    for &threshold in thresholds {
         let image = render(RenderSettings {
             spp: CAP,
             noise_threshold: Some(NoiseThreshold {

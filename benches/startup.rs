@@ -8,6 +8,10 @@
 //! (e.g. the textured box that `benches/mitsuba_textured.py` writes). Mesa's shader disk cache
 //! is switched off (MESA_SHADER_CACHE_DISABLE) so that every build is a first build, and no
 //! pipeline cache is used. What `Traversal::choose` picks rests on this table.
+//!
+//! Run without `--bench` (as `cargo test --all-targets` runs every bench target), it is a
+//! smoke test: the workshop's box, one integrator, so the suite checks it still runs
+//! without paying for the table.
 
 use std::path::Path;
 use std::time::Instant;
@@ -66,6 +70,11 @@ fn measure(
     })
 }
 
+/// Whether `cargo bench` runs this (it passes `--bench`); else `cargo test`'s smoke run.
+fn benchmarking() -> bool {
+    std::env::args().any(|a| a == "--bench")
+}
+
 fn report(name: &str, scene: &Scene) -> Result<(), Box<dyn std::error::Error>> {
     println!(
         "{name}: {} triangles, {} kernels",
@@ -80,7 +89,11 @@ fn report(name: &str, scene: &Scene) -> Result<(), Box<dyn std::error::Error>> {
         "{:<20} {:<9} {:>8} {:>13} {:>11} {:>18}",
         "traversal", "integr.", "build s", "1st frame s", "Msamples/s", "s to 64x64x64 spp"
     );
-    for integrator in [Integrator::PathTracing, Integrator::Mis] {
+    let integrators: &[Integrator] = match benchmarking() {
+        true => &[Integrator::PathTracing, Integrator::Mis],
+        false => &[Integrator::PathTracing],
+    };
+    for &integrator in integrators {
         let mut rows = Vec::new();
         let constant = Traversal::constant_triangles_can_trace(
             scene.triangles.len(),
@@ -124,6 +137,12 @@ fn report(name: &str, scene: &Scene) -> Result<(), Box<dyn std::error::Error>> {
 fn main() -> Result<(), Box<dyn std::error::Error>> {
     // Read by Mesa when a device is created; this program is single-threaded here.
     std::env::set_var("MESA_SHADER_CACHE_DISABLE", "true");
+    if !benchmarking() {
+        return report(
+            "Cornell box (smoke run: cargo bench for the table)",
+            &Scene::builtin_cornell_box()?,
+        );
+    }
     let white = EnvironmentSource::Background(Vec3::ONE);
     let white_sky = Scene::builtin_cornell_box()?.with_environment(Some(&white))?;
     report("Cornell box, --background 1,1,1", &white_sky)?;

@@ -27,6 +27,10 @@ use vkpath::render::sequence::SequenceCache;
 use vkpath::render::settings::default_russian_roulette_start;
 use vkpath::render::RenderSession;
 use vkpath::render::StopReason;
+use vkpath::scene::motion::{
+    SceneMotion, Shutter, ShutterPosition, DEFAULT_MOTION_STEPS, MAX_MOTION_STEPS,
+    MAX_SHUTTER_FRAMES,
+};
 use vkpath::{Context, ContextOptions, Integrator, RenderSettings, RenderedImage};
 
 use crate::errors::{argument_error, message, to_py};
@@ -286,7 +290,7 @@ impl ImageSoFar {
     progress=None, device=None, validate=false, region=None, guiding=false,
     guide_training_spp=None, time=None, sample_range=None, noise_threshold=None,
     noise_min_spp=None, aovs=None, denoise=false, progress_image=false, session=None,
-    focus_at=None, fps=None))]
+    focus_at=None, fps=None, shutter=None, shutter_position=None, motion_steps=None))]
 #[allow(clippy::too_many_arguments)]
 pub fn render<'py>(
     py: Python<'py>,
@@ -325,6 +329,9 @@ pub fn render<'py>(
     session: Option<PyRef<'py, Session>>,
     focus_at: Option<(u32, u32)>,
     fps: Option<f64>,
+    shutter: Option<f64>,
+    shutter_position: Option<&str>,
+    motion_steps: Option<u32>,
 ) -> PyResult<Bound<'py, PyDict>> {
     let (settings, mut warnings) = Choices {
         width,
@@ -383,10 +390,29 @@ pub fn render<'py>(
     let facts = session.as_ref().map(|s| &s.facts);
     let (world, camera) = scene.at_time(time, settings.aspect(), facts)?;
     let camera = with_lens(camera, &world, &scene, focus_at, &settings)?;
+    let fps = frame_rate(fps)?;
+    let poser = Poser {
+        scene: &scene,
+        frame: (&world, &camera),
+        settings: &settings,
+        facts,
+    };
     let neighbours = match aovs.contains(&Aov::Motion) {
-        true => motion_neighbours(&scene, (&world, &camera), time, fps, &settings, facts)?,
+        true => motion_neighbours(&poser, time, fps)?,
         false => None,
     };
+    let shutter = shutter_of(shutter, shutter_position, motion_steps)?;
+    let motion = match shutter {
+        Some(shutter) => motion_keys(&poser, shutter, time, fps)?,
+        None => None,
+    };
+    if shutter.is_some() && motion.is_none() {
+        warnings.push(
+            "shutter=: nothing in the scene moves across the shutter, so the image is the still one"
+                .into(),
+        );
+    }
+    let world = vkpath::Scene { motion, ..world };
     if aovs.contains(&Aov::Motion) && neighbours.is_none() {
         warnings.push(
             "aovs=['motion']: nothing in the scene moves around this time, so the motion vectors are 0"
@@ -573,45 +599,133 @@ pub fn render<'py>(
     Ok(dict)
 }
 
-/// For `aovs=["motion"]`: the scene one frame interval (1 / `fps`, default 24 fps) before
-/// and after `time` (default 0), each with the camera `Scene::at_time` gives then (a
-/// camera that frames a file without one: the frame's own), as
-/// `vkpath render --aov motion` poses them; `None` where nothing moves (no animation, or
-/// the same triangles and camera). A time before 0 is posed at 0: glTF's animations hold
-/// their first key before it, so the pose is the same.
-fn motion_neighbours(
-    scene: &Scene,
-    (world, camera): (&vkpath::Scene, &vkpath::Camera),
-    time: Option<f64>,
-    fps: Option<f64>,
-    settings: &RenderSettings,
-    facts: Option<&Mutex<Option<SequenceFacts>>>,
-) -> PyResult<Option<Arc<FrameNeighbours>>> {
+/// `fps=` checked (default 24 frames per second).
+fn frame_rate(fps: Option<f64>) -> PyResult<f64> {
     let fps = fps.unwrap_or(DEFAULT_FPS);
     if !(fps > 0.0 && fps.is_finite()) {
         return Err(argument_error(format!(
             "fps={fps} is not a frame rate above 0"
         )));
     }
-    if !scene.is_animated()? {
+    Ok(fps)
+}
+
+/// Poses a render's scene at other times than the frame's (motion blur's keys, the motion
+/// vectors' neighbours), each with the camera `Scene::at_time` gives then, as `vkpath
+/// render` poses them: a camera that frames a file without one keeps the frame's framing,
+/// and every pose keeps the frame camera's lens.
+struct Poser<'a> {
+    /// The scene as Python holds it (its file, its chosen camera).
+    scene: &'a Scene,
+    /// The frame's scene and camera.
+    frame: (&'a vkpath::Scene, &'a vkpath::Camera),
+    /// The render's settings (its aspect frames a camera-less file).
+    settings: &'a RenderSettings,
+    /// What a sequence (`render_frames`) decided once.
+    facts: Option<&'a Mutex<Option<SequenceFacts>>>,
+}
+
+impl Poser<'_> {
+    /// Whether the scene can move at all (a glTF file with animations).
+    fn is_animated(&self) -> PyResult<bool> {
+        self.scene.is_animated()
+    }
+
+    /// The scene and its camera at `time` seconds. A time before 0 is posed at 0: glTF's
+    /// animations hold their first key before it, so the pose is the same.
+    fn pose(&self, time: f64) -> PyResult<(vkpath::Scene, vkpath::Camera)> {
+        let (world, camera) = self.frame;
+        let own_camera = world.camera.is_some()
+            || self.scene.camera.is_some()
+            || self.scene.camera_index.is_some();
+        let (posed, posed_camera) =
+            self.scene
+                .at_time(Some(time.max(0.0)), self.settings.aspect(), self.facts)?;
+        let seen_by = match own_camera {
+            true => vkpath::Camera {
+                lens: camera.lens,
+                ..posed_camera
+            },
+            false => *camera,
+        };
+        Ok((posed, seen_by))
+    }
+}
+
+/// For `aovs=["motion"]`: the scene one frame interval (1 / `fps`) before and after `time`
+/// (default 0), as `vkpath render --aov motion` poses them; `None` where nothing moves (no
+/// animation, or the same triangles and camera).
+fn motion_neighbours(
+    poser: &Poser,
+    time: Option<f64>,
+    fps: f64,
+) -> PyResult<Option<Arc<FrameNeighbours>>> {
+    if !poser.is_animated()? {
         return Ok(None);
     }
     let time = time.unwrap_or(0.0);
-    // A camera that frames the scene keeps the frame's framing (as the command line's keys)
-    let own_camera =
-        world.camera.is_some() || scene.camera.is_some() || scene.camera_index.is_some();
-    let pose = |at: f64| -> PyResult<NeighbourPose> {
-        let (posed, posed_camera) = scene.at_time(Some(at.max(0.0)), settings.aspect(), facts)?;
-        let seen_by = if own_camera { posed_camera } else { *camera };
-        Ok(NeighbourPose::new(at, &posed, seen_by))
+    let neighbour = |at: f64| -> PyResult<NeighbourPose> {
+        let (posed, camera) = poser.pose(at)?;
+        Ok(NeighbourPose::new(at, &posed, camera))
     };
+    let (world, camera) = poser.frame;
     let neighbours = FrameNeighbours::new(
         world.triangles.len(),
-        pose(time - 1.0 / fps)?,
-        pose(time + 1.0 / fps)?,
+        neighbour(time - 1.0 / fps)?,
+        neighbour(time + 1.0 / fps)?,
     )
     .map_err(|e| message(e.to_string()))?;
     Ok((!neighbours.is_still(world, camera)).then(|| Arc::new(neighbours)))
+}
+
+/// `shutter=`, `shutter_position=` and `motion_steps=` checked as `--shutter`,
+/// `--shutter-position` and `--motion-steps` are; `None` without a shutter (or 0).
+fn shutter_of(
+    frames: Option<f64>,
+    position: Option<&str>,
+    steps: Option<u32>,
+) -> PyResult<Option<Shutter>> {
+    let position = parse_optional::<ShutterPosition>("shutter_position", position)?
+        .unwrap_or(ShutterPosition::Center);
+    let steps = steps.unwrap_or(DEFAULT_MOTION_STEPS);
+    if !(2..=MAX_MOTION_STEPS).contains(&steps) {
+        return Err(argument_error(format!(
+            "motion_steps={steps}: give 2 to {MAX_MOTION_STEPS} keys across the shutter"
+        )));
+    }
+    match frames {
+        None => Ok(None),
+        Some(frames) if frames == 0.0 => Ok(None),
+        Some(frames) if frames > 0.0 && frames <= MAX_SHUTTER_FRAMES => {
+            Shutter::new(frames, position, steps)
+                .map(Some)
+                .map_err(|e| argument_error(e.to_string()))
+        }
+        Some(frames) => Err(argument_error(format!(
+            "shutter={frames}: give 0 (none) to {MAX_SHUTTER_FRAMES} frame intervals"
+        ))),
+    }
+}
+
+/// Motion blur's keys: the scene posed at `shutter`'s keys around `time` (default 0), frames
+/// 1 / `fps` apart, as `vkpath render --shutter` poses them; `None` where nothing moves
+/// across the shutter (the still image is the blurred one).
+fn motion_keys(
+    poser: &Poser,
+    shutter: Shutter,
+    time: Option<f64>,
+    fps: f64,
+) -> PyResult<Option<SceneMotion>> {
+    if !poser.is_animated()? {
+        return Ok(None);
+    }
+    let times = shutter.key_times(time.unwrap_or(0.0), fps);
+    let poses = times
+        .iter()
+        .map(|&at| poser.pose(at))
+        .collect::<PyResult<Vec<_>>>()?;
+    let motion = SceneMotion::new(shutter, poses, &times).map_err(|e| message(e.to_string()))?;
+    Ok((!motion.is_still()).then_some(motion))
 }
 
 /// `camera` with the scene's thin lens (`Camera(aperture_radius=|f_stop=, ...)`) resolved for

@@ -332,23 +332,35 @@ impl Scene {
     /// Whether the scene is a glTF file with animations (the only scenes that move with
     /// `time=`); opens the file that `at_time` poses if no render has yet.
     pub fn is_animated(&self) -> PyResult<bool> {
+        Ok(self
+            .with_gltf_file(|file| Ok(file.has_animations()))?
+            .unwrap_or(false))
+    }
+
+    /// `use_file` with the scene's glTF file, read once by the first call and kept for the
+    /// renders at other times; `None` where the scene is not a glTF file.
+    fn with_gltf_file<R>(
+        &self,
+        use_file: impl FnOnce(&mut GltfFile) -> PyResult<R>,
+    ) -> PyResult<Option<R>> {
         let Some((SceneSource::File(path), allow_external_paths)) = &self.source else {
-            return Ok(false);
+            return Ok(None);
         };
         if !is_gltf_path(path) {
-            return Ok(false);
+            return Ok(None);
         }
         let options = LoadOptions {
             allow_external_paths: *allow_external_paths,
             variant: self.variant.clone(),
             ..LoadOptions::default()
         };
+        // A render that panicked holding the lock left the file as it was.
         let mut file = self.file.lock().unwrap_or_else(|e| e.into_inner());
         let file = match &mut *file {
             Some(file) => file,
             None => file.insert(GltfFile::open(path, &options).map_err(to_py)?),
         };
-        Ok(file.has_animations())
+        use_file(file).map(Some)
     }
 
     /// The scene at `time` seconds (a glTF file's animations then, as `--time` loads it)
@@ -364,50 +376,39 @@ impl Scene {
         aspect: f32,
         sequence: Option<&Mutex<Option<SequenceFacts>>>,
     ) -> PyResult<(vkpath::Scene, vkpath::Camera)> {
-        let mut facts = None;
-        let reloaded = match (time, &self.source) {
-            (Some(time), _) if !(time.is_finite() && time >= 0.0) => {
-                return Err(argument_error(format!(
-                    "time={time} is not a time in seconds at or after 0"
-                )))
+        let Some(time) = time else {
+            return Ok((self.inner.clone(), self.render_camera(aspect)?));
+        };
+        if !(time.is_finite() && time >= 0.0) {
+            return Err(argument_error(format!(
+                "time={time} is not a time in seconds at or after 0"
+            )));
+        }
+        let posed = self.with_gltf_file(|file| {
+            let scene = file.pose(time as f32, &AnimationPick::All).map_err(to_py)?;
+            let Some(sequence) = sequence else {
+                return Ok((scene, None));
+            };
+            let mut kept = sequence.lock().unwrap_or_else(|e| e.into_inner());
+            if kept.is_none() {
+                let framed =
+                    self.camera_index.is_none() && self.camera.is_none() && scene.camera.is_none();
+                *kept = Some(SequenceFacts::of(file, framed).map_err(to_py)?);
             }
-            (Some(time), Some((SceneSource::File(path), allow_external_paths)))
-                if is_gltf_path(path) =>
-            {
-                let options = LoadOptions {
-                    allow_external_paths: *allow_external_paths,
-                    variant: self.variant.clone(),
-                    ..LoadOptions::default()
-                };
-                // A render that panicked holding the lock left the file as it was.
-                let mut file = self.file.lock().unwrap_or_else(|e| e.into_inner());
-                let file = match &mut *file {
-                    Some(file) => file,
-                    None => file.insert(GltfFile::open(path, &options).map_err(to_py)?),
-                };
-                let scene = file.pose(time as f32, &AnimationPick::All).map_err(to_py)?;
-                if let Some(sequence) = sequence {
-                    let mut kept = sequence.lock().unwrap_or_else(|e| e.into_inner());
-                    if kept.is_none() {
-                        let framed = self.camera_index.is_none()
-                            && self.camera.is_none()
-                            && scene.camera.is_none();
-                        *kept = Some(SequenceFacts::of(file, framed).map_err(to_py)?);
-                    }
-                    facts = *kept;
-                }
-                Some(scene)
-            }
-            (Some(time), Some((source @ SceneSource::File(_), allow_external_paths))) => {
+            Ok((scene, *kept))
+        })?;
+        let (reloaded, facts) = match (posed, &self.source) {
+            (Some((scene, facts)), _) => (Some(scene), facts),
+            (None, Some((source @ SceneSource::File(_), allow_external_paths))) => {
                 let options = LoadOptions {
                     allow_external_paths: *allow_external_paths,
                     time: time as f32,
                     variant: self.variant.clone(),
                     ..LoadOptions::default()
                 };
-                Some(source.load_with(&options).map_err(to_py)?)
+                (Some(source.load_with(&options).map_err(to_py)?), None)
             }
-            _ => None,
+            (None, _) => (None, None),
         };
         let Some(scene) = reloaded else {
             return Ok((self.inner.clone(), self.render_camera(aspect)?));

@@ -157,3 +157,48 @@ def test_frames_take_the_command_lines_range_or_refuse_in_words(tmp_path):
                        ([1.5, 0], "1.5 is not a whole frame number"), (7, "is not frame numbers")]:
         with pytest.raises(vkpath.ArgumentError, match=words):
             next(vkpath.render_frames(scene, frames=bad, fps=4, **SMALL))
+
+
+def test_a_shutter_blurs_as_the_mean_of_stills_and_equals_the_command_line(cli, tmp_path):
+    """Issue 55: ``render(shutter=)`` is ``--shutter``: bit for bit the command line's, and
+    the mean over the shutter of the still images. The quad slides 2 units/s; at fps 2 a
+    shutter of 1 frame interval around 0.5 s sweeps it from x = -0.5 to 0.5. One bounce
+    against a white background makes each sample 0 (quad) or 1 (background), so the image
+    is the background's coverage."""
+    scene = write_animated_quad(tmp_path)
+    common = dict(width=16, height=16, seed=3, background=(1.0, 1.0, 1.0), sampler="pcg",
+                  max_path_length=1, fps=2)
+    blurred = vkpath.render(scene, spp=256, time=0.5, shutter=1, **common)
+    output = tmp_path / "blurred.exr"
+    run_cli(cli, "render", str(scene), "--width", "16", "--height", "16", "--seed", "3",
+            "--background", "1,1,1", "--sampler", "pcg", "--max-path-length", "1",
+            "--fps", "2", "--spp", "256", "--time", "0.5", "--shutter", "1",
+            "-o", str(output))
+    assert np.array_equal(bits(blurred), bits(read_exr_rgba(output)))
+    # Stills at the midpoints of 8 equal parts of the shutter [0.25 s, 0.75 s]
+    stills = [vkpath.render(scene, spp=32, time=0.25 + (i + 0.5) / 16, **common)
+              for i in range(8)]
+    mean = np.mean(stills, axis=0)
+    # Column profiles (mean over the 16 rows): each column of the blur averages 16 x 256
+    # binary samples, std at most sqrt(0.25 / 4096) = 0.0078; the stills' mean 16 x 256 as
+    # well, so their difference's std is at most 0.011. 0.06 is 5.4 of them, with room
+    # for the stills' midpoint rule in time (a 1/8 shutter step is 1 pixel of travel).
+    blur_profile, mean_profile = blurred[..., 0].mean(axis=0), mean[..., 0].mean(axis=0)
+    assert np.max(np.abs(blur_profile - mean_profile)) < 0.06, (blur_profile, mean_profile)
+    # The test has teeth: a still near the shutter's opening is far from the blur (more
+    # than twice the tolerance).
+    opening = stills[0][..., 0].mean(axis=0)
+    assert np.max(np.abs(opening - blur_profile)) > 0.12, opening
+
+
+def test_bad_shutters_are_argument_errors_and_a_still_scene_warns():
+    small = dict(width=4, height=4, spp=1)
+    for bad, words in [(dict(shutter=3), "shutter=3"), (dict(shutter=-1), "shutter=-1"),
+                       (dict(shutter=1, motion_steps=1), "motion_steps=1"),
+                       (dict(shutter=1, shutter_position="middle"), "shutter_position")]:
+        with pytest.raises(vkpath.ArgumentError, match=words):
+            vkpath.render(**small, **bad)
+    # The Cornell box does not move: the still image, bit for bit, with a warning
+    with pytest.warns(UserWarning, match="nothing in the scene moves across the shutter"):
+        blurred = vkpath.render(**small, shutter=1)
+    assert np.array_equal(bits(blurred), bits(vkpath.render(**small)))

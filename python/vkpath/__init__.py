@@ -267,6 +267,9 @@ def render_result(
     denoise: bool = False,
     focus_at: Optional[Sequence[int]] = None,
     fps: Optional[float] = None,
+    shutter: Optional[float] = None,
+    shutter_position: Optional[str] = None,
+    motion_steps: Optional[int] = None,
 ) -> RenderResult:
     """:func:`render`, returning the image with its moments, the samples taken and why the
     render stopped."""
@@ -308,6 +311,9 @@ def render_result(
         denoise=bool(denoise),
         focus_at=None if focus_at is None else _pixel_of(focus_at),
         fps=None if fps is None else float(fps),
+        shutter=None if shutter is None else float(shutter),
+        shutter_position=shutter_position,
+        motion_steps=_whole("motion_steps", motion_steps),
     )
     for warning in raw["warnings"]:
         warnings.warn(warning, stacklevel=2)
@@ -386,6 +392,9 @@ def render(
     denoise: bool = False,
     focus_at: Optional[Sequence[int]] = None,
     fps: Optional[float] = None,
+    shutter: Optional[float] = None,
+    shutter_position: Optional[str] = None,
+    motion_steps: Optional[int] = None,
 ) -> np.ndarray:
     """Renders a scene and returns its linear RGBA image, float32, shape (height, width, 4),
     rows top-down: what ``vkpath render ... -o out.exr`` writes, bit for bit.
@@ -444,6 +453,14 @@ def render(
     (``Camera(aperture_radius=...)`` or ``f_stop=``), focuses on what the ray through that
     pixel (column, row from the top) sees. A lens without ``focus_distance`` focuses on what
     the image's centre sees, as the command line's does.
+
+    ``shutter=S`` is ``--shutter S`` (motion blur): the shutter stays open for S frame
+    intervals (1 / ``fps`` each, default 24 fps; 0 to 2) around ``time``
+    (``shutter_position`` "start", "center" or "end"), and each sample sees the scene
+    (camera, node transforms, skins, morph targets) at a time within it; the scene is posed at
+    ``motion_steps`` keys (2 to 64, default 2) across it and moves linearly between two.
+    :func:`render_frames` takes it too. A scene that does not move across the shutter
+    renders the still image, with a warning.
     """
     return render_result(
         scene,
@@ -479,6 +496,9 @@ def render(
         denoise=denoise,
         focus_at=focus_at,
         fps=fps,
+        shutter=shutter,
+        shutter_position=shutter_position,
+        motion_steps=motion_steps,
     ).image
 
 

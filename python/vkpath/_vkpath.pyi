@@ -184,6 +184,9 @@ def render(
     session: Optional["Session"] = None,
     focus_at: Optional[Tuple[int, int]] = None,
     fps: Optional[float] = None,
+    shutter: Optional[float] = None,
+    shutter_position: Optional[str] = None,
+    motion_steps: Optional[int] = None,
 ) -> Dict[str, Any]: ...
 
 class Session:

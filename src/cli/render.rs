@@ -772,19 +772,11 @@ impl FrameScenes {
         let Some(shutter) = args.shutter.shutter() else {
             return Ok(scene);
         };
-        let note = |why: &str| {
-            if first && !args.job.quiet {
-                eprintln!("vkpath: note: --shutter: {why}, so the image is the still one");
-            }
-        };
-        let Some(file) = self.gltf_file.as_mut().filter(|file| file.has_animations()) else {
+        let note = first_frame_note(args, first, "--shutter", "the image is the still one");
+        let key_camera = pose_camera(args, &scene, camera, self.animation_box);
+        let Some(file) = self.animated_file() else {
             note("the scene has no animation");
             return Ok(scene);
-        };
-        let own_camera = scene.camera.is_some() || args.camera_given();
-        let key_camera = |key: &Scene| match own_camera {
-            true => args.camera(key, false, self.animation_box),
-            false => Ok(*camera),
         };
         let keys = KeyTimes {
             time: frame.time,
@@ -830,23 +822,15 @@ impl FrameScenes {
         if !post.aovs.contains(&Aov::Motion) {
             return Ok(None);
         }
-        let note = |why: &str| {
-            if first && !args.job.quiet {
-                eprintln!("vkpath: note: --aov motion: {why}, so the motion vectors are 0");
-            }
-        };
-        let Some(file) = self.gltf_file.as_mut().filter(|file| file.has_animations()) else {
+        let note = first_frame_note(args, first, "--aov motion", "the motion vectors are 0");
+        let neighbour_camera = pose_camera(args, scene, camera, self.animation_box);
+        let Some(file) = self.animated_file() else {
             note("the scene has no animation");
             return Ok(None);
         };
-        let own_camera = scene.camera.is_some() || args.camera_given();
         let mut pose = |time: f64| -> anyhow::Result<NeighbourPose> {
             let posed = file.pose(time as f32, &args.frames.pick())?;
-            let at = match own_camera {
-                true => args.camera(&posed, false, self.animation_box)?,
-                false => *camera,
-            };
-            Ok(NeighbourPose::new(time, &posed, at))
+            Ok(NeighbourPose::new(time, &posed, neighbour_camera(&posed)?))
         };
         let interval = 1.0 / args.frames.fps;
         let previous = pose(frame.time - interval)?;
@@ -857,6 +841,12 @@ impl FrameScenes {
             return Ok(None);
         }
         Ok(Some(Arc::new(neighbours)))
+    }
+
+    /// The scene's glTF file where it has animations (read for the first frame), else `None`:
+    /// nothing moves at other times than the frame's.
+    fn animated_file(&mut self) -> Option<&mut GltfFile> {
+        self.gltf_file.as_mut().filter(|file| file.has_animations())
     }
 
     /// Nothing loaded yet, for the scene and environment `args` name.
@@ -999,6 +989,38 @@ impl SequenceTally {
 
 /// Says once, for `--frames`, that the scene does not move: it has no animation (not a glTF
 /// file, or one without animations), so every frame is the same image.
+/// The camera that sees the scene posed at another time than the frame's (motion blur's keys,
+/// the motion vectors' neighbours): with a camera of its own (the scene's, `frame_scene`'s,
+/// or the command line's) that time's, lens and all (`RenderArgs::camera`); else the frame's
+/// `camera`, so that a camera that frames the scene keeps the frame's framing.
+fn pose_camera<'a>(
+    args: &'a RenderArgs,
+    frame_scene: &Scene,
+    camera: &'a Camera,
+    animation_box: Option<(Vec3, Vec3)>,
+) -> impl Fn(&Scene) -> anyhow::Result<Camera> + 'a {
+    let own_camera = frame_scene.camera.is_some() || args.camera_given();
+    move |posed: &Scene| match own_camera {
+        true => args.camera(posed, false, animation_box),
+        false => Ok(*camera),
+    }
+}
+
+/// A note `option` writes once, on the first frame (`first`) and unless `--quiet`: why the
+/// scene does not move for it, and so what (`outcome`).
+fn first_frame_note<'a>(
+    args: &'a RenderArgs,
+    first: bool,
+    option: &'a str,
+    outcome: &'a str,
+) -> impl Fn(&str) + 'a {
+    move |why: &str| {
+        if first && !args.job.quiet {
+            eprintln!("vkpath: note: {option}: {why}, so {outcome}");
+        }
+    }
+}
+
 fn note_a_still_sequence(args: &RenderArgs, gltf: Option<&GltfFile>) {
     let Some(frames) = &args.frames.frames else {
         return;
