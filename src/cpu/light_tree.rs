@@ -244,8 +244,9 @@ mod tests {
     use super::*;
     use crate::lights::emissive::EmissiveTriangles;
     use crate::lights::gpu_emissive::gpu_light_bytes_with_tree;
-    use crate::lights::light_tree::LightTree;
+    use crate::lights::light_tree::{LightKeys, LightTree};
     use crate::probe::inputs::InputRng;
+    use crate::scene::motion::KeyTriangle;
     use crate::scene::Triangle;
 
     /// A cluster of `count` small emitters of widely varying power around `center`, facing
@@ -276,6 +277,87 @@ mod tests {
         let tree = LightTree::build(triangles, &table);
         let bytes = gpu_light_bytes_with_tree(&table, &tree);
         (table, bytemuck::pod_collect_to_vec(&bytes))
+    }
+
+    #[test]
+    fn a_light_that_turns_towards_a_point_during_the_shutter_is_reachable_from_it() {
+        // Issue 55: light b faces down (-y) at the frame's time and up at the shutter's last
+        // key; a point above it sees it only during the shutter. A tree of the frame's bounds
+        // gives b probability 0 there (next-event estimation with the tree would miss its
+        // light: bias); one bounded over the keys reaches it, and the probabilities over the
+        // lights still sum to 1.
+        let light = |x: f32, up: bool| {
+            let (a, b, c) = (
+                Vec3::new(x, 0.0, 0.0),
+                Vec3::new(x, 0.0, 0.2),
+                Vec3::new(x + 0.2, 0.0, 0.0),
+            );
+            let positions = if up { [a, b, c] } else { [a, c, b] };
+            Triangle::new(positions, Vec3::ONE, Vec3::splat(5.0), false).unwrap()
+        };
+        let frame = [light(0.0, true), light(2.0, false)];
+        assert!(frame[0].normal.y > 0.0 && frame[1].normal.y < 0.0);
+        let key = |t: &Triangle| KeyTriangle {
+            positions: t.positions,
+            normal: t.normal,
+        };
+        let keys = vec![
+            frame.iter().map(key).collect::<Vec<_>>(),
+            [light(0.0, true), light(2.0, true)]
+                .iter()
+                .map(key)
+                .collect(),
+        ];
+        let table = EmissiveTriangles::new(&frame);
+        let probability_of_b = |tree: &LightTree| {
+            let words: Vec<u32> =
+                bytemuck::pod_collect_to_vec(&gpu_light_bytes_with_tree(&table, tree));
+            let texels = LightTexels { words: &words };
+            let above_b = Vec3::new(2.1, 1.0, 0.05);
+            let sum: f32 = (0..2)
+                .map(|i| get_light_tree_probability(texels, i, above_b, Vec3::ZERO))
+                .sum();
+            let b = table.triangle_indices.iter().position(|&t| t == 1).unwrap() as u32;
+            (
+                get_light_tree_probability(texels, b, above_b, Vec3::ZERO),
+                sum,
+            )
+        };
+        let (still, _) = probability_of_b(&LightTree::build(&frame, &table));
+        assert_eq!(
+            still, 0.0,
+            "the frame's tree reaches b: the test has no teeth"
+        );
+        let keyed = LightKeys {
+            keys: &keys,
+            order: None,
+        };
+        let (moving, sum) = probability_of_b(&LightTree::build_over_keys(&frame, &table, keyed));
+        assert!(moving > 0.0, "the tree over the keys does not reach b");
+        assert!((sum - 1.0).abs() < 1e-5, "probabilities sum to {sum}");
+        // Stored in another order (a BVH's), the keys follow the order
+        let reversed = [frame[1], frame[0]];
+        let order = [1u32, 0];
+        let table_reversed = EmissiveTriangles::new(&reversed);
+        let tree = LightTree::build_over_keys(
+            &reversed,
+            &table_reversed,
+            LightKeys {
+                keys: &keys,
+                order: Some(&order),
+            },
+        );
+        assert_eq!(tree, {
+            let reordered: Vec<Vec<KeyTriangle>> = keys.iter().map(|k| vec![k[1], k[0]]).collect();
+            LightTree::build_over_keys(
+                &reversed,
+                &table_reversed,
+                LightKeys {
+                    keys: &reordered,
+                    order: None,
+                },
+            )
+        });
     }
 
     #[test]

@@ -17,6 +17,7 @@ use glam::DVec3;
 
 use super::emissive::{triangle_power, EmissiveTriangles};
 use crate::contract::{LIGHT_TREE_FLAG_LEAF, LIGHT_TREE_FLAG_TWO_SIDED, LIGHT_TREE_MAX_DEPTH};
+use crate::scene::motion::KeyTriangle;
 use crate::scene::Triangle;
 
 /// Buckets of the SAOH split along each axis (pbrt-v4's 12).
@@ -27,6 +28,31 @@ const SPLIT_BUCKETS: usize = 12;
 /// make the tree call it unreachable where it is not. 1e-5 widens a cone by at most 0.26
 /// degrees (at a cosine near 1), which costs nothing measurable in importance.
 const CONE_COSINE_MARGIN: f64 = 1e-5;
+
+/// Motion blur's keys of the triangles a light tree is built over (`LightTree::build_over_keys`).
+#[derive(Clone, Copy, Debug)]
+pub struct LightKeys<'a> {
+    /// `keys[k][i]`: the scene's triangle i at key k (`SceneMotion::triangles`); empty for a
+    /// still scene.
+    pub keys: &'a [Vec<KeyTriangle>],
+    /// `order[j]`: the scene's index of the triangle stored j-th, which the tree's triangles
+    /// are in (the BVH's leaf order); `None`: the scene's order.
+    pub order: Option<&'a [u32]>,
+}
+
+impl LightKeys<'_> {
+    /// A still scene: no keys.
+    pub const STILL: LightKeys<'static> = LightKeys {
+        keys: &[],
+        order: None,
+    };
+
+    /// The stored triangle `stored` at every key.
+    fn of(&self, stored: u32) -> impl Iterator<Item = &KeyTriangle> + '_ {
+        let index = self.order.map_or(stored, |order| order[stored as usize]) as usize;
+        self.keys.iter().map(move |key| &key[index])
+    }
+}
 
 /// The bounds of one or more lights (pbrt-v4's `LightBounds`), in f64 while building.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -67,6 +93,34 @@ impl LightBounds {
             cos_theta_e: 0.0,
             two_sided: triangle.double_sided,
         })
+    }
+
+    /// The bounds of an emissive triangle over motion blur's `keys` (the same triangle at
+    /// each key across the shutter): its box holds it at every time of the shutter (rays see
+    /// its vertices lerped between two keys, inside the keys' boxes), its normals' cone holds
+    /// its normal at every key (between two keys the lerped triangle's normal lies close to
+    /// the arc between theirs, the closer the more `--motion-steps`). So the tree does not call
+    /// it unreachable where it shines during the shutter. Its power is the frame's. `None` for
+    /// one with no power.
+    pub fn over_keys<'k>(
+        triangle: &Triangle,
+        keys: impl IntoIterator<Item = &'k KeyTriangle>,
+    ) -> Option<LightBounds> {
+        let frame = LightBounds::of_triangle(triangle)?;
+        Some(keys.into_iter().fold(frame, |bounds, key| {
+            let p = key.positions.map(|p| p.as_dvec3());
+            let (direction, cos_theta_o) = union_cones(
+                (bounds.direction, bounds.cos_theta_o),
+                (key.normal.as_dvec3().normalize(), 1.0),
+            );
+            LightBounds {
+                min: bounds.min.min(p[0]).min(p[1]).min(p[2]),
+                max: bounds.max.max(p[0]).max(p[1]).max(p[2]),
+                direction,
+                cos_theta_o,
+                ..bounds
+            }
+        }))
     }
 
     /// The centre of the box.
@@ -207,14 +261,28 @@ impl LightTree {
     /// Builds the tree over the lights of `lights`, whose triangles are `triangles` (the
     /// ones the table was made from, in the same order).
     pub fn build(triangles: &[Triangle], lights: &EmissiveTriangles) -> LightTree {
+        LightTree::build_over_keys(triangles, lights, LightKeys::STILL)
+    }
+
+    /// `build`, each light bounded over motion blur's `keys` (`LightBounds::over_keys`), so
+    /// that a light that moves during the shutter is reachable wherever it shines at some
+    /// time of it: next-event estimation with the tree stays unbiased.
+    pub fn build_over_keys(
+        triangles: &[Triangle],
+        lights: &EmissiveTriangles,
+        keys: LightKeys,
+    ) -> LightTree {
         let mut build: Vec<BuildLight> = lights
             .triangle_indices
             .iter()
             .enumerate()
             .filter_map(|(index, &triangle)| {
-                LightBounds::of_triangle(&triangles[triangle as usize]).map(|bounds| BuildLight {
-                    index: index as u32,
-                    bounds,
+                let at_keys = keys.of(triangle);
+                LightBounds::over_keys(&triangles[triangle as usize], at_keys).map(|bounds| {
+                    BuildLight {
+                        index: index as u32,
+                        bounds,
+                    }
                 })
             })
             .collect();

@@ -49,6 +49,7 @@ pub mod selection;
 pub use emissive::{luminance, EmissiveTriangles};
 pub use environment::{Environment, EnvironmentMap};
 pub use environment_source::EnvironmentSource;
+pub use light_tree::LightKeys;
 pub use punctual::{PunctualKind, PunctualLight};
 pub use scene_lights::{
     hash_description, KeptLightBuffers, LightBuffers, LightReuse, LightsDigest, SameLights,

@@ -22,7 +22,7 @@ use super::gpu_emissive::{
 };
 use super::gpu_environment::gpu_environment_words;
 use super::gpu_punctual::gpu_punctual_light_words;
-use super::light_tree::LightTree;
+use super::light_tree::{LightKeys, LightTree};
 use super::punctual::PunctualLight;
 use super::selection::LightSelection;
 use crate::digest::Parts;
@@ -58,19 +58,26 @@ impl<'a> SceneLights<'a> {
     }
 
     /// These lights with a light tree over the emissive triangles (none without them);
-    /// `triangles` must be the ones this list was made with.
-    pub fn with_light_tree(self, triangles: &[Triangle]) -> SceneLights<'a> {
+    /// `triangles` must be the ones this list was made with, and `keys` motion blur's keys
+    /// of them (`LightKeys::STILL` for a still scene), over which the tree bounds each light
+    /// (`LightTree::build_over_keys`).
+    pub fn with_light_tree(self, triangles: &[Triangle], keys: LightKeys) -> Self {
         let tree = (!self.emissive.triangle_indices.is_empty())
-            .then(|| LightTree::build(triangles, &self.emissive));
+            .then(|| LightTree::build_over_keys(triangles, &self.emissive, keys));
         SceneLights { tree, ..self }
     }
 
     /// These lights as `selection` chooses among them: with the light tree where it takes
-    /// the tree (`LightSelection::uses_tree`); `triangles` must be the ones this list was
-    /// made with.
-    pub fn with_selection(self, selection: LightSelection, triangles: &[Triangle]) -> Self {
+    /// the tree (`LightSelection::uses_tree`); `triangles` and `keys` as `with_light_tree`
+    /// takes them.
+    pub fn with_selection(
+        self,
+        selection: LightSelection,
+        triangles: &[Triangle],
+        keys: LightKeys,
+    ) -> Self {
         if self.uses_tree(selection) {
-            self.with_light_tree(triangles)
+            self.with_light_tree(triangles, keys)
         } else {
             self
         }

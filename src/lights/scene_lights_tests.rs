@@ -36,7 +36,7 @@ fn the_list_packs_each_kind_as_its_own_module_does() {
         gpu_light_selection_words(&lights.emissive)
     );
     assert_eq!(lights.selection_words().len(), reversed.len());
-    let lights = lights.with_light_tree(&reversed);
+    let lights = lights.with_light_tree(&reversed, LightKeys::STILL);
     assert_eq!(
         lights.selection_words(),
         gpu_light_index_words(&lights.emissive)

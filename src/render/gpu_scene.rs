@@ -21,7 +21,7 @@ use crate::kernels::variant::{
 };
 use crate::kernels::Build;
 use crate::kernels::{Bound, Resource};
-use crate::lights::{KeptLightBuffers, LightBuffers, SceneLights};
+use crate::lights::{KeptLightBuffers, LightBuffers, LightKeys, SceneLights};
 use crate::render::gpu_materials::{
     material_texel_words, scene_texture_slots, GpuMaterial, GpuTriangleShading,
 };
@@ -130,6 +130,25 @@ fn variant_settings(settings: &RenderSettings, lights: &SceneLights) -> VariantS
         guiding: settings.guiding.is_some(),
         ..lights.variant_settings(settings.light_selection)
     }
+}
+
+/// The lights of `scene` as `settings` select among them, its triangles uploaded as
+/// `ordered` (the scene's in `order`, the BVH's leaf order, where there is one); under
+/// motion blur the light tree bounds each light over the keys.
+fn lights_of<'a>(
+    scene: &'a Scene,
+    ordered: &[Triangle],
+    order: Option<&[u32]>,
+    settings: &RenderSettings,
+) -> SceneLights<'a> {
+    let keys = LightKeys {
+        keys: scene
+            .motion
+            .as_ref()
+            .map_or(&[], |motion| &motion.triangles[..]),
+        order,
+    };
+    SceneLights::new(scene, ordered).with_selection(settings.light_selection, ordered, keys)
 }
 
 /// The render uniforms of `scene` seen by `camera`, at `settings`' aspect, size and seed.
@@ -540,8 +559,7 @@ impl GpuScene {
         };
         let gpu_triangles: Vec<GpuTriangle> =
             ordered_triangles.iter().map(GpuTriangle::new).collect();
-        let scene_lights = SceneLights::new(scene, &ordered_triangles)
-            .with_selection(settings.light_selection, &ordered_triangles);
+        let scene_lights = lights_of(scene, &ordered_triangles, triangle_order, settings);
         let variant_settings = variant_settings(settings, &scene_lights);
         let upload = |name: &str, bytes: &[u8]| {
             TexelBufferView::upload_rgba32_uint(context, commands, name, bytes)
