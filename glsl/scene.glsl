@@ -137,8 +137,8 @@ packed_triangle_t get_moving_packed_triangle(uint index) {
     uint key;
     float fraction = get_motion_segment(g_motion_time, key);
     uint triangle_count = g_resolution_triangle_count_seed.z;
-    int before = get_motion_texel_offset(triangle_count) + MOTION_TRIANGLE_TEXEL_COUNT * int(key * triangle_count + index);
-    int after = before + MOTION_TRIANGLE_TEXEL_COUNT * int(triangle_count);
+    int before = get_motion_texel_offset(triangle_count) + MOTION_TRIANGLE_TEXEL_COUNT * int(index * MOTION_STEPS + key);
+    int after = before + MOTION_TRIANGLE_TEXEL_COUNT;
     packed.positions[0] = mix(uintBitsToFloat(texelFetch(g_triangle_texels, before)), uintBitsToFloat(texelFetch(g_triangle_texels, after)), fraction);
     packed.positions[1] = mix(uintBitsToFloat(texelFetch(g_triangle_texels, before + 1)), uintBitsToFloat(texelFetch(g_triangle_texels, after + 1)), fraction);
     packed.positions[2] = mix(uintBitsToFloat(texelFetch(g_triangle_texels, before + 2)), uintBitsToFloat(texelFetch(g_triangle_texels, after + 2)), fraction);

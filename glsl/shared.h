@@ -198,8 +198,9 @@
 // (--motion-steps, 2 to MAX_MOTION_STEPS), or 0 for a render without motion blur, whose
 // kernels read the triangles and the camera as before (the motion code folds away). With
 // keys, BINDING_TRIANGLES holds after its triangle_count * TRIANGLE_TEXEL_COUNT texels the
-// keys' triangles, MOTION_TRIANGLE_TEXEL_COUNT texels each (v_0, v_1, v_2, normal; key-major:
-// key k's triangle i at record k * triangle_count + i, in the triangles' order), then the
+// keys' triangles, MOTION_TRIANGLE_TEXEL_COUNT texels each (v_0, v_1, v_2, normal;
+// triangle-major, so that the two keys a ray's time lerps are neighbours in memory: triangle
+// i's key k at record i * MOTION_STEPS + k, in the triangles' order), then the
 // keys' cameras, MOTION_CAMERA_TEXEL_COUNT texels each (the four render_uniforms camera
 // vectors). glsl/scene.glsl reads them; src/render/gpu_motion.rs writes them.
 #define SPEC_MOTION_STEPS 609

@@ -1,6 +1,6 @@
 //! Motion blur on the device: the keys of a `SceneMotion` as the kernels read them after the
 //! triangles at `BINDING_TRIANGLES` (`glsl/shared.h`: `MOTION_TRIANGLE_TEXEL_COUNT` texels per
-//! triangle and key, key-major, then `MOTION_CAMERA_TEXEL_COUNT` per key's camera), read by
+//! triangle and key, triangle-major, then `MOTION_CAMERA_TEXEL_COUNT` per key's camera), read by
 //! `get_packed_triangle()` and `get_camera_at_time()` of `glsl/scene.glsl`.
 
 use crate::bvh::Aabb;
@@ -18,9 +18,11 @@ pub fn motion_texels(motion: &SceneMotion, order: Option<&[u32]>, aspect: f32) -
         contract::MOTION_TRIANGLE_TEXEL_COUNT as usize * count * motion.triangles.len()
             + contract::MOTION_CAMERA_TEXEL_COUNT as usize * motion.cameras.len(),
     );
-    for key in &motion.triangles {
-        for stored in 0..count {
-            let triangle = &key[order.map_or(stored, |order| order[stored] as usize)];
+    // Triangle-major: the two keys a ray's time lerps are neighbours in memory
+    for stored in 0..count {
+        let index = order.map_or(stored, |order| order[stored] as usize);
+        for key in &motion.triangles {
+            let triangle = &key[index];
             let [a, b, c] = triangle.positions.map(|p| p.extend(0.0).to_array());
             texels.extend([a, b, c, triangle.normal.extend(0.0).to_array()]);
         }
@@ -61,7 +63,7 @@ mod tests {
     use glam::Vec3;
 
     #[test]
-    fn keys_are_key_major_in_leaf_order_then_the_cameras() {
+    fn keys_are_triangle_major_in_leaf_order_then_the_cameras() {
         let triangle = |x: f32| KeyTriangle {
             positions: [Vec3::new(x, 0.0, 0.0), Vec3::Y, Vec3::Z],
             normal: Vec3::X,
@@ -78,7 +80,8 @@ mod tests {
         let texels = motion_texels(&motion, Some(&[1, 0]), 1.0);
         assert_eq!(texels.len(), 4 * 2 * 2 + 4 * 2);
         let first_xs: Vec<f32> = (0..4).map(|record| texels[4 * record][0]).collect();
-        assert_eq!(first_xs, vec![1.0, 0.0, 3.0, 2.0]);
+        // stored triangle 0 is the scene's 1 (x 1 at key 0, 3 at key 1), then the scene's 0
+        assert_eq!(first_xs, vec![1.0, 3.0, 0.0, 2.0]);
         assert_eq!(texels[3], [1.0, 0.0, 0.0, 0.0]);
         assert_eq!(texels[16], [0.0, 0.0, 0.0, 0.0]);
     }
