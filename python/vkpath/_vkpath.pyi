@@ -184,7 +184,10 @@ def render(
     session: Optional["Session"] = None,
     focus_at: Optional[Tuple[int, int]] = None,
     fps: Optional[float] = None,
+    medium: Optional[str] = None,
 ) -> Dict[str, Any]: ...
+def parse_medium(text: str) -> Tuple[Tuple[float, float, float], Tuple[float, float, float], float]:
+    """``--medium``'s text read and checked: (sigma_a, sigma_s, g) as float32 values."""
 
 class Session:
     """A device kept open for several renders (``render_frames`` uses one)."""
