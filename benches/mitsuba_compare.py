@@ -60,6 +60,18 @@ software traversal on GPUs without RT cores, such as the H100/H200 the device le
 "PEER STOP:" when the variant cannot start (no libcuda.so / libnvoptix.so, no GPU), so that a
 device call spends no time on a run that cannot work. scripts/gpu-peer.sh runs it that way.
 
+Participating media (--medium TEXT, `vkpath render --medium`'s text, e.g.
+"sigma_a=0.02:sigma_s=0.3:g=0.6"): the Cornell box in a homogeneous global medium. vkpath's
+renders and the reference get --medium; `vkpath export --medium` writes it into scene.json, and
+Mitsuba gets a `homogeneous` medium (sigma_t = sigma_a + sigma_s, albedo = sigma_s / sigma_t per
+channel, an `hg` phase function of the same g) as the sensor's medium and as the interior AND
+the exterior of every shape (vkpath's medium fills all space outside closed refracting volumes:
+a ray reflected on either side of a wall stays in it, and it reaches to infinity, as Mitsuba's
+homogeneous medium does), rendered by `volpath` (max_depth = --max-path-length: both count a
+medium scattering event as one vertex, like a surface hit; no Russian roulette). The workshop
+integrator renders no media, so there is no `vkpath workshop` row, and the work files' <name>
+gets a `-medium-<text>` suffix so that references of other media are not reused.
+
 Scenes (--scene): `cornell` (the built-in box, or with --generated N the scale-test scene, both
 through `vkpath export`) or `spheres`: benches/mitsuba_table.py's material glTF scene (24 flat
 icospheres, 122 882 triangles, 25 glTF metallic-roughness materials, a white sky; Mitsuba gets
@@ -176,8 +188,13 @@ def scene_arguments(args):
     return [] if args.generated is None else ["--generated", str(args.generated)]
 
 
+def medium_arguments(args):
+    """vkpath's --medium for the comparison's medium (--medium), or nothing."""
+    return ["--medium", args.medium] if getattr(args, "medium", None) else []
+
+
 def run_vkpath(vkpath, output, args, spp, integrator, moments=True, seed=None, sampler="pcg"):
-    cmd = [vkpath, "render", *scene_arguments(args), "-o", output, "--width", str(args.width), "--height", str(args.height),
+    cmd = [vkpath, "render", *scene_arguments(args), *medium_arguments(args), "-o", output, "--width", str(args.width), "--height", str(args.height),
            "--spp", str(spp), "--integrator", integrator, "--russian-roulette-start", "0",
            "--max-path-length", str(args.max_path_length), "--pixel-filter", "box"]
     if integrator != "workshop":  # the workshop's integrator has PCG2D only
@@ -224,7 +241,7 @@ def run_compare(vkpath, a, b, block=None):
 
 def export_scene(args, directory):
     """`vkpath export` of the scene into `directory`; returns its manifest."""
-    cmd = [args.vkpath, "export", "--output-dir", directory]
+    cmd = [args.vkpath, "export", "--output-dir", directory, *medium_arguments(args)]
     if args.generated is not None:
         cmd += ["--generated", str(args.generated)]
     print("  $ " + " ".join(cmd), flush=True)
@@ -255,6 +272,14 @@ def build_mitsuba_scene(mi, args, spp, directory, manifest):
                 sys.exit(f"{mesh['file']}: double-sided emitters have no Mitsuba counterpart here")
             entry["emitter"] = {"type": "area", "radiance": {"type": "rgb", "value": mesh["emission"]}}
         scene[f"mesh_{i}"] = entry
+    medium = mitsuba_medium(manifest)
+    if medium is not None:
+        # vkpath's global medium fills both sides of every surface (there is no closed glass
+        # here): a ray reflected off a wall's back stays in the fog, as a light sample does.
+        scene["vkpath_medium"] = medium
+        for i in range(len(manifest["meshes"])):
+            scene[f"mesh_{i}"]["interior"] = {"type": "ref", "id": "vkpath_medium"}
+            scene[f"mesh_{i}"]["exterior"] = {"type": "ref", "id": "vkpath_medium"}
     cam = manifest["camera"]
     if cam is None:
         sys.exit("the exported scene has no camera")
@@ -268,10 +293,27 @@ def build_mitsuba_scene(mi, args, spp, directory, manifest):
                  "rfilter": {"type": "box"}, "pixel_format": "rgb"},
         "sampler": {"type": SAMPLERS[args.sampler][1], "sample_count": spp},
     }
+    if medium is not None:
+        scene["sensor"]["medium"] = {"type": "ref", "id": "vkpath_medium"}
     max_depth = args.mitsuba_max_depth if args.mitsuba_max_depth is not None else args.max_path_length
-    scene["integrator"] = {"type": "path", "max_depth": max_depth,
+    scene["integrator"] = {"type": "volpath" if medium is not None else "path", "max_depth": max_depth,
                            "rr_depth": max_depth + 1000, "hide_emitters": False}
     return mi.load_dict(scene), fov_y
+
+
+def mitsuba_medium(manifest):
+    """scene.json's "medium" (vkpath export --medium) as a Mitsuba `homogeneous` medium dict:
+    sigma_t = sigma_a + sigma_s and albedo = sigma_s / sigma_t per channel (0 where sigma_t is
+    0), per scene unit of length as vkpath's (scale 1), a Henyey-Greenstein phase function of
+    the same g (the same sign convention: g > 0 scatters forwards). None without a medium."""
+    medium = manifest.get("medium")
+    if medium is None:
+        return None
+    sigma_t = [a + s for a, s in zip(medium["sigma_a"], medium["sigma_s"])]
+    albedo = [s / t if t > 0 else 0.0 for s, t in zip(medium["sigma_s"], sigma_t)]
+    return {"type": "homogeneous", "sigma_t": {"type": "rgb", "value": sigma_t},
+            "albedo": {"type": "rgb", "value": albedo}, "scale": 1.0,
+            "phase": {"type": "hg", "g": medium["g"]}}
 
 
 def mitsuba_render(mi, dr, scene, spp, seed):
@@ -392,7 +434,7 @@ def run_bench(vkpath, args, sampler, reference, integrators):
         # (the scene has no emissive triangles). Bench's relMSE is then meaningless: unused.
         i = scene_args.index("--background")
         del scene_args[i:i + 2]
-    cmd = [vkpath, "bench", *scene_args, "--reference", reference, "--width", str(args.width),
+    cmd = [vkpath, "bench", *scene_args, *medium_arguments(args), "--reference", reference, "--width", str(args.width),
            "--height", str(args.height), "--spp", str(args.spp), "--max-path-length", str(args.max_path_length),
            "--russian-roulette-start", "0", "--sampler", sampler, "--integrators", ",".join(integrators),
            "--repeats", str(max(args.repeats, 2)), "--json"]
@@ -455,6 +497,9 @@ def main():
     parser.add_argument("--mitsuba-max-depth", type=int, default=None,
                         help="override Mitsuba's max_depth (default: --max-path-length); e.g. one less, "
                              "to see the gate fail on a convention mismatch")
+    parser.add_argument("--medium", default=None, metavar="sigma_a=R,G,B:sigma_s=R,G,B:g=G",
+                        help="a homogeneous global medium (vkpath render --medium's text); Mitsuba "
+                             "renders it with volpath (Cornell box only)")
     parser.add_argument("--require-gpu", action="store_true",
                         help="pass --require-gpu to vkpath (refuse to fall back to a CPU device)")
     parser.add_argument("--no-bench", action="store_true", help="skip `vkpath bench` (no rays/s)")
@@ -471,6 +516,8 @@ def main():
         sys.exit("--spp must be a multiple of --batches, and --batches at least 2")
     if args.scene == "spheres" and args.generated is not None:
         sys.exit("--generated goes with --scene cornell only")
+    if args.medium and args.scene != "cornell":
+        sys.exit("--medium goes with --scene cornell only")
 
     ensure_setup(not args.no_setup, args.variant)
     ensure_vkpath(args.vkpath, args.build)
@@ -489,6 +536,9 @@ def main():
         name = "spheres"
     else:
         name = "cornell" if args.generated is None else f"generated{args.generated}"
+    if args.medium:
+        # The medium in the work files' names, so that no reference of another medium is reused.
+        name += "-medium-" + re.sub(r"[^0-9A-Za-z.]+", "-", args.medium).strip("-")
     tag = f"{name}_{args.sampler}"
     scene_dir = os.path.join(args.workdir, f"scene_{name}")
     os.makedirs(scene_dir, exist_ok=True)
@@ -503,7 +553,10 @@ def main():
         manifest = export_scene(args, scene_dir)
         args.scene_args = None
         triangles, materials = sum(mesh["triangles"] for mesh in manifest["meshes"]), len(manifest["meshes"])
-        integrators = ["mis", "workshop"]
+        # The workshop integrator renders no media.
+        integrators = ["mis"] if args.medium else ["mis", "workshop"]
+    if args.medium:
+        print(f"medium {args.medium}: Mitsuba homogeneous {json.dumps(mitsuba_medium(manifest))}, volpath")
     print(f"scene {name} ({triangles} triangles, {materials} materials), {w}x{h}, "
           f"max path length {n}, {spp} spp, no Russian roulette, box pixel filter; samplers: vkpath "
           f"{vk_sampler} (mis; workshop always PCG2D), Mitsuba {mi_sampler}")
@@ -561,11 +614,14 @@ def main():
     mitsuba_exr = os.path.join(args.workdir, f"mitsuba_{tag}.exr")
     write_with_moments(mi, dr, mitsuba_exr, image, batches, spp, batch_spp)
     x, _, _ = read_rgb(mi, dr, mitsuba_exr)
-    rows = [{"name": "Mitsuba path", "renderer": "mitsuba", "integrator": "path", "sampler": mi_sampler,
+    mi_integrator = "volpath" if args.medium else "path"
+    rows = [{"name": f"Mitsuba {mi_integrator}", "renderer": "mitsuba", "integrator": mi_integrator, "sampler": mi_sampler,
              "seconds": mitsuba_s, "cold": cold_s, "second_render_s": timings[0], "timings": timings,
              "paths_per_s": w * h * spp / mitsuba_s, "relmse": relative_mse(mi, dr, x, r),
              "device": args.variant, "image": mitsuba_exr, "batch_spp": batch_spp, "batch_timings": batch_times,
              "fixed_per_render_s": fixed_s}]
+    channel_ratio = [scalar(dr.mean(x[c])) / max(scalar(dr.mean(r[c])), 1e-30) for c in range(3)]
+    rows[0]["mean_ratio_rgb_vs_reference"] = channel_ratio
     orient_m = orientation(mi, dr, x, w, h)
     orient_r = orientation(mi, dr, r, w, h)
 
@@ -578,7 +634,9 @@ def main():
                 for _ in range(args.repeats)]
         info = min(runs, key=lambda run: run["seconds"])
         xi, _, _ = read_rgb(mi, dr, out)
+        ratio_rgb = [scalar(dr.mean(xi[c])) / max(scalar(dr.mean(r[c])), 1e-30) for c in range(3)]
         rows.append({"name": f"vkpath {integrator}", "renderer": "vkpath", "integrator": integrator,
+                     "mean_ratio_rgb_vs_reference": ratio_rgb,
                      "sampler": "pcg" if integrator == "workshop" else vk_sampler,
                      "seconds": info["seconds"], "cold": None, "timings": [run["seconds"] for run in runs],
                      "paths_per_s": info["msamples_per_s"] * 1e6, "relmse": relative_mse(mi, dr, xi, r),
@@ -650,6 +708,10 @@ def main():
     for row in rows[1:]:
         print(f"efficiency ratio {row['name']} / Mitsuba = {row['efficiency_ratio_vs_mitsuba']:.3f}")
     print(f"Mitsuba paths/s (W*H*spp/seconds)          = {rows[0]['paths_per_s']:.4g}")
+    for row in rows:
+        ratio = row["mean_ratio_rgb_vs_reference"]
+        print(f"mean {row['name']} / reference per channel R, G, B = "
+              + ", ".join(f"{v:.4f}" for v in ratio))
     if ref_noise is not None:
         print(f"reference's own noise adds ~{ref_noise:.5f} to every relMSE "
               f"({100 * ref_noise / rows[0]['relmse']:.1f}% of Mitsuba's)")
@@ -673,7 +735,7 @@ def main():
               + ", ".join(f"{row['name']} {row['gate']}" for row in rows))
     with open(os.path.join(args.workdir, f"results_{tag}.json"), "w") as f:
         json.dump({"scene": name, "tag": tag, "variant": args.variant, "sampler": args.sampler,
-                   "samplers": {"vkpath": vk_sampler, "mitsuba": mi_sampler},
+                   "samplers": {"vkpath": vk_sampler, "mitsuba": mi_sampler}, "medium": args.medium,
                    "triangles": triangles, "width": w, "height": h, "max_path_length": n, "spp": spp,
                    "reference_spp": args.reference_spp, "reference_noise_relmse": ref_noise,
                    "mitsuba_load_s": load_s, "rows": rows,

@@ -1,6 +1,7 @@
 //! `render --medium` through the binary: bad coefficients, g outside (-1, 1), text that is no
 //! medium and a medium with the workshop's integrator are each one error line, exit 2, with
-//! nothing written; a fog render with mis writes its image and records the medium.
+//! nothing written; a fog render with mis writes its image and records the medium; `export
+//! --medium` writes it into scene.json, and refuses a bad one as `render` does.
 
 use crate::common;
 
@@ -71,4 +72,40 @@ fn a_fog_render_records_its_medium() {
         exr.windows(needle.len()).any(|w| w == needle),
         "the EXR's metadata should record the medium"
     );
+}
+
+#[test]
+fn export_writes_the_medium_into_the_manifest() {
+    let dir = tempfile::tempdir().unwrap();
+    let manifest = |name: &str| -> serde_json::Value {
+        let text = std::fs::read_to_string(dir.path().join(name).join("scene.json")).unwrap();
+        serde_json::from_str(&text).unwrap()
+    };
+    let export = |args: &[&str]| common::vkpath(dir.path(), args);
+    let output = export(&[
+        "export",
+        "--output-dir",
+        "fog",
+        "--medium",
+        "sigma_a=0.1:sigma_s=0.25,0.5,1:g=-0.3",
+    ]);
+    assert!(
+        output.status.success(),
+        "{}",
+        String::from_utf8_lossy(&output.stderr)
+    );
+    let medium = &manifest("fog")["medium"];
+    assert_eq!(medium["sigma_a"], serde_json::json!([0.1, 0.1, 0.1]));
+    assert_eq!(medium["sigma_s"], serde_json::json!([0.25, 0.5, 1.0]));
+    assert_eq!(medium["g"], serde_json::json!(-0.3));
+    // Without --medium: null, so that a reader can tell "no medium" from an old manifest.
+    let output = export(&["export", "--output-dir", "clear"]);
+    assert!(output.status.success());
+    assert!(manifest("clear")["medium"].is_null());
+    // A bad medium: one usage error line, exit 2, no directory made.
+    let output = export(&["export", "--output-dir", "bad", "--medium", "sigma_s=1:g=1"]);
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    assert_eq!(output.status.code(), Some(2), "{stderr}");
+    assert!(stderr.contains("g=1"), "{stderr}");
+    assert!(!dir.path().join("bad").exists());
 }

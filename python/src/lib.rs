@@ -9,6 +9,7 @@ use pyo3::prelude::*;
 mod arrays;
 mod errors;
 mod images;
+mod medium;
 mod names;
 mod render;
 mod scene;
@@ -20,6 +21,8 @@ mod _vkpath {
     use crate::errors::VkpathError;
     #[pymodule_export]
     use crate::images::{check, compare, read_exr, read_exr_channels, save};
+    #[pymodule_export]
+    use crate::medium::parse_medium;
     #[pymodule_export]
     use crate::render::{default_settings, render, Session};
     #[pymodule_export]

@@ -42,7 +42,7 @@ fn possible_values<T: ValueEnum>() -> Vec<String> {
 
 /// The command line's options that the library's settings messages name, with the keyword
 /// Python takes for each (`RenderSettings::validate` speaks the command line's language).
-const PYTHON_KEYWORDS: [(&str, &str); 11] = [
+const PYTHON_KEYWORDS: [(&str, &str); 12] = [
     ("--width/--height", "width=/height="),
     ("--spp", "spp="),
     ("--max-path-length", "max_path_length="),
@@ -54,6 +54,7 @@ const PYTHON_KEYWORDS: [(&str, &str); 11] = [
     ("--guiding", "guiding=True"),
     ("--integrator", "integrator="),
     ("--region", "region="),
+    ("--medium", "medium"),
 ];
 
 /// A settings message with each option the command line knows it by (`--spp 0`) named as

@@ -34,6 +34,7 @@ use vkpath::scene::motion::{
 use vkpath::{Context, ContextOptions, Integrator, RenderSettings, RenderedImage};
 
 use crate::errors::{argument_error, message, to_py};
+use crate::medium::medium_of;
 use crate::names::{in_python_words, name_of, parse, parse_optional};
 use crate::scene::{Scene, SequenceFacts};
 
@@ -59,6 +60,8 @@ struct Choices<'a> {
     sample_range: Option<(u32, u32)>,
     noise_threshold: Option<f32>,
     noise_min_spp: Option<u32>,
+    /// `--medium`'s text (`vkpath.Medium`'s `str`).
+    medium: Option<&'a str>,
 }
 
 impl Choices<'_> {
@@ -111,6 +114,7 @@ impl Choices<'_> {
             region: self
                 .region
                 .map(|(x0, y0, x1, y1)| PixelRegion { x0, y0, x1, y1 }),
+            medium: self.medium.map(medium_of).transpose()?,
             ..default
         };
         // As `--noise-threshold T --noise-min-spp N`.
@@ -290,7 +294,8 @@ impl ImageSoFar {
     progress=None, device=None, validate=false, region=None, guiding=false,
     guide_training_spp=None, time=None, sample_range=None, noise_threshold=None,
     noise_min_spp=None, aovs=None, denoise=false, progress_image=false, session=None,
-    focus_at=None, fps=None, shutter=None, shutter_position=None, motion_steps=None))]
+    focus_at=None, fps=None, shutter=None, shutter_position=None, motion_steps=None,
+    medium=None))]
 #[allow(clippy::too_many_arguments)]
 pub fn render<'py>(
     py: Python<'py>,
@@ -332,6 +337,7 @@ pub fn render<'py>(
     shutter: Option<f64>,
     shutter_position: Option<&str>,
     motion_steps: Option<u32>,
+    medium: Option<&str>,
 ) -> PyResult<Bound<'py, PyDict>> {
     let (settings, mut warnings) = Choices {
         width,
@@ -353,6 +359,7 @@ pub fn render<'py>(
         sample_range,
         noise_threshold,
         noise_min_spp,
+        medium,
     }
     .settings()?;
     let aovs = aovs
@@ -803,6 +810,7 @@ fn settings_dict<'py>(py: Python<'py>, settings: &RenderSettings) -> PyResult<Bo
     dict.set_item("russian_roulette_start", settings.russian_roulette_start)?;
     dict.set_item("region", settings.region.map(|r| (r.x0, r.y0, r.x1, r.y1)))?;
     dict.set_item("guide_training_spp", settings.guiding.map(|g| g.samples))?;
+    dict.set_item("medium", settings.medium.map(|m| m.to_string()))?;
     Ok(dict)
 }
 

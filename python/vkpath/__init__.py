@@ -41,6 +41,7 @@ __all__ = [
     "Camera",
     "LIGHT_KEYS",
     "MATERIAL_KEYS",
+    "Medium",
     "RenderResult",
     "Scene",
     "VkpathError",
@@ -149,6 +150,83 @@ def _rgb(name: str, value: Optional[Sequence[float]]) -> Optional[Tuple[float, f
     if isinstance(value, str) or len(rgb) != 3:
         raise ArgumentError(f"{name}={value!r} is not three numbers (R, G, B)")
     return rgb  # type: ignore[return-value]
+
+
+_Coefficients = Union[float, Sequence[float]]
+
+
+def _coefficient_text(name: str, value: Any) -> str:
+    """A coefficient as ``--medium`` writes it: one number for all channels, or R,G,B."""
+    if isinstance(value, numbers.Real) and not isinstance(value, bool):
+        return repr(float(value))
+    try:
+        rgb = [float(c) for c in value]
+    except (TypeError, ValueError):
+        rgb = []
+    if isinstance(value, str) or len(rgb) != 3:
+        raise ArgumentError(f"medium: {name}={value!r} is not a number or three numbers (R, G, B)")
+    return ",".join(repr(c) for c in rgb)
+
+
+@dataclass(frozen=True)
+class Medium:
+    """A homogeneous participating medium (fog, haze) that fills the space outside closed
+    refracting volumes, the camera's included: ``vkpath render --medium`` (docs/media.md).
+
+    ``sigma_a`` and ``sigma_s`` are the absorption and scattering coefficients per scene unit
+    of length, linear RGB: one number for all three channels, or (R, G, B); each finite and
+    at least 0. ``g`` is the Henyey-Greenstein anisotropy in (-1, 1): 0 isotropic, > 0
+    forward scattering. The constructor checks them as the command line does (a bad value
+    raises :class:`ArgumentError`, a ``ValueError``) and stores each coefficient as the
+    renderer does: three float32 values, as Python floats. ``str(medium)`` is the command
+    line's text, ``sigma_a=R,G,B:sigma_s=R,G,B:g=G``.
+
+    >>> fog = vkpath.Medium(sigma_a=0.05, sigma_s=(0.5, 0.4, 0.3), g=0.6)
+    >>> image = vkpath.render(integrator="mis", medium=fog)
+    """
+
+    sigma_a: _Coefficients = 0.0
+    sigma_s: _Coefficients = 0.0
+    g: float = 0.0
+
+    def __post_init__(self) -> None:
+        if isinstance(self.g, bool) or not isinstance(self.g, numbers.Real):
+            raise ArgumentError(f"medium: g={self.g!r} is not a number in (-1, 1)")
+        text = (f"sigma_a={_coefficient_text('sigma_a', self.sigma_a)}"
+                f":sigma_s={_coefficient_text('sigma_s', self.sigma_s)}:g={float(self.g)!r}")
+        sigma_a, sigma_s, g = _vkpath.parse_medium(text)
+        object.__setattr__(self, "sigma_a", tuple(sigma_a))
+        object.__setattr__(self, "sigma_s", tuple(sigma_s))
+        object.__setattr__(self, "g", g)
+
+    @classmethod
+    def parse(cls, text: str) -> "Medium":
+        """The medium of ``--medium``'s text, ``"sigma_a=R,G,B:sigma_s=R,G,B:g=G"`` (parts in
+        any order, a part left out 0); raises :class:`ArgumentError` where the command line
+        would refuse it."""
+        sigma_a, sigma_s, g = _vkpath.parse_medium(text)
+        return cls(sigma_a=sigma_a, sigma_s=sigma_s, g=g)
+
+    def __str__(self) -> str:
+        return (f"sigma_a={_coefficient_text('sigma_a', self.sigma_a)}"
+                f":sigma_s={_coefficient_text('sigma_s', self.sigma_s)}:g={float(self.g)!r}")
+
+
+def _medium_of(medium: Union[None, str, Medium, Dict[str, Any]]) -> Optional[str]:
+    """``medium=`` as the extension takes it: ``--medium``'s text (checked there)."""
+    if medium is None:
+        return None
+    if isinstance(medium, Medium):
+        return str(medium)
+    if isinstance(medium, str):
+        return str(Medium.parse(medium))
+    if isinstance(medium, dict):
+        unknown = sorted(set(medium) - {"sigma_a", "sigma_s", "g"})
+        if unknown:
+            raise ArgumentError(f"medium: {', '.join(map(str, unknown))} is not one of sigma_a, sigma_s, g")
+        return str(Medium(**medium))
+    raise ArgumentError(f"medium={medium!r} is not a vkpath.Medium, a dict of sigma_a, sigma_s "
+                        "and g, or --medium's text")
 
 
 def _device_of(device: Optional[Union[int, str]]) -> Optional[str]:
@@ -270,6 +348,7 @@ def render_result(
     shutter: Optional[float] = None,
     shutter_position: Optional[str] = None,
     motion_steps: Optional[int] = None,
+    medium: Union[None, str, Medium, Dict[str, Any]] = None,
 ) -> RenderResult:
     """:func:`render`, returning the image with its moments, the samples taken and why the
     render stopped."""
@@ -314,6 +393,7 @@ def render_result(
         shutter=None if shutter is None else float(shutter),
         shutter_position=shutter_position,
         motion_steps=_whole("motion_steps", motion_steps),
+        medium=_medium_of(medium),
     )
     for warning in raw["warnings"]:
         warnings.warn(warning, stacklevel=2)
@@ -395,6 +475,7 @@ def render(
     shutter: Optional[float] = None,
     shutter_position: Optional[str] = None,
     motion_steps: Optional[int] = None,
+    medium: Union[None, str, Medium, Dict[str, Any]] = None,
 ) -> np.ndarray:
     """Renders a scene and returns its linear RGBA image, float32, shape (height, width, 4),
     rows top-down: what ``vkpath render ... -o out.exr`` writes, bit for bit.
@@ -461,6 +542,11 @@ def render(
     ``motion_steps`` keys (2 to 64, default 2) across it and moves linearly between two.
     :func:`render_frames` takes it too. A scene that does not move across the shutter
     renders the still image, with a warning.
+
+    ``medium`` is ``--medium``: a homogeneous participating medium (fog, haze) filling the
+    space the camera is in, a :class:`Medium`, a dict of its keywords
+    (``dict(sigma_a=0.05, sigma_s=0.5, g=0.6)``) or the command line's text
+    (``"sigma_a=0.05:sigma_s=0.5:g=0.6"``); integrators "cosine", "nee" and "mis" render it.
     """
     return render_result(
         scene,
@@ -499,6 +585,7 @@ def render(
         shutter=shutter,
         shutter_position=shutter_position,
         motion_steps=motion_steps,
+        medium=medium,
     ).image
 
 

@@ -187,7 +187,10 @@ def render(
     shutter: Optional[float] = None,
     shutter_position: Optional[str] = None,
     motion_steps: Optional[int] = None,
+    medium: Optional[str] = None,
 ) -> Dict[str, Any]: ...
+def parse_medium(text: str) -> Tuple[Tuple[float, float, float], Tuple[float, float, float], float]:
+    """``--medium``'s text read and checked: (sigma_a, sigma_s, g) as float32 values."""
 
 class Session:
     """A device kept open for several renders (``render_frames`` uses one)."""

@@ -3,6 +3,7 @@
 use std::path::PathBuf;
 
 use super::options::SceneArgs;
+use crate::medium::Medium;
 use crate::scene::export::{export_scene, layers_of, LAYERS};
 use crate::scene::files::LoadOptions;
 use crate::scene::gltf_file::{is_gltf_path, GltfFile};
@@ -17,20 +18,32 @@ pub struct ExportArgs {
     /// Directory for scene.json and the mesh_<k>.ply files (created if missing).
     #[arg(long)]
     pub output_dir: PathBuf,
+    /// The global homogeneous medium to record in scene.json ("medium"), as `render
+    /// --medium` takes it: sigma_a=R,G,B:sigma_s=R,G,B:g=G (docs/media.md).
+    #[arg(long, value_name = "sigma_a=R,G,B:sigma_s=R,G,B:g=G")]
+    pub medium: Option<Medium>,
 }
 
 /// Runs `vkpath export`.
 pub fn run(args: &ExportArgs) -> anyhow::Result<()> {
     let scene = args.scene.load("vkpath export")?;
-    let exported = export_scene(&scene, scene.camera.as_ref(), &args.output_dir)?;
+    let exported = export_scene(
+        &scene,
+        scene.camera.as_ref(),
+        args.medium.as_ref(),
+        &args.output_dir,
+    )?;
     for file in exported.meshes.iter().chain([&exported.manifest]) {
         eprintln!("vkpath: wrote {}", file.display());
     }
     eprintln!(
-        "vkpath export: {} triangles in {} meshes, {} punctual lights",
+        "vkpath export: {} triangles in {} meshes, {} punctual lights{}",
         scene.triangles.len(),
         exported.meshes.len(),
-        scene.punctual_lights.len()
+        scene.punctual_lights.len(),
+        args.medium
+            .map(|medium| format!(", medium {medium}"))
+            .unwrap_or_default()
     );
     if let Some(note) = layers_note(&scene) {
         eprintln!("{note}");

@@ -21,7 +21,8 @@
 //!                               "unlit": false,
 //!                               "textures_not_exported": ["baseColorTexture"] } } ],
 //!   "lights": [ { "type": "spot", "position": [x, y, z], "direction": [x, y, z],
-//!                 "intensity": [r, g, b], "inner_cone_angle": 0, "outer_cone_angle": 0.785 } ] }
+//!                 "intensity": [r, g, b], "inner_cone_angle": 0, "outer_cone_angle": 0.785 } ],
+//!   "medium": { "sigma_a": [r, g, b], "sigma_s": [r, g, b], "g": 0.6 } }
 //! ```
 //!
 //! `camera` is `null` when the scene has none; `target` is the centre of the image plane and
@@ -37,7 +38,13 @@
 //! unused for directional lights, `direction` for point lights; cone angles in radians, spot
 //! lights only). Each PLY holds its triangles as a soup (3 vertices each, `float x, y, z`),
 //! counter-clockwise seen from the side their normal points to: the side one-sided emitters
-//! shine towards. Every file is written as the images are (`image_io::output`): through a
+//! shine towards. `medium` is the global homogeneous medium of `render --medium` (`vkpath
+//! export --medium`, `crate::medium::Medium`), or `null` without one: `sigma_a` and
+//! `sigma_s` per scene unit of length, linear RGB, `g` the Henyey-Greenstein anisotropy. It
+//! fills all space outside closed refracting volumes, the camera's included, and reaches to
+//! infinity (docs/media.md): a consumer gives it to the camera and to both sides of every
+//! surface that does not enclose glass (Mitsuba: the sensor's `medium`, each shape's
+//! `interior` and `exterior`). Every file is written as the images are (`image_io::output`): through a
 //! temporary file renamed into place, never into a device, FIFO or directory.
 
 use std::collections::BTreeMap;
@@ -51,6 +58,7 @@ use serde::Serialize;
 use crate::camera::Camera;
 use crate::image_io::output::write_atomically;
 use crate::lights::{PunctualKind, PunctualLight};
+use crate::medium::Medium;
 use crate::scene::material_params::MATERIAL_TEXTURES;
 use crate::scene::materials::{AlphaMode, PbrMaterial};
 use crate::scene::{Scene, Triangle};
@@ -254,12 +262,35 @@ impl ManifestLight {
     }
 }
 
+/// The global homogeneous medium, as the manifest stores it (`crate::medium::Medium`).
+#[derive(Debug, Serialize)]
+struct ManifestMedium {
+    /// Absorption per scene unit of length, linear RGB.
+    sigma_a: [f32; 3],
+    /// Scattering per scene unit of length, linear RGB.
+    sigma_s: [f32; 3],
+    /// The Henyey-Greenstein anisotropy, in (-1, 1).
+    g: f32,
+}
+
+impl ManifestMedium {
+    fn new(medium: &Medium) -> ManifestMedium {
+        ManifestMedium {
+            sigma_a: medium.absorption.to_array(),
+            sigma_s: medium.scattering.to_array(),
+            g: medium.anisotropy,
+        }
+    }
+}
+
 /// `scene.json`.
 #[derive(Debug, Serialize)]
 struct Manifest {
     camera: Option<ManifestCamera>,
     meshes: Vec<ManifestMesh>,
     lights: Vec<ManifestLight>,
+    /// `null` without a medium.
+    medium: Option<ManifestMedium>,
 }
 
 /// A material, bit-exact, as the key that groups triangles into meshes: colour, emission,
@@ -277,10 +308,12 @@ fn material_key(triangle: &Triangle, material: Option<u32>) -> MaterialKey {
 }
 
 /// Writes `scene` into `directory` (created if missing) as `scene.json` and `mesh_<k>.ply`,
-/// with `camera` (the scene's own, or the one the user chose). Returns the files written.
+/// with `camera` (the scene's own, or the one the user chose) and `medium` (the render's
+/// global medium, if any). Returns the files written.
 pub fn export_scene(
     scene: &Scene,
     camera: Option<&Camera>,
+    medium: Option<&Medium>,
     directory: &Path,
 ) -> Result<ExportedFiles, ExportError> {
     fs::create_dir_all(directory).map_err(|source| ExportError::Write {
@@ -354,6 +387,7 @@ pub fn export_scene(
             .iter()
             .map(ManifestLight::new)
             .collect(),
+        medium: medium.map(ManifestMedium::new),
     };
     let path = directory.join("scene.json");
     let json = serde_json::to_string_pretty(&manifest)
@@ -436,7 +470,7 @@ mod tests {
     fn cornell_box_exports_by_material_with_its_camera() {
         let scene = Scene::builtin_cornell_box().unwrap();
         let directory = std::env::temp_dir().join(format!("vkpath-export-{}", std::process::id()));
-        let exported = export_scene(&scene, scene.camera.as_ref(), &directory).unwrap();
+        let exported = export_scene(&scene, scene.camera.as_ref(), None, &directory).unwrap();
         let manifest_path = exported.manifest;
         let manifest: serde_json::Value =
             serde_json::from_str(&fs::read_to_string(&manifest_path).unwrap()).unwrap();
@@ -470,6 +504,27 @@ mod tests {
         // The workshop's camera: fov_y = 2 atan(0.28 / 0.8) = 38.58 degrees.
         let fov = manifest["camera"]["fov_y_degrees"].as_f64().unwrap();
         assert!((fov - 38.58).abs() < 0.01, "fov {fov}");
+        assert!(manifest["medium"].is_null(), "no medium: null");
+        fs::remove_dir_all(&directory).unwrap();
+    }
+
+    #[test]
+    fn the_medium_is_exported_with_its_coefficients() {
+        let scene = Scene::builtin_cornell_box().unwrap();
+        let directory =
+            std::env::temp_dir().join(format!("vkpath-export-medium-{}", std::process::id()));
+        let medium: Medium = "sigma_a=0.05,0.1,0.2:sigma_s=0.3:g=0.6".parse().unwrap();
+        let exported =
+            export_scene(&scene, scene.camera.as_ref(), Some(&medium), &directory).unwrap();
+        let manifest: serde_json::Value =
+            serde_json::from_str(&fs::read_to_string(&exported.manifest).unwrap()).unwrap();
+        let floats = |key: &str| -> Vec<f32> {
+            serde_json::from_value(manifest["medium"][key].clone()).unwrap()
+        };
+        // Bit for bit: f32 -> JSON -> f32 round trips (serde_json writes the shortest form).
+        assert_eq!(floats("sigma_a"), [0.05, 0.1, 0.2]);
+        assert_eq!(floats("sigma_s"), [0.3, 0.3, 0.3]);
+        assert_eq!(manifest["medium"]["g"].as_f64().unwrap() as f32, 0.6);
         fs::remove_dir_all(&directory).unwrap();
     }
 }
