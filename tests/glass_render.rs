@@ -44,6 +44,7 @@ impl MeshScene {
             normals: [triangle.normal; 3],
             tex_coords: [Vec2::ZERO; 3],
             tangents: [Vec4::ZERO; 3],
+            extra: Default::default(),
         });
         self.triangles.push(triangle);
     }

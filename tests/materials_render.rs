@@ -59,6 +59,7 @@ impl QuadScene {
                 normals: [triangle.normal; 3],
                 tex_coords: [uv[i], uv[j], uv[k]],
                 tangents: [Vec4::ZERO; 3],
+                extra: Default::default(),
             });
             self.triangles.push(triangle);
         }

@@ -484,6 +484,18 @@ pub fn scene_hash(scene: &Scene, camera: &Camera) -> String {
                 add(&mut bytes, &tangent.to_array());
             }
         }
+        // The extra vertex attributes where the kernels read them (a scene without them
+        // keeps its hash)
+        if materials.vertex_attributes() != 0 {
+            for shading in &materials.triangles {
+                for color in shading.extra.colors {
+                    add(&mut bytes, &color.to_array());
+                }
+                for tex_coord in shading.extra.tex_coords_1 {
+                    add(&mut bytes, &tex_coord.to_array());
+                }
+            }
+        }
         hasher.update(&bytes);
     }
     crate::lights::hash_description(scene, &mut |bytes| hasher.update(bytes));
@@ -583,11 +595,12 @@ mod tests {
             &scene.triangles,
         ));
         let hash = scene_hash(&scene, &camera);
-        let changes: [fn(&mut crate::scene::materials::TriangleShading); 4] = [
+        let changes: [fn(&mut crate::scene::materials::TriangleShading); 5] = [
             |s| s.material += 1,
             |s| s.normals[2].y = -s.normals[2].y,
             |s| s.tex_coords[1].x += 0.5,
             |s| s.tangents[0].w = -1.0,
+            |s| s.extra.colors[2].x = 0.5,
         ];
         for change in changes {
             let mut changed = scene.clone();

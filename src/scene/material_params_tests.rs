@@ -234,6 +234,7 @@ fn the_twins_read_back_every_parameter() {
         texture_texels: &[],
         scene_texture_slots: 0,
         scene_has_layers: true,
+        scene_vertex_attributes: 0,
     };
     let textures = twin::MaterialTextures {
         slots: [Vec4::ONE; MATERIAL_TEXTURE_SLOT_COUNT as usize],

@@ -251,6 +251,41 @@ pub struct TriangleShading {
     /// World-space unit tangents (xyz) and bitangent signs (w), from the file's `TANGENT`
     /// or MikkTSpace; 0 where no normal texture needs them.
     pub tangents: [Vec4; 3],
+    /// The vertex colours and second texture coordinates (`ExtraVertexAttributes::NONE`
+    /// where the file has neither).
+    pub extra: ExtraVertexAttributes,
+}
+
+/// A triangle's vertex attributes that few files have, per vertex; the kernels read them
+/// only where some triangle of the scene has them (`SceneMaterials::vertex_attributes`).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ExtraVertexAttributes {
+    /// glTF's `COLOR_0`: linear RGBA in [0, 1], multiplied into the base colour and its
+    /// alpha; 1 where the file has none.
+    pub colors: [Vec4; 3],
+    /// glTF's `TEXCOORD_1` (0 where the file has none).
+    pub tex_coords_1: [Vec2; 3],
+}
+
+impl ExtraVertexAttributes {
+    /// No vertex colour (white, opaque) and no second texture coordinates.
+    pub const NONE: ExtraVertexAttributes = ExtraVertexAttributes {
+        colors: [Vec4::ONE; 3],
+        tex_coords_1: [Vec2::ZERO; 3],
+    };
+
+    /// Swaps the attributes of vertices `a` and `b` (as a mirroring transform swaps the
+    /// corners).
+    pub fn swap(&mut self, a: usize, b: usize) {
+        self.colors.swap(a, b);
+        self.tex_coords_1.swap(a, b);
+    }
+}
+
+impl Default for ExtraVertexAttributes {
+    fn default() -> ExtraVertexAttributes {
+        ExtraVertexAttributes::NONE
+    }
 }
 
 /// A scene's materials, textures and per-triangle shading data.
@@ -296,6 +331,7 @@ impl SceneMaterials {
                     normals: [triangle.normal; 3],
                     tex_coords: [Vec2::ZERO; 3],
                     tangents: [Vec4::ZERO; 3],
+                    extra: Default::default(),
                 }
             })
             .collect();
@@ -342,6 +378,21 @@ impl SceneMaterials {
                 .materials
                 .iter()
                 .any(|m| m.metallic != 0.0 || m.specular != 0.0)
+    }
+
+    /// The vertex attributes beyond normals, UVs and tangents that the kernels must read
+    /// (`SPEC_SCENE_VERTEX_ATTRIBUTES`): `VERTEX_ATTRIBUTE_COLOR` where some triangle has a
+    /// vertex colour other than opaque white (white changes nothing, so it is left out).
+    pub fn vertex_attributes(&self) -> u32 {
+        let colors = self
+            .triangles
+            .iter()
+            .any(|t| t.extra.colors != ExtraVertexAttributes::NONE.colors);
+        if colors {
+            crate::contract::VERTEX_ATTRIBUTE_COLOR
+        } else {
+            0
+        }
     }
 
     /// Whether any material uses alpha (mask or blend).
@@ -431,6 +482,7 @@ mod tests {
             normals: [Vec3::Z; 3],
             tex_coords: [Vec2::ZERO; 3],
             tangents: [Vec4::ZERO; 3],
+            extra: Default::default(),
         };
         let mut materials = SceneMaterials {
             materials: vec![PbrMaterial::lambertian(Vec3::ONE, Vec3::ZERO, false)],

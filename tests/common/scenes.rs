@@ -37,6 +37,7 @@ fn open_box(
             normals: [t.normal; 3],
             tex_coords: tex_coords(t),
             tangents: [Vec4::ZERO; 3],
+            extra: Default::default(),
         })
         .collect();
     let light = *scene
