@@ -2278,8 +2278,14 @@ fn regressions_load_cleanly() {
         let label = path.file_name().unwrap().to_string_lossy().into_owned();
         let run = run_load(&label, path, LoadOptions::default());
         match run.outcome {
-            Ok(Outcome::Loaded { triangles }) => println!("{label}: {triangles} triangles"),
-            Ok(Outcome::Refused { message }) => println!("{label}: {message}"),
+            Ok(Outcome::Loaded { triangles }) => println!(
+                "{label}: {triangles} triangles, heap peak {:.1} MiB",
+                run.peak_heap as f64 / (1 << 20) as f64
+            ),
+            Ok(Outcome::Refused { message }) => println!(
+                "{label}: {message} (heap peak {:.1} MiB)",
+                run.peak_heap as f64 / (1 << 20) as f64
+            ),
             Err(what) => failures.push(format!("{label}: {what}")),
         }
         if run.hung {

@@ -44,7 +44,6 @@ impl MeshScene {
             normals: [triangle.normal; 3],
             tex_coords: [Vec2::ZERO; 3],
             tangents: [Vec4::ZERO; 3],
-            extra: Default::default(),
         });
         self.triangles.push(triangle);
     }
@@ -144,6 +143,7 @@ impl MeshScene {
                 materials: self.materials,
                 textures: Vec::new(),
                 triangles: self.shading,
+                ..Default::default()
             }),
         }
         .with_environment(background.map(EnvironmentSource::Background).as_ref())

@@ -95,7 +95,6 @@ fn quad_scene(material: Option<(PbrMaterial, Vec<Texture>)>, camera: Camera) -> 
             normals: [triangle.normal; 3],
             tex_coords: [uv[i], uv[j], uv[k]],
             tangents: [Vec4::ZERO; 3],
-            extra: Default::default(),
         });
         triangles.push(triangle);
     }
@@ -112,6 +111,7 @@ fn quad_scene(material: Option<(PbrMaterial, Vec<Texture>)>, camera: Camera) -> 
             materials: vec![material],
             textures,
             triangles: shading,
+            ..Default::default()
         }),
     }
 }

@@ -59,7 +59,6 @@ impl QuadScene {
                 normals: [triangle.normal; 3],
                 tex_coords: [uv[i], uv[j], uv[k]],
                 tangents: [Vec4::ZERO; 3],
-                extra: Default::default(),
             });
             self.triangles.push(triangle);
         }
@@ -115,6 +114,7 @@ impl QuadScene {
                 materials: self.materials,
                 textures: self.textures,
                 triangles: self.shading,
+                ..Default::default()
             }),
         }
     }

@@ -70,24 +70,27 @@ impl GpuExtraShading {
     }
 }
 
-/// The words of the shading binding for `triangles` (in the order given): each triangle's
-/// `GpuTriangleShading`, followed by its `GpuExtraShading` where `vertex_attributes`
-/// (`SceneMaterials::vertex_attributes`) is not 0.
-pub fn shading_texel_words<'a>(
-    triangles: impl ExactSizeIterator<Item = &'a TriangleShading>,
-    vertex_attributes: u32,
+/// The words of the shading binding for the triangles of `materials` at `order` (indices
+/// into `materials.triangles`, in the order the kernels index them): each triangle's
+/// `GpuTriangleShading`, followed by its `GpuExtraShading` where
+/// `SceneMaterials::vertex_attributes` is not 0 (only then do the extra tables exist).
+pub fn shading_texel_words(
+    materials: &SceneMaterials,
+    order: impl ExactSizeIterator<Item = usize>,
 ) -> Vec<u32> {
-    let stride = if vertex_attributes == 0 {
-        SHADING_TEXEL_COUNT
-    } else {
+    let extra = materials.vertex_attributes() != 0;
+    let stride = if extra {
         SHADING_TEXEL_COUNT + EXTRA_SHADING_TEXEL_COUNT
+    } else {
+        SHADING_TEXEL_COUNT
     };
-    let mut words = Vec::with_capacity(triangles.len() * 4 * stride as usize);
-    for triangle in triangles {
+    let mut words = Vec::with_capacity(order.len() * 4 * stride as usize);
+    for index in order {
+        let triangle = &materials.triangles[index];
         words.extend_from_slice(bytemuck::cast_slice(&[GpuTriangleShading::new(triangle)]));
-        if vertex_attributes != 0 {
+        if extra {
             words.extend_from_slice(bytemuck::cast_slice(&[GpuExtraShading::new(
-                &triangle.extra,
+                &materials.extra.get(index),
             )]));
         }
     }
@@ -231,20 +234,26 @@ mod tests {
         );
     }
 
+    /// The materials of one plain triangle (no extra attribute tables).
+    fn one_triangle() -> SceneMaterials {
+        SceneMaterials::from_plain(&[crate::scene::Triangle::new(
+            [glam::Vec3::ZERO, glam::Vec3::X, glam::Vec3::Y],
+            glam::Vec3::ONE,
+            glam::Vec3::ZERO,
+            false,
+        )
+        .expect("a triangle")])
+    }
+
     #[test]
-    fn shading_words_hold_the_extra_texels_only_where_asked() {
-        let triangles =
-            crate::scene::materials::SceneMaterials::from_plain(&[crate::scene::Triangle::new(
-                [glam::Vec3::ZERO, glam::Vec3::X, glam::Vec3::Y],
-                glam::Vec3::ONE,
-                glam::Vec3::ZERO,
-                false,
-            )
-            .expect("a triangle")])
-            .triangles;
-        let plain = shading_texel_words(triangles.iter(), 0);
+    fn shading_words_hold_the_extra_texels_only_where_a_table_exists() {
+        let plain_materials = one_triangle();
+        let plain = shading_texel_words(&plain_materials, 0..1);
         assert_eq!(plain.len(), 4 * SHADING_TEXEL_COUNT as usize);
-        let extended = shading_texel_words(triangles.iter(), VERTEX_ATTRIBUTE_COLOR);
+        let mut coloured = one_triangle();
+        coloured.extra.colors = Some(vec![[glam::Vec4::new(1.0, 0.0, 0.0, 1.0); 3]]);
+        assert_eq!(coloured.vertex_attributes(), VERTEX_ATTRIBUTE_COLOR);
+        let extended = shading_texel_words(&coloured, 0..1);
         assert_eq!(
             extended.len(),
             4 * (SHADING_TEXEL_COUNT + EXTRA_SHADING_TEXEL_COUNT) as usize
@@ -256,21 +265,14 @@ mod tests {
     fn the_twin_of_get_vertex_color_reads_the_packed_colors_back() {
         use crate::cpu::gltf_surface::{get_vertex_color, SurfaceTexels};
         use glam::{Vec3, Vec4};
-        let mut shading =
-            crate::scene::materials::SceneMaterials::from_plain(&[crate::scene::Triangle::new(
-                [Vec3::ZERO, Vec3::X, Vec3::Y],
-                Vec3::ONE,
-                Vec3::ZERO,
-                false,
-            )
-            .expect("a triangle")])
-            .triangles;
-        shading[0].extra.colors = [
+        let mut materials = one_triangle();
+        let colors = [
             Vec4::new(1.0, 0.0, 0.0, 1.0),
             Vec4::new(0.0, 1.0, 0.0, 0.5),
             Vec4::new(0.0, 0.0, 1.0, 0.0),
         ];
-        let words = shading_texel_words(shading.iter(), VERTEX_ATTRIBUTE_COLOR);
+        materials.extra.colors = Some(vec![colors]);
+        let words = shading_texel_words(&materials, 0..1);
         let texels = SurfaceTexels {
             triangles: &[],
             shading: &words,
@@ -280,10 +282,7 @@ mod tests {
             scene_has_layers: false,
             scene_vertex_attributes: VERTEX_ATTRIBUTE_COLOR,
         };
-        assert_eq!(
-            get_vertex_color(&texels, 0, Vec3::X),
-            shading[0].extra.colors[0]
-        );
+        assert_eq!(get_vertex_color(&texels, 0, Vec3::X), colors[0]);
         let middle = get_vertex_color(&texels, 0, Vec3::splat(1.0 / 3.0));
         // 0.5 is 32768 / 65535 after packing
         let expected = Vec4::new(1.0, 1.0, 1.0, 1.0 + 32768.0 / 65535.0) / 3.0;

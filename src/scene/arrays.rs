@@ -135,7 +135,6 @@ impl Scene {
                     .tex_coords
                     .map_or([Vec2::ZERO; 3], |uv| corners.map(|i| uv[i as usize])),
                 tangents: [Vec4::ZERO; 3],
-                extra: Default::default(),
             };
             let world = object.map(|p| local_to_world.transform_point3(p));
             let kept = builder.triangle_count();

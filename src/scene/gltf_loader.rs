@@ -406,10 +406,6 @@ impl Loader<'_> {
                     material: material_index,
                     normals: normals[t].map(|n| (normal_matrix * n).normalize_or_zero()),
                     tex_coords: tex_coords[t],
-                    extra: ExtraVertexAttributes {
-                        colors: colors.as_ref().map_or([Vec4::ONE; 3], |colors| colors[t]),
-                        ..ExtraVertexAttributes::NONE
-                    },
                     tangents: tangents[t].map(|tangent| {
                         (vector_matrix * tangent.truncate())
                             .normalize_or_zero()
@@ -420,16 +416,21 @@ impl Loader<'_> {
                             })
                     }),
                 };
+                let mut extra = ExtraVertexAttributes {
+                    colors: colors.as_ref().map_or([Vec4::ONE; 3], |colors| colors[t]),
+                    ..ExtraVertexAttributes::NONE
+                };
                 if mirrors != skin_mirrors[t] {
                     object.swap(1, 2);
                     world.swap(1, 2);
                     shading.normals.swap(1, 2);
                     shading.tex_coords.swap(1, 2);
-                    shading.extra.swap(1, 2);
+                    extra.swap(1, 2);
                     shading.tangents.swap(1, 2);
                 }
                 let kept = self.builder.triangle_count();
-                self.builder.push_shaded(&name, world, &material, shading)?;
+                self.builder
+                    .push_shaded_extra(&name, world, &material, shading, &extra)?;
                 if self.builder.triangle_count() > kept {
                     kept_object_positions.push(object);
                 }

@@ -30,7 +30,7 @@ fn loaded_colors(text: String) -> [Vec4; 3] {
     let scene = load_gltf(&write(&directory, "colors.gltf", text)).unwrap();
     let materials = scene.materials.expect("glTF materials");
     assert_eq!(materials.triangles.len(), 1);
-    materials.triangles[0].extra.colors
+    materials.extra.get(0).colors
 }
 
 #[test]
@@ -79,7 +79,7 @@ fn a_triangle_without_vertex_colors_is_white() {
     let directory = tempfile::tempdir().unwrap();
     let scene = load_gltf(&write(&directory, "plain.gltf", text)).unwrap();
     let materials = scene.materials.expect("glTF materials");
-    assert_eq!(materials.triangles[0].extra, ExtraVertexAttributes::NONE);
+    assert!(materials.extra.is_empty(), "{:?}", materials.extra);
     assert_eq!(materials.vertex_attributes(), 0);
 }
 
@@ -129,7 +129,7 @@ fn a_mirroring_node_keeps_each_color_on_its_vertex() {
     let directory = tempfile::tempdir().unwrap();
     let scene = load_gltf(&write(&directory, "mirrored.gltf", text)).unwrap();
     let triangle = &scene.triangles[0];
-    let colors = scene.materials.unwrap().triangles[0].extra.colors;
+    let colors = scene.materials.unwrap().extra.get(0).colors;
     // Vertex (0, 1, 0) is blue wherever it went
     let blue = triangle
         .positions

@@ -215,6 +215,7 @@ fn distinct_material() -> (PbrMaterial, Vec<u32>, u32) {
         materials: vec![material],
         textures,
         triangles: vec![],
+        ..Default::default()
     };
     let packed = GpuMaterial::new(&material, &scene, &atlas);
     let mask = packed.texture_mask();

@@ -185,7 +185,6 @@ fn push_mesh(
             normals: [0, 1, 2].map(|k| normal(corner(k))),
             tex_coords: [0, 1, 2].map(|k| tex_coord(corner(k))),
             tangents: [Vec4::ZERO; 3],
-            extra: Default::default(),
         };
         builder.push_shaded(name, [v0, v1, v2], material, shading)?;
     }

@@ -37,7 +37,6 @@ fn open_box(
             normals: [t.normal; 3],
             tex_coords: tex_coords(t),
             tangents: [Vec4::ZERO; 3],
-            extra: Default::default(),
         })
         .collect();
     let light = *scene
@@ -65,6 +64,7 @@ pub fn glossy_box(roughness: f32) -> Scene {
         ],
         textures: Vec::new(),
         triangles: shading,
+        ..Default::default()
     });
     scene
 }
@@ -98,6 +98,7 @@ pub fn textured_lambertian_box() -> Scene {
         ],
         textures: vec![checker],
         triangles: shading,
+        ..Default::default()
     });
     scene
 }

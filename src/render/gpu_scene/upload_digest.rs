@@ -98,8 +98,9 @@ impl UploadDigest {
                 // The extra vertex attributes, where the kernels read them
                 if kernel_materials.vertex_attributes() != 0 {
                     geometry.part(b"extra vertex attributes");
-                    geometry.words_of(&kernel_materials.triangles, |t| {
-                        GpuExtraShading::new(&t.extra)
+                    let indices: Vec<usize> = (0..kernel_materials.triangles.len()).collect();
+                    geometry.words_of(&indices, |&index| {
+                        GpuExtraShading::new(&kernel_materials.extra.get(index))
                     });
                 }
                 materials.part(b"materials");
