@@ -306,7 +306,12 @@ impl ExtraAttributeTables {
     /// exist): a table is made, filled with the default up to `index`, when the first
     /// value other than the default arrives.
     pub fn push(&mut self, index: usize, extra: &ExtraVertexAttributes) {
-        push_sparse(&mut self.colors, index, extra.colors, ExtraVertexAttributes::NONE.colors);
+        push_sparse(
+            &mut self.colors,
+            index,
+            extra.colors,
+            ExtraVertexAttributes::NONE.colors,
+        );
         push_sparse(
             &mut self.tex_coords_1,
             index,
@@ -340,7 +345,12 @@ impl ExtraAttributeTables {
 
 /// Appends `value` to `table` as triangle `index`'s, making the table (filled with
 /// `default` before it) where it is the first value that is not `default`.
-fn push_sparse<T: Copy + PartialEq>(table: &mut Option<Vec<T>>, index: usize, value: T, default: T) {
+fn push_sparse<T: Copy + PartialEq>(
+    table: &mut Option<Vec<T>>,
+    index: usize,
+    value: T,
+    default: T,
+) {
     match table {
         Some(values) => values.push(value),
         None if value != default => {
