@@ -64,7 +64,7 @@ surface_t get_surface(uint triangle_index, triangle_t triangle, vec3 position, v
     vec3 shading_normal = get_front_shading_normal(triangle_index, material_index, barycentrics, textures, triangle.normal);
     shading_normal = front ? shading_normal : -shading_normal;
     surface.shading_normal = (dot(shading_normal, view) > 0.0) ? shading_normal : surface.geometric_normal;
-    vec4 base_color = get_base_color(material_index, textures.slots[MATERIAL_TEXTURE_BASE_COLOR]);
+    vec4 base_color = get_surface_base_color(triangle_index, material_index, barycentrics, textures.slots[MATERIAL_TEXTURE_BASE_COLOR]);
     surface.material = get_material(material_index, textures, base_color);
     bool double_sided = is_double_sided(triangle_index);
     surface.emission = (front || double_sided) ? get_material_emission(material_index, textures.slots[MATERIAL_TEXTURE_EMISSIVE]) : vec3(0.0);

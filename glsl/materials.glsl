@@ -14,9 +14,17 @@ layout(set = 0, binding = BINDING_SHADING) uniform utextureBuffer g_shading_texe
 layout(set = 0, binding = BINDING_MATERIALS) uniform utextureBuffer g_material_texels;
 
 
+// The vertex attributes that some triangle of the scene has beyond the usual ones
+// (VERTEX_ATTRIBUTE_* bits, glsl/shared.h); 0 compiles their reading out and keeps the
+// shading data's layout of scenes without them.
+layout(constant_id = SPEC_SCENE_VERTEX_ATTRIBUTES) const uint SCENE_VERTEX_ATTRIBUTES = 0u;
+// Texels of shading data per triangle: SHADING_TEXEL_COUNT, and EXTRA_SHADING_TEXEL_COUNT
+// more where the scene has extra vertex attributes.
+const uint SHADING_TEXEL_STRIDE = uint(SHADING_TEXEL_COUNT) + uint(EXTRA_SHADING_TEXEL_COUNT) * uint(SCENE_VERTEX_ATTRIBUTES != 0u);
+
 // Texel j of triangle i's shading data.
 uvec4 get_shading_texel(uint triangle_index, int texel) {
-    return texelFetch(g_shading_texels, int(uint(SHADING_TEXEL_COUNT) * triangle_index) + texel);
+    return texelFetch(g_shading_texels, int(SHADING_TEXEL_STRIDE * triangle_index) + texel);
 }
 
 // Texel j of material i.
@@ -52,6 +60,19 @@ vec2 get_tex_coord(uint triangle_index, vec3 barycentrics) {
     uvec4 first = get_shading_texel(triangle_index, 3);
     uvec4 second = get_shading_texel(triangle_index, 4);
     return barycentrics[0] * uintBitsToFloat(first.xy) + barycentrics[1] * uintBitsToFloat(first.zw) + barycentrics[2] * uintBitsToFloat(second.xy);
+}
+
+// glTF's COLOR_0 (linear RGBA) at a point with the given barycentrics: 1 where the scene has
+// no vertex colours (the interpolation as get_tex_coord()'s).
+vec4 get_vertex_color(uint triangle_index, vec3 barycentrics) {
+    if ((SCENE_VERTEX_ATTRIBUTES & uint(VERTEX_ATTRIBUTE_COLOR)) == 0u)
+        return vec4(1.0);
+    uvec4 first = get_shading_texel(triangle_index, SHADING_TEXEL_COUNT);
+    uvec4 second = get_shading_texel(triangle_index, SHADING_TEXEL_COUNT + 1);
+    vec4 color_0 = vec4(unpackUnorm2x16(first.x), unpackUnorm2x16(first.y));
+    vec4 color_1 = vec4(unpackUnorm2x16(first.z), unpackUnorm2x16(first.w));
+    vec4 color_2 = vec4(unpackUnorm2x16(second.x), unpackUnorm2x16(second.y));
+    return barycentrics[0] * color_0 + barycentrics[1] * color_1 + barycentrics[2] * color_2;
 }
 
 // The texture slots (bit 1 << MATERIAL_TEXTURE_*) in which some material of the scene has a
@@ -147,6 +168,16 @@ vec4 get_base_color(uint material_index, vec4 texture) {
     return uintBitsToFloat(get_material_texel(material_index, MATERIAL_TEXEL_BASE_COLOR)) * texture;
 }
 
+// Base colour and alpha at a point of triangle i: get_base_color() times the vertex colour
+// (glTF 2.0, 3.9.2: COLOR_0 multiplies the base colour and its alpha); exactly
+// get_base_color() where the scene has no vertex colours.
+vec4 get_surface_base_color(uint triangle_index, uint material_index, vec3 barycentrics, vec4 texture) {
+    vec4 base_color = get_base_color(material_index, texture);
+    if ((SCENE_VERTEX_ATTRIBUTES & uint(VERTEX_ATTRIBUTE_COLOR)) != 0u)
+        base_color *= get_vertex_color(triangle_index, barycentrics);
+    return base_color;
+}
+
 // Emitted radiance (front side): factor times `texture`, the emissive slot's value.
 vec3 get_material_emission(uint material_index, vec4 texture) {
     return uintBitsToFloat(get_material_texel(material_index, MATERIAL_TEXEL_EMISSIVE_METALLIC).rgb) * texture.rgb;
@@ -163,7 +194,7 @@ bool is_opaque_hit(uint triangle_index, vec3 ray_origin, vec3 ray_direction, flo
         return true;
     vec3 barycentrics = get_barycentrics(ray_origin + t * ray_direction, get_triangle(triangle_index));
     vec2 tex_coord = get_tex_coord(triangle_index, barycentrics);
-    float alpha = get_base_color(material_index, sample_material_texture(material_index, MATERIAL_TEXTURE_BASE_COLOR, tex_coord)).a;
+    float alpha = get_surface_base_color(triangle_index, material_index, barycentrics, sample_material_texture(material_index, MATERIAL_TEXTURE_BASE_COLOR, tex_coord)).a;
     if (alpha_mode == ALPHA_MODE_MASK)
         return alpha >= get_material_alpha_cutoff(material_index);
     uvec2 hash_state = g_path.alpha_seed ^ uvec2(g_path.ray_count * 2654435769u, triangle_index);

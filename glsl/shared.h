@@ -204,6 +204,19 @@
 // keys' cameras, MOTION_CAMERA_TEXEL_COUNT texels each (the four render_uniforms camera
 // vectors). glsl/scene.glsl reads them; src/render/gpu_motion.rs writes them.
 #define SPEC_MOTION_STEPS 609
+// Kernels built with USE_MATERIALS: the vertex attributes that some triangle of the scene
+// has beyond the normals, UVs and tangents, VERTEX_ATTRIBUTE_* bits (0: none, the kernels
+// read the shading data as before and the attributes' code folds away). With any bit set,
+// each triangle's shading data is SHADING_TEXEL_COUNT + EXTRA_SHADING_TEXEL_COUNT texels:
+// after the usual ones, texel 0: COLOR_0 of vertices 0 and 1 (RGBA as two unorm16x2 words
+// each), texel 1: COLOR_0 of vertex 2 and TEXCOORD_1 of vertex 0 (float bits), texel 2:
+// TEXCOORD_1 of vertices 1 and 2 (GpuExtraShading on the host).
+#define SPEC_SCENE_VERTEX_ATTRIBUTES 610
+// glTF's COLOR_0, multiplied into the base colour and its alpha.
+#define VERTEX_ATTRIBUTE_COLOR 1
+// glTF's TEXCOORD_1, read by texture slots whose texCoord is 1.
+#define VERTEX_ATTRIBUTE_TEX_COORD_1 2
+#define EXTRA_SHADING_TEXEL_COUNT 3
 #define MAX_MOTION_STEPS 64
 // A global homogeneous medium (render --medium, glsl/medium.glsl): 1 where the render has
 // one, else 0, which compiles the medium out of the path loop, the scattering vertex and the

@@ -27,6 +27,8 @@ mod exercise_cli;
 mod farm_cli;
 #[path = "frames_cli.rs"]
 mod frames_cli;
+#[path = "gltf_fidelity_cli.rs"]
+mod gltf_fidelity_cli;
 #[path = "ground_truth_cli.rs"]
 mod ground_truth_cli;
 #[path = "hostile_input.rs"]

@@ -143,6 +143,7 @@ impl MeshScene {
                 materials: self.materials,
                 textures: Vec::new(),
                 triangles: self.shading,
+                ..Default::default()
             }),
         }
         .with_environment(background.map(EnvironmentSource::Background).as_ref())

@@ -111,6 +111,7 @@ fn quad_scene(material: Option<(PbrMaterial, Vec<Texture>)>, camera: Camera) -> 
             materials: vec![material],
             textures,
             triangles: shading,
+            ..Default::default()
         }),
     }
 }

@@ -114,6 +114,7 @@ impl QuadScene {
                 materials: self.materials,
                 textures: self.textures,
                 triangles: self.shading,
+                ..Default::default()
             }),
         }
     }

@@ -21,6 +21,7 @@ use crate::contract::{
     MATERIAL_TEXTURE_SPECULAR_COLOR, MATERIAL_TEXTURE_THICKNESS, MATERIAL_TEXTURE_TRANSMISSION,
     SHADING_TEXEL_COUNT, TRIANGLE_FLAG_DOUBLE_SIDED, TRIANGLE_TEXEL_COUNT,
 };
+use crate::contract::{EXTRA_SHADING_TEXEL_COUNT, VERTEX_ATTRIBUTE_COLOR};
 use crate::cpu::brdf::{
     get_base_material, get_brdf, get_brdf_density, get_brdf_mirror_probability,
     get_brdf_mirror_weight, get_ggx_alpha, sample_brdf, MaterialSample,
@@ -52,6 +53,10 @@ pub struct SurfaceTexels<'a> {
     pub scene_texture_slots: u32,
     /// The specialization constant `SCENE_HAS_LAYERS`.
     pub scene_has_layers: bool,
+    /// The specialization constant `SCENE_VERTEX_ATTRIBUTES` (`VERTEX_ATTRIBUTE_*` bits):
+    /// where it is not 0, `shading` holds `EXTRA_SHADING_TEXEL_COUNT` more texels per
+    /// triangle (`GpuExtraShading`).
+    pub scene_vertex_attributes: u32,
 }
 
 /// Twin of `get_triangle` (`glsl/scene.glsl`): triangle `index` as the workshop's struct
@@ -79,10 +84,12 @@ pub fn is_double_sided(texels: &SurfaceTexels, index: u32) -> bool {
 
 /// Twin of `get_shading_texel`: texel `j` of triangle `i`'s shading data.
 pub fn get_shading_texel(texels: &SurfaceTexels, triangle_index: u32, j: u32) -> UVec4 {
-    fetch_texel(
-        texels.shading,
-        (SHADING_TEXEL_COUNT * triangle_index + j) as usize,
-    )
+    let stride = if texels.scene_vertex_attributes == 0 {
+        SHADING_TEXEL_COUNT
+    } else {
+        SHADING_TEXEL_COUNT + EXTRA_SHADING_TEXEL_COUNT
+    };
+    fetch_texel(texels.shading, (stride * triangle_index + j) as usize)
 }
 
 /// Twin of `get_material_texel`: texel `j` of material `i`.
@@ -156,6 +163,28 @@ pub fn get_tex_coord(texels: &SurfaceTexels, triangle_index: u32, barycentrics: 
     barycentrics[0] * Vec2::new(first.x, first.y)
         + barycentrics[1] * Vec2::new(first.z, first.w)
         + barycentrics[2] * Vec2::new(second.x, second.y)
+}
+
+/// Twin of `get_vertex_color`: glTF's COLOR_0 (linear RGBA) at a point with the given
+/// barycentrics; 1 where the scene has no vertex colours.
+pub fn get_vertex_color(texels: &SurfaceTexels, triangle_index: u32, barycentrics: Vec3) -> Vec4 {
+    if texels.scene_vertex_attributes & VERTEX_ATTRIBUTE_COLOR == 0 {
+        return Vec4::ONE;
+    }
+    let first = get_shading_texel(texels, triangle_index, SHADING_TEXEL_COUNT);
+    let second = get_shading_texel(texels, triangle_index, SHADING_TEXEL_COUNT + 1);
+    // unpackUnorm2x16: the low half first, each k / 65535
+    let unpack = |rg: u32, ba: u32| {
+        Vec4::new(
+            (rg & 0xFFFF) as f32,
+            (rg >> 16) as f32,
+            (ba & 0xFFFF) as f32,
+            (ba >> 16) as f32,
+        ) / 65535.0
+    };
+    barycentrics[0] * unpack(first.x, first.y)
+        + barycentrics[1] * unpack(first.z, first.w)
+        + barycentrics[2] * unpack(second.x, second.y)
 }
 
 /// Twin of `has_material_texture` (never in a slot outside `scene_texture_slots`).
@@ -249,6 +278,22 @@ pub fn get_base_color(texels: &SurfaceTexels, material_index: u32, texture: Vec4
     )) * texture
 }
 
+/// Twin of `get_surface_base_color`: `get_base_color` times the vertex colour (exactly
+/// `get_base_color` where the scene has no vertex colours).
+pub fn get_surface_base_color(
+    texels: &SurfaceTexels,
+    triangle_index: u32,
+    material_index: u32,
+    barycentrics: Vec3,
+    texture: Vec4,
+) -> Vec4 {
+    let base_color = get_base_color(texels, material_index, texture);
+    if texels.scene_vertex_attributes & VERTEX_ATTRIBUTE_COLOR == 0 {
+        return base_color;
+    }
+    base_color * get_vertex_color(texels, triangle_index, barycentrics)
+}
+
 /// Twin of `get_material_emission`: emitted radiance (front side), factor times `texture`
 /// (the emissive slot's value).
 pub fn get_material_emission(texels: &SurfaceTexels, material_index: u32, texture: Vec4) -> Vec3 {
@@ -283,9 +328,11 @@ pub fn is_opaque_hit(
         &get_triangle(texels, triangle_index),
     );
     let tex_coord = get_tex_coord(texels, triangle_index, barycentrics);
-    let alpha = get_base_color(
+    let alpha = get_surface_base_color(
         texels,
+        triangle_index,
         material_index,
+        barycentrics,
         sample_material_texture(
             texels,
             material_index,
@@ -508,9 +555,11 @@ pub fn get_surface(
     } else {
         geometric_normal
     };
-    let base_color = get_base_color(
+    let base_color = get_surface_base_color(
         texels,
+        triangle_index,
         material_index,
+        barycentrics,
         textures.slots[MATERIAL_TEXTURE_BASE_COLOR as usize],
     );
     let mut material = get_material(texels, material_index, &textures, base_color);

@@ -55,6 +55,7 @@ pub static PATH_TRACER: Kernel = Kernel {
         SpecConstants::one(c::SPEC_SCENE_SAMPLES_ENVIRONMENT),
         SpecConstants::one(c::SPEC_SCENE_HAS_EMISSIVE_TRIANGLES),
         SpecConstants::one(c::SPEC_SCENE_HAS_SPECULAR),
+        SpecConstants::one(c::SPEC_SCENE_VERTEX_ATTRIBUTES),
         SpecConstants::one(c::SPEC_BVH_LAYOUT),
         SpecConstants::one(c::SPEC_THIN_LENS),
         SpecConstants::one(c::SPEC_MEDIUM),
@@ -170,6 +171,7 @@ pub static PROBE_SURFACE: Kernel = Kernel {
         SpecConstants::one(c::SPEC_SCENE_TEXTURE_SLOTS),
         SpecConstants::one(c::SPEC_SCENE_HAS_LAYERS),
         SpecConstants::one(c::SPEC_SCENE_HAS_SPECULAR),
+        SpecConstants::one(c::SPEC_SCENE_VERTEX_ATTRIBUTES),
     ],
     push_constant_size: size_of::<ProbePushConstants>() as u32,
 };

@@ -264,6 +264,9 @@ pub struct SceneSummary {
     pub alpha: bool,
     /// Whether some material has a specular (GGX) lobe (`SceneMaterials::uses_specular`).
     pub specular: bool,
+    /// The extra vertex attributes the kernels read, `VERTEX_ATTRIBUTE_*` bits
+    /// (`SceneMaterials::vertex_attributes`).
+    pub vertex_attributes: u32,
     /// The texture slots the materials use (`scene_texture_slots`).
     pub texture_slots: u32,
     /// Whether the scene has an environment (`SceneLights::has_environment`).
@@ -401,6 +404,9 @@ const SCENE_FLAGS: &[SceneFlag] = &[
         u32::from(s.samples_environment)
     }),
     (contract::SPEC_SCENE_HAS_SPECULAR, |s| u32::from(s.specular)),
+    (contract::SPEC_SCENE_VERTEX_ATTRIBUTES, |s| {
+        s.vertex_attributes
+    }),
     (contract::SPEC_SCENE_HAS_EMISSIVE_TRIANGLES, |s| {
         u32::from(s.emissive_triangles)
     }),

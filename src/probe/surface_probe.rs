@@ -155,6 +155,8 @@ impl SurfaceWords {
             texture_texels: &self.atlas.texels,
             scene_texture_slots: self.texture_slots,
             scene_has_layers: self.has_layers,
+            // The probe's kernel is not specialized for vertex attributes
+            scene_vertex_attributes: 0,
         }
     }
 }

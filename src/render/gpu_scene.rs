@@ -23,7 +23,7 @@ use crate::kernels::Build;
 use crate::kernels::{Bound, Resource};
 use crate::lights::{KeptLightBuffers, LightBuffers, LightKeys, SceneLights};
 use crate::render::gpu_materials::{
-    material_texel_words, scene_texture_slots, GpuMaterial, GpuTriangleShading,
+    material_texel_words, scene_texture_slots, shading_texel_words, GpuMaterial,
 };
 use crate::render::gpu_motion::{motion_key_boxes, motion_texels};
 use crate::render::gpu_textures::TextureAtlas;
@@ -98,6 +98,7 @@ fn scene_summary(
         layers: materials.is_some_and(|m| m.uses_layers()),
         alpha: materials.is_some_and(|m| m.uses_alpha()),
         specular: materials.is_some_and(|m| m.uses_specular()),
+        vertex_attributes: materials.map_or(0, |m| m.vertex_attributes()),
         texture_slots,
         ..lights.summary()
     }
@@ -386,17 +387,12 @@ impl MaterialBuffers {
 /// The per-triangle shading words of `scene_materials` in the order of the BVH's leaves
 /// (`triangle_order`) where there is one (gathered as they are made: a reordered copy of
 /// the shading data first took 112 MB and ~0.1 s more at 10^6 triangles).
-fn shading_words(
-    scene_materials: &SceneMaterials,
-    triangle_order: Option<&[u32]>,
-) -> Vec<GpuTriangleShading> {
-    let triangles = &scene_materials.triangles;
+fn shading_words(scene_materials: &SceneMaterials, triangle_order: Option<&[u32]>) -> Vec<u32> {
     match triangle_order {
-        Some(order) => order
-            .iter()
-            .map(|&index| GpuTriangleShading::new(&triangles[index as usize]))
-            .collect(),
-        None => triangles.iter().map(GpuTriangleShading::new).collect(),
+        Some(order) => {
+            shading_texel_words(scene_materials, order.iter().map(|&index| index as usize))
+        }
+        None => shading_texel_words(scene_materials, 0..scene_materials.triangles.len()),
     }
 }
 

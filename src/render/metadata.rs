@@ -484,6 +484,20 @@ pub fn scene_hash(scene: &Scene, camera: &Camera) -> String {
                 add(&mut bytes, &tangent.to_array());
             }
         }
+        // The extra vertex attributes where the kernels read them (a scene without them
+        // keeps its hash)
+        if let Some(colors) = &materials.extra.colors {
+            bytes.extend_from_slice(b"COLOR_0");
+            for color in colors.as_flattened() {
+                add(&mut bytes, &color.to_array());
+            }
+        }
+        if let Some(tex_coords) = &materials.extra.tex_coords_1 {
+            bytes.extend_from_slice(b"TEXCOORD_1");
+            for tex_coord in tex_coords.as_flattened() {
+                add(&mut bytes, &tex_coord.to_array());
+            }
+        }
         hasher.update(&bytes);
     }
     crate::lights::hash_description(scene, &mut |bytes| hasher.update(bytes));
@@ -594,6 +608,20 @@ mod tests {
             change(&mut changed.materials.as_mut().unwrap().triangles[7]);
             assert_ne!(scene_hash(&changed, &camera), hash);
         }
+        // The side tables of the extra vertex attributes, each where it exists
+        let count = scene.triangles.len();
+        let mut coloured = scene.clone();
+        let tables = &mut coloured.materials.as_mut().unwrap().extra;
+        tables.colors = Some(vec![[glam::Vec4::ONE; 3]; count]);
+        let coloured_hash = scene_hash(&coloured, &camera);
+        assert_ne!(coloured_hash, hash);
+        let tables = &mut coloured.materials.as_mut().unwrap().extra;
+        tables.colors.as_mut().unwrap()[7][2].x = 0.5;
+        assert_ne!(scene_hash(&coloured, &camera), coloured_hash);
+        let mut uv1 = scene.clone();
+        uv1.materials.as_mut().unwrap().extra.tex_coords_1 =
+            Some(vec![[glam::Vec2::ZERO; 3]; count]);
+        assert_ne!(scene_hash(&uv1, &camera), hash);
     }
 
     #[test]

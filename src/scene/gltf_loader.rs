@@ -25,7 +25,7 @@ use super::gltf_file::GltfFile;
 use super::gltf_materials::{ConvertedMaterials, MaterialReader};
 use super::gltf_variants;
 use super::instances::{InstanceRecorder, NodeLabel};
-use super::materials::TriangleShading;
+use super::materials::{ExtraVertexAttributes, TriangleShading};
 use super::skinning::skin_mirrors;
 use super::tangents::generate_tangents;
 use super::{Material, Scene, SceneBuilder, SceneError};
@@ -379,6 +379,12 @@ impl Loader<'_> {
                     .collect(),
                 None => vec![[Vec2::ZERO; 3]; corners.len()],
             };
+            let colors: Option<Vec<[Vec4; 3]>> = attributes.colors.as_ref().map(|colors| {
+                corners
+                    .iter()
+                    .map(|c| c.map(|corner| colors[indices[corner] as usize]))
+                    .collect()
+            });
             let tangents: Vec<[Vec4; 3]> = match (&attributes.tangents, pbr.normal_texture) {
                 (_, None) => vec![[Vec4::ZERO; 3]; corners.len()],
                 (Some(tangents), Some(_)) => corners
@@ -410,15 +416,21 @@ impl Loader<'_> {
                             })
                     }),
                 };
+                let mut extra = ExtraVertexAttributes {
+                    colors: colors.as_ref().map_or([Vec4::ONE; 3], |colors| colors[t]),
+                    ..ExtraVertexAttributes::NONE
+                };
                 if mirrors != skin_mirrors[t] {
                     object.swap(1, 2);
                     world.swap(1, 2);
                     shading.normals.swap(1, 2);
                     shading.tex_coords.swap(1, 2);
+                    extra.swap(1, 2);
                     shading.tangents.swap(1, 2);
                 }
                 let kept = self.builder.triangle_count();
-                self.builder.push_shaded(&name, world, &material, shading)?;
+                self.builder
+                    .push_shaded_extra(&name, world, &material, shading, &extra)?;
                 if self.builder.triangle_count() > kept {
                     kept_object_positions.push(object);
                 }
@@ -549,8 +561,54 @@ impl Loader<'_> {
         {
             attributes.tangents = reader.read_tangents().map(|t| t.map(Vec4::from).collect());
         }
-        let _ = self.builder.path();
+        attributes.colors = self.read_colors(primitive, context, vertex_count)?;
         Ok(attributes)
+    }
+
+    /// The primitive's `COLOR_0` as linear RGBA (alpha 1 for VEC3), or `None` without one.
+    /// glTF 2.0 (3.7.2.1) allows VEC3 or VEC4 of float, or of normalized unsigned bytes or
+    /// shorts, one per vertex; anything else is an error naming the primitive (the crate's
+    /// reader would panic on another type).
+    fn read_colors(
+        &self,
+        primitive: &gltf::Primitive,
+        context: &str,
+        vertex_count: usize,
+    ) -> Result<Option<Vec<Vec4>>, SceneError> {
+        let Some(accessor) = primitive.get(&gltf::Semantic::Colors(0)) else {
+            return Ok(None);
+        };
+        let path = self.builder.path();
+        let types = [DataType::F32, DataType::U8, DataType::U16];
+        let wrong = |reason: String| malformed(path, format!("{context}: COLOR_0 {reason}"));
+        let dimensions = accessor.dimensions();
+        let allowed = matches!(dimensions, Dimensions::Vec3 | Dimensions::Vec4)
+            && types.contains(&accessor.data_type())
+            && (accessor.data_type() == DataType::F32 || accessor.normalized());
+        if !allowed {
+            return Err(wrong(format!(
+                "accessor '{}' holds {dimensions:?} of {:?}{}, but glTF allows VEC3 or VEC4 of float, normalized unsigned byte or normalized unsigned short",
+                label(accessor.name(), accessor.index()),
+                accessor.data_type(),
+                if accessor.normalized() { " (normalized)" } else { "" },
+            )));
+        }
+        check_accessor(&accessor, dimensions, &types)
+            .map_err(|reason| wrong(reason.to_string()))?;
+        if accessor.count() != vertex_count {
+            return Err(wrong(format!(
+                "has {} elements for {vertex_count} vertices",
+                accessor.count()
+            )));
+        }
+        let reader = primitive.reader(|buffer| self.buffers.get(buffer.index()).map(|d| &d[..]));
+        let colors = reader
+            .read_colors(0)
+            .ok_or_else(|| wrong("data lies outside its buffer".to_owned()))?
+            .into_rgba_f32()
+            .map(Vec4::from)
+            .collect();
+        Ok(Some(colors))
     }
 
     /// Sets the scene camera from a perspective camera on a node: glTF cameras look along
@@ -614,6 +672,8 @@ struct VertexAttributes {
     normals: Option<Vec<Vec3>>,
     tex_coords: Option<Vec<Vec2>>,
     tangents: Option<Vec<Vec4>>,
+    /// `COLOR_0`, linear RGBA.
+    colors: Option<Vec<Vec4>>,
 }
 
 /// An accessor that the `gltf` crate's reader cannot be trusted with: the reason, naming
@@ -766,3 +826,7 @@ mod tests;
 #[cfg(test)]
 #[path = "gltf_mirror_tests.rs"]
 mod mirror_tests;
+
+#[cfg(test)]
+#[path = "gltf_vertex_attribute_tests.rs"]
+mod vertex_attribute_tests;

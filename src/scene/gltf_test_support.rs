@@ -100,6 +100,25 @@ impl TestBuffer {
         self.accessors.len() - 1
     }
 
+    /// An accessor of `kind` over `data` (little-endian elements of `component_type`,
+    /// glTF's code: 5121 unsigned byte, 5123 unsigned short, 5126 float), `normalized` or
+    /// not; its index.
+    pub fn accessor(
+        &mut self,
+        kind: &str,
+        component_type: u32,
+        normalized: bool,
+        count: usize,
+        data: &[u8],
+    ) -> usize {
+        let view = self.view(data);
+        self.accessors.push(json!({
+            "bufferView": view, "componentType": component_type, "count": count,
+            "type": kind, "normalized": normalized,
+        }));
+        self.accessors.len() - 1
+    }
+
     /// A SCALAR UNSIGNED_SHORT accessor; its index.
     pub fn indices(&mut self, indices: &[u16]) -> usize {
         let data: Vec<u8> = indices.iter().flat_map(|i| i.to_le_bytes()).collect();

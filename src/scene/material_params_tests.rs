@@ -215,6 +215,7 @@ fn distinct_material() -> (PbrMaterial, Vec<u32>, u32) {
         materials: vec![material],
         textures,
         triangles: vec![],
+        ..Default::default()
     };
     let packed = GpuMaterial::new(&material, &scene, &atlas);
     let mask = packed.texture_mask();
@@ -234,6 +235,7 @@ fn the_twins_read_back_every_parameter() {
         texture_texels: &[],
         scene_texture_slots: 0,
         scene_has_layers: true,
+        scene_vertex_attributes: 0,
     };
     let textures = twin::MaterialTextures {
         slots: [Vec4::ONE; MATERIAL_TEXTURE_SLOT_COUNT as usize],

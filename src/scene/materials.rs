@@ -253,6 +253,115 @@ pub struct TriangleShading {
     pub tangents: [Vec4; 3],
 }
 
+/// A triangle's vertex attributes that few files have, per vertex, as a loader hands them
+/// to `SceneBuilder::push_shaded_extra`. They are not stored per triangle: the scene keeps
+/// each one in a side table (`ExtraAttributeTables`) only where some triangle has it, so a
+/// scene without them takes no memory for them; the kernels read them only then
+/// (`SceneMaterials::vertex_attributes`).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ExtraVertexAttributes {
+    /// glTF's `COLOR_0`: linear RGBA in [0, 1], multiplied into the base colour and its
+    /// alpha; 1 where the file has none.
+    pub colors: [Vec4; 3],
+    /// glTF's `TEXCOORD_1` (0 where the file has none).
+    pub tex_coords_1: [Vec2; 3],
+}
+
+impl ExtraVertexAttributes {
+    /// No vertex colour (white, opaque) and no second texture coordinates.
+    pub const NONE: ExtraVertexAttributes = ExtraVertexAttributes {
+        colors: [Vec4::ONE; 3],
+        tex_coords_1: [Vec2::ZERO; 3],
+    };
+
+    /// Swaps the attributes of vertices `a` and `b` (as a mirroring transform swaps the
+    /// corners).
+    pub fn swap(&mut self, a: usize, b: usize) {
+        self.colors.swap(a, b);
+        self.tex_coords_1.swap(a, b);
+    }
+}
+
+impl Default for ExtraVertexAttributes {
+    fn default() -> ExtraVertexAttributes {
+        ExtraVertexAttributes::NONE
+    }
+}
+
+/// The extra vertex attributes of a scene's triangles, each a table parallel to
+/// `SceneMaterials::triangles` that exists only where some triangle's value differs from
+/// `ExtraVertexAttributes::NONE`'s (a scene without vertex colours has no colour table, and
+/// the same memory, layout and hash as before they existed).
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct ExtraAttributeTables {
+    /// glTF's `COLOR_0` per triangle and vertex (linear RGBA), or `None`: white everywhere.
+    pub colors: Option<Vec<[Vec4; 3]>>,
+    /// glTF's `TEXCOORD_1` per triangle and vertex, or `None`: 0 everywhere (loaders read
+    /// it only for primitives whose material samples a texture on set 1).
+    pub tex_coords_1: Option<Vec<[Vec2; 3]>>,
+}
+
+impl ExtraAttributeTables {
+    /// Appends the attributes of triangle `index` (the tables' length so far, where they
+    /// exist): a table is made, filled with the default up to `index`, when the first
+    /// value other than the default arrives.
+    pub fn push(&mut self, index: usize, extra: &ExtraVertexAttributes) {
+        push_sparse(
+            &mut self.colors,
+            index,
+            extra.colors,
+            ExtraVertexAttributes::NONE.colors,
+        );
+        push_sparse(
+            &mut self.tex_coords_1,
+            index,
+            extra.tex_coords_1,
+            ExtraVertexAttributes::NONE.tex_coords_1,
+        );
+    }
+
+    /// Triangle `index`'s attributes (the defaults where a table does not exist).
+    pub fn get(&self, index: usize) -> ExtraVertexAttributes {
+        let none = ExtraVertexAttributes::NONE;
+        ExtraVertexAttributes {
+            colors: self
+                .colors
+                .as_ref()
+                .and_then(|t| t.get(index).copied())
+                .unwrap_or(none.colors),
+            tex_coords_1: self
+                .tex_coords_1
+                .as_ref()
+                .and_then(|t| t.get(index).copied())
+                .unwrap_or(none.tex_coords_1),
+        }
+    }
+
+    /// Whether no table exists (no triangle has an extra attribute).
+    pub fn is_empty(&self) -> bool {
+        self.colors.is_none() && self.tex_coords_1.is_none()
+    }
+}
+
+/// Appends `value` to `table` as triangle `index`'s, making the table (filled with
+/// `default` before it) where it is the first value that is not `default`.
+fn push_sparse<T: Copy + PartialEq>(
+    table: &mut Option<Vec<T>>,
+    index: usize,
+    value: T,
+    default: T,
+) {
+    match table {
+        Some(values) => values.push(value),
+        None if value != default => {
+            let mut values = vec![default; index];
+            values.push(value);
+            *table = Some(values);
+        }
+        None => {}
+    }
+}
+
 /// A scene's materials, textures and per-triangle shading data.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct SceneMaterials {
@@ -262,6 +371,9 @@ pub struct SceneMaterials {
     pub textures: Vec<Texture>,
     /// One entry per triangle of the scene, in the same order.
     pub triangles: Vec<TriangleShading>,
+    /// The vertex colours and second texture coordinates, parallel to `triangles` where
+    /// some triangle has them (empty tables otherwise).
+    pub extra: ExtraAttributeTables,
 }
 
 /// Vertex normals closer to the face normal than this (1 - cos of 0.8 degrees) count as
@@ -303,13 +415,16 @@ impl SceneMaterials {
             materials,
             textures: Vec::new(),
             triangles: shading,
+            extra: ExtraAttributeTables::default(),
         }
     }
 
     /// Whether the workshop's flat, diffuse triangles describe the scene exactly: every
-    /// material is plain Lambertian and every vertex normal is its face's normal.
+    /// material is plain Lambertian, every vertex normal is its face's normal and no
+    /// triangle has vertex colours.
     pub fn is_plain(&self, face_normals: impl Iterator<Item = Vec3>) -> bool {
-        self.materials.iter().all(PbrMaterial::is_plain_lambertian)
+        self.extra.colors.is_none()
+            && self.materials.iter().all(PbrMaterial::is_plain_lambertian)
             && self
                 .triangles
                 .iter()
@@ -342,6 +457,21 @@ impl SceneMaterials {
                 .materials
                 .iter()
                 .any(|m| m.metallic != 0.0 || m.specular != 0.0)
+    }
+
+    /// The vertex attributes beyond normals, UVs and tangents that the kernels must read
+    /// (`SPEC_SCENE_VERTEX_ATTRIBUTES`): `VERTEX_ATTRIBUTE_COLOR` where some triangle has a
+    /// vertex colour other than opaque white (white changes nothing, so it is left out), the
+    /// same for `VERTEX_ATTRIBUTE_TEX_COORD_1`: exactly the tables that exist.
+    pub fn vertex_attributes(&self) -> u32 {
+        let mut attributes = 0;
+        if self.extra.colors.is_some() {
+            attributes |= crate::contract::VERTEX_ATTRIBUTE_COLOR;
+        }
+        if self.extra.tex_coords_1.is_some() {
+            attributes |= crate::contract::VERTEX_ATTRIBUTE_TEX_COORD_1;
+        }
+        attributes
     }
 
     /// Whether any material uses alpha (mask or blend).
@@ -436,9 +566,38 @@ mod tests {
             materials: vec![PbrMaterial::lambertian(Vec3::ONE, Vec3::ZERO, false)],
             textures: vec![],
             triangles: vec![shading],
+            extra: ExtraAttributeTables::default(),
         };
         assert!(materials.is_plain([Vec3::Z].into_iter()));
+        // Vertex colours are not plain
+        let mut coloured = materials.clone();
+        coloured.extra.colors = Some(vec![[Vec4::new(1.0, 0.0, 0.0, 1.0); 3]]);
+        assert!(!coloured.is_plain([Vec3::Z].into_iter()));
         materials.triangles[0].normals[1] = Vec3::new(0.1, 0.0, 1.0).normalize();
         assert!(!materials.is_plain([Vec3::Z].into_iter()));
+    }
+
+    #[test]
+    fn extra_attribute_tables_exist_only_from_the_first_value_that_is_not_the_default() {
+        let mut tables = ExtraAttributeTables::default();
+        let none = ExtraVertexAttributes::NONE;
+        // Defaults: no table at all (a scene without vertex colours keeps its memory)
+        tables.push(0, &none);
+        tables.push(1, &none);
+        assert!(tables.is_empty());
+        let red = ExtraVertexAttributes {
+            colors: [Vec4::new(1.0, 0.0, 0.0, 1.0); 3],
+            ..none
+        };
+        tables.push(2, &red);
+        tables.push(3, &none);
+        let colors = tables.colors.as_ref().expect("a colour table");
+        assert_eq!(colors.len(), 4);
+        assert_eq!(colors[..2], [none.colors; 2]);
+        assert_eq!(tables.get(2), red);
+        assert_eq!(tables.get(3), none);
+        // Only the colours were given: no texture-coordinate table
+        assert!(tables.tex_coords_1.is_none());
+        assert_eq!(tables.get(2).tex_coords_1, [Vec2::ZERO; 3]);
     }
 }

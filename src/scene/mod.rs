@@ -295,7 +295,7 @@ impl SceneBuilder {
         positions: [Vec3; 3],
         material: &Material,
     ) -> Result<(), SceneError> {
-        self.push_with(mesh, positions, material, None)
+        self.push_with(mesh, positions, material, None, None)
     }
 
     /// `push` with the triangle's shading data (its material index into `set_materials`'
@@ -308,7 +308,21 @@ impl SceneBuilder {
         material: &Material,
         shading: materials::TriangleShading,
     ) -> Result<(), SceneError> {
-        self.push_with(mesh, positions, material, Some(shading))
+        self.push_with(mesh, positions, material, Some(shading), None)
+    }
+
+    /// `push_shaded` with the triangle's extra vertex attributes (vertex colours, second
+    /// texture coordinates), which the scene keeps in side tables only once some triangle
+    /// has a value other than the default (`materials::ExtraAttributeTables`).
+    pub fn push_shaded_extra(
+        &mut self,
+        mesh: &str,
+        positions: [Vec3; 3],
+        material: &Material,
+        shading: materials::TriangleShading,
+        extra: &materials::ExtraVertexAttributes,
+    ) -> Result<(), SceneError> {
+        self.push_with(mesh, positions, material, Some(shading), Some(extra))
     }
 
     /// The materials (and their textures) that `push_shaded` triangles refer to.
@@ -327,6 +341,7 @@ impl SceneBuilder {
         positions: [Vec3; 3],
         material: &Material,
         shading: Option<materials::TriangleShading>,
+        extra: Option<&materials::ExtraVertexAttributes>,
     ) -> Result<(), SceneError> {
         if !positions.iter().all(|p| p.is_finite()) {
             return Err(SceneError::NonFinitePosition {
@@ -362,6 +377,11 @@ impl SceneBuilder {
                     for normal in &mut shading.normals {
                         *normal = normal.try_normalize().unwrap_or(triangle.normal);
                     }
+                    // The side tables stay parallel to the triangles (a no-op while
+                    // they do not exist and the attributes are the defaults)
+                    let index = self.materials.triangles.len();
+                    let extra = extra.unwrap_or(&materials::ExtraVertexAttributes::NONE);
+                    self.materials.extra.push(index, extra);
                     self.materials.triangles.push(shading);
                 }
             }

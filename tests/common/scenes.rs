@@ -64,6 +64,7 @@ pub fn glossy_box(roughness: f32) -> Scene {
         ],
         textures: Vec::new(),
         triangles: shading,
+        ..Default::default()
     });
     scene
 }
@@ -97,6 +98,7 @@ pub fn textured_lambertian_box() -> Scene {
         ],
         textures: vec![checker],
         triangles: shading,
+        ..Default::default()
     });
     scene
 }

@@ -23,7 +23,7 @@ use crate::accel::plan::StructurePlan;
 use crate::digest::Parts;
 use crate::kernels::variant::Traversal;
 use crate::lights::{LightsDigest, SameLights};
-use crate::render::gpu_materials::{material_texel_words, GpuTriangleShading};
+use crate::render::gpu_materials::{material_texel_words, GpuExtraShading, GpuTriangleShading};
 use crate::render::gpu_textures::TextureAtlas;
 use crate::render::gpu_types::GpuTriangle;
 use crate::scene::Scene;
@@ -95,6 +95,14 @@ impl UploadDigest {
             Some(kernel_materials) => {
                 geometry.part(b"shading");
                 geometry.words_of(&kernel_materials.triangles, GpuTriangleShading::new);
+                // The extra vertex attributes, where the kernels read them
+                if kernel_materials.vertex_attributes() != 0 {
+                    geometry.part(b"extra vertex attributes");
+                    let indices: Vec<usize> = (0..kernel_materials.triangles.len()).collect();
+                    geometry.words_of(&indices, |&index| {
+                        GpuExtraShading::new(&kernel_materials.extra.get(index))
+                    });
+                }
                 materials.part(b"materials");
                 let atlas = TextureAtlas::new(&kernel_materials.textures, u64::MAX).ok()?;
                 let words = material_texel_words(&gpu_materials(kernel_materials, &atlas));
