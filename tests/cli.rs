@@ -15,6 +15,8 @@ mod check_pasted_cli;
 mod cli_errors;
 #[path = "compare_cli.rs"]
 mod compare_cli;
+#[path = "cryptomatte_cli.rs"]
+mod cryptomatte_cli;
 #[path = "depth_of_field_cli.rs"]
 mod depth_of_field_cli;
 #[path = "determinism.rs"]

@@ -15,6 +15,7 @@ use pyo3::prelude::*;
 use pyo3::types::{PyBool, PyByteArray, PyDict};
 use vkpath::camera_data::CameraData;
 use vkpath::cli::frames::DEFAULT_FPS;
+use vkpath::image_io::output::ImageLayer;
 use vkpath::lens_request::{Focus, FocusError};
 use vkpath::lights::environment_source::{EnvironmentOptionNames, EnvironmentSource};
 use vkpath::render::adaptive::{NoiseThreshold, DEFAULT_MIN_SPP};
@@ -487,6 +488,7 @@ pub fn render<'py>(
                 aovs: aovs.clone(),
                 denoise,
                 neighbours,
+                cryptomatte: Default::default(),
             },
             sequence: sequence.as_deref_mut(),
             ..RenderSession::new(&context, &world, &camera, &settings)
@@ -544,15 +546,23 @@ pub fn render<'py>(
     let shard_image = sample_range.and_then(|_| outcome.state.as_ref().map(|s| s.image()));
     let dict = PyDict::new(py);
     let layers = PyDict::new(py);
+    let manifests = PyDict::new(py);
     // The post-processed image, with its AOVs (in `aovs`' order) and the noisy original of
     // a denoised one as layers.
     let image = match post {
         Some((image, post_layers)) => {
             for layer in &post_layers {
-                layers.set_item(
-                    &layer.name,
-                    PyByteArray::new(py, bytemuck::cast_slice(&layer.pixels)),
-                )?;
+                layers.set_item(&layer.name, PyByteArray::new(py, &layer_bytes(layer)))?;
+                // Cryptomatte's manifests, by type name (the first layer of each kind)
+                let attribute = |field: &str| {
+                    let suffix = format!("/{field}");
+                    layer.attributes.iter().find(|(n, _)| n.ends_with(&suffix))
+                };
+                if let (Some((_, name)), Some((_, manifest))) =
+                    (attribute("name"), attribute("manifest"))
+                {
+                    manifests.set_item(name, manifest)?;
+                }
             }
             image
         }
@@ -567,6 +577,7 @@ pub fn render<'py>(
         }
     };
     dict.set_item("layers", layers)?;
+    dict.set_item("cryptomatte", manifests)?;
     let image = &image;
     dict.set_item(
         "mean",
@@ -832,4 +843,19 @@ fn user_pipeline_cache() -> Option<std::sync::Arc<dyn vkpath::vk::PipelineCacheS
         |warning| eprintln!("vkpath: warning: {warning}"),
         || {},
     )))
+}
+
+/// A layer's pixels as Python reads them: 3 floats a pixel, or 4 (RGBA) where the layer
+/// has an alpha (Cryptomatte's rank pairs).
+fn layer_bytes(layer: &ImageLayer) -> Vec<u8> {
+    match &layer.alpha {
+        None => bytemuck::cast_slice(&layer.pixels).to_vec(),
+        Some(alpha) => layer
+            .pixels
+            .iter()
+            .zip(alpha)
+            .flat_map(|(p, a)| [p[0], p[1], p[2], *a])
+            .flat_map(f32::to_le_bytes)
+            .collect(),
+    }
 }

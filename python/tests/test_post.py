@@ -113,3 +113,27 @@ def test_returning_false_from_a_three_parameter_callback_stops():
     result = vkpath.render_result(width=8, height=8, seed=1, spp=64, samples_per_frame=1,
                                   progress=lambda done, total, image: calls.append(done) or False)
     assert result.stop == "stopped" and calls == [result.spp]
+
+
+def test_cryptomatte_equals_the_command_lines_layers_and_masks_sum_to_one(cli, tmp_path):
+    output = tmp_path / "matte.exr"
+    run_cli(cli, "render", *SIZE, "--spp", "4", "--aov", "cryptomatte", "-o", str(output))
+    result = vkpath.render_result(width=16, height=12, seed=1, spp=4, aovs=["cryptomatte"])
+    names = ["CryptoMaterial00", "CryptoMaterial01", "CryptoMaterial02",
+             "CryptoObject00", "CryptoObject01", "CryptoObject02"]
+    assert sorted(result.layers) == names
+    for name in names:
+        channels = [f"{name}.{c}" for c in "RGBA"]
+        assert result.layers[name].shape == (12, 16, 4)
+        assert np.array_equal(bits(result.layers[name]), bits(read_layer(output, channels)))
+    # The Cornell box has no nodes: one object, "scene"; its materials are "#0", "#1", ...
+    assert list(result.cryptomatte["CryptoObject"]) == ["scene"]
+    assert len(result.cryptomatte["CryptoMaterial"]) > 1
+    # Each of a pixel's 4 samples that hits names one object and one material: the
+    # materials' mattes add up to the object's, which is the share of samples that hit
+    # (a multiple of 1/4, at most 1)
+    scene = vkpath.cryptomatte_mask(result, "scene")
+    assert scene.max() == 1.0 and np.array_equal(scene * 4, np.round(scene * 4))
+    total = sum(vkpath.cryptomatte_mask(result, name, "CryptoMaterial")
+                for name in result.cryptomatte["CryptoMaterial"])
+    assert np.allclose(total, scene, atol=1e-6)

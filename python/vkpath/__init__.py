@@ -47,6 +47,7 @@ __all__ = [
     "VkpathError",
     "check",
     "compare",
+    "cryptomatte_mask",
     "default_settings",
     "read_exr",
     "render",
@@ -96,7 +97,14 @@ class RenderResult:
     #: "object_id", "instance_id", "material_id": (H, W) uint32, 0 where nothing is hit),
     #: and with ``denoise=True`` the image before denoising ("noisy", (H, W, 3)): the EXR
     #: layers ``--aov`` and ``--denoise`` write.
+    #: With ``aovs=["cryptomatte"]``: the Cryptomatte layers "CryptoObject00", ...,
+    #: "CryptoMaterial00", ... ((H, W, 4) float32: ID, coverage, ID, coverage, the IDs the
+    #: float bits of the names' MurmurHash3, 6 ranks in 3 layers per kind).
     layers: Dict[str, np.ndarray] = field(default_factory=dict)
+    #: With ``aovs=["cryptomatte"]``: each kind's manifest by type name ("CryptoObject",
+    #: "CryptoMaterial"): name -> the ID's float bits as 8 hex digits, as the EXR header's
+    #: ``cryptomatte/<key>/manifest``. :func:`cryptomatte_mask` makes a name's matte.
+    cryptomatte: Dict[str, Dict[str, str]] = field(default_factory=dict)
     #: The camera as datasets take it (``render --json``'s ``camera_data``): "k" (3x3,
     #: pixels, OpenCV: the top-left pixel's centre at (0, 0)), "camera_to_world_opencv"
     #: (4x4, x right, y down, z forward), "camera_to_world_opengl" (4x4, x right, y up,
@@ -411,7 +419,27 @@ def render_result(
         settings=dict(raw["settings"]),
         layers={name: _layer(name, pixels, h, w) for name, pixels in raw["layers"].items()},
         camera=_camera(raw["camera"]),
+        cryptomatte={kind: json.loads(text) for kind, text in raw.get("cryptomatte", {}).items()},
     )
+
+
+def cryptomatte_mask(result: "RenderResult", name: str, kind: str = "CryptoObject") -> np.ndarray:
+    """The matte of ``name`` (an object's or material's, as ``result.cryptomatte[kind]``
+    names it) from a render with ``aovs=["cryptomatte"]``: (H, W) float32, each pixel's
+    coverage by that name (the sum over the ranks whose ID is the name's)."""
+    bits = np.uint32(int(result.cryptomatte[kind][name], 16))
+    mask = None
+    index = 0
+    while f"{kind}{index:02d}" in result.layers:
+        layer = result.layers[f"{kind}{index:02d}"]
+        for id_channel, coverage_channel in ((0, 1), (2, 3)):
+            ids = np.ascontiguousarray(layer[..., id_channel]).view(np.uint32)
+            part = np.where(ids == bits, layer[..., coverage_channel], np.float32(0))
+            mask = part if mask is None else mask + part
+        index += 1
+    if mask is None:
+        raise ValueError(f"the result has no {kind} layers: render with aovs=['cryptomatte']")
+    return mask.astype(np.float32)
 
 
 #: The layers with one channel, and of those the integer IDs (exact in the float layer).
@@ -421,6 +449,8 @@ _ID_LAYERS = ("object_id", "instance_id", "material_id")
 
 def _layer(name: str, pixels: Any, h: int, w: int) -> np.ndarray:
     """A layer's array: (H, W, 3) float32, (H, W) float32 for one channel, (H, W) uint32 IDs."""
+    if name.startswith(("CryptoObject", "CryptoMaterial")):
+        return _array(pixels, h, w, 4)
     array = _array(pixels, h, w, 3)
     if name in _ID_LAYERS:
         return array[..., 0].astype(np.uint32)
@@ -634,7 +664,10 @@ def render_frames(
         finally:
             _SESSION.reset(token)
         if with_layers:
-            yield frame, {"image": result.image, **result.layers, "camera": result.camera}
+            arrays = {"image": result.image, **result.layers, "camera": result.camera}
+            if result.cryptomatte:
+                arrays["cryptomatte"] = result.cryptomatte
+            yield frame, arrays
         else:
             yield frame, result.image
 

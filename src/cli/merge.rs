@@ -7,9 +7,9 @@ use anyhow::bail;
 
 use super::options::SaveArgs;
 use crate::image_io::exr_input::check_exr_file;
-use crate::image_io::output::{check_writable, save_image, ImageFormat};
+use crate::image_io::output::{check_writable, save_image, write_atomically, ImageFormat};
 use crate::image_io::tonemap::RENDER_PNG_TONE_MAP;
-use crate::render::state_exr::{merge_state_files, write_state};
+use crate::render::state_exr::{merge_state_files, merge_state_layers, write_state_with_layers};
 
 /// What `merge` reads, for the error about a file that is not one.
 pub const MERGE_READS: &str =
@@ -48,9 +48,14 @@ pub fn run(args: &MergeArgs) -> anyhow::Result<()> {
     }
     args.save.warn_unused(&args.outputs, false);
     let (merged, metadata) = merge_state_files(&args.shards)?;
+    // The shards' ground truth and Cryptomatte, the same in each: kept as they are
+    let layers = merge_state_layers(&args.shards)?;
     for (output, format) in args.outputs.iter().zip(formats) {
         match format {
-            ImageFormat::Exr => write_state(output, &merged, &metadata)?,
+            ImageFormat::Exr => {
+                write_state_with_layers(output, &merged, &metadata, &layers)?;
+                copy_id_names(&args.shards[0], output)?;
+            }
             ImageFormat::Png => save_image(
                 output,
                 &merged.image(),
@@ -72,5 +77,18 @@ pub fn run(args: &MergeArgs) -> anyhow::Result<()> {
             written.join(", ")
         );
     }
+    Ok(())
+}
+
+/// Copies the IDs' sidecar of the first shard (`NAME.ids.json`, which every shard with an ID
+/// layer writes) beside `output`, if it has one.
+fn copy_id_names(shard: &std::path::Path, output: &std::path::Path) -> anyhow::Result<()> {
+    let sidecar = super::output::id_names_path(shard);
+    if !sidecar.is_file() {
+        return Ok(());
+    }
+    let text = std::fs::read(&sidecar)?;
+    let target = super::output::id_names_path(output);
+    write_atomically(&target, |temporary| std::fs::write(temporary, &text))?;
     Ok(())
 }

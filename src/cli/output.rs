@@ -37,7 +37,7 @@ mod lines;
 mod report;
 
 pub use crate::render::post_process::PostProcess;
-pub use files::{partial_path, save_or_rescue, DENOISED_LINE};
+pub use files::{id_names_path, partial_path, save_or_rescue, DENOISED_LINE};
 pub use lines::fail_on_validation_messages;
 pub use report::{
     CameraReport, DeviceReport, GuideSummary, RenderFailure, RenderReport, ReportPrinted,

@@ -118,9 +118,16 @@ pub struct RenderArgs {
     /// (with a sidecar NAME.ids.json naming them); position (world space), uv (the first UV
     /// set), object_position (the object's own frame), z (camera-space depth); motion
     /// (layers motion_forward and motion_backward: where the hit point is seen one frame,
-    /// 1 / --fps, later and earlier, minus where it is now, in pixels, x right, y down).
+    /// 1 / --fps, later and earlier, minus where it is now, in pixels, x right, y down);
+    /// cryptomatte (the Cryptomatte specification's CryptoObject00... and
+    /// CryptoMaterial00... layers and header manifest: coverage ranked over up to 32
+    /// jittered samples per pixel).
     #[arg(long, value_enum, value_delimiter = ',')]
     pub aov: Vec<crate::render::aov::Aov>,
+    /// With --aov cryptomatte: the ranks (ID, coverage) kept per pixel, 1 to 16, in
+    /// ceil(N / 2) RGBA layers per kind.
+    #[arg(long, value_name = "N", default_value_t = crate::render::cryptomatte::DEFAULT_CRYPTOMATTE_LEVELS)]
+    pub cryptomatte_levels: u32,
     /// Denoise the image with Intel Open Image Denoise (the RT filter, HDR, guided by the
     /// albedo and normal): the EXR's colour is denoised and a `noisy` layer keeps the
     /// original; a PNG gets the denoised image.
@@ -232,7 +239,7 @@ impl RenderArgs {
             .outputs
             .iter()
             .any(|p| ImageFormat::from_path(p).ok() == Some(ImageFormat::Exr));
-        if !self.aov.is_empty() && !exr && !self.aov.iter().any(|aov| aov.is_id()) {
+        if !self.aov.is_empty() && !exr && !self.aov.iter().any(|aov| aov.needs_exr()) {
             warn(
                 "--aov has no effect: its layers go into EXR files, and no output is an EXR".into(),
             );
@@ -633,9 +640,21 @@ impl RenderArgs {
             aovs: self.aov.clone(),
             denoise: self.denoise,
             neighbours: None,
+            cryptomatte: crate::render::cryptomatte::CryptomatteOptions {
+                levels: self.cryptomatte_levels,
+                // Every shard takes the whole render's samples (--spp), 0.., for its coverage
+                samples: self
+                    .job
+                    .is_shard()
+                    .then(|| crate::render::cryptomatte::cryptomatte_samples(self.spp)),
+            },
         };
-        if !post.is_empty() && self.job.is_shard() {
-            bail!("--aov and --denoise work on whole renders: merge the shards first");
+        let averaged = post.aovs.iter().find(|aov| !aov.goes_into_shards());
+        if self.job.is_shard() && (post.denoise || averaged.is_some()) {
+            let what = averaged.map_or("--denoise".to_owned(), |aov| {
+                format!("--aov {}", aov.name())
+            });
+            bail!("{what} works on whole renders: merge the shards first (the ground truth and cryptomatte go into every shard)");
         }
         // The devices, listed once (only `all` or a list asks Vulkan for them).
         let several = self.device.several()?;
@@ -695,14 +714,22 @@ impl RenderArgs {
         if self.denoise {
             crate::denoise::available()?;
         }
-        if let Some(id) = self.aov.iter().find(|aov| aov.is_id()) {
+        if let Some(id) = self.aov.iter().find(|aov| aov.needs_exr()) {
             let exr = self
                 .outputs
                 .iter()
                 .any(|p| ImageFormat::from_path(p).ok() == Some(ImageFormat::Exr));
-            if !exr {
+            if !exr && id.is_id() {
                 return Err(UsageError(format!("--aov {}: IDs are exact integers, which a PNG cannot hold: write an EXR output (-o NAME.exr) or use Python's vkpath.render", id.name())).into());
             }
+            if !exr {
+                return Err(UsageError("--aov cryptomatte: its ID layers and manifest live in an EXR (its layers and header), which a PNG cannot hold: write an EXR output (-o NAME.exr) or use Python's vkpath.render".into()).into());
+            }
+        }
+        if let Err(crate::error::Error::InvalidSettings(line)) =
+            crate::render::cryptomatte::check_levels(self.cryptomatte_levels)
+        {
+            return Err(UsageError(line).into());
         }
         if several {
             if job.checkpoint.is_some() || job.resume.is_some() || job.preview.is_some() {

@@ -219,17 +219,22 @@ fn colour_of(image: &RenderedImage) -> TevImage {
     }
 }
 
-/// An AOV layer's channels as the EXR names them (`albedo.R`..., or `depth.Z`).
+/// An AOV layer's channels as the EXR names them (`albedo.R`..., `depth.Z`, or with
+/// `.A`).
 fn layer_channels(layer: &ImageLayer) -> Vec<(String, Vec<f32>)> {
     let plane = |c: usize| layer.pixels.iter().map(|p| p[c]).collect::<Vec<f32>>();
     if layer.single_channel {
         return vec![(format!("{}.Z", layer.name), plane(0))];
     }
-    ["R", "G", "B"]
+    let mut channels: Vec<(String, Vec<f32>)> = ["R", "G", "B"]
         .iter()
         .enumerate()
         .map(|(c, suffix)| (format!("{}.{suffix}", layer.name), plane(c)))
-        .collect()
+        .collect();
+    if let Some(alpha) = &layer.alpha {
+        channels.push((format!("{}.A", layer.name), alpha.clone()));
+    }
+    channels
 }
 
 /// Sends CreateImage.

@@ -221,8 +221,9 @@ pub fn save_image_with_attributes(
     }
 }
 
-/// A layer of an EXR beside the colour: `name.R/G/B` (or `name.Z` for one channel).
-#[derive(Clone, Debug, PartialEq)]
+/// A layer of an EXR beside the colour: `name.R/G/B` (or `name.Z` for one channel, or
+/// `name.R/G/B/A` with an alpha).
+#[derive(Clone, Debug, Default, PartialEq)]
 pub struct ImageLayer {
     /// The layer's name (e.g. "albedo", "noisy").
     pub name: String,
@@ -230,6 +231,12 @@ pub struct ImageLayer {
     pub pixels: Vec<[f32; 3]>,
     /// Whether the layer has one channel (`name.Z`, from the first component) not three.
     pub single_channel: bool,
+    /// A fourth channel `name.A`, one value per pixel (Cryptomatte's rank pairs); `None`:
+    /// none.
+    pub alpha: Option<Vec<f32>>,
+    /// Header attributes (name, text) the layer brings into the file (Cryptomatte's
+    /// `cryptomatte/<key>/...`).
+    pub attributes: Vec<(String, String)>,
 }
 
 /// `save_image_with_attributes` with extra EXR layers (PNG files get the colour only).
@@ -244,6 +251,26 @@ pub fn save_image_with_layers(
         return save_image_with_attributes(path, image, options, attributes);
     }
     let mut channels = image_channels(image, options.moments);
+    channels.extend(layer_channels(layers));
+    let mut attributes = attributes.to_vec();
+    attributes.extend(layer_attributes(layers));
+    write_atomically(path, |temporary| {
+        write_exr_channels(
+            temporary,
+            image.width,
+            image.height,
+            channels,
+            &attributes,
+            &[],
+            options.window,
+        )
+    })
+}
+
+/// The EXR channels of `layers`: `name.R/G/B` (`name.Z` for one channel; `name.A` too with
+/// an alpha), in the layers' order.
+pub fn layer_channels(layers: &[ImageLayer]) -> Vec<(String, Vec<f32>)> {
+    let mut channels = Vec::new();
     for layer in layers {
         if layer.single_channel {
             channels.push((
@@ -258,18 +285,19 @@ pub fn save_image_with_layers(
                 ));
             }
         }
+        if let Some(alpha) = &layer.alpha {
+            channels.push((format!("{}.A", layer.name), alpha.clone()));
+        }
     }
-    write_atomically(path, |temporary| {
-        write_exr_channels(
-            temporary,
-            image.width,
-            image.height,
-            channels,
-            attributes,
-            &[],
-            options.window,
-        )
-    })
+    channels
+}
+
+/// The header attributes that `layers` bring (Cryptomatte's), in the layers' order.
+pub fn layer_attributes(layers: &[ImageLayer]) -> Vec<(String, String)> {
+    layers
+        .iter()
+        .flat_map(|l| l.attributes.iter().cloned())
+        .collect()
 }
 
 /// Writes a file through `write` into a temporary file in the same folder, then renames it

@@ -8,7 +8,8 @@
 //! The ground-truth outputs (`object_id`, `instance_id`, `material_id`, `position`, `uv`,
 //! `object_position`, `z`) are not averaged: they come from one sample through each pixel's
 //! centre (`crate::render::ground_truth`), so that IDs are exact integers. So do the motion
-//! vectors (`motion`: two layers, `crate::render::motion_vectors`).
+//! vectors (`motion`: two layers, `crate::render::motion_vectors`). Cryptomatte
+//! (`cryptomatte`, `crate::render::cryptomatte`) is ranked over jittered samples instead.
 
 use std::sync::Arc;
 
@@ -60,6 +61,10 @@ pub enum Aov {
     /// earlier, in pixels (`crate::render::motion_vectors`): two layers, `motion_forward`
     /// and `motion_backward`, each (du, dv, defined).
     Motion,
+    /// Cryptomatte (`crate::render::cryptomatte`): object and material ID mattes with
+    /// coverage, ranked over the pixel's jittered samples, as the specification's layers
+    /// `CryptoObject00`... and `CryptoMaterial00`... with its header metadata.
+    Cryptomatte,
 }
 
 impl Aov {
@@ -78,6 +83,7 @@ impl Aov {
             Aov::ObjectPosition => "object_position",
             Aov::Z => "z",
             Aov::Motion => "motion",
+            Aov::Cryptomatte => "cryptomatte",
         }
     }
 
@@ -89,6 +95,19 @@ impl Aov {
     /// Whether it is ground truth from the pixel centre's first hit (`render_first_hits`),
     /// not an average over the pixel's samples.
     pub fn is_ground_truth(self) -> bool {
+        self.integrator() == Integrator::Triangle && self != Aov::Cryptomatte
+    }
+
+    /// Whether its layers need an EXR (IDs, and Cryptomatte's hashes and header): refused
+    /// where the only output is a PNG.
+    pub fn needs_exr(self) -> bool {
+        self.is_id() || self == Aov::Cryptomatte
+    }
+
+    /// Whether a shard writes it (the ground truth and Cryptomatte): its layers are the same
+    /// whatever samples a render takes, so every shard holds them whole and `vkpath merge`
+    /// keeps them bit for bit. The averaged ones (albedo, normal, depth, material) are not.
+    pub fn goes_into_shards(self) -> bool {
         self.integrator() == Integrator::Triangle
     }
 
@@ -111,7 +130,8 @@ impl Aov {
             | Aov::Uv
             | Aov::ObjectPosition
             | Aov::Z
-            | Aov::Motion => Integrator::Triangle,
+            | Aov::Motion
+            | Aov::Cryptomatte => Integrator::Triangle,
         }
     }
 }
@@ -144,7 +164,12 @@ pub fn ground_truth_pixels(
             Aov::ObjectPosition => ids.object_position(hit).to_array(),
             Aov::Z => [(ids.position(hit) - camera.position).dot(forward); 3],
             Aov::Position => ids.position(hit).to_array(),
-            Aov::Albedo | Aov::Normal | Aov::Depth | Aov::Material | Aov::Motion => [0.0; 3],
+            Aov::Albedo
+            | Aov::Normal
+            | Aov::Depth
+            | Aov::Material
+            | Aov::Motion
+            | Aov::Cryptomatte => [0.0; 3],
         }
     };
     Ok(hits
@@ -167,6 +192,12 @@ pub fn render_aov(
     if aov.is_ground_truth() {
         let hits = render_first_hits(context, scene, camera, settings)?;
         return ground_truth_pixels(scene, camera, &hits, aov);
+    }
+    if aov == Aov::Cryptomatte {
+        return Err(crate::error::Error::InvalidSettings(
+            "--aov cryptomatte has layers of its own (crate::render::cryptomatte), not one image"
+                .into(),
+        ));
     }
     let settings = RenderSettings {
         integrator: aov.integrator(),

@@ -29,6 +29,7 @@ use crate::scene::instances::{MeshInstance, NodeLabel};
 use crate::scene::materials::SceneMaterials;
 use crate::scene::Scene;
 use crate::vk::Context;
+use crate::RenderedImage;
 
 /// The largest integer that every smaller one is exact in an f32: the largest ID a layer
 /// can hold.
@@ -63,13 +64,7 @@ pub fn render_first_hits(
     camera: &Camera,
     settings: &RenderSettings,
 ) -> Result<FirstHits> {
-    if scene.triangles.len() as u64 >= MAX_FLOAT_EXACT_ID {
-        return Err(Error::InvalidSettings(format!(
-            "the ground-truth AOVs name at most {} triangles exactly; the scene has {}",
-            MAX_FLOAT_EXACT_ID - 1,
-            scene.triangles.len()
-        )));
-    }
+    check_triangle_count(scene)?;
     let settings = RenderSettings {
         integrator: Integrator::Triangle,
         spp: 1,
@@ -79,17 +74,35 @@ pub fn render_first_hits(
     };
     let mut renderer = Renderer::new(context, scene, camera, settings)?;
     let image = renderer.render_all()?;
-    let order = renderer.triangle_order();
+    Ok(first_hits_of(&image, renderer.triangle_order()))
+}
+
+/// Refuses a scene whose triangle indices + 1 are not exact in a float (the kernels'
+/// INTEGRATOR_TRIANGLE returns them so).
+pub fn check_triangle_count(scene: &Scene) -> Result<()> {
+    if scene.triangles.len() as u64 >= MAX_FLOAT_EXACT_ID {
+        return Err(Error::InvalidSettings(format!(
+            "the ground-truth AOVs name at most {} triangles exactly; the scene has {}",
+            MAX_FLOAT_EXACT_ID - 1,
+            scene.triangles.len()
+        )));
+    }
+    Ok(())
+}
+
+/// The first hits that a render of INTEGRATOR_TRIANGLE holds, mapped to the scene's
+/// triangles through the upload's `order` (`Renderer::triangle_order`).
+pub fn first_hits_of(image: &RenderedImage, order: Option<&[u32]>) -> FirstHits {
     let hits = image
         .mean
         .iter()
         .map(|pixel| first_hit(*pixel, order))
         .collect();
-    Ok(FirstHits {
+    FirstHits {
         width: image.width,
         height: image.height,
         hits,
-    })
+    }
 }
 
 /// The hit that a pixel of INTEGRATOR_TRIANGLE holds: (uploaded index + 1, b_1, b_2).

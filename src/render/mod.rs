@@ -9,6 +9,7 @@ pub mod accumulation;
 pub mod adaptive;
 pub mod aov;
 pub mod converged_pixels;
+pub mod cryptomatte;
 pub mod gpu_materials;
 pub mod gpu_motion;
 pub mod gpu_scene;

@@ -9,6 +9,9 @@ use crate::camera::Camera;
 use crate::error::Result;
 use crate::image_io::output::ImageLayer;
 use crate::render::aov::{ground_truth_pixels, render_aov, Aov};
+use crate::render::cryptomatte::{
+    check_levels, cryptomatte_layers, cryptomatte_samples, render_hit_samples, CryptomatteOptions,
+};
 use crate::render::ground_truth::render_first_hits;
 use crate::render::metadata::{RenderMetadata, AOV_FIELD, DENOISER_NAME, DENOISE_FIELD};
 use crate::render::motion_vectors::{
@@ -31,6 +34,8 @@ pub struct PostProcess {
     /// For `Aov::Motion`: the frame's scene one frame before and after (`None`: a still
     /// render, whose motion vectors are 0). Set per frame.
     pub neighbours: Option<Arc<FrameNeighbours>>,
+    /// For `Aov::Cryptomatte`: its ranks per pixel and samples.
+    pub cryptomatte: CryptomatteOptions,
 }
 
 impl PostProcess {
@@ -75,11 +80,14 @@ impl PostProcess {
             name: name.to_owned(),
             pixels,
             single_channel,
+            ..ImageLayer::default()
         };
         // One render of the pixel centres' first hits serves every ground-truth layer
         let mut first_hits = None;
         for aov in wanted {
-            let layers = if aov.is_ground_truth() {
+            let layers = if aov == Aov::Cryptomatte {
+                self.cryptomatte(context, scene, camera, settings)?
+            } else if aov.is_ground_truth() {
                 let hits = match first_hits.take() {
                     Some(hits) => hits,
                     None => render_first_hits(context, scene, camera, settings)?,
@@ -128,9 +136,28 @@ impl PostProcess {
             layers.push(ImageLayer {
                 name: "noisy".to_owned(),
                 pixels: noisy,
-                single_channel: false,
+                ..ImageLayer::default()
             });
         }
         Ok((result, layers))
+    }
+
+    /// The Cryptomatte's layers: the first hits of `cryptomatte_samples(settings.spp)`
+    /// jittered samples per pixel (or `CryptomatteOptions::samples`), ranked.
+    fn cryptomatte(
+        &self,
+        context: &Arc<Context>,
+        scene: &Scene,
+        camera: &Camera,
+        settings: &RenderSettings,
+    ) -> Result<Vec<ImageLayer>> {
+        let levels = self.cryptomatte.levels;
+        check_levels(levels)?;
+        let count = self
+            .cryptomatte
+            .samples
+            .unwrap_or_else(|| cryptomatte_samples(settings.spp));
+        let samples = render_hit_samples(context, scene, camera, settings, count)?;
+        Ok(cryptomatte_layers(scene, &samples, levels))
     }
 }

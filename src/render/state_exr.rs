@@ -15,10 +15,10 @@ use exr::prelude::{read_first_flat_layer_from_file, AttributeValue};
 use crate::contract;
 use crate::error::{Error, Result};
 use crate::guiding::Guide;
-use crate::image_io::exr_input::{check_exr_file, check_exr_size, plain_cause};
+use crate::image_io::exr_input::{check_exr_file, check_exr_size, plain_cause, read_exr_channels};
 use crate::image_io::output::{
-    read_png_texts, write_atomically, write_exr_channels, ByteAttribute, ImageFormat,
-    SAMPLE_COUNT_CHANNEL, SECOND_MOMENT_CHANNELS,
+    layer_attributes, layer_channels, read_png_texts, write_atomically, write_exr_channels,
+    ByteAttribute, ImageFormat, ImageLayer, SAMPLE_COUNT_CHANNEL, SECOND_MOMENT_CHANNELS,
 };
 use crate::image_io::ImageError;
 use crate::render::accumulation::Accumulation;
@@ -55,6 +55,107 @@ const GUIDE_TYPE_HINT: &str = "vkpath guide: u32 words of its guided cells, litt
 
 /// Writes `state` (with `metadata`, and its guide if it has one) to `path` atomically.
 pub fn write_state(path: &Path, state: &Accumulation, metadata: &RenderMetadata) -> Result<()> {
+    write_state_with_layers(path, state, metadata, &StateLayers::default())
+}
+
+/// The layers a shard carries beside its state (issue 56): the ground truth and the
+/// Cryptomatte (`Aov::goes_into_shards`), the same in every shard of a render, which
+/// `vkpath merge` checks and keeps bit for bit (`merge_state_layers`).
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct StateLayers {
+    /// The channels (`object_id.Z`, `CryptoObject00.R`, ...), one value per pixel.
+    pub channels: Vec<(String, Vec<f32>)>,
+    /// The header attributes they bring (`cryptomatte/<key>/...`).
+    pub attributes: Vec<(String, String)>,
+}
+
+impl StateLayers {
+    /// The channels and attributes of `layers`.
+    pub fn of(layers: &[ImageLayer]) -> StateLayers {
+        StateLayers {
+            channels: layer_channels(layers),
+            attributes: layer_attributes(layers),
+        }
+    }
+
+    /// The layers of a file that `write_state_with_layers` wrote: its channels that are
+    /// neither the image's nor the state's, and its `cryptomatte/` attributes. Reads no pixel
+    /// where the header lists no such channel.
+    pub fn read(path: &Path) -> Result<StateLayers> {
+        let fail = |message: String| Error::from(ImageError::read(path, message));
+        let meta =
+            exr::meta::MetaData::read_from_file(path, false).map_err(|e| fail(plain_cause(&e)))?;
+        let is_layer = |name: &str| {
+            let image = ["R", "G", "B", "A", SAMPLE_COUNT_CHANNEL];
+            !image.contains(&name)
+                && !SECOND_MOMENT_CHANNELS.contains(&name)
+                && !STATE_CHANNELS.iter().flatten().any(|&c| c == name)
+        };
+        let listed = meta.headers.iter().flat_map(|h| h.channels.list.iter());
+        if !listed.into_iter().any(|c| is_layer(&c.name.to_string())) {
+            return Ok(StateLayers::default());
+        }
+        let channels = read_exr_channels(path)?
+            .channels
+            .into_iter()
+            .filter(|(name, _)| is_layer(name))
+            .collect();
+        let attributes = read_text_attributes(path)?
+            .into_iter()
+            .filter(|(name, _)| name.starts_with("cryptomatte/"))
+            .collect();
+        Ok(StateLayers {
+            channels,
+            attributes,
+        })
+    }
+}
+
+/// The layers of shards (`StateLayers::read`), which must be the same bit for bit (the first
+/// channel or attribute that differs is named, with both files).
+pub fn merge_state_layers(paths: &[std::path::PathBuf]) -> Result<StateLayers> {
+    let mut first: Option<(&std::path::PathBuf, StateLayers)> = None;
+    for path in paths {
+        let layers = StateLayers::read(path)?;
+        let Some((first_path, first_layers)) = &first else {
+            first = Some((path, layers));
+            continue;
+        };
+        let names = |l: &StateLayers| l.channels.iter().map(|c| c.0.clone()).collect::<Vec<_>>();
+        let bits = |values: &[f32]| values.iter().map(|v| v.to_bits()).collect::<Vec<_>>();
+        let difference = if names(first_layers) != names(&layers) {
+            Some(format!(
+                "their layers differ ({} and {})",
+                names(first_layers).join(","),
+                names(&layers).join(",")
+            ))
+        } else if first_layers.attributes != layers.attributes {
+            Some("their Cryptomatte manifests differ".to_owned())
+        } else {
+            let pairs = first_layers.channels.iter().zip(&layers.channels);
+            pairs
+                .into_iter()
+                .find(|(a, b)| bits(&a.1) != bits(&b.1))
+                .map(|(a, _)| format!("their {} channels differ", a.0))
+        };
+        if let Some(difference) = difference {
+            return Err(Error::InvalidSettings(format!(
+                "'{}' and '{}' are not shards of one render: {difference}",
+                first_path.display(),
+                path.display()
+            )));
+        }
+    }
+    Ok(first.map(|(_, layers)| layers).unwrap_or_default())
+}
+
+/// `write_state` with `layers` beside the state (a shard's ground truth, a merge's).
+pub fn write_state_with_layers(
+    path: &Path,
+    state: &Accumulation,
+    metadata: &RenderMetadata,
+    layers: &StateLayers,
+) -> Result<()> {
     let image = state.image();
     let pixels = (state.width * state.height) as usize;
     let mut channels: Vec<(String, Vec<f32>)> = ["R", "G", "B", "A"]
@@ -88,13 +189,16 @@ pub fn write_state(path: &Path, state: &Accumulation, metadata: &RenderMetadata)
                 .collect(),
         })
         .collect();
+    channels.extend(layers.channels.iter().cloned());
+    let mut attributes = metadata.attributes_with_counts(&image.sample_count);
+    attributes.extend(layers.attributes.iter().cloned());
     write_atomically(path, |temporary| {
         write_exr_channels(
             temporary,
             state.width,
             state.height,
             channels,
-            &metadata.attributes_with_counts(&image.sample_count),
+            &attributes,
             &guide_attribute,
             metadata.window(),
         )

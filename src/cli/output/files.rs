@@ -18,7 +18,7 @@ use crate::image_io::output::{
 use crate::render::ground_truth::IdNames;
 use crate::render::metadata::RenderMetadata;
 use crate::render::settings::RenderSettings;
-use crate::render::state_exr::write_state;
+use crate::render::state_exr::{write_state_with_layers, StateLayers};
 use crate::render::StopReason;
 use crate::vk::Context;
 use crate::RenderedImage;
@@ -74,8 +74,25 @@ pub(super) fn save_outputs(
         let Some(state) = &finished.state else {
             bail!("the shard's render kept no state to write");
         };
+        // The ground truth and Cryptomatte go into every shard (`Aov::goes_into_shards`)
+        let layers = match contexts.first() {
+            Some(context) if !request.post.is_empty() => {
+                let (_, layers) = request.post.apply(
+                    context,
+                    request.scene,
+                    request.camera,
+                    request.settings,
+                    image,
+                )?;
+                StateLayers::of(&layers)
+            }
+            _ => StateLayers::default(),
+        };
         for output in outputs {
-            write_state(output, state, metadata)?;
+            write_state_with_layers(output, state, metadata, &layers)?;
+        }
+        if request.post.aovs.iter().any(|aov| aov.is_id()) {
+            write_id_names(outputs, request.scene)?;
         }
         return Ok(None);
     }
