@@ -337,7 +337,7 @@ fn layer_bits(dir: &Path, name: &str, prefixes: &[&str]) -> BTreeMap<String, Vec
 }
 
 #[test]
-fn shards_tiles_and_merge_keep_the_ground_truth_and_cryptomatte_bit_for_bit() {
+fn shards_tiles_resume_and_merge_keep_the_ground_truth_and_cryptomatte_bit_for_bit() {
     let dir = tempfile::tempdir().unwrap();
     let scene = write_scene(dir.path());
     let size = SIZE.to_string();
@@ -371,6 +371,50 @@ fn shards_tiles_and_merge_keep_the_ground_truth_and_cryptomatte_bit_for_bit() {
     for name in ["tiled.exr", "s0.exr", "s1.exr", "merged.exr"] {
         assert!(layer_bits(dir.path(), name, &prefixes) == whole, "{name}");
     }
+    // A render whose device is lost after its samples are checkpointed, during the layers'
+    // passes, resumed from its checkpoint, writes the same layers. The loss is injected at
+    // the first submission that leaves a checkpoint (how many submissions come before the
+    // samples' last batch depends on the scene's uploads).
+    let mut stopped = vec![
+        "render",
+        &scene,
+        "--width",
+        &size,
+        "--height",
+        &size,
+        "--spp",
+        "4",
+        "--aov",
+        layers,
+        "--samples-per-frame",
+        "1",
+        "--checkpoint",
+        "ck.exr",
+        "--checkpoint-interval",
+        "0.001",
+        "-o",
+        "resumed.exr",
+    ];
+    let stopped_at = (2..24).find(|submission| {
+        let fault = format!("device-lost:{submission}");
+        let output =
+            common::vkpath_with_env(dir.path(), &stopped, &[("VKPATH_INJECT_FAULT", &fault)]);
+        let stderr = String::from_utf8_lossy(&output.stderr);
+        assert_eq!(
+            output.status.code(),
+            Some(1),
+            "the fault stops it: {stderr}"
+        );
+        dir.path().join("ck.exr").is_file()
+    });
+    assert!(stopped_at.is_some(), "no lost submission left a checkpoint");
+    stopped.extend_from_slice(&["--resume", "ck.exr"]);
+    let (code, stderr) = run(dir.path(), &stopped);
+    assert_eq!(code, Some(0), "{stderr}");
+    assert!(
+        layer_bits(dir.path(), "resumed.exr", &prefixes) == whole,
+        "resumed.exr"
+    );
     // The merged file's header keeps the manifests, and its sidecar the IDs' names
     let merged = read_matte(&dir.path().join("merged.exr"), "CryptoObject");
     assert_eq!(merged.manifest.len(), 2);

@@ -711,9 +711,8 @@ fn shutter_of(
             "motion_steps={steps}: give 2 to {MAX_MOTION_STEPS} keys across the shutter"
         )));
     }
-    match frames {
+    match frames.filter(|&frames| frames != 0.0) {
         None => Ok(None),
-        Some(frames) if frames == 0.0 => Ok(None),
         Some(frames) if frames > 0.0 && frames <= MAX_SHUTTER_FRAMES => {
             Shutter::new(frames, position, steps)
                 .map(Some)
