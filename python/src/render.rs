@@ -644,11 +644,6 @@ struct Poser<'a> {
 }
 
 impl Poser<'_> {
-    /// Whether the scene can move at all (a glTF file with animations).
-    fn is_animated(&self) -> PyResult<bool> {
-        self.scene.is_animated()
-    }
-
     /// The scene and its camera at `time` seconds. A time before 0 is posed at 0: glTF's
     /// animations hold their first key before it, so the pose is the same.
     fn pose(&self, time: f64) -> PyResult<(vkpath::Scene, vkpath::Camera)> {
@@ -678,7 +673,7 @@ fn motion_neighbours(
     time: Option<f64>,
     fps: f64,
 ) -> PyResult<Option<Arc<FrameNeighbours>>> {
-    if !poser.is_animated()? {
+    if !poser.scene.is_animated()? {
         return Ok(None);
     }
     let time = time.unwrap_or(0.0);
@@ -733,7 +728,7 @@ fn motion_keys(
     time: Option<f64>,
     fps: f64,
 ) -> PyResult<Option<SceneMotion>> {
-    if !poser.is_animated()? {
+    if !poser.scene.is_animated()? {
         return Ok(None);
     }
     let times = shutter.key_times(time.unwrap_or(0.0), fps);
