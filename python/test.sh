@@ -4,10 +4,11 @@
 # tests (python/tests) against the command line's binary, target/debug/vkpath.
 #
 # The extension is built with Cargo's `dev` profile, whose settings are the `test`
-# profile's (Cargo.toml), so after `cargo test` its dependencies and the vkpath library
-# itself are reused (not the `test` profile itself: maturin builds with `cargo rustc`, which
-# with `--profile test` makes a test harness, not a library). Users' `pip install ./python`
-# builds the release profile.
+# profile's (Cargo.toml), and Cargo.toml names the features pyo3 turns on in shared crates
+# (held by `house::the_python_extension_resolves_the_features_vkpath_is_tested_with`), so after
+# `cargo test` its dependencies and the vkpath library itself are reused (not the `test`
+# profile itself: maturin builds with `cargo rustc`, which with `--profile test` makes a test
+# harness, not a library). Users' `pip install ./python` builds the release profile.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 venv=target/python-venv

@@ -1,8 +1,10 @@
 //! `docs/house.md`'s claims, held by tests that read the sources: which rooms may name a
-//! light kind, which files a new light kind, a new lobe and a new material factor touch (the doc's lists and counts
-//! against the files that spell each list), the variant room's inputs, and that no import
-//! circle runs between two of `src/`'s top-level folders. The doc cannot go stale: a change
-//! that moves one of these numbers fails here until the doc says the new one.
+//! light kind, which files a new light kind, a new lobe and a new material factor touch (the
+//! doc's lists and counts against the files that spell each list), the variant room's inputs,
+//! and that no import circle runs between two of `src/`'s top-level folders; and one claim of
+//! the build's: the Python extension resolves vkpath's dependencies with the same features as
+//! `cargo test`, so CI compiles vkpath once for both. The doc cannot go stale: a change that
+//! moves one of these numbers fails here until the doc says the new one.
 
 use std::collections::{BTreeMap, BTreeSet};
 use std::path::{Path, PathBuf};
@@ -793,4 +795,75 @@ fn no_import_circle_runs_between_two_folders() {
     // The search saw the imports (a few hundred between modules).
     let imports: usize = edges.values().map(BTreeSet::len).sum();
     assert!(imports > 300, "{imports} imports");
+}
+
+/// Each package's resolved features, as `cargo tree` prints them for `package` with the
+/// dependency `edges` given: package name and version → the feature lists it is built with (a
+/// package built for the host and for the target may have two).
+fn resolved_features(package: &str, edges: &str) -> BTreeMap<String, BTreeSet<String>> {
+    let cargo = std::env::var("CARGO").unwrap_or_else(|_| "cargo".into());
+    let output = std::process::Command::new(cargo)
+        .current_dir(root())
+        .args([
+            "tree",
+            "--offline",
+            "--locked",
+            "--prefix",
+            "none",
+            "-p",
+            package,
+            "-e",
+            edges,
+        ])
+        .args(["-f", "{p} [{f}]"])
+        .output()
+        .expect("cargo runs");
+    assert!(
+        output.status.success(),
+        "cargo tree -p {package}: {}",
+        String::from_utf8_lossy(&output.stderr)
+    );
+    let mut packages: BTreeMap<String, BTreeSet<String>> = BTreeMap::new();
+    for line in String::from_utf8_lossy(&output.stdout).lines() {
+        let (Some(open), Some(close)) = (line.find(" ["), line.rfind(']')) else {
+            continue;
+        };
+        // `syn v3.0.10`; a path package's `(/path)` is dropped with the rest.
+        let name: String = line[..open]
+            .split(' ')
+            .take(2)
+            .collect::<Vec<_>>()
+            .join(" ");
+        packages
+            .entry(name)
+            .or_default()
+            .insert(line[open + 2..close].to_owned());
+    }
+    packages
+}
+
+#[test]
+fn the_python_extension_resolves_the_features_vkpath_is_tested_with() {
+    // python/test.sh builds the extension after `cargo test`: if pyo3 turned on a feature of a
+    // crate vkpath uses that vkpath's own build leaves off, that crate and everything above it
+    // (vkpath included, about 4 minutes of a 2-core CI) would compile a second time. Cargo.toml
+    // names those features (once_cell, syn) so the two resolutions agree.
+    let tested = resolved_features("vkpath", "normal,build,dev");
+    let extension = resolved_features("vkpath-python", "normal,build");
+    assert!(
+        tested.keys().any(|name| name.starts_with("syn "))
+            && extension.contains_key("vkpath v0.1.0"),
+        "cargo tree's output was not read: {tested:?}"
+    );
+    let differing: Vec<String> = tested
+        .iter()
+        .filter_map(|(name, features)| {
+            let other = extension.get(name)?;
+            (other != features).then(|| format!("{name}: vkpath {features:?}, extension {other:?}"))
+        })
+        .collect();
+    assert!(
+        differing.is_empty(),
+        "the extension's build resolves other features than vkpath's (name them in Cargo.toml): {differing:#?}"
+    );
 }
