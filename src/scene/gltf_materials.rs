@@ -4,8 +4,8 @@
 //! use, decoded once each. Each is read where its row says glTF writes it.
 //!
 //! A texture that cannot be used (a missing or unreadable image, a format other than PNG
-//! or JPEG, an image larger than `MAX_TEXTURE_SIZE` per side, a second texture coordinate
-//! set) gives a warning and the material falls back to its factor for that slot: one broken
+//! or JPEG, an image larger than `MAX_TEXTURE_SIZE` per side, a texture coordinate set
+//! other than 0 and 1) gives a warning and the material falls back to its factor for that slot: one broken
 //! texture should not stop a whole asset from rendering.
 
 use std::collections::HashMap;
@@ -176,9 +176,9 @@ impl<'a> MaterialReader<'a> {
         tex_coord: u32,
         transform: TextureTransform,
     ) -> Option<TextureBinding> {
-        if tex_coord != 0 {
+        if tex_coord > 1 {
             self.converted.warnings.push(format!(
-                "material '{material}': {slot} uses TEXCOORD_{tex_coord}; only TEXCOORD_0 is read, so the texture is ignored"
+                "material '{material}': {slot} uses TEXCOORD_{tex_coord}; only TEXCOORD_0 and TEXCOORD_1 are read, so the texture is ignored"
             ));
             return None;
         }
@@ -186,6 +186,7 @@ impl<'a> MaterialReader<'a> {
         Some(TextureBinding {
             texture: index,
             transform,
+            tex_coord,
         })
     }
 
@@ -398,7 +399,8 @@ fn material_factors(json: &serde_json::Value) -> MaterialFactors {
     factors
 }
 
-fn material_label(material: &gltf::Material) -> String {
+/// A material's name for messages: its name, `#index`, or "default".
+pub(super) fn material_label(material: &gltf::Material) -> String {
     match (material.name(), material.index()) {
         (Some(name), _) => super::printable(name),
         (None, Some(index)) => format!("#{index}"),
