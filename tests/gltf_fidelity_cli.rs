@@ -147,11 +147,24 @@ fn four_colour_png() -> String {
 
 /// Adds texture 0 (`four_colour_png`) to the glTF file at `path`.
 fn add_texture(path: &str) {
+    set_textures(
+        path,
+        json!([{"source": 0}]),
+        json!([{"uri": four_colour_png()}]),
+    );
+}
+
+/// Sets the `textures` and `images` of the glTF file at `path` (and the extensions it uses).
+fn set_textures(path: &str, textures: Value, images: Value) {
     let mut document: Value =
         serde_json::from_str(&std::fs::read_to_string(path).unwrap()).unwrap();
-    document["textures"] = json!([{"source": 0}]);
-    document["extensionsUsed"] = json!(["KHR_materials_unlit", "KHR_materials_emissive_strength"]);
-    document["images"] = json!([{"uri": four_colour_png()}]);
+    document["textures"] = textures;
+    document["images"] = images;
+    document["extensionsUsed"] = json!([
+        "KHR_materials_unlit",
+        "KHR_materials_emissive_strength",
+        "EXT_texture_webp"
+    ]);
     std::fs::write(path, document.to_string()).unwrap();
 }
 
@@ -227,4 +240,58 @@ fn a_texture_on_a_missing_tex_coord_1_is_one_line_naming_the_primitive_material_
         run.stderr
     );
     assert!(!dir.path().join("missing.exr").exists());
+}
+
+#[test]
+fn a_webp_texture_renders_as_the_same_png() {
+    let dir = tempfile::tempdir().unwrap();
+    // tests/data/four_colours.webp is four_colour_png's texels, lossless (cwebp -lossless
+    // -exact); its fallback here is a black PNG, so an image equal to the PNG's is the WebP's
+    let webp = std::fs::read(crate::common::fixture("four_colours.webp")).unwrap();
+    let webp_uri = format!("data:image/webp;base64,{}", base64::encode(&webp));
+    let black = {
+        let mut bytes = Vec::new();
+        let mut encoder = png::Encoder::new(&mut bytes, 1, 1);
+        encoder.set_color(png::ColorType::Rgb);
+        encoder
+            .write_header()
+            .unwrap()
+            .write_image_data(&[0, 0, 0])
+            .unwrap();
+        format!("data:image/png;base64,{}", base64::encode(&bytes))
+    };
+    let uv = uv_bytes([[0.0, 1.0], [1.0, 1.0], [1.0, 0.0], [0.0, 0.0]]);
+    let material = json!({"pbrMetallicRoughness": {"baseColorTexture": {"index": 0}},
+                          "extensions": {"KHR_materials_unlit": {}}});
+    let cases = [
+        (
+            "png",
+            json!([{"source": 0}]),
+            json!([{"uri": four_colour_png()}]),
+        ),
+        (
+            "webp",
+            json!([{"source": 0, "extensions": {"EXT_texture_webp": {"source": 1}}}]),
+            json!([{"uri": black}, {"uri": webp_uri}]),
+        ),
+    ];
+    let mut images = Vec::new();
+    for (name, textures, image_list) in cases {
+        let scene = quad(
+            dir.path(),
+            name,
+            &[("TEXCOORD_0", "VEC2", 5126, false, uv.clone())],
+            material.clone(),
+            2.0,
+        );
+        set_textures(&scene, textures, image_list);
+        let output = format!("{name}.exr");
+        let run = render_small(dir.path(), &scene, &[], &output, "4");
+        assert!(!run.stderr.contains("warning"), "{name}: {}", run.stderr);
+        images.push(crate::common::runs::exr_bits(dir.path(), &output));
+    }
+    assert!(
+        images[0] == images[1],
+        "the WebP texture renders otherwise than its PNG"
+    );
 }

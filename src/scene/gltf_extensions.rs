@@ -5,11 +5,13 @@ use super::material_params::{MATERIAL_PARAMS, MATERIAL_TEXTURES};
 
 /// The glTF extensions whose meaning vkpath implements beyond the material's: those are the
 /// ones the material parameter table reads (`super::material_params`).
-const OTHER_SUPPORTED_EXTENSIONS: [&str; 4] = [
+const OTHER_SUPPORTED_EXTENSIONS: [&str; 6] = [
     "KHR_texture_transform",
     "KHR_mesh_quantization",
     "KHR_lights_punctual",
     "KHR_materials_variants",
+    "EXT_texture_webp",
+    "KHR_texture_webp",
 ];
 
 /// Whether vkpath implements the meaning of glTF extension `name` (a file that requires
@@ -71,10 +73,6 @@ const WHAT_IS_LOST: &[(&str, &str)] = &[
     (
         "KHR_texture_basisu",
         "KTX2/Basis textures are not read; their factors stay",
-    ),
-    (
-        "EXT_texture_webp",
-        "WebP textures are not read; their factors stay",
     ),
     (
         "KHR_draco_mesh_compression",
@@ -149,8 +147,9 @@ mod tests {
     }
 
     #[test]
-    fn the_supported_extensions_are_the_material_tables_and_four_more() {
-        // The eleven vkpath implemented before the material table named them, and variants.
+    fn the_supported_extensions_are_the_material_tables_and_six_more() {
+        // The eleven vkpath implemented before the material table named them, variants and
+        // WebP textures.
         let supported = [
             "KHR_materials_emissive_strength",
             "KHR_materials_specular",
@@ -164,6 +163,8 @@ mod tests {
             "KHR_mesh_quantization",
             "KHR_lights_punctual",
             "KHR_materials_variants",
+            "EXT_texture_webp",
+            "KHR_texture_webp",
         ];
         for name in supported {
             assert!(is_supported_extension(name), "{name}");

@@ -897,3 +897,7 @@ mod mirror_tests;
 #[cfg(test)]
 #[path = "gltf_vertex_attribute_tests.rs"]
 mod vertex_attribute_tests;
+
+#[cfg(test)]
+#[path = "gltf_texture_tests.rs"]
+mod texture_tests;

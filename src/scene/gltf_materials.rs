@@ -3,8 +3,8 @@
 //! KHR_materials_* extensions it names), with KHR_texture_transform, and the textures they
 //! use, decoded once each. Each is read where its row says glTF writes it.
 //!
-//! A texture that cannot be used (a missing or unreadable image, a format other than PNG
-//! or JPEG, an image larger than `MAX_TEXTURE_SIZE` per side, a texture coordinate set
+//! A texture that cannot be used (a missing or unreadable image, a format other than PNG,
+//! JPEG or WebP, an image larger than `MAX_TEXTURE_SIZE` per side, a texture coordinate set
 //! other than 0 and 1) gives a warning and the material falls back to its factor for that slot: one broken
 //! texture should not stop a whole asset from rendering.
 
@@ -190,20 +190,41 @@ impl<'a> MaterialReader<'a> {
         })
     }
 
-    /// Decodes a texture on first use; None (with a warning) when it cannot be used.
+    /// Decodes a texture on first use; None (with a warning) when it cannot be used. Its
+    /// image is `EXT_texture_webp`'s (or `KHR_texture_webp`'s) `source` where it has one,
+    /// else its own `source`, which is also the fallback where the WebP image cannot be
+    /// used (with a warning naming it).
     fn texture_index(&mut self, texture: &gltf::Texture) -> Option<u32> {
         if let Some(&index) = self.converted.texture_indices.get(&texture.index()) {
             return index;
         }
-        let index = match self.load_texture(texture) {
+        let name = texture
+            .name()
+            .map_or_else(|| format!("#{}", texture.index()), super::printable);
+        let (webp, fallback) = texture_images(self.document, texture.index());
+        let mut loaded = Err(TextureSourceError::NoImage);
+        for image in [webp, fallback].into_iter().flatten() {
+            if let Err(reason) = &loaded {
+                if !matches!(reason, TextureSourceError::NoImage) {
+                    self.converted.warnings.push(format!(
+                        "texture '{name}': its WebP image cannot be used ({reason}), so its fallback image '{}' is used",
+                        image_label(&image)
+                    ));
+                }
+                loaded = self.load_texture(texture, &image).map_err(|reason| {
+                    TextureSourceError::Image {
+                        image: image_label(&image),
+                        reason: Box::new(reason),
+                    }
+                });
+            }
+        }
+        let index = match loaded {
             Ok(loaded) => {
                 self.converted.textures.push(loaded);
                 Some(self.converted.textures.len() as u32 - 1)
             }
             Err(reason) => {
-                let name = texture
-                    .name()
-                    .map_or_else(|| format!("#{}", texture.index()), super::printable);
                 self.converted.warnings.push(format!(
                     "texture '{name}' is ignored (the material uses its factor instead): {reason}"
                 ));
@@ -216,8 +237,11 @@ impl<'a> MaterialReader<'a> {
         index
     }
 
-    fn load_texture(&self, texture: &gltf::Texture) -> Result<Texture, TextureSourceError> {
-        let image = texture.source();
+    fn load_texture(
+        &self,
+        texture: &gltf::Texture,
+        image: &gltf::Image,
+    ) -> Result<Texture, TextureSourceError> {
         let (bytes, mime_type) = match image.source() {
             gltf::image::Source::View { view, mime_type } => {
                 let buffer = self
@@ -285,6 +309,42 @@ impl<'a> MaterialReader<'a> {
             .map_err(unreadable)?;
         Ok(bytes)
     }
+}
+
+/// The WebP extensions' names: `EXT_texture_webp` and its Khronos successor, whose texture
+/// object holds the WebP image's index as `source`.
+const WEBP_EXTENSIONS: [&str; 2] = ["EXT_texture_webp", "KHR_texture_webp"];
+
+/// Texture `index`'s images: its WebP extension's `source` (None without one) and its own
+/// `source` (None where the file leaves it out, which it may where it requires the
+/// extension); each None too where it names no image of the file.
+fn texture_images<'a>(
+    document: &'a gltf::Document,
+    index: usize,
+) -> (Option<gltf::Image<'a>>, Option<gltf::Image<'a>>) {
+    let Some(json) = document.as_json().textures.get(index) else {
+        return (None, None);
+    };
+    let image = |index: usize| document.images().nth(index);
+    let webp = webp_source(json).and_then(image);
+    // gltf-json's stand-in for a missing source is u32::MAX, which names no image.
+    (webp, image(json.source.value()))
+}
+
+/// The image index a texture's WebP extension names, where it has one.
+pub(super) fn webp_source(texture: &gltf::json::Texture) -> Option<usize> {
+    let others = &texture.extensions.as_ref()?.others;
+    WEBP_EXTENSIONS
+        .iter()
+        .find_map(|name| others.get(*name)?.get("source")?.as_u64())
+        .and_then(|source| usize::try_from(source).ok())
+}
+
+/// An image's name for messages: its name, or `#index`.
+fn image_label(image: &gltf::Image) -> String {
+    image
+        .name()
+        .map_or_else(|| format!("#{}", image.index()), super::printable)
 }
 
 /// A KHR_texture_transform written as JSON: its matrix (identity without one) and its
