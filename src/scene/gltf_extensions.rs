@@ -5,13 +5,15 @@ use super::material_params::{MATERIAL_PARAMS, MATERIAL_TEXTURES};
 
 /// The glTF extensions whose meaning vkpath implements beyond the material's: those are the
 /// ones the material parameter table reads (`super::material_params`).
-const OTHER_SUPPORTED_EXTENSIONS: [&str; 6] = [
+const OTHER_SUPPORTED_EXTENSIONS: [&str; 7] = [
     "KHR_texture_transform",
     "KHR_mesh_quantization",
     "KHR_lights_punctual",
     "KHR_materials_variants",
     "EXT_texture_webp",
     "KHR_texture_webp",
+    // Converted to the metallic-roughness model (`super::gltf_spec_gloss`).
+    "KHR_materials_pbrSpecularGlossiness",
 ];
 
 /// Whether vkpath implements the meaning of glTF extension `name` (a file that requires
@@ -65,10 +67,6 @@ const WHAT_IS_LOST: &[(&str, &str)] = &[
     (
         "KHR_materials_diffuse_transmission",
         "no light passes diffusely through thin surfaces",
-    ),
-    (
-        "KHR_materials_pbrSpecularGlossiness",
-        "specular-glossiness materials render with their metallic-roughness fallback",
     ),
     (
         "KHR_texture_basisu",
@@ -147,9 +145,9 @@ mod tests {
     }
 
     #[test]
-    fn the_supported_extensions_are_the_material_tables_and_six_more() {
-        // The eleven vkpath implemented before the material table named them, variants and
-        // WebP textures.
+    fn the_supported_extensions_are_the_material_tables_and_seven_more() {
+        // The eleven vkpath implemented before the material table named them, variants,
+        // WebP textures and specular-glossiness (converted).
         let supported = [
             "KHR_materials_emissive_strength",
             "KHR_materials_specular",
@@ -165,6 +163,7 @@ mod tests {
             "KHR_materials_variants",
             "EXT_texture_webp",
             "KHR_texture_webp",
+            "KHR_materials_pbrSpecularGlossiness",
         ];
         for name in supported {
             assert!(is_supported_extension(name), "{name}");

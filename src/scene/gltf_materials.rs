@@ -15,6 +15,7 @@ use std::path::Path;
 use glam::Vec3;
 
 use super::files::{resolve_reference, LoadOptions, MAX_SCENE_FILE_BYTES};
+use super::gltf_spec_gloss;
 use super::material_factors::MaterialFactors;
 use super::material_params::{
     GltfSource, MaterialParam, MaterialTexture, ParamKind, MATERIAL_PARAMS, MATERIAL_TEXTURES,
@@ -46,6 +47,9 @@ pub(crate) struct ConvertedMaterials {
     material_indices: HashMap<Option<usize>, u32>,
     /// glTF texture index -> index in `textures`, or None when it could not be loaded.
     texture_indices: HashMap<usize, Option<u32>>,
+    /// (index in `textures` of a specular-glossiness texture, glossinessFactor's bits) ->
+    /// index in `textures` of the roughness derived from it.
+    glossiness_textures: HashMap<(u32, u32), u32>,
     /// The converted materials.
     pub materials: Vec<PbrMaterial>,
     /// The decoded textures.
@@ -95,7 +99,9 @@ impl<'a> MaterialReader<'a> {
     /// (base colour, metallic-roughness, emissive), the normal texture last.
     fn convert(&mut self, material: &gltf::Material) -> PbrMaterial {
         let name = material_label(material);
-        let json = material_json(self.document, material);
+        let mut json = material_json(self.document, material);
+        // KHR_materials_pbrSpecularGlossiness, rewritten as metallic-roughness
+        let glossiness_texture = gltf_spec_gloss::to_metal_rough(&mut json);
         let mut converted = material_factors(&json).material();
         let mut order: Vec<&MaterialTexture> = MATERIAL_TEXTURES.iter().collect();
         order.sort_by_key(|t| {
@@ -122,6 +128,10 @@ impl<'a> MaterialReader<'a> {
                 (texture.set)(&mut converted, binding);
             }
         }
+        if let Some((info, glossiness)) = glossiness_texture {
+            converted.metallic_roughness_texture =
+                self.glossiness_binding(&name, &info, glossiness);
+        }
         // The texture infos' scales (glTF's default 1).
         let scale = |name: &str| {
             let param = MATERIAL_PARAMS.iter().find(|p| p.name == name);
@@ -132,6 +142,34 @@ impl<'a> MaterialReader<'a> {
         converted.normal_scale = scale("normal_scale");
         converted.clearcoat.normal_scale = scale("clearcoat_normal_scale");
         converted.sanitized()
+    }
+
+    /// The metallic-roughness binding of a `specularGlossinessTexture` reference: the
+    /// texture's roughness made from its glossiness (`roughness_from_glossiness`), derived
+    /// once per texture and factor, on the reference's set and transform.
+    fn glossiness_binding(
+        &mut self,
+        material: &str,
+        info: &serde_json::Value,
+        glossiness: f32,
+    ) -> Option<TextureBinding> {
+        let binding = self.json_binding(material, "specularGlossinessTexture", Some(info))?;
+        let key = (binding.texture, glossiness.to_bits());
+        let derived = match self.converted.glossiness_textures.get(&key) {
+            Some(&derived) => derived,
+            None => {
+                let source = &self.converted.textures[binding.texture as usize];
+                let rough = gltf_spec_gloss::roughness_from_glossiness(source, glossiness);
+                self.converted.textures.push(rough);
+                let derived = self.converted.textures.len() as u32 - 1;
+                self.converted.glossiness_textures.insert(key, derived);
+                derived
+            }
+        };
+        Some(TextureBinding {
+            texture: derived,
+            ..binding
+        })
     }
 
     /// The binding of a texture reference written in an extension's JSON (`{"index": i,

@@ -115,3 +115,84 @@ fn a_corrupt_webp_image_is_one_line_naming_it_and_its_fallback_is_used() {
         scene.warnings
     );
 }
+
+#[test]
+fn a_specular_glossiness_material_loads_converted_and_without_warnings() {
+    use glam::{Vec3, Vec4};
+    // A 1 x 1 RGBA PNG: specular (51, 102, 153), glossiness 200 / 255
+    let mut bytes = Vec::new();
+    {
+        let mut encoder = png::Encoder::new(&mut bytes, 1, 1);
+        encoder.set_color(png::ColorType::Rgba);
+        let mut writer = encoder.write_header().unwrap();
+        writer.write_image_data(&[51, 102, 153, 200]).unwrap();
+    }
+    let spec_gloss_png = format!("data:image/png;base64,{}", base64(&bytes));
+    let name = "KHR_materials_pbrSpecularGlossiness";
+    let mut buffer = TestBuffer::default();
+    let positions = buffer.positions(&[[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]]);
+    let uv = buffer.floats("VEC2", &[0.0, 0.0, 1.0, 0.0, 0.0, 1.0]);
+    let material = |texture: bool| {
+        let mut spec_gloss = json!({"diffuseFactor": [0.5, 0.25, 0.125, 1.0],
+                                    "specularFactor": [1.0, 0.766, 0.336],
+                                    "glossinessFactor": 0.75});
+        if texture {
+            spec_gloss["specularGlossinessTexture"] = json!({"index": 0});
+            spec_gloss["diffuseTexture"] = json!({"index": 1});
+        }
+        json!({"pbrMetallicRoughness": {"metallicFactor": 1.0, "roughnessFactor": 0.2},
+               "extensions": {name: spec_gloss}})
+    };
+    let text = buffer.embedded(json!({
+        "extensionsUsed": [name],
+        "extensionsRequired": [name],
+        "scenes": [{"nodes": [0, 1]}],
+        "nodes": [{"mesh": 0}, {"mesh": 1}],
+        "meshes": [
+            {"primitives": [{"attributes": {"POSITION": positions, "TEXCOORD_0": uv}, "material": 0}]},
+            {"primitives": [{"attributes": {"POSITION": positions, "TEXCOORD_0": uv}, "material": 1}]}
+        ],
+        "materials": [material(false), material(true)],
+        "textures": [{"source": 0}, {"source": 1}],
+        "images": [{"uri": spec_gloss_png}, {"uri": grey_png()}],
+    }));
+    let directory = tempfile::tempdir().unwrap();
+    let scene = load_gltf(&write(&directory, "spec_gloss.gltf", text)).unwrap();
+    assert!(scene.warnings.is_empty(), "{:?}", scene.warnings);
+    let materials = scene.materials.expect("glTF materials");
+    let [factors, textured] = [&materials.materials[0], &materials.materials[1]];
+    // glTF-Transform's metalRough(): diffuse as the base colour, a dielectric of ior 1000
+    // whose specular colour is the specular factor, roughness 1 - glossiness
+    assert_eq!(factors.base_color, Vec4::new(0.5, 0.25, 0.125, 1.0));
+    assert_eq!(
+        (factors.metallic, factors.ior, factors.specular),
+        (0.0, 1000.0, 1.0)
+    );
+    assert_eq!(factors.specular_color, Vec3::new(1.0, 0.766, 0.336));
+    assert_eq!(factors.roughness, 0.25);
+    assert!(factors.metallic_roughness_texture.is_none());
+    // With the textures: roughness 1 times the texture made from glossiness, the
+    // specular colour texture the specular-glossiness texture, the diffuse the base colour
+    assert_eq!(textured.roughness, 1.0);
+    let rough = textured
+        .metallic_roughness_texture
+        .expect("a roughness texture");
+    // 255 - round(200 * 0.75)
+    assert_eq!(
+        materials.textures[rough.texture as usize].texels,
+        [[0, 105, 0, 255]]
+    );
+    let specular = textured
+        .specular_color_texture
+        .expect("a specular colour texture");
+    assert_eq!(
+        materials.textures[specular.texture as usize].texels,
+        [[51, 102, 153, 200]]
+    );
+    let base = textured.base_color_texture.expect("the diffuse texture");
+    assert_eq!(
+        materials.textures[base.texture as usize].texels,
+        [[128, 128, 128, 255]]
+    );
+    assert!(textured.specular_texture.is_none());
+}

@@ -20,6 +20,7 @@ mod gltf_extensions;
 pub mod gltf_file;
 pub mod gltf_loader;
 mod gltf_materials;
+mod gltf_spec_gloss;
 mod gltf_variants;
 pub mod instances;
 pub mod material_factors;
