@@ -5,7 +5,7 @@ use super::material_params::{MATERIAL_PARAMS, MATERIAL_TEXTURES};
 
 /// The glTF extensions whose meaning vkpath implements beyond the material's: those are the
 /// ones the material parameter table reads (`super::material_params`).
-const OTHER_SUPPORTED_EXTENSIONS: [&str; 7] = [
+const OTHER_SUPPORTED_EXTENSIONS: [&str; 8] = [
     "KHR_texture_transform",
     "KHR_mesh_quantization",
     "KHR_lights_punctual",
@@ -14,6 +14,8 @@ const OTHER_SUPPORTED_EXTENSIONS: [&str; 7] = [
     "KHR_texture_webp",
     // Converted to the metallic-roughness model (`super::gltf_spec_gloss`).
     "KHR_materials_pbrSpecularGlossiness",
+    // Each instance flattened as a node's copy of its mesh (`super::gltf_instancing`).
+    "EXT_mesh_gpu_instancing",
 ];
 
 /// Whether vkpath implements the meaning of glTF extension `name` (a file that requires
@@ -81,10 +83,6 @@ const WHAT_IS_LOST: &[(&str, &str)] = &[
         "meshopt-compressed buffers are not decoded",
     ),
     (
-        "EXT_mesh_gpu_instancing",
-        "instanced copies of meshes are not drawn (only the node itself)",
-    ),
-    (
         "KHR_animation_pointer",
         "its channels (animated material factors, lights, cameras) are skipped; node animations play",
     ),
@@ -145,9 +143,9 @@ mod tests {
     }
 
     #[test]
-    fn the_supported_extensions_are_the_material_tables_and_seven_more() {
+    fn the_supported_extensions_are_the_material_tables_and_eight_more() {
         // The eleven vkpath implemented before the material table named them, variants,
-        // WebP textures and specular-glossiness (converted).
+        // WebP textures, specular-glossiness (converted) and GPU instancing.
         let supported = [
             "KHR_materials_emissive_strength",
             "KHR_materials_specular",
@@ -164,6 +162,7 @@ mod tests {
             "EXT_texture_webp",
             "KHR_texture_webp",
             "KHR_materials_pbrSpecularGlossiness",
+            "EXT_mesh_gpu_instancing",
         ];
         for name in supported {
             assert!(is_supported_extension(name), "{name}");

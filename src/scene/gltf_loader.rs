@@ -22,6 +22,7 @@ use super::gltf_animation::Pose;
 use super::gltf_deform::{Deformer, NodeDeformation};
 use super::gltf_extensions::unsupported_extension_warnings;
 use super::gltf_file::GltfFile;
+use super::gltf_instancing;
 use super::gltf_materials::{material_label, ConvertedMaterials, MaterialReader};
 use super::gltf_variants;
 use super::instances::{InstanceRecorder, NodeLabel};
@@ -207,7 +208,22 @@ impl Loader<'_> {
                 path: node_path(self.document, parents, node.index()),
                 mesh: mesh.index(),
             };
-            self.add_mesh(&mesh, local_to_world, &deformation, node_label)?;
+            let instances = gltf_instancing::instance_transforms(
+                self.builder.path(),
+                self.document,
+                self.buffers,
+                node,
+            )?;
+            match instances {
+                None => self.add_mesh(&mesh, local_to_world, &deformation, node_label)?,
+                // EXT_mesh_gpu_instancing: each instance in the node's space
+                Some(transforms) => {
+                    for transform in transforms {
+                        let instance_to_world = local_to_world * transform;
+                        self.add_mesh(&mesh, instance_to_world, &deformation, node_label.clone())?;
+                    }
+                }
+            }
         }
         if let Some(camera) = node.camera() {
             if !self.builder.has_camera() {
@@ -901,3 +917,7 @@ mod vertex_attribute_tests;
 #[cfg(test)]
 #[path = "gltf_texture_tests.rs"]
 mod texture_tests;
+
+#[cfg(test)]
+#[path = "gltf_instancing_tests.rs"]
+mod instancing_tests;

@@ -18,6 +18,7 @@ mod gltf_animation;
 mod gltf_deform;
 mod gltf_extensions;
 pub mod gltf_file;
+mod gltf_instancing;
 pub mod gltf_loader;
 mod gltf_materials;
 mod gltf_spec_gloss;
