@@ -57,10 +57,11 @@ surface_t get_surface(uint triangle_index, triangle_t triangle, vec3 position, v
     uint material_index = get_material_index(triangle_index);
     vec3 barycentrics = get_barycentrics(position, triangle);
     vec2 tex_coord = get_tex_coord(triangle_index, barycentrics);
+    vec2 tex_coord_1 = get_tex_coord_1(triangle_index, barycentrics);
     bool front = dot(triangle.normal, ray_direction) <= 0.0;
     vec3 view = -ray_direction;
     surface.geometric_normal = front ? triangle.normal : -triangle.normal;
-    material_textures_t textures = sample_material_textures(material_index, tex_coord);
+    material_textures_t textures = sample_material_textures(material_index, tex_coord, tex_coord_1);
     vec3 shading_normal = get_front_shading_normal(triangle_index, material_index, barycentrics, textures, triangle.normal);
     shading_normal = front ? shading_normal : -shading_normal;
     surface.shading_normal = (dot(shading_normal, view) > 0.0) ? shading_normal : surface.geometric_normal;
@@ -95,8 +96,10 @@ surface_t get_surface(uint triangle_index, triangle_t triangle, vec3 position, v
 // Radiance that triangle i emits from its front at a point of it (a light sample's end).
 vec3 get_front_emission(uint triangle_index, triangle_t triangle, vec3 position) {
     uint material_index = get_material_index(triangle_index);
-    vec2 tex_coord = get_tex_coord(triangle_index, get_barycentrics(position, triangle));
-    return get_material_emission(material_index, sample_material_texture(material_index, MATERIAL_TEXTURE_EMISSIVE, tex_coord));
+    vec3 barycentrics = get_barycentrics(position, triangle);
+    vec2 tex_coord = get_tex_coord(triangle_index, barycentrics);
+    vec2 tex_coord_1 = get_tex_coord_1(triangle_index, barycentrics);
+    return get_material_emission(material_index, sample_material_texture(material_index, MATERIAL_TEXTURE_EMISSIVE, tex_coord, tex_coord_1));
 }
 
 // The BSDF times the cosine, as the rendering equation's integrand needs it:

@@ -62,6 +62,24 @@ vec2 get_tex_coord(uint triangle_index, vec3 barycentrics) {
     return barycentrics[0] * uintBitsToFloat(first.xy) + barycentrics[1] * uintBitsToFloat(first.zw) + barycentrics[2] * uintBitsToFloat(second.xy);
 }
 
+// glTF's TEXCOORD_1 at a point with the given barycentrics: 0 where the scene has no second
+// texture coordinates (the interpolation as get_tex_coord()'s).
+vec2 get_tex_coord_1(uint triangle_index, vec3 barycentrics) {
+    if ((SCENE_VERTEX_ATTRIBUTES & uint(VERTEX_ATTRIBUTE_TEX_COORD_1)) == 0u)
+        return vec2(0.0);
+    uvec4 second = get_shading_texel(triangle_index, SHADING_TEXEL_COUNT + 1);
+    uvec4 third = get_shading_texel(triangle_index, SHADING_TEXEL_COUNT + 2);
+    return barycentrics[0] * uintBitsToFloat(second.zw) + barycentrics[1] * uintBitsToFloat(third.xy) + barycentrics[2] * uintBitsToFloat(third.zw);
+}
+
+// The texture coordinates a texture slot reads: tex_coord_1 (TEXCOORD_1) where its texCoord
+// is 1, else tex_coord (TEXCOORD_0). Scenes that read no TEXCOORD_1 compile the choice out.
+vec2 select_tex_coord(texture_slot_t texture, vec2 tex_coord, vec2 tex_coord_1) {
+    if ((SCENE_VERTEX_ATTRIBUTES & uint(VERTEX_ATTRIBUTE_TEX_COORD_1)) != 0u && (texture.flags & uint(TEXTURE_FLAG_TEX_COORD_1)) != 0u)
+        return tex_coord_1;
+    return tex_coord;
+}
+
 // glTF's COLOR_0 (linear RGBA) at a point with the given barycentrics: 1 where the scene has
 // no vertex colours (the interpolation as get_tex_coord()'s).
 vec4 get_vertex_color(uint triangle_index, vec3 barycentrics) {
@@ -111,13 +129,14 @@ bool is_unlit_material(uint material_index) {
     return (get_material_texel(material_index, MATERIAL_TEXEL_FLAGS).x & uint(MATERIAL_FLAG_UNLIT)) != 0u;
 }
 
-// A texture slot MATERIAL_TEXTURE_* of material i, sampled at tex_coord (1 without texture).
-vec4 sample_material_texture(uint material_index, uint slot, vec2 tex_coord) {
+// A texture slot MATERIAL_TEXTURE_* of material i, sampled at tex_coord or tex_coord_1 (the
+// point's TEXCOORD_0 and TEXCOORD_1, as the slot's texCoord says; 1 without texture).
+vec4 sample_material_texture(uint material_index, uint slot, vec2 tex_coord, vec2 tex_coord_1) {
     if (!has_material_texture(material_index, slot))
         return vec4(1.0);
     int first = MATERIAL_FACTOR_TEXEL_COUNT + 3 * int(slot);
     texture_slot_t texture = unpack_texture_slot(get_material_texel(material_index, first), get_material_texel(material_index, first + 1), get_material_texel(material_index, first + 2));
-    return sample_texture(texture, tex_coord);
+    return sample_texture(texture, select_tex_coord(texture, tex_coord, tex_coord_1));
 }
 
 // The texture slots of material i at a point: each slot's sample_material_texture() (1 where
@@ -127,13 +146,14 @@ struct material_textures_t {
     vec4 slots[MATERIAL_TEXTURE_SLOT_COUNT];
 };
 
-// Every texture slot of material i at tex_coord: a loop over the slots that have a texture
+// Every texture slot of material i at tex_coord (or tex_coord_1, TEXCOORD_1, for the slots
+// whose texCoord is 1): a loop over the slots that have a texture
 // (the layered materials' only in scenes with them), so that the kernel holds a single copy
 // of sample_texture() for all the lookups of a surface instead of one per slot. lavapipe
 // translates and optimises a kernel's whole code at every start, and those copies were 43 %
 // of the material kernel's instructions (docs/performance.md, "Start-up").
 #extension GL_EXT_control_flow_attributes : enable
-material_textures_t sample_material_textures(uint material_index, vec2 tex_coord) {
+material_textures_t sample_material_textures(uint material_index, vec2 tex_coord, vec2 tex_coord_1) {
     material_textures_t textures;
     textures.slots = vec4[MATERIAL_TEXTURE_SLOT_COUNT](vec4(1.0), vec4(1.0), vec4(1.0), vec4(1.0), vec4(1.0), vec4(1.0), vec4(1.0), vec4(1.0), vec4(1.0), vec4(1.0), vec4(1.0), vec4(1.0), vec4(1.0));
     if (SCENE_TEXTURE_SLOTS == 0u)
@@ -149,7 +169,7 @@ material_textures_t sample_material_textures(uint material_index, vec2 tex_coord
         if (slots != 0u) {
             int first = MATERIAL_FACTOR_TEXEL_COUNT + 3 * slot;
             texture_slot_t texture = unpack_texture_slot(get_material_texel(material_index, first), get_material_texel(material_index, first + 1), get_material_texel(material_index, first + 2));
-            vec4 value = sample_texture(texture, tex_coord);
+            vec4 value = sample_texture(texture, select_tex_coord(texture, tex_coord, tex_coord_1));
             // Stored at constant indices: an array written at a variable index is kept in
             // memory for every lane on lavapipe, which made the textured box's samples twice
             // as slow (docs/performance.md, "Stop 25"); so each slot the scene uses selects.
@@ -194,7 +214,8 @@ bool is_opaque_hit(uint triangle_index, vec3 ray_origin, vec3 ray_direction, flo
         return true;
     vec3 barycentrics = get_barycentrics(ray_origin + t * ray_direction, get_triangle(triangle_index));
     vec2 tex_coord = get_tex_coord(triangle_index, barycentrics);
-    float alpha = get_surface_base_color(triangle_index, material_index, barycentrics, sample_material_texture(material_index, MATERIAL_TEXTURE_BASE_COLOR, tex_coord)).a;
+    vec2 tex_coord_1 = get_tex_coord_1(triangle_index, barycentrics);
+    float alpha = get_surface_base_color(triangle_index, material_index, barycentrics, sample_material_texture(material_index, MATERIAL_TEXTURE_BASE_COLOR, tex_coord, tex_coord_1)).a;
     if (alpha_mode == ALPHA_MODE_MASK)
         return alpha >= get_material_alpha_cutoff(material_index);
     uvec2 hash_state = g_path.alpha_seed ^ uvec2(g_path.ray_count * 2654435769u, triangle_index);

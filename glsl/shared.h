@@ -214,7 +214,8 @@
 #define SPEC_SCENE_VERTEX_ATTRIBUTES 610
 // glTF's COLOR_0, multiplied into the base colour and its alpha.
 #define VERTEX_ATTRIBUTE_COLOR 1
-// glTF's TEXCOORD_1, read by texture slots whose texCoord is 1.
+// glTF's TEXCOORD_1, read by texture slots whose texCoord is 1 (TEXTURE_FLAG_TEX_COORD_1);
+// set where some material reads it (its values 0 where no triangle has one).
 #define VERTEX_ATTRIBUTE_TEX_COORD_1 2
 #define EXTRA_SHADING_TEXEL_COUNT 3
 #define MAX_MOTION_STEPS 64
@@ -631,6 +632,10 @@
 #define TEXTURE_WRAP_MASK 3
 // Nearest-texel lookup (glTF magFilter NEAREST) instead of bilinear filtering.
 #define TEXTURE_FLAG_NEAREST 32
+// The slot reads TEXCOORD_1 (glTF's texCoord 1) instead of TEXCOORD_0 (set only in scenes
+// whose SPEC_SCENE_VERTEX_ATTRIBUTES has VERTEX_ATTRIBUTE_TEX_COORD_1;
+// select_tex_coord() of glsl/materials.glsl reads it).
+#define TEXTURE_FLAG_TEX_COORD_1 64
 
 // ---- Wrap modes (wrap_texel_coordinate()) ----
 

@@ -129,3 +129,169 @@ fn a_vertex_color_of_a_forbidden_type_is_one_line_naming_the_mesh() {
     );
     assert!(!dir.path().join("bytes.exr").exists());
 }
+
+/// A 2 x 2 RGB texture as a PNG data URI: red, green (top row), blue, white.
+fn four_colour_png() -> String {
+    let mut bytes = Vec::new();
+    {
+        let mut encoder = png::Encoder::new(&mut bytes, 2, 2);
+        encoder.set_color(png::ColorType::Rgb);
+        encoder.set_depth(png::BitDepth::Eight);
+        let mut writer = encoder.write_header().unwrap();
+        writer
+            .write_image_data(&[255, 0, 0, 0, 255, 0, 0, 0, 255, 255, 255, 255])
+            .unwrap();
+    }
+    format!("data:image/png;base64,{}", base64::encode(&bytes))
+}
+
+/// Adds texture 0 (`four_colour_png`) to the glTF file at `path`.
+fn add_texture(path: &str) {
+    set_textures(
+        path,
+        json!([{"source": 0}]),
+        json!([{"uri": four_colour_png()}]),
+    );
+}
+
+/// Sets the `textures` and `images` of the glTF file at `path` (and the extensions it uses).
+fn set_textures(path: &str, textures: Value, images: Value) {
+    let mut document: Value =
+        serde_json::from_str(&std::fs::read_to_string(path).unwrap()).unwrap();
+    document["textures"] = textures;
+    document["images"] = images;
+    document["extensionsUsed"] = json!([
+        "KHR_materials_unlit",
+        "KHR_materials_emissive_strength",
+        "EXT_texture_webp"
+    ]);
+    std::fs::write(path, document.to_string()).unwrap();
+}
+
+/// Four VEC2 float texture coordinates as a quad attribute's bytes.
+fn uv_bytes(uv: [[f32; 2]; 4]) -> Vec<u8> {
+    uv.iter().flatten().flat_map(|x| x.to_le_bytes()).collect()
+}
+
+#[test]
+fn a_texture_on_tex_coord_1_renders_as_on_tex_coord_0_with_the_sets_swapped() {
+    let dir = tempfile::tempdir().unwrap();
+    // Two different mappings of the quad's corners
+    let a = uv_bytes([[0.0, 1.0], [1.0, 1.0], [1.0, 0.0], [0.0, 0.0]]);
+    let b = uv_bytes([[1.0, 0.0], [1.0, 1.0], [0.0, 1.0], [0.25, 0.5]]);
+    let mut images = Vec::new();
+    for (set, first, second) in [(1, &a, &b), (0, &b, &a)] {
+        // The base colour and an emissive texture (which used to be dropped with its
+        // factor on TEXCOORD_1), 8 times as bright as any reflection under the white
+        // background can be
+        let info = json!({"index": 0, "texCoord": set});
+        let material = json!({
+            "pbrMetallicRoughness": {"baseColorTexture": info, "metallicFactor": 0},
+            "emissiveFactor": [1, 1, 1], "emissiveTexture": info,
+            "extensions": {"KHR_materials_emissive_strength": {"emissiveStrength": 8}}});
+        let file = format!("set{set}");
+        let scene = quad(
+            dir.path(),
+            &file,
+            &[
+                ("TEXCOORD_0", "VEC2", 5126, false, first.clone()),
+                ("TEXCOORD_1", "VEC2", 5126, false, second.clone()),
+            ],
+            material,
+            2.0,
+        );
+        add_texture(&scene);
+        let output = format!("{file}.exr");
+        render_small(dir.path(), &scene, &[], &output, "4");
+        images.push(crate::common::runs::exr_bits(dir.path(), &output));
+    }
+    assert!(
+        images[0] == images[1],
+        "TEXCOORD_1 renders otherwise than TEXCOORD_0 with the sets swapped"
+    );
+    // The texture's texels sum to 1 or 3 over rgb, times 8; a reflection at most to ~3
+    let pixels = exr_pixels(dir.path(), "set1.exr");
+    let mean = pixels.iter().map(|p| p[0] + p[1] + p[2]).sum::<f32>() / pixels.len() as f32;
+    assert!(mean > 6.0, "the emissive texture does not light ({mean})");
+}
+
+#[test]
+fn a_texture_on_a_missing_tex_coord_1_is_one_line_naming_the_primitive_material_and_slot() {
+    let dir = tempfile::tempdir().unwrap();
+    let mut material = unlit([1.0; 4]);
+    material["name"] = json!("decal");
+    material["emissiveTexture"] = json!({"index": 0, "texCoord": 1});
+    let uv = uv_bytes([[0.0, 1.0], [1.0, 1.0], [1.0, 0.0], [0.0, 0.0]]);
+    let scene = quad(
+        dir.path(),
+        "missing",
+        &[("TEXCOORD_0", "VEC2", 5126, false, uv)],
+        material,
+        2.0,
+    );
+    add_texture(&scene);
+    let run = crate::common::runs::run(dir.path(), &["render", &scene, "-o", "missing.exr"], &[]);
+    assert_eq!(run.code, Some(1), "{}", run.stderr);
+    let lines: Vec<&str> = run.stderr.lines().collect();
+    assert_eq!(lines.len(), 1, "{}", run.stderr);
+    assert!(
+        lines[0].contains("mesh 'quad' primitive 0: material 'decal' reads its emissiveTexture from TEXCOORD_1, which the primitive does not have"),
+        "{}",
+        run.stderr
+    );
+    assert!(!dir.path().join("missing.exr").exists());
+}
+
+#[test]
+fn a_webp_texture_renders_as_the_same_png() {
+    let dir = tempfile::tempdir().unwrap();
+    // tests/data/four_colours.webp is four_colour_png's texels, lossless (cwebp -lossless
+    // -exact); its fallback here is a black PNG, so an image equal to the PNG's is the WebP's
+    let webp = std::fs::read(crate::common::fixture("four_colours.webp")).unwrap();
+    let webp_uri = format!("data:image/webp;base64,{}", base64::encode(&webp));
+    let black = {
+        let mut bytes = Vec::new();
+        let mut encoder = png::Encoder::new(&mut bytes, 1, 1);
+        encoder.set_color(png::ColorType::Rgb);
+        encoder
+            .write_header()
+            .unwrap()
+            .write_image_data(&[0, 0, 0])
+            .unwrap();
+        format!("data:image/png;base64,{}", base64::encode(&bytes))
+    };
+    let uv = uv_bytes([[0.0, 1.0], [1.0, 1.0], [1.0, 0.0], [0.0, 0.0]]);
+    let material = json!({"pbrMetallicRoughness": {"baseColorTexture": {"index": 0}},
+                          "extensions": {"KHR_materials_unlit": {}}});
+    let cases = [
+        (
+            "png",
+            json!([{"source": 0}]),
+            json!([{"uri": four_colour_png()}]),
+        ),
+        (
+            "webp",
+            json!([{"source": 0, "extensions": {"EXT_texture_webp": {"source": 1}}}]),
+            json!([{"uri": black}, {"uri": webp_uri}]),
+        ),
+    ];
+    let mut images = Vec::new();
+    for (name, textures, image_list) in cases {
+        let scene = quad(
+            dir.path(),
+            name,
+            &[("TEXCOORD_0", "VEC2", 5126, false, uv.clone())],
+            material.clone(),
+            2.0,
+        );
+        set_textures(&scene, textures, image_list);
+        let output = format!("{name}.exr");
+        let run = render_small(dir.path(), &scene, &[], &output, "4");
+        assert!(!run.stderr.contains("warning"), "{name}: {}", run.stderr);
+        images.push(crate::common::runs::exr_bits(dir.path(), &output));
+    }
+    assert!(
+        images[0] == images[1],
+        "the WebP texture renders otherwise than its PNG"
+    );
+}

@@ -162,10 +162,7 @@ fn compare_with_cpu_lookup(nearest: bool, transform: TextureTransform) -> (u32, 
     material.metallic = METALLIC_FACTOR;
     material.roughness = ROUGHNESS_FACTOR;
     material.specular = 1.0;
-    material.metallic_roughness_texture = Some(TextureBinding {
-        texture: 0,
-        transform,
-    });
+    material.metallic_roughness_texture = Some(TextureBinding::new(0, transform));
     let (position, camera) = camera();
     let scene = quad_scene(Some((material, vec![texture.clone()])), camera);
     let pixels = render_material_aov(&scene);

@@ -139,7 +139,7 @@ fn unusable_textures_are_warnings_and_the_render_goes_on() {
         (
             "webp",
             json!({"uri": format!("data:image/webp;base64,{}", base64(b"RIFF\x10\x00\x00\x00WEBPVP8 "))}),
-            "not supported",
+            "image '#0': corrupt WebP texture",
         ),
         (
             "huge",

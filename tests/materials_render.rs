@@ -353,10 +353,7 @@ fn textures_and_alpha_masks_render_as_the_cpu_twins_predict() {
     let transform = TextureTransform::from_gltf([0.1, 0.2], 0.3, [1.5, 1.5]);
     let mut textured = PbrMaterial::lambertian(Vec3::ONE, Vec3::ZERO, false);
     textured.base_color = Vec4::new(1.0, 0.8, 0.6, 1.0);
-    textured.base_color_texture = Some(TextureBinding {
-        texture: 0,
-        transform,
-    });
+    textured.base_color_texture = Some(TextureBinding::new(0, transform));
     textured.alpha_mode = AlphaMode::Mask { cutoff: 0.5 };
     builder.quad(
         [
@@ -508,10 +505,7 @@ fn normal_maps_render_as_the_cpu_twins_predict() {
     bumpy.specular = 1.0;
     bumpy.normal_scale = 0.7;
     let transform = TextureTransform::identity();
-    bumpy.normal_texture = Some(TextureBinding {
-        texture: 0,
-        transform,
-    });
+    bumpy.normal_texture = Some(TextureBinding::new(0, transform));
     let tilt = glam::Mat3::from_rotation_x(0.3);
     let corners = [
         Vec3::new(-1.0, -1.0, 0.0),
@@ -715,10 +709,7 @@ fn clear_coat_zero_and_sheen_zero_render_bit_identical_to_neither() {
     // material without one: the layered code runs only where a layer is there.
     let plain = coated_red(0.0, 0.0);
     let mut zero_coat = coated_red(1.0, 0.3);
-    zero_coat.clearcoat.texture = Some(TextureBinding {
-        texture: 0,
-        transform: TextureTransform::identity(),
-    });
+    zero_coat.clearcoat.texture = Some(TextureBinding::new(0, TextureTransform::identity()));
     let mut zero_sheen = coated_red(0.0, 0.0);
     zero_sheen.sheen.color = Vec3::ONE;
     zero_sheen.sheen.roughness = 0.5;

@@ -76,10 +76,7 @@ fn one_texture_slot_renders_exactly_as_the_loop_over_slots() {
     // texture makes it two slots, which the kernel then loops over.
     let plain = common::scenes::textured_lambertian_box();
     let mut glowing = PbrMaterial::lambertian(Vec3::splat(0.5), Vec3::ONE, false);
-    glowing.emissive_texture = Some(TextureBinding {
-        texture: 0,
-        transform: TextureTransform::identity(),
-    });
+    glowing.emissive_texture = Some(TextureBinding::new(0, TextureTransform::identity()));
     let extended = with_unused_material(&plain, glowing);
     assert_renders_the_same(&plain, &extended);
 }

@@ -21,7 +21,10 @@ use crate::contract::{
     MATERIAL_TEXTURE_SPECULAR_COLOR, MATERIAL_TEXTURE_THICKNESS, MATERIAL_TEXTURE_TRANSMISSION,
     SHADING_TEXEL_COUNT, TRIANGLE_FLAG_DOUBLE_SIDED, TRIANGLE_TEXEL_COUNT,
 };
-use crate::contract::{EXTRA_SHADING_TEXEL_COUNT, VERTEX_ATTRIBUTE_COLOR};
+use crate::contract::{
+    EXTRA_SHADING_TEXEL_COUNT, TEXTURE_FLAG_TEX_COORD_1, VERTEX_ATTRIBUTE_COLOR,
+    VERTEX_ATTRIBUTE_TEX_COORD_1,
+};
 use crate::cpu::brdf::{
     get_base_material, get_brdf, get_brdf_density, get_brdf_mirror_probability,
     get_brdf_mirror_weight, get_ggx_alpha, sample_brdf, MaterialSample,
@@ -33,7 +36,7 @@ use crate::cpu::layered_bsdf::{
 use crate::cpu::materials::{apply_normal_map, get_barycentrics};
 use crate::cpu::surface::{BsdfSample, BSDF_LOBE_DELTA, BSDF_LOBE_REFLECT, BSDF_LOBE_TRANSMIT};
 use crate::cpu::texels::{fetch_float_texel, fetch_texel, uint_bits_to_float};
-use crate::cpu::textures::{sample_texture, unpack_texture_slot};
+use crate::cpu::textures::{sample_texture, unpack_texture_slot, TextureSlot};
 use crate::cpu::workshop::get_random_numbers;
 use crate::scene::Triangle;
 
@@ -165,6 +168,43 @@ pub fn get_tex_coord(texels: &SurfaceTexels, triangle_index: u32, barycentrics: 
         + barycentrics[2] * Vec2::new(second.x, second.y)
 }
 
+/// Twin of `get_tex_coord_1`: TEXCOORD_1 at a point with the given barycentrics; 0 where the
+/// scene has no second texture coordinates.
+pub fn get_tex_coord_1(texels: &SurfaceTexels, triangle_index: u32, barycentrics: Vec3) -> Vec2 {
+    if texels.scene_vertex_attributes & VERTEX_ATTRIBUTE_TEX_COORD_1 == 0 {
+        return Vec2::ZERO;
+    }
+    let second = uint_bits_to_float(get_shading_texel(
+        texels,
+        triangle_index,
+        SHADING_TEXEL_COUNT + 1,
+    ));
+    let third = uint_bits_to_float(get_shading_texel(
+        texels,
+        triangle_index,
+        SHADING_TEXEL_COUNT + 2,
+    ));
+    barycentrics[0] * Vec2::new(second.z, second.w)
+        + barycentrics[1] * Vec2::new(third.x, third.y)
+        + barycentrics[2] * Vec2::new(third.z, third.w)
+}
+
+/// Twin of `select_tex_coord`: `tex_coord_1` where the slot reads TEXCOORD_1 (and the scene
+/// has it), else `tex_coord`.
+pub fn select_tex_coord(
+    texels: &SurfaceTexels,
+    texture: &TextureSlot,
+    tex_coord: Vec2,
+    tex_coord_1: Vec2,
+) -> Vec2 {
+    if texels.scene_vertex_attributes & VERTEX_ATTRIBUTE_TEX_COORD_1 != 0
+        && texture.flags & TEXTURE_FLAG_TEX_COORD_1 != 0
+    {
+        return tex_coord_1;
+    }
+    tex_coord
+}
+
 /// Twin of `get_vertex_color`: glTF's COLOR_0 (linear RGBA) at a point with the given
 /// barycentrics; 1 where the scene has no vertex colours.
 pub fn get_vertex_color(texels: &SurfaceTexels, triangle_index: u32, barycentrics: Vec3) -> Vec4 {
@@ -200,12 +240,14 @@ pub fn has_material_texture(texels: &SurfaceTexels, material_index: u32, slot: u
 }
 
 /// Twin of `sample_material_texture`: slot `MATERIAL_TEXTURE_*` of material `i` at
-/// `tex_coord`, 1 without a texture.
+/// `tex_coord` or `tex_coord_1` (TEXCOORD_0 and TEXCOORD_1, as the slot's set says), 1
+/// without a texture.
 pub fn sample_material_texture(
     texels: &SurfaceTexels,
     material_index: u32,
     slot: u32,
     tex_coord: Vec2,
+    tex_coord_1: Vec2,
 ) -> Vec4 {
     if !has_material_texture(texels, material_index, slot) {
         return Vec4::ONE;
@@ -216,6 +258,7 @@ pub fn sample_material_texture(
         get_material_texel(texels, material_index, first + 1),
         get_material_texel(texels, material_index, first + 2),
     );
+    let tex_coord = select_tex_coord(texels, &texture, tex_coord, tex_coord_1);
     sample_texture(texels.texture_texels, &texture, tex_coord)
 }
 
@@ -229,12 +272,13 @@ pub struct MaterialTextures {
 }
 
 /// Twin of `sample_material_textures`: every texture slot of material `i` at `tex_coord`
-/// that has a texture (the layered materials' slots only in scenes with them), lowest slot
-/// first.
+/// (or `tex_coord_1` where the slot reads TEXCOORD_1) that has a texture (the layered
+/// materials' slots only in scenes with them), lowest slot first.
 pub fn sample_material_textures(
     texels: &SurfaceTexels,
     material_index: u32,
     tex_coord: Vec2,
+    tex_coord_1: Vec2,
 ) -> MaterialTextures {
     let mut textures = MaterialTextures {
         slots: [Vec4::ONE; MATERIAL_TEXTURE_SLOT_COUNT as usize],
@@ -263,7 +307,8 @@ pub fn sample_material_textures(
             get_material_texel(texels, material_index, first + 1),
             get_material_texel(texels, material_index, first + 2),
         );
-        textures.slots[slot as usize] = sample_texture(texels.texture_texels, &texture, tex_coord);
+        let uv = select_tex_coord(texels, &texture, tex_coord, tex_coord_1);
+        textures.slots[slot as usize] = sample_texture(texels.texture_texels, &texture, uv);
     }
     textures
 }
@@ -328,6 +373,7 @@ pub fn is_opaque_hit(
         &get_triangle(texels, triangle_index),
     );
     let tex_coord = get_tex_coord(texels, triangle_index, barycentrics);
+    let tex_coord_1 = get_tex_coord_1(texels, triangle_index, barycentrics);
     let alpha = get_surface_base_color(
         texels,
         triangle_index,
@@ -338,6 +384,7 @@ pub fn is_opaque_hit(
             material_index,
             MATERIAL_TEXTURE_BASE_COLOR,
             tex_coord,
+            tex_coord_1,
         ),
     )
     .w;
@@ -529,6 +576,7 @@ pub fn get_surface(
     let material_index = get_material_index(texels, triangle_index);
     let barycentrics = get_barycentrics(position, triangle);
     let tex_coord = get_tex_coord(texels, triangle_index, barycentrics);
+    let tex_coord_1 = get_tex_coord_1(texels, triangle_index, barycentrics);
     let front = triangle.normal.dot(ray_direction) <= 0.0;
     let view = -ray_direction;
     let geometric_normal = if front {
@@ -536,7 +584,7 @@ pub fn get_surface(
     } else {
         -triangle.normal
     };
-    let textures = sample_material_textures(texels, material_index, tex_coord);
+    let textures = sample_material_textures(texels, material_index, tex_coord, tex_coord_1);
     let shading_normal = get_front_shading_normal(
         texels,
         triangle_index,

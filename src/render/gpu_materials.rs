@@ -7,7 +7,7 @@ use bytemuck::{Pod, Zeroable};
 
 use crate::contract::{
     EXTRA_SHADING_TEXEL_COUNT, MATERIAL_FACTOR_TEXEL_COUNT, MATERIAL_TEXEL_ALPHA_MODE_TEXTURE_MASK,
-    MATERIAL_TEXTURE_SLOT_COUNT, SHADING_TEXEL_COUNT,
+    MATERIAL_TEXTURE_SLOT_COUNT, SHADING_TEXEL_COUNT, TEXTURE_FLAG_TEX_COORD_1,
 };
 use crate::cpu::sheen_albedo_table::SHEEN_ALBEDO;
 use crate::render::gpu_textures::{GpuTextureSlot, TextureAtlas};
@@ -147,14 +147,23 @@ impl GpuMaterial {
         }
         let mut textures = [GpuTextureSlot::zeroed(); MATERIAL_TEXTURE_SLOT_COUNT as usize];
         for slot in MATERIAL_TEXTURES {
-            if let Some(TextureBinding { texture, transform }) = (slot.get)(material) {
+            if let Some(TextureBinding {
+                texture,
+                transform,
+                tex_coord,
+            }) = (slot.get)(material)
+            {
                 let index = texture as usize;
-                textures[slot.slot as usize] = GpuTextureSlot::new(
+                let mut packed = GpuTextureSlot::new(
                     atlas.first_texels[index],
                     &scene.textures[index],
                     slot.srgb,
                     &transform,
                 );
+                if tex_coord == 1 {
+                    packed.flags |= TEXTURE_FLAG_TEX_COORD_1;
+                }
+                textures[slot.slot as usize] = packed;
             }
         }
         GpuMaterial { factors, textures }

@@ -5,11 +5,17 @@ use super::material_params::{MATERIAL_PARAMS, MATERIAL_TEXTURES};
 
 /// The glTF extensions whose meaning vkpath implements beyond the material's: those are the
 /// ones the material parameter table reads (`super::material_params`).
-const OTHER_SUPPORTED_EXTENSIONS: [&str; 4] = [
+const OTHER_SUPPORTED_EXTENSIONS: [&str; 8] = [
     "KHR_texture_transform",
     "KHR_mesh_quantization",
     "KHR_lights_punctual",
     "KHR_materials_variants",
+    "EXT_texture_webp",
+    "KHR_texture_webp",
+    // Converted to the metallic-roughness model (`super::gltf_spec_gloss`).
+    "KHR_materials_pbrSpecularGlossiness",
+    // Each instance flattened as a node's copy of its mesh (`super::gltf_instancing`).
+    "EXT_mesh_gpu_instancing",
 ];
 
 /// Whether vkpath implements the meaning of glTF extension `name` (a file that requires
@@ -65,16 +71,8 @@ const WHAT_IS_LOST: &[(&str, &str)] = &[
         "no light passes diffusely through thin surfaces",
     ),
     (
-        "KHR_materials_pbrSpecularGlossiness",
-        "specular-glossiness materials render with their metallic-roughness fallback",
-    ),
-    (
         "KHR_texture_basisu",
         "KTX2/Basis textures are not read; their factors stay",
-    ),
-    (
-        "EXT_texture_webp",
-        "WebP textures are not read; their factors stay",
     ),
     (
         "KHR_draco_mesh_compression",
@@ -83,10 +81,6 @@ const WHAT_IS_LOST: &[(&str, &str)] = &[
     (
         "EXT_meshopt_compression",
         "meshopt-compressed buffers are not decoded",
-    ),
-    (
-        "EXT_mesh_gpu_instancing",
-        "instanced copies of meshes are not drawn (only the node itself)",
     ),
     (
         "KHR_animation_pointer",
@@ -149,8 +143,9 @@ mod tests {
     }
 
     #[test]
-    fn the_supported_extensions_are_the_material_tables_and_four_more() {
-        // The eleven vkpath implemented before the material table named them, and variants.
+    fn the_supported_extensions_are_the_material_tables_and_eight_more() {
+        // The eleven vkpath implemented before the material table named them, variants,
+        // WebP textures, specular-glossiness (converted) and GPU instancing.
         let supported = [
             "KHR_materials_emissive_strength",
             "KHR_materials_specular",
@@ -164,6 +159,10 @@ mod tests {
             "KHR_mesh_quantization",
             "KHR_lights_punctual",
             "KHR_materials_variants",
+            "EXT_texture_webp",
+            "KHR_texture_webp",
+            "KHR_materials_pbrSpecularGlossiness",
+            "EXT_mesh_gpu_instancing",
         ];
         for name in supported {
             assert!(is_supported_extension(name), "{name}");

@@ -22,9 +22,11 @@ use super::gltf_animation::Pose;
 use super::gltf_deform::{Deformer, NodeDeformation};
 use super::gltf_extensions::unsupported_extension_warnings;
 use super::gltf_file::GltfFile;
-use super::gltf_materials::{ConvertedMaterials, MaterialReader};
+use super::gltf_instancing;
+use super::gltf_materials::{material_label, ConvertedMaterials, MaterialReader};
 use super::gltf_variants;
 use super::instances::{InstanceRecorder, NodeLabel};
+use super::material_params::first_slot_on_tex_coord_1;
 use super::materials::{ExtraVertexAttributes, TriangleShading};
 use super::skinning::skin_mirrors;
 use super::tangents::generate_tangents;
@@ -206,7 +208,22 @@ impl Loader<'_> {
                 path: node_path(self.document, parents, node.index()),
                 mesh: mesh.index(),
             };
-            self.add_mesh(&mesh, local_to_world, &deformation, node_label)?;
+            let instances = gltf_instancing::instance_transforms(
+                self.builder.path(),
+                self.document,
+                self.buffers,
+                node,
+            )?;
+            match instances {
+                None => self.add_mesh(&mesh, local_to_world, &deformation, node_label)?,
+                // EXT_mesh_gpu_instancing: each instance in the node's space
+                Some(transforms) => {
+                    for transform in transforms {
+                        let instance_to_world = local_to_world * transform;
+                        self.add_mesh(&mesh, instance_to_world, &deformation, node_label.clone())?;
+                    }
+                }
+            }
         }
         if let Some(camera) = node.camera() {
             if !self.builder.has_camera() {
@@ -319,9 +336,21 @@ impl Loader<'_> {
             };
             let material_index = self.materials.material_index(&material);
             let pbr = self.materials.converted.materials[material_index as usize];
+            // What reads TEXCOORD_1, for the error where the primitive lacks it
+            let tex_coord_1_reading = first_slot_on_tex_coord_1(&pbr).map(|slot| {
+                format!(
+                    "{context}: material '{}' reads its {slot} from TEXCOORD_1",
+                    material_label(&material)
+                )
+            });
             let material =
                 Material::sanitized(pbr.base_color.truncate(), pbr.emission, pbr.double_sided);
             let mut attributes = self.read_attributes(&primitive, &context, positions.len())?;
+            // TEXCOORD_1 only where the material reads it (others keep no table for it)
+            if let Some(reading) = &tex_coord_1_reading {
+                attributes.tex_coords_1 =
+                    Some(self.read_tex_coords_1(&primitive, reading, positions.len())?);
+            }
             let posed = self.deformer.primitive(
                 &primitive,
                 &context,
@@ -385,14 +414,27 @@ impl Loader<'_> {
                     .map(|c| c.map(|corner| colors[indices[corner] as usize]))
                     .collect()
             });
+            let tex_coords_1: Option<Vec<[Vec2; 3]>> = attributes.tex_coords_1.as_ref().map(|uv| {
+                corners
+                    .iter()
+                    .map(|c| c.map(|corner| uv[indices[corner] as usize]))
+                    .collect()
+            });
             let tangents: Vec<[Vec4; 3]> = match (&attributes.tangents, pbr.normal_texture) {
                 (_, None) => vec![[Vec4::ZERO; 3]; corners.len()],
                 (Some(tangents), Some(_)) => corners
                     .iter()
                     .map(|c| c.map(|corner| tangents[indices[corner] as usize]))
                     .collect(),
-                (None, Some(_)) => generate_tangents(&object_positions, &normals, &tex_coords)
-                    .unwrap_or_else(|| vec![[Vec4::ZERO; 3]; corners.len()]),
+                // MikkTSpace over the set the normal texture reads
+                (None, Some(normal_texture)) => {
+                    let uv = match (normal_texture.tex_coord, &tex_coords_1) {
+                        (1, Some(uv_1)) => uv_1,
+                        _ => &tex_coords,
+                    };
+                    generate_tangents(&object_positions, &normals, uv)
+                        .unwrap_or_else(|| vec![[Vec4::ZERO; 3]; corners.len()])
+                }
             };
             // Normals transform with the inverse transpose; tangents as vectors, and a
             // mirroring transform flips the bitangent's handedness.
@@ -418,7 +460,7 @@ impl Loader<'_> {
                 };
                 let mut extra = ExtraVertexAttributes {
                     colors: colors.as_ref().map_or([Vec4::ONE; 3], |colors| colors[t]),
-                    ..ExtraVertexAttributes::NONE
+                    tex_coords_1: tex_coords_1.as_ref().map_or([Vec2::ZERO; 3], |uv| uv[t]),
                 };
                 if mirrors != skin_mirrors[t] {
                     object.swap(1, 2);
@@ -565,6 +607,45 @@ impl Loader<'_> {
         Ok(attributes)
     }
 
+    /// The primitive's `TEXCOORD_1`, which its material reads (`reading` says where, for
+    /// the error): a primitive without it, or with one of a type glTF does not allow (VEC2
+    /// of float, normalized unsigned byte or short) or another count than its vertices', is
+    /// an error naming the mesh, primitive, material and slot.
+    fn read_tex_coords_1(
+        &self,
+        primitive: &gltf::Primitive,
+        reading: &str,
+        vertex_count: usize,
+    ) -> Result<Vec<Vec2>, SceneError> {
+        let path = self.builder.path();
+        let wrong = |reason: String| malformed(path, format!("{reading}, {reason}"));
+        let Some(accessor) = primitive.get(&gltf::Semantic::TexCoords(1)) else {
+            return Err(wrong("which the primitive does not have".to_owned()));
+        };
+        let types = [DataType::F32, DataType::U8, DataType::U16];
+        check_accessor(&accessor, Dimensions::Vec2, &types)
+            .map_err(|reason| wrong(format!("whose {reason}")))?;
+        if accessor.data_type() != DataType::F32 && !accessor.normalized() {
+            return Err(wrong(format!(
+                "whose accessor '{}' is not normalized (glTF allows float, normalized unsigned byte or short)",
+                label(accessor.name(), accessor.index())
+            )));
+        }
+        if accessor.count() != vertex_count {
+            return Err(wrong(format!(
+                "which has {} elements for {vertex_count} vertices",
+                accessor.count()
+            )));
+        }
+        let reader = primitive.reader(|buffer| self.buffers.get(buffer.index()).map(|d| &d[..]));
+        Ok(reader
+            .read_tex_coords(1)
+            .ok_or_else(|| wrong("whose data lies outside its buffer".to_owned()))?
+            .into_f32()
+            .map(Vec2::from)
+            .collect())
+    }
+
     /// The primitive's `COLOR_0` as linear RGBA (alpha 1 for VEC3), or `None` without one.
     /// glTF 2.0 (3.7.2.1) allows VEC3 or VEC4 of float, or of normalized unsigned bytes or
     /// shorts, one per vertex; anything else is an error naming the primitive (the crate's
@@ -674,6 +755,8 @@ struct VertexAttributes {
     tangents: Option<Vec<Vec4>>,
     /// `COLOR_0`, linear RGBA.
     colors: Option<Vec<Vec4>>,
+    /// `TEXCOORD_1`, read only where the material samples a texture on it.
+    tex_coords_1: Option<Vec<Vec2>>,
 }
 
 /// An accessor that the `gltf` crate's reader cannot be trusted with: the reason, naming
@@ -830,3 +913,11 @@ mod mirror_tests;
 #[cfg(test)]
 #[path = "gltf_vertex_attribute_tests.rs"]
 mod vertex_attribute_tests;
+
+#[cfg(test)]
+#[path = "gltf_texture_tests.rs"]
+mod texture_tests;
+
+#[cfg(test)]
+#[path = "gltf_instancing_tests.rs"]
+mod instancing_tests;

@@ -307,7 +307,7 @@ fn a_missing_image_is_ignored_once_with_a_warning_and_the_factor_stays() {
     assert_eq!(scene.warnings.len(), 1, "{:?}", scene.warnings);
     assert!(
         scene.warnings[0].starts_with(
-            "texture '#0' is ignored (the material uses its factor instead): cannot read '"
+            "texture '#0' is ignored (the material uses its factor instead): image '#0': cannot read '"
         ) && scene.warnings[0].contains("not_loaded.png': No such file or directory"),
         "{}",
         scene.warnings[0]

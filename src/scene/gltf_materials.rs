@@ -3,9 +3,9 @@
 //! KHR_materials_* extensions it names), with KHR_texture_transform, and the textures they
 //! use, decoded once each. Each is read where its row says glTF writes it.
 //!
-//! A texture that cannot be used (a missing or unreadable image, a format other than PNG
-//! or JPEG, an image larger than `MAX_TEXTURE_SIZE` per side, a second texture coordinate
-//! set) gives a warning and the material falls back to its factor for that slot: one broken
+//! A texture that cannot be used (a missing or unreadable image, a format other than PNG,
+//! JPEG or WebP, an image larger than `MAX_TEXTURE_SIZE` per side, a texture coordinate set
+//! other than 0 and 1) gives a warning and the material falls back to its factor for that slot: one broken
 //! texture should not stop a whole asset from rendering.
 
 use std::collections::HashMap;
@@ -15,6 +15,7 @@ use std::path::Path;
 use glam::Vec3;
 
 use super::files::{resolve_reference, LoadOptions, MAX_SCENE_FILE_BYTES};
+use super::gltf_spec_gloss;
 use super::material_factors::MaterialFactors;
 use super::material_params::{
     GltfSource, MaterialParam, MaterialTexture, ParamKind, MATERIAL_PARAMS, MATERIAL_TEXTURES,
@@ -46,6 +47,9 @@ pub(crate) struct ConvertedMaterials {
     material_indices: HashMap<Option<usize>, u32>,
     /// glTF texture index -> index in `textures`, or None when it could not be loaded.
     texture_indices: HashMap<usize, Option<u32>>,
+    /// (index in `textures` of a specular-glossiness texture, glossinessFactor's bits) ->
+    /// index in `textures` of the roughness derived from it.
+    glossiness_textures: HashMap<(u32, u32), u32>,
     /// The converted materials.
     pub materials: Vec<PbrMaterial>,
     /// The decoded textures.
@@ -95,7 +99,9 @@ impl<'a> MaterialReader<'a> {
     /// (base colour, metallic-roughness, emissive), the normal texture last.
     fn convert(&mut self, material: &gltf::Material) -> PbrMaterial {
         let name = material_label(material);
-        let json = material_json(self.document, material);
+        let mut json = material_json(self.document, material);
+        // KHR_materials_pbrSpecularGlossiness, rewritten as metallic-roughness
+        let glossiness_texture = gltf_spec_gloss::to_metal_rough(&mut json);
         let mut converted = material_factors(&json).material();
         let mut order: Vec<&MaterialTexture> = MATERIAL_TEXTURES.iter().collect();
         order.sort_by_key(|t| {
@@ -122,6 +128,10 @@ impl<'a> MaterialReader<'a> {
                 (texture.set)(&mut converted, binding);
             }
         }
+        if let Some((info, glossiness)) = glossiness_texture {
+            converted.metallic_roughness_texture =
+                self.glossiness_binding(&name, &info, glossiness);
+        }
         // The texture infos' scales (glTF's default 1).
         let scale = |name: &str| {
             let param = MATERIAL_PARAMS.iter().find(|p| p.name == name);
@@ -132,6 +142,34 @@ impl<'a> MaterialReader<'a> {
         converted.normal_scale = scale("normal_scale");
         converted.clearcoat.normal_scale = scale("clearcoat_normal_scale");
         converted.sanitized()
+    }
+
+    /// The metallic-roughness binding of a `specularGlossinessTexture` reference: the
+    /// texture's roughness made from its glossiness (`roughness_from_glossiness`), derived
+    /// once per texture and factor, on the reference's set and transform.
+    fn glossiness_binding(
+        &mut self,
+        material: &str,
+        info: &serde_json::Value,
+        glossiness: f32,
+    ) -> Option<TextureBinding> {
+        let binding = self.json_binding(material, "specularGlossinessTexture", Some(info))?;
+        let key = (binding.texture, glossiness.to_bits());
+        let derived = match self.converted.glossiness_textures.get(&key) {
+            Some(&derived) => derived,
+            None => {
+                let source = &self.converted.textures[binding.texture as usize];
+                let rough = gltf_spec_gloss::roughness_from_glossiness(source, glossiness);
+                self.converted.textures.push(rough);
+                let derived = self.converted.textures.len() as u32 - 1;
+                self.converted.glossiness_textures.insert(key, derived);
+                derived
+            }
+        };
+        Some(TextureBinding {
+            texture: derived,
+            ..binding
+        })
     }
 
     /// The binding of a texture reference written in an extension's JSON (`{"index": i,
@@ -176,9 +214,9 @@ impl<'a> MaterialReader<'a> {
         tex_coord: u32,
         transform: TextureTransform,
     ) -> Option<TextureBinding> {
-        if tex_coord != 0 {
+        if tex_coord > 1 {
             self.converted.warnings.push(format!(
-                "material '{material}': {slot} uses TEXCOORD_{tex_coord}; only TEXCOORD_0 is read, so the texture is ignored"
+                "material '{material}': {slot} uses TEXCOORD_{tex_coord}; only TEXCOORD_0 and TEXCOORD_1 are read, so the texture is ignored"
             ));
             return None;
         }
@@ -186,23 +224,45 @@ impl<'a> MaterialReader<'a> {
         Some(TextureBinding {
             texture: index,
             transform,
+            tex_coord,
         })
     }
 
-    /// Decodes a texture on first use; None (with a warning) when it cannot be used.
+    /// Decodes a texture on first use; None (with a warning) when it cannot be used. Its
+    /// image is `EXT_texture_webp`'s (or `KHR_texture_webp`'s) `source` where it has one,
+    /// else its own `source`, which is also the fallback where the WebP image cannot be
+    /// used (with a warning naming it).
     fn texture_index(&mut self, texture: &gltf::Texture) -> Option<u32> {
         if let Some(&index) = self.converted.texture_indices.get(&texture.index()) {
             return index;
         }
-        let index = match self.load_texture(texture) {
+        let name = texture
+            .name()
+            .map_or_else(|| format!("#{}", texture.index()), super::printable);
+        let (webp, fallback) = texture_images(self.document, texture.index());
+        let mut loaded = Err(TextureSourceError::NoImage);
+        for image in [webp, fallback].into_iter().flatten() {
+            if let Err(reason) = &loaded {
+                if !matches!(reason, TextureSourceError::NoImage) {
+                    self.converted.warnings.push(format!(
+                        "texture '{name}': its WebP image cannot be used ({reason}), so its fallback image '{}' is used",
+                        image_label(&image)
+                    ));
+                }
+                loaded = self.load_texture(texture, &image).map_err(|reason| {
+                    TextureSourceError::Image {
+                        image: image_label(&image),
+                        reason: Box::new(reason),
+                    }
+                });
+            }
+        }
+        let index = match loaded {
             Ok(loaded) => {
                 self.converted.textures.push(loaded);
                 Some(self.converted.textures.len() as u32 - 1)
             }
             Err(reason) => {
-                let name = texture
-                    .name()
-                    .map_or_else(|| format!("#{}", texture.index()), super::printable);
                 self.converted.warnings.push(format!(
                     "texture '{name}' is ignored (the material uses its factor instead): {reason}"
                 ));
@@ -215,8 +275,11 @@ impl<'a> MaterialReader<'a> {
         index
     }
 
-    fn load_texture(&self, texture: &gltf::Texture) -> Result<Texture, TextureSourceError> {
-        let image = texture.source();
+    fn load_texture(
+        &self,
+        texture: &gltf::Texture,
+        image: &gltf::Image,
+    ) -> Result<Texture, TextureSourceError> {
         let (bytes, mime_type) = match image.source() {
             gltf::image::Source::View { view, mime_type } => {
                 let buffer = self
@@ -284,6 +347,42 @@ impl<'a> MaterialReader<'a> {
             .map_err(unreadable)?;
         Ok(bytes)
     }
+}
+
+/// The WebP extensions' names: `EXT_texture_webp` and its Khronos successor, whose texture
+/// object holds the WebP image's index as `source`.
+const WEBP_EXTENSIONS: [&str; 2] = ["EXT_texture_webp", "KHR_texture_webp"];
+
+/// Texture `index`'s images: its WebP extension's `source` (None without one) and its own
+/// `source` (None where the file leaves it out, which it may where it requires the
+/// extension); each None too where it names no image of the file.
+fn texture_images<'a>(
+    document: &'a gltf::Document,
+    index: usize,
+) -> (Option<gltf::Image<'a>>, Option<gltf::Image<'a>>) {
+    let Some(json) = document.as_json().textures.get(index) else {
+        return (None, None);
+    };
+    let image = |index: usize| document.images().nth(index);
+    let webp = webp_source(json).and_then(image);
+    // gltf-json's stand-in for a missing source is u32::MAX, which names no image.
+    (webp, image(json.source.value()))
+}
+
+/// The image index a texture's WebP extension names, where it has one.
+pub(super) fn webp_source(texture: &gltf::json::Texture) -> Option<usize> {
+    let others = &texture.extensions.as_ref()?.others;
+    WEBP_EXTENSIONS
+        .iter()
+        .find_map(|name| others.get(*name)?.get("source")?.as_u64())
+        .and_then(|source| usize::try_from(source).ok())
+}
+
+/// An image's name for messages: its name, or `#index`.
+fn image_label(image: &gltf::Image) -> String {
+    image
+        .name()
+        .map_or_else(|| format!("#{}", image.index()), super::printable)
 }
 
 /// A KHR_texture_transform written as JSON: its matrix (identity without one) and its
@@ -398,7 +497,8 @@ fn material_factors(json: &serde_json::Value) -> MaterialFactors {
     factors
 }
 
-fn material_label(material: &gltf::Material) -> String {
+/// A material's name for messages: its name, `#index`, or "default".
+pub(super) fn material_label(material: &gltf::Material) -> String {
     match (material.name(), material.index()) {
         (Some(name), _) => super::printable(name),
         (None, Some(index)) => format!("#{index}"),

@@ -138,3 +138,69 @@ fn a_mirroring_node_keeps_each_color_on_its_vertex() {
         .expect("the top corner");
     assert_eq!(colors[blue], Vec4::new(0.0, 0.0, 1.0, 1.0));
 }
+
+/// A 1 x 1 white PNG as a data URI.
+fn white_png() -> String {
+    let mut bytes = Vec::new();
+    {
+        let mut encoder = png::Encoder::new(&mut bytes, 1, 1);
+        encoder.set_color(png::ColorType::Rgb);
+        let mut writer = encoder.write_header().unwrap();
+        writer.write_image_data(&[255, 255, 255]).unwrap();
+    }
+    format!(
+        "data:image/png;base64,{}",
+        super::test_support::base64(&bytes)
+    )
+}
+
+/// The materials of one triangle with TEXCOORD_0 and TEXCOORD_1 whose base colour texture
+/// is `texture` (a texture info).
+fn textured_triangle(texture: serde_json::Value) -> super::super::materials::SceneMaterials {
+    let mut buffer = TestBuffer::default();
+    let positions = buffer.positions(&[[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]]);
+    let uv_0 = buffer.floats("VEC2", &[0.0, 0.0, 1.0, 0.0, 0.0, 1.0]);
+    let uv_1 = buffer.floats("VEC2", &[0.5, 0.25, 0.75, 0.25, 0.5, 1.0]);
+    let text = buffer.embedded(json!({
+        "extensionsUsed": ["KHR_texture_transform"],
+        "scenes": [{"nodes": [0]}],
+        "nodes": [{"mesh": 0}],
+        "meshes": [{"primitives": [{"attributes": {"POSITION": positions,
+            "TEXCOORD_0": uv_0, "TEXCOORD_1": uv_1}, "material": 0}]}],
+        "materials": [{"pbrMetallicRoughness": {"baseColorTexture": texture}}],
+        "textures": [{"source": 0}],
+        "images": [{"uri": white_png()}],
+    }));
+    let directory = tempfile::tempdir().unwrap();
+    let scene = load_gltf(&write(&directory, "uv.gltf", text)).unwrap();
+    assert!(scene.warnings.is_empty(), "{:?}", scene.warnings);
+    scene.materials.expect("glTF materials")
+}
+
+#[test]
+fn tex_coord_1_is_kept_only_where_a_material_reads_it() {
+    use crate::contract::VERTEX_ATTRIBUTE_TEX_COORD_1;
+    use glam::Vec2;
+    // On set 0 the file's TEXCOORD_1 is not read: no table, the layout of before
+    let on_0 = textured_triangle(json!({"index": 0}));
+    assert!(on_0.extra.is_empty(), "{:?}", on_0.extra);
+    assert_eq!(on_0.vertex_attributes(), 0);
+    let uv_1 = [
+        Vec2::new(0.5, 0.25),
+        Vec2::new(0.75, 0.25),
+        Vec2::new(0.5, 1.0),
+    ];
+    // texCoord 1, and KHR_texture_transform's texCoord overriding a texCoord of 0
+    for texture in [
+        json!({"index": 0, "texCoord": 1}),
+        json!({"index": 0, "texCoord": 0,
+               "extensions": {"KHR_texture_transform": {"texCoord": 1}}}),
+    ] {
+        let on_1 = textured_triangle(texture.clone());
+        let binding = on_1.materials[0].base_color_texture.expect("the texture");
+        assert_eq!(binding.tex_coord, 1, "{texture}");
+        assert_eq!(on_1.extra.get(0).tex_coords_1, uv_1, "{texture}");
+        assert!(on_1.extra.colors.is_none());
+        assert_eq!(on_1.vertex_attributes(), VERTEX_ATTRIBUTE_TEX_COORD_1);
+    }
+}

@@ -235,6 +235,15 @@ pub fn texture_mask(material: &PbrMaterial) -> u32 {
         .fold(0, |mask, texture| mask | 1 << texture.slot)
 }
 
+/// The first texture slot (glTF's name, in `MATERIAL_TEXTURES`' order) of the material that
+/// reads `TEXCOORD_1`; None where every slot reads `TEXCOORD_0` or holds no texture.
+pub fn first_slot_on_tex_coord_1(material: &PbrMaterial) -> Option<&'static str> {
+    MATERIAL_TEXTURES
+        .iter()
+        .find(|texture| (texture.get)(material).is_some_and(|b| b.tex_coord == 1))
+        .map(|texture| texture.name)
+}
+
 /// The material's parameters, one row each: the factors a caller gives (`MaterialFactors`,
 /// Python's keys, in this order), then the words the GPU takes beyond them. A new factor is
 /// a row here, a field of `MaterialFactors` and of `PbrMaterial`, and its reader in

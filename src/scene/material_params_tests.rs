@@ -204,10 +204,7 @@ fn distinct_material() -> (PbrMaterial, Vec<u32>, u32) {
         true,
     )];
     for slot in MATERIAL_TEXTURES {
-        let binding = TextureBinding {
-            texture: 0,
-            transform: TextureTransform::identity(),
-        };
+        let binding = TextureBinding::new(0, TextureTransform::identity());
         (slot.set)(&mut material, Some(binding));
     }
     let atlas = TextureAtlas::new(&textures, 1 << 20).unwrap();

@@ -26,12 +26,42 @@ pub enum AlphaMode {
 }
 
 /// A texture as one material slot uses it.
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Copy, PartialEq)]
 pub struct TextureBinding {
     /// Index into `SceneMaterials::textures`.
     pub texture: u32,
     /// KHR_texture_transform's matrix (identity without the extension).
     pub transform: TextureTransform,
+    /// The texture coordinate set it reads: 0 (`TEXCOORD_0`) or 1 (`TEXCOORD_1`, glTF's
+    /// `texCoord`, or KHR_texture_transform's override).
+    pub tex_coord: u32,
+}
+
+impl TextureBinding {
+    /// A binding of texture `texture` on `TEXCOORD_0` with `transform`.
+    pub fn new(texture: u32, transform: TextureTransform) -> TextureBinding {
+        TextureBinding {
+            texture,
+            transform,
+            tex_coord: 0,
+        }
+    }
+}
+
+/// The set is written only where it is 1: the scene hash (`render::metadata`) takes the
+/// materials' Debug text, so scenes that read set 0 keep the hash they had before the set
+/// was a field.
+impl std::fmt::Debug for TextureBinding {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        let mut debug = f.debug_struct("TextureBinding");
+        debug
+            .field("texture", &self.texture)
+            .field("transform", &self.transform);
+        if self.tex_coord != 0 {
+            debug.field("tex_coord", &self.tex_coord);
+        }
+        debug.finish()
+    }
 }
 
 /// KHR_materials_transmission with KHR_materials_volume: light through the surface (glass).
@@ -461,17 +491,26 @@ impl SceneMaterials {
 
     /// The vertex attributes beyond normals, UVs and tangents that the kernels must read
     /// (`SPEC_SCENE_VERTEX_ATTRIBUTES`): `VERTEX_ATTRIBUTE_COLOR` where some triangle has a
-    /// vertex colour other than opaque white (white changes nothing, so it is left out), the
-    /// same for `VERTEX_ATTRIBUTE_TEX_COORD_1`: exactly the tables that exist.
+    /// vertex colour other than opaque white (white changes nothing, so it is left out);
+    /// `VERTEX_ATTRIBUTE_TEX_COORD_1` where some triangle has a second texture coordinate
+    /// other than 0 or some material reads one (where every one is 0 there is no table, and
+    /// the kernels read 0).
     pub fn vertex_attributes(&self) -> u32 {
         let mut attributes = 0;
         if self.extra.colors.is_some() {
             attributes |= crate::contract::VERTEX_ATTRIBUTE_COLOR;
         }
-        if self.extra.tex_coords_1.is_some() {
+        if self.extra.tex_coords_1.is_some() || self.reads_tex_coord_1() {
             attributes |= crate::contract::VERTEX_ATTRIBUTE_TEX_COORD_1;
         }
         attributes
+    }
+
+    /// Whether some material has a texture on `TEXCOORD_1`.
+    pub fn reads_tex_coord_1(&self) -> bool {
+        self.materials
+            .iter()
+            .any(|m| super::material_params::first_slot_on_tex_coord_1(m).is_some())
     }
 
     /// Whether any material uses alpha (mask or blend).

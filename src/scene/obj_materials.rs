@@ -111,10 +111,7 @@ impl ObjMaterials {
                 index
             }
         }?;
-        Some(TextureBinding {
-            texture,
-            transform: map.transform,
-        })
+        Some(TextureBinding::new(texture, map.transform))
     }
 }
 

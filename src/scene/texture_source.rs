@@ -53,4 +53,16 @@ pub enum TextureSourceError {
     /// The bytes do not decode as a texture vkpath reads.
     #[error("{0}")]
     Decode(TextureError),
+    /// The texture names no image of the file (neither its `source` nor a WebP
+    /// extension's).
+    #[error("it names no image of the file")]
+    NoImage,
+    /// What went wrong with the texture's image, naming it.
+    #[error("image '{image}': {reason}")]
+    Image {
+        /// The image's name, or `#index`.
+        image: String,
+        /// What is wrong with it.
+        reason: Box<TextureSourceError>,
+    },
 }

@@ -1,4 +1,4 @@
-//! Textures of glTF materials on the CPU side: decoding PNG and JPEG images to RGBA8
+//! Textures of glTF materials on the CPU side: decoding PNG, JPEG and WebP images to RGBA8
 //! (`decode_texture`), the sampler's wrap modes and filter (`Texture`), and
 //! KHR_texture_transform (`TextureTransform`). Nothing here knows the GPU: the packing for
 //! the shaders is `crate::render::gpu_textures`, the lookups are `glsl/textures.glsl` and
@@ -26,16 +26,16 @@ const KTX2_IDENTIFIER: [u8; 12] = [
 #[derive(Debug, Error, Clone, PartialEq, Eq)]
 #[non_exhaustive]
 pub enum TextureError {
-    /// The image is in a format vkpath does not decode (WebP, KTX2, AVIF, an unknown one).
-    #[error("texture format {format} is not supported: vkpath reads PNG and JPEG textures only (WebP, KTX2 and others are not supported)")]
+    /// The image is in a format vkpath does not decode (KTX2, AVIF, an unknown one).
+    #[error("texture format {format} is not supported: vkpath reads PNG, JPEG and WebP textures only (KTX2 and others are not supported)")]
     UnsupportedFormat {
         /// The format in words, as recognised from the bytes or the MIME type.
         format: String,
     },
-    /// The bytes claim to be PNG or JPEG but cannot be decoded.
+    /// The bytes claim to be PNG, JPEG or WebP but cannot be decoded.
     #[error("corrupt {format} texture: {message}")]
     Corrupt {
-        /// "PNG" or "JPEG".
+        /// "PNG", "JPEG" or "WebP".
         format: &'static str,
         /// The decoder's message, on one line.
         message: String,
@@ -129,7 +129,8 @@ impl Texture {
     }
 }
 
-/// Decodes a PNG or JPEG image (a glTF image's bytes) to RGBA8.
+/// Decodes a PNG, JPEG or WebP image (a glTF image's bytes; WebP by the `image` crate's
+/// pure-Rust decoder, lossy and lossless) to RGBA8.
 ///
 /// The format is recognised from the bytes; `mime_type` (the glTF image's `mimeType`) only
 /// names the format when the bytes match none. Greyscale, grey-alpha and RGB images get
@@ -139,10 +140,10 @@ impl Texture {
 /// absurd header is refused before anything is allocated for it.
 pub fn decode_texture(bytes: &[u8], mime_type: Option<&str>) -> Result<DecodedImage, TextureError> {
     let format = texture_format(bytes, mime_type)?;
-    let format_name = if format == ImageFormat::Png {
-        "PNG"
-    } else {
-        "JPEG"
+    let format_name = match format {
+        ImageFormat::Png => "PNG",
+        ImageFormat::WebP => "WebP",
+        _ => "JPEG",
     };
     let corrupt = |error: image::ImageError| TextureError::Corrupt {
         format: format_name,
@@ -199,7 +200,8 @@ fn texture_limits() -> Limits {
     limits
 }
 
-/// PNG or JPEG, from the bytes or else from the MIME type; any other format is an error.
+/// PNG, JPEG or WebP, from the bytes or else from the MIME type; any other format is an
+/// error.
 fn texture_format(bytes: &[u8], mime_type: Option<&str>) -> Result<ImageFormat, TextureError> {
     if bytes.starts_with(&KTX2_IDENTIFIER) {
         return Err(TextureError::UnsupportedFormat {
@@ -211,6 +213,7 @@ fn texture_format(bytes: &[u8], mime_type: Option<&str>) -> Result<ImageFormat, 
         Err(_) => match mime_type.map(str::to_ascii_lowercase).as_deref() {
             Some("image/png") => ImageFormat::Png,
             Some("image/jpeg") => ImageFormat::Jpeg,
+            Some("image/webp") => ImageFormat::WebP,
             Some(mime) => {
                 return Err(TextureError::UnsupportedFormat {
                     format: format!("'{}'", one_line(mime)),
@@ -224,7 +227,7 @@ fn texture_format(bytes: &[u8], mime_type: Option<&str>) -> Result<ImageFormat, 
         },
     };
     match format {
-        ImageFormat::Png | ImageFormat::Jpeg => Ok(format),
+        ImageFormat::Png | ImageFormat::Jpeg | ImageFormat::WebP => Ok(format),
         other => Err(TextureError::UnsupportedFormat {
             format: format!("{other:?}"),
         }),

@@ -80,15 +80,35 @@ fn the_bytes_decide_the_format_over_the_mime_type() {
 }
 
 #[test]
-fn webp_ktx2_and_unknown_formats_are_refused() {
-    let webp = b"RIFF\x1a\0\0\0WEBPVP8L\x0d\0\0\0\x2f\0\0\0\x10\x07\x10\x11\x11\x88\x88\xfe\x07\0";
-    let error = decode_texture(webp, Some("image/webp")).unwrap_err();
+fn webp_is_decoded_and_a_corrupt_one_is_one_line() {
+    // tests/data/four_colours.webp: `cwebp -lossless -exact` (libwebp 1.2.4) of a 2 x 2 PNG
+    // of red, green / blue, white
+    let bytes = std::fs::read(concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/tests/data/four_colours.webp"
+    ))
+    .unwrap();
+    let decoded = decode_texture(&bytes, None).expect("a lossless WebP");
+    assert_eq!((decoded.width, decoded.height), (2, 2));
+    assert_eq!(
+        decoded.texels,
+        [
+            [255, 0, 0, 255],
+            [0, 255, 0, 255],
+            [0, 0, 255, 255],
+            [255, 255, 255, 255]
+        ]
+    );
+    let error = decode_texture(&bytes[..30], Some("image/webp")).unwrap_err();
     assert!(
-        matches!(error, TextureError::UnsupportedFormat { .. }),
+        matches!(error, TextureError::Corrupt { format: "WebP", .. }),
         "{error}"
     );
-    assert!(error.to_string().contains("WebP"), "{error}");
+    assert_eq!(error.to_string().lines().count(), 1, "{error}");
+}
 
+#[test]
+fn ktx2_and_unknown_formats_are_refused() {
     let mut ktx2 = KTX2_IDENTIFIER.to_vec();
     ktx2.extend_from_slice(&[0; 64]);
     let error = decode_texture(&ktx2, Some("image/ktx2")).unwrap_err();
@@ -107,7 +127,7 @@ fn webp_ktx2_and_unknown_formats_are_refused() {
     let error = decode_texture(b"not an image", None).unwrap_err();
     assert!(error.to_string().contains("unknown"), "{error}");
     for error in [
-        decode_texture(webp, None).unwrap_err(),
+        decode_texture(&ktx2, None).unwrap_err(),
         decode_texture(b"x", Some("image/x-made\nup")).unwrap_err(),
     ] {
         assert_eq!(error.to_string().lines().count(), 1, "{error}");

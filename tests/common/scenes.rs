@@ -76,10 +76,7 @@ pub fn glossy_box(roughness: f32) -> Scene {
 pub fn textured_lambertian_box() -> Scene {
     let (mut scene, shading, light) = open_box(|t| t.positions.map(|p| Vec2::new(p.x, p.z)));
     let mut floor = PbrMaterial::lambertian(Vec3::ONE, Vec3::ZERO, false);
-    floor.base_color_texture = Some(TextureBinding {
-        texture: 0,
-        transform: TextureTransform::identity(),
-    });
+    floor.base_color_texture = Some(TextureBinding::new(0, TextureTransform::identity()));
     let checker = Texture {
         width: 4,
         height: 4,
