@@ -150,13 +150,15 @@ mod tests {
 
     #[test]
     fn the_supported_extensions_are_the_material_tables_and_four_more() {
-        // The eleven vkpath implemented before the material table named them, and variants.
+        // The eleven vkpath implemented before the material table named them, variants and
+        // KHR_materials_volume_scatter.
         let supported = [
             "KHR_materials_emissive_strength",
             "KHR_materials_specular",
             "KHR_materials_ior",
             "KHR_materials_transmission",
             "KHR_materials_volume",
+            "KHR_materials_volume_scatter",
             "KHR_materials_clearcoat",
             "KHR_materials_sheen",
             "KHR_materials_unlit",
