@@ -119,6 +119,16 @@ layout(constant_id = SPEC_SCENE_HAS_LAYERS) const bool SCENE_HAS_LAYERS = true;
 // lavapipe would otherwise run at every vertex.
 layout(constant_id = SPEC_SCENE_HAS_SPECULAR) const bool SCENE_HAS_SPECULAR = true;
 
+// KHR_materials_volume_scatter of material i: the volume's scattering coefficient sigma_s per
+// unit length (rgb, 0 without the extension) and its Henyey-Greenstein g (a). Read where a
+// path refracts into the volume (glsl/path_loop.glsl, SCENE_HAS_VOLUME_SCATTER), not by
+// get_material().
+vec4 get_material_volume_scattering(uint material_index) {
+    uvec4 flags = get_material_texel(material_index, MATERIAL_TEXEL_FLAGS);
+    uvec4 alpha = get_material_texel(material_index, MATERIAL_TEXEL_ALPHA_MODE_TEXTURE_MASK);
+    return vec4(uintBitsToFloat(flags.yzw), uintBitsToFloat(alpha.z));
+}
+
 // clearcoatNormalTexture.scale of material i.
 float get_material_clearcoat_normal_scale(uint material_index) {
     return uintBitsToFloat(get_material_texel(material_index, MATERIAL_TEXEL_ATTENUATION_CLEARCOAT_NORMAL_SCALE).w);

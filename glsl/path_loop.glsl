@@ -215,6 +215,15 @@ vec3 get_path_radiance(vec3 ray_origin, vec3 ray_direction, inout uvec2 seed) {
     int vertex_count = is_direct_illumination() ? 2 : MAX_PATH_LENGTH;
     // Whether the ray travels through the global medium (not inside a refracting volume)
     bool in_medium = true;
+    // The scattering medium of the refracting volume the ray travels in
+    // (KHR_materials_volume_scatter, SCENE_HAS_VOLUME_SCATTER), one slot: set where the path
+    // refracts into a scattering volume's front, cleared where it refracts out of a back. It
+    // holds the volume's sigma_s and g only (absorption 0): the volume's absorption stays
+    // Beer-Lambert, applied per segment.
+    bool in_volume_medium = false;
+    medium_t volume_medium = medium_t(vec3(0.0), vec3(0.0), 0.0);
+    // That volume's absorption coefficient sigma_a (its material's attenuation)
+    vec3 volume_absorption = vec3(0.0);
     for (int i = 0; i != vertex_count; ++i) {
         float t;
         triangle_t triangle;
@@ -248,6 +257,35 @@ vec3 get_path_radiance(vec3 ray_origin, vec3 ray_direction, inout uvec2 seed) {
                 continue;
             }
             throughput_weight *= get_medium_passing_weight(medium, segment);
+        }
+        // The scattering medium inside a refracting volume before the hit: the same distance
+        // sampler on its sigma_s alone (absorption 0, so the weights are those of a medium of
+        // albedo 1), times the volume's Beer-Lambert absorption exp(-sigma_a t) up to the
+        // scattering point; a segment that reaches the volume's back takes its absorption
+        // there (get_volume_transmittance()). Together: sigma_s exp(-sigma_t t) / p(t) where it
+        // scatters, exp(-sigma_t d) / P(passing) where it passes, unbiased. No light samples
+        // at such a vertex (shadow rays see glass as opaque, as at a glass surface): the phase
+        // function's direction alone finds the light, which then counts in full.
+        else if (SCENE_HAS_VOLUME_SCATTER && in_volume_medium && is_importance_sampled()) {
+            uint vertex_pairs = get_vertex_dimension_pair(i);
+            float segment = hit ? t : NO_HIT_T;
+            float distance = sample_medium_distance(volume_medium, get_path_random_numbers(vertex_pairs + VERTEX_PAIR_MEDIUM_DISTANCE));
+            if (distance < segment) {
+                throughput_weight *= get_medium_scattering_weight(volume_medium, distance) * exp(-volume_absorption * distance);
+                ray_origin += distance * ray_direction;
+                if (i + 1 == vertex_count)
+                    break;
+                light_sampled = false;
+                g_path.guide_cell = GUIDE_NO_CELL;
+                vec3 view = -ray_direction;
+                ray_direction = sample_phase_function(get_path_random_numbers(vertex_pairs + VERTEX_PAIR_DIRECTION), view, volume_medium.anisotropy);
+                direction_density = get_phase_function_density(view, ray_direction, volume_medium.anisotropy);
+                previous_position = ray_origin;
+                if (!survives_russian_roulette(i, vertex_pairs, throughput_weight, eta_scale))
+                    break;
+                continue;
+            }
+            throughput_weight *= get_medium_passing_weight(volume_medium, segment);
         }
         if (!hit) {
 #ifdef USE_MATERIALS
@@ -307,6 +345,14 @@ vec3 get_path_radiance(vec3 ray_origin, vec3 ray_direction, inout uvec2 seed) {
         // returns to it
         if (SCENE_HAS_MEDIUM && (direction.lobes & BSDF_LOBE_TRANSMIT) != 0u && is_refracting(surface.material))
             in_medium = surface.back_face;
+        // A refraction into a scattering volume's front makes its medium the path's, one out
+        // of a back leaves it (nested volumes: the inner one's exit forgets the outer medium)
+        if (SCENE_HAS_VOLUME_SCATTER && (direction.lobes & BSDF_LOBE_TRANSMIT) != 0u && is_refracting(surface.material)) {
+            vec4 scattering = get_material_volume_scattering(get_material_index(triangle_index));
+            in_volume_medium = !surface.back_face && any(greaterThan(scattering.rgb, vec3(0.0)));
+            volume_medium = medium_t(vec3(0.0), scattering.rgb, scattering.a);
+            volume_absorption = surface.material.attenuation;
+        }
 #endif
         if (!survives_russian_roulette(i, vertex_pairs, throughput_weight, eta_scale))
             break;

@@ -42,6 +42,10 @@ layout(constant_id = SPEC_MEDIUM_COEFFICIENTS + 4) const float MEDIUM_SCATTERING
 layout(constant_id = SPEC_MEDIUM_COEFFICIENTS + 5) const float MEDIUM_SCATTERING_B = 0.0;
 layout(constant_id = SPEC_MEDIUM_COEFFICIENTS + 6) const float MEDIUM_ANISOTROPY = 0.0;
 
+// Whether some material encloses a scattering volume (glsl/shared.h's
+// SPEC_SCENE_HAS_VOLUME_SCATTER): false compiles the volume's medium out of the path loop.
+layout(constant_id = SPEC_SCENE_HAS_VOLUME_SCATTER) const bool SCENE_HAS_VOLUME_SCATTER = false;
+
 // The global medium that fills the space outside closed refracting volumes (render --medium).
 medium_t get_global_medium() {
     return medium_t(vec3(MEDIUM_ABSORPTION_R, MEDIUM_ABSORPTION_G, MEDIUM_ABSORPTION_B), vec3(MEDIUM_SCATTERING_R, MEDIUM_SCATTERING_G, MEDIUM_SCATTERING_B), MEDIUM_ANISOTROPY);

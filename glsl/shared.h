@@ -227,6 +227,13 @@
 #define SPEC_MEDIUM 611
 #define SPEC_MEDIUM_COEFFICIENTS 612
 #define MEDIUM_COEFFICIENT_COUNT 7
+// Kernels built with USE_MATERIALS: 1 where some material encloses a scattering volume
+// (KHR_materials_volume_scatter: a refracting volume whose scattering coefficient is above 0,
+// `SceneMaterials::uses_volume_scatter`), else 0, which compiles the volume's medium out of
+// the path loop (every scene without the extension keeps its kernel and its image bit for
+// bit). The coefficients are the material's (MATERIAL_TEXEL_FLAGS .yzw, g in
+// MATERIAL_TEXEL_ALPHA_MODE_TEXTURE_MASK .z).
+#define SPEC_SCENE_HAS_VOLUME_SCATTER 619
 #define MOTION_TRIANGLE_TEXEL_COUNT 4
 #define MOTION_CAMERA_TEXEL_COUNT 4
 // Most triangles that can be passed as specialization constants.
@@ -435,14 +442,17 @@
 #define MATERIAL_TEXEL_ROUGHNESS_SPECULAR_IOR_NORMAL_SCALE 2
 // Texel of the specular colour factor (rgb) and the alpha cutoff (a).
 #define MATERIAL_TEXEL_SPECULAR_COLOR_ALPHA_CUTOFF 3
-// Texel of the alpha mode (x, ALPHA_MODE_*) and the mask of texture slots present (y).
+// Texel of the alpha mode (x, ALPHA_MODE_*), the mask of texture slots present (y) and the
+// volume's Henyey-Greenstein g (z, KHR_materials_volume_scatter's scatterAnisotropy).
 #define MATERIAL_TEXEL_ALPHA_MODE_TEXTURE_MASK 4
 // Texel of the transmission (x), thickness (y), clearcoat (z) and clearcoat roughness (w) factors.
 #define MATERIAL_TEXEL_TRANSMISSION_THICKNESS_CLEARCOAT 5
-// Texel of the volume's absorption coefficient per unit length (rgb) and the clearcoat normal
-// texture's scale (a).
+// Texel of the volume's absorption coefficient sigma_a per unit length (rgb; with
+// KHR_materials_volume_scatter the part of the extinction that is not scattering) and the
+// clearcoat normal texture's scale (a).
 #define MATERIAL_TEXEL_ATTENUATION_CLEARCOAT_NORMAL_SCALE 6
-// Texel of the MATERIAL_FLAG_* bits (x).
+// Texel of the MATERIAL_FLAG_* bits (x) and the volume's scattering coefficient sigma_s per
+// unit length (yzw, KHR_materials_volume_scatter; 0 without it).
 #define MATERIAL_TEXEL_FLAGS 7
 // Texel of the sheen colour (rgb) and sheen roughness (a).
 #define MATERIAL_TEXEL_SHEEN 8

@@ -67,3 +67,5 @@ mod traversals_agree;
 mod twins_named;
 #[path = "validation.rs"]
 mod validation;
+#[path = "volume_scatter_render.rs"]
+mod volume_scatter_render;

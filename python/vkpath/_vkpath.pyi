@@ -101,7 +101,8 @@ class Scene:
         (N, 3), ``indices`` (M, 3) or flat; ``materials`` dicts of glTF's factors
         (``MATERIAL_KEYS``: base_color, metallic, roughness, emission, emissive_strength,
         specular, specular_color, ior, transmission, thickness, attenuation_color,
-        attenuation_distance, clearcoat, clearcoat_roughness, sheen_color, sheen_roughness,
+        attenuation_distance, multiscatter_color, scatter_anisotropy, clearcoat,
+        clearcoat_roughness, sheen_color, sheen_roughness,
         alpha_mode, alpha_cutoff, double_sided, unlit; glTF's defaults for the rest, glTF's
         default material, white metal, without any); ``material_indices`` (M,) the
         material of each triangle (default: material 0 for all); ``normals`` (N, 3) and

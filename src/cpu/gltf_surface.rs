@@ -103,6 +103,22 @@ pub fn get_material_texel(texels: &SurfaceTexels, material_index: u32, j: u32) -
     )
 }
 
+/// Twin of `get_material_volume_scattering`.
+pub fn get_material_volume_scattering(texels: &SurfaceTexels, material_index: u32) -> Vec4 {
+    let flags = get_material_texel(texels, material_index, MATERIAL_TEXEL_FLAGS);
+    let alpha = get_material_texel(
+        texels,
+        material_index,
+        MATERIAL_TEXEL_ALPHA_MODE_TEXTURE_MASK,
+    );
+    Vec4::new(
+        f32::from_bits(flags.y),
+        f32::from_bits(flags.z),
+        f32::from_bits(flags.w),
+        f32::from_bits(alpha.z),
+    )
+}
+
 /// Twin of `get_material_clearcoat_normal_scale`.
 pub fn get_material_clearcoat_normal_scale(texels: &SurfaceTexels, material_index: u32) -> f32 {
     f32::from_bits(

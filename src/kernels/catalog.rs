@@ -63,6 +63,7 @@ pub static PATH_TRACER: Kernel = Kernel {
             first_id: c::SPEC_MEDIUM_COEFFICIENTS,
             count: c::MEDIUM_COEFFICIENT_COUNT,
         },
+        SpecConstants::one(c::SPEC_SCENE_HAS_VOLUME_SCATTER),
     ],
     push_constant_size: size_of::<FramePushConstants>() as u32,
 };

@@ -260,6 +260,9 @@ pub struct SceneSummary {
     pub materials: bool,
     /// Whether some material has a layered lobe (`SceneMaterials::uses_layers`).
     pub layers: bool,
+    /// Whether some material encloses a scattering volume
+    /// (`SceneMaterials::uses_volume_scatter`).
+    pub volume_scatter: bool,
     /// Whether some material is alpha-tested or blended (`SceneMaterials::uses_alpha`).
     pub alpha: bool,
     /// Whether some material has a specular (GGX) lobe (`SceneMaterials::uses_specular`).
@@ -394,6 +397,9 @@ const SCENE_FLAGS: &[SceneFlag] = &[
     (contract::SPEC_SCENE_HAS_ALPHA, |s| u32::from(s.alpha)),
     (contract::SPEC_SCENE_TEXTURE_SLOTS, |s| s.texture_slots),
     (contract::SPEC_SCENE_HAS_LAYERS, |s| u32::from(s.layers)),
+    (contract::SPEC_SCENE_HAS_VOLUME_SCATTER, |s| {
+        u32::from(s.volume_scatter)
+    }),
     (contract::SPEC_SCENE_HAS_ENVIRONMENT, |s| {
         u32::from(s.environment)
     }),

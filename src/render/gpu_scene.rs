@@ -96,6 +96,7 @@ fn scene_summary(
         triangle_count: scene.triangles.len(),
         materials: materials.is_some(),
         layers: materials.is_some_and(|m| m.uses_layers()),
+        volume_scatter: materials.is_some_and(|m| m.uses_volume_scatter()),
         alpha: materials.is_some_and(|m| m.uses_alpha()),
         specular: materials.is_some_and(|m| m.uses_specular()),
         vertex_attributes: materials.map_or(0, |m| m.vertex_attributes()),

@@ -145,13 +145,15 @@ mod tests {
     #[test]
     fn the_supported_extensions_are_the_material_tables_and_eight_more() {
         // The eleven vkpath implemented before the material table named them, variants,
-        // WebP textures, specular-glossiness (converted) and GPU instancing.
+        // KHR_materials_volume_scatter, WebP textures, specular-glossiness (converted) and
+        // GPU instancing.
         let supported = [
             "KHR_materials_emissive_strength",
             "KHR_materials_specular",
             "KHR_materials_ior",
             "KHR_materials_transmission",
             "KHR_materials_volume",
+            "KHR_materials_volume_scatter",
             "KHR_materials_clearcoat",
             "KHR_materials_sheen",
             "KHR_materials_unlit",

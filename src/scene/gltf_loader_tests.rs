@@ -417,6 +417,50 @@ fn textures_transforms_and_extensions_are_read() {
 }
 
 #[test]
+fn volume_scatter_is_read_inside_a_volume_only() {
+    // KHR_materials_volume_scatter: sigma_t of the volume's attenuation splits into
+    // sigma_s = sigma_t rho_ss (the draft's albedo of multiscatterColor) and sigma_a; without
+    // KHR_materials_volume it is ignored (the draft needs a volume)
+    let directory = tempfile::tempdir().unwrap();
+    let material = |with_volume: bool| {
+        let mut extensions = json!({
+            "KHR_materials_transmission": {"transmissionFactor": 1.0},
+            "KHR_materials_volume_scatter": {"multiscatterColor": [1.0, 0.5, 0.0], "scatterAnisotropy": 0.7}
+        });
+        if with_volume {
+            extensions["KHR_materials_volume"] = json!({"thicknessFactor": 1.0,
+                "attenuationColor": [0.5, 0.5, 0.25], "attenuationDistance": 2.0});
+        }
+        json!({"pbrMetallicRoughness": {"metallicFactor": 0.0}, "extensions": extensions})
+    };
+    let more = json!({"extensionsUsed": ["KHR_materials_transmission", "KHR_materials_volume",
+                                         "KHR_materials_volume_scatter"]});
+    let load = |with_volume: bool, name: &str| {
+        let text = triangle_with(material(with_volume), &[], more.clone());
+        let scene = load_gltf(&write(&directory, name, text)).unwrap();
+        assert!(scene.warnings.is_empty(), "{:?}", scene.warnings);
+        scene.materials.expect("layered")
+    };
+    let materials = load(true, "scatter.gltf");
+    let transmission = materials.materials[0].transmission;
+    let extinction = Transmission::attenuation_coefficient(Vec3::new(0.5, 0.5, 0.25), 2.0);
+    let albedo = Transmission::single_scatter_albedo(Vec3::new(1.0, 0.5, 0.0));
+    assert_eq!(albedo.x, 1.0);
+    assert_eq!(albedo.z, 0.0);
+    assert_eq!(transmission.scattering, extinction * albedo);
+    assert_eq!(transmission.attenuation, extinction - extinction * albedo);
+    assert_eq!(transmission.anisotropy, 0.7);
+    assert!(materials.uses_volume_scatter());
+    let without_volume = load(false, "no-volume.gltf");
+    let transmission = without_volume.materials[0].transmission;
+    assert_eq!(
+        (transmission.scattering, transmission.anisotropy),
+        (Vec3::ZERO, 0.0)
+    );
+    assert!(!without_volume.uses_volume_scatter());
+}
+
+#[test]
 fn transmission_volume_clearcoat_unlit_and_specular_textures_are_read() {
     let directory = tempfile::tempdir().unwrap();
     let texture = |index: u32| json!({"index": index});

@@ -541,6 +541,8 @@ mod tests {
                     "KHR_materials_volume": {"thicknessFactor": 0.05,
                                              "attenuationColor": [0.9, 0.8, 0.7],
                                              "attenuationDistance": 2.5},
+                    "KHR_materials_volume_scatter": {"multiscatterColor": [0.6, 0.5, 0.4],
+                                                     "scatterAnisotropy": -0.3},
                     "KHR_materials_clearcoat": {"clearcoatFactor": 0.35,
                                                 "clearcoatRoughnessFactor": 0.45},
                     "KHR_materials_sheen": {"sheenColorFactor": [0.15, 0.25, 0.35],
@@ -550,7 +552,7 @@ mod tests {
             }]"#,
             r#""KHR_materials_emissive_strength", "KHR_materials_specular", "KHR_materials_ior",
                "KHR_materials_transmission", "KHR_materials_volume", "KHR_materials_clearcoat",
-               "KHR_materials_sheen", "KHR_materials_unlit""#,
+               "KHR_materials_sheen", "KHR_materials_unlit", "KHR_materials_volume_scatter""#,
         );
         let expected = MaterialFactors {
             base_color: Vec4::new(0.1, 0.2, 0.3, 0.4),
@@ -565,6 +567,8 @@ mod tests {
             thickness: 0.05,
             attenuation_color: Vec3::new(0.9, 0.8, 0.7),
             attenuation_distance: 2.5,
+            multiscatter_color: Vec3::new(0.6, 0.5, 0.4),
+            scatter_anisotropy: -0.3,
             clearcoat: 0.35,
             clearcoat_roughness: 0.45,
             sheen_color: Vec3::new(0.15, 0.25, 0.35),

@@ -40,6 +40,12 @@ pub struct MaterialFactors {
     pub attenuation_color: Vec3,
     /// KHR_materials_volume `attenuationDistance` (default infinite: no absorption).
     pub attenuation_distance: f32,
+    /// KHR_materials_volume_scatter `multiscatterColor`, the multi-scatter albedo, linear
+    /// RGB (default 0: the volume only absorbs).
+    pub multiscatter_color: Vec3,
+    /// KHR_materials_volume_scatter `scatterAnisotropy`, the Henyey-Greenstein g in (-1, 1)
+    /// (default 0: isotropic).
+    pub scatter_anisotropy: f32,
     /// KHR_materials_clearcoat `clearcoatFactor` in [0, 1] (default 0: no coat).
     pub clearcoat: f32,
     /// KHR_materials_clearcoat `clearcoatRoughnessFactor` in [0, 1] (default 0).
@@ -72,6 +78,8 @@ impl Default for MaterialFactors {
             thickness: 0.0,
             attenuation_color: Vec3::ZERO,
             attenuation_distance: 0.0,
+            multiscatter_color: Vec3::ZERO,
+            scatter_anisotropy: 0.0,
             clearcoat: 0.0,
             clearcoat_roughness: 0.0,
             sheen_color: Vec3::ZERO,
@@ -93,6 +101,11 @@ impl MaterialFactors {
     /// The material these factors describe, without textures (a loader adds its own) and
     /// not yet `sanitized` (a loader sanitizes after adding them).
     pub fn material(&self) -> PbrMaterial {
+        let (attenuation, scattering) = Transmission::volume_coefficients(
+            self.attenuation_color,
+            self.attenuation_distance,
+            self.multiscatter_color,
+        );
         PbrMaterial {
             base_color: self.base_color,
             // KHR_materials_unlit: the base colour is all there is; nothing emits light.
@@ -118,10 +131,9 @@ impl MaterialFactors {
             transmission: Transmission {
                 factor: self.transmission,
                 thickness: self.thickness,
-                attenuation: Transmission::attenuation_coefficient(
-                    self.attenuation_color,
-                    self.attenuation_distance,
-                ),
+                attenuation,
+                scattering,
+                anisotropy: self.scatter_anisotropy,
                 ..Transmission::default()
             },
             clearcoat: Clearcoat {
@@ -185,5 +197,79 @@ mod tests {
             Transmission::attenuation_coefficient(Vec3::new(0.5, 1.0, 0.25), 2.0)
         );
         assert_eq!((transmission.factor, transmission.thickness), (1.0, 0.5));
+    }
+
+    #[test]
+    fn volume_scatter_splits_the_extinction_by_the_drafts_albedo() {
+        // rho_ss of the draft's formula, evaluated by hand (Python, f64) at 0.2, 0.5, 0.8
+        let albedo = Transmission::single_scatter_albedo(Vec3::new(0.2, 0.5, 0.8));
+        for (got, expected) in albedo
+            .to_array()
+            .into_iter()
+            .zip([0.613357, 0.911709, 0.990589])
+        {
+            assert!((got - expected).abs() < 2e-6, "{got} vs {expected}");
+        }
+        assert_eq!(Transmission::single_scatter_albedo(Vec3::ONE), Vec3::ONE);
+        let volume = |multiscatter_color| MaterialFactors {
+            transmission: 1.0,
+            thickness: 0.5,
+            attenuation_color: Vec3::new(0.5, 0.8, 0.25),
+            attenuation_distance: 2.0,
+            multiscatter_color,
+            scatter_anisotropy: 0.7,
+            ..MaterialFactors::default()
+        };
+        let extinction = Transmission::attenuation_coefficient(Vec3::new(0.5, 0.8, 0.25), 2.0);
+        // Albedo 1: all of sigma_t scatters, nothing absorbs
+        let white = volume(Vec3::ONE).material().sanitized().transmission;
+        assert_eq!(
+            (white.attenuation, white.scattering),
+            (Vec3::ZERO, extinction)
+        );
+        assert_eq!(white.anisotropy, 0.7);
+        // In between: sigma_a + sigma_s = sigma_t, sigma_s = sigma_t rho_ss
+        let grey = volume(Vec3::splat(0.5)).material().transmission;
+        assert!(
+            (grey.attenuation + grey.scattering - extinction)
+                .abs()
+                .max_element()
+                < 1e-6
+        );
+        assert!(
+            (grey.scattering - extinction * 0.911709)
+                .abs()
+                .max_element()
+                < 1e-5
+        );
+    }
+
+    #[test]
+    fn a_multiscatter_colour_of_zero_absorbs_as_without_the_extension() {
+        // The pure absorber: the same material, bit for bit, as KHR_materials_volume alone
+        // (so its image is today's Beer-Lambert image), and the kernels keep their medium
+        // compiled out (no material scatters)
+        let without = MaterialFactors {
+            transmission: 1.0,
+            thickness: 1.0,
+            attenuation_color: Vec3::new(0.5, 0.8, 0.25),
+            attenuation_distance: 2.0,
+            ..MaterialFactors::default()
+        };
+        let absorber = MaterialFactors {
+            multiscatter_color: Vec3::ZERO,
+            ..without
+        };
+        assert_eq!(absorber.material(), without.material());
+        assert_eq!(
+            absorber.material().transmission.attenuation,
+            Transmission::attenuation_coefficient(Vec3::new(0.5, 0.8, 0.25), 2.0)
+        );
+        assert!(!absorber.material().transmission.scatters());
+        let scattering = MaterialFactors {
+            multiscatter_color: Vec3::new(0.0, 0.0, 0.1),
+            ..without
+        };
+        assert!(scattering.material().transmission.scatters());
     }
 }

@@ -158,6 +158,16 @@ const fn volume(path: &'static [&'static str]) -> Option<GltfSource> {
     })
 }
 
+/// KHR_materials_volume_scatter's, which counts only with KHR_materials_volume (whose own
+/// values count only with KHR_materials_transmission).
+const fn volume_scatter(path: &'static [&'static str]) -> Option<GltfSource> {
+    Some(GltfSource {
+        extension: Some("KHR_materials_volume_scatter"),
+        path,
+        requires: Some("KHR_materials_volume"),
+    })
+}
+
 const fn factor(
     get: fn(&MaterialFactors) -> [f32; 4],
     set: fn(&mut MaterialFactors, [f32; 4]),
@@ -402,6 +412,32 @@ pub const MATERIAL_PARAMS: &[MaterialParam] = &[
         gpu: None,
     },
     MaterialParam {
+        // Folded with attenuation_color and attenuation_distance into
+        // "attenuation_coefficient" (sigma_a) and "scattering_coefficient" (sigma_s).
+        name: "multiscatter_color",
+        kind: ParamKind::Rgb,
+        gltf: volume_scatter(&["multiscatterColor"]),
+        default: [0.0; 4],
+        factor: factor(
+            |f| f.multiscatter_color.extend(0.0).to_array(),
+            |f, v| f.multiscatter_color = rgb(v),
+        ),
+        gpu: None,
+    },
+    MaterialParam {
+        name: "scatter_anisotropy",
+        kind: ParamKind::Number,
+        gltf: volume_scatter(&["scatterAnisotropy"]),
+        default: [0.0; 4],
+        factor: factor(
+            |f| one(f.scatter_anisotropy),
+            |f, v| f.scatter_anisotropy = v[0],
+        ),
+        gpu: words(named!(MATERIAL_TEXEL_ALPHA_MODE_TEXTURE_MASK), 2, 1, |m| {
+            bits(m.transmission.anisotropy)
+        }),
+    },
+    MaterialParam {
         name: "clearcoat",
         kind: ParamKind::Number,
         gltf: extension("KHR_materials_clearcoat", &["clearcoatFactor"]),
@@ -559,6 +595,17 @@ pub const MATERIAL_PARAMS: &[MaterialParam] = &[
         ),
     },
     MaterialParam {
+        // sigma_t rho_ss per channel (KHR_materials_volume_scatter; 0 without it).
+        name: "scattering_coefficient",
+        kind: ParamKind::Derived,
+        gltf: None,
+        default: [0.0; 4],
+        factor: None,
+        gpu: words(named!(MATERIAL_TEXEL_FLAGS), 1, 3, |m| {
+            rgb_bits(m.transmission.scattering)
+        }),
+    },
+    MaterialParam {
         // Bit (1 << MATERIAL_TEXTURE_*) per slot that holds a texture.
         name: "texture_mask",
         kind: ParamKind::Derived,
@@ -572,13 +619,7 @@ pub const MATERIAL_PARAMS: &[MaterialParam] = &[
 ];
 
 /// The words of the factor texels that no parameter takes (0): (texel, component).
-pub const UNUSED_MATERIAL_WORDS: &[(u32, u32)] = &[
-    (MATERIAL_TEXEL_ALPHA_MODE_TEXTURE_MASK, 2),
-    (MATERIAL_TEXEL_ALPHA_MODE_TEXTURE_MASK, 3),
-    (MATERIAL_TEXEL_FLAGS, 1),
-    (MATERIAL_TEXEL_FLAGS, 2),
-    (MATERIAL_TEXEL_FLAGS, 3),
-];
+pub const UNUSED_MATERIAL_WORDS: &[(u32, u32)] = &[(MATERIAL_TEXEL_ALPHA_MODE_TEXTURE_MASK, 3)];
 
 /// The names of the factors a caller gives (`MaterialFactors`; Python's `MATERIAL_KEYS`), in
 /// the table's order.

@@ -271,6 +271,11 @@ fn the_twins_read_back_every_parameter() {
                     vec![twin::get_material_clearcoat_normal_scale(&texels, 0)]
                 }
                 "attenuation_coefficient" => sample.attenuation.to_array().to_vec(),
+                "scattering_coefficient" => twin::get_material_volume_scattering(&texels, 0)
+                    .truncate()
+                    .to_array()
+                    .to_vec(),
+                "scatter_anisotropy" => vec![twin::get_material_volume_scattering(&texels, 0).w],
                 "texture_mask" => {
                     let present = MATERIAL_TEXTURES
                         .iter()
