@@ -221,7 +221,7 @@ def test_every_material_key_is_accepted():
     for key in vkpath.MATERIAL_KEYS:
         if key not in values:
             colour = key in ("base_color", "emission", "specular_color", "attenuation_color",
-                             "sheen_color")
+                             "multiscatter_color", "sheen_color")
             values[key] = (0.5, 0.5, 0.5) if colour else 0.5
     scene = vkpath.Scene.from_arrays([(0, 0, 0), (1, 0, 0), (0, 1, 0)], [0, 1, 2],
                                      materials=[values])
