@@ -39,41 +39,6 @@ fn settings(integrator: Integrator, medium: Medium, spp: u32) -> RenderSettings 
     }
 }
 
-/// Per channel: the image mean and its standard error from the pixels' second moments (every
-/// sample independent: N = pixels * spp), as tests/furnace.rs computes them.
-fn mean_and_standard_error(image: &RenderedImage, spp: u32) -> [(f64, f64); 3] {
-    let samples = image.mean.len() as f64 * f64::from(spp);
-    std::array::from_fn(|channel| {
-        let mean = image.average()[channel];
-        let variance = image
-            .mean
-            .iter()
-            .zip(&image.second_moment)
-            .map(|(m, m2)| f64::from(m2[channel]) - f64::from(m[channel]).powi(2))
-            .sum::<f64>()
-            / image.mean.len() as f64;
-        (mean, (variance.max(0.0) / samples).sqrt())
-    })
-}
-
-/// Asserts |mean - expected| < 4 standard errors in every channel (a false failure has
-/// probability 6e-5 per channel for a normal mean; a lost or doubled term is tens of them).
-fn assert_mean(image: &RenderedImage, spp: u32, expected: Vec3, what: &str) {
-    for (channel, (mean, error)) in mean_and_standard_error(image, spp).into_iter().enumerate() {
-        let z = (mean - f64::from(expected[channel])) / error;
-        println!(
-            "{what} channel {channel}: mean {mean:.5}, expected {:.5}, SE {error:.2e}, z {z:.2}",
-            expected[channel]
-        );
-        assert!(error > 0.0, "{what}: the estimate should be noisy");
-        assert!(
-            z.abs() < 4.0,
-            "{what} channel {channel}: mean {mean} vs {}, z = {z}",
-            expected[channel]
-        );
-    }
-}
-
 /// The furnace box ([-1, 1]^3, walls of albedo 0 emitting 1) seen from `position` along +x
 /// through a narrow field of view (0.01 rad: every ray meets the wall x = 1 within 1.3e-5 of
 /// the axis's distance).
@@ -98,7 +63,7 @@ fn a_pure_absorber_transmits_beer_lambert() {
     for integrator in INTEGRATORS {
         let spp = 64;
         let image = common::render_scene(&scene, settings(integrator, medium, spp));
-        assert_mean(
+        common::assert_mean(
             &image,
             spp,
             expected,
@@ -127,7 +92,7 @@ fn a_scattering_furnace_shows_one_everywhere() {
     for integrator in INTEGRATORS {
         let spp = 32;
         let image = common::render_scene(&scene, settings(integrator, medium, spp));
-        assert_mean(
+        common::assert_mean(
             &image,
             spp,
             Vec3::ONE,

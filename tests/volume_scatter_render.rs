@@ -24,7 +24,7 @@ use vkpath::lights::environment_source::EnvironmentSource;
 use vkpath::medium::Medium;
 use vkpath::scene::materials::{PbrMaterial, SceneMaterials, Transmission, TriangleShading};
 use vkpath::scene::Triangle;
-use vkpath::{Integrator, RenderSettings, RenderedImage, SamplerKind, Scene};
+use vkpath::{Integrator, RenderSettings, SamplerKind, Scene};
 
 /// Triangles with flat normals and their materials.
 #[derive(Default)]
@@ -165,35 +165,6 @@ fn settings(integrator: Integrator, max_path_length: u32, spp: u32) -> RenderSet
     }
 }
 
-/// Asserts |mean - expected| < 4 standard errors per channel, the mean over the image and
-/// its standard error from the pixels' second moments (N = pixels * spp independent
-/// samples; a false failure has probability 6e-5 per channel, a lost term is tens of them).
-fn assert_mean(image: &RenderedImage, spp: u32, expected: Vec3, what: &str) {
-    let samples = image.mean.len() as f64 * f64::from(spp);
-    for channel in 0..3 {
-        let mean = image.average()[channel];
-        let variance = image
-            .mean
-            .iter()
-            .zip(&image.second_moment)
-            .map(|(m, m2)| f64::from(m2[channel]) - f64::from(m[channel]).powi(2))
-            .sum::<f64>()
-            / image.mean.len() as f64;
-        let error = (variance.max(0.0) / samples).sqrt();
-        let z = (mean - f64::from(expected[channel])) / error;
-        println!(
-            "{what} channel {channel}: mean {mean:.5}, expected {:.5}, SE {error:.2e}, z {z:.2}",
-            expected[channel]
-        );
-        assert!(error > 0.0, "{what}: the estimate should be noisy");
-        assert!(
-            z.abs() < 4.0,
-            "{what} channel {channel}: mean {mean} vs {}, z = {z}",
-            expected[channel]
-        );
-    }
-}
-
 #[test]
 fn unscattered_light_through_a_scattering_volume_is_exp_minus_sigma_t_d() {
     let absorption = Vec3::new(0.1, 0.05, 0.0);
@@ -209,7 +180,7 @@ fn unscattered_light_through_a_scattering_volume_is_exp_minus_sigma_t_d() {
     // this alike (the furnace below runs all three)
     let spp = 256;
     let image = common::render_scene(&scene, settings(Integrator::Mis, 3, spp));
-    assert_mean(&image, spp, expected, "unscattered");
+    common::assert_mean(&image, spp, expected, "unscattered");
 }
 
 #[test]
@@ -234,7 +205,7 @@ fn a_scattering_volume_in_a_white_furnace_stays_white() {
         for &integrator in integrators {
             let spp = 64;
             let image = common::render_scene(&scene, settings(integrator, 32, spp));
-            assert_mean(
+            common::assert_mean(
                 &image,
                 spp,
                 Vec3::ONE,
@@ -273,5 +244,5 @@ fn a_scattering_volume_inside_fog_stays_white() {
             ..settings(Integrator::Mis, 48, spp)
         },
     );
-    assert_mean(&image, spp, Vec3::ONE, "volume in fog");
+    common::assert_mean(&image, spp, Vec3::ONE, "volume in fog");
 }

@@ -10,6 +10,7 @@ use std::path::Path;
 use std::process::{Command, Output};
 use std::sync::Arc;
 
+use glam::Vec3;
 use vkpath::vk::{Context, ContextOptions};
 use vkpath::{RenderSettings, RenderedImage, Renderer, Scene};
 
@@ -91,4 +92,39 @@ pub fn worst_ulps_apart(a: &RenderedImage, b: &RenderedImage) -> u64 {
         .flat_map(|(p, q)| (0..3).map(move |c| ulps(p[c], q[c])))
         .max()
         .unwrap_or(0)
+}
+
+/// Per channel: the image mean and its standard error from the pixels' second moments (every
+/// sample independent: N = pixels * spp), as tests/furnace.rs computes them.
+pub fn mean_and_standard_error(image: &RenderedImage, spp: u32) -> [(f64, f64); 3] {
+    let samples = image.mean.len() as f64 * f64::from(spp);
+    std::array::from_fn(|channel| {
+        let mean = image.average()[channel];
+        let variance = image
+            .mean
+            .iter()
+            .zip(&image.second_moment)
+            .map(|(m, m2)| f64::from(m2[channel]) - f64::from(m[channel]).powi(2))
+            .sum::<f64>()
+            / image.mean.len() as f64;
+        (mean, (variance.max(0.0) / samples).sqrt())
+    })
+}
+
+/// Asserts |mean - expected| < 4 standard errors in every channel (a false failure has
+/// probability 6e-5 per channel for a normal mean; a lost or doubled term is tens of them).
+pub fn assert_mean(image: &RenderedImage, spp: u32, expected: Vec3, what: &str) {
+    for (channel, (mean, error)) in mean_and_standard_error(image, spp).into_iter().enumerate() {
+        let z = (mean - f64::from(expected[channel])) / error;
+        println!(
+            "{what} channel {channel}: mean {mean:.5}, expected {:.5}, SE {error:.2e}, z {z:.2}",
+            expected[channel]
+        );
+        assert!(error > 0.0, "{what}: the estimate should be noisy");
+        assert!(
+            z.abs() < 4.0,
+            "{what} channel {channel}: mean {mean} vs {}, z = {z}",
+            expected[channel]
+        );
+    }
 }
